@@ -1,0 +1,353 @@
+/*
+ * libsinter: discrete element simulation of powder sintering.
+ *
+ * This is the user API. Submodel authors also include sinter_submodel.h.
+ *
+ * Conventions (see docs in the README):
+ *  - Every function returns a sinter_status; negative values are errors.
+ *    The detail of the last error of a context is in sinter_last_error().
+ *  - Handles are opaque. create functions take the out-parameter first and
+ *    leave *out untouched on error; destroy functions accept NULL.
+ *  - Units are SI throughout: m, kg, s, K, N, Pa, W, A, V.
+ *  - Threads: a sinter_ctx and everything made from it is used by one thread
+ *    at a time; distinct contexts are independent. There is no global state.
+ *  - The library never aborts, never calls exit() and never prints unless a
+ *    log callback is installed.
+ *
+ * The header is C99-compatible, uses only <stddef.h> and <stdint.h>, and its
+ * preprocessed form parses as a cffi cdef.
+ */
+#ifndef SINTER_H
+#define SINTER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinter_version.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(SINTER_BUILDING_LIBRARY) && defined(__GNUC__)
+#define SINTER_API __attribute__((visibility("default")))
+#else
+#define SINTER_API
+#endif
+
+/* ------------------------------------------------------------------------ */
+/* Status codes                                                              */
+/* ------------------------------------------------------------------------ */
+
+/*
+ * The one list of status codes: X(name, value, message). Values are pinned
+ * once released; new codes are appended with the next free negative value.
+ */
+#define SINTER_STATUS_LIST(X)                                                        \
+    X(SINTER_OK, 0, "success")                                                       \
+    X(SINTER_ERR_NULL, -1, "a required pointer argument is NULL")                    \
+    X(SINTER_ERR_INVALID, -2, "an argument has an invalid value")                    \
+    X(SINTER_ERR_NOMEM, -3, "out of memory")                                         \
+    X(SINTER_ERR_STRUCT_SIZE, -4, "struct_size does not match a known version")      \
+    X(SINTER_ERR_BUSY, -5, "the object is locked by an outstanding view")            \
+    X(SINTER_ERR_RANGE, -6, "an index or count is out of range")                     \
+    X(SINTER_ERR_NOT_FOUND, -7, "no such name or id")                                \
+    X(SINTER_ERR_OVERFLOW, -8, "a size computation overflows")                       \
+    X(SINTER_ERR_STATE, -9, "the call is not valid in the object's current state")   \
+    X(SINTER_ERR_IO, -10, "an input/output operation failed")                        \
+    X(SINTER_ERR_PARSE, -11, "input text could not be parsed")                       \
+    X(SINTER_ERR_CORRUPT, -12, "data is truncated or corrupted")                     \
+    X(SINTER_ERR_UNSTABLE, -13, "the simulation went unstable")                      \
+    X(SINTER_ERR_NOT_CONVERGED, -14, "an iteration did not converge")                \
+    X(SINTER_ERR_CALLBACK, -15, "a host callback reported an error")                 \
+    X(SINTER_ERR_UNSUPPORTED, -16, "the feature is not supported by this build")     \
+    X(SINTER_ERR_LOST_PARTICLE, -17, "a particle left the simulation domain")        \
+    X(SINTER_ERR_DOMAIN, -18, "a model left its domain of validity")
+
+#define SINTER_STATUS_ENUM_ENTRY_(name, value, message) name = value,
+/** Status code returned by every function. Negative: error. */
+typedef enum sinter_status { SINTER_STATUS_LIST(SINTER_STATUS_ENUM_ENTRY_) } sinter_status;
+#undef SINTER_STATUS_ENUM_ENTRY_
+
+/** Static English text for a status code; never NULL ("unknown status" for others). */
+SINTER_API const char *sinter_status_string(int status);
+
+/** Name of a status code's constant ("SINTER_ERR_NULL"); never NULL. */
+SINTER_API const char *sinter_status_name(int status);
+
+/* ------------------------------------------------------------------------ */
+/* Version                                                                   */
+/* ------------------------------------------------------------------------ */
+
+/** Runtime version as SINTER_VERSION_NUMBER: major*10000 + minor*100 + patch. */
+SINTER_API unsigned sinter_version_number(void);
+
+/** Runtime version string "major.minor.patch" (static storage). */
+SINTER_API const char *sinter_version_string(void);
+
+/* ------------------------------------------------------------------------ */
+/* Context                                                                   */
+/* ------------------------------------------------------------------------ */
+
+/** Owns the allocator, the last error text and the log callback. */
+typedef struct sinter_ctx sinter_ctx;
+
+/** A custom allocator. Callbacks follow malloc/realloc/free semantics; `user` is last. */
+typedef struct sinter_allocator {
+    size_t struct_size; /**< sizeof(sinter_allocator) as the caller compiled it. */
+    void *(*alloc)(size_t size, void *user);
+    void *(*realloc)(void *ptr, size_t size, void *user);
+    void (*free)(void *ptr, void *user);
+    void *user;
+} sinter_allocator;
+
+/** Log levels, most severe first. */
+typedef enum sinter_log_level {
+    SINTER_LOG_ERROR = 0,
+    SINTER_LOG_WARNING = 1,
+    SINTER_LOG_INFO = 2,
+    SINTER_LOG_DEBUG = 3
+} sinter_log_level;
+
+/** Log callback: called synchronously from the thread that uses the context. */
+typedef void (*sinter_log_fn)(int level, const char *message, void *user);
+
+/**
+ * Create a context.
+ * @param out        receives the new context (required).
+ * @param allocator  custom allocator, copied; NULL for the C library's.
+ *                   All three callbacks are required when given.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID, SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_ctx_create(sinter_ctx **out, const sinter_allocator *allocator);
+
+/** Destroy a context. Every object made from it must be destroyed first. NULL is allowed. */
+SINTER_API void sinter_ctx_destroy(sinter_ctx *ctx);
+
+/**
+ * Detail of the last error reported on this context (borrowed, valid until
+ * the next failing call on the context). "" if no error happened yet.
+ * A NULL ctx gives a static message.
+ */
+SINTER_API const char *sinter_last_error(const sinter_ctx *ctx);
+
+/** Status code of the last error reported on this context (SINTER_OK if none). */
+SINTER_API sinter_status sinter_last_status(const sinter_ctx *ctx);
+
+/** Forget the last error. */
+SINTER_API sinter_status sinter_clear_error(sinter_ctx *ctx);
+
+/**
+ * Install a log callback (NULL to remove) and the most verbose level passed to it.
+ * Without a callback the library prints nothing.
+ */
+SINTER_API sinter_status sinter_ctx_set_log(sinter_ctx *ctx, sinter_log_fn fn, int max_level,
+                                            void *user);
+
+/** Number of threads the library may use internally (1 by default, 0 = all available). */
+SINTER_API sinter_status sinter_ctx_set_threads(sinter_ctx *ctx, int threads);
+SINTER_API sinter_status sinter_ctx_get_threads(const sinter_ctx *ctx, int *threads);
+
+/* ------------------------------------------------------------------------ */
+/* Materials                                                                 */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * The parameters of one material. A material is a named set of numbers, each
+ * identified by a sinter_material_param, with an SI unit, a default and a
+ * valid range (sinter_material_param_info()). Particle sets and walls copy a
+ * material when it is assigned, so it can be changed or destroyed afterwards.
+ */
+typedef struct sinter_material sinter_material;
+
+/** Material parameters. Values are pinned; new ones are appended. */
+typedef enum sinter_material_param {
+    /* --- mechanics ------------------------------------------------------ */
+    SINTER_MAT_DENSITY = 0,              /**< mass density rho [kg/m^3] */
+    SINTER_MAT_YOUNGS_MODULUS = 1,       /**< elasticity modulus E (at reference temperature) [Pa] */
+    SINTER_MAT_POISSON_RATIO = 2,        /**< Poisson coefficient nu [-] */
+    SINTER_MAT_DAMPING_RATIO = 3,        /**< normal damping rate xi_con, seed 003 eq. 6 [-] */
+    SINTER_MAT_FRICTION_STATIC = 4,      /**< static friction coefficient mu_s, seed 003 eq. 8 [-] */
+    SINTER_MAT_FRICTION_DYNAMIC = 5,     /**< dynamic friction coefficient mu_d, seed 003 eq. 8, seed 000 eq. 5 [-] */
+    SINTER_MAT_FRICTION_DAMPING_RATIO = 6, /**< tangential damping rate xi_fric, seed 003 eq. 11 [-] */
+    SINTER_MAT_ROLLING_FRICTION = 7,     /**< rolling resistance coefficient mu_r, seed 003 eq. 16 [-] */
+    SINTER_MAT_ROLLING_DAMPING_RATIO = 8, /**< rolling damping rate xi_rol, seed 003 eq. 18 [-] */
+    /* --- power-law contact of seed 000 ----------------------------------- */
+    SINTER_MAT_CONTACT_STIFFNESS = 9,    /**< particle contact compliance constant K_p, seed 000 eq. 2 [Pa] */
+    SINTER_MAT_CONTACT_EXPONENT = 10,    /**< particle contact exponent p_p, seed 000 eq. 2 [-] */
+    SINTER_MAT_WALL_STIFFNESS = 11,      /**< wall contact compliance constant K_w, seed 000 eq. 13 [Pa] */
+    SINTER_MAT_WALL_EXPONENT = 12,       /**< wall contact exponent p_w, seed 000 eq. 13 [-] */
+    SINTER_MAT_BOND_STIFFNESS = 13,      /**< adhesive bond constant K_b, seed 000 eq. 19 [Pa] */
+    SINTER_MAT_BOND_EXPONENT = 14,       /**< adhesive bond exponent p_b, seed 000 eq. 19 [-] */
+    SINTER_MAT_BOND_CRITICAL_STRAIN = 15, /**< interpenetration |E*| that activates a bond, seed 000 eq. 19 [-] */
+    SINTER_MAT_DRAG_COEFFICIENT = 16,    /**< interstitial drag c_env, seed 000 eq. 20 [kg/s] */
+    /* --- heat -------------------------------------------------------------- */
+    SINTER_MAT_THERMAL_CONDUCTIVITY = 17, /**< thermal conductivity k, seed 003 eq. 35 [W/(m K)] */
+    SINTER_MAT_HEAT_CAPACITY = 18,       /**< specific heat C, seed 003 eq. 24 [J/(kg K)] */
+    SINTER_MAT_EMISSIVITY = 19,          /**< emissivity epsilon, seed 003 eq. 41 [-] */
+    SINTER_MAT_ABSORPTANCE = 20,         /**< absorptance a of external heat, seed 003 eq. 29, seed 000 eq. 35 [-] */
+    SINTER_MAT_SOFTENING_LAW = 21,       /**< 0 none, 1 linear (seed 000), 2 exponential (seed 003 eq. 42) [-] */
+    SINTER_MAT_SOFTENING_TEMPERATURE = 22, /**< temperature where softening starts theta* [K] */
+    SINTER_MAT_SOFTENING_RATE = 23,      /**< linear: relative loss per kelvin; exponential: rate multiplying (theta/theta*) [1/K or -] */
+    SINTER_MAT_SOFTENING_FLOOR = 24,     /**< lowest stiffness as a fraction of the reference value [-] */
+    /* --- electric ------------------------------------------------------------ */
+    SINTER_MAT_ELECTRIC_CONDUCTIVITY = 25, /**< electrical conductivity sigma, seed 000 eq. 35 [S/m] */
+    SINTER_MAT_PARAM_COUNT_ = 26         /**< number of parameters in this version (not a parameter) */
+} sinter_material_param;
+
+/** Create a material with every parameter at its default. `name` is copied (may be NULL). */
+SINTER_API sinter_status sinter_material_create(sinter_material **out, sinter_ctx *ctx,
+                                                const char *name);
+/** Destroy a material. NULL is allowed. */
+SINTER_API void sinter_material_destroy(sinter_material *m);
+/** Copy a material (name and every parameter). */
+SINTER_API sinter_status sinter_material_clone(sinter_material **out, const sinter_material *m);
+
+/** Set one parameter; values outside the documented range are refused with SINTER_ERR_INVALID. */
+SINTER_API sinter_status sinter_material_set(sinter_material *m, sinter_material_param param,
+                                             double value);
+/** Get one parameter. */
+SINTER_API sinter_status sinter_material_get(const sinter_material *m, sinter_material_param param,
+                                             double *value);
+/** The material's name (borrowed; "" if none). */
+SINTER_API const char *sinter_material_name(const sinter_material *m);
+
+/**
+ * Describe a parameter: its key as used in scene files ("youngs_modulus"),
+ * its SI unit ("Pa"), a one-line meaning, its default and its valid closed
+ * range. Any output pointer may be NULL. Strings are static.
+ */
+SINTER_API sinter_status sinter_material_param_info(sinter_material_param param, const char **key,
+                                                    const char **unit, const char **meaning,
+                                                    double *default_value, double *min_value,
+                                                    double *max_value);
+/** Find a parameter by its key. Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND. */
+SINTER_API sinter_status sinter_material_param_find(const char *key, sinter_material_param *param);
+
+/* ------------------------------------------------------------------------ */
+/* Particle sets                                                             */
+/* ------------------------------------------------------------------------ */
+
+/** A struct-of-arrays set of spherical particles. */
+typedef struct sinter_particles sinter_particles;
+
+/** Per-particle fields. Values are pinned; new ones are appended. */
+typedef enum sinter_field {
+    SINTER_FIELD_POSITION = 0,    /**< centre x [m], 3 doubles per particle */
+    SINTER_FIELD_VELOCITY = 1,    /**< v [m/s], 3 doubles */
+    SINTER_FIELD_SPIN = 2,        /**< angular velocity omega [rad/s], 3 doubles */
+    SINTER_FIELD_ROTATION = 3,    /**< total rotation vector alpha (Rodrigues), seed 003 eq. 45 [-], 3 doubles */
+    SINTER_FIELD_RADIUS = 4,      /**< r [m], 1 double */
+    SINTER_FIELD_MASS = 5,        /**< m [kg], 1 double */
+    SINTER_FIELD_INERTIA = 6,     /**< moment of inertia j [kg m^2], 1 double */
+    SINTER_FIELD_TEMPERATURE = 7, /**< theta [K], 1 double */
+    SINTER_FIELD_CURRENT = 8,     /**< electric current through the particle [A], 1 double */
+    SINTER_FIELD_FORCE = 9,       /**< total force of the last evaluation [N], 3 doubles */
+    SINTER_FIELD_TORQUE = 10,     /**< total moment of the last evaluation [N m], 3 doubles */
+    SINTER_FIELD_HEAT = 11,       /**< total heat power of the last evaluation [W], 1 double */
+    SINTER_FIELD_MATERIAL = 12,   /**< material id, 1 int32 */
+    SINTER_FIELD_FLAGS = 13,      /**< sinter_particle_flag bits, 1 uint32 */
+    SINTER_FIELD_ID = 14,         /**< persistent particle id, 1 uint64 (read-only) */
+    SINTER_FIELD_COUNT_ = 15      /**< number of fields in this version (not a field) */
+} sinter_field;
+
+/** Element type of a field. */
+typedef enum sinter_dtype {
+    SINTER_DTYPE_DOUBLE = 0,
+    SINTER_DTYPE_INT32 = 1,
+    SINTER_DTYPE_UINT32 = 2,
+    SINTER_DTYPE_UINT64 = 3
+} sinter_dtype;
+
+/** Per-particle flag bits. */
+typedef enum sinter_particle_flag {
+    SINTER_PARTICLE_FIXED = 1,        /**< position and velocity are prescribed (not integrated) */
+    SINTER_PARTICLE_NO_ROTATION = 2,  /**< spin is not integrated */
+    SINTER_PARTICLE_FIXED_TEMPERATURE = 4, /**< temperature is not integrated */
+    SINTER_PARTICLE_ELECTRIFIED = 8   /**< set by the electric submodel: touches an electrified wall */
+} sinter_particle_flag;
+
+/** Describe a field: its name ("position"), unit, element type and components per particle. */
+SINTER_API sinter_status sinter_field_info(sinter_field field, const char **name, const char **unit,
+                                           sinter_dtype *dtype, size_t *components);
+
+/** Create an empty particle set. */
+SINTER_API sinter_status sinter_particles_create(sinter_particles **out, sinter_ctx *ctx);
+/** Destroy a particle set. NULL is allowed. Outstanding views become invalid. */
+SINTER_API void sinter_particles_destroy(sinter_particles *ps);
+
+/** Number of particles. */
+SINTER_API sinter_status sinter_particles_count(const sinter_particles *ps, size_t *count);
+/** Capacity reserved (particles that fit without reallocation). */
+SINTER_API sinter_status sinter_particles_capacity(const sinter_particles *ps, size_t *capacity);
+/** Reserve room for `capacity` particles. Refused while a view is out (SINTER_ERR_BUSY). */
+SINTER_API sinter_status sinter_particles_reserve(sinter_particles *ps, size_t capacity);
+
+/**
+ * Register (or replace) material `id` of this set with a copy of `m`.
+ * Ids run from 0 to 255. Replacing a material recomputes mass and inertia of
+ * its particles from the new density.
+ */
+SINTER_API sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
+                                                       const sinter_material *m);
+/** Borrow the set's copy of material `id` (read-only, valid until it is replaced). */
+SINTER_API sinter_status sinter_particles_get_material(const sinter_particles *ps, int32_t id,
+                                                       const sinter_material **m);
+
+/**
+ * Append `n` particles of material `material_id` (which must be registered).
+ * @param positions  3n doubles (x0,y0,z0,x1,...) [m], required.
+ * @param radii      n doubles [m], required, each > 0.
+ * @param temperature initial temperature of every new particle [K], > 0.
+ * @param first_index receives the index of the first new particle (may be NULL).
+ * Mass = rho 4/3 pi r^3 and inertia = 2/5 m r^2 follow from the material's
+ * density; velocity, spin and rotation start at zero. Every value is validated
+ * before anything is changed: on error the set is unchanged and the message
+ * names the particle and the field.
+ */
+SINTER_API sinter_status sinter_particles_add(sinter_particles *ps, size_t n,
+                                              const double *positions, const double *radii,
+                                              int32_t material_id, double temperature,
+                                              size_t *first_index);
+
+/**
+ * Remove the particles whose indices are listed (each once, in any order).
+ * The order of the remaining particles is kept; their ids are unchanged.
+ */
+SINTER_API sinter_status sinter_particles_remove(sinter_particles *ps, size_t n,
+                                                 const size_t *indices);
+
+/**
+ * Borrow a field's array for reading and writing: count * components elements
+ * of the field's dtype, particle-major (x0,y0,z0,x1,...). The set is locked
+ * against add/remove/reserve until every borrowed view is released. The id
+ * field is read-only: borrow it with sinter_particles_view_read().
+ */
+SINTER_API sinter_status sinter_particles_view(sinter_particles *ps, sinter_field field,
+                                               void **data, size_t *count, size_t *components);
+/** Borrow a field for reading only. */
+SINTER_API sinter_status sinter_particles_view_read(const sinter_particles *ps, sinter_field field,
+                                                    const void **data, size_t *count,
+                                                    size_t *components);
+/** Release a view obtained from sinter_particles_view or _view_read. */
+SINTER_API sinter_status sinter_particles_release(const sinter_particles *ps, sinter_field field);
+/** Number of views currently out. */
+SINTER_API sinter_status sinter_particles_views_out(const sinter_particles *ps, size_t *views);
+
+/**
+ * Check every value of every particle: finite positions, velocities, spins and
+ * rotations; positive finite radius, mass, inertia and temperature; registered
+ * material. The first problem is reported as SINTER_ERR_INVALID with a message
+ * that names the particle and the field; *bad_index (may be NULL) receives it.
+ */
+SINTER_API sinter_status sinter_particles_validate(const sinter_particles *ps, size_t *bad_index);
+
+/** Find the index of the particle with persistent id `id` (SINTER_ERR_NOT_FOUND if none). */
+SINTER_API sinter_status sinter_particles_find_id(const sinter_particles *ps, uint64_t id,
+                                                  size_t *index);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SINTER_H */

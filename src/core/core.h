@@ -1,0 +1,57 @@
+/* Private core of libsinter: context, errors, allocation, logging. */
+#ifndef SINTER_CORE_H
+#define SINTER_CORE_H
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinter.h"
+
+#define SINTER_ERROR_TEXT_SIZE 512
+
+struct sinter_ctx {
+    sinter_allocator allocator;
+    sinter_status last_status;
+    char last_error[SINTER_ERROR_TEXT_SIZE];
+    sinter_log_fn log_fn;
+    void *log_user;
+    int log_level;
+    int threads;
+};
+
+#if defined(__GNUC__)
+#define SINTER_PRINTF(fmt_index, first_arg) __attribute__((format(printf, fmt_index, first_arg)))
+#else
+#define SINTER_PRINTF(fmt_index, first_arg)
+#endif
+
+/* Record an error on ctx (which may be NULL) and return `status`. */
+sinter_status sinter_fail(sinter_ctx *ctx, sinter_status status, const char *fmt, ...)
+    SINTER_PRINTF(3, 4);
+
+/* Log a message if the context has a callback at that level. */
+void sinter_log(sinter_ctx *ctx, int level, const char *fmt, ...) SINTER_PRINTF(3, 4);
+
+/* Allocation through the context's allocator. Sizes are checked for overflow. */
+void *sinter_alloc(sinter_ctx *ctx, size_t size);
+void *sinter_calloc(sinter_ctx *ctx, size_t count, size_t size);
+void *sinter_realloc_array(sinter_ctx *ctx, void *ptr, size_t count, size_t size);
+void sinter_free(sinter_ctx *ctx, void *ptr);
+char *sinter_strdup(sinter_ctx *ctx, const char *text);
+
+/* 1 if count * size overflows size_t. */
+static inline int sinter_mul_overflows(size_t count, size_t size)
+{
+    return size != 0 && count > SIZE_MAX / size;
+}
+
+/* Argument checks that record a named error and return from the caller. */
+#define SINTER_CHECK_NULL(ctx, ptr)                                                        \
+    do {                                                                                   \
+        if ((ptr) == NULL)                                                                 \
+            return sinter_fail((ctx), SINTER_ERR_NULL, "%s: argument '%s' is NULL",        \
+                               __func__, #ptr);                                            \
+    } while (0)
+
+#endif /* SINTER_CORE_H */

@@ -1,0 +1,52 @@
+/* Private layout of a particle set (struct of arrays). */
+#ifndef SINTER_PARTICLES_H
+#define SINTER_PARTICLES_H
+
+#include "core/core.h"
+#include "particles/material.h"
+
+#define SINTER_MAX_MATERIALS 256
+
+struct sinter_particles {
+    sinter_ctx *ctx;
+    size_t count;
+    size_t capacity;
+    /* vector fields: 3 doubles per particle, particle-major */
+    double *x;      /* position [m] */
+    double *v;      /* velocity [m/s] */
+    double *w;      /* spin [rad/s] */
+    double *rot;    /* total rotation vector [-] */
+    double *force;  /* last evaluated force [N] */
+    double *torque; /* last evaluated moment [N m] */
+    /* scalar fields */
+    double *radius;
+    double *mass;
+    double *inertia;
+    double *temperature;
+    double *current;
+    double *heat;
+    int32_t *material;
+    uint32_t *flags;
+    uint64_t *id;
+    uint64_t next_id;
+    /* borrowed views */
+    size_t views_out;
+    unsigned field_views[SINTER_FIELD_COUNT_];
+    /* materials, copied at registration */
+    unsigned char material_used[SINTER_MAX_MATERIALS];
+    sinter_material materials[SINTER_MAX_MATERIALS];
+    /* bumped whenever particles are added, removed or reordered */
+    uint64_t layout_generation;
+};
+
+/* Material parameter of particle i (no checks). */
+static inline double sinter_particle_param(const sinter_particles *ps, size_t i,
+                                           sinter_material_param p)
+{
+    return ps->materials[ps->material[i]].value[p];
+}
+
+/* Reorder particles: new index k holds old particle order[k]. Refused while views are out. */
+sinter_status sinter_particles_permute(sinter_particles *ps, const size_t *order);
+
+#endif
