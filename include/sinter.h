@@ -346,6 +346,257 @@ SINTER_API sinter_status sinter_particles_validate(const sinter_particles *ps, s
 SINTER_API sinter_status sinter_particles_find_id(const sinter_particles *ps, uint64_t id,
                                                   size_t *index);
 
+
+/* ------------------------------------------------------------------------ */
+/* Walls                                                                     */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * A set of rigid planar walls. Wall k is the plane through point p_k(t) with
+ * unit normal n_k pointing into the region where particles live; a particle
+ * touches it when its centre is closer to the plane than its radius. Walls
+ * translate with a prescribed motion; their normals are fixed.
+ */
+typedef struct sinter_walls sinter_walls;
+
+/** Prescribed wall motions. */
+typedef enum sinter_wall_motion {
+    SINTER_WALL_FIXED = 0,      /**< does not move */
+    SINTER_WALL_VELOCITY = 1,   /**< p(t) = p0 + u t, u constant [m/s] */
+    SINTER_WALL_SCHEDULE = 2,   /**< piecewise-linear displacement d(t) through given (t, d) points, held constant outside */
+    SINTER_WALL_SINE = 3,       /**< p(t) = p0 + A sin(omega t) e, amplitude vector A e [m], omega [rad/s] */
+    SINTER_WALL_CALLBACK = 4    /**< host callback gives the displacement and velocity */
+} sinter_wall_motion;
+
+/**
+ * Host wall motion: fill displacement[3] (p(t) - p0) [m] and velocity[3] [m/s]
+ * at time t [s]. Return 0 on success, non-zero to stop the stepper.
+ */
+typedef int (*sinter_wall_motion_fn)(double t, double *displacement, double *velocity, void *user);
+
+SINTER_API sinter_status sinter_walls_create(sinter_walls **out, sinter_ctx *ctx);
+SINTER_API void sinter_walls_destroy(sinter_walls *walls);
+/** Number of walls. */
+SINTER_API sinter_status sinter_walls_count(const sinter_walls *walls, size_t *count);
+
+/**
+ * Add a fixed plane through `point` [m] with normal `normal` (normalised here;
+ * it must not be zero) pointing into the particle region. `material` is copied.
+ */
+SINTER_API sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
+                                                const double normal[3],
+                                                const sinter_material *material, size_t *index);
+/** Replace wall k's material with a copy of `material`. */
+SINTER_API sinter_status sinter_walls_set_material(sinter_walls *walls, size_t k,
+                                                   const sinter_material *material);
+/** Constant velocity u [m/s]. */
+SINTER_API sinter_status sinter_walls_set_velocity(sinter_walls *walls, size_t k,
+                                                   const double velocity[3]);
+/**
+ * Piecewise-linear displacement schedule: n points (times[i] [s], strictly
+ * increasing; displacements[3i..3i+2] [m]). Copied.
+ */
+SINTER_API sinter_status sinter_walls_set_schedule(sinter_walls *walls, size_t k, size_t n,
+                                                   const double *times,
+                                                   const double *displacements);
+/** Sinusoidal vibration p0 + amplitude sin(omega t) (amplitude vector [m], omega [rad/s]). */
+SINTER_API sinter_status sinter_walls_set_sine(sinter_walls *walls, size_t k,
+                                               const double amplitude[3], double omega);
+/** Host callback motion. */
+SINTER_API sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k,
+                                                   sinter_wall_motion_fn fn, void *user);
+/** Wall temperature [K] (used by heat submodels). */
+SINTER_API sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_t k,
+                                                      double temperature);
+/** Position of the wall's point [m] and its velocity [m/s] at the stepper's current time. */
+SINTER_API sinter_status sinter_walls_get_state(const sinter_walls *walls, size_t k,
+                                                double point[3], double velocity[3]);
+/** Unit normal of wall k. */
+SINTER_API sinter_status sinter_walls_get_normal(const sinter_walls *walls, size_t k,
+                                                 double normal[3]);
+/**
+ * Reaction force on wall k from every particle touching it in the last
+ * accepted step [N] (the force the particles exert on the wall).
+ */
+SINTER_API sinter_status sinter_walls_get_force(const sinter_walls *walls, size_t k,
+                                                double force[3]);
+
+/* ------------------------------------------------------------------------ */
+/* Force submodels                                                           */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * One force/moment submodel. Built-in models are chosen by name:
+ *  - "hertz_mindlin": Hertz normal contact with viscous damping (seed 003
+ *    eq. 2-6), Mindlin stick-slip friction (eq. 7-14), rolling resistance
+ *    (eq. 15-20, active when the rolling coefficient is > 0); particle-particle
+ *    and particle-wall contacts.
+ *  - "power_law": the contact-area-scaled power law of seed 000 (eq. 2-4),
+ *    its sliding friction (eq. 5-6), wall contact (eq. 13-17) and adhesive
+ *    bonds (eq. 18-19).
+ *  - "drag": interstitial drag -c_env (v - v_env) (seed 000 eq. 20).
+ *  - "gravity": m g, with g set by the parameters "gx", "gy", "gz" [m/s^2]
+ *    (default 0, 0, -9.81).
+ *  - "body_force": a constant force "fx", "fy", "fz" [N] on every particle.
+ * Host models come from sinter_force_model_create_host (sinter_submodel.h).
+ */
+typedef struct sinter_force_model sinter_force_model;
+
+/** Create a built-in force model by name. Errors: SINTER_ERR_NOT_FOUND names the unknown model. */
+SINTER_API sinter_status sinter_force_model_create(sinter_force_model **out, sinter_ctx *ctx,
+                                                   const char *name);
+SINTER_API void sinter_force_model_destroy(sinter_force_model *fm);
+/** The model's name (borrowed). */
+SINTER_API const char *sinter_force_model_name(const sinter_force_model *fm);
+/** Set a model-level parameter by key (e.g. "gz" of gravity); unknown keys give SINTER_ERR_NOT_FOUND. */
+SINTER_API sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key,
+                                                double value);
+SINTER_API sinter_status sinter_force_model_get(const sinter_force_model *fm, const char *key,
+                                                double *value);
+
+/* ------------------------------------------------------------------------ */
+/* Steppers                                                                  */
+/* ------------------------------------------------------------------------ */
+
+/** A time integrator over a particle set, walls and submodels, all borrowed. */
+typedef struct sinter_stepper sinter_stepper;
+
+/** Stepper kinds. */
+typedef enum sinter_stepper_kind {
+    SINTER_STEPPER_EXPLICIT = 0 /**< velocity Verlet, fixed step (seed 003 sec. 4) */
+} sinter_stepper_kind;
+
+/** What a stepper did. */
+typedef struct sinter_stepper_stats {
+    size_t struct_size;       /**< set to sizeof(sinter_stepper_stats) by the caller */
+    uint64_t steps;           /**< accepted steps */
+    uint64_t rejected;        /**< rejected steps */
+    uint64_t neighbor_builds; /**< neighbour list rebuilds */
+    uint64_t contacts;        /**< particle-particle contacts in the last step */
+    uint64_t wall_contacts;   /**< particle-wall contacts in the last step */
+    double time;              /**< simulated time [s] */
+    double dt;                /**< current step [s] */
+    double seconds_neighbor;  /**< wall-clock time in neighbour search [s] */
+    double seconds_force;     /**< wall-clock time in force evaluation [s] */
+    double seconds_integrate; /**< wall-clock time in the update of positions and velocities [s] */
+    double seconds_total;     /**< wall-clock time in sinter_stepper_advance [s] */
+} sinter_stepper_stats;
+
+/**
+ * Observer called after every accepted step with the time [s]. Return 0 to
+ * continue, non-zero to stop advance (which then returns SINTER_OK early).
+ */
+typedef int (*sinter_observer_fn)(const sinter_stepper *stepper, double time, void *user);
+
+/**
+ * Create a stepper over `particles` and `walls` (walls may be NULL). Both are
+ * borrowed: destroy the stepper first.
+ */
+SINTER_API sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx,
+                                               sinter_stepper_kind kind,
+                                               sinter_particles *particles, sinter_walls *walls);
+SINTER_API void sinter_stepper_destroy(sinter_stepper *stepper);
+/** Add a force submodel (borrowed; it may be shared by several steppers). */
+SINTER_API sinter_status sinter_stepper_add_force(sinter_stepper *stepper, sinter_force_model *fm);
+/** Time step [s] (> 0). */
+SINTER_API sinter_status sinter_stepper_set_dt(sinter_stepper *stepper, double dt);
+/** Verlet skin [m] (>= 0): neighbour lists are rebuilt when a particle moved more than half of it. */
+SINTER_API sinter_status sinter_stepper_set_skin(sinter_stepper *stepper, double skin);
+/** Set the observer (NULL to remove). */
+SINTER_API sinter_status sinter_stepper_set_observer(sinter_stepper *stepper,
+                                                     sinter_observer_fn fn, void *user);
+/**
+ * Advance to time t_end [s] (>= current time). The last step is shortened to
+ * land on t_end. On an error the particle set holds the last accepted state.
+ */
+SINTER_API sinter_status sinter_stepper_advance(sinter_stepper *stepper, double t_end);
+/** Take exactly n steps. */
+SINTER_API sinter_status sinter_stepper_step(sinter_stepper *stepper, uint64_t n);
+/** Current simulated time [s]. */
+SINTER_API sinter_status sinter_stepper_time(const sinter_stepper *stepper, double *time);
+/** Fill `stats` (its struct_size must be set). */
+SINTER_API sinter_status sinter_stepper_get_stats(const sinter_stepper *stepper,
+                                                  sinter_stepper_stats *stats);
+/**
+ * Evaluate forces on the current state without stepping (fills the force and
+ * torque fields and the wall reactions; history is not committed).
+ */
+SINTER_API sinter_status sinter_stepper_evaluate(sinter_stepper *stepper);
+
+/**
+ * Stable explicit step for Hertz contacts, seed 003 eq. 47: dt = t_c / 10 with
+ * t_c = 2.87 (m*^2 / (r* E*^2 v_rel))^(1/5), taken over the smallest particle
+ * pair of the set (and particle-wall pairs) at relative normal speed v_rel [m/s].
+ */
+SINTER_API sinter_status sinter_stable_dt_hertz(const sinter_particles *particles,
+                                                const sinter_walls *walls, double v_rel,
+                                                double *dt);
+
+/** Damping ratio xi of seed 003 eq. 6 that gives restitution e in a Hertz collision (0 < e <= 1). */
+SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double *xi);
+
+
+/* ------------------------------------------------------------------------ */
+/* Packing helpers                                                           */
+/* ------------------------------------------------------------------------ */
+
+/** Radius distributions of the packing helpers. */
+typedef enum sinter_radius_distribution {
+    SINTER_RADII_MONODISPERSE = 0, /**< every radius = mean */
+    SINTER_RADII_UNIFORM = 1,      /**< uniform in [mean - spread, mean + spread] */
+    SINTER_RADII_NORMAL = 2        /**< normal(mean, spread) truncated to [min, max] by rejection */
+} sinter_radius_distribution;
+
+/** Options of sinter_pack_random; fill with sinter_packing_options_init. */
+typedef struct sinter_packing_options {
+    size_t struct_size;          /**< sizeof(sinter_packing_options) */
+    double box_min[3];           /**< lower corner of the box the spheres must lie in [m] */
+    double box_max[3];           /**< upper corner [m] */
+    int distribution;            /**< a sinter_radius_distribution */
+    double radius_mean;          /**< [m] */
+    double radius_spread;        /**< half-width (uniform) or standard deviation (normal) [m] */
+    double radius_min;           /**< truncation of the normal distribution [m] (0: mean - 3 spread, floored at mean/10) */
+    double radius_max;           /**< [m] (0: mean + 3 spread) */
+    double gap;                  /**< smallest surface gap between spheres and to the box [m] */
+    uint64_t seed;               /**< random seed (same seed, same packing on every machine) */
+    uint64_t max_attempts;       /**< attempts per sphere before giving up (default 100000) */
+    int32_t material;            /**< material id of the new particles */
+    double temperature;          /**< initial temperature [K] */
+} sinter_packing_options;
+
+/** Fill `options` with defaults: unit box, monodisperse r = 0.05 m, seed 1, 293.15 K. */
+SINTER_API sinter_status sinter_packing_options_init(sinter_packing_options *options,
+                                                     size_t struct_size);
+
+/**
+ * Random sequential addition (seed 000 sec. 7.1, remark 2): place up to n
+ * spheres one by one at uniformly random positions inside the box, each
+ * accepted only if it overlaps no sphere already in the set. Stops early when
+ * max_attempts fail in a row; *placed (may be NULL) receives the number added.
+ * Errors: SINTER_ERR_INVALID for an empty box or bad radii; the set is unchanged on error.
+ */
+SINTER_API sinter_status sinter_pack_random(sinter_particles *particles,
+                                            const sinter_packing_options *options, size_t n,
+                                            size_t *placed);
+
+/**
+ * Simple-cubic lattice of spheres of radius r with centre spacing `spacing`
+ * (>= 2 r) filling the box from its lower corner; *placed receives the count.
+ */
+SINTER_API sinter_status sinter_pack_lattice(sinter_particles *particles, const double box_min[3],
+                                             const double box_max[3], double radius,
+                                             double spacing, int32_t material, double temperature,
+                                             size_t *placed);
+
+/**
+ * Pour: advance `stepper` (which should include gravity) until the total
+ * kinetic energy per particle falls below `ke_per_particle` [J] after at least
+ * t_min [s], or until t_max [s] of simulated time has passed
+ * (SINTER_ERR_NOT_CONVERGED then, with the state kept).
+ */
+SINTER_API sinter_status sinter_pack_pour(sinter_stepper *stepper, double ke_per_particle,
+                                          double t_min, double t_max);
+
 #ifdef __cplusplus
 }
 #endif

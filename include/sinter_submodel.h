@@ -33,6 +33,82 @@ typedef enum sinter_callback_result {
     SINTER_CALLBACK_FATAL = -1
 } sinter_callback_result;
 
+
+/** The state a submodel reads (borrowed for the duration of a callback). */
+typedef struct sinter_state_view {
+    size_t count;               /**< particles */
+    const double *position;     /**< 3 per particle [m] */
+    const double *velocity;     /**< 3 per particle [m/s] */
+    const double *spin;         /**< 3 per particle [rad/s] */
+    const double *radius;       /**< [m] */
+    const double *mass;         /**< [kg] */
+    const double *inertia;      /**< [kg m^2] */
+    const double *temperature;  /**< [K] */
+    const int32_t *material;    /**< material ids */
+    size_t wall_count;          /**< walls */
+    const double *wall_point;   /**< 3 per wall: current point of the plane [m] */
+    const double *wall_normal;  /**< 3 per wall: unit normal into the particle region */
+    const double *wall_velocity; /**< 3 per wall [m/s] */
+    double time;                /**< time of the state [s] */
+    double dt;                  /**< step being taken [s] */
+} sinter_state_view;
+
+/** Kinds of contact in a batch. */
+typedef enum sinter_contact_kind {
+    SINTER_CONTACT_PARTICLE = 0, /**< particle i with particle j */
+    SINTER_CONTACT_WALL = 1      /**< particle i with wall j */
+} sinter_contact_kind;
+
+/**
+ * A batch of active contacts (overlap > 0) as arrays, all of length `count`
+ * (times 3 for vectors). Geometry follows seed 000 eq. 7-12: contact area
+ * A = pi a^2 with a^2 = r_i^2 - L_i^2 and L_i the distance from the centre of
+ * i to the contact plane. For a wall, L_i is the centre-to-plane distance.
+ */
+typedef struct sinter_contact_batch {
+    size_t count;
+    int kind;                    /**< a sinter_contact_kind */
+    const uint32_t *i;           /**< particle index */
+    const uint32_t *j;           /**< other particle index, or wall index */
+    const double *normal;        /**< unit normal from i towards j (or towards the wall), 3 per contact */
+    const double *overlap;       /**< r_i + r_j - d, or r_i - plane distance [m] */
+    const double *distance;      /**< centre distance, or centre-plane distance [m] */
+    const double *contact_radius; /**< a [m] */
+    const double *area;          /**< pi a^2 [m^2] */
+    const double *branch;        /**< L_i [m]: contact point of i is x_i + L_i n */
+    size_t history_size;         /**< doubles of history per contact (as registered) */
+    const double *history;       /**< committed history, history_size per contact (NULL if 0) */
+    double *history_trial;       /**< history after this step, to be written (NULL if 0) */
+    double *force;               /**< out: force on i, 3 per contact (j receives -force); zeroed */
+    double *torque_i;            /**< out: moment on i about its centre, 3 per contact; zeroed */
+    double *torque_j;            /**< out: moment on j about its centre (particle pairs), 3 per contact; zeroed */
+} sinter_contact_batch;
+
+/**
+ * Host force submodel. Either callback may be NULL.
+ *  - contacts: called once per evaluation for the particle-particle batch and
+ *    once for the particle-wall batch; fills force / torques / history_trial.
+ *    History starts at zero when a contact forms and is dropped when it ends.
+ *  - particles: body forces; force and torque are 3 per particle, zeroed
+ *    before the call, and are added to the totals afterwards.
+ */
+typedef struct sinter_force_callbacks {
+    size_t struct_size;  /**< sizeof(sinter_force_callbacks) */
+    size_t history_size; /**< doubles of per-contact history the model keeps */
+    int (*contacts)(const sinter_state_view *state, sinter_contact_batch *batch, void *user);
+    int (*particles)(const sinter_state_view *state, double *force, double *torque, void *user);
+    void (*destroy_user)(void *user); /**< called once when the model is destroyed (may be NULL) */
+} sinter_force_callbacks;
+
+/**
+ * Create a force model from host callbacks (copied). `name` is copied. On
+ * error destroy_user is not called: the caller still owns `user`.
+ */
+SINTER_API sinter_status sinter_force_model_create_host(sinter_force_model **out, sinter_ctx *ctx,
+                                                        const char *name,
+                                                        const sinter_force_callbacks *callbacks,
+                                                        void *user);
+
 #ifdef __cplusplus
 }
 #endif

@@ -393,6 +393,8 @@ static sinter_status borrow(const sinter_particles *ps, sinter_field field, int 
         *components = FIELDS[field].components;
     mut->views_out++;
     mut->field_views[field]++;
+    if (write)
+        mut->write_generation++;
     return SINTER_OK;
 }
 

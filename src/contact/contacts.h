@@ -1,0 +1,35 @@
+/*
+ * Active contacts (overlap > 0) and their geometry: seed 000 eq. 7-12,
+ * identical to seed 003 eq. 33-34.
+ */
+#ifndef SINTER_CONTACTS_H
+#define SINTER_CONTACTS_H
+
+#include "contact/neighbors.h"
+
+typedef struct sinter_contact_list {
+    size_t count;
+    size_t capacity;
+    uint32_t *i;      /* particle */
+    uint32_t *j;      /* particle or wall */
+    uint32_t *pair;   /* index of the candidate pair (history slot) */
+    double *n;        /* unit normal from i towards j, 3 per contact */
+    double *delta;    /* overlap [m] */
+    double *dist;     /* centre distance or centre-plane distance [m] */
+    double *a;        /* contact radius [m] */
+    double *area;     /* pi a^2 [m^2] */
+    double *branch;   /* L_i: distance from the centre of i to the contact plane [m] */
+} sinter_contact_list;
+
+void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
+
+/* Particle-particle contacts among the candidate pairs. */
+sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
+                                      const sinter_pair_list *pairs, const sinter_particles *ps);
+
+/* Particle-wall contacts among the candidate pairs. */
+sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
+                                      const sinter_pair_list *pairs, const sinter_particles *ps,
+                                      const sinter_walls *walls);
+
+#endif

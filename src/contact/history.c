@@ -1,0 +1,99 @@
+/* Commit/rollback of per-contact history and its transfer across neighbour rebuilds. */
+#include <string.h>
+
+#include "history.h"
+
+void sinter_history_free(sinter_ctx *ctx, sinter_history *h)
+{
+    sinter_free(ctx, h->committed);
+    sinter_free(ctx, h->trial);
+    sinter_free(ctx, h->active);
+    sinter_free(ctx, h->scratch);
+    const size_t width = h->width;
+    memset(h, 0, sizeof(*h));
+    h->width = width;
+}
+
+static sinter_status grow(sinter_ctx *ctx, void **p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return SINTER_OK;
+    size_t c = *cap ? *cap : 64;
+    while (c < need)
+        c *= 2;
+    void *q = sinter_realloc_array(ctx, *p, c, elem);
+    if (q == NULL)
+        return sinter_last_status(ctx);
+    *p = q;
+    *cap = c;
+    return SINTER_OK;
+}
+
+sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts)
+{
+    if (h->width == 0)
+        return SINTER_OK;
+    sinter_status st = grow(ctx, (void **)&h->trial, &h->trial_capacity, h->width * contacts + 1,
+                            sizeof(double));
+    if (st == SINTER_OK)
+        memset(h->trial, 0, h->width * contacts * sizeof(double));
+    return st;
+}
+
+sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
+                                    const sinter_contact_list *c)
+{
+    if (h->width == 0)
+        return SINTER_OK;
+    const size_t w = h->width;
+    sinter_status st = grow(ctx, (void **)&h->active, &h->active_capacity, c->count + 1,
+                            sizeof(uint32_t));
+    if (st != SINTER_OK)
+        return st;
+    for (size_t k = 0; k < h->active_count; ++k)
+        memset(h->committed + (size_t)h->active[k] * w, 0, w * sizeof(double));
+    for (size_t k = 0; k < c->count; ++k) {
+        memcpy(h->committed + (size_t)c->pair[k] * w, h->trial + k * w, w * sizeof(double));
+        h->active[k] = c->pair[k];
+    }
+    h->active_count = c->count;
+    return SINTER_OK;
+}
+
+sinter_status sinter_history_remap(sinter_ctx *ctx, sinter_history *h, size_t old_pairs,
+                                   const sinter_pair_list *pairs)
+{
+    if (h->width == 0)
+        return SINTER_OK;
+    const size_t w = h->width, n = pairs->count;
+    /* old -> new map, then move the active pairs' history into a zeroed buffer. */
+    sinter_status st = grow(ctx, (void **)&h->scratch, &h->scratch_capacity,
+                            w * n + old_pairs + 1, sizeof(double));
+    if (st != SINTER_OK)
+        return st;
+    double *fresh = h->scratch;
+    uint32_t *old_to_new = (uint32_t *)(h->scratch + w * n);
+    memset(fresh, 0, w * n * sizeof(double));
+    for (size_t p = 0; p < old_pairs; ++p)
+        old_to_new[p] = SINTER_NO_PAIR;
+    for (size_t q = 0; q < n; ++q)
+        if (pairs->from[q] != SINTER_NO_PAIR)
+            old_to_new[pairs->from[q]] = (uint32_t)q;
+    size_t kept = 0;
+    for (size_t k = 0; k < h->active_count; ++k) {
+        const uint32_t q = old_to_new[h->active[k]];
+        if (q == SINTER_NO_PAIR)
+            continue; /* the pair left the list, so it was not in contact any more */
+        memcpy(fresh + (size_t)q * w, h->committed + (size_t)h->active[k] * w, w * sizeof(double));
+        h->active[kept++] = q;
+    }
+    h->active_count = kept;
+    /* swap buffers: the old committed array becomes scratch */
+    double *old = h->committed;
+    size_t old_cap = h->pair_capacity;
+    h->committed = h->scratch;
+    h->pair_capacity = h->scratch_capacity;
+    h->scratch = old;
+    h->scratch_capacity = old_cap;
+    return SINTER_OK;
+}

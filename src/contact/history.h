@@ -1,0 +1,39 @@
+/*
+ * Per-contact history of one force submodel (tangential springs, rolling
+ * springs, bonds). Committed history lives per candidate pair; an evaluation
+ * writes trial history per active contact; commit copies trial into the pair
+ * slots and clears pairs whose contact ended (ARCHITECTURE sec. 2: evaluation
+ * is pure, history is committed only when a step is accepted).
+ */
+#ifndef SINTER_HISTORY_H
+#define SINTER_HISTORY_H
+
+#include "contact/contacts.h"
+
+typedef struct sinter_history {
+    size_t width;        /* doubles per contact */
+    double *committed;   /* width per candidate pair */
+    size_t pair_capacity;
+    double *trial;       /* width per active contact */
+    size_t trial_capacity;
+    uint32_t *active;    /* candidate pairs in contact at the last commit */
+    size_t active_count;
+    size_t active_capacity;
+    double *scratch;     /* remapping buffer */
+    size_t scratch_capacity;
+} sinter_history;
+
+void sinter_history_free(sinter_ctx *ctx, sinter_history *h);
+
+/* Make room for trial history of `contacts` contacts (zeroing it). */
+sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts);
+
+/* Accept the trial history of the active contacts `c`. */
+sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
+                                    const sinter_contact_list *c);
+
+/* Carry committed history to a rebuilt pair list (pairs->from maps new to old). */
+sinter_status sinter_history_remap(sinter_ctx *ctx, sinter_history *h, size_t old_pairs,
+                                   const sinter_pair_list *pairs);
+
+#endif

@@ -1,0 +1,61 @@
+/*
+ * Candidate pairs within a Verlet skin, found with a uniform cell grid
+ * (ARCHITECTURE sec. 2). A pair list is valid until some particle moved more
+ * than half the skin, or a wall moved so far that particle and wall together
+ * could have closed the skin.
+ */
+#ifndef SINTER_NEIGHBORS_H
+#define SINTER_NEIGHBORS_H
+
+#include "core/core.h"
+#include "particles/particles.h"
+#include "walls/walls.h"
+
+#define SINTER_NO_PAIR UINT32_MAX
+
+/* Candidate pairs: particle i with particle j (i < j) or with wall j. */
+typedef struct sinter_pair_list {
+    size_t count;
+    size_t capacity;
+    uint32_t *i;
+    uint32_t *j;
+    uint64_t *key_i; /* persistent particle id of i */
+    uint64_t *key_j; /* persistent id of j, or the wall index */
+    uint32_t *from;  /* after a build: index of the same pair in the previous list, or SINTER_NO_PAIR */
+} sinter_pair_list;
+
+typedef struct sinter_neighbors {
+    sinter_ctx *ctx;
+    double skin;
+    int built;
+    sinter_pair_list pp;     /* particle-particle */
+    sinter_pair_list pw;     /* particle-wall */
+    sinter_pair_list old_pp; /* previous lists, kept to carry history over */
+    sinter_pair_list old_pw;
+    double *x_ref; /* positions at the last build, 3 per particle */
+    size_t ref_capacity;
+    double *wall_ref; /* n . p of each wall at the last build */
+    size_t wall_ref_capacity;
+    uint64_t layout_generation;
+    size_t wall_count;
+    /* scratch of the cell grid */
+    uint32_t *cell_start;
+    size_t cell_capacity;
+    uint32_t *cell_items;
+    size_t items_capacity;
+    uint32_t *hash; /* open-addressing table of old pair indices */
+    size_t hash_capacity;
+} sinter_neighbors;
+
+void sinter_neighbors_init(sinter_neighbors *nb, sinter_ctx *ctx, double skin);
+void sinter_neighbors_free(sinter_neighbors *nb);
+
+/* 1 when the lists must be rebuilt before the next evaluation. */
+int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,
+                           const sinter_walls *walls);
+
+/* Rebuild both lists; pp.from and pw.from map each new pair to its old index. */
+sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particles *ps,
+                                     const sinter_walls *walls);
+
+#endif

@@ -1,0 +1,32 @@
+/* Body forces: gravity m g and a constant force on every particle (seed 003 eq. 1). */
+#include "force_model.h"
+
+static sinter_status gravity_eval(const sinter_force_model *fm, sinter_force_eval *e)
+{
+    const double g[3] = {fm->param[0], fm->param[1], fm->param[2]};
+    const double *m = e->ps->mass;
+    double *f = e->force;
+    for (size_t i = 0; i < e->ps->count; ++i) {
+        f[3 * i] += m[i] * g[0];
+        f[3 * i + 1] += m[i] * g[1];
+        f[3 * i + 2] += m[i] * g[2];
+    }
+    return SINTER_OK;
+}
+
+static sinter_status body_force_eval(const sinter_force_model *fm, sinter_force_eval *e)
+{
+    double *f = e->force;
+    for (size_t i = 0; i < e->ps->count; ++i) {
+        f[3 * i] += fm->param[0];
+        f[3 * i + 1] += fm->param[1];
+        f[3 * i + 2] += fm->param[2];
+    }
+    return SINTER_OK;
+}
+
+const sinter_force_ops sinter_force_gravity = {
+    "gravity", 0, 0, 0, {"gx", "gy", "gz", NULL}, {0.0, 0.0, -9.81}, gravity_eval};
+
+const sinter_force_ops sinter_force_body_force = {
+    "body_force", 0, 0, 0, {"fx", "fy", "fz", NULL}, {0.0, 0.0, 0.0}, body_force_eval};

@@ -1,0 +1,68 @@
+/* Private interface of force submodels (built-in and host). */
+#ifndef SINTER_FORCE_MODEL_H
+#define SINTER_FORCE_MODEL_H
+
+#include "sinter_submodel.h"
+#include "contact/history.h"
+
+#define SINTER_FORCE_MAX_PARAMS 8
+
+/* Everything one evaluation of one force model reads and writes. */
+typedef struct sinter_force_eval {
+    sinter_ctx *ctx;
+    const sinter_particles *ps;
+    const sinter_walls *walls;      /* may be NULL */
+    const sinter_contact_list *pp;  /* particle-particle contacts */
+    const sinter_contact_list *pw;  /* particle-wall contacts */
+    sinter_history *hist_pp;        /* this model's history (width may be 0) */
+    sinter_history *hist_pw;
+    double time;                    /* time of the state [s] */
+    double dt;                      /* increment for history springs [s] (0 at a restart) */
+    double *force;                  /* 3 per particle, accumulated */
+    double *torque;                 /* 3 per particle, accumulated */
+    double *wall_force;             /* 3 per wall, accumulated (force on the wall) */
+    const double *modulus_scale;    /* per particle E(theta)/E_0, or NULL for 1 */
+    const sinter_state_view *view;  /* for host callbacks */
+} sinter_force_eval;
+
+typedef struct sinter_force_ops {
+    const char *name;
+    size_t history_pp; /* doubles of history per particle pair */
+    size_t history_pw; /* per particle-wall pair */
+    int uses_contacts;
+    const char *keys[SINTER_FORCE_MAX_PARAMS]; /* model-level parameters, NULL-terminated */
+    double defaults[SINTER_FORCE_MAX_PARAMS];
+    sinter_status (*eval)(const sinter_force_model *fm, sinter_force_eval *e);
+} sinter_force_ops;
+
+struct sinter_force_model {
+    sinter_ctx *ctx;
+    const sinter_force_ops *ops;
+    char name[64];
+    double param[SINTER_FORCE_MAX_PARAMS];
+    /* host models */
+    sinter_force_callbacks host;
+    void *user;
+    sinter_force_ops host_ops;
+};
+
+/* Built-in models, one file each. */
+extern const sinter_force_ops sinter_force_hertz_mindlin;
+extern const sinter_force_ops sinter_force_linear_spring;
+extern const sinter_force_ops sinter_force_gravity;
+extern const sinter_force_ops sinter_force_body_force;
+
+/* Host model evaluation (host.c). */
+sinter_status sinter_force_host_eval(const sinter_force_model *fm, sinter_force_eval *e);
+
+/* History widths of a model. */
+static inline size_t sinter_force_history_pp(const sinter_force_model *fm)
+{
+    return fm->ops->history_pp;
+}
+static inline size_t sinter_force_history_pw(const sinter_force_model *fm)
+{
+    return fm->ops->history_pw;
+}
+
+#endif

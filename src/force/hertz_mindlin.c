@@ -1,0 +1,249 @@
+/*
+ * Hertz normal contact with viscous damping (seed 003 eq. 2-6), Mindlin
+ * stick-slip friction with an accumulated tangential spring and Coulomb
+ * return (eq. 7-14) and rolling resistance as a spring-damper-slider
+ * (eq. 15-20). Walls are particles of infinite radius, mass and inertia
+ * (seed 003 remark 1).
+ *
+ * Sign conventions: n points from i to j; u = (velocity of i's contact point)
+ * - (velocity of j's contact point). The tangential spring Delta x integrates
+ * the tangential part of u (eq. 10, 12) and the friction force on i is
+ * -k_t Delta x - d_fric u_t (eq. 7); on slip it is scaled back to the Coulomb
+ * limit mu_d |f_con| and the spring is reset consistently (eq. 13).
+ *
+ * Pair properties: E* and G* from eq. 3 and 9; friction, rolling and damping
+ * coefficients of two different materials are averaged arithmetically.
+ *
+ * History per contact: Delta x (3 doubles), Delta theta (3 doubles).
+ */
+#include <math.h>
+
+#include "force_model.h"
+#include "vec3.h"
+
+enum { PARAM_ROLLING = 0 };
+
+/* Material data of one side of a contact. */
+typedef struct side {
+    double compliance; /* (1 - nu^2) / E  [1/Pa], scaled by softening */
+    double shear_compliance; /* 1 / G  [1/Pa] */
+    double xi, mu_s, mu_d, xi_f, mu_r, xi_r;
+} side;
+
+static void side_from_material(const sinter_material *m, double scale, side *s)
+{
+    const double e = m->value[SINTER_MAT_YOUNGS_MODULUS] * scale;
+    const double nu = m->value[SINTER_MAT_POISSON_RATIO];
+    s->compliance = (1.0 - nu * nu) / e;
+    s->shear_compliance = 2.0 * (1.0 + nu) / e; /* G = E / (2 (1 + nu)) */
+    s->xi = m->value[SINTER_MAT_DAMPING_RATIO];
+    s->mu_s = m->value[SINTER_MAT_FRICTION_STATIC];
+    s->mu_d = m->value[SINTER_MAT_FRICTION_DYNAMIC];
+    s->xi_f = m->value[SINTER_MAT_FRICTION_DAMPING_RATIO];
+    s->mu_r = m->value[SINTER_MAT_ROLLING_FRICTION];
+    s->xi_r = m->value[SINTER_MAT_ROLLING_DAMPING_RATIO];
+}
+
+/* The contact law for one contact. Inputs: geometry, u (relative velocity of
+ * the contact points, i minus j), w_rel = w_i - w_j, pair properties.
+ * Outputs: force on i, moment on i from rolling, trial history. */
+typedef struct pair_props {
+    double estar, gstar, rstar, mstar, jstar;
+    double xi, mu_s, mu_d, xi_f, mu_r, xi_r;
+} pair_props;
+
+static void mix(const side *a, const side *b, pair_props *p)
+{
+    p->estar = 1.0 / (a->compliance + b->compliance);        /* eq. 3 */
+    p->gstar = 1.0 / (a->shear_compliance + b->shear_compliance); /* eq. 9 */
+    p->xi = 0.5 * (a->xi + b->xi);
+    p->mu_s = 0.5 * (a->mu_s + b->mu_s);
+    p->mu_d = 0.5 * (a->mu_d + b->mu_d);
+    p->xi_f = 0.5 * (a->xi_f + b->xi_f);
+    p->mu_r = 0.5 * (a->mu_r + b->mu_r);
+    p->xi_r = 0.5 * (a->xi_r + b->xi_r);
+}
+
+static inline void contact_law(const pair_props *p, const double n[3], double delta,
+                               const double u[3], const double w_rel[3], double dt,
+                               const double *hist, double *trial, int rolling, double f[3],
+                               double m_roll[3])
+{
+    const double sqrt_r = sqrt(p->rstar);
+    const double sqrt_rd = sqrt(p->rstar * delta);
+    const double delta_q = sqrt(sqrt(delta)); /* delta^(1/4) */
+    /* Normal: eq. 2 and 6. delta_dot = -(u_j - u_i).n = u.n with u = u_i - u_j. */
+    const double un = v3_dot(u, n);
+    const double d_con = 2.0 * p->xi * sqrt(2.0 * p->estar * p->mstar * sqrt_r) * delta_q;
+    const double fn = 4.0 / 3.0 * p->estar * sqrt_rd * delta + d_con * un; /* magnitude, repulsive > 0 */
+    const double fabs_n = fabs(fn);
+    for (int d = 0; d < 3; ++d)
+        f[d] = -fn * n[d];
+
+    /* Tangential: eq. 7-13. */
+    const double ut[3] = {u[0] - un * n[0], u[1] - un * n[1], u[2] - un * n[2]};
+    const double kt = 8.0 * p->gstar * sqrt_rd;
+    double sx[3] = {hist[0], hist[1], hist[2]};
+    /* Keep the accumulated spring in the current tangent plane (rotate, keep length). */
+    const double len0 = v3_norm(sx);
+    const double sn = v3_dot(sx, n);
+    for (int d = 0; d < 3; ++d)
+        sx[d] -= sn * n[d];
+    const double len1 = v3_norm(sx);
+    if (len1 > 0.0) {
+        const double s = len0 / len1;
+        for (int d = 0; d < 3; ++d)
+            sx[d] *= s;
+    }
+    for (int d = 0; d < 3; ++d)
+        sx[d] += ut[d] * dt; /* eq. 10, 12 */
+    const double d_fric = 2.0 * p->xi_f * sqrt(8.0 * p->gstar * p->mstar * sqrt_r) * delta_q;
+    double ft[3];
+    for (int d = 0; d < 3; ++d)
+        ft[d] = -kt * sx[d] - d_fric * ut[d];
+    const double ft_len = v3_norm(ft);
+    if (ft_len > p->mu_s * fabs_n && ft_len > 0.0) {
+        /* Slip (eq. 8): Coulomb force along the trial direction; spring from eq. 13. */
+        const double scale = p->mu_d * fabs_n / ft_len;
+        for (int d = 0; d < 3; ++d) {
+            ft[d] *= scale;
+            sx[d] = kt > 0.0 ? -(ft[d] + d_fric * ut[d]) / kt : 0.0;
+        }
+    }
+    for (int d = 0; d < 3; ++d) {
+        f[d] += ft[d];
+        trial[d] = sx[d];
+    }
+
+    /* Rolling resistance: eq. 15-20. */
+    if (rolling) {
+        double th[3] = {hist[3] + w_rel[0] * dt, hist[4] + w_rel[1] * dt, hist[5] + w_rel[2] * dt};
+        const double kr = kt * p->rstar * p->rstar;
+        const double d_rol =
+            2.0 * p->xi_r * sqrt(8.0 * p->gstar * p->jstar * sqrt_r) * p->rstar * delta_q;
+        double mr[3];
+        for (int d = 0; d < 3; ++d)
+            mr[d] = -kr * th[d] - d_rol * w_rel[d];
+        const double mr_len = v3_norm(mr), limit = p->mu_r * p->rstar * fabs_n;
+        if (mr_len > limit && mr_len > 0.0) {
+            const double scale = limit / mr_len;
+            for (int d = 0; d < 3; ++d) {
+                mr[d] *= scale;
+                th[d] = kr > 0.0 ? -(mr[d] + d_rol * w_rel[d]) / kr : 0.0;
+            }
+        }
+        for (int d = 0; d < 3; ++d) {
+            m_roll[d] = mr[d];
+            trial[3 + d] = th[d];
+        }
+    } else {
+        m_roll[0] = m_roll[1] = m_roll[2] = 0.0;
+    }
+}
+
+static double scale_of(const sinter_force_eval *e, size_t i)
+{
+    return e->modulus_scale ? e->modulus_scale[i] : 1.0;
+}
+
+static sinter_status eval_pp(const sinter_force_eval *e, int rolling)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pp;
+    const double *x = ps->x, *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
+                 *inertia = ps->inertia;
+    const double *hist = e->hist_pp->committed;
+    double *trial = e->hist_pp->trial;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const double *n = c->n + 3 * k;
+        const double li = c->branch[k], lj = c->dist[k] - li;
+        side si, sj;
+        side_from_material(&ps->materials[ps->material[i]], scale_of(e, i), &si);
+        side_from_material(&ps->materials[ps->material[j]], scale_of(e, j), &sj);
+        pair_props p;
+        mix(&si, &sj, &p);
+        p.rstar = r[i] * r[j] / (r[i] + r[j]);
+        p.mstar = mass[i] * mass[j] / (mass[i] + mass[j]);
+        p.jstar = 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
+                         1.0 / (inertia[j] + mass[j] * r[j] * r[j])); /* eq. 18 */
+        /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n. */
+        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+        const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
+        double wi_b[3], wj_b[3];
+        v3_cross(w + 3 * i, bi, wi_b);
+        v3_cross(w + 3 * j, bj, wj_b);
+        double u[3], w_rel[3];
+        for (int d = 0; d < 3; ++d) {
+            u[d] = v[3 * i + d] + wi_b[d] - v[3 * j + d] - wj_b[d];
+            w_rel[d] = w[3 * i + d] - w[3 * j + d];
+        }
+        double f[3], mr[3];
+        contact_law(&p, n, c->delta[k], u, w_rel, e->dt, hist + 6 * (size_t)c->pair[k],
+                    trial + 6 * k, rolling, f, mr);
+        double ti[3], tj[3];
+        v3_cross(bi, f, ti);  /* moment of f on i about its centre (eq. 14) */
+        const double fj[3] = {-f[0], -f[1], -f[2]};
+        v3_cross(bj, fj, tj);
+        for (int d = 0; d < 3; ++d) {
+            e->force[3 * i + d] += f[d];
+            e->force[3 * j + d] -= f[d];
+            e->torque[3 * i + d] += ti[d] + mr[d];
+            e->torque[3 * j + d] += tj[d] - mr[d];
+        }
+        (void)x;
+    }
+    return SINTER_OK;
+}
+
+static sinter_status eval_pw(const sinter_force_eval *e, int rolling)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pw;
+    const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
+                 *inertia = ps->inertia;
+    const double *hist = e->hist_pw->committed;
+    double *trial = e->hist_pw->trial;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], wall_index = c->j[k];
+        const sinter_wall *wall = &e->walls->wall[wall_index];
+        const double *n = c->n + 3 * k;
+        const double li = c->branch[k];
+        side si, sw;
+        side_from_material(&ps->materials[ps->material[i]], scale_of(e, i), &si);
+        side_from_material(&wall->material, 1.0, &sw);
+        pair_props p;
+        mix(&si, &sw, &p);
+        p.rstar = r[i];
+        p.mstar = mass[i];
+        p.jstar = inertia[i] + mass[i] * r[i] * r[i];
+        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+        double wi_b[3];
+        v3_cross(w + 3 * i, bi, wi_b);
+        double u[3];
+        for (int d = 0; d < 3; ++d)
+            u[d] = v[3 * i + d] + wi_b[d] - wall->u[d];
+        double f[3], mr[3], ti[3];
+        contact_law(&p, n, c->delta[k], u, w + 3 * i, e->dt, hist + 6 * (size_t)c->pair[k],
+                    trial + 6 * k, rolling, f, mr);
+        v3_cross(bi, f, ti);
+        for (int d = 0; d < 3; ++d) {
+            e->force[3 * i + d] += f[d];
+            e->torque[3 * i + d] += ti[d] + mr[d];
+            e->wall_force[3 * wall_index + d] -= f[d];
+        }
+    }
+    return SINTER_OK;
+}
+
+static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_force_eval *e)
+{
+    const int rolling = fm->param[PARAM_ROLLING] != 0.0;
+    sinter_status st = rolling ? eval_pp(e, 1) : eval_pp(e, 0);
+    if (st == SINTER_OK && e->walls != NULL)
+        st = rolling ? eval_pw(e, 1) : eval_pw(e, 0);
+    return st;
+}
+
+const sinter_force_ops sinter_force_hertz_mindlin = {
+    "hertz_mindlin", 6, 6, 1, {"rolling", NULL}, {1.0}, hertz_mindlin_eval};

@@ -1,0 +1,51 @@
+/*
+ * Linear spring-dashpot normal contact: f_i = -(k_n delta + c_n delta_dot) n.
+ * The textbook reference law (no friction); used to check host submodels
+ * against a built-in one and as a cheap law for tests.
+ * Parameters: "kn" [N/m], "cn" [kg/s].
+ */
+#include "force_model.h"
+#include "vec3.h"
+
+static void spring(const sinter_force_model *fm, const double n[3], double delta,
+                   const double u[3], double f[3])
+{
+    const double fn = fm->param[0] * delta + fm->param[1] * v3_dot(u, n);
+    for (int d = 0; d < 3; ++d)
+        f[d] = -fn * n[d];
+}
+
+static sinter_status linear_spring_eval(const sinter_force_model *fm, sinter_force_eval *e)
+{
+    const double *v = e->ps->v;
+    const sinter_contact_list *c = e->pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const double u[3] = {v[3 * i] - v[3 * j], v[3 * i + 1] - v[3 * j + 1],
+                             v[3 * i + 2] - v[3 * j + 2]};
+        double f[3];
+        spring(fm, c->n + 3 * k, c->delta[k], u, f);
+        for (int d = 0; d < 3; ++d) {
+            e->force[3 * i + d] += f[d];
+            e->force[3 * j + d] -= f[d];
+        }
+    }
+    if (e->walls == NULL)
+        return SINTER_OK;
+    c = e->pw;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], wk = c->j[k];
+        const double *uw = e->walls->wall[wk].u;
+        const double u[3] = {v[3 * i] - uw[0], v[3 * i + 1] - uw[1], v[3 * i + 2] - uw[2]};
+        double f[3];
+        spring(fm, c->n + 3 * k, c->delta[k], u, f);
+        for (int d = 0; d < 3; ++d) {
+            e->force[3 * i + d] += f[d];
+            e->wall_force[3 * wk + d] -= f[d];
+        }
+    }
+    return SINTER_OK;
+}
+
+const sinter_force_ops sinter_force_linear_spring = {
+    "linear_spring", 0, 0, 1, {"kn", "cn", NULL}, {1e3, 0.0}, linear_spring_eval};

@@ -1,0 +1,164 @@
+/*
+ * Explicit stepper: velocity Verlet for translation and rotation (kick, drift,
+ * force, kick), with the total rotation vector updated by the Rodrigues
+ * composition of seed 003 eq. 45. A step whose new state is not finite is
+ * rejected: the last accepted state is restored and the error names the
+ * particle, the quantity and the time.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "stepper.h"
+
+/* alpha <- alpha (+) d_alpha, seed 003 eq. 45. */
+static inline void compose_rotation(double *alpha, const double da[3])
+{
+    const double dot = alpha[0] * da[0] + alpha[1] * da[1] + alpha[2] * da[2];
+    const double c[3] = {alpha[1] * da[2] - alpha[2] * da[1], alpha[2] * da[0] - alpha[0] * da[2],
+                         alpha[0] * da[1] - alpha[1] * da[0]};
+    const double s = 4.0 / (4.0 - dot);
+    for (int d = 0; d < 3; ++d)
+        alpha[d] = s * (alpha[d] + da[d] - 0.5 * c[d]);
+}
+
+static sinter_status reserve_backup(sinter_stepper *st)
+{
+    const size_t need = 12 * st->ps->count + 1;
+    if (need <= st->backup_capacity)
+        return SINTER_OK;
+    double *grown = sinter_realloc_array(st->ctx, st->backup, need, sizeof(double));
+    if (grown == NULL)
+        return sinter_last_status(st->ctx);
+    st->backup = grown;
+    st->backup_capacity = need;
+    return SINTER_OK;
+}
+
+static void restore_backup(sinter_stepper *st)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n3 = 3 * ps->count;
+    memcpy(ps->x, st->backup, n3 * sizeof(double));
+    memcpy(ps->v, st->backup + n3, n3 * sizeof(double));
+    memcpy(ps->w, st->backup + 2 * n3, n3 * sizeof(double));
+    memcpy(ps->rot, st->backup + 3 * n3, n3 * sizeof(double));
+}
+
+/* First half kick and drift. The pre-step state is saved for a rollback. */
+static void kick_drift(sinter_stepper *st, double h)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count, n3 = 3 * n;
+    double *x = ps->x, *v = ps->v, *w = ps->w, *rot = ps->rot;
+    const double *f = ps->force, *tq = ps->torque, *m = ps->mass, *j = ps->inertia;
+    const uint32_t *flags = ps->flags;
+    memcpy(st->backup, x, n3 * sizeof(double));
+    memcpy(st->backup + n3, v, n3 * sizeof(double));
+    memcpy(st->backup + 2 * n3, w, n3 * sizeof(double));
+    memcpy(st->backup + 3 * n3, rot, n3 * sizeof(double));
+    const double half = 0.5 * h;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t fl = flags[i];
+        if (!(fl & SINTER_PARTICLE_FIXED)) {
+            const double a = half / m[i];
+            for (int d = 0; d < 3; ++d)
+                v[3 * i + d] += a * f[3 * i + d];
+        }
+        for (int d = 0; d < 3; ++d)
+            x[3 * i + d] += h * v[3 * i + d];
+        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+            const double b = half / j[i];
+            for (int d = 0; d < 3; ++d)
+                w[3 * i + d] += b * tq[3 * i + d];
+        }
+        const double da[3] = {h * w[3 * i], h * w[3 * i + 1], h * w[3 * i + 2]};
+        compose_rotation(rot + 3 * i, da);
+    }
+}
+
+/* Second half kick; returns the index of the first particle whose state is not finite, or n. */
+static size_t kick(sinter_stepper *st, double h)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    double *x = ps->x, *v = ps->v, *w = ps->w;
+    const double *f = ps->force, *tq = ps->torque, *m = ps->mass, *j = ps->inertia;
+    const uint32_t *flags = ps->flags;
+    const double half = 0.5 * h;
+    size_t bad = n;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t fl = flags[i];
+        if (!(fl & SINTER_PARTICLE_FIXED)) {
+            const double a = half / m[i];
+            for (int d = 0; d < 3; ++d)
+                v[3 * i + d] += a * f[3 * i + d];
+        }
+        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+            const double b = half / j[i];
+            for (int d = 0; d < 3; ++d)
+                w[3 * i + d] += b * tq[3 * i + d];
+        }
+        /* Any NaN or infinity makes the sum non-finite. */
+        const double check = x[3 * i] + x[3 * i + 1] + x[3 * i + 2] + v[3 * i] + v[3 * i + 1] +
+                             v[3 * i + 2] + w[3 * i] + w[3 * i + 1] + w[3 * i + 2];
+        if (!isfinite(check) && bad == n)
+            bad = i;
+    }
+    return bad;
+}
+
+static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
+{
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(ps->force[3 * i + d]))
+            return "force";
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(ps->x[3 * i + d]))
+            return "position";
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(ps->v[3 * i + d]))
+            return "velocity";
+    return "spin";
+}
+
+sinter_status sinter_explicit_step(sinter_stepper *st, double h)
+{
+    sinter_status s = reserve_backup(st);
+    if (s != SINTER_OK)
+        return s;
+    const double t_start = st->time;
+    double t0 = sinter_clock();
+    kick_drift(st, h);
+    st->stats.seconds_integrate += sinter_clock() - t0;
+    st->time = t_start + h;
+    if (st->walls != NULL)
+        s = sinter_walls_move(st->walls, st->time);
+    if (s == SINTER_OK)
+        s = sinter_stepper_eval_forces(st, h);
+    size_t bad = st->ps->count;
+    if (s == SINTER_OK) {
+        t0 = sinter_clock();
+        bad = kick(st, h);
+        st->stats.seconds_integrate += sinter_clock() - t0;
+    }
+    if (s == SINTER_OK && bad < st->ps->count) {
+        const char *what = first_bad_quantity(st->ps, bad);
+        s = sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,
+                        "step from t = %.9g s to %.9g s rejected: the %s of particle %zu (id "
+                        "%llu) is not finite; the time step %g s is probably too large for the "
+                        "contact stiffness (see sinter_stable_dt_hertz). The last accepted "
+                        "state is kept.",
+                        t_start, t_start + h, what, bad, (unsigned long long)st->ps->id[bad], h);
+    }
+    if (s != SINTER_OK) {
+        /* Roll back: state, time and walls; history was never committed. */
+        restore_backup(st);
+        st->time = t_start;
+        if (st->walls != NULL)
+            sinter_walls_move(st->walls, t_start);
+        st->forces_current = 0;
+        st->stats.rejected++;
+        return s;
+    }
+    return sinter_stepper_commit(st);
+}

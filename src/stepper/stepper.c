@@ -1,0 +1,378 @@
+/* Steppers: creation, submodels, the evaluation pipeline, advance and statistics. */
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "stepper.h"
+
+double sinter_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinter_stepper_kind kind,
+                                    sinter_particles *particles, sinter_walls *walls)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, out);
+    SINTER_CHECK_NULL(ctx, particles);
+    if (kind != SINTER_STEPPER_EXPLICIT)
+        return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED,
+                           "sinter_stepper_create: stepper kind %d is not available", (int)kind);
+    if (particles->ctx != ctx || (walls != NULL && walls->ctx != ctx))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_create: the particles and walls must belong to the "
+                           "same context as the stepper");
+    sinter_stepper *st = sinter_calloc(ctx, 1, sizeof(*st));
+    if (st == NULL)
+        return sinter_last_status(ctx);
+    st->ctx = ctx;
+    st->kind = kind;
+    st->ps = particles;
+    st->walls = walls;
+    st->dt = 1e-5;
+    sinter_neighbors_init(&st->nb, ctx, 0.0);
+    st->stats.struct_size = sizeof(sinter_stepper_stats);
+    st->stats.dt = st->dt;
+    *out = st;
+    return SINTER_OK;
+}
+
+void sinter_stepper_destroy(sinter_stepper *st)
+{
+    if (st == NULL)
+        return;
+    sinter_ctx *ctx = st->ctx;
+    for (size_t k = 0; k < st->force_count; ++k) {
+        sinter_history_free(ctx, &st->forces[k].pp);
+        sinter_history_free(ctx, &st->forces[k].pw);
+    }
+    sinter_free(ctx, st->forces);
+    sinter_neighbors_free(&st->nb);
+    sinter_contact_list_free(ctx, &st->pp);
+    sinter_contact_list_free(ctx, &st->pw);
+    sinter_free(ctx, st->wall_force);
+    sinter_free(ctx, st->backup);
+    sinter_free(ctx, st);
+}
+
+sinter_status sinter_stepper_add_force(sinter_stepper *st, sinter_force_model *fm)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, fm);
+    if (fm->ctx != st->ctx)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_add_force: model '%s' belongs to another context",
+                           fm->name);
+    for (size_t k = 0; k < st->force_count; ++k)
+        if (st->forces[k].model == fm)
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_add_force: model '%s' was already added",
+                               fm->name);
+    if (st->force_count == st->force_capacity) {
+        size_t cap = st->force_capacity ? 2 * st->force_capacity : 4;
+        sinter_force_slot *grown =
+            sinter_realloc_array(st->ctx, st->forces, cap, sizeof(sinter_force_slot));
+        if (grown == NULL)
+            return sinter_last_status(st->ctx);
+        st->forces = grown;
+        st->force_capacity = cap;
+    }
+    sinter_force_slot *slot = &st->forces[st->force_count];
+    memset(slot, 0, sizeof(*slot));
+    slot->model = fm;
+    slot->pp.width = sinter_force_history_pp(fm);
+    slot->pw.width = sinter_force_history_pw(fm);
+    st->force_count++;
+    /* The new model's history must follow the pair list from its next build. */
+    st->nb.built = 0;
+    st->forces_current = 0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_dt(sinter_stepper *st, double dt)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (!isfinite(dt) || dt <= 0.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_dt: time step %g s must be positive and finite",
+                           dt);
+    st->dt = dt;
+    st->stats.dt = dt;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_skin(sinter_stepper *st, double skin)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (!isfinite(skin) || skin < 0.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_skin: skin %g m must be finite and >= 0", skin);
+    st->nb.skin = skin;
+    st->skin_set = 1;
+    st->nb.built = 0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_observer(sinter_stepper *st, sinter_observer_fn fn, void *user)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    st->observer = fn;
+    st->observer_user = user;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_time(const sinter_stepper *st, double *time)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, time);
+    *time = st->time;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_get_stats(const sinter_stepper *st, sinter_stepper_stats *stats)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, stats);
+    if (stats->struct_size != sizeof(sinter_stepper_stats))
+        return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
+                           "sinter_stepper_get_stats: struct_size is %zu, expected %zu",
+                           stats->struct_size, sizeof(sinter_stepper_stats));
+    *stats = st->stats;
+    stats->time = st->time;
+    return SINTER_OK;
+}
+
+/* Default skin: a fifth of the mean radius (LIGGGHTS' canonical deck uses 0.2 r). */
+static void choose_skin(sinter_stepper *st)
+{
+    if (st->skin_set || st->ps->count == 0)
+        return;
+    double sum = 0.0;
+    for (size_t i = 0; i < st->ps->count; ++i)
+        sum += st->ps->radius[i];
+    st->nb.skin = 0.2 * sum / (double)st->ps->count;
+    st->skin_set = 1;
+}
+
+static sinter_status refresh_neighbors(sinter_stepper *st)
+{
+    if (!sinter_neighbors_stale(&st->nb, st->ps, st->walls))
+        return SINTER_OK;
+    const double t0 = sinter_clock();
+    choose_skin(st);
+    /* A changed particle layout (add/remove/reorder) invalidates pair indices, but
+     * the id-keyed matching carries history over all the same. */
+    sinter_status s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
+        if (s == SINTER_OK)
+            s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count, &st->nb.pw);
+    }
+    st->stats.neighbor_builds++;
+    st->stats.seconds_neighbor += sinter_clock() - t0;
+    return s;
+}
+
+static void fill_view(sinter_stepper *st, double dt)
+{
+    sinter_state_view *v = &st->view;
+    const sinter_particles *ps = st->ps;
+    v->count = ps->count;
+    v->position = ps->x;
+    v->velocity = ps->v;
+    v->spin = ps->w;
+    v->radius = ps->radius;
+    v->mass = ps->mass;
+    v->inertia = ps->inertia;
+    v->temperature = ps->temperature;
+    v->material = ps->material;
+    v->wall_count = 0;
+    v->wall_point = v->wall_normal = v->wall_velocity = NULL;
+    v->time = st->time;
+    v->dt = dt;
+}
+
+sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
+{
+    sinter_ctx *ctx = st->ctx;
+    sinter_particles *ps = st->ps;
+    sinter_status s = refresh_neighbors(st);
+    if (s != SINTER_OK)
+        return s;
+    const double t0 = sinter_clock();
+    s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
+    if (s == SINTER_OK && st->walls != NULL)
+        s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
+    if (s != SINTER_OK)
+        return s;
+    if (st->walls == NULL)
+        st->pw.count = 0;
+    const size_t nw = st->walls ? st->walls->count : 0;
+    if (nw + 1 > st->wall_force_capacity) {
+        double *grown = sinter_realloc_array(ctx, st->wall_force, 3 * (nw + 1), sizeof(double));
+        if (grown == NULL)
+            return sinter_last_status(ctx);
+        st->wall_force = grown;
+        st->wall_force_capacity = nw + 1;
+    }
+    memset(st->wall_force, 0, 3 * nw * sizeof(double));
+    memset(ps->force, 0, 3 * ps->count * sizeof(double));
+    memset(ps->torque, 0, 3 * ps->count * sizeof(double));
+    fill_view(st, dt_hist);
+    sinter_force_eval e;
+    memset(&e, 0, sizeof(e));
+    e.ctx = ctx;
+    e.ps = ps;
+    e.walls = st->walls;
+    e.pp = &st->pp;
+    e.pw = &st->pw;
+    e.time = st->time;
+    e.dt = dt_hist;
+    e.force = ps->force;
+    e.torque = ps->torque;
+    e.wall_force = st->wall_force;
+    e.view = &st->view;
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        sinter_force_slot *slot = &st->forces[k];
+        s = sinter_history_prepare(ctx, &slot->pp, st->pp.count);
+        if (s == SINTER_OK)
+            s = sinter_history_prepare(ctx, &slot->pw, st->pw.count);
+        if (s != SINTER_OK)
+            break;
+        e.hist_pp = &slot->pp;
+        e.hist_pw = &slot->pw;
+        s = slot->model->ops->eval(slot->model, &e);
+    }
+    st->stats.contacts = st->pp.count;
+    st->stats.wall_contacts = st->pw.count;
+    st->stats.seconds_force += sinter_clock() - t0;
+    return s;
+}
+
+sinter_status sinter_stepper_commit(sinter_stepper *st)
+{
+    sinter_status s = SINTER_OK;
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        s = sinter_history_commit(st->ctx, &st->forces[k].pp, &st->pp);
+        if (s == SINTER_OK)
+            s = sinter_history_commit(st->ctx, &st->forces[k].pw, &st->pw);
+    }
+    if (st->walls != NULL)
+        for (size_t k = 0; k < st->walls->count; ++k)
+            memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+    return s;
+}
+
+static sinter_status check_ready(sinter_stepper *st, const char *func)
+{
+    if (st->ps->views_out > 0)
+        return sinter_fail(st->ctx, SINTER_ERR_BUSY,
+                           "%s: %zu field view(s) of the particle set are out; release them "
+                           "before stepping",
+                           func, st->ps->views_out);
+    return sinter_particles_validate(st->ps, NULL);
+}
+
+/* Bring forces, wall positions and history in line with the current state. */
+static sinter_status prepare(sinter_stepper *st)
+{
+    if (st->write_generation != st->ps->write_generation ||
+        st->layout_generation != st->ps->layout_generation)
+        st->forces_current = 0; /* the host changed the state through a view, or the layout */
+    if (st->forces_current)
+        return SINTER_OK;
+    sinter_status s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
+    if (s == SINTER_OK)
+        s = sinter_stepper_eval_forces(st, 0.0);
+    if (s == SINTER_OK)
+        s = sinter_stepper_commit(st);
+    if (s == SINTER_OK) {
+        st->forces_current = 1;
+        st->write_generation = st->ps->write_generation;
+        st->layout_generation = st->ps->layout_generation;
+    }
+    return s;
+}
+
+sinter_status sinter_stepper_evaluate(sinter_stepper *st)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    sinter_status s = check_ready(st, "sinter_stepper_evaluate");
+    if (s == SINTER_OK && st->walls)
+        s = sinter_walls_move(st->walls, st->time);
+    if (s == SINTER_OK)
+        s = sinter_stepper_eval_forces(st, 0.0);
+    if (s == SINTER_OK && st->walls != NULL)
+        for (size_t k = 0; k < st->walls->count; ++k)
+            memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+    return s;
+}
+
+/* One accepted step of size h, then the observer. *stop is set if the observer asks. */
+static sinter_status take_step(sinter_stepper *st, double h, int *stop)
+{
+    sinter_status s = sinter_explicit_step(st, h);
+    if (s != SINTER_OK)
+        return s;
+    st->stats.steps++;
+    if (st->observer != NULL && st->observer(st, st->time, st->observer_user) != 0)
+        *stop = 1;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (!isfinite(t_end) || t_end < st->time)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_advance: end time %g s is before the current time %g "
+                           "s (time cannot go backwards)",
+                           t_end, st->time);
+    const double t0 = sinter_clock();
+    sinter_status s = check_ready(st, "sinter_stepper_advance");
+    if (s == SINTER_OK)
+        s = prepare(st);
+    int stop = 0;
+    while (s == SINTER_OK && !stop && st->time < t_end) {
+        double h = st->dt;
+        const double remaining = t_end - st->time;
+        if (remaining <= h * (1.0 + 1e-9))
+            h = remaining; /* land exactly on t_end */
+        if (h <= 1e-12 * st->dt) {
+            st->time = t_end;
+            break;
+        }
+        s = take_step(st, h, &stop);
+        if (s == SINTER_OK && h == remaining)
+            st->time = t_end;
+    }
+    st->stats.seconds_total += sinter_clock() - t0;
+    return s;
+}
+
+sinter_status sinter_stepper_step(sinter_stepper *st, uint64_t n)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    const double t0 = sinter_clock();
+    sinter_status s = check_ready(st, "sinter_stepper_step");
+    if (s == SINTER_OK)
+        s = prepare(st);
+    int stop = 0;
+    for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k)
+        s = take_step(st, st->dt, &stop);
+    st->stats.seconds_total += sinter_clock() - t0;
+    return s;
+}

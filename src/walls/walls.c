@@ -1,0 +1,323 @@
+/* Walls: rigid planes with prescribed motion and their reaction forces. */
+#include <math.h>
+#include <string.h>
+
+#include "walls.h"
+
+sinter_status sinter_walls_create(sinter_walls **out, sinter_ctx *ctx)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, out);
+    sinter_walls *w = sinter_calloc(ctx, 1, sizeof(*w));
+    if (w == NULL)
+        return sinter_last_status(ctx);
+    w->ctx = ctx;
+    *out = w;
+    return SINTER_OK;
+}
+
+static void clear_schedule(sinter_walls *walls, sinter_wall *w)
+{
+    sinter_free(walls->ctx, w->schedule_t);
+    sinter_free(walls->ctx, w->schedule_d);
+    w->schedule_t = w->schedule_d = NULL;
+    w->schedule_count = 0;
+}
+
+void sinter_walls_destroy(sinter_walls *walls)
+{
+    if (walls == NULL)
+        return;
+    for (size_t k = 0; k < walls->count; ++k)
+        clear_schedule(walls, &walls->wall[k]);
+    sinter_free(walls->ctx, walls->wall);
+    sinter_free(walls->ctx, walls);
+}
+
+sinter_status sinter_walls_count(const sinter_walls *walls, size_t *count)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(walls->ctx, count);
+    *count = walls->count;
+    return SINTER_OK;
+}
+
+static int finite3(const double v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
+                                     const double normal[3], const sinter_material *material,
+                                     size_t *index)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = walls->ctx;
+    SINTER_CHECK_NULL(ctx, point);
+    SINTER_CHECK_NULL(ctx, normal);
+    SINTER_CHECK_NULL(ctx, material);
+    if (!finite3(point) || !finite3(normal))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_plane: point (%g, %g, %g) and normal (%g, %g, %g) "
+                           "must be finite",
+                           point[0], point[1], point[2], normal[0], normal[1], normal[2]);
+    const double len = sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    if (!(len > 0.0))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_plane: the normal is the zero vector");
+    if (walls->count == walls->capacity) {
+        size_t cap = walls->capacity ? 2 * walls->capacity : 8;
+        sinter_wall *grown = sinter_realloc_array(ctx, walls->wall, cap, sizeof(sinter_wall));
+        if (grown == NULL)
+            return sinter_last_status(ctx);
+        walls->wall = grown;
+        walls->capacity = cap;
+    }
+    sinter_wall *w = &walls->wall[walls->count];
+    memset(w, 0, sizeof(*w));
+    for (int d = 0; d < 3; ++d) {
+        w->p0[d] = w->p[d] = point[d];
+        w->n[d] = normal[d] / len;
+    }
+    w->temperature = 293.15;
+    w->motion = SINTER_WALL_FIXED;
+    w->material = *material;
+    w->material.ctx = ctx;
+    if (index)
+        *index = walls->count;
+    walls->count++;
+    return SINTER_OK;
+}
+
+static sinter_status get_wall(const sinter_walls *walls, size_t k, const char *func,
+                              sinter_wall **w)
+{
+    if (k >= walls->count)
+        return sinter_fail(walls->ctx, SINTER_ERR_RANGE, "%s: wall %zu does not exist (%zu walls)",
+                           func, k, walls->count);
+    *w = &walls->wall[k];
+    return SINTER_OK;
+}
+
+#define GET_WALL(walls, k, w)                                                              \
+    do {                                                                                   \
+        if ((walls) == NULL)                                                               \
+            return SINTER_ERR_NULL;                                                        \
+        sinter_status st_ = get_wall((walls), (k), __func__, &(w));                        \
+        if (st_ != SINTER_OK)                                                              \
+            return st_;                                                                    \
+    } while (0)
+
+sinter_status sinter_walls_set_material(sinter_walls *walls, size_t k,
+                                        const sinter_material *material)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, material);
+    w->material = *material;
+    w->material.ctx = walls->ctx;
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_set_velocity(sinter_walls *walls, size_t k, const double velocity[3])
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, velocity);
+    if (!finite3(velocity))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_velocity: velocity of wall %zu must be finite", k);
+    clear_schedule(walls, w);
+    memcpy(w->velocity, velocity, sizeof(w->velocity));
+    w->motion = SINTER_WALL_VELOCITY;
+    return sinter_walls_move(walls, walls->time);
+}
+
+sinter_status sinter_walls_set_schedule(sinter_walls *walls, size_t k, size_t n,
+                                        const double *times, const double *displacements)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, times);
+    SINTER_CHECK_NULL(walls->ctx, displacements);
+    if (n < 1)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_schedule: a schedule needs at least one point");
+    for (size_t i = 0; i < n; ++i) {
+        if (!isfinite(times[i]) || !finite3(displacements + 3 * i))
+            return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                               "sinter_walls_set_schedule: point %zu of wall %zu is not finite",
+                               i, k);
+        if (i > 0 && !(times[i] > times[i - 1]))
+            return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                               "sinter_walls_set_schedule: times must increase strictly, but "
+                               "t[%zu] = %g s follows t[%zu] = %g s",
+                               i, times[i], i - 1, times[i - 1]);
+    }
+    double *t = sinter_calloc(walls->ctx, n, sizeof(double));
+    double *d = sinter_calloc(walls->ctx, 3 * n, sizeof(double));
+    if (t == NULL || d == NULL) {
+        sinter_free(walls->ctx, t);
+        sinter_free(walls->ctx, d);
+        return SINTER_ERR_NOMEM;
+    }
+    memcpy(t, times, n * sizeof(double));
+    memcpy(d, displacements, 3 * n * sizeof(double));
+    clear_schedule(walls, w);
+    w->schedule_t = t;
+    w->schedule_d = d;
+    w->schedule_count = n;
+    w->motion = SINTER_WALL_SCHEDULE;
+    return sinter_walls_move(walls, walls->time);
+}
+
+sinter_status sinter_walls_set_sine(sinter_walls *walls, size_t k, const double amplitude[3],
+                                    double omega)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, amplitude);
+    if (!finite3(amplitude) || !isfinite(omega) || omega < 0.0)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_sine: amplitude must be finite and omega = %g rad/s "
+                           "finite and >= 0",
+                           omega);
+    clear_schedule(walls, w);
+    memcpy(w->amplitude, amplitude, sizeof(w->amplitude));
+    w->omega = omega;
+    w->motion = SINTER_WALL_SINE;
+    return sinter_walls_move(walls, walls->time);
+}
+
+sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k, sinter_wall_motion_fn fn,
+                                        void *user)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, fn);
+    clear_schedule(walls, w);
+    w->callback = fn;
+    w->callback_user = user;
+    w->motion = SINTER_WALL_CALLBACK;
+    return sinter_walls_move(walls, walls->time);
+}
+
+sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_t k, double temperature)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (!isfinite(temperature) || temperature <= 0.0)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_temperature: temperature %g K of wall %zu must be "
+                           "positive and finite",
+                           temperature, k);
+    w->temperature = temperature;
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_get_state(const sinter_walls *walls, size_t k, double point[3],
+                                     double velocity[3])
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (point)
+        memcpy(point, w->p, sizeof(w->p));
+    if (velocity)
+        memcpy(velocity, w->u, sizeof(w->u));
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_get_normal(const sinter_walls *walls, size_t k, double normal[3])
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, normal);
+    memcpy(normal, w->n, sizeof(w->n));
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_get_force(const sinter_walls *walls, size_t k, double force[3])
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, force);
+    memcpy(force, w->force, sizeof(w->force));
+    return SINTER_OK;
+}
+
+/* Displacement and velocity of a piecewise-linear schedule at time t. */
+static void schedule_at(const sinter_wall *w, double t, double disp[3], double vel[3])
+{
+    const size_t n = w->schedule_count;
+    const double *ts = w->schedule_t, *ds = w->schedule_d;
+    if (n == 1 || t <= ts[0] || t >= ts[n - 1]) {
+        const size_t end = (n == 1 || t <= ts[0]) ? 0 : n - 1;
+        for (int d = 0; d < 3; ++d) {
+            disp[d] = ds[3 * end + d];
+            vel[d] = 0.0;
+        }
+        return;
+    }
+    size_t lo = 0, hi = n - 1; /* ts[lo] <= t < ts[hi] */
+    while (hi - lo > 1) {
+        const size_t mid = (lo + hi) / 2;
+        if (ts[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double span = ts[hi] - ts[lo], f = (t - ts[lo]) / span;
+    for (int d = 0; d < 3; ++d) {
+        const double slope = (ds[3 * hi + d] - ds[3 * lo + d]) / span;
+        disp[d] = ds[3 * lo + d] + f * (ds[3 * hi + d] - ds[3 * lo + d]);
+        vel[d] = slope;
+    }
+}
+
+sinter_status sinter_walls_move(sinter_walls *walls, double t)
+{
+    for (size_t k = 0; k < walls->count; ++k) {
+        sinter_wall *w = &walls->wall[k];
+        double disp[3] = {0, 0, 0}, vel[3] = {0, 0, 0};
+        switch (w->motion) {
+        case SINTER_WALL_VELOCITY:
+            for (int d = 0; d < 3; ++d) {
+                disp[d] = w->velocity[d] * t;
+                vel[d] = w->velocity[d];
+            }
+            break;
+        case SINTER_WALL_SCHEDULE:
+            schedule_at(w, t, disp, vel);
+            break;
+        case SINTER_WALL_SINE: {
+            const double s = sin(w->omega * t), c = cos(w->omega * t);
+            for (int d = 0; d < 3; ++d) {
+                disp[d] = w->amplitude[d] * s;
+                vel[d] = w->amplitude[d] * w->omega * c;
+            }
+            break;
+        }
+        case SINTER_WALL_CALLBACK:
+            if (w->callback(t, disp, vel, w->callback_user) != 0)
+                return sinter_fail(walls->ctx, SINTER_ERR_CALLBACK,
+                                   "the motion callback of wall %zu failed at t = %g s", k, t);
+            if (!finite3(disp) || !finite3(vel))
+                return sinter_fail(walls->ctx, SINTER_ERR_CALLBACK,
+                                   "the motion callback of wall %zu gave a non-finite "
+                                   "displacement or velocity at t = %g s",
+                                   k, t);
+            break;
+        default:
+            break;
+        }
+        for (int d = 0; d < 3; ++d) {
+            w->p[d] = w->p0[d] + disp[d];
+            w->u[d] = vel[d];
+        }
+    }
+    walls->time = t;
+    return SINTER_OK;
+}

@@ -1,0 +1,38 @@
+/* Private layout of a wall set: planes with prescribed translation. */
+#ifndef SINTER_WALLS_H
+#define SINTER_WALLS_H
+
+#include "core/core.h"
+#include "particles/material.h"
+
+typedef struct sinter_wall {
+    double p0[3];     /* point of the plane at t = 0 [m] */
+    double n[3];      /* unit normal into the particle region */
+    double p[3];      /* point at the current time [m] */
+    double u[3];      /* velocity at the current time [m/s] */
+    double force[3];  /* reaction: force the particles exert on the wall [N] */
+    double temperature; /* [K] */
+    int motion;       /* sinter_wall_motion */
+    double velocity[3]; /* SINTER_WALL_VELOCITY */
+    double amplitude[3]; /* SINTER_WALL_SINE */
+    double omega;
+    size_t schedule_count; /* SINTER_WALL_SCHEDULE */
+    double *schedule_t;
+    double *schedule_d;    /* 3 per point */
+    sinter_wall_motion_fn callback;
+    void *callback_user;
+    sinter_material material;
+} sinter_wall;
+
+struct sinter_walls {
+    sinter_ctx *ctx;
+    size_t count;
+    size_t capacity;
+    sinter_wall *wall;
+    double time; /* time of the current p and u */
+};
+
+/* Move every wall to time t (sets p and u). Errors: SINTER_ERR_CALLBACK. */
+sinter_status sinter_walls_move(sinter_walls *walls, double t);
+
+#endif

@@ -1,0 +1,257 @@
+/*
+ * Hertz-Mindlin contact and the explicit stepper against closed forms
+ * (docs VALIDATION: contact, friction, dynamics).
+ */
+#include <math.h>
+
+#include "scene_support.h"
+
+static const double PI = 3.14159265358979323846;
+static const double R = 1e-3, E = 1e7, NU = 0.3, RHO = 2500.0;
+
+/* Observer that tracks the overlap of particles 0 and 1 and the contact's start and end. */
+typedef struct collision {
+    scene *s;
+    double t_start, t_end;
+    int in_contact;
+} collision;
+
+static int watch_collision(const sinter_stepper *st, double t, void *user)
+{
+    (void)st;
+    collision *c = user;
+    double a[3], b[3];
+    get3(c->s, SINTER_FIELD_POSITION, 0, a);
+    get3(c->s, SINTER_FIELD_POSITION, 1, b);
+    const double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                          (a[2] - b[2]) * (a[2] - b[2]));
+    const int touching = d < 2.0 * R;
+    if (touching && !c->in_contact && c->t_start < 0)
+        c->t_start = t;
+    if (!touching && c->in_contact)
+        c->t_end = t;
+    c->in_contact = touching;
+    return 0;
+}
+
+/* Head-on collision of two equal spheres at relative speed v; returns contact time and e. */
+static void head_on(double xi, double v, double *duration, double *restitution, double *t_closed)
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, E, NU, RHO, xi, 0.0);
+    scene_open(&s, "hertz_mindlin", 0);
+    scene_add(&s, -R - 1e-6, 0, 0, R);
+    scene_add(&s, R + 1e-6, 0, 0, R);
+    const double v0[3] = {0.5 * v, 0, 0}, v1[3] = {-0.5 * v, 0, 0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, v0);
+    set3(&s, SINTER_FIELD_VELOCITY, 1, v1);
+    const double m = RHO * 4.0 / 3.0 * PI * R * R * R;
+    const double mstar = 0.5 * m, rstar = 0.5 * R, estar = E / (2.0 * (1.0 - NU * NU));
+    *t_closed = 2.87 * pow(mstar * mstar / (rstar * estar * estar * v), 0.2); /* seed 003 eq. 47 */
+    OK(sinter_stepper_set_dt(s.st, *t_closed / 2000.0));
+    collision c = {&s, -1.0, -1.0, 0};
+    OK(sinter_stepper_set_observer(s.st, watch_collision, &c));
+    OK(sinter_stepper_advance(s.st, 3.0 * *t_closed));
+    double a[3], b[3];
+    get3(&s, SINTER_FIELD_VELOCITY, 0, a);
+    get3(&s, SINTER_FIELD_VELOCITY, 1, b);
+    *duration = c.t_end - c.t_start;
+    *restitution = (a[0] - b[0]) / -v;
+    scene_close(&s);
+}
+
+static void test_head_on_contact_duration(void **state)
+{
+    (void)state;
+    double duration, e, t_closed;
+    head_on(0.0, 0.1, &duration, &e, &t_closed);
+    /* The issue's bound is 2 %; 2.87 is the closed form's constant to 3 digits (exactly
+     * 2.868), and dt = t_c / 2000 resolves the start and end to 0.1 %. */
+    print_message("contact time %.6e s, closed form %.6e s (ratio %.5f), e = %.6f\n", duration,
+                  t_closed, duration / t_closed, e);
+    assert_close(duration, t_closed, 0.02 * t_closed);
+    assert_close(e, 1.0, 1e-3); /* undamped: elastic */
+    /* The duration scales as v^(-1/5). */
+    double duration2, e2, t_closed2;
+    head_on(0.0, 3.2, &duration2, &e2, &t_closed2);
+    assert_close(duration / duration2, pow(32.0, 0.2), 0.01 * pow(32.0, 0.2));
+}
+
+static void test_restitution_from_damping_ratio(void **state)
+{
+    (void)state;
+    const double targets[3] = {0.9, 0.5, 0.2};
+    for (int k = 0; k < 3; ++k) {
+        double xi = 0.0;
+        OK(sinter_damping_ratio_from_restitution(targets[k], &xi));
+        double duration, e, t_closed;
+        head_on(xi, 0.1, &duration, &e, &t_closed);
+        /* Exact relation for this law (Antypov & Elliott 2011); the velocity-Verlet
+         * half-step velocity in the damping term costs O(dt / t_c) = 5e-4. */
+        print_message("xi = %.5f: e = %.5f (target %.2f)\n", xi, e, targets[k]);
+        assert_close(e, targets[k], 5e-3);
+        /* and the same e at another impact speed (velocity independence) */
+        double e_fast;
+        head_on(xi, 1.0, &duration, &e_fast, &t_closed);
+        assert_close(e_fast, targets[k], 5e-3);
+    }
+    double xi;
+    assert_int_equal(sinter_damping_ratio_from_restitution(0.0, &xi), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_damping_ratio_from_restitution(1.5, &xi), SINTER_ERR_INVALID);
+}
+
+static void test_sphere_at_rest_on_plane(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, E, NU, RHO, 1.0, 0.3);
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_YOUNGS_MODULUS, 1e13)); /* rigid floor */
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_floor(&s, 0.0);
+    scene_add(&s, 0, 0, R + 1e-6, R);
+    OK(sinter_stepper_set_dt(s.st, 1e-6));
+    OK(sinter_stepper_advance(s.st, 0.03));
+    const double m = get1(&s, SINTER_FIELD_MASS, 0), w = m * 9.81;
+    double f[3], x[3];
+    OK(sinter_walls_get_force(s.walls, 0, f));
+    get3(&s, SINTER_FIELD_POSITION, 0, x);
+    /* Critically damped: after 30 periods the residual motion is e^-100 of the start. */
+    print_message("wall force %.10e N, weight %.10e N\n", -f[2], w);
+    assert_close(-f[2], w, 1e-6 * w);
+    assert_close(f[0], 0.0, 1e-12 * w);
+    const double estar = 1.0 / ((1 - NU * NU) / E + (1 - NU * NU) / 1e13);
+    const double delta = pow(3.0 * w / (4.0 * estar * sqrt(R)), 2.0 / 3.0);
+    assert_close(R - x[2], delta, 1e-6 * delta);
+    scene_close(&s);
+}
+
+static void test_sliding_sphere_starts_rolling_at_five_sevenths(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    const double mu = 0.3, v0 = 0.5;
+    scene_material(&s, E, NU, RHO, 0.5, mu);
+    OK(sinter_material_set(s.mat, SINTER_MAT_FRICTION_DAMPING_RATIO, 0.5));
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_FRICTION_DAMPING_RATIO, 0.5));
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_floor(&s, 0.0);
+    scene_add(&s, 0, 0, R - 3.6e-7, R); /* near the static overlap */
+    OK(sinter_stepper_set_dt(s.st, 2e-6));
+    OK(sinter_stepper_advance(s.st, 2e-3)); /* settle */
+    const double v[3] = {v0, 0, 0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, v);
+    const double t_roll = 2.0 * v0 / (7.0 * mu * 9.81);
+    OK(sinter_stepper_advance(s.st, 2e-3 + 1.5 * t_roll));
+    double vel[3], w[3];
+    get3(&s, SINTER_FIELD_VELOCITY, 0, vel);
+    get3(&s, SINTER_FIELD_SPIN, 0, w);
+    /* 1 % as the issue asks; the contact point sits at L = r - delta, 4e-4 r lower. */
+    print_message("rolling speed %.6f m/s, 5/7 v0 = %.6f m/s, w r = %.6f m/s\n", vel[0],
+                  5.0 / 7.0 * v0, w[1] * R);
+    assert_close(vel[0], 5.0 / 7.0 * v0, 0.01 * 5.0 / 7.0 * v0);
+    assert_close(w[1] * R, vel[0], 0.01 * vel[0]); /* rolling without slip: v = w r */
+    scene_close(&s);
+}
+
+/* Bouncing, undamped, frictionless: largest energy error over several bounces. */
+static double bounce_energy_error(double dt)
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, E, NU, RHO, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_floor(&s, 0.0);
+    scene_add(&s, 0, 0, 2 * R, R);
+    OK(sinter_stepper_set_dt(s.st, dt));
+    const double m = get1(&s, SINTER_FIELD_MASS, 0);
+    const double estar = E / (2.0 * (1.0 - NU * NU)), k = 4.0 / 3.0 * estar * sqrt(R);
+    double e0 = -1, worst = 0.0;
+    for (int i = 0; i < 400; ++i) {
+        OK(sinter_stepper_advance(s.st, (i + 1) * 1e-4));
+        double x[3], v[3];
+        get3(&s, SINTER_FIELD_POSITION, 0, x);
+        get3(&s, SINTER_FIELD_VELOCITY, 0, v);
+        const double delta = fmax(R - x[2], 0.0);
+        const double energy = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
+                              m * 9.81 * x[2] + 0.4 * k * pow(delta, 2.5);
+        if (e0 < 0)
+            e0 = energy;
+        worst = fmax(worst, fabs(energy - e0) / e0);
+    }
+    scene_close(&s);
+    return worst;
+}
+
+static void test_energy_error_is_second_order(void **state)
+{
+    (void)state;
+    const double coarse = bounce_energy_error(4e-6), fine = bounce_energy_error(2e-6);
+    /* Velocity Verlet is symplectic: the energy error stays bounded (no drift) and
+     * is O(dt^2), so halving dt divides it by ~4 (accept 3..5.5). */
+    print_message("energy error %.3e (dt 4 us), %.3e (dt 2 us), ratio %.3f\n", coarse, fine,
+                  coarse / fine);
+    assert_true(coarse < 1e-3);
+    assert_true(coarse / fine > 3.0 && coarse / fine < 5.5);
+}
+
+static void test_momentum_conserved_in_collisions(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, E, NU, RHO, 0.3, 0.5);
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.1));
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_DAMPING_RATIO, 0.2));
+    scene_open(&s, "hertz_mindlin", 0);
+    /* A small cluster of unequal spheres with oblique, spinning impacts. */
+    for (int k = 0; k < 8; ++k)
+        scene_add(&s, (k % 2) * 2.1 * R, ((k / 2) % 2) * 2.1 * R, (k / 4) * 2.1 * R,
+                  R * (0.8 + 0.05 * k));
+    double p0[3] = {0, 0, 0};
+    for (int k = 0; k < 8; ++k) {
+        const double v[3] = {0.05 * sin(k), 0.05 * cos(3 * k), -0.04 * sin(2 * k + 1)};
+        const double w[3] = {10.0 * k, -5.0, 3.0};
+        set3(&s, SINTER_FIELD_VELOCITY, (size_t)k, v);
+        set3(&s, SINTER_FIELD_SPIN, (size_t)k, w);
+        const double m = get1(&s, SINTER_FIELD_MASS, (size_t)k);
+        for (int d = 0; d < 3; ++d)
+            p0[d] += m * v[d];
+    }
+    OK(sinter_stepper_set_dt(s.st, 2e-6));
+    OK(sinter_stepper_advance(s.st, 0.01));
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    double p1[3] = {0, 0, 0}, scale = 0.0;
+    for (int k = 0; k < 8; ++k) {
+        double v[3];
+        get3(&s, SINTER_FIELD_VELOCITY, (size_t)k, v);
+        const double m = get1(&s, SINTER_FIELD_MASS, (size_t)k);
+        for (int d = 0; d < 3; ++d) {
+            p1[d] += m * v[d];
+            scale += m * fabs(v[d]);
+        }
+    }
+    /* Forces are applied pairwise equal and opposite: only round-off remains. */
+    for (int d = 0; d < 3; ++d)
+        assert_close(p1[d], p0[d], 1e-12 * scale);
+    assert_true(stats.steps == 5000);
+    scene_close(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_head_on_contact_duration),
+        cmocka_unit_test(test_restitution_from_damping_ratio),
+        cmocka_unit_test(test_sphere_at_rest_on_plane),
+        cmocka_unit_test(test_sliding_sphere_starts_rolling_at_five_sevenths),
+        cmocka_unit_test(test_energy_error_is_second_order),
+        cmocka_unit_test(test_momentum_conserved_in_collisions),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
