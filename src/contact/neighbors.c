@@ -268,9 +268,12 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
                                      ez = x[3 * j + 2] - x[3 * i + 2];
                         const double cut = r[i] + r[j] + skin;
                         if (ex * ex + ey * ey + ez * ez < cut * cut) {
-                            const uint64_t a = id[i] < id[j] ? id[i] : id[j];
-                            const uint64_t b = id[i] < id[j] ? id[j] : id[i];
-                            st = push_pair(ctx, &nb->pp, (uint32_t)i, j, a, b);
+                            /* Orient the pair by persistent id, so that per-pair history
+                             * (a tangential spring seen from i) survives reordering. */
+                            const int keep = id[i] < id[j];
+                            st = push_pair(ctx, &nb->pp, keep ? (uint32_t)i : j,
+                                           keep ? j : (uint32_t)i, keep ? id[i] : id[j],
+                                           keep ? id[j] : id[i]);
                             if (st != SINTER_OK)
                                 return st;
                         }

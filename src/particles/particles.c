@@ -292,6 +292,7 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
     }
     ps->count = need;
     ps->layout_generation++;
+    ps->population_generation++;
     if (first_index)
         *first_index = first;
     return SINTER_OK;
@@ -342,6 +343,7 @@ sinter_status sinter_particles_remove(sinter_particles *ps, size_t n, const size
     }
     ps->count = kept;
     ps->layout_generation++;
+    ps->population_generation++;
     sinter_free(ctx, doomed);
     return SINTER_OK;
 }

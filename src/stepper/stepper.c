@@ -287,8 +287,9 @@ static sinter_status check_ready(sinter_stepper *st, const char *func)
 static sinter_status prepare(sinter_stepper *st)
 {
     if (st->write_generation != st->ps->write_generation ||
-        st->layout_generation != st->ps->layout_generation)
-        st->forces_current = 0; /* the host changed the state through a view, or the layout */
+        st->population_generation != st->ps->population_generation)
+        st->forces_current = 0; /* the host changed the state through a view, or added/removed
+                                   particles; a mere reordering moves forces along */
     if (st->forces_current)
         return SINTER_OK;
     sinter_status s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
@@ -299,7 +300,7 @@ static sinter_status prepare(sinter_stepper *st)
     if (s == SINTER_OK) {
         st->forces_current = 1;
         st->write_generation = st->ps->write_generation;
-        st->layout_generation = st->ps->layout_generation;
+        st->population_generation = st->ps->population_generation;
     }
     return s;
 }

@@ -30,7 +30,7 @@ struct sinter_stepper {
     sinter_stepper_stats stats;
     int forces_current;           /* forces of the current state are evaluated and committed */
     uint64_t write_generation;    /* particle write_generation when forces were evaluated */
-    uint64_t layout_generation;   /* particle layout_generation when forces were evaluated */
+    uint64_t population_generation; /* particle population_generation then */
     double *wall_force;           /* 3 per wall, from the last evaluation */
     size_t wall_force_capacity;
     double *backup;               /* x, v, w, rot of the last accepted state, 12 per particle */

@@ -1,0 +1,244 @@
+"""Finding and loading libsinter, and the one table of its C signatures.
+
+Every function of the public header sinter.h is declared in SIGNATURES
+below (restype and argtypes), with the structs and callback types they use;
+no other module sets argtypes. The tests compare this table with sinter.h.
+"""
+
+import ctypes
+import ctypes.util
+import os
+
+
+class LibraryNotFound(OSError):
+    """libsinter could not be loaded; the message lists every place tried."""
+
+
+# --- C types -------------------------------------------------------------
+
+def _opaque(name):
+    """A pointer type to an incomplete struct, so that handles are not mixed up."""
+    return ctypes.POINTER(type(name, (ctypes.Structure,), {"_cname": name}))
+
+
+CtxPtr = _opaque("sinter_ctx")
+MaterialPtr = _opaque("sinter_material")
+ParticlesPtr = _opaque("sinter_particles")
+WallsPtr = _opaque("sinter_walls")
+ForceModelPtr = _opaque("sinter_force_model")
+StepperPtr = _opaque("sinter_stepper")
+
+_P = ctypes.POINTER
+_str = ctypes.c_char_p
+_int = ctypes.c_int
+_size = ctypes.c_size_t
+_double = ctypes.c_double
+_u64 = ctypes.c_uint64
+
+c_status = _int  # enum sinter_status (int-sized, negative = error)
+c_enum = _int  # the other enums: sinter_material_param, sinter_field, sinter_dtype, ...
+
+LogFn = ctypes.CFUNCTYPE(None, _int, _str, ctypes.c_void_p)
+AllocFn = ctypes.CFUNCTYPE(ctypes.c_void_p, _size, ctypes.c_void_p)
+ReallocFn = ctypes.CFUNCTYPE(ctypes.c_void_p, ctypes.c_void_p, _size, ctypes.c_void_p)
+FreeFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
+WallMotionFn = ctypes.CFUNCTYPE(_int, _double, _P(_double), _P(_double), ctypes.c_void_p)
+ObserverFn = ctypes.CFUNCTYPE(_int, StepperPtr, _double, ctypes.c_void_p)
+
+
+class Allocator(ctypes.Structure):
+    """struct sinter_allocator; struct_size = ctypes.sizeof(Allocator)."""
+
+    _cname = "sinter_allocator"
+    _fields_ = [("struct_size", _size), ("alloc", AllocFn), ("realloc", ReallocFn),
+                ("free", FreeFn), ("user", ctypes.c_void_p)]
+
+
+class StepperStats(ctypes.Structure):
+    """struct sinter_stepper_stats (times in s)."""
+
+    _cname = "sinter_stepper_stats"
+    _fields_ = [("struct_size", _size), ("steps", _u64), ("rejected", _u64),
+                ("neighbor_builds", _u64), ("contacts", _u64), ("wall_contacts", _u64),
+                ("time", _double), ("dt", _double), ("seconds_neighbor", _double),
+                ("seconds_force", _double), ("seconds_integrate", _double),
+                ("seconds_total", _double)]
+
+
+class PackingOptions(ctypes.Structure):
+    """struct sinter_packing_options (lengths in m, temperature in K)."""
+
+    _cname = "sinter_packing_options"
+    _fields_ = [("struct_size", _size), ("box_min", _double * 3), ("box_max", _double * 3),
+                ("distribution", _int), ("radius_mean", _double), ("radius_spread", _double),
+                ("radius_min", _double), ("radius_max", _double), ("gap", _double),
+                ("seed", _u64), ("max_attempts", _u64), ("material", ctypes.c_int32),
+                ("temperature", _double)]
+
+
+# name: (restype, argtypes), in the order of sinter.h. `const T x[3]` is a T pointer.
+SIGNATURES = {
+    # status codes and version
+    "sinter_status_string": (_str, [_int]),
+    "sinter_status_name": (_str, [_int]),
+    "sinter_version_number": (ctypes.c_uint, []),
+    "sinter_version_string": (_str, []),
+    # context
+    "sinter_ctx_create": (c_status, [_P(CtxPtr), _P(Allocator)]),
+    "sinter_ctx_destroy": (None, [CtxPtr]),
+    "sinter_last_error": (_str, [CtxPtr]),
+    "sinter_last_status": (c_status, [CtxPtr]),
+    "sinter_clear_error": (c_status, [CtxPtr]),
+    "sinter_ctx_set_log": (c_status, [CtxPtr, LogFn, _int, ctypes.c_void_p]),
+    "sinter_ctx_set_threads": (c_status, [CtxPtr, _int]),
+    "sinter_ctx_get_threads": (c_status, [CtxPtr, _P(_int)]),
+    # materials
+    "sinter_material_create": (c_status, [_P(MaterialPtr), CtxPtr, _str]),
+    "sinter_material_destroy": (None, [MaterialPtr]),
+    "sinter_material_clone": (c_status, [_P(MaterialPtr), MaterialPtr]),
+    "sinter_material_set": (c_status, [MaterialPtr, c_enum, _double]),
+    "sinter_material_get": (c_status, [MaterialPtr, c_enum, _P(_double)]),
+    "sinter_material_name": (_str, [MaterialPtr]),
+    "sinter_material_param_info": (
+        c_status, [c_enum, _P(_str), _P(_str), _P(_str), _P(_double), _P(_double), _P(_double)]),
+    "sinter_material_param_find": (c_status, [_str, _P(c_enum)]),
+    # particle sets
+    "sinter_field_info": (c_status, [c_enum, _P(_str), _P(_str), _P(c_enum), _P(_size)]),
+    "sinter_particles_create": (c_status, [_P(ParticlesPtr), CtxPtr]),
+    "sinter_particles_destroy": (None, [ParticlesPtr]),
+    "sinter_particles_count": (c_status, [ParticlesPtr, _P(_size)]),
+    "sinter_particles_capacity": (c_status, [ParticlesPtr, _P(_size)]),
+    "sinter_particles_reserve": (c_status, [ParticlesPtr, _size]),
+    "sinter_particles_set_material": (c_status, [ParticlesPtr, ctypes.c_int32, MaterialPtr]),
+    "sinter_particles_get_material": (c_status, [ParticlesPtr, ctypes.c_int32, _P(MaterialPtr)]),
+    "sinter_particles_add": (
+        c_status, [ParticlesPtr, _size, _P(_double), _P(_double), ctypes.c_int32, _double,
+                   _P(_size)]),
+    "sinter_particles_remove": (c_status, [ParticlesPtr, _size, _P(_size)]),
+    "sinter_particles_view": (
+        c_status, [ParticlesPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size)]),
+    "sinter_particles_view_read": (
+        c_status, [ParticlesPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size)]),
+    "sinter_particles_release": (c_status, [ParticlesPtr, c_enum]),
+    "sinter_particles_views_out": (c_status, [ParticlesPtr, _P(_size)]),
+    "sinter_particles_validate": (c_status, [ParticlesPtr, _P(_size)]),
+    "sinter_particles_find_id": (c_status, [ParticlesPtr, _u64, _P(_size)]),
+    # walls
+    "sinter_walls_create": (c_status, [_P(WallsPtr), CtxPtr]),
+    "sinter_walls_destroy": (None, [WallsPtr]),
+    "sinter_walls_count": (c_status, [WallsPtr, _P(_size)]),
+    "sinter_walls_add_plane": (
+        c_status, [WallsPtr, _P(_double), _P(_double), MaterialPtr, _P(_size)]),
+    "sinter_walls_set_material": (c_status, [WallsPtr, _size, MaterialPtr]),
+    "sinter_walls_set_velocity": (c_status, [WallsPtr, _size, _P(_double)]),
+    "sinter_walls_set_schedule": (c_status, [WallsPtr, _size, _size, _P(_double), _P(_double)]),
+    "sinter_walls_set_sine": (c_status, [WallsPtr, _size, _P(_double), _double]),
+    "sinter_walls_set_callback": (c_status, [WallsPtr, _size, WallMotionFn, ctypes.c_void_p]),
+    "sinter_walls_set_temperature": (c_status, [WallsPtr, _size, _double]),
+    "sinter_walls_get_state": (c_status, [WallsPtr, _size, _P(_double), _P(_double)]),
+    "sinter_walls_get_normal": (c_status, [WallsPtr, _size, _P(_double)]),
+    "sinter_walls_get_force": (c_status, [WallsPtr, _size, _P(_double)]),
+    # force submodels
+    "sinter_force_model_create": (c_status, [_P(ForceModelPtr), CtxPtr, _str]),
+    "sinter_force_model_destroy": (None, [ForceModelPtr]),
+    "sinter_force_model_name": (_str, [ForceModelPtr]),
+    "sinter_force_model_set": (c_status, [ForceModelPtr, _str, _double]),
+    "sinter_force_model_get": (c_status, [ForceModelPtr, _str, _P(_double)]),
+    # steppers
+    "sinter_stepper_create": (
+        c_status, [_P(StepperPtr), CtxPtr, c_enum, ParticlesPtr, WallsPtr]),
+    "sinter_stepper_destroy": (None, [StepperPtr]),
+    "sinter_stepper_add_force": (c_status, [StepperPtr, ForceModelPtr]),
+    "sinter_stepper_set_dt": (c_status, [StepperPtr, _double]),
+    "sinter_stepper_set_skin": (c_status, [StepperPtr, _double]),
+    "sinter_stepper_set_observer": (c_status, [StepperPtr, ObserverFn, ctypes.c_void_p]),
+    "sinter_stepper_advance": (c_status, [StepperPtr, _double]),
+    "sinter_stepper_step": (c_status, [StepperPtr, _u64]),
+    "sinter_stepper_time": (c_status, [StepperPtr, _P(_double)]),
+    "sinter_stepper_get_stats": (c_status, [StepperPtr, _P(StepperStats)]),
+    "sinter_stepper_evaluate": (c_status, [StepperPtr]),
+    "sinter_stable_dt_hertz": (c_status, [ParticlesPtr, WallsPtr, _double, _P(_double)]),
+    "sinter_damping_ratio_from_restitution": (c_status, [_double, _P(_double)]),
+    # packing helpers
+    "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
+    "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
+    "sinter_pack_lattice": (
+        c_status, [ParticlesPtr, _P(_double), _P(_double), _double, _double, ctypes.c_int32,
+                   _double, _P(_size)]),
+    "sinter_pack_pour": (c_status, [StepperPtr, _double, _double, _double]),
+}
+
+
+# --- loading -------------------------------------------------------------
+
+def _source_tree_library():
+    """lib/libsinter.so of the source tree this package sits in (bindings/python/sinter)."""
+    package_dir = os.path.dirname(os.path.realpath(__file__))
+    return os.path.normpath(os.path.join(package_dir, "..", "..", "..", "lib", "libsinter.so"))
+
+
+def library_candidates(environ=None):
+    """The paths or names tried, in order.
+
+    SINTER_LIBRARY, when set, is the only candidate; otherwise the source
+    tree's lib/libsinter.so, then an installed library.
+    """
+    environ = os.environ if environ is None else environ
+    explicit = environ.get("SINTER_LIBRARY")
+    if explicit:
+        return [explicit]
+    candidates = [_source_tree_library()]
+    installed = ctypes.util.find_library("sinter")
+    if installed:
+        candidates.append(installed)
+    candidates.append("libsinter.so.0")
+    return list(dict.fromkeys(candidates))
+
+
+def declare(cdll):
+    """Set restype and argtypes of every function of SIGNATURES that `cdll` defines.
+
+    Return the names it lacks (an older library, or a header ahead of the
+    build); calling one of those raises AttributeError.
+    """
+    missing = []
+    for name, (restype, argtypes) in SIGNATURES.items():
+        try:
+            function = getattr(cdll, name)
+        except AttributeError:
+            missing.append(name)
+            continue
+        function.restype = restype
+        function.argtypes = argtypes
+    return missing
+
+
+def load_library(environ=None):
+    """Load and declare libsinter; return (cdll, path, missing function names).
+
+    Raises LibraryNotFound, listing every candidate and why it failed.
+    """
+    tried = []
+    for candidate in library_candidates(environ):
+        try:
+            cdll = ctypes.CDLL(candidate)
+        except OSError as error:
+            tried.append("%s (%s)" % (candidate, error))
+            continue
+        if not hasattr(cdll, "sinter_version_number"):
+            tried.append("%s (not libsinter: no sinter_version_number)" % candidate)
+            continue
+        return cdll, candidate, declare(cdll)
+    raise LibraryNotFound(
+        "cannot load libsinter; tried:\n  " + "\n  ".join(tried)
+        + "\nBuild the library or set SINTER_LIBRARY to the path of libsinter.so."
+    )
+
+
+#: The loaded library, its path, and the declared functions it does not define.
+lib, library_path, missing_functions = load_library()
+
+
+def text(value):
+    """Decode a const char * result (None stays None)."""
+    return None if value is None else value.decode("utf-8", "replace")
