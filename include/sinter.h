@@ -502,6 +502,13 @@ SINTER_API sinter_status sinter_stepper_add_force(sinter_stepper *stepper, sinte
 SINTER_API sinter_status sinter_stepper_set_dt(sinter_stepper *stepper, double dt);
 /** Verlet skin [m] (>= 0): neighbour lists are rebuilt when a particle moved more than half of it. */
 SINTER_API sinter_status sinter_stepper_set_skin(sinter_stepper *stepper, double skin);
+/**
+ * Simulation domain [m]: a step that leaves a particle's centre outside the
+ * box lo..hi is rejected with SINTER_ERR_LOST_PARTICLE (the last accepted
+ * state is kept). By default there is no domain.
+ */
+SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, const double lo[3],
+                                                   const double hi[3]);
 /** Set the observer (NULL to remove). */
 SINTER_API sinter_status sinter_stepper_set_observer(sinter_stepper *stepper,
                                                      sinter_observer_fn fn, void *user);

@@ -155,11 +155,10 @@ sinter_status sinter_material_set(sinter_material *m, sinter_material_param para
     if (!sinter_material_value_valid(param, value)) {
         const param_spec *s = &PARAMS[param];
         return sinter_fail(m->ctx, SINTER_ERR_INVALID,
-                           "material '%s': %s = %g %s is invalid; it must be %s in %s%g, %g]%s",
+                           "material '%s': %s = %g %s is invalid; it must be %s in %s%g, %g]",
                            m->name, s->key, value, s->unit,
                            s->range == RANGE_INTEGER ? "a whole number" : "finite and",
-                           s->range == RANGE_OPEN_MIN ? "(" : "[", s->min_value, s->max_value,
-                           "");
+                           s->range == RANGE_OPEN_MIN ? "(" : "[", s->min_value, s->max_value);
     }
     m->value[param] = value;
     return SINTER_OK;

@@ -224,6 +224,9 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
     if (ps == NULL)
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = ps->ctx;
+    sinter_status st = check_unlocked(ps, "sinter_particles_add");
+    if (st != SINTER_OK)
+        return st;
     if (n == 0) {
         if (first_index)
             *first_index = ps->count;
@@ -231,9 +234,6 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
     }
     SINTER_CHECK_NULL(ctx, positions);
     SINTER_CHECK_NULL(ctx, radii);
-    sinter_status st = check_unlocked(ps, "sinter_particles_add");
-    if (st != SINTER_OK)
-        return st;
     if (material_id < 0 || material_id >= SINTER_MAX_MATERIALS || !ps->material_used[material_id])
         return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
                            "sinter_particles_add: material id %d is not registered; call "
@@ -314,12 +314,10 @@ sinter_status sinter_particles_remove(sinter_particles *ps, size_t n, const size
     if (ps == NULL)
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = ps->ctx;
-    if (n == 0)
-        return SINTER_OK;
-    SINTER_CHECK_NULL(ctx, indices);
     sinter_status st = check_unlocked(ps, "sinter_particles_remove");
-    if (st != SINTER_OK)
+    if (st != SINTER_OK || n == 0)
         return st;
+    SINTER_CHECK_NULL(ctx, indices);
     unsigned char *doomed = sinter_calloc(ctx, ps->count ? ps->count : 1, 1);
     if (doomed == NULL)
         return sinter_last_status(ctx);

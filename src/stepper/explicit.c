@@ -141,6 +141,24 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         bad = kick(st, h);
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
+    if (s == SINTER_OK && bad == st->ps->count && st->has_domain) {
+        const sinter_particles *ps = st->ps;
+        for (size_t i = 0; i < ps->count; ++i) {
+            const double *x = ps->x + 3 * i;
+            int d = 0;
+            while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
+                ++d;
+            if (d < 3) {
+                s = sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
+                                "step from t = %.9g s to %.9g s rejected: particle %zu (id %llu) "
+                                "left the domain at %c = %g m (domain %g m to %g m); the last "
+                                "accepted state is kept",
+                                t_start, t_start + h, i, (unsigned long long)ps->id[i], "xyz"[d],
+                                x[d], st->domain_lo[d], st->domain_hi[d]);
+                break;
+            }
+        }
+    }
     if (s == SINTER_OK && bad < st->ps->count) {
         const char *what = first_bad_quantity(st->ps, bad);
         s = sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,

@@ -56,6 +56,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
     sinter_free(ctx, st->backup);
+    sinter_free(ctx, st->wall_arrays);
     sinter_free(ctx, st);
 }
 
@@ -117,6 +118,25 @@ sinter_status sinter_stepper_set_skin(sinter_stepper *st, double skin)
     st->nb.skin = skin;
     st->skin_set = 1;
     st->nb.built = 0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_domain(sinter_stepper *st, const double lo[3],
+                                        const double hi[3])
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, lo);
+    SINTER_CHECK_NULL(st->ctx, hi);
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(lo[d]) || !isfinite(hi[d]) || !(hi[d] > lo[d]))
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_set_domain: axis %d runs from %g m to %g m; the "
+                               "bounds must be finite with lo < hi",
+                               d, lo[d], hi[d]);
+    memcpy(st->domain_lo, lo, sizeof(st->domain_lo));
+    memcpy(st->domain_hi, hi, sizeof(st->domain_hi));
+    st->has_domain = 1;
     return SINTER_OK;
 }
 
@@ -183,9 +203,23 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
     return s;
 }
 
-static void fill_view(sinter_stepper *st, double dt)
+static sinter_status fill_view(sinter_stepper *st, double dt)
 {
     sinter_state_view *v = &st->view;
+    const size_t nw = st->walls ? st->walls->count : 0;
+    if (9 * nw + 1 > st->wall_arrays_capacity) {
+        double *grown = sinter_realloc_array(st->ctx, st->wall_arrays, 9 * nw + 1, sizeof(double));
+        if (grown == NULL)
+            return sinter_last_status(st->ctx);
+        st->wall_arrays = grown;
+        st->wall_arrays_capacity = 9 * nw + 1;
+    }
+    for (size_t k = 0; k < nw; ++k) {
+        const sinter_wall *w = &st->walls->wall[k];
+        memcpy(st->wall_arrays + 3 * k, w->p, 3 * sizeof(double));
+        memcpy(st->wall_arrays + 3 * (nw + k), w->n, 3 * sizeof(double));
+        memcpy(st->wall_arrays + 3 * (2 * nw + k), w->u, 3 * sizeof(double));
+    }
     const sinter_particles *ps = st->ps;
     v->count = ps->count;
     v->position = ps->x;
@@ -196,10 +230,13 @@ static void fill_view(sinter_stepper *st, double dt)
     v->inertia = ps->inertia;
     v->temperature = ps->temperature;
     v->material = ps->material;
-    v->wall_count = 0;
-    v->wall_point = v->wall_normal = v->wall_velocity = NULL;
+    v->wall_count = nw;
+    v->wall_point = st->wall_arrays;
+    v->wall_normal = st->wall_arrays + 3 * nw;
+    v->wall_velocity = st->wall_arrays + 6 * nw;
     v->time = st->time;
     v->dt = dt;
+    return SINTER_OK;
 }
 
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
@@ -228,7 +265,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     memset(st->wall_force, 0, 3 * nw * sizeof(double));
     memset(ps->force, 0, 3 * ps->count * sizeof(double));
     memset(ps->torque, 0, 3 * ps->count * sizeof(double));
-    fill_view(st, dt_hist);
+    s = fill_view(st, dt_hist);
+    if (s != SINTER_OK)
+        return s;
     sinter_force_eval e;
     memset(&e, 0, sizeof(e));
     e.ctx = ctx;

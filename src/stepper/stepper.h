@@ -36,6 +36,11 @@ struct sinter_stepper {
     double *backup;               /* x, v, w, rot of the last accepted state, 12 per particle */
     size_t backup_capacity;
     sinter_state_view view;
+    double *wall_arrays;          /* point, normal, velocity: 9 per wall, for host views */
+    size_t wall_arrays_capacity;
+    int has_domain;
+    double domain_lo[3];
+    double domain_hi[3];
 };
 
 /* Seconds of a monotonic clock. */

@@ -151,6 +151,7 @@ SIGNATURES = {
     "sinter_stepper_add_force": (c_status, [StepperPtr, ForceModelPtr]),
     "sinter_stepper_set_dt": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_skin": (c_status, [StepperPtr, _double]),
+    "sinter_stepper_set_domain": (c_status, [StepperPtr, _P(_double), _P(_double)]),
     "sinter_stepper_set_observer": (c_status, [StepperPtr, ObserverFn, ctypes.c_void_p]),
     "sinter_stepper_advance": (c_status, [StepperPtr, _double]),
     "sinter_stepper_step": (c_status, [StepperPtr, _u64]),

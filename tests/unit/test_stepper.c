@@ -1,0 +1,399 @@
+/*
+ * Stepper contracts: host submodels match their built-in twins, walls move as
+ * prescribed and report reactions, unstable steps are rejected with the last
+ * state kept, misuse is refused, and a poured packing comes to rest in its box.
+ */
+#include <math.h>
+
+#include <sinter_submodel.h>
+
+#include "scene_support.h"
+
+/* Host re-implementation of the built-in "linear_spring" (kn, cn). */
+typedef struct spring_params {
+    double kn, cn;
+    int calls;
+} spring_params;
+
+static int host_spring(const sinter_state_view *state, sinter_contact_batch *b, void *user)
+{
+    spring_params *p = user;
+    p->calls++;
+    for (size_t k = 0; k < b->count; ++k) {
+        const uint32_t i = b->i[k], j = b->j[k];
+        const double *n = b->normal + 3 * k;
+        double u[3];
+        for (int d = 0; d < 3; ++d)
+            u[d] = state->velocity[3 * i + d] -
+                   (b->kind == SINTER_CONTACT_WALL ? state->wall_velocity[3 * j + d]
+                                                   : state->velocity[3 * j + d]);
+        const double fn = p->kn * b->overlap[k] + p->cn * (u[0] * n[0] + u[1] * n[1] + u[2] * n[2]);
+        for (int d = 0; d < 3; ++d)
+            b->force[3 * k + d] = -fn * n[d];
+    }
+    return 0;
+}
+
+static void destroy_spring(void *user)
+{
+    ((spring_params *)user)->calls = -1000;
+}
+
+static void run_springs(int host, double *x_out, int *calls)
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    spring_params params = {500.0, 0.01, 0};
+    OK(sinter_particles_create(&s.ps, s.ctx));
+    OK(sinter_particles_set_material(s.ps, 0, s.mat));
+    OK(sinter_walls_create(&s.walls, s.ctx));
+    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, s.walls));
+    if (host) {
+        sinter_force_callbacks cb;
+        memset(&cb, 0, sizeof(cb));
+        cb.struct_size = sizeof(cb);
+        cb.contacts = host_spring;
+        cb.destroy_user = destroy_spring;
+        OK(sinter_force_model_create_host(&s.contact, s.ctx, "host_spring", &cb, &params));
+    } else {
+        OK(sinter_force_model_create(&s.contact, s.ctx, "linear_spring"));
+        OK(sinter_force_model_set(s.contact, "kn", params.kn));
+        OK(sinter_force_model_set(s.contact, "cn", params.cn));
+    }
+    OK(sinter_stepper_add_force(s.st, s.contact));
+    OK(sinter_force_model_create(&s.gravity, s.ctx, "gravity"));
+    OK(sinter_stepper_add_force(s.st, s.gravity));
+    scene_floor(&s, 0.0);
+    for (int k = 0; k < 12; ++k)
+        scene_add(&s, 1.5e-3 * (k % 3), 1.5e-3 * ((k / 3) % 2), 1.2e-3 + 1.9e-3 * (k / 6), 1e-3);
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_advance(s.st, 0.02));
+    for (int k = 0; k < 12; ++k)
+        get3(&s, SINTER_FIELD_POSITION, (size_t)k, x_out + 3 * k);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_force_model_destroy(s.contact); /* calls destroy_user exactly once */
+    s.contact = NULL;
+    *calls = params.calls;
+    scene_close(&s);
+}
+
+static void test_host_spring_matches_builtin(void **state)
+{
+    (void)state;
+    double builtin[36], hosted[36];
+    int calls_builtin = 0, calls_host = 0;
+    run_springs(0, builtin, &calls_builtin);
+    run_springs(1, hosted, &calls_host);
+    assert_int_equal(calls_host, -1000); /* destroy_user ran */
+    /* The same arithmetic in the same order: equal to round-off (1e-15 m here). */
+    for (int k = 0; k < 36; ++k)
+        assert_close(hosted[k], builtin[k], 1e-15);
+}
+
+static int failing_callback(const sinter_state_view *state, sinter_contact_batch *b, void *user)
+{
+    (void)state;
+    (void)user;
+    return b->count > 0 ? -1 : 0;
+}
+
+static void test_callback_failure_keeps_last_state(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "gravity", 0);
+    sinter_force_callbacks cb;
+    memset(&cb, 0, sizeof(cb));
+    cb.struct_size = sizeof(cb);
+    cb.contacts = failing_callback;
+    sinter_force_model *bad = NULL;
+    OK(sinter_force_model_create_host(&bad, s.ctx, "fails_on_contact", &cb, NULL));
+    OK(sinter_stepper_add_force(s.st, bad));
+    scene_floor(&s, 0.0);
+    scene_add(&s, 0, 0, 1.05e-3, 1e-3);
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    const sinter_status st = sinter_stepper_advance(s.st, 0.1);
+    assert_int_equal(st, SINTER_ERR_CALLBACK);
+    assert_non_null(strstr(sinter_last_error(s.ctx), "fails_on_contact"));
+    double t = 0, x[3];
+    OK(sinter_stepper_time(s.st, &t));
+    get3(&s, SINTER_FIELD_POSITION, 0, x);
+    /* The rejected step is the first with overlap: the kept state has none. */
+    assert_true(x[2] >= 1e-3);
+    assert_true(t > 0.0 && t < 0.1);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_force_model_destroy(bad);
+    scene_close(&s);
+}
+
+static int nan_force(const sinter_state_view *state, double *force, double *torque, void *user)
+{
+    (void)torque;
+    if (state->time > *(double *)user)
+        force[3 * 1 + 2] = NAN; /* particle 1 goes bad after the given time */
+    return 0;
+}
+
+static void test_unstable_step_is_rejected(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 200e9, 0.3, 7800, 0.0, 0.0); /* steel */
+    scene_open(&s, "hertz_mindlin", 1);
+    /* A column of steel spheres on a floor, with a step 100 times the stable one. */
+    scene_floor(&s, 0.0);
+    for (int k = 0; k < 5; ++k)
+        scene_add(&s, 0, 0, 1e-3 + 1.999e-3 * k, 1e-3);
+    double dt = 0;
+    OK(sinter_stable_dt_hertz(s.ps, s.walls, 1.0, &dt));
+    assert_true(dt > 0 && dt < 1e-6);
+    OK(sinter_stepper_set_dt(s.st, 100 * dt));
+    const double lo[3] = {-0.01, -0.01, -0.01}, hi[3] = {0.01, 0.01, 0.05};
+    OK(sinter_stepper_set_domain(s.st, lo, hi));
+    sinter_status st = SINTER_OK;
+    for (int k = 0; k < 2000 && st == SINTER_OK; ++k)
+        st = sinter_stepper_step(s.st, 1);
+    assert_int_equal(st, SINTER_ERR_LOST_PARTICLE);
+    assert_non_null(strstr(sinter_last_error(s.ctx), "left the domain"));
+    OK(sinter_particles_validate(s.ps, NULL)); /* the kept state is a good state */
+    const double *x = NULL;
+    size_t n = 0;
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_POSITION, (const void **)&x, &n, NULL));
+    for (size_t i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d)
+            assert_true(x[3 * i + d] >= lo[d] && x[3 * i + d] <= hi[d]);
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    assert_int_equal(stats.rejected, 1);
+    /* At the stable step the same column settles without trouble. */
+    OK(sinter_stepper_set_dt(s.st, dt));
+    scene_close(&s);
+
+    /* A submodel that produces NaN: the step is rejected with UNSTABLE naming particle 1. */
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 0);
+    scene_add(&s, 0, 0, 0, 1e-3);
+    scene_add(&s, 0.01, 0, 0, 1e-3);
+    double bad_after = 5e-5;
+    sinter_force_callbacks cb;
+    memset(&cb, 0, sizeof(cb));
+    cb.struct_size = sizeof(cb);
+    cb.particles = nan_force;
+    sinter_force_model *nan_model = NULL;
+    OK(sinter_force_model_create_host(&nan_model, s.ctx, "nan", &cb, &bad_after));
+    OK(sinter_stepper_add_force(s.st, nan_model));
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    assert_int_equal(sinter_stepper_advance(s.st, 1e-3), SINTER_ERR_UNSTABLE);
+    assert_non_null(strstr(sinter_last_error(s.ctx), "particle 1"));
+    double t = 0;
+    OK(sinter_stepper_time(s.st, &t));
+    assert_close(t, 5e-5, 1e-12); /* the last accepted step */
+    OK(sinter_particles_validate(s.ps, NULL));
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_force_model_destroy(nan_model);
+    scene_close(&s);
+}
+
+static int wall_motion(double t, double *disp, double *vel, void *user)
+{
+    (void)user;
+    disp[0] = disp[1] = vel[0] = vel[1] = 0.0;
+    disp[2] = t * t;
+    vel[2] = 2 * t;
+    return 0;
+}
+
+static void test_wall_motions(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 0);
+    for (int k = 0; k < 4; ++k)
+        scene_floor(&s, 0.0);
+    scene_add(&s, 0, 0, 1.0, 1e-3); /* far from every wall */
+    const double u[3] = {0, 0, 0.1};
+    OK(sinter_walls_set_velocity(s.walls, 0, u));
+    const double times[3] = {0.0, 0.1, 0.2}, disp[9] = {0, 0, 0, 0, 0, 0.05, 0, 0, 0.05};
+    OK(sinter_walls_set_schedule(s.walls, 1, 3, times, disp));
+    const double amp[3] = {0, 0, 0.01};
+    OK(sinter_walls_set_sine(s.walls, 2, amp, 20.0));
+    OK(sinter_walls_set_callback(s.walls, 3, wall_motion, NULL));
+    OK(sinter_stepper_set_dt(s.st, 1e-3));
+    OK(sinter_stepper_advance(s.st, 0.05));
+    double p[3], v[3];
+    OK(sinter_walls_get_state(s.walls, 0, p, v));
+    assert_close(p[2], 0.005, 1e-15);
+    assert_close(v[2], 0.1, 0.0);
+    OK(sinter_walls_get_state(s.walls, 1, p, v));
+    assert_close(p[2], 0.025, 1e-15); /* halfway up the first ramp */
+    assert_close(v[2], 0.5, 1e-12);
+    OK(sinter_walls_get_state(s.walls, 2, p, v));
+    assert_close(p[2], 0.01 * sin(1.0), 1e-15);
+    assert_close(v[2], 0.2 * cos(1.0), 1e-15);
+    OK(sinter_walls_get_state(s.walls, 3, p, v));
+    assert_close(p[2], 0.0025, 1e-15);
+    OK(sinter_stepper_advance(s.st, 0.3));
+    OK(sinter_walls_get_state(s.walls, 1, p, v));
+    assert_close(p[2], 0.05, 0.0); /* held after the last point */
+    assert_close(v[2], 0.0, 0.0);
+    /* Misuse */
+    const double bad_t[2] = {0.0, 0.0};
+    assert_int_equal(sinter_walls_set_schedule(s.walls, 1, 2, bad_t, disp), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_velocity(s.walls, 9, u), SINTER_ERR_RANGE);
+    const double zero[3] = {0, 0, 0};
+    assert_int_equal(sinter_walls_add_plane(s.walls, zero, zero, s.wall_mat, NULL),
+                     SINTER_ERR_INVALID);
+    scene_close(&s);
+}
+
+static void test_misuse_is_refused(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_add(&s, 0, 0, 0, 1e-3);
+    OK(sinter_stepper_advance(s.st, 1e-3));
+    assert_int_equal(sinter_stepper_advance(s.st, 0.5e-3), SINTER_ERR_INVALID); /* backwards */
+    assert_non_null(strstr(sinter_last_error(s.ctx), "backwards"));
+    assert_int_equal(sinter_stepper_set_dt(s.st, 0.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_set_dt(s.st, NAN), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_add_force(s.st, s.contact), SINTER_ERR_INVALID); /* twice */
+    sinter_force_model *fm = NULL;
+    assert_int_equal(sinter_force_model_create(&fm, s.ctx, "no_such_law"), SINTER_ERR_NOT_FOUND);
+    assert_non_null(strstr(sinter_last_error(s.ctx), "hertz_mindlin"));
+    assert_int_equal(sinter_force_model_set(s.gravity, "gq", 1.0), SINTER_ERR_NOT_FOUND);
+    double *x = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_POSITION, (void **)&x, NULL, NULL));
+    assert_int_equal(sinter_stepper_advance(s.st, 2e-3), SINTER_ERR_BUSY);
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    assert_int_equal(sinter_stepper_advance(NULL, 1.0), SINTER_ERR_NULL);
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = 3;
+    assert_int_equal(sinter_stepper_get_stats(s.st, &stats), SINTER_ERR_STRUCT_SIZE);
+    assert_int_equal(sinter_stepper_create(NULL, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL),
+                     SINTER_ERR_NULL);
+    sinter_stepper_destroy(NULL);
+    sinter_force_model_destroy(NULL);
+    sinter_walls_destroy(NULL);
+    scene_close(&s);
+}
+
+static int stop_after_ten(const sinter_stepper *st, double t, void *user)
+{
+    (void)st;
+    (void)t;
+    return ++*(int *)user >= 10;
+}
+
+static void test_observer_and_stats(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_add(&s, 0, 0, 0, 1e-3);
+    int calls = 0;
+    OK(sinter_stepper_set_observer(s.st, stop_after_ten, &calls));
+    OK(sinter_stepper_set_dt(s.st, 1e-4));
+    OK(sinter_stepper_advance(s.st, 1.0));
+    double t = 0;
+    OK(sinter_stepper_time(s.st, &t));
+    assert_int_equal(calls, 10);
+    assert_close(t, 1e-3, 1e-15);
+    /* Free fall for 10 steps: velocity Verlet is exact for constant force. */
+    double v[3];
+    get3(&s, SINTER_FIELD_VELOCITY, 0, v);
+    assert_close(v[2], -9.81 * 1e-3, 1e-15);
+    OK(sinter_stepper_set_observer(s.st, NULL, NULL));
+    OK(sinter_stepper_advance(s.st, 2.5e-3)); /* lands exactly on the end time */
+    OK(sinter_stepper_time(s.st, &t));
+    assert_close(t, 2.5e-3, 0.0);
+    get3(&s, SINTER_FIELD_VELOCITY, 0, v);
+    assert_close(v[2], -9.81 * 2.5e-3, 1e-15);
+    scene_close(&s);
+}
+
+/* 1000 particles poured into a box come to rest inside it; none escapes. */
+static void test_pour_comes_to_rest_in_box(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    double xi = 0;
+    OK(sinter_damping_ratio_from_restitution(0.3, &xi));
+    scene_material(&s, 1e7, 0.3, 2500, xi, 0.3);
+    OK(sinter_material_set(s.mat, SINTER_MAT_FRICTION_DAMPING_RATIO, xi));
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_FRICTION_DAMPING_RATIO, xi));
+    scene_open(&s, "hertz_mindlin", 1);
+    const double r = 0.5e-3, L = 10 * 2.2 * r;
+    const double walls[5][6] = {{0, 0, 0, 0, 0, 1},  {0, 0, 0, 1, 0, 0}, {L, 0, 0, -1, 0, 0},
+                                {0, 0, 0, 0, 1, 0},  {0, L, 0, 0, -1, 0}};
+    for (int k = 0; k < 5; ++k)
+        OK(sinter_walls_add_plane(s.walls, walls[k], walls[k] + 3, s.wall_mat, NULL));
+    sinter_packing_options opt;
+    OK(sinter_packing_options_init(&opt, sizeof(opt)));
+    const double lo[3] = {0, 0, 0}, hi[3] = {L, L, 4 * L};
+    memcpy(opt.box_min, lo, sizeof(lo));
+    memcpy(opt.box_max, hi, sizeof(hi));
+    opt.radius_mean = r;
+    opt.gap = 0.02 * r;
+    size_t placed = 0;
+    OK(sinter_pack_random(s.ps, &opt, 1000, &placed));
+    assert_int_equal(placed, 1000);
+    double dt = 0;
+    OK(sinter_stable_dt_hertz(s.ps, s.walls, 1.0, &dt));
+    OK(sinter_stepper_set_dt(s.st, dt));
+    /* at rest: kinetic energy per particle below 1e-4 of m g r (potential energy scale) */
+    const double m = 2500 * 4.0 / 3.0 * 3.14159265358979 * r * r * r;
+    OK(sinter_pack_pour(s.st, 1e-4 * m * 9.81 * r, 0.05, 2.0));
+    size_t n = 0;
+    OK(sinter_particles_count(s.ps, &n));
+    const double *x = NULL;
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL));
+    double zmax = 0;
+    for (size_t i = 0; i < n; ++i) {
+        /* inside the box, allowing the largest overlap a resting pile has (< 0.05 r) */
+        assert_true(x[3 * i] > r * 0.95 && x[3 * i] < L - r * 0.95);
+        assert_true(x[3 * i + 1] > r * 0.95 && x[3 * i + 1] < L - r * 0.95);
+        assert_true(x[3 * i + 2] > r * 0.95);
+        zmax = fmax(zmax, x[3 * i + 2]);
+    }
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    /* 1000 spheres in a 10 x 10 column: about 10-14 layers of 2r at a packing of 0.55-0.65 */
+    const double height = zmax + r, solid = 1000 * 4.0 / 3.0 * 3.14159265358979 * r * r * r;
+    const double fraction = solid / (L * L * height);
+    print_message("poured: height %.3e m, volume fraction %.3f\n", height, fraction);
+    assert_true(fraction > 0.45 && fraction < 0.66);
+    scene_close(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_host_spring_matches_builtin),
+        cmocka_unit_test(test_callback_failure_keeps_last_state),
+        cmocka_unit_test(test_unstable_step_is_rejected),
+        cmocka_unit_test(test_wall_motions),
+        cmocka_unit_test(test_misuse_is_refused),
+        cmocka_unit_test(test_observer_and_stats),
+        cmocka_unit_test(test_pour_comes_to_rest_in_box),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
