@@ -51,6 +51,8 @@ extern const sinter_force_ops sinter_force_hertz_mindlin;
 extern const sinter_force_ops sinter_force_linear_spring;
 extern const sinter_force_ops sinter_force_gravity;
 extern const sinter_force_ops sinter_force_body_force;
+extern const sinter_force_ops sinter_force_power_law;
+extern const sinter_force_ops sinter_force_drag;
 
 /* Host model evaluation (host.c). */
 sinter_status sinter_force_host_eval(const sinter_force_model *fm, sinter_force_eval *e);

@@ -9,6 +9,8 @@ static const sinter_force_ops *const BUILTIN[] = {
     &sinter_force_linear_spring,
     &sinter_force_gravity,
     &sinter_force_body_force,
+    &sinter_force_power_law,
+    &sinter_force_drag,
 };
 
 static void init_params(sinter_force_model *fm)

@@ -217,7 +217,7 @@ static sinter_status check_options(const sinter_particles *ps, const sinter_pack
         range->hi = mean + spread;
         break;
     case SINTER_RADII_NORMAL: {
-        /* 0 selects the documented defaults: mean - 3 spread (floored at mean/10), mean + 3 spread */
+        /* 0 selects the defaults: mean - 3 spread (floored at mean/10), mean + 3 spread */
         range->lo = o->radius_min > 0.0 ? o->radius_min : fmax(mean - 3.0 * spread, 0.1 * mean);
         range->hi = o->radius_max > 0.0 ? o->radius_max : mean + 3.0 * spread;
         if (!(range->lo <= mean))
@@ -243,8 +243,8 @@ static sinter_status check_options(const sinter_particles *ps, const sinter_pack
     }
     default:
         return sinter_fail(ctx, SINTER_ERR_INVALID,
-                           "%s: option distribution = %d is not a sinter_radius_distribution",
-                           func, o->distribution);
+                           "%s: option distribution = %d is not a sinter_radius_distribution", func,
+                           o->distribution);
     }
     for (int d = 0; d < 3; ++d) {
         const double need = 2.0 * (range->hi + o->gap);
@@ -252,13 +252,13 @@ static sinter_status check_options(const sinter_particles *ps, const sinter_pack
             return sinter_fail(ctx, SINTER_ERR_INVALID,
                                "%s: the box is %g m wide along %s (box_min[%d] to box_max[%d]), "
                                "less than the %g m a sphere of radius %g m with gap %g m needs",
-                               func, o->box_max[d] - o->box_min[d], AXIS[d], d, d, need,
-                               range->hi, o->gap);
+                               func, o->box_max[d] - o->box_min[d], AXIS[d], d, d, need, range->hi,
+                               o->gap);
     }
     if (n > SIZE_MAX / 3 - ps->count)
         return sinter_fail(ctx, SINTER_ERR_OVERFLOW,
-                           "%s: %zu new particles on top of %zu overflow the position array",
-                           func, n, ps->count);
+                           "%s: %zu new particles on top of %zu overflow the position array", func,
+                           n, ps->count);
     return SINTER_OK;
 }
 
@@ -283,65 +283,91 @@ static double draw_radius(rng *g, const sinter_packing_options *o, const radius_
 /* ---- cell grid ------------------------------------------------------------- */
 
 /*
- * Uniform grid over the box. Sphere j is listed in every cell that meets the
- * cube of half-width reach_j = r_j + r_hi + gap around its centre; a candidate
- * of radius r <= r_hi can only touch spheres listed in its own cell, so one
- * list is scanned per attempt. Cells are >= 2 r_hi + gap wide, so a sphere of
- * the distribution is listed in at most 4^3 cells and a cell lists O(1) spheres.
+ * Uniform grid over the box with cells at least w = 2 r_hi + gap wide, where
+ * r_hi is the largest radius the distribution draws. A sphere is listed in the
+ * cell of its centre; a sphere with r_j > r_hi (only existing ones) in every
+ * cell within r_j - r_hi of its centre. A candidate of radius r <= r_hi can
+ * then only touch spheres listed in its own cell and the 26 around it. Entries
+ * carry the centre and radius, so a check reads one contiguous record.
  */
+typedef struct grid_entry {
+    double x[3], r;
+    size_t next; /* next entry of the same cell, NO_ENTRY at the end */
+} grid_entry;
+
 typedef struct cell_grid {
     double origin[3], width;
     size_t dims[3];
-    size_t *head;        /* first entry of each cell, NO_ENTRY if empty */
-    size_t *next, *item; /* entry lists: next entry of the cell, sphere index */
+    size_t *head; /* first entry of each cell, NO_ENTRY if empty */
+    grid_entry *entry;
     size_t entries, capacity;
 } cell_grid;
+
+/* Relative margin on cell widths and reaches, so that rounding never hides a neighbour. */
+#define GRID_MARGIN (1.0 + 1e-6)
 
 static size_t cell_coord(const cell_grid *g, int d, double x)
 {
     const double t = floor((x - g->origin[d]) / g->width);
     if (!(t > 0.0))
-        return 0;
+        return 0; /* also NaN */
     if (t >= (double)(g->dims[d] - 1))
         return g->dims[d] - 1;
     return (size_t)t;
 }
 
-static size_t cell_of(const cell_grid *g, const double x[3])
-{
-    return cell_coord(g, 0, x[0]) +
-           g->dims[0] * (cell_coord(g, 1, x[1]) + g->dims[1] * cell_coord(g, 2, x[2]));
-}
-
-static sinter_status grid_insert(cell_grid *g, sinter_ctx *ctx, size_t sphere, const double c[3],
-                                 double reach)
+/* List a sphere in every cell within `extent` of its centre. */
+static sinter_status grid_insert(cell_grid *g, sinter_ctx *ctx, const double x[3], double r,
+                                 double extent)
 {
     size_t lo[3], hi[3];
     for (int d = 0; d < 3; ++d) {
-        lo[d] = cell_coord(g, d, c[d] - reach);
-        hi[d] = cell_coord(g, d, c[d] + reach);
+        lo[d] = cell_coord(g, d, x[d] - extent);
+        hi[d] = cell_coord(g, d, x[d] + extent);
     }
     for (size_t k = lo[2]; k <= hi[2]; ++k)
         for (size_t j = lo[1]; j <= hi[1]; ++j)
             for (size_t i = lo[0]; i <= hi[0]; ++i) {
                 if (g->entries == g->capacity) {
-                    const size_t cap = g->capacity < 64 ? 64 : 2 * g->capacity;
-                    size_t *next = sinter_realloc_array(ctx, g->next, cap, sizeof(size_t));
-                    if (next == NULL)
+                    const size_t cap = g->capacity < 256 ? 256 : 2 * g->capacity;
+                    grid_entry *e = sinter_realloc_array(ctx, g->entry, cap, sizeof(*e));
+                    if (e == NULL)
                         return sinter_last_status(ctx);
-                    g->next = next;
-                    size_t *item = sinter_realloc_array(ctx, g->item, cap, sizeof(size_t));
-                    if (item == NULL)
-                        return sinter_last_status(ctx);
-                    g->item = item;
+                    g->entry = e;
                     g->capacity = cap;
                 }
                 const size_t cell = i + g->dims[0] * (j + g->dims[1] * k);
-                g->item[g->entries] = sphere;
-                g->next[g->entries] = g->head[cell];
+                grid_entry *e = &g->entry[g->entries];
+                memcpy(e->x, x, sizeof(e->x));
+                e->r = r;
+                e->next = g->head[cell];
                 g->head[cell] = g->entries++;
             }
     return SINTER_OK;
+}
+
+/* 1 if a sphere (x, r) keeps the gap to every sphere listed around its cell. */
+static int grid_fits(const cell_grid *g, const double x[3], double r, double gap)
+{
+    size_t lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+        const size_t c = cell_coord(g, d, x[d]);
+        lo[d] = c > 0 ? c - 1 : 0;
+        hi[d] = c + 1 < g->dims[d] ? c + 1 : c;
+    }
+    for (size_t k = lo[2]; k <= hi[2]; ++k)
+        for (size_t j = lo[1]; j <= hi[1]; ++j)
+            for (size_t i = lo[0]; i <= hi[0]; ++i) {
+                size_t e = g->head[i + g->dims[0] * (j + g->dims[1] * k)];
+                for (; e != NO_ENTRY; e = g->entry[e].next) {
+                    const grid_entry *s = &g->entry[e];
+                    const double dx = x[0] - s->x[0], dy = x[1] - s->x[1], dz = x[2] - s->x[2];
+                    const double contact = r + s->r + gap;
+                    if (dx * dx + dy * dy + dz * dz < contact * contact)
+                        return 0;
+                }
+            }
+    return 1;
 }
 
 /* Cells of width >= 2 r_hi + gap, widened until there are at most 2 per expected sphere. */
@@ -353,7 +379,7 @@ static sinter_status grid_create(cell_grid *g, sinter_ctx *ctx, const sinter_pac
         volume *= o->box_max[d] - o->box_min[d];
     const double fit = volume / (4.0 / 3.0 * PI * range->lo * range->lo * range->lo);
     const double max_cells = 2.0 * ((double)existing + fmin((double)n, fit)) + 8.0;
-    double width = 2.0 * range->hi + o->gap, cells;
+    double width = (2.0 * range->hi + o->gap) * GRID_MARGIN, cells;
     for (;;) {
         cells = 1.0;
         for (int d = 0; d < 3; ++d)
@@ -379,13 +405,12 @@ static sinter_status grid_create(cell_grid *g, sinter_ctx *ctx, const sinter_pac
 static void grid_destroy(cell_grid *g, sinter_ctx *ctx)
 {
     sinter_free(ctx, g->head);
-    sinter_free(ctx, g->next);
-    sinter_free(ctx, g->item);
+    sinter_free(ctx, g->entry);
 }
 
 /* ---- random sequential addition ------------------------------------------------ */
 
-/* Spheres known to the packer: existing ones near the box first, then the new ones. */
+/* The new spheres, kept apart so that they reach the set in one sinter_particles_add. */
 typedef struct sphere_list {
     double *x, *r;
     size_t count, capacity;
@@ -413,57 +438,33 @@ static sinter_status spheres_push(sphere_list *s, sinter_ctx *ctx, const double 
     return SINTER_OK;
 }
 
-/* 1 if a sphere (x, r) keeps the gap to every sphere listed in its cell. */
-static int fits(const cell_grid *g, const sphere_list *s, const double x[3], double r, double gap)
+/* 1 if existing particle i can touch a new sphere inside the box. */
+static int near_box(const sinter_particles *ps, size_t i, const sinter_packing_options *o,
+                    const radius_range *range)
 {
-    for (size_t e = g->head[cell_of(g, x)]; e != NO_ENTRY; e = g->next[e]) {
-        const size_t j = g->item[e];
-        const double dx = x[0] - s->x[3 * j], dy = x[1] - s->x[3 * j + 1],
-                     dz = x[2] - s->x[3 * j + 2];
-        const double contact = r + s->r[j] + gap;
-        if (dx * dx + dy * dy + dz * dz < contact * contact)
-            return 0;
-    }
+    const double reach = (ps->radius[i] + range->hi + o->gap) * GRID_MARGIN;
+    for (int d = 0; d < 3; ++d)
+        if (!(ps->x[3 * i + d] + reach >= o->box_min[d] &&
+              ps->x[3 * i + d] - reach <= o->box_max[d]))
+            return 0; /* also skips non-finite values */
     return 1;
 }
 
-/* Margin on grid reaches so that rounding never hides a neighbour. */
-#define REACH_MARGIN (1.0 + 1e-9)
-
 static sinter_status pack_random(sinter_particles *ps, const sinter_packing_options *o, size_t n,
-                                 const radius_range *range, sphere_list *s, cell_grid *g,
-                                 size_t *first_new)
+                                 const radius_range *range, sphere_list *s, cell_grid *g)
 {
     sinter_ctx *ctx = ps->ctx;
-    /* Existing particles whose reach meets the box take part in the overlap test. */
+    /* Existing particles that can touch the box take part in the overlap test. */
     size_t existing = 0;
-    for (int pass = 0; pass < 2; ++pass) {
-        for (size_t i = 0; i < ps->count; ++i) {
-            const double reach = (ps->radius[i] + range->hi + o->gap) * REACH_MARGIN;
-            int near = 1;
-            for (int d = 0; d < 3; ++d)
-                if (!(ps->x[3 * i + d] + reach >= o->box_min[d] &&
-                      ps->x[3 * i + d] - reach <= o->box_max[d]))
-                    near = 0; /* also skips non-finite values */
-            if (!near)
-                continue;
-            if (pass == 0) {
-                existing++;
-                continue;
-            }
-            sinter_status st = spheres_push(s, ctx, ps->x + 3 * i, ps->radius[i], existing + n);
-            if (st == SINTER_OK)
-                st = grid_insert(g, ctx, s->count - 1, ps->x + 3 * i, reach);
-            if (st != SINTER_OK)
-                return st;
-        }
-        if (pass == 0) {
-            sinter_status st = grid_create(g, ctx, o, range, n, existing);
-            if (st != SINTER_OK)
-                return st;
-        }
-    }
-    *first_new = s->count;
+    for (size_t i = 0; i < ps->count; ++i)
+        existing += (size_t)near_box(ps, i, o, range);
+    sinter_status st = grid_create(g, ctx, o, range, n, existing);
+    for (size_t i = 0; i < ps->count && st == SINTER_OK; ++i)
+        if (near_box(ps, i, o, range))
+            st = grid_insert(g, ctx, ps->x + 3 * i, ps->radius[i],
+                             fmax(0.0, ps->radius[i] - range->hi) * GRID_MARGIN);
+    if (st != SINTER_OK)
+        return st;
     rng gen;
     rng_seed(&gen, o->seed);
     for (size_t k = 0; k < n; ++k) {
@@ -477,13 +478,13 @@ static sinter_status pack_random(sinter_particles *ps, const sinter_packing_opti
         for (uint64_t attempt = 0; attempt < o->max_attempts && !placed; ++attempt) {
             for (int d = 0; d < 3; ++d)
                 x[d] = fmin(lo[d] + (hi[d] - lo[d]) * rng_uniform(&gen), hi[d]);
-            placed = fits(g, s, x, r, o->gap);
+            placed = grid_fits(g, x, r, o->gap);
         }
         if (!placed)
             break; /* max_attempts failures in a row: the box is (nearly) jammed */
-        sinter_status st = spheres_push(s, ctx, x, r, existing + n);
+        st = spheres_push(s, ctx, x, r, n);
         if (st == SINTER_OK)
-            st = grid_insert(g, ctx, s->count - 1, x, (r + range->hi + o->gap) * REACH_MARGIN);
+            st = grid_insert(g, ctx, x, r, 0.0);
         if (st != SINTER_OK)
             return st;
     }
@@ -506,12 +507,10 @@ sinter_status sinter_pack_random(sinter_particles *particles, const sinter_packi
     sphere_list spheres = {NULL, NULL, 0, 0};
     cell_grid grid;
     memset(&grid, 0, sizeof(grid));
-    size_t first_new = 0;
-    st = pack_random(particles, options, n, &range, &spheres, &grid, &first_new);
-    const size_t count = spheres.count - first_new;
+    st = pack_random(particles, options, n, &range, &spheres, &grid);
+    const size_t count = spheres.count;
     if (st == SINTER_OK && count > 0)
-        st = sinter_particles_add(particles, count, spheres.x + 3 * first_new,
-                                  spheres.r + first_new, options->material,
+        st = sinter_particles_add(particles, count, spheres.x, spheres.r, options->material,
                                   options->temperature, NULL);
     grid_destroy(&grid, ctx);
     sinter_free(ctx, spheres.x);
@@ -524,8 +523,8 @@ sinter_status sinter_pack_random(sinter_particles *particles, const sinter_packi
 /* ---- lattice ----------------------------------------------------------------------- */
 
 /* Centres lo + r + i spacing with centre + r <= hi, i = 0 .. *count - 1. */
-static sinter_status lattice_axis(sinter_ctx *ctx, double lo, double hi, double r,
-                                  double spacing, int d, size_t *count)
+static sinter_status lattice_axis(sinter_ctx *ctx, double lo, double hi, double r, double spacing,
+                                  int d, size_t *count)
 {
     *count = 0;
     if (hi - lo < 2.0 * r)
@@ -576,9 +575,8 @@ sinter_status sinter_pack_lattice(sinter_particles *particles, const double box_
     if (sinter_mul_overflows(dims[0], dims[1]) ||
         sinter_mul_overflows(dims[0] * dims[1], dims[2]) ||
         sinter_mul_overflows(dims[0] * dims[1] * dims[2], 3))
-        return sinter_fail(ctx, SINTER_ERR_OVERFLOW,
-                           "%s: a %zu x %zu x %zu lattice overflows", func, dims[0], dims[1],
-                           dims[2]);
+        return sinter_fail(ctx, SINTER_ERR_OVERFLOW, "%s: a %zu x %zu x %zu lattice overflows",
+                           func, dims[0], dims[1], dims[2]);
     const size_t n = dims[0] * dims[1] * dims[2];
     if (n == 0)
         return SINTER_OK;

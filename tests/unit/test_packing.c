@@ -1,4 +1,4 @@
-/* Packing helpers: options, simple-cubic lattice, random sequential addition (seed 000 sec. 7.1). */
+/* Packing helpers: options, simple-cubic lattice, random sequential addition (seed 000 7.1). */
 #include <math.h>
 #include <string.h>
 
@@ -54,12 +54,12 @@ static size_t count_of(const sinter_particles *ps)
 static size_t view_xr(const sinter_particles *ps, const double **x, const double **r)
 {
     size_t n = 0;
-    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)x, &n,
-                                                NULL),
-                     SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_RADIUS, (const void **)r, NULL,
-                                                NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)x, &n, NULL),
+        SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_RADIUS, (const void **)r, NULL, NULL),
+        SINTER_OK);
     return n;
 }
 
@@ -204,12 +204,12 @@ static void test_lattice_rejects_bad_arguments(void **state)
                  SINTER_ERR_INVALID, "box_max[2]");
     expect_error(f, sinter_pack_lattice(f->ps, lo, hi, 0.1, 0.2, 5, 300.0, NULL),
                  SINTER_ERR_NOT_FOUND, "material 5");
-    expect_error(f, sinter_pack_lattice(f->ps, lo, hi, 0.1, 0.2, 0, -1.0, NULL),
-                 SINTER_ERR_INVALID, "temperature");
+    expect_error(f, sinter_pack_lattice(f->ps, lo, hi, 0.1, 0.2, 0, -1.0, NULL), SINTER_ERR_INVALID,
+                 "temperature");
     expect_error(f, sinter_pack_lattice(f->ps, lo, hi, 1e-9, 2e-9, 0, 300.0, NULL),
                  SINTER_ERR_OVERFLOW, "lattice overflows");
-    expect_error(f, sinter_pack_lattice(f->ps, NULL, hi, 0.1, 0.2, 0, 300.0, NULL),
-                 SINTER_ERR_NULL, "box_min");
+    expect_error(f, sinter_pack_lattice(f->ps, NULL, hi, 0.1, 0.2, 0, 300.0, NULL), SINTER_ERR_NULL,
+                 "box_min");
     assert_int_equal(sinter_pack_lattice(NULL, lo, hi, 0.1, 0.2, 0, 300.0, NULL), SINTER_ERR_NULL);
     assert_int_equal(count_of(f->ps), 0);
 }
@@ -232,6 +232,7 @@ static void test_random_press_scene(void **state)
         volume += 4.0 / 3.0 * PI * r[i] * r[i] * r[i];
     }
     release_xr(f->ps);
+    /* phi = 1000 4/3 pi R^3 / 8 = 0.2209; 1000 summed terms round to ~1e-13, so 1e-12. */
     assert_close(volume / 8.0, 1000.0 * 4.0 / 3.0 * PI * pow(0.075, 3) / 8.0, 1e-12);
     assert_true(volume / 8.0 > 0.22);
     assert_no_overlap(f->ps, 0.0);
@@ -253,8 +254,8 @@ static int same_bits(const sinter_particles *a, const sinter_particles *b)
     const double *xa, *ra, *xb, *rb;
     const size_t n = view_xr(a, &xa, &ra);
     assert_int_equal(view_xr(b, &xb, &rb), n);
-    const int same = memcmp(xa, xb, 3 * n * sizeof(double)) == 0 &&
-                     memcmp(ra, rb, n * sizeof(double)) == 0;
+    const int same =
+        memcmp(xa, xb, 3 * n * sizeof(double)) == 0 && memcmp(ra, rb, n * sizeof(double)) == 0;
     release_xr(a);
     release_xr(b);
     return same;
@@ -367,8 +368,7 @@ static void truncated_normal(double mu, double sigma, double lo, double hi, doub
     *std = sigma * sqrt(1.0 + (a * phi(a) - b * phi(b)) / z - shift * shift);
 }
 
-static void check_normal(const fixture *f, double lo_option, double hi_option, double lo,
-                         double hi)
+static void check_normal(const fixture *f, double lo_option, double hi_option, double lo, double hi)
 {
     sinter_particles *ps;
     sinter_packing_options o = options_in_box(0.0, 1.0);
@@ -506,14 +506,12 @@ static void test_random_rejects_bad_options(void **state)
         else if (!strcmp(c, "struct_size"))
             o.struct_size = 8;
         size_t placed = 99;
-        expect_error(f, sinter_pack_random(f->ps, &o, 10, &placed), cases[k].status,
-                     cases[k].word);
+        expect_error(f, sinter_pack_random(f->ps, &o, 10, &placed), cases[k].status, cases[k].word);
         assert_int_equal(placed, 0);
         assert_int_equal(count_of(f->ps), 0);
     }
     sinter_packing_options o = options_in_box(0.0, 1.0);
-    expect_error(f, sinter_pack_random(f->ps, &o, SIZE_MAX, NULL), SINTER_ERR_OVERFLOW,
-                 "overflow");
+    expect_error(f, sinter_pack_random(f->ps, &o, SIZE_MAX, NULL), SINTER_ERR_OVERFLOW, "overflow");
     expect_error(f, sinter_pack_random(f->ps, NULL, 10, NULL), SINTER_ERR_NULL, "options");
     assert_int_equal(sinter_pack_random(NULL, &o, 10, NULL), SINTER_ERR_NULL);
     size_t placed = 99;

@@ -1,0 +1,171 @@
+/*
+ * The contact-area-scaled power law of seed 000 sec. 2.1-2.3:
+ *  - contact (eq. 2-4): f_i = -K_p |E_ij|^p_p n_ij A_ij, E_ij = (d - (R_i + R_j)) / (R_i + R_j)
+ *    (eq. 3), n_ij from i to j (eq. 4), A_ij = pi a^2 from eq. 7-12 (the contact list);
+ *  - sliding friction (eq. 5-6): mu_d |f_con| against the relative tangential velocity;
+ *  - wall contact (eq. 13-17): f_i = -K_w |E_iw|^p_w n_iw A_i with E_iw = (s - R_i) / R_i, s the
+ *    centre-plane distance (eq. 14 written for any plane), plus sliding friction;
+ *  - adhesive bonds (eq. 18-19), read as below.
+ *
+ * Pair values: K, p, mu_d and E* of two materials (or particle and wall) are arithmetic means.
+ * Thermal softening (sec. 2.2 remark, sec. 7): K_p is multiplied by the mean of the two
+ * particles' modulus scales, K_w by the particle's (the wall keeps its reference stiffness).
+ * K_b is not softened: bonding is what heating promotes.
+ *
+ * Friction direction: eq. 6 and 17 use the centre velocities; since the friction force here
+ * also exerts moments b x f (b_i = L_i n, b_j = -(d - L_i) n), the relative velocity is taken
+ * at the contact point, u = (v_i + w_i x b_i) - (v_j + w_j x b_j) (the wall moves with u_w),
+ * which is eq. 6 / 17 for non-spinning particles; only its tangential part u_t counts. Below
+ * |u_t| <= 1e-12 (|v_i + w_i x b_i| + |v_j + w_j x b_j|), i.e. round-off of the velocities
+ * involved, the direction is undefined and no friction is applied.
+ *
+ * Bonds (eq. 18-19). Reading: a bond is a persistent state of a particle pair. It is activated
+ * in any evaluation that finds the pair with E_ij <= 0 and |E_ij| >= E* (eq. 19's criterion),
+ * and from then on, for as long as the pair overlaps (eq. 18: d < R_i + R_j), it adds
+ * f_i = +K_b |E_ij|^p_b n_ij A_ij (eq. 19 without the minus of eq. 2: towards j, attractive;
+ * j gets the opposite), also after |E_ij| has dropped below E* again. When the contact ends
+ * (E_ij > 0, the third case of sec. 2.3) the bond is broken; a new one needs a new
+ * interpenetration past E*. The force vanishes continuously as the contact opens (|E| and A go
+ * to 0): the bond lowers the repulsion and so the springback (sec. 7.2, phase 3). K_b = 0 (the
+ * default) disables the force. History: 1 double per particle pair, 1.0 = bonded; activation
+ * is trial history, committed only when the step is accepted.
+ */
+#include <math.h>
+
+#include "force_model.h"
+#include "vec3.h"
+
+/* Relative tangential speed below which friction has no direction, relative to the speeds. */
+static const double SLIP_EPS = 1e-12;
+
+static double scale_of(const sinter_force_eval *e, size_t i)
+{
+    return e->modulus_scale ? e->modulus_scale[i] : 1.0;
+}
+
+static double mean(const sinter_material *a, const sinter_material *b, sinter_material_param p)
+{
+    return 0.5 * (a->value[p] + b->value[p]);
+}
+
+/* Friction of eq. 5-6 / 16-17: adds mu_d fn_abs along -u_t to f (u = relative contact-point
+ * velocity, i minus j; speed = |u_i| + |u_j| for the threshold). */
+static void add_friction(const double n[3], const double u[3], double speed, double mu_d,
+                         double fn_abs, double f[3])
+{
+    const double un = v3_dot(u, n);
+    const double ut[3] = {u[0] - un * n[0], u[1] - un * n[1], u[2] - un * n[2]};
+    const double ut_len = v3_norm(ut);
+    if (!(ut_len > SLIP_EPS * speed) || mu_d * fn_abs == 0.0)
+        return;
+    const double s = -mu_d * fn_abs / ut_len; /* t = -u_t / |u_t|, eq. 6 and 17 */
+    for (int d = 0; d < 3; ++d)
+        f[d] += s * ut[d];
+}
+
+static void eval_pp(const sinter_force_eval *e)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pp;
+    const double *v = ps->v, *w = ps->w, *r = ps->radius;
+    const double *hist = e->hist_pp->committed;
+    double *trial = e->hist_pp->trial;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const sinter_material *mi = &ps->materials[ps->material[i]];
+        const sinter_material *mj = &ps->materials[ps->material[j]];
+        const double *n = c->n + 3 * k;
+        const double strain = c->delta[k] / (r[i] + r[j]); /* |E_ij|, eq. 3 (E_ij = -strain) */
+        const double area = c->area[k];                    /* A_ij, eq. 11-12 */
+        /* Contact, eq. 2: magnitude K_p |E|^p_p A, repulsive (-n on i). */
+        const double kp =
+            mean(mi, mj, SINTER_MAT_CONTACT_STIFFNESS) * 0.5 * (scale_of(e, i) + scale_of(e, j));
+        const double f_con = kp * pow(strain, mean(mi, mj, SINTER_MAT_CONTACT_EXPONENT)) * area;
+        /* Bond, eq. 18-19: active if committed, or activated now by |E| >= E*. */
+        const int bonded =
+            hist[c->pair[k]] != 0.0 || strain >= mean(mi, mj, SINTER_MAT_BOND_CRITICAL_STRAIN);
+        trial[k] = bonded ? 1.0 : 0.0;
+        const double kb = mean(mi, mj, SINTER_MAT_BOND_STIFFNESS);
+        const double f_bond = bonded && kb > 0.0
+                                  ? kb * pow(strain, mean(mi, mj, SINTER_MAT_BOND_EXPONENT)) * area
+                                  : 0.0;
+        double f[3];
+        for (int d = 0; d < 3; ++d)
+            f[d] = (f_bond - f_con) * n[d]; /* eq. 2 and 19, force on i */
+        /* Friction, eq. 5-6, at the contact points x_i + b_i and x_j + b_j. */
+        const double li = c->branch[k], lj = c->dist[k] - li;
+        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+        const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
+        double ui[3], uj[3], u[3];
+        v3_cross(w + 3 * i, bi, ui);
+        v3_cross(w + 3 * j, bj, uj);
+        for (int d = 0; d < 3; ++d) {
+            ui[d] += v[3 * i + d];
+            uj[d] += v[3 * j + d];
+            u[d] = ui[d] - uj[d];
+        }
+        add_friction(n, u, v3_norm(ui) + v3_norm(uj), mean(mi, mj, SINTER_MAT_FRICTION_DYNAMIC),
+                     f_con, f);
+        /* Moments about the centres: b_i x f on i, b_j x (-f) on j. */
+        const double fj[3] = {-f[0], -f[1], -f[2]};
+        double ti[3], tj[3];
+        v3_cross(bi, f, ti);
+        v3_cross(bj, fj, tj);
+        for (int d = 0; d < 3; ++d) {
+            e->force[3 * i + d] += f[d];
+            e->force[3 * j + d] -= f[d];
+            e->torque[3 * i + d] += ti[d];
+            e->torque[3 * j + d] += tj[d];
+        }
+    }
+}
+
+static void eval_pw(const sinter_force_eval *e)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pw;
+    const double *v = ps->v, *w = ps->w, *r = ps->radius;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], wall_index = c->j[k];
+        const sinter_wall *wall = &e->walls->wall[wall_index];
+        const sinter_material *mi = &ps->materials[ps->material[i]], *mw = &wall->material;
+        const double *n = c->n + 3 * k;           /* from the particle towards the wall, eq. 15 */
+        const double strain = c->delta[k] / r[i]; /* |E_iw|, eq. 14 with the plane distance */
+        /* Wall contact, eq. 13: magnitude K_w |E_iw|^p_w A_i, away from the wall. */
+        const double kw = mean(mi, mw, SINTER_MAT_WALL_STIFFNESS) * scale_of(e, i);
+        const double f_con = kw * pow(strain, mean(mi, mw, SINTER_MAT_WALL_EXPONENT)) * c->area[k];
+        double f[3];
+        for (int d = 0; d < 3; ++d)
+            f[d] = -f_con * n[d];
+        /* Continuous sliding friction against the wall's velocity, eq. 16-17. */
+        const double li = c->branch[k];
+        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+        double ui[3], u[3];
+        v3_cross(w + 3 * i, bi, ui);
+        for (int d = 0; d < 3; ++d) {
+            ui[d] += v[3 * i + d];
+            u[d] = ui[d] - wall->u[d];
+        }
+        add_friction(n, u, v3_norm(ui) + v3_norm(wall->u),
+                     mean(mi, mw, SINTER_MAT_FRICTION_DYNAMIC), f_con, f);
+        double ti[3];
+        v3_cross(bi, f, ti);
+        for (int d = 0; d < 3; ++d) {
+            e->force[3 * i + d] += f[d];
+            e->torque[3 * i + d] += ti[d];
+            e->wall_force[3 * wall_index + d] -= f[d]; /* reaction on the wall */
+        }
+    }
+}
+
+static sinter_status power_law_eval(const sinter_force_model *fm, sinter_force_eval *e)
+{
+    (void)fm;
+    eval_pp(e);
+    if (e->walls != NULL)
+        eval_pw(e);
+    return SINTER_OK;
+}
+
+const sinter_force_ops sinter_force_power_law = {
+    "power_law", 1, 0, 1, {NULL}, {0.0}, power_law_eval};
