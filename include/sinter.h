@@ -405,6 +405,13 @@ SINTER_API sinter_status sinter_walls_set_sine(sinter_walls *walls, size_t k,
 /** Host callback motion. */
 SINTER_API sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k,
                                                    sinter_wall_motion_fn fn, void *user);
+/**
+ * Time [s] at which wall k's prescribed motion starts: before it the wall
+ * stays at p0; after it the motion is evaluated at (t - start). Default 0;
+ * HUGE_VAL holds the wall until a later call sets a finite start.
+ */
+SINTER_API sinter_status sinter_walls_set_motion_start(sinter_walls *walls, size_t k,
+                                                       double start);
 /** Wall temperature [K] (used by heat submodels). */
 SINTER_API sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_t k,
                                                       double temperature);
@@ -603,6 +610,121 @@ SINTER_API sinter_status sinter_pack_lattice(sinter_particles *particles, const 
  */
 SINTER_API sinter_status sinter_pack_pour(sinter_stepper *stepper, double ke_per_particle,
                                           double t_min, double t_max);
+
+
+/* ------------------------------------------------------------------------ */
+/* Output: ParaView frames, time series, plots                               */
+/* ------------------------------------------------------------------------ */
+
+/** An extra per-particle array written into a VTU frame (borrowed). */
+typedef struct sinter_vtu_array {
+    const char *name;   /**< array name shown in ParaView */
+    const double *data; /**< count * components values, particle-major */
+    size_t components;  /**< 1 or 3 */
+} sinter_vtu_array;
+
+/**
+ * Write the particle set as one VTK XML UnstructuredGrid frame (.vtu, one
+ * vertex per particle) with point arrays radius, velocity, spin, temperature,
+ * current, force, material and id, plus the `extra` arrays (e.g. contact and
+ * neck counts). The file is written to a temporary name and renamed, so an
+ * existing file is never left half-written.
+ */
+SINTER_API sinter_status sinter_write_vtu(const sinter_particles *particles, const char *path,
+                                          const sinter_vtu_array *extra, size_t extra_count);
+
+/**
+ * Write a ParaView collection (.pvd) listing `count` frames: files[k] (paths
+ * as they should appear in the .pvd, usually relative to it) at times[k] [s].
+ */
+SINTER_API sinter_status sinter_write_pvd(sinter_ctx *ctx, const char *path, size_t count,
+                                          const double *times, const char *const *files);
+
+/** A time series of named, unit-carrying columns, written as CSV and drawn as SVG. */
+typedef struct sinter_series sinter_series;
+
+/** Create a series with `columns` columns; names and units are copied. */
+SINTER_API sinter_status sinter_series_create(sinter_series **out, sinter_ctx *ctx, size_t columns,
+                                              const char *const *names, const char *const *units);
+SINTER_API void sinter_series_destroy(sinter_series *series);
+/** Append one row of `columns` values (NaN is allowed and written as "nan"). */
+SINTER_API sinter_status sinter_series_append(sinter_series *series, const double *row);
+/** Number of rows. */
+SINTER_API sinter_status sinter_series_rows(const sinter_series *series, size_t *rows);
+/** Read value (row, column). */
+SINTER_API sinter_status sinter_series_get(const sinter_series *series, size_t row, size_t column,
+                                           double *value);
+/** Write as CSV: a header line "name [unit],..." then one line per row, full precision. */
+SINTER_API sinter_status sinter_series_write_csv(const sinter_series *series, const char *path);
+/**
+ * Draw an SVG plot with one panel per entry of `panels`: panel k plots the
+ * columns panel_columns[panel_start[k] .. panel_start[k+1]) against column
+ * `x_column`, with axes, ticks, labels (name and unit) and a legend.
+ * `panel_start` has panels + 1 entries. `title` may be NULL.
+ */
+SINTER_API sinter_status sinter_series_write_svg(const sinter_series *series, const char *path,
+                                                 const char *title, size_t x_column, size_t panels,
+                                                 const size_t *panel_start,
+                                                 const size_t *panel_columns);
+
+
+/* ------------------------------------------------------------------------ */
+/* Scenes                                                                    */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * A scene read from a scene file: materials, particles, walls, submodels, the
+ * stepper and the output schedule (see examples/scenes/README.md for the
+ * format). The scene owns every object it creates.
+ */
+typedef struct sinter_scene sinter_scene;
+
+/**
+ * Read, validate and build a scene. Errors: SINTER_ERR_IO (cannot read),
+ * SINTER_ERR_PARSE (with "file:line: what was expected" in the message), and
+ * the errors of the objects the scene builds.
+ */
+SINTER_API sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char *path);
+SINTER_API void sinter_scene_destroy(sinter_scene *scene);
+
+/** Progress callback of sinter_scene_run: time reached and end time [s]. Non-zero stops the run. */
+typedef int (*sinter_progress_fn)(double time, double end_time, void *user);
+
+/**
+ * Run the scene to its end time, writing into `out_dir` (created if missing):
+ * VTU frames and a PVD collection, series.csv, series.svg and checkpoints, as
+ * the scene's [output] section asks. `progress` may be NULL.
+ */
+SINTER_API sinter_status sinter_scene_run(sinter_scene *scene, const char *out_dir,
+                                          sinter_progress_fn progress, void *user);
+
+/** Borrow the scene's objects (valid until the scene is destroyed). */
+SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);
+SINTER_API sinter_status sinter_scene_get_particles(sinter_scene *scene,
+                                                    sinter_particles **particles);
+SINTER_API sinter_status sinter_scene_get_walls(sinter_scene *scene, sinter_walls **walls);
+/** The scene's end time [s]. */
+SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double *end_time);
+
+/* ------------------------------------------------------------------------ */
+/* Checkpoints                                                               */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * Write the complete state of a stepper (time, step, particles, walls,
+ * neighbour lists, contact history) to a versioned binary file with a
+ * checksum. Written to a temporary file and renamed: an existing checkpoint
+ * is never left half-written.
+ */
+SINTER_API sinter_status sinter_checkpoint_write(const sinter_stepper *stepper, const char *path);
+
+/**
+ * Restore a stepper from a checkpoint written by a stepper with the same
+ * submodels and walls; the run then continues bit for bit as it would have.
+ * A truncated, corrupted or mismatched file is refused with SINTER_ERR_CORRUPT
+ * (or SINTER_ERR_INVALID for a mismatch) and nothing is changed.
+ */
+SINTER_API sinter_status sinter_checkpoint_read(sinter_stepper *stepper, const char *path);
 
 #ifdef __cplusplus
 }

@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L
 /* Steppers: creation, submodels, the evaluation pipeline, advance and statistics. */
 #include <math.h>
 #include <string.h>

@@ -205,6 +205,19 @@ sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k, sinter_wa
     return sinter_walls_move(walls, walls->time);
 }
 
+sinter_status sinter_walls_set_motion_start(sinter_walls *walls, size_t k, double start)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (isnan(start))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_motion_start: start of wall %zu is NaN (use "
+                           "HUGE_VAL to hold a wall until further notice)",
+                           k);
+    w->motion_start = start;
+    return sinter_walls_move(walls, walls->time);
+}
+
 sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_t k, double temperature)
 {
     sinter_wall *w = NULL;
@@ -282,18 +295,21 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
     for (size_t k = 0; k < walls->count; ++k) {
         sinter_wall *w = &walls->wall[k];
         double disp[3] = {0, 0, 0}, vel[3] = {0, 0, 0};
-        switch (w->motion) {
+        const double t_wall = t - w->motion_start; /* time since the motion started */
+        /* before its start a wall rests (a schedule holds its first point) */
+        switch ((t_wall < 0.0 && w->motion != SINTER_WALL_SCHEDULE) ? SINTER_WALL_FIXED
+                                                                     : w->motion) {
         case SINTER_WALL_VELOCITY:
             for (int d = 0; d < 3; ++d) {
-                disp[d] = w->velocity[d] * t;
+                disp[d] = w->velocity[d] * t_wall;
                 vel[d] = w->velocity[d];
             }
             break;
         case SINTER_WALL_SCHEDULE:
-            schedule_at(w, t, disp, vel);
+            schedule_at(w, t_wall, disp, vel);
             break;
         case SINTER_WALL_SINE: {
-            const double s = sin(w->omega * t), c = cos(w->omega * t);
+            const double s = sin(w->omega * t_wall), c = cos(w->omega * t_wall);
             for (int d = 0; d < 3; ++d) {
                 disp[d] = w->amplitude[d] * s;
                 vel[d] = w->amplitude[d] * w->omega * c;
@@ -301,7 +317,7 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
             break;
         }
         case SINTER_WALL_CALLBACK:
-            if (w->callback(t, disp, vel, w->callback_user) != 0)
+            if (w->callback(t_wall, disp, vel, w->callback_user) != 0)
                 return sinter_fail(walls->ctx, SINTER_ERR_CALLBACK,
                                    "the motion callback of wall %zu failed at t = %g s", k, t);
             if (!finite3(disp) || !finite3(vel))

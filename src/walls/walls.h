@@ -13,6 +13,7 @@ typedef struct sinter_wall {
     double force[3];  /* reaction: force the particles exert on the wall [N] */
     double temperature; /* [K] */
     int motion;       /* sinter_wall_motion */
+    double motion_start; /* [s] */
     double velocity[3]; /* SINTER_WALL_VELOCITY */
     double amplitude[3]; /* SINTER_WALL_SINE */
     double omega;

@@ -27,6 +27,8 @@ ParticlesPtr = _opaque("sinter_particles")
 WallsPtr = _opaque("sinter_walls")
 ForceModelPtr = _opaque("sinter_force_model")
 StepperPtr = _opaque("sinter_stepper")
+ScenePtr = _opaque("sinter_scene")
+SeriesPtr = _opaque("sinter_series")
 
 _P = ctypes.POINTER
 _str = ctypes.c_char_p
@@ -44,6 +46,7 @@ ReallocFn = ctypes.CFUNCTYPE(ctypes.c_void_p, ctypes.c_void_p, _size, ctypes.c_v
 FreeFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 WallMotionFn = ctypes.CFUNCTYPE(_int, _double, _P(_double), _P(_double), ctypes.c_void_p)
 ObserverFn = ctypes.CFUNCTYPE(_int, StepperPtr, _double, ctypes.c_void_p)
+ProgressFn = ctypes.CFUNCTYPE(_int, _double, _double, ctypes.c_void_p)
 
 
 class Allocator(ctypes.Structure):
@@ -63,6 +66,13 @@ class StepperStats(ctypes.Structure):
                 ("time", _double), ("dt", _double), ("seconds_neighbor", _double),
                 ("seconds_force", _double), ("seconds_integrate", _double),
                 ("seconds_total", _double)]
+
+
+class VtuArray(ctypes.Structure):
+    """struct sinter_vtu_array: an extra per-particle array for a VTU frame."""
+
+    _cname = "sinter_vtu_array"
+    _fields_ = [("name", _str), ("data", _P(_double)), ("components", _size)]
 
 
 class PackingOptions(ctypes.Structure):
@@ -134,6 +144,7 @@ SIGNATURES = {
     "sinter_walls_set_schedule": (c_status, [WallsPtr, _size, _size, _P(_double), _P(_double)]),
     "sinter_walls_set_sine": (c_status, [WallsPtr, _size, _P(_double), _double]),
     "sinter_walls_set_callback": (c_status, [WallsPtr, _size, WallMotionFn, ctypes.c_void_p]),
+    "sinter_walls_set_motion_start": (c_status, [WallsPtr, _size, _double]),
     "sinter_walls_set_temperature": (c_status, [WallsPtr, _size, _double]),
     "sinter_walls_get_state": (c_status, [WallsPtr, _size, _P(_double), _P(_double)]),
     "sinter_walls_get_normal": (c_status, [WallsPtr, _size, _P(_double)]),
@@ -152,6 +163,26 @@ SIGNATURES = {
     "sinter_stepper_set_dt": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_skin": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_domain": (c_status, [StepperPtr, _P(_double), _P(_double)]),
+    # output (implemented in src/io)
+    "sinter_write_vtu": (c_status, [ParticlesPtr, _str, _P(VtuArray), _size]),
+    "sinter_write_pvd": (c_status, [CtxPtr, _str, _size, _P(_double), _P(_str)]),
+    "sinter_series_create": (c_status, [_P(SeriesPtr), CtxPtr, _size, _P(_str), _P(_str)]),
+    "sinter_series_destroy": (None, [SeriesPtr]),
+    "sinter_series_append": (c_status, [SeriesPtr, _P(_double)]),
+    "sinter_series_rows": (c_status, [SeriesPtr, _P(_size)]),
+    "sinter_series_get": (c_status, [SeriesPtr, _size, _size, _P(_double)]),
+    "sinter_series_write_csv": (c_status, [SeriesPtr, _str]),
+    "sinter_series_write_svg": (c_status, [SeriesPtr, _str, _str, _size, _size, _P(_size), _P(_size)]),
+    # scenes and checkpoints
+    "sinter_scene_load": (c_status, [_P(ScenePtr), CtxPtr, _str]),
+    "sinter_scene_destroy": (None, [ScenePtr]),
+    "sinter_scene_run": (c_status, [ScenePtr, _str, ProgressFn, ctypes.c_void_p]),
+    "sinter_scene_get_stepper": (c_status, [ScenePtr, _P(StepperPtr)]),
+    "sinter_scene_get_particles": (c_status, [ScenePtr, _P(ParticlesPtr)]),
+    "sinter_scene_get_walls": (c_status, [ScenePtr, _P(WallsPtr)]),
+    "sinter_scene_end_time": (c_status, [ScenePtr, _P(_double)]),
+    "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
+    "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
     "sinter_stepper_set_observer": (c_status, [StepperPtr, ObserverFn, ctypes.c_void_p]),
     "sinter_stepper_advance": (c_status, [StepperPtr, _double]),
     "sinter_stepper_step": (c_status, [StepperPtr, _u64]),

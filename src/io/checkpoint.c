@@ -1,0 +1,528 @@
+#define _POSIX_C_SOURCE 200809L
+/*
+ * Checkpoints: the complete state of a stepper in a versioned binary file.
+ *
+ * Layout (little-endian host order, checked by a marker): magic "SINTERCK",
+ * u32 format version, u32 byte-order marker, then tagged sections, then an
+ * FNV-1a 64-bit checksum of everything before it. The neighbour lists and the
+ * committed contact history are stored as they are, so that a restarted run
+ * sums forces in the same order and continues bit for bit.
+ *
+ * Reading stages everything in fresh buffers and changes the stepper only
+ * when the whole file has been checked.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "stepper/stepper.h"
+
+#define CHECKPOINT_VERSION 1u
+static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
+
+/* ---- writing ---------------------------------------------------------- */
+
+typedef struct writer {
+    FILE *f;
+    uint64_t hash;
+    int failed;
+} writer;
+
+static void put(writer *w, const void *data, size_t bytes)
+{
+    const unsigned char *p = data;
+    for (size_t k = 0; k < bytes; ++k) {
+        w->hash ^= p[k];
+        w->hash *= 0x100000001b3ull;
+    }
+    if (bytes > 0 && fwrite(data, 1, bytes, w->f) != bytes)
+        w->failed = 1;
+}
+
+static void put_u64(writer *w, uint64_t v)
+{
+    put(w, &v, sizeof(v));
+}
+
+static void put_f64(writer *w, double v)
+{
+    put(w, &v, sizeof(v));
+}
+
+static void put_pairs(writer *w, const sinter_pair_list *l)
+{
+    put_u64(w, l->count);
+    put(w, l->i, l->count * sizeof(uint32_t));
+    put(w, l->j, l->count * sizeof(uint32_t));
+    put(w, l->key_i, l->count * sizeof(uint64_t));
+    put(w, l->key_j, l->count * sizeof(uint64_t));
+}
+
+static void put_history(writer *w, const sinter_history *h, size_t pairs)
+{
+    put_u64(w, h->width);
+    put(w, h->committed, h->width * pairs * sizeof(double));
+    put_u64(w, h->active_count);
+    put(w, h->active, h->active_count * sizeof(uint32_t));
+}
+
+sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = st->ctx;
+    SINTER_CHECK_NULL(ctx, path);
+    if (!st->forces_current || !st->nb.built)
+        return sinter_fail(ctx, SINTER_ERR_STATE,
+                           "sinter_checkpoint_write: take at least one step (or step 0) before "
+                           "writing a checkpoint");
+    char tmp[4096];
+    snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+    writer w = {fopen(tmp, "wb"), 0xcbf29ce484222325ull, 0};
+    if (w.f == NULL)
+        return sinter_fail(ctx, SINTER_ERR_IO, "cannot write checkpoint '%s': %s", tmp,
+                           strerror(errno));
+    const sinter_particles *ps = st->ps;
+    const size_t n = ps->count, nw = st->walls ? st->walls->count : 0;
+    put(&w, MAGIC, sizeof(MAGIC));
+    const uint32_t version = CHECKPOINT_VERSION, marker = 0x01020304u;
+    put(&w, &version, sizeof(version));
+    put(&w, &marker, sizeof(marker));
+    /* stepper */
+    put_f64(&w, st->time);
+    put_f64(&w, st->dt);
+    put_u64(&w, st->stats.steps);
+    put_u64(&w, st->stats.rejected);
+    put_u64(&w, st->stats.neighbor_builds);
+    put_u64(&w, st->force_count);
+    for (size_t k = 0; k < st->force_count; ++k) {
+        char name[64] = {0};
+        snprintf(name, sizeof(name), "%s", st->forces[k].model->name);
+        put(&w, name, sizeof(name));
+    }
+    /* particles: every field, then the material table */
+    put_u64(&w, n);
+    put_u64(&w, ps->next_id);
+    const sinter_field fields[] = {
+        SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY,    SINTER_FIELD_SPIN,
+        SINTER_FIELD_ROTATION, SINTER_FIELD_RADIUS,      SINTER_FIELD_MASS,
+        SINTER_FIELD_INERTIA,  SINTER_FIELD_TEMPERATURE, SINTER_FIELD_CURRENT,
+        SINTER_FIELD_FORCE,    SINTER_FIELD_TORQUE,      SINTER_FIELD_HEAT,
+        SINTER_FIELD_MATERIAL, SINTER_FIELD_FLAGS,       SINTER_FIELD_ID};
+    const void *arrays[] = {ps->x,      ps->v,       ps->w,           ps->rot,     ps->radius,
+                            ps->mass,   ps->inertia, ps->temperature, ps->current, ps->force,
+                            ps->torque, ps->heat,    ps->material,    ps->flags,   ps->id};
+    for (size_t f = 0; f < sizeof(fields) / sizeof(fields[0]); ++f) {
+        sinter_dtype dtype;
+        size_t comps;
+        sinter_field_info(fields[f], NULL, NULL, &dtype, &comps);
+        const size_t elem = dtype == SINTER_DTYPE_DOUBLE || dtype == SINTER_DTYPE_UINT64 ? 8 : 4;
+        put(&w, arrays[f], n * comps * elem);
+    }
+    put(&w, ps->material_used, sizeof(ps->material_used));
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+        if (ps->material_used[m])
+            put(&w, ps->materials[m].value, sizeof(ps->materials[m].value));
+    /* walls: motion start, temperature and reaction (motions come from the set-up) */
+    put_u64(&w, nw);
+    for (size_t k = 0; k < nw; ++k) {
+        const sinter_wall *wall = &st->walls->wall[k];
+        put_f64(&w, wall->motion_start);
+        put_f64(&w, wall->temperature);
+        put(&w, wall->force, sizeof(wall->force));
+    }
+    /* neighbour lists and history */
+    put_f64(&w, st->nb.skin);
+    put_pairs(&w, &st->nb.pp);
+    put_pairs(&w, &st->nb.pw);
+    put(&w, st->nb.x_ref, 3 * n * sizeof(double));
+    put(&w, st->nb.wall_ref, nw * sizeof(double));
+    for (size_t k = 0; k < st->force_count; ++k) {
+        put_history(&w, &st->forces[k].pp, st->nb.pp.count);
+        put_history(&w, &st->forces[k].pw, st->nb.pw.count);
+    }
+    const uint64_t sum = w.hash;
+    put(&w, &sum, sizeof(sum));
+    if (fclose(w.f) != 0)
+        w.failed = 1;
+    if (w.failed || rename(tmp, path) != 0) {
+        remove(tmp);
+        return sinter_fail(ctx, SINTER_ERR_IO, "cannot write checkpoint '%s': %s", path,
+                           strerror(errno));
+    }
+    return SINTER_OK;
+}
+
+/* ---- reading ---------------------------------------------------------- */
+
+typedef struct reader {
+    const unsigned char *data;
+    size_t size;
+    size_t pos;
+    int bad;
+} reader;
+
+static const void *take(reader *r, size_t bytes)
+{
+    if (r->bad || bytes > r->size - r->pos) {
+        r->bad = 1;
+        return NULL;
+    }
+    const void *p = r->data + r->pos;
+    r->pos += bytes;
+    return p;
+}
+
+static uint64_t take_u64(reader *r)
+{
+    uint64_t v = 0;
+    const void *p = take(r, sizeof(v));
+    if (p)
+        memcpy(&v, p, sizeof(v));
+    return v;
+}
+
+static double take_f64(reader *r)
+{
+    double v = 0;
+    const void *p = take(r, sizeof(v));
+    if (p)
+        memcpy(&v, p, sizeof(v));
+    return v;
+}
+
+/* Pointers into the file buffer for one pair list / history (copied on apply). */
+typedef struct staged_pairs {
+    size_t count;
+    const void *i, *j, *key_i, *key_j;
+} staged_pairs;
+
+typedef struct staged_history {
+    size_t width, active_count;
+    const void *committed, *active;
+} staged_history;
+
+static void take_pairs(reader *r, staged_pairs *p, size_t max_index)
+{
+    p->count = take_u64(r);
+    if (p->count > r->size) {
+        r->bad = 1;
+        return;
+    }
+    p->i = take(r, p->count * sizeof(uint32_t));
+    p->j = take(r, p->count * sizeof(uint32_t));
+    p->key_i = take(r, p->count * sizeof(uint64_t));
+    p->key_j = take(r, p->count * sizeof(uint64_t));
+    if (r->bad)
+        return;
+    for (size_t k = 0; k < p->count; ++k) {
+        uint32_t a;
+        memcpy(&a, (const char *)p->i + 4 * k, 4);
+        if (a >= max_index)
+            r->bad = 1;
+    }
+}
+
+static void take_history(reader *r, staged_history *h, size_t pairs, size_t expect_width)
+{
+    h->width = take_u64(r);
+    if (h->width != expect_width) {
+        r->bad = 1;
+        return;
+    }
+    h->committed = take(r, h->width * pairs * sizeof(double));
+    h->active_count = take_u64(r);
+    if (h->active_count > pairs) {
+        r->bad = 1;
+        return;
+    }
+    h->active = take(r, h->active_count * sizeof(uint32_t));
+}
+
+static sinter_status copy_into(sinter_ctx *ctx, void **dst, size_t *cap, const void *src,
+                               size_t count, size_t elem)
+{
+    if (count + 1 > *cap) {
+        void *q = sinter_realloc_array(ctx, *dst, count + 1, elem);
+        if (q == NULL)
+            return sinter_last_status(ctx);
+        *dst = q;
+        *cap = count + 1;
+    }
+    if (count)
+        memcpy(*dst, src, count * elem);
+    return SINTER_OK;
+}
+
+static sinter_status load_file(sinter_ctx *ctx, const char *path, unsigned char **data,
+                               size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return sinter_fail(ctx, SINTER_ERR_IO, "cannot open checkpoint '%s': %s", path,
+                           strerror(errno));
+    sinter_status st = SINTER_OK;
+    long len = -1;
+    if (fseek(f, 0, SEEK_END) == 0)
+        len = ftell(f);
+    if (len < 0 || fseek(f, 0, SEEK_SET) != 0)
+        st = sinter_fail(ctx, SINTER_ERR_IO, "cannot read checkpoint '%s'", path);
+    unsigned char *buf = NULL;
+    if (st == SINTER_OK) {
+        buf = sinter_alloc(ctx, (size_t)len + 1);
+        if (buf == NULL)
+            st = SINTER_ERR_NOMEM;
+        else if (len > 0 && fread(buf, 1, (size_t)len, f) != (size_t)len)
+            st = sinter_fail(ctx, SINTER_ERR_IO, "cannot read checkpoint '%s'", path);
+    }
+    fclose(f);
+    if (st != SINTER_OK) {
+        sinter_free(ctx, buf);
+        return st;
+    }
+    *data = buf;
+    *size = (size_t)len;
+    return SINTER_OK;
+}
+
+static sinter_status corrupt(sinter_ctx *ctx, const char *path, const char *why)
+{
+    return sinter_fail(ctx, SINTER_ERR_CORRUPT,
+                       "checkpoint '%s' is refused: %s; nothing was changed", path, why);
+}
+
+sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = st->ctx;
+    SINTER_CHECK_NULL(ctx, path);
+    sinter_particles *ps = st->ps;
+    if (ps->views_out > 0)
+        return sinter_fail(ctx, SINTER_ERR_BUSY,
+                           "sinter_checkpoint_read: release the particle views first");
+    unsigned char *data = NULL;
+    size_t size = 0;
+    sinter_status s = load_file(ctx, path, &data, &size);
+    if (s != SINTER_OK)
+        return s;
+    /* checksum over everything before the last 8 bytes */
+    if (size < sizeof(MAGIC) + 16 || memcmp(data, MAGIC, sizeof(MAGIC)) != 0) {
+        sinter_free(ctx, data);
+        return corrupt(ctx, path, "it is not a libsinter checkpoint (bad magic or too short)");
+    }
+    uint64_t h = 0xcbf29ce484222325ull, stored = 0;
+    for (size_t k = 0; k < size - 8; ++k) {
+        h ^= data[k];
+        h *= 0x100000001b3ull;
+    }
+    memcpy(&stored, data + size - 8, 8);
+    if (h != stored) {
+        sinter_free(ctx, data);
+        return corrupt(ctx, path, "the checksum does not match (truncated or corrupted file)");
+    }
+    reader r = {data, size - 8, sizeof(MAGIC), 0};
+    uint32_t version = 0, marker = 0;
+    memcpy(&version, take(&r, 4), 4);
+    memcpy(&marker, take(&r, 4), 4);
+    if (version != CHECKPOINT_VERSION || marker != 0x01020304u) {
+        sinter_free(ctx, data);
+        return corrupt(ctx, path, "unsupported format version or byte order");
+    }
+    const double time = take_f64(&r), dt = take_f64(&r);
+    const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
+    const uint64_t nforces = take_u64(&r);
+    s = SINTER_OK;
+    if (!r.bad && nforces != st->force_count)
+        s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "checkpoint '%s' has %llu force models, the stepper %zu; nothing was "
+                        "changed",
+                        path, (unsigned long long)nforces, st->force_count);
+    for (size_t k = 0; k < nforces && s == SINTER_OK && !r.bad; ++k) {
+        const char *name = take(&r, 64);
+        if (name && strncmp(name, st->forces[k].model->name, 64) != 0)
+            s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                            "checkpoint '%s': force model %zu is '%.63s', the stepper's is '%s'; "
+                            "nothing was changed",
+                            path, k, name, st->forces[k].model->name);
+    }
+    const size_t n = (size_t)take_u64(&r);
+    const uint64_t next_id = take_u64(&r);
+    if (n > size)
+        r.bad = 1;
+    const void *field_data[15];
+    size_t field_bytes[15];
+    for (int f = 0; f < 15 && !r.bad; ++f) {
+        sinter_dtype dtype;
+        size_t comps;
+        sinter_field_info((sinter_field)f, NULL, NULL, &dtype, &comps);
+        const size_t elem = dtype == SINTER_DTYPE_DOUBLE || dtype == SINTER_DTYPE_UINT64 ? 8 : 4;
+        field_bytes[f] = n * comps * elem;
+        field_data[f] = take(&r, field_bytes[f]);
+    }
+    const unsigned char *used = take(&r, SINTER_MAX_MATERIALS);
+    const void *material_values[SINTER_MAX_MATERIALS] = {0};
+    for (int m = 0; m < SINTER_MAX_MATERIALS && used && !r.bad; ++m)
+        if (used[m])
+            material_values[m] = take(&r, sizeof(ps->materials[m].value));
+    const size_t nw = (size_t)take_u64(&r);
+    const size_t have_walls = st->walls ? st->walls->count : 0;
+    if (s == SINTER_OK && !r.bad && nw != have_walls)
+        s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "checkpoint '%s' has %zu walls, the stepper %zu; nothing was changed", path,
+                        nw, have_walls);
+    const void *wall_data = take(&r, nw * 5 * sizeof(double));
+    const double skin = take_f64(&r);
+    staged_pairs pp = {0, NULL, NULL, NULL, NULL}, pw = {0, NULL, NULL, NULL, NULL};
+    take_pairs(&r, &pp, n);
+    take_pairs(&r, &pw, n);
+    const void *x_ref = take(&r, 3 * n * sizeof(double));
+    const void *wall_ref = take(&r, nw * sizeof(double));
+    staged_history hist[2 * 16];
+    if (nforces > 16)
+        r.bad = 1;
+    for (size_t k = 0; k < nforces && !r.bad && s == SINTER_OK; ++k) {
+        take_history(&r, &hist[2 * k], pp.count, st->forces[k].pp.width);
+        take_history(&r, &hist[2 * k + 1], pw.count, st->forces[k].pw.width);
+    }
+    if (s == SINTER_OK && (r.bad || r.pos != r.size))
+        s = corrupt(ctx, path, "its sections do not fit its size");
+    /* Apply: grow everything first so that nothing can fail half-way. */
+    if (s == SINTER_OK)
+        s = sinter_particles_reserve(ps, n);
+    sinter_neighbors *nb = &st->nb;
+    sinter_pair_list *lists[2] = {&nb->pp, &nb->pw};
+    const staged_pairs *staged[2] = {&pp, &pw};
+    for (int l = 0; l < 2 && s == SINTER_OK; ++l) {
+        sinter_pair_list *L = lists[l];
+        size_t cap = L->capacity;
+        /* the pair list's arrays share one capacity: grow them together */
+        if (staged[l]->count + 1 > cap) {
+            void **slots[5] = {(void **)&L->i, (void **)&L->j, (void **)&L->key_i,
+                               (void **)&L->key_j, (void **)&L->from};
+            const size_t elem[5] = {4, 4, 8, 8, 4};
+            for (int a = 0; a < 5 && s == SINTER_OK; ++a) {
+                void *q = sinter_realloc_array(ctx, *slots[a], staged[l]->count + 1, elem[a]);
+                if (q == NULL)
+                    s = sinter_last_status(ctx);
+                else
+                    *slots[a] = q;
+            }
+            if (s == SINTER_OK)
+                L->capacity = staged[l]->count + 1;
+        }
+    }
+    size_t ref_cap = nb->ref_capacity, wref_cap = nb->wall_ref_capacity;
+    if (s == SINTER_OK)
+        s = copy_into(ctx, (void **)&nb->x_ref, &ref_cap, NULL, 0, 3 * sizeof(double));
+    if (s == SINTER_OK && 3 * n + 3 > nb->ref_capacity) {
+        void *q = sinter_realloc_array(ctx, nb->x_ref, 3 * n + 3, sizeof(double));
+        if (q == NULL)
+            s = sinter_last_status(ctx);
+        else
+            nb->x_ref = q, nb->ref_capacity = 3 * n + 3;
+    }
+    if (s == SINTER_OK && nw + 1 > nb->wall_ref_capacity) {
+        void *q = sinter_realloc_array(ctx, nb->wall_ref, nw + 1, sizeof(double));
+        if (q == NULL)
+            s = sinter_last_status(ctx);
+        else
+            nb->wall_ref = q, nb->wall_ref_capacity = nw + 1;
+    }
+    (void)wref_cap;
+    for (size_t k = 0; k < nforces && s == SINTER_OK; ++k) {
+        sinter_history *hs[2] = {&st->forces[k].pp, &st->forces[k].pw};
+        const size_t pairs[2] = {pp.count, pw.count};
+        for (int l = 0; l < 2 && s == SINTER_OK; ++l) {
+            const staged_history *sh = &hist[2 * k + (size_t)l];
+            if (hs[l]->width == 0)
+                continue;
+            s = copy_into(ctx, (void **)&hs[l]->committed, &hs[l]->pair_capacity, NULL, 0, 8);
+            if (s == SINTER_OK && sh->width * pairs[l] + 1 > hs[l]->pair_capacity) {
+                void *q = sinter_realloc_array(ctx, hs[l]->committed, sh->width * pairs[l] + 1, 8);
+                if (q == NULL)
+                    s = sinter_last_status(ctx);
+                else
+                    hs[l]->committed = q, hs[l]->pair_capacity = sh->width * pairs[l] + 1;
+            }
+            if (s == SINTER_OK && sh->active_count + 1 > hs[l]->active_capacity) {
+                void *q = sinter_realloc_array(ctx, hs[l]->active, sh->active_count + 1, 4);
+                if (q == NULL)
+                    s = sinter_last_status(ctx);
+                else
+                    hs[l]->active = q, hs[l]->active_capacity = sh->active_count + 1;
+            }
+        }
+    }
+    if (s != SINTER_OK) {
+        sinter_free(ctx, data);
+        return s;
+    }
+    /* Nothing can fail from here on. */
+    void *targets[15] = {ps->x,      ps->v,       ps->w,           ps->rot,     ps->radius,
+                         ps->mass,   ps->inertia, ps->temperature, ps->current, ps->force,
+                         ps->torque, ps->heat,    ps->material,    ps->flags,   ps->id};
+    for (int f = 0; f < 15; ++f)
+        memcpy(targets[f], field_data[f], field_bytes[f]);
+    ps->count = n;
+    ps->next_id = next_id;
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
+        ps->material_used[m] = used[m];
+        if (used[m]) {
+            memcpy(ps->materials[m].value, material_values[m], sizeof(ps->materials[m].value));
+            ps->materials[m].ctx = ctx;
+        }
+    }
+    ps->layout_generation++;
+    ps->population_generation++;
+    for (size_t k = 0; k < nw; ++k) {
+        sinter_wall *wall = &st->walls->wall[k];
+        double v[5];
+        memcpy(v, (const char *)wall_data + 40 * k, sizeof(v));
+        wall->motion_start = v[0];
+        wall->temperature = v[1];
+        memcpy(wall->force, v + 2, 3 * sizeof(double));
+    }
+    if (st->walls)
+        sinter_walls_move(st->walls, time); /* motions come from the set-up: no callback error here
+                                               unless the host's callback fails */
+    for (int l = 0; l < 2; ++l) {
+        sinter_pair_list *L = lists[l];
+        L->count = staged[l]->count;
+        memcpy(L->i, staged[l]->i, L->count * 4);
+        memcpy(L->j, staged[l]->j, L->count * 4);
+        memcpy(L->key_i, staged[l]->key_i, L->count * 8);
+        memcpy(L->key_j, staged[l]->key_j, L->count * 8);
+    }
+    nb->old_pp.count = nb->old_pw.count = 0;
+    memcpy(nb->x_ref, x_ref, 3 * n * sizeof(double));
+    memcpy(nb->wall_ref, wall_ref, nw * sizeof(double));
+    nb->skin = skin;
+    nb->built = 1;
+    nb->wall_count = nw;
+    nb->layout_generation = ps->layout_generation;
+    st->skin_set = 1;
+    for (size_t k = 0; k < nforces; ++k) {
+        sinter_history *hs[2] = {&st->forces[k].pp, &st->forces[k].pw};
+        const size_t pairs[2] = {pp.count, pw.count};
+        for (int l = 0; l < 2; ++l) {
+            const staged_history *sh = &hist[2 * k + (size_t)l];
+            if (hs[l]->width == 0)
+                continue;
+            memcpy(hs[l]->committed, sh->committed, sh->width * pairs[l] * sizeof(double));
+            memcpy(hs[l]->active, sh->active, sh->active_count * sizeof(uint32_t));
+            hs[l]->active_count = sh->active_count;
+        }
+    }
+    st->time = time;
+    st->dt = dt;
+    st->stats.dt = dt;
+    st->stats.steps = steps;
+    st->stats.rejected = rejected;
+    st->stats.neighbor_builds = builds;
+    st->forces_current = 1;
+    st->write_generation = ps->write_generation;
+    st->population_generation = ps->population_generation;
+    sinter_free(ctx, data);
+    return SINTER_OK;
+}

@@ -1,0 +1,528 @@
+/*
+ * Scene files: from sections to objects. The format is described in
+ * examples/scenes/README.md. Every problem is reported as "file:line: ...".
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "io/scene.h"
+#include "io/scene_text.h"
+
+#define TRY(expr)                                                                                  \
+    do {                                                                                           \
+        sinter_status try_st_ = (expr);                                                            \
+        if (try_st_ != SINTER_OK)                                                                  \
+            return try_st_;                                                                        \
+    } while (0)
+
+/* A getter whose key may be absent. */
+#define OPTIONAL(expr)                                                                             \
+    do {                                                                                           \
+        sinter_status opt_st_ = (expr);                                                            \
+        if (opt_st_ != SINTER_OK && opt_st_ != SINTER_ERR_NOT_FOUND)                               \
+            return opt_st_;                                                                        \
+    } while (0)
+
+static sinter_status section_error(scene_text *t, const scene_section *s, const char *what)
+{
+    return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: [%s%s%s]: %s", t->path, s->line, s->type,
+                       *s->name ? " " : "", s->name, what);
+}
+
+static sinter_status required(scene_text *t, scene_section *s, sinter_status st, const char *key)
+{
+    if (st != SINTER_ERR_NOT_FOUND)
+        return st;
+    return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: [%s%s%s] needs '%s = ...'", t->path,
+                       s->line, s->type, *s->name ? " " : "", s->name, key);
+}
+
+/* Re-label an object's own error (e.g. an invalid material value) with the file and line. */
+static sinter_status at_line(scene_text *t, int line, sinter_status st)
+{
+    if (st == SINTER_OK || st == SINTER_ERR_PARSE)
+        return st;
+    char detail[SINTER_ERROR_TEXT_SIZE];
+    snprintf(detail, sizeof(detail), "%s", sinter_last_error(t->ctx));
+    return sinter_fail(t->ctx, st, "%s:%d: %s", t->path, line, detail);
+}
+
+static int find_material(const sinter_scene *sc, const char *name)
+{
+    for (size_t k = 0; k < sc->material_count; ++k)
+        if (strcmp(sc->material_names[k], name) == 0)
+            return (int)k;
+    return -1;
+}
+
+static sinter_status material_ref(scene_text *t, sinter_scene *sc, scene_section *s, int *id)
+{
+    const char *name = NULL;
+    TRY(required(t, s, scene_get_word(t, s, "material", &name), "material"));
+    *id = find_material(sc, name);
+    if (*id < 0) {
+        const scene_entry *e = scene_find(s, "material");
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: material: expected the name of a [material NAME] section "
+                           "above, got '%s'",
+                           t->path, e->line, name);
+    }
+    return SINTER_OK;
+}
+
+static sinter_status build_scene_header(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    const char *units = NULL;
+    TRY(required(t, s, scene_get_word(t, s, "units", &units), "units"));
+    if (strcmp(units, "SI") != 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: units: expected SI (m, kg, s, K, N, Pa, W, A, V), got '%s'",
+                           t->path, scene_find(s, "units")->line, units);
+    const char *name = NULL;
+    OPTIONAL(scene_get_word(t, s, "name", &name));
+    if (name)
+        snprintf(sc->name, sizeof(sc->name), "%s", name);
+    return SINTER_OK;
+}
+
+static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    if (*s->name == '\0')
+        return section_error(t, s, "a material needs a name: [material NAME]");
+    if (find_material(sc, s->name) >= 0)
+        return section_error(t, s, "this material name is used twice");
+    if (sc->material_count == SCENE_MAX_MATERIALS)
+        return section_error(t, s, "too many materials");
+    sinter_material *m = NULL;
+    TRY(at_line(t, s->line, sinter_material_create(&m, t->ctx, s->name)));
+    sc->materials[sc->material_count] = m;
+    snprintf(sc->material_names[sc->material_count], SCENE_NAME, "%s", s->name);
+    TRY(at_line(t, s->line, sinter_particles_set_material(sc->ps, (int32_t)sc->material_count, m)));
+    sc->material_count++;
+    for (size_t e = 0; e < s->count; ++e) {
+        scene_entry *en = &s->entries[e];
+        sinter_material_param p;
+        if (sinter_material_param_find(en->key, &p) != SINTER_OK)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: '%s' is not a material parameter (see "
+                               "sinter_material_param_info for the list)",
+                               t->path, en->line, en->key);
+        double v;
+        TRY(scene_get_double(t, s, en->key, &v));
+        TRY(at_line(t, en->line, sinter_material_set(m, p, v)));
+    }
+    /* Register the final values. */
+    return at_line(t, s->line,
+                   sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m));
+}
+
+static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_section *s, int mat,
+                                    double temperature)
+{
+    const char *file = NULL;
+    TRY(required(t, s, scene_get_word(t, s, "file", &file), "file"));
+    char path[2048];
+    if (file[0] == '/')
+        snprintf(path, sizeof(path), "%s", file);
+    else
+        snprintf(path, sizeof(path), "%s/%s", sc->directory, file);
+    FILE *f = fopen(path, "r");
+    if (f == NULL)
+        return sinter_fail(t->ctx, SINTER_ERR_IO, "%s:%d: file: cannot open '%s'", t->path,
+                           scene_find(s, "file")->line, path);
+    double row[4];
+    int line = 0;
+    sinter_status st = SINTER_OK;
+    char buf[512];
+    while (st == SINTER_OK && fgets(buf, sizeof(buf), f)) {
+        ++line;
+        char *hash = strchr(buf, '#');
+        if (hash)
+            *hash = '\0';
+        int n = sscanf(buf, "%lf %lf %lf %lf", &row[0], &row[1], &row[2], &row[3]);
+        if (n <= 0)
+            continue;
+        if (n != 4) {
+            st = sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: expected 'x y z r' [m]", path, line);
+            break;
+        }
+        st = at_line(t, s->line,
+                     sinter_particles_add(sc->ps, 1, row, &row[3], mat, temperature, NULL));
+    }
+    fclose(f);
+    return st;
+}
+
+static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    int mat = 0;
+    TRY(material_ref(t, sc, s, &mat));
+    double temperature = 293.15;
+    OPTIONAL(scene_get_double(t, s, "temperature", &temperature));
+    const char *method = NULL;
+    TRY(required(t, s, scene_get_word(t, s, "method", &method), "method"));
+    if (strcmp(method, "file") == 0)
+        return read_xyzr_file(t, sc, s, mat, temperature);
+    if (strcmp(method, "list") == 0) {
+        double *v = NULL;
+        size_t n = 0;
+        TRY(required(t, s, scene_get_numbers(t, s, "spheres", &v, &n), "spheres"));
+        sinter_status st = SINTER_OK;
+        if (n % 4 != 0)
+            st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                             "%s:%d: spheres: expected groups of 'x y z r' [m], got %zu numbers",
+                             t->path, scene_find(s, "spheres")->line, n);
+        for (size_t k = 0; k + 3 < n && st == SINTER_OK; k += 4)
+            st = at_line(t, s->line,
+                         sinter_particles_add(sc->ps, 1, v + k, v + k + 3, mat, temperature, NULL));
+        sinter_free(t->ctx, v);
+        return st;
+    }
+    double lo[3], hi[3], radius = 0.0;
+    TRY(required(t, s, scene_get_vec3(t, s, "box_min", lo), "box_min"));
+    TRY(required(t, s, scene_get_vec3(t, s, "box_max", hi), "box_max"));
+    TRY(required(t, s, scene_get_double(t, s, "radius", &radius), "radius"));
+    if (strcmp(method, "lattice") == 0) {
+        double spacing = 2.0 * radius;
+        OPTIONAL(scene_get_double(t, s, "spacing", &spacing));
+        return at_line(
+            t, s->line,
+            sinter_pack_lattice(sc->ps, lo, hi, radius, spacing, mat, temperature, NULL));
+    }
+    if (strcmp(method, "random") != 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: method: expected random, lattice, list or file, got '%s'",
+                           t->path, scene_find(s, "method")->line, method);
+    sinter_packing_options o;
+    TRY(sinter_packing_options_init(&o, sizeof(o)));
+    memcpy(o.box_min, lo, sizeof(lo));
+    memcpy(o.box_max, hi, sizeof(hi));
+    o.radius_mean = radius;
+    o.material = mat;
+    o.temperature = temperature;
+    double count = 0, seed = 1;
+    TRY(required(t, s, scene_get_double(t, s, "count", &count), "count"));
+    OPTIONAL(scene_get_double(t, s, "seed", &seed));
+    OPTIONAL(scene_get_double(t, s, "spread", &o.radius_spread));
+    OPTIONAL(scene_get_double(t, s, "radius_min", &o.radius_min));
+    OPTIONAL(scene_get_double(t, s, "radius_max", &o.radius_max));
+    OPTIONAL(scene_get_double(t, s, "gap", &o.gap));
+    const char *dist = "monodisperse";
+    OPTIONAL(scene_get_word(t, s, "distribution", &dist));
+    if (strcmp(dist, "monodisperse") == 0)
+        o.distribution = SINTER_RADII_MONODISPERSE;
+    else if (strcmp(dist, "uniform") == 0)
+        o.distribution = SINTER_RADII_UNIFORM;
+    else if (strcmp(dist, "normal") == 0)
+        o.distribution = SINTER_RADII_NORMAL;
+    else
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: distribution: expected monodisperse, uniform or normal, got "
+                           "'%s'",
+                           t->path, scene_find(s, "distribution")->line, dist);
+    if (count < 0 || count != floor(count) || seed < 0 || seed != floor(seed))
+        return section_error(t, s, "count and seed must be whole numbers >= 0");
+    o.seed = (uint64_t)seed;
+    size_t placed = 0;
+    TRY(at_line(t, s->line, sinter_pack_random(sc->ps, &o, (size_t)count, &placed)));
+    if (placed < (size_t)count)
+        return sinter_fail(t->ctx, SINTER_ERR_INVALID,
+                           "%s:%d: only %zu of %zu spheres fit in the box by random sequential "
+                           "addition; enlarge the box or lower the count",
+                           t->path, s->line, placed, (size_t)count);
+    return SINTER_OK;
+}
+
+static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    size_t index = 0, nw = 0;
+    TRY(sinter_walls_count(sc->walls, &nw));
+    if (nw == SCENE_MAX_WALLS)
+        return section_error(t, s, "too many walls");
+    double point[3], normal[3];
+    int mat = 0;
+    TRY(required(t, s, scene_get_vec3(t, s, "point", point), "point"));
+    TRY(required(t, s, scene_get_vec3(t, s, "normal", normal), "normal"));
+    TRY(material_ref(t, sc, s, &mat));
+    TRY(at_line(t, s->line,
+                sinter_walls_add_plane(sc->walls, point, normal, sc->materials[mat], &index)));
+    snprintf(sc->wall_names[index], SCENE_NAME, "%s", *s->name ? s->name : "wall");
+    double temperature;
+    sinter_status st = scene_get_double(t, s, "temperature", &temperature);
+    OPTIONAL(st);
+    if (st == SINTER_OK)
+        TRY(at_line(t, scene_find(s, "temperature")->line,
+                    sinter_walls_set_temperature(sc->walls, index, temperature)));
+    const char *motion = "fixed";
+    OPTIONAL(scene_get_word(t, s, "motion", &motion));
+    if (strcmp(motion, "fixed") == 0)
+        return SINTER_OK;
+    if (strcmp(motion, "velocity") == 0) {
+        double u[3];
+        TRY(required(t, s, scene_get_vec3(t, s, "velocity", u), "velocity"));
+        return at_line(t, s->line, sinter_walls_set_velocity(sc->walls, index, u));
+    }
+    if (strcmp(motion, "sine") == 0) {
+        double amplitude[3], omega = 0;
+        TRY(required(t, s, scene_get_vec3(t, s, "amplitude", amplitude), "amplitude"));
+        TRY(required(t, s, scene_get_double(t, s, "omega", &omega), "omega"));
+        return at_line(t, s->line, sinter_walls_set_sine(sc->walls, index, amplitude, omega));
+    }
+    if (strcmp(motion, "schedule") == 0) {
+        double *v = NULL;
+        size_t n = 0;
+        TRY(required(t, s, scene_get_numbers(t, s, "schedule", &v, &n), "schedule"));
+        sinter_status st2 = SINTER_OK;
+        if (n % 4 != 0) {
+            st2 = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                              "%s:%d: schedule: expected groups of 't dx dy dz' [s, m], got %zu "
+                              "numbers",
+                              t->path, scene_find(s, "schedule")->line, n);
+        } else {
+            const size_t points = n / 4;
+            double *times = sinter_calloc(t->ctx, points, sizeof(double));
+            double *disp = sinter_calloc(t->ctx, 3 * points, sizeof(double));
+            if (times == NULL || disp == NULL)
+                st2 = SINTER_ERR_NOMEM;
+            for (size_t k = 0; k < points && st2 == SINTER_OK; ++k) {
+                times[k] = v[4 * k];
+                memcpy(disp + 3 * k, v + 4 * k + 1, 3 * sizeof(double));
+            }
+            if (st2 == SINTER_OK)
+                st2 = at_line(t, scene_find(s, "schedule")->line,
+                              sinter_walls_set_schedule(sc->walls, index, points, times, disp));
+            sinter_free(t->ctx, times);
+            sinter_free(t->ctx, disp);
+        }
+        sinter_free(t->ctx, v);
+        return st2;
+    }
+    return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                       "%s:%d: motion: expected fixed, velocity, schedule or sine, got '%s'",
+                       t->path, scene_find(s, "motion")->line, motion);
+}
+
+static sinter_status build_force(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    if (*s->name == '\0')
+        return section_error(t, s, "name the model: [force hertz_mindlin], [force gravity], ...");
+    if (sc->force_count == SCENE_MAX_FORCES)
+        return section_error(t, s, "too many force models");
+    sinter_force_model *fm = NULL;
+    sinter_status st = sinter_force_model_create(&fm, t->ctx, s->name);
+    if (st != SINTER_OK)
+        return at_line(t, s->line, st);
+    sc->forces[sc->force_count++] = fm;
+    for (size_t e = 0; e < s->count; ++e) {
+        scene_entry *en = &s->entries[e];
+        double v;
+        TRY(scene_get_double(t, s, en->key, &v));
+        TRY(at_line(t, en->line, sinter_force_model_set(fm, en->key, v)));
+    }
+    return at_line(t, s->line, sinter_stepper_add_force(sc->st, fm));
+}
+
+static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    const char *kind = "explicit";
+    OPTIONAL(scene_get_word(t, s, "kind", &kind));
+    if (strcmp(kind, "explicit") != 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: kind: expected explicit, got '%s'",
+                           t->path, scene_find(s, "kind")->line, kind);
+    TRY(required(t, s, scene_get_double(t, s, "end_time", &sc->end_time), "end_time"));
+    if (!(sc->end_time > 0))
+        return section_error(t, s, "end_time must be > 0 s");
+    double skin;
+    sinter_status st = scene_get_double(t, s, "skin", &skin);
+    OPTIONAL(st);
+    if (st == SINTER_OK)
+        TRY(at_line(t, scene_find(s, "skin")->line, sinter_stepper_set_skin(sc->st, skin)));
+    double lo[3], hi[3];
+    st = scene_get_vec3(t, s, "domain_min", lo);
+    OPTIONAL(st);
+    if (st == SINTER_OK) {
+        TRY(required(t, s, scene_get_vec3(t, s, "domain_max", hi), "domain_max"));
+        TRY(at_line(t, s->line, sinter_stepper_set_domain(sc->st, lo, hi)));
+    }
+    /* dt last: "auto" needs the particles and walls (seed 003 eq. 47). */
+    scene_entry *e = scene_find(s, "dt");
+    if (e == NULL)
+        return required(t, s, SINTER_ERR_NOT_FOUND, "dt");
+    double dt = 0;
+    if (strncmp(e->value, "auto", 4) == 0) {
+        double v_rel = 1.0;
+        OPTIONAL(scene_get_double(t, s, "impact_speed", &v_rel));
+        TRY(at_line(t, e->line, sinter_stable_dt_hertz(sc->ps, sc->walls, v_rel, &dt)));
+    } else {
+        TRY(scene_get_double(t, s, "dt", &dt));
+    }
+    return at_line(t, e->line, sinter_stepper_set_dt(sc->st, dt));
+}
+
+static sinter_status build_pour(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    sc->pour = 1;
+    TRY(required(t, s, scene_get_double(t, s, "ke_per_particle", &sc->pour_ke), "ke_per_particle"));
+    sc->pour_t_min = 0;
+    OPTIONAL(scene_get_double(t, s, "t_min", &sc->pour_t_min));
+    TRY(required(t, s, scene_get_double(t, s, "t_max", &sc->pour_t_max), "t_max"));
+    if (!(sc->pour_ke > 0) || sc->pour_t_min < 0 || sc->pour_t_max < sc->pour_t_min)
+        return section_error(t, s, "need ke_per_particle > 0 J and 0 <= t_min <= t_max [s]");
+    return SINTER_OK;
+}
+
+static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    TRY(required(t, s, scene_get_double(t, s, "interval", &sc->output_interval), "interval"));
+    if (!(sc->output_interval > 0))
+        return section_error(t, s, "interval must be > 0 s");
+    OPTIONAL(scene_get_bool(t, s, "vtu", &sc->write_vtu));
+    OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
+    OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
+    OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));
+    if (sc->checkpoint_interval < 0)
+        return section_error(t, s, "checkpoint_interval must be >= 0 s (0: none)");
+    return SINTER_OK;
+}
+
+typedef sinter_status (*section_builder)(scene_text *, sinter_scene *, scene_section *);
+
+/* Sections are built in this order of types, each type in file order. */
+static const struct {
+    const char *type;
+    section_builder build;
+    int required;
+} BUILDERS[] = {
+    {"scene", build_scene_header, 1},  {"material", build_material, 1},
+    {"particles", build_particles, 1}, {"wall", build_wall, 0},
+    {"force", build_force, 1},         {"stepper", build_stepper, 1},
+    {"pour", build_pour, 0},           {"output", build_output, 0},
+};
+
+static sinter_status build(scene_text *t, sinter_scene *sc)
+{
+    const size_t nb = sizeof(BUILDERS) / sizeof(BUILDERS[0]);
+    for (size_t k = 0; k < t->count; ++k) {
+        size_t b = 0;
+        while (b < nb && strcmp(BUILDERS[b].type, t->sections[k].type) != 0)
+            ++b;
+        if (b == nb)
+            return section_error(t, &t->sections[k],
+                                 "unknown section type; expected scene, material, particles, "
+                                 "wall, force, stepper, pour or output");
+    }
+    for (size_t b = 0; b < nb; ++b) {
+        int seen = 0;
+        for (size_t k = 0; k < t->count; ++k) {
+            scene_section *s = &t->sections[k];
+            if (strcmp(s->type, BUILDERS[b].type) != 0)
+                continue;
+            const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
+                               strcmp(s->type, "pour") == 0 || strcmp(s->type, "output") == 0;
+            if (seen && single)
+                return section_error(t, s, "this section may appear only once");
+            seen = 1;
+            TRY(BUILDERS[b].build(t, sc, s));
+        }
+        if (!seen && BUILDERS[b].required)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s: the scene needs a [%s] section",
+                               t->path, BUILDERS[b].type);
+    }
+    TRY(scene_check_unused(t));
+    size_t n = 0;
+    TRY(sinter_particles_count(sc->ps, &n));
+    if (n == 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s: the scene has no particles", t->path);
+    return SINTER_OK;
+}
+
+void sinter_scene_destroy(sinter_scene *sc)
+{
+    if (sc == NULL)
+        return;
+    sinter_stepper_destroy(sc->st);
+    for (size_t k = 0; k < sc->force_count; ++k)
+        sinter_force_model_destroy(sc->forces[k]);
+    for (size_t k = 0; k < sc->material_count; ++k)
+        sinter_material_destroy(sc->materials[k]);
+    sinter_walls_destroy(sc->walls);
+    sinter_particles_destroy(sc->ps);
+    sinter_free(sc->ctx, sc);
+}
+
+sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char *path)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, out);
+    SINTER_CHECK_NULL(ctx, path);
+    sinter_scene *sc = sinter_calloc(ctx, 1, sizeof(*sc));
+    if (sc == NULL)
+        return sinter_last_status(ctx);
+    sc->ctx = ctx;
+    snprintf(sc->name, sizeof(sc->name), "scene");
+    snprintf(sc->directory, sizeof(sc->directory), "%s", path);
+    char *slash = strrchr(sc->directory, '/');
+    if (slash)
+        *slash = '\0';
+    else
+        snprintf(sc->directory, sizeof(sc->directory), ".");
+    sc->write_vtu = sc->write_csv = sc->write_plot = 1;
+    sc->output_interval = 0.0;
+    scene_text t;
+    sinter_status st = scene_text_read(&t, ctx, path);
+    if (st == SINTER_OK)
+        st = sinter_particles_create(&sc->ps, ctx);
+    if (st == SINTER_OK)
+        st = sinter_walls_create(&sc->walls, ctx);
+    if (st == SINTER_OK)
+        st = sinter_stepper_create(&sc->st, ctx, SINTER_STEPPER_EXPLICIT, sc->ps, sc->walls);
+    if (st == SINTER_OK)
+        st = build(&t, sc);
+    scene_text_free(&t);
+    if (st != SINTER_OK) {
+        sinter_scene_destroy(sc);
+        return st;
+    }
+    if (sc->output_interval <= 0.0)
+        sc->output_interval = sc->end_time / 100.0;
+    *out = sc;
+    return SINTER_OK;
+}
+
+sinter_status sinter_scene_get_stepper(sinter_scene *sc, sinter_stepper **st)
+{
+    if (sc == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(sc->ctx, st);
+    *st = sc->st;
+    return SINTER_OK;
+}
+
+sinter_status sinter_scene_get_particles(sinter_scene *sc, sinter_particles **ps)
+{
+    if (sc == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(sc->ctx, ps);
+    *ps = sc->ps;
+    return SINTER_OK;
+}
+
+sinter_status sinter_scene_get_walls(sinter_scene *sc, sinter_walls **walls)
+{
+    if (sc == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(sc->ctx, walls);
+    *walls = sc->walls;
+    return SINTER_OK;
+}
+
+sinter_status sinter_scene_end_time(const sinter_scene *sc, double *end_time)
+{
+    if (sc == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(sc->ctx, end_time);
+    *end_time = sc->end_time;
+    return SINTER_OK;
+}

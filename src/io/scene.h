@@ -1,0 +1,35 @@
+/* Private layout of a scene built from a scene file. */
+#ifndef SINTER_SCENE_H
+#define SINTER_SCENE_H
+
+#include "stepper/stepper.h"
+
+#define SCENE_MAX_MATERIALS 32
+#define SCENE_MAX_WALLS 64
+#define SCENE_MAX_FORCES 16
+#define SCENE_NAME 64
+
+struct sinter_scene {
+    sinter_ctx *ctx;
+    char name[SCENE_NAME];
+    char directory[1024]; /* of the scene file, for relative paths */
+    sinter_material *materials[SCENE_MAX_MATERIALS];
+    char material_names[SCENE_MAX_MATERIALS][SCENE_NAME];
+    size_t material_count;
+    sinter_particles *ps;
+    sinter_walls *walls;
+    char wall_names[SCENE_MAX_WALLS][SCENE_NAME];
+    sinter_force_model *forces[SCENE_MAX_FORCES];
+    size_t force_count;
+    sinter_stepper *st;
+    double end_time;
+    /* pour before the run */
+    int pour;
+    double pour_ke, pour_t_min, pour_t_max;
+    /* output */
+    double output_interval;
+    int write_vtu, write_csv, write_plot;
+    double checkpoint_interval;
+};
+
+#endif

@@ -1,0 +1,306 @@
+#define _POSIX_C_SOURCE 200809L
+/*
+ * Running a scene: an optional pour to rest, then the run to the end time,
+ * with global observables recorded every output interval into a series
+ * (CSV and SVG), VTU frames with a PVD collection, and checkpoints.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "io/scene.h"
+
+static const double PI = 3.14159265358979323846;
+
+enum {
+    COL_TIME,
+    COL_KE,
+    COL_CONTACTS,
+    COL_COORDINATION,
+    COL_BED_TOP,
+    COL_FRACTION,
+    COL_T_MEAN,
+    COL_T_MAX,
+    COL_FIXED_ /* wall force columns follow */
+};
+
+static sinter_status make_dir(sinter_ctx *ctx, const char *path)
+{
+    if (mkdir(path, 0777) == 0 || errno == EEXIST)
+        return SINTER_OK;
+    return sinter_fail(ctx, SINTER_ERR_IO, "cannot create directory '%s': %s", path,
+                       strerror(errno));
+}
+
+/*
+ * Volume fraction of the solid inside the box the walls enclose (seed 000
+ * sec. 7, remark 1: "within the lowest compression point"): each axis is
+ * bounded by axis-aligned walls facing each other, or by the particles'
+ * extent where there is no wall; the top is the lower of the top wall and the
+ * top of the bed.
+ */
+static double volume_fraction(const sinter_scene *sc, double bed_top)
+{
+    const sinter_particles *ps = sc->ps;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double solid = 0.0;
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double r = ps->radius[i];
+        solid += 4.0 / 3.0 * PI * r * r * r;
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = fmin(lo[d], ps->x[3 * i + d] - r);
+            hi[d] = fmax(hi[d], ps->x[3 * i + d] + r);
+        }
+    }
+    hi[2] = bed_top;
+    for (size_t k = 0; k < sc->walls->count; ++k) {
+        const sinter_wall *w = &sc->walls->wall[k];
+        for (int d = 0; d < 3; ++d) {
+            if (fabs(w->n[d]) < 1.0 - 1e-12)
+                continue;
+            if (w->n[d] > 0) /* a lower bound, facing +axis */
+                lo[d] = fmax(lo[d] == INFINITY ? w->p[d] : lo[d], w->p[d]);
+            else
+                hi[d] = fmin(hi[d], w->p[d]);
+        }
+    }
+    const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    return volume > 0 ? solid / volume : NAN;
+}
+
+static void observe(const sinter_scene *sc, double *row)
+{
+    const sinter_particles *ps = sc->ps;
+    double ke = 0, top = -INFINITY, tsum = 0, tmax = -INFINITY;
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double *v = ps->v + 3 * i, *w = ps->w + 3 * i;
+        ke += 0.5 * ps->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
+              0.5 * ps->inertia[i] * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        top = fmax(top, ps->x[3 * i + 2] + ps->radius[i]);
+        tsum += ps->temperature[i];
+        tmax = fmax(tmax, ps->temperature[i]);
+    }
+    const double n = (double)(ps->count ? ps->count : 1);
+    row[COL_TIME] = sc->st->time;
+    row[COL_KE] = ke;
+    row[COL_CONTACTS] = (double)sc->st->stats.contacts;
+    row[COL_COORDINATION] = 2.0 * (double)sc->st->stats.contacts / n;
+    row[COL_BED_TOP] = top;
+    row[COL_FRACTION] = volume_fraction(sc, top);
+    row[COL_T_MEAN] = tsum / n;
+    row[COL_T_MAX] = tmax;
+    for (size_t k = 0; k < sc->walls->count; ++k) {
+        const sinter_wall *w = &sc->walls->wall[k];
+        /* force pushing the wall outwards, i.e. against its normal [N] */
+        row[COL_FIXED_ + k] =
+            -(w->force[0] * w->n[0] + w->force[1] * w->n[1] + w->force[2] * w->n[2]);
+    }
+}
+
+typedef struct run_state {
+    sinter_scene *sc;
+    const char *out_dir;
+    sinter_series *series;
+    double *row;
+    size_t frames;
+    size_t frame_capacity;
+    double *frame_times;
+    char **frame_files;
+    double next_checkpoint;
+} run_state;
+
+static sinter_status write_frame(run_state *r)
+{
+    sinter_scene *sc = r->sc;
+    sinter_ctx *ctx = sc->ctx;
+    if (r->frames == r->frame_capacity) {
+        size_t cap = r->frame_capacity ? 2 * r->frame_capacity : 64;
+        double *t = sinter_realloc_array(ctx, r->frame_times, cap, sizeof(double));
+        if (t == NULL)
+            return SINTER_ERR_NOMEM;
+        r->frame_times = t;
+        char **f = sinter_realloc_array(ctx, r->frame_files, cap, sizeof(char *));
+        if (f == NULL)
+            return SINTER_ERR_NOMEM;
+        r->frame_files = f;
+        r->frame_capacity = cap;
+    }
+    char rel[64], path[2048];
+    snprintf(rel, sizeof(rel), "frames/frame_%05zu.vtu", r->frames);
+    snprintf(path, sizeof(path), "%s/%s", r->out_dir, rel);
+    /* contact count per particle, for ParaView */
+    double *contacts = sinter_calloc(ctx, sc->ps->count + 1, sizeof(double));
+    if (contacts == NULL)
+        return SINTER_ERR_NOMEM;
+    const sinter_contact_list *c = &sc->st->pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        contacts[c->i[k]] += 1.0;
+        contacts[c->j[k]] += 1.0;
+    }
+    const sinter_vtu_array extra[1] = {{"contacts", contacts, 1}};
+    sinter_status st = sinter_write_vtu(sc->ps, path, extra, 1);
+    sinter_free(ctx, contacts);
+    if (st != SINTER_OK)
+        return st;
+    r->frame_times[r->frames] = sc->st->time;
+    r->frame_files[r->frames] = sinter_strdup(ctx, rel);
+    if (r->frame_files[r->frames] == NULL)
+        return SINTER_ERR_NOMEM;
+    r->frames++;
+    snprintf(path, sizeof(path), "%s/%s.pvd", r->out_dir, sc->name);
+    return sinter_write_pvd(ctx, path, r->frames, r->frame_times,
+                            (const char *const *)r->frame_files);
+}
+
+static sinter_status write_series(run_state *r)
+{
+    sinter_scene *sc = r->sc;
+    char path[2048];
+    sinter_status st = SINTER_OK;
+    if (sc->write_csv) {
+        snprintf(path, sizeof(path), "%s/series.csv", r->out_dir);
+        st = sinter_series_write_csv(r->series, path);
+    }
+    if (st == SINTER_OK && sc->write_plot) {
+        snprintf(path, sizeof(path), "%s/series.svg", r->out_dir);
+        const size_t nw = sc->walls->count;
+        size_t cols[8 + SCENE_MAX_WALLS], start[6], panels = 0, nc = 0;
+        start[panels++] = nc;
+        cols[nc++] = COL_FRACTION;
+        start[panels++] = nc;
+        cols[nc++] = COL_T_MEAN;
+        cols[nc++] = COL_T_MAX;
+        if (nw > 0) {
+            start[panels++] = nc;
+            for (size_t k = 0; k < nw; ++k)
+                cols[nc++] = COL_FIXED_ + k;
+        }
+        start[panels++] = nc;
+        cols[nc++] = COL_KE;
+        start[panels] = nc;
+        st = sinter_series_write_svg(r->series, path, sc->name, COL_TIME, panels, start, cols);
+    }
+    return st;
+}
+
+static sinter_status record(run_state *r)
+{
+    observe(r->sc, r->row);
+    sinter_status st = sinter_series_append(r->series, r->row);
+    if (st == SINTER_OK && r->sc->write_vtu)
+        st = write_frame(r);
+    return st;
+}
+
+static sinter_status maybe_checkpoint(run_state *r, int force)
+{
+    sinter_scene *sc = r->sc;
+    if (sc->checkpoint_interval <= 0.0 || (!force && sc->st->time < r->next_checkpoint))
+        return SINTER_OK;
+    char path[2048];
+    snprintf(path, sizeof(path), "%s/checkpoint.bin", r->out_dir);
+    r->next_checkpoint = sc->st->time + sc->checkpoint_interval;
+    return sinter_checkpoint_write(sc->st, path);
+}
+
+/* Advance to t, in output intervals, recording each. */
+static sinter_status run_to(run_state *r, double t_end, sinter_progress_fn progress, void *user,
+                            double ke_stop, double t_min_stop, int *stopped_at_rest)
+{
+    sinter_scene *sc = r->sc;
+    const double t_begin = sc->st->time;
+    while (sc->st->time < t_end) {
+        const double next = fmin(t_end, sc->st->time + sc->output_interval);
+        sinter_status st = sinter_stepper_advance(sc->st, next);
+        if (st == SINTER_OK)
+            st = record(r);
+        if (st == SINTER_OK)
+            st = maybe_checkpoint(r, 0);
+        if (st != SINTER_OK)
+            return st;
+        if (progress != NULL && progress(sc->st->time, sc->end_time, user) != 0)
+            return sinter_fail(sc->ctx, SINTER_ERR_CALLBACK, "the run was stopped at t = %g s",
+                               sc->st->time);
+        if (stopped_at_rest != NULL && sc->st->time - t_begin >= t_min_stop &&
+            r->row[COL_KE] / (double)sc->ps->count < ke_stop) {
+            *stopped_at_rest = 1;
+            return SINTER_OK;
+        }
+    }
+    return SINTER_OK;
+}
+
+sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_progress_fn progress,
+                               void *user)
+{
+    if (sc == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = sc->ctx;
+    SINTER_CHECK_NULL(ctx, out_dir);
+    char frames[2048];
+    snprintf(frames, sizeof(frames), "%s/frames", out_dir);
+    sinter_status st = make_dir(ctx, out_dir);
+    if (st == SINTER_OK && sc->write_vtu)
+        st = make_dir(ctx, frames);
+    if (st != SINTER_OK)
+        return st;
+    const size_t nw = sc->walls->count, ncol = COL_FIXED_ + nw;
+    const char *names[COL_FIXED_ + SCENE_MAX_WALLS] = {
+        "time",    "kinetic energy",  "contacts",         "coordination number",
+        "bed top", "volume fraction", "mean temperature", "max temperature"};
+    const char *units[COL_FIXED_ + SCENE_MAX_WALLS] = {"s", "J", "1", "1", "m", "1", "K", "K"};
+    char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
+    for (size_t k = 0; k < nw; ++k) {
+        snprintf(wall_labels[k], sizeof(wall_labels[k]), "%s force", sc->wall_names[k]);
+        names[COL_FIXED_ + k] = wall_labels[k];
+        units[COL_FIXED_ + k] = "N";
+    }
+    run_state r;
+    memset(&r, 0, sizeof(r));
+    r.sc = sc;
+    r.out_dir = out_dir;
+    r.row = sinter_calloc(ctx, ncol, sizeof(double));
+    if (r.row == NULL)
+        return SINTER_ERR_NOMEM;
+    st = sinter_series_create(&r.series, ctx, ncol, names, units);
+    /* The state at the start, with forces evaluated. */
+    if (st == SINTER_OK)
+        st = sinter_stepper_step(sc->st, 0);
+    if (st == SINTER_OK)
+        st = record(&r);
+    r.next_checkpoint = sc->st->time + sc->checkpoint_interval;
+    if (st == SINTER_OK && sc->pour) {
+        /* Pour to rest with every wall held; wall motions are timed from the end of the pour. */
+        for (size_t k = 0; k < nw && st == SINTER_OK; ++k)
+            st = sinter_walls_set_motion_start(sc->walls, k, HUGE_VAL);
+        int at_rest = 0;
+        st = run_to(&r, sc->st->time + sc->pour_t_max, progress, user, sc->pour_ke, sc->pour_t_min,
+                    &at_rest);
+        if (st == SINTER_OK && !at_rest)
+            st = sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
+                             "the pour did not come to rest within t_max = %g s (kinetic energy "
+                             "%g J per particle, threshold %g J)",
+                             sc->pour_t_max, r.row[COL_KE] / (double)sc->ps->count, sc->pour_ke);
+        for (size_t k = 0; k < nw && st == SINTER_OK; ++k)
+            st = sinter_walls_set_motion_start(sc->walls, k, sc->st->time);
+        if (st == SINTER_OK)
+            sinter_log(ctx, SINTER_LOG_INFO, "poured: at rest at t = %g s", sc->st->time);
+    }
+    if (st == SINTER_OK)
+        st = run_to(&r, sc->end_time + (sc->pour ? sc->st->time : 0.0), progress, user, 0, 0, NULL);
+    /* Whatever happened, write what was recorded (the last good state is in the series). */
+    const sinter_status written = r.series ? write_series(&r) : SINTER_OK;
+    if (st == SINTER_OK)
+        st = written;
+    if (st == SINTER_OK)
+        st = maybe_checkpoint(&r, 1);
+    for (size_t k = 0; k < r.frames; ++k)
+        sinter_free(ctx, r.frame_files[k]);
+    sinter_free(ctx, r.frame_files);
+    sinter_free(ctx, r.frame_times);
+    sinter_series_destroy(r.series);
+    sinter_free(ctx, r.row);
+    return st;
+}

@@ -1,0 +1,291 @@
+#define _POSIX_C_SOURCE 200809L
+/*
+ * Scene files and checkpoints: broken files are refused with "file:line: what
+ * was expected"; a run restarted from a checkpoint continues bit for bit; a
+ * truncated or corrupted checkpoint is refused and changes nothing.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "test_support.h"
+
+#include <string.h>
+
+static char dir[256];
+
+static int make_dir(void **state)
+{
+    (void)state;
+    snprintf(dir, sizeof(dir), "/tmp/sinter_scene_XXXXXX");
+    return mkdtemp(dir) == NULL ? -1 : 0;
+}
+
+static int remove_dir(void **state)
+{
+    (void)state;
+    char cmd[512];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static const char *write_file(const char *name, const char *text)
+{
+    static char path[512];
+    snprintf(path, sizeof(path), "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    return path;
+}
+
+/* A small valid scene: a few spheres dropped on a floor. */
+static const char *GOOD =
+    "# a small valid scene\n"
+    "[scene]\nname = drop\nunits = SI\n"
+    "[material glass]\ndensity = 2500\nyoungs_modulus = 1e7\ndamping_ratio = 0.2\n"
+    "friction_static = 0.3\nfriction_dynamic = 0.3\nfriction_damping_ratio = 0.2\n"
+    "[particles]\nmethod = lattice\nmaterial = glass\nbox_min = 0 0 0.0005\n"
+    "box_max = 0.006 0.006 0.004\nradius = 0.0005\nspacing = 0.00105\n"
+    "[wall floor]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\n"
+    "[force hertz_mindlin]\nrolling = 0\n"
+    "[force gravity]\n"
+    "[stepper]\ndt = auto\nimpact_speed = 0.5\nskin = 1e-4\nend_time = 0.01\n"
+    "[output]\ninterval = 0.002\nvtu = no\ncheckpoint_interval = 0\n";
+
+static void expect_parse_error(const char *text, sinter_status status, const char *fragment1,
+                               const char *fragment2)
+{
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_scene *scene = (sinter_scene *)0x1;
+    const char *path = write_file("broken.scene", text);
+    assert_int_equal(sinter_scene_load(&scene, ctx, path), status);
+    assert_ptr_equal(scene, (sinter_scene *)0x1);
+    const char *msg = sinter_last_error(ctx);
+    if (strstr(msg, fragment1) == NULL || (fragment2 && strstr(msg, fragment2) == NULL)) {
+        print_error("message '%s' lacks '%s' / '%s'\n", msg, fragment1, fragment2 ? fragment2 : "");
+        fail();
+    }
+    sinter_ctx_destroy(ctx);
+}
+
+static void test_broken_scene_files(void **state)
+{
+    (void)state;
+    char text[4096];
+    expect_parse_error("[scene\nunits = SI\n", SINTER_ERR_PARSE, "broken.scene:1:",
+                       "section header");
+    expect_parse_error("units = SI\n", SINTER_ERR_PARSE, "broken.scene:1:", "before");
+    expect_parse_error("[scene]\nunits SI\n", SINTER_ERR_PARSE, "broken.scene:2:",
+                       "expected 'key = value'");
+    expect_parse_error("[scene]\nunits = imperial\n", SINTER_ERR_PARSE, "broken.scene:2:",
+                       "expected SI");
+    expect_parse_error("[scene]\nunits = SI\nunits = SI\n", SINTER_ERR_PARSE, "broken.scene:3:",
+                       "twice");
+    expect_parse_error("", SINTER_ERR_PARSE, "no sections", NULL);
+    /* unknown key, with its line */
+    snprintf(text, sizeof(text), "%s[output]\n", GOOD);
+    expect_parse_error(text, SINTER_ERR_PARSE, "only once", NULL);
+    const char *bad_key = strstr(GOOD, "density");
+    snprintf(text, sizeof(text), "%.*sdensty%s", (int)(bad_key - GOOD), GOOD, bad_key + 7);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:6:", "'densty' is not a material");
+    /* a value out of a material's range: the library's message with the line */
+    const char *dens = strstr(GOOD, "2500");
+    snprintf(text, sizeof(text), "%.*s-5%s", (int)(dens - GOOD), GOOD, dens + 4);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:6:", "density");
+    /* a vector with two numbers */
+    const char *normal = strstr(GOOD, "0 0 1\n");
+    snprintf(text, sizeof(text), "%.*s0 1\n%s", (int)(normal - GOOD), GOOD, normal + 6);
+    expect_parse_error(text, SINTER_ERR_PARSE, "normal: expected three finite numbers", NULL);
+    /* an undefined material */
+    const char *mat = strstr(GOOD, "material = glass\n[force");
+    snprintf(text, sizeof(text), "%.*smaterial = steel\n%s", (int)(mat - GOOD), GOOD, mat + 17);
+    expect_parse_error(text, SINTER_ERR_PARSE, "material: expected the name of a [material",
+                       "steel");
+    /* an unknown force model */
+    snprintf(text, sizeof(text), "%s[force magic]\n", GOOD);
+    expect_parse_error(text, SINTER_ERR_NOT_FOUND, "no force model is called 'magic'", NULL);
+    /* a misspelt key in [stepper] */
+    snprintf(text, sizeof(text), "%s", GOOD);
+    char *end = strstr(text, "end_time");
+    memcpy(end, "end_tine", 8);
+    expect_parse_error(text, SINTER_ERR_PARSE, "needs 'end_time", NULL);
+    /* a missing section */
+    const char *stepper = strstr(GOOD, "[stepper]");
+    snprintf(text, sizeof(text), "%.*s", (int)(stepper - GOOD), GOOD);
+    expect_parse_error(text, SINTER_ERR_PARSE, "needs a [stepper] section", NULL);
+    /* unknown key left over */
+    snprintf(text, sizeof(text), "%s", GOOD);
+    char *skin = strstr(text, "skin");
+    memcpy(skin, "skim", 4);
+    expect_parse_error(text, SINTER_ERR_PARSE, "unknown key 'skim'", "[stepper]");
+    /* a missing file */
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, "/nonexistent/x.scene"), SINTER_ERR_IO);
+    sinter_ctx_destroy(ctx);
+}
+
+static void load_good(sinter_ctx **ctx, sinter_scene **scene, sinter_stepper **st)
+{
+    assert_int_equal(sinter_ctx_create(ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(scene, *ctx, write_file("good.scene", GOOD)), SINTER_OK);
+    assert_int_equal(sinter_scene_get_stepper(*scene, st), SINTER_OK);
+}
+
+static void state_of(sinter_scene *scene, double *out, size_t n)
+{
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
+    const double *x = NULL, *v = NULL;
+    size_t count = 0;
+    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x,
+                                                &count, NULL),
+                     SINTER_OK);
+    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v,
+                                                NULL, NULL),
+                     SINTER_OK);
+    assert_int_equal(count * 6, n);
+    memcpy(out, x, 3 * count * sizeof(double));
+    memcpy(out + 3 * count, v, 3 * count * sizeof(double));
+    sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
+}
+
+static void test_restart_is_bit_for_bit(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    sinter_stepper *st = NULL;
+    load_good(&ctx, &scene, &st);
+    sinter_particles *ps = NULL;
+    sinter_scene_get_particles(scene, &ps);
+    size_t n = 0;
+    sinter_particles_count(ps, &n);
+    assert_true(n >= 75); /* 5 x 5 x 3 lattice */
+    char ckpt[512];
+    snprintf(ckpt, sizeof(ckpt), "%s/state.ckpt", dir);
+    /* uninterrupted: 0 -> 5 ms (checkpoint) -> 10 ms */
+    assert_int_equal(sinter_stepper_advance(st, 0.005), SINTER_OK);
+    assert_int_equal(sinter_checkpoint_write(st, ckpt), SINTER_OK);
+    assert_int_equal(sinter_stepper_advance(st, 0.01), SINTER_OK);
+    double *straight = calloc(6 * n, sizeof(double)), *restarted = calloc(6 * n, sizeof(double));
+    state_of(scene, straight, 6 * n);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    /* restarted: a fresh scene, the checkpoint, then 5 -> 10 ms */
+    load_good(&ctx, &scene, &st);
+    assert_int_equal(sinter_checkpoint_read(st, ckpt), SINTER_OK);
+    double t = 0;
+    sinter_stepper_time(st, &t);
+    assert_true(t == 0.005);
+    assert_int_equal(sinter_stepper_advance(st, 0.01), SINTER_OK);
+    state_of(scene, restarted, 6 * n);
+    assert_memory_equal(straight, restarted, 6 * n * sizeof(double)); /* bit for bit */
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    free(straight);
+    free(restarted);
+}
+
+static void test_bad_checkpoints_are_refused(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    sinter_stepper *st = NULL;
+    load_good(&ctx, &scene, &st);
+    char ckpt[512], bad[512];
+    snprintf(ckpt, sizeof(ckpt), "%s/good.ckpt", dir);
+    snprintf(bad, sizeof(bad), "%s/bad.ckpt", dir);
+    assert_int_equal(sinter_checkpoint_write(st, ckpt), SINTER_ERR_STATE); /* no step yet */
+    assert_int_equal(sinter_stepper_advance(st, 0.002), SINTER_OK);
+    assert_int_equal(sinter_checkpoint_write(st, ckpt), SINTER_OK);
+    FILE *f = fopen(ckpt, "rb");
+    fseek(f, 0, SEEK_END);
+    const long size = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    unsigned char *buf = malloc((size_t)size);
+    assert_int_equal(fread(buf, 1, (size_t)size, f), (size_t)size);
+    fclose(f);
+    assert_int_equal(sinter_stepper_advance(st, 0.004), SINTER_OK);
+    double before[4096];
+    sinter_particles *ps = NULL;
+    sinter_scene_get_particles(scene, &ps);
+    size_t n = 0;
+    sinter_particles_count(ps, &n);
+    assert_true(6 * n <= 4096);
+    state_of(scene, before, 6 * n);
+    /* truncated, a flipped byte, and not a checkpoint at all */
+    const long cuts[3] = {size / 2, size - 1, 12};
+    for (int k = 0; k < 4; ++k) {
+        f = fopen(bad, "wb");
+        if (k < 3) {
+            fwrite(buf, 1, (size_t)cuts[k], f);
+        } else {
+            buf[size / 3] ^= 0x10;
+            fwrite(buf, 1, (size_t)size, f);
+            buf[size / 3] ^= 0x10;
+        }
+        fclose(f);
+        assert_int_equal(sinter_checkpoint_read(st, bad), SINTER_ERR_CORRUPT);
+        assert_non_null(strstr(sinter_last_error(ctx), "nothing was changed"));
+        double after[4096];
+        state_of(scene, after, 6 * n);
+        assert_memory_equal(before, after, 6 * n * sizeof(double));
+        double t = 0;
+        sinter_stepper_time(st, &t);
+        assert_true(t == 0.004);
+    }
+    /* A failed write does not clobber the good checkpoint. */
+    char in_missing_dir[600];
+    snprintf(in_missing_dir, sizeof(in_missing_dir), "%s/no/such/dir.ckpt", dir);
+    assert_int_equal(sinter_checkpoint_write(st, in_missing_dir), SINTER_ERR_IO);
+    assert_int_equal(sinter_checkpoint_read(st, ckpt), SINTER_OK);
+    free(buf);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
+static void test_run_writes_outputs(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    sinter_stepper *st = NULL;
+    load_good(&ctx, &scene, &st);
+    char out[512];
+    snprintf(out, sizeof(out), "%s/run", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    char path[600];
+    snprintf(path, sizeof(path), "%s/series.csv", out);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char line[2048];
+    int lines = 0;
+    while (fgets(line, sizeof(line), f))
+        ++lines;
+    fclose(f);
+    assert_int_equal(lines, 1 + 6); /* header, t = 0 and five intervals of 2 ms */
+    snprintf(path, sizeof(path), "%s/series.svg", out);
+    f = fopen(path, "r");
+    assert_non_null(f);
+    fclose(f);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_broken_scene_files),
+        cmocka_unit_test(test_restart_is_bit_for_bit),
+        cmocka_unit_test(test_bad_checkpoints_are_refused),
+        cmocka_unit_test(test_run_writes_outputs),
+    };
+    return cmocka_run_group_tests(tests, make_dir, remove_dir);
+}
