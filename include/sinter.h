@@ -550,6 +550,84 @@ SINTER_API sinter_status sinter_stable_dt_hertz(const sinter_particles *particle
 SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double *xi);
 
 
+
+/* ------------------------------------------------------------------------ */
+/* Heat submodels                                                            */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * One heat-power submodel: it adds power [W] to particles, and the stepper
+ * integrates m C dtheta/dt = sum of powers (seed 003 eq. 28, seed 000 eq. 31).
+ * Built-in models, chosen by name, with their parameters (SI):
+ *  - "conduction": through contacts, Q_ij = k_ij A_ij (theta_j - theta_i) / d_ij
+ *    with (r_i + r_j)/k_ij = r_i/k_i + r_j/k_j (seed 003 eq. 32-35, seed 000
+ *    eq. 33-34); particle-wall contacts conduct to the wall's temperature with
+ *    the particle's own conductivity over the centre-to-plane distance.
+ *    "area" = 0: contact area of eq. 34; 1: projected area pi r*^2 of the
+ *    smaller sphere (LIGGGHTS' "projection"). "walls" = 1/0.
+ *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
+ *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
+ *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
+ *    correlation), "fluid_conductivity" [W/(m K)], "fluid_viscosity" [Pa s],
+ *    "fluid_heat_capacity" [J/(kg K)], "fluid_density" [kg/m^3],
+ *    "fluid_speed" [m/s] (0: stagnant, Nu = 2).
+ *  - "radiation": Q = epsilon sigma 4 pi r^2 (theta_E^4 - theta^4) (eq. 41),
+ *    "temperature" theta_E [K].
+ *  - "nozzle": Q = a I0 pi r^2 (1 - z/d_max) for 0 <= z <= d_max (eq. 29-30);
+ *  - "laser": Q = a I0 pi r^2 exp(-mu z) (eq. 31).
+ *    Both: a beam along -z through ("x", "y") [m] of radius "radius" [m],
+ *    intensity "intensity" I0 [W/m^2]; "depth" d_max [m] (nozzle) or
+ *    "attenuation" mu [1/m] (laser). z is the depth of a particle's top below
+ *    the highest particle top inside the beam. "x", "y" and "intensity" may
+ *    follow schedules (sinter_heat_model_set_schedule).
+ * Host models come from sinter_heat_model_create_host (sinter_submodel.h).
+ */
+typedef struct sinter_heat_model sinter_heat_model;
+
+SINTER_API sinter_status sinter_heat_model_create(sinter_heat_model **out, sinter_ctx *ctx,
+                                                  const char *name);
+SINTER_API void sinter_heat_model_destroy(sinter_heat_model *hm);
+SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
+SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
+                                               double value);
+SINTER_API sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key,
+                                               double *value);
+/**
+ * Make parameter `key` follow a piecewise-linear schedule through n points
+ * (times [s] strictly increasing, values in the parameter's unit), held
+ * constant outside. Copied.
+ */
+SINTER_API sinter_status sinter_heat_model_set_schedule(sinter_heat_model *hm, const char *key,
+                                                        size_t n, const double *times,
+                                                        const double *values);
+
+/** Thermal time integration of the explicit stepper. */
+typedef enum sinter_thermal_scheme {
+    SINTER_THERMAL_EXPLICIT = 0, /**< forward Euler, seed 003 eq. 46 (stable for dt < m C / sum G) */
+    SINTER_THERMAL_IMPLICIT = 1  /**< backward Euler for conduction (PCG solve), other powers explicit */
+} sinter_thermal_scheme;
+
+/** Add a heat submodel (borrowed). A stepper without one does no thermal work at all. */
+SINTER_API sinter_status sinter_stepper_add_heat(sinter_stepper *stepper, sinter_heat_model *hm);
+/** Choose the thermal scheme (default explicit). */
+SINTER_API sinter_status sinter_stepper_set_thermal_scheme(sinter_stepper *stepper, int scheme);
+/**
+ * Largest stable step of explicit thermal stepping in the current contact
+ * state: min over particles of m C / (sum of contact conductances) [s]
+ * (+infinity when nothing conducts).
+ */
+SINTER_API sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *stepper, double *dt);
+/**
+ * Energy bookkeeping of heat submodels [J]: the time integral of the power
+ * model `index` (in order of addition) put into the particles so far.
+ */
+SINTER_API sinter_status sinter_stepper_heat_energy(const sinter_stepper *stepper, size_t index,
+                                                    double *energy);
+/** Wall temperature following a piecewise-linear schedule (times [s], temperatures [K]). */
+SINTER_API sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k,
+                                                               size_t n, const double *times,
+                                                               const double *temperatures);
+
 /* ------------------------------------------------------------------------ */
 /* Packing helpers                                                           */
 /* ------------------------------------------------------------------------ */

@@ -109,6 +109,25 @@ SINTER_API sinter_status sinter_force_model_create_host(sinter_force_model **out
                                                         const sinter_force_callbacks *callbacks,
                                                         void *user);
 
+
+/**
+ * Host heat submodel: adds power [W] to particles. `heat` has one entry per
+ * particle, zeroed before the call; the library adds it to the totals. The
+ * contact batches (particle-particle first, then particle-wall) are the same
+ * geometry a force model sees; force/torque/history fields are NULL there.
+ */
+typedef struct sinter_heat_callbacks {
+    size_t struct_size; /**< sizeof(sinter_heat_callbacks) */
+    int (*power)(const sinter_state_view *state, const sinter_contact_batch *particle_contacts,
+                 const sinter_contact_batch *wall_contacts, double *heat, void *user);
+    void (*destroy_user)(void *user); /**< called once when the model is destroyed (may be NULL) */
+} sinter_heat_callbacks;
+
+SINTER_API sinter_status sinter_heat_model_create_host(sinter_heat_model **out, sinter_ctx *ctx,
+                                                       const char *name,
+                                                       const sinter_heat_callbacks *callbacks,
+                                                       void *user);
+
 #ifdef __cplusplus
 }
 #endif

@@ -127,6 +127,12 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (s != SINTER_OK)
         return s;
     const double t_start = st->time;
+    /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5). */
+    s = sinter_thermal_advance(st, h);
+    if (s != SINTER_OK) {
+        st->stats.rejected++;
+        return s;
+    }
     double t0 = sinter_clock();
     kick_drift(st, h);
     st->stats.seconds_integrate += sinter_clock() - t0;
@@ -171,6 +177,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (s != SINTER_OK) {
         /* Roll back: state, time and walls; history was never committed. */
         restore_backup(st);
+        sinter_thermal_rollback(st);
         st->time = t_start;
         if (st->walls != NULL)
             sinter_walls_move(st->walls, t_start);

@@ -58,6 +58,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_free(ctx, st->wall_force);
     sinter_free(ctx, st->backup);
     sinter_free(ctx, st->wall_arrays);
+    sinter_thermal_free(ctx, &st->thermal);
     sinter_free(ctx, st);
 }
 
@@ -282,6 +283,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.torque = ps->torque;
     e.wall_force = st->wall_force;
     e.view = &st->view;
+    s = sinter_thermal_softening(st, &e.modulus_scale);
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
         sinter_force_slot *slot = &st->forces[k];
         s = sinter_history_prepare(ctx, &slot->pp, st->pp.count);
@@ -296,6 +298,108 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;
+    if (s == SINTER_OK && st->thermal.count > 0) {
+        const double t1 = sinter_clock();
+        s = sinter_thermal_eval(st);
+        st->stats_seconds_heat += sinter_clock() - t1;
+    }
+    return s;
+}
+
+sinter_status sinter_stepper_add_heat(sinter_stepper *st, sinter_heat_model *hm)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, hm);
+    if (hm->ctx != st->ctx)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_add_heat: model '%s' belongs to another context",
+                           hm->name);
+    sinter_thermal *th = &st->thermal;
+    for (size_t k = 0; k < th->count; ++k)
+        if (th->slots[k].model == hm)
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_add_heat: model '%s' was already added", hm->name);
+    if (th->count == th->capacity) {
+        size_t cap = th->capacity ? 2 * th->capacity : 4;
+        sinter_heat_slot *grown =
+            sinter_realloc_array(st->ctx, th->slots, cap, sizeof(sinter_heat_slot));
+        if (grown == NULL)
+            return sinter_last_status(st->ctx);
+        th->slots = grown;
+        th->capacity = cap;
+    }
+    memset(&th->slots[th->count], 0, sizeof(sinter_heat_slot));
+    th->slots[th->count].model = hm;
+    th->count++;
+    st->forces_current = 0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_thermal_scheme(sinter_stepper *st, int scheme)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (scheme != SINTER_THERMAL_EXPLICIT && scheme != SINTER_THERMAL_IMPLICIT)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_thermal_scheme: scheme %d is neither "
+                           "SINTER_THERMAL_EXPLICIT (0) nor SINTER_THERMAL_IMPLICIT (1)",
+                           scheme);
+    st->thermal.scheme = scheme;
+    st->forces_current = 0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_heat_energy(const sinter_stepper *st, size_t index, double *energy)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, energy);
+    if (index >= st->thermal.count)
+        return sinter_fail(st->ctx, SINTER_ERR_RANGE,
+                           "sinter_stepper_heat_energy: heat model %zu does not exist (%zu added)",
+                           index, st->thermal.count);
+    *energy = st->thermal.slots[index].energy;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, dt);
+    sinter_particles *ps = st->ps;
+    /* Sum of conductances per particle from a conduction-only evaluation in implicit form. */
+    double *g = sinter_calloc(st->ctx, ps->count + 1, sizeof(double));
+    if (g == NULL)
+        return SINTER_ERR_NOMEM;
+    const int scheme = st->thermal.scheme;
+    st->thermal.scheme = SINTER_THERMAL_IMPLICIT;
+    double *heat_copy = sinter_calloc(st->ctx, ps->count + 1, sizeof(double));
+    sinter_status s = heat_copy ? SINTER_OK : SINTER_ERR_NOMEM;
+    if (s == SINTER_OK) {
+        memcpy(heat_copy, ps->heat, ps->count * sizeof(double));
+        s = sinter_thermal_eval(st);
+        memcpy(ps->heat, heat_copy, ps->count * sizeof(double));
+    }
+    st->thermal.scheme = scheme;
+    if (s == SINTER_OK) {
+        for (size_t k = 0; k < st->pp.count; ++k) {
+            g[st->pp.i[k]] += st->thermal.g_pp[k];
+            g[st->pp.j[k]] += st->thermal.g_pp[k];
+        }
+        for (size_t k = 0; k < st->pw.count; ++k)
+            g[st->pw.i[k]] += st->thermal.g_pw[k];
+        double best = INFINITY;
+        for (size_t i = 0; i < ps->count; ++i)
+            if (g[i] > 0.0)
+                best = fmin(best, ps->mass[i] *
+                                      sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY) /
+                                      g[i]);
+        *dt = best;
+    }
+    sinter_free(st->ctx, g);
+    sinter_free(st->ctx, heat_copy);
     return s;
 }
 

@@ -4,6 +4,7 @@
 
 #include "contact/history.h"
 #include "force/force_model.h"
+#include "stepper/thermal.h"
 
 typedef struct sinter_force_slot {
     sinter_force_model *model;
@@ -38,6 +39,10 @@ struct sinter_stepper {
     sinter_state_view view;
     double *wall_arrays;          /* point, normal, velocity: 9 per wall, for host views */
     size_t wall_arrays_capacity;
+    sinter_thermal thermal;       /* heat submodels and the temperature update */
+    double thermal_last_h;        /* step of the last temperature update [s] */
+    uint64_t stats_thermal_iterations; /* PCG iterations of implicit conduction */
+    double stats_seconds_heat;    /* wall-clock time in heat evaluation [s] */
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];

@@ -17,6 +17,14 @@ sinter_status sinter_walls_create(sinter_walls **out, sinter_ctx *ctx)
     return SINTER_OK;
 }
 
+static void clear_temperature_schedule(sinter_walls *walls, sinter_wall *w)
+{
+    sinter_free(walls->ctx, w->temperature_t);
+    sinter_free(walls->ctx, w->temperature_v);
+    w->temperature_t = w->temperature_v = NULL;
+    w->temperature_count = 0;
+}
+
 static void clear_schedule(sinter_walls *walls, sinter_wall *w)
 {
     sinter_free(walls->ctx, w->schedule_t);
@@ -29,8 +37,10 @@ void sinter_walls_destroy(sinter_walls *walls)
 {
     if (walls == NULL)
         return;
-    for (size_t k = 0; k < walls->count; ++k)
+    for (size_t k = 0; k < walls->count; ++k) {
         clear_schedule(walls, &walls->wall[k]);
+        clear_temperature_schedule(walls, &walls->wall[k]);
+    }
     sinter_free(walls->ctx, walls->wall);
     sinter_free(walls->ctx, walls);
 }
@@ -227,8 +237,44 @@ sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_t k, double
                            "sinter_walls_set_temperature: temperature %g K of wall %zu must be "
                            "positive and finite",
                            temperature, k);
+    clear_temperature_schedule(walls, w);
     w->temperature = temperature;
     return SINTER_OK;
+}
+
+sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k, size_t n,
+                                                    const double *times,
+                                                    const double *temperatures)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, times);
+    SINTER_CHECK_NULL(walls->ctx, temperatures);
+    if (n < 1)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_temperature_schedule: a schedule needs a point");
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(times[i]) || !(temperatures[i] > 0.0) || !isfinite(temperatures[i]) ||
+            (i > 0 && !(times[i] > times[i - 1])))
+            return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                               "sinter_walls_set_temperature_schedule: point %zu of wall %zu "
+                               "(t = %g s, T = %g K) is invalid: times must increase and "
+                               "temperatures be positive",
+                               i, k, times[i], temperatures[i]);
+    double *t = sinter_calloc(walls->ctx, n, sizeof(double));
+    double *v = sinter_calloc(walls->ctx, n, sizeof(double));
+    if (t == NULL || v == NULL) {
+        sinter_free(walls->ctx, t);
+        sinter_free(walls->ctx, v);
+        return SINTER_ERR_NOMEM;
+    }
+    memcpy(t, times, n * sizeof(double));
+    memcpy(v, temperatures, n * sizeof(double));
+    clear_temperature_schedule(walls, w);
+    w->temperature_t = t;
+    w->temperature_v = v;
+    w->temperature_count = n;
+    return sinter_walls_move(walls, walls->time);
 }
 
 sinter_status sinter_walls_get_state(const sinter_walls *walls, size_t k, double point[3],
@@ -332,6 +378,21 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
         for (int d = 0; d < 3; ++d) {
             w->p[d] = w->p0[d] + disp[d];
             w->u[d] = vel[d];
+        }
+        if (w->temperature_count > 0) {
+            const size_t n = w->temperature_count;
+            const double *ts = w->temperature_t, *vs = w->temperature_v;
+            double temp = vs[0];
+            if (t >= ts[n - 1])
+                temp = vs[n - 1];
+            else if (t > ts[0])
+                for (size_t i = 1; i < n; ++i)
+                    if (t < ts[i]) {
+                        temp = vs[i - 1] + (vs[i] - vs[i - 1]) * (t - ts[i - 1]) /
+                                               (ts[i] - ts[i - 1]);
+                        break;
+                    }
+            w->temperature = temp;
         }
     }
     walls->time = t;

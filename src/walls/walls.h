@@ -11,7 +11,10 @@ typedef struct sinter_wall {
     double p[3];      /* point at the current time [m] */
     double u[3];      /* velocity at the current time [m/s] */
     double force[3];  /* reaction: force the particles exert on the wall [N] */
-    double temperature; /* [K] */
+    double temperature; /* [K], at the current time */
+    size_t temperature_count; /* > 0: temperature follows (temperature_t, temperature_v) */
+    double *temperature_t;
+    double *temperature_v;
     int motion;       /* sinter_wall_motion */
     double motion_start; /* [s] */
     double velocity[3]; /* SINTER_WALL_VELOCITY */

@@ -29,6 +29,7 @@ ForceModelPtr = _opaque("sinter_force_model")
 StepperPtr = _opaque("sinter_stepper")
 ScenePtr = _opaque("sinter_scene")
 SeriesPtr = _opaque("sinter_series")
+HeatModelPtr = _opaque("sinter_heat_model")
 
 _P = ctypes.POINTER
 _str = ctypes.c_char_p
@@ -146,6 +147,7 @@ SIGNATURES = {
     "sinter_walls_set_callback": (c_status, [WallsPtr, _size, WallMotionFn, ctypes.c_void_p]),
     "sinter_walls_set_motion_start": (c_status, [WallsPtr, _size, _double]),
     "sinter_walls_set_temperature": (c_status, [WallsPtr, _size, _double]),
+    "sinter_walls_set_temperature_schedule": (c_status, [WallsPtr, _size, _size, _P(_double), _P(_double)]),
     "sinter_walls_get_state": (c_status, [WallsPtr, _size, _P(_double), _P(_double)]),
     "sinter_walls_get_normal": (c_status, [WallsPtr, _size, _P(_double)]),
     "sinter_walls_get_force": (c_status, [WallsPtr, _size, _P(_double)]),
@@ -173,6 +175,17 @@ SIGNATURES = {
     "sinter_series_get": (c_status, [SeriesPtr, _size, _size, _P(_double)]),
     "sinter_series_write_csv": (c_status, [SeriesPtr, _str]),
     "sinter_series_write_svg": (c_status, [SeriesPtr, _str, _str, _size, _size, _P(_size), _P(_size)]),
+    # heat submodels
+    "sinter_heat_model_create": (c_status, [_P(HeatModelPtr), CtxPtr, _str]),
+    "sinter_heat_model_destroy": (None, [HeatModelPtr]),
+    "sinter_heat_model_name": (_str, [HeatModelPtr]),
+    "sinter_heat_model_set": (c_status, [HeatModelPtr, _str, _double]),
+    "sinter_heat_model_get": (c_status, [HeatModelPtr, _str, _P(_double)]),
+    "sinter_heat_model_set_schedule": (c_status, [HeatModelPtr, _str, _size, _P(_double), _P(_double)]),
+    "sinter_stepper_add_heat": (c_status, [StepperPtr, HeatModelPtr]),
+    "sinter_stepper_set_thermal_scheme": (c_status, [StepperPtr, _int]),
+    "sinter_stepper_stable_dt_thermal": (c_status, [StepperPtr, _P(_double)]),
+    "sinter_stepper_heat_energy": (c_status, [StepperPtr, _size, _P(_double)]),
     # scenes and checkpoints
     "sinter_scene_load": (c_status, [_P(ScenePtr), CtxPtr, _str]),
     "sinter_scene_destroy": (None, [ScenePtr]),

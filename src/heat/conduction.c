@@ -1,0 +1,121 @@
+/*
+ * Heat conduction through contacts (seed 003 eq. 32-35, seed 000 eq. 33-34).
+ *
+ * Particle-particle, "area" = 0: Q_ij = G (theta_j - theta_i) with G = k_ij A_ij / d_ij,
+ * d_ij = |x_j - x_i|, A_ij = pi a_ij^2 from the contact list (eq. 34) and
+ * (r_i + r_j) / k_ij = r_i / k_i + r_j / k_j (eq. 35), written as
+ * k_ij = k_i k_j (r_i + r_j) / (r_i k_j + r_j k_i) so that k = 0 on either side gives G = 0.
+ *
+ * "area" = 1 is LIGGGHTS' `contact_area projection` exactly, as in fix heat/gran/conduction
+ * (LIGGGHTS-PUBLIC 3.8.0): G = 4 k_i k_j / (k_i + k_j) sqrt(A) with A = pi max(r_i, r_j)^2,
+ * i.e. G = 2 sqrt(pi) k r for equal spheres, independent of the overlap (the peer benchmark's
+ * canonical conductance). Note: LIGGGHTS projects the LARGER sphere and uses the harmonic mean
+ * of the conductivities, not eq. 35; for equal radii both readings coincide.
+ *
+ * Particle-wall (when "walls" = 1): the wall is a fixed-temperature reservoir at
+ * wall->temperature and the pair conducts with the particle's own conductivity
+ * (VALIDATION.md's reading of seed 003 §5.1): "area" = 0: G = k_i A / d with A = pi a^2 of the
+ * contact list and d = the centre-to-plane distance; "area" = 1: LIGGGHTS' wall formula
+ * 4 k_p k_w / (k_p + k_w) sqrt(pi r_i^2) with k_w = k_i, i.e. G = 2 sqrt(pi) k_i r_i.
+ * A particle whose centre is on or behind the plane (d <= 0, not a physical state) does not
+ * conduct with "area" = 0.
+ *
+ * Explicit use (e->g_pp == NULL): Q is added to particle i and subtracted from particle j
+ * exactly, so sum m C theta is conserved to round-off. Implicit use: G is added to g_pp[k] /
+ * g_pw[k] instead and nothing is added to e->heat.
+ */
+#include <math.h>
+
+#include "heat_model.h"
+#include "particles/particles.h"
+#include "walls/walls.h"
+
+enum { PARAM_AREA = 0, PARAM_WALLS = 1 };
+
+static const double SQRT_PI = 1.77245385090551602730;
+
+/* Conductance of one particle-particle contact. `projection` is constant per call. */
+static inline double conductance_pp(int projection, double ki, double kj, double ri, double rj,
+                                    double area, double dist)
+{
+    if (projection) {
+        const double ks = ki + kj; /* LIGGGHTS: 4 k_i k_j / (k_i + k_j) sqrt(pi) r_max */
+        return ks > 0.0 ? 4.0 * ki * kj / ks * SQRT_PI * fmax(ri, rj) : 0.0;
+    }
+    const double den = ri * kj + rj * ki; /* eq. 35 */
+    return den > 0.0 ? ki * kj * (ri + rj) / den * area / dist : 0.0; /* eq. 32, 34 */
+}
+
+/* Conductance of one particle-wall contact (particle's own conductivity). */
+static inline double conductance_pw(int projection, double ki, double ri, double area,
+                                    double dist)
+{
+    if (projection)
+        return 2.0 * SQRT_PI * ki * ri; /* LIGGGHTS wall with k_w = k_i */
+    return dist > 0.0 ? ki * area / dist : 0.0; /* eq. 32 with k_iw = k_i */
+}
+
+static inline void loop_pp(const sinter_heat_eval *e, int projection, int implicit)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pp;
+    const double *r = ps->radius, *theta = ps->temperature;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const double g = conductance_pp(
+            projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
+            sinter_particle_param(ps, j, SINTER_MAT_THERMAL_CONDUCTIVITY), r[i], r[j],
+            c->area[k], c->dist[k]);
+        if (implicit) {
+            e->g_pp[k] += g;
+        } else {
+            const double q = g * (theta[j] - theta[i]); /* eq. 32, into i */
+            e->heat[i] += q;
+            e->heat[j] -= q;
+        }
+    }
+}
+
+static inline void loop_pw(const sinter_heat_eval *e, int projection, int implicit)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pw;
+    const double *r = ps->radius, *theta = ps->temperature;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k];
+        const double g =
+            conductance_pw(projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
+                           r[i], c->area[k], c->dist[k]);
+        if (implicit)
+            e->g_pw[k] += g;
+        else
+            e->heat[i] += g * (e->walls->wall[c->j[k]].temperature - theta[i]); /* eq. 32 */
+    }
+}
+
+static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
+{
+    const double area = sinter_heat_param(hm, PARAM_AREA, e->time);
+    if (area != 0.0 && area != 1.0)
+        return sinter_fail(e->ctx, SINTER_ERR_INVALID,
+                           "heat model '%s': 'area' = %g must be 0 (eq. 34) or 1 (projection)",
+                           hm->name, area);
+    const int proj = area == 1.0, implicit = e->g_pp != NULL;
+    const int walls =
+        sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;
+    /* Constant switches resolved here so each loop is branch-free on them. */
+    if (proj)
+        implicit ? loop_pp(e, 1, 1) : loop_pp(e, 1, 0);
+    else
+        implicit ? loop_pp(e, 0, 1) : loop_pp(e, 0, 0);
+    if (walls) {
+        if (proj)
+            implicit ? loop_pw(e, 1, 1) : loop_pw(e, 1, 0);
+        else
+            implicit ? loop_pw(e, 0, 1) : loop_pw(e, 0, 0);
+    }
+    return SINTER_OK;
+}
+
+const sinter_heat_ops sinter_heat_conduction = {
+    "conduction", 1, {"area", "walls", NULL}, {0.0, 1.0}, conduction_eval};

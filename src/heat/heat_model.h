@@ -1,0 +1,66 @@
+/* Private interface of heat submodels (built-in and host). */
+#ifndef SINTER_HEAT_MODEL_H
+#define SINTER_HEAT_MODEL_H
+
+#include "sinter_submodel.h"
+#include "contact/contacts.h"
+
+#define SINTER_HEAT_MAX_PARAMS 12
+
+/* Everything one evaluation of one heat model reads and writes. */
+typedef struct sinter_heat_eval {
+    sinter_ctx *ctx;
+    const sinter_particles *ps;
+    const sinter_walls *walls;     /* may be NULL */
+    const sinter_contact_list *pp; /* particle-particle contacts */
+    const sinter_contact_list *pw; /* particle-wall contacts */
+    double time;                   /* [s] */
+    double *heat;                  /* power into each particle [W], accumulated */
+    /*
+     * Implicit conduction: when g_pp is not NULL, a conduction model adds its
+     * conductance G [W/K] per contact to g_pp / g_pw (the wall side held at
+     * the wall's temperature) INSTEAD of adding conduction power to `heat`.
+     */
+    double *g_pp;
+    double *g_pw;
+    const sinter_state_view *view; /* for host callbacks */
+} sinter_heat_eval;
+
+typedef struct sinter_heat_ops {
+    const char *name;
+    int conduction; /* 1: linear in temperatures through contact conductances (eval honours g_pp) */
+    const char *keys[SINTER_HEAT_MAX_PARAMS]; /* parameters, NULL-terminated */
+    double defaults[SINTER_HEAT_MAX_PARAMS];
+    sinter_status (*eval)(const sinter_heat_model *hm, sinter_heat_eval *e);
+} sinter_heat_ops;
+
+struct sinter_heat_model {
+    sinter_ctx *ctx;
+    const sinter_heat_ops *ops;
+    char name[64];
+    double param[SINTER_HEAT_MAX_PARAMS];
+    size_t schedule_count[SINTER_HEAT_MAX_PARAMS]; /* 0: constant */
+    double *schedule_t[SINTER_HEAT_MAX_PARAMS];
+    double *schedule_v[SINTER_HEAT_MAX_PARAMS];
+    sinter_heat_callbacks host;
+    void *user;
+    sinter_heat_ops host_ops;
+};
+
+/* Value of parameter k at time t (its schedule if it has one). */
+double sinter_heat_param(const sinter_heat_model *hm, int k, double t);
+
+/* Built-in models, one file each. */
+extern const sinter_heat_ops sinter_heat_conduction;
+extern const sinter_heat_ops sinter_heat_convection;
+extern const sinter_heat_ops sinter_heat_radiation;
+extern const sinter_heat_ops sinter_heat_nozzle;
+extern const sinter_heat_ops sinter_heat_laser;
+
+/* Host model evaluation (host.c). */
+sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e);
+
+/* Piecewise-linear interpolation through (t[k], v[k]), held constant outside. */
+double sinter_interpolate(size_t n, const double *t, const double *v, double x);
+
+#endif

@@ -1,0 +1,40 @@
+/* Host heat submodels: one batched callback per evaluation. */
+#include <string.h>
+
+#include "heat_model.h"
+
+static void batch_of(const sinter_contact_list *c, int kind, sinter_contact_batch *b)
+{
+    memset(b, 0, sizeof(*b));
+    b->count = c->count;
+    b->kind = kind;
+    b->i = c->i;
+    b->j = c->j;
+    b->normal = c->n;
+    b->overlap = c->delta;
+    b->distance = c->dist;
+    b->contact_radius = c->a;
+    b->area = c->area;
+    b->branch = c->branch;
+}
+
+sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
+{
+    const size_t n = e->ps->count;
+    double *q = sinter_calloc(e->ctx, n + 1, sizeof(double));
+    if (q == NULL)
+        return SINTER_ERR_NOMEM;
+    sinter_contact_batch pp, pw;
+    batch_of(e->pp, SINTER_CONTACT_PARTICLE, &pp);
+    batch_of(e->pw, SINTER_CONTACT_WALL, &pw);
+    const int rc = hm->host.power(e->view, &pp, &pw, q, hm->user);
+    sinter_status st = SINTER_OK;
+    if (rc != 0)
+        st = sinter_fail(e->ctx, SINTER_ERR_CALLBACK,
+                         "host heat model '%s' returned %d at t = %g s", hm->name, rc, e->time);
+    else
+        for (size_t i = 0; i < n; ++i)
+            e->heat[i] += q[i];
+    sinter_free(e->ctx, q);
+    return st;
+}

@@ -1,0 +1,198 @@
+/* Heat models: creation by name, parameters and their schedules, host callbacks. */
+#include <math.h>
+#include <string.h>
+
+#include "heat_model.h"
+
+static const sinter_heat_ops *const BUILTIN[] = {
+    &sinter_heat_conduction, &sinter_heat_convection, &sinter_heat_radiation,
+    &sinter_heat_nozzle,     &sinter_heat_laser,
+};
+
+double sinter_interpolate(size_t n, const double *t, const double *v, double x)
+{
+    if (x <= t[0])
+        return v[0];
+    if (x >= t[n - 1])
+        return v[n - 1];
+    size_t lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        const size_t mid = (lo + hi) / 2;
+        if (t[mid] <= x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return v[lo] + (v[hi] - v[lo]) * (x - t[lo]) / (t[hi] - t[lo]);
+}
+
+double sinter_heat_param(const sinter_heat_model *hm, int k, double t)
+{
+    if (hm->schedule_count[k] == 0)
+        return hm->param[k];
+    return sinter_interpolate(hm->schedule_count[k], hm->schedule_t[k], hm->schedule_v[k], t);
+}
+
+sinter_status sinter_heat_model_create(sinter_heat_model **out, sinter_ctx *ctx, const char *name)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, out);
+    SINTER_CHECK_NULL(ctx, name);
+    const size_t n = sizeof(BUILTIN) / sizeof(BUILTIN[0]);
+    for (size_t k = 0; k < n; ++k) {
+        if (strcmp(BUILTIN[k]->name, name) != 0)
+            continue;
+        sinter_heat_model *hm = sinter_calloc(ctx, 1, sizeof(*hm));
+        if (hm == NULL)
+            return sinter_last_status(ctx);
+        hm->ctx = ctx;
+        hm->ops = BUILTIN[k];
+        strncpy(hm->name, name, sizeof(hm->name) - 1);
+        for (int p = 0; p < SINTER_HEAT_MAX_PARAMS && hm->ops->keys[p] != NULL; ++p)
+            hm->param[p] = hm->ops->defaults[p];
+        *out = hm;
+        return SINTER_OK;
+    }
+    char known[256] = "";
+    for (size_t k = 0; k < n; ++k) {
+        strncat(known, BUILTIN[k]->name, sizeof(known) - strlen(known) - 3);
+        if (k + 1 < n)
+            strncat(known, ", ", sizeof(known) - strlen(known) - 1);
+    }
+    return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
+                       "sinter_heat_model_create: no heat model is called '%s' (known: %s)", name,
+                       known);
+}
+
+sinter_status sinter_heat_model_create_host(sinter_heat_model **out, sinter_ctx *ctx,
+                                            const char *name,
+                                            const sinter_heat_callbacks *callbacks, void *user)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, out);
+    SINTER_CHECK_NULL(ctx, callbacks);
+    if (callbacks->struct_size != sizeof(sinter_heat_callbacks))
+        return sinter_fail(ctx, SINTER_ERR_STRUCT_SIZE,
+                           "sinter_heat_model_create_host: struct_size is %zu, expected %zu",
+                           callbacks->struct_size, sizeof(sinter_heat_callbacks));
+    if (callbacks->power == NULL)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "sinter_heat_model_create_host: the power callback is NULL");
+    sinter_heat_model *hm = sinter_calloc(ctx, 1, sizeof(*hm));
+    if (hm == NULL)
+        return sinter_last_status(ctx);
+    hm->ctx = ctx;
+    hm->host = *callbacks;
+    hm->user = user;
+    strncpy(hm->name, name ? name : "host", sizeof(hm->name) - 1);
+    hm->host_ops.name = hm->name;
+    hm->host_ops.conduction = 0;
+    hm->host_ops.keys[0] = NULL;
+    hm->host_ops.eval = sinter_heat_host_eval;
+    hm->ops = &hm->host_ops;
+    *out = hm;
+    return SINTER_OK;
+}
+
+void sinter_heat_model_destroy(sinter_heat_model *hm)
+{
+    if (hm == NULL)
+        return;
+    if (hm->ops == &hm->host_ops && hm->host.destroy_user != NULL)
+        hm->host.destroy_user(hm->user);
+    for (int k = 0; k < SINTER_HEAT_MAX_PARAMS; ++k) {
+        sinter_free(hm->ctx, hm->schedule_t[k]);
+        sinter_free(hm->ctx, hm->schedule_v[k]);
+    }
+    sinter_free(hm->ctx, hm);
+}
+
+const char *sinter_heat_model_name(const sinter_heat_model *hm)
+{
+    return hm == NULL ? "" : hm->name;
+}
+
+static int find_key(const sinter_heat_model *hm, const char *key)
+{
+    for (int k = 0; k < SINTER_HEAT_MAX_PARAMS && hm->ops->keys[k] != NULL; ++k)
+        if (strcmp(hm->ops->keys[k], key) == 0)
+            return k;
+    return -1;
+}
+
+static sinter_status key_index(const sinter_heat_model *hm, const char *key, int *k)
+{
+    SINTER_CHECK_NULL(hm->ctx, key);
+    *k = find_key(hm, key);
+    if (*k < 0)
+        return sinter_fail(hm->ctx, SINTER_ERR_NOT_FOUND, "heat model '%s' has no parameter '%s'",
+                           hm->name, key);
+    return SINTER_OK;
+}
+
+sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key, double value)
+{
+    if (hm == NULL)
+        return SINTER_ERR_NULL;
+    int k;
+    sinter_status st = key_index(hm, key, &k);
+    if (st != SINTER_OK)
+        return st;
+    if (!isfinite(value))
+        return sinter_fail(hm->ctx, SINTER_ERR_INVALID,
+                           "heat model '%s': parameter '%s' = %g must be finite", hm->name, key,
+                           value);
+    hm->param[k] = value;
+    return SINTER_OK;
+}
+
+sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key, double *value)
+{
+    if (hm == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(hm->ctx, value);
+    int k;
+    sinter_status st = key_index(hm, key, &k);
+    if (st == SINTER_OK)
+        *value = hm->param[k];
+    return st;
+}
+
+sinter_status sinter_heat_model_set_schedule(sinter_heat_model *hm, const char *key, size_t n,
+                                             const double *times, const double *values)
+{
+    if (hm == NULL)
+        return SINTER_ERR_NULL;
+    int k;
+    sinter_status st = key_index(hm, key, &k);
+    if (st != SINTER_OK)
+        return st;
+    SINTER_CHECK_NULL(hm->ctx, times);
+    SINTER_CHECK_NULL(hm->ctx, values);
+    if (n < 1)
+        return sinter_fail(hm->ctx, SINTER_ERR_INVALID,
+                           "sinter_heat_model_set_schedule: a schedule needs at least one point");
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(times[i]) || !isfinite(values[i]) || (i > 0 && !(times[i] > times[i - 1])))
+            return sinter_fail(hm->ctx, SINTER_ERR_INVALID,
+                               "sinter_heat_model_set_schedule: point %zu of '%s' is not finite "
+                               "or its time does not increase",
+                               i, key);
+    double *t = sinter_calloc(hm->ctx, n, sizeof(double));
+    double *v = sinter_calloc(hm->ctx, n, sizeof(double));
+    if (t == NULL || v == NULL) {
+        sinter_free(hm->ctx, t);
+        sinter_free(hm->ctx, v);
+        return SINTER_ERR_NOMEM;
+    }
+    memcpy(t, times, n * sizeof(double));
+    memcpy(v, values, n * sizeof(double));
+    sinter_free(hm->ctx, hm->schedule_t[k]);
+    sinter_free(hm->ctx, hm->schedule_v[k]);
+    hm->schedule_t[k] = t;
+    hm->schedule_v[k] = v;
+    hm->schedule_count[k] = n;
+    return SINTER_OK;
+}

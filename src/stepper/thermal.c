@@ -1,0 +1,361 @@
+/* Heat in the stepper: evaluation, explicit and implicit update, softening. */
+#include <math.h>
+#include <string.h>
+
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_pcg.h>
+
+#include "stepper.h"
+
+struct sinter_thermal_solver {
+    SUNContext sunctx;
+    SUNLinearSolver pcg;
+    N_Vector x, b;
+    size_t n;
+    /* operator data for one solve */
+    const sinter_stepper *st;
+    const double *diag;
+    double *diag_storage;
+    size_t diag_capacity;
+};
+
+static sinter_status grow(sinter_ctx *ctx, double **p, size_t *cap, size_t need)
+{
+    if (need <= *cap)
+        return SINTER_OK;
+    size_t c = *cap ? *cap : 64;
+    while (c < need)
+        c *= 2;
+    double *q = sinter_realloc_array(ctx, *p, c, sizeof(double));
+    if (q == NULL)
+        return sinter_last_status(ctx);
+    *p = q;
+    *cap = c;
+    return SINTER_OK;
+}
+
+static void solver_free(sinter_ctx *ctx, sinter_thermal_solver *s)
+{
+    if (s == NULL)
+        return;
+    if (s->pcg)
+        SUNLinSolFree(s->pcg);
+    if (s->x)
+        N_VDestroy(s->x);
+    if (s->b)
+        N_VDestroy(s->b);
+    if (s->sunctx)
+        SUNContext_Free(&s->sunctx);
+    sinter_free(ctx, s->diag_storage);
+    sinter_free(ctx, s);
+}
+
+void sinter_thermal_free(sinter_ctx *ctx, sinter_thermal *th)
+{
+    sinter_free(ctx, th->slots);
+    sinter_free(ctx, th->g_pp);
+    sinter_free(ctx, th->g_pw);
+    sinter_free(ctx, th->modulus_scale);
+    sinter_free(ctx, th->theta_backup);
+    solver_free(ctx, th->solver);
+    memset(th, 0, sizeof(*th));
+}
+
+/* ---- softening ------------------------------------------------------------ */
+
+/* E(theta)/E_0 for one material (seed 000 sec. 7; seed 003 eq. 42). */
+static double softening_factor(const sinter_material *m, double theta)
+{
+    const double *v = m->value;
+    const double floor = v[SINTER_MAT_SOFTENING_FLOOR], ts = v[SINTER_MAT_SOFTENING_TEMPERATURE];
+    double s = 1.0;
+    switch ((int)v[SINTER_MAT_SOFTENING_LAW]) {
+    case 1: /* K = max(K_0 (1 - theta/theta*), K_lim) */
+        s = 1.0 - theta / ts;
+        break;
+    case 2: /* E = min(E_0, E_0 exp(c (1 - theta/theta*))) */
+        s = fmin(1.0, exp(v[SINTER_MAT_SOFTENING_RATE] * (1.0 - theta / ts)));
+        break;
+    default:
+        return 1.0;
+    }
+    return fmax(s, floor);
+}
+
+sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
+{
+    const sinter_particles *ps = st->ps;
+    int any = 0;
+    for (int m = 0; m < SINTER_MAX_MATERIALS && !any; ++m)
+        any = ps->material_used[m] && ps->materials[m].value[SINTER_MAT_SOFTENING_LAW] != 0.0;
+    st->thermal.softening = any;
+    *scale = NULL;
+    if (!any)
+        return SINTER_OK;
+    sinter_thermal *th = &st->thermal;
+    sinter_status s = grow(st->ctx, &th->modulus_scale, &th->scale_capacity, ps->count + 1);
+    if (s != SINTER_OK)
+        return s;
+    for (size_t i = 0; i < ps->count; ++i)
+        th->modulus_scale[i] =
+            softening_factor(&ps->materials[ps->material[i]], ps->temperature[i]);
+    *scale = th->modulus_scale;
+    return SINTER_OK;
+}
+
+/* ---- evaluation ----------------------------------------------------------- */
+
+sinter_status sinter_thermal_eval(sinter_stepper *st)
+{
+    sinter_thermal *th = &st->thermal;
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    memset(ps->heat, 0, n * sizeof(double));
+    if (th->count == 0)
+        return SINTER_OK;
+    sinter_heat_eval e;
+    memset(&e, 0, sizeof(e));
+    e.ctx = st->ctx;
+    e.ps = ps;
+    e.walls = st->walls;
+    e.pp = &st->pp;
+    e.pw = &st->pw;
+    e.time = st->time;
+    e.heat = ps->heat;
+    e.view = &st->view;
+    if (th->scheme == SINTER_THERMAL_IMPLICIT) {
+        sinter_status s = grow(st->ctx, &th->g_pp, &th->g_pp_capacity, st->pp.count + 1);
+        if (s == SINTER_OK)
+            s = grow(st->ctx, &th->g_pw, &th->g_pw_capacity, st->pw.count + 1);
+        if (s != SINTER_OK)
+            return s;
+        memset(th->g_pp, 0, st->pp.count * sizeof(double));
+        memset(th->g_pw, 0, st->pw.count * sizeof(double));
+        e.g_pp = th->g_pp;
+        e.g_pw = th->g_pw;
+    }
+    double before = 0.0;
+    for (size_t k = 0; k < th->count; ++k) {
+        sinter_heat_slot *slot = &th->slots[k];
+        sinter_status s = slot->model->ops->eval(slot->model, &e);
+        if (s != SINTER_OK)
+            return s;
+        double after = 0.0;
+        for (size_t i = 0; i < n; ++i)
+            after += ps->heat[i];
+        slot->power = after - before;
+        before = after;
+    }
+    return SINTER_OK;
+}
+
+/* ---- update --------------------------------------------------------------- */
+
+static sinter_status backup(sinter_stepper *st)
+{
+    sinter_thermal *th = &st->thermal;
+    const size_t n = st->ps->count;
+    sinter_status s = grow(st->ctx, &th->theta_backup, &th->backup_capacity, n + 1);
+    if (s == SINTER_OK)
+        memcpy(th->theta_backup, st->ps->temperature, n * sizeof(double));
+    return s;
+}
+
+void sinter_thermal_rollback(sinter_stepper *st)
+{
+    if (st->thermal.count == 0)
+        return;
+    memcpy(st->ps->temperature, st->thermal.theta_backup, st->ps->count * sizeof(double));
+    /* energies: the rejected step's contribution is taken back */
+    for (size_t k = 0; k < st->thermal.count; ++k) {
+        st->thermal.slots[k].energy -= st->thermal.slots[k].applied;
+        st->thermal.slots[k].applied = 0.0;
+    }
+}
+
+static int fixed(const sinter_particles *ps, size_t i)
+{
+    return (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE) != 0;
+}
+
+/* z = A v for backward Euler: A = diag(m C / h + sum G) - G couplings (free rows only). */
+static int apply_operator(void *data, N_Vector v, N_Vector z)
+{
+    const sinter_thermal_solver *s = data;
+    const sinter_stepper *st = s->st;
+    const sinter_particles *ps = st->ps;
+    const double *vv = N_VGetArrayPointer(v);
+    double *zz = N_VGetArrayPointer(z);
+    for (size_t i = 0; i < s->n; ++i)
+        zz[i] = s->diag[i] * vv[i];
+    const sinter_contact_list *c = &st->pp;
+    const double *g = st->thermal.g_pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        if (fixed(ps, i) || fixed(ps, j))
+            continue; /* coupling to a fixed temperature lives in the right-hand side */
+        zz[i] -= g[k] * vv[j];
+        zz[j] -= g[k] * vv[i];
+    }
+    return 0;
+}
+
+/* Jacobi preconditioner: z = r / diag. */
+static int precondition(void *data, N_Vector r, N_Vector z, realtype tol, int lr)
+{
+    (void)tol;
+    (void)lr;
+    const sinter_thermal_solver *s = data;
+    const double *rr = N_VGetArrayPointer(r);
+    double *zz = N_VGetArrayPointer(z);
+    for (size_t i = 0; i < s->n; ++i)
+        zz[i] = rr[i] / s->diag[i];
+    return 0;
+}
+
+static sinter_status ensure_solver(sinter_stepper *st, size_t n)
+{
+    sinter_thermal *th = &st->thermal;
+    if (th->solver != NULL && th->solver->n == n)
+        return SINTER_OK;
+    solver_free(st->ctx, th->solver);
+    th->solver = NULL;
+    sinter_thermal_solver *s = sinter_calloc(st->ctx, 1, sizeof(*s));
+    if (s == NULL)
+        return SINTER_ERR_NOMEM;
+    s->n = n;
+    int ok = SUNContext_Create(NULL, &s->sunctx) == 0;
+    if (ok) {
+        s->x = N_VNew_Serial((sunindextype)n, s->sunctx);
+        s->b = N_VNew_Serial((sunindextype)n, s->sunctx);
+        ok = s->x != NULL && s->b != NULL;
+    }
+    if (ok) {
+        s->pcg = SUNLinSol_PCG(s->x, SUN_PREC_LEFT, (int)(n < 1000 ? 1000 : n), s->sunctx);
+        ok = s->pcg != NULL && SUNLinSolSetATimes(s->pcg, s, apply_operator) == 0 &&
+             SUNLinSolSetPreconditioner(s->pcg, s, NULL, precondition) == 0 &&
+             SUNLinSolInitialize(s->pcg) == 0;
+    }
+    if (!ok) {
+        solver_free(st->ctx, s);
+        return sinter_fail(st->ctx, SINTER_ERR_NOMEM,
+                           "could not create the SUNDIALS PCG solver for %zu temperatures", n);
+    }
+    th->solver = s;
+    return SINTER_OK;
+}
+
+static sinter_status implicit_update(sinter_stepper *st, double h)
+{
+    sinter_particles *ps = st->ps;
+    sinter_thermal *th = &st->thermal;
+    const size_t n = ps->count;
+    sinter_status s = ensure_solver(st, n);
+    if (s != SINTER_OK)
+        return s;
+    sinter_thermal_solver *sv = th->solver;
+    s = grow(st->ctx, &sv->diag_storage, &sv->diag_capacity, n + 1);
+    if (s != SINTER_OK)
+        return s;
+    double *diag = sv->diag_storage, *b = N_VGetArrayPointer(sv->b),
+           *x = N_VGetArrayPointer(sv->x);
+    const double *theta = ps->temperature;
+    for (size_t i = 0; i < n; ++i) {
+        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        diag[i] = fixed(ps, i) ? 1.0 : mc / h;
+        b[i] = fixed(ps, i) ? theta[i] : mc / h * theta[i] + ps->heat[i];
+        x[i] = theta[i];
+    }
+    const sinter_contact_list *c = &st->pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const double g = th->g_pp[k];
+        if (!fixed(ps, i)) {
+            diag[i] += g;
+            if (fixed(ps, j))
+                b[i] += g * theta[j];
+        }
+        if (!fixed(ps, j)) {
+            diag[j] += g;
+            if (fixed(ps, i))
+                b[j] += g * theta[i];
+        }
+    }
+    c = &st->pw;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k];
+        if (fixed(ps, i))
+            continue;
+        diag[i] += th->g_pw[k];
+        b[i] += th->g_pw[k] * st->walls->wall[c->j[k]].temperature;
+    }
+    sv->st = st;
+    sv->diag = diag;
+    double bnorm = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        bnorm += b[i] * b[i];
+    const double tol = 1e-13 * sqrt(bnorm) + 1e-300;
+    const int rc = SUNLinSolSolve(sv->pcg, NULL, sv->x, sv->b, tol);
+    if (rc != SUNLS_SUCCESS)
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
+                           "(residual %g)",
+                           rc, SUNLinSolNumIters(sv->pcg), st->time, SUNLinSolResNorm(sv->pcg));
+    st->stats_thermal_iterations += (uint64_t)SUNLinSolNumIters(sv->pcg);
+    for (size_t i = 0; i < n; ++i) {
+        if (fixed(ps, i))
+            continue;
+        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        ps->heat[i] = mc * (x[i] - theta[i]) / h; /* the power actually applied */
+        ps->temperature[i] = x[i];
+    }
+    return SINTER_OK;
+}
+
+sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
+{
+    sinter_thermal *th = &st->thermal;
+    if (th->count == 0)
+        return SINTER_OK;
+    sinter_status s = backup(st);
+    if (s != SINTER_OK)
+        return s;
+    sinter_particles *ps = st->ps;
+    if (th->scheme == SINTER_THERMAL_IMPLICIT) {
+        s = implicit_update(st, h);
+        if (s != SINTER_OK)
+            return s;
+    } else {
+        /* Forward Euler, seed 003 eq. 46. */
+        size_t bad = ps->count;
+        for (size_t i = 0; i < ps->count; ++i) {
+            if (fixed(ps, i))
+                continue;
+            const double mc =
+                ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            ps->temperature[i] += h * ps->heat[i] / mc;
+            if (!(ps->temperature[i] > 0.0 && ps->temperature[i] < INFINITY) && bad == ps->count)
+                bad = i;
+        }
+        if (bad < ps->count) {
+            const double theta = ps->temperature[bad];
+            memcpy(ps->temperature, th->theta_backup, ps->count * sizeof(double));
+            double dt_stable = 0.0;
+            sinter_stepper_stable_dt_thermal(st, &dt_stable);
+            return sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,
+                               "explicit heat step at t = %g s rejected: the temperature of "
+                               "particle %zu (id %llu) would become %g K; the step %g s exceeds "
+                               "the explicit thermal limit %g s (use the implicit thermal "
+                               "scheme or a smaller step)",
+                               st->time, bad, (unsigned long long)ps->id[bad], theta, h,
+                               dt_stable);
+        }
+    }
+    for (size_t k = 0; k < th->count; ++k) {
+        th->slots[k].applied = th->slots[k].power * h;
+        th->slots[k].energy += th->slots[k].applied;
+    }
+    st->thermal_last_h = h;
+    return SINTER_OK;
+}

@@ -1,0 +1,56 @@
+/*
+ * Thermal part of a stepper: evaluation of the heat submodels, the update of
+ * temperatures (explicit: seed 003 eq. 46; implicit: backward Euler for
+ * conduction solved with SUNDIALS PCG), energy bookkeeping, and the thermal
+ * softening factors the force submodels use (seed 000 sec. 7, seed 003 eq. 42).
+ * A stepper without heat submodels never calls into here except for softening,
+ * which only runs when a material asks for it.
+ */
+#ifndef SINTER_THERMAL_H
+#define SINTER_THERMAL_H
+
+#include "heat/heat_model.h"
+
+typedef struct sinter_heat_slot {
+    sinter_heat_model *model;
+    double power;  /* total power of the last evaluation [W] */
+    double energy; /* time integral of the power applied so far [J] */
+    double applied; /* energy added by the last update, taken back on a rollback [J] */
+} sinter_heat_slot;
+
+typedef struct sinter_thermal_solver sinter_thermal_solver;
+
+typedef struct sinter_thermal {
+    sinter_heat_slot *slots;
+    size_t count;
+    size_t capacity;
+    int scheme;
+    double *g_pp; /* conductance per particle contact of the last evaluation (implicit) */
+    size_t g_pp_capacity;
+    double *g_pw;
+    size_t g_pw_capacity;
+    double *modulus_scale; /* E(theta)/E_0 per particle, when a material softens */
+    size_t scale_capacity;
+    int softening;         /* 1 if the last evaluation computed modulus_scale */
+    double *theta_backup;  /* temperatures of the last accepted state */
+    size_t backup_capacity;
+    sinter_thermal_solver *solver;
+} sinter_thermal;
+
+struct sinter_stepper;
+
+void sinter_thermal_free(sinter_ctx *ctx, sinter_thermal *th);
+
+/* Softening factors of the current temperatures; *scale is NULL when no material softens. */
+sinter_status sinter_thermal_softening(struct sinter_stepper *st, const double **scale);
+
+/* Evaluate every heat submodel into ps->heat (and conductances when implicit). */
+sinter_status sinter_thermal_eval(struct sinter_stepper *st);
+
+/* Advance temperatures over h with the powers of the last evaluation. */
+sinter_status sinter_thermal_advance(struct sinter_stepper *st, double h);
+
+/* Restore the temperatures saved by the last sinter_thermal_advance. */
+void sinter_thermal_rollback(struct sinter_stepper *st);
+
+#endif
