@@ -1,0 +1,373 @@
+/*
+ * The built-in heat laws evaluated directly (seed 003 eq. 29-41): a sinter_heat_eval is
+ * filled by hand from real contact lists and each power is compared with the formula.
+ *
+ * Tolerances: every law is a handful of floating-point operations, so the library and the
+ * hand formula differ only by rounding (a few ulp, ~1e-16 relative); 1e-12 relative leaves
+ * room for a different but equivalent arrangement of the operations (e.g. eq. 35 written as
+ * k_i k_j (r_i + r_j) / (r_i k_j + r_j k_i)) while catching any wrong factor or term.
+ */
+#include <string.h>
+
+#include "test_support.h"
+#include "contact/contacts.h"
+#include "heat/heat_model.h"
+#include "particles/particles.h"
+#include "walls/walls.h"
+
+#define OK(call) assert_int_equal((call), SINTER_OK)
+#define REL 1e-12
+#define assert_rel(a, b) assert_close((a), (b), REL * fabs(b))
+
+static const double PI = 3.14159265358979323846;
+static const double SIGMA = 5.670374419e-8;
+
+typedef struct fixture {
+    sinter_ctx *ctx;
+    sinter_particles *ps;
+    sinter_walls *walls;
+    sinter_neighbors nb;
+    sinter_contact_list pp, pw;
+    double heat[8], g_pp[8], g_pw[8];
+} fixture;
+
+/* Material 0: k 50, emissivity 0.7, absorptance 0.6; material 1: k 20, 0.3, 0.9. */
+static void open_fixture(fixture *f)
+{
+    memset(f, 0, sizeof(*f));
+    OK(sinter_ctx_create(&f->ctx, NULL));
+    const double k[2] = {50.0, 20.0}, eps[2] = {0.7, 0.3}, a[2] = {0.6, 0.9};
+    OK(sinter_particles_create(&f->ps, f->ctx));
+    OK(sinter_walls_create(&f->walls, f->ctx));
+    for (int m = 0; m < 2; ++m) {
+        sinter_material *mat;
+        OK(sinter_material_create(&mat, f->ctx, NULL));
+        OK(sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, k[m]));
+        OK(sinter_material_set(mat, SINTER_MAT_EMISSIVITY, eps[m]));
+        OK(sinter_material_set(mat, SINTER_MAT_ABSORPTANCE, a[m]));
+        OK(sinter_particles_set_material(f->ps, m, mat));
+        sinter_material_destroy(mat);
+    }
+    sinter_neighbors_init(&f->nb, f->ctx, 1e-4);
+}
+
+static void close_fixture(fixture *f)
+{
+    sinter_contact_list_free(f->ctx, &f->pp);
+    sinter_contact_list_free(f->ctx, &f->pw);
+    sinter_neighbors_free(&f->nb);
+    sinter_walls_destroy(f->walls);
+    sinter_particles_destroy(f->ps);
+    sinter_ctx_destroy(f->ctx);
+}
+
+static void add(fixture *f, double x, double y, double z, double r, int32_t mat, double theta)
+{
+    const double p[3] = {x, y, z};
+    OK(sinter_particles_add(f->ps, 1, p, &r, mat, theta, NULL));
+}
+
+static void find_contacts(fixture *f)
+{
+    OK(sinter_neighbors_build(&f->nb, f->ps, f->walls));
+    OK(sinter_contacts_find_pp(f->ctx, &f->pp, &f->nb.pp, f->ps));
+    OK(sinter_contacts_find_pw(f->ctx, &f->pw, &f->nb.pw, f->ps, f->walls));
+}
+
+/* One evaluation at time t into f->heat (zeroed first); implicit: into g_pp / g_pw. */
+static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int implicit)
+{
+    memset(f->heat, 0, sizeof(f->heat));
+    memset(f->g_pp, 0, sizeof(f->g_pp));
+    memset(f->g_pw, 0, sizeof(f->g_pw));
+    sinter_heat_eval e = {f->ctx, f->ps, f->walls, &f->pp, &f->pw, t, f->heat,
+                          implicit ? f->g_pp : NULL, implicit ? f->g_pw : NULL, NULL};
+    return hm->ops->eval(hm, &e);
+}
+
+static sinter_heat_model *model(fixture *f, const char *name)
+{
+    sinter_heat_model *hm = NULL;
+    OK(sinter_heat_model_create(&hm, f->ctx, name));
+    return hm;
+}
+
+/*
+ * Sphere 0 (r1 = 1 mm, k1 = 50, 300 K) rests 0.1 mm into a 500 K floor; sphere 1
+ * (r2 = 0.6 mm, k2 = 20, 400 K) overlaps it and touches nothing else.
+ */
+static void test_conduction(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r1 = 1e-3, r2 = 0.6e-3, k1 = 50.0, k2 = 20.0, tw = 500.0;
+    add(&f, 0.0, 0.0, 0.9e-3, r1, 0, 300.0);
+    add(&f, 1.2e-3, 0.0, 1.5e-3, r2, 1, 400.0);
+    const double p0[3] = {0, 0, 0}, n0[3] = {0, 0, 1};
+    sinter_material *wm;
+    OK(sinter_material_create(&wm, f.ctx, NULL));
+    OK(sinter_walls_add_plane(f.walls, p0, n0, wm, NULL));
+    sinter_material_destroy(wm);
+    OK(sinter_walls_set_temperature(f.walls, 0, tw));
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    assert_int_equal(f.pw.count, 1);
+    assert_int_equal(f.pw.i[0], 0);
+
+    /* By hand: eq. 34 (L_1, A), eq. 35 (k_12), eq. 32 (Q into sphere 0). */
+    const double d = sqrt(1.2e-3 * 1.2e-3 + 0.6e-3 * 0.6e-3);
+    const double l1 = 0.5 * (d - (r2 * r2 - r1 * r1) / d);
+    const double area = PI * (r1 * r1 - l1 * l1);
+    const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2);
+    const double g = k12 * area / d, q = g * (400.0 - 300.0);
+    const double s = 0.9e-3, gw = k1 * PI * (r1 * r1 - s * s) / s, qw = gw * (tw - 300.0);
+    print_message("conduction eq. 34: G = %.12g W/K, Q = %.12g W; wall G = %.12g, Q = %.12g W\n",
+                  g, q, gw, qw);
+
+    sinter_heat_model *hm = model(&f, "conduction");
+    double v;
+    OK(sinter_heat_model_get(hm, "area", &v));
+    assert_true(v == 0.0);
+    OK(sinter_heat_model_get(hm, "walls", &v));
+    assert_true(v == 1.0);
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], q + qw);
+    assert_rel(f.heat[1], -q);
+
+    /* walls off: pure exchange, antisymmetric to the bit. */
+    OK(sinter_heat_model_set(hm, "walls", 0.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], q);
+    assert_true(f.heat[0] + f.heat[1] == 0.0);
+
+    /* Implicit: conductances only, nothing into heat. */
+    OK(sinter_heat_model_set(hm, "walls", 1.0));
+    OK(eval(&f, hm, 0.0, 1));
+    assert_rel(f.g_pp[0], g);
+    assert_rel(f.g_pw[0], gw);
+    assert_true(f.heat[0] == 0.0 && f.heat[1] == 0.0);
+
+    /* area = 1: LIGGGHTS projection, 4 k1 k2 / (k1 + k2) sqrt(pi max(r)^2); wall 2 sqrt(pi) k r. */
+    OK(sinter_heat_model_set(hm, "area", 1.0));
+    const double gl = 4.0 * k1 * k2 / (k1 + k2) * sqrt(PI * r1 * r1);
+    const double glw = 4.0 * k1 * k1 / (k1 + k1) * sqrt(PI * r1 * r1);
+    print_message("conduction projection: G = %.12g W/K, wall G = %.12g W/K\n", gl, glw);
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], gl * 100.0 + glw * (tw - 300.0));
+    assert_rel(f.heat[1], -gl * 100.0);
+    OK(eval(&f, hm, 0.0, 1));
+    assert_rel(f.g_pp[0], gl);
+    assert_rel(f.g_pw[0], glw);
+    OK(sinter_heat_model_set(hm, "walls", 0.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_true(f.heat[0] + f.heat[1] == 0.0);
+
+    /* Any other area mode is refused at evaluation. */
+    OK(sinter_heat_model_set(hm, "area", 2.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/* Two spheres (1 mm and 0.5 mm) at 400 K in air at 293.15 K. */
+static void test_convection(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r[2] = {1e-3, 0.5e-3}, te = 293.15, ke = 0.026;
+    add(&f, 0.0, 0.0, 0.0, r[0], 0, 400.0);
+    add(&f, 1e-2, 0.0, 0.0, r[1], 1, 400.0);
+    sinter_heat_model *hm = model(&f, "convection");
+    const char *keys[] = {"temperature", "h", "fluid_conductivity", "fluid_viscosity",
+                          "fluid_heat_capacity", "fluid_density", "fluid_speed"};
+    const double defaults[] = {293.15, 0.0, 0.026, 1.8e-5, 1005.0, 1.2, 0.0};
+    for (int k = 0; k < 7; ++k) {
+        double v;
+        OK(sinter_heat_model_get(hm, keys[k], &v));
+        assert_true(v == defaults[k]);
+        assert_string_equal(hm->ops->keys[k], keys[k]);
+    }
+    /* Stagnant: Nu = 2, h = k_E / r (eq. 38-39), Q = h (theta_E - theta) 4 pi r^2 (eq. 37). */
+    OK(eval(&f, hm, 0.0, 0));
+    for (int i = 0; i < 2; ++i)
+        assert_rel(f.heat[i], ke / r[i] * (te - 400.0) * 4.0 * PI * r[i] * r[i]);
+
+    /* 2 m/s: Re = 266.67 / 133.33, Pr = 0.69577, Whitaker Nu = 9.79982 / 7.34944 (eq. 39-40). */
+    OK(sinter_heat_model_set(hm, "fluid_speed", 2.0));
+    OK(eval(&f, hm, 0.0, 0));
+    const double pr = 1005.0 * 1.8e-5 / ke;
+    for (int i = 0; i < 2; ++i) {
+        const double re = 1.2 * 2.0 * 2.0 * r[i] / 1.8e-5;
+        const double nu = 2.0 + (0.4 * sqrt(re) + 0.06 * pow(re, 2.0 / 3.0)) * pow(pr, 0.4);
+        assert_rel(f.heat[i], nu * ke / (2.0 * r[i]) * (te - 400.0) * 4.0 * PI * r[i] * r[i]);
+    }
+    /* The same values computed independently (Python, double precision). */
+    assert_close(f.heat[0], -0.17105900169212637, 1e-12 * 0.171);
+    assert_close(f.heat[1], -0.06414338787101277, 1e-12 * 0.0641);
+
+    /* "h" > 0 overrides the correlation; the fluid temperature may follow a schedule. */
+    OK(sinter_heat_model_set(hm, "h", 25.0));
+    const double times[2] = {0.0, 1.0}, temps[2] = {300.0, 500.0};
+    OK(sinter_heat_model_set_schedule(hm, "temperature", 2, times, temps));
+    OK(eval(&f, hm, 0.5, 0));
+    for (int i = 0; i < 2; ++i)
+        assert_true(f.heat[i] == 0.0); /* theta_E(0.5) = 400 K = theta */
+    OK(eval(&f, hm, 1.0, 0));
+    for (int i = 0; i < 2; ++i)
+        assert_rel(f.heat[i], 25.0 * (500.0 - 400.0) * 4.0 * PI * r[i] * r[i]);
+
+    /* The correlation refuses a zero viscosity (it divides by it). */
+    OK(sinter_heat_model_set(hm, "h", 0.0));
+    OK(sinter_heat_model_set(hm, "fluid_viscosity", 0.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/* Eq. 41 for two materials (emissivity 0.7 and 0.3), hot and cold against 300 K. */
+static void test_radiation(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    add(&f, 0.0, 0.0, 0.0, 1e-3, 0, 1000.0);
+    add(&f, 1e-2, 0.0, 0.0, 0.5e-3, 1, 250.0);
+    sinter_heat_model *hm = model(&f, "radiation");
+    double v;
+    OK(sinter_heat_model_get(hm, "temperature", &v));
+    assert_true(v == 293.15);
+    OK(sinter_heat_model_set(hm, "temperature", 300.0));
+    OK(eval(&f, hm, 0.0, 0));
+    const double q0 = 0.7 * SIGMA * 4.0 * PI * 1e-6 * (pow(300.0, 4) - pow(1000.0, 4));
+    const double q1 = 0.3 * SIGMA * 4.0 * PI * 0.25e-6 * (pow(300.0, 4) - pow(250.0, 4));
+    print_message("radiation: Q = %.12g W, %.12g W\n", q0, q1);
+    assert_rel(f.heat[0], q0); /* -0.4948 W */
+    assert_rel(f.heat[1], q1);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * A column of three r = 0.5 mm spheres on the z axis (tops at 1, 2, 3 mm; material 0,
+ * absorptance 0.6) and one sphere of material 1 (absorptance 0.9) at x = 3 mm whose top is
+ * higher (5.5 mm) but outside a 1 mm beam on the axis.
+ */
+static void beam_bed(fixture *f)
+{
+    for (int k = 0; k < 3; ++k)
+        add(f, 0.0, 0.0, 0.5e-3 + 1e-3 * k, 0.5e-3, 0, 300.0);
+    add(f, 3e-3, 0.0, 5e-3, 0.5e-3, 1, 300.0);
+}
+
+static void test_laser(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    beam_bed(&f);
+    const double r = 0.5e-3, i0 = 1e6, mu = 500.0, a0 = 0.6, a1 = 0.9;
+    sinter_heat_model *hm = model(&f, "laser");
+    OK(sinter_heat_model_set(hm, "radius", 1e-3));
+    OK(sinter_heat_model_set(hm, "intensity", i0));
+    OK(sinter_heat_model_set(hm, "attenuation", mu));
+    OK(eval(&f, hm, 0.0, 0));
+    /* Depths below the top of the lit column: z = 4r, 2r, 0 (eq. 31). */
+    for (int k = 0; k < 3; ++k)
+        assert_rel(f.heat[k], a0 * i0 * PI * r * r * exp(-mu * (4 - 2 * k) * r));
+    assert_true(f.heat[3] == 0.0);
+    print_message("laser: Q = %.12g, %.12g, %.12g W (z = 4r, 2r, 0)\n", f.heat[0], f.heat[1],
+                  f.heat[2]);
+
+    /* A scheduled "x" moves the beam: at t = 1 it is over sphere 3 only (depth 0). */
+    const double times[2] = {0.0, 1.0}, xs[2] = {0.0, 3e-3};
+    OK(sinter_heat_model_set_schedule(hm, "x", 2, times, xs));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[2], a0 * i0 * PI * r * r);
+    OK(eval(&f, hm, 1.0, 0));
+    for (int k = 0; k < 3; ++k)
+        assert_true(f.heat[k] == 0.0);
+    assert_rel(f.heat[3], a1 * i0 * PI * r * r);
+    /* Half way (x = 1.5 mm) nothing is within 1 mm of the axis. */
+    OK(eval(&f, hm, 0.5, 0));
+    for (int k = 0; k < 4; ++k)
+        assert_true(f.heat[k] == 0.0);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+static void test_nozzle(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    beam_bed(&f);
+    const double r = 0.5e-3, i0 = 2e5, a0 = 0.6;
+    sinter_heat_model *hm = model(&f, "nozzle");
+    OK(sinter_heat_model_set(hm, "radius", 1e-3));
+    OK(sinter_heat_model_set(hm, "intensity", i0));
+    /* d_max = 1.5 mm: z = 0 -> 1, z = 1 mm -> 1/3, z = 2 mm > d_max -> 0 (eq. 30). */
+    OK(sinter_heat_model_set(hm, "depth", 1.5e-3));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[2], a0 * i0 * PI * r * r);
+    assert_rel(f.heat[1], a0 * i0 * PI * r * r * (1.0 - 1e-3 / 1.5e-3));
+    assert_true(f.heat[0] == 0.0);
+    assert_true(f.heat[3] == 0.0);
+    /* d_max = 3 mm: linear in depth, 1, 2/3, 1/3. */
+    OK(sinter_heat_model_set(hm, "depth", 3e-3));
+    OK(eval(&f, hm, 0.0, 0));
+    for (int k = 0; k < 3; ++k)
+        assert_rel(f.heat[k], a0 * i0 * PI * r * r * (1.0 - (2 - k) * 1e-3 / 3e-3));
+    /* A non-positive reach is refused. */
+    OK(sinter_heat_model_set(hm, "depth", 0.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+static void test_names_and_schedules(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx;
+    OK(sinter_ctx_create(&ctx, NULL));
+    sinter_heat_model *hm = NULL;
+    assert_int_equal(sinter_heat_model_create(&hm, ctx, "conductoin"), SINTER_ERR_NOT_FOUND);
+    assert_null(hm);
+    const char *msg = sinter_last_error(ctx);
+    assert_non_null(strstr(msg, "conductoin"));
+    assert_non_null(strstr(msg, "conduction, convection, radiation, nozzle, laser"));
+    const char *names[] = {"conduction", "convection", "radiation", "nozzle", "laser"};
+    for (int k = 0; k < 5; ++k) {
+        OK(sinter_heat_model_create(&hm, ctx, names[k]));
+        assert_string_equal(sinter_heat_model_name(hm), names[k]);
+        assert_int_equal(hm->ops->conduction, k == 0);
+        sinter_heat_model_destroy(hm);
+    }
+    OK(sinter_heat_model_create(&hm, ctx, "laser"));
+    const double t_ok[2] = {0.0, 1.0}, t_bad[2] = {1.0, 1.0}, v[2] = {0.0, 1.0};
+    const double v_nan[2] = {0.0, NAN};
+    assert_int_equal(sinter_heat_model_set_schedule(hm, "x", 0, t_ok, v), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_heat_model_set_schedule(hm, "x", 2, t_bad, v), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_heat_model_set_schedule(hm, "x", 2, t_ok, v_nan), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_heat_model_set_schedule(hm, "depth", 2, t_ok, v),
+                     SINTER_ERR_NOT_FOUND); /* a nozzle key, not a laser one */
+    assert_int_equal(sinter_heat_model_set_schedule(hm, "x", 2, NULL, v), SINTER_ERR_NULL);
+    assert_int_equal(sinter_heat_model_set(hm, "intensity", INFINITY), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set_schedule(hm, "intensity", 2, t_ok, v));
+    assert_close(sinter_heat_param(hm, 3, 0.25), 0.25, 1e-15);
+    assert_close(sinter_heat_param(hm, 3, -1.0), 0.0, 0.0); /* held outside */
+    assert_close(sinter_heat_param(hm, 3, 7.0), 1.0, 0.0);
+    sinter_heat_model_destroy(hm);
+    sinter_ctx_destroy(ctx);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_conduction), cmocka_unit_test(test_convection),
+        cmocka_unit_test(test_radiation),  cmocka_unit_test(test_laser),
+        cmocka_unit_test(test_nozzle),     cmocka_unit_test(test_names_and_schedules),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
