@@ -563,8 +563,9 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    with (r_i + r_j)/k_ij = r_i/k_i + r_j/k_j (seed 003 eq. 32-35, seed 000
  *    eq. 33-34); particle-wall contacts conduct to the wall's temperature with
  *    the particle's own conductivity over the centre-to-plane distance.
- *    "area" = 0: contact area of eq. 34; 1: projected area pi r*^2 of the
- *    smaller sphere (LIGGGHTS' "projection"). "walls" = 1/0.
+ *    "area" = 0: contact area of eq. 34; 1: LIGGGHTS' "projection",
+ *    conductance 4 k_i k_j/(k_i + k_j) sqrt(pi r_max^2) (walls: the particle's
+ *    own k and radius). "walls" = 1/0.
  *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
  *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
@@ -577,7 +578,9 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *  - "laser": Q = a I0 pi r^2 exp(-mu z) (eq. 31).
  *    Both: a beam along -z through ("x", "y") [m] of radius "radius" [m],
  *    intensity "intensity" I0 [W/m^2]; "depth" d_max [m] (nozzle) or
- *    "attenuation" mu [1/m] (laser). z is the depth of a particle's top below
+ *    "attenuation" mu [1/m] (laser); defaults: axis x = y = 0, radius 5 mm,
+ *    intensity 0 (off), depth 1 mm, attenuation 1000 1/m. z is the depth of a
+ *    particle's top below
  *    the highest particle top inside the beam. "x", "y" and "intensity" may
  *    follow schedules (sinter_heat_model_set_schedule).
  * Host models come from sinter_heat_model_create_host (sinter_submodel.h).

@@ -46,8 +46,8 @@ static inline void deposit(const sinter_particles *ps, double *heat, double bx, 
     for (size_t i = 0; i < ps->count; ++i) {
         if (!lit(x, i, bx, by, rb2))
             continue;
-        const double z = top - (x[3 * i + 2] + r[i]); /* depth along the beam, >= 0 */
-        const double f = laser ? exp(-reach * z)      /* eq. 31 */
+        const double z = top - (x[3 * i + 2] + r[i]);        /* depth along the beam, >= 0 */
+        const double f = laser ? exp(-reach * z)             /* eq. 31 */
                                : fmax(1.0 - z * inv_d, 0.0); /* eq. 30, 0 beyond d_max */
         heat[i] += sinter_particle_param(ps, i, SINTER_MAT_ABSORPTANCE) * c * r[i] * r[i] * f;
     }
@@ -62,8 +62,7 @@ static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e,
     if (!(rb >= 0.0) || (laser ? !(reach >= 0.0) : !(reach > 0.0)))
         return sinter_fail(e->ctx, SINTER_ERR_INVALID,
                            "heat model '%s' at t = %g s: needs radius >= 0 (is %g) and %s (is %g)",
-                           hm->name, e->time, rb, laser ? "attenuation >= 0" : "depth > 0",
-                           reach);
+                           hm->name, e->time, rb, laser ? "attenuation >= 0" : "depth > 0", reach);
     const sinter_particles *ps = e->ps;
     const double *x = ps->x, *r = ps->radius, rb2 = rb * rb;
     /* Pass 1: the bed's top surface under the beam. */

@@ -42,16 +42,15 @@ static inline double conductance_pp(int projection, double ki, double kj, double
         const double ks = ki + kj; /* LIGGGHTS: 4 k_i k_j / (k_i + k_j) sqrt(pi) r_max */
         return ks > 0.0 ? 4.0 * ki * kj / ks * SQRT_PI * fmax(ri, rj) : 0.0;
     }
-    const double den = ri * kj + rj * ki; /* eq. 35 */
+    const double den = ri * kj + rj * ki;                             /* eq. 35 */
     return den > 0.0 ? ki * kj * (ri + rj) / den * area / dist : 0.0; /* eq. 32, 34 */
 }
 
 /* Conductance of one particle-wall contact (particle's own conductivity). */
-static inline double conductance_pw(int projection, double ki, double ri, double area,
-                                    double dist)
+static inline double conductance_pw(int projection, double ki, double ri, double area, double dist)
 {
     if (projection)
-        return 2.0 * SQRT_PI * ki * ri; /* LIGGGHTS wall with k_w = k_i */
+        return 2.0 * SQRT_PI * ki * ri;         /* LIGGGHTS wall with k_w = k_i */
     return dist > 0.0 ? ki * area / dist : 0.0; /* eq. 32 with k_iw = k_i */
 }
 
@@ -64,8 +63,8 @@ static inline void loop_pp(const sinter_heat_eval *e, int projection, int implic
         const uint32_t i = c->i[k], j = c->j[k];
         const double g = conductance_pp(
             projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
-            sinter_particle_param(ps, j, SINTER_MAT_THERMAL_CONDUCTIVITY), r[i], r[j],
-            c->area[k], c->dist[k]);
+            sinter_particle_param(ps, j, SINTER_MAT_THERMAL_CONDUCTIVITY), r[i], r[j], c->area[k],
+            c->dist[k]);
         if (implicit) {
             e->g_pp[k] += g;
         } else {
@@ -83,9 +82,9 @@ static inline void loop_pw(const sinter_heat_eval *e, int projection, int implic
     const double *r = ps->radius, *theta = ps->temperature;
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k];
-        const double g =
-            conductance_pw(projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
-                           r[i], c->area[k], c->dist[k]);
+        const double g = conductance_pw(
+            projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY), r[i],
+            c->area[k], c->dist[k]);
         if (implicit)
             e->g_pw[k] += g;
         else

@@ -34,11 +34,12 @@ static sinter_status convection_eval(const sinter_heat_model *hm, sinter_heat_ev
         return SINTER_OK;
     }
     if (!(k_e > 0.0 && mu_e > 0.0 && p[P_C] >= 0.0 && p[P_RHO] >= 0.0 && p[P_SPEED] >= 0.0))
-        return sinter_fail(e->ctx, SINTER_ERR_INVALID,
-                           "heat model '%s': the Whitaker correlation needs fluid_conductivity > 0, "
-                           "fluid_viscosity > 0 and fluid_heat_capacity, fluid_density, "
-                           "fluid_speed >= 0 (or set 'h' > 0)",
-                           hm->name);
+        return sinter_fail(
+            e->ctx, SINTER_ERR_INVALID,
+            "heat model '%s': the Whitaker correlation needs fluid_conductivity > 0, "
+            "fluid_viscosity > 0 and fluid_heat_capacity, fluid_density, "
+            "fluid_speed >= 0 (or set 'h' > 0)",
+            hm->name);
     if (p[P_SPEED] == 0.0) {
         /* Stagnant: Nu = 2, h = Nu k_E / (2 r) (eq. 38-39), so h A_s = 4 pi k_E r. */
         const double c = 4.0 * PI * k_e;
@@ -46,21 +47,21 @@ static sinter_status convection_eval(const sinter_heat_model *hm, sinter_heat_ev
             heat[i] += c * r[i] * (theta_e - theta[i]);
         return SINTER_OK;
     }
-    const double pr04 = pow(p[P_C] * mu_e / k_e, 0.4); /* eq. 40 */
-    const double re_per_d = p[P_RHO] * p[P_SPEED] / mu_e;  /* Re / (2 r) */
+    const double pr04 = pow(p[P_C] * mu_e / k_e, 0.4);    /* eq. 40 */
+    const double re_per_d = p[P_RHO] * p[P_SPEED] / mu_e; /* Re / (2 r) */
     for (size_t i = 0; i < n; ++i) {
         const double re = re_per_d * 2.0 * r[i];
         const double nu = 2.0 + (0.4 * sqrt(re) + 0.06 * cbrt(re * re)) * pr04; /* eq. 39 */
-        const double h = nu * k_e / (2.0 * r[i]);                             /* eq. 38 */
+        const double h = nu * k_e / (2.0 * r[i]);                               /* eq. 38 */
         heat[i] += h * 4.0 * PI * r[i] * r[i] * (theta_e - theta[i]);           /* eq. 37 */
     }
     return SINTER_OK;
 }
 
-const sinter_heat_ops sinter_heat_convection = {
-    "convection",
-    0,
-    {"temperature", "h", "fluid_conductivity", "fluid_viscosity", "fluid_heat_capacity",
-     "fluid_density", "fluid_speed", NULL},
-    {293.15, 0.0, 0.026, 1.8e-5, 1005.0, 1.2, 0.0},
-    convection_eval};
+const sinter_heat_ops sinter_heat_convection = {"convection",
+                                                0,
+                                                {"temperature", "h", "fluid_conductivity",
+                                                 "fluid_viscosity", "fluid_heat_capacity",
+                                                 "fluid_density", "fluid_speed", NULL},
+                                                {293.15, 0.0, 0.026, 1.8e-5, 1005.0, 1.2, 0.0},
+                                                convection_eval};

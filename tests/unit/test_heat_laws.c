@@ -17,7 +17,7 @@
 
 #define OK(call) assert_int_equal((call), SINTER_OK)
 #define REL 1e-12
-#define assert_rel(a, b) assert_close((a), (b), REL * fabs(b))
+#define assert_rel(a, b) assert_close((a), (b), REL *fabs(b))
 
 static const double PI = 3.14159265358979323846;
 static const double SIGMA = 5.670374419e-8;
@@ -80,8 +80,16 @@ static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int
     memset(f->heat, 0, sizeof(f->heat));
     memset(f->g_pp, 0, sizeof(f->g_pp));
     memset(f->g_pw, 0, sizeof(f->g_pw));
-    sinter_heat_eval e = {f->ctx, f->ps, f->walls, &f->pp, &f->pw, t, f->heat,
-                          implicit ? f->g_pp : NULL, implicit ? f->g_pw : NULL, NULL};
+    sinter_heat_eval e = {f->ctx,
+                          f->ps,
+                          f->walls,
+                          &f->pp,
+                          &f->pw,
+                          t,
+                          f->heat,
+                          implicit ? f->g_pp : NULL,
+                          implicit ? f->g_pw : NULL,
+                          NULL};
     return hm->ops->eval(hm, &e);
 }
 
@@ -122,8 +130,8 @@ static void test_conduction(void **state)
     const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2);
     const double g = k12 * area / d, q = g * (400.0 - 300.0);
     const double s = 0.9e-3, gw = k1 * PI * (r1 * r1 - s * s) / s, qw = gw * (tw - 300.0);
-    print_message("conduction eq. 34: G = %.12g W/K, Q = %.12g W; wall G = %.12g, Q = %.12g W\n",
-                  g, q, gw, qw);
+    print_message("conduction eq. 34: G = %.12g W/K, Q = %.12g W; wall G = %.12g, Q = %.12g W\n", g,
+                  q, gw, qw);
 
     sinter_heat_model *hm = model(&f, "conduction");
     double v;
@@ -180,8 +188,10 @@ static void test_convection(void **state)
     add(&f, 0.0, 0.0, 0.0, r[0], 0, 400.0);
     add(&f, 1e-2, 0.0, 0.0, r[1], 1, 400.0);
     sinter_heat_model *hm = model(&f, "convection");
-    const char *keys[] = {"temperature", "h", "fluid_conductivity", "fluid_viscosity",
-                          "fluid_heat_capacity", "fluid_density", "fluid_speed"};
+    const char *keys[] = {"temperature",         "h",
+                          "fluid_conductivity",  "fluid_viscosity",
+                          "fluid_heat_capacity", "fluid_density",
+                          "fluid_speed"};
     const double defaults[] = {293.15, 0.0, 0.026, 1.8e-5, 1005.0, 1.2, 0.0};
     for (int k = 0; k < 7; ++k) {
         double v;
