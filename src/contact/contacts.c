@@ -6,9 +6,15 @@
 
 static const double PI = 3.14159265358979323846;
 
+void sinter_contact_radii(const sinter_contact_list *c, double *a)
+{
+    for (size_t k = 0; k < c->count; ++k)
+        a[k] = sqrt(c->area[k] / PI);
+}
+
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
-    void *arrays[] = {c->i, c->j, c->pair, c->n, c->delta, c->dist, c->a, c->area, c->branch};
+    void *arrays[] = {c->i, c->j, c->pair, c->n, c->delta, c->dist, c->area, c->branch};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -21,10 +27,10 @@ static sinter_status reserve(sinter_ctx *ctx, sinter_contact_list *c, size_t nee
     size_t cap = c->capacity ? c->capacity : 256;
     while (cap < need)
         cap *= 2;
-    void **slots[] = {(void **)&c->i, (void **)&c->j, (void **)&c->pair, (void **)&c->n,
-                      (void **)&c->delta, (void **)&c->dist, (void **)&c->a, (void **)&c->area,
-                      (void **)&c->branch};
-    const size_t elem[] = {4, 4, 4, 3 * sizeof(double), 8, 8, 8, 8, 8};
+    void **slots[] = {(void **)&c->i,     (void **)&c->j,    (void **)&c->pair,
+                      (void **)&c->n,     (void **)&c->delta, (void **)&c->dist,
+                      (void **)&c->area,  (void **)&c->branch};
+    const size_t elem[] = {4, 4, 4, 3 * sizeof(double), 8, 8, 8, 8};
     for (size_t k = 0; k < sizeof(slots) / sizeof(slots[0]); ++k) {
         void *q = sinter_realloc_array(ctx, *slots[k], cap, elem[k]);
         if (q == NULL)
@@ -54,7 +60,7 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         const double d = sqrt(d2), inv = 1.0 / d;
         /* L_i from seed 000 eq. 12; a^2 = R_i^2 - L_i^2 (eq. 7, 11). */
         const double li = 0.5 * (d - (r[j] * r[j] - r[i] * r[i]) * inv);
-        const double a2 = fmax(r[i] * r[i] - li * li, 0.0);
+        const double a2_raw = r[i] * r[i] - li * li, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
         c->i[m] = i;
         c->j[m] = j;
         c->pair[m] = (uint32_t)p;
@@ -63,8 +69,7 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         c->n[3 * m + 2] = ez * inv;
         c->delta[m] = rs - d; /* seed 000 eq. 10 */
         c->dist[m] = d;
-        c->a[m] = sqrt(a2);
-        c->area[m] = PI * a2;
+        c->area[m] = PI * a2; /* the contact radius sqrt(a2) is derived on demand */
         c->branch[m] = li;
         ++m;
     }
@@ -89,7 +94,7 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
         if (s >= r[i])
             continue;
         /* The wall is a particle of infinite radius (seed 003 remark 1): L_i = s. */
-        const double a2 = fmax(r[i] * r[i] - s * s, 0.0);
+        const double a2_raw = r[i] * r[i] - s * s, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
         c->i[m] = i;
         c->j[m] = k;
         c->pair[m] = (uint32_t)p;
@@ -98,7 +103,6 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
         c->n[3 * m + 2] = -w->n[2];
         c->delta[m] = r[i] - s;
         c->dist[m] = s;
-        c->a[m] = sqrt(a2);
         c->area[m] = PI * a2;
         c->branch[m] = s;
         ++m;

@@ -16,12 +16,14 @@ typedef struct sinter_contact_list {
     double *n;        /* unit normal from i towards j, 3 per contact */
     double *delta;    /* overlap [m] */
     double *dist;     /* centre distance or centre-plane distance [m] */
-    double *a;        /* contact radius [m] */
     double *area;     /* pi a^2 [m^2] */
     double *branch;   /* L_i: distance from the centre of i to the contact plane [m] */
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
+
+/* Contact radii a = sqrt(A / pi) [m] into a[count] (host batches report them). */
+void sinter_contact_radii(const sinter_contact_list *c, double *a);
 
 /* Particle-particle contacts among the candidate pairs. */
 sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,

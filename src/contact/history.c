@@ -29,13 +29,14 @@ static sinter_status grow(sinter_ctx *ctx, void **p, size_t *cap, size_t need, s
     return SINTER_OK;
 }
 
-sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts)
+sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts,
+                                     int zero)
 {
     if (h->width == 0)
         return SINTER_OK;
     sinter_status st = grow(ctx, (void **)&h->trial, &h->trial_capacity, h->width * contacts + 1,
                             sizeof(double));
-    if (st == SINTER_OK)
+    if (st == SINTER_OK && zero)
         memset(h->trial, 0, h->width * contacts * sizeof(double));
     return st;
 }

@@ -25,8 +25,10 @@ typedef struct sinter_history {
 
 void sinter_history_free(sinter_ctx *ctx, sinter_history *h);
 
-/* Make room for trial history of `contacts` contacts (zeroing it). */
-sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts);
+/* Make room for trial history of `contacts` contacts, zeroed if `zero` (built-in models
+ * write every entry, so they skip the zeroing; host models get zeros). */
+sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts,
+                                     int zero);
 
 /* Accept the trial history of the active contacts `c`. */
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,

@@ -33,6 +33,9 @@ typedef struct sinter_force_ops {
     const char *keys[SINTER_FORCE_MAX_PARAMS]; /* model-level parameters, NULL-terminated */
     double defaults[SINTER_FORCE_MAX_PARAMS];
     sinter_status (*eval)(const sinter_force_model *fm, sinter_force_eval *e);
+    /* optional: history width that depends on the model's parameters (read when the model
+     * is added to a stepper); NULL means history_pp / history_pw */
+    size_t (*history_width)(const sinter_force_model *fm, int wall);
 } sinter_force_ops;
 
 struct sinter_force_model {
@@ -60,11 +63,11 @@ sinter_status sinter_force_host_eval(const sinter_force_model *fm, sinter_force_
 /* History widths of a model. */
 static inline size_t sinter_force_history_pp(const sinter_force_model *fm)
 {
-    return fm->ops->history_pp;
+    return fm->ops->history_width ? fm->ops->history_width(fm, 0) : fm->ops->history_pp;
 }
 static inline size_t sinter_force_history_pw(const sinter_force_model *fm)
 {
-    return fm->ops->history_pw;
+    return fm->ops->history_width ? fm->ops->history_width(fm, 1) : fm->ops->history_pw;
 }
 
 #endif

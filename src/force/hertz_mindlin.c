@@ -14,7 +14,8 @@
  * Pair properties: E* and G* from eq. 3 and 9; friction, rolling and damping
  * coefficients of two different materials are averaged arithmetically.
  *
- * History per contact: Delta x (3 doubles), Delta theta (3 doubles).
+ * History per contact: Delta x (3 doubles), and Delta theta (3 doubles) when the
+ * model's "rolling" parameter is non-zero at the time it is added to a stepper.
  */
 #include <math.h>
 
@@ -25,17 +26,30 @@ enum { PARAM_ROLLING = 0 };
 
 /* Material data of one side of a contact. */
 typedef struct side {
-    double compliance; /* (1 - nu^2) / E  [1/Pa], scaled by softening */
-    double shear_compliance; /* 1 / G  [1/Pa] */
+    double compliance;       /* (1 - nu^2) / E  [1/Pa] */
+    double shear_compliance; /* 1 / G  [1/Pa], G = E / (2 (1 + nu)) */
     double xi, mu_s, mu_d, xi_f, mu_r, xi_r;
 } side;
+
+/* Constants of a pair of materials (eq. 3, 9 and the averaged coefficients). */
+typedef struct pair_consts {
+    double estar, gstar;
+    double sqrt_2estar, sqrt_8gstar; /* for the damping constants, eq. 6 and 11 */
+    double xi, mu_s2, mu_d, xi_f, mu_r, xi_r; /* mu_s2 = mu_s^2 (squared comparisons) */
+} pair_consts;
+
+/* Per-contact quantities that depend on the two bodies. */
+typedef struct pair_props {
+    const pair_consts *c;
+    double rstar, mstar, jstar;
+} pair_props;
 
 static void side_from_material(const sinter_material *m, double scale, side *s)
 {
     const double e = m->value[SINTER_MAT_YOUNGS_MODULUS] * scale;
     const double nu = m->value[SINTER_MAT_POISSON_RATIO];
     s->compliance = (1.0 - nu * nu) / e;
-    s->shear_compliance = 2.0 * (1.0 + nu) / e; /* G = E / (2 (1 + nu)) */
+    s->shear_compliance = 2.0 * (1.0 + nu) / e;
     s->xi = m->value[SINTER_MAT_DAMPING_RATIO];
     s->mu_s = m->value[SINTER_MAT_FRICTION_STATIC];
     s->mu_d = m->value[SINTER_MAT_FRICTION_DYNAMIC];
@@ -44,67 +58,73 @@ static void side_from_material(const sinter_material *m, double scale, side *s)
     s->xi_r = m->value[SINTER_MAT_ROLLING_DAMPING_RATIO];
 }
 
-/* The contact law for one contact. Inputs: geometry, u (relative velocity of
- * the contact points, i minus j), w_rel = w_i - w_j, pair properties.
- * Outputs: force on i, moment on i from rolling, trial history. */
-typedef struct pair_props {
-    double estar, gstar, rstar, mstar, jstar;
-    double xi, mu_s, mu_d, xi_f, mu_r, xi_r;
-} pair_props;
-
-static void mix(const side *a, const side *b, pair_props *p)
+static void mix(const side *a, const side *b, pair_consts *p)
 {
-    p->estar = 1.0 / (a->compliance + b->compliance);        /* eq. 3 */
+    p->estar = 1.0 / (a->compliance + b->compliance);             /* eq. 3 */
     p->gstar = 1.0 / (a->shear_compliance + b->shear_compliance); /* eq. 9 */
+    p->sqrt_2estar = sqrt(2.0 * p->estar);
+    p->sqrt_8gstar = sqrt(8.0 * p->gstar);
     p->xi = 0.5 * (a->xi + b->xi);
-    p->mu_s = 0.5 * (a->mu_s + b->mu_s);
+    const double mu_s = 0.5 * (a->mu_s + b->mu_s);
+    p->mu_s2 = mu_s * mu_s;
     p->mu_d = 0.5 * (a->mu_d + b->mu_d);
     p->xi_f = 0.5 * (a->xi_f + b->xi_f);
     p->mu_r = 0.5 * (a->mu_r + b->mu_r);
     p->xi_r = 0.5 * (a->xi_r + b->xi_r);
 }
 
+/*
+ * The contact law for one contact. Inputs: geometry, u (relative velocity of
+ * the contact points, i minus j), w_rel = w_i - w_j, pair properties.
+ * Outputs: force on i, rolling moment on i, trial history.
+ * Note r*^(1/4) delta^(1/4) = sqrt(sqrt(r* delta)), so eq. 6 and 11 need one root.
+ */
 static inline void contact_law(const pair_props *p, const double n[3], double delta,
                                const double u[3], const double w_rel[3], double dt,
                                const double *hist, double *trial, int rolling, double f[3],
                                double m_roll[3])
 {
-    const double sqrt_r = sqrt(p->rstar);
+    const pair_consts *c = p->c;
     const double sqrt_rd = sqrt(p->rstar * delta);
-    const double delta_q = sqrt(sqrt(delta)); /* delta^(1/4) */
+    const double rd_q = sqrt(sqrt_rd);    /* (r* delta)^(1/4) */
+    const double sqrt_m = sqrt(p->mstar);
     /* Normal: eq. 2 and 6. delta_dot = -(u_j - u_i).n = u.n with u = u_i - u_j. */
     const double un = v3_dot(u, n);
-    const double d_con = 2.0 * p->xi * sqrt(2.0 * p->estar * p->mstar * sqrt_r) * delta_q;
-    const double fn = 4.0 / 3.0 * p->estar * sqrt_rd * delta + d_con * un; /* magnitude, repulsive > 0 */
+    const double d_con = 2.0 * c->xi * c->sqrt_2estar * sqrt_m * rd_q;
+    const double fn = 4.0 / 3.0 * c->estar * sqrt_rd * delta + d_con * un; /* repulsive > 0 */
     const double fabs_n = fabs(fn);
     for (int d = 0; d < 3; ++d)
         f[d] = -fn * n[d];
 
     /* Tangential: eq. 7-13. */
     const double ut[3] = {u[0] - un * n[0], u[1] - un * n[1], u[2] - un * n[2]};
-    const double kt = 8.0 * p->gstar * sqrt_rd;
+    const double kt = 8.0 * c->gstar * sqrt_rd;
     double sx[3] = {hist[0], hist[1], hist[2]};
     /* Keep the accumulated spring in the current tangent plane (rotate, keep length). */
-    const double len0 = v3_norm(sx);
     const double sn = v3_dot(sx, n);
-    for (int d = 0; d < 3; ++d)
-        sx[d] -= sn * n[d];
-    const double len1 = v3_norm(sx);
-    if (len1 > 0.0) {
-        const double s = len0 / len1;
+    if (sn != 0.0) {
         for (int d = 0; d < 3; ++d)
-            sx[d] *= s;
+            sx[d] -= sn * n[d];
+        const double len1_2 = v3_dot(sx, sx);
+        if (len1_2 > 0.0) {
+            /* rescale by sqrt(1 + x), x = sn^2 / |sx|^2: the normal turns by ~1e-4 rad per
+             * step, so a two-term series is exact to round-off for x < 1e-4 */
+            const double x = sn * sn / len1_2;
+            const double s = x < 1e-4 ? 1.0 + x * (0.5 - 0.125 * x) : sqrt(1.0 + x);
+            for (int d = 0; d < 3; ++d)
+                sx[d] *= s;
+        }
     }
     for (int d = 0; d < 3; ++d)
         sx[d] += ut[d] * dt; /* eq. 10, 12 */
-    const double d_fric = 2.0 * p->xi_f * sqrt(8.0 * p->gstar * p->mstar * sqrt_r) * delta_q;
+    const double d_fric = 2.0 * c->xi_f * c->sqrt_8gstar * sqrt_m * rd_q;
     double ft[3];
     for (int d = 0; d < 3; ++d)
         ft[d] = -kt * sx[d] - d_fric * ut[d];
-    const double ft_len = v3_norm(ft);
-    if (ft_len > p->mu_s * fabs_n && ft_len > 0.0) {
+    const double ft2 = v3_dot(ft, ft);
+    if (ft2 > c->mu_s2 * fabs_n * fabs_n && ft2 > 0.0) {
         /* Slip (eq. 8): Coulomb force along the trial direction; spring from eq. 13. */
-        const double scale = p->mu_d * fabs_n / ft_len;
+        const double scale = c->mu_d * fabs_n / sqrt(ft2);
         for (int d = 0; d < 3; ++d) {
             ft[d] *= scale;
             sx[d] = kt > 0.0 ? -(ft[d] + d_fric * ut[d]) / kt : 0.0;
@@ -119,12 +139,11 @@ static inline void contact_law(const pair_props *p, const double n[3], double de
     if (rolling) {
         double th[3] = {hist[3] + w_rel[0] * dt, hist[4] + w_rel[1] * dt, hist[5] + w_rel[2] * dt};
         const double kr = kt * p->rstar * p->rstar;
-        const double d_rol =
-            2.0 * p->xi_r * sqrt(8.0 * p->gstar * p->jstar * sqrt_r) * p->rstar * delta_q;
+        const double d_rol = 2.0 * c->xi_r * c->sqrt_8gstar * sqrt(p->jstar) * p->rstar * rd_q;
         double mr[3];
         for (int d = 0; d < 3; ++d)
             mr[d] = -kr * th[d] - d_rol * w_rel[d];
-        const double mr_len = v3_norm(mr), limit = p->mu_r * p->rstar * fabs_n;
+        const double mr_len = v3_norm(mr), limit = c->mu_r * p->rstar * fabs_n;
         if (mr_len > limit && mr_len > 0.0) {
             const double scale = limit / mr_len;
             for (int d = 0; d < 3; ++d) {
@@ -141,32 +160,78 @@ static inline void contact_law(const pair_props *p, const double n[3], double de
     }
 }
 
-static double scale_of(const sinter_force_eval *e, size_t i)
+/*
+ * Pair constants of the materials in use, built once per evaluation. With
+ * thermal softening E depends on each particle's temperature, and the
+ * constants are mixed per contact instead.
+ */
+enum { MAX_TABLE = 8 };
+
+typedef struct constants {
+    int softening;
+    int index[SINTER_MAX_MATERIALS]; /* material id -> row of the table, or -1 */
+    int rows;
+    side sides[MAX_TABLE];
+    pair_consts table[MAX_TABLE * MAX_TABLE];
+} constants;
+
+static void build_constants(const sinter_force_eval *e, constants *k)
 {
-    return e->modulus_scale ? e->modulus_scale[i] : 1.0;
+    const sinter_particles *ps = e->ps;
+    k->softening = e->modulus_scale != NULL;
+    k->rows = 0;
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
+        k->index[m] = -1;
+        if (ps->material_used[m] && k->rows < MAX_TABLE) {
+            k->index[m] = k->rows;
+            side_from_material(&ps->materials[m], 1.0, &k->sides[k->rows]);
+            k->rows++;
+        }
+    }
+    for (int a = 0; a < k->rows; ++a)
+        for (int b = 0; b < k->rows; ++b)
+            mix(&k->sides[a], &k->sides[b], &k->table[a * MAX_TABLE + b]);
 }
 
-static sinter_status eval_pp(const sinter_force_eval *e, int rolling)
+/* Constants of particles i and j: from the table, or mixed into `scratch`. */
+static inline const pair_consts *pair_of(const constants *k, const sinter_force_eval *e, size_t i,
+                                         size_t j, pair_consts *scratch)
+{
+    const sinter_particles *ps = e->ps;
+    const int a = k->index[ps->material[i]], b = k->index[ps->material[j]];
+    if (!k->softening && a >= 0 && b >= 0)
+        return &k->table[a * MAX_TABLE + b];
+    side si, sj;
+    side_from_material(&ps->materials[ps->material[i]], k->softening ? e->modulus_scale[i] : 1.0,
+                       &si);
+    side_from_material(&ps->materials[ps->material[j]], k->softening ? e->modulus_scale[j] : 1.0,
+                       &sj);
+    mix(&si, &sj, scratch);
+    return scratch;
+}
+
+static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
-    const double *x = ps->x, *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
+    const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
                  *inertia = ps->inertia;
+    const size_t width = e->hist_pp->width;
     const double *hist = e->hist_pp->committed;
     double *trial = e->hist_pp->trial;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], j = c->j[k];
-        const double *n = c->n + 3 * k;
-        const double li = c->branch[k], lj = c->dist[k] - li;
-        side si, sj;
-        side_from_material(&ps->materials[ps->material[i]], scale_of(e, i), &si);
-        side_from_material(&ps->materials[ps->material[j]], scale_of(e, j), &sj);
+    double *force = e->force, *torque = e->torque;
+    for (size_t q = 0; q < c->count; ++q) {
+        const uint32_t i = c->i[q], j = c->j[q];
+        const double *n = c->n + 3 * q;
+        const double li = c->branch[q], lj = c->dist[q] - li;
+        pair_consts scratch;
         pair_props p;
-        mix(&si, &sj, &p);
+        p.c = pair_of(k, e, i, j, &scratch);
         p.rstar = r[i] * r[j] / (r[i] + r[j]);
         p.mstar = mass[i] * mass[j] / (mass[i] + mass[j]);
-        p.jstar = 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
-                         1.0 / (inertia[j] + mass[j] * r[j] * r[j])); /* eq. 18 */
+        p.jstar = rolling ? 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
+                                   1.0 / (inertia[j] + mass[j] * r[j] * r[j])) /* eq. 18 */
+                          : 0.0;
         /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n. */
         const double bi[3] = {li * n[0], li * n[1], li * n[2]};
         const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
@@ -179,44 +244,43 @@ static sinter_status eval_pp(const sinter_force_eval *e, int rolling)
             w_rel[d] = w[3 * i + d] - w[3 * j + d];
         }
         double f[3], mr[3];
-        contact_law(&p, n, c->delta[k], u, w_rel, e->dt, hist + 6 * (size_t)c->pair[k],
-                    trial + 6 * k, rolling, f, mr);
+        contact_law(&p, n, c->delta[q], u, w_rel, e->dt, hist + width * (size_t)c->pair[q],
+                    trial + width * q, rolling, f, mr);
         double ti[3], tj[3];
-        v3_cross(bi, f, ti);  /* moment of f on i about its centre (eq. 14) */
+        v3_cross(bi, f, ti); /* moment of f on i about its centre (eq. 14) */
         const double fj[3] = {-f[0], -f[1], -f[2]};
         v3_cross(bj, fj, tj);
         for (int d = 0; d < 3; ++d) {
-            e->force[3 * i + d] += f[d];
-            e->force[3 * j + d] -= f[d];
-            e->torque[3 * i + d] += ti[d] + mr[d];
-            e->torque[3 * j + d] += tj[d] - mr[d];
+            force[3 * i + d] += f[d];
+            force[3 * j + d] -= f[d];
+            torque[3 * i + d] += ti[d] + mr[d];
+            torque[3 * j + d] += tj[d] - mr[d];
         }
-        (void)x;
     }
     return SINTER_OK;
 }
 
-static sinter_status eval_pw(const sinter_force_eval *e, int rolling)
+static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int rolling)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
     const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
                  *inertia = ps->inertia;
+    const size_t width = e->hist_pw->width;
     const double *hist = e->hist_pw->committed;
     double *trial = e->hist_pw->trial;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], wall_index = c->j[k];
+    for (size_t q = 0; q < c->count; ++q) {
+        const uint32_t i = c->i[q], wall_index = c->j[q];
         const sinter_wall *wall = &e->walls->wall[wall_index];
-        const double *n = c->n + 3 * k;
-        const double li = c->branch[k];
+        const double *n = c->n + 3 * q;
+        const double li = c->branch[q];
         side si, sw;
-        side_from_material(&ps->materials[ps->material[i]], scale_of(e, i), &si);
+        side_from_material(&ps->materials[ps->material[i]],
+                           k->softening ? e->modulus_scale[i] : 1.0, &si);
         side_from_material(&wall->material, 1.0, &sw);
-        pair_props p;
-        mix(&si, &sw, &p);
-        p.rstar = r[i];
-        p.mstar = mass[i];
-        p.jstar = inertia[i] + mass[i] * r[i] * r[i];
+        pair_consts consts;
+        mix(&si, &sw, &consts);
+        pair_props p = {&consts, r[i], mass[i], inertia[i] + mass[i] * r[i] * r[i]};
         const double bi[3] = {li * n[0], li * n[1], li * n[2]};
         double wi_b[3];
         v3_cross(w + 3 * i, bi, wi_b);
@@ -224,8 +288,8 @@ static sinter_status eval_pw(const sinter_force_eval *e, int rolling)
         for (int d = 0; d < 3; ++d)
             u[d] = v[3 * i + d] + wi_b[d] - wall->u[d];
         double f[3], mr[3], ti[3];
-        contact_law(&p, n, c->delta[k], u, w + 3 * i, e->dt, hist + 6 * (size_t)c->pair[k],
-                    trial + 6 * k, rolling, f, mr);
+        contact_law(&p, n, c->delta[q], u, w + 3 * i, e->dt, hist + width * (size_t)c->pair[q],
+                    trial + width * q, rolling, f, mr);
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {
             e->force[3 * i + d] += f[d];
@@ -238,12 +302,30 @@ static sinter_status eval_pw(const sinter_force_eval *e, int rolling)
 
 static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_force_eval *e)
 {
-    const int rolling = fm->param[PARAM_ROLLING] != 0.0;
-    sinter_status st = rolling ? eval_pp(e, 1) : eval_pp(e, 0);
+    /* Rolling needs the 6-wide history chosen when the model was added to the stepper. */
+    const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6;
+    constants k;
+    build_constants(e, &k);
+    sinter_status st = rolling ? eval_pp(e, &k, 1) : eval_pp(e, &k, 0);
     if (st == SINTER_OK && e->walls != NULL)
-        st = rolling ? eval_pw(e, 1) : eval_pw(e, 0);
+        st = rolling ? eval_pw(e, &k, 1) : eval_pw(e, &k, 0);
     return st;
 }
 
+/* Delta x (3) always; Delta theta (3) only with rolling resistance. */
+static size_t hertz_mindlin_history(const sinter_force_model *fm, int wall)
+{
+    (void)wall;
+    return fm->param[PARAM_ROLLING] != 0.0 ? 6 : 3;
+}
+
 const sinter_force_ops sinter_force_hertz_mindlin = {
-    "hertz_mindlin", 6, 6, 1, {"rolling", NULL}, {1.0}, hertz_mindlin_eval};
+    .name = "hertz_mindlin",
+    .history_pp = 6,
+    .history_pw = 6,
+    .uses_contacts = 1,
+    .keys = {"rolling", NULL},
+    .defaults = {1.0},
+    .eval = hertz_mindlin_eval,
+    .history_width = hertz_mindlin_history,
+};

@@ -11,7 +11,7 @@ static sinter_status run_batch(const sinter_force_model *fm, sinter_force_eval *
     const size_t n = c->count, w = fm->host.history_size;
     if (n == 0)
         return SINTER_OK;
-    double *out = sinter_calloc(ctx, 9 * n, sizeof(double));
+    double *out = sinter_calloc(ctx, 10 * n, sizeof(double));
     double *hist = w ? sinter_calloc(ctx, w * n, sizeof(double)) : NULL;
     if (out == NULL || (w && hist == NULL)) {
         sinter_free(ctx, out);
@@ -20,8 +20,10 @@ static sinter_status run_batch(const sinter_force_model *fm, sinter_force_eval *
     }
     for (size_t k = 0; k < n && w; ++k)
         memcpy(hist + k * w, h->committed + (size_t)c->pair[k] * w, w * sizeof(double));
+    double *radius = out + 9 * n;
+    sinter_contact_radii(c, radius);
     sinter_contact_batch b = {n,          kind,       c->i,      c->j,  c->n,
-                              c->delta,   c->dist,    c->a,      c->area, c->branch,
+                              c->delta,   c->dist,    radius,    c->area, c->branch,
                               w,          hist,       w ? h->trial : NULL,
                               out,        out + 3 * n, out + 6 * n};
     const int rc = fm->host.contacts(e->view, &b, fm->user);

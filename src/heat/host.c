@@ -3,7 +3,8 @@
 
 #include "heat_model.h"
 
-static void batch_of(const sinter_contact_list *c, int kind, sinter_contact_batch *b)
+static void batch_of(const sinter_contact_list *c, int kind, const double *radius,
+                     sinter_contact_batch *b)
 {
     memset(b, 0, sizeof(*b));
     b->count = c->count;
@@ -13,7 +14,7 @@ static void batch_of(const sinter_contact_list *c, int kind, sinter_contact_batc
     b->normal = c->n;
     b->overlap = c->delta;
     b->distance = c->dist;
-    b->contact_radius = c->a;
+    b->contact_radius = radius;
     b->area = c->area;
     b->branch = c->branch;
 }
@@ -21,12 +22,15 @@ static void batch_of(const sinter_contact_list *c, int kind, sinter_contact_batc
 sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
 {
     const size_t n = e->ps->count;
-    double *q = sinter_calloc(e->ctx, n + 1, sizeof(double));
+    double *q = sinter_calloc(e->ctx, n + e->pp->count + e->pw->count + 1, sizeof(double));
     if (q == NULL)
         return SINTER_ERR_NOMEM;
+    double *radius_pp = q + n, *radius_pw = q + n + e->pp->count;
+    sinter_contact_radii(e->pp, radius_pp);
+    sinter_contact_radii(e->pw, radius_pw);
     sinter_contact_batch pp, pw;
-    batch_of(e->pp, SINTER_CONTACT_PARTICLE, &pp);
-    batch_of(e->pw, SINTER_CONTACT_WALL, &pw);
+    batch_of(e->pp, SINTER_CONTACT_PARTICLE, radius_pp, &pp);
+    batch_of(e->pw, SINTER_CONTACT_WALL, radius_pw, &pw);
     const int rc = hm->host.power(e->view, &pp, &pw, q, hm->user);
     sinter_status st = SINTER_OK;
     if (rc != 0)

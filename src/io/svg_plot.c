@@ -21,8 +21,9 @@ static const char *const PALETTE[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728"
 
 typedef struct axis {
     double lo, hi; /* range shown */
+    double first;  /* first tick */
     double step;   /* tick spacing */
-    size_t ticks;  /* ticks at lo + k step, k < ticks (the last one at hi) */
+    size_t ticks;  /* ticks at first + k step, k < ticks */
     int precision; /* %.*g precision that tells neighbouring tick labels apart */
 } axis;
 
@@ -124,16 +125,20 @@ static void panel_label(const plot *p, const panel *pn, char *buf)
 
 /* ---- axes --------------------------------------------------------------------------------- */
 
-/* 1, 2 or 5 times a power of ten, >= rough (> 0). */
+/* 1, 2 or 5 times a power of ten, the nearest to rough (> 0). */
 static double nice_step(double rough)
 {
     const double magnitude = pow(10.0, floor(log10(rough)));
     const double norm = rough / magnitude;
-    return (norm <= 1.0 ? 1.0 : norm <= 2.0 ? 2.0 : norm <= 5.0 ? 5.0 : 10.0) * magnitude;
+    return (norm < 1.5 ? 1.0 : norm < 3.0 ? 2.0 : norm < 7.0 ? 5.0 : 10.0) * magnitude;
 }
 
-/* Axis over the finite data range [min, max] (min > max: no data) with about `target` steps. */
-static void make_axis(double min, double max, double target, axis *a)
+/*
+ * Axis over the finite data range [min, max] (min > max: no data), widened by
+ * `pad` of the range on both sides, with ticks at multiples of a 1-2-5 step
+ * that gives about `target` intervals.
+ */
+static void make_axis(double min, double max, double target, double pad, axis *a)
 {
     if (!(min <= max)) {
         min = 0.0;
@@ -142,29 +147,32 @@ static void make_axis(double min, double max, double target, axis *a)
     const double big = fmax(fabs(min), fabs(max));
     if (!(max - min > 1e-12 * big)) { /* constant data: centre a range on it */
         const double mid = 0.5 * min + 0.5 * max;
-        const double pad = mid != 0.0 ? 0.1 * fabs(mid) : 1.0;
-        min = mid - pad;
-        max = mid + pad;
+        const double half = mid != 0.0 ? 0.1 * fabs(mid) : 1.0;
+        min = mid - half;
+        max = mid + half;
+    } else {
+        const double margin = 2.0 * pad * (0.5 * max - 0.5 * min);
+        min -= margin;
+        max += margin;
     }
     const double step = nice_step(max / target - min / target);
-    /* The tolerance keeps round-off in min / step from adding an empty interval. */
-    const double lo = floor(min / step + 1e-9) * step, hi = ceil(max / step - 1e-9) * step;
-    const double steps = hi / step - lo / step;
-    if (!(isfinite(lo) && isfinite(hi) && steps > 0.5 && steps < 1000.5)) {
-        /* Only for data near the limits of double: plain range, ticks at both ends. */
-        a->lo = isfinite(min) ? min : -DBL_MAX;
-        a->hi = isfinite(max) ? max : DBL_MAX;
+    /* The tolerance keeps round-off in min / step from dropping a tick on the edge. */
+    const double first = ceil(min / step - 1e-9), last = floor(max / step + 1e-9);
+    a->lo = isfinite(min) ? min : -DBL_MAX;
+    a->hi = isfinite(max) ? max : DBL_MAX;
+    if (!(isfinite(first * step) && last - first >= 0.0 && last - first <= 1000.0)) {
+        /* Only for data near the limits of double: one tick at the lower edge. */
+        a->first = a->lo;
         a->step = 0.0;
-        a->ticks = 2;
+        a->ticks = 1;
         a->precision = 6;
         return;
     }
-    a->lo = lo;
-    a->hi = hi;
+    a->first = first * step;
     a->step = step;
-    a->ticks = (size_t)(steps + 0.5) + 1;
+    a->ticks = (size_t)(last - first) + 1;
     /* Enough digits to tell ticks apart, and to print integers below 1e6 without an exponent. */
-    const int magnitude = (int)floor(log10(fmax(fabs(lo), fabs(hi))));
+    const int magnitude = (int)floor(log10(fmax(fabs(a->first), fabs(last * step)) + step));
     int digits = magnitude - (int)floor(log10(step)) + 1;
     if (magnitude < 6 && digits < magnitude + 1)
         digits = magnitude + 1;
@@ -173,15 +181,25 @@ static void make_axis(double min, double max, double target, axis *a)
 
 static double tick_value(const axis *a, size_t k)
 {
-    if (k + 1 == a->ticks)
-        return a->hi;
-    const double v = a->lo + (double)k * a->step;
+    const double v = a->first + (double)k * a->step;
     return fabs(v) < 1e-9 * a->step ? 0.0 : v;
 }
 
+/* %g text of tick k, with the exponent tidied: "1.5e+06" becomes "1.5e6", "2e-09" "2e-9". */
 static void tick_label(const axis *a, size_t k, char *buf, size_t size)
 {
     snprintf(buf, size, "%.*g", a->precision, tick_value(a, k));
+    char *e = strchr(buf, 'e');
+    if (e == NULL)
+        return;
+    char *digits = e + 1, *out = e + 1;
+    if (*digits == '+' || *digits == '-')
+        digits++;
+    if (*out == '-')
+        out++;
+    while (*digits == '0' && digits[1] != '\0')
+        digits++;
+    memmove(out, digits, strlen(digits) + 1);
 }
 
 static double widest_tick_label(const axis *a)
@@ -435,7 +453,7 @@ sinter_status sinter_series_write_svg(const sinter_series *s, const char *path, 
         double min = INFINITY, max = -INFINITY;
         for (size_t j = 0; j < pn->count; ++j)
             data_range(&p, panel_columns[pn->first + j], &min, &max);
-        make_axis(min, max, 5.0, &pn->y);
+        make_axis(min, max, 5.0, 0.04, &pn->y);
         widest = fmax(widest, widest_tick_label(&pn->y));
     }
     p.left = fmax(64.0, 40.0 + widest);
@@ -443,11 +461,11 @@ sinter_status sinter_series_write_svg(const sinter_series *s, const char *path, 
     data_range(&p, x_column, &xmin, &xmax);
     /* Fewer x ticks until their labels fit side by side. */
     for (double target = 10.0; target >= 2.0; target -= 1.0) {
-        make_axis(xmin, xmax, target, &p.x);
+        make_axis(xmin, xmax, target, 0.0, &p.x);
         const double right = fmax(24.0, 0.5 * widest_tick_label(&p.x) + 8.0);
         p.width = SVG_WIDTH - p.left - right;
-        const double spacing = p.x.ticks > 1 ? p.width / (double)(p.x.ticks - 1) : p.width;
-        if (widest_tick_label(&p.x) + 12.0 <= spacing)
+        const double spacing = p.width * axis_fraction(&p.x, p.x.lo + p.x.step);
+        if (widest_tick_label(&p.x) + 20.0 <= spacing)
             break;
     }
 

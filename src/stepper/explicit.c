@@ -44,35 +44,72 @@ static void restore_backup(sinter_stepper *st)
     memcpy(ps->rot, st->backup + 3 * n3, n3 * sizeof(double));
 }
 
-/* First half kick and drift. The pre-step state is saved for a rollback. */
+/* 1 if any particle is fixed or does not rotate (then the general loop is needed). */
+static int any_special(const sinter_particles *ps)
+{
+    uint32_t all = 0;
+    for (size_t i = 0; i < ps->count; ++i)
+        all |= ps->flags[i];
+    return (all & (SINTER_PARTICLE_FIXED | SINTER_PARTICLE_NO_ROTATION)) != 0;
+}
+
+/*
+ * First half kick and drift, saving the pre-step state for a rollback in the
+ * same pass (the old values are read anyway, so the backup costs one store).
+ */
 static void kick_drift(sinter_stepper *st, double h)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count, n3 = 3 * n;
-    double *x = ps->x, *v = ps->v, *w = ps->w, *rot = ps->rot;
-    const double *f = ps->force, *tq = ps->torque, *m = ps->mass, *j = ps->inertia;
+    double *restrict x = ps->x, *restrict v = ps->v, *restrict w = ps->w, *restrict rot = ps->rot;
+    const double *restrict f = ps->force, *restrict tq = ps->torque, *restrict m = ps->mass,
+                           *restrict j = ps->inertia;
+    double *restrict bx = st->backup, *restrict bv = st->backup + n3,
+                     *restrict bw = st->backup + 2 * n3, *restrict brot = st->backup + 3 * n3;
     const uint32_t *flags = ps->flags;
-    memcpy(st->backup, x, n3 * sizeof(double));
-    memcpy(st->backup + n3, v, n3 * sizeof(double));
-    memcpy(st->backup + 2 * n3, w, n3 * sizeof(double));
-    memcpy(st->backup + 3 * n3, rot, n3 * sizeof(double));
     const double half = 0.5 * h;
+    if (!any_special(ps)) {
+        for (size_t i = 0; i < n; ++i) {
+            const double a = half / m[i], b = half / j[i];
+            for (int d = 0; d < 3; ++d) {
+                const size_t k = 3 * i + (size_t)d;
+                bx[k] = x[k];
+                bv[k] = v[k];
+                bw[k] = w[k];
+                const double vk = v[k] + a * f[k];
+                v[k] = vk;
+                x[k] += h * vk;
+                w[k] += b * tq[k];
+            }
+        }
+    } else {
+        memcpy(bx, x, n3 * sizeof(double));
+        memcpy(bv, v, n3 * sizeof(double));
+        memcpy(bw, w, n3 * sizeof(double));
+        for (size_t i = 0; i < n; ++i) {
+            const uint32_t fl = flags[i];
+            if (!(fl & SINTER_PARTICLE_FIXED)) {
+                const double a = half / m[i];
+                for (int d = 0; d < 3; ++d)
+                    v[3 * i + d] += a * f[3 * i + d];
+            }
+            for (int d = 0; d < 3; ++d)
+                x[3 * i + d] += h * v[3 * i + d];
+            if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+                const double b = half / j[i];
+                for (int d = 0; d < 3; ++d)
+                    w[3 * i + d] += b * tq[3 * i + d];
+            }
+        }
+    }
+    /* Total rotation vector, seed 003 eq. 45, with the increment w h. */
     for (size_t i = 0; i < n; ++i) {
-        const uint32_t fl = flags[i];
-        if (!(fl & SINTER_PARTICLE_FIXED)) {
-            const double a = half / m[i];
-            for (int d = 0; d < 3; ++d)
-                v[3 * i + d] += a * f[3 * i + d];
-        }
-        for (int d = 0; d < 3; ++d)
-            x[3 * i + d] += h * v[3 * i + d];
-        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
-            const double b = half / j[i];
-            for (int d = 0; d < 3; ++d)
-                w[3 * i + d] += b * tq[3 * i + d];
-        }
+        double *alpha = rot + 3 * i;
+        brot[3 * i] = alpha[0];
+        brot[3 * i + 1] = alpha[1];
+        brot[3 * i + 2] = alpha[2];
         const double da[3] = {h * w[3 * i], h * w[3 * i + 1], h * w[3 * i + 2]};
-        compose_rotation(rot + 3 * i, da);
+        compose_rotation(alpha, da);
     }
 }
 

@@ -286,9 +286,10 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     s = sinter_thermal_softening(st, &e.modulus_scale);
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
         sinter_force_slot *slot = &st->forces[k];
-        s = sinter_history_prepare(ctx, &slot->pp, st->pp.count);
+        const int host = slot->model->ops->eval == sinter_force_host_eval;
+        s = sinter_history_prepare(ctx, &slot->pp, st->pp.count, host);
         if (s == SINTER_OK)
-            s = sinter_history_prepare(ctx, &slot->pw, st->pw.count);
+            s = sinter_history_prepare(ctx, &slot->pw, st->pw.count, host);
         if (s != SINTER_OK)
             break;
         e.hist_pp = &slot->pp;
