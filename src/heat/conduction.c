@@ -16,7 +16,8 @@
  * wall->temperature and the pair conducts with the particle's own conductivity
  * (VALIDATION.md's reading of seed 003 §5.1): "area" = 0: G = k_i A / d with A = pi a^2 of the
  * contact list and d = the centre-to-plane distance; "area" = 1: LIGGGHTS' wall formula
- * 4 k_p k_w / (k_p + k_w) sqrt(pi r_i^2) with k_w = k_i, i.e. G = 2 sqrt(pi) k_i r_i.
+ * 4 k_p k_w / (k_p + k_w) sqrt(pi r_i^2) with k_w the wall material's conductivity, as in
+ * LIGGGHTS (a wall with k_w = 0 is adiabatic; k_w = k_p gives G = 2 sqrt(pi) k_i r_i).
  * A particle whose centre is on or behind the plane (d <= 0, not a physical state) does not
  * conduct with "area" = 0.
  *
@@ -46,12 +47,13 @@ static inline double conductance_pp(int projection, double ki, double kj, double
     return den > 0.0 ? ki * kj * (ri + rj) / den * area / dist : 0.0; /* eq. 32, 34 */
 }
 
-/* Conductance of one particle-wall contact (particle's own conductivity). */
-static inline double conductance_pw(int projection, double ki, double ri, double area, double dist)
+/* Conductance of one particle-wall contact. */
+static inline double conductance_pw(int projection, double ki, double kw, double ri, double area,
+                                    double dist)
 {
-    if (projection)
-        return 2.0 * SQRT_PI * ki * ri;         /* LIGGGHTS wall with k_w = k_i */
-    return dist > 0.0 ? ki * area / dist : 0.0; /* eq. 32 with k_iw = k_i */
+    if (projection) /* LIGGGHTS' wall: 4 k_p k_w / (k_p + k_w) sqrt(pi r^2) */
+        return ki + kw > 0.0 ? 4.0 * ki * kw / (ki + kw) * SQRT_PI * ri : 0.0;
+    return dist > 0.0 ? ki * area / dist : 0.0; /* eq. 32 with k_iw = k_i (reservoir) */
 }
 
 static inline void loop_pp(const sinter_heat_eval *e, int projection, int implicit)
@@ -83,7 +85,8 @@ static inline void loop_pw(const sinter_heat_eval *e, int projection, int implic
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k];
         const double g = conductance_pw(
-            projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY), r[i],
+            projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
+            e->walls->wall[c->j[k]].material.value[SINTER_MAT_THERMAL_CONDUCTIVITY], r[i],
             c->area[k], c->dist[k]);
         if (implicit)
             e->g_pw[k] += g;

@@ -13,8 +13,10 @@
  *
  * The geometry comes entirely from the .xyz ("x y z r" per line) and .box ("xlo xhi ylo yhi
  * zlo zhi") files written by gen_lattice.py, so the same program serves the mech, thermal and
- * calib scenes. --heat 1 (thermal scene with conduction) is refused with exit status 2: the
- * library has no heat conduction yet. --stats prints the stepper's phase times of the timed
+ * calib scenes. --heat 1 adds the thermal scene's conduction: the "conduction" heat model
+ * with LIGGGHTS' projection conductance (4 k1 k2/(k1+k2) sqrt(pi r^2) = 2 sqrt(pi) k r per
+ * contact), k = 100 W/(m K), c_p = 100 J/(kg K), T0 = 300 K, the floor at 500 K with the
+ * particles' conductivity and the side walls adiabatic (k = 0), explicit thermal update. --stats prints the stepper's phase times of the timed
  * loop to stderr.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, CLOCK_MONOTONIC under -std=c11 */
@@ -107,12 +109,6 @@ int main(int argc, char **argv)
     }
     if (scene == NULL || xyz == NULL || boxf == NULL || steps == 0 || !(dt > 0.0))
         usage();
-    if (heat) {
-        /* The thermal scene with conduction (LIGGGHTS heat/gran/conduction): not in the
-         * library yet. The harness records the failed cell. */
-        fprintf(stderr, "heat not supported yet\n");
-        return 2;
-    }
 
     double *pos, *rad, box[6];
     const size_t n = read_xyz(xyz, &pos, &rad);
@@ -143,6 +139,11 @@ int main(int argc, char **argv)
      * LAMMPS uses x_gamma_t = 1 on its Tsuji damping, Yade es = 0.5. */
     CHECK(sinter_material_set(mat, SINTER_MAT_FRICTION_DAMPING_RATIO, xi));
     CHECK(sinter_material_set(mat, SINTER_MAT_ROLLING_FRICTION, 0.0)); /* no rolling resistance */
+    CHECK(sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0)); /* thermalConductivity */
+    CHECK(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, 100.0)); /* thermalCapacity */
+    sinter_material *adiabatic;                                       /* side walls */
+    CHECK(sinter_material_clone(&adiabatic, mat));
+    CHECK(sinter_material_set(adiabatic, SINTER_MAT_THERMAL_CONDUCTIVITY, 0.0));
 
     /* ---- particles: monodisperse r = 0.5 mm from the .xyz --------------------------------- */
     sinter_particles *ps;
@@ -163,7 +164,9 @@ int main(int argc, char **argv)
         {0, box[3], 0, 0, -1, 0}, /* yplane L */
     };
     for (int k = 0; k < 5; ++k)
-        CHECK(sinter_walls_add_plane(walls, planes[k], planes[k] + 3, mat, NULL));
+        CHECK(sinter_walls_add_plane(walls, planes[k], planes[k] + 3, k == 0 ? mat : adiabatic,
+                                     NULL));
+    CHECK(sinter_walls_set_temperature(walls, 0, 500.0)); /* zplane 0.0 temperature 500 */
 
     /* ---- stepper: Hertz-Mindlin (pair_style gran model hertz tangential history) + gravity -- */
     sinter_stepper *st;
@@ -177,6 +180,13 @@ int main(int argc, char **argv)
     CHECK(sinter_stepper_add_force(st, grav));
     CHECK(sinter_stepper_set_dt(st, dt));      /* timestep ${dt} */
     CHECK(sinter_stepper_set_skin(st, 1e-4)); /* neighbor 1.0e-4 bin, check every step */
+    sinter_heat_model *cond = NULL;
+    if (heat) {
+        /* fix heat/gran/conduction ... contact_area projection */
+        CHECK(sinter_heat_model_create(&cond, g_ctx, "conduction"));
+        CHECK(sinter_heat_model_set(cond, "area", 1.0));
+        CHECK(sinter_stepper_add_heat(st, cond));
+    }
 
     /* Setup force evaluation outside the timing, like LAMMPS/LIGGGHTS' setup before "Loop
      * time": step(0) runs the stepper's prepare() (neighbour build, forces, history commit). */
@@ -212,6 +222,25 @@ int main(int argc, char **argv)
            mz / mtot, ket, ker, 2.0 * (double)s1.contacts / (double)n);
     /* z[1], z[2] of LAMMPS = particles 0 and 1 (same order as the .lmp). */
     printf("PROBE z1=%.17g z2=%.17g\n", x[2], n > 1 ? x[5] : x[2]);
+    if (heat) {
+        /* as the LIGGGHTS deck: Tbot over particles with z < 1 mm */
+        const double *temp;
+        CHECK(sinter_particles_view_read(ps, SINTER_FIELD_TEMPERATURE, (const void **)&temp,
+                                         NULL, NULL));
+        double tsum = 0, tmax = 0, tbot = 0;
+        size_t nbot = 0;
+        for (size_t i = 0; i < n; ++i) {
+            tsum += temp[i];
+            tmax = temp[i] > tmax ? temp[i] : tmax;
+            if (x[3 * i + 2] < 1e-3) {
+                tbot += temp[i];
+                ++nbot;
+            }
+        }
+        printf("THERMAL Tmean=%.10g Tbot=%.10g Tmax=%.10g\n", tsum / (double)n,
+               nbot ? tbot / (double)nbot : 0.0, tmax);
+        CHECK(sinter_particles_release(ps, SINTER_FIELD_TEMPERATURE));
+    }
     const sinter_field fields[] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY,
                                    SINTER_FIELD_SPIN,     SINTER_FIELD_MASS,
                                    SINTER_FIELD_INERTIA,  SINTER_FIELD_RADIUS};
@@ -236,6 +265,8 @@ int main(int argc, char **argv)
     }
 
     sinter_stepper_destroy(st);
+    sinter_heat_model_destroy(cond);
+    sinter_material_destroy(adiabatic);
     sinter_force_model_destroy(hm);
     sinter_force_model_destroy(grav);
     sinter_walls_destroy(walls);

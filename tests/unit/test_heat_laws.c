@@ -156,10 +156,12 @@ static void test_conduction(void **state)
     assert_rel(f.g_pw[0], gw);
     assert_true(f.heat[0] == 0.0 && f.heat[1] == 0.0);
 
-    /* area = 1: LIGGGHTS projection, 4 k1 k2 / (k1 + k2) sqrt(pi max(r)^2); wall 2 sqrt(pi) k r. */
+    /* area = 1: LIGGGHTS projection, 4 k1 k2 / (k1 + k2) sqrt(pi max(r)^2); the wall with the
+     * wall material's k (default 1 W/(m K) here): 4 k1 kw / (k1 + kw) sqrt(pi r1^2). */
     OK(sinter_heat_model_set(hm, "area", 1.0));
     const double gl = 4.0 * k1 * k2 / (k1 + k2) * sqrt(PI * r1 * r1);
-    const double glw = 4.0 * k1 * k1 / (k1 + k1) * sqrt(PI * r1 * r1);
+    const double kw = 1.0;
+    const double glw = 4.0 * k1 * kw / (k1 + kw) * sqrt(PI * r1 * r1);
     print_message("conduction projection: G = %.12g W/K, wall G = %.12g W/K\n", gl, glw);
     OK(eval(&f, hm, 0.0, 0));
     assert_rel(f.heat[0], gl * 100.0 + glw * (tw - 300.0));
