@@ -192,7 +192,67 @@ typedef enum sinter_material_param {
     SINTER_MAT_SOFTENING_FLOOR = 24,     /**< lowest stiffness as a fraction of the reference value [-] */
     /* --- electric ------------------------------------------------------------ */
     SINTER_MAT_ELECTRIC_CONDUCTIVITY = 25, /**< electrical conductivity sigma, seed 000 eq. 35 [S/m] */
-    SINTER_MAT_PARAM_COUNT_ = 26         /**< number of parameters in this version (not a parameter) */
+    /* --- solid-state sintering: the 7DOF neck model (seed 001 sec. 2.2, 7dof.md) ---------
+     * Defaults: copper, seed 001 table 2. When phase_transition_temperature is > 0, the
+     * neck model uses the *_HOT set at temperatures >= it (titanium beta, seed 001 table 4)
+     * and the base set below it; the HOT defaults repeat the copper values.
+     * Diffusivities follow D = D0 exp(-Q / (R T)), seed 001 eq. 5. */
+    /** atomic volume Omega, seed 001 table 2/4 [m^3], (0, 1e-26] */
+    SINTER_MAT_ATOMIC_VOLUME = 26,
+    /** surface free energy gamma_s, seed 001 table 2/4 [J/m^2], [0, 100] */
+    SINTER_MAT_SURFACE_ENERGY = 27,
+    /** grain-boundary free energy gamma_gb, seed 001 table 2/4 [J/m^2], [0, 100] */
+    SINTER_MAT_GRAIN_BOUNDARY_ENERGY = 28,
+    /** surface diffusion layer thickness delta_s, seed 001 table 2/4 [m], [0, 1e-6] */
+    SINTER_MAT_SURFACE_THICKNESS = 29,
+    /** grain-boundary thickness delta_gb, seed 001 table 2/4 [m], [0, 1e-6] */
+    SINTER_MAT_GRAIN_BOUNDARY_THICKNESS = 30,
+    /** lattice (bulk) diffusion prefactor D_v0, seed 001 table 2/4 [m^2/s], [0, 1e30] */
+    SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR = 31,
+    /** lattice diffusion activation energy Q_v, seed 001 table 2/4 [J/mol], [0, 1e7] */
+    SINTER_MAT_LATTICE_ACTIVATION_ENERGY = 32,
+    /** surface diffusion prefactor D_s0, seed 001 table 2/4 [m^2/s], [0, 1e30] */
+    SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR = 33,
+    /** surface diffusion activation energy Q_s, seed 001 table 2/4 [J/mol], [0, 1e7] */
+    SINTER_MAT_SURFACE_ACTIVATION_ENERGY = 34,
+    /** grain-boundary diffusion prefactor D_gb0, seed 001 table 2/4 [m^2/s], [0, 1e30] */
+    SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR = 35,
+    /** grain-boundary diffusion activation energy Q_gb, seed 001 table 2/4 [J/mol], [0, 1e7] */
+    SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY = 36,
+    /** concentration of mobile atoms at the surface n_s, seed 001 table 2/4 [-], [0, 1] */
+    SINTER_MAT_SURFACE_MOBILE_FRACTION = 37,
+    /** concentration of mobile atoms in the grain boundary n_gb, seed 001 table 2/4 [-], [0, 1] */
+    SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION = 38,
+    /** Omega of the hot phase, seed 001 table 4 (beta) [m^3], (0, 1e-26] */
+    SINTER_MAT_ATOMIC_VOLUME_HOT = 39,
+    /** gamma_s of the hot phase, seed 001 table 4 [J/m^2], [0, 100] */
+    SINTER_MAT_SURFACE_ENERGY_HOT = 40,
+    /** gamma_gb of the hot phase, seed 001 table 4 [J/m^2], [0, 100] */
+    SINTER_MAT_GRAIN_BOUNDARY_ENERGY_HOT = 41,
+    /** delta_s of the hot phase, seed 001 table 4 [m], [0, 1e-6] */
+    SINTER_MAT_SURFACE_THICKNESS_HOT = 42,
+    /** delta_gb of the hot phase, seed 001 table 4 [m], [0, 1e-6] */
+    SINTER_MAT_GRAIN_BOUNDARY_THICKNESS_HOT = 43,
+    /** D_v0 of the hot phase, seed 001 table 4 [m^2/s], [0, 1e30] */
+    SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR_HOT = 44,
+    /** Q_v of the hot phase, seed 001 table 4 [J/mol], [0, 1e7] */
+    SINTER_MAT_LATTICE_ACTIVATION_ENERGY_HOT = 45,
+    /** D_s0 of the hot phase, seed 001 table 4 [m^2/s], [0, 1e30] */
+    SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR_HOT = 46,
+    /** Q_s of the hot phase, seed 001 table 4 [J/mol], [0, 1e7] */
+    SINTER_MAT_SURFACE_ACTIVATION_ENERGY_HOT = 47,
+    /** D_gb0 of the hot phase, seed 001 table 4 [m^2/s], [0, 1e30] */
+    SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR_HOT = 48,
+    /** Q_gb of the hot phase, seed 001 table 4 [J/mol], [0, 1e7] */
+    SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY_HOT = 49,
+    /** n_s of the hot phase, seed 001 table 4 [-], [0, 1] */
+    SINTER_MAT_SURFACE_MOBILE_FRACTION_HOT = 50,
+    /** n_gb of the hot phase, seed 001 table 4 [-], [0, 1] */
+    SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION_HOT = 51,
+    /** temperature at which the neck model switches to the HOT set, both ways, no hysteresis
+     *  (titanium alpha/beta: 1156 K, seed 001 sec. 4.2) [K], 0 = single phase, [0, 1e5] */
+    SINTER_MAT_PHASE_TRANSITION_TEMPERATURE = 52,
+    SINTER_MAT_PARAM_COUNT_ = 53         /**< number of parameters in this version (not a parameter) */
 } sinter_material_param;
 
 /** Create a material with every parameter at its default. `name` is copied (may be NULL). */
@@ -561,11 +621,12 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  * Built-in models, chosen by name, with their parameters (SI):
  *  - "conduction": through contacts, Q_ij = k_ij A_ij (theta_j - theta_i) / d_ij
  *    with (r_i + r_j)/k_ij = r_i/k_i + r_j/k_j (seed 003 eq. 32-35, seed 000
- *    eq. 33-34); particle-wall contacts conduct to the wall's temperature with
- *    the particle's own conductivity over the centre-to-plane distance.
+ *    eq. 33-34); particle-wall contacts conduct to the wall's temperature over
+ *    the centre-to-plane distance with k_iw = 2 k_i k_w / (k_i + k_w) (k_w of
+ *    the wall's material: equal to the particle's, k_i; zero: adiabatic).
  *    "area" = 0: contact area of eq. 34; 1: LIGGGHTS' "projection",
- *    conductance 4 k_i k_j/(k_i + k_j) sqrt(pi r_max^2) (walls: the particle's
- *    own k and radius). "walls" = 1/0.
+ *    conductance 4 k_i k_j/(k_i + k_j) sqrt(pi r_max^2) (walls: with the wall
+ *    material's k, so k = 0 makes a wall adiabatic). "walls" = 1/0.
  *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
  *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
@@ -583,6 +644,20 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    particle's top below
  *    the highest particle top inside the beam. "x", "y" and "intensity" may
  *    follow schedules (sinter_heat_model_set_schedule).
+ *  - "joule": Joule heating H = a J^2 / sigma V (seed 000 eq. 35) with J the
+ *    particle's current field (written by an electric model or the host),
+ *    a the absorptance, sigma the electric conductivity of its material and
+ *    V = 4/3 pi r^3. "sigmoid" = 1 makes sigma follow seed 000 eq. 50,
+ *    sigma = sigma_0 (1 + "k1" s("gamma1" (theta - "theta_ref")) +
+ *    "k2" s("gamma2" |E - "field_ref"|)), s(x) = 1 / (1 + e^-x), with
+ *    sigma_0 the material's conductivity and the scalar field E = |J| / sigma_0
+ *    (Ohm's law; "field_ref" in the units of J / sigma_0 and "gamma2" in their
+ *    inverse; "theta_ref" [K], "gamma1" [1/K], "k1", "k2" [-]; defaults:
+ *    sigmoid 0, theta_ref 293.15 K, the others 0). Each sigmoid is 1/2 at its
+ *    reference, so eq. 50 at (theta_ref, field_ref) gives
+ *    sigma_0 (1 + k1/2 + k2/2), not sigma_0. A current through a particle of
+ *    zero conductivity is SINTER_ERR_INVALID, a conductivity <= 0 from eq. 50
+ *    SINTER_ERR_DOMAIN.
  * Host models come from sinter_heat_model_create_host (sinter_submodel.h).
  */
 typedef struct sinter_heat_model sinter_heat_model;
@@ -630,6 +705,176 @@ SINTER_API sinter_status sinter_stepper_heat_energy(const sinter_stepper *steppe
 SINTER_API sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k,
                                                                size_t n, const double *times,
                                                                const double *temperatures);
+
+/* ------------------------------------------------------------------------ */
+/* Electric submodels                                                        */
+/* ------------------------------------------------------------------------ */
+
+/** Electric boundary condition of a wall (seed 000 sec. 5, remark 2). */
+typedef enum sinter_wall_electric_mode {
+    SINTER_WALL_NEUTRAL = 0,  /**< insulating: carries no current (the default) */
+    SINTER_WALL_CURRENT = 1,  /**< imposes a current J_ext [A] on the particles it touches */
+    SINTER_WALL_POTENTIAL = 2 /**< held at an electric potential [V] ("network" model only) */
+} sinter_wall_electric_mode;
+
+/**
+ * Electric boundary data of wall k: `mode` is a sinter_wall_electric_mode and
+ * `value` its number, J_ext [A] for SINTER_WALL_CURRENT, the potential [V] for
+ * SINTER_WALL_POTENTIAL, ignored (stored as 0) for SINTER_WALL_NEUTRAL.
+ * The "averaged" model uses |J_ext| (a magnitude, seed 000 remark 2); the
+ * "network" model reads J_ext as signed: > 0 flows from the wall into the
+ * particles, < 0 out of them.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE (no wall k), SINTER_ERR_INVALID
+ * (unknown mode, value not finite).
+ */
+SINTER_API sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k, int mode,
+                                                   double value);
+
+/**
+ * One electric submodel: the steady current through the contact graph
+ * (seed 000 sec. 5, eq. 39-44), solved once per evaluation of a stepper that
+ * has one, before forces and heat. It writes the particles' current field
+ * [A] and their SINTER_PARTICLE_ELECTRIFIED flags; heat models (e.g. "joule")
+ * read the current. Built-in models, chosen by name:
+ *  - "averaged" (seed 000 eq. 42-43): a particle touching a current wall is
+ *    electrified and takes the wall's |J_ext| (the contact-area-weighted mean
+ *    if it touches several); every other particle takes the contact-area-
+ *    weighted average of its neighbours' currents, J_i = sum_j J_j A_ij /
+ *    sum_j A_ij, found by Gauss-Seidel sweeps particle by particle until
+ *    sum_i |J_i^K - J_i^(K-1)| <= "tolerance" sum_i |J_i^K|. Particles not
+ *    connected through contacts to an electrified particle get 0. A current
+ *    magnitude propagated by averaging: it does not conserve charge. Walls
+ *    held at a potential are refused (SINTER_ERR_INVALID).
+ *  - "network": Kirchhoff's current law on the contact network of resistors.
+ *    A particle pair conducts with G_ij = sigma_ij A_ij / d_ij, where
+ *    (r_i + r_j) / sigma_ij = r_i / sigma_i + r_j / sigma_j (the rule of
+ *    seed 003 eq. 35 for heat); a particle conducts to a non-neutral wall
+ *    with its own conductivity, G = sigma_i A / d (d: centre-plane distance).
+ *    A potential wall is a fixed potential (Dirichlet). A current wall is an
+ *    equipotential electrode that injects the total J_ext: the network
+ *    decides how it splits among the particles touching it. A cluster with
+ *    no potential wall is solved only if its current walls' net current is
+ *    zero (its potential is then fixed up to a constant, irrelevant to
+ *    currents); otherwise the circuit is open and the cluster carries no
+ *    current (a warning is logged). The node potentials are found with
+ *    preconditioned conjugate gradients (SUNDIALS PCG, Jacobi) to a residual
+ *    <= "tolerance" times the right-hand side. The particle's current is half
+ *    the sum of |I| through its conducting contacts (what flows through it:
+ *    in a chain, the chain's current). Particles not connected to a driven
+ *    wall get 0. Particles of zero conductivity (the material default)
+ *    do not conduct.
+ * Parameters (both models): "tolerance" (> 0, < 1; default 1e-6 averaged,
+ * 1e-10 network), "max_iterations" (sweeps or PCG iterations, integer >= 1,
+ * default 10000); exceeding it is SINTER_ERR_NOT_CONVERGED.
+ * Only particles touching a non-neutral wall are flagged
+ * SINTER_PARTICLE_ELECTRIFIED ("averaged": current walls only); the flag is
+ * cleared on the others.
+ */
+typedef struct sinter_electric_model sinter_electric_model;
+
+/** Create a built-in electric model by name. Errors: SINTER_ERR_NOT_FOUND names the known ones. */
+SINTER_API sinter_status sinter_electric_model_create(sinter_electric_model **out,
+                                                      sinter_ctx *ctx, const char *name);
+/** Destroy an electric model (not while a stepper still uses it). NULL is allowed. */
+SINTER_API void sinter_electric_model_destroy(sinter_electric_model *em);
+/** The model's name (borrowed; "" for NULL). */
+SINTER_API const char *sinter_electric_model_name(const sinter_electric_model *em);
+/** Set a parameter by key. Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
+SINTER_API sinter_status sinter_electric_model_set(sinter_electric_model *em, const char *key,
+                                                   double value);
+SINTER_API sinter_status sinter_electric_model_get(const sinter_electric_model *em,
+                                                   const char *key, double *value);
+/**
+ * Give the stepper an electric model (borrowed; NULL removes it). The model
+ * is solved on every evaluation, after the contacts are found and before
+ * forces and heat. Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (another context).
+ */
+SINTER_API sinter_status sinter_stepper_set_electric(sinter_stepper *stepper,
+                                                     sinter_electric_model *em);
+/** Total iterations (sweeps or PCG iterations) of the stepper's electric solves so far. */
+SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper *stepper,
+                                                            uint64_t *iterations);
+
+/* ------------------------------------------------------------------------ */
+/* Neck (7DOF) submodel                                                      */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * The two-particle solid-state sintering model of Thomsen et al. (seed 001 sec. 2.2, eqs. 1-9,
+ * table 1) as specified by 7dof.md ("parametrisation 2", the path lengths of its §3): seven
+ * lengths describe two spherical caps of radii R_A, R_B joined by two cones that meet in the
+ * grain-boundary disc of radius x (the neck). Grain-boundary, surface and lattice diffusion move
+ * volume between the ring, caps, cones and grain boundary, driven by the surface and
+ * grain-boundary free energy. The material data are the material's neck parameters
+ * (SINTER_MAT_ATOMIC_VOLUME .. SINTER_MAT_PHASE_TRANSITION_TEMPERATURE); a material with a
+ * transition temperature switches to its *_HOT set at and above it, both ways.
+ *
+ * Options, by key (sinter_neck_model_set / _get; SINTER_ERR_NOT_FOUND for an unknown key,
+ * SINTER_ERR_INVALID outside the range):
+ *  - "epsilon": seeded neck radius x0 / min(R_A, R_B) (7dof.md §4) [-]; 0.01, (0, 0.1]
+ *  - "h0_ratio": junction radius of the seeded neck h0 / x0 (7dof.md §4) [-]; 1.5, (1, 2)
+ *  - "rtol": relative tolerance of every state component [-]; 1e-8, [1e-14, 1e-2]
+ *  - "atol": absolute tolerance of the state lengths [m]; 0 = 1e-14 min(R_A, R_B); [0, 1]
+ *  - "initial_step": first step [s]; 1e-12 (7dof.md §4), 0 lets CVODE estimate; [0, 1e6]
+ *  - "max_steps": most accepted steps of one run; 1e6, [1, 1e12], whole number
+ *  - "integrator": 0 = CVODE BDF with Newton and a dense 7x7 solver (default); 1 = the seed's
+ *    classical RK4 on a fixed grid, for comparisons (tolerances are then unused)
+ *  - "rk4_steps": number of RK4 steps of a run; 20000, [1, 1e10], whole number
+ *  - "rk4_time_scale": tau [s] of the RK4 grid, uniform in ln(1 + (t - t0)/tau); 1e-6, (0, 1e6]
+ */
+typedef struct sinter_neck_model sinter_neck_model;
+
+/** Create a neck model with default options. Errors: SINTER_ERR_NULL, SINTER_ERR_NOMEM. */
+SINTER_API sinter_status sinter_neck_model_create(sinter_neck_model **out, sinter_ctx *ctx);
+/** Destroy a neck model. NULL is allowed. */
+SINTER_API void sinter_neck_model_destroy(sinter_neck_model *nm);
+/** Set an option (list above). */
+SINTER_API sinter_status sinter_neck_model_set(sinter_neck_model *nm, const char *key,
+                                               double value);
+/** Get an option. */
+SINTER_API sinter_status sinter_neck_model_get(const sinter_neck_model *nm, const char *key,
+                                               double *value);
+
+/**
+ * Two particles of radii radius_a, radius_b [m] (> 0) touching at t0 = times[0], sintered
+ * under the piecewise-linear temperature schedule (times[k] [s], strictly increasing;
+ * temperatures[k] [K], > 0; n_times >= 1; held constant outside, so n_times = 1 is isothermal).
+ * The neck is seeded at t0 as in 7dof.md §4. Outputs at the n_out out_times [s]
+ * (nondecreasing, each >= t0; may lie beyond the last schedule time):
+ *  - neck_radius: x = y1 [m] (divide by min(R_A, R_B) for the neck ratio, 7dof.md §5),
+ *  - shrinkage: centre approach Delta L / L0 = (L0 - y4 - y7) / L0 with L0 = y4(t0) + y7(t0)
+ *    (seed 001 eqs. 11, 13),
+ *  - state (may be NULL): the 7 lengths [m] y1..y7 per output time (7dof.md §2.1).
+ * All arrays are the caller's (borrowed); outputs are written, NaN for times a failed run did
+ * not reach. With n_out = 0 the output pointers may be NULL (nothing is integrated).
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments), SINTER_ERR_DOMAIN (the neck left
+ * the model's domain of validity, 7dof.md §2.5; the message names the quantity and the time),
+ * SINTER_ERR_NOT_CONVERGED (CVODE failure or max_steps), SINTER_ERR_UNSTABLE (RK4 left the
+ * domain: too few steps), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_material *m,
+                                                   double radius_a, double radius_b,
+                                                   size_t n_times, const double *times,
+                                                   const double *temperatures, size_t n_out,
+                                                   const double *out_times, double *neck_radius,
+                                                   double *shrinkage, double *state);
+
+/** Work of the last sinter_neck_two_particles call (also after a failure). */
+typedef struct sinter_neck_stats {
+    size_t struct_size;            /**< set to sizeof(sinter_neck_stats) by the caller */
+    uint64_t steps;                /**< accepted steps (CVODE or RK4) */
+    uint64_t rhs_evaluations;      /**< right-hand side evaluations, including the Jacobian's */
+    uint64_t jacobian_evaluations; /**< 7x7 Jacobian evaluations (finite differences) */
+    uint64_t error_test_failures;  /**< steps rejected by CVODE's local error test */
+    uint64_t nonlinear_iterations; /**< Newton iterations */
+    uint64_t nonlinear_failures;   /**< Newton convergence failures */
+    uint64_t segments;             /**< smooth pieces of the schedule integrated (CVODE restarts) */
+    double seconds;                /**< wall-clock time of the call [s] */
+} sinter_neck_stats;
+
+/** Fill `stats` (its struct_size must be set). Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
+SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
+                                               sinter_neck_stats *stats);
 
 /* ------------------------------------------------------------------------ */
 /* Packing helpers                                                           */

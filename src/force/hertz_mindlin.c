@@ -11,8 +11,9 @@
  * -k_t Delta x - d_fric u_t (eq. 7); on slip it is scaled back to the Coulomb
  * limit mu_d |f_con| and the spring is reset consistently (eq. 13).
  *
- * Pair properties: E* and G* from eq. 3 and 9; friction, rolling and damping
- * coefficients of two different materials are averaged arithmetically.
+ * Pair properties: E* and G* from eq. 3 and 9; damping rates of two different
+ * materials are averaged arithmetically, friction and rolling coefficients
+ * geometrically (a frictionless wall gives no friction).
  *
  * History per contact: Delta x (3 doubles), and Delta theta (3 doubles) when the
  * model's "rolling" parameter is non-zero at the time it is added to a stepper.
@@ -64,12 +65,13 @@ static void mix(const side *a, const side *b, pair_consts *p)
     p->gstar = 1.0 / (a->shear_compliance + b->shear_compliance); /* eq. 9 */
     p->sqrt_2estar = sqrt(2.0 * p->estar);
     p->sqrt_8gstar = sqrt(8.0 * p->gstar);
+    /* Damping rates: arithmetic mean. Friction and rolling coefficients: geometric mean, so
+     * that a frictionless wall (mu = 0, as in seed 003 sec. 5.2-5.3) gives no friction. */
     p->xi = 0.5 * (a->xi + b->xi);
-    const double mu_s = 0.5 * (a->mu_s + b->mu_s);
-    p->mu_s2 = mu_s * mu_s;
-    p->mu_d = 0.5 * (a->mu_d + b->mu_d);
+    p->mu_s2 = a->mu_s * b->mu_s;
+    p->mu_d = sqrt(a->mu_d * b->mu_d);
     p->xi_f = 0.5 * (a->xi_f + b->xi_f);
-    p->mu_r = 0.5 * (a->mu_r + b->mu_r);
+    p->mu_r = sqrt(a->mu_r * b->mu_r);
     p->xi_r = 0.5 * (a->xi_r + b->xi_r);
 }
 

@@ -7,7 +7,8 @@
  *    centre-plane distance (eq. 14 written for any plane), plus sliding friction;
  *  - adhesive bonds (eq. 18-19), read as below.
  *
- * Pair values: K, p, mu_d and E* of two materials (or particle and wall) are arithmetic means.
+ * Pair values: K, p and E* of two materials (or particle and wall) are arithmetic means; mu_d is
+ * the geometric mean (as in hertz_mindlin.c: a frictionless wall gives no friction).
  * Thermal softening (sec. 2.2 remark, sec. 7): K_p is multiplied by the mean of the two
  * particles' modulus scales, K_w by the particle's (the wall keeps its reference stiffness).
  * K_b is not softened: bonding is what heating promotes.
@@ -41,6 +42,12 @@ static const double SLIP_EPS = 1e-12;
 static double scale_of(const sinter_force_eval *e, size_t i)
 {
     return e->modulus_scale ? e->modulus_scale[i] : 1.0;
+}
+
+static double geometric_mean(const sinter_material *a, const sinter_material *b,
+                             sinter_material_param p)
+{
+    return sqrt(a->value[p] * b->value[p]);
 }
 
 static double mean(const sinter_material *a, const sinter_material *b, sinter_material_param p)
@@ -104,7 +111,7 @@ static void eval_pp(const sinter_force_eval *e)
             uj[d] += v[3 * j + d];
             u[d] = ui[d] - uj[d];
         }
-        add_friction(n, u, v3_norm(ui) + v3_norm(uj), mean(mi, mj, SINTER_MAT_FRICTION_DYNAMIC),
+        add_friction(n, u, v3_norm(ui) + v3_norm(uj), geometric_mean(mi, mj, SINTER_MAT_FRICTION_DYNAMIC),
                      f_con, f);
         /* Moments about the centres: b_i x f on i, b_j x (-f) on j. */
         const double fj[3] = {-f[0], -f[1], -f[2]};
@@ -147,7 +154,7 @@ static void eval_pw(const sinter_force_eval *e)
             u[d] = ui[d] - wall->u[d];
         }
         add_friction(n, u, v3_norm(ui) + v3_norm(wall->u),
-                     mean(mi, mw, SINTER_MAT_FRICTION_DYNAMIC), f_con, f);
+                     geometric_mean(mi, mw, SINTER_MAT_FRICTION_DYNAMIC), f_con, f);
         double ti[3];
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {

@@ -13,9 +13,11 @@
  * of the conductivities, not eq. 35; for equal radii both readings coincide.
  *
  * Particle-wall (when "walls" = 1): the wall is a fixed-temperature reservoir at
- * wall->temperature and the pair conducts with the particle's own conductivity
- * (VALIDATION.md's reading of seed 003 §5.1): "area" = 0: G = k_i A / d with A = pi a^2 of the
- * contact list and d = the centre-to-plane distance; "area" = 1: LIGGGHTS' wall formula
+ * wall->temperature. "area" = 0: G = k_iw A / d with A = pi a^2 of the contact list, d the
+ * centre-to-plane distance and k_iw = 2 k_i k_w / (k_i + k_w), eq. 35 with the wall taken as
+ * a body of the particle's size: a wall of the particle's own conductivity gives k_i
+ * (VALIDATION.md's reading of seed 003 sec. 5.1) and k_w = 0 an adiabatic wall (seed 003
+ * sec. 5.3's side walls). "area" = 1: LIGGGHTS' wall formula
  * 4 k_p k_w / (k_p + k_w) sqrt(pi r_i^2) with k_w the wall material's conductivity, as in
  * LIGGGHTS (a wall with k_w = 0 is adiabatic; k_w = k_p gives G = 2 sqrt(pi) k_i r_i).
  * A particle whose centre is on or behind the plane (d <= 0, not a physical state) does not
@@ -53,7 +55,8 @@ static inline double conductance_pw(int projection, double ki, double kw, double
 {
     if (projection) /* LIGGGHTS' wall: 4 k_p k_w / (k_p + k_w) sqrt(pi r^2) */
         return ki + kw > 0.0 ? 4.0 * ki * kw / (ki + kw) * SQRT_PI * ri : 0.0;
-    return dist > 0.0 ? ki * area / dist : 0.0; /* eq. 32 with k_iw = k_i (reservoir) */
+    const double kiw = ki + kw > 0.0 ? 2.0 * ki * kw / (ki + kw) : 0.0; /* eq. 35, r_w = r_i */
+    return dist > 0.0 ? kiw * area / dist : 0.0;                        /* eq. 32 */
 }
 
 static inline void loop_pp(const sinter_heat_eval *e, int projection, int implicit)

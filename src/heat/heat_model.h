@@ -56,6 +56,7 @@ extern const sinter_heat_ops sinter_heat_convection;
 extern const sinter_heat_ops sinter_heat_radiation;
 extern const sinter_heat_ops sinter_heat_nozzle;
 extern const sinter_heat_ops sinter_heat_laser;
+extern const sinter_heat_ops sinter_heat_joule;
 
 /* Host model evaluation (host.c). */
 sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e);

@@ -6,7 +6,7 @@
 
 static const sinter_heat_ops *const BUILTIN[] = {
     &sinter_heat_conduction, &sinter_heat_convection, &sinter_heat_radiation,
-    &sinter_heat_nozzle,     &sinter_heat_laser,
+    &sinter_heat_nozzle,     &sinter_heat_laser,     &sinter_heat_joule,
 };
 
 double sinter_interpolate(size_t n, const double *t, const double *v, double x)

@@ -254,6 +254,34 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
     if (st == SINTER_OK)
         TRY(at_line(t, scene_find(s, "temperature")->line,
                     sinter_walls_set_temperature(sc->walls, index, temperature)));
+    double *tv = NULL;
+    size_t ntv = 0;
+    st = scene_get_numbers(t, s, "temperature_schedule", &tv, &ntv);
+    OPTIONAL(st);
+    if (st == SINTER_OK) {
+        sinter_status st2 = SINTER_OK;
+        double *times = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+        double *temps = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+        if (ntv % 2 != 0)
+            st2 = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                              "%s:%d: temperature_schedule: expected pairs 't T' [s, K], got %zu "
+                              "numbers",
+                              t->path, scene_find(s, "temperature_schedule")->line, ntv);
+        else if (times == NULL || temps == NULL)
+            st2 = SINTER_ERR_NOMEM;
+        for (size_t k = 0; k < ntv / 2 && st2 == SINTER_OK; ++k) {
+            times[k] = tv[2 * k];
+            temps[k] = tv[2 * k + 1];
+        }
+        if (st2 == SINTER_OK)
+            st2 = at_line(t, scene_find(s, "temperature_schedule")->line,
+                          sinter_walls_set_temperature_schedule(sc->walls, index, ntv / 2, times,
+                                                                temps));
+        sinter_free(t->ctx, tv);
+        sinter_free(t->ctx, times);
+        sinter_free(t->ctx, temps);
+        TRY(st2);
+    }
     const char *motion = "fixed";
     OPTIONAL(scene_get_word(t, s, "motion", &motion));
     if (strcmp(motion, "fixed") == 0)
@@ -323,6 +351,64 @@ static sinter_status build_force(scene_text *t, sinter_scene *sc, scene_section 
     return at_line(t, s->line, sinter_stepper_add_force(sc->st, fm));
 }
 
+/* "KEY_schedule = t v, t v, ..." makes parameter KEY follow a piecewise-linear schedule. */
+static sinter_status heat_schedule(scene_text *t, scene_section *s, scene_entry *en,
+                                   sinter_heat_model *hm)
+{
+    char key[128];
+    snprintf(key, sizeof(key), "%.*s", (int)(strlen(en->key) - strlen("_schedule")), en->key);
+    double *v = NULL;
+    size_t n = 0;
+    TRY(scene_get_numbers(t, s, en->key, &v, &n));
+    sinter_status st = SINTER_OK;
+    double *times = NULL, *values = NULL;
+    if (n % 2 != 0) {
+        st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                         "%s:%d: %s: expected pairs 't value', got %zu numbers", t->path, en->line,
+                         en->key, n);
+    } else {
+        times = sinter_calloc(t->ctx, n / 2 + 1, sizeof(double));
+        values = sinter_calloc(t->ctx, n / 2 + 1, sizeof(double));
+        if (times == NULL || values == NULL)
+            st = SINTER_ERR_NOMEM;
+        for (size_t k = 0; k < n / 2 && st == SINTER_OK; ++k) {
+            times[k] = v[2 * k];
+            values[k] = v[2 * k + 1];
+        }
+        if (st == SINTER_OK)
+            st = at_line(t, en->line, sinter_heat_model_set_schedule(hm, key, n / 2, times, values));
+    }
+    sinter_free(t->ctx, v);
+    sinter_free(t->ctx, times);
+    sinter_free(t->ctx, values);
+    return st;
+}
+
+static sinter_status build_heat(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    if (*s->name == '\0')
+        return section_error(t, s, "name the model: [heat conduction], [heat laser], ...");
+    if (sc->heat_count == SCENE_MAX_FORCES)
+        return section_error(t, s, "too many heat models");
+    sinter_heat_model *hm = NULL;
+    sinter_status st = sinter_heat_model_create(&hm, t->ctx, s->name);
+    if (st != SINTER_OK)
+        return at_line(t, s->line, st);
+    sc->heats[sc->heat_count++] = hm;
+    for (size_t e = 0; e < s->count; ++e) {
+        scene_entry *en = &s->entries[e];
+        const size_t len = strlen(en->key), suffix = strlen("_schedule");
+        if (len > suffix && strcmp(en->key + len - suffix, "_schedule") == 0) {
+            TRY(heat_schedule(t, s, en, hm));
+            continue;
+        }
+        double v;
+        TRY(scene_get_double(t, s, en->key, &v));
+        TRY(at_line(t, en->line, sinter_heat_model_set(hm, en->key, v)));
+    }
+    return at_line(t, s->line, sinter_stepper_add_heat(sc->st, hm));
+}
+
 static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     const char *kind = "explicit";
@@ -333,6 +419,15 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
     TRY(required(t, s, scene_get_double(t, s, "end_time", &sc->end_time), "end_time"));
     if (!(sc->end_time > 0))
         return section_error(t, s, "end_time must be > 0 s");
+    const char *thermal = "explicit";
+    OPTIONAL(scene_get_word(t, s, "thermal", &thermal));
+    if (strcmp(thermal, "explicit") != 0 && strcmp(thermal, "implicit") != 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: thermal: expected explicit or implicit, got '%s'", t->path,
+                           scene_find(s, "thermal")->line, thermal);
+    TRY(sinter_stepper_set_thermal_scheme(sc->st, strcmp(thermal, "implicit") == 0
+                                                      ? SINTER_THERMAL_IMPLICIT
+                                                      : SINTER_THERMAL_EXPLICIT));
     double skin;
     sinter_status st = scene_get_double(t, s, "skin", &skin);
     OPTIONAL(st);
@@ -396,7 +491,8 @@ static const struct {
 } BUILDERS[] = {
     {"scene", build_scene_header, 1},  {"material", build_material, 1},
     {"particles", build_particles, 1}, {"wall", build_wall, 0},
-    {"force", build_force, 1},         {"stepper", build_stepper, 1},
+    {"force", build_force, 1},         {"heat", build_heat, 0},
+    {"stepper", build_stepper, 1},
     {"pour", build_pour, 0},           {"output", build_output, 0},
 };
 
@@ -410,7 +506,7 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
         if (b == nb)
             return section_error(t, &t->sections[k],
                                  "unknown section type; expected scene, material, particles, "
-                                 "wall, force, stepper, pour or output");
+                                 "wall, force, heat, stepper, pour or output");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;
@@ -444,6 +540,8 @@ void sinter_scene_destroy(sinter_scene *sc)
     sinter_stepper_destroy(sc->st);
     for (size_t k = 0; k < sc->force_count; ++k)
         sinter_force_model_destroy(sc->forces[k]);
+    for (size_t k = 0; k < sc->heat_count; ++k)
+        sinter_heat_model_destroy(sc->heats[k]);
     for (size_t k = 0; k < sc->material_count; ++k)
         sinter_material_destroy(sc->materials[k]);
     sinter_walls_destroy(sc->walls);

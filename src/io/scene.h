@@ -21,6 +21,8 @@ struct sinter_scene {
     char wall_names[SCENE_MAX_WALLS][SCENE_NAME];
     sinter_force_model *forces[SCENE_MAX_FORCES];
     size_t force_count;
+    sinter_heat_model *heats[SCENE_MAX_FORCES];
+    size_t heat_count;
     sinter_stepper *st;
     double end_time;
     /* pour before the run */

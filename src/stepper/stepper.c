@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include "stepper.h"
+#include "electric/electric.h"
 
 double sinter_clock(void)
 {
@@ -256,6 +257,15 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         return s;
     if (st->walls == NULL)
         st->pw.count = 0;
+    if (st->electric != NULL) {
+        /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
+        size_t electric_iterations = 0;
+        s = sinter_electric_solve(st->electric, ps, st->walls, &st->pp, &st->pw,
+                                  &electric_iterations);
+        st->electric_iterations += electric_iterations;
+        if (s != SINTER_OK)
+            return s;
+    }
     const size_t nw = st->walls ? st->walls->count : 0;
     if (nw + 1 > st->wall_force_capacity) {
         double *grown = sinter_realloc_array(ctx, st->wall_force, 3 * (nw + 1), sizeof(double));

@@ -46,6 +46,8 @@ struct sinter_stepper {
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];
+    struct sinter_electric_model *electric; /* borrowed, NULL: no current solve */
+    uint64_t electric_iterations;           /* sweeps / PCG iterations of its solves, total */
 };
 
 /* Seconds of a monotonic clock. */

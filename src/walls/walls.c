@@ -242,6 +242,27 @@ sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_t k, double
     return SINTER_OK;
 }
 
+sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k, int mode, double value)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (mode != SINTER_WALL_NEUTRAL && mode != SINTER_WALL_CURRENT &&
+        mode != SINTER_WALL_POTENTIAL)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_electric: mode %d of wall %zu is not one of "
+                           "SINTER_WALL_NEUTRAL (0), SINTER_WALL_CURRENT (1), "
+                           "SINTER_WALL_POTENTIAL (2)",
+                           mode, k);
+    if (!isfinite(value))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_electric: value %g of wall %zu must be finite "
+                           "(a current [A] or a potential [V])",
+                           value, k);
+    w->electric_mode = mode;
+    w->electric_value = mode == SINTER_WALL_NEUTRAL ? 0.0 : value;
+    return SINTER_OK;
+}
+
 sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k, size_t n,
                                                     const double *times,
                                                     const double *temperatures)

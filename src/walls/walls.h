@@ -26,6 +26,8 @@ typedef struct sinter_wall {
     sinter_wall_motion_fn callback;
     void *callback_user;
     sinter_material material;
+    int electric_mode;     /* sinter_wall_electric_mode (0 = neutral: add_plane zeroes a wall) */
+    double electric_value; /* CURRENT: J_ext [A]; POTENTIAL: [V]; NEUTRAL: 0 */
 } sinter_wall;
 
 struct sinter_walls {

@@ -259,8 +259,10 @@ static hot_floor particle_on_hot_floor(int softening)
         OK(sinter_material_set(s.mat, SINTER_MAT_SOFTENING_LAW, 2));
         OK(sinter_material_set(s.mat, SINTER_MAT_SOFTENING_TEMPERATURE, 400.0));
     }
-    /* rigid floor (VALIDATION: E* = E/(1 - nu^2)), a fixed 700 K reservoir */
+    /* rigid floor (VALIDATION: E* = E/(1 - nu^2)), a fixed 700 K reservoir that conducts with
+     * the particle's conductivity (VALIDATION's reading of the seed's "zero conductivity") */
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_YOUNGS_MODULUS, 1e13));
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 60.0));
     scene_open(&s, "hertz_mindlin", 1);
     scene_floor(&s, 0.0);
     OK(sinter_walls_set_temperature(s.walls, 0, 700.0));

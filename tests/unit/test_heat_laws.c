@@ -129,7 +129,9 @@ static void test_conduction(void **state)
     const double area = PI * (r1 * r1 - l1 * l1);
     const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2);
     const double g = k12 * area / d, q = g * (400.0 - 300.0);
-    const double s = 0.9e-3, gw = k1 * PI * (r1 * r1 - s * s) / s, qw = gw * (tw - 300.0);
+    /* wall: eq. 35 with the wall as a body of the particle's size, k_w = 1 (default material) */
+    const double kw_wall = 1.0, k1w = 2.0 * k1 * kw_wall / (k1 + kw_wall);
+    const double s = 0.9e-3, gw = k1w * PI * (r1 * r1 - s * s) / s, qw = gw * (tw - 300.0);
     print_message("conduction eq. 34: G = %.12g W/K, Q = %.12g W; wall G = %.12g, Q = %.12g W\n", g,
                   q, gw, qw);
 

@@ -178,8 +178,8 @@ static void test_wall_contact_and_reaction(void **state)
     OK(sinter_stepper_evaluate(s.st));
     double x[3];
     get3(&s, SINTER_FIELD_POSITION, 0, x);
-    /* Pair values are means: K_w = 1.5e7 Pa, p_w = 1.5, mu_d = 0.3. */
-    const double kw = 1.5e7, pw = 1.5, mu = 0.5 * (mu_p + mu_w);
+    /* Pair values: arithmetic means K_w = 1.5e7 Pa, p_w = 1.5; friction the geometric mean. */
+    const double kw = 1.5e7, pw = 1.5, mu = sqrt(mu_p * mu_w);
     const double strain = fabs((x[2] - r) / r);      /* eq. 14 */
     const double area = PI * (r * r - x[2] * x[2]);  /* eq. 11 with L_i = plane distance */
     const double fcon = kw * pow(strain, pw) * area; /* eq. 13, away from the wall (+z) */

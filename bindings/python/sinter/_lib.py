@@ -30,6 +30,8 @@ StepperPtr = _opaque("sinter_stepper")
 ScenePtr = _opaque("sinter_scene")
 SeriesPtr = _opaque("sinter_series")
 HeatModelPtr = _opaque("sinter_heat_model")
+NeckModelPtr = _opaque("sinter_neck_model")
+ElectricModelPtr = _opaque("sinter_electric_model")
 
 _P = ctypes.POINTER
 _str = ctypes.c_char_p
@@ -85,6 +87,16 @@ class PackingOptions(ctypes.Structure):
                 ("radius_min", _double), ("radius_max", _double), ("gap", _double),
                 ("seed", _u64), ("max_attempts", _u64), ("material", ctypes.c_int32),
                 ("temperature", _double)]
+
+
+class NeckStats(ctypes.Structure):
+    """struct sinter_neck_stats: work of the last sinter_neck_two_particles call (seconds in s)."""
+
+    _cname = "sinter_neck_stats"
+    _fields_ = [("struct_size", _size), ("steps", _u64), ("rhs_evaluations", _u64),
+                ("jacobian_evaluations", _u64), ("error_test_failures", _u64),
+                ("nonlinear_iterations", _u64), ("nonlinear_failures", _u64),
+                ("segments", _u64), ("seconds", _double)]
 
 
 # name: (restype, argtypes), in the order of sinter.h. `const T x[3]` is a T pointer.
@@ -186,6 +198,15 @@ SIGNATURES = {
     "sinter_stepper_set_thermal_scheme": (c_status, [StepperPtr, _int]),
     "sinter_stepper_stable_dt_thermal": (c_status, [StepperPtr, _P(_double)]),
     "sinter_stepper_heat_energy": (c_status, [StepperPtr, _size, _P(_double)]),
+    # electric submodels
+    "sinter_walls_set_electric": (c_status, [WallsPtr, _size, _int, _double]),
+    "sinter_electric_model_create": (c_status, [_P(ElectricModelPtr), CtxPtr, _str]),
+    "sinter_electric_model_destroy": (None, [ElectricModelPtr]),
+    "sinter_electric_model_name": (_str, [ElectricModelPtr]),
+    "sinter_electric_model_set": (c_status, [ElectricModelPtr, _str, _double]),
+    "sinter_electric_model_get": (c_status, [ElectricModelPtr, _str, _P(_double)]),
+    "sinter_stepper_set_electric": (c_status, [StepperPtr, ElectricModelPtr]),
+    "sinter_stepper_electric_iterations": (c_status, [StepperPtr, _P(_u64)]),
     # scenes and checkpoints
     "sinter_scene_load": (c_status, [_P(ScenePtr), CtxPtr, _str]),
     "sinter_scene_destroy": (None, [ScenePtr]),
@@ -204,6 +225,15 @@ SIGNATURES = {
     "sinter_stepper_evaluate": (c_status, [StepperPtr]),
     "sinter_stable_dt_hertz": (c_status, [ParticlesPtr, WallsPtr, _double, _P(_double)]),
     "sinter_damping_ratio_from_restitution": (c_status, [_double, _P(_double)]),
+    # neck (7DOF) submodel
+    "sinter_neck_model_create": (c_status, [_P(NeckModelPtr), CtxPtr]),
+    "sinter_neck_model_destroy": (None, [NeckModelPtr]),
+    "sinter_neck_model_set": (c_status, [NeckModelPtr, _str, _double]),
+    "sinter_neck_model_get": (c_status, [NeckModelPtr, _str, _P(_double)]),
+    "sinter_neck_two_particles": (
+        c_status, [NeckModelPtr, MaterialPtr, _double, _double, _size, _P(_double), _P(_double),
+                   _size, _P(_double), _P(_double), _P(_double), _P(_double)]),
+    "sinter_neck_get_stats": (c_status, [NeckModelPtr, _P(NeckStats)]),
     # packing helpers
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),

@@ -1,0 +1,164 @@
+/*
+ * The "averaged" electric model of seed 000 sec. 5 (eq. 40-44).
+ *
+ * Charge conservation written per particle with radial flow (eq. 40-41) gives
+ * sum_j (J_i - J_j) A_ij = 0, i.e. eq. 42: J_i = sum_j J_j A_ij / sum_j A_ij, the
+ * contact-area-weighted average of the neighbours' current magnitudes. Boundary condition
+ * (remark 2, Figure 5): a particle touching a current wall is "fully electrified" and takes the
+ * wall's |J_ext|; if it touches several current walls, the contact-area-weighted mean of their
+ * magnitudes. Neutral walls do not take part (their contacts are neither sources nor
+ * neighbours). Remark 4: in a chain with equal contact areas J_i = (J_+ + J_-) / 2, so the
+ * magnitudes vary linearly between two electrified ends (eq. 44).
+ *
+ * Solution (eq. 43, sec. 5.2): Gauss-Seidel sweeps "through the system, particle by particle,
+ * updating the variables as it progresses", in index order, each particle using the newest
+ * values of its neighbours. After sweep K the normalised change (the seed's error measure of
+ * sec. 3.1 step 4) Z_K = sum_i |J_i^K - J_i^(K-1)| / sum_i |J_i^K| is compared with
+ * "tolerance"; the sweep count is reported. Note that this bounds the last change, not the
+ * error: for a slowly contracting sweep (a long chain) the error is about Z_K / (1 - rho) with
+ * rho the contraction factor of a sweep.
+ *
+ * Start: the particles' current field (the previous solution, which makes repeated solves in a
+ * stepper cheap); particles that cannot be reached from an electrified one through contacts get
+ * 0 and are not swept (otherwise they would keep a stale value forever).
+ *
+ * This is a magnitude smoothing, not Kirchhoff's law: a branch does not split the current and
+ * the total current is not conserved (see network.c for that).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "electric.h"
+
+enum { UNREACHED = 0, ELECTRIFIED = 1, FREE = 2 };
+
+/* CSR adjacency of the particle-particle contacts, weighted by contact area. */
+static sinter_status build_adjacency(sinter_electric_model *em, size_t n,
+                                     const sinter_contact_list *pp)
+{
+    SINTER_ELECTRIC_RESERVE(em, adj_start, n + 1);
+    SINTER_ELECTRIC_RESERVE(em, adj_other, 2 * pp->count + 1);
+    SINTER_ELECTRIC_RESERVE(em, adj_area, 2 * pp->count + 1);
+    uint32_t *start = em->adj_start;
+    memset(start, 0, (n + 1) * sizeof(uint32_t));
+    for (size_t k = 0; k < pp->count; ++k) {
+        start[pp->i[k] + 1]++;
+        start[pp->j[k] + 1]++;
+    }
+    for (size_t i = 0; i < n; ++i)
+        start[i + 1] += start[i];
+    /* fill with start[i] as the running cursor, then shift back */
+    for (size_t k = 0; k < pp->count; ++k) {
+        const uint32_t i = pp->i[k], j = pp->j[k];
+        em->adj_other[start[i]] = j;
+        em->adj_area[start[i]++] = pp->area[k];
+        em->adj_other[start[j]] = i;
+        em->adj_area[start[j]++] = pp->area[k];
+    }
+    for (size_t i = n; i > 0; --i)
+        start[i] = start[i - 1];
+    start[0] = 0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_particles *ps,
+                                             const sinter_walls *walls,
+                                             const sinter_contact_list *pp,
+                                             const sinter_contact_list *pw)
+{
+    const size_t n = ps->count;
+    const size_t nw = walls != NULL ? walls->count : 0;
+    for (size_t w = 0; w < nw; ++w)
+        if (walls->wall[w].electric_mode == SINTER_WALL_POTENTIAL)
+            return sinter_fail(em->ctx, SINTER_ERR_INVALID,
+                               "electric model 'averaged': wall %zu is held at a potential, "
+                               "which this model (seed 000 eq. 42, currents only) cannot use; "
+                               "give it a current (SINTER_WALL_CURRENT) or use the 'network' "
+                               "model",
+                               w);
+    SINTER_ELECTRIC_RESERVE(em, wall_sum, n + 1);
+    SINTER_ELECTRIC_RESERVE(em, wall_area, n + 1);
+    SINTER_ELECTRIC_RESERVE(em, state, n + 1);
+    SINTER_ELECTRIC_RESERVE(em, queue, n + 1);
+    sinter_status s = build_adjacency(em, n, pp);
+    if (s != SINTER_OK)
+        return s;
+    double *wall_sum = em->wall_sum, *wall_area = em->wall_area, *J = ps->current;
+    unsigned char *state = em->state;
+    memset(wall_sum, 0, n * sizeof(double));
+    memset(wall_area, 0, n * sizeof(double));
+    memset(state, UNREACHED, n);
+
+    /* Remark 2: particles touching a current wall take its magnitude. */
+    for (size_t k = 0; k < pw->count; ++k) {
+        const sinter_wall *w = &walls->wall[pw->j[k]];
+        if (w->electric_mode != SINTER_WALL_CURRENT)
+            continue;
+        const uint32_t i = pw->i[k];
+        wall_sum[i] += pw->area[k] * fabs(w->electric_value);
+        wall_area[i] += pw->area[k];
+    }
+    size_t head = 0, tail = 0;
+    for (size_t i = 0; i < n; ++i) {
+        ps->flags[i] &= ~(uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+        if (wall_area[i] > 0.0) {
+            ps->flags[i] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+            state[i] = ELECTRIFIED;
+            J[i] = wall_sum[i] / wall_area[i];
+            em->queue[tail++] = (uint32_t)i;
+        }
+    }
+    /* Particles connected to an electrified one; the others carry nothing. */
+    const uint32_t *start = em->adj_start, *other = em->adj_other;
+    const double *area = em->adj_area;
+    size_t free_count = 0;
+    while (head < tail) {
+        const uint32_t i = em->queue[head++];
+        for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
+            const uint32_t j = other[e];
+            if (state[j] != UNREACHED)
+                continue;
+            state[j] = FREE;
+            if (!isfinite(J[j]))
+                J[j] = 0.0; /* warm start from the previous solution when it is usable */
+            em->queue[tail++] = j;
+            free_count++;
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (state[i] == UNREACHED)
+            J[i] = 0.0;
+    if (free_count == 0)
+        return SINTER_OK; /* every connected particle is electrified: nothing to iterate */
+
+    /* Eq. 43, Gauss-Seidel in index order; Z_K of sec. 3.1 step 4 as the stopping test. */
+    const size_t max_sweeps = (size_t)em->max_iterations;
+    double change = 0.0, norm = 0.0;
+    for (size_t sweep = 1; sweep <= max_sweeps; ++sweep) {
+        change = 0.0;
+        norm = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            if (state[i] == UNREACHED)
+                continue;
+            if (state[i] == FREE) {
+                double sum_ja = 0.0, sum_a = 0.0;
+                for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
+                    sum_ja += J[other[e]] * area[e];
+                    sum_a += area[e];
+                }
+                const double next = sum_ja / sum_a; /* eq. 43; sum_a > 0: i has a neighbour */
+                change += fabs(next - J[i]);
+                J[i] = next;
+            }
+            norm += fabs(J[i]);
+        }
+        em->last_iterations = sweep;
+        if (change <= em->tolerance * norm)
+            return SINTER_OK;
+    }
+    return sinter_fail(em->ctx, SINTER_ERR_NOT_CONVERGED,
+                       "electric model 'averaged': no convergence in %zu Gauss-Seidel sweeps "
+                       "(normalised change %g > tolerance %g); raise 'max_iterations' or "
+                       "'tolerance'",
+                       max_sweeps, norm > 0.0 ? change / norm : change, em->tolerance);
+}

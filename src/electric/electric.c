@@ -1,0 +1,180 @@
+/*
+ * Electric submodels: creation by name, parameters, and the one internal entry point the
+ * stepper calls (seed 000 sec. 5). The models themselves are in averaged.c and network.c.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "electric.h"
+
+typedef struct electric_builtin {
+    const char *name;
+    int kind;
+    double tolerance; /* default */
+} electric_builtin;
+
+static const electric_builtin BUILTIN[] = {
+    {"averaged", SINTER_ELECTRIC_AVERAGED, 1e-6},
+    {"network", SINTER_ELECTRIC_NETWORK, 1e-10},
+};
+
+static const double DEFAULT_MAX_ITERATIONS = 10000.0;
+
+void *sinter_electric_reserve(sinter_ctx *ctx, void *ptr, size_t *capacity, size_t count,
+                              size_t size)
+{
+    if (ptr != NULL && count <= *capacity)
+        return ptr;
+    size_t cap = *capacity > 0 ? *capacity : 16;
+    while (cap < count)
+        cap = cap > SIZE_MAX / 2 ? count : 2 * cap;
+    void *grown = sinter_realloc_array(ctx, ptr, cap, size);
+    if (grown != NULL)
+        *capacity = cap;
+    return grown;
+}
+
+sinter_status sinter_electric_model_create(sinter_electric_model **out, sinter_ctx *ctx,
+                                           const char *name)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, out);
+    SINTER_CHECK_NULL(ctx, name);
+    const size_t n = sizeof(BUILTIN) / sizeof(BUILTIN[0]);
+    for (size_t k = 0; k < n; ++k) {
+        if (strcmp(BUILTIN[k].name, name) != 0)
+            continue;
+        sinter_electric_model *em = sinter_calloc(ctx, 1, sizeof(*em));
+        if (em == NULL)
+            return sinter_last_status(ctx);
+        em->ctx = ctx;
+        em->kind = BUILTIN[k].kind;
+        strncpy(em->name, BUILTIN[k].name, sizeof(em->name) - 1);
+        em->tolerance = BUILTIN[k].tolerance;
+        em->max_iterations = DEFAULT_MAX_ITERATIONS;
+        *out = em;
+        return SINTER_OK;
+    }
+    return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
+                       "sinter_electric_model_create: no electric model is called '%s' (known: "
+                       "averaged, network)",
+                       name);
+}
+
+void sinter_electric_model_destroy(sinter_electric_model *em)
+{
+    if (em == NULL)
+        return;
+    sinter_ctx *ctx = em->ctx;
+    sinter_electric_pcg_free(ctx, em->pcg);
+    sinter_free(ctx, em->potential);
+    sinter_free(ctx, em->adj_start);
+    sinter_free(ctx, em->adj_other);
+    sinter_free(ctx, em->adj_area);
+    sinter_free(ctx, em->wall_sum);
+    sinter_free(ctx, em->wall_area);
+    sinter_free(ctx, em->queue);
+    sinter_free(ctx, em->state);
+    sinter_free(ctx, em->edge_a);
+    sinter_free(ctx, em->edge_b);
+    sinter_free(ctx, em->edge_g);
+    sinter_free(ctx, em->parent);
+    sinter_free(ctx, em->net);
+    sinter_free(ctx, em->scale);
+    sinter_free(ctx, em->pin);
+    sinter_free(ctx, em->diag);
+    sinter_free(ctx, em);
+}
+
+const char *sinter_electric_model_name(const sinter_electric_model *em)
+{
+    return em == NULL ? "" : em->name;
+}
+
+enum { KEY_TOLERANCE = 0, KEY_MAX_ITERATIONS = 1, KEY_COUNT = 2 };
+static const char *const KEYS[KEY_COUNT] = {"tolerance", "max_iterations"};
+
+static sinter_status find_key(const sinter_electric_model *em, const char *key, int *k)
+{
+    SINTER_CHECK_NULL(em->ctx, key);
+    for (*k = 0; *k < KEY_COUNT; ++*k)
+        if (strcmp(KEYS[*k], key) == 0)
+            return SINTER_OK;
+    return sinter_fail(em->ctx, SINTER_ERR_NOT_FOUND,
+                       "electric model '%s' has no parameter '%s' (known: tolerance, "
+                       "max_iterations)",
+                       em->name, key);
+}
+
+sinter_status sinter_electric_model_set(sinter_electric_model *em, const char *key, double value)
+{
+    if (em == NULL)
+        return SINTER_ERR_NULL;
+    int k = 0;
+    sinter_status s = find_key(em, key, &k);
+    if (s != SINTER_OK)
+        return s;
+    if (k == KEY_TOLERANCE) {
+        if (!(value > 0.0 && value < 1.0))
+            return sinter_fail(em->ctx, SINTER_ERR_INVALID,
+                               "electric model '%s': tolerance %g must lie in (0, 1)", em->name,
+                               value);
+        em->tolerance = value;
+    } else {
+        if (!(value >= 1.0 && value <= 1e9 && value == floor(value)))
+            return sinter_fail(em->ctx, SINTER_ERR_INVALID,
+                               "electric model '%s': max_iterations %g must be an integer in "
+                               "[1, 1e9]",
+                               em->name, value);
+        em->max_iterations = value;
+    }
+    return SINTER_OK;
+}
+
+sinter_status sinter_electric_model_get(const sinter_electric_model *em, const char *key,
+                                        double *value)
+{
+    if (em == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(em->ctx, value);
+    int k = 0;
+    sinter_status s = find_key(em, key, &k);
+    if (s == SINTER_OK)
+        *value = k == KEY_TOLERANCE ? em->tolerance : em->max_iterations;
+    return s;
+}
+
+sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles *ps,
+                                    const sinter_walls *walls, const sinter_contact_list *pp,
+                                    const sinter_contact_list *pw, size_t *iterations)
+{
+    if (em == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(em->ctx, ps);
+    SINTER_CHECK_NULL(em->ctx, pp);
+    SINTER_CHECK_NULL(em->ctx, pw);
+    if (iterations != NULL)
+        *iterations = 0;
+    const size_t nw = walls != NULL ? walls->count : 0;
+    for (size_t k = 0; k < pw->count; ++k)
+        if (pw->j[k] >= nw)
+            return sinter_fail(em->ctx, SINTER_ERR_INVALID,
+                               "electric model '%s': particle-wall contact %zu names wall %u but "
+                               "there are %zu walls",
+                               em->name, k, (unsigned)pw->j[k], nw);
+    if ((uint64_t)ps->count + nw >= UINT32_MAX)
+        return sinter_fail(em->ctx, SINTER_ERR_OVERFLOW,
+                           "electric model '%s': %zu particles and %zu walls exceed the 32-bit "
+                           "node index",
+                           em->name, ps->count, nw);
+    em->last_iterations = 0;
+    em->node_count = 0;
+    em->open_clusters = 0;
+    sinter_status s = em->kind == SINTER_ELECTRIC_AVERAGED
+                          ? sinter_electric_solve_averaged(em, ps, walls, pp, pw)
+                          : sinter_electric_solve_network(em, ps, walls, pp, pw);
+    if (iterations != NULL)
+        *iterations = em->last_iterations;
+    return s;
+}

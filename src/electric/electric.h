@@ -1,0 +1,116 @@
+/*
+ * Private interface of the electric submodels: steady current through the contact graph
+ * (seed 000 sec. 5, eq. 38-44). The public handle is created by name in electric.c; a stepper
+ * calls sinter_electric_solve() once per evaluation, after the contact lists are up to date.
+ *
+ * The two built-in models differ in what they conserve:
+ *  - "averaged" (averaged.c) is the seed's model: a current MAGNITUDE imposed by the walls and
+ *    propagated through the packing by contact-area-weighted averaging (eq. 42-43). It is a
+ *    smoothing of the wall values, not a conservation law: in a chain the magnitude varies
+ *    linearly between two walls of different J_ext (remark 4), and a branch does not split the
+ *    current.
+ *  - "network" (network.c) treats every contact as a resistor and solves Kirchhoff's current
+ *    law per particle (charge conservation, eq. 39, exactly): a chain carries one current,
+ *    parallel paths split it by conductance.
+ */
+#ifndef SINTER_ELECTRIC_H
+#define SINTER_ELECTRIC_H
+
+#include "contact/contacts.h"
+#include "particles/particles.h"
+#include "walls/walls.h"
+
+typedef enum sinter_electric_kind {
+    SINTER_ELECTRIC_AVERAGED = 0,
+    SINTER_ELECTRIC_NETWORK = 1
+} sinter_electric_kind;
+
+/* SUNDIALS PCG objects of the network model (network.c). */
+typedef struct sinter_electric_pcg sinter_electric_pcg;
+
+struct sinter_electric_model {
+    sinter_ctx *ctx;
+    int kind; /* sinter_electric_kind */
+    char name[16];
+    double tolerance;      /* relative, see sinter.h */
+    double max_iterations; /* sweeps (averaged) or PCG iterations (network), integral */
+
+    /* Results of the last solve, for inspection (tests, diagnostics). */
+    size_t last_iterations;
+    size_t node_count;    /* network: particles then walls; 0 after an averaged solve */
+    double *potential;    /* network: node potentials [V] (node n + w is wall w) */
+    size_t open_clusters; /* network: clusters left without current (open circuit) */
+
+    /* Scratch reused across solves (grown on demand, never shrunk). */
+    size_t potential_capacity;
+    uint32_t *adj_start; /* averaged: CSR offsets, n + 1 */
+    size_t adj_start_capacity;
+    uint32_t *adj_other; /* averaged: neighbour of each CSR entry */
+    double *adj_area;    /* averaged: contact area of each CSR entry [m^2] */
+    size_t adj_other_capacity, adj_area_capacity;
+    double *wall_sum;  /* averaged: sum A |J_ext| over current-wall contacts, per particle */
+    double *wall_area; /* averaged: sum A over current-wall contacts, per particle */
+    size_t wall_sum_capacity, wall_area_capacity;
+    uint32_t *queue; /* averaged: breadth-first search */
+    size_t queue_capacity;
+    unsigned char *state; /* averaged: per particle; network: per node */
+    size_t state_capacity;
+    uint32_t *edge_a, *edge_b; /* network: conducting edges between nodes */
+    double *edge_g;            /* network: their conductances [S] */
+    size_t edge_a_capacity, edge_b_capacity, edge_g_capacity;
+    uint32_t *parent; /* network: union-find over nodes */
+    size_t parent_capacity;
+    double *net, *scale; /* network: per cluster root: net injected current, sum |J_ext| [A] */
+    size_t net_capacity, scale_capacity;
+    uint32_t *pin; /* network: per cluster root: node pinned at 0 V, or UINT32_MAX */
+    size_t pin_capacity;
+    double *diag; /* network: Jacobi diagonal */
+    size_t diag_capacity;
+    size_t edge_count;
+    sinter_electric_pcg *pcg;
+};
+
+/*
+ * Solve the model on the current contact state: write ps->current [A] for every particle and
+ * set SINTER_PARTICLE_ELECTRIFIED on the particles touching a driven wall (cleared on the
+ * others). `walls` may be NULL only when pw is empty. *iterations (may be NULL) receives the
+ * sweeps or PCG iterations of this solve. Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (a model
+ * cannot use a wall's mode), SINTER_ERR_NOT_CONVERGED (the currents of the last iterate are
+ * kept), SINTER_ERR_NOMEM.
+ */
+sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles *ps,
+                                    const sinter_walls *walls, const sinter_contact_list *pp,
+                                    const sinter_contact_list *pw, size_t *iterations);
+
+/* The two models (averaged.c, network.c); arguments are checked by sinter_electric_solve. */
+sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_particles *ps,
+                                             const sinter_walls *walls,
+                                             const sinter_contact_list *pp,
+                                             const sinter_contact_list *pw);
+sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_particles *ps,
+                                            const sinter_walls *walls,
+                                            const sinter_contact_list *pp,
+                                            const sinter_contact_list *pw);
+
+/* Free the SUNDIALS objects (NULL allowed). */
+void sinter_electric_pcg_free(sinter_ctx *ctx, sinter_electric_pcg *pcg);
+
+/*
+ * Storage for at least `count` elements of `size` bytes at `ptr` (contents kept, capacity in
+ * elements updated): the grown block, `ptr` itself if it is large enough, or NULL when out of
+ * memory (then `ptr` is untouched and the error is recorded on ctx).
+ */
+void *sinter_electric_reserve(sinter_ctx *ctx, void *ptr, size_t *capacity, size_t count,
+                              size_t size);
+
+/* Grow scratch field `field` of `em` (with its `field`_capacity) to `count` elements. */
+#define SINTER_ELECTRIC_RESERVE(em, field, count)                                                  \
+    do {                                                                                           \
+        void *grown_ = sinter_electric_reserve((em)->ctx, (em)->field, &(em)->field##_capacity,    \
+                                               (count), sizeof(*(em)->field));                     \
+        if (grown_ == NULL)                                                                        \
+            return sinter_last_status((em)->ctx);                                                  \
+        (em)->field = grown_;                                                                      \
+    } while (0)
+
+#endif

@@ -1,0 +1,365 @@
+/*
+ * The "network" electric model: Kirchhoff's current law on the contact network.
+ *
+ * Seed 000 eq. 39 (steady charge conservation, div J = 0) is imposed exactly on a resistor
+ * network instead of through the radial-flow simplification of eq. 41-42 used by "averaged.c".
+ *
+ * Nodes: the n particles (unknown potentials phi_i) and the walls (node n + w).
+ * Edges (resistors):
+ *  - a particle pair in contact: G_ij = sigma_ij A_ij / d_ij with A_ij = pi a_ij^2 of the
+ *    contact list, d_ij the centre distance and (r_i + r_j) / sigma_ij = r_i / sigma_i +
+ *    r_j / sigma_j, the harmonic rule of seed 003 eq. 35 (as heat conduction does), written as
+ *    sigma_i sigma_j (r_i + r_j) / (r_i sigma_j + r_j sigma_i) so that a non-conducting side
+ *    gives G = 0;
+ *  - a particle touching a non-neutral wall: G = sigma_i A / d with the particle's own
+ *    conductivity and d its centre-to-plane distance (as heat conduction's wall contact).
+ *   Neutral walls are insulators: their contacts are not edges.
+ * Boundary conditions:
+ *  - SINTER_WALL_POTENTIAL: the wall node is held at its potential (Dirichlet);
+ *  - SINTER_WALL_CURRENT: the wall is an equipotential electrode whose potential V_w is an
+ *    unknown and which injects its total current J_ext: sum_i G_iw (V_w - phi_i) = J_ext
+ *    (> 0 into the particles). The split of J_ext among the particles touching the wall is thus
+ *    decided by the network (more goes where the path is more conductive).
+ * Equations: for every free node p, sum_q G_pq (phi_p - phi_q) = s_p (s = J_ext for a current
+ * wall, 0 for a particle): a symmetric weighted graph Laplacian.
+ * Clusters (connected through particle contacts and current walls; a potential wall fixes its
+ * neighbours' potential scale and so does not join them):
+ *  - touching a potential wall: solved (symmetric positive definite);
+ *  - otherwise, with current walls whose net current is zero (to 1e-9 of sum |J_ext|): solved
+ *    with one current wall pinned at 0 V (potentials are defined up to a constant; currents are
+ *    not affected);
+ *  - otherwise the circuit is open (no return path: a single electrode touching the powder, or
+ *    currents that do not balance): the cluster carries no current and a warning is logged;
+ *  - clusters touching no driven wall carry no current.
+ * Solution: SUNDIALS PCG with a matrix-free operator and a Jacobi preconditioner (the pattern of
+ * stepper/thermal.c); pinned nodes are identity rows that keep their value exactly; stopping test
+ * ||b - A phi||_2 <= tolerance ||b||_2 over the free rows, started from phi = 0.
+ * Output: the current through contact (p, q) is I = G_pq (phi_p - phi_q); a particle's current is
+ * half the sum of |I| over its conducting contacts (wall contacts included), i.e. what flows
+ * through it: in a chain, the chain's current; at an electrode, what it receives from the wall.
+ */
+#include <math.h>
+#include <string.h>
+
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_pcg.h>
+
+#include "electric.h"
+
+struct sinter_electric_pcg {
+    SUNContext sunctx;
+    SUNLinearSolver pcg;
+    N_Vector x, b;
+    size_t n;
+    const sinter_electric_model *em; /* operator data of the current solve */
+};
+
+/* Per-node state bits (a cluster's bits live on its union-find root). */
+enum {
+    NODE_FREE = 1,
+    CLUSTER_GROUND = 2,
+    CLUSTER_CURRENT = 4,
+    CLUSTER_PARTICLE = 8,
+    CLUSTER_SOLVED = 16
+};
+
+static const uint32_t NO_NODE = UINT32_MAX;
+
+void sinter_electric_pcg_free(sinter_ctx *ctx, sinter_electric_pcg *s)
+{
+    if (s == NULL)
+        return;
+    if (s->pcg)
+        SUNLinSolFree(s->pcg);
+    if (s->x)
+        N_VDestroy(s->x);
+    if (s->b)
+        N_VDestroy(s->b);
+    if (s->sunctx)
+        SUNContext_Free(&s->sunctx);
+    sinter_free(ctx, s);
+}
+
+/* z = A v: Jacobi diagonal times v minus the couplings between free nodes. */
+static int apply_operator(void *data, N_Vector v, N_Vector z)
+{
+    const sinter_electric_pcg *s = data;
+    const sinter_electric_model *em = s->em;
+    const double *vv = N_VGetArrayPointer(v);
+    double *zz = N_VGetArrayPointer(z);
+    for (size_t p = 0; p < s->n; ++p)
+        zz[p] = em->diag[p] * vv[p];
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t a = em->edge_a[e], b = em->edge_b[e];
+        if (!(em->state[a] & NODE_FREE) || !(em->state[b] & NODE_FREE))
+            continue; /* a coupling to a pinned node lives in the right-hand side */
+        zz[a] -= em->edge_g[e] * vv[b];
+        zz[b] -= em->edge_g[e] * vv[a];
+    }
+    return 0;
+}
+
+/* Jacobi preconditioner: z = r / diag. */
+static int precondition(void *data, N_Vector r, N_Vector z, realtype tol, int lr)
+{
+    (void)tol;
+    (void)lr;
+    const sinter_electric_pcg *s = data;
+    const double *rr = N_VGetArrayPointer(r);
+    double *zz = N_VGetArrayPointer(z);
+    for (size_t p = 0; p < s->n; ++p)
+        zz[p] = rr[p] / s->em->diag[p];
+    return 0;
+}
+
+static sinter_status ensure_pcg(sinter_electric_model *em, size_t n)
+{
+    if (em->pcg != NULL && em->pcg->n == n)
+        return SINTER_OK;
+    sinter_electric_pcg_free(em->ctx, em->pcg);
+    em->pcg = NULL;
+    sinter_electric_pcg *s = sinter_calloc(em->ctx, 1, sizeof(*s));
+    if (s == NULL)
+        return sinter_last_status(em->ctx);
+    s->n = n;
+    int ok = SUNContext_Create(NULL, &s->sunctx) == 0;
+    if (ok) {
+        s->x = N_VNew_Serial((sunindextype)n, s->sunctx);
+        s->b = N_VNew_Serial((sunindextype)n, s->sunctx);
+        ok = s->x != NULL && s->b != NULL;
+    }
+    if (ok) {
+        s->pcg = SUNLinSol_PCG(s->x, SUN_PREC_LEFT, 100, s->sunctx);
+        ok = s->pcg != NULL && SUNLinSolSetATimes(s->pcg, s, apply_operator) == 0 &&
+             SUNLinSolSetPreconditioner(s->pcg, s, NULL, precondition) == 0 &&
+             SUNLinSolInitialize(s->pcg) == 0;
+    }
+    if (!ok) {
+        sinter_electric_pcg_free(em->ctx, s);
+        return sinter_fail(em->ctx, SINTER_ERR_NOMEM,
+                           "electric model 'network': could not create the SUNDIALS PCG solver "
+                           "for %zu nodes",
+                           n);
+    }
+    em->pcg = s;
+    return SINTER_OK;
+}
+
+static uint32_t find_root(uint32_t *parent, uint32_t p)
+{
+    while (parent[p] != p) {
+        parent[p] = parent[parent[p]]; /* path halving */
+        p = parent[p];
+    }
+    return p;
+}
+
+static void unite(uint32_t *parent, uint32_t a, uint32_t b)
+{
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a != b)
+        parent[a > b ? a : b] = a < b ? a : b; /* the smaller index becomes the root */
+}
+
+/* Conducting edges of the contact lists (G > 0), and the ELECTRIFIED flags. */
+static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps,
+                                 const sinter_walls *walls, const sinter_contact_list *pp,
+                                 const sinter_contact_list *pw)
+{
+    const size_t n = ps->count, m = pp->count + pw->count;
+    SINTER_ELECTRIC_RESERVE(em, edge_a, m + 1);
+    SINTER_ELECTRIC_RESERVE(em, edge_b, m + 1);
+    SINTER_ELECTRIC_RESERVE(em, edge_g, m + 1);
+    size_t count = 0;
+    const double *r = ps->radius;
+    for (size_t k = 0; k < pp->count; ++k) {
+        const uint32_t i = pp->i[k], j = pp->j[k];
+        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+        const double sj = sinter_particle_param(ps, j, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+        const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35 */
+        const double g = den > 0.0 && pp->dist[k] > 0.0
+                             ? si * sj * (r[i] + r[j]) / den * pp->area[k] / pp->dist[k]
+                             : 0.0;
+        if (g > 0.0 && isfinite(g)) {
+            em->edge_a[count] = i;
+            em->edge_b[count] = j;
+            em->edge_g[count++] = g;
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        ps->flags[i] &= ~(uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+    for (size_t k = 0; k < pw->count; ++k) {
+        const uint32_t i = pw->i[k], w = pw->j[k];
+        if (walls->wall[w].electric_mode == SINTER_WALL_NEUTRAL)
+            continue;
+        ps->flags[i] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+        const double g = pw->dist[k] > 0.0 ? si * pw->area[k] / pw->dist[k] : 0.0;
+        if (g > 0.0 && isfinite(g)) {
+            em->edge_a[count] = i;
+            em->edge_b[count] = (uint32_t)(n + w);
+            em->edge_g[count++] = g;
+        }
+    }
+    em->edge_count = count;
+    return SINTER_OK;
+}
+
+/* Clusters, their boundary conditions, and which nodes are free (state bits). */
+static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls, size_t n,
+                           size_t nw)
+{
+    const size_t nodes = n + nw;
+    uint32_t *parent = em->parent;
+    unsigned char *state = em->state;
+    for (size_t p = 0; p < nodes; ++p) {
+        parent[p] = (uint32_t)p;
+        state[p] = 0;
+        em->net[p] = em->scale[p] = 0.0;
+        em->pin[p] = NO_NODE;
+    }
+    /* A potential wall does not join clusters: its potential is fixed. */
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t b = em->edge_b[e];
+        if (b < n || walls->wall[b - n].electric_mode == SINTER_WALL_CURRENT)
+            unite(parent, em->edge_a[e], b);
+    }
+    for (size_t p = 0; p < n; ++p)
+        state[find_root(parent, (uint32_t)p)] |= CLUSTER_PARTICLE;
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t b = em->edge_b[e];
+        if (b >= n && walls->wall[b - n].electric_mode == SINTER_WALL_POTENTIAL)
+            state[find_root(parent, em->edge_a[e])] |= CLUSTER_GROUND;
+    }
+    for (size_t w = 0; w < nw; ++w) {
+        if (walls->wall[w].electric_mode != SINTER_WALL_CURRENT)
+            continue;
+        const uint32_t root = find_root(parent, (uint32_t)(n + w));
+        state[root] |= CLUSTER_CURRENT;
+        em->net[root] += walls->wall[w].electric_value;
+        em->scale[root] += fabs(walls->wall[w].electric_value);
+        if (em->pin[root] == NO_NODE)
+            em->pin[root] = (uint32_t)(n + w);
+    }
+    for (size_t p = 0; p < nodes; ++p) {
+        if (parent[p] != p)
+            continue;
+        const unsigned char c = state[p];
+        if (c & CLUSTER_GROUND)
+            state[p] |= CLUSTER_SOLVED; /* no pin: the potential walls fix the level */
+        else if ((c & CLUSTER_CURRENT) && fabs(em->net[p]) <= 1e-9 * em->scale[p])
+            state[p] |= CLUSTER_SOLVED; /* balanced electrodes: pin one at 0 V */
+        else if ((c & CLUSTER_CURRENT) && (c & CLUSTER_PARTICLE))
+            em->open_clusters++;
+    }
+    for (size_t p = 0; p < nodes; ++p) {
+        const uint32_t root = find_root(parent, (uint32_t)p);
+        if (!(state[root] & CLUSTER_SOLVED))
+            continue;
+        if (p >= n && walls->wall[p - n].electric_mode != SINTER_WALL_CURRENT)
+            continue; /* potential and neutral walls are singletons, never free */
+        if ((state[root] & CLUSTER_GROUND) || em->pin[root] != p)
+            state[p] |= NODE_FREE;
+    }
+}
+
+sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_particles *ps,
+                                            const sinter_walls *walls,
+                                            const sinter_contact_list *pp,
+                                            const sinter_contact_list *pw)
+{
+    const size_t n = ps->count, nw = walls != NULL ? walls->count : 0, nodes = n + nw;
+    SINTER_ELECTRIC_RESERVE(em, parent, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, state, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, net, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, scale, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, pin, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, diag, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, potential, nodes + 1);
+    sinter_status s = build_edges(em, ps, walls, pp, pw);
+    if (s != SINTER_OK)
+        return s;
+    classify_nodes(em, walls, n, nw);
+
+    /* Right-hand side, diagonal and start: pinned rows are identities at their value. */
+    double *phi = em->potential, *diag = em->diag, *rhs = em->net; /* net is no longer needed */
+    const unsigned char *state = em->state;
+    size_t free_count = 0;
+    for (size_t p = 0; p < nodes; ++p) {
+        const sinter_wall *w = p >= n ? &walls->wall[p - n] : NULL;
+        if (state[p] & NODE_FREE) {
+            free_count++;
+            diag[p] = 0.0;
+            phi[p] = 0.0;
+            rhs[p] = w != NULL ? w->electric_value : 0.0; /* a free wall node is a current wall */
+        } else {
+            diag[p] = 1.0;
+            phi[p] =
+                w != NULL && w->electric_mode == SINTER_WALL_POTENTIAL ? w->electric_value : 0.0;
+            rhs[p] = phi[p];
+        }
+    }
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t a = em->edge_a[e], b = em->edge_b[e];
+        const double g = em->edge_g[e];
+        if (state[a] & NODE_FREE) {
+            diag[a] += g;
+            if (!(state[b] & NODE_FREE))
+                rhs[a] += g * phi[b];
+        }
+        if (state[b] & NODE_FREE) {
+            diag[b] += g;
+            if (!(state[a] & NODE_FREE))
+                rhs[b] += g * phi[a];
+        }
+    }
+    double bnorm = 0.0;
+    for (size_t p = 0; p < nodes; ++p)
+        if (state[p] & NODE_FREE)
+            bnorm += rhs[p] * rhs[p];
+    bnorm = sqrt(bnorm);
+
+    /* A zero right-hand side on an SPD system has the solution 0, which phi already holds. */
+    if (free_count > 0 && bnorm > 0.0) {
+        s = ensure_pcg(em, nodes);
+        if (s != SINTER_OK)
+            return s;
+        sinter_electric_pcg *sv = em->pcg;
+        sv->em = em;
+        memcpy(N_VGetArrayPointer(sv->x), phi, nodes * sizeof(double));
+        memcpy(N_VGetArrayPointer(sv->b), rhs, nodes * sizeof(double));
+        SUNLinSol_PCGSetMaxl(sv->pcg, (int)fmin(em->max_iterations, 2147483647.0));
+        const int rc = SUNLinSolSolve(sv->pcg, NULL, sv->x, sv->b, em->tolerance * bnorm);
+        em->last_iterations = (size_t)SUNLinSolNumIters(sv->pcg);
+        memcpy(phi, N_VGetArrayPointer(sv->x), nodes * sizeof(double));
+        if (rc != SUNLS_SUCCESS) {
+            const double res = SUNLinSolResNorm(sv->pcg);
+            return sinter_fail(em->ctx, SINTER_ERR_NOT_CONVERGED,
+                               "electric model 'network': PCG returned %d after %zu iterations "
+                               "(residual %g > tolerance %g x %g); raise 'max_iterations' or "
+                               "'tolerance'",
+                               rc, em->last_iterations, res, em->tolerance, bnorm);
+        }
+    }
+    em->node_count = nodes;
+
+    /* Contact currents I = G (phi_a - phi_b); a particle carries half the sum of |I|. */
+    double *J = ps->current;
+    memset(J, 0, n * sizeof(double));
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t a = em->edge_a[e], b = em->edge_b[e];
+        const double half = 0.5 * fabs(em->edge_g[e] * (phi[a] - phi[b]));
+        J[a] += half;
+        if (b < n)
+            J[b] += half;
+    }
+    if (em->open_clusters > 0)
+        sinter_log(em->ctx, SINTER_LOG_WARNING,
+                   "electric model 'network': %zu cluster(s) of particles touch current walls "
+                   "but no potential wall and the currents do not balance (open circuit); they "
+                   "carry no current",
+                   em->open_clusters);
+    return SINTER_OK;
+}

@@ -1,0 +1,691 @@
+/*
+ * Electric submodels (seed 000 sec. 5) and Joule heating (eq. 35, 50), evaluated directly on
+ * real contact lists: particles and walls are built through the public API, the contact lists
+ * with the neighbour grid, then sinter_electric_solve() / the heat model's eval are called.
+ *
+ * How the two electric models differ (what these tests pin down):
+ *  - "averaged" is seed 000's model: a current MAGNITUDE imposed by the current walls and
+ *    propagated by contact-area-weighted averaging (eq. 42-43). It smooths the wall values and
+ *    does not conserve charge: between walls of 2 A and 8 A a chain goes linearly from 2 to 8
+ *    (remark 4), and two parallel chains both carry the full wall value.
+ *  - "network" solves Kirchhoff's current law on the contact resistors (eq. 39 exactly): a
+ *    chain carries one current, V / (sum of resistances), and parallel chains split it in
+ *    proportion to their conductances.
+ *
+ * Tolerances: closed forms are a few floating-point operations (1e-12 relative). Iterative
+ * results are compared at a tolerance derived from the solver's own stopping test, stated at
+ * each check.
+ */
+#include <string.h>
+
+#include "test_support.h"
+#include "contact/contacts.h"
+#include "electric/electric.h"
+#include "heat/heat_model.h"
+#include "particles/particles.h"
+#include "stepper/stepper.h"
+#include "walls/walls.h"
+
+#define OK(call) assert_int_equal((call), SINTER_OK)
+#define assert_rel(a, b, rel) assert_close((a), (b), (rel)*fabs(b))
+
+static const double PI = 3.14159265358979323846;
+static const double R = 1e-3;              /* particle radius [m] */
+static const double SIGMA[2] = {2.0, 5.0}; /* electric conductivity [S/m] */
+static const double ABSORPTANCE[2] = {0.5, 0.8};
+
+typedef struct fixture {
+    sinter_ctx *ctx;
+    sinter_particles *ps;
+    sinter_walls *walls;
+    sinter_neighbors nb;
+    sinter_contact_list pp, pw;
+    sinter_electric_model *em;
+    int warnings;
+} fixture;
+
+static void count_warnings(int level, const char *message, void *user)
+{
+    (void)message;
+    if (level == SINTER_LOG_WARNING)
+        ++*(int *)user;
+}
+
+/* Material 0: sigma 2 S/m, a 0.5; material 1: sigma 5 S/m, a 0.8; material 2: sigma 0. */
+static void open_fixture(fixture *f)
+{
+    memset(f, 0, sizeof(*f));
+    OK(sinter_ctx_create(&f->ctx, NULL));
+    OK(sinter_ctx_set_log(f->ctx, count_warnings, SINTER_LOG_WARNING, &f->warnings));
+    OK(sinter_particles_create(&f->ps, f->ctx));
+    OK(sinter_walls_create(&f->walls, f->ctx));
+    for (int m = 0; m < 3; ++m) {
+        sinter_material *mat;
+        OK(sinter_material_create(&mat, f->ctx, NULL));
+        if (m < 2) {
+            OK(sinter_material_set(mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, SIGMA[m]));
+            OK(sinter_material_set(mat, SINTER_MAT_ABSORPTANCE, ABSORPTANCE[m]));
+        }
+        OK(sinter_particles_set_material(f->ps, m, mat));
+        sinter_material_destroy(mat);
+    }
+    sinter_neighbors_init(&f->nb, f->ctx, 1e-4);
+}
+
+static void close_fixture(fixture *f)
+{
+    sinter_electric_model_destroy(f->em);
+    sinter_contact_list_free(f->ctx, &f->pp);
+    sinter_contact_list_free(f->ctx, &f->pw);
+    sinter_neighbors_free(&f->nb);
+    sinter_walls_destroy(f->walls);
+    sinter_particles_destroy(f->ps);
+    sinter_ctx_destroy(f->ctx);
+}
+
+static void add(fixture *f, double x, double y, double z, int32_t mat)
+{
+    const double p[3] = {x, y, z}, r = R;
+    OK(sinter_particles_add(f->ps, 1, p, &r, mat, 300.0, NULL));
+}
+
+static size_t add_wall(fixture *f, double x, double nx, int mode, double value)
+{
+    const double p[3] = {x, 0, 0}, n[3] = {nx, 0, 0};
+    sinter_material *wm;
+    size_t k;
+    OK(sinter_material_create(&wm, f->ctx, NULL));
+    OK(sinter_walls_add_plane(f->walls, p, n, wm, &k));
+    sinter_material_destroy(wm);
+    OK(sinter_walls_set_electric(f->walls, k, mode, value));
+    return k;
+}
+
+/*
+ * n particles along x at height y, from a wall at x = 0: particle 0 overlaps that wall by
+ * delta_wall, pair (k, k+1) overlaps by delta[k]. Returns where the right wall must be for
+ * particle n-1 to overlap it by delta_wall.
+ */
+static double add_chain(fixture *f, size_t n, const double *delta, double delta_wall, double y,
+                        int32_t mat)
+{
+    double x = R - delta_wall;
+    for (size_t k = 0; k < n; ++k) {
+        add(f, x, y, 0.0, mat);
+        if (k + 1 < n)
+            x += 2.0 * R - delta[k];
+    }
+    return x + R - delta_wall;
+}
+
+static void find_contacts(fixture *f)
+{
+    OK(sinter_neighbors_build(&f->nb, f->ps, f->walls));
+    OK(sinter_contacts_find_pp(f->ctx, &f->pp, &f->nb.pp, f->ps));
+    OK(sinter_contacts_find_pw(f->ctx, &f->pw, &f->nb.pw, f->ps, f->walls));
+}
+
+static sinter_status solve(fixture *f, size_t *iterations)
+{
+    return sinter_electric_solve(f->em, f->ps, f->walls, &f->pp, &f->pw, iterations);
+}
+
+static void model(fixture *f, const char *name, double tolerance)
+{
+    OK(sinter_electric_model_create(&f->em, f->ctx, name));
+    if (tolerance > 0.0)
+        OK(sinter_electric_model_set(f->em, "tolerance", tolerance));
+}
+
+/* Seed 000 eq. 7-12 for equal radii: A = pi (r^2 - (d/2)^2) with d = 2 r - delta. */
+static double pair_area(double delta)
+{
+    const double half = R - 0.5 * delta;
+    return PI * (R * R - half * half);
+}
+
+/* Particle-wall contact: A = pi (r^2 - s^2), s = r - delta the centre-plane distance. */
+static double wall_area(double delta)
+{
+    const double s = R - delta;
+    return PI * (R * R - s * s);
+}
+
+static int electrified(const fixture *f, size_t i)
+{
+    return (f->ps->flags[i] & SINTER_PARTICLE_ELECTRIFIED) != 0;
+}
+
+/* ---- "averaged" (eq. 42-44) ------------------------------------------------ */
+
+/*
+ * Remark 4 / eq. 44: a chain of 7 with equal contact areas between current walls of 2 A and
+ * (-)8 A (the model uses magnitudes) is linear from 2 to 8; the end particles are electrified.
+ */
+static void test_averaged_chain_equal_areas(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 7 };
+    const double delta[N - 1] = {1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4};
+    const double x_right = add_chain(&f, N, delta, 5e-5, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_CURRENT, 2.0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_CURRENT, -8.0);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, N - 1);
+    assert_int_equal(f.pw.count, 2);
+    for (size_t k = 0; k < f.pp.count; ++k)
+        assert_rel(f.pp.area[k], pair_area(1e-4), 1e-9); /* equal areas, up to positions */
+
+    /* Tight tolerance: the exact linear profile to ~1e-10. */
+    model(&f, "averaged", 1e-13);
+    size_t iterations = 0;
+    OK(solve(&f, &iterations));
+    print_message("averaged chain of %d: %zu Gauss-Seidel sweeps to 1e-13\n", N, iterations);
+    assert_true(iterations > 1 && iterations < 10000);
+    assert_int_equal(f.em->last_iterations, iterations);
+    for (size_t k = 0; k < N; ++k) {
+        const double exact = 2.0 + 6.0 * (double)k / (N - 1); /* eq. 44 applied recursively */
+        assert_close(f.ps->current[k], exact, 1e-10);
+        assert_int_equal(electrified(&f, k), k == 0 || k == N - 1);
+    }
+    /* Interior particles are the average of their two neighbours (eq. 44, equal areas). */
+    for (size_t k = 1; k + 1 < N; ++k)
+        assert_close(f.ps->current[k], 0.5 * (f.ps->current[k - 1] + f.ps->current[k + 1]), 1e-10);
+
+    /*
+     * Default tolerance 1e-6 from a cold start: Z_K <= 1e-6 bounds the last sweep's change;
+     * for 5 unknowns the Gauss-Seidel contraction is rho = cos^2(pi/6) = 0.75, so the error is
+     * at most about Z_K sum|J| rho / (1 - rho) = 3 x 1e-6 x 35 A; 1e-3 A is a safe bound.
+     */
+    sinter_electric_model_destroy(f.em);
+    f.em = NULL;
+    model(&f, "averaged", 0.0);
+    double tol;
+    OK(sinter_electric_model_get(f.em, "tolerance", &tol));
+    assert_true(tol == 1e-6);
+    memset(f.ps->current, 0, N * sizeof(double));
+    size_t cold = 0;
+    OK(solve(&f, &cold));
+    for (size_t k = 0; k < N; ++k)
+        assert_close(f.ps->current[k], 2.0 + 6.0 * (double)k / (N - 1), 1e-3);
+    /* Warm start: a repeated solve starts from the previous currents and stops at once. */
+    size_t warm = 0;
+    OK(solve(&f, &warm));
+    print_message("default tolerance: %zu sweeps cold, %zu warm\n", cold, warm);
+    assert_true(warm >= 1 && warm < cold);
+    close_fixture(&f);
+}
+
+/* Eq. 42 with unequal areas: J_1 = (J_0 A_01 + J_2 A_12) / (A_01 + A_12). */
+static void test_averaged_unequal_areas(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double delta[2] = {0.5e-4, 3e-4}, j_left = 3.0, j_right = 11.0;
+    const double x_right = add_chain(&f, 3, delta, 5e-5, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_CURRENT, j_left);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_CURRENT, j_right);
+    find_contacts(&f);
+    const double a01 = pair_area(delta[0]), a12 = pair_area(delta[1]);
+    print_message("areas %.6g and %.6g m^2\n", a01, a12);
+    model(&f, "averaged", 1e-13);
+    size_t iterations = 0;
+    OK(solve(&f, &iterations));
+    const double expected = (j_left * a01 + j_right * a12) / (a01 + a12);
+    assert_close(f.ps->current[0], j_left, 1e-15);
+    assert_close(f.ps->current[2], j_right, 1e-15);
+    assert_rel(f.ps->current[1], expected, 1e-9); /* areas from positions to ~1e-12 */
+    assert_true(fabs(expected - 0.5 * (j_left + j_right)) > 1.0); /* not the plain mean */
+    /* One free particle whose neighbours are fixed: exact after one sweep, confirmed by a second.
+     */
+    assert_int_equal(iterations, 2);
+    close_fixture(&f);
+}
+
+/* ---- "network" (Kirchhoff) -------------------------------------------------- */
+
+/*
+ * A chain of n equal contacts between walls at V0 and 0: series resistors
+ * R = 2 / G_w + (n - 1) / G_pp, current I = V0 / R in every particle, potentials falling
+ * linearly by I / G_pp per contact. PCG tolerance 1e-13 relative residual; the system has
+ * condition number ~ n^2, so 1e-10 relative on potentials and currents is safe.
+ */
+static void test_network_series_chain(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 6 };
+    const double dp = 1e-4, dw = 2e-4, v0 = 1.5;
+    const double delta[N - 1] = {dp, dp, dp, dp, dp};
+    const double x_right = add_chain(&f, N, delta, dw, 0.0, 0);
+    const size_t left = add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, v0);
+    const size_t right = add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    const double g_pp = SIGMA[0] * pair_area(dp) / (2.0 * R - dp); /* sigma_ij = sigma */
+    const double g_w = SIGMA[0] * wall_area(dw) / (R - dw);
+    const double current = v0 / (2.0 / g_w + (N - 1) / g_pp);
+    print_message("network chain: G_pp = %.6g S, G_w = %.6g S, I = %.9g A\n", g_pp, g_w, current);
+
+    model(&f, "network", 1e-13);
+    size_t iterations = 0;
+    OK(solve(&f, &iterations));
+    print_message("PCG iterations: %zu\n", iterations);
+    assert_true(iterations >= 1 && iterations <= 2 * N);
+    assert_int_equal(f.em->node_count, N + 2);
+    const double *phi = f.em->potential;
+    assert_true(phi[N + left] == v0);
+    assert_true(phi[N + right] == 0.0);
+    assert_rel(phi[0], v0 - current / g_w, 1e-10);
+    for (size_t k = 0; k < N; ++k) {
+        assert_rel(f.ps->current[k], current, 1e-10);
+        assert_int_equal(electrified(&f, k), k == 0 || k == N - 1);
+        if (k + 1 < N)
+            assert_rel(phi[k] - phi[k + 1], current / g_pp, 1e-10); /* linear drop */
+    }
+    assert_rel(phi[N - 1], current / g_w, 1e-10);
+
+    /* The left wall as a current electrode of I0 into the chain, the right one grounded. */
+    const double i0 = 0.25;
+    OK(sinter_walls_set_electric(f.walls, left, SINTER_WALL_CURRENT, i0));
+    OK(solve(&f, &iterations));
+    for (size_t k = 0; k < N; ++k)
+        assert_rel(f.ps->current[k], i0, 1e-10);
+    phi = f.em->potential;
+    assert_rel(phi[N - 1], i0 / g_w, 1e-10);
+    assert_rel(phi[N + left], i0 * (2.0 / g_w + (N - 1) / g_pp), 1e-10); /* V = I R */
+
+    /* Two balanced electrodes (+I0 in, -I0 out) and no ground: the same current. */
+    OK(sinter_walls_set_electric(f.walls, right, SINTER_WALL_CURRENT, -i0));
+    OK(solve(&f, &iterations));
+    for (size_t k = 0; k < N; ++k)
+        assert_rel(f.ps->current[k], i0, 1e-10);
+    assert_int_equal(f.warnings, 0);
+
+    /* One electrode and an insulating wall: open circuit, no current, one warning. */
+    OK(sinter_walls_set_electric(f.walls, right, SINTER_WALL_NEUTRAL, 0.0));
+    OK(solve(&f, &iterations));
+    assert_int_equal(f.em->open_clusters, 1);
+    assert_int_equal(f.warnings, 1);
+    for (size_t k = 0; k < N; ++k)
+        assert_true(f.ps->current[k] == 0.0);
+    assert_true(electrified(&f, 0) && !electrified(&f, N - 1));
+    close_fixture(&f);
+}
+
+/*
+ * Two separate chains of 3 between the same two walls, one of sigma 2 S/m, one of 5 S/m, with
+ * the same geometry: currents in the ratio of the conductances. With potential walls each
+ * chain carries V0 / R_c; with a current electrode the total I0 splits as G_c / (G_a + G_b).
+ * The "averaged" model on the same scene does not split: both chains carry the wall value.
+ */
+static void test_parallel_chains(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double dp = 1.5e-4, dw = 1e-4, v0 = 0.3, i0 = 0.7;
+    const double delta[2] = {dp, dp};
+    const double x_right = add_chain(&f, 3, delta, dw, 0.0, 0);
+    assert_true(add_chain(&f, 3, delta, dw, 3.0 * R, 1) == x_right);
+    const size_t left = add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, v0);
+    const size_t right = add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 4);
+    assert_int_equal(f.pw.count, 4);
+    double resistance[2];
+    for (int c = 0; c < 2; ++c)
+        resistance[c] = 2.0 * (R - dw) / (SIGMA[c] * wall_area(dw)) +
+                        2.0 * (2.0 * R - dp) / (SIGMA[c] * pair_area(dp));
+
+    model(&f, "network", 1e-13);
+    OK(solve(&f, NULL));
+    for (size_t k = 0; k < 6; ++k)
+        assert_rel(f.ps->current[k], v0 / resistance[k / 3], 1e-10);
+    assert_rel(f.ps->current[0] / f.ps->current[3], SIGMA[0] / SIGMA[1], 1e-10);
+
+    OK(sinter_walls_set_electric(f.walls, left, SINTER_WALL_CURRENT, i0));
+    OK(solve(&f, NULL));
+    const double g_a = 1.0 / resistance[0], g_b = 1.0 / resistance[1];
+    for (size_t k = 0; k < 3; ++k) {
+        assert_rel(f.ps->current[k], i0 * g_a / (g_a + g_b), 1e-10);
+        assert_rel(f.ps->current[3 + k], i0 * g_b / (g_a + g_b), 1e-10);
+    }
+    assert_rel(f.ps->current[0] + f.ps->current[3], i0, 1e-10); /* charge is conserved */
+
+    /* "averaged": a magnitude, not a split. */
+    OK(sinter_walls_set_electric(f.walls, right, SINTER_WALL_CURRENT, i0));
+    sinter_electric_model_destroy(f.em);
+    f.em = NULL;
+    model(&f, "averaged", 1e-12);
+    OK(solve(&f, NULL));
+    for (size_t k = 0; k < 6; ++k)
+        assert_close(f.ps->current[k], i0, 1e-12);
+    close_fixture(&f);
+}
+
+/*
+ * Particles not connected to a driven wall get 0 and lose a stale ELECTRIFIED flag: a lone
+ * particle, a pair resting on an insulating floor (neutral wall), a pair of zero conductivity
+ * touching a potential wall (network: it cannot conduct, but it touches the wall).
+ */
+static void test_isolated_particles(void **state)
+{
+    (void)state;
+    const char *names[2] = {"averaged", "network"};
+    for (int m = 0; m < 2; ++m) {
+        fixture f;
+        open_fixture(&f);
+        const double delta[2] = {1e-4, 1e-4};
+        const double x_right = add_chain(&f, 3, delta, 1e-4, 0.0, 0); /* particles 0-2 */
+        add(&f, 3e-3, 8e-3, 0.0, 0);                                  /* 3: alone */
+        add(&f, 2e-3, -8e-3, -1.05e-3, 0);                            /* 4, 5: on the floor */
+        add(&f, 3.95e-3, -8e-3, -1.05e-3, 0);
+        add_wall(&f, 0.0, 1.0, SINTER_WALL_CURRENT, 1.0);
+        const int right_mode = m == 0 ? SINTER_WALL_CURRENT : SINTER_WALL_POTENTIAL;
+        add_wall(&f, x_right, -1.0, right_mode, m == 0 ? 1.0 : 0.0);
+        const double p[3] = {0, 0, -2e-3}, n[3] = {0, 0, 1};
+        sinter_material *wm;
+        OK(sinter_material_create(&wm, f.ctx, NULL));
+        OK(sinter_walls_add_plane(f.walls, p, n, wm, NULL)); /* neutral by default */
+        sinter_material_destroy(wm);
+        for (size_t i = 0; i < 6; ++i) {
+            f.ps->current[i] = 7.0; /* stale values */
+            f.ps->flags[i] |= SINTER_PARTICLE_ELECTRIFIED;
+        }
+        find_contacts(&f);
+        assert_int_equal(f.pp.count, 3);
+        assert_int_equal(f.pw.count, 4);
+        model(&f, names[m], 1e-12);
+        OK(solve(&f, NULL));
+        for (size_t i = 3; i < 6; ++i) {
+            assert_true(f.ps->current[i] == 0.0);
+            assert_false(electrified(&f, i));
+        }
+        for (size_t i = 0; i < 3; ++i)
+            assert_true(f.ps->current[i] > 0.0);
+        assert_int_equal(f.warnings, 0);
+        close_fixture(&f);
+    }
+    /* network: zero-conductivity particles touching a potential wall carry nothing */
+    fixture f;
+    open_fixture(&f);
+    const double delta[1] = {1e-4};
+    const double x_right = add_chain(&f, 2, delta, 1e-4, 0.0, 2);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 1.0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    model(&f, "network", 0.0);
+    size_t iterations = 5;
+    OK(solve(&f, &iterations));
+    assert_int_equal(iterations, 0);
+    assert_true(f.ps->current[0] == 0.0 && f.ps->current[1] == 0.0);
+    assert_true(electrified(&f, 0) && electrified(&f, 1));
+    close_fixture(&f);
+}
+
+/* Iteration counts, their limit, and the stepper's bookkeeping. */
+static void test_iterations(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 12 };
+    double delta[N - 1];
+    for (size_t k = 0; k < N - 1; ++k)
+        delta[k] = 1e-4;
+    const double x_right = add_chain(&f, N, delta, 1e-4, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_CURRENT, 1.0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_CURRENT, 5.0);
+    find_contacts(&f);
+    model(&f, "averaged", 0.0);
+    OK(sinter_electric_model_set(f.em, "max_iterations", 3));
+    size_t iterations = 0;
+    assert_int_equal(solve(&f, &iterations), SINTER_ERR_NOT_CONVERGED);
+    assert_int_equal(iterations, 3);
+    print_message("%s\n", sinter_last_error(f.ctx));
+    assert_non_null(strstr(sinter_last_error(f.ctx), "max_iterations"));
+
+    sinter_electric_model_destroy(f.em);
+    f.em = NULL;
+    model(&f, "network", 0.0);
+    OK(sinter_walls_set_electric(f.walls, 0, SINTER_WALL_POTENTIAL, 1.0));
+    OK(sinter_walls_set_electric(f.walls, 1, SINTER_WALL_POTENTIAL, 0.0));
+    OK(sinter_electric_model_set(f.em, "max_iterations", 2));
+    assert_int_equal(solve(&f, &iterations), SINTER_ERR_NOT_CONVERGED);
+    assert_int_equal(iterations, 2);
+    assert_non_null(strstr(sinter_last_error(f.ctx), "PCG"));
+    OK(sinter_electric_model_set(f.em, "max_iterations", 1000));
+    OK(solve(&f, &iterations));
+    print_message("network chain of %d: %zu PCG iterations\n", N, iterations);
+    assert_true(iterations > 2 && iterations <= N + 2);
+
+    /* The stepper borrows the model and reports the total of its solves (0 before any). */
+    sinter_stepper *st;
+    OK(sinter_stepper_create(&st, f.ctx, SINTER_STEPPER_EXPLICIT, f.ps, f.walls));
+    uint64_t total = 99;
+    OK(sinter_stepper_electric_iterations(st, &total));
+    assert_true(total == 0);
+    OK(sinter_stepper_set_electric(st, f.em));
+    assert_ptr_equal(st->electric, f.em);
+    OK(sinter_stepper_set_electric(st, NULL));
+    assert_null(st->electric);
+    assert_int_equal(sinter_stepper_set_electric(NULL, f.em), SINTER_ERR_NULL);
+    assert_int_equal(sinter_stepper_electric_iterations(st, NULL), SINTER_ERR_NULL);
+    sinter_ctx *other;
+    sinter_electric_model *foreign;
+    OK(sinter_ctx_create(&other, NULL));
+    OK(sinter_electric_model_create(&foreign, other, "averaged"));
+    assert_int_equal(sinter_stepper_set_electric(st, foreign), SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(f.ctx), "another context"));
+    sinter_electric_model_destroy(foreign);
+    sinter_ctx_destroy(other);
+    sinter_stepper_destroy(st);
+    close_fixture(&f);
+}
+
+/* ---- Joule heating (eq. 35, 50) -------------------------------------------- */
+
+static double joule(fixture *f, sinter_heat_model *hm, sinter_status expect)
+{
+    double heat[4] = {0, 0, 0, 0};
+    sinter_heat_eval e;
+    memset(&e, 0, sizeof(e));
+    e.ctx = f->ctx;
+    e.ps = f->ps;
+    e.walls = f->walls;
+    e.pp = &f->pp;
+    e.pw = &f->pw;
+    e.heat = heat;
+    assert_int_equal(hm->ops->eval(hm, &e), expect);
+    return heat[0];
+}
+
+static void test_joule_constant_conductivity(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    add(&f, 0.0, 0.0, 0.0, 0);
+    add(&f, 1.0, 0.0, 0.0, 2); /* sigma = 0, no current: no heat, no error */
+    find_contacts(&f);
+    sinter_heat_model *hm;
+    OK(sinter_heat_model_create(&hm, f.ctx, "joule"));
+    assert_string_equal(sinter_heat_model_name(hm), "joule");
+    assert_int_equal(hm->ops->conduction, 0);
+    const double current = 3.0, volume = 4.0 / 3.0 * PI * R * R * R;
+    f.ps->current[0] = current;
+    const double expected = ABSORPTANCE[0] * current * current / SIGMA[0] * volume; /* eq. 35 */
+    print_message("joule: H = %.12g W\n", expected);
+    assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
+    f.ps->current[0] = -current; /* J^2: the sign does not matter */
+    assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
+
+    f.ps->current[1] = 0.1; /* a current through a non-conductor */
+    joule(&f, hm, SINTER_ERR_INVALID);
+    print_message("%s\n", sinter_last_error(f.ctx));
+    assert_non_null(strstr(sinter_last_error(f.ctx), "conductivity"));
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+static double logistic(double x)
+{
+    return 1.0 / (1.0 + exp(-x));
+}
+
+/*
+ * Eq. 50 by hand: sigma = sigma_0 (1 + K1 s(g1 (theta - theta_R)) + K2 s(g2 |E - E_R|)),
+ * E = |J| / sigma_0. At (theta_R, E_R) both sigmoids are 1/2: sigma_0 (1 + K1/2 + K2/2).
+ */
+static void test_joule_sigmoid(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    add(&f, 0.0, 0.0, 0.0, 1);
+    find_contacts(&f);
+    sinter_heat_model *hm;
+    OK(sinter_heat_model_create(&hm, f.ctx, "joule"));
+    const double theta_r = 500.0, k1 = -0.4, g1 = 0.01, k2 = 0.3, g2 = 0.5, e_r = 1.0;
+    OK(sinter_heat_model_set(hm, "sigmoid", 1.0));
+    OK(sinter_heat_model_set(hm, "theta_ref", theta_r));
+    OK(sinter_heat_model_set(hm, "k1", k1));
+    OK(sinter_heat_model_set(hm, "gamma1", g1));
+    OK(sinter_heat_model_set(hm, "k2", k2));
+    OK(sinter_heat_model_set(hm, "gamma2", g2));
+    OK(sinter_heat_model_set(hm, "field_ref", e_r));
+    const double s0 = SIGMA[1], a = ABSORPTANCE[1], volume = 4.0 / 3.0 * PI * R * R * R;
+
+    const double theta = 650.0, current = 12.5, field = current / s0; /* E = 2.5 */
+    f.ps->temperature[0] = theta;
+    f.ps->current[0] = current;
+    const double sigma =
+        s0 * (1.0 + k1 * logistic(g1 * (theta - theta_r)) + k2 * logistic(g2 * fabs(field - e_r)));
+    print_message("eq. 50: sigma = %.12g S/m (sigma_0 = %g)\n", sigma, s0);
+    assert_rel(joule(&f, hm, SINTER_OK), a * current * current / sigma * volume, 1e-12);
+
+    /* At the reference state: 1 + K1/2 + K2/2, not 1. */
+    f.ps->temperature[0] = theta_r;
+    f.ps->current[0] = e_r * s0;
+    const double sigma_ref = s0 * (1.0 + 0.5 * k1 + 0.5 * k2);
+    assert_rel(joule(&f, hm, SINTER_OK), a * e_r * s0 * e_r * s0 / sigma_ref * volume, 1e-12);
+
+    /* Switched off: the material's conductivity. */
+    OK(sinter_heat_model_set(hm, "sigmoid", 0.0));
+    assert_rel(joule(&f, hm, SINTER_OK), a * e_r * s0 * e_r * s0 / s0 * volume, 1e-12);
+
+    /* Eq. 50 leaving its domain (sigma <= 0), and a bad switch. */
+    OK(sinter_heat_model_set(hm, "sigmoid", 1.0));
+    OK(sinter_heat_model_set(hm, "k1", -3.0));
+    f.ps->temperature[0] = 2000.0;
+    joule(&f, hm, SINTER_ERR_DOMAIN);
+    print_message("%s\n", sinter_last_error(f.ctx));
+    OK(sinter_heat_model_set(hm, "sigmoid", 0.5));
+    joule(&f, hm, SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/* ---- misuse ---------------------------------------------------------------- */
+
+static void test_misuse(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const size_t w = add_wall(&f, 0.0, 1.0, SINTER_WALL_NEUTRAL, 0.0);
+    assert_int_equal(sinter_walls_set_electric(f.walls, w, 3, 1.0), SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(f.ctx), "SINTER_WALL_POTENTIAL"));
+    assert_int_equal(sinter_walls_set_electric(f.walls, w, -1, 1.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_electric(f.walls, w, SINTER_WALL_CURRENT, NAN),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_electric(f.walls, 5, SINTER_WALL_CURRENT, 1.0),
+                     SINTER_ERR_RANGE);
+    assert_int_equal(sinter_walls_set_electric(NULL, 0, SINTER_WALL_CURRENT, 1.0), SINTER_ERR_NULL);
+    OK(sinter_walls_set_electric(f.walls, w, SINTER_WALL_CURRENT, -4.0));
+    assert_int_equal(f.walls->wall[w].electric_mode, SINTER_WALL_CURRENT);
+    assert_true(f.walls->wall[w].electric_value == -4.0);
+    OK(sinter_walls_set_electric(f.walls, w, SINTER_WALL_NEUTRAL, 9.0));
+    assert_true(f.walls->wall[w].electric_value == 0.0);
+
+    sinter_electric_model *em = NULL;
+    assert_int_equal(sinter_electric_model_create(&em, f.ctx, "kirchhoff"), SINTER_ERR_NOT_FOUND);
+    assert_null(em);
+    print_message("%s\n", sinter_last_error(f.ctx));
+    assert_non_null(strstr(sinter_last_error(f.ctx), "averaged, network"));
+    assert_int_equal(sinter_electric_model_create(&em, NULL, "averaged"), SINTER_ERR_NULL);
+    assert_int_equal(sinter_electric_model_create(NULL, f.ctx, "averaged"), SINTER_ERR_NULL);
+    assert_int_equal(sinter_electric_model_create(&em, f.ctx, NULL), SINTER_ERR_NULL);
+    sinter_electric_model_destroy(NULL);
+    assert_string_equal(sinter_electric_model_name(NULL), "");
+
+    model(&f, "network", 0.0);
+    assert_string_equal(sinter_electric_model_name(f.em), "network");
+    double v = 0.0;
+    OK(sinter_electric_model_get(f.em, "tolerance", &v));
+    assert_true(v == 1e-10);
+    OK(sinter_electric_model_get(f.em, "max_iterations", &v));
+    assert_true(v == 10000.0);
+    assert_int_equal(sinter_electric_model_set(f.em, "omega", 1.0), SINTER_ERR_NOT_FOUND);
+    assert_non_null(strstr(sinter_last_error(f.ctx), "omega"));
+    assert_int_equal(sinter_electric_model_get(f.em, "omega", &v), SINTER_ERR_NOT_FOUND);
+    assert_int_equal(sinter_electric_model_get(f.em, "tolerance", NULL), SINTER_ERR_NULL);
+    assert_int_equal(sinter_electric_model_set(f.em, NULL, 1.0), SINTER_ERR_NULL);
+    const double bad_tolerance[4] = {0.0, 1.0, -1e-3, NAN};
+    for (int k = 0; k < 4; ++k)
+        assert_int_equal(sinter_electric_model_set(f.em, "tolerance", bad_tolerance[k]),
+                         SINTER_ERR_INVALID);
+    const double bad_max[4] = {0.0, 2.5, -3.0, INFINITY};
+    for (int k = 0; k < 4; ++k)
+        assert_int_equal(sinter_electric_model_set(f.em, "max_iterations", bad_max[k]),
+                         SINTER_ERR_INVALID);
+    OK(sinter_electric_model_set(f.em, "max_iterations", 50.0));
+    OK(sinter_electric_model_get(f.em, "max_iterations", &v));
+    assert_true(v == 50.0);
+    assert_int_equal(sinter_electric_model_set(NULL, "tolerance", 1e-3), SINTER_ERR_NULL);
+
+    /* solve: NULL arguments, and "averaged" refuses a potential wall */
+    assert_int_equal(sinter_electric_solve(NULL, f.ps, f.walls, &f.pp, &f.pw, NULL),
+                     SINTER_ERR_NULL);
+    assert_int_equal(sinter_electric_solve(f.em, NULL, f.walls, &f.pp, &f.pw, NULL),
+                     SINTER_ERR_NULL);
+    assert_int_equal(sinter_electric_solve(f.em, f.ps, f.walls, NULL, &f.pw, NULL),
+                     SINTER_ERR_NULL);
+    add(&f, R - 1e-4, 0.0, 0.0, 0);
+    find_contacts(&f);
+    assert_int_equal(f.pw.count, 1);
+    assert_int_equal(sinter_electric_solve(f.em, f.ps, NULL, &f.pp, &f.pw, NULL),
+                     SINTER_ERR_INVALID); /* a wall contact without walls */
+    sinter_electric_model_destroy(f.em);
+    f.em = NULL;
+    model(&f, "averaged", 0.0);
+    OK(sinter_walls_set_electric(f.walls, w, SINTER_WALL_POTENTIAL, 1.0));
+    assert_int_equal(solve(&f, NULL), SINTER_ERR_INVALID);
+    print_message("%s\n", sinter_last_error(f.ctx));
+    assert_non_null(strstr(sinter_last_error(f.ctx), "network"));
+    /* an electrode alone (no return path) is fine for "averaged": a magnitude */
+    OK(sinter_walls_set_electric(f.walls, w, SINTER_WALL_CURRENT, 2.0));
+    OK(solve(&f, NULL));
+    assert_true(f.ps->current[0] == 2.0);
+    close_fixture(&f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_averaged_chain_equal_areas),
+        cmocka_unit_test(test_averaged_unequal_areas),
+        cmocka_unit_test(test_network_series_chain),
+        cmocka_unit_test(test_parallel_chains),
+        cmocka_unit_test(test_isolated_particles),
+        cmocka_unit_test(test_iterations),
+        cmocka_unit_test(test_joule_constant_conductivity),
+        cmocka_unit_test(test_joule_sigmoid),
+        cmocka_unit_test(test_misuse),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
