@@ -282,6 +282,25 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
         sinter_free(t->ctx, temps);
         TRY(st2);
     }
+    const char *electric = NULL;
+    st = scene_get_word(t, s, "electric", &electric);
+    OPTIONAL(st);
+    if (st == SINTER_OK) {
+        const int mode = strcmp(electric, "neutral") == 0     ? SINTER_WALL_NEUTRAL
+                         : strcmp(electric, "current") == 0   ? SINTER_WALL_CURRENT
+                         : strcmp(electric, "potential") == 0 ? SINTER_WALL_POTENTIAL
+                                                              : -1;
+        if (mode < 0)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: electric: expected neutral, current or potential, got '%s'",
+                               t->path, scene_find(s, "electric")->line, electric);
+        double value = 0.0;
+        if (mode != SINTER_WALL_NEUTRAL)
+            TRY(required(t, s, scene_get_double(t, s, "electric_value", &value),
+                         "electric_value"));
+        TRY(at_line(t, scene_find(s, "electric")->line,
+                    sinter_walls_set_electric(sc->walls, index, mode, value)));
+    }
     const char *motion = "fixed";
     OPTIONAL(scene_get_word(t, s, "motion", &motion));
     if (strcmp(motion, "fixed") == 0)
@@ -409,6 +428,22 @@ static sinter_status build_heat(scene_text *t, sinter_scene *sc, scene_section *
     return at_line(t, s->line, sinter_stepper_add_heat(sc->st, hm));
 }
 
+static sinter_status build_electric(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    if (*s->name == '\0')
+        return section_error(t, s, "name the model: [electric averaged] or [electric network]");
+    sinter_status st = sinter_electric_model_create(&sc->electric, t->ctx, s->name);
+    if (st != SINTER_OK)
+        return at_line(t, s->line, st);
+    for (size_t e = 0; e < s->count; ++e) {
+        scene_entry *en = &s->entries[e];
+        double v;
+        TRY(scene_get_double(t, s, en->key, &v));
+        TRY(at_line(t, en->line, sinter_electric_model_set(sc->electric, en->key, v)));
+    }
+    return at_line(t, s->line, sinter_stepper_set_electric(sc->st, sc->electric));
+}
+
 static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     const char *kind = "explicit";
@@ -492,6 +527,7 @@ static const struct {
     {"scene", build_scene_header, 1},  {"material", build_material, 1},
     {"particles", build_particles, 1}, {"wall", build_wall, 0},
     {"force", build_force, 1},         {"heat", build_heat, 0},
+    {"electric", build_electric, 0},
     {"stepper", build_stepper, 1},
     {"pour", build_pour, 0},           {"output", build_output, 0},
 };
@@ -506,7 +542,7 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
         if (b == nb)
             return section_error(t, &t->sections[k],
                                  "unknown section type; expected scene, material, particles, "
-                                 "wall, force, heat, stepper, pour or output");
+                                 "wall, force, heat, electric, stepper, pour or output");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;
@@ -515,6 +551,7 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
             if (strcmp(s->type, BUILDERS[b].type) != 0)
                 continue;
             const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
+                               strcmp(s->type, "electric") == 0 ||
                                strcmp(s->type, "pour") == 0 || strcmp(s->type, "output") == 0;
             if (seen && single)
                 return section_error(t, s, "this section may appear only once");
@@ -538,6 +575,7 @@ void sinter_scene_destroy(sinter_scene *sc)
     if (sc == NULL)
         return;
     sinter_stepper_destroy(sc->st);
+    sinter_electric_model_destroy(sc->electric);
     for (size_t k = 0; k < sc->force_count; ++k)
         sinter_force_model_destroy(sc->forces[k]);
     for (size_t k = 0; k < sc->heat_count; ++k)

@@ -23,6 +23,7 @@ struct sinter_scene {
     size_t force_count;
     sinter_heat_model *heats[SCENE_MAX_FORCES];
     size_t heat_count;
+    sinter_electric_model *electric;
     sinter_stepper *st;
     double end_time;
     /* pour before the run */
