@@ -14,28 +14,12 @@ void sinter_history_free(sinter_ctx *ctx, sinter_history *h)
     h->width = width;
 }
 
-static sinter_status grow(sinter_ctx *ctx, void **p, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap)
-        return SINTER_OK;
-    size_t c = *cap ? *cap : 64;
-    while (c < need)
-        c *= 2;
-    void *q = sinter_realloc_array(ctx, *p, c, elem);
-    if (q == NULL)
-        return sinter_last_status(ctx);
-    *p = q;
-    *cap = c;
-    return SINTER_OK;
-}
-
-sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts,
-                                     int zero)
+sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts, int zero)
 {
     if (h->width == 0)
         return SINTER_OK;
-    sinter_status st = grow(ctx, (void **)&h->trial, &h->trial_capacity, h->width * contacts + 1,
-                            sizeof(double));
+    sinter_status st = sinter_grow(ctx, (void **)&h->trial, &h->trial_capacity,
+                                   h->width * contacts + 1, sizeof(double));
     if (st == SINTER_OK && zero)
         memset(h->trial, 0, h->width * contacts * sizeof(double));
     return st;
@@ -47,8 +31,8 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
     if (h->width == 0)
         return SINTER_OK;
     const size_t w = h->width;
-    sinter_status st = grow(ctx, (void **)&h->active, &h->active_capacity, c->count + 1,
-                            sizeof(uint32_t));
+    sinter_status st =
+        sinter_grow(ctx, (void **)&h->active, &h->active_capacity, c->count + 1, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
     for (size_t k = 0; k < h->active_count; ++k)
@@ -68,8 +52,8 @@ sinter_status sinter_history_remap(sinter_ctx *ctx, sinter_history *h, size_t ol
         return SINTER_OK;
     const size_t w = h->width, n = pairs->count;
     /* old -> new map, then move the active pairs' history into a zeroed buffer. */
-    sinter_status st = grow(ctx, (void **)&h->scratch, &h->scratch_capacity,
-                            w * n + old_pairs + 1, sizeof(double));
+    sinter_status st = sinter_grow(ctx, (void **)&h->scratch, &h->scratch_capacity,
+                                   w * n + old_pairs + 1, sizeof(double));
     if (st != SINTER_OK)
         return st;
     double *fresh = h->scratch;

@@ -35,22 +35,6 @@ void sinter_neighbors_free(sinter_neighbors *nb)
     memset(nb, 0, sizeof(*nb));
 }
 
-/* Grow an array to hold at least `need` elements (amortised doubling). */
-static sinter_status grow(sinter_ctx *ctx, void **p, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap)
-        return SINTER_OK;
-    size_t c = *cap ? *cap : 64;
-    while (c < need)
-        c *= 2;
-    void *q = sinter_realloc_array(ctx, *p, c, elem);
-    if (q == NULL)
-        return sinter_last_status(ctx);
-    *p = q;
-    *cap = c;
-    return SINTER_OK;
-}
-
 static sinter_status reserve_pairs(sinter_ctx *ctx, sinter_pair_list *l, size_t need)
 {
     if (need <= l->capacity)
@@ -59,8 +43,8 @@ static sinter_status reserve_pairs(sinter_ctx *ctx, sinter_pair_list *l, size_t 
     while (c < need)
         c *= 2;
     void *arrays[5] = {l->i, l->j, l->key_i, l->key_j, l->from};
-    const size_t elem[5] = {sizeof(uint32_t), sizeof(uint32_t), sizeof(uint64_t),
-                            sizeof(uint64_t), sizeof(uint32_t)};
+    const size_t elem[5] = {sizeof(uint32_t), sizeof(uint32_t), sizeof(uint64_t), sizeof(uint64_t),
+                            sizeof(uint32_t)};
     for (int a = 0; a < 5; ++a) {
         void *q = sinter_realloc_array(ctx, arrays[a], c, elem[a]);
         if (q == NULL) {
@@ -143,7 +127,8 @@ static sinter_status match_pairs(sinter_neighbors *nb, sinter_pair_list *now,
     size_t cap = 64;
     while (cap < 2 * before->count)
         cap *= 2;
-    sinter_status st = grow(nb->ctx, (void **)&nb->hash, &nb->hash_capacity, cap, sizeof(uint32_t));
+    sinter_status st =
+        sinter_grow(nb->ctx, (void **)&nb->hash, &nb->hash_capacity, cap, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
     uint32_t *table = nb->hash;
@@ -213,10 +198,11 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
         cell *= 1.5;
     }
     const size_t ncell = dims[0] * dims[1] * dims[2];
-    sinter_status st = grow(ctx, (void **)&nb->cell_start, &nb->cell_capacity, ncell + 1,
-                            sizeof(uint32_t));
+    sinter_status st =
+        sinter_grow(ctx, (void **)&nb->cell_start, &nb->cell_capacity, ncell + 1, sizeof(uint32_t));
     if (st == SINTER_OK)
-        st = grow(ctx, (void **)&nb->cell_items, &nb->items_capacity, 2 * n, sizeof(uint32_t));
+        st = sinter_grow(ctx, (void **)&nb->cell_items, &nb->items_capacity, 2 * n,
+                         sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
     uint32_t *start = nb->cell_start, *items = nb->cell_items, *cell_of = nb->cell_items + n;
@@ -330,9 +316,11 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = match_pairs(nb, &nb->pw, &nb->old_pw);
     const size_t nw = walls ? walls->count : 0;
     if (st == SINTER_OK)
-        st = grow(ctx, (void **)&nb->x_ref, &nb->ref_capacity, 3 * ps->count + 3, sizeof(double));
+        st = sinter_grow(ctx, (void **)&nb->x_ref, &nb->ref_capacity, 3 * ps->count + 3,
+                         sizeof(double));
     if (st == SINTER_OK)
-        st = grow(ctx, (void **)&nb->wall_ref, &nb->wall_ref_capacity, nw + 1, sizeof(double));
+        st = sinter_grow(ctx, (void **)&nb->wall_ref, &nb->wall_ref_capacity, nw + 1,
+                         sizeof(double));
     if (st != SINTER_OK) {
         nb->built = 0;
         return st;

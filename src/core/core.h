@@ -38,6 +38,13 @@ void *sinter_alloc(sinter_ctx *ctx, size_t size);
 void *sinter_calloc(sinter_ctx *ctx, size_t count, size_t size);
 void *sinter_realloc_array(sinter_ctx *ctx, void *ptr, size_t count, size_t size);
 void sinter_free(sinter_ctx *ctx, void *ptr);
+
+/* Grow *ptr (an array of `elem`-byte items with *capacity items) to hold at least `need`
+ * items, doubling; *ptr and *capacity change only on success. */
+sinter_status sinter_grow(sinter_ctx *ctx, void **ptr, size_t *capacity, size_t need, size_t elem);
+
+/* Piecewise-linear interpolation through (t[k], v[k]), k < n, held constant outside. */
+double sinter_interpolate(size_t n, const double *t, const double *v, double x);
 char *sinter_strdup(sinter_ctx *ctx, const char *text);
 
 /* 1 if count * size overflows size_t. */

@@ -181,6 +181,21 @@ void sinter_free(sinter_ctx *ctx, void *ptr)
         ctx->allocator.free(ptr, ctx->allocator.user);
 }
 
+sinter_status sinter_grow(sinter_ctx *ctx, void **ptr, size_t *capacity, size_t need, size_t elem)
+{
+    if (*ptr != NULL && need <= *capacity)
+        return SINTER_OK;
+    size_t cap = *capacity > 0 ? *capacity : 64;
+    while (cap < need)
+        cap = cap > SIZE_MAX / 2 ? need : 2 * cap;
+    void *grown = sinter_realloc_array(ctx, *ptr, cap, elem);
+    if (grown == NULL)
+        return sinter_last_status(ctx);
+    *ptr = grown;
+    *capacity = cap;
+    return SINTER_OK;
+}
+
 char *sinter_strdup(sinter_ctx *ctx, const char *text)
 {
     size_t n = strlen(text) + 1;

@@ -23,15 +23,7 @@ static const double DEFAULT_MAX_ITERATIONS = 10000.0;
 void *sinter_electric_reserve(sinter_ctx *ctx, void *ptr, size_t *capacity, size_t count,
                               size_t size)
 {
-    if (ptr != NULL && count <= *capacity)
-        return ptr;
-    size_t cap = *capacity > 0 ? *capacity : 16;
-    while (cap < count)
-        cap = cap > SIZE_MAX / 2 ? count : 2 * cap;
-    void *grown = sinter_realloc_array(ctx, ptr, cap, size);
-    if (grown != NULL)
-        *capacity = cap;
-    return grown;
+    return sinter_grow(ctx, &ptr, capacity, count, size) == SINTER_OK ? ptr : NULL;
 }
 
 sinter_status sinter_electric_model_create(sinter_electric_model **out, sinter_ctx *ctx,

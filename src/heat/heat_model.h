@@ -61,7 +61,4 @@ extern const sinter_heat_ops sinter_heat_joule;
 /* Host model evaluation (host.c). */
 sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e);
 
-/* Piecewise-linear interpolation through (t[k], v[k]), held constant outside. */
-double sinter_interpolate(size_t n, const double *t, const double *v, double x);
-
 #endif

@@ -6,25 +6,8 @@
 
 static const sinter_heat_ops *const BUILTIN[] = {
     &sinter_heat_conduction, &sinter_heat_convection, &sinter_heat_radiation,
-    &sinter_heat_nozzle,     &sinter_heat_laser,     &sinter_heat_joule,
+    &sinter_heat_nozzle,     &sinter_heat_laser,      &sinter_heat_joule,
 };
-
-double sinter_interpolate(size_t n, const double *t, const double *v, double x)
-{
-    if (x <= t[0])
-        return v[0];
-    if (x >= t[n - 1])
-        return v[n - 1];
-    size_t lo = 0, hi = n - 1;
-    while (hi - lo > 1) {
-        const size_t mid = (lo + hi) / 2;
-        if (t[mid] <= x)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return v[lo] + (v[hi] - v[lo]) * (x - t[lo]) / (t[hi] - t[lo]);
-}
 
 double sinter_heat_param(const sinter_heat_model *hm, int k, double t)
 {

@@ -17,21 +17,6 @@ static char *trim(char *s)
     return s;
 }
 
-static sinter_status grow(sinter_ctx *ctx, void **p, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap)
-        return SINTER_OK;
-    size_t c = *cap ? 2 * *cap : 8;
-    while (c < need)
-        c *= 2;
-    void *q = sinter_realloc_array(ctx, *p, c, elem);
-    if (q == NULL)
-        return sinter_last_status(ctx);
-    *p = q;
-    *cap = c;
-    return SINTER_OK;
-}
-
 void scene_text_free(scene_text *t)
 {
     for (size_t k = 0; k < t->count; ++k) {
@@ -88,8 +73,8 @@ static sinter_status parse_line(scene_text *t, char *text, int line)
                                "%s:%d: expected '[type name]' with words of letters, digits, "
                                "'_', '-' or '.', got '[%.40s %.40s]'",
                                t->path, line, inner, name);
-        sinter_status st =
-            grow(ctx, (void **)&t->sections, &t->capacity, t->count + 1, sizeof(scene_section));
+        sinter_status st = sinter_grow(ctx, (void **)&t->sections, &t->capacity, t->count + 1,
+                                       sizeof(scene_section));
         if (st != SINTER_OK)
             return st;
         scene_section *sec = &t->sections[t->count];
@@ -123,8 +108,8 @@ static sinter_status parse_line(scene_text *t, char *text, int line)
                                "%s:%d: key '%s' is given twice in [%s%s%s] (first on line %d)",
                                t->path, line, key, sec->type, *sec->name ? " " : "", sec->name,
                                sec->entries[e].line);
-    sinter_status st =
-        grow(ctx, (void **)&sec->entries, &sec->capacity, sec->count + 1, sizeof(scene_entry));
+    sinter_status st = sinter_grow(ctx, (void **)&sec->entries, &sec->capacity, sec->count + 1,
+                                   sizeof(scene_entry));
     if (st != SINTER_OK)
         return st;
     scene_entry *en = &sec->entries[sec->count];

@@ -20,21 +20,6 @@ struct sinter_thermal_solver {
     size_t diag_capacity;
 };
 
-static sinter_status grow(sinter_ctx *ctx, double **p, size_t *cap, size_t need)
-{
-    if (need <= *cap)
-        return SINTER_OK;
-    size_t c = *cap ? *cap : 64;
-    while (c < need)
-        c *= 2;
-    double *q = sinter_realloc_array(ctx, *p, c, sizeof(double));
-    if (q == NULL)
-        return sinter_last_status(ctx);
-    *p = q;
-    *cap = c;
-    return SINTER_OK;
-}
-
 static void solver_free(sinter_ctx *ctx, sinter_thermal_solver *s)
 {
     if (s == NULL)
@@ -94,7 +79,8 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
     if (!any)
         return SINTER_OK;
     sinter_thermal *th = &st->thermal;
-    sinter_status s = grow(st->ctx, &th->modulus_scale, &th->scale_capacity, ps->count + 1);
+    sinter_status s = sinter_grow(st->ctx, (void **)&th->modulus_scale, &th->scale_capacity,
+                                  ps->count + 1, sizeof(double));
     if (s != SINTER_OK)
         return s;
     for (size_t i = 0; i < ps->count; ++i)
@@ -125,9 +111,11 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
     e.heat = ps->heat;
     e.view = &st->view;
     if (th->scheme == SINTER_THERMAL_IMPLICIT) {
-        sinter_status s = grow(st->ctx, &th->g_pp, &th->g_pp_capacity, st->pp.count + 1);
+        sinter_status s = sinter_grow(st->ctx, (void **)&th->g_pp, &th->g_pp_capacity,
+                                      st->pp.count + 1, sizeof(double));
         if (s == SINTER_OK)
-            s = grow(st->ctx, &th->g_pw, &th->g_pw_capacity, st->pw.count + 1);
+            s = sinter_grow(st->ctx, (void **)&th->g_pw, &th->g_pw_capacity, st->pw.count + 1,
+                            sizeof(double));
         if (s != SINTER_OK)
             return s;
         memset(th->g_pp, 0, st->pp.count * sizeof(double));
@@ -156,7 +144,8 @@ static sinter_status backup(sinter_stepper *st)
 {
     sinter_thermal *th = &st->thermal;
     const size_t n = st->ps->count;
-    sinter_status s = grow(st->ctx, &th->theta_backup, &th->backup_capacity, n + 1);
+    sinter_status s = sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity, n + 1,
+                                  sizeof(double));
     if (s == SINTER_OK)
         memcpy(th->theta_backup, st->ps->temperature, n * sizeof(double));
     return s;
@@ -255,11 +244,10 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     if (s != SINTER_OK)
         return s;
     sinter_thermal_solver *sv = th->solver;
-    s = grow(st->ctx, &sv->diag_storage, &sv->diag_capacity, n + 1);
+    s = sinter_grow(st->ctx, (void **)&sv->diag_storage, &sv->diag_capacity, n + 1, sizeof(double));
     if (s != SINTER_OK)
         return s;
-    double *diag = sv->diag_storage, *b = N_VGetArrayPointer(sv->b),
-           *x = N_VGetArrayPointer(sv->x);
+    double *diag = sv->diag_storage, *b = N_VGetArrayPointer(sv->b), *x = N_VGetArrayPointer(sv->x);
     const double *theta = ps->temperature;
     for (size_t i = 0; i < n; ++i) {
         const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
@@ -332,8 +320,7 @@ sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
         for (size_t i = 0; i < ps->count; ++i) {
             if (fixed(ps, i))
                 continue;
-            const double mc =
-                ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
             ps->temperature[i] += h * ps->heat[i] / mc;
             if (!(ps->temperature[i] > 0.0 && ps->temperature[i] < INFINITY) && bad == ps->count)
                 bad = i;
@@ -348,8 +335,7 @@ sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
                                "particle %zu (id %llu) would become %g K; the step %g s exceeds "
                                "the explicit thermal limit %g s (use the implicit thermal "
                                "scheme or a smaller step)",
-                               st->time, bad, (unsigned long long)ps->id[bad], theta, h,
-                               dt_stable);
+                               st->time, bad, (unsigned long long)ps->id[bad], theta, h, dt_stable);
         }
     }
     for (size_t k = 0; k < th->count; ++k) {

@@ -112,13 +112,13 @@ static sinter_status get_wall(const sinter_walls *walls, size_t k, const char *f
     return SINTER_OK;
 }
 
-#define GET_WALL(walls, k, w)                                                              \
-    do {                                                                                   \
-        if ((walls) == NULL)                                                               \
-            return SINTER_ERR_NULL;                                                        \
-        sinter_status st_ = get_wall((walls), (k), __func__, &(w));                        \
-        if (st_ != SINTER_OK)                                                              \
-            return st_;                                                                    \
+#define GET_WALL(walls, k, w)                                                                      \
+    do {                                                                                           \
+        if ((walls) == NULL)                                                                       \
+            return SINTER_ERR_NULL;                                                                \
+        sinter_status st_ = get_wall((walls), (k), __func__, &(w));                                \
+        if (st_ != SINTER_OK)                                                                      \
+            return st_;                                                                            \
     } while (0)
 
 sinter_status sinter_walls_set_material(sinter_walls *walls, size_t k,
@@ -159,8 +159,8 @@ sinter_status sinter_walls_set_schedule(sinter_walls *walls, size_t k, size_t n,
     for (size_t i = 0; i < n; ++i) {
         if (!isfinite(times[i]) || !finite3(displacements + 3 * i))
             return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
-                               "sinter_walls_set_schedule: point %zu of wall %zu is not finite",
-                               i, k);
+                               "sinter_walls_set_schedule: point %zu of wall %zu is not finite", i,
+                               k);
         if (i > 0 && !(times[i] > times[i - 1]))
             return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
                                "sinter_walls_set_schedule: times must increase strictly, but "
@@ -246,8 +246,7 @@ sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k, int mode,
 {
     sinter_wall *w = NULL;
     GET_WALL(walls, k, w);
-    if (mode != SINTER_WALL_NEUTRAL && mode != SINTER_WALL_CURRENT &&
-        mode != SINTER_WALL_POTENTIAL)
+    if (mode != SINTER_WALL_NEUTRAL && mode != SINTER_WALL_CURRENT && mode != SINTER_WALL_POTENTIAL)
         return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
                            "sinter_walls_set_electric: mode %d of wall %zu is not one of "
                            "SINTER_WALL_NEUTRAL (0), SINTER_WALL_CURRENT (1), "
@@ -264,8 +263,7 @@ sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k, int mode,
 }
 
 sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k, size_t n,
-                                                    const double *times,
-                                                    const double *temperatures)
+                                                    const double *times, const double *temperatures)
 {
     sinter_wall *w = NULL;
     GET_WALL(walls, k, w);
@@ -365,7 +363,7 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
         const double t_wall = t - w->motion_start; /* time since the motion started */
         /* before its start a wall rests (a schedule holds its first point) */
         switch ((t_wall < 0.0 && w->motion != SINTER_WALL_SCHEDULE) ? SINTER_WALL_FIXED
-                                                                     : w->motion) {
+                                                                    : w->motion) {
         case SINTER_WALL_VELOCITY:
             for (int d = 0; d < 3; ++d) {
                 disp[d] = w->velocity[d] * t_wall;
@@ -400,21 +398,9 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
             w->p[d] = w->p0[d] + disp[d];
             w->u[d] = vel[d];
         }
-        if (w->temperature_count > 0) {
-            const size_t n = w->temperature_count;
-            const double *ts = w->temperature_t, *vs = w->temperature_v;
-            double temp = vs[0];
-            if (t >= ts[n - 1])
-                temp = vs[n - 1];
-            else if (t > ts[0])
-                for (size_t i = 1; i < n; ++i)
-                    if (t < ts[i]) {
-                        temp = vs[i - 1] + (vs[i] - vs[i - 1]) * (t - ts[i - 1]) /
-                                               (ts[i] - ts[i - 1]);
-                        break;
-                    }
-            w->temperature = temp;
-        }
+        if (w->temperature_count > 0)
+            w->temperature =
+                sinter_interpolate(w->temperature_count, w->temperature_t, w->temperature_v, t);
     }
     walls->time = t;
     return SINTER_OK;
