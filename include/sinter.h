@@ -186,7 +186,7 @@ typedef enum sinter_material_param {
     SINTER_MAT_HEAT_CAPACITY = 18,       /**< specific heat C, seed 003 eq. 24 [J/(kg K)] */
     SINTER_MAT_EMISSIVITY = 19,          /**< emissivity epsilon, seed 003 eq. 41 [-] */
     SINTER_MAT_ABSORPTANCE = 20,         /**< absorptance a of external heat, seed 003 eq. 29, seed 000 eq. 35 [-] */
-    SINTER_MAT_SOFTENING_LAW = 21,       /**< 0 none, 1 linear (seed 000), 2 exponential (seed 003 eq. 42) [-] */
+    SINTER_MAT_SOFTENING_LAW = 21,       /**< 0 none, 1 linear (seed 000), 2 exponential (seed 003 eq. 42), 3 tabulated curve, 4 host callback (sinter_particles_set_softening_curve / _callback) [-] */
     SINTER_MAT_SOFTENING_TEMPERATURE = 22, /**< temperature where softening starts theta* [K] */
     SINTER_MAT_SOFTENING_RATE = 23,      /**< linear: relative loss per kelvin; exponential: rate multiplying (theta/theta*) [1/K or -] */
     SINTER_MAT_SOFTENING_FLOOR = 24,     /**< lowest stiffness as a fraction of the reference value [-] */
@@ -350,6 +350,26 @@ SINTER_API sinter_status sinter_particles_reserve(sinter_particles *ps, size_t c
  */
 SINTER_API sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
                                                        const sinter_material *m);
+/** Host softening law: E(theta)/E_0 at temperature theta [K]; must return a finite value > 0. */
+typedef double (*sinter_softening_fn)(double theta, void *user);
+
+/**
+ * Tabulated softening of material `id`: E(theta)/E_0 interpolated linearly through n points
+ * (temperatures [K], strictly increasing; factors > 0), held constant outside. Copied. Sets the
+ * material's softening_law to 3. The material must be registered.
+ */
+SINTER_API sinter_status sinter_particles_set_softening_curve(sinter_particles *ps, int32_t id,
+                                                              size_t n,
+                                                              const double *temperatures,
+                                                              const double *factors);
+/**
+ * Host softening law for material `id` (sets softening_law to 4). Called for every particle of
+ * the material whenever forces are evaluated; a non-finite or non-positive result stops the
+ * stepper with SINTER_ERR_CALLBACK.
+ */
+SINTER_API sinter_status sinter_particles_set_softening_callback(sinter_particles *ps, int32_t id,
+                                                                 sinter_softening_fn fn,
+                                                                 void *user);
 /** Borrow the set's copy of material `id` (read-only, valid until it is replaced). */
 SINTER_API sinter_status sinter_particles_get_material(const sinter_particles *ps, int32_t id,
                                                        const sinter_material **m);

@@ -59,8 +59,9 @@ static const param_spec PARAMS[SINTER_MAT_PARAM_COUNT_] = {
     {"absorptance", "1", "absorptance a of external heat (seed 003 eq. 29, seed 000 eq. 35)", 1.0,
      0.0, 1.0, RANGE_CLOSED},
     {"softening_law", "1",
-     "thermal softening: 0 none, 1 linear with floor (seed 000), 2 exponential (seed 003 eq. 42)",
-     0.0, 0.0, 2.0, RANGE_INTEGER},
+     "thermal softening: 0 none, 1 linear with floor (seed 000), 2 exponential (seed 003 eq. 42), "
+     "3 tabulated curve, 4 host callback",
+     0.0, 0.0, 4.0, RANGE_INTEGER},
     {"softening_temperature", "K", "temperature theta* where softening starts", 400.0, 0.0, 1e5,
      RANGE_OPEN_MIN},
     {"softening_rate", "1/K or 1",

@@ -114,6 +114,10 @@ void sinter_particles_destroy(sinter_particles *ps)
         return;
     for (int f = 0; f < SINTER_FIELD_COUNT_; ++f)
         sinter_free(ps->ctx, *field_slot(ps, (sinter_field)f));
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
+        sinter_free(ps->ctx, ps->softening[m].temperature);
+        sinter_free(ps->ctx, ps->softening[m].factor);
+    }
     sinter_free(ps->ctx, ps);
 }
 
@@ -200,6 +204,69 @@ sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
     for (size_t i = 0; i < ps->count; ++i)
         if (ps->material[i] == id)
             update_mass(ps, i);
+    return SINTER_OK;
+}
+
+static sinter_status registered(const sinter_particles *ps, int32_t id, const char *func)
+{
+    if (id < 0 || id >= SINTER_MAX_MATERIALS || !ps->material_used[id])
+        return sinter_fail(ps->ctx, SINTER_ERR_NOT_FOUND, "%s: material id %d is not registered",
+                           func, (int)id);
+    return SINTER_OK;
+}
+
+sinter_status sinter_particles_set_softening_curve(sinter_particles *ps, int32_t id, size_t n,
+                                                   const double *temperatures,
+                                                   const double *factors)
+{
+    if (ps == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ps->ctx, temperatures);
+    SINTER_CHECK_NULL(ps->ctx, factors);
+    sinter_status st = registered(ps, id, __func__);
+    if (st != SINTER_OK)
+        return st;
+    if (n < 1)
+        return sinter_fail(ps->ctx, SINTER_ERR_INVALID, "%s: the curve needs at least one point",
+                           __func__);
+    for (size_t k = 0; k < n; ++k)
+        if (!isfinite(temperatures[k]) || !isfinite(factors[k]) || !(factors[k] > 0.0) ||
+            (k > 0 && !(temperatures[k] > temperatures[k - 1])))
+            return sinter_fail(ps->ctx, SINTER_ERR_INVALID,
+                               "%s: point %zu (%g K, factor %g) is invalid: temperatures must "
+                               "increase and factors be positive and finite",
+                               __func__, k, temperatures[k], factors[k]);
+    double *t = sinter_calloc(ps->ctx, n, sizeof(double));
+    double *f = sinter_calloc(ps->ctx, n, sizeof(double));
+    if (t == NULL || f == NULL) {
+        sinter_free(ps->ctx, t);
+        sinter_free(ps->ctx, f);
+        return SINTER_ERR_NOMEM;
+    }
+    memcpy(t, temperatures, n * sizeof(double));
+    memcpy(f, factors, n * sizeof(double));
+    struct sinter_softening_curve *c = &ps->softening[id];
+    sinter_free(ps->ctx, c->temperature);
+    sinter_free(ps->ctx, c->factor);
+    c->count = n;
+    c->temperature = t;
+    c->factor = f;
+    ps->materials[id].value[SINTER_MAT_SOFTENING_LAW] = 3.0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_particles_set_softening_callback(sinter_particles *ps, int32_t id,
+                                                      sinter_softening_fn fn, void *user)
+{
+    if (ps == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ps->ctx, fn);
+    sinter_status st = registered(ps, id, __func__);
+    if (st != SINTER_OK)
+        return st;
+    ps->softening[id].fn = fn;
+    ps->softening[id].user = user;
+    ps->materials[id].value[SINTER_MAT_SOFTENING_LAW] = 4.0;
     return SINTER_OK;
 }
 

@@ -35,6 +35,14 @@ struct sinter_particles {
     /* materials, copied at registration */
     unsigned char material_used[SINTER_MAX_MATERIALS];
     sinter_material materials[SINTER_MAX_MATERIALS];
+    /* softening laws 3 (tabulated) and 4 (host callback), per material */
+    struct sinter_softening_curve {
+        size_t count;
+        double *temperature;
+        double *factor;
+        sinter_softening_fn fn;
+        void *user;
+    } softening[SINTER_MAX_MATERIALS];
     /* bumped whenever particles are added, removed or reordered */
     uint64_t layout_generation;
     /* bumped when particles are added or removed (not when they are only reordered) */

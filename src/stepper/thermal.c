@@ -49,11 +49,13 @@ void sinter_thermal_free(sinter_ctx *ctx, sinter_thermal *th)
 
 /* ---- softening ------------------------------------------------------------ */
 
-/* E(theta)/E_0 for one material (seed 000 sec. 7; seed 003 eq. 42). */
-static double softening_factor(const sinter_material *m, double theta)
+/* E(theta)/E_0 of particle i (seed 000 sec. 7; seed 003 eq. 42; curve; host callback). */
+static double softening_factor(const sinter_particles *ps, size_t i)
 {
-    const double *v = m->value;
+    const int32_t id = ps->material[i];
+    const double *v = ps->materials[id].value, theta = ps->temperature[i];
     const double floor = v[SINTER_MAT_SOFTENING_FLOOR], ts = v[SINTER_MAT_SOFTENING_TEMPERATURE];
+    const struct sinter_softening_curve *c = &ps->softening[id];
     double s = 1.0;
     switch ((int)v[SINTER_MAT_SOFTENING_LAW]) {
     case 1: /* K = max(K_0 (1 - theta/theta*), K_lim) */
@@ -62,6 +64,13 @@ static double softening_factor(const sinter_material *m, double theta)
     case 2: /* E = min(E_0, E_0 exp(c (1 - theta/theta*))) */
         s = fmin(1.0, exp(v[SINTER_MAT_SOFTENING_RATE] * (1.0 - theta / ts)));
         break;
+    case 3: /* tabulated curve */
+        if (c->count == 0)
+            return 1.0;
+        s = sinter_interpolate(c->count, c->temperature, c->factor, theta);
+        break;
+    case 4: /* host callback: validated by the caller */
+        return c->fn != NULL ? c->fn(theta, c->user) : 1.0;
     default:
         return 1.0;
     }
@@ -83,9 +92,15 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
                                   ps->count + 1, sizeof(double));
     if (s != SINTER_OK)
         return s;
-    for (size_t i = 0; i < ps->count; ++i)
-        th->modulus_scale[i] =
-            softening_factor(&ps->materials[ps->material[i]], ps->temperature[i]);
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double f = softening_factor(ps, i);
+        if (!(f > 0.0) || !isfinite(f))
+            return sinter_fail(st->ctx, SINTER_ERR_CALLBACK,
+                               "the softening law of material %d gave E/E_0 = %g for particle %zu "
+                               "at %g K; it must be positive and finite",
+                               (int)ps->material[i], f, i, ps->temperature[i]);
+        th->modulus_scale[i] = f;
+    }
     *scale = th->modulus_scale;
     return SINTER_OK;
 }

@@ -6,6 +6,8 @@
  */
 #include <math.h>
 
+#include <sinter_submodel.h>
+
 #include "scene_support.h"
 
 static const double PI = 3.14159265358979323846;
@@ -336,6 +338,127 @@ static void test_no_heat_model_no_thermal_work(void **state)
     scene_close(&s);
 }
 
+
+/* Softening by a tabulated curve and by a host callback: a particle resting on a rigid floor at
+ * a fixed 600 K settles to Hertz's static overlap with E = f(600 K) E_0. */
+static double factor_0625(double theta, void *user)
+{
+    (void)theta;
+    ++*(int *)user;
+    return 0.625;
+}
+
+static double bad_factor(double theta, void *user)
+{
+    (void)theta;
+    (void)user;
+    return -1.0;
+}
+
+static double rest_overlap(int law, int *calls)
+{
+    scene s;
+    scene_init(&s);
+    const double e0 = 1e6, nu = 0.3, r = 1e-3;
+    scene_material(&s, e0, nu, 3000, 1.0, 0.0);
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_YOUNGS_MODULUS, 1e13));
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_floor(&s, 0.0);
+    scene_add(&s, 0, 0, r, r);
+    set_temperature(&s, 0, 600.0);
+    uint32_t *flags = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_FLAGS, (void **)&flags, NULL, NULL));
+    flags[0] |= SINTER_PARTICLE_FIXED_TEMPERATURE;
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_FLAGS));
+    if (law == 3) {
+        const double t[2] = {300.0, 900.0}, f[2] = {1.0, 0.25}; /* f(600 K) = 0.625 */
+        OK(sinter_particles_set_softening_curve(s.ps, 0, 2, t, f));
+    } else if (law == 4) {
+        OK(sinter_particles_set_softening_callback(s.ps, 0, factor_0625, calls));
+    } else {
+        OK(sinter_particles_set_softening_callback(s.ps, 0, bad_factor, NULL));
+        assert_int_equal(sinter_stepper_advance(s.st, 1e-3), SINTER_ERR_CALLBACK);
+        assert_non_null(strstr(sinter_last_error(s.ctx), "positive and finite"));
+        scene_close(&s);
+        return 0.0;
+    }
+    OK(sinter_stepper_set_dt(s.st, 2e-6));
+    OK(sinter_stepper_advance(s.st, 0.05));
+    double x[3];
+    get3(&s, SINTER_FIELD_POSITION, 0, x);
+    scene_close(&s);
+    return r - x[2];
+}
+
+static void test_tabulated_and_host_softening(void **state)
+{
+    (void)state;
+    const double e0 = 1e6, nu = 0.3, r = 1e-3;
+    const double w = 3000 * 4.0 / 3.0 * PI * r * r * r * 9.81;
+    const double estar = 1.0 / ((1 - nu * nu) / (0.625 * e0) + (1 - nu * nu) / 1e13);
+    const double delta = pow(3.0 * w / (4.0 * estar * sqrt(r)), 2.0 / 3.0); /* Hertz, at rest */
+    int calls = 0;
+    const double curve = rest_overlap(3, NULL), host = rest_overlap(4, &calls);
+    print_message("softened overlap: curve %.9e m, callback %.9e m, Hertz %.9e m\n", curve, host,
+                  delta);
+    /* critically damped, 50 ms = ~15 periods: at rest to 1e-6 */
+    assert_close(curve, delta, 1e-6 * delta);
+    assert_close(host, delta, 1e-6 * delta);
+    assert_true(calls > 1000); /* called at every evaluation */
+    rest_overlap(5, NULL);     /* an invalid factor stops the stepper */
+}
+
+/* A host heat submodel putting a constant power into particle 0. */
+static int constant_power(const sinter_state_view *state, const sinter_contact_batch *pp,
+                          const sinter_contact_batch *pw, double *heat, void *user)
+{
+    (void)pp;
+    (void)pw;
+    (void)state;
+    heat[0] = *(const double *)user;
+    return 0;
+}
+
+static void test_host_heat_model(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 400.0));
+    OK(sinter_particles_create(&s.ps, s.ctx));
+    OK(sinter_particles_set_material(s.ps, 0, s.mat));
+    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+    scene_add(&s, 0, 0, 0, 1e-3);
+    scene_add(&s, 0.01, 0, 0, 1e-3);
+    double power = 0.25;
+    sinter_heat_callbacks cb;
+    memset(&cb, 0, sizeof(cb));
+    cb.struct_size = sizeof(cb);
+    cb.power = constant_power;
+    sinter_heat_model *hm = NULL;
+    OK(sinter_heat_model_create_host(&hm, s.ctx, "constant", &cb, &power));
+    OK(sinter_stepper_add_heat(s.st, hm));
+    OK(sinter_stepper_set_dt(s.st, 1e-3));
+    OK(sinter_stepper_advance(s.st, 2.0));
+    const double mc = get1(&s, SINTER_FIELD_MASS, 0) * 400.0;
+    /* constant power: Euler is exact up to round-off over 2000 steps */
+    assert_close(get1(&s, SINTER_FIELD_TEMPERATURE, 0), 300.0 + power * 2.0 / mc, 1e-9);
+    assert_close(get1(&s, SINTER_FIELD_TEMPERATURE, 1), 300.0, 0.0);
+    double energy = 0;
+    OK(sinter_stepper_heat_energy(s.st, 0, &energy));
+    assert_close(energy, power * 2.0, 1e-12);
+    sinter_heat_callbacks bad = cb;
+    bad.struct_size = 1;
+    sinter_heat_model *other = NULL;
+    assert_int_equal(sinter_heat_model_create_host(&other, s.ctx, "bad", &bad, NULL),
+                     SINTER_ERR_STRUCT_SIZE);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_heat_model_destroy(hm);
+    scene_close(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -345,6 +468,8 @@ int main(void)
         cmocka_unit_test(test_explicit_limit_and_implicit_stability),
         cmocka_unit_test(test_seed003_particle_on_hot_floor),
         cmocka_unit_test(test_no_heat_model_no_thermal_work),
+        cmocka_unit_test(test_tabulated_and_host_softening),
+        cmocka_unit_test(test_host_heat_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -50,6 +50,7 @@ FreeFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 WallMotionFn = ctypes.CFUNCTYPE(_int, _double, _P(_double), _P(_double), ctypes.c_void_p)
 ObserverFn = ctypes.CFUNCTYPE(_int, StepperPtr, _double, ctypes.c_void_p)
 ProgressFn = ctypes.CFUNCTYPE(_int, _double, _double, ctypes.c_void_p)
+SofteningFn = ctypes.CFUNCTYPE(_double, _double, ctypes.c_void_p)
 
 
 class Allocator(ctypes.Structure):
@@ -133,6 +134,8 @@ SIGNATURES = {
     "sinter_particles_capacity": (c_status, [ParticlesPtr, _P(_size)]),
     "sinter_particles_reserve": (c_status, [ParticlesPtr, _size]),
     "sinter_particles_set_material": (c_status, [ParticlesPtr, ctypes.c_int32, MaterialPtr]),
+    "sinter_particles_set_softening_curve": (c_status, [ParticlesPtr, ctypes.c_int32, _size, _P(_double), _P(_double)]),
+    "sinter_particles_set_softening_callback": (c_status, [ParticlesPtr, ctypes.c_int32, SofteningFn, ctypes.c_void_p]),
     "sinter_particles_get_material": (c_status, [ParticlesPtr, ctypes.c_int32, _P(MaterialPtr)]),
     "sinter_particles_add": (
         c_status, [ParticlesPtr, _size, _P(_double), _P(_double), ctypes.c_int32, _double,
