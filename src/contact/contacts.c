@@ -4,6 +4,10 @@
 
 #include "contacts.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 static const double PI = 3.14159265358979323846;
 
 void sinter_contact_radii(const sinter_contact_list *c, double *a)
@@ -14,7 +18,8 @@ void sinter_contact_radii(const sinter_contact_list *c, double *a)
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
-    void *arrays[] = {c->i, c->j, c->pair, c->n, c->delta, c->dist, c->area, c->branch};
+    void *arrays[] = {c->i,    c->j,    c->pair,   c->n,
+                      c->delta, c->dist, c->area, c->branch, c->pair_to_contact};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -41,22 +46,41 @@ static sinter_status reserve(sinter_ctx *ctx, sinter_contact_list *c, size_t nee
     return SINTER_OK;
 }
 
-sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
-                                      const sinter_pair_list *pairs, const sinter_particles *ps)
+int sinter_threads(const sinter_ctx *ctx)
 {
-    /* Reserve for the worst case so the loop below never allocates. */
-    sinter_status st = reserve(ctx, c, pairs->count + 1);
-    if (st != SINTER_OK)
-        return st;
+#ifdef _OPENMP
+    return ctx->threads > 0 ? ctx->threads : omp_get_max_threads();
+#else
+    (void)ctx;
+    return 1;
+#endif
+}
+
+/* 1 if pair p is in contact (the test of the fill pass, without its arithmetic). */
+static inline int touching(const sinter_pair_list *pairs, const double *x, const double *r,
+                           size_t p)
+{
+    const uint32_t i = pairs->i[p], j = pairs->j[p];
+    const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
+                 ez = x[3 * j + 2] - x[3 * i + 2];
+    const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
+    return d2 < rs * rs && d2 != 0.0;
+}
+
+/* Contacts among pairs [lo, hi), written from index m on; returns the next free index. */
+static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
+                      const sinter_particles *ps, size_t lo, size_t hi, size_t m)
+{
     const double *x = ps->x, *r = ps->radius;
-    size_t m = 0;
-    for (size_t p = 0; p < pairs->count; ++p) {
+    for (size_t p = lo; p < hi; ++p) {
         const uint32_t i = pairs->i[p], j = pairs->j[p];
         const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
                      ez = x[3 * j + 2] - x[3 * i + 2];
         const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
-        if (d2 >= rs * rs || d2 == 0.0)
+        if (d2 >= rs * rs || d2 == 0.0) {
+            c->pair_to_contact[p] = SINTER_NO_PAIR;
             continue;
+        }
         const double d = sqrt(d2), inv = 1.0 / d;
         /* L_i from seed 000 eq. 12; a^2 = R_i^2 - L_i^2 (eq. 7, 11). */
         const double li = 0.5 * (d - (r[j] * r[j] - r[i] * r[i]) * inv);
@@ -64,6 +88,7 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         c->i[m] = i;
         c->j[m] = j;
         c->pair[m] = (uint32_t)p;
+        c->pair_to_contact[p] = (uint32_t)m;
         c->n[3 * m] = ex * inv;
         c->n[3 * m + 1] = ey * inv;
         c->n[3 * m + 2] = ez * inv;
@@ -73,7 +98,49 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         c->branch[m] = li;
         ++m;
     }
-    c->count = m;
+    return m;
+}
+
+sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
+                                      const sinter_pair_list *pairs, const sinter_particles *ps)
+{
+    /* Reserve for the worst case so the loops below never allocate. */
+    sinter_status st = reserve(ctx, c, pairs->count + 1);
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&c->pair_to_contact, &c->pair_to_contact_capacity,
+                         pairs->count + 1, sizeof(uint32_t));
+    if (st != SINTER_OK)
+        return st;
+    c->adj_start = pairs->adj_start;
+    c->adj_pair = pairs->adj_pair;
+    c->particle_count = ps->count;
+    const int threads = pairs->count < 4096 ? 1 : sinter_threads(ctx);
+    if (threads <= 1) {
+        c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0);
+        return SINTER_OK;
+    }
+    /* Threads: count per chunk, then fill each chunk from its offset: the same list, in the
+     * same order, as one thread makes. */
+    enum { MAX_CHUNKS = 256 };
+    const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+    size_t offset[MAX_CHUNKS + 1] = {0};
+    const size_t n = pairs->count;
+#pragma omp parallel for num_threads(chunks) schedule(static, 1)
+    for (int t = 0; t < chunks; ++t) {
+        const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
+        size_t count = 0;
+        for (size_t p = lo; p < hi; ++p)
+            count += (size_t)touching(pairs, ps->x, ps->radius, p);
+        offset[t + 1] = count;
+    }
+    for (int t = 0; t < chunks; ++t)
+        offset[t + 1] += offset[t];
+#pragma omp parallel for num_threads(chunks) schedule(static, 1)
+    for (int t = 0; t < chunks; ++t) {
+        const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
+        fill_pp(c, pairs, ps, lo, hi, offset[t]);
+    }
+    c->count = offset[chunks];
     return SINTER_OK;
 }
 

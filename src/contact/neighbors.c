@@ -1,4 +1,5 @@
 /* Cell-grid neighbour search with a Verlet skin and id-keyed pair matching. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -18,6 +19,8 @@ static void free_pairs(sinter_ctx *ctx, sinter_pair_list *l)
     sinter_free(ctx, l->key_i);
     sinter_free(ctx, l->key_j);
     sinter_free(ctx, l->from);
+    sinter_free(ctx, l->adj_start);
+    sinter_free(ctx, l->adj_pair);
     memset(l, 0, sizeof(*l));
 }
 
@@ -180,22 +183,29 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
         }
         rmax = fmax(rmax, r[i]);
     }
-    double cell = 2.0 * rmax + nb->skin;
+    /* Finite inputs can still overflow: a span beyond DBL_MAX (particles near +-1e308)
+     * or a cell of radius ~1e308 counts as DBL_MAX, so every quotient below is finite
+     * or +inf and the loop ends (the cell grows until the count fits). */
+    double cell = fmin(2.0 * rmax + nb->skin, DBL_MAX), span[3];
+    for (int d = 0; d < 3; ++d)
+        span[d] = fmin(hi[d] - lo[d], DBL_MAX);
     /* Keep the grid at most ~2 cells per particle (sparse scenes). */
     size_t dims[3];
     for (;;) {
-        size_t total = 1;
+        double total = 1.0;
         int too_many = 0;
         for (int d = 0; d < 3; ++d) {
-            const double cells = floor((hi[d] - lo[d]) / cell) + 1.0;
-            dims[d] = (size_t)cells;
-            if (cells > 4e6 || (double)total * cells > 2.0 * (double)n + 64.0)
+            const double cells = floor(span[d] / cell) + 1.0;
+            if (!(cells <= 4e6) || total * cells > 2.0 * (double)n + 64.0) {
                 too_many = 1;
-            total *= dims[d];
+                break;
+            }
+            dims[d] = (size_t)cells; /* converted only once known to fit */
+            total *= cells;
         }
         if (!too_many)
             break;
-        cell *= 1.5;
+        cell = fmin(cell * 1.5, DBL_MAX);
     }
     const size_t ncell = dims[0] * dims[1] * dims[2];
     sinter_status st =
@@ -211,9 +221,9 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     for (size_t i = 0; i < n; ++i) {
         size_t c[3];
         for (int d = 0; d < 3; ++d) {
-            c[d] = (size_t)((x[3 * i + d] - lo[d]) * inv);
-            if (c[d] >= dims[d])
-                c[d] = dims[d] - 1;
+            /* >= 0, possibly +inf (overflowed difference) or NaN (inf * 0): clamp first */
+            const double q = (x[3 * i + d] - lo[d]) * inv;
+            c[d] = q < (double)dims[d] ? (size_t)q : dims[d] - 1;
         }
         cell_of[i] = (uint32_t)((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
         start[cell_of[i] + 1]++;
@@ -294,6 +304,33 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     return SINTER_OK;
 }
 
+/* Per-particle lists of pairs, in ascending pair index (a stable counting sort). */
+static sinter_status build_adjacency(sinter_neighbors *nb, size_t n)
+{
+    sinter_pair_list *l = &nb->pp;
+    sinter_status st = sinter_grow(nb->ctx, (void **)&l->adj_start, &l->adj_start_capacity,
+                                   n + 2, sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(nb->ctx, (void **)&l->adj_pair, &l->adj_pair_capacity,
+                         2 * l->count + 1, sizeof(uint32_t));
+    if (st != SINTER_OK)
+        return st;
+    uint32_t *start = l->adj_start, *list = l->adj_pair;
+    memset(start, 0, (n + 2) * sizeof(uint32_t));
+    for (size_t p = 0; p < l->count; ++p) {
+        start[l->i[p] + 2]++;
+        start[l->j[p] + 2]++;
+    }
+    for (size_t i = 2; i < n + 2; ++i)
+        start[i] += start[i - 1];
+    /* start[p + 1] is the running cursor of particle p; afterwards start[p] begins its list */
+    for (size_t p = 0; p < l->count; ++p) {
+        list[start[l->i[p] + 1]++] = (uint32_t)p;
+        list[start[l->j[p] + 1]++] = (uint32_t)p;
+    }
+    return SINTER_OK;
+}
+
 sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particles *ps,
                                      const sinter_walls *walls)
 {
@@ -310,6 +347,8 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = reserve_pairs(ctx, &nb->pp, 1);
     if (st == SINTER_OK)
         st = reserve_pairs(ctx, &nb->pw, 1);
+    if (st == SINTER_OK)
+        st = build_adjacency(nb, ps->count);
     if (st == SINTER_OK)
         st = match_pairs(nb, &nb->pp, &nb->old_pp);
     if (st == SINTER_OK)

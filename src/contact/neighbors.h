@@ -22,6 +22,13 @@ typedef struct sinter_pair_list {
     uint64_t *key_i; /* persistent particle id of i */
     uint64_t *key_j; /* persistent id of j, or the wall index */
     uint32_t *from;  /* after a build: index of the same pair in the previous list, or SINTER_NO_PAIR */
+    /* particle-particle lists only: for each particle its pairs in ascending pair index (both
+     * roles), adj_pair[adj_start[p] .. adj_start[p + 1]); lets threads sum forces per particle
+     * in exactly the serial order */
+    uint32_t *adj_start;
+    size_t adj_start_capacity;
+    uint32_t *adj_pair;
+    size_t adj_pair_capacity;
 } sinter_pair_list;
 
 typedef struct sinter_neighbors {

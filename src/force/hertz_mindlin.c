@@ -212,53 +212,104 @@ static inline const pair_consts *pair_of(const constants *k, const sinter_force_
     return scratch;
 }
 
-static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
+/* The law for particle-particle contact q: force on i, moments on i and j, trial history. */
+static inline void pp_contact(const sinter_force_eval *e, const constants *k, int rolling,
+                              size_t q, double f[3], double ti_total[3], double tj_total[3])
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
     const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
                  *inertia = ps->inertia;
     const size_t width = e->hist_pp->width;
-    const double *hist = e->hist_pp->committed;
-    double *trial = e->hist_pp->trial;
+    const uint32_t i = c->i[q], j = c->j[q];
+    const double *n = c->n + 3 * q;
+    const double li = c->branch[q], lj = c->dist[q] - li;
+    pair_consts scratch;
+    pair_props p;
+    p.c = pair_of(k, e, i, j, &scratch);
+    p.rstar = r[i] * r[j] / (r[i] + r[j]);
+    p.mstar = mass[i] * mass[j] / (mass[i] + mass[j]);
+    p.jstar = rolling ? 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
+                               1.0 / (inertia[j] + mass[j] * r[j] * r[j])) /* eq. 18 */
+                      : 0.0;
+    /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n. */
+    const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+    const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
+    double wi_b[3], wj_b[3];
+    v3_cross(w + 3 * i, bi, wi_b);
+    v3_cross(w + 3 * j, bj, wj_b);
+    double u[3], w_rel[3];
+    for (int d = 0; d < 3; ++d) {
+        u[d] = v[3 * i + d] + wi_b[d] - v[3 * j + d] - wj_b[d];
+        w_rel[d] = w[3 * i + d] - w[3 * j + d];
+    }
+    double mr[3];
+    contact_law(&p, n, c->delta[q], u, w_rel, e->dt, e->hist_pp->committed + width * c->pair[q],
+                e->hist_pp->trial + width * q, rolling, f, mr);
+    double ti[3], tj[3];
+    v3_cross(bi, f, ti); /* moment of f on i about its centre (eq. 14) */
+    const double fj[3] = {-f[0], -f[1], -f[2]};
+    v3_cross(bj, fj, tj);
+    for (int d = 0; d < 3; ++d) {
+        ti_total[d] = ti[d] + mr[d];
+        tj_total[d] = tj[d] - mr[d];
+    }
+}
+
+static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
+{
+    const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
-    for (size_t q = 0; q < c->count; ++q) {
-        const uint32_t i = c->i[q], j = c->j[q];
-        const double *n = c->n + 3 * q;
-        const double li = c->branch[q], lj = c->dist[q] - li;
-        pair_consts scratch;
-        pair_props p;
-        p.c = pair_of(k, e, i, j, &scratch);
-        p.rstar = r[i] * r[j] / (r[i] + r[j]);
-        p.mstar = mass[i] * mass[j] / (mass[i] + mass[j]);
-        p.jstar = rolling ? 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
-                                   1.0 / (inertia[j] + mass[j] * r[j] * r[j])) /* eq. 18 */
-                          : 0.0;
-        /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n. */
-        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
-        const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
-        double wi_b[3], wj_b[3];
-        v3_cross(w + 3 * i, bi, wi_b);
-        v3_cross(w + 3 * j, bj, wj_b);
-        double u[3], w_rel[3];
-        for (int d = 0; d < 3; ++d) {
-            u[d] = v[3 * i + d] + wi_b[d] - v[3 * j + d] - wj_b[d];
-            w_rel[d] = w[3 * i + d] - w[3 * j + d];
+    const int threads = c->count < 2048 ? 1 : sinter_threads(e->ctx);
+    if (threads <= 1) {
+        for (size_t q = 0; q < c->count; ++q) {
+            double f[3], ti[3], tj[3];
+            pp_contact(e, k, rolling, q, f, ti, tj);
+            const uint32_t i = c->i[q], j = c->j[q];
+            for (int d = 0; d < 3; ++d) {
+                force[3 * i + d] += f[d];
+                force[3 * j + d] -= f[d];
+                torque[3 * i + d] += ti[d];
+                torque[3 * j + d] += tj[d];
+            }
         }
-        double f[3], mr[3];
-        contact_law(&p, n, c->delta[q], u, w_rel, e->dt, hist + width * (size_t)c->pair[q],
-                    trial + width * q, rolling, f, mr);
-        double ti[3], tj[3];
-        v3_cross(bi, f, ti); /* moment of f on i about its centre (eq. 14) */
-        const double fj[3] = {-f[0], -f[1], -f[2]};
-        v3_cross(bj, fj, tj);
+        return SINTER_OK;
+    }
+    /*
+     * Threads: (1) every contact's force and moments into a scratch array, in parallel;
+     * (2) every particle sums its contacts in ascending contact order, in parallel. The sums
+     * are done in the same order as the loop above, so the result does not depend on the
+     * number of threads.
+     */
+    double *out = sinter_alloc(e->ctx, 9 * c->count * sizeof(double));
+    if (out == NULL)
+        return SINTER_ERR_NOMEM;
+    const long count = (long)c->count;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long q = 0; q < count; ++q)
+        pp_contact(e, k, rolling, (size_t)q, out + 9 * q, out + 9 * q + 3, out + 9 * q + 6);
+    const long particles = (long)c->particle_count;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long p = 0; p < particles; ++p) {
+        double f[3] = {force[3 * p], force[3 * p + 1], force[3 * p + 2]};
+        double t[3] = {torque[3 * p], torque[3 * p + 1], torque[3 * p + 2]};
+        for (uint32_t a = c->adj_start[p]; a < c->adj_start[p + 1]; ++a) {
+            const uint32_t q = c->pair_to_contact[c->adj_pair[a]];
+            if (q == SINTER_NO_PAIR)
+                continue;
+            const double *o = out + 9 * (size_t)q;
+            const int first = c->i[q] == (uint32_t)p;
+            for (int d = 0; d < 3; ++d) {
+                f[d] = first ? f[d] + o[d] : f[d] - o[d];
+                t[d] += first ? o[3 + d] : o[6 + d];
+            }
+        }
         for (int d = 0; d < 3; ++d) {
-            force[3 * i + d] += f[d];
-            force[3 * j + d] -= f[d];
-            torque[3 * i + d] += ti[d] + mr[d];
-            torque[3 * j + d] += tj[d] - mr[d];
+            force[3 * p + d] = f[d];
+            torque[3 * p + d] = t[d];
         }
     }
+    sinter_free(e->ctx, out);
     return SINTER_OK;
 }
 

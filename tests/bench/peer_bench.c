@@ -49,7 +49,7 @@ static double now(void)
 static void usage(void)
 {
     fprintf(stderr, "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
-                    "--heat 0|1 [--stats]\n");
+                    "--heat 0|1 [--stats] [--threads N]\n");
     exit(1);
 }
 
@@ -89,7 +89,7 @@ int main(int argc, char **argv)
     const char *scene = NULL, *xyz = NULL, *boxf = NULL;
     unsigned long long steps = 0;
     double dt = 0.0;
-    int heat = 0, stats = 0;
+    int heat = 0, stats = 0, threads = 1;
     for (int a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (strcmp(argv[a], "--stats") == 0) {
@@ -104,6 +104,7 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--steps") == 0) steps = strtoull(v, NULL, 10);
         else if (strcmp(argv[a], "--dt") == 0) dt = strtod(v, NULL);
         else if (strcmp(argv[a], "--heat") == 0) heat = atoi(v);
+        else if (strcmp(argv[a], "--threads") == 0) threads = atoi(v);
         else usage();
         ++a;
     }
@@ -122,7 +123,8 @@ int main(int argc, char **argv)
 
     /* ---- canonical material (liggghts/in.mech: fix property/global m1..m4) ---------------- */
     CHECK(sinter_ctx_create(&g_ctx, NULL));
-    CHECK(sinter_ctx_set_threads(g_ctx, 1)); /* 1 thread, like the peers' single serial rank */
+    /* 1 thread by default, like the peers' single serial rank; --threads N for scaling runs */
+    CHECK(sinter_ctx_set_threads(g_ctx, threads));
     double xi;
     CHECK(sinter_damping_ratio_from_restitution(0.5, &xi)); /* e = 0.5 */
     sinter_material *mat;

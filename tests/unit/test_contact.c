@@ -4,6 +4,7 @@
  * how often the list is rebuilt or on the particles' order in memory.
  */
 #include <math.h>
+#include <stdlib.h>
 
 #include "scene_support.h"
 #include "contact/neighbors.h"
@@ -132,11 +133,59 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
     }
 }
 
+
+/* A packed, jittered lattice of 15^3 spheres (about 9000 contacts: the threaded paths run). */
+static void run_packed(int threads, double *out, size_t n)
+{
+    scene s;
+    scene_init(&s);
+    OK(sinter_ctx_set_threads(s.ctx, threads));
+    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.3);
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_floor(&s, 0.0);
+    uint64_t seed = 5;
+    const double r = 0.5e-3, a = 2 * r * 0.999;
+    for (int k = 0; k < 15; ++k)
+        for (int j = 0; j < 15; ++j)
+            for (int i = 0; i < 15; ++i)
+                scene_add(&s, (i + 0.5) * a + 1e-6 * lcg(&seed), (j + 0.5) * a + 1e-6 * lcg(&seed),
+                          (k + 0.5) * a, r);
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_step(s.st, 50));
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    assert_true(stats.contacts > 5000);
+    memcpy(out, s.ps->x, 3 * n * sizeof(double));
+    memcpy(out + 3 * n, s.ps->w, 3 * n * sizeof(double));
+    scene_close(&s);
+}
+
+static void test_results_independent_of_thread_count(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15 };
+    double *one = calloc(6 * N, sizeof(double)), *two = calloc(6 * N, sizeof(double)),
+           *three = calloc(6 * N, sizeof(double));
+    run_packed(1, one, N);
+    run_packed(2, two, N);
+    run_packed(3, three, N);
+    /* The threaded sums run in the serial order: equal to the bit. */
+    assert_memory_equal(one, two, 6 * N * sizeof(double));
+    assert_memory_equal(one, three, 6 * N * sizeof(double));
+    free(one);
+    free(two);
+    free(three);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pair_list_matches_brute_force),
         cmocka_unit_test(test_trajectory_independent_of_rebuilds_and_order),
+        cmocka_unit_test(test_results_independent_of_thread_count),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
