@@ -550,7 +550,8 @@ typedef struct sinter_stepper sinter_stepper;
 
 /** Stepper kinds. */
 typedef enum sinter_stepper_kind {
-    SINTER_STEPPER_EXPLICIT = 0 /**< velocity Verlet, fixed step (seed 003 sec. 4) */
+    SINTER_STEPPER_EXPLICIT = 0, /**< velocity Verlet, fixed step (seed 003 sec. 4) */
+    SINTER_STEPPER_STAGGERED = 1 /**< implicit staggered, adaptive step (seed 000 sec. 3, 6) */
 } sinter_stepper_kind;
 
 /** What a stepper did. */
@@ -567,6 +568,9 @@ typedef struct sinter_stepper_stats {
     double seconds_force;     /**< wall-clock time in force evaluation [s] */
     double seconds_integrate; /**< wall-clock time in the update of positions and velocities [s] */
     double seconds_total;     /**< wall-clock time in sinter_stepper_advance [s] */
+    /* Appended in 0.x (struct_size tells the library which fields a caller has). */
+    uint64_t iterations;      /**< fixed-point iterations, accepted and rejected (staggered) */
+    uint64_t evaluations;     /**< evaluations of the force/electric/heat pipeline */
 } sinter_stepper_stats;
 
 /**
@@ -577,7 +581,12 @@ typedef int (*sinter_observer_fn)(const sinter_stepper *stepper, double time, vo
 
 /**
  * Create a stepper over `particles` and `walls` (walls may be NULL). Both are
- * borrowed: destroy the stepper first.
+ * borrowed: destroy the stepper first. SINTER_STEPPER_EXPLICIT takes fixed
+ * steps of sinter_stepper_set_dt; SINTER_STEPPER_STAGGERED solves each step
+ * by fixed-point iterations of the trapezoidal rule, positions then
+ * temperatures, and adapts the step (see sinter_stepper_set_option).
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_UNSUPPORTED (unknown kind),
+ * SINTER_ERR_INVALID (objects of another context).
  */
 SINTER_API sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx,
                                                sinter_stepper_kind kind,
@@ -596,6 +605,37 @@ SINTER_API sinter_status sinter_stepper_set_skin(sinter_stepper *stepper, double
  */
 SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, const double lo[3],
                                                    const double hi[3]);
+/**
+ * Options of the implicit staggered stepper (SINTER_STEPPER_STAGGERED, seed
+ * 000 sec. 3 and 6, Algorithm 1). Keys, defaults and valid values:
+ *  - "phi": trapezoidal parameter of eq. 24-25 and 36; 0.5 (second order),
+ *    1 is backward Euler (first order); (0, 1].
+ *  - "target_iterations": K_d of eq. 49, the fixed-point iterations a step
+ *    should need; also the most a step may take before it is restarted from
+ *    t with a smaller step; 10; whole number in [2, 1000].
+ *  - "tolerance": TOL_r = TOL_theta of eq. 48, on the normalised iteration
+ *    errors of eq. 47; 5e-4; (0, 1).
+ *  - "exponent": p of eq. 49, the contraction constant of the iteration
+ *    taken as S dt^p; 2 (the seed's value for the second-order particle
+ *    dynamics); (0, 10].
+ *  - "dt_max": upper bound dt_lim of the step [s] (Algorithm 1, step 6c);
+ *    +infinity (HUGE_VAL); > 0.
+ *  - "dt_min": a step that would fall below it fails with
+ *    SINTER_ERR_NOT_CONVERGED naming the time and the field [s]; 1e-12;
+ *    > 0 and <= dt_max.
+ *  - "adaptive": 1 scales the step by Lambda_K of eq. 49 after each step; 0
+ *    keeps the step of sinter_stepper_set_dt (a step that does not converge
+ *    in K_d iterations then fails with SINTER_ERR_NOT_CONVERGED); 1.
+ * The step starts at the value of sinter_stepper_set_dt, capped by dt_max.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
+ * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
+ * another kind; the message says which).
+ */
+SINTER_API sinter_status sinter_stepper_set_option(sinter_stepper *stepper, const char *key,
+                                                   double value);
+/** Read an option of sinter_stepper_set_option. Errors as there. */
+SINTER_API sinter_status sinter_stepper_get_option(const sinter_stepper *stepper, const char *key,
+                                                   double *value);
 /** Set the observer (NULL to remove). */
 SINTER_API sinter_status sinter_stepper_set_observer(sinter_stepper *stepper,
                                                      sinter_observer_fn fn, void *user);
@@ -608,7 +648,12 @@ SINTER_API sinter_status sinter_stepper_advance(sinter_stepper *stepper, double 
 SINTER_API sinter_status sinter_stepper_step(sinter_stepper *stepper, uint64_t n);
 /** Current simulated time [s]. */
 SINTER_API sinter_status sinter_stepper_time(const sinter_stepper *stepper, double *time);
-/** Fill `stats` (its struct_size must be set). */
+/**
+ * Fill `stats`. Its struct_size must be set: sizeof(sinter_stepper_stats), or
+ * the size of an older layout (up to seconds_total, before iterations and
+ * evaluations were appended), in which case only the fields it covers are
+ * written. Other sizes: SINTER_ERR_STRUCT_SIZE.
+ */
 SINTER_API sinter_status sinter_stepper_get_stats(const sinter_stepper *stepper,
                                                   sinter_stepper_stats *stats);
 /**
@@ -707,7 +752,12 @@ typedef enum sinter_thermal_scheme {
 
 /** Add a heat submodel (borrowed). A stepper without one does no thermal work at all. */
 SINTER_API sinter_status sinter_stepper_add_heat(sinter_stepper *stepper, sinter_heat_model *hm);
-/** Choose the thermal scheme (default explicit). */
+/**
+ * Choose the thermal scheme of the explicit stepper (default explicit). The
+ * staggered stepper integrates temperatures by the trapezoidal rule inside
+ * its fixed-point iteration (seed 000 eq. 36) and refuses
+ * SINTER_THERMAL_IMPLICIT with SINTER_ERR_INVALID.
+ */
 SINTER_API sinter_status sinter_stepper_set_thermal_scheme(sinter_stepper *stepper, int scheme);
 /**
  * Largest stable step of explicit thermal stepping in the current contact
@@ -841,6 +891,13 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
  *    classical RK4 on a fixed grid, for comparisons (tolerances are then unused)
  *  - "rk4_steps": number of RK4 steps of a run; 20000, [1, 1e10], whole number
  *  - "rk4_time_scale": tau [s] of the RK4 grid, uniform in ln(1 + (t - t0)/tau); 1e-6, (0, 1e6]
+ *  - "error_scale": what rtol is relative to. 1 (default): the geometry; the neck radius for
+ *    y1 and the cone height H = L - d for the lengths of each side, the smallest length the
+ *    state resolves, so the worst error stays within 10-30 rtol (rtol <= 1e-5). 0: each
+ *    component's own magnitude, as 7dof.md §4 writes it; the side lengths are then ~R, a
+ *    young neck's cone height ~1e-4 R goes unresolved at loose rtol, and at rtol 1e-4 the
+ *    worst of 2400 copper necks was 11 % off in shrinkage (0.7 % with 1). Both cost about
+ *    the same for the same error (tests/bench/RESULTS.md).
  */
 typedef struct sinter_neck_model sinter_neck_model;
 

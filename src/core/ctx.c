@@ -106,8 +106,10 @@ sinter_status sinter_ctx_set_threads(sinter_ctx *ctx, int threads)
 
 sinter_status sinter_ctx_get_threads(const sinter_ctx *ctx, int *threads)
 {
-    if (ctx == NULL || threads == NULL)
+    if (ctx == NULL)
         return SINTER_ERR_NULL;
+    /* the error record is bookkeeping on a logically const context */
+    SINTER_CHECK_NULL((sinter_ctx *)ctx, threads);
     *threads = ctx->threads;
     return SINTER_OK;
 }

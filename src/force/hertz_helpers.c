@@ -29,6 +29,10 @@ sinter_status sinter_stable_dt_hertz(const sinter_particles *ps, const sinter_wa
     if (ps->count == 0)
         return sinter_fail(ps->ctx, SINTER_ERR_STATE,
                            "sinter_stable_dt_hertz: the particle set is empty");
+    /* Values written through views (material ids index the table below) are checked first. */
+    sinter_status st = sinter_particles_validate(ps, NULL);
+    if (st != SINTER_OK)
+        return st;
     /* The shortest contact: the lightest particle against itself (or a wall), stiffest material. */
     double tmin = INFINITY;
     for (size_t i = 0; i < ps->count; ++i) {

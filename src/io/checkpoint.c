@@ -12,6 +12,7 @@
  * when the whole file has been checked.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -202,7 +203,8 @@ typedef struct staged_history {
     const void *committed, *active;
 } staged_history;
 
-static void take_pairs(reader *r, staged_pairs *p, size_t max_index)
+/* A pair list whose i are particles (< n) and j particles other than i (< n) or walls (< nw). */
+static void take_pairs(reader *r, staged_pairs *p, size_t max_i, size_t max_j, int distinct)
 {
     p->count = take_u64(r);
     if (p->count > r->size) {
@@ -216,9 +218,10 @@ static void take_pairs(reader *r, staged_pairs *p, size_t max_index)
     if (r->bad)
         return;
     for (size_t k = 0; k < p->count; ++k) {
-        uint32_t a;
+        uint32_t a, b;
         memcpy(&a, (const char *)p->i + 4 * k, 4);
-        if (a >= max_index)
+        memcpy(&b, (const char *)p->j + 4 * k, 4);
+        if (a >= max_i || b >= max_j || (distinct && a == b))
             r->bad = 1;
     }
 }
@@ -237,6 +240,12 @@ static void take_history(reader *r, staged_history *h, size_t pairs, size_t expe
         return;
     }
     h->active = take(r, h->active_count * sizeof(uint32_t));
+    for (size_t k = 0; k < h->active_count && !r->bad; ++k) {
+        uint32_t a;
+        memcpy(&a, (const char *)h->active + 4 * k, 4);
+        if (a >= pairs)
+            r->bad = 1; /* history of a pair that is not in the list */
+    }
 }
 
 static sinter_status copy_into(sinter_ctx *ctx, void **dst, size_t *cap, const void *src,
@@ -252,6 +261,59 @@ static sinter_status copy_into(sinter_ctx *ctx, void **dst, size_t *cap, const v
     if (count)
         memcpy(*dst, src, count * elem);
     return SINTER_OK;
+}
+
+static double f64_at(const void *base, size_t k)
+{
+    double v;
+    memcpy(&v, (const char *)base + 8 * k, sizeof(v));
+    return v;
+}
+
+/*
+ * Values a well-formed file may still get wrong (a writer never produces them):
+ * the rules of sinter_particles_validate and of the setters. NULL if all is well.
+ */
+static const char *check_values(double time, double dt, double skin, size_t n, uint64_t next_id,
+                                const void *const field_data[15], const unsigned char *used,
+                                const void *const material_values[SINTER_MAX_MATERIALS],
+                                size_t nw, const void *wall_data, const void *x_ref)
+{
+    if (!isfinite(time) || !isfinite(dt) || !(dt > 0.0))
+        return "its time or time step is not finite (or the step is not positive)";
+    if (!isfinite(skin) || skin < 0.0)
+        return "its neighbour skin is negative or not finite";
+    for (size_t k = 0; k < 3 * n; ++k)
+        for (int f = SINTER_FIELD_POSITION; f <= SINTER_FIELD_ROTATION; ++f)
+            if (!isfinite(f64_at(field_data[f], k)) || !isfinite(f64_at(x_ref, k)))
+                return "a particle position, velocity, spin or rotation is not finite";
+    for (size_t i = 0; i < n; ++i) {
+        for (int f = SINTER_FIELD_RADIUS; f <= SINTER_FIELD_TEMPERATURE; ++f) {
+            const double v = f64_at(field_data[f], i);
+            if (!isfinite(v) || !(v > 0.0))
+                return "a particle radius, mass, inertia or temperature is not positive and "
+                       "finite";
+        }
+        int32_t mat;
+        uint64_t id;
+        memcpy(&mat, (const char *)field_data[SINTER_FIELD_MATERIAL] + 4 * i, 4);
+        memcpy(&id, (const char *)field_data[SINTER_FIELD_ID] + 8 * i, 8);
+        if (mat < 0 || mat >= SINTER_MAX_MATERIALS || !used[mat])
+            return "a particle has a material that is not registered";
+        if (id >= next_id)
+            return "a particle id is not below the next id";
+    }
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+        for (int p = 0; used[m] && p < SINTER_MAT_PARAM_COUNT_; ++p)
+            if (!sinter_material_value_valid((sinter_material_param)p,
+                                             f64_at(material_values[m], (size_t)p)))
+                return "a material parameter is outside its valid range";
+    for (size_t k = 0; k < nw; ++k) {
+        const double start = f64_at(wall_data, 5 * k), temperature = f64_at(wall_data, 5 * k + 1);
+        if (isnan(start) || start == -HUGE_VAL || !isfinite(temperature) || !(temperature > 0.0))
+            return "a wall's motion start or temperature is invalid";
+    }
+    return NULL;
 }
 
 static sinter_status load_file(sinter_ctx *ctx, const char *path, unsigned char **data,
@@ -374,8 +436,8 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     const void *wall_data = take(&r, nw * 5 * sizeof(double));
     const double skin = take_f64(&r);
     staged_pairs pp = {0, NULL, NULL, NULL, NULL}, pw = {0, NULL, NULL, NULL, NULL};
-    take_pairs(&r, &pp, n);
-    take_pairs(&r, &pw, n);
+    take_pairs(&r, &pp, n, n, 1);
+    take_pairs(&r, &pw, n, nw, 0);
     const void *x_ref = take(&r, 3 * n * sizeof(double));
     const void *wall_ref = take(&r, nw * sizeof(double));
     staged_history hist[2 * 16];
@@ -387,6 +449,12 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     }
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
+    if (s == SINTER_OK) {
+        const char *why = check_values(time, dt, skin, n, next_id, field_data, used,
+                                       material_values, nw, wall_data, x_ref);
+        if (why != NULL)
+            s = corrupt(ctx, path, why);
+    }
     /* Apply: grow everything first so that nothing can fail half-way. */
     if (s == SINTER_OK)
         s = sinter_particles_reserve(ps, n);

@@ -137,6 +137,13 @@ static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_secti
     char buf[512];
     while (st == SINTER_OK && fgets(buf, sizeof(buf), f)) {
         ++line;
+        if (strchr(buf, '\n') == NULL && !feof(f)) {
+            /* also ends the read of an endless file without newlines (/dev/zero) */
+            st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                             "%s:%d: line longer than %zu characters (or holding a NUL byte)",
+                             path, line, sizeof(buf) - 2);
+            break;
+        }
         char *hash = strchr(buf, '#');
         if (hash)
             *hash = '\0';
@@ -221,8 +228,13 @@ static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_sect
                            "%s:%d: distribution: expected monodisperse, uniform or normal, got "
                            "'%s'",
                            t->path, scene_find(s, "distribution")->line, dist);
-    if (count < 0 || count != floor(count) || seed < 0 || seed != floor(seed))
-        return section_error(t, s, "count and seed must be whole numbers >= 0");
+    /* Bounded before the conversions below (a double beyond the integer type is UB). */
+    if (!(count >= 0 && count <= 1e12) || count != floor(count) ||
+        !(seed >= 0 && seed < 18446744073709551616.0) || seed != floor(seed))
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: [particles]: count = %g and seed = %g must be whole numbers "
+                           "in [0, 1e12] and [0, 2^64)",
+                           t->path, s->line, count, seed);
     o.seed = (uint64_t)seed;
     size_t placed = 0;
     TRY(at_line(t, s->line, sinter_pack_random(sc->ps, &o, (size_t)count, &placed)));
@@ -448,9 +460,25 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
 {
     const char *kind = "explicit";
     OPTIONAL(scene_get_word(t, s, "kind", &kind));
-    if (strcmp(kind, "explicit") != 0)
-        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: kind: expected explicit, got '%s'",
-                           t->path, scene_find(s, "kind")->line, kind);
+    const int staggered = strcmp(kind, "staggered") == 0;
+    if (strcmp(kind, "explicit") != 0 && !staggered)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: kind: expected explicit or staggered, got '%s'", t->path,
+                           scene_find(s, "kind")->line, kind);
+    if (staggered) /* the scene's stepper was created explicit, before [stepper] was read */
+        TRY(at_line(t, scene_find(s, "kind")->line,
+                    sinter_stepper_set_kind(sc->st, SINTER_STEPPER_STAGGERED)));
+    /* Options of the staggered stepper (seed 000 sec. 3, 6); the explicit one refuses them. */
+    static const char *const options[] = {"phi",    "target_iterations", "tolerance", "exponent",
+                                          "dt_min", "dt_max",            "adaptive"};
+    for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
+        double value;
+        const sinter_status got = scene_get_double(t, s, options[k], &value);
+        OPTIONAL(got);
+        if (got == SINTER_OK)
+            TRY(at_line(t, scene_find(s, options[k])->line,
+                        sinter_stepper_set_option(sc->st, options[k], value)));
+    }
     TRY(required(t, s, scene_get_double(t, s, "end_time", &sc->end_time), "end_time"));
     if (!(sc->end_time > 0))
         return section_error(t, s, "end_time must be > 0 s");

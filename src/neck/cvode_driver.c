@@ -36,6 +36,9 @@ struct sinter_neck_solver {
     double temperature_start, temperature_end;
     sinter_neck_coeffs coeffs; /* cached at coeffs.temperature */
 
+    double rtol, atol; /* of the current advance */
+    int error_scale;
+
     uint64_t rhs_calls;
     uint64_t jacobian_calls;
     int domain_hit; /* a trial state of the current CVode call violated a guard */
@@ -49,6 +52,24 @@ void sinter_neck_tolerances_default(sinter_neck_tolerances *tol)
     tol->atol = 0.0;
     tol->initial_step = 1e-12; /* 7dof.md §4: "start the adaptive step near 1e-12 s" */
     tol->max_steps = 1000000;
+    tol->error_scale = SINTER_NECK_SCALE_GEOMETRY;
+}
+
+void sinter_neck_error_weights(const double y[SINTER_NECK_DOF], double rtol, double atol,
+                               int error_scale, double w[SINTER_NECK_DOF])
+{
+    /* neck.h, sinter_neck_error_scale: y1 by |x|; the lengths of side P by |y_i| or, for
+     * GEOMETRY, by min(|y_i|, H_P) with H_P = L_P - d_P (7dof.md §2.1) the cone height. */
+    w[SINTER_NECK_X] = 1.0 / (rtol * fabs(y[SINTER_NECK_X]) + atol);
+    for (int p = 0; p < 2; ++p) {
+        const double height = fabs(y[3 + 3 * p] - y[2 + 3 * p]);
+        for (int k = 1; k <= 3; ++k) {
+            double scale = fabs(y[k + 3 * p]);
+            if (error_scale == SINTER_NECK_SCALE_GEOMETRY)
+                scale = fmin(scale, height);
+            w[k + 3 * p] = 1.0 / (rtol * scale + atol);
+        }
+    }
 }
 
 /* Coefficients at time t of the current piece, on which T(t) is linear. */
@@ -76,6 +97,14 @@ static int cvode_rhs(realtype t, N_Vector y, N_Vector ydot, void *user)
         s->domain_hit = 1;
         return 1; /* recoverable: CVODE retries with a smaller step */
     }
+    return 0;
+}
+
+static int cvode_weights(N_Vector y, N_Vector w, void *user)
+{
+    const sinter_neck_solver *s = user;
+    sinter_neck_error_weights(N_VGetArrayPointer(y), s->rtol, s->atol, s->error_scale,
+                              N_VGetArrayPointer(w));
     return 0;
 }
 
@@ -141,8 +170,9 @@ sinter_status sinter_neck_solver_create(sinter_neck_solver **out, sinter_ctx *ct
     }
     if (!ok) {
         sinter_neck_solver_destroy(s);
-        return sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_neck_solver_create: SUNDIALS could "
-                                                  "not allocate the CVODE solver");
+        return sinter_fail(ctx, SINTER_ERR_NOMEM,
+                           "sinter_neck_solver_create: SUNDIALS could "
+                           "not allocate the CVODE solver");
     }
     *out = s;
     return SINTER_OK;
@@ -228,8 +258,7 @@ sinter_status sinter_neck_check_advance(sinter_ctx *ctx, const sinter_neck_state
 {
     if (schedule == NULL || schedule->count == 0 || schedule->times == NULL ||
         schedule->temperatures == NULL)
-        return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: the temperature schedule is empty",
-                           who);
+        return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: the temperature schedule is empty", who);
     if (!isfinite(t_end) || !(t_end >= state->time))
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "%s: end time %g s must be finite and >= the pair's time %g s", who,
@@ -283,13 +312,16 @@ sinter_status sinter_neck_advance_pair(sinter_neck_solver *s, sinter_neck_state 
         counters = &local;
     const double y4_start = state->y[SINTER_NECK_LA], y7_start = state->y[SINTER_NECK_LB];
     /* 7dof.md §4: absolute tolerance about 1e-14 R on lengths. */
-    const double atol =
-        tol->atol > 0.0 ? tol->atol
-                        : 1e-14 * fmin(state->y[SINTER_NECK_RA], state->y[SINTER_NECK_RB]);
+    const double atol = tol->atol > 0.0
+                            ? tol->atol
+                            : 1e-14 * fmin(state->y[SINTER_NECK_RA], state->y[SINTER_NECK_RB]);
     double step_hint = state->step_hint > 0.0 ? state->step_hint : tol->initial_step;
     size_t next_output = 0;
     copy_outputs(outputs, &next_output, state->time, state->y);
     s->material = m;
+    s->rtol = tol->rtol;
+    s->atol = atol;
+    s->error_scale = tol->error_scale;
     long steps_taken = 0;
     double *y = N_VGetArrayPointer(s->y);
 
@@ -307,14 +339,14 @@ sinter_status sinter_neck_advance_pair(sinter_neck_solver *s, sinter_neck_state 
         memcpy(y, state->y, sizeof(state->y));
         int flag = CVodeReInit(s->cvode, t0, s->y);
         if (flag == CV_SUCCESS)
-            flag = CVodeSStolerances(s->cvode, tol->rtol, atol);
+            flag = CVodeWFtolerances(s->cvode, cvode_weights);
         if (flag == CV_SUCCESS)
             flag = CVodeSetStopTime(s->cvode, t1);
         if (flag == CV_SUCCESS)
             flag = CVodeSetInitStep(s->cvode, fmin(step_hint, t1 - t0));
         if (flag != CV_SUCCESS)
-            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: CVODE set-up failed with %s: %s",
-                               WHO, CVodeGetReturnFlagName(flag), s->cvode_message);
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: CVODE set-up failed with %s: %s", WHO,
+                               CVodeGetReturnFlagName(flag), s->cvode_message);
 
         for (;;) {
             double t_reached = t0;
@@ -326,9 +358,9 @@ sinter_status sinter_neck_advance_pair(sinter_neck_solver *s, sinter_neck_state 
                 if (s->domain_hit)
                     return sinter_neck_report_domain(ctx, &s->domain, WHO);
                 return sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
-                                   "%s: CVODE failed at t = %.9g s (T = %.6g K) with %s: %s",
-                                   WHO, state->time, s->coeffs.temperature,
-                                   CVodeGetReturnFlagName(flag), s->cvode_message);
+                                   "%s: CVODE failed at t = %.9g s (T = %.6g K) with %s: %s", WHO,
+                                   state->time, s->coeffs.temperature, CVodeGetReturnFlagName(flag),
+                                   s->cvode_message);
             }
             /* The accepted state itself must satisfy the guards (7dof.md §2.5). */
             sinter_neck_domain_error err;
@@ -360,8 +392,8 @@ sinter_status sinter_neck_advance_pair(sinter_neck_solver *s, sinter_neck_state 
             if (++steps_taken > tol->max_steps) {
                 close_piece(s, counters);
                 return sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
-                                   "%s: more than %ld steps before t = %.9g s (at t = %.9g s)",
-                                   WHO, tol->max_steps, t_end, t_reached);
+                                   "%s: more than %ld steps before t = %.9g s (at t = %.9g s)", WHO,
+                                   tol->max_steps, t_end, t_reached);
             }
             if (flag == CV_TSTOP_RETURN || t_reached >= t1)
                 break;

@@ -141,9 +141,8 @@ sinter_neck_violation sinter_neck_check_domain(const double y[SINTER_NECK_DOF],
 
 void sinter_neck_describe_violation(const sinter_neck_domain_error *err, char *text, size_t size)
 {
-    static const char *const STATE_NAMES[SINTER_NECK_DOF] = {"y1 (x)",   "y2 (R_A)", "y3 (d_A)",
-                                                             "y4 (L_A)", "y5 (R_B)", "y6 (d_B)",
-                                                             "y7 (L_B)"};
+    static const char *const STATE_NAMES[SINTER_NECK_DOF] = {
+        "y1 (x)", "y2 (R_A)", "y3 (d_A)", "y4 (L_A)", "y5 (R_B)", "y6 (d_B)", "y7 (L_B)"};
     const char side = err->side == 1 ? 'B' : 'A';
     switch (err->what) {
     case SINTER_NECK_VALID:
@@ -151,8 +150,7 @@ void sinter_neck_describe_violation(const sinter_neck_domain_error *err, char *t
         break;
     case SINTER_NECK_NOT_FINITE:
         if (err->side >= 0 && err->side < SINTER_NECK_DOF)
-            snprintf(text, size, "state %s = %g is not finite", STATE_NAMES[err->side],
-                     err->value);
+            snprintf(text, size, "state %s = %g is not finite", STATE_NAMES[err->side], err->value);
         else
             snprintf(text, size, "the geometry is not finite");
         break;
@@ -169,8 +167,8 @@ void sinter_neck_describe_violation(const sinter_neck_domain_error *err, char *t
                  side, fabs(err->value), side, err->limit, side, side);
         break;
     case SINTER_NECK_CONE_HEIGHT:
-        snprintf(text, size, "cone height H_%c = L_%c - d_%c = %g m must be > 0", side, side,
-                 side, err->value);
+        snprintf(text, size, "cone height H_%c = L_%c - d_%c = %g m must be > 0", side, side, side,
+                 err->value);
         break;
     case SINTER_NECK_TANGENT:
         snprintf(text, size,

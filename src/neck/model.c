@@ -18,6 +18,7 @@ enum {
     OPTION_INTEGRATOR,
     OPTION_RK4_STEPS,
     OPTION_RK4_TIME_SCALE,
+    OPTION_ERROR_SCALE,
     OPTION_COUNT
 };
 
@@ -33,21 +34,22 @@ typedef struct option_spec {
 
 /* Indexed by the OPTION_ enum; documented in include/sinter.h. */
 static const option_spec OPTIONS[OPTION_COUNT] = {
-    {"epsilon", 0.01, 0.0, 0.1, OPEN_MIN},          /* 7dof.md §4 */
+    {"epsilon", 0.01, 0.0, 0.1, OPEN_MIN},            /* 7dof.md §4 */
     {"h0_ratio", 1.5, 1.0, 2.0, OPEN_MIN | OPEN_MAX}, /* 7dof.md §4: h0 in (x0, 2 x0) */
     {"rtol", 1e-8, 1e-14, 1e-2, OPEN_NONE},
-    {"atol", 0.0, 0.0, 1.0, OPEN_NONE},             /* 0: 1e-14 min(R_A, R_B), 7dof.md §4 */
-    {"initial_step", 1e-12, 0.0, 1e6, OPEN_NONE},   /* 7dof.md §4 */
+    {"atol", 0.0, 0.0, 1.0, OPEN_NONE},           /* 0: 1e-14 min(R_A, R_B), 7dof.md §4 */
+    {"initial_step", 1e-12, 0.0, 1e6, OPEN_NONE}, /* 7dof.md §4 */
     {"max_steps", 1e6, 1.0, 1e12, WHOLE},
     {"integrator", 0.0, 0.0, 1.0, WHOLE},
     {"rk4_steps", 20000.0, 1.0, 1e10, WHOLE},
     {"rk4_time_scale", 1e-6, 0.0, 1e6, OPEN_MIN},
+    {"error_scale", 1.0, 0.0, 1.0, WHOLE}, /* neck.h: sinter_neck_error_scale */
 };
 
 struct sinter_neck_model {
     sinter_ctx *ctx;
     double option[OPTION_COUNT];
-    sinter_neck_solver *solver; /* created at the first CVODE run */
+    sinter_neck_solver *solver;    /* created at the first CVODE run */
     sinter_neck_counters counters; /* of the last run */
     double seconds;
 };
@@ -85,10 +87,11 @@ static int find_option(const char *key)
 
 static sinter_status unknown_option(sinter_ctx *ctx, const char *who, const char *key)
 {
-    return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
-                       "%s: unknown neck model option '%s'; known: epsilon, h0_ratio, rtol, atol, "
-                       "initial_step, max_steps, integrator, rk4_steps, rk4_time_scale",
-                       who, key);
+    return sinter_fail(
+        ctx, SINTER_ERR_NOT_FOUND,
+        "%s: unknown neck model option '%s'; known: epsilon, h0_ratio, rtol, atol, "
+        "initial_step, max_steps, integrator, rk4_steps, rk4_time_scale, error_scale",
+        who, key);
 }
 
 sinter_status sinter_neck_model_set(sinter_neck_model *nm, const char *key, double value)
@@ -172,8 +175,8 @@ static sinter_status check_arguments(sinter_ctx *ctx, double radius_a, double ra
 sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_material *m,
                                         double radius_a, double radius_b, size_t n_times,
                                         const double *times, const double *temperatures,
-                                        size_t n_out, const double *out_times,
-                                        double *neck_radius, double *shrinkage, double *state)
+                                        size_t n_out, const double *out_times, double *neck_radius,
+                                        double *shrinkage, double *state)
 {
     static const char *const WHO = "sinter_neck_two_particles";
     if (nm == NULL)
@@ -202,8 +205,8 @@ sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_mate
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "%s: cannot seed a neck with epsilon = %g and h0_ratio = %g between "
                            "radii %g m and %g m (7dof.md section 4)",
-                           WHO, nm->option[OPTION_EPSILON], nm->option[OPTION_H0_RATIO],
-                           radius_a, radius_b);
+                           WHO, nm->option[OPTION_EPSILON], nm->option[OPTION_H0_RATIO], radius_a,
+                           radius_b);
 
     /* States go to the caller's array when given, else to a scratch array. */
     double *states = state;
@@ -221,10 +224,9 @@ sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_mate
     const sinter_neck_outputs outputs = {n_out, out_times, states};
     const double t_end = out_times[n_out - 1];
     if (nm->option[OPTION_INTEGRATOR] == 1.0) {
-        status = sinter_neck_rk4_advance(ctx, &pair, &material, &schedule, t_end,
-                                         (uint64_t)nm->option[OPTION_RK4_STEPS],
-                                         nm->option[OPTION_RK4_TIME_SCALE], &outputs,
-                                         &nm->counters);
+        status = sinter_neck_rk4_advance(
+            ctx, &pair, &material, &schedule, t_end, (uint64_t)nm->option[OPTION_RK4_STEPS],
+            nm->option[OPTION_RK4_TIME_SCALE], &outputs, &nm->counters);
     } else {
         if (nm->solver == NULL)
             status = sinter_neck_solver_create(&nm->solver, ctx);
@@ -235,8 +237,9 @@ sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_mate
             tol.atol = nm->option[OPTION_ATOL];
             tol.initial_step = nm->option[OPTION_INITIAL_STEP];
             tol.max_steps = (long)nm->option[OPTION_MAX_STEPS];
-            status = sinter_neck_advance_pair(nm->solver, &pair, &material, &schedule, t_end,
-                                              &tol, &outputs, &nm->counters);
+            tol.error_scale = (int)nm->option[OPTION_ERROR_SCALE];
+            status = sinter_neck_advance_pair(nm->solver, &pair, &material, &schedule, t_end, &tol,
+                                              &outputs, &nm->counters);
         }
     }
 

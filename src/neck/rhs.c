@@ -8,6 +8,10 @@
 #include "neck/neck.h"
 #include "particles/material.h"
 
+_Static_assert(SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION_HOT - SINTER_MAT_ATOMIC_VOLUME_HOT ==
+                   SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION - SINTER_MAT_ATOMIC_VOLUME,
+               "the *_HOT material parameters must mirror the base set");
+
 static void read_phase(const sinter_material *m, int hot, sinter_neck_phase *p)
 {
     /* The *_HOT parameters follow the base set in the same order (include/sinter.h). */
@@ -112,8 +116,8 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
         const double cap_mu = mu[1 + 3 * p], cone_mu = mu[2 + 3 * p], gb_mu = mu[3 + 3 * p];
         const double gb_path = 0.25 * x, cone_path = 0.5 * s, cap_path = s;
         double *f = w->flux[p];
-        f[SINTER_NECK_FLUX_I] = PI * x * c->boundary_thickness * c->mobility_boundary *
-                                (gb_mu - ring_mu) / gb_path;
+        f[SINTER_NECK_FLUX_I] =
+            PI * x * c->boundary_thickness * c->mobility_boundary * (gb_mu - ring_mu) / gb_path;
         f[SINTER_NECK_FLUX_II] =
             2.0 / 3.0 * PI * x * x * c->mobility_lattice * (gb_mu - ring_mu) / gb_path;
         f[SINTER_NECK_FLUX_III] = PI * (x + h) * c->surface_thickness * c->mobility_surface *

@@ -59,8 +59,7 @@ static sinter_neck_violation rk4_step(piece *p, double t, double dt,
         return bad;
     for (int i = 0; i < SINTER_NECK_DOF; ++i)
         stage[i] = y[i] + dt * k3[i];
-    if ((bad = sinter_neck_rhs(stage, piece_coeffs(p, t + dt), k4, err, NULL)) !=
-        SINTER_NECK_VALID)
+    if ((bad = sinter_neck_rhs(stage, piece_coeffs(p, t + dt), k4, err, NULL)) != SINTER_NECK_VALID)
         return bad;
     for (int i = 0; i < SINTER_NECK_DOF; ++i)
         y_new[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
@@ -141,8 +140,7 @@ sinter_status sinter_neck_rk4_advance(sinter_ctx *ctx, sinter_neck_state *state,
                 ++node;
             while (outputs != NULL && next_output < outputs->count &&
                    outputs->times[next_output] <= state->time) {
-                memcpy(outputs->states + SINTER_NECK_DOF * next_output, state->y,
-                       sizeof(state->y));
+                memcpy(outputs->states + SINTER_NECK_DOF * next_output, state->y, sizeof(state->y));
                 ++next_output;
             }
         }

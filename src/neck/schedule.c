@@ -10,21 +10,7 @@
 
 double sinter_neck_schedule_temperature(const sinter_neck_schedule *s, double t)
 {
-    const size_t n = s->count;
-    if (n == 1 || t <= s->times[0])
-        return s->temperatures[0];
-    if (t >= s->times[n - 1])
-        return s->temperatures[n - 1];
-    size_t lo = 0, hi = n - 1; /* times[lo] <= t < times[hi] */
-    while (hi - lo > 1) {
-        const size_t mid = lo + (hi - lo) / 2;
-        if (s->times[mid] <= t)
-            lo = mid;
-        else
-            hi = mid;
-    }
-    const double w = (t - s->times[lo]) / (s->times[hi] - s->times[lo]);
-    return s->temperatures[lo] + w * (s->temperatures[hi] - s->temperatures[lo]);
+    return sinter_interpolate(s->count, s->times, s->temperatures, t);
 }
 
 double sinter_neck_schedule_next_break(const sinter_neck_schedule *s, const sinter_neck_material *m,

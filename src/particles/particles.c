@@ -315,6 +315,7 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
                            "sinter_particles_add: adding %zu particles to %zu overflows", n,
                            ps->count);
     static const char *axis[3] = {"x", "y", "z"};
+    const double rho = ps->materials[material_id].value[SINTER_MAT_DENSITY];
     for (size_t k = 0; k < n; ++k) {
         for (int d = 0; d < 3; ++d)
             if (!isfinite(positions[3 * k + d]))
@@ -327,6 +328,14 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
                                "sinter_particles_add: radius of new particle %zu is %g m; radii "
                                "must be positive and finite",
                                k, radii[k]);
+        /* The mass and inertia follow from the radius: they must be representable too. */
+        const double r = radii[k], mass = rho * 4.0 / 3.0 * PI * r * r * r;
+        if (!isfinite(0.4 * mass * r * r) || !(0.4 * mass * r * r > 0.0))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "sinter_particles_add: radius of new particle %zu is %g m; its "
+                               "mass %g kg or moment of inertia %g kg m^2 is not a positive "
+                               "finite number",
+                               k, r, mass, 0.4 * mass * r * r);
     }
     size_t need = ps->count + n;
     if (need > ps->capacity) {

@@ -10,17 +10,6 @@
 
 #include "stepper.h"
 
-/* alpha <- alpha (+) d_alpha, seed 003 eq. 45. */
-static inline void compose_rotation(double *alpha, const double da[3])
-{
-    const double dot = alpha[0] * da[0] + alpha[1] * da[1] + alpha[2] * da[2];
-    const double c[3] = {alpha[1] * da[2] - alpha[2] * da[1], alpha[2] * da[0] - alpha[0] * da[2],
-                         alpha[0] * da[1] - alpha[1] * da[0]};
-    const double s = 4.0 / (4.0 - dot);
-    for (int d = 0; d < 3; ++d)
-        alpha[d] = s * (alpha[d] + da[d] - 0.5 * c[d]);
-}
-
 static sinter_status reserve_backup(sinter_stepper *st)
 {
     const size_t need = 12 * st->ps->count + 1;
@@ -109,7 +98,7 @@ static void kick_drift(sinter_stepper *st, double h)
         brot[3 * i + 1] = alpha[1];
         brot[3 * i + 2] = alpha[2];
         const double da[3] = {h * w[3 * i], h * w[3 * i + 1], h * w[3 * i + 2]};
-        compose_rotation(alpha, da);
+        sinter_compose_rotation(alpha, da);
     }
 }
 
@@ -119,7 +108,8 @@ static size_t kick(sinter_stepper *st, double h)
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
     double *x = ps->x, *v = ps->v, *w = ps->w;
-    const double *f = ps->force, *tq = ps->torque, *m = ps->mass, *j = ps->inertia;
+    const double *f = ps->force, *tq = ps->torque, *m = ps->mass, *j = ps->inertia,
+                 *rot = ps->rot;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
     size_t bad = n;
@@ -135,9 +125,11 @@ static size_t kick(sinter_stepper *st, double h)
             for (int d = 0; d < 3; ++d)
                 w[3 * i + d] += b * tq[3 * i + d];
         }
-        /* Any NaN or infinity makes the sum non-finite. */
+        /* Any NaN or infinity makes the sum non-finite (the rotation too: sinter_particles_validate
+         * refuses a non-finite one, so a step that makes one could never be continued). */
         const double check = x[3 * i] + x[3 * i + 1] + x[3 * i + 2] + v[3 * i] + v[3 * i + 1] +
-                             v[3 * i + 2] + w[3 * i] + w[3 * i + 1] + w[3 * i + 2];
+                             v[3 * i + 2] + w[3 * i] + w[3 * i + 1] + w[3 * i + 2] +
+                             rot[3 * i] + rot[3 * i + 1] + rot[3 * i + 2];
         if (!isfinite(check) && bad == n)
             bad = i;
     }
@@ -155,7 +147,10 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
     for (int d = 0; d < 3; ++d)
         if (!isfinite(ps->v[3 * i + d]))
             return "velocity";
-    return "spin";
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(ps->w[3 * i + d]))
+            return "spin";
+    return "rotation";
 }
 
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)

@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 /* Steppers: creation, submodels, the evaluation pipeline, advance and statistics. */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 #include <time.h>
 
@@ -21,9 +22,11 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(ctx, out);
     SINTER_CHECK_NULL(ctx, particles);
-    if (kind != SINTER_STEPPER_EXPLICIT)
+    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_STAGGERED)
         return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED,
-                           "sinter_stepper_create: stepper kind %d is not available", (int)kind);
+                           "sinter_stepper_create: stepper kind %d is not available (0: "
+                           "SINTER_STEPPER_EXPLICIT, 1: SINTER_STEPPER_STAGGERED)",
+                           (int)kind);
     if (particles->ctx != ctx || (walls != NULL && walls->ctx != ctx))
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "sinter_stepper_create: the particles and walls must belong to the "
@@ -39,6 +42,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     sinter_neighbors_init(&st->nb, ctx, 0.0);
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
+    sinter_staggered_init(&st->staggered);
     *out = st;
     return SINTER_OK;
 }
@@ -60,7 +64,41 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_free(ctx, st->backup);
     sinter_free(ctx, st->wall_arrays);
     sinter_thermal_free(ctx, &st->thermal);
+    sinter_staggered_free(ctx, &st->staggered);
     sinter_free(ctx, st);
+}
+
+sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
+{
+    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_STAGGERED)
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED, "stepper kind %d is not available",
+                           kind);
+    if (st->stats.steps > 0 || st->stats.rejected > 0)
+        return sinter_fail(st->ctx, SINTER_ERR_STATE,
+                           "the stepper has taken steps; its kind can no longer change");
+    if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "the staggered stepper integrates temperatures itself (seed 000 eq. "
+                           "36); reset the thermal scheme to SINTER_THERMAL_EXPLICIT first");
+    st->kind = kind;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, double value)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, key);
+    return sinter_staggered_set(st, key, value);
+}
+
+sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *key, double *value)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, key);
+    SINTER_CHECK_NULL(st->ctx, value);
+    return sinter_staggered_get(st, key, value);
 }
 
 sinter_status sinter_stepper_add_force(sinter_stepper *st, sinter_force_model *fm)
@@ -166,12 +204,17 @@ sinter_status sinter_stepper_get_stats(const sinter_stepper *st, sinter_stepper_
     if (st == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, stats);
-    if (stats->struct_size != sizeof(sinter_stepper_stats))
+    /* The layout before iterations and evaluations were appended is still served. */
+    const size_t size = stats->struct_size, old = offsetof(sinter_stepper_stats, iterations);
+    if (size != sizeof(sinter_stepper_stats) && size != old)
         return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
-                           "sinter_stepper_get_stats: struct_size is %zu, expected %zu",
-                           stats->struct_size, sizeof(sinter_stepper_stats));
-    *stats = st->stats;
-    stats->time = st->time;
+                           "sinter_stepper_get_stats: struct_size is %zu, expected %zu (or %zu "
+                           "for the layout without iterations and evaluations)",
+                           size, sizeof(sinter_stepper_stats), old);
+    sinter_stepper_stats full = st->stats;
+    full.struct_size = size;
+    full.time = st->time;
+    memcpy(stats, &full, size);
     return SINTER_OK;
 }
 
@@ -250,6 +293,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     if (s != SINTER_OK)
         return s;
     const double t0 = sinter_clock();
+    st->stats.evaluations++;
     s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
@@ -356,6 +400,12 @@ sinter_status sinter_stepper_set_thermal_scheme(sinter_stepper *st, int scheme)
                            "sinter_stepper_set_thermal_scheme: scheme %d is neither "
                            "SINTER_THERMAL_EXPLICIT (0) nor SINTER_THERMAL_IMPLICIT (1)",
                            scheme);
+    if (st->kind == SINTER_STEPPER_STAGGERED && scheme == SINTER_THERMAL_IMPLICIT)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_thermal_scheme: the staggered stepper integrates "
+                           "temperatures by the trapezoidal rule in its fixed-point iteration "
+                           "(seed 000 eq. 36); SINTER_THERMAL_IMPLICIT is for the explicit "
+                           "stepper");
     st->thermal.scheme = scheme;
     st->forces_current = 0;
     return SINTER_OK;
@@ -380,6 +430,10 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, dt);
     sinter_particles *ps = st->ps;
+    /* Material ids written through a view index the material table below: check them. */
+    const sinter_status valid = sinter_particles_validate(ps, NULL);
+    if (valid != SINTER_OK)
+        return valid;
     /* Sum of conductances per particle from a conduction-only evaluation in implicit form. */
     double *g = sinter_calloc(st->ctx, ps->count + 1, sizeof(double));
     if (g == NULL)
@@ -475,16 +529,52 @@ sinter_status sinter_stepper_evaluate(sinter_stepper *st)
     return s;
 }
 
-/* One accepted step of size h, then the observer. *stop is set if the observer asks. */
-static sinter_status take_step(sinter_stepper *st, double h, int *stop)
+/*
+ * One accepted step of at most h (the staggered stepper may shorten it after rejections; the
+ * step taken is in *taken), then the observer. *stop is set if the observer asks.
+ */
+/*
+ * A rejected step keeps the last accepted state, but the trial overwrote its forces (and
+ * maybe its neighbour lists): evaluate them again, exactly as the next advance would, so that
+ * the kept state is complete, readable and checkpointable right away. The step's error stays
+ * the one reported; if this evaluation fails too, the next advance retries it.
+ */
+static void settle_after_failure(sinter_stepper *st)
 {
-    sinter_status s = sinter_explicit_step(st, h);
-    if (s != SINTER_OK)
+    sinter_ctx *ctx = st->ctx;
+    const sinter_status status = ctx->last_status;
+    char message[SINTER_ERROR_TEXT_SIZE];
+    memcpy(message, ctx->last_error, sizeof(message));
+    (void)prepare(st);
+    ctx->last_status = status;
+    memcpy(ctx->last_error, message, sizeof(message));
+}
+
+static sinter_status take_step(sinter_stepper *st, double h, double *taken, int *stop)
+{
+    sinter_status s;
+    if (st->kind == SINTER_STEPPER_STAGGERED) {
+        s = sinter_staggered_step(st, h, taken);
+    } else {
+        s = sinter_explicit_step(st, h);
+        *taken = h;
+    }
+    if (s != SINTER_OK) {
+        settle_after_failure(st);
         return s;
+    }
     st->stats.steps++;
     if (st->observer != NULL && st->observer(st, st->time, st->observer_user) != 0)
         *stop = 1;
     return SINTER_OK;
+}
+
+/* The step to try next: the set (explicit) or adapted (staggered) step, capped by dt_max. */
+static double next_step(const sinter_stepper *st)
+{
+    if (st->kind == SINTER_STEPPER_STAGGERED)
+        return fmin(st->dt, st->staggered.dt_max);
+    return st->dt;
 }
 
 sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
@@ -502,17 +592,24 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
         s = prepare(st);
     int stop = 0;
     while (s == SINTER_OK && !stop && st->time < t_end) {
-        double h = st->dt;
+        const double proposal = next_step(st);
+        double h = proposal, taken = 0.0;
         const double remaining = t_end - st->time;
         if (remaining <= h * (1.0 + 1e-9))
             h = remaining; /* land exactly on t_end */
-        if (h <= 1e-12 * st->dt) {
+        if (h <= 1e-12 * proposal) {
             st->time = t_end;
             break;
         }
-        s = take_step(st, h, &stop);
-        if (s == SINTER_OK && h == remaining)
+        s = take_step(st, h, &taken, &stop);
+        if (s == SINTER_OK && taken == remaining) {
             st->time = t_end;
+            /* A step shortened to land on t_end says nothing against the longer proposal. */
+            if (h < proposal && st->dt < proposal) {
+                st->dt = proposal;
+                st->stats.dt = proposal;
+            }
+        }
     }
     st->stats.seconds_total += sinter_clock() - t0;
     return s;
@@ -527,8 +624,9 @@ sinter_status sinter_stepper_step(sinter_stepper *st, uint64_t n)
     if (s == SINTER_OK)
         s = prepare(st);
     int stop = 0;
+    double taken = 0.0;
     for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k)
-        s = take_step(st, st->dt, &stop);
+        s = take_step(st, next_step(st), &taken, &stop);
     st->stats.seconds_total += sinter_clock() - t0;
     return s;
 }

@@ -12,6 +12,24 @@ typedef struct sinter_force_slot {
     sinter_history pw;
 } sinter_force_slot;
 
+/* Options and work arrays of the implicit staggered stepper (staggered.c, seed 000 sec. 3, 6). */
+typedef struct sinter_staggered {
+    double phi;            /* trapezoidal parameter, eq. 24-25, 36 */
+    int target_iterations; /* K_d, eq. 49 */
+    double tolerance;      /* TOL_r = TOL_theta, eq. 48 */
+    double exponent;       /* p, eq. 49 */
+    double dt_max;         /* dt_lim */
+    double dt_min;         /* floor: below it a step fails */
+    int adaptive;          /* 0: keep dt */
+    /* state at t (restored on a rejection), 28 doubles per particle; see staggered.c */
+    double *saved;
+    size_t saved_capacity;
+    uint32_t *flags;       /* particle flags at t (the electric solve sets ELECTRIFIED) */
+    size_t flags_capacity;
+    double *power;         /* per heat slot: power at t, then of the last iterate (2 per slot) */
+    size_t power_capacity;
+} sinter_staggered;
+
 struct sinter_stepper {
     sinter_ctx *ctx;
     int kind;
@@ -48,7 +66,19 @@ struct sinter_stepper {
     double domain_hi[3];
     struct sinter_electric_model *electric; /* borrowed, NULL: no current solve */
     uint64_t electric_iterations;           /* sweeps / PCG iterations of its solves, total */
+    sinter_staggered staggered;             /* SINTER_STEPPER_STAGGERED only */
 };
+
+/* alpha <- alpha (+) d_alpha: composition of total rotation vectors, seed 003 eq. 45. */
+static inline void sinter_compose_rotation(double *alpha, const double da[3])
+{
+    const double dot = alpha[0] * da[0] + alpha[1] * da[1] + alpha[2] * da[2];
+    const double c[3] = {alpha[1] * da[2] - alpha[2] * da[1], alpha[2] * da[0] - alpha[0] * da[2],
+                         alpha[0] * da[1] - alpha[1] * da[0]};
+    const double s = 4.0 / (4.0 - dot);
+    for (int d = 0; d < 3; ++d)
+        alpha[d] = s * (alpha[d] + da[d] - 0.5 * c[d]);
+}
 
 /* Seconds of a monotonic clock. */
 double sinter_clock(void);
@@ -61,5 +91,22 @@ sinter_status sinter_stepper_commit(sinter_stepper *st);
 
 /* Explicit velocity-Verlet step of size h (explicit.c). */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h);
+
+/* Change the kind of a stepper that has not stepped yet (the scene reader creates its stepper
+ * before it reads [stepper] kind). Errors: SINTER_ERR_UNSUPPORTED, SINTER_ERR_STATE. */
+sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind);
+
+/* Defaults of the staggered options; free its arrays (staggered.c). */
+void sinter_staggered_init(sinter_staggered *sg);
+void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg);
+
+/* Option keys of the staggered stepper (sinter_stepper_set_option). */
+sinter_status sinter_staggered_set(sinter_stepper *st, const char *key, double value);
+sinter_status sinter_staggered_get(const sinter_stepper *st, const char *key, double *value);
+
+/* One accepted implicit staggered step of at most h (staggered.c, seed 000 Algorithm 1): the
+ * step actually taken (smaller after rejections) is returned in *taken, and the proposal for
+ * the next step is left in st->dt. */
+sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken);
 
 #endif

@@ -219,11 +219,11 @@ sinter_status sinter_walls_set_motion_start(sinter_walls *walls, size_t k, doubl
 {
     sinter_wall *w = NULL;
     GET_WALL(walls, k, w);
-    if (isnan(start))
+    if (isnan(start) || start == -HUGE_VAL)
         return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
-                           "sinter_walls_set_motion_start: start of wall %zu is NaN (use "
-                           "HUGE_VAL to hold a wall until further notice)",
-                           k);
+                           "sinter_walls_set_motion_start: start %g s of wall %zu must be finite "
+                           "(or HUGE_VAL to hold the wall until further notice)",
+                           start, k);
     w->motion_start = start;
     return sinter_walls_move(walls, walls->time);
 }

@@ -1,6 +1,8 @@
 """The preprocessed public header parses as a cffi cdef and agrees with the ctypes table."""
 
 import ctypes
+import os
+import tempfile
 import unittest
 
 import sinter
@@ -96,6 +98,47 @@ class CdefTest(unittest.TestCase):
             for field, _ in struct._fields_:
                 self.assertEqual(getattr(struct, field).offset, self.ffi.offsetof(cname, field),
                                  "%s.%s" % (cname, field))
+
+@unittest.skipIf(cffi is None, "cffi is not installed for this interpreter")
+class SceneThroughCffiTest(unittest.TestCase):
+    """The second implementation path: a scene run end to end through cffi alone."""
+
+    def test_scene_end_to_end_matches_ctypes(self):
+        from sinter import cffi_backend
+
+        from _support import as_lists, write_scene
+
+        with tempfile.TemporaryDirectory() as tmp:
+            path = write_scene(tmp)
+            seen = []
+            result = cffi_backend.run_scene(path, os.path.join(tmp, "cffi"),
+                                            progress=lambda t, end: seen.append(t))
+            self.assertEqual(result["time"], result["end_time"])
+            self.assertEqual(len(seen), 5)
+            self.assertTrue(os.path.exists(os.path.join(tmp, "cffi", "series.csv")))
+            with sinter.Context() as ctx, sinter.Scene(ctx, path) as scene:
+                scene.run(os.path.join(tmp, "ctypes"))
+                positions = [tuple(p) for p in as_lists(scene.particles.get("position"))]
+                self.assertEqual(result["steps"], scene.stepper.stats.steps)
+            self.assertEqual(result["position"], positions)  # the same library, bit for bit
+            self.assertEqual(len(result["temperature"]), len(positions))
+
+    def test_errors_and_callback_exceptions(self):
+        from sinter import cffi_backend
+
+        from _support import write_scene
+
+        with tempfile.TemporaryDirectory() as tmp:
+            with self.assertRaises(cffi_backend.CffiError) as caught:
+                cffi_backend.run_scene(os.path.join(tmp, "missing.scene"), tmp)
+            self.assertEqual(caught.exception.status, sinter.Status.ERR_IO)
+
+            def progress(t, end):
+                raise ZeroDivisionError
+
+            with self.assertRaises(ZeroDivisionError):
+                cffi_backend.run_scene(write_scene(tmp), os.path.join(tmp, "out"), progress)
+
 
 if __name__ == "__main__":
     unittest.main()

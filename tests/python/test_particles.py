@@ -191,7 +191,7 @@ class ParticlesCases:
             other.add([(0, 0, 0)], [1e-3])
 
 
-@unittest.skipIf(numpy is None, "numpy is not installed")
+@unittest.skipIf(sinter.particles.numpy is None, "NumPy missing, or SINTER_NO_NUMPY is set")
 class NumpyParticlesTest(ParticlesCases, unittest.TestCase):
     use_numpy = True
 

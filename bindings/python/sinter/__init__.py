@@ -10,6 +10,9 @@ Units are SI throughout: m, kg, s, K, N, Pa, W, A, V.
         ps.add([(0.0, 0.0, 0.0), (2e-3, 0.0, 0.0)], [1e-3, 1e-3])
         with ps.view("velocity") as v:   # zero-copy, NumPy if available
             v[0, 0] = 0.1
+        with sinter.Stepper(ctx, ps, dt=1e-5,
+                            forces=[sinter.ForceModel(ctx, "hertz_mindlin")]) as st:
+            st.advance(1e-3)
 
 The shared library is found through SINTER_LIBRARY, the source tree's
 lib/libsinter.so, or the system's libsinter.so.0 (see sinter._lib).
@@ -18,15 +21,28 @@ lib/libsinter.so, or the system's libsinter.so.0 (see sinter._lib).
 from ._errors import (BusyError, InvalidArgument, NotFound, RangeError, SinterError,
                       Status)
 from ._lib import LibraryNotFound, library_path
+from ._callbacks import ContactBatch, StateView
 from .context import Context, LogLevel, version_number, version_string
 from .material import Material, ParamInfo
+from .models import ElectricModel, ForceModel, HeatModel
+from .neck import NeckModel, NeckResult, NeckStats
+from .output import Series, write_pvd, write_vtu
+from .packing import RadiusDistribution, pack_lattice, pack_random, packing_options, pour
 from .particles import FIELDS, FieldInfo, FieldView, Particles
+from .scene import Scene
+from .stepper import (Stepper, StepperKind, StepperStats, ThermalScheme,
+                      damping_ratio_from_restitution, stable_dt_hertz)
+from .walls import WallElectric, WallMotion, Walls
 
 __version__ = version_string()
 
 __all__ = [
-    "BusyError", "Context", "FIELDS", "FieldInfo", "FieldView", "InvalidArgument",
-    "LibraryNotFound", "LogLevel", "Material", "NotFound", "ParamInfo", "Particles",
-    "RangeError", "SinterError", "Status", "library_path", "version_number",
-    "version_string",
+    "BusyError", "ContactBatch", "Context", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
+    "ForceModel", "HeatModel", "InvalidArgument", "LibraryNotFound", "LogLevel", "Material",
+    "NeckModel", "NeckResult", "NeckStats", "NotFound", "ParamInfo", "Particles",
+    "RadiusDistribution", "RangeError", "Scene", "Series", "SinterError", "StateView", "Status",
+    "Stepper", "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion",
+    "Walls", "damping_ratio_from_restitution", "library_path", "pack_lattice", "pack_random",
+    "packing_options", "pour", "stable_dt_hertz", "version_number", "version_string",
+    "write_pvd", "write_vtu",
 ]

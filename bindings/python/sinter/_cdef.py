@@ -1,4 +1,5 @@
-"""The public header as a cffi cdef: preprocess sinter.h and parse it.
+"""The public headers as a cffi cdef: preprocess sinter_submodel.h (which
+includes sinter.h) and parse it.
 
 sinter.h promises that its preprocessed form parses as a cffi cdef. The C
 preprocessor runs with -nostdinc and empty stand-ins for <stddef.h> and
@@ -39,9 +40,12 @@ def find_header(name="sinter.h", dirs=None):
 
 
 def preprocess(header=None, cc=None, dirs=None):
-    """Text of the preprocessed header, without '#' lines, ready for FFI.cdef."""
+    """Text of the preprocessed header, without '#' lines, ready for FFI.cdef.
+
+    The default header is sinter_submodel.h: sinter.h plus the host submodel API.
+    """
     dirs = include_dirs() if dirs is None else dirs
-    header = find_header(dirs=dirs) if header is None else header
+    header = find_header("sinter_submodel.h", dirs=dirs) if header is None else header
     compiler = shlex.split(cc or os.environ.get("SINTER_CC") or "cc")
     with tempfile.TemporaryDirectory() as stubs:
         for name in ("stddef.h", "stdint.h"):

@@ -1,8 +1,8 @@
 """Finding and loading libsinter, and the one table of its C signatures.
 
-Every function of the public header sinter.h is declared in SIGNATURES
+Every function of the public headers sinter.h and sinter_submodel.h is declared in SIGNATURES
 below (restype and argtypes), with the structs and callback types they use;
-no other module sets argtypes. The tests compare this table with sinter.h.
+no other module sets argtypes. The tests compare this table with the headers.
 """
 
 import ctypes
@@ -69,7 +69,7 @@ class StepperStats(ctypes.Structure):
                 ("neighbor_builds", _u64), ("contacts", _u64), ("wall_contacts", _u64),
                 ("time", _double), ("dt", _double), ("seconds_neighbor", _double),
                 ("seconds_force", _double), ("seconds_integrate", _double),
-                ("seconds_total", _double)]
+                ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64)]
 
 
 class VtuArray(ctypes.Structure):
@@ -98,6 +98,60 @@ class NeckStats(ctypes.Structure):
                 ("jacobian_evaluations", _u64), ("error_test_failures", _u64),
                 ("nonlinear_iterations", _u64), ("nonlinear_failures", _u64),
                 ("segments", _u64), ("seconds", _double)]
+
+
+# --- sinter_submodel.h: host submodels ------------------------------------
+# Data pointers of the two borrowed structs are declared c_void_p: reading such
+# a field gives the address as an int (or None), which is what the zero-copy
+# array wrappers of sinter._callbacks need, without a ctypes.cast per field.
+
+class StateView(ctypes.Structure):
+    """struct sinter_state_view: the state a host submodel reads (borrowed during a callback)."""
+
+    _cname = "sinter_state_view"
+    _fields_ = [("count", _size), ("position", ctypes.c_void_p), ("velocity", ctypes.c_void_p),
+                ("spin", ctypes.c_void_p), ("radius", ctypes.c_void_p),
+                ("mass", ctypes.c_void_p), ("inertia", ctypes.c_void_p),
+                ("temperature", ctypes.c_void_p), ("material", ctypes.c_void_p),
+                ("wall_count", _size), ("wall_point", ctypes.c_void_p),
+                ("wall_normal", ctypes.c_void_p), ("wall_velocity", ctypes.c_void_p),
+                ("time", _double), ("dt", _double)]
+
+
+class ContactBatch(ctypes.Structure):
+    """struct sinter_contact_batch: active contacts as arrays (borrowed during a callback)."""
+
+    _cname = "sinter_contact_batch"
+    _fields_ = [("count", _size), ("kind", _int), ("i", ctypes.c_void_p), ("j", ctypes.c_void_p),
+                ("normal", ctypes.c_void_p), ("overlap", ctypes.c_void_p),
+                ("distance", ctypes.c_void_p), ("contact_radius", ctypes.c_void_p),
+                ("area", ctypes.c_void_p), ("branch", ctypes.c_void_p),
+                ("history_size", _size), ("history", ctypes.c_void_p),
+                ("history_trial", ctypes.c_void_p), ("force", ctypes.c_void_p),
+                ("torque_i", ctypes.c_void_p), ("torque_j", ctypes.c_void_p)]
+
+
+ContactsFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), ctypes.c_void_p)
+# The double * outputs of these two are c_void_p too: the callback receives their address.
+BodyFn = ctypes.CFUNCTYPE(_int, _P(StateView), ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+PowerFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), _P(ContactBatch),
+                           ctypes.c_void_p, ctypes.c_void_p)
+DestroyUserFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p)
+
+
+class ForceCallbacks(ctypes.Structure):
+    """struct sinter_force_callbacks (struct_size = ctypes.sizeof(ForceCallbacks))."""
+
+    _cname = "sinter_force_callbacks"
+    _fields_ = [("struct_size", _size), ("history_size", _size), ("contacts", ContactsFn),
+                ("particles", BodyFn), ("destroy_user", DestroyUserFn)]
+
+
+class HeatCallbacks(ctypes.Structure):
+    """struct sinter_heat_callbacks (struct_size = ctypes.sizeof(HeatCallbacks))."""
+
+    _cname = "sinter_heat_callbacks"
+    _fields_ = [("struct_size", _size), ("power", PowerFn), ("destroy_user", DestroyUserFn)]
 
 
 # name: (restype, argtypes), in the order of sinter.h. `const T x[3]` is a T pointer.
@@ -180,6 +234,8 @@ SIGNATURES = {
     "sinter_stepper_set_dt": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_skin": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_domain": (c_status, [StepperPtr, _P(_double), _P(_double)]),
+    "sinter_stepper_set_option": (c_status, [StepperPtr, _str, _double]),
+    "sinter_stepper_get_option": (c_status, [StepperPtr, _str, _P(_double)]),
     # output (implemented in src/io)
     "sinter_write_vtu": (c_status, [ParticlesPtr, _str, _P(VtuArray), _size]),
     "sinter_write_pvd": (c_status, [CtxPtr, _str, _size, _P(_double), _P(_str)]),
@@ -244,6 +300,11 @@ SIGNATURES = {
         c_status, [ParticlesPtr, _P(_double), _P(_double), _double, _double, ctypes.c_int32,
                    _double, _P(_size)]),
     "sinter_pack_pour": (c_status, [StepperPtr, _double, _double, _double]),
+    # sinter_submodel.h: host submodels
+    "sinter_force_model_create_host": (
+        c_status, [_P(ForceModelPtr), CtxPtr, _str, _P(ForceCallbacks), ctypes.c_void_p]),
+    "sinter_heat_model_create_host": (
+        c_status, [_P(HeatModelPtr), CtxPtr, _str, _P(HeatCallbacks), ctypes.c_void_p]),
 }
 
 

@@ -4,6 +4,7 @@ import ctypes
 import enum
 import weakref
 
+from . import _callbacks
 from ._errors import Status, check
 from ._lib import CtxPtr, LogFn, lib, text
 
@@ -156,14 +157,33 @@ class Context:
 
 
 class _Handle:
-    """Life cycle shared by the objects made from a Context (Material, Particles)."""
+    """Life cycle shared by the objects made from a Context.
+
+    A handle may borrow others (a Stepper borrows its Particles, Walls and
+    submodels; a Scene's Particles borrows the Scene): it holds a Python
+    reference to each and counts as one of its users. close() makes a handle
+    unusable at once, but its C object is destroyed only when no other handle
+    uses it any more, so the library never sees a dangling pointer whatever
+    the order of close() calls or of garbage collection.
+
+    A borrowed handle (owned=False) wraps an object another C object owns
+    (the particles of a scene): closing it destroys nothing.
+    """
 
     _destroy_function = None  # name of the C destroy function
     _handle = None
+    _users = 0
+    _close_pending = False
+    _owned = True
+    _borrowed = ()
 
-    def __init__(self, context, handle):
+    def __init__(self, context, handle, owned=True):
         self._context = context
         self._handle = handle
+        self._owned = owned
+        self._users = 0
+        self._close_pending = False
+        self._borrowed = []  # handles this one uses, released when its C object is gone
         context._register(self)
 
     @property
@@ -172,22 +192,79 @@ class _Handle:
 
     @property
     def closed(self):
-        return self._handle is None
+        return self._handle is None or self._close_pending
 
     @property
     def _ptr(self):
-        if self._handle is None:
+        if self.closed:
             raise ValueError("the sinter %s is closed" % type(self).__name__)
         return self._handle
 
     def _check(self, status, function):
         check(status, self._context._handle, function)
 
+    def _call(self, c_function, *args, stopped=None):
+        """c_function(*args) for a call that may run Python callbacks: an exception one of
+        them raised is raised here; otherwise the status is checked. Returns the status."""
+        return _callbacks.call(self._context._handle, c_function.__name__, c_function, *args,
+                               stopped=stopped)
+
+    # --- borrowing ------------------------------------------------------
+
+    def _borrow(self, other):
+        """Keep `other` (a handle this one's C object uses) alive and undestroyed."""
+        other._users += 1
+        self._borrowed.append(other)
+
+    def _unborrow(self, other):
+        """The C object no longer uses `other`: drop one use of it."""
+        for k, held in enumerate(self._borrowed):
+            if held is other:
+                del self._borrowed[k]
+                other._users -= 1
+                other._destroy_if_unused()
+                return
+
+    def _keep(self, key, value):
+        """Keep `value` (a C function pointer the library stores) while the C object lives.
+
+        A borrowed handle's C object lives as long as its owner (a Scene), whose views
+        may come and go: the value is kept there. A later value under the same key
+        replaces the earlier one.
+        """
+        holder = self if self._owned or not self._borrowed else self._borrowed[0]
+        holder.__dict__.setdefault("_kept", {})[key] = value
+
+    # --- closing --------------------------------------------------------
+
+    def _close_dependents(self):
+        """Hook: close what must go before this handle (a Scene's borrowed views)."""
+
+    def _forget(self):
+        """Hook: drop Python objects the C object needed (callbacks), after it is destroyed."""
+
     def close(self):
-        """Destroy the C object. Safe to call twice."""
+        """Destroy the C object (once nothing uses it any more). Safe to call twice."""
+        if self._handle is None or self._close_pending:
+            return
+        self._close_pending = True
+        self._close_dependents()
+        self._destroy_if_unused()
+
+    def _destroy_if_unused(self):
+        if self._users > 0 or not self._close_pending:
+            return
         handle, self._handle = self._handle, None
-        if handle is not None:
+        self._close_pending = False
+        if handle is not None and self._owned:
             getattr(lib, self._destroy_function)(handle)
+        self.__dict__.pop("_kept", None)
+        self._forget()
+        borrowed, self._borrowed = self._borrowed, []
+        for other in borrowed:
+            other._users -= 1
+            other._destroy_if_unused()
+        if handle is not None:
             self._context._unregister(self)
 
     def __enter__(self):

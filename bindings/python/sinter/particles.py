@@ -192,6 +192,14 @@ class Particles(_Handle):
               context._handle, "sinter_particles_create")
         super().__init__(context, handle)
 
+    @classmethod
+    def _borrowed_from(cls, owner, handle):
+        """A Particles over a set another object owns (a scene's): closing it destroys nothing."""
+        particles = cls.__new__(cls)
+        _Handle.__init__(particles, owner.context, handle, owned=False)
+        particles._borrow(owner)
+        return particles
+
     def _size(self, c_function):
         value = ctypes.c_size_t()
         self._check(c_function(self._ptr, ctypes.byref(value)), c_function.__name__)
@@ -226,6 +234,40 @@ class Particles(_Handle):
         """
         self._check(lib.sinter_particles_set_material(self._ptr, material_id, material._ptr),
                     "sinter_particles_set_material")
+
+    def set_softening_curve(self, material_id, temperatures, factors):
+        """Tabulated softening of material `material_id`: E(theta)/E_0 through the points
+        (temperatures [K], increasing; factors > 0), held constant outside (softening_law 3)."""
+        temperatures = [float(t) for t in temperatures]
+        factors = [float(f) for f in factors]
+        if len(temperatures) != len(factors):
+            raise ValueError("%d temperatures but %d factors" % (len(temperatures), len(factors)))
+        n = len(temperatures)
+        self._check(lib.sinter_particles_set_softening_curve(
+            self._ptr, material_id, n, (ctypes.c_double * max(n, 1))(*temperatures),
+            (ctypes.c_double * max(n, 1))(*factors)), "sinter_particles_set_softening_curve")
+
+    def set_softening_callback(self, material_id, function):
+        """Host softening law of material `material_id`: function(theta [K]) -> E/E_0 (> 0).
+
+        Called for every particle of the material at each force evaluation. An
+        exception stops the stepper at its last accepted state and is raised
+        again by the Stepper call.
+        """
+        from . import _callbacks
+        from ._lib import SofteningFn
+
+        def trampoline(theta, user):
+            try:
+                return float(function(theta))
+            except BaseException as exception:
+                _callbacks.store(exception)
+                return float("nan")  # the library stops with SINTER_ERR_CALLBACK
+
+        c_function = SofteningFn(trampoline)
+        self._keep(("softening", int(material_id)), c_function)  # before: the library keeps it
+        self._call(lib.sinter_particles_set_softening_callback, self._ptr, material_id,
+                   c_function, None)
 
     def get_material(self, material_id):
         """A copy (new Material) of the set's material `material_id`."""

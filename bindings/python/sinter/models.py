@@ -1,0 +1,266 @@
+"""Submodels: force, heat and electric models, built in (by name) or from Python callbacks.
+
+Built-in models take their parameters as keyword arguments and by item access:
+
+    gravity = sinter.ForceModel(ctx, "gravity", gz=-9.81)
+    gravity["gx"] = 1.0
+    conduction = sinter.HeatModel(ctx, "conduction", area=0)
+    laser = sinter.HeatModel(ctx, "laser", intensity=1e9)
+    laser.set_schedule("x", [0.0, 1.0], [0.0, 0.01])
+
+Host models run Python functions once per evaluation over whole batches
+(see ForceModel.from_callbacks and HeatModel.from_callback).
+"""
+
+import ctypes
+import itertools
+
+from . import _callbacks
+from ._callbacks import ContactBatch, StateView
+from ._errors import NotFound, check
+from ._lib import (BodyFn, ContactsFn, ElectricModelPtr, ForceCallbacks,
+                   ForceModelPtr, HeatCallbacks, HeatModelPtr, PowerFn, lib, text)
+from .context import _Handle
+
+
+def _doubles(values):
+    """A ctypes double array of a sequence (or NumPy array) of numbers."""
+    values = [float(v) for v in values]
+    return (ctypes.c_double * max(len(values), 1))(*values), len(values)
+
+
+class _KeyedModel(_Handle):
+    """A submodel with a name and parameters by key (model-level, SI units)."""
+
+    _ptr_type = None
+    _prefix = None  # "sinter_force_model", ...
+
+    def __init__(self, context, name, **params):
+        handle = self._ptr_type()
+        create = getattr(lib, self._prefix + "_create")
+        check(create(ctypes.byref(handle), context._ptr, name.encode("utf-8")),
+              context._handle, create.__name__)
+        super().__init__(context, handle)
+        try:
+            self.update(params)
+        except BaseException:
+            self.close()
+            raise
+
+    @property
+    def _destroy_function(self):
+        return self._prefix + "_destroy"
+
+    @property
+    def name(self):
+        return text(getattr(lib, self._prefix + "_name")(self._ptr))
+
+    def __getitem__(self, key):
+        value = ctypes.c_double()
+        function = getattr(lib, self._prefix + "_get")
+        self._check(function(self._ptr, key.encode("utf-8"), ctypes.byref(value)),
+                    function.__name__)
+        return value.value
+
+    def __setitem__(self, key, value):
+        function = getattr(lib, self._prefix + "_set")
+        self._check(function(self._ptr, key.encode("utf-8"), float(value)), function.__name__)
+
+    def get(self, key, default=None):
+        """The parameter's value, or `default` for a key the model does not have."""
+        try:
+            return self[key]
+        except NotFound:
+            return default
+
+    def update(self, params=(), **more):
+        """Set several parameters from a mapping and/or keywords."""
+        for key, value in itertools.chain(dict(params).items(), more.items()):
+            self[key] = value
+
+    def __repr__(self):
+        return "<sinter.%s %s>" % (type(self).__name__,
+                                   "closed" if self.closed else repr(self.name))
+
+
+class ForceModel(_KeyedModel):
+    """A force/moment submodel (sinter_force_model).
+
+    Built in, by name: "hertz_mindlin", "power_law", "linear_spring" (kn,
+    cn), "drag", "gravity" (gx, gy, gz), "body_force" (fx, fy, fz); see sinter.h.
+    """
+
+    _ptr_type = ForceModelPtr
+    _prefix = "sinter_force_model"
+
+    @classmethod
+    def from_callbacks(cls, context, name, contacts=None, particles=None, history_size=0):
+        """A host force model running Python functions on whole batches.
+
+        contacts(state, batch) is called once per evaluation for the
+        particle-particle batch and once for the particle-wall batch (only
+        when it has contacts); it writes batch.force (force on i; j receives
+        the opposite), batch.torque_i, batch.torque_j and batch.history_trial
+        in place. particles(state, force, torque) adds body forces: force and
+        torque are (count, 3) arrays, zeroed before the call.
+
+        `state` is a StateView, `batch` a ContactBatch: NumPy arrays over the
+        library's memory (memoryviews without NumPy), valid during the call
+        only. Return None or 0 for success, a positive number to ask for a
+        retry, a negative one to fail; an exception stops the stepper at its
+        last accepted state and is raised again by Stepper.advance/step.
+        history_size: doubles of per-contact history (batch.history).
+        """
+        if contacts is None and particles is None:
+            raise ValueError("give a contacts and/or a particles function")
+        functions = []
+        table = ForceCallbacks()
+        table.struct_size = ctypes.sizeof(ForceCallbacks)
+        table.history_size = int(history_size)
+        if contacts is not None:
+            functions.append(_contacts_trampoline(contacts))
+            table.contacts = functions[-1]
+        if particles is not None:
+            functions.append(_body_trampoline(particles))
+            table.particles = functions[-1]
+        handle = ForceModelPtr()
+        check(lib.sinter_force_model_create_host(ctypes.byref(handle), context._ptr,
+                                                 name.encode("utf-8"), ctypes.byref(table), None),
+              context._handle, "sinter_force_model_create_host")
+        model = cls.__new__(cls)
+        _Handle.__init__(model, context, handle)
+        model._c_functions = functions  # the library holds these pointers until destroy
+        model.callbacks = {"contacts": contacts, "particles": particles}
+        return model
+
+    def _forget(self):
+        self.__dict__.pop("_c_functions", None)
+
+
+class HeatModel(_KeyedModel):
+    """A heat-power submodel (sinter_heat_model).
+
+    Built in, by name: "conduction", "convection", "radiation", "nozzle",
+    "laser", "joule"; see sinter.h for their parameters.
+    """
+
+    _ptr_type = HeatModelPtr
+    _prefix = "sinter_heat_model"
+
+    def set_schedule(self, key, times, values):
+        """Make parameter `key` follow a piecewise-linear schedule (times [s], increasing)."""
+        c_times, n = _doubles(times)
+        c_values, n_values = _doubles(values)
+        if n != n_values:
+            raise ValueError("%d times but %d values" % (n, n_values))
+        self._check(lib.sinter_heat_model_set_schedule(self._ptr, key.encode("utf-8"), n,
+                                                       c_times, c_values),
+                    "sinter_heat_model_set_schedule")
+
+    @classmethod
+    def from_callback(cls, context, name, power):
+        """A host heat model: power(state, particle_contacts, wall_contacts, heat).
+
+        heat is a (count,) array [W], zeroed before the call, that the
+        function fills in place; the two ContactBatch arguments give the
+        contact geometry (their force/torque/history attributes are None).
+        Same conventions as ForceModel.from_callbacks.
+        """
+        table = HeatCallbacks()
+        table.struct_size = ctypes.sizeof(HeatCallbacks)
+        function = _power_trampoline(power)
+        table.power = function
+        handle = HeatModelPtr()
+        check(lib.sinter_heat_model_create_host(ctypes.byref(handle), context._ptr,
+                                                name.encode("utf-8"), ctypes.byref(table), None),
+              context._handle, "sinter_heat_model_create_host")
+        model = cls.__new__(cls)
+        _Handle.__init__(model, context, handle)
+        model._c_functions = [function]
+        model.callbacks = {"power": power}
+        return model
+
+    def _forget(self):
+        self.__dict__.pop("_c_functions", None)
+
+
+class ElectricModel(_KeyedModel):
+    """An electric submodel (sinter_electric_model): "averaged" or "network".
+
+    Parameters: "tolerance", "max_iterations". Wall boundary data are set with
+    Walls.set_electric.
+    """
+
+    _ptr_type = ElectricModelPtr
+    _prefix = "sinter_electric_model"
+
+
+# --- trampolines -----------------------------------------------------------
+
+def _contacts_trampoline(function):
+    def trampoline(state_pointer, batch_pointer, user):
+        try:
+            state = StateView(state_pointer.contents)
+            batch = ContactBatch(batch_pointer.contents)
+            try:
+                return _callbacks.result_code(function(state, batch))
+            finally:
+                state.invalidate()
+                batch.invalidate()
+        except BaseException as exception:  # never unwind through C
+            _callbacks.store(exception)
+            return -1
+
+    return ContactsFn(trampoline)
+
+
+def _body_trampoline(function):
+    def trampoline(state_pointer, force, torque, user):
+        try:
+            state = StateView(state_pointer.contents)
+            n = state_pointer.contents.count
+            force_array = _callbacks.array(force, (n, 3), "d", True)
+            torque_array = _callbacks.array(torque, (n, 3), "d", True)
+            try:
+                return _callbacks.result_code(function(state, force_array, torque_array))
+            finally:
+                state.invalidate()
+                _release(force_array, torque_array)
+        except BaseException as exception:
+            _callbacks.store(exception)
+            return -1
+
+    return BodyFn(trampoline)
+
+
+def _power_trampoline(function):
+    def trampoline(state_pointer, pp_pointer, pw_pointer, heat, user):
+        try:
+            state = StateView(state_pointer.contents)
+            pp = ContactBatch(pp_pointer.contents)
+            pw = ContactBatch(pw_pointer.contents)
+            heat_array = _callbacks.array(heat, (state_pointer.contents.count,), "d", True)
+            try:
+                return _callbacks.result_code(function(state, pp, pw, heat_array))
+            finally:
+                state.invalidate()
+                pp.invalidate()
+                pw.invalidate()
+                _release(heat_array)
+        except BaseException as exception:
+            _callbacks.store(exception)
+            return -1
+
+    return PowerFn(trampoline)
+
+
+def _release(*arrays):
+    for array in arrays:
+        if isinstance(array, memoryview):
+            try:
+                array.release()
+            except BufferError:
+                pass
+
+
+__all__ = ["ContactBatch", "ElectricModel", "ForceModel", "HeatModel", "StateView"]

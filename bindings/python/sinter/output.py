@@ -1,0 +1,142 @@
+"""Output: time series (CSV and SVG plots drawn by the library) and ParaView files."""
+
+import ctypes
+import os
+
+from ._errors import check
+from ._lib import SeriesPtr, VtuArray, lib
+from .context import _Handle
+
+
+class Series(_Handle):
+    """A time series of named, unit-carrying columns (sinter_series).
+
+        series = sinter.Series(ctx, [("time", "s"), ("temperature", "K")])
+        series.append([0.0, 300.0])
+        series.write_csv("t.csv")
+        series.write_svg("t.svg", panels=[[1]], title="particle")
+    """
+
+    _destroy_function = "sinter_series_destroy"
+
+    def __init__(self, context, columns):
+        columns = [(c, "1") if isinstance(c, str) else tuple(c) for c in columns]
+        if not columns:
+            raise ValueError("a series needs at least one column")
+        names = (ctypes.c_char_p * len(columns))(*[n.encode("utf-8") for n, _ in columns])
+        units = (ctypes.c_char_p * len(columns))(*[u.encode("utf-8") for _, u in columns])
+        handle = SeriesPtr()
+        check(lib.sinter_series_create(ctypes.byref(handle), context._ptr, len(columns), names,
+                                       units),
+              context._handle, "sinter_series_create")
+        super().__init__(context, handle)
+        self.columns = [name for name, _ in columns]
+        self.units = [unit for _, unit in columns]
+
+    def append(self, row):
+        """Append one row of len(columns) numbers (NaN allowed)."""
+        row = [float(x) for x in row]
+        if len(row) != len(self.columns):
+            raise ValueError("a row of this series has %d values, got %d"
+                             % (len(self.columns), len(row)))
+        self._check(lib.sinter_series_append(self._ptr, (ctypes.c_double * len(row))(*row)),
+                    "sinter_series_append")
+
+    @property
+    def rows(self):
+        rows = ctypes.c_size_t()
+        self._check(lib.sinter_series_rows(self._ptr, ctypes.byref(rows)), "sinter_series_rows")
+        return rows.value
+
+    def __len__(self):
+        return self.rows
+
+    def _column_index(self, column):
+        if isinstance(column, str):
+            try:
+                return self.columns.index(column)
+            except ValueError:
+                raise KeyError("no column %r; columns: %s" % (column, self.columns)) from None
+        return int(column)
+
+    def get(self, row, column):
+        value = ctypes.c_double()
+        self._check(lib.sinter_series_get(self._ptr, int(row), self._column_index(column),
+                                          ctypes.byref(value)),
+                    "sinter_series_get")
+        return value.value
+
+    def __getitem__(self, index):
+        """series[row, column] (column by index or name), or series["name"] for a whole column."""
+        if isinstance(index, tuple):
+            return self.get(*index)
+        return self.column(index)
+
+    def column(self, column):
+        """All values of a column (by index or name), as a list."""
+        k = self._column_index(column)
+        return [self.get(row, k) for row in range(self.rows)]
+
+    def write_csv(self, path):
+        """CSV: a header "name [unit],..." then one line per row, full precision."""
+        self._check(lib.sinter_series_write_csv(self._ptr, os.fsencode(path)),
+                    "sinter_series_write_csv")
+
+    def write_svg(self, path, panels=None, x_column=0, title=None):
+        """SVG plot: one panel per entry of `panels` (lists of columns, by index or name)
+        against x_column; by default one panel with every other column."""
+        x = self._column_index(x_column)
+        if panels is None:
+            panels = [[k for k in range(len(self.columns)) if k != x]]
+        start, flat = [0], []
+        for panel in panels:
+            flat.extend(self._column_index(c) for c in panel)
+            start.append(len(flat))
+        c_start = (ctypes.c_size_t * len(start))(*start)
+        c_flat = (ctypes.c_size_t * max(len(flat), 1))(*flat)
+        self._check(lib.sinter_series_write_svg(self._ptr, os.fsencode(path),
+                                                None if title is None else title.encode("utf-8"),
+                                                x, len(panels), c_start, c_flat),
+                    "sinter_series_write_svg")
+
+    def __repr__(self):
+        return "<sinter.Series %s>" % ("closed" if self.closed else "%s, %d rows" % (
+            self.columns, self.rows))
+
+
+def write_vtu(particles, path, extra=None):
+    """One ParaView frame (.vtu) of a particle set; `extra` maps names to per-particle arrays
+    (count values, or count x 3)."""
+    extra = dict(extra or {})
+    count = particles.count
+    arrays, keep = [], []
+    for name, values in extra.items():
+        if hasattr(values, "tolist"):  # NumPy array or memoryview
+            values = values.tolist()
+        rows = [list(v) if isinstance(v, (list, tuple)) else [v] for v in values]
+        if len(rows) != count:
+            raise ValueError("extra array %r has %d rows for %d particles"
+                             % (name, len(rows), count))
+        components = len(rows[0]) if rows else 1
+        if components not in (1, 3) or any(len(r) != components for r in rows):
+            raise ValueError("extra array %r needs 1 or 3 components per particle" % name)
+        flat = [float(x) for r in rows for x in r]
+        data = (ctypes.c_double * max(len(flat), 1))(*flat)
+        keep.append(data)
+        arrays.append(VtuArray(name.encode("utf-8"), ctypes.cast(data, ctypes.POINTER(
+            ctypes.c_double)), components))
+    c_arrays = (VtuArray * max(len(arrays), 1))(*arrays)
+    particles._check(lib.sinter_write_vtu(particles._ptr, os.fsencode(path),
+                                          c_arrays if arrays else None, len(arrays)),
+                     "sinter_write_vtu")
+
+
+def write_pvd(context, path, times, files):
+    """A ParaView collection (.pvd) of `files` (as they should appear in it) at `times` [s]."""
+    times, files = [float(t) for t in times], [os.fsencode(f) for f in files]
+    if len(times) != len(files):
+        raise ValueError("%d times but %d files" % (len(times), len(files)))
+    c_times = (ctypes.c_double * max(len(times), 1))(*times)
+    c_files = (ctypes.c_char_p * max(len(files), 1))(*files)
+    check(lib.sinter_write_pvd(context._ptr, os.fsencode(path), len(times), c_times, c_files),
+          context._handle, "sinter_write_pvd")

@@ -1,0 +1,128 @@
+"""Scenes: a scene file read, built and run (see examples/scenes/README.md for the format)."""
+
+import ctypes
+import os
+import weakref
+
+from . import _callbacks
+from ._errors import check
+from ._lib import ParticlesPtr, ProgressFn, ScenePtr, StepperPtr, WallsPtr, lib
+from .context import _Handle
+from .particles import Particles
+from .stepper import Stepper
+from .walls import Walls
+
+
+class Scene(_Handle):
+    """A scene (sinter_scene): materials, particles, walls, submodels and a stepper.
+
+        with sinter.Scene(ctx, "hot_floor.scene") as scene:
+            scene.run("out", progress=lambda t, t_end: print(t / t_end))
+            print(scene.particles.get("temperature"))
+
+    The scene owns everything it builds. scene.particles, .walls and
+    .stepper are borrowed views of its objects: closing the scene closes them,
+    and each keeps the scene alive while in use.
+    """
+
+    _destroy_function = "sinter_scene_destroy"
+
+    def __init__(self, context, path):
+        handle = ScenePtr()
+        check(lib.sinter_scene_load(ctypes.byref(handle), context._ptr, os.fsencode(path)),
+              context._handle, "sinter_scene_load")
+        super().__init__(context, handle)
+        self.path = os.fspath(path)
+        self._views = weakref.WeakValueDictionary()
+        self._stepper_state = None
+
+    @classmethod
+    def load(cls, context, path):
+        """Read, validate and build the scene file at `path`."""
+        return cls(context, path)
+
+    def _close_dependents(self):
+        for view in list(self._views.values()):
+            view.close()
+
+    def _forget(self):
+        self._stepper_state = None  # models and the observer given to the scene's stepper
+
+    def _view(self, name, make):
+        view = self._views.get(name)
+        if view is None or view.closed:
+            view = make()
+            self._views[name] = view
+        return view
+
+    @property
+    def particles(self):
+        """The scene's Particles (borrowed)."""
+        def make():
+            handle = ParticlesPtr()
+            self._check(lib.sinter_scene_get_particles(self._ptr, ctypes.byref(handle)),
+                        "sinter_scene_get_particles")
+            return Particles._borrowed_from(self, handle)
+
+        return self._view("particles", make)
+
+    @property
+    def walls(self):
+        """The scene's Walls (borrowed)."""
+        def make():
+            handle = WallsPtr()
+            self._check(lib.sinter_scene_get_walls(self._ptr, ctypes.byref(handle)),
+                        "sinter_scene_get_walls")
+            return Walls._borrowed_from(self, handle)
+
+        return self._view("walls", make)
+
+    @property
+    def stepper(self):
+        """The scene's Stepper (borrowed); its .particles and .walls are the scene's."""
+        def make():
+            handle = StepperPtr()
+            self._check(lib.sinter_scene_get_stepper(self._ptr, ctypes.byref(handle)),
+                        "sinter_scene_get_stepper")
+            return Stepper._borrowed_from(self, handle, self.particles, self.walls)
+
+        return self._view("stepper", make)
+
+    @property
+    def end_time(self):
+        """The scene's end time [s]."""
+        end_time = ctypes.c_double()
+        self._check(lib.sinter_scene_end_time(self._ptr, ctypes.byref(end_time)),
+                    "sinter_scene_end_time")
+        return end_time.value
+
+    def run(self, out_dir, progress=None):
+        """Run to the end time, writing the [output] files into out_dir (created if missing).
+
+        progress(time, end_time) is called after each output interval; a true
+        result stops the run. Returns True when the run reached its end, False
+        when progress stopped it. An exception in progress (or in any Python
+        callback of the scene's objects) is raised here.
+        """
+        asked_to_stop = []
+        if progress is None:
+            function = ProgressFn()
+        else:
+            def trampoline(time, end_time, user):
+                try:
+                    if progress(time, end_time):
+                        asked_to_stop.append(time)
+                        return 1
+                    return 0
+                except BaseException as exception:
+                    _callbacks.store(exception)
+                    return 1
+
+            function = ProgressFn(trampoline)
+        status = _callbacks.call(self._context._handle, "sinter_scene_run", lib.sinter_scene_run,
+                                 self._ptr, os.fsencode(out_dir), function, None,
+                                 stopped=lambda: bool(asked_to_stop))
+        return status == 0
+
+    def __repr__(self):
+        return "<sinter.Scene %s>" % ("closed" if self.closed else repr(self.path))

@@ -1,0 +1,189 @@
+"""Rigid planar walls with prescribed motions, temperatures and electric data."""
+
+import ctypes
+import enum
+
+from . import _callbacks
+from ._errors import check
+from ._lib import WallMotionFn, WallsPtr, lib
+from .context import _Handle
+
+
+class WallMotion(enum.IntEnum):
+    """sinter_wall_motion."""
+
+    FIXED = 0
+    VELOCITY = 1
+    SCHEDULE = 2
+    SINE = 3
+    CALLBACK = 4
+
+
+class WallElectric(enum.IntEnum):
+    """sinter_wall_electric_mode."""
+
+    NEUTRAL = 0
+    CURRENT = 1
+    POTENTIAL = 2
+
+
+def _vec3(values, what):
+    values = [float(v) for v in values]
+    if len(values) != 3:
+        raise ValueError("%s needs 3 components, got %d" % (what, len(values)))
+    return (ctypes.c_double * 3)(*values)
+
+
+def _doubles(values):
+    values = [float(v) for v in values]
+    return (ctypes.c_double * max(len(values), 1))(*values), len(values)
+
+
+class Walls(_Handle):
+    """A set of planes (sinter_walls). Wall k: point p_k(t), fixed unit normal n_k into the
+    particle region. Lengths in m, velocities in m/s, temperatures in K.
+
+        walls = sinter.Walls(ctx)
+        floor = walls.add_plane((0, 0, 0), (0, 0, 1), steel, temperature=700.0)
+        walls.set_velocity(floor, (0, 0, 1e-3))
+        walls.force(floor)     # reaction of the last accepted step [N]
+    """
+
+    _destroy_function = "sinter_walls_destroy"
+
+    def __init__(self, context):
+        handle = WallsPtr()
+        check(lib.sinter_walls_create(ctypes.byref(handle), context._ptr), context._handle,
+              "sinter_walls_create")
+        super().__init__(context, handle)
+
+    @classmethod
+    def _borrowed_from(cls, owner, handle):
+        walls = cls.__new__(cls)
+        _Handle.__init__(walls, owner.context, handle, owned=False)
+        walls._borrow(owner)
+        return walls
+
+    @property
+    def count(self):
+        count = ctypes.c_size_t()
+        self._call(lib.sinter_walls_count, self._ptr, ctypes.byref(count))
+        return count.value
+
+    def __len__(self):
+        return self.count
+
+    def _index(self, k):
+        k = int(k)
+        if k < 0:
+            k += self.count
+        if k < 0:
+            raise IndexError("wall index out of range")
+        return k
+
+    def add_plane(self, point, normal, material, temperature=None):
+        """Add a fixed plane through `point` with `normal` (normalised; into the particle region).
+
+        The material is copied. Returns the wall's index.
+        """
+        index = ctypes.c_size_t()
+        self._call(lib.sinter_walls_add_plane, self._ptr, _vec3(point, "point"),
+                                               _vec3(normal, "normal"), material._ptr,
+                                               ctypes.byref(index))
+        if temperature is not None:
+            self.set_temperature(index.value, temperature)
+        return index.value
+
+    def set_material(self, k, material):
+        self._call(lib.sinter_walls_set_material, self._ptr, self._index(k), material._ptr)
+
+    def set_velocity(self, k, velocity):
+        """Constant velocity u [m/s]: p(t) = p0 + u t."""
+        self._call(lib.sinter_walls_set_velocity, self._ptr, self._index(k),
+                                                  _vec3(velocity, "velocity"))
+
+    def set_schedule(self, k, times, displacements):
+        """Piecewise-linear displacement through (times[i] [s], displacements[i] (3,) [m])."""
+        flat = []
+        for d in displacements:
+            flat.extend(_vec3(d, "displacement"))
+        c_times, n = _doubles(times)
+        if 3 * n != len(flat):
+            raise ValueError("%d times but %d displacements" % (n, len(flat) // 3))
+        c_disp, _ = _doubles(flat)
+        self._call(lib.sinter_walls_set_schedule, self._ptr, self._index(k), n, c_times, c_disp)
+
+    def set_sine(self, k, amplitude, omega):
+        """p0 + amplitude sin(omega t): amplitude vector [m], omega [rad/s]."""
+        self._call(lib.sinter_walls_set_sine, self._ptr, self._index(k),
+                                              _vec3(amplitude, "amplitude"), float(omega))
+
+    def set_callback(self, k, motion):
+        """Host motion: motion(t) returns (displacement (3,) [m], velocity (3,) [m/s]).
+
+        An exception stops the stepper (last accepted state kept) and is raised
+        again by the Stepper call that ran it.
+        """
+        k = self._index(k)
+
+        def trampoline(t, displacement, velocity, user):
+            try:
+                d, v = motion(t)
+                d, v = list(d), list(v)
+                if len(d) != 3 or len(v) != 3:
+                    raise ValueError("a wall motion returns two 3-vectors, got %r" % ((d, v),))
+                for axis in range(3):
+                    displacement[axis] = float(d[axis])
+                    velocity[axis] = float(v[axis])
+                return 0
+            except BaseException as exception:
+                _callbacks.store(exception)
+                return -1
+
+        function = WallMotionFn(trampoline)
+        # Kept first: the library stores the pointer even when its first call fails.
+        self._keep(("wall motion", k), function)
+        self._call(lib.sinter_walls_set_callback, self._ptr, k, function, None)
+
+    def set_motion_start(self, k, start):
+        """Time [s] at which wall k's motion starts (float('inf') holds it)."""
+        self._call(lib.sinter_walls_set_motion_start, self._ptr, self._index(k), float(start))
+
+    def set_temperature(self, k, temperature):
+        self._call(lib.sinter_walls_set_temperature, self._ptr, self._index(k),
+                                                     float(temperature))
+
+    def set_temperature_schedule(self, k, times, temperatures):
+        c_times, n = _doubles(times)
+        c_temps, n_temps = _doubles(temperatures)
+        if n != n_temps:
+            raise ValueError("%d times but %d temperatures" % (n, n_temps))
+        self._call(lib.sinter_walls_set_temperature_schedule, self._ptr, self._index(k), n,
+                                                              c_times, c_temps)
+
+    def set_electric(self, k, mode, value=0.0):
+        """Electric boundary: mode "neutral", "current" (J_ext [A]) or "potential" ([V])."""
+        if isinstance(mode, str):
+            mode = WallElectric[mode.upper()]
+        self._call(lib.sinter_walls_set_electric, self._ptr, self._index(k), int(mode),
+                                                  float(value))
+
+    def state(self, k):
+        """(point, velocity) of wall k at the stepper's current time, as tuples."""
+        point, velocity = (ctypes.c_double * 3)(), (ctypes.c_double * 3)()
+        self._call(lib.sinter_walls_get_state, self._ptr, self._index(k), point, velocity)
+        return tuple(point), tuple(velocity)
+
+    def normal(self, k):
+        normal = (ctypes.c_double * 3)()
+        self._call(lib.sinter_walls_get_normal, self._ptr, self._index(k), normal)
+        return tuple(normal)
+
+    def force(self, k):
+        """Force the particles exerted on wall k in the last accepted step [N]."""
+        force = (ctypes.c_double * 3)()
+        self._call(lib.sinter_walls_get_force, self._ptr, self._index(k), force)
+        return tuple(force)
+
+    def __repr__(self):
+        return "<sinter.Walls %s>" % ("closed" if self.closed else "n=%d" % self.count)

@@ -1,0 +1,626 @@
+/*
+ * Implicit staggered stepper: seed 000 sec. 3.1 (trapezoidal rule with phi solved by fixed-point
+ * iterations, eq. 24-30), sec. 4.2 (the same rule for temperatures, eq. 36-37) and sec. 6
+ * (multiphysical staggering, eq. 45-49, Algorithm 1).
+ *
+ * One step from t to t + h, state s = (x, v, w, rotation), temperatures theta:
+ *
+ *   s^1 from the forces at t alone (predictor; s^0 = s^L, theta^0 = theta^L)
+ *   for K = 1 .. K_d:
+ *     evaluate the pipeline at (s^K, theta^(K-1)) with the walls at t + h: neighbours,
+ *       contacts, currents (eq. 43), forces F^K, heat Q^K; history increments over h are
+ *       written as trial history only (ARCHITECTURE sec. 2)
+ *     theta^K = theta^L + h/(m C) (phi Q^K + (1 - phi) Q^L)                      eq. 36, 46
+ *     normalised errors (eq. 47), violation ratio Z_K (eq. 48), step scale Lambda_K (eq. 49)
+ *     Z_K <= 1: accept (s^K, theta^K)
+ *     s^(K+1): v = v^L + h/m (phi F^K + (1 - phi) F^L),
+ *              x = x^L + h (phi v + (1 - phi) v^L)                            eq. 24-26, 45
+ *   no convergence by K = K_d: restore the state at t exactly, h <- Lambda_K h, restart from t
+ *
+ * Eq. 25-26 eliminate v: x^(L+1) = x^L + v^L h + phi h^2/m (phi F^(L+1) + (1 - phi) F^L);
+ * the two-line form above is the same rule and also gives the velocity. Spins and the total
+ * rotation vector (seed 003 eq. 45) follow the same rule with the torques.
+ *
+ * Staggering (eq. 45-46): positions are computed with the temperatures frozen, temperatures
+ * with the positions frozen. One pipeline evaluation per iteration serves both: the one at
+ * (s^K, theta^(K-1)) gives Q^K for theta^K exactly as eq. 46 asks (positions s^K frozen), and
+ * its forces F^K for s^(K+1); eq. 45 would use F(s^K, theta^K), so the mechanics sees the
+ * temperatures one iteration late. Temperature enters the forces only through softening, and
+ * both versions have the same fixed point; the lag halves the evaluations per iteration.
+ *
+ * Errors (eq. 47, Algorithm 1 step 4a): eps_r^K = sum_i |x_i^K - x_i^(K-1)| /
+ * sum_i |x_i^K - x_i^L| and the same for theta (particles with a fixed position or
+ * temperature are not unknowns and are left out). With the start s^0 = s^L, eps^1 = 1: the
+ * first iterate measures nothing, and eps_0 of eq. 49 (the normalised initial error) is 1.
+ * When the iterates agree to the round-off of the field itself (|change| <= 8 eps_mach
+ * sum |value|), eps is 0: a body at rest or a field that does not change converges instead of
+ * comparing round-off with round-off.
+ *
+ * Step scaling (eq. 49): the iteration error is modelled as eps_K = (S h^p)^K eps_0; it should
+ * reach TOL in exactly K_d iterations, (S h_tol^p)^K_d eps_0 = TOL, hence
+ *   Lambda_K = (TOL/eps_0)^(1/(p K_d)) / (eps_K/eps_0)^(1/(p K)),  Lambda = min over fields.
+ * An accepted step (eps_K <= TOL at K <= K_d) has Lambda >= 1 and the next step is
+ * min(dt_max, Lambda h) (Algorithm 1 step 6b-c); a step that fails has Lambda < 1 and is
+ * retried from t with Lambda h (step 7). Safeguards beyond the seed: Lambda is at most 2 (eq. 49
+ * gives infinity when an iteration reproduces its predecessor, e.g. free flight) and at most
+ * 0.9 and at least 0.1 after a failure, and a non-finite iterate counts as a failure with
+ * Lambda = 0.1.
+ *
+ * Currents (Algorithm 1 steps 6d, 7b; sec. 6 remark 2): the electric model is solved inside
+ * every pipeline evaluation, i.e. at every iterate and again on the accepted configuration,
+ * which is more than "re-solved after each accepted step" asks. After acceptance the pipeline
+ * is evaluated once more at (s^(L+1), theta^(L+1)) when there are heat models (without them
+ * the last iterate's evaluation already is that state): this evaluation re-solves the currents
+ * on the accepted configuration, gives F^(L+1) and Q^(L+1) for the next step's trapezoid and
+ * the trial history that is then committed. A rejected attempt commits nothing: the
+ * committed history is as it was at t, and positions, velocities, spins, rotations,
+ * temperatures, forces, torques, heat powers, currents and flags are restored bit for bit.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "stepper.h"
+
+/* ---- options ------------------------------------------------------------------------- */
+
+enum { OPT_PHI, OPT_KD, OPT_TOL, OPT_EXPONENT, OPT_DT_MAX, OPT_DT_MIN, OPT_ADAPTIVE, OPT_COUNT };
+
+static const char *const OPTION_KEYS[OPT_COUNT] = {
+    "phi", "target_iterations", "tolerance", "exponent", "dt_max", "dt_min", "adaptive"};
+
+#define OPTION_LIST "phi, target_iterations, tolerance, exponent, dt_max, dt_min, adaptive"
+
+void sinter_staggered_init(sinter_staggered *sg)
+{
+    memset(sg, 0, sizeof(*sg));
+    sg->phi = 0.5;              /* seed 000 sec. 7 */
+    sg->target_iterations = 10; /* K_d, sec. 7 */
+    sg->tolerance = 5e-4;       /* sec. 7 */
+    sg->exponent = 2.0;         /* sec. 3.1: p = 2 for second-order problems */
+    sg->dt_max = HUGE_VAL;
+    sg->dt_min = 1e-12;
+    sg->adaptive = 1;
+}
+
+void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg)
+{
+    sinter_free(ctx, sg->saved);
+    sinter_free(ctx, sg->flags);
+    sinter_free(ctx, sg->power);
+    sg->saved = NULL;
+    sg->flags = NULL;
+    sg->power = NULL;
+    sg->saved_capacity = sg->flags_capacity = sg->power_capacity = 0;
+}
+
+static int find_option(const char *key)
+{
+    for (int k = 0; k < OPT_COUNT; ++k)
+        if (strcmp(key, OPTION_KEYS[k]) == 0)
+            return k;
+    return -1;
+}
+
+static sinter_status option_target(const sinter_stepper *st, const char *func, const char *key,
+                                   int *which)
+{
+    *which = find_option(key);
+    if (*which < 0)
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_FOUND,
+                           "%s: unknown option '%s'; the staggered stepper's options are " OPTION_LIST,
+                           func, key);
+    if (st->kind != SINTER_STEPPER_STAGGERED)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "%s: '%s' is an option of the implicit staggered stepper "
+                           "(SINTER_STEPPER_STAGGERED, scene files: kind = staggered); this "
+                           "stepper is explicit",
+                           func, key);
+    return SINTER_OK;
+}
+
+sinter_status sinter_staggered_set(sinter_stepper *st, const char *key, double value)
+{
+    static const char *func = "sinter_stepper_set_option";
+    int which;
+    sinter_status s = option_target(st, func, key, &which);
+    if (s != SINTER_OK)
+        return s;
+    sinter_staggered *sg = &st->staggered;
+    sinter_ctx *ctx = st->ctx;
+    switch (which) {
+    case OPT_PHI:
+        if (!(value > 0.0 && value <= 1.0))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: phi = %g must be in (0, 1] (0.5: trapezoidal rule, second "
+                               "order; 1: backward Euler, first order)",
+                               func, value);
+        sg->phi = value;
+        break;
+    case OPT_KD:
+        if (!(value >= 2.0 && value <= 1000.0 && value == floor(value)))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: target_iterations = %g must be a whole number in [2, 1000] "
+                               "(the first iterate's normalised error is 1 by eq. 47, so no step "
+                               "converges in fewer than 2)",
+                               func, value);
+        sg->target_iterations = (int)value;
+        break;
+    case OPT_TOL:
+        if (!(value > 0.0 && value < 1.0))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: tolerance = %g must be in (0, 1): it bounds the normalised "
+                               "iteration errors of eq. 47",
+                               func, value);
+        sg->tolerance = value;
+        break;
+    case OPT_EXPONENT:
+        if (!(value > 0.0 && value <= 10.0))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: exponent = %g must be in (0, 10] (p of eq. 49: the "
+                               "contraction constant scales as dt^p; 2 for particle dynamics)",
+                               func, value);
+        sg->exponent = value;
+        break;
+    case OPT_DT_MAX:
+        if (!(value > 0.0) || isnan(value))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: dt_max = %g s must be > 0 (HUGE_VAL: no bound)", func, value);
+        if (value < sg->dt_min)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: dt_max = %g s is below dt_min = %g s", func, value,
+                               sg->dt_min);
+        sg->dt_max = value;
+        break;
+    case OPT_DT_MIN:
+        if (!(value > 0.0 && isfinite(value)))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: dt_min = %g s must be > 0 and finite", func, value);
+        if (value > sg->dt_max)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: dt_min = %g s is above dt_max = %g s", func, value,
+                               sg->dt_max);
+        sg->dt_min = value;
+        break;
+    default: /* OPT_ADAPTIVE */
+        if (value != 0.0 && value != 1.0)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: adaptive = %g must be 0 (keep the step) or 1 (eq. 49)", func,
+                               value);
+        sg->adaptive = value == 1.0;
+        break;
+    }
+    return SINTER_OK;
+}
+
+sinter_status sinter_staggered_get(const sinter_stepper *st, const char *key, double *value)
+{
+    int which;
+    sinter_status s = option_target(st, "sinter_stepper_get_option", key, &which);
+    if (s != SINTER_OK)
+        return s;
+    const sinter_staggered *sg = &st->staggered;
+    const double values[OPT_COUNT] = {sg->phi,    (double)sg->target_iterations,
+                                      sg->tolerance, sg->exponent,
+                                      sg->dt_max, sg->dt_min,
+                                      (double)sg->adaptive};
+    *value = values[which];
+    return SINTER_OK;
+}
+
+/* ---- the state at t ------------------------------------------------------------------- */
+
+/* Pointers into sg->saved: 25 doubles per particle. */
+typedef struct saved_state {
+    double *x, *v, *w, *rot; /* s^L */
+    double *f, *tq, *q;      /* F^L, torques, Q^L */
+    double *theta, *current; /* theta^L, currents at t */
+    double *x_prev;          /* x^(K-1) */
+    double *theta_prev;      /* theta^(K-1) */
+} saved_state;
+
+enum { SAVED_PER_PARTICLE = 25 };
+
+static saved_state saved_layout(const sinter_staggered *sg, size_t n)
+{
+    double *p = sg->saved;
+    saved_state a;
+    a.x = p;
+    a.v = p + 3 * n;
+    a.w = p + 6 * n;
+    a.rot = p + 9 * n;
+    a.f = p + 12 * n;
+    a.tq = p + 15 * n;
+    a.x_prev = p + 18 * n;
+    a.q = p + 21 * n;
+    a.theta = p + 22 * n;
+    a.current = p + 23 * n;
+    a.theta_prev = p + 24 * n;
+    return a;
+}
+
+static sinter_status reserve(sinter_stepper *st)
+{
+    sinter_staggered *sg = &st->staggered;
+    const size_t n = st->ps->count, slots = st->thermal.count;
+    if (SAVED_PER_PARTICLE * n + 1 > sg->saved_capacity) {
+        double *p = sinter_realloc_array(st->ctx, sg->saved, SAVED_PER_PARTICLE * n + 1,
+                                         sizeof(double));
+        if (p == NULL)
+            return sinter_last_status(st->ctx);
+        sg->saved = p;
+        sg->saved_capacity = SAVED_PER_PARTICLE * n + 1;
+    }
+    if (n + 1 > sg->flags_capacity) {
+        uint32_t *p = sinter_realloc_array(st->ctx, sg->flags, n + 1, sizeof(uint32_t));
+        if (p == NULL)
+            return sinter_last_status(st->ctx);
+        sg->flags = p;
+        sg->flags_capacity = n + 1;
+    }
+    if (2 * slots + 1 > sg->power_capacity) {
+        double *p = sinter_realloc_array(st->ctx, sg->power, 2 * slots + 1, sizeof(double));
+        if (p == NULL)
+            return sinter_last_status(st->ctx);
+        sg->power = p;
+        sg->power_capacity = 2 * slots + 1;
+    }
+    return SINTER_OK;
+}
+
+static void save_state(sinter_stepper *st, const saved_state *a)
+{
+    const sinter_particles *ps = st->ps;
+    const size_t n = ps->count, n3 = 3 * n * sizeof(double), n1 = n * sizeof(double);
+    memcpy(a->x, ps->x, n3);
+    memcpy(a->v, ps->v, n3);
+    memcpy(a->w, ps->w, n3);
+    memcpy(a->rot, ps->rot, n3);
+    memcpy(a->f, ps->force, n3);
+    memcpy(a->tq, ps->torque, n3);
+    memcpy(a->q, ps->heat, n1);
+    memcpy(a->theta, ps->temperature, n1);
+    memcpy(a->current, ps->current, n1);
+    memcpy(st->staggered.flags, ps->flags, n * sizeof(uint32_t));
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        st->staggered.power[k] = st->thermal.slots[k].power;
+}
+
+/* Back to the state at t, bit for bit; the committed history was never touched. */
+static void restore_state(sinter_stepper *st, const saved_state *a, double t)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count, n3 = 3 * n * sizeof(double), n1 = n * sizeof(double);
+    memcpy(ps->x, a->x, n3);
+    memcpy(ps->v, a->v, n3);
+    memcpy(ps->w, a->w, n3);
+    memcpy(ps->rot, a->rot, n3);
+    memcpy(ps->force, a->f, n3);
+    memcpy(ps->torque, a->tq, n3);
+    memcpy(ps->heat, a->q, n1);
+    memcpy(ps->temperature, a->theta, n1);
+    memcpy(ps->current, a->current, n1);
+    memcpy(ps->flags, st->staggered.flags, n * sizeof(uint32_t));
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        st->thermal.slots[k].power = st->staggered.power[k];
+    st->time = t;
+    if (st->walls != NULL)
+        sinter_walls_move(st->walls, t);
+}
+
+/* ---- the two field updates ------------------------------------------------------------ */
+
+/*
+ * s = s^L + trapezoid with the forces f, torques tq of the current iterate (eq. 24-26).
+ * Returns the first particle whose new state is not finite, or n.
+ */
+static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double h,
+                               const double *f, const double *tq)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    const double phi = st->staggered.phi, psi = 1.0 - phi;
+    size_t bad = n;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t fl = ps->flags[i];
+        double *x = ps->x + 3 * i, *v = ps->v + 3 * i, *w = ps->w + 3 * i;
+        const double *x0 = a->x + 3 * i, *v0 = a->v + 3 * i, *w0 = a->w + 3 * i;
+        if (!(fl & SINTER_PARTICLE_FIXED)) {
+            const double b = h / ps->mass[i];
+            for (int d = 0; d < 3; ++d) {
+                v[d] = v0[d] + b * (phi * f[3 * i + d] + psi * a->f[3 * i + d]);
+                x[d] = x0[d] + h * (phi * v[d] + psi * v0[d]);
+            }
+        } else { /* prescribed: moves with its velocity, as in the explicit stepper */
+            for (int d = 0; d < 3; ++d) {
+                v[d] = v0[d];
+                x[d] = x0[d] + h * v0[d];
+            }
+        }
+        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+            const double b = h / ps->inertia[i];
+            for (int d = 0; d < 3; ++d)
+                w[d] = w0[d] + b * (phi * tq[3 * i + d] + psi * a->tq[3 * i + d]);
+        } else {
+            memcpy(w, w0, 3 * sizeof(double));
+        }
+        double *alpha = ps->rot + 3 * i;
+        memcpy(alpha, a->rot + 3 * i, 3 * sizeof(double));
+        const double da[3] = {h * (phi * w[0] + psi * w0[0]), h * (phi * w[1] + psi * w0[1]),
+                              h * (phi * w[2] + psi * w0[2])};
+        sinter_compose_rotation(alpha, da); /* seed 003 eq. 45 */
+        const double check = x[0] + x[1] + x[2] + v[0] + v[1] + v[2] + w[0] + w[1] + w[2];
+        if (!isfinite(check) && bad == n)
+            bad = i;
+    }
+    return bad;
+}
+
+/* theta = theta^L + h/(m C) (phi Q + (1 - phi) Q^L), eq. 36. Returns the first bad particle or n. */
+static size_t update_temperatures(sinter_stepper *st, const saved_state *a, double h)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    const double phi = st->staggered.phi, psi = 1.0 - phi;
+    size_t bad = n;
+    for (size_t i = 0; i < n; ++i) {
+        if (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE)
+            continue;
+        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        const double theta = a->theta[i] + h / mc * (phi * ps->heat[i] + psi * a->q[i]);
+        ps->temperature[i] = theta;
+        if (!(theta > 0.0 && theta < INFINITY) && bad == n)
+            bad = i;
+    }
+    return bad;
+}
+
+/*
+ * Eq. 47 for a field of `comps` components per particle: sum_i |now_i - prev_i| /
+ * sum_i |now_i - start_i| over the particles whose flags do not contain `skip`; 0 when the
+ * change is at the round-off of the field.
+ */
+static double normalised_error(const sinter_particles *ps, const double *now, const double *prev,
+                               const double *start, int comps, uint32_t skip)
+{
+    double num = 0.0, den = 0.0, scale = 0.0;
+    for (size_t i = 0; i < ps->count; ++i) {
+        if (ps->flags[i] & skip)
+            continue;
+        const double *a = now + (size_t)comps * i, *b = prev + (size_t)comps * i,
+                     *c = start + (size_t)comps * i;
+        if (comps == 1) {
+            num += fabs(a[0] - b[0]);
+            den += fabs(a[0] - c[0]);
+            scale += fabs(a[0]);
+        } else {
+            const double d1[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+            const double d2[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
+            num += sqrt(d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2]);
+            den += sqrt(d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2]);
+            scale += sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        }
+    }
+    if (num <= 8.0 * DBL_EPSILON * scale)
+        return 0.0;
+    return den > 0.0 ? num / den : INFINITY;
+}
+
+/* Lambda of eq. 49 for one field, with eps_0 = 1 (see the top of the file). */
+static double step_scale(const sinter_staggered *sg, double eps, int k)
+{
+    if (eps <= 0.0)
+        return INFINITY;
+    const double p = sg->exponent;
+    return pow(sg->tolerance, 1.0 / (p * sg->target_iterations)) / pow(eps, 1.0 / (p * k));
+}
+
+/* ---- one attempt ------------------------------------------------------------------------ */
+
+typedef struct attempt_result {
+    int converged;
+    int iterations;
+    double eps_r, eps_theta; /* eq. 47 at the last iteration */
+    double lambda;           /* eq. 49 */
+    size_t bad;              /* particle with a non-finite state, or the count */
+    const char *bad_field;
+} attempt_result;
+
+static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t, double h,
+                             attempt_result *res)
+{
+    sinter_staggered *sg = &st->staggered;
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    const int thermal = st->thermal.count > 0;
+    memset(res, 0, sizeof(*res));
+    res->bad = n;
+    st->time = t + h;
+    sinter_status s = st->walls != NULL ? sinter_walls_move(st->walls, t + h) : SINTER_OK;
+    if (s != SINTER_OK)
+        return s;
+    memcpy(a->x_prev, a->x, 3 * n * sizeof(double));          /* x^0 = x^L */
+    memcpy(a->theta_prev, a->theta, n * sizeof(double));      /* theta^0 = theta^L */
+    double t0 = sinter_clock();
+    size_t bad = update_mechanics(st, a, h, a->f, a->tq); /* s^1 from F^L */
+    st->stats.seconds_integrate += sinter_clock() - t0;
+    for (int k = 1; k <= sg->target_iterations; ++k) {
+        res->iterations = k;
+        st->stats.iterations++;
+        if (bad < n) {
+            res->bad = bad;
+            res->bad_field = "position, velocity or spin not finite";
+            res->lambda = 0.1;
+            return SINTER_OK;
+        }
+        /* Evaluate at (s^K, theta^(K-1)); ps->temperature holds theta^(K-1). */
+        s = sinter_stepper_eval_forces(st, h);
+        if (s != SINTER_OK)
+            return s;
+        t0 = sinter_clock();
+        if (thermal) {
+            for (size_t j = 0; j < st->thermal.count; ++j)
+                sg->power[st->thermal.count + j] = st->thermal.slots[j].power;
+            bad = update_temperatures(st, a, h);
+            if (bad < n) {
+                st->stats.seconds_integrate += sinter_clock() - t0;
+                res->bad = bad;
+                res->bad_field = "temperature not positive and finite";
+                res->lambda = 0.1;
+                return SINTER_OK;
+            }
+        }
+        /* Eq. 47-49. The first iterate's errors are 1 by definition (x^0 = x^L). */
+        const double eps_r = k == 1 ? 1.0
+                                    : normalised_error(ps, ps->x, a->x_prev, a->x, 3,
+                                                       SINTER_PARTICLE_FIXED);
+        const double eps_t = !thermal ? 0.0
+                             : k == 1 ? 1.0
+                                      : normalised_error(ps, ps->temperature, a->theta_prev,
+                                                         a->theta, 1,
+                                                         SINTER_PARTICLE_FIXED_TEMPERATURE);
+        res->eps_r = eps_r;
+        res->eps_theta = eps_t;
+        const double z = fmax(eps_r, eps_t) / sg->tolerance;                       /* eq. 48 */
+        res->lambda = fmin(step_scale(sg, eps_r, k), step_scale(sg, eps_t, k)); /* eq. 49 */
+        if (z <= 1.0) {
+            st->stats.seconds_integrate += sinter_clock() - t0;
+            res->converged = 1;
+            return SINTER_OK;
+        }
+        if (k == sg->target_iterations) {
+            st->stats.seconds_integrate += sinter_clock() - t0;
+            break;
+        }
+        memcpy(a->x_prev, ps->x, 3 * n * sizeof(double));
+        if (thermal)
+            memcpy(a->theta_prev, ps->temperature, n * sizeof(double));
+        bad = update_mechanics(st, a, h, ps->force, ps->torque); /* s^(K+1) from F^K */
+        st->stats.seconds_integrate += sinter_clock() - t0;
+    }
+    return SINTER_OK;
+}
+
+/* ---- the step ---------------------------------------------------------------------------- */
+
+static sinter_status check_domain(sinter_stepper *st, double t, double h)
+{
+    if (!st->has_domain)
+        return SINTER_OK;
+    const sinter_particles *ps = st->ps;
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double *x = ps->x + 3 * i;
+        int d = 0;
+        while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
+            ++d;
+        if (d < 3)
+            return sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
+                               "staggered step from t = %.9g s to %.9g s rejected: particle %zu "
+                               "(id %llu) left the domain at %c = %g m (domain %g m to %g m); the "
+                               "last accepted state is kept",
+                               t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
+                               st->domain_lo[d], st->domain_hi[d]);
+    }
+    return SINTER_OK;
+}
+
+/* What did not converge, for the error message. */
+static const char *limiting_field(const attempt_result *r)
+{
+    if (r->bad_field != NULL)
+        return r->bad_field;
+    return r->eps_theta > r->eps_r ? "temperature field" : "position field";
+}
+
+static sinter_status give_up(sinter_stepper *st, const saved_state *a, double t, double h,
+                             double h_next, const attempt_result *r)
+{
+    restore_state(st, a, t);
+    st->forces_current = 0;
+    const sinter_staggered *sg = &st->staggered;
+    char errors[96];
+    if (st->thermal.count > 0)
+        snprintf(errors, sizeof(errors), "positions %.3g, temperatures %.3g", r->eps_r,
+                 r->eps_theta);
+    else
+        snprintf(errors, sizeof(errors), "positions %.3g", r->eps_r);
+    if (r->bad < st->ps->count)
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                           "staggered step at t = %.9g s: the fixed-point iteration diverged "
+                           "with step %g s (particle %zu: %s) and %s %g s; the last accepted "
+                           "state is kept",
+                           t, h, r->bad, r->bad_field,
+                           sg->adaptive ? "the next step would fall below dt_min ="
+                                        : "the step is fixed (adaptive = 0) at",
+                           sg->adaptive ? sg->dt_min : h);
+    if (!sg->adaptive)
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                           "staggered step at t = %.9g s: the fixed-point iteration did not "
+                           "converge in %d iterations with the fixed step %g s (adaptive = 0): "
+                           "the %s did not meet the tolerance (normalised errors of eq. 47: %s; "
+                           "tolerance %g); the last accepted state is kept",
+                           t, r->iterations, h, limiting_field(r), errors, sg->tolerance);
+    return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                       "staggered step at t = %.9g s: the fixed-point iteration did not converge "
+                       "in %d iterations with step %g s: the %s did not meet the tolerance "
+                       "(normalised errors of eq. 47: %s; tolerance %g), and the next step %g s "
+                       "would fall below dt_min = %g s; the last accepted state is kept",
+                       t, r->iterations, h, limiting_field(r), errors, sg->tolerance, h_next,
+                       sg->dt_min);
+}
+
+sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
+{
+    sinter_staggered *sg = &st->staggered;
+    sinter_status s = reserve(st);
+    if (s != SINTER_OK)
+        return s;
+    const double t = st->time;
+    const saved_state a = saved_layout(sg, st->ps->count);
+    save_state(st, &a);
+    attempt_result r;
+    for (;;) {
+        s = attempt(st, &a, t, h, &r);
+        if (s != SINTER_OK) {
+            restore_state(st, &a, t);
+            st->forces_current = 0;
+            st->stats.rejected++;
+            return s;
+        }
+        if (r.converged)
+            break;
+        /* Algorithm 1 step 7: restart at t with Lambda_K h. */
+        st->stats.rejected++;
+        const double h_next = fmin(fmax(r.lambda, 0.1), 0.9) * h;
+        if (!sg->adaptive || h_next < sg->dt_min)
+            return give_up(st, &a, t, h, h_next, &r);
+        restore_state(st, &a, t);
+        h = h_next;
+    }
+    /* Accepted: (s^K, theta^K) at t + h. */
+    s = check_domain(st, t, h);
+    if (s == SINTER_OK && st->thermal.count > 0) {
+        /* Copy the iterate's slot powers before the evaluation overwrites them. */
+        for (size_t j = 0; j < st->thermal.count; ++j)
+            st->thermal.slots[j].applied =
+                h * (sg->phi * sg->power[st->thermal.count + j] + (1.0 - sg->phi) * sg->power[j]);
+        s = sinter_stepper_eval_forces(st, h); /* currents, F, Q of the accepted state */
+    }
+    if (s == SINTER_OK)
+        s = sinter_stepper_commit(st);
+    if (s != SINTER_OK) {
+        restore_state(st, &a, t);
+        st->forces_current = 0;
+        st->stats.rejected++;
+        return s;
+    }
+    for (size_t j = 0; j < st->thermal.count; ++j)
+        st->thermal.slots[j].energy += st->thermal.slots[j].applied;
+    st->thermal_last_h = h;
+    if (sg->adaptive)
+        st->dt = fmin(sg->dt_max, fmin(fmax(r.lambda, 0.1), 2.0) * h); /* eq. 49, step 6b-c */
+    st->stats.dt = st->dt;
+    *taken = h;
+    return SINTER_OK;
+}
