@@ -18,7 +18,8 @@
 
 #include "stepper/stepper.h"
 
-#define CHECKPOINT_VERSION 1u
+/* 2: material parameter count recorded (53 parameters since the neck data) */
+#define CHECKPOINT_VERSION 2u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -120,6 +121,7 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
         const size_t elem = dtype == SINTER_DTYPE_DOUBLE || dtype == SINTER_DTYPE_UINT64 ? 8 : 4;
         put(&w, arrays[f], n * comps * elem);
     }
+    put_u64(&w, SINTER_MAT_PARAM_COUNT_);
     put(&w, ps->material_used, sizeof(ps->material_used));
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
         if (ps->material_used[m])
@@ -389,7 +391,8 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     memcpy(&marker, take(&r, 4), 4);
     if (version != CHECKPOINT_VERSION || marker != 0x01020304u) {
         sinter_free(ctx, data);
-        return corrupt(ctx, path, "unsupported format version or byte order");
+        return corrupt(ctx, path, "unsupported format version (this library reads version 2) or "
+                                  "byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -422,6 +425,12 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         field_bytes[f] = n * comps * elem;
         field_data[f] = take(&r, field_bytes[f]);
     }
+    const uint64_t param_count = take_u64(&r);
+    if (s == SINTER_OK && !r.bad && param_count != SINTER_MAT_PARAM_COUNT_)
+        s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "checkpoint '%s' stores %llu material parameters, this library %d; "
+                        "nothing was changed",
+                        path, (unsigned long long)param_count, SINTER_MAT_PARAM_COUNT_);
     const unsigned char *used = take(&r, SINTER_MAX_MATERIALS);
     const void *material_values[SINTER_MAX_MATERIALS] = {0};
     for (int m = 0; m < SINTER_MAX_MATERIALS && used && !r.bad; ++m)
