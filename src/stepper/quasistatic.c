@@ -1,0 +1,713 @@
+/* Quasi-static sintering stepper (seed 001 sec. 2-3, fig. 6-7); see quasistatic.h. */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "stepper/quasistatic.h"
+#include "stepper/stepper.h"
+#include "particles/particles.h"
+
+#define QS_PI 3.14159265358979323846
+
+struct sinter_qs {
+    sinter_ctx *ctx;
+    sinter_qs_options opt;
+    sinter_qs_link *links;
+    size_t count, capacity;
+    uint64_t *keys; /* sorted a * n + b (a < b) of every link */
+    size_t keys_capacity;
+    sinter_bonded_solver *solver;
+    unsigned char *fixed; /* 6 per particle: principal-plane conditions (sec. 3.3) */
+    double *f, *u;
+    size_t fixed_capacity, f_capacity, u_capacity;
+    double (*saved)[SINTER_NECK_DOF]; /* strategy 1: the necks at t, and new states */
+    double (*trial)[SINTER_NECK_DOF];
+    size_t saved_capacity, trial_capacity;
+    sinter_beam *beams; /* the links' beams, contiguous for the solver */
+    size_t beams_capacity;
+    sinter_neck_batch *batch; /* strategy 3 */
+    sinter_neck_state *batch_states;
+    const sinter_neck_material **batch_materials;
+    size_t batch_states_capacity, batch_materials_capacity;
+    uint64_t layout_generation; /* of the stepper's particles (adapter) */
+    int layout_known;
+    size_t particles;  /* count the conditions were detected for (0: not yet) */
+    double extent0[3]; /* initial extent of the centres */
+    double dt_next;
+    uint64_t steps, rejected, pcg_iterations, substepped;
+};
+
+void sinter_qs_options_default(sinter_qs_options *opt)
+{
+    opt->strategy = 2;
+    opt->dt_initial = 1e-6;
+    opt->dt_min = 1e-12;
+    opt->dt_max = 10.0; /* 7dof.md §5: the seed's maximum global step */
+    opt->alpha = 1.5;
+    opt->error_limit = 1.0;
+    opt->grow_fraction = 0.05;
+    opt->shrink_fraction = 0.15;
+    opt->contact_tolerance = 1e-9;
+    opt->plane_tolerance = 1e-6;
+    opt->solve_rtol = 1e-10;
+    opt->rtol = 1e-6;
+    opt->epsilon = 0.01;
+    opt->h0_ratio = 1.5;
+    opt->max_strain = 1e-4;
+}
+
+/* The option table: key, offset of the double (or -1 for strategy), lower and upper bound, and
+ * whether the lower bound is open. */
+typedef struct qs_key {
+    const char *key;
+    size_t offset;
+    double lo, hi;
+    int open_lo;
+} qs_key;
+
+#define QS_KEY(name, field, lo, hi, open)                                                          \
+    {                                                                                              \
+        name, offsetof(sinter_qs_options, field), lo, hi, open                                     \
+    }
+static const qs_key qs_keys[] = {
+    QS_KEY("qs_dt_min", dt_min, 0.0, INFINITY, 1),
+    QS_KEY("qs_dt_max", dt_max, 0.0, INFINITY, 1),
+    QS_KEY("qs_alpha", alpha, 1.0, 100.0, 1),
+    QS_KEY("qs_error_limit", error_limit, 0.0, INFINITY, 1),
+    QS_KEY("qs_grow_fraction", grow_fraction, 0.0, 1.0, 0),
+    QS_KEY("qs_shrink_fraction", shrink_fraction, 0.0, 1.0, 0),
+    QS_KEY("qs_contact_tolerance", contact_tolerance, 0.0, 1.0, 0),
+    QS_KEY("qs_plane_tolerance", plane_tolerance, 0.0, 1.0, 0),
+    QS_KEY("qs_solve_rtol", solve_rtol, 0.0, 1.0, 1),
+    QS_KEY("qs_rtol", rtol, 0.0, 1.0, 1),
+    QS_KEY("qs_epsilon", epsilon, 0.0, 0.5, 1),
+    QS_KEY("qs_h0_ratio", h0_ratio, 1.0, 2.0, 1),
+    QS_KEY("qs_max_strain", max_strain, 0.0, 1.0, 1),
+};
+
+sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
+                                   double value)
+{
+    if (strcmp(key, "qs_strategy") == 0) {
+        if (value != 1.0 && value != 2.0 && value != 3.0)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "qs_strategy = %g: expected 1 (global RK4 step), 2 (per-pair "
+                               "sub-steps) or 3 (CVODE batch)",
+                               value);
+        opt->strategy = (int)value;
+        return SINTER_OK;
+    }
+    for (size_t k = 0; k < sizeof(qs_keys) / sizeof(qs_keys[0]); ++k) {
+        const qs_key *q = &qs_keys[k];
+        if (strcmp(key, q->key) != 0)
+            continue;
+        if (!(value <= q->hi && (q->open_lo ? value > q->lo : value >= q->lo)))
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s = %g is outside %s%g, %g]", key, value,
+                               q->open_lo ? "(" : "[", q->lo, q->hi);
+        *(double *)((char *)opt + q->offset) = value;
+        return SINTER_OK;
+    }
+    return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED, "the quasi-static stepper has no option '%s'",
+                       key);
+}
+
+sinter_status sinter_qs_option_get(const sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
+                                   double *value)
+{
+    if (strcmp(key, "qs_strategy") == 0) {
+        *value = opt->strategy;
+        return SINTER_OK;
+    }
+    for (size_t k = 0; k < sizeof(qs_keys) / sizeof(qs_keys[0]); ++k)
+        if (strcmp(key, qs_keys[k].key) == 0) {
+            *value = *(const double *)((const char *)opt + qs_keys[k].offset);
+            return SINTER_OK;
+        }
+    return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED, "the quasi-static stepper has no option '%s'",
+                       key);
+}
+
+sinter_status sinter_qs_create(sinter_qs **out, sinter_ctx *ctx, const sinter_qs_options *opt)
+{
+    SINTER_CHECK_NULL(ctx, out);
+    *out = NULL;
+    sinter_qs *qs = sinter_calloc(ctx, 1, sizeof(*qs));
+    if (qs == NULL)
+        return SINTER_ERR_NOMEM;
+    qs->ctx = ctx;
+    if (opt != NULL)
+        qs->opt = *opt;
+    else
+        sinter_qs_options_default(&qs->opt);
+    const sinter_qs_options *o = &qs->opt;
+    if (o->strategy < 1 || o->strategy > 3 || !(o->max_strain > 0.0) || !(o->alpha > 1.0) ||
+        !(o->dt_min > 0.0) || !(o->dt_initial >= o->dt_min) || !(o->dt_max >= o->dt_initial) ||
+        !(o->error_limit > 0.0) || !(o->rtol > 0.0) || !(o->solve_rtol > 0.0)) {
+        const sinter_status bad =
+            sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "quasi-static stepper: invalid options (strategy %d, alpha %g, dt %g in "
+                        "[%g, %g])",
+                        o->strategy, o->alpha, o->dt_initial, o->dt_min, o->dt_max);
+        sinter_free(ctx, qs);
+        return bad;
+    }
+    qs->dt_next = o->dt_initial;
+    sinter_status s = sinter_bonded_solver_create(&qs->solver, ctx);
+    if (s != SINTER_OK) {
+        sinter_free(ctx, qs);
+        return s;
+    }
+    *out = qs;
+    return SINTER_OK;
+}
+
+void sinter_qs_destroy(sinter_qs *qs)
+{
+    if (qs == NULL)
+        return;
+    sinter_ctx *ctx = qs->ctx;
+    sinter_bonded_solver_destroy(qs->solver);
+    sinter_free(ctx, qs->links);
+    sinter_free(ctx, qs->keys);
+    sinter_free(ctx, qs->fixed);
+    sinter_free(ctx, qs->f);
+    sinter_free(ctx, qs->u);
+    sinter_free(ctx, qs->saved);
+    sinter_free(ctx, qs->trial);
+    sinter_free(ctx, qs->beams);
+    sinter_neck_batch_destroy(qs->batch);
+    sinter_free(ctx, qs->batch_states);
+    sinter_free(ctx, qs->batch_materials);
+    sinter_free(ctx, qs);
+}
+
+const sinter_qs_link *sinter_qs_links(const sinter_qs *qs, size_t *n)
+{
+    *n = qs->count;
+    return qs->links;
+}
+
+/* ---- neck advance: the seed's RK4 with step doubling (sec. 2.2, 3.3) ------------------- */
+
+static const sinter_qs_material *material_of(const sinter_qs_particles *p, size_t i)
+{
+    return &p->materials[p->material != NULL ? p->material[i] : 0];
+}
+
+/* One classical RK4 step of the 7DOF system (seed 001 eq. 2-9); the coefficients are taken at
+ * T(t + dt/2). Returns 0, or -1 if a stage left the domain of spec §2.5. */
+static int rk4_step(const sinter_neck_material *m, const sinter_neck_schedule *s, double t,
+                    double dt, const double y[SINTER_NECK_DOF], double out[SINTER_NECK_DOF])
+{
+    const double temperature = sinter_neck_schedule_temperature(s, t + 0.5 * dt);
+    sinter_neck_coeffs c;
+    sinter_neck_coeffs_eval(m, sinter_neck_phase_at(m, temperature), temperature, &c);
+    double k[4][SINTER_NECK_DOF], stage[SINTER_NECK_DOF];
+    static const double a[3] = {0.5, 0.5, 1.0};
+    if (sinter_neck_rhs(y, &c, k[0], NULL, NULL) != SINTER_NECK_VALID)
+        return -1;
+    for (int r = 0; r < 3; ++r) {
+        for (int i = 0; i < SINTER_NECK_DOF; ++i)
+            stage[i] = y[i] + a[r] * dt * k[r][i];
+        if (sinter_neck_rhs(stage, &c, k[r + 1], NULL, NULL) != SINTER_NECK_VALID)
+            return -1;
+    }
+    for (int i = 0; i < SINTER_NECK_DOF; ++i)
+        out[i] = y[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+    return sinter_neck_check_domain(out, NULL, NULL) == SINTER_NECK_VALID ? 0 : -1;
+}
+
+/* A step of dt from y by two half steps into out; returns the local error (Richardson:
+ * |y_2 - y_1| / 15) in the neck error weights relative to eps_lim (<= 1: accepted), or
+ * INFINITY if the step left the domain. */
+static double pair_step(const sinter_qs *qs, const sinter_neck_material *m,
+                        const sinter_neck_schedule *s, double t, double dt,
+                        const double y[SINTER_NECK_DOF], double out[SINTER_NECK_DOF])
+{
+    double full[SINTER_NECK_DOF], half[SINTER_NECK_DOF], w[SINTER_NECK_DOF];
+    if (rk4_step(m, s, t, dt, y, full) != 0 || rk4_step(m, s, t, 0.5 * dt, y, half) != 0 ||
+        rk4_step(m, s, t + 0.5 * dt, 0.5 * dt, half, out) != 0)
+        return INFINITY;
+    const double atol = 1e-14 * fmin(y[SINTER_NECK_RA], y[SINTER_NECK_RB]); /* spec §4 */
+    sinter_neck_error_weights(y, qs->opt.rtol, atol, SINTER_NECK_SCALE_GEOMETRY, w);
+    double err = 0.0;
+    for (int i = 0; i < SINTER_NECK_DOF; ++i)
+        err = fmax(err, fabs(out[i] - full[i]) / 15.0 * w[i]);
+    return err / qs->opt.error_limit;
+}
+
+/* Strategy 2: advance one pair over [t, t + h] with its own sub-steps (hint in step_hint).
+ * Returns 0 or -1 when no sub-step above dt_min meets the tolerance. */
+static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_neck_schedule *s,
+                        double t, double h)
+{
+    const double alpha = qs->opt.alpha, t_end = t + h;
+    double tau = l->neck.step_hint > 0.0 ? l->neck.step_hint : qs->opt.dt_min * 1e3;
+    double tc = t, y[SINTER_NECK_DOF];
+    memcpy(y, l->neck.y, sizeof(y));
+    int substeps = 0, rejections = 0;
+    while (tc < t_end) {
+        const int last = tau >= t_end - tc;
+        const double step = last ? t_end - tc : tau;
+        double out[SINTER_NECK_DOF];
+        const double err = pair_step(qs, &l->material, s, tc, step, y, out);
+        if (!(err <= 1.0)) {
+            tau = step / alpha; /* eq. 45 */
+            ++rejections;
+            if (tau < 1e-3 * qs->opt.dt_min)
+                return -1;
+            continue;
+        }
+        memcpy(y, out, sizeof(y));
+        tc = last ? t_end : tc + step;
+        ++substeps;
+        if (err < 0.1) /* eq. 46-47 */
+            tau = (last ? fmax(tau, step) : step) * alpha;
+    }
+    memcpy(l->neck.y, y, sizeof(y));
+    l->neck.step_hint = tau;
+    l->substepped = substeps > 1 || rejections > 0;
+    return 0;
+}
+
+/* ---- links ------------------------------------------------------------------------------ */
+
+static int key_compare(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static uint64_t pair_key(size_t a, size_t b, size_t n)
+{
+    return a < b ? (uint64_t)a * n + b : (uint64_t)b * n + a;
+}
+
+/* New touching pairs become links with a fresh neck at time t (sec. 3.3, 7dof.md §4). */
+static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p, double t)
+{
+    const size_t n = p->count;
+    const size_t before = qs->count;
+    for (size_t a = 0; a < n; ++a) {
+        const double *xa = p->x + 3 * a;
+        for (size_t b = a + 1; b < n; ++b) {
+            const double *xb = p->x + 3 * b;
+            const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
+            const double reach = (p->radius[a] + p->radius[b]) * (1.0 + qs->opt.contact_tolerance);
+            const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            if (dist2 >= reach * reach)
+                continue;
+            const uint64_t key = pair_key(a, b, n);
+            if (before > 0 && bsearch(&key, qs->keys, before, sizeof(uint64_t), key_compare))
+                continue;
+            sinter_status s = sinter_grow(qs->ctx, (void **)&qs->links, &qs->capacity,
+                                          qs->count + 1, sizeof(sinter_qs_link));
+            if (s == SINTER_OK)
+                s = sinter_grow(qs->ctx, (void **)&qs->keys, &qs->keys_capacity, qs->count + 1,
+                                sizeof(uint64_t));
+            if (s != SINTER_OK)
+                return s;
+            sinter_qs_link *l = &qs->links[qs->count];
+            memset(l, 0, sizeof(*l));
+            const sinter_qs_material *ma = material_of(p, a), *mb = material_of(p, b);
+            const double ra = p->radius[a], rb = p->radius[b];
+            l->material = ma->neck; /* the neck data of A (one material per neck model) */
+            l->youngs = 0.5 * (ma->youngs + mb->youngs);
+            l->rm = 0.5 * (ra + rb); /* eq. 16 */
+            if (sinter_neck_state_init(&l->neck, ra, rb, qs->opt.epsilon, qs->opt.h0_ratio, t) !=
+                    0 ||
+                sinter_beam_init(&l->beam, (uint32_t)a, (uint32_t)b, xa, xb,
+                                 l->neck.y[SINTER_NECK_LA], l->neck.y[SINTER_NECK_LB], l->rm,
+                                 ra + rb, l->youngs, 0.5 * (ma->poisson + mb->poisson)) != 0)
+                return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
+                                   "quasi-static stepper: cannot bond particles %zu and %zu "
+                                   "(radii %g, %g m, distance %g m)",
+                                   a, b, ra, rb, sqrt(dist2));
+            l->id_a = p->id != NULL ? p->id[a] : (uint64_t)a;
+            l->id_b = p->id != NULL ? p->id[b] : (uint64_t)b;
+            qs->keys[qs->count] = key;
+            qs->count++;
+        }
+    }
+    if (qs->count > before)
+        qsort(qs->keys, qs->count, sizeof(uint64_t), key_compare);
+    return SINTER_OK;
+}
+
+static void extents(const sinter_qs_particles *p, double ext[3])
+{
+    for (int d = 0; d < 3; ++d) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (size_t i = 0; i < p->count; ++i) {
+            lo = fmin(lo, p->x[3 * i + (size_t)d]);
+            hi = fmax(hi, p->x[3 * i + (size_t)d]);
+        }
+        ext[d] = p->count > 0 ? hi - lo : 0.0;
+    }
+}
+
+/* Particles touching a principal plane Oyz, Oxz, Oxy stay on it (sec. 3.3). */
+static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
+{
+    const size_t n = p->count;
+    sinter_status s = sinter_grow(qs->ctx, (void **)&qs->fixed, &qs->fixed_capacity, 6 * n + 1, 1);
+    if (s == SINTER_OK)
+        s = sinter_grow(qs->ctx, (void **)&qs->f, &qs->f_capacity, 6 * n + 1, sizeof(double));
+    if (s == SINTER_OK)
+        s = sinter_grow(qs->ctx, (void **)&qs->u, &qs->u_capacity, 6 * n + 1, sizeof(double));
+    if (s != SINTER_OK)
+        return s;
+    memset(qs->fixed, 0, 6 * n);
+    for (size_t i = 0; i < n; ++i)
+        for (size_t d = 0; d < 3; ++d)
+            qs->fixed[6 * i + d] = (unsigned char)(p->x[3 * i + d] - p->radius[i] <
+                                                   qs->opt.plane_tolerance * p->radius[i]);
+    if (qs->particles == 0)
+        extents(p, qs->extent0); /* the first setup only (not after a remap) */
+    qs->particles = n;
+    return SINTER_OK;
+}
+
+/* ---- the global step ---------------------------------------------------------------------- */
+
+/* Strategy 1: one step h for all pairs, the whole step rejected while any pair misses the
+ * tolerance (eq. 45); *grow when every pair is within 0.1 of it (eq. 46). */
+static sinter_status advance_global(sinter_qs *qs, const sinter_neck_schedule *s, double t,
+                                    double *h, int *grow)
+{
+    const size_t m = qs->count;
+    sinter_status st =
+        sinter_grow(qs->ctx, (void **)&qs->trial, &qs->trial_capacity, m + 1, sizeof(*qs->trial));
+    if (st != SINTER_OK)
+        return st;
+    for (;;) {
+        double worst = 0.0;
+        for (size_t k = 0; k < m && worst <= 1.0; ++k)
+            worst = fmax(worst, pair_step(qs, &qs->links[k].material, s, t, *h, qs->links[k].neck.y,
+                                          qs->trial[k]));
+        if (worst <= 1.0) {
+            for (size_t k = 0; k < m; ++k)
+                memcpy(qs->links[k].neck.y, qs->trial[k], sizeof(qs->trial[k]));
+            *grow = worst < 0.1;
+            return SINTER_OK;
+        }
+        qs->rejected++;
+        *h /= qs->opt.alpha;
+        if (*h < qs->opt.dt_min)
+            return sinter_fail(qs->ctx, SINTER_ERR_NOT_CONVERGED,
+                               "quasi-static stepper (strategy 1): no step above %g s meets the "
+                               "neck tolerance at t = %g s",
+                               qs->opt.dt_min, t);
+    }
+}
+
+/* Strategy 3: every pair in one CVODE system over [t, t + h] (neck/batch.c). */
+static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s, double t, double h)
+{
+    const size_t m = qs->count;
+    if (m == 0)
+        return SINTER_OK;
+    sinter_status st = SINTER_OK;
+    if (qs->batch == NULL && (st = sinter_neck_batch_create(&qs->batch, qs->ctx)) != SINTER_OK)
+        return st;
+    st = sinter_grow(qs->ctx, (void **)&qs->batch_states, &qs->batch_states_capacity, m,
+                     sizeof(sinter_neck_state));
+    if (st == SINTER_OK)
+        st = sinter_grow(qs->ctx, (void **)&qs->batch_materials, &qs->batch_materials_capacity, m,
+                         sizeof(*qs->batch_materials));
+    if (st != SINTER_OK)
+        return st;
+    for (size_t k = 0; k < m; ++k) {
+        qs->batch_states[k] = qs->links[k].neck;
+        qs->batch_states[k].time = t;
+        qs->batch_materials[k] = &qs->links[k].material;
+    }
+    sinter_neck_tolerances tol;
+    sinter_neck_tolerances_default(&tol);
+    tol.rtol = qs->opt.rtol;
+    st = sinter_neck_batch_advance(qs->batch, m, qs->batch_states, qs->batch_materials, s, t + h,
+                                   &tol, NULL);
+    if (st != SINTER_OK)
+        return st;
+    for (size_t k = 0; k < m; ++k)
+        memcpy(qs->links[k].neck.y, qs->batch_states[k].y, sizeof(qs->links[k].neck.y));
+    return SINTER_OK;
+}
+
+sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
+{
+    /* index of each id by binary search over (id, index) pairs sorted by id */
+    uint64_t(*order)[2] = sinter_alloc(qs->ctx, (n + 1) * sizeof(*order));
+    if (order == NULL)
+        return SINTER_ERR_NOMEM;
+    for (size_t i = 0; i < n; ++i) {
+        order[i][0] = ids[i];
+        order[i][1] = i;
+    }
+    qsort(order, n, sizeof(*order), key_compare); /* compares the first uint64 (the id) */
+    size_t kept = 0;
+    for (size_t k = 0; k < qs->count; ++k) {
+        sinter_qs_link *l = &qs->links[k];
+        const uint64_t(*fa)[2] = bsearch(&l->id_a, order, n, sizeof(*order), key_compare);
+        const uint64_t(*fb)[2] = bsearch(&l->id_b, order, n, sizeof(*order), key_compare);
+        if (fa == NULL || fb == NULL)
+            continue;
+        l->beam.a = (uint32_t)(*fa)[1];
+        l->beam.b = (uint32_t)(*fb)[1];
+        qs->keys[kept] = pair_key(l->beam.a, l->beam.b, n);
+        qs->links[kept++] = *l;
+    }
+    qs->count = kept;
+    qsort(qs->keys, kept, sizeof(uint64_t), key_compare);
+    sinter_free(qs->ctx, order);
+    qs->particles = SIZE_MAX; /* detect the plane conditions again */
+    return SINTER_OK;
+}
+
+sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
+                             const sinter_neck_schedule *schedule, double t, double h,
+                             double *taken)
+{
+    SINTER_CHECK_NULL(NULL, qs);
+    SINTER_CHECK_NULL(qs->ctx, p);
+    SINTER_CHECK_NULL(qs->ctx, schedule);
+    if (!(h > 0.0) || !isfinite(h))
+        return sinter_fail(qs->ctx, SINTER_ERR_INVALID, "quasi-static stepper: step %g s", h);
+    const size_t n = p->count;
+    sinter_status st = SINTER_OK;
+    if (qs->particles != n) {
+        if ((st = setup(qs, p)) != SINTER_OK)
+            return st;
+        if ((st = detect_contacts(qs, p, t)) != SINTER_OK)
+            return st;
+    }
+    const size_t m = qs->count;
+    st = sinter_grow(qs->ctx, (void **)&qs->saved, &qs->saved_capacity, m + 1, sizeof(*qs->saved));
+    if (st != SINTER_OK)
+        return st;
+    for (size_t k = 0; k < m; ++k)
+        memcpy(qs->saved[k], qs->links[k].neck.y, sizeof(qs->saved[k]));
+
+    /* 1. the necks (sec. 3.3, fig. 7) */
+    const double alpha = qs->opt.alpha;
+    double next = h;
+    if (qs->opt.strategy == 3) {
+        if ((st = advance_batch(qs, schedule, t, h)) != SINTER_OK)
+            return st;
+        double strain = 0.0; /* largest approach of the step / L0 */
+        for (size_t k = 0; k < m; ++k) {
+            const double *y = qs->links[k].neck.y;
+            const double dl = qs->saved[k][SINTER_NECK_LA] - y[SINTER_NECK_LA] +
+                              qs->saved[k][SINTER_NECK_LB] - y[SINTER_NECK_LB];
+            strain = fmax(strain, fabs(dl) / qs->links[k].neck.center_distance0);
+        }
+        next = strain < qs->opt.max_strain ? h * alpha : h / alpha;
+    } else if (qs->opt.strategy == 1) {
+        int grow = 0;
+        if ((st = advance_global(qs, schedule, t, &h, &grow)) != SINTER_OK)
+            return st;
+        next = grow ? h * alpha : h; /* eq. 47 */
+    } else {
+        size_t sub = 0;
+        for (size_t k = 0; k < m; ++k) {
+            if (pair_advance(qs, &qs->links[k], schedule, t, h) != 0) {
+                for (size_t j = 0; j < k; ++j)
+                    memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
+                return sinter_fail(qs->ctx, SINTER_ERR_NOT_CONVERGED,
+                                   "quasi-static stepper: the neck of particles %u and %u "
+                                   "cannot be advanced from t = %g s",
+                                   qs->links[k].beam.a, qs->links[k].beam.b, t);
+            }
+            sub += (size_t)qs->links[k].substepped;
+        }
+        qs->substepped += sub;
+        const double fraction = m > 0 ? (double)sub / (double)m : 0.0;
+        if (fraction < qs->opt.grow_fraction)
+            next = h * alpha;
+        else if (fraction > qs->opt.shrink_fraction)
+            next = h / alpha;
+    }
+    next = fmin(fmax(next, qs->opt.dt_min), qs->opt.dt_max);
+
+    /* 2. sintering forces of the step's approach (eq. 13, 17), incremental form */
+    double *f = qs->f, *u = qs->u;
+    memset(f, 0, 6 * n * sizeof(double));
+    for (size_t k = 0; k < m; ++k) {
+        const sinter_qs_link *l = &qs->links[k];
+        const double dl = (qs->saved[k][SINTER_NECK_LA] - l->neck.y[SINTER_NECK_LA]) +
+                          (qs->saved[k][SINTER_NECK_LB] - l->neck.y[SINTER_NECK_LB]);
+        const double fn = sinter_sintering_force(l->youngs, l->rm, dl);
+        for (size_t d = 0; d < 3; ++d) {
+            f[6 * l->beam.a + d] += fn * l->beam.axis[d];
+            f[6 * l->beam.b + d] -= fn * l->beam.axis[d];
+        }
+    }
+
+    /* 3. K u = f (eq. 40) under the principal-plane conditions */
+    int iterations = 0;
+    st = sinter_grow(qs->ctx, (void **)&qs->beams, &qs->beams_capacity, m + 1, sizeof(sinter_beam));
+    if (st == SINTER_OK) {
+        for (size_t k = 0; k < m; ++k)
+            qs->beams[k] = qs->links[k].beam;
+        st = sinter_bonded_solve(qs->solver, n, qs->beams, m, qs->fixed, f, u, qs->opt.solve_rtol,
+                                 &iterations);
+    }
+    if (st != SINTER_OK) {
+        for (size_t k = 0; k < m; ++k)
+            memcpy(qs->links[k].neck.y, qs->saved[k], sizeof(qs->saved[k]));
+        return st;
+    }
+    qs->pcg_iterations += (uint64_t)iterations;
+
+    /* 4. move and turn the particles; share the link compression between y4 and y7 */
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t d = 0; d < 3; ++d)
+            p->x[3 * i + d] += u[6 * i + d];
+        if (p->rot != NULL)
+            sinter_compose_rotation(p->rot + 3 * i, u + 6 * i + 3);
+    }
+    for (size_t k = 0; k < m; ++k) {
+        sinter_qs_link *l = &qs->links[k];
+        const size_t a = l->beam.a, b = l->beam.b;
+        double xi = 0.0; /* eq. 41, positive when the centres approach */
+        for (size_t d = 0; d < 3; ++d)
+            xi += (u[6 * a + d] - u[6 * b + d]) * l->beam.axis[d];
+        const double y4p = qs->saved[k][SINTER_NECK_LA], y7p = qs->saved[k][SINTER_NECK_LB];
+        const double d4 = y4p - l->neck.y[SINTER_NECK_LA]; /* eq. 43a */
+        const double d7 = y7p - l->neck.y[SINTER_NECK_LB]; /* eq. 43b */
+        const double share = d4 + d7 != 0.0 ? d4 / (d4 + d7) : 0.5;
+        /* eq. 42 with the approach subtracted: the 7DOF approach d4 + d7 must give back y_i
+         * when the packing lets the pair shrink freely (xi = d4 + d7). */
+        l->neck.y[SINTER_NECK_LA] = y4p - share * xi;
+        l->neck.y[SINTER_NECK_LB] = y7p - (1.0 - share) * xi;
+        l->neck.last_dy4 = d4;
+        l->neck.last_dy7 = d7;
+        l->neck.time = t + h;
+        if (sinter_beam_update(&l->beam, p->x + 3 * a, p->x + 3 * b, l->neck.y[SINTER_NECK_LA],
+                               l->neck.y[SINTER_NECK_LB]) != 0)
+            return sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
+                               "quasi-static stepper: particles %zu and %zu coincide", a, b);
+    }
+
+    /* 5. new contacts */
+    if ((st = detect_contacts(qs, p, t + h)) != SINTER_OK)
+        return st;
+    qs->steps++;
+    qs->dt_next = next;
+    if (taken)
+        *taken = h;
+    return SINTER_OK;
+}
+
+sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
+                            const sinter_neck_schedule *schedule, double t0, double t1)
+{
+    double t = t0;
+    while (t < t1) {
+        const double remaining = t1 - t;
+        double h = fmin(qs->dt_next, remaining), taken = 0.0;
+        const int last = h >= remaining * (1.0 - 1e-12);
+        const sinter_status s = sinter_qs_step(qs, p, schedule, t, last ? remaining : h, &taken);
+        if (s != SINTER_OK)
+            return s;
+        t = last && taken == remaining ? t1 : t + taken;
+    }
+    return SINTER_OK;
+}
+
+void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sinter_qs_stats *out)
+{
+    memset(out, 0, sizeof(*out));
+    out->dt_next = qs->dt_next;
+    out->particles = p->count;
+    out->links = qs->count;
+    out->steps = qs->steps;
+    out->rejected = qs->rejected;
+    out->pcg_iterations = qs->pcg_iterations;
+    out->substepped_pairs = qs->substepped;
+    out->neck_min = INFINITY;
+    out->neck_max = 0.0;
+    for (size_t k = 0; k < qs->count; ++k) {
+        const double *y = qs->links[k].neck.y;
+        out->neck_mean += y[SINTER_NECK_X];
+        out->neck_min = fmin(out->neck_min, y[SINTER_NECK_X]);
+        out->neck_max = fmax(out->neck_max, y[SINTER_NECK_X]);
+        out->neck_ratio_mean +=
+            y[SINTER_NECK_X] / fmin(p->radius[qs->links[k].beam.a], p->radius[qs->links[k].beam.b]);
+        out->time = qs->links[k].neck.time;
+    }
+    if (qs->count > 0) {
+        out->neck_mean /= (double)qs->count;
+        out->neck_ratio_mean /= (double)qs->count;
+    } else {
+        out->neck_min = 0.0;
+    }
+    double ext[3];
+    extents(p, ext);
+    for (int d = 0; d < 3; ++d)
+        out->shrinkage[d] = qs->extent0[d] > 0.0 ? 1.0 - ext[d] / qs->extent0[d] : 0.0;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double volume = 0.0;
+    for (size_t i = 0; i < p->count; ++i) {
+        const double r = p->radius[i];
+        volume += 4.0 / 3.0 * QS_PI * r * r * r;
+        for (size_t d = 0; d < 3; ++d) {
+            lo[d] = fmin(lo[d], p->x[3 * i + d] - r);
+            hi[d] = fmax(hi[d], p->x[3 * i + d] + r);
+        }
+    }
+    if (p->count > 0)
+        out->relative_density = volume / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
+    out->coordination = p->count > 0 ? 2.0 * (double)qs->count / (double)p->count : 0.0;
+}
+
+/* ---- adapter to the stepper ---------------------------------------------------------------- */
+
+sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
+                                      const sinter_qs_options *opt, double h, double *taken)
+{
+    sinter_particles *ps = st->ps;
+    sinter_status s = SINTER_OK;
+    if (*qs == NULL && (s = sinter_qs_create(qs, st->ctx, opt)) != SINTER_OK)
+        return s;
+    if ((*qs)->layout_known && (*qs)->layout_generation != ps->layout_generation &&
+        (s = sinter_qs_remap(*qs, ps->count, ps->id)) != SINTER_OK)
+        return s;
+    (*qs)->layout_generation = ps->layout_generation;
+    (*qs)->layout_known = 1;
+    /* The materials in use (index = material id). */
+    sinter_qs_material *mats = sinter_calloc(st->ctx, SINTER_MAX_MATERIALS, sizeof(*mats));
+    if (mats == NULL)
+        return SINTER_ERR_NOMEM;
+    for (int id = 0; id < SINTER_MAX_MATERIALS; ++id) {
+        if (!ps->material_used[id])
+            continue;
+        sinter_neck_material_from(&ps->materials[id], &mats[id].neck);
+        mats[id].youngs = ps->materials[id].value[SINTER_MAT_YOUNGS_MODULUS];
+        mats[id].poisson = ps->materials[id].value[SINTER_MAT_POISSON_RATIO];
+    }
+    double mean_temperature = 0.0;
+    for (size_t i = 0; i < ps->count; ++i)
+        mean_temperature += ps->temperature[i];
+    mean_temperature = ps->count > 0 ? mean_temperature / (double)ps->count : 0.0;
+    const double times[1] = {st->time}, temps[1] = {mean_temperature};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    const sinter_qs_particles view = {ps->count,    ps->x,  ps->rot, ps->radius,
+                                      ps->material, ps->id, mats};
+    double step = 0.0;
+    if (!(mean_temperature > 0.0))
+        s = sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                        "quasi-static stepper: the particles need a positive temperature");
+    else
+        s = sinter_qs_step(*qs, &view, &schedule, st->time, h, &step);
+    sinter_free(st->ctx, mats);
+    if (s != SINTER_OK)
+        return s;
+    *taken = step;
+    st->time += step;
+    st->dt = (*qs)->dt_next;
+    st->stats.dt = st->dt;
+    st->forces_current = 0;
+    return SINTER_OK;
+}

@@ -1,0 +1,153 @@
+/*
+ * The quasi-static sintering stepper (seed 001 = Ivannikov et al. 2022, sec. 2-3, fig. 6-7):
+ * every contact is a bonded link carrying a 7DOF neck (src/neck) and a beam (src/bonded). One
+ * global step of length dt:
+ *   1. advance every neck with the seed's RK4 and step-doubling error control,
+ *        strategy 1 (sec. 3.3, eq. 45-47): one step for all pairs, the whole step rejected and
+ *          dt / alpha when any pair misses the tolerance, dt alpha when all are within 0.1 of it;
+ *        strategy 2: dt is kept and each pair sub-steps on its own; the next dt grows by alpha
+ *          when fewer than 5 % of the pairs needed sub-steps and shrinks when more than 15 % did;
+ *        strategy 3 (not in the seed): all pairs in one CVODE system (neck/batch.c, shared
+ *          adaptive steps, every pair within the tolerance); the global dt then only limits the
+ *          mechanical increment: it grows by alpha while the largest link approach of a step
+ *          stays below max_strain L0 and shrinks by alpha above it (the small-increment
+ *          assumption of sec. 2.4);
+ *   2. turn the approach of each neck into a sintering force (eq. 13, 17);
+ *   3. solve K u = f (eq. 40) with PCG under the principal-plane conditions of sec. 3.3;
+ *   4. move and turn the particles, and share the axial compression of each link between y4 and
+ *      y7 (eq. 41-44);
+ *   5. turn new touching pairs into links with a fresh neck (7dof.md §4).
+ * The core (sinter_qs_*) works on borrowed particle arrays; sinter_quasistatic_* adapt it to a
+ * sinter_stepper.
+ */
+#ifndef SINTER_STEPPER_QUASISTATIC_H
+#define SINTER_STEPPER_QUASISTATIC_H
+
+#include "bonded/beam.h"
+#include "neck/neck.h"
+
+typedef struct sinter_qs_options {
+    int strategy;             /* 1 or 2 (sec. 3.3, fig. 7), or 3: CVODE batch (below) */
+    double dt_initial;        /* first global step [s] */
+    double dt_min, dt_max;    /* [s]; below dt_min a step fails */
+    double alpha;             /* step factor of eq. 45, 47 */
+    double error_limit;       /* eps_lim of eq. 46: weighted RK4 local error per step */
+    double grow_fraction;     /* strategy 2: grow when fewer pairs than this sub-stepped (0.05) */
+    double shrink_fraction;   /* strategy 2: shrink when more than this did (0.15) */
+    double contact_tolerance; /* new contact if distance < (r_a + r_b)(1 + this) */
+    double plane_tolerance;   /* on a principal plane if x_d - r < this r */
+    double solve_rtol;        /* PCG residual relative to |f| */
+    double rtol;              /* relative accuracy of the necks (error weights, neck.h) */
+    double epsilon, h0_ratio; /* fresh neck, 7dof.md §4 */
+    double max_strain;        /* strategy 3: largest approach per step / L0 before dt shrinks */
+} sinter_qs_options;
+
+/* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (7dof.md §5), alpha 1.5, eps_lim 1,
+ * 5 % / 15 %, contact 1e-9, plane 1e-6, solve 1e-10, rtol 1e-6, epsilon 0.01, h0 1.5 x0,
+ * max_strain 1e-4. */
+void sinter_qs_options_default(sinter_qs_options *opt);
+
+/*
+ * Option keys (for sinter_stepper_set_option on the quasi-static kind): "qs_strategy",
+ * "qs_dt_min", "qs_dt_max", "qs_alpha", "qs_error_limit", "qs_grow_fraction",
+ * "qs_shrink_fraction", "qs_contact_tolerance", "qs_plane_tolerance", "qs_solve_rtol",
+ * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain". Set checks the value (the whole set
+ * is validated again when the stepper is created). Errors: SINTER_ERR_UNSUPPORTED (unknown
+ * key), SINTER_ERR_INVALID (value out of range).
+ */
+sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
+                                   double value);
+sinter_status sinter_qs_option_get(const sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
+                                   double *value);
+
+/* Per material: the neck data and the elastic constants of the links. */
+typedef struct sinter_qs_material {
+    sinter_neck_material neck;
+    double youngs;  /* E [Pa] */
+    double poisson; /* nu [-] */
+} sinter_qs_material;
+
+/* Borrowed particle arrays (particle-major, 3 per particle for x and rot). */
+typedef struct sinter_qs_particles {
+    size_t count;
+    double *x;               /* centres [m], moved by a step */
+    double *rot;             /* total rotation vectors, composed by a step (may be NULL) */
+    const double *radius;    /* [m] */
+    const int32_t *material; /* index into materials (NULL: all 0) */
+    const uint64_t *id;      /* stable particle ids (NULL: the index is the id) */
+    const sinter_qs_material *materials;
+} sinter_qs_particles;
+
+typedef struct sinter_qs_link {
+    sinter_beam beam;
+    sinter_neck_state neck;
+    double rm;                     /* R_m (eq. 16) [m] */
+    double youngs;                 /* E of the link [Pa] */
+    sinter_neck_material material; /* the neck data (of particle A), copied */
+    int substepped;                /* strategy 2: the last advance needed sub-steps */
+    uint64_t id_a, id_b;           /* particle ids of a and b, to follow a reordering */
+} sinter_qs_link;
+
+/* Outputs (seed 001 sec. 4; 7dof.md §5). */
+typedef struct sinter_qs_stats {
+    double time;    /* [s] */
+    double dt_next; /* proposal for the next global step [s] */
+    size_t particles, links;
+    double neck_mean, neck_min, neck_max; /* y1 [m] */
+    double neck_ratio_mean;               /* mean y1 / min(R_A, R_B) */
+    double shrinkage[3];     /* 1 - extent/extent0 of the particle centres along x, y, z */
+    double relative_density; /* sphere volume / box of the spheres */
+    double coordination;     /* 2 links / particles */
+    uint64_t steps, rejected, pcg_iterations, substepped_pairs;
+} sinter_qs_stats;
+
+typedef struct sinter_qs sinter_qs;
+
+sinter_status sinter_qs_create(sinter_qs **out, sinter_ctx *ctx, const sinter_qs_options *opt);
+void sinter_qs_destroy(sinter_qs *qs);
+
+/*
+ * One accepted global step from time t of at most h (strategy 1 may take less after rejections;
+ * *taken gets it) at the temperatures of `schedule`. The first call detects the initial links
+ * and the principal-plane conditions. Errors: SINTER_ERR_NOMEM, SINTER_ERR_NOT_CONVERGED (PCG,
+ * or no step above dt_min met the tolerance), SINTER_ERR_DOMAIN, SINTER_ERR_INVALID.
+ */
+sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
+                             const sinter_neck_schedule *schedule, double t, double h,
+                             double *taken);
+
+/* March from t0 to t1 with the adaptive global step (convenience for tests and drivers). */
+sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
+                            const sinter_neck_schedule *schedule, double t0, double t1);
+
+/*
+ * Follow a reordering or removal of particles: ids[0..n) are the ids now at each index (the
+ * links remember ids). Links to a removed particle are dropped; the plane conditions are
+ * detected again at the next step (the initial extents are kept).
+ */
+sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids);
+
+/* The links (count in *n). */
+const sinter_qs_link *sinter_qs_links(const sinter_qs *qs, size_t *n);
+
+/* Statistics of the current state. */
+void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sinter_qs_stats *out);
+
+/* ---------------------------------------------------------------------------------------- */
+/* Adapter to a sinter_stepper (stepper.c dispatches a new kind here)                          */
+/* ---------------------------------------------------------------------------------------- */
+
+struct sinter_stepper;
+
+/*
+ * One quasi-static step of at most h on st->ps from st->time, like sinter_staggered_step: the
+ * step taken goes to *taken, st->time advances by it, st->dt and st->stats.dt get the proposal
+ * for the next step, and st->forces_current is cleared (positions moved). *qs is created on
+ * first use with `opt` (NULL: defaults); free it with sinter_qs_destroy. The temperature is
+ * the mean particle temperature, held over the step; walls and force models are not used.
+ * A reordering of st->ps (layout_generation) is followed through the particle ids.
+ */
+sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
+                                      const sinter_qs_options *opt, double h, double *taken);
+
+#endif /* SINTER_STEPPER_QUASISTATIC_H */

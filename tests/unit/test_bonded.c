@@ -1,0 +1,556 @@
+/*
+ * Bonded links and the quasi-static stepper (seed 001 = Ivannikov et al. 2022, sec. 2.3-3.3):
+ * beam link stiffness against hand-computed values (eq. 25-40), the sintering force (eq. 17)
+ * against the 7dof.md §6.2 shrinkage, the PCG solve of K u = f on chains (series springs,
+ * lumped cantilever), and the quasi-static packing of 2 and 27 copper particles.
+ */
+#include "test_support.h"
+
+#include <string.h>
+
+#include "bonded/beam.h"
+#include "neck/neck.h"
+#include "particles/particles.h"
+#include "stepper/quasistatic.h"
+#include "stepper/stepper.h"
+
+#define PI 3.14159265358979323846
+
+static const double E_CU = 72e9, NU_CU = 0.3, R_CU = 25e-6;
+
+/* Link from A at the origin to B at (2R, 0, 0) rotated into direction dir. */
+static void make_link(sinter_beam *l, const double dir[3], double arm)
+{
+    const double xa[3] = {0, 0, 0};
+    const double xb[3] = {2 * arm * dir[0], 2 * arm * dir[1], 2 * arm * dir[2]};
+    assert_int_equal(sinter_beam_init(l, 0, 1, xa, xb, arm, arm, arm, 2 * arm, E_CU, NU_CU), 0);
+}
+
+static void test_stiffness_symmetric_rigid(void **state)
+{
+    (void)state;
+    const double n = sqrt(14.0), dir[3] = {1 / n, 2 / n, 3 / n};
+    sinter_beam l;
+    make_link(&l, dir, R_CU);
+    double k[144];
+    sinter_beam_stiffness(&l, k);
+    double kmax = 0.0;
+    for (int i = 0; i < 144; ++i)
+        kmax = fmax(kmax, fabs(k[i]));
+    for (int r = 0; r < 12; ++r)
+        for (int c = 0; c < 12; ++c)
+            assert_close(k[12 * r + c], k[12 * c + r], 1e-12 * kmax);
+    /* Rigid translation and rigid rotation about A's centre produce no force (eq. 25-26:
+     * a rigid rotation w moves B by w x (x_B - x_A) and turns both by w). */
+    const double t[3] = {1e-7, -2e-7, 3e-7}, w[3] = {1e-3, 2e-3, -1e-3};
+    double y[12] = {0}, p[12] = {0};
+    const double d[3] = {2 * R_CU * dir[0], 2 * R_CU * dir[1], 2 * R_CU * dir[2]};
+    for (int i = 0; i < 3; ++i) {
+        y[i] = t[i];
+        y[3 + i] = w[i];
+        y[9 + i] = w[i];
+    }
+    y[6] = t[0] + w[1] * d[2] - w[2] * d[1];
+    y[7] = t[1] + w[2] * d[0] - w[0] * d[2];
+    y[8] = t[2] + w[0] * d[1] - w[1] * d[0];
+    sinter_beam_apply(&l, y, y + 6, p, p + 6);
+    for (int i = 0; i < 12; ++i)
+        assert_close(p[i], 0.0, 1e-12 * kmax * 1e-7);
+}
+
+/* Clamp A (all 6 DOFs), load B, solve with PCG: the single-link closed forms of eq. 34-40. */
+static void solve_clamped(const double dir[3], const double load[6], double u[12])
+{
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_bonded_solver *sv = NULL;
+    assert_int_equal(sinter_bonded_solver_create(&sv, ctx), SINTER_OK);
+    sinter_beam l;
+    make_link(&l, dir, R_CU);
+    unsigned char fixed[12] = {1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 0, 0};
+    double f[12] = {0};
+    memcpy(f + 6, load, 6 * sizeof(double));
+    int it = 0;
+    assert_int_equal(sinter_bonded_solve(sv, 2, &l, 1, fixed, f, u, 1e-13, &it), SINTER_OK);
+    sinter_bonded_solver_destroy(sv);
+    sinter_ctx_destroy(ctx);
+}
+
+static void test_single_link_closed_forms(void **state)
+{
+    (void)state;
+    const double rm = R_CU, l0 = 2 * R_CU, arm = R_CU;
+    const double area = PI * rm * rm, inertia = PI * pow(rm, 4) / 4, polar = PI * pow(rm, 4) / 2;
+    const double g = E_CU / (2 * (1 + NU_CU));
+    const double x[3] = {1, 0, 0};
+    double u[12];
+    /* Axial: F L0/(E A) (eq. 34a). */
+    const double fa = 1e-3;
+    const double axial[6] = {fa, 0, 0, 0, 0, 0};
+    solve_clamped(x, axial, u);
+    const double ua = fa * l0 / (E_CU * area);
+    print_message("axial: u = %.6e m (F L0/(E A) = %.6e m)\n", u[6], ua);
+    assert_close(u[6], ua, 1e-9 * ua);
+    assert_close(u[7], 0.0, 1e-9 * ua);
+    /* Transverse force at B's centre: the lumped bond (not an Euler-Bernoulli cantilever):
+     * u = F L0/(G A) + F L0 L_B0^2/(E I), theta = F L0 L_B0/(E I) about e3 x load. */
+    const double ft = 1e-3;
+    const double trans[6] = {0, ft, 0, 0, 0, 0};
+    solve_clamped(x, trans, u);
+    const double ut = ft * l0 / (g * area) + ft * l0 * arm * arm / (E_CU * inertia);
+    const double tt = ft * l0 * arm / (E_CU * inertia);
+    print_message("transverse: u = %.6e m (%.6e), theta_z = %.6e (%.6e)\n", u[7], ut, u[11], tt);
+    assert_close(u[7], ut, 1e-9 * ut);
+    assert_close(u[11], tt, 1e-9 * tt);
+    assert_close(u[6], 0.0, 1e-9 * ut);
+    /* Torsion: T L0/(G J) (eq. 34b). */
+    const double tq = 1e-9;
+    const double torsion[6] = {0, 0, 0, tq, 0, 0};
+    solve_clamped(x, torsion, u);
+    const double tr = tq * l0 / (g * polar);
+    print_message("torsion: theta = %.6e (T L0/(G J) = %.6e)\n", u[9], tr);
+    assert_close(u[9], tr, 1e-9 * tr);
+    /* Bending moment at B: theta = M L0/(E I), and B's centre moves by L_B0 theta. */
+    const double mb = 1e-9;
+    const double bend[6] = {0, 0, 0, 0, 0, mb};
+    solve_clamped(x, bend, u);
+    const double tb = mb * l0 / (E_CU * inertia);
+    assert_close(u[11], tb, 1e-9 * tb);
+    assert_close(u[7], arm * tb, 1e-9 * arm * tb);
+    /* The same axial case along an oblique axis (global-frame assembly of eq. 34). */
+    const double n = sqrt(3.0), d[3] = {1 / n, 1 / n, -1 / n};
+    const double oblique[6] = {fa * d[0], fa * d[1], fa * d[2], 0, 0, 0};
+    solve_clamped(d, oblique, u);
+    for (int k = 0; k < 3; ++k)
+        assert_close(u[6 + k], ua * d[k], 1e-9 * ua);
+}
+
+static void test_sintering_force(void **state)
+{
+    (void)state;
+    /* 7dof.md §6.2: copper R = 25 um, 1293 K, Delta L/L0 = 1.029e-2 at 1000 s with L0 = 2R:
+     * F_n = (pi/2) E R_m Delta L = (pi/2) 72e9 25e-6 (1.029e-2 x 50e-6) = 1.454714 N. */
+    const double dl = 1.029e-2 * 50e-6;
+    const double f = sinter_sintering_force(E_CU, R_CU, dl);
+    print_message("F_n at 1000 s = %.6f N\n", f);
+    assert_close(f, 1.4547145, 1e-6);
+    /* Same as E A dL / L0 (eq. 10, 14, 16). */
+    assert_close(f, E_CU * PI * R_CU * R_CU * dl / (2 * R_CU), 1e-12);
+}
+
+/* Chain of n particles along x, particle 0 clamped or on the x = 0 plane only. */
+static void chain_links(size_t n, sinter_beam *links)
+{
+    for (size_t k = 0; k + 1 < n; ++k) {
+        const double xa[3] = {(double)(2 * k) * R_CU, 0, 0};
+        const double xb[3] = {(double)(2 * k + 2) * R_CU, 0, 0};
+        assert_int_equal(sinter_beam_init(&links[k], (uint32_t)k, (uint32_t)(k + 1), xa, xb, R_CU,
+                                          R_CU, R_CU, 2 * R_CU, E_CU, NU_CU),
+                         0);
+    }
+}
+
+static void test_chain_axial_series(void **state)
+{
+    (void)state;
+    enum { N = 6 };
+    sinter_beam links[N - 1];
+    chain_links(N, links);
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_bonded_solver *sv = NULL;
+    assert_int_equal(sinter_bonded_solver_create(&sv, ctx), SINTER_OK);
+    /* Sintering forces of eq. 17 on every link, dL per link; the principal planes (sec. 3.3):
+     * particle 0 touches x = 0 (u_x = 0), every particle touches y = 0 and z = 0. */
+    const double dl = 1e-7, fn = sinter_sintering_force(E_CU, R_CU, dl);
+    double f[6 * N] = {0}, u[6 * N];
+    unsigned char fixed[6 * N] = {0};
+    for (size_t k = 0; k + 1 < N; ++k) {
+        f[6 * k] += fn;
+        f[6 * (k + 1)] -= fn;
+    }
+    fixed[0] = 1;
+    for (size_t i = 0; i < N; ++i)
+        fixed[6 * i + 1] = fixed[6 * i + 2] = 1;
+    int it = 0;
+    assert_int_equal(sinter_bonded_solve(sv, N, links, N - 1, fixed, f, u, 1e-12, &it), SINTER_OK);
+    /* Series springs: each link shortens by F_n / (E A / L0) = dL, so u_x(i) = -i dL. */
+    for (size_t i = 0; i < N; ++i)
+        assert_close(u[6 * i], -(double)i * dl, 1e-9 * dl);
+    /* An end load on the same chain: series compliance (N-1) L0/(E A). */
+    memset(f, 0, sizeof(f));
+    f[6 * (N - 1)] = 1e-3;
+    assert_int_equal(sinter_bonded_solve(sv, N, links, N - 1, fixed, f, u, 1e-12, &it), SINTER_OK);
+    const double utip = 1e-3 * (N - 1) * 2 * R_CU / (E_CU * PI * R_CU * R_CU);
+    print_message("chain of %d: tip %.6e m (series %.6e m), %d PCG iterations\n", N, u[6 * (N - 1)],
+                  utip, it);
+    assert_close(u[6 * (N - 1)], utip, 1e-9 * utip);
+    sinter_bonded_solver_destroy(sv);
+    sinter_ctx_destroy(ctx);
+}
+
+static void test_chain_cantilever(void **state)
+{
+    (void)state;
+    enum { N = 5 };
+    sinter_beam links[N - 1];
+    chain_links(N, links);
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_bonded_solver *sv = NULL;
+    assert_int_equal(sinter_bonded_solver_create(&sv, ctx), SINTER_OK);
+    double f[6 * N] = {0}, u[6 * N];
+    unsigned char fixed[6 * N] = {0};
+    memset(fixed, 1, 6);
+    const double F = 1e-3;
+    f[6 * (N - 1) + 1] = F;
+    int it = 0;
+    assert_int_equal(sinter_bonded_solve(sv, N, links, N - 1, fixed, f, u, 1e-13, &it), SINTER_OK);
+    /* Closed form of the lumped cantilever: bond k (at x_k = (2k+1) R) carries the shear F and
+     * the moment M_k = F (x_tip - x_k); it slips F L0/(G A) and turns M_k L0/(E I). The tip
+     * deflection is sum_k [F L0/(G A) + F (x_tip - x_k)^2 L0/(E I)] and the tip rotation
+     * sum_k F (x_tip - x_k) L0/(E I) (discrete Euler-Bernoulli with lumped joints). */
+    const double area = PI * R_CU * R_CU, inertia = PI * pow(R_CU, 4) / 4;
+    const double g = E_CU / (2 * (1 + NU_CU)), l0 = 2 * R_CU, xtip = 2.0 * (N - 1) * R_CU;
+    double ut = 0.0, tt = 0.0;
+    for (int k = 0; k < N - 1; ++k) {
+        const double arm = xtip - (2 * k + 1) * R_CU;
+        ut += F * l0 / (g * area) + F * arm * arm * l0 / (E_CU * inertia);
+        tt += F * arm * l0 / (E_CU * inertia);
+    }
+    print_message("cantilever of %d: tip %.6e m (closed form %.6e m), rotation %.6e (%.6e), "
+                  "%d PCG iterations\n",
+                  N, u[6 * (N - 1) + 1], ut, u[6 * (N - 1) + 5], tt, it);
+    assert_close(u[6 * (N - 1) + 1], ut, 1e-8 * ut);
+    assert_close(u[6 * (N - 1) + 5], tt, 1e-8 * tt);
+    sinter_bonded_solver_destroy(sv);
+    sinter_ctx_destroy(ctx);
+}
+
+/* ---- the quasi-static packing (seed 001 sec. 3.3) ---------------------------------------- */
+
+typedef struct packing {
+    sinter_ctx *ctx;
+    sinter_qs_material mat;
+    sinter_qs *qs;
+    size_t n;
+    double x[3 * 27], rot[3 * 27], radius[27];
+} packing;
+
+static void packing_init(packing *pk, int strategy)
+{
+    memset(pk, 0, sizeof(*pk));
+    assert_int_equal(sinter_ctx_create(&pk->ctx, NULL), SINTER_OK);
+    sinter_material *cu = NULL;
+    assert_int_equal(sinter_material_create(&cu, pk->ctx, "copper"), SINTER_OK);
+    sinter_neck_material_from(cu, &pk->mat.neck); /* seed 001 table 2 defaults */
+    sinter_material_destroy(cu);
+    pk->mat.youngs = E_CU;
+    pk->mat.poisson = NU_CU;
+    sinter_qs_options opt;
+    sinter_qs_options_default(&opt);
+    opt.strategy = strategy;
+    assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, &opt), SINTER_OK);
+}
+
+static void packing_free(packing *pk)
+{
+    sinter_qs_destroy(pk->qs);
+    sinter_ctx_destroy(pk->ctx);
+}
+
+/* Simple cubic lattice of m^3 touching spheres in the positive octant, touching the planes. */
+static void lattice(packing *pk, int m)
+{
+    pk->n = 0;
+    for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j)
+            for (int k = 0; k < m; ++k) {
+                double *x = pk->x + 3 * pk->n;
+                x[0] = (1 + 2 * i) * R_CU;
+                x[1] = (1 + 2 * j) * R_CU;
+                x[2] = (1 + 2 * k) * R_CU;
+                pk->radius[pk->n++] = R_CU;
+            }
+}
+
+static sinter_qs_stats run_packing(packing *pk, double t_end)
+{
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    const sinter_qs_particles view = {pk->n, pk->x, pk->rot, pk->radius, NULL, NULL, &pk->mat};
+    assert_int_equal(sinter_qs_run(pk->qs, &view, &schedule, 0.0, t_end), SINTER_OK);
+    sinter_qs_stats st;
+    sinter_qs_stats_get(pk->qs, &view, &st);
+    return st;
+}
+
+/* The two-particle 7DOF reference of the same neck, CVODE at rtol 1e-9. */
+static void reference_pair(packing *pk, double t_end, double y[SINTER_NECK_DOF])
+{
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    sinter_neck_state pair;
+    assert_int_equal(sinter_neck_state_init(&pair, R_CU, R_CU, 0.01, 1.5, 0.0), 0);
+    sinter_neck_solver *solver = NULL;
+    assert_int_equal(sinter_neck_solver_create(&solver, pk->ctx), SINTER_OK);
+    sinter_neck_tolerances tol;
+    sinter_neck_tolerances_default(&tol);
+    tol.rtol = 1e-9;
+    assert_int_equal(
+        sinter_neck_advance_pair(solver, &pair, &pk->mat.neck, &schedule, t_end, &tol, NULL, NULL),
+        SINTER_OK);
+    sinter_neck_solver_destroy(solver);
+    memcpy(y, pair.y, sizeof(pair.y));
+}
+
+static void two_particles(int strategy)
+{
+    packing pk;
+    packing_init(&pk, strategy);
+    lattice(&pk, 1);
+    pk.n = 2;
+    pk.x[3] = 3 * R_CU;
+    pk.x[4] = pk.x[5] = R_CU;
+    pk.radius[1] = R_CU;
+    const double t_end = 1000.0;
+    const sinter_qs_stats st = run_packing(&pk, t_end);
+    double ref[SINTER_NECK_DOF];
+    reference_pair(&pk, t_end, ref);
+    size_t nl = 0;
+    const sinter_qs_link *l = sinter_qs_links(pk.qs, &nl);
+    assert_int_equal(nl, 1);
+    const double dist = pk.x[3] - pk.x[0];
+    const double shrink = 1.0 - dist / (2 * R_CU),
+                 shrink_ref = 1.0 - (ref[3] + ref[6]) / (2 * R_CU);
+    print_message("strategy %d, 2 particles, 1000 s: %llu steps (%llu rejected, %llu sub-stepped "
+                  "pairs), x/R = %.6f (7DOF %.6f), shrinkage %.6e (7DOF %.6e; 7dof.md 6.2: "
+                  "1.029e-2), along x %.6e\n",
+                  strategy, (unsigned long long)st.steps, (unsigned long long)st.rejected,
+                  (unsigned long long)st.substepped_pairs, l->neck.y[0] / R_CU, ref[0] / R_CU,
+                  shrink, shrink_ref, st.shrinkage[0]);
+    /* The packing of 2 lets the pair shrink freely: the link compresses by the 7DOF approach,
+     * eq. 42 gives back the 7DOF y4, y7, and the centres follow them. */
+    assert_close(l->neck.y[3] + l->neck.y[6], dist, 1e-9 * dist);
+    assert_close(l->neck.y[0], ref[0], 1e-5 * ref[0]); /* RK4 at rtol 1e-6 vs CVODE 1e-9 */
+    assert_close(shrink, shrink_ref, 1e-4 * shrink_ref);
+    assert_close(shrink, 1.029e-2, 2e-3 * 1.029e-2); /* the spec's 4 digits */
+    assert_close(l->neck.y[0] / R_CU, 0.2742, 2e-4);
+    assert_close(st.shrinkage[0], shrink, 1e-12);
+    /* A stays on all three planes, B on y = 0 and z = 0. */
+    assert_close(pk.x[0], R_CU, 1e-15);
+    assert_close(pk.x[4], R_CU, 1e-15);
+    assert_close(pk.x[5], R_CU, 1e-15);
+    packing_free(&pk);
+}
+
+static void test_qs_two_particles_strategy2(void **state)
+{
+    (void)state;
+    two_particles(2);
+}
+
+static void test_qs_two_particles_strategy1(void **state)
+{
+    (void)state;
+    two_particles(1);
+}
+
+static void test_qs_two_particles_strategy3(void **state)
+{
+    (void)state;
+    two_particles(3);
+}
+
+/*
+ * A triangle that cannot shrink freely: A and B (R) and a smaller C (0.6 R) touching both. The
+ * C necks approach faster than the A-B neck, so the links load each other. Checks: the mirror
+ * symmetry about the bisector of AB survives the asymmetric plane conditions (A is held in x,
+ * B is not), every link's y4 + y7 still equals its centre distance (eq. 41-44 keep the 7DOF
+ * state on the particles), and the A-B approach differs from the free pair's.
+ */
+static void test_qs_triangle(void **state)
+{
+    (void)state;
+    packing pk;
+    packing_init(&pk, 2);
+    const double rc = 0.6 * R_CU, d = R_CU + rc;
+    const double h = sqrt(d * d - R_CU * R_CU);
+    const double x[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, 2 * R_CU, R_CU + h, R_CU};
+    memcpy(pk.x, x, sizeof(x));
+    pk.radius[0] = pk.radius[1] = R_CU;
+    pk.radius[2] = rc;
+    pk.n = 3;
+    const sinter_qs_stats st = run_packing(&pk, 100.0);
+    size_t nl = 0;
+    const sinter_qs_link *l = sinter_qs_links(pk.qs, &nl);
+    assert_int_equal(nl, 3);
+    for (size_t k = 0; k < nl; ++k) {
+        const double *xa = pk.x + 3 * l[k].beam.a, *xb = pk.x + 3 * l[k].beam.b;
+        const double dist =
+            sqrt(pow(xb[0] - xa[0], 2) + pow(xb[1] - xa[1], 2) + pow(xb[2] - xa[2], 2));
+        assert_close(l[k].neck.y[3] + l[k].neck.y[6], dist, 1e-7 * dist);
+    }
+    const double mid = 0.5 * (pk.x[0] + pk.x[3]);
+    double ref[SINTER_NECK_DOF];
+    reference_pair(&pk, 100.0, ref);
+    const double ab = 1.0 - (pk.x[3] - pk.x[0]) / (2 * R_CU);
+    const double ab_free = 1.0 - (ref[3] + ref[6]) / (2 * R_CU);
+    print_message("triangle, 100 s: A-B shrinkage %.6e (free pair %.6e), C off the bisector by "
+                  "%.3e m, %llu PCG iterations, Z = %.2f\n",
+                  ab, ab_free, pk.x[6] - mid, (unsigned long long)st.pcg_iterations,
+                  st.coordination);
+    assert_close(pk.x[6], mid, 1e-9 * R_CU);
+    assert_true(fabs(ab - ab_free) > 1e-3 * ab_free);
+    assert_close(pk.x[2], R_CU, 1e-15);
+    assert_close(pk.x[8], R_CU, 1e-15);
+    packing_free(&pk);
+}
+
+/* A reordering of the particles (sinter_qs_remap, as the stepper may permute them) changes
+ * nothing: an L of 3 particles, run 10 s, reversed and remapped, run to 50 s, against a run
+ * without the reordering. */
+static void test_qs_remap(void **state)
+{
+    (void)state;
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    const double x0[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, R_CU, 3 * R_CU, R_CU};
+    double end[2][9];
+    for (int variant = 0; variant < 2; ++variant) {
+        packing pk;
+        packing_init(&pk, 2);
+        memcpy(pk.x, x0, sizeof(x0));
+        pk.n = 3;
+        pk.radius[0] = pk.radius[1] = pk.radius[2] = R_CU;
+        uint64_t ids[3] = {10, 11, 12};
+        sinter_qs_particles view = {3, pk.x, pk.rot, pk.radius, NULL, ids, &pk.mat};
+        assert_int_equal(sinter_qs_run(pk.qs, &view, &schedule, 0.0, 10.0), SINTER_OK);
+        if (variant == 1) {
+            double x[9];
+            memcpy(x, pk.x, sizeof(x));
+            for (int i = 0; i < 3; ++i) {
+                memcpy(pk.x + 3 * i, x + 3 * (2 - i), 3 * sizeof(double));
+                ids[i] = (uint64_t)(12 - i);
+            }
+            assert_int_equal(sinter_qs_remap(pk.qs, 3, ids), SINTER_OK);
+        }
+        assert_int_equal(sinter_qs_run(pk.qs, &view, &schedule, 10.0, 50.0), SINTER_OK);
+        for (int i = 0; i < 3; ++i) /* by id */
+            memcpy(end[variant] + 3 * (ids[i] - 10), pk.x + 3 * i, 3 * sizeof(double));
+        packing_free(&pk);
+    }
+    for (int k = 0; k < 9; ++k)
+        assert_close(end[1][k], end[0][k], 1e-12 * R_CU);
+    assert_true(end[0][3] < 3 * R_CU - 1e-3 * R_CU); /* it did shrink */
+}
+
+static void test_qs_lattice(void **state)
+{
+    (void)state;
+    packing pk;
+    packing_init(&pk, 2);
+    lattice(&pk, 3);
+    const sinter_qs_stats st = run_packing(&pk, 1000.0);
+    double ref[SINTER_NECK_DOF];
+    reference_pair(&pk, 1000.0, ref);
+    const double shrink_ref = 1.0 - (ref[3] + ref[6]) / (2 * R_CU);
+    print_message("3x3x3 copper, 1293 K, 1000 s: %zu links, Z = %.3f, %llu steps, %llu PCG "
+                  "iterations, neck %.4e..%.4e m, shrinkage %.8e %.8e %.8e (pair %.8e), "
+                  "density %.4f\n",
+                  st.links, st.coordination, (unsigned long long)st.steps,
+                  (unsigned long long)st.pcg_iterations, st.neck_min, st.neck_max, st.shrinkage[0],
+                  st.shrinkage[1], st.shrinkage[2], shrink_ref, st.relative_density);
+    assert_int_equal(st.links, 54);
+    assert_close(st.coordination, 4.0, 1e-12);
+    /* Isotropy: by the lattice's cubic symmetry the exact answer is a uniform contraction, the
+     * same along x, y and z; what differs is the PCG residual (1e-10 |f| per step, seen through
+     * a condition number of order 10) summed over the steps, so 1e-6 relative is generous. */
+    assert_close(st.shrinkage[1], st.shrinkage[0], 1e-6 * st.shrinkage[0]);
+    assert_close(st.shrinkage[2], st.shrinkage[0], 1e-6 * st.shrinkage[0]);
+    /* Every link shortens by the free pair's approach: the centre extent shrinks by the pair's
+     * Delta L / L0 (RK4 at rtol 1e-6 against CVODE at 1e-9: 1e-3). */
+    assert_close(st.shrinkage[0], shrink_ref, 1e-3 * shrink_ref);
+    assert_close(st.neck_max, st.neck_min, 1e-9 * st.neck_max);
+    assert_close(st.neck_mean, ref[0], 1e-4 * ref[0]);
+    packing_free(&pk);
+}
+
+/* The stepper adapter on public objects: two copper particles at 1293 K for 100 s. */
+static void test_qs_stepper_adapter(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_material *cu = NULL;
+    assert_int_equal(sinter_material_create(&cu, ctx, "copper"), SINTER_OK);
+    assert_int_equal(sinter_material_set(cu, SINTER_MAT_YOUNGS_MODULUS, E_CU), SINTER_OK);
+    assert_int_equal(sinter_material_set(cu, SINTER_MAT_POISSON_RATIO, NU_CU), SINTER_OK);
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_particles_create(&ps, ctx), SINTER_OK);
+    assert_int_equal(sinter_particles_set_material(ps, 0, cu), SINTER_OK);
+    const double x[6] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU}, r[2] = {R_CU, R_CU};
+    assert_int_equal(sinter_particles_add(ps, 2, x, r, 0, 1293.0, NULL), SINTER_OK);
+    sinter_stepper *st = NULL;
+    assert_int_equal(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL), SINTER_OK);
+    sinter_qs *qs = NULL;
+    st->dt = 1e-6;
+    while (100.0 - st->time > 1e-9) {
+        double taken = 0.0;
+        const double h = fmin(st->dt, 100.0 - st->time);
+        assert_int_equal(sinter_quasistatic_step(st, &qs, NULL, h, &taken), SINTER_OK);
+        assert_true(taken > 0.0 && taken <= h);
+    }
+    const double shrink = 1.0 - (ps->x[3] - ps->x[0]) / (2 * R_CU);
+    print_message("adapter: 2 particles, 100 s: shrinkage %.6e (7dof.md 6.2: 3.47e-3)\n", shrink);
+    assert_close(shrink, 3.47e-3, 0.01 * 3.47e-3);
+    sinter_qs_destroy(qs);
+    sinter_stepper_destroy(st);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(cu);
+    sinter_ctx_destroy(ctx);
+}
+
+static void test_qs_options(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_qs_options o;
+    sinter_qs_options_default(&o);
+    double v = 0.0;
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_alpha", 2.0), SINTER_OK);
+    assert_int_equal(sinter_qs_option_get(&o, ctx, "qs_alpha", &v), SINTER_OK);
+    assert_close(v, 2.0, 0.0);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_strategy", 1.0), SINTER_OK);
+    assert_int_equal(o.strategy, 1);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_strategy", 4.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_alpha", 1.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_nope", 1.0), SINTER_ERR_UNSUPPORTED);
+    assert_int_equal(sinter_qs_option_get(&o, ctx, "qs_nope", &v), SINTER_ERR_UNSUPPORTED);
+    o.dt_initial = 100.0; /* above dt_max */
+    sinter_qs *qs = NULL;
+    assert_int_equal(sinter_qs_create(&qs, ctx, &o), SINTER_ERR_INVALID);
+    assert_null(qs);
+    sinter_ctx_destroy(ctx);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_stiffness_symmetric_rigid),
+        cmocka_unit_test(test_single_link_closed_forms),
+        cmocka_unit_test(test_sintering_force),
+        cmocka_unit_test(test_chain_axial_series),
+        cmocka_unit_test(test_chain_cantilever),
+        cmocka_unit_test(test_qs_two_particles_strategy2),
+        cmocka_unit_test(test_qs_two_particles_strategy1),
+        cmocka_unit_test(test_qs_two_particles_strategy3),
+        cmocka_unit_test(test_qs_triangle),
+        cmocka_unit_test(test_qs_remap),
+        cmocka_unit_test(test_qs_options),
+        cmocka_unit_test(test_qs_lattice),
+        cmocka_unit_test(test_qs_stepper_adapter),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
