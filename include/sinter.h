@@ -377,7 +377,9 @@ SINTER_API sinter_status sinter_particles_get_material(const sinter_particles *p
 /**
  * Append `n` particles of material `material_id` (which must be registered).
  * @param positions  3n doubles (x0,y0,z0,x1,...) [m], required.
- * @param radii      n doubles [m], required, each > 0.
+ * @param radii      n doubles [m], required, each > 0 and small enough that the
+ *                   mass and moment of inertia are finite (and large enough that
+ *                   they are not 0).
  * @param temperature initial temperature of every new particle [K], > 0.
  * @param first_index receives the index of the first new particle (may be NULL).
  * Mass = rho 4/3 pi r^3 and inertia = 2/5 m r^2 follow from the material's
@@ -488,7 +490,8 @@ SINTER_API sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k
 /**
  * Time [s] at which wall k's prescribed motion starts: before it the wall
  * stays at p0; after it the motion is evaluated at (t - start). Default 0;
- * HUGE_VAL holds the wall until a later call sets a finite start.
+ * HUGE_VAL holds the wall until a later call sets a finite start; NaN and
+ * -HUGE_VAL are refused (SINTER_ERR_INVALID).
  */
 SINTER_API sinter_status sinter_walls_set_motion_start(sinter_walls *walls, size_t k,
                                                        double start);
@@ -626,6 +629,15 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  *  - "adaptive": 1 scales the step by Lambda_K of eq. 49 after each step; 0
  *    keeps the step of sinter_stepper_set_dt (a step that does not converge
  *    in K_d iterations then fails with SINTER_ERR_NOT_CONVERGED); 1.
+ *  - "position_tolerance" [m], "temperature_tolerance" [K]: absolute floors
+ *    added to eq. 47-48 (beyond the seed): a field also converges when the
+ *    mean change per particle between two iterates is at most this; 0 (the
+ *    seed's relative test alone); >= 0. A resting pile with Coulomb friction
+ *    needs the position floor: friction flips direction between iterates and
+ *    the relative test then forces the step towards zero.
+ * Beyond eq. 49 the step control stops an attempt early when the iteration
+ * stagnates (see src/stepper/staggered.c), grows the step at most twofold,
+ * and not at all right after a restart.
  * The step starts at the value of sinter_stepper_set_dt, capped by dt_max.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
@@ -641,7 +653,8 @@ SINTER_API sinter_status sinter_stepper_set_observer(sinter_stepper *stepper,
                                                      sinter_observer_fn fn, void *user);
 /**
  * Advance to time t_end [s] (>= current time). The last step is shortened to
- * land on t_end. On an error the particle set holds the last accepted state.
+ * land on t_end. On an error the particle set holds the last accepted state,
+ * with its forces evaluated again: it can be read and checkpointed at once.
  */
 SINTER_API sinter_status sinter_stepper_advance(sinter_stepper *stepper, double t_end);
 /** Take exactly n steps. */
@@ -666,6 +679,8 @@ SINTER_API sinter_status sinter_stepper_evaluate(sinter_stepper *stepper);
  * Stable explicit step for Hertz contacts, seed 003 eq. 47: dt = t_c / 10 with
  * t_c = 2.87 (m*^2 / (r* E*^2 v_rel))^(1/5), taken over the smallest particle
  * pair of the set (and particle-wall pairs) at relative normal speed v_rel [m/s].
+ * The particles are checked first (sinter_particles_validate: values written
+ * through a view, such as an unregistered material id, give SINTER_ERR_INVALID).
  */
 SINTER_API sinter_status sinter_stable_dt_hertz(const sinter_particles *particles,
                                                 const sinter_walls *walls, double v_rel,

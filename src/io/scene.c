@@ -469,8 +469,9 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         TRY(at_line(t, scene_find(s, "kind")->line,
                     sinter_stepper_set_kind(sc->st, SINTER_STEPPER_STAGGERED)));
     /* Options of the staggered stepper (seed 000 sec. 3, 6); the explicit one refuses them. */
-    static const char *const options[] = {"phi",    "target_iterations", "tolerance", "exponent",
-                                          "dt_min", "dt_max",            "adaptive"};
+    static const char *const options[] = {"phi",      "target_iterations",  "tolerance",
+                                          "exponent", "dt_min",             "dt_max",
+                                          "adaptive", "position_tolerance", "temperature_tolerance"};
     for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
         double value;
         const sinter_status got = scene_get_double(t, s, options[k], &value);

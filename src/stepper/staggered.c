@@ -34,17 +34,30 @@
  * first iterate measures nothing, and eps_0 of eq. 49 (the normalised initial error) is 1.
  * When the iterates agree to the round-off of the field itself (|change| <= 8 eps_mach
  * sum |value|), eps is 0: a body at rest or a field that does not change converges instead of
- * comparing round-off with round-off.
+ * comparing round-off with round-off. Options "position_tolerance" [m] and
+ * "temperature_tolerance" [K] (default 0, the seed's test) add an absolute floor: the
+ * denominator is at least n atol / TOL, so a mean change per particle <= atol also passes.
+ * The seed's relative test alone cannot be met by a resting pile with Coulomb friction
+ * (eq. 5-6): the friction of a resting contact flips direction between iterates, the iterates
+ * stop contracting at a change ~ h^2 mu g while the step's motion goes to zero, and the step
+ * collapses (press scene: below 4e-5 s at t = 1.6 s and still falling).
  *
  * Step scaling (eq. 49): the iteration error is modelled as eps_K = (S h^p)^K eps_0; it should
  * reach TOL in exactly K_d iterations, (S h_tol^p)^K_d eps_0 = TOL, hence
  *   Lambda_K = (TOL/eps_0)^(1/(p K_d)) / (eps_K/eps_0)^(1/(p K)),  Lambda = min over fields.
  * An accepted step (eps_K <= TOL at K <= K_d) has Lambda >= 1 and the next step is
  * min(dt_max, Lambda h) (Algorithm 1 step 6b-c); a step that fails has Lambda < 1 and is
- * retried from t with Lambda h (step 7). Safeguards beyond the seed: Lambda is at most 2 (eq. 49
- * gives infinity when an iteration reproduces its predecessor, e.g. free flight) and at most
- * 0.9 and at least 0.1 after a failure, and a non-finite iterate counts as a failure with
- * Lambda = 0.1.
+ * retried from t with Lambda h (step 7). Safeguards beyond the seed, each needed by the press
+ * scene or an impact:
+ *  - Lambda is at most 2 (eq. 49 gives infinity when an iteration reproduces its
+ *    predecessor, e.g. free flight), at most 0.9 and at least 0.1 after a failure, and 1 on
+ *    the step that follows a restart (the usual step-controller rule);
+ *  - stagnation: from K = 3 the last contraction rho = eps_K / eps_(K-1) is known. When
+ *    rho > 1/2 the model eps_K = eta^K no longer describes the iteration (it levels off at a
+ *    floor, as with friction above, that more iterations do not lower but a smaller step
+ *    does, as S h^p): Lambda is then at most (TOL/eps_K)^(1/p). When eps_K rho^(K_d - K) > TOL
+ *    the attempt cannot succeed by K_d and is restarted at once instead of iterating on;
+ *  - a non-finite iterate (or a temperature <= 0) counts as a failure with Lambda = 0.1.
  *
  * Currents (Algorithm 1 steps 6d, 7b; sec. 6 remark 2): the electric model is solved inside
  * every pipeline evaluation, i.e. at every iterate and again on the accepted configuration,
@@ -65,12 +78,27 @@
 
 /* ---- options ------------------------------------------------------------------------- */
 
-enum { OPT_PHI, OPT_KD, OPT_TOL, OPT_EXPONENT, OPT_DT_MAX, OPT_DT_MIN, OPT_ADAPTIVE, OPT_COUNT };
+enum {
+    OPT_PHI,
+    OPT_KD,
+    OPT_TOL,
+    OPT_EXPONENT,
+    OPT_DT_MAX,
+    OPT_DT_MIN,
+    OPT_ADAPTIVE,
+    OPT_POSITION_TOL,
+    OPT_TEMPERATURE_TOL,
+    OPT_COUNT
+};
 
 static const char *const OPTION_KEYS[OPT_COUNT] = {
-    "phi", "target_iterations", "tolerance", "exponent", "dt_max", "dt_min", "adaptive"};
+    "phi",    "target_iterations", "tolerance",          "exponent",
+    "dt_max", "dt_min",            "adaptive",           "position_tolerance",
+    "temperature_tolerance"};
 
-#define OPTION_LIST "phi, target_iterations, tolerance, exponent, dt_max, dt_min, adaptive"
+#define OPTION_LIST                                                                            \
+    "phi, target_iterations, tolerance, exponent, dt_max, dt_min, adaptive, position_tolerance, " \
+    "temperature_tolerance"
 
 void sinter_staggered_init(sinter_staggered *sg)
 {
@@ -183,12 +211,23 @@ sinter_status sinter_staggered_set(sinter_stepper *st, const char *key, double v
                                sg->dt_max);
         sg->dt_min = value;
         break;
-    default: /* OPT_ADAPTIVE */
+    case OPT_ADAPTIVE:
         if (value != 0.0 && value != 1.0)
             return sinter_fail(ctx, SINTER_ERR_INVALID,
                                "%s: adaptive = %g must be 0 (keep the step) or 1 (eq. 49)", func,
                                value);
         sg->adaptive = value == 1.0;
+        break;
+    default: /* OPT_POSITION_TOL, OPT_TEMPERATURE_TOL */
+        if (!(value >= 0.0 && isfinite(value)))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: %s = %g %s must be >= 0 and finite (0: the relative test of "
+                               "eq. 47-48 alone)",
+                               func, key, value, which == OPT_POSITION_TOL ? "m" : "K");
+        if (which == OPT_POSITION_TOL)
+            sg->position_tolerance = value;
+        else
+            sg->temperature_tolerance = value;
         break;
     }
     return SINTER_OK;
@@ -201,10 +240,15 @@ sinter_status sinter_staggered_get(const sinter_stepper *st, const char *key, do
     if (s != SINTER_OK)
         return s;
     const sinter_staggered *sg = &st->staggered;
-    const double values[OPT_COUNT] = {sg->phi,    (double)sg->target_iterations,
-                                      sg->tolerance, sg->exponent,
-                                      sg->dt_max, sg->dt_min,
-                                      (double)sg->adaptive};
+    const double values[OPT_COUNT] = {sg->phi,
+                                      (double)sg->target_iterations,
+                                      sg->tolerance,
+                                      sg->exponent,
+                                      sg->dt_max,
+                                      sg->dt_min,
+                                      (double)sg->adaptive,
+                                      sg->position_tolerance,
+                                      sg->temperature_tolerance};
     *value = values[which];
     return SINTER_OK;
 }
@@ -378,16 +422,21 @@ static size_t update_temperatures(sinter_stepper *st, const saved_state *a, doub
 
 /*
  * Eq. 47 for a field of `comps` components per particle: sum_i |now_i - prev_i| /
- * sum_i |now_i - start_i| over the particles whose flags do not contain `skip`; 0 when the
- * change is at the round-off of the field.
+ * sum_i |now_i - start_i| over the particles whose flags do not contain `skip`. Two floors:
+ * the change is 0 when it is at the round-off of the field, and the denominator is at least
+ * n atol / TOL, so that a mean change per particle <= atol passes eq. 48 (atol = 0: the seed's
+ * relative test alone).
  */
 static double normalised_error(const sinter_particles *ps, const double *now, const double *prev,
-                               const double *start, int comps, uint32_t skip)
+                               const double *start, int comps, uint32_t skip, double atol,
+                               double tol)
 {
     double num = 0.0, den = 0.0, scale = 0.0;
+    size_t free_count = 0;
     for (size_t i = 0; i < ps->count; ++i) {
         if (ps->flags[i] & skip)
             continue;
+        free_count++;
         const double *a = now + (size_t)comps * i, *b = prev + (size_t)comps * i,
                      *c = start + (size_t)comps * i;
         if (comps == 1) {
@@ -404,16 +453,36 @@ static double normalised_error(const sinter_particles *ps, const double *now, co
     }
     if (num <= 8.0 * DBL_EPSILON * scale)
         return 0.0;
+    den = fmax(den, (double)free_count * atol / tol);
     return den > 0.0 ? num / den : INFINITY;
 }
 
-/* Lambda of eq. 49 for one field, with eps_0 = 1 (see the top of the file). */
-static double step_scale(const sinter_staggered *sg, double eps, int k)
+/*
+ * Step scale of one field after iteration k with normalised errors eps (now) and eps_prev
+ * (iteration k - 1): Lambda_K of eq. 49 with eps_0 = 1 (see the top of the file). From k = 3 on
+ * the last contraction rho = eps / eps_prev is known. When the iteration stagnates
+ * (rho > 1/2: eq. 49's model eps_K = eta^K has stopped describing it, as when Coulomb friction
+ * of a resting contact flips direction between iterates) the error is taken as a floor S h^p
+ * that more iterations do not lower, and Lambda is at most (TOL/eps)^(1/p). *hopeless is set
+ * when the last rate extrapolated to K_d misses the tolerance: eps rho^(K_d - k) > TOL.
+ */
+static double field_scale(const sinter_staggered *sg, double eps, double eps_prev, int k,
+                          int *hopeless)
 {
     if (eps <= 0.0)
         return INFINITY;
-    const double p = sg->exponent;
-    return pow(sg->tolerance, 1.0 / (p * sg->target_iterations)) / pow(eps, 1.0 / (p * k));
+    const double p = sg->exponent, tol = sg->tolerance;
+    double lambda = pow(tol, 1.0 / (p * sg->target_iterations)) / pow(eps, 1.0 / (p * k));
+    if (k >= 3 && eps > tol) {
+        const double rho = eps_prev > 0.0 ? eps / eps_prev : INFINITY;
+        if (rho > 0.5)
+            lambda = fmin(lambda, pow(tol / eps, 1.0 / p));
+        if (!(eps * pow(fmin(rho, 1.0), sg->target_iterations - k) <= tol))
+            *hopeless = 1;
+    } else if (k >= 3 && eps > 0.5 * eps_prev) {
+        lambda = fmin(lambda, pow(tol / eps, 1.0 / p));
+    }
+    return lambda;
 }
 
 /* ---- one attempt ------------------------------------------------------------------------ */
@@ -436,6 +505,7 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
     const int thermal = st->thermal.count > 0;
     memset(res, 0, sizeof(*res));
     res->bad = n;
+    double prev_r = 1.0, prev_t = 1.0; /* eq. 47 of the previous iteration */
     st->time = t + h;
     sinter_status s = st->walls != NULL ? sinter_walls_move(st->walls, t + h) : SINTER_OK;
     if (s != SINTER_OK)
@@ -474,22 +544,29 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
         /* Eq. 47-49. The first iterate's errors are 1 by definition (x^0 = x^L). */
         const double eps_r = k == 1 ? 1.0
                                     : normalised_error(ps, ps->x, a->x_prev, a->x, 3,
-                                                       SINTER_PARTICLE_FIXED);
+                                                       SINTER_PARTICLE_FIXED,
+                                                       sg->position_tolerance, sg->tolerance);
         const double eps_t = !thermal ? 0.0
                              : k == 1 ? 1.0
                                       : normalised_error(ps, ps->temperature, a->theta_prev,
                                                          a->theta, 1,
-                                                         SINTER_PARTICLE_FIXED_TEMPERATURE);
+                                                         SINTER_PARTICLE_FIXED_TEMPERATURE,
+                                                         sg->temperature_tolerance,
+                                                         sg->tolerance);
         res->eps_r = eps_r;
         res->eps_theta = eps_t;
-        const double z = fmax(eps_r, eps_t) / sg->tolerance;                       /* eq. 48 */
-        res->lambda = fmin(step_scale(sg, eps_r, k), step_scale(sg, eps_t, k)); /* eq. 49 */
+        const double z = fmax(eps_r, eps_t) / sg->tolerance; /* eq. 48 */
+        int hopeless = 0;
+        res->lambda = fmin(field_scale(sg, eps_r, prev_r, k, &hopeless),
+                           field_scale(sg, eps_t, prev_t, k, &hopeless)); /* eq. 49 */
+        prev_r = eps_r;
+        prev_t = eps_t;
         if (z <= 1.0) {
             st->stats.seconds_integrate += sinter_clock() - t0;
             res->converged = 1;
             return SINTER_OK;
         }
-        if (k == sg->target_iterations) {
+        if (k == sg->target_iterations || hopeless) {
             st->stats.seconds_integrate += sinter_clock() - t0;
             break;
         }
@@ -580,6 +657,7 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     const saved_state a = saved_layout(sg, st->ps->count);
     save_state(st, &a);
     attempt_result r;
+    int restarted = 0;
     for (;;) {
         s = attempt(st, &a, t, h, &r);
         if (s != SINTER_OK) {
@@ -597,6 +675,7 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
             return give_up(st, &a, t, h, h_next, &r);
         restore_state(st, &a, t);
         h = h_next;
+        restarted = 1;
     }
     /* Accepted: (s^K, theta^K) at t + h. */
     s = check_domain(st, t, h);
@@ -618,8 +697,10 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     for (size_t j = 0; j < st->thermal.count; ++j)
         st->thermal.slots[j].energy += st->thermal.slots[j].applied;
     st->thermal_last_h = h;
+    /* Eq. 49, Algorithm 1 step 6b-c; after a restart the step does not grow at once (the
+     * usual safeguard of step controllers, e.g. Hairer, Norsett and Wanner, sec. II.4). */
     if (sg->adaptive)
-        st->dt = fmin(sg->dt_max, fmin(fmax(r.lambda, 0.1), 2.0) * h); /* eq. 49, step 6b-c */
+        st->dt = fmin(sg->dt_max, fmin(fmax(r.lambda, 0.1), restarted ? 1.0 : 2.0) * h);
     st->stats.dt = st->dt;
     *taken = h;
     return SINTER_OK;

@@ -21,6 +21,8 @@ typedef struct sinter_staggered {
     double dt_max;         /* dt_lim */
     double dt_min;         /* floor: below it a step fails */
     int adaptive;          /* 0: keep dt */
+    double position_tolerance;    /* absolute floor of eq. 47-48 for positions [m] */
+    double temperature_tolerance; /* and for temperatures [K] */
     /* state at t (restored on a rejection), 28 doubles per particle; see staggered.c */
     double *saved;
     size_t saved_capacity;

@@ -8,6 +8,7 @@
  *   seed003_scenes conduction_box [--scene ...] [--solid-volume V] [--dt LIST] [--t-end S]
  *                                 [--softening THETA_STAR] [--cycle S]
  *   seed003_scenes laser_bed      [--scene ...] [--dt S] [--coupled-steps N] [--sensitivity]
+ *                                 [--checkpoint FILE]
  *   seed003_scenes vibrated_bed   [--scene ...] [--t-end S]
  *
  * hot_floor (sec. 5.1): a particle settling on a 700 K floor with and without thermal
@@ -34,6 +35,7 @@
  *   the lit particles 0.24 s after the beam switches on. --coupled-steps N times N fully
  *   coupled steps (mechanics + heat at 5e-7 s) to estimate the cost of the unfrozen run.
  *   --sensitivity adds absorptance, attenuation, emissivity and intensity variations.
+ *   --checkpoint FILE writes the poured bed there, or reads it if the file exists.
  * vibrated_bed (sec. 5.2): the scene's vibrated slab with conduction, with and without
  *   convection, for --t-end seconds (the seed runs 60 s); mean temperature every 0.1 s.
  *
@@ -897,17 +899,29 @@ static int cmd_laser_bed(int argc, char **argv)
     CHECK(sinter_stepper_add_force(mech, hm));
     CHECK(sinter_stepper_add_force(mech, g));
     double t0 = now();
-    /* report the kinetic energy as the bed lands, then the pour criterion */
-    printf("pour at dt = %.1e s (eq. 47 at 0.5 m/s for the smallest pair: %.2e s)\n", dt_mech,
-           dt_hz);
-    printf("  t [s]   KE per particle [J]\n");
-    for (int k = 1; k <= 16; ++k) {
-        CHECK(sinter_stepper_advance(mech, 0.005 * k));
-        printf("  %.3f   %.3e\n", 0.005 * k, kinetic_energy(l.ps, l.n) / (double)l.n);
-    }
-    CHECK(sinter_pack_pour(mech, 1e-12, 0.0, 0.3));
+    const char *ckpt = opt(argc, argv, "--checkpoint", NULL);
+    FILE *probe = ckpt ? fopen(ckpt, "rb") : NULL;
     double t_rest = 0;
-    CHECK(sinter_stepper_time(mech, &t_rest));
+    if (probe != NULL) {
+        /* a bed poured by an earlier run of this program (same scene, same models) */
+        fclose(probe);
+        CHECK(sinter_checkpoint_read(mech, ckpt));
+        CHECK(sinter_stepper_time(mech, &t_rest));
+        printf("bed read from checkpoint %s (poured to rest at t = %.4f s)\n", ckpt, t_rest);
+    } else {
+        /* report the kinetic energy as the bed lands, then the pour criterion */
+        printf("pour at dt = %.1e s (eq. 47 at 0.5 m/s for the smallest pair: %.2e s)\n",
+               dt_mech, dt_hz);
+        printf("  t [s]   KE per particle [J]\n");
+        for (int k = 1; k <= 16; ++k) {
+            CHECK(sinter_stepper_advance(mech, 0.005 * k));
+            printf("  %.3f   %.3e\n", 0.005 * k, kinetic_energy(l.ps, l.n) / (double)l.n);
+        }
+        CHECK(sinter_pack_pour(mech, 1e-12, 0.0, 0.3));
+        CHECK(sinter_stepper_time(mech, &t_rest));
+        if (ckpt != NULL)
+            CHECK(sinter_checkpoint_write(mech, ckpt));
+    }
     const packing p = measure_packing(&l, 0.04, 0.04, mech);
     printf("at rest (KE < 1e-12 J per particle) at t = %.4f s (%.0f s wall); bed top %.4f m, "
            "volume fraction %.3f, bed height %.4f m, coordination %.2f\n",

@@ -53,8 +53,7 @@ static void exercise(sinter_ctx *ctx, sinter_scene *scene)
     s = sinter_checkpoint_write(st, checkpoint_path);
     fuzz_check_error(ctx, s, "sinter_checkpoint_write");
     if (s == SINTER_OK && sinter_checkpoint_read(st, checkpoint_path) != SINTER_OK) {
-        fprintf(stderr, "fuzz: a checkpoint just written is refused: %s\n",
-                sinter_last_error(ctx));
+        fprintf(stderr, "fuzz: a checkpoint just written is refused: %s\n", sinter_last_error(ctx));
         abort();
     }
     remove(checkpoint_path);

@@ -66,16 +66,26 @@ done
 echo "fuzz: built $targets in $out"
 [ "${1:-}" = build ] && exit 0
 
+# Fresh valid checkpoints of this build's format join the committed seeds (which go stale
+# when the format changes).
+rm -rf "$out/seed_checkpoint"
+mkdir -p "$out/seed_checkpoint"
+case " $targets " in
+  *" fuzz_checkpoint "*) SINTER_FUZZ_MAKE_CORPUS="$out/seed_checkpoint" "$out/fuzz_checkpoint" ;;
+esac
+
 # Run the targets side by side (one per core), each for $seconds.
 pids=()
 for t in $targets; do
   corpus="$here/corpus_${t#fuzz_}"
   new="$out/new_${t#fuzz_}"
+  extra=()
+  [ "$t" = fuzz_checkpoint ] && extra=("$out/seed_checkpoint")
   mkdir -p "$new"
   dict=()
   [ -f "$here/${t#fuzz_}.dict" ] && dict=(-dict="$here/${t#fuzz_}.dict")
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$out/$t" "$new" "$corpus" "${dict[@]}" -max_total_time="$seconds" -timeout=10 \
+    "$out/$t" "$new" "$corpus" "${extra[@]}" "${dict[@]}" -max_total_time="$seconds" -timeout=10 \
       -rss_limit_mb=2048 -max_len=8192 -print_final_stats=1 \
       -artifact_prefix="$out/artifacts/$t-" >"$out/$t.log" 2>&1 &
   pids+=("$!")

@@ -14,8 +14,8 @@
  *     locked sets.
  *  3. Allocation failure injection over scene loading, a short run, a
  *     checkpoint round trip and sinter_scene_run: the k-th allocation fails
- *     (alone, and with every later one) for every k; each failure is a clean
- *     error (SINTER_ERR_NOMEM, or a status with a message), nothing leaks and
+ *     (alone, and with every later one) for every k; each failure ends in
+ *     SINTER_ERR_NOMEM with an "out of memory" message, nothing leaks and
  *     nothing crashes.
  *  4. Instability reports: a high-speed impact, and stiff (E = 200 GPa)
  *     particles at an unstable step, whose last accepted state stays readable
@@ -168,8 +168,8 @@ typedef struct fixture {
     sinter_force_model *contact, *gravity;
     sinter_heat_model *heat;
     sinter_electric_model *electric;
-    sinter_stepper *st;       /* particles + walls + contact + heat, stepped to t > 0 */
-    sinter_stepper *fresh;    /* never stepped */
+    sinter_stepper *st;    /* particles + walls + contact + heat, stepped to t > 0 */
+    sinter_stepper *fresh; /* never stepped */
     sinter_neck_model *neck;
     sinter_series *series;
     sinter_scene *scene;
@@ -358,7 +358,8 @@ static void mix_particles(hasher *z, const sinter_particles *ps)
         sinter_dtype dtype;
         OK(sinter_field_info((sinter_field)field, NULL, NULL, &dtype, NULL));
         OK(sinter_particles_view_read(ps, (sinter_field)field, &a, NULL, &comps));
-        mix(z, a, n * comps * (dtype == SINTER_DTYPE_DOUBLE || dtype == SINTER_DTYPE_UINT64 ? 8 : 4));
+        mix(z, a,
+            n * comps * (dtype == SINTER_DTYPE_DOUBLE || dtype == SINTER_DTYPE_UINT64 ? 8 : 4));
         OK(sinter_particles_release(ps, (sinter_field)field));
     }
     const sinter_material *m = NULL;
@@ -421,7 +422,7 @@ static uint64_t fingerprint(fixture *f)
     mix_param(&z, get_heat, f->heat, "walls");
     mix_param(&z, get_electric, f->electric, "tolerance");
     mix_param(&z, get_electric, f->electric, "max_iterations");
-    static const char *const neck_keys[] = {"epsilon", "h0_ratio", "rtol", "atol",
+    static const char *const neck_keys[] = {"epsilon",      "h0_ratio",  "rtol",      "atol",
                                             "initial_step", "max_steps", "integrator"};
     for (size_t k = 0; k < sizeof(neck_keys) / sizeof(neck_keys[0]); ++k)
         mix_param(&z, get_neck, f->neck, neck_keys[k]);
@@ -535,24 +536,14 @@ static sinter_packing_options packing_material(int32_t material, double temperat
     return o;
 }
 
-static sinter_force_callbacks force_callbacks(size_t size, size_t history, int with_particles)
-{
-    sinter_force_callbacks cb;
-    memset(&cb, 0, sizeof(cb));
-    cb.struct_size = size;
-    cb.history_size = history;
-    cb.particles = with_particles ? dummy_particles : NULL;
-    return cb;
-}
-
-static sinter_heat_callbacks heat_callbacks(size_t size, int with_power)
-{
-    sinter_heat_callbacks cb;
-    memset(&cb, 0, sizeof(cb));
-    cb.struct_size = size;
-    cb.power = with_power ? dummy_power : NULL;
-    return cb;
-}
+/* Host callback tables: without callbacks, with a too wide history, of a wrong size. */
+static const sinter_force_callbacks FORCE_NONE = {sizeof(sinter_force_callbacks), 0, NULL, NULL,
+                                                  NULL};
+static const sinter_force_callbacks FORCE_WIDE = {sizeof(sinter_force_callbacks), 65, NULL,
+                                                  dummy_particles, NULL};
+static const sinter_force_callbacks FORCE_SIZE5 = {5, 0, NULL, dummy_particles, NULL};
+static const sinter_heat_callbacks HEAT_NONE = {sizeof(sinter_heat_callbacks), NULL, NULL};
+static const sinter_heat_callbacks HEAT_SIZE1 = {1, dummy_power, NULL};
 
 static sinter_allocator allocator(size_t size, int complete)
 {
@@ -586,26 +577,32 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
  * message (a NULL handle, or a function without one); the fixture's context
  * must then stay clean.
  */
-#define MISUSE_CASES(X)                                                                             \
+/* clang-format off */
+#define MISUSE_CASES(X)                                                                            \
     /* context */                                                                                  \
     X(ctx_create_null_out, SINTER_ERR_NULL, NULL, sinter_ctx_create(NULL, NULL))                   \
     X(ctx_create_bad_size, SINTER_ERR_STRUCT_SIZE, NULL,                                           \
       sinter_ctx_create(&f->out.ctx, (const sinter_allocator[]){allocator(3, 1)}))                 \
     X(ctx_create_missing_callback, SINTER_ERR_INVALID, NULL,                                       \
-      sinter_ctx_create(&f->out.ctx, (const sinter_allocator[]){allocator(sizeof(sinter_allocator), 0)})) \
+      sinter_ctx_create(&f->out.ctx,                                                               \
+                        (const sinter_allocator[]){allocator(sizeof(sinter_allocator), 0)}))       \
     X(last_status_null, SINTER_ERR_NULL, NULL, sinter_last_status(NULL))                           \
     X(clear_error_null, SINTER_ERR_NULL, NULL, sinter_clear_error(NULL))                           \
     X(set_log_null, SINTER_ERR_NULL, NULL, sinter_ctx_set_log(NULL, dummy_log, 0, NULL))           \
-    X(set_log_level_high, SINTER_ERR_INVALID, "log level 7", sinter_ctx_set_log(f->ctx, dummy_log, 7, NULL)) \
+    X(set_log_level_high, SINTER_ERR_INVALID, "log level 7",                                       \
+      sinter_ctx_set_log(f->ctx, dummy_log, 7, NULL))                                              \
     X(set_log_level_negative, SINTER_ERR_INVALID, "log level -1",                                  \
       sinter_ctx_set_log(f->ctx, dummy_log, -1, NULL))                                             \
     X(set_threads_null, SINTER_ERR_NULL, NULL, sinter_ctx_set_threads(NULL, 1))                    \
-    X(set_threads_negative, SINTER_ERR_INVALID, "thread count -3", sinter_ctx_set_threads(f->ctx, -3)) \
+    X(set_threads_negative, SINTER_ERR_INVALID, "thread count -3",                                 \
+      sinter_ctx_set_threads(f->ctx, -3))                                                          \
     X(get_threads_null_ctx, SINTER_ERR_NULL, NULL, sinter_ctx_get_threads(NULL, &f->out.threads))  \
     X(get_threads_null_out, SINTER_ERR_NULL, "'threads'", sinter_ctx_get_threads(f->ctx, NULL))    \
     /* materials */                                                                                \
-    X(material_create_null_ctx, SINTER_ERR_NULL, NULL, sinter_material_create(&f->out.mat, NULL, "m")) \
-    X(material_create_null_out, SINTER_ERR_NULL, "'out'", sinter_material_create(NULL, f->ctx, "m")) \
+    X(material_create_null_ctx, SINTER_ERR_NULL, NULL,                                             \
+      sinter_material_create(&f->out.mat, NULL, "m"))                                              \
+    X(material_create_null_out, SINTER_ERR_NULL, "'out'",                                          \
+      sinter_material_create(NULL, f->ctx, "m"))                                                   \
     X(material_create_long_name, SINTER_ERR_INVALID, "longer than 63",                             \
       sinter_material_create(&f->out.mat, f->ctx, LONG_NAME))                                      \
     X(material_clone_null, SINTER_ERR_NULL, NULL, sinter_material_clone(&f->out.mat, NULL))        \
@@ -639,7 +636,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(field_info_unknown, SINTER_ERR_RANGE, NULL,                                                  \
       sinter_field_info(SINTER_FIELD_COUNT_, NULL, NULL, NULL, NULL))                              \
     /* particle sets */                                                                            \
-    X(particles_create_null_ctx, SINTER_ERR_NULL, NULL, sinter_particles_create(&f->out.ps, NULL)) \
+    X(particles_create_null_ctx, SINTER_ERR_NULL, NULL,                                            \
+      sinter_particles_create(&f->out.ps, NULL))                                                   \
     X(particles_create_null_out, SINTER_ERR_NULL, "'out'", sinter_particles_create(NULL, f->ctx))  \
     X(particles_count_null, SINTER_ERR_NULL, NULL, sinter_particles_count(NULL, &f->out.count))    \
     X(particles_count_null_out, SINTER_ERR_NULL, "'count'", sinter_particles_count(f->ps, NULL))   \
@@ -656,16 +654,19 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_particles_set_material(f->ps, 256, f->mat))                                           \
     X(particles_set_material_id_negative, SINTER_ERR_RANGE, "material id -1",                      \
       sinter_particles_set_material(f->ps, -1, f->mat))                                            \
-    X(particles_set_material_null, SINTER_ERR_NULL, "'m'", sinter_particles_set_material(f->ps, 1, NULL)) \
-    X(particles_get_material_unregistered, SINTER_ERR_NOT_FOUND, "material id 5 is not registered", \
+    X(particles_set_material_null, SINTER_ERR_NULL, "'m'",                                         \
+      sinter_particles_set_material(f->ps, 1, NULL))                                               \
+    X(particles_get_material_unregistered, SINTER_ERR_NOT_FOUND, "material id 5 is not registered",\
       sinter_particles_get_material(f->ps, 5, &f->out.cmat))                                       \
-    X(particles_get_material_null_out, SINTER_ERR_NULL, "'m'", sinter_particles_get_material(f->ps, 0, NULL)) \
-    X(particles_add_null, SINTER_ERR_NULL, NULL, sinter_particles_add(NULL, 1, POS1, R1, 0, 300, NULL)) \
+    X(particles_get_material_null_out, SINTER_ERR_NULL, "'m'",                                     \
+      sinter_particles_get_material(f->ps, 0, NULL))                                               \
+    X(particles_add_null, SINTER_ERR_NULL, NULL,                                                   \
+      sinter_particles_add(NULL, 1, POS1, R1, 0, 300, NULL))                                       \
     X(particles_add_null_positions, SINTER_ERR_NULL, "'positions'",                                \
       sinter_particles_add(f->ps, 1, NULL, R1, 0, 300, NULL))                                      \
     X(particles_add_null_radii, SINTER_ERR_NULL, "'radii'",                                        \
       sinter_particles_add(f->ps, 1, POS1, NULL, 0, 300, NULL))                                    \
-    X(particles_add_unregistered_material, SINTER_ERR_NOT_FOUND, "material id 7 is not registered", \
+    X(particles_add_unregistered_material, SINTER_ERR_NOT_FOUND, "material id 7 is not registered",\
       sinter_particles_add(f->ps, 1, POS1, R1, 7, 300, NULL))                                      \
     X(particles_add_material_negative, SINTER_ERR_NOT_FOUND, "material id -2",                     \
       sinter_particles_add(f->ps, 1, POS1, R1, -2, 300, NULL))                                     \
@@ -693,7 +694,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_particles_add(f->ps, SIZE_MAX, POS1, R1, 0, 300, NULL))                               \
     X(particles_add_count_overflow_sum, SINTER_ERR_OVERFLOW, "adding 18446744073709551614",        \
       sinter_particles_add(f->ps, SIZE_MAX - 1, POS1, R1, 0, 300, NULL))                           \
-    X(particles_remove_null_indices, SINTER_ERR_NULL, "'indices'", sinter_particles_remove(f->ps, 1, NULL)) \
+    X(particles_remove_null_indices, SINTER_ERR_NULL, "'indices'",                                 \
+      sinter_particles_remove(f->ps, 1, NULL))                                                     \
     X(particles_remove_out_of_range, SINTER_ERR_RANGE, "index 99 (entry 0) is out of range",       \
       sinter_particles_remove(f->ps, 1, IDX_99))                                                   \
     X(particles_remove_twice, SINTER_ERR_INVALID, "index 0 (entry 1) is listed twice",             \
@@ -709,16 +711,19 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(particles_view_read_null_data, SINTER_ERR_NULL, "'data'",                                    \
       sinter_particles_view_read(f->ps, SINTER_FIELD_RADIUS, NULL, NULL, NULL))                    \
     X(particles_view_read_negative_field, SINTER_ERR_RANGE, "field -1 does not exist",             \
-      sinter_particles_view_read(f->ps, (sinter_field)-1, (const void **)&f->out.data, NULL, NULL)) \
+      sinter_particles_view_read(f->ps, (sinter_field)-1, (const void **)&f->out.data, NULL,       \
+                                 NULL))                                                            \
     X(particles_release_not_viewed, SINTER_ERR_STATE, "no view of field 'velocity' is out",        \
       sinter_particles_release(f->ps, SINTER_FIELD_VELOCITY))                                      \
     X(particles_release_unknown_field, SINTER_ERR_RANGE, "field 99",                               \
       sinter_particles_release(f->ps, (sinter_field)99))                                           \
-    X(particles_views_out_null_out, SINTER_ERR_NULL, "'views'", sinter_particles_views_out(f->ps, NULL)) \
+    X(particles_views_out_null_out, SINTER_ERR_NULL, "'views'",                                    \
+      sinter_particles_views_out(f->ps, NULL))                                                     \
     X(particles_validate_null, SINTER_ERR_NULL, NULL, sinter_particles_validate(NULL, NULL))       \
     X(particles_find_id_missing, SINTER_ERR_NOT_FOUND, "no particle has id 999",                   \
       sinter_particles_find_id(f->ps, 999, &f->out.count))                                         \
-    X(particles_find_id_null_out, SINTER_ERR_NULL, "'index'", sinter_particles_find_id(f->ps, 0, NULL)) \
+    X(particles_find_id_null_out, SINTER_ERR_NULL, "'index'",                                      \
+      sinter_particles_find_id(f->ps, 0, NULL))                                                    \
     /* walls */                                                                                    \
     X(walls_create_null_ctx, SINTER_ERR_NULL, NULL, sinter_walls_create(&f->out.walls, NULL))      \
     X(walls_create_null_out, SINTER_ERR_NULL, "'out'", sinter_walls_create(NULL, f->ctx))          \
@@ -737,7 +742,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_walls_add_plane(f->walls, V0, V0, f->mat, &f->out.count))                             \
     X(walls_set_material_no_wall, SINTER_ERR_RANGE, "wall 4 does not exist (1 walls)",             \
       sinter_walls_set_material(f->walls, 4, f->mat))                                              \
-    X(walls_set_material_null, SINTER_ERR_NULL, "'material'", sinter_walls_set_material(f->walls, 0, NULL)) \
+    X(walls_set_material_null, SINTER_ERR_NULL, "'material'",                                      \
+      sinter_walls_set_material(f->walls, 0, NULL))                                                \
     X(walls_set_velocity_null, SINTER_ERR_NULL, NULL, sinter_walls_set_velocity(NULL, 0, V1))      \
     X(walls_set_velocity_null_vector, SINTER_ERR_NULL, "'velocity'",                               \
       sinter_walls_set_velocity(f->walls, 0, NULL))                                                \
@@ -761,7 +767,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_walls_set_sine(f->walls, 0, VNAN, 1.0))                                               \
     X(walls_set_sine_inf_omega, SINTER_ERR_INVALID, "omega = inf",                                 \
       sinter_walls_set_sine(f->walls, 0, V1, INFINITY))                                            \
-    X(walls_set_callback_null, SINTER_ERR_NULL, "'fn'", sinter_walls_set_callback(f->walls, 0, NULL, NULL)) \
+    X(walls_set_callback_null, SINTER_ERR_NULL, "'fn'",                                            \
+      sinter_walls_set_callback(f->walls, 0, NULL, NULL))                                          \
     X(walls_set_callback_no_wall, SINTER_ERR_RANGE, "wall 2",                                      \
       sinter_walls_set_callback(f->walls, 2, dummy_motion, NULL))                                  \
     X(walls_set_motion_start_nan, SINTER_ERR_INVALID, "start nan s of wall 0",                     \
@@ -792,36 +799,35 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_walls_set_temperature_schedule(f->walls, 0, 2, T2, NULL))                             \
     X(walls_get_state_no_wall, SINTER_ERR_RANGE, "wall 9 does not exist",                          \
       sinter_walls_get_state(f->walls, 9, NULL, NULL))                                             \
-    X(walls_get_normal_null_out, SINTER_ERR_NULL, "'normal'", sinter_walls_get_normal(f->walls, 0, NULL)) \
-    X(walls_get_force_null_out, SINTER_ERR_NULL, "'force'", sinter_walls_get_force(f->walls, 0, NULL)) \
+    X(walls_get_normal_null_out, SINTER_ERR_NULL, "'normal'",                                      \
+      sinter_walls_get_normal(f->walls, 0, NULL))                                                  \
+    X(walls_get_force_null_out, SINTER_ERR_NULL, "'force'",                                        \
+      sinter_walls_get_force(f->walls, 0, NULL))                                                   \
     /* force models */                                                                             \
-    X(force_create_null_name, SINTER_ERR_NULL, "'name'", sinter_force_model_create(&f->out.fm, f->ctx, NULL)) \
+    X(force_create_null_name, SINTER_ERR_NULL, "'name'",                                           \
+      sinter_force_model_create(&f->out.fm, f->ctx, NULL))                                         \
     X(force_create_unknown, SINTER_ERR_NOT_FOUND, "no force model is called 'magic'",              \
       sinter_force_model_create(&f->out.fm, f->ctx, "magic"))                                      \
-    X(force_create_null_ctx, SINTER_ERR_NULL, NULL, sinter_force_model_create(&f->out.fm, NULL, "gravity")) \
+    X(force_create_null_ctx, SINTER_ERR_NULL, NULL,                                                \
+      sinter_force_model_create(&f->out.fm, NULL, "gravity"))                                      \
     X(force_set_unknown_key, SINTER_ERR_NOT_FOUND, "has no parameter 'gq'",                        \
       sinter_force_model_set(f->gravity, "gq", 1.0))                                               \
-    X(force_set_null_key, SINTER_ERR_NULL, "'key'", sinter_force_model_set(f->gravity, NULL, 1.0)) \
-    X(force_set_nan, SINTER_ERR_INVALID, "'gz' = nan", sinter_force_model_set(f->gravity, "gz", NAN)) \
+    X(force_set_null_key, SINTER_ERR_NULL, "'key'",                                                \
+      sinter_force_model_set(f->gravity, NULL, 1.0))                                               \
+    X(force_set_nan, SINTER_ERR_INVALID, "'gz' = nan",                                             \
+      sinter_force_model_set(f->gravity, "gz", NAN))                                               \
     X(force_set_inf, SINTER_ERR_INVALID, "'gz' = -inf",                                            \
       sinter_force_model_set(f->gravity, "gz", -INFINITY))                                         \
-    X(force_get_null_out, SINTER_ERR_NULL, "'value'", sinter_force_model_get(f->gravity, "gz", NULL)) \
+    X(force_get_null_out, SINTER_ERR_NULL, "'value'",                                              \
+      sinter_force_model_get(f->gravity, "gz", NULL))                                              \
     X(force_host_null_callbacks, SINTER_ERR_NULL, "'callbacks'",                                   \
       sinter_force_model_create_host(&f->out.fm, f->ctx, "h", NULL, NULL))                         \
     X(force_host_bad_size, SINTER_ERR_STRUCT_SIZE, "struct_size is 5",                             \
-      sinter_force_model_create_host(&f->out.fm, f->ctx, "h",                                      \
-                                     (const sinter_force_callbacks[]){force_callbacks(5, 0, 1)},    \
-                                     NULL))                                                        \
+      sinter_force_model_create_host(&f->out.fm, f->ctx, "h", &FORCE_SIZE5, NULL))                 \
     X(force_host_no_callback, SINTER_ERR_INVALID, "both callbacks are NULL",                       \
-      sinter_force_model_create_host(                                                              \
-          &f->out.fm, f->ctx, "h",                                                                 \
-          (const sinter_force_callbacks[]){force_callbacks(sizeof(sinter_force_callbacks), 0, 0)}, \
-          NULL))                                                                                   \
+      sinter_force_model_create_host(&f->out.fm, f->ctx, "h", &FORCE_NONE, NULL))                  \
     X(force_host_history_too_wide, SINTER_ERR_INVALID, "history_size 65",                          \
-      sinter_force_model_create_host(                                                              \
-          &f->out.fm, f->ctx, "h",                                                                 \
-          (const sinter_force_callbacks[]){force_callbacks(sizeof(sinter_force_callbacks), 65, 1)}, \
-          NULL))                                                                                   \
+      sinter_force_model_create_host(&f->out.fm, f->ctx, "h", &FORCE_WIDE, NULL))                  \
     /* steppers */                                                                                 \
     X(stepper_create_unknown_kind, SINTER_ERR_UNSUPPORTED, "kind 99",                              \
       sinter_stepper_create(&f->out.st, f->ctx, (sinter_stepper_kind)99, f->ps, f->walls))         \
@@ -836,28 +842,35 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_add_force(f->st, f->contact))                                                 \
     X(stepper_add_force_other_context, SINTER_ERR_INVALID, "belongs to another context",           \
       sinter_stepper_add_force(f->st, f->other_force))                                             \
-    X(stepper_set_dt_zero, SINTER_ERR_INVALID, "time step 0 s", sinter_stepper_set_dt(f->st, 0.0)) \
+    X(stepper_set_dt_zero, SINTER_ERR_INVALID, "time step 0 s",                                    \
+      sinter_stepper_set_dt(f->st, 0.0))                                                           \
     X(stepper_set_dt_negative, SINTER_ERR_INVALID, "time step -1e-06 s",                           \
       sinter_stepper_set_dt(f->st, -1e-6))                                                         \
-    X(stepper_set_dt_nan, SINTER_ERR_INVALID, "time step nan s", sinter_stepper_set_dt(f->st, NAN)) \
-    X(stepper_set_dt_inf, SINTER_ERR_INVALID, "time step inf s", sinter_stepper_set_dt(f->st, INFINITY)) \
+    X(stepper_set_dt_nan, SINTER_ERR_INVALID, "time step nan s",                                   \
+      sinter_stepper_set_dt(f->st, NAN))                                                           \
+    X(stepper_set_dt_inf, SINTER_ERR_INVALID, "time step inf s",                                   \
+      sinter_stepper_set_dt(f->st, INFINITY))                                                      \
     X(stepper_set_dt_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_dt(NULL, 1e-6))               \
     X(stepper_set_skin_negative, SINTER_ERR_INVALID, "skin -0.001 m",                              \
       sinter_stepper_set_skin(f->st, -1e-3))                                                       \
-    X(stepper_set_skin_nan, SINTER_ERR_INVALID, "skin nan m", sinter_stepper_set_skin(f->st, NAN)) \
-    X(stepper_set_domain_null, SINTER_ERR_NULL, "'lo'", sinter_stepper_set_domain(f->st, NULL, HI)) \
+    X(stepper_set_skin_nan, SINTER_ERR_INVALID, "skin nan m",                                      \
+      sinter_stepper_set_skin(f->st, NAN))                                                         \
+    X(stepper_set_domain_null, SINTER_ERR_NULL, "'lo'",                                            \
+      sinter_stepper_set_domain(f->st, NULL, HI))                                                  \
     X(stepper_set_domain_inverted, SINTER_ERR_INVALID, "axis 1 runs from -1 m to -2 m",            \
       sinter_stepper_set_domain(f->st, LO, HI_INV))                                                \
     X(stepper_set_domain_empty, SINTER_ERR_INVALID, "axis 0 runs from -1 m to -1 m",               \
       sinter_stepper_set_domain(f->st, LO, LO))                                                    \
     X(stepper_set_domain_nan, SINTER_ERR_INVALID, "axis 1 runs from nan m",                        \
       sinter_stepper_set_domain(f->st, (const double[]){-1, NAN, -1}, HI))                         \
-    X(stepper_set_observer_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_observer(NULL, NULL, NULL)) \
+    X(stepper_set_observer_null, SINTER_ERR_NULL, NULL,                                            \
+      sinter_stepper_set_observer(NULL, NULL, NULL))                                               \
     X(stepper_advance_backwards, SINTER_ERR_INVALID, "end time 0 s is before the current time",    \
       sinter_stepper_advance(f->st, 0.0))                                                          \
     X(stepper_advance_negative, SINTER_ERR_INVALID, "end time -1 s",                               \
       sinter_stepper_advance(f->st, -1.0))                                                         \
-    X(stepper_advance_nan, SINTER_ERR_INVALID, "end time nan s", sinter_stepper_advance(f->st, NAN)) \
+    X(stepper_advance_nan, SINTER_ERR_INVALID, "end time nan s",                                   \
+      sinter_stepper_advance(f->st, NAN))                                                          \
     X(stepper_advance_inf, SINTER_ERR_INVALID, "end time inf s",                                   \
       sinter_stepper_advance(f->st, INFINITY))                                                     \
     X(stepper_advance_null, SINTER_ERR_NULL, NULL, sinter_stepper_advance(NULL, 1.0))              \
@@ -871,23 +884,30 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stable_dt_hertz(f->ps, f->walls, 0.0, &f->out.value))                                 \
     X(stable_dt_hertz_nan_speed, SINTER_ERR_INVALID, "relative speed nan m/s",                     \
       sinter_stable_dt_hertz(f->ps, f->walls, NAN, &f->out.value))                                 \
-    X(stable_dt_hertz_null_out, SINTER_ERR_NULL, "'dt'", sinter_stable_dt_hertz(f->ps, f->walls, 1.0, NULL)) \
+    X(stable_dt_hertz_null_out, SINTER_ERR_NULL, "'dt'",                                           \
+      sinter_stable_dt_hertz(f->ps, f->walls, 1.0, NULL))                                          \
     X(stable_dt_hertz_empty, SINTER_ERR_STATE, "empty",                                            \
-      sinter_stable_dt_hertz(f->empty_ps, NULL, 1.0, &f->out.value))                              \
-    X(restitution_zero, SINTER_ERR_INVALID, NULL, sinter_damping_ratio_from_restitution(0.0, &f->out.value)) \
+      sinter_stable_dt_hertz(f->empty_ps, NULL, 1.0, &f->out.value))                               \
+    X(restitution_zero, SINTER_ERR_INVALID, NULL,                                                  \
+      sinter_damping_ratio_from_restitution(0.0, &f->out.value))                                   \
     X(restitution_above_one, SINTER_ERR_INVALID, NULL,                                             \
       sinter_damping_ratio_from_restitution(1.5, &f->out.value))                                   \
-    X(restitution_nan, SINTER_ERR_INVALID, NULL, sinter_damping_ratio_from_restitution(NAN, &f->out.value)) \
-    X(restitution_null_out, SINTER_ERR_NULL, NULL, sinter_damping_ratio_from_restitution(0.5, NULL)) \
+    X(restitution_nan, SINTER_ERR_INVALID, NULL,                                                   \
+      sinter_damping_ratio_from_restitution(NAN, &f->out.value))                                   \
+    X(restitution_null_out, SINTER_ERR_NULL, NULL,                                                 \
+      sinter_damping_ratio_from_restitution(0.5, NULL))                                            \
     /* heat */                                                                                     \
     X(heat_create_unknown, SINTER_ERR_NOT_FOUND, "no heat model is called 'magic'",                \
       sinter_heat_model_create(&f->out.hm, f->ctx, "magic"))                                       \
-    X(heat_create_null_name, SINTER_ERR_NULL, "'name'", sinter_heat_model_create(&f->out.hm, f->ctx, NULL)) \
+    X(heat_create_null_name, SINTER_ERR_NULL, "'name'",                                            \
+      sinter_heat_model_create(&f->out.hm, f->ctx, NULL))                                          \
     X(heat_set_unknown_key, SINTER_ERR_NOT_FOUND, "has no parameter 'aera'",                       \
       sinter_heat_model_set(f->heat, "aera", 1.0))                                                 \
-    X(heat_set_nan, SINTER_ERR_INVALID, "'area' = nan", sinter_heat_model_set(f->heat, "area", NAN)) \
+    X(heat_set_nan, SINTER_ERR_INVALID, "'area' = nan",                                            \
+      sinter_heat_model_set(f->heat, "area", NAN))                                                 \
     X(heat_set_null_key, SINTER_ERR_NULL, "'key'", sinter_heat_model_set(f->heat, NULL, 1.0))      \
-    X(heat_get_null_out, SINTER_ERR_NULL, "'value'", sinter_heat_model_get(f->heat, "area", NULL)) \
+    X(heat_get_null_out, SINTER_ERR_NULL, "'value'",                                               \
+      sinter_heat_model_get(f->heat, "area", NULL))                                                \
     X(heat_schedule_empty, SINTER_ERR_INVALID, "at least one point",                               \
       sinter_heat_model_set_schedule(f->heat, "area", 0, T2, TEMP2))                               \
     X(heat_schedule_backwards, SINTER_ERR_INVALID, "point 1 of 'area'",                            \
@@ -899,12 +919,9 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(heat_schedule_null_values, SINTER_ERR_NULL, "'values'",                                      \
       sinter_heat_model_set_schedule(f->heat, "area", 2, T2, NULL))                                \
     X(heat_host_bad_size, SINTER_ERR_STRUCT_SIZE, "struct_size is 1",                              \
-      sinter_heat_model_create_host(&f->out.hm, f->ctx, "h",                                       \
-                                    (const sinter_heat_callbacks[]){heat_callbacks(1, 1)}, NULL))  \
+      sinter_heat_model_create_host(&f->out.hm, f->ctx, "h", &HEAT_SIZE1, NULL))                   \
     X(heat_host_no_power, SINTER_ERR_INVALID, "power callback is NULL",                            \
-      sinter_heat_model_create_host(                                                               \
-          &f->out.hm, f->ctx, "h",                                                                 \
-          (const sinter_heat_callbacks[]){heat_callbacks(sizeof(sinter_heat_callbacks), 0)}, NULL)) \
+      sinter_heat_model_create_host(&f->out.hm, f->ctx, "h", &HEAT_NONE, NULL))                    \
     X(stepper_add_heat_null, SINTER_ERR_NULL, "'hm'", sinter_stepper_add_heat(f->st, NULL))        \
     X(stepper_add_heat_twice, SINTER_ERR_INVALID, "'conduction' was already added",                \
       sinter_stepper_add_heat(f->st, f->heat))                                                     \
@@ -935,7 +952,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_electric_model_set(f->electric, "tol", 1e-3))                                         \
     X(electric_get_null_out, SINTER_ERR_NULL, "'value'",                                           \
       sinter_electric_model_get(f->electric, "tolerance", NULL))                                   \
-    X(stepper_set_electric_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_electric(NULL, f->electric)) \
+    X(stepper_set_electric_null, SINTER_ERR_NULL, NULL,                                            \
+      sinter_stepper_set_electric(NULL, f->electric))                                              \
     X(stepper_set_electric_other_context, SINTER_ERR_INVALID, "context",                           \
       sinter_stepper_set_electric(f->st, f->other_electric))                                       \
     X(stepper_electric_iterations_null_out, SINTER_ERR_NULL, "'iterations'",                       \
@@ -943,13 +961,16 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     /* neck */                                                                                     \
     X(neck_create_null_ctx, SINTER_ERR_NULL, NULL, sinter_neck_model_create(&f->out.nm, NULL))     \
     X(neck_create_null_out, SINTER_ERR_NULL, "'out'", sinter_neck_model_create(NULL, f->ctx))      \
-    X(neck_set_zero, SINTER_ERR_INVALID, "epsilon = 0 is invalid", sinter_neck_model_set(f->neck, "epsilon", 0.0)) \
-    X(neck_set_nan, SINTER_ERR_INVALID, "rtol = nan", sinter_neck_model_set(f->neck, "rtol", NAN)) \
+    X(neck_set_zero, SINTER_ERR_INVALID, "epsilon = 0 is invalid",                                 \
+      sinter_neck_model_set(f->neck, "epsilon", 0.0))                                              \
+    X(neck_set_nan, SINTER_ERR_INVALID, "rtol = nan",                                              \
+      sinter_neck_model_set(f->neck, "rtol", NAN))                                                 \
     X(neck_set_fraction, SINTER_ERR_INVALID, "max_steps = 10.5",                                   \
       sinter_neck_model_set(f->neck, "max_steps", 10.5))                                           \
     X(neck_set_unknown, SINTER_ERR_NOT_FOUND, "unknown neck model option 'eps'",                   \
       sinter_neck_model_set(f->neck, "eps", 0.01))                                                 \
-    X(neck_get_null_out, SINTER_ERR_NULL, "'value'", sinter_neck_model_get(f->neck, "epsilon", NULL)) \
+    X(neck_get_null_out, SINTER_ERR_NULL, "'value'",                                               \
+      sinter_neck_model_get(f->neck, "epsilon", NULL))                                             \
     X(neck_run_null_material, SINTER_ERR_NULL, "'m'",                                              \
       sinter_neck_two_particles(f->neck, NULL, 1e-6, 1e-6, 2, NECK_T, NECK_TEMP, 1, NECK_OUT,      \
                                 &f->out.value, &f->out.value, NULL))                               \
@@ -976,12 +997,14 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
                                 &f->out.value, NULL, NULL))                                        \
     X(neck_stats_null_out, SINTER_ERR_NULL, "'stats'", sinter_neck_get_stats(f->neck, NULL))       \
     X(neck_stats_bad_size, SINTER_ERR_STRUCT_SIZE, "struct_size is 2",                             \
-      sinter_neck_get_stats(f->neck, (sinter_neck_stats[]){neck_stats_of_size(2)}))               \
+      sinter_neck_get_stats(f->neck, (sinter_neck_stats[]){neck_stats_of_size(2)}))                \
     /* packing */                                                                                  \
-    X(packing_init_null, SINTER_ERR_NULL, NULL, sinter_packing_options_init(NULL, sizeof(sinter_packing_options))) \
+    X(packing_init_null, SINTER_ERR_NULL, NULL,                                                    \
+      sinter_packing_options_init(NULL, sizeof(sinter_packing_options)))                           \
     X(packing_init_bad_size, SINTER_ERR_STRUCT_SIZE, NULL,                                         \
       sinter_packing_options_init((sinter_packing_options[]){packing(1, 0, 1)}, 7))                \
-    X(pack_random_null_options, SINTER_ERR_NULL, "'options'", sinter_pack_random(f->ps, NULL, 1, NULL)) \
+    X(pack_random_null_options, SINTER_ERR_NULL, "'options'",                                      \
+      sinter_pack_random(f->ps, NULL, 1, NULL))                                                    \
     X(pack_random_bad_size, SINTER_ERR_STRUCT_SIZE, "options.struct_size is 8",                    \
       sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_bad_size()}, 1, NULL))    \
     X(pack_random_zero_radius, SINTER_ERR_INVALID, "radius_mean = 0 m",                            \
@@ -993,7 +1016,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(pack_random_zero_attempts, SINTER_ERR_INVALID, "max_attempts = 0",                           \
       sinter_pack_random(f->ps, (const sinter_packing_options[]){packing(0.05, 0, 0)}, 1, NULL))   \
     X(pack_random_inverted_box, SINTER_ERR_INVALID, "box_max[1] = -2",                             \
-      sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_box(LO, HI_INV)}, 1, NULL)) \
+      sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_box(LO, HI_INV)}, 1,      \
+                         NULL))                                                                    \
     X(pack_random_unregistered_material, SINTER_ERR_NOT_FOUND, "material 9 is not registered",     \
       sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_material(9, 300, 0)}, 1,  \
                          NULL))                                                                    \
@@ -1001,44 +1025,48 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_material(0, 0, 0)}, 1,    \
                          NULL))                                                                    \
     X(pack_random_negative_gap, SINTER_ERR_INVALID, "gap = -1 m",                                  \
-      sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_material(0, 300, -1)}, 1, \
-                         NULL))                                                                    \
+      sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_material(0, 300, -1)},    \
+                         1, NULL))                                                                 \
     X(pack_random_count_overflow, SINTER_ERR_OVERFLOW, "overflow",                                 \
       sinter_pack_random(f->ps, (const sinter_packing_options[]){packing(0.05, 0, 10)}, SIZE_MAX,  \
                          NULL))                                                                    \
     X(pack_lattice_null_box, SINTER_ERR_NULL, "'box_min'",                                         \
-      sinter_pack_lattice(f->ps, NULL, HI, 0.1, 0.2, 0, 300, NULL))                       \
+      sinter_pack_lattice(f->ps, NULL, HI, 0.1, 0.2, 0, 300, NULL))                                \
     X(pack_lattice_zero_radius, SINTER_ERR_INVALID, "radius = 0 m",                                \
-      sinter_pack_lattice(f->ps, LO, HI, 0.0, 0.2, 0, 300, NULL))                         \
+      sinter_pack_lattice(f->ps, LO, HI, 0.0, 0.2, 0, 300, NULL))                                  \
     X(pack_lattice_tight_spacing, SINTER_ERR_INVALID, "spacing = 0.1 m",                           \
-      sinter_pack_lattice(f->ps, LO, HI, 0.1, 0.1, 0, 300, NULL))                         \
+      sinter_pack_lattice(f->ps, LO, HI, 0.1, 0.1, 0, 300, NULL))                                  \
     X(pack_lattice_nan_spacing, SINTER_ERR_INVALID, "spacing = nan m",                             \
-      sinter_pack_lattice(f->ps, LO, HI, 0.1, NAN, 0, 300, NULL))                         \
+      sinter_pack_lattice(f->ps, LO, HI, 0.1, NAN, 0, 300, NULL))                                  \
     X(pack_lattice_overflow, SINTER_ERR_OVERFLOW, "overflows",                                     \
-      sinter_pack_lattice(f->ps, LO, HI, 1e-7, 2e-7, 0, 300, NULL))                       \
+      sinter_pack_lattice(f->ps, LO, HI, 1e-7, 2e-7, 0, 300, NULL))                                \
     X(pack_lattice_too_many_per_axis, SINTER_ERR_OVERFLOW, "too many",                             \
-      sinter_pack_lattice(f->ps, LO, HI, 1e-300, 2e-300, 0, 300, NULL))                   \
+      sinter_pack_lattice(f->ps, LO, HI, 1e-300, 2e-300, 0, 300, NULL))                            \
     X(pack_lattice_unregistered_material, SINTER_ERR_NOT_FOUND, "material 3",                      \
-      sinter_pack_lattice(f->ps, LO, HI, 0.1, 0.2, 3, 300, NULL))                         \
+      sinter_pack_lattice(f->ps, LO, HI, 0.1, 0.2, 3, 300, NULL))                                  \
     X(pack_pour_zero_energy, SINTER_ERR_INVALID, "ke_per_particle > 0 (got 0 J)",                  \
       sinter_pack_pour(f->st, 0.0, 0.0, 1.0))                                                      \
-    X(pack_pour_backwards, SINTER_ERR_INVALID, "(got 2 s, 1 s)", sinter_pack_pour(f->st, 1e-9, 2.0, 1.0)) \
+    X(pack_pour_backwards, SINTER_ERR_INVALID, "(got 2 s, 1 s)",                                   \
+      sinter_pack_pour(f->st, 1e-9, 2.0, 1.0))                                                     \
     X(pack_pour_nan, SINTER_ERR_INVALID, "got nan s", sinter_pack_pour(f->st, 1e-9, NAN, 1.0))     \
     X(pack_pour_null, SINTER_ERR_NULL, NULL, sinter_pack_pour(NULL, 1e-9, 0.0, 1.0))               \
     /* output */                                                                                   \
     X(vtu_null_particles, SINTER_ERR_NULL, NULL, sinter_write_vtu(NULL, "x.vtu", NULL, 0))         \
     X(vtu_null_path, SINTER_ERR_NULL, "'path'", sinter_write_vtu(f->ps, NULL, NULL, 0))            \
     X(vtu_empty_path, SINTER_ERR_INVALID, "path is empty", sinter_write_vtu(f->ps, "", NULL, 0))   \
-    X(vtu_missing_dir, SINTER_ERR_IO, "cannot create", sinter_write_vtu(f->ps, "/nonexistent/dir/x.vtu", NULL, 0)) \
-    X(vtu_null_extra, SINTER_ERR_NULL, "extra_count is 2", sinter_write_vtu(f->ps, "x.vtu", NULL, 2)) \
+    X(vtu_missing_dir, SINTER_ERR_IO, "cannot create",                                             \
+      sinter_write_vtu(f->ps, "/nonexistent/dir/x.vtu", NULL, 0))                                  \
+    X(vtu_null_extra, SINTER_ERR_NULL, "extra_count is 2",                                         \
+      sinter_write_vtu(f->ps, "x.vtu", NULL, 2))                                                   \
     X(vtu_extra_null_name, SINTER_ERR_NULL, "extra[0].name is NULL",                               \
       sinter_write_vtu(f->ps, "x.vtu", VTU_NULL_NAME, 1))                                          \
-    X(vtu_extra_components, SINTER_ERR_INVALID, "has 2 components",                               \
+    X(vtu_extra_components, SINTER_ERR_INVALID, "has 2 components",                                \
       sinter_write_vtu(f->ps, "x.vtu", VTU_BAD_COMPONENTS, 1))                                     \
     X(vtu_extra_builtin_name, SINTER_ERR_INVALID, "'radius' (extra[0]) is already used",           \
       sinter_write_vtu(f->ps, "x.vtu", VTU_BUILTIN_NAME, 1))                                       \
     X(pvd_null_ctx, SINTER_ERR_NULL, NULL, sinter_write_pvd(NULL, "x.pvd", 1, TIMES1, FILES1))     \
-    X(pvd_null_times, SINTER_ERR_NULL, "'times'", sinter_write_pvd(f->ctx, "x.pvd", 1, NULL, FILES1)) \
+    X(pvd_null_times, SINTER_ERR_NULL, "'times'",                                                  \
+      sinter_write_pvd(f->ctx, "x.pvd", 1, NULL, FILES1))                                          \
     X(pvd_null_file, SINTER_ERR_NULL, "files[0] is NULL",                                          \
       sinter_write_pvd(f->ctx, "x.pvd", 1, TIMES1, FILES1_NULL))                                   \
     X(pvd_empty_file, SINTER_ERR_INVALID, "files[0] is empty",                                     \
@@ -1055,13 +1083,14 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_series_create(&f->out.series, f->ctx, 2, NAMES2_EMPTY, NULL))                         \
     X(series_append_null_row, SINTER_ERR_NULL, "'row'", sinter_series_append(f->series, NULL))     \
     X(series_rows_null_out, SINTER_ERR_NULL, "'rows'", sinter_series_rows(f->series, NULL))        \
-    X(series_get_row_out_of_range, SINTER_ERR_RANGE, "row 5 is out of range; the series has 1 rows", \
+    X(series_get_row_out_of_range, SINTER_ERR_RANGE, "row 5 is out of range; the series has 1",    \
       sinter_series_get(f->series, 5, 0, &f->out.value))                                           \
     X(series_get_column_out_of_range, SINTER_ERR_RANGE, "column 2 is out of range",                \
       sinter_series_get(f->series, 0, 2, &f->out.value))                                           \
     X(series_get_null_out, SINTER_ERR_NULL, "'value'", sinter_series_get(f->series, 0, 0, NULL))   \
     X(series_csv_null_path, SINTER_ERR_NULL, "'path'", sinter_series_write_csv(f->series, NULL))   \
-    X(series_csv_empty_path, SINTER_ERR_INVALID, "path is empty", sinter_series_write_csv(f->series, "")) \
+    X(series_csv_empty_path, SINTER_ERR_INVALID, "path is empty",                                  \
+      sinter_series_write_csv(f->series, ""))                                                      \
     X(series_svg_x_column, SINTER_ERR_RANGE, "x_column 4 is out of range",                         \
       sinter_series_write_svg(f->series, "x.svg", NULL, 4, 1, PANELS_START, PANEL_COLS))           \
     X(series_svg_no_panel, SINTER_ERR_INVALID, "panels is 0",                                      \
@@ -1073,22 +1102,30 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(series_svg_null_panels, SINTER_ERR_NULL, "'panel_start'",                                    \
       sinter_series_write_svg(f->series, "x.svg", NULL, 0, 1, NULL, PANEL_COLS))                   \
     /* scenes and checkpoints */                                                                   \
-    X(scene_load_null_path, SINTER_ERR_NULL, "'path'", sinter_scene_load(&f->out.scene, f->ctx, NULL)) \
+    X(scene_load_null_path, SINTER_ERR_NULL, "'path'",                                             \
+      sinter_scene_load(&f->out.scene, f->ctx, NULL))                                              \
     X(scene_load_null_out, SINTER_ERR_NULL, "'out'", sinter_scene_load(NULL, f->ctx, "x.scene"))   \
     X(scene_load_missing, SINTER_ERR_IO, "cannot open scene file '/nonexistent/x.scene'",          \
       sinter_scene_load(&f->out.scene, f->ctx, "/nonexistent/x.scene"))                            \
-    X(scene_load_null_ctx, SINTER_ERR_NULL, NULL, sinter_scene_load(&f->out.scene, NULL, "x.scene")) \
+    X(scene_load_null_ctx, SINTER_ERR_NULL, NULL,                                                  \
+      sinter_scene_load(&f->out.scene, NULL, "x.scene"))                                           \
     X(scene_run_null, SINTER_ERR_NULL, NULL, sinter_scene_run(NULL, "out", NULL, NULL))            \
-    X(scene_run_null_dir, SINTER_ERR_NULL, "'out_dir'", sinter_scene_run(f->scene, NULL, NULL, NULL)) \
+    X(scene_run_null_dir, SINTER_ERR_NULL, "'out_dir'",                                            \
+      sinter_scene_run(f->scene, NULL, NULL, NULL))                                                \
     X(scene_run_bad_dir, SINTER_ERR_IO, "cannot create directory",                                 \
       sinter_scene_run(f->scene, "/nonexistent/deep/out", NULL, NULL))                             \
-    X(scene_get_stepper_null_out, SINTER_ERR_NULL, "'st'", sinter_scene_get_stepper(f->scene, NULL)) \
-    X(scene_get_particles_null_out, SINTER_ERR_NULL, "'ps'", sinter_scene_get_particles(f->scene, NULL)) \
-    X(scene_get_walls_null_out, SINTER_ERR_NULL, "'walls'", sinter_scene_get_walls(f->scene, NULL)) \
-    X(scene_end_time_null_out, SINTER_ERR_NULL, "'end_time'", sinter_scene_end_time(f->scene, NULL)) \
+    X(scene_get_stepper_null_out, SINTER_ERR_NULL, "'st'",                                         \
+      sinter_scene_get_stepper(f->scene, NULL))                                                    \
+    X(scene_get_particles_null_out, SINTER_ERR_NULL, "'ps'",                                       \
+      sinter_scene_get_particles(f->scene, NULL))                                                  \
+    X(scene_get_walls_null_out, SINTER_ERR_NULL, "'walls'",                                        \
+      sinter_scene_get_walls(f->scene, NULL))                                                      \
+    X(scene_end_time_null_out, SINTER_ERR_NULL, "'end_time'",                                      \
+      sinter_scene_end_time(f->scene, NULL))                                                       \
     X(scene_end_time_null, SINTER_ERR_NULL, NULL, sinter_scene_end_time(NULL, &f->out.value))      \
     X(checkpoint_write_null, SINTER_ERR_NULL, NULL, sinter_checkpoint_write(NULL, "x.ckpt"))       \
-    X(checkpoint_write_null_path, SINTER_ERR_NULL, "'path'", sinter_checkpoint_write(f->st, NULL)) \
+    X(checkpoint_write_null_path, SINTER_ERR_NULL, "'path'",                                       \
+      sinter_checkpoint_write(f->st, NULL))                                                        \
     X(checkpoint_write_before_step, SINTER_ERR_STATE, "take at least one step",                    \
       sinter_checkpoint_write(f->fresh, "x.ckpt"))                                                 \
     X(checkpoint_write_missing_dir, SINTER_ERR_IO, "cannot write checkpoint",                      \
@@ -1100,6 +1137,7 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_checkpoint_read(f->st, f->foreign_checkpoint))                                        \
     X(checkpoint_read_not_a_checkpoint, SINTER_ERR_CORRUPT, "not a libsinter checkpoint",          \
       sinter_checkpoint_read(f->st, write_file("text.ckpt", "[scene]\nunits = SI\n#########\n")))
+/* clang-format on */
 
 #define MISUSE_FUNCTION(name, status, fragment, call)                                              \
     static sinter_status misuse_##name(fixture *f)                                                 \
@@ -1291,11 +1329,11 @@ static void test_overlap_at_start(void **state)
         rig_open(&r, MODELS[m], 1e7);
         rig_floor(&r);
         rig_domain(&r, 1.0);
-        rig_add(&r, 0, 0, 0.0005, 0.001);         /* half inside the floor */
-        rig_add(&r, 0, 0, 0.0007, 0.001);         /* 90 % overlap with the first */
-        rig_add(&r, 0.01, 0, 0.003, 0.002);       /* a big sphere ... */
-        rig_add(&r, 0.0101, 0, 0.003, 0.0005);    /* ... with a small one inside */
-        rig_add(&r, 0.02, 0, 0.003, 0.001);       /* two with the same centre */
+        rig_add(&r, 0, 0, 0.0005, 0.001);      /* half inside the floor */
+        rig_add(&r, 0, 0, 0.0007, 0.001);      /* 90 % overlap with the first */
+        rig_add(&r, 0.01, 0, 0.003, 0.002);    /* a big sphere ... */
+        rig_add(&r, 0.0101, 0, 0.003, 0.0005); /* ... with a small one inside */
+        rig_add(&r, 0.02, 0, 0.003, 0.001);    /* two with the same centre */
         rig_add(&r, 0.02, 0, 0.003, 0.001);
         double dt = 0;
         OK(sinter_stable_dt_hertz(r.ps, r.walls, 1.0, &dt));
@@ -1353,7 +1391,8 @@ static void test_particle_outside_walls(void **state)
     rig_add(&r, 0, 0, 0, 0.001);
     OK(sinter_particles_add(r.ps, 1, far, &radius, 0, 300.0, NULL));
     assert_int_equal(sinter_stepper_step(r.st, 1), SINTER_ERR_LOST_PARTICLE);
-    assert_non_null(strstr(sinter_last_error(r.ctx), "particle 1 (id 1) left the domain at x = 5 m"));
+    assert_non_null(
+        strstr(sinter_last_error(r.ctx), "particle 1 (id 1) left the domain at x = 5 m"));
     assert_true(rig_time(&r) == 0.0);
     rig_close(&r);
 }
@@ -1493,8 +1532,8 @@ static void test_allocation_failures(void **state)
             memset(&t, 0, sizeof(t));
             t.c.fail_after = persistent ? k : -1;
             t.fail_only = persistent ? -1 : k;
-            const sinter_allocator a = {sizeof(sinter_allocator), inj_alloc, inj_realloc,
-                                        inj_free, &t};
+            const sinter_allocator a = {sizeof(sinter_allocator), inj_alloc, inj_realloc, inj_free,
+                                        &t};
             ctx = NULL;
             sinter_status st = sinter_ctx_create(&ctx, &a);
             if (st == SINTER_OK) {
@@ -1521,7 +1560,9 @@ static void test_allocation_failures(void **state)
             nomem += st == SINTER_ERR_NOMEM;
         }
     }
-    print_message("allocation failure injection: %ld allocations, %ld runs ended in SINTER_ERR_NOMEM\n", total, nomem);
+    print_message(
+        "allocation failure injection: %ld allocations, %ld runs ended in SINTER_ERR_NOMEM\n",
+        total, nomem);
     assert_true(nomem > total);
 }
 
@@ -1563,7 +1604,8 @@ static void test_high_speed_impact(void **state)
         } else {
             assert_int_equal(st, SINTER_ERR_LOST_PARTICLE);
             expect_reported(&r, st);
-            assert_non_null(strstr(sinter_last_error(r.ctx), "particle 0 (id 0) left the domain at z"));
+            assert_non_null(
+                strstr(sinter_last_error(r.ctx), "particle 0 (id 0) left the domain at z"));
             /* (the kept state is the last accepted one, the sphere already thrown off) */
             assert_true(fabs(x[2]) <= 0.5 && isfinite(u[2]));
             assert_true(rig_time(&r) < 1e-2);

@@ -584,10 +584,12 @@ static void test_options_and_misuse(void **state)
     scene_init(&s);
     scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
     open_staggered(&s);
-    const char *keys[7] = {"phi",    "target_iterations", "tolerance", "exponent",
-                           "dt_max", "dt_min",            "adaptive"};
-    const double defaults[7] = {0.5, 10, 5e-4, 2, HUGE_VAL, 1e-12, 1};
-    for (int k = 0; k < 7; ++k) {
+    enum { NKEYS = 9 };
+    const char *keys[NKEYS] = {"phi",      "target_iterations",  "tolerance",
+                               "exponent", "dt_max",             "dt_min",
+                               "adaptive", "position_tolerance", "temperature_tolerance"};
+    const double defaults[NKEYS] = {0.5, 10, 5e-4, 2, HUGE_VAL, 1e-12, 1, 0, 0};
+    for (int k = 0; k < NKEYS; ++k) {
         double v = -1;
         OK(sinter_stepper_get_option(s.st, keys[k], &v));
         assert_true(v == defaults[k]);
@@ -600,13 +602,14 @@ static void test_options_and_misuse(void **state)
                {"target_iterations", 1}, {"target_iterations", 2.5}, {"tolerance", 0.0},
                {"tolerance", 1.0},   {"exponent", -1.0},    {"dt_max", 0.0},
                {"dt_max", NAN},      {"dt_min", 0.0},       {"dt_min", HUGE_VAL},
-               {"adaptive", 0.5}};
+               {"adaptive", 0.5},    {"position_tolerance", -1e-6},
+               {"temperature_tolerance", HUGE_VAL}};
     for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
         assert_int_equal(sinter_stepper_set_option(s.st, bad[k].key, bad[k].value),
                          SINTER_ERR_INVALID);
         assert_non_null(strstr(sinter_last_error(s.ctx), bad[k].key));
     }
-    for (int k = 0; k < 7; ++k) {
+    for (int k = 0; k < NKEYS; ++k) {
         double v = -1;
         OK(sinter_stepper_get_option(s.st, keys[k], &v));
         assert_true(v == defaults[k]);
