@@ -489,9 +489,11 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         return sinter_fail(t->ctx, SINTER_ERR_PARSE,
                            "%s:%d: thermal: expected explicit or implicit, got '%s'", t->path,
                            scene_find(s, "thermal")->line, thermal);
-    TRY(sinter_stepper_set_thermal_scheme(sc->st, strcmp(thermal, "implicit") == 0
-                                                      ? SINTER_THERMAL_IMPLICIT
-                                                      : SINTER_THERMAL_EXPLICIT));
+    const scene_entry *thermal_entry = scene_find(s, "thermal");
+    TRY(at_line(t, thermal_entry ? thermal_entry->line : s->line,
+                sinter_stepper_set_thermal_scheme(sc->st, strcmp(thermal, "implicit") == 0
+                                                              ? SINTER_THERMAL_IMPLICIT
+                                                              : SINTER_THERMAL_EXPLICIT)));
     double skin;
     sinter_status st = scene_get_double(t, s, "skin", &skin);
     OPTIONAL(st);

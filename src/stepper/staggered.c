@@ -91,13 +91,18 @@ enum {
     OPT_COUNT
 };
 
-static const char *const OPTION_KEYS[OPT_COUNT] = {
-    "phi",    "target_iterations", "tolerance",          "exponent",
-    "dt_max", "dt_min",            "adaptive",           "position_tolerance",
-    "temperature_tolerance"};
+static const char *const OPTION_KEYS[OPT_COUNT] = {"phi",
+                                                   "target_iterations",
+                                                   "tolerance",
+                                                   "exponent",
+                                                   "dt_max",
+                                                   "dt_min",
+                                                   "adaptive",
+                                                   "position_tolerance",
+                                                   "temperature_tolerance"};
 
-#define OPTION_LIST                                                                            \
-    "phi, target_iterations, tolerance, exponent, dt_max, dt_min, adaptive, position_tolerance, " \
+#define OPTION_LIST                                                                                \
+    "phi, target_iterations, tolerance, exponent, dt_max, dt_min, adaptive, position_tolerance, "  \
     "temperature_tolerance"
 
 void sinter_staggered_init(sinter_staggered *sg)
@@ -136,9 +141,9 @@ static sinter_status option_target(const sinter_stepper *st, const char *func, c
 {
     *which = find_option(key);
     if (*which < 0)
-        return sinter_fail(st->ctx, SINTER_ERR_NOT_FOUND,
-                           "%s: unknown option '%s'; the staggered stepper's options are " OPTION_LIST,
-                           func, key);
+        return sinter_fail(
+            st->ctx, SINTER_ERR_NOT_FOUND,
+            "%s: unknown option '%s'; the staggered stepper's options are " OPTION_LIST, func, key);
     if (st->kind != SINTER_STEPPER_STAGGERED)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "%s: '%s' is an option of the implicit staggered stepper "
@@ -196,19 +201,17 @@ sinter_status sinter_staggered_set(sinter_stepper *st, const char *key, double v
             return sinter_fail(ctx, SINTER_ERR_INVALID,
                                "%s: dt_max = %g s must be > 0 (HUGE_VAL: no bound)", func, value);
         if (value < sg->dt_min)
-            return sinter_fail(ctx, SINTER_ERR_INVALID,
-                               "%s: dt_max = %g s is below dt_min = %g s", func, value,
-                               sg->dt_min);
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: dt_max = %g s is below dt_min = %g s",
+                               func, value, sg->dt_min);
         sg->dt_max = value;
         break;
     case OPT_DT_MIN:
         if (!(value > 0.0 && isfinite(value)))
-            return sinter_fail(ctx, SINTER_ERR_INVALID,
-                               "%s: dt_min = %g s must be > 0 and finite", func, value);
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: dt_min = %g s must be > 0 and finite",
+                               func, value);
         if (value > sg->dt_max)
-            return sinter_fail(ctx, SINTER_ERR_INVALID,
-                               "%s: dt_min = %g s is above dt_max = %g s", func, value,
-                               sg->dt_max);
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: dt_min = %g s is above dt_max = %g s",
+                               func, value, sg->dt_max);
         sg->dt_min = value;
         break;
     case OPT_ADAPTIVE:
@@ -289,8 +292,8 @@ static sinter_status reserve(sinter_stepper *st)
     sinter_staggered *sg = &st->staggered;
     const size_t n = st->ps->count, slots = st->thermal.count;
     if (SAVED_PER_PARTICLE * n + 1 > sg->saved_capacity) {
-        double *p = sinter_realloc_array(st->ctx, sg->saved, SAVED_PER_PARTICLE * n + 1,
-                                         sizeof(double));
+        double *p =
+            sinter_realloc_array(st->ctx, sg->saved, SAVED_PER_PARTICLE * n + 1, sizeof(double));
         if (p == NULL)
             return sinter_last_status(st->ctx);
         sg->saved = p;
@@ -359,8 +362,8 @@ static void restore_state(sinter_stepper *st, const saved_state *a, double t)
  * s = s^L + trapezoid with the forces f, torques tq of the current iterate (eq. 24-26).
  * Returns the first particle whose new state is not finite, or n.
  */
-static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double h,
-                               const double *f, const double *tq)
+static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double h, const double *f,
+                               const double *tq)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -401,7 +404,8 @@ static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double 
     return bad;
 }
 
-/* theta = theta^L + h/(m C) (phi Q + (1 - phi) Q^L), eq. 36. Returns the first bad particle or n. */
+/* theta = theta^L + h/(m C) (phi Q + (1 - phi) Q^L), eq. 36. Returns the first bad particle or n.
+ */
 static size_t update_temperatures(sinter_stepper *st, const saved_state *a, double h)
 {
     sinter_particles *ps = st->ps;
@@ -510,8 +514,8 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
     sinter_status s = st->walls != NULL ? sinter_walls_move(st->walls, t + h) : SINTER_OK;
     if (s != SINTER_OK)
         return s;
-    memcpy(a->x_prev, a->x, 3 * n * sizeof(double));          /* x^0 = x^L */
-    memcpy(a->theta_prev, a->theta, n * sizeof(double));      /* theta^0 = theta^L */
+    memcpy(a->x_prev, a->x, 3 * n * sizeof(double));     /* x^0 = x^L */
+    memcpy(a->theta_prev, a->theta, n * sizeof(double)); /* theta^0 = theta^L */
     double t0 = sinter_clock();
     size_t bad = update_mechanics(st, a, h, a->f, a->tq); /* s^1 from F^L */
     st->stats.seconds_integrate += sinter_clock() - t0;
@@ -542,17 +546,16 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
             }
         }
         /* Eq. 47-49. The first iterate's errors are 1 by definition (x^0 = x^L). */
-        const double eps_r = k == 1 ? 1.0
-                                    : normalised_error(ps, ps->x, a->x_prev, a->x, 3,
-                                                       SINTER_PARTICLE_FIXED,
-                                                       sg->position_tolerance, sg->tolerance);
+        const double eps_r =
+            k == 1 ? 1.0
+                   : normalised_error(ps, ps->x, a->x_prev, a->x, 3, SINTER_PARTICLE_FIXED,
+                                      sg->position_tolerance, sg->tolerance);
         const double eps_t = !thermal ? 0.0
-                             : k == 1 ? 1.0
-                                      : normalised_error(ps, ps->temperature, a->theta_prev,
-                                                         a->theta, 1,
-                                                         SINTER_PARTICLE_FIXED_TEMPERATURE,
-                                                         sg->temperature_tolerance,
-                                                         sg->tolerance);
+                             : k == 1
+                                 ? 1.0
+                                 : normalised_error(ps, ps->temperature, a->theta_prev, a->theta, 1,
+                                                    SINTER_PARTICLE_FIXED_TEMPERATURE,
+                                                    sg->temperature_tolerance, sg->tolerance);
         res->eps_r = eps_r;
         res->eps_theta = eps_t;
         const double z = fmax(eps_r, eps_t) / sg->tolerance; /* eq. 48 */
@@ -597,7 +600,7 @@ static sinter_status check_domain(sinter_stepper *st, double t, double h)
                                "(id %llu) left the domain at %c = %g m (domain %g m to %g m); the "
                                "last accepted state is kept",
                                t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
-                               st->domain_lo[d], st->domain_hi[d]);
+                               st -> domain_lo[d], st -> domain_hi[d]);
     }
     return SINTER_OK;
 }

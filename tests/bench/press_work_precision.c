@@ -162,8 +162,8 @@ static double prepare(const char *dir, const char *checkpoint)
     return t + 0.85;
 }
 
-static void execute(const char *dir, const char *checkpoint, double t_start, double window,
-                    run *r, state *out)
+static void execute(const char *dir, const char *checkpoint, double t_start, double window, run *r,
+                    state *out)
 {
     sinter_ctx *ctx = NULL;
     sinter_scene *sc = load(&ctx, dir, r->staggered ? "press_staggered.scene" : "press.scene");
@@ -214,18 +214,19 @@ int main(int argc, char **argv)
     execute(dir, checkpoint, t_start, window, &ref2, &s_ref2);
     errors(&s_ref2, &s_ref, &ref2.error_x, &ref2.error_theta);
     free_state(&s_ref2);
-    fprintf(stderr, "reference: explicit dt 2.5e-6 s, %.1f s; at 5e-6 s it differs by %.2e R and "
-                    "%.2e K\n",
+    fprintf(stderr,
+            "reference: explicit dt 2.5e-6 s, %.1f s; at 5e-6 s it differs by %.2e R and "
+            "%.2e K\n",
             ref.seconds, ref2.error_x, ref2.error_theta);
 
     /* The runs: the explicit stepper at halved steps from the scene's 1e-3 s; the staggered
      * one at the seed's settings (dt_max 0.005 s, TOL 5e-4, position floor 1e-6 m) and tighter
      * tolerances, the floor scaled with TOL (2e-3 m x TOL). */
     run runs[] = {
-        {0, 1e-3, 0, 0, 0, 0, 0, {0}},          {0, 5e-4, 0, 0, 0, 0, 0, {0}},
-        {0, 2.5e-4, 0, 0, 0, 0, 0, {0}},        {0, 1.25e-4, 0, 0, 0, 0, 0, {0}},
-        {0, 6.25e-5, 0, 0, 0, 0, 0, {0}},       {1, 5e-3, 5e-4, 1e-6, 0, 0, 0, {0}},
-        {1, 5e-3, 1e-4, 2e-7, 0, 0, 0, {0}},    {1, 5e-3, 1e-5, 2e-8, 0, 0, 0, {0}},
+        {0, 1e-3, 0, 0, 0, 0, 0, {0}},       {0, 5e-4, 0, 0, 0, 0, 0, {0}},
+        {0, 2.5e-4, 0, 0, 0, 0, 0, {0}},     {0, 1.25e-4, 0, 0, 0, 0, 0, {0}},
+        {0, 6.25e-5, 0, 0, 0, 0, 0, {0}},    {1, 5e-3, 5e-4, 1e-6, 0, 0, 0, {0}},
+        {1, 5e-3, 1e-4, 2e-7, 0, 0, 0, {0}}, {1, 5e-3, 1e-5, 2e-8, 0, 0, 0, {0}},
         {1, 5e-3, 1e-6, 2e-9, 0, 0, 0, {0}},
     };
     const size_t count = sizeof(runs) / sizeof(runs[0]);
@@ -272,9 +273,8 @@ int main(int argc, char **argv)
     CHECK(sinter_series_write_csv(series, path));
     snprintf(path, sizeof(path), "%s/work_precision.svg", out_dir);
     const size_t start[3] = {0, 2, 4}, cols[4] = {1, 2, 3, 4};
-    CHECK(sinter_series_write_svg(series, path,
-                                  "press compression: error against wall time (log10)", 0, 2,
-                                  start, cols));
+    CHECK(sinter_series_write_svg(
+        series, path, "press compression: error against wall time (log10)", 0, 2, start, cols));
     remove(checkpoint);
     sinter_series_destroy(series);
     sinter_ctx_destroy(ctx);

@@ -6,9 +6,13 @@
  * heat conduction conserves sum m C theta; options, failures and misuse.
  * Each tolerance is derived where it is asserted (VALIDATION.md).
  */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 #include <sinter_submodel.h>
 
@@ -54,8 +58,7 @@ typedef struct spring_run {
     double max_error;
 } spring_run;
 
-static int push_together(const sinter_state_view *state, double *force, double *torque,
-                         void *user)
+static int push_together(const sinter_state_view *state, double *force, double *torque, void *user)
 {
     (void)state;
     (void)torque;
@@ -118,8 +121,8 @@ static double spring_error(double phi, double wh)
     /* at least two iterations per step (eps^1 = 1 by eq. 47), one evaluation each */
     assert_true(stats.iterations >= 2 * stats.steps);
     assert_true(stats.evaluations >= stats.iterations);
-    print_message("phi %.1f, omega h %.4f: %d steps, %.2f iterations/step, max error %.4e m\n",
-                  phi, wh, steps, (double)stats.iterations / (double)stats.steps, run.max_error);
+    print_message("phi %.1f, omega h %.4f: %d steps, %.2f iterations/step, max error %.4e m\n", phi,
+                  wh, steps, (double)stats.iterations / (double)stats.steps, run.max_error);
     scene_close(&s);
     return run.max_error;
 }
@@ -158,12 +161,12 @@ static void test_trapezoidal_rule_order(void **state)
  * start of the first accepted step in which it was active. Every call checks that.
  */
 typedef struct age_check {
-    double t_begin;     /* start of the first step of the current wall contact */
-    double last_start;  /* step start of the last call with an active contact */
-    double last_dt;     /* its step */
+    double t_begin;    /* start of the first step of the current wall contact */
+    double last_start; /* step start of the last call with an active contact */
+    double last_dt;    /* its step */
     long calls;
     long violations;
-    long retries;       /* a second step size tried from the same start while in contact */
+    long retries; /* a second step size tried from the same start while in contact */
     double worst;
 } age_check;
 
@@ -394,8 +397,7 @@ static void electric_material(scene *s, double sigma, double a, double c)
 /* Current walls x = x_lo (normal +x) and x = x_hi (normal -x) carrying J_lo and J_hi [A]. */
 static void current_walls(scene *s, double x_lo, double x_hi, double j_lo, double j_hi)
 {
-    const double p0[3] = {x_lo, 0, 0}, n0[3] = {1, 0, 0}, p1[3] = {x_hi, 0, 0},
-                 n1[3] = {-1, 0, 0};
+    const double p0[3] = {x_lo, 0, 0}, n0[3] = {1, 0, 0}, p1[3] = {x_hi, 0, 0}, n1[3] = {-1, 0, 0};
     size_t k0, k1;
     OK(sinter_walls_add_plane(s->walls, p0, n0, s->wall_mat, &k0));
     OK(sinter_walls_add_plane(s->walls, p1, n1, s->wall_mat, &k1));
@@ -585,9 +587,15 @@ static void test_options_and_misuse(void **state)
     scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
     open_staggered(&s);
     enum { NKEYS = 9 };
-    const char *keys[NKEYS] = {"phi",      "target_iterations",  "tolerance",
-                               "exponent", "dt_max",             "dt_min",
-                               "adaptive", "position_tolerance", "temperature_tolerance"};
+    const char *keys[NKEYS] = {"phi",
+                               "target_iterations",
+                               "tolerance",
+                               "exponent",
+                               "dt_max",
+                               "dt_min",
+                               "adaptive",
+                               "position_tolerance",
+                               "temperature_tolerance"};
     const double defaults[NKEYS] = {0.5, 10, 5e-4, 2, HUGE_VAL, 1e-12, 1, 0, 0};
     for (int k = 0; k < NKEYS; ++k) {
         double v = -1;
@@ -598,11 +606,20 @@ static void test_options_and_misuse(void **state)
     const struct {
         const char *key;
         double value;
-    } bad[] = {{"phi", 0.0},         {"phi", 1.5},          {"phi", NAN},
-               {"target_iterations", 1}, {"target_iterations", 2.5}, {"tolerance", 0.0},
-               {"tolerance", 1.0},   {"exponent", -1.0},    {"dt_max", 0.0},
-               {"dt_max", NAN},      {"dt_min", 0.0},       {"dt_min", HUGE_VAL},
-               {"adaptive", 0.5},    {"position_tolerance", -1e-6},
+    } bad[] = {{"phi", 0.0},
+               {"phi", 1.5},
+               {"phi", NAN},
+               {"target_iterations", 1},
+               {"target_iterations", 2.5},
+               {"tolerance", 0.0},
+               {"tolerance", 1.0},
+               {"exponent", -1.0},
+               {"dt_max", 0.0},
+               {"dt_max", NAN},
+               {"dt_min", 0.0},
+               {"dt_min", HUGE_VAL},
+               {"adaptive", 0.5},
+               {"position_tolerance", -1e-6},
                {"temperature_tolerance", HUGE_VAL}};
     for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
         assert_int_equal(sinter_stepper_set_option(s.st, bad[k].key, bad[k].value),
@@ -681,6 +698,106 @@ static void test_fixed_step_failure(void **state)
     scene_close(&s);
 }
 
+/* ---- scene files ------------------------------------------------------------------------- */
+
+static const char *SCENE_HEAD =
+    "[scene]\nname = drop\nunits = SI\n"
+    "[material glass]\ndensity = 2500\nyoungs_modulus = 1e7\ndamping_ratio = 0.2\n"
+    "friction_dynamic = 0.3\n"
+    "[particles]\nmethod = lattice\nmaterial = glass\nbox_min = 0 0 0.0005\n"
+    "box_max = 0.004 0.004 0.003\nradius = 0.0005\nspacing = 0.00105\n"
+    "[wall floor]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\n"
+    "[force hertz_mindlin]\n[force gravity]\n"
+    "[output]\ninterval = 0.002\nvtu = no\ncsv = no\nplot = no\ncheckpoint_interval = 0\n";
+
+/* Load SCENE_HEAD + stepper_section from a file in dir; returns the status. */
+static sinter_status load_scene(sinter_ctx *ctx, const char *dir, const char *stepper_section,
+                                sinter_scene **out)
+{
+    char path[512];
+    snprintf(path, sizeof(path), "%s/s.scene", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(SCENE_HEAD, f);
+    fputs(stepper_section, f);
+    fclose(f);
+    return sinter_scene_load(out, ctx, path);
+}
+
+static void test_scene_file_kind_and_options(void **state)
+{
+    (void)state;
+    char dir[64];
+    snprintf(dir, sizeof(dir), "/tmp/sinter_staggered_XXXXXX");
+    assert_non_null(mkdtemp(dir));
+    sinter_ctx *ctx = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    sinter_scene *sc = NULL;
+    OK(load_scene(ctx, dir,
+                  "[stepper]\nkind = staggered\ndt = 1e-3\nend_time = 0.01\nphi = 0.6\n"
+                  "target_iterations = 8\ntolerance = 1e-4\nexponent = 1.5\ndt_max = 2e-3\n"
+                  "dt_min = 1e-9\nadaptive = 1\nposition_tolerance = 1e-9\n"
+                  "temperature_tolerance = 1e-6\n",
+                  &sc));
+    sinter_stepper *st = NULL;
+    OK(sinter_scene_get_stepper(sc, &st));
+    const char *keys[9] = {"phi",
+                           "target_iterations",
+                           "tolerance",
+                           "exponent",
+                           "dt_max",
+                           "dt_min",
+                           "adaptive",
+                           "position_tolerance",
+                           "temperature_tolerance"};
+    const double expected[9] = {0.6, 8, 1e-4, 1.5, 2e-3, 1e-9, 1, 1e-9, 1e-6};
+    for (int k = 0; k < 9; ++k) {
+        double v = 0;
+        OK(sinter_stepper_get_option(st, keys[k], &v));
+        assert_true(v == expected[k]);
+    }
+    /* The scene's stepper steps as a staggered one: a few spheres settling on the floor. */
+    OK(sinter_stepper_advance(st, 0.01));
+    sinter_stepper_stats stats;
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(st, &stats));
+    assert_true(stats.iterations >= 2 * stats.steps && stats.steps > 0);
+    sinter_scene_destroy(sc);
+    /* Refused, with the line: an unknown kind, an option out of range, an option for the
+     * explicit stepper, the implicit Euler heat scheme with the staggered stepper. */
+    const struct {
+        const char *section, *fragment;
+        int line; /* of the offending key within the [stepper] section (1: the header) */
+    } bad[] = {
+        {"[stepper]\nkind = implicit\ndt = 1e-3\nend_time = 0.01\n", "explicit or staggered", 2},
+        {"[stepper]\nkind = staggered\ndt = 1e-3\nend_time = 0.01\nphi = 2\n", "phi", 5},
+        {"[stepper]\ndt = 1e-3\nend_time = 0.01\ntolerance = 1e-4\n", "staggered", 4},
+        {"[stepper]\nkind = staggered\nthermal = implicit\ndt = 1e-3\nend_time = 0.01\n",
+         "trapezoidal", 3},
+    };
+    int head_lines = 0;
+    for (const char *c = SCENE_HEAD; *c; ++c)
+        head_lines += *c == '\n';
+    for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
+        sc = NULL;
+        assert_true(load_scene(ctx, dir, bad[k].section, &sc) != SINTER_OK);
+        assert_null(sc);
+        const char *msg = sinter_last_error(ctx);
+        print_message("%s\n", msg);
+        assert_non_null(strstr(msg, bad[k].fragment));
+        if (bad[k].line > 0) {
+            char where[32];
+            snprintf(where, sizeof(where), "s.scene:%d:", head_lines + bad[k].line);
+            assert_non_null(strstr(msg, where));
+        }
+    }
+    sinter_ctx_destroy(ctx);
+    char path[512];
+    snprintf(path, sizeof(path), "%s/s.scene", dir);
+    remove(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -692,6 +809,7 @@ int main(void)
         cmocka_unit_test(test_conduction_conserves_heat),
         cmocka_unit_test(test_options_and_misuse),
         cmocka_unit_test(test_fixed_step_failure),
+        cmocka_unit_test(test_scene_file_kind_and_options),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
