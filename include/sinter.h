@@ -554,7 +554,8 @@ typedef struct sinter_stepper sinter_stepper;
 /** Stepper kinds. */
 typedef enum sinter_stepper_kind {
     SINTER_STEPPER_EXPLICIT = 0, /**< velocity Verlet, fixed step (seed 003 sec. 4) */
-    SINTER_STEPPER_STAGGERED = 1 /**< implicit staggered, adaptive step (seed 000 sec. 3, 6) */
+    SINTER_STEPPER_STAGGERED = 1, /**< implicit staggered, adaptive step (seed 000 sec. 3, 6) */
+    SINTER_STEPPER_QUASISTATIC = 2 /**< bonded links driven by 7DOF necks, K u = f each step (seed 001 sec. 3.3) */
 } sinter_stepper_kind;
 
 /** What a stepper did. */
@@ -967,6 +968,37 @@ typedef struct sinter_neck_stats {
 /** Fill `stats` (its struct_size must be set). Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
 SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
                                                sinter_neck_stats *stats);
+
+/* ------------------------------------------------------------------------ */
+/* Solid-state sintering: the quasi-static stepper                           */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * What the quasi-static stepper (SINTER_STEPPER_QUASISTATIC) reports: every
+ * touching pair of particles becomes a bonded beam link (seed 001 eq. 18-40)
+ * whose 7DOF neck (7dof.md) is advanced each global step at the particles'
+ * mean temperature; the sintering forces (eq. 17) load the links and K u = f
+ * is solved with SUNDIALS PCG, with particles on the principal planes x, y or
+ * z = 0 held on them (sec. 3.3); y4 and y7 are corrected as eq. 41-44.
+ * Options ("qs_*" keys of sinter_stepper_set_option) are listed in
+ * src/stepper/quasistatic.h and take effect if set before the first step.
+ */
+typedef struct sinter_sintering_stats {
+    size_t struct_size;      /**< sizeof(sinter_sintering_stats) */
+    uint64_t links;          /**< bonded links (necks) */
+    double neck_mean;        /**< mean neck radius [m] */
+    double neck_min;         /**< [m] */
+    double neck_max;         /**< [m] */
+    double neck_ratio_mean;  /**< mean neck radius / smaller particle radius [1] */
+    double shrinkage[3];     /**< 1 - extent / initial extent of the particle centres along x, y, z [1] */
+    double relative_density; /**< sphere volume / volume of the spheres' bounding box [1] */
+    double coordination;     /**< 2 links / particles [1] */
+    uint64_t pcg_iterations; /**< linear-solver iterations so far */
+} sinter_sintering_stats;
+
+/** Fill `stats` (struct_size set) for a quasi-static stepper that has taken a step. */
+SINTER_API sinter_status sinter_stepper_sintering_stats(const sinter_stepper *stepper,
+                                                        sinter_sintering_stats *stats);
 
 /* ------------------------------------------------------------------------ */
 /* Packing helpers                                                           */

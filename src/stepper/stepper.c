@@ -22,10 +22,12 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(ctx, out);
     SINTER_CHECK_NULL(ctx, particles);
-    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_STAGGERED)
+    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_STAGGERED &&
+        kind != SINTER_STEPPER_QUASISTATIC)
         return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED,
                            "sinter_stepper_create: stepper kind %d is not available (0: "
-                           "SINTER_STEPPER_EXPLICIT, 1: SINTER_STEPPER_STAGGERED)",
+                           "SINTER_STEPPER_EXPLICIT, 1: SINTER_STEPPER_STAGGERED, 2: "
+                           "SINTER_STEPPER_QUASISTATIC)",
                            (int)kind);
     if (particles->ctx != ctx || (walls != NULL && walls->ctx != ctx))
         return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -43,6 +45,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
     sinter_staggered_init(&st->staggered);
+    sinter_qs_options_default(&st->quasistatic_options);
     *out = st;
     return SINTER_OK;
 }
@@ -65,12 +68,14 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_free(ctx, st->wall_arrays);
     sinter_thermal_free(ctx, &st->thermal);
     sinter_staggered_free(ctx, &st->staggered);
+    sinter_qs_destroy(st->quasistatic);
     sinter_free(ctx, st);
 }
 
 sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
 {
-    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_STAGGERED)
+    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_STAGGERED &&
+        kind != SINTER_STEPPER_QUASISTATIC)
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED, "stepper kind %d is not available",
                            kind);
     if (st->stats.steps > 0 || st->stats.rejected > 0)
@@ -89,6 +94,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
     if (st == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, key);
+    if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
+        return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
 }
 
@@ -98,7 +105,42 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, key);
     SINTER_CHECK_NULL(st->ctx, value);
+    if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
+        return sinter_qs_option_get(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_get(st, key, value);
+}
+
+sinter_status sinter_stepper_sintering_stats(const sinter_stepper *st,
+                                             sinter_sintering_stats *stats)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, stats);
+    if (stats->struct_size != sizeof(sinter_sintering_stats))
+        return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
+                           "sinter_stepper_sintering_stats: struct_size is %zu, expected %zu",
+                           stats->struct_size, sizeof(sinter_sintering_stats));
+    if (st->kind != SINTER_STEPPER_QUASISTATIC || st->quasistatic == NULL)
+        return sinter_fail(st->ctx, SINTER_ERR_STATE,
+                           "sinter_stepper_sintering_stats: the stepper is not quasi-static or "
+                           "has taken no step yet");
+    const sinter_particles *ps = st->ps;
+    /* the statistics read positions, radii and the links only */
+    const sinter_qs_particles p = {ps->count, ps->x, ps->rot, ps->radius, ps->material,
+                                   ps->id,    NULL};
+    sinter_qs_stats q;
+    sinter_qs_stats_get(st->quasistatic, &p, &q);
+    stats->links = q.links;
+    stats->neck_mean = q.neck_mean;
+    stats->neck_min = q.neck_min;
+    stats->neck_max = q.neck_max;
+    stats->neck_ratio_mean = q.neck_ratio_mean;
+    for (int d = 0; d < 3; ++d)
+        stats->shrinkage[d] = q.shrinkage[d];
+    stats->relative_density = q.relative_density;
+    stats->coordination = q.coordination;
+    stats->pcg_iterations = q.pcg_iterations;
+    return SINTER_OK;
 }
 
 sinter_status sinter_stepper_add_force(sinter_stepper *st, sinter_force_model *fm)
@@ -555,6 +597,8 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
     sinter_status s;
     if (st->kind == SINTER_STEPPER_STAGGERED) {
         s = sinter_staggered_step(st, h, taken);
+    } else if (st->kind == SINTER_STEPPER_QUASISTATIC) {
+        s = sinter_quasistatic_step(st, &st->quasistatic, &st->quasistatic_options, h, taken);
     } else {
         s = sinter_explicit_step(st, h);
         *taken = h;
@@ -574,6 +618,8 @@ static double next_step(const sinter_stepper *st)
 {
     if (st->kind == SINTER_STEPPER_STAGGERED)
         return fmin(st->dt, st->staggered.dt_max);
+    if (st->kind == SINTER_STEPPER_QUASISTATIC)
+        return fmin(st->dt, st->quasistatic_options.dt_max);
     return st->dt;
 }
 

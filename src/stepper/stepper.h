@@ -5,6 +5,7 @@
 #include "contact/history.h"
 #include "force/force_model.h"
 #include "stepper/thermal.h"
+#include "stepper/quasistatic.h"
 
 typedef struct sinter_force_slot {
     sinter_force_model *model;
@@ -69,6 +70,8 @@ struct sinter_stepper {
     struct sinter_electric_model *electric; /* borrowed, NULL: no current solve */
     uint64_t electric_iterations;           /* sweeps / PCG iterations of its solves, total */
     sinter_staggered staggered;             /* SINTER_STEPPER_STAGGERED only */
+    struct sinter_qs *quasistatic;         /* SINTER_STEPPER_QUASISTATIC: links and necks */
+    sinter_qs_options quasistatic_options; /* copied into it on the first step */
 };
 
 /* alpha <- alpha (+) d_alpha: composition of total rotation vectors, seed 003 eq. 45. */

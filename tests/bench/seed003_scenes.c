@@ -781,7 +781,8 @@ typedef struct laser_result {
     size_t lit;
 } laser_result;
 
-static const double LASER_T = 0.24, LASER_V = 0.1, LASER_Y = 0.02, LASER_R = 0.005,
+static double LASER_T = 0.24; /* beam time [s]; shortened for the coupled check */
+static const double LASER_V = 0.1, LASER_Y = 0.02, LASER_R = 0.005,
                     LASER_I0 = 1000.0 / (PI * 0.005 * 0.005), THETA0 = 373.0, THETA_E = 273.0;
 
 /* Mark every particle whose centre is inside the beam at time t (beam on from t = 0). */
@@ -821,6 +822,29 @@ static void add_laser_models(sinter_stepper *st, const laser_cfg *c, sinter_heat
         CHECK(sinter_stepper_add_heat(st, hs[k]));
 }
 
+/* Mean and maximum temperature of the lit particles, their count and heat capacity. */
+static void lit_stats(const loaded *l, const unsigned char *lit, laser_result *res)
+{
+    const double *t = view_read(l->ps, SINTER_FIELD_TEMPERATURE);
+    const double *m = view_read(l->ps, SINTER_FIELD_MASS);
+    const double cp = particle_param(l->ps, SINTER_MAT_HEAT_CAPACITY);
+    double sum = 0;
+    res->lit = 0;
+    res->max = res->max_all = res->lit_mc = 0;
+    for (size_t i = 0; i < l->n; ++i) {
+        res->max_all = fmax(res->max_all, t[i]);
+        if (!lit[i])
+            continue;
+        res->lit++;
+        sum += t[i];
+        res->lit_mc += m[i] * cp;
+        res->max = fmax(res->max, t[i]);
+    }
+    res->mean = sum / (double)res->lit;
+    release(l->ps, SINTER_FIELD_MASS);
+    release(l->ps, SINTER_FIELD_TEMPERATURE);
+}
+
 /* Heat-only run over the frozen bed for LASER_T seconds. */
 static laser_result laser_frozen(loaded *l, const laser_cfg *c)
 {
@@ -843,22 +867,7 @@ static laser_result laser_frozen(loaded *l, const laser_cfg *c)
         CHECK(sinter_stepper_step(st, 1));
     }
     res.seconds = now() - t0;
-    const double *t = view_read(l->ps, SINTER_FIELD_TEMPERATURE);
-    const double *m = view_read(l->ps, SINTER_FIELD_MASS);
-    const double cp = particle_param(l->ps, SINTER_MAT_HEAT_CAPACITY);
-    double sum = 0;
-    for (size_t i = 0; i < l->n; ++i) {
-        res.max_all = fmax(res.max_all, t[i]);
-        if (!lit[i])
-            continue;
-        res.lit++;
-        sum += t[i];
-        res.lit_mc += m[i] * cp;
-        res.max = fmax(res.max, t[i]);
-    }
-    res.mean = sum / (double)res.lit;
-    release(l->ps, SINTER_FIELD_MASS);
-    release(l->ps, SINTER_FIELD_TEMPERATURE);
+    lit_stats(l, lit, &res);
     CHECK(sinter_stepper_heat_energy(st, 1, &res.energy_laser));
     if (c->conv_rad) {
         CHECK(sinter_stepper_heat_energy(st, 2, &res.energy_conv));
@@ -906,6 +915,7 @@ static int cmd_laser_bed(int argc, char **argv)
         /* a bed poured by an earlier run of this program (same scene, same models) */
         fclose(probe);
         CHECK(sinter_checkpoint_read(mech, ckpt));
+        CHECK(sinter_stepper_evaluate(mech)); /* contact counts for the report */
         CHECK(sinter_stepper_time(mech, &t_rest));
         printf("bed read from checkpoint %s (poured to rest at t = %.4f s)\n", ckpt, t_rest);
     } else {
@@ -927,6 +937,10 @@ static int cmd_laser_bed(int argc, char **argv)
            "volume fraction %.3f, bed height %.4f m, coordination %.2f\n",
            t_rest, now() - t0, p.top, p.phi_plateau, p.height, p.coordination);
     laser_cfg base = {1.0, 2000.0, 1.0, 1.0, dt_heat, 1};
+    if (coupled > 0 && ckpt == NULL) {
+        fprintf(stderr, "seed003_scenes: --coupled-steps needs --checkpoint\n");
+        return 1;
+    }
     if (coupled > 0) {
         /* time fully coupled steps: mechanics + conduction + laser + convection + radiation */
         sinter_heat_model *hs[4];
@@ -938,14 +952,45 @@ static int cmd_laser_bed(int argc, char **argv)
         set_particle_param(l.ps, SINTER_MAT_EMISSIVITY, 1.0);
         add_laser_models(st, &base, hs, &nh);
         CHECK(sinter_stepper_step(st, 0));
+        const double *x0 = view_read(l.ps, SINTER_FIELD_POSITION);
+        double *xs = malloc(3 * l.n * sizeof(double));
+        memcpy(xs, x0, 3 * l.n * sizeof(double));
+        release(l.ps, SINTER_FIELD_POSITION);
+        set_all_temperatures(l.ps, l.n, THETA0);
+        unsigned char *lit = calloc(l.n, 1);
         const double c0 = now();
-        CHECK(sinter_stepper_step(st, (uint64_t)coupled));
+        for (long done = 0; done < coupled; done += 100) { /* lit marked every 100 steps */
+            mark_lit(&l, (double)done * dt_mech, lit);
+            CHECK(sinter_stepper_step(st, (uint64_t)(coupled - done < 100 ? coupled - done : 100)));
+        }
         const double sec = now() - c0;
-        const double full = sec / (double)coupled * LASER_T / dt_mech;
-        printf("coupled: %ld steps of %zu particles in %.2f s = %.3g s/step; the %.2f s run "
-               "(%.0f steps) would take %.0f s (%.1f min); mean velocity-KE after: %.3e J\n",
-               coupled, l.n, sec, sec / (double)coupled, LASER_T, LASER_T / dt_mech, full,
-               full / 60, kinetic_energy(l.ps, l.n) / (double)l.n);
+        LASER_T = (double)coupled * dt_mech;
+        laser_result rc;
+        memset(&rc, 0, sizeof(rc));
+        lit_stats(&l, lit, &rc);
+        const double *x1 = view_read(l.ps, SINTER_FIELD_POSITION);
+        double dmax = 0;
+        for (size_t i = 0; i < 3 * l.n; ++i)
+            dmax = fmax(dmax, fabs(x1[i] - xs[i]));
+        release(l.ps, SINTER_FIELD_POSITION);
+        const double full = sec / (double)coupled * 0.24 / dt_mech;
+        printf("coupled: %ld steps (%.4f s of beam) of %zu particles in %.2f s = %.3g s/step; the "
+               "0.24 s run (%.0f steps) would take %.0f s (%.1f min); KE per particle after: "
+               "%.3e J; largest displacement %.3e m\n",
+               coupled, LASER_T, l.n, sec, sec / (double)coupled, 0.24 / dt_mech, full,
+               full / 60, kinetic_energy(l.ps, l.n) / (double)l.n, dmax);
+        printf("coupled  (cond+conv+rad): lit %zu, mean %.2f K, max %.2f K\n", rc.lit, rc.mean,
+               rc.max);
+        /* the same beam time over the frozen bed, from the same poured state */
+        CHECK(sinter_checkpoint_read(mech, ckpt));
+        set_fixed(l.ps, l.n, 1);
+        laser_cfg fz = base;
+        fz.dt = 1e-4;
+        laser_result rf = laser_frozen(&l, &fz);
+        printf("frozen   (cond+conv+rad, dt 1e-4 s): lit %zu, mean %.2f K, max %.2f K\n", rf.lit,
+               rf.mean, rf.max);
+        free(lit);
+        free(xs);
         sinter_stepper_destroy(st);
         for (size_t k = 0; k < nh; ++k)
             sinter_heat_model_destroy(hs[k]);
@@ -1002,6 +1047,8 @@ static int cmd_laser_bed(int argc, char **argv)
             {1.0, 2000.0, 1.0, 4.0, "what-if: intensity x4"},
             {1.0, 2000.0, 1.0, 8.0, "what-if: intensity x8"},
             {1.0, 2000.0, 1.0, 16.0, "what-if: intensity x16"},
+            {1.0, 0.0, 1.0, 1.0, "mu=0 (no attenuation)"},
+            {1.0, 0.0, 1.0, 10.0, "what-if: mu=0, intensity x10"},
         };
         for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k) {
             c = base;

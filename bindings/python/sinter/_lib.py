@@ -72,6 +72,16 @@ class StepperStats(ctypes.Structure):
                 ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64)]
 
 
+class SinteringStats(ctypes.Structure):
+    """struct sinter_sintering_stats (lengths in m)."""
+
+    _cname = "sinter_sintering_stats"
+    _fields_ = [("struct_size", _size), ("links", _u64), ("neck_mean", _double),
+                ("neck_min", _double), ("neck_max", _double), ("neck_ratio_mean", _double),
+                ("shrinkage", _double * 3), ("relative_density", _double),
+                ("coordination", _double), ("pcg_iterations", _u64)]
+
+
 class VtuArray(ctypes.Structure):
     """struct sinter_vtu_array: an extra per-particle array for a VTU frame."""
 
@@ -294,6 +304,7 @@ SIGNATURES = {
                    _size, _P(_double), _P(_double), _P(_double), _P(_double)]),
     "sinter_neck_get_stats": (c_status, [NeckModelPtr, _P(NeckStats)]),
     # packing helpers
+    "sinter_stepper_sintering_stats": (c_status, [StepperPtr, _P(SinteringStats)]),
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
     "sinter_pack_lattice": (
