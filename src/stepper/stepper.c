@@ -641,9 +641,12 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
         const double proposal = next_step(st);
         double h = proposal, taken = 0.0;
         const double remaining = t_end - st->time;
-        if (remaining <= h * (1.0 + 1e-9))
-            h = remaining; /* land exactly on t_end */
-        if (h <= 1e-12 * proposal) {
+        /* Land exactly on t_end: a last step up to 1e-6 longer absorbs the remainder, and a
+         * sliver below 1e-6 of a step left by round-off in the accumulated time is skipped
+         * rather than taken as an extra tiny step. */
+        if (remaining <= h * (1.0 + 1e-6))
+            h = remaining;
+        if (h <= 1e-6 * proposal) {
             st->time = t_end;
             break;
         }
