@@ -57,7 +57,9 @@ static void kick_drift(sinter_stepper *st, double h)
                      *restrict bw = st->backup + 2 * n3, *restrict brot = st->backup + 3 * n3;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
+    const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
     if (!any_special(ps)) {
+#pragma omp parallel for num_threads(threads) schedule(static)
         for (size_t i = 0; i < n; ++i) {
             const double a = half / m[i], b = half / j[i];
             for (int d = 0; d < 3; ++d) {
@@ -92,6 +94,7 @@ static void kick_drift(sinter_stepper *st, double h)
         }
     }
     /* Total rotation vector, seed 003 eq. 45, with the increment w h. */
+#pragma omp parallel for num_threads(threads) schedule(static)
     for (size_t i = 0; i < n; ++i) {
         double *alpha = rot + 3 * i;
         brot[3 * i] = alpha[0];
@@ -112,7 +115,9 @@ static size_t kick(sinter_stepper *st, double h)
                  *rot = ps->rot;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
+    const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
     size_t bad = n;
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
     for (size_t i = 0; i < n; ++i) {
         const uint32_t fl = flags[i];
         if (!(fl & SINTER_PARTICLE_FIXED)) {
@@ -125,12 +130,13 @@ static size_t kick(sinter_stepper *st, double h)
             for (int d = 0; d < 3; ++d)
                 w[3 * i + d] += b * tq[3 * i + d];
         }
-        /* Any NaN or infinity makes the sum non-finite (the rotation too: sinter_particles_validate
-         * refuses a non-finite one, so a step that makes one could never be continued). */
-        const double check = x[3 * i] + x[3 * i + 1] + x[3 * i + 2] + v[3 * i] + v[3 * i + 1] +
-                             v[3 * i + 2] + w[3 * i] + w[3 * i + 1] + w[3 * i + 2] +
-                             rot[3 * i] + rot[3 * i + 1] + rot[3 * i + 2];
-        if (!isfinite(check) && bad == n)
+        /* Every value must be finite (the rotation too: sinter_particles_validate refuses a
+         * non-finite one, so a step that makes one could never be continued). */
+        int finite = 1;
+        for (int d = 0; d < 3; ++d)
+            finite &= isfinite(x[3 * i + d]) & isfinite(v[3 * i + d]) & isfinite(w[3 * i + d]) &
+                      isfinite(rot[3 * i + d]);
+        if (!finite && i < bad)
             bad = i;
     }
     return bad;
