@@ -1,7 +1,7 @@
 /*
  * K u = f over an assembly of bonded links (seed 001 eq. 40, sec. 3.3): SUNDIALS PCG with
  * matrix-free products from the link list and a 6x6 block-Jacobi preconditioner (one block per
- * particle), the same pattern as implicit conduction in src/stepper/thermal.c.
+ * particle), through the shared PCG wrapper of src/core/pcg.h.
  *
  * Constrained DOFs (the principal-plane conditions of sec. 3.3, or a clamp) are removed by
  * projection: the operator is P K P + (I - P) and the right-hand side P f, with P zeroing the
@@ -13,17 +13,13 @@
 #include <math.h>
 #include <string.h>
 
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_pcg.h>
+#include "core/pcg.h"
 
 #include "bonded/beam.h"
 
 struct sinter_bonded_solver {
     sinter_ctx *ctx;
-    SUNContext sunctx;
-    SUNLinearSolver pcg;
-    N_Vector x, b;
+    sinter_pcg *pcg;
     size_t dofs;
     /* operator data of one solve */
     const sinter_beam *links;
@@ -33,26 +29,11 @@ struct sinter_bonded_solver {
     size_t mask_capacity, blocks_capacity;
 };
 
-static void release(sinter_bonded_solver *s)
-{
-    if (s->pcg)
-        SUNLinSolFree(s->pcg);
-    if (s->x)
-        N_VDestroy(s->x);
-    if (s->b)
-        N_VDestroy(s->b);
-    s->pcg = NULL;
-    s->x = s->b = NULL;
-    s->dofs = 0;
-}
-
 void sinter_bonded_solver_destroy(sinter_bonded_solver *solver)
 {
     if (solver == NULL)
         return;
-    release(solver);
-    if (solver->sunctx)
-        SUNContext_Free(&solver->sunctx);
+    sinter_pcg_free(solver->pcg);
     sinter_free(solver->ctx, solver->mask);
     sinter_free(solver->ctx, solver->blocks);
     sinter_free(solver->ctx, solver);
@@ -66,20 +47,14 @@ sinter_status sinter_bonded_solver_create(sinter_bonded_solver **out, sinter_ctx
     if (s == NULL)
         return SINTER_ERR_NOMEM;
     s->ctx = ctx;
-    if (SUNContext_Create(NULL, &s->sunctx) != 0) {
-        sinter_free(ctx, s);
-        return sinter_fail(ctx, SINTER_ERR_NOMEM, "could not create a SUNDIALS context");
-    }
     *out = s;
     return SINTER_OK;
 }
 
 /* z = (P K P + I - P) v */
-static int apply_operator(void *data, N_Vector v, N_Vector z)
+static void apply_operator(const double *vv, double *zz, void *data)
 {
     const sinter_bonded_solver *s = data;
-    const double *vv = N_VGetArrayPointer(v);
-    double *zz = N_VGetArrayPointer(z);
     memset(zz, 0, s->dofs * sizeof(double));
     for (size_t k = 0; k < s->count; ++k) {
         const sinter_beam *l = &s->links[k];
@@ -98,17 +73,12 @@ static int apply_operator(void *data, N_Vector v, N_Vector z)
     for (size_t i = 0; i < s->dofs; ++i)
         if (s->mask[i])
             zz[i] = vv[i];
-    return 0;
 }
 
 /* z = B^-1 r, B the 6x6 diagonal blocks. */
-static int precondition(void *data, N_Vector r, N_Vector z, realtype tol, int lr)
+static void precondition(const double *rr, double *zz, void *data)
 {
-    (void)tol;
-    (void)lr;
     const sinter_bonded_solver *s = data;
-    const double *rr = N_VGetArrayPointer(r);
-    double *zz = N_VGetArrayPointer(z);
     for (size_t p = 0; p < s->dofs / 6; ++p) {
         const double *inv = s->blocks + 36 * p;
         for (int a = 0; a < 6; ++a) {
@@ -118,7 +88,6 @@ static int precondition(void *data, N_Vector r, N_Vector z, realtype tol, int lr
             zz[6 * p + (size_t)a] = sum;
         }
     }
-    return 0;
 }
 
 /* In-place inverse of an SPD 6x6 matrix by Gauss-Jordan with partial pivoting; -1 if singular. */
@@ -167,24 +136,10 @@ static sinter_status prepare(sinter_bonded_solver *s, size_t n)
                          sizeof(double));
     if (st != SINTER_OK)
         return st;
-    if (s->dofs == dofs && s->pcg != NULL)
-        return SINTER_OK;
-    release(s);
-    s->x = N_VNew_Serial((sunindextype)dofs, s->sunctx);
-    s->b = N_VNew_Serial((sunindextype)dofs, s->sunctx);
-    int ok = s->x != NULL && s->b != NULL;
-    if (ok) {
-        const int maxl = (int)(2 * dofs < 1000 ? 1000 : 2 * dofs);
-        s->pcg = SUNLinSol_PCG(s->x, SUN_PREC_LEFT, maxl, s->sunctx);
-        ok = s->pcg != NULL && SUNLinSolSetATimes(s->pcg, s, apply_operator) == 0 &&
-             SUNLinSolSetPreconditioner(s->pcg, s, NULL, precondition) == 0 &&
-             SUNLinSolInitialize(s->pcg) == 0;
-    }
-    if (!ok) {
-        release(s);
-        return sinter_fail(s->ctx, SINTER_ERR_NOMEM,
-                           "could not create the SUNDIALS PCG solver for %zu DOFs", dofs);
-    }
+    const int maxl = (int)(2 * dofs < 1000 ? 1000 : 2 * dofs);
+    st = sinter_pcg_reserve(s->ctx, &s->pcg, dofs, maxl);
+    if (st != SINTER_OK)
+        return st;
     s->dofs = dofs;
     return SINTER_OK;
 }
@@ -232,7 +187,7 @@ sinter_status sinter_bonded_solve(sinter_bonded_solver *solver, size_t n, const 
             return sinter_fail(s->ctx, SINTER_ERR_NOT_CONVERGED,
                                "bonded solve: the stiffness block of particle %zu is singular", p);
     }
-    double *b = N_VGetArrayPointer(s->b), *x = N_VGetArrayPointer(s->x);
+    double *b = sinter_pcg_rhs(s->pcg), *x = sinter_pcg_solution(s->pcg);
     double norm = 0.0;
     for (size_t i = 0; i < dofs; ++i) {
         b[i] = s->mask[i] ? 0.0 : f[i];
@@ -244,14 +199,17 @@ sinter_status sinter_bonded_solve(sinter_bonded_solver *solver, size_t n, const 
         memset(u, 0, dofs * sizeof(double));
         return SINTER_OK;
     }
-    const int rc = SUNLinSolSolve(s->pcg, NULL, s->x, s->b, rtol * norm);
+    int taken = 0;
+    double residual = 0.0;
+    const int rc =
+        sinter_pcg_solve(s->pcg, apply_operator, precondition, s, rtol * norm, &taken, &residual);
     if (iterations)
-        *iterations = SUNLinSolNumIters(s->pcg);
-    if (rc != SUNLS_SUCCESS)
+        *iterations = taken;
+    if (rc != 0)
         return sinter_fail(s->ctx, SINTER_ERR_NOT_CONVERGED,
                            "bonded solve: PCG returned %d after %d iterations (residual %g, "
                            "|f| %g) over %zu DOFs",
-                           rc, SUNLinSolNumIters(s->pcg), SUNLinSolResNorm(s->pcg), norm, dofs);
+                           rc, taken, residual, norm, dofs);
     for (size_t i = 0; i < dofs; ++i)
         u[i] = s->mask[i] ? 0.0 : x[i];
     return SINTER_OK;

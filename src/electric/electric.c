@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "electric.h"
+#include "core/pcg.h"
 
 typedef struct electric_builtin {
     const char *name;
@@ -59,7 +60,7 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     if (em == NULL)
         return;
     sinter_ctx *ctx = em->ctx;
-    sinter_electric_pcg_free(ctx, em->pcg);
+    sinter_pcg_free(em->pcg);
     sinter_free(ctx, em->potential);
     sinter_free(ctx, em->adj_start);
     sinter_free(ctx, em->adj_other);

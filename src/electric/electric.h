@@ -26,7 +26,6 @@ typedef enum sinter_electric_kind {
 } sinter_electric_kind;
 
 /* SUNDIALS PCG objects of the network model (network.c). */
-typedef struct sinter_electric_pcg sinter_electric_pcg;
 
 struct sinter_electric_model {
     sinter_ctx *ctx;
@@ -67,7 +66,8 @@ struct sinter_electric_model {
     double *diag; /* network: Jacobi diagonal */
     size_t diag_capacity;
     size_t edge_count;
-    sinter_electric_pcg *pcg;
+    struct sinter_pcg *pcg; /* network model: the PCG solver (core/pcg.h) */
+    size_t pcg_nodes;       /* unknowns of the solve under way */
 };
 
 /*
@@ -93,7 +93,6 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
                                             const sinter_contact_list *pw);
 
 /* Free the SUNDIALS objects (NULL allowed). */
-void sinter_electric_pcg_free(sinter_ctx *ctx, sinter_electric_pcg *pcg);
 
 /*
  * Storage for at least `count` elements of `size` bytes at `ptr` (contents kept, capacity in

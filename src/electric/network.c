@@ -41,19 +41,8 @@
 #include <math.h>
 #include <string.h>
 
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_pcg.h>
-
+#include "core/pcg.h"
 #include "electric.h"
-
-struct sinter_electric_pcg {
-    SUNContext sunctx;
-    SUNLinearSolver pcg;
-    N_Vector x, b;
-    size_t n;
-    const sinter_electric_model *em; /* operator data of the current solve */
-};
 
 /* Per-node state bits (a cluster's bits live on its union-find root). */
 enum {
@@ -66,29 +55,11 @@ enum {
 
 static const uint32_t NO_NODE = UINT32_MAX;
 
-void sinter_electric_pcg_free(sinter_ctx *ctx, sinter_electric_pcg *s)
-{
-    if (s == NULL)
-        return;
-    if (s->pcg)
-        SUNLinSolFree(s->pcg);
-    if (s->x)
-        N_VDestroy(s->x);
-    if (s->b)
-        N_VDestroy(s->b);
-    if (s->sunctx)
-        SUNContext_Free(&s->sunctx);
-    sinter_free(ctx, s);
-}
-
 /* z = A v: Jacobi diagonal times v minus the couplings between free nodes. */
-static int apply_operator(void *data, N_Vector v, N_Vector z)
+static void apply_operator(const double *vv, double *zz, void *data)
 {
-    const sinter_electric_pcg *s = data;
-    const sinter_electric_model *em = s->em;
-    const double *vv = N_VGetArrayPointer(v);
-    double *zz = N_VGetArrayPointer(z);
-    for (size_t p = 0; p < s->n; ++p)
+    const sinter_electric_model *em = data;
+    for (size_t p = 0; p < em->pcg_nodes; ++p)
         zz[p] = em->diag[p] * vv[p];
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t a = em->edge_a[e], b = em->edge_b[e];
@@ -97,53 +68,14 @@ static int apply_operator(void *data, N_Vector v, N_Vector z)
         zz[a] -= em->edge_g[e] * vv[b];
         zz[b] -= em->edge_g[e] * vv[a];
     }
-    return 0;
 }
 
 /* Jacobi preconditioner: z = r / diag. */
-static int precondition(void *data, N_Vector r, N_Vector z, realtype tol, int lr)
+static void precondition(const double *rr, double *zz, void *data)
 {
-    (void)tol;
-    (void)lr;
-    const sinter_electric_pcg *s = data;
-    const double *rr = N_VGetArrayPointer(r);
-    double *zz = N_VGetArrayPointer(z);
-    for (size_t p = 0; p < s->n; ++p)
-        zz[p] = rr[p] / s->em->diag[p];
-    return 0;
-}
-
-static sinter_status ensure_pcg(sinter_electric_model *em, size_t n)
-{
-    if (em->pcg != NULL && em->pcg->n == n)
-        return SINTER_OK;
-    sinter_electric_pcg_free(em->ctx, em->pcg);
-    em->pcg = NULL;
-    sinter_electric_pcg *s = sinter_calloc(em->ctx, 1, sizeof(*s));
-    if (s == NULL)
-        return sinter_last_status(em->ctx);
-    s->n = n;
-    int ok = SUNContext_Create(NULL, &s->sunctx) == 0;
-    if (ok) {
-        s->x = N_VNew_Serial((sunindextype)n, s->sunctx);
-        s->b = N_VNew_Serial((sunindextype)n, s->sunctx);
-        ok = s->x != NULL && s->b != NULL;
-    }
-    if (ok) {
-        s->pcg = SUNLinSol_PCG(s->x, SUN_PREC_LEFT, 100, s->sunctx);
-        ok = s->pcg != NULL && SUNLinSolSetATimes(s->pcg, s, apply_operator) == 0 &&
-             SUNLinSolSetPreconditioner(s->pcg, s, NULL, precondition) == 0 &&
-             SUNLinSolInitialize(s->pcg) == 0;
-    }
-    if (!ok) {
-        sinter_electric_pcg_free(em->ctx, s);
-        return sinter_fail(em->ctx, SINTER_ERR_NOMEM,
-                           "electric model 'network': could not create the SUNDIALS PCG solver "
-                           "for %zu nodes",
-                           n);
-    }
-    em->pcg = s;
-    return SINTER_OK;
+    const sinter_electric_model *em = data;
+    for (size_t p = 0; p < em->pcg_nodes; ++p)
+        zz[p] = rr[p] / em->diag[p];
 }
 
 static uint32_t find_root(uint32_t *parent, uint32_t p)
@@ -323,25 +255,25 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
 
     /* A zero right-hand side on an SPD system has the solution 0, which phi already holds. */
     if (free_count > 0 && bnorm > 0.0) {
-        s = ensure_pcg(em, nodes);
+        const int maxl = (int)fmin(em->max_iterations, 2147483647.0);
+        s = sinter_pcg_reserve(em->ctx, &em->pcg, nodes, maxl);
         if (s != SINTER_OK)
             return s;
-        sinter_electric_pcg *sv = em->pcg;
-        sv->em = em;
-        memcpy(N_VGetArrayPointer(sv->x), phi, nodes * sizeof(double));
-        memcpy(N_VGetArrayPointer(sv->b), rhs, nodes * sizeof(double));
-        SUNLinSol_PCGSetMaxl(sv->pcg, (int)fmin(em->max_iterations, 2147483647.0));
-        const int rc = SUNLinSolSolve(sv->pcg, NULL, sv->x, sv->b, em->tolerance * bnorm);
-        em->last_iterations = (size_t)SUNLinSolNumIters(sv->pcg);
-        memcpy(phi, N_VGetArrayPointer(sv->x), nodes * sizeof(double));
-        if (rc != SUNLS_SUCCESS) {
-            const double res = SUNLinSolResNorm(sv->pcg);
+        em->pcg_nodes = nodes;
+        memcpy(sinter_pcg_solution(em->pcg), phi, nodes * sizeof(double));
+        memcpy(sinter_pcg_rhs(em->pcg), rhs, nodes * sizeof(double));
+        int iterations = 0;
+        double res = 0.0;
+        const int rc = sinter_pcg_solve(em->pcg, apply_operator, precondition, em,
+                                        em->tolerance * bnorm, &iterations, &res);
+        em->last_iterations = (size_t)iterations;
+        memcpy(phi, sinter_pcg_solution(em->pcg), nodes * sizeof(double));
+        if (rc != 0)
             return sinter_fail(em->ctx, SINTER_ERR_NOT_CONVERGED,
                                "electric model 'network': PCG returned %d after %zu iterations "
                                "(residual %g > tolerance %g x %g); raise 'max_iterations' or "
                                "'tolerance'",
                                rc, em->last_iterations, res, em->tolerance, bnorm);
-        }
     }
     em->node_count = nodes;
 

@@ -2,17 +2,11 @@
 #include <math.h>
 #include <string.h>
 
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_pcg.h>
-
+#include "core/pcg.h"
 #include "stepper.h"
 
 struct sinter_thermal_solver {
-    SUNContext sunctx;
-    SUNLinearSolver pcg;
-    N_Vector x, b;
-    size_t n;
+    sinter_pcg *pcg;
     /* operator data for one solve */
     const sinter_stepper *st;
     const double *diag;
@@ -24,14 +18,7 @@ static void solver_free(sinter_ctx *ctx, sinter_thermal_solver *s)
 {
     if (s == NULL)
         return;
-    if (s->pcg)
-        SUNLinSolFree(s->pcg);
-    if (s->x)
-        N_VDestroy(s->x);
-    if (s->b)
-        N_VDestroy(s->b);
-    if (s->sunctx)
-        SUNContext_Free(&s->sunctx);
+    sinter_pcg_free(s->pcg);
     sinter_free(ctx, s->diag_storage);
     sinter_free(ctx, s);
 }
@@ -184,14 +171,12 @@ static int fixed(const sinter_particles *ps, size_t i)
 }
 
 /* z = A v for backward Euler: A = diag(m C / h + sum G) - G couplings (free rows only). */
-static int apply_operator(void *data, N_Vector v, N_Vector z)
+static void apply_operator(const double *vv, double *zz, void *data)
 {
     const sinter_thermal_solver *s = data;
     const sinter_stepper *st = s->st;
     const sinter_particles *ps = st->ps;
-    const double *vv = N_VGetArrayPointer(v);
-    double *zz = N_VGetArrayPointer(z);
-    for (size_t i = 0; i < s->n; ++i)
+    for (size_t i = 0; i < ps->count; ++i)
         zz[i] = s->diag[i] * vv[i];
     const sinter_contact_list *c = &st->pp;
     const double *g = st->thermal.g_pp;
@@ -202,52 +187,25 @@ static int apply_operator(void *data, N_Vector v, N_Vector z)
         zz[i] -= g[k] * vv[j];
         zz[j] -= g[k] * vv[i];
     }
-    return 0;
 }
 
 /* Jacobi preconditioner: z = r / diag. */
-static int precondition(void *data, N_Vector r, N_Vector z, realtype tol, int lr)
+static void precondition(const double *rr, double *zz, void *data)
 {
-    (void)tol;
-    (void)lr;
     const sinter_thermal_solver *s = data;
-    const double *rr = N_VGetArrayPointer(r);
-    double *zz = N_VGetArrayPointer(z);
-    for (size_t i = 0; i < s->n; ++i)
+    for (size_t i = 0; i < s->st->ps->count; ++i)
         zz[i] = rr[i] / s->diag[i];
-    return 0;
 }
 
 static sinter_status ensure_solver(sinter_stepper *st, size_t n)
 {
     sinter_thermal *th = &st->thermal;
-    if (th->solver != NULL && th->solver->n == n)
-        return SINTER_OK;
-    solver_free(st->ctx, th->solver);
-    th->solver = NULL;
-    sinter_thermal_solver *s = sinter_calloc(st->ctx, 1, sizeof(*s));
-    if (s == NULL)
-        return SINTER_ERR_NOMEM;
-    s->n = n;
-    int ok = SUNContext_Create(NULL, &s->sunctx) == 0;
-    if (ok) {
-        s->x = N_VNew_Serial((sunindextype)n, s->sunctx);
-        s->b = N_VNew_Serial((sunindextype)n, s->sunctx);
-        ok = s->x != NULL && s->b != NULL;
+    if (th->solver == NULL) {
+        th->solver = sinter_calloc(st->ctx, 1, sizeof(*th->solver));
+        if (th->solver == NULL)
+            return SINTER_ERR_NOMEM;
     }
-    if (ok) {
-        s->pcg = SUNLinSol_PCG(s->x, SUN_PREC_LEFT, (int)(n < 1000 ? 1000 : n), s->sunctx);
-        ok = s->pcg != NULL && SUNLinSolSetATimes(s->pcg, s, apply_operator) == 0 &&
-             SUNLinSolSetPreconditioner(s->pcg, s, NULL, precondition) == 0 &&
-             SUNLinSolInitialize(s->pcg) == 0;
-    }
-    if (!ok) {
-        solver_free(st->ctx, s);
-        return sinter_fail(st->ctx, SINTER_ERR_NOMEM,
-                           "could not create the SUNDIALS PCG solver for %zu temperatures", n);
-    }
-    th->solver = s;
-    return SINTER_OK;
+    return sinter_pcg_reserve(st->ctx, &th->solver->pcg, n, (int)(n < 1000 ? 1000 : n));
 }
 
 static sinter_status implicit_update(sinter_stepper *st, double h)
@@ -262,7 +220,8 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     s = sinter_grow(st->ctx, (void **)&sv->diag_storage, &sv->diag_capacity, n + 1, sizeof(double));
     if (s != SINTER_OK)
         return s;
-    double *diag = sv->diag_storage, *b = N_VGetArrayPointer(sv->b), *x = N_VGetArrayPointer(sv->x);
+    double *diag = sv->diag_storage, *b = sinter_pcg_rhs(sv->pcg),
+           *x = sinter_pcg_solution(sv->pcg);
     const double *theta = ps->temperature;
     for (size_t i = 0; i < n; ++i) {
         const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
@@ -299,13 +258,16 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     for (size_t i = 0; i < n; ++i)
         bnorm += b[i] * b[i];
     const double tol = 1e-13 * sqrt(bnorm) + 1e-300;
-    const int rc = SUNLinSolSolve(sv->pcg, NULL, sv->x, sv->b, tol);
-    if (rc != SUNLS_SUCCESS)
+    int iterations = 0;
+    double residual = 0.0;
+    const int rc =
+        sinter_pcg_solve(sv->pcg, apply_operator, precondition, sv, tol, &iterations, &residual);
+    if (rc != 0)
         return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
                            "implicit conduction: PCG returned %d after %d iterations at t = %g s "
                            "(residual %g)",
-                           rc, SUNLinSolNumIters(sv->pcg), st->time, SUNLinSolResNorm(sv->pcg));
-    st->stats_thermal_iterations += (uint64_t)SUNLinSolNumIters(sv->pcg);
+                           rc, iterations, st->time, residual);
+    st->stats_thermal_iterations += (uint64_t)iterations;
     for (size_t i = 0; i < n; ++i) {
         if (fixed(ps, i))
             continue;

@@ -1,0 +1,106 @@
+/* SUNDIALS PCG behind a small matrix-free interface (see pcg.h). */
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_pcg.h>
+
+#include "pcg.h"
+
+struct sinter_pcg {
+    sinter_ctx *ctx;
+    SUNContext sunctx;
+    SUNLinearSolver solver;
+    N_Vector x, b;
+    size_t n;
+    int max_iterations;
+    /* the operator of the solve under way */
+    sinter_pcg_operator apply, precondition;
+    void *data;
+};
+
+void sinter_pcg_free(sinter_pcg *pcg)
+{
+    if (pcg == NULL)
+        return;
+    if (pcg->solver)
+        SUNLinSolFree(pcg->solver);
+    if (pcg->x)
+        N_VDestroy(pcg->x);
+    if (pcg->b)
+        N_VDestroy(pcg->b);
+    if (pcg->sunctx)
+        SUNContext_Free(&pcg->sunctx);
+    sinter_free(pcg->ctx, pcg);
+}
+
+static int apply_trampoline(void *data, N_Vector v, N_Vector z)
+{
+    const sinter_pcg *pcg = data;
+    pcg->apply(N_VGetArrayPointer(v), N_VGetArrayPointer(z), pcg->data);
+    return 0;
+}
+
+static int precondition_trampoline(void *data, N_Vector r, N_Vector z, realtype tol, int lr)
+{
+    (void)tol;
+    (void)lr;
+    const sinter_pcg *pcg = data;
+    pcg->precondition(N_VGetArrayPointer(r), N_VGetArrayPointer(z), pcg->data);
+    return 0;
+}
+
+sinter_status sinter_pcg_reserve(sinter_ctx *ctx, sinter_pcg **pcg, size_t n, int max_iterations)
+{
+    if (*pcg != NULL && (*pcg)->n == n && (*pcg)->max_iterations == max_iterations)
+        return SINTER_OK;
+    sinter_pcg_free(*pcg);
+    *pcg = NULL;
+    sinter_pcg *p = sinter_calloc(ctx, 1, sizeof(*p));
+    if (p == NULL)
+        return sinter_last_status(ctx);
+    p->ctx = ctx;
+    p->n = n;
+    p->max_iterations = max_iterations;
+    int ok = SUNContext_Create(NULL, &p->sunctx) == 0;
+    if (ok) {
+        p->x = N_VNew_Serial((sunindextype)n, p->sunctx);
+        p->b = N_VNew_Serial((sunindextype)n, p->sunctx);
+        ok = p->x != NULL && p->b != NULL;
+    }
+    if (ok) {
+        p->solver = SUNLinSol_PCG(p->x, SUN_PREC_LEFT, max_iterations, p->sunctx);
+        ok = p->solver != NULL && SUNLinSolSetATimes(p->solver, p, apply_trampoline) == 0 &&
+             SUNLinSolSetPreconditioner(p->solver, p, NULL, precondition_trampoline) == 0 &&
+             SUNLinSolInitialize(p->solver) == 0;
+    }
+    if (!ok) {
+        sinter_pcg_free(p);
+        return sinter_fail(ctx, SINTER_ERR_NOMEM,
+                           "could not create a SUNDIALS PCG solver for %zu unknowns", n);
+    }
+    *pcg = p;
+    return SINTER_OK;
+}
+
+double *sinter_pcg_rhs(sinter_pcg *pcg)
+{
+    return N_VGetArrayPointer(pcg->b);
+}
+
+double *sinter_pcg_solution(sinter_pcg *pcg)
+{
+    return N_VGetArrayPointer(pcg->x);
+}
+
+int sinter_pcg_solve(sinter_pcg *pcg, sinter_pcg_operator apply, sinter_pcg_operator precondition,
+                     void *data, double tol, int *iterations, double *residual)
+{
+    pcg->apply = apply;
+    pcg->precondition = precondition;
+    pcg->data = data;
+    const int rc = SUNLinSolSolve(pcg->solver, NULL, pcg->x, pcg->b, tol);
+    if (iterations)
+        *iterations = SUNLinSolNumIters(pcg->solver);
+    if (residual)
+        *residual = SUNLinSolResNorm(pcg->solver);
+    return rc;
+}

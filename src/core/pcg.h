@@ -1,0 +1,32 @@
+/*
+ * Matrix-free preconditioned conjugate gradients (SUNDIALS PCG) for the
+ * library's symmetric positive-definite solves: implicit conduction, the
+ * electric resistor network and the bonded links' K u = f.
+ */
+#ifndef SINTER_PCG_H
+#define SINTER_PCG_H
+
+#include "core.h"
+
+typedef struct sinter_pcg sinter_pcg;
+
+/* z = A v (or z = P^-1 v for a preconditioner), n doubles each. */
+typedef void (*sinter_pcg_operator)(const double *v, double *z, void *data);
+
+/* Create *pcg, or recreate it when n or max_iterations changed. */
+sinter_status sinter_pcg_reserve(sinter_ctx *ctx, sinter_pcg **pcg, size_t n, int max_iterations);
+void sinter_pcg_free(sinter_pcg *pcg);
+
+/* The right-hand side b and the solution x (holding the initial guess), n doubles each. */
+double *sinter_pcg_rhs(sinter_pcg *pcg);
+double *sinter_pcg_solution(sinter_pcg *pcg);
+
+/*
+ * Solve A x = b until |b - A x|_2 <= tol, preconditioned by `precondition`.
+ * Returns SUNDIALS' code (0: converged); *iterations and *residual (may be NULL) get the
+ * iterations taken and the final residual norm.
+ */
+int sinter_pcg_solve(sinter_pcg *pcg, sinter_pcg_operator apply, sinter_pcg_operator precondition,
+                     void *data, double tol, int *iterations, double *residual);
+
+#endif
