@@ -43,6 +43,12 @@ void sinter_free(sinter_ctx *ctx, void *ptr);
  * items, doubling; *ptr and *capacity change only on success. */
 sinter_status sinter_grow(sinter_ctx *ctx, void **ptr, size_t *capacity, size_t need, size_t elem);
 
+/* Index of `key` in a NULL-terminated list of at most `max` keys, or -1. */
+int sinter_find_key(const char *const *keys, int max, const char *key);
+
+/* The names name_at(0) .. name_at(count - 1) joined with ", " into buf (cut to fit). */
+void sinter_join_names(char *buf, size_t size, size_t count, const char *(*name_at)(size_t k));
+
 /* Piecewise-linear interpolation through (t[k], v[k]), k < n, held constant outside. */
 double sinter_interpolate(size_t n, const double *t, const double *v, double x);
 char *sinter_strdup(sinter_ctx *ctx, const char *text);

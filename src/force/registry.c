@@ -13,6 +13,11 @@ static const sinter_force_ops *const BUILTIN[] = {
     &sinter_force_drag,
 };
 
+static const char *builtin_name(size_t k)
+{
+    return BUILTIN[k]->name;
+}
+
 static void init_params(sinter_force_model *fm)
 {
     for (int k = 0; k < SINTER_FORCE_MAX_PARAMS && fm->ops->keys[k] != NULL; ++k)
@@ -40,12 +45,8 @@ sinter_status sinter_force_model_create(sinter_force_model **out, sinter_ctx *ct
         *out = fm;
         return SINTER_OK;
     }
-    char known[256] = "";
-    for (size_t k = 0; k < n; ++k) {
-        strncat(known, BUILTIN[k]->name, sizeof(known) - strlen(known) - 3);
-        if (k + 1 < n)
-            strncat(known, ", ", sizeof(known) - strlen(known) - 1);
-    }
+    char known[256];
+    sinter_join_names(known, sizeof(known), n, builtin_name);
     return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
                        "sinter_force_model_create: no force model is called '%s' (known: %s)",
                        name, known);
@@ -104,10 +105,7 @@ const char *sinter_force_model_name(const sinter_force_model *fm)
 
 static int find_key(const sinter_force_model *fm, const char *key)
 {
-    for (int k = 0; k < SINTER_FORCE_MAX_PARAMS && fm->ops->keys[k] != NULL; ++k)
-        if (strcmp(fm->ops->keys[k], key) == 0)
-            return k;
-    return -1;
+    return sinter_find_key(fm->ops->keys, SINTER_FORCE_MAX_PARAMS, key);
 }
 
 sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key, double value)

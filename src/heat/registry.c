@@ -9,6 +9,11 @@ static const sinter_heat_ops *const BUILTIN[] = {
     &sinter_heat_nozzle,     &sinter_heat_laser,      &sinter_heat_joule,
 };
 
+static const char *builtin_name(size_t k)
+{
+    return BUILTIN[k]->name;
+}
+
 double sinter_heat_param(const sinter_heat_model *hm, int k, double t)
 {
     if (hm->schedule_count[k] == 0)
@@ -37,12 +42,8 @@ sinter_status sinter_heat_model_create(sinter_heat_model **out, sinter_ctx *ctx,
         *out = hm;
         return SINTER_OK;
     }
-    char known[256] = "";
-    for (size_t k = 0; k < n; ++k) {
-        strncat(known, BUILTIN[k]->name, sizeof(known) - strlen(known) - 3);
-        if (k + 1 < n)
-            strncat(known, ", ", sizeof(known) - strlen(known) - 1);
-    }
+    char known[256];
+    sinter_join_names(known, sizeof(known), n, builtin_name);
     return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
                        "sinter_heat_model_create: no heat model is called '%s' (known: %s)", name,
                        known);
@@ -99,10 +100,7 @@ const char *sinter_heat_model_name(const sinter_heat_model *hm)
 
 static int find_key(const sinter_heat_model *hm, const char *key)
 {
-    for (int k = 0; k < SINTER_HEAT_MAX_PARAMS && hm->ops->keys[k] != NULL; ++k)
-        if (strcmp(hm->ops->keys[k], key) == 0)
-            return k;
-    return -1;
+    return sinter_find_key(hm->ops->keys, SINTER_HEAT_MAX_PARAMS, key);
 }
 
 static sinter_status key_index(const sinter_heat_model *hm, const char *key, int *k)
@@ -119,7 +117,7 @@ sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key, doub
 {
     if (hm == NULL)
         return SINTER_ERR_NULL;
-    int k;
+    int k = -1;
     sinter_status st = key_index(hm, key, &k);
     if (st != SINTER_OK)
         return st;
@@ -136,7 +134,7 @@ sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key
     if (hm == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(hm->ctx, value);
-    int k;
+    int k = -1;
     sinter_status st = key_index(hm, key, &k);
     if (st == SINTER_OK)
         *value = hm->param[k];
@@ -148,7 +146,7 @@ sinter_status sinter_heat_model_set_schedule(sinter_heat_model *hm, const char *
 {
     if (hm == NULL)
         return SINTER_ERR_NULL;
-    int k;
+    int k = -1;
     sinter_status st = key_index(hm, key, &k);
     if (st != SINTER_OK)
         return st;
