@@ -461,13 +461,24 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
     const char *kind = "explicit";
     OPTIONAL(scene_get_word(t, s, "kind", &kind));
     const int staggered = strcmp(kind, "staggered") == 0;
-    if (strcmp(kind, "explicit") != 0 && !staggered)
+    const int quasistatic = strcmp(kind, "quasistatic") == 0;
+    if (strcmp(kind, "explicit") != 0 && !staggered && !quasistatic)
         return sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                           "%s:%d: kind: expected explicit or staggered, got '%s'", t->path,
-                           scene_find(s, "kind")->line, kind);
-    if (staggered) /* the scene's stepper was created explicit, before [stepper] was read */
+                           "%s:%d: kind: expected explicit, staggered or quasistatic, got '%s'",
+                           t->path, scene_find(s, "kind")->line, kind);
+    if (staggered || quasistatic) /* the scene's stepper was created explicit, before [stepper] */
         TRY(at_line(t, scene_find(s, "kind")->line,
-                    sinter_stepper_set_kind(sc->st, SINTER_STEPPER_STAGGERED)));
+                    sinter_stepper_set_kind(sc->st, staggered ? SINTER_STEPPER_STAGGERED
+                                                              : SINTER_STEPPER_QUASISTATIC)));
+    /* Options of the quasi-static stepper (seed 001 sec. 3.3): every "qs_*" key. */
+    for (size_t e = 0; e < s->count; ++e) {
+        scene_entry *en = &s->entries[e];
+        if (strncmp(en->key, "qs_", 3) != 0)
+            continue;
+        double value;
+        TRY(scene_get_double(t, s, en->key, &value));
+        TRY(at_line(t, en->line, sinter_stepper_set_option(sc->st, en->key, value)));
+    }
     /* Options of the staggered stepper (seed 000 sec. 3, 6); the explicit one refuses them. */
     static const char *const options[] = {"phi",      "target_iterations",  "tolerance",
                                           "exponent", "dt_min",             "dt_max",
