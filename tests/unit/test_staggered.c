@@ -769,7 +769,7 @@ static void test_scene_file_kind_and_options(void **state)
         const char *section, *fragment;
         int line; /* of the offending key within the [stepper] section (1: the header) */
     } bad[] = {
-        {"[stepper]\nkind = implicit\ndt = 1e-3\nend_time = 0.01\n", "explicit or staggered", 2},
+        {"[stepper]\nkind = implicit\ndt = 1e-3\nend_time = 0.01\n", "explicit, staggered or quasistatic", 2},
         {"[stepper]\nkind = staggered\ndt = 1e-3\nend_time = 0.01\nphi = 2\n", "phi", 5},
         {"[stepper]\ndt = 1e-3\nend_time = 0.01\ntolerance = 1e-4\n", "staggered", 4},
         {"[stepper]\nkind = staggered\nthermal = implicit\ndt = 1e-3\nend_time = 0.01\n",
