@@ -139,9 +139,25 @@ static sinter_status write_frame(run_state *r)
         contacts[c->i[k]] += 1.0;
         contacts[c->j[k]] += 1.0;
     }
-    const sinter_vtu_array extra[1] = {{"contacts", contacts, 1}};
-    sinter_status st = sinter_write_vtu(sc->ps, path, extra, 1);
+    /* necks (bonded links) per particle, for the quasi-static stepper */
+    double *necks = sinter_calloc(ctx, sc->ps->count + 1, sizeof(double));
+    if (necks == NULL) {
+        sinter_free(ctx, contacts);
+        return SINTER_ERR_NOMEM;
+    }
+    size_t link_count = 0;
+    const sinter_qs_link *links =
+        sc->st->quasistatic ? sinter_qs_links(sc->st->quasistatic, &link_count) : NULL;
+    for (size_t k = 0; k < link_count; ++k) {
+        if (links[k].beam.a < sc->ps->count && links[k].beam.b < sc->ps->count) {
+            necks[links[k].beam.a] += 1.0;
+            necks[links[k].beam.b] += 1.0;
+        }
+    }
+    const sinter_vtu_array extra[2] = {{"contacts", contacts, 1}, {"necks", necks, 1}};
+    sinter_status st = sinter_write_vtu(sc->ps, path, extra, 2);
     sinter_free(ctx, contacts);
+    sinter_free(ctx, necks);
     if (st != SINTER_OK)
         return st;
     r->frame_times[r->frames] = sc->st->time;

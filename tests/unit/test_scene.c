@@ -279,6 +279,46 @@ static void test_run_writes_outputs(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+
+/* The quasi-static stepper from a scene file; VTU frames carry the neck count per particle. */
+static void test_quasistatic_scene_writes_neck_counts(void **state)
+{
+    (void)state;
+    const char *text = "[scene]\nname = cube\nunits = SI\n"
+                       "[material copper]\ndensity = 8960\nyoungs_modulus = 72e9\n"
+                       "[particles]\nmethod = lattice\nmaterial = copper\nbox_min = 0 0 0\n"
+                       "box_max = 0.000101 0.000101 0.000101\nradius = 25e-6\nspacing = 50e-6\n"
+                       "temperature = 1293\n"
+                       "[force gravity]\ngz = 0\n"
+                       "[stepper]\nkind = quasistatic\nqs_strategy = 2\ndt = 1e-6\nend_time = 10\n"
+                       "[output]\ninterval = 10\n";
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("cube.scene", text)), SINTER_OK);
+    char out[512], frame[600];
+    snprintf(out, sizeof(out), "%s/cube", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    snprintf(frame, sizeof(frame), "%s/frames/frame_00001.vtu", out);
+    FILE *f = fopen(frame, "r");
+    assert_non_null(f);
+    static char buf[1 << 16];
+    const size_t len = fread(buf, 1, sizeof(buf) - 1, f);
+    fclose(f);
+    buf[len] = '\0';
+    const char *necks = strstr(buf, "Name=\"necks\"");
+    assert_non_null(necks);
+    necks = strchr(necks, '>') + 1;
+    /* a 2 x 2 x 2 cube: every sphere touches three others */
+    for (int k = 0; k < 8; ++k) {
+        char *end = NULL;
+        assert_close(strtod(necks, &end), 3.0, 0.0);
+        necks = end;
+    }
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -286,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_restart_is_bit_for_bit),
         cmocka_unit_test(test_bad_checkpoints_are_refused),
         cmocka_unit_test(test_run_writes_outputs),
+        cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }
