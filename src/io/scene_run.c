@@ -26,12 +26,26 @@ enum {
     COL_FIXED_ /* wall force columns follow */
 };
 
+/* Create `path` and any missing parents (like mkdir -p). */
 static sinter_status make_dir(sinter_ctx *ctx, const char *path)
 {
-    if (mkdir(path, 0777) == 0 || errno == EEXIST)
-        return SINTER_OK;
-    return sinter_fail(ctx, SINTER_ERR_IO, "cannot create directory '%s': %s", path,
-                       strerror(errno));
+    char partial[4096];
+    const size_t len = strlen(path);
+    if (len == 0 || len >= sizeof(partial))
+        return sinter_fail(ctx, SINTER_ERR_INVALID, "output directory '%.200s' is empty or too long",
+                           path);
+    memcpy(partial, path, len + 1);
+    for (size_t k = 1; k <= len; ++k) {
+        if (partial[k] != '/' && partial[k] != '\0')
+            continue;
+        const char keep = partial[k];
+        partial[k] = '\0';
+        if (mkdir(partial, 0777) != 0 && errno != EEXIST)
+            return sinter_fail(ctx, SINTER_ERR_IO, "cannot create directory '%s': %s", partial,
+                               strerror(errno));
+        partial[k] = keep;
+    }
+    return SINTER_OK;
 }
 
 /*

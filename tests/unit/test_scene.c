@@ -259,7 +259,7 @@ static void test_run_writes_outputs(void **state)
     sinter_stepper *st = NULL;
     load_good(&ctx, &scene, &st);
     char out[512];
-    snprintf(out, sizeof(out), "%s/run", dir);
+    snprintf(out, sizeof(out), "%s/run/nested/twice", dir); /* parents are created */
     assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
     char path[600];
     snprintf(path, sizeof(path), "%s/series.csv", out);
