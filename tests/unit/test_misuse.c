@@ -1113,7 +1113,7 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(scene_run_null_dir, SINTER_ERR_NULL, "'out_dir'",                                            \
       sinter_scene_run(f->scene, NULL, NULL, NULL))                                                \
     X(scene_run_bad_dir, SINTER_ERR_IO, "cannot create directory",                                 \
-      sinter_scene_run(f->scene, "/nonexistent/deep/out", NULL, NULL))                             \
+      sinter_scene_run(f->scene, "/dev/null/below/a/file", NULL, NULL))                            \
     X(scene_get_stepper_null_out, SINTER_ERR_NULL, "'st'",                                         \
       sinter_scene_get_stepper(f->scene, NULL))                                                    \
     X(scene_get_particles_null_out, SINTER_ERR_NULL, "'ps'",                                       \
