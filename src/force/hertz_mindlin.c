@@ -260,7 +260,10 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
-    const int threads = c->count < 2048 ? 1 : sinter_threads(e->ctx);
+    /* The two-phase path pays only with enough contacts per particle (measured: with 0.37 per
+     * particle it is slower than one thread); both paths give the same bits. */
+    const int threads =
+        c->count < 2048 || c->count < c->particle_count ? 1 : sinter_threads(e->ctx);
     if (threads <= 1) {
         for (size_t q = 0; q < c->count; ++q) {
             double f[3], ti[3], tj[3];
