@@ -17,6 +17,8 @@ struct sinter_qs {
     size_t count, capacity;
     uint64_t *keys; /* sorted a * n + b (a < b) of every link */
     size_t keys_capacity;
+    uint64_t *candidates; /* touching pairs found by the cell grid (qs_pairs.c) */
+    size_t candidates_capacity;
     sinter_bonded_solver *solver;
     unsigned char *fixed; /* 6 per particle: principal-plane conditions (sec. 3.3) */
     double *f, *u;
@@ -170,6 +172,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_bonded_solver_destroy(qs->solver);
     sinter_free(ctx, qs->links);
     sinter_free(ctx, qs->keys);
+    sinter_free(ctx, qs->candidates);
     sinter_free(ctx, qs->fixed);
     sinter_free(ctx, qs->f);
     sinter_free(ctx, qs->u);
@@ -289,46 +292,46 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
 {
     const size_t n = p->count;
     const size_t before = qs->count;
-    for (size_t a = 0; a < n; ++a) {
-        const double *xa = p->x + 3 * a;
-        for (size_t b = a + 1; b < n; ++b) {
-            const double *xb = p->x + 3 * b;
-            const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-            const double reach = (p->radius[a] + p->radius[b]) * (1.0 + qs->opt.contact_tolerance);
-            const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            if (dist2 >= reach * reach)
-                continue;
-            const uint64_t key = pair_key(a, b, n);
-            if (before > 0 && bsearch(&key, qs->keys, before, sizeof(uint64_t), key_compare))
-                continue;
-            sinter_status s = sinter_grow(qs->ctx, (void **)&qs->links, &qs->capacity,
-                                          qs->count + 1, sizeof(sinter_qs_link));
-            if (s == SINTER_OK)
-                s = sinter_grow(qs->ctx, (void **)&qs->keys, &qs->keys_capacity, qs->count + 1,
-                                sizeof(uint64_t));
-            if (s != SINTER_OK)
-                return s;
-            sinter_qs_link *l = &qs->links[qs->count];
-            memset(l, 0, sizeof(*l));
-            const sinter_qs_material *ma = material_of(p, a), *mb = material_of(p, b);
-            const double ra = p->radius[a], rb = p->radius[b];
-            l->material = ma->neck; /* the neck data of A (one material per neck model) */
-            l->youngs = 0.5 * (ma->youngs + mb->youngs);
-            l->rm = 0.5 * (ra + rb); /* eq. 16 */
-            if (sinter_neck_state_init(&l->neck, ra, rb, qs->opt.epsilon, qs->opt.h0_ratio, t) !=
-                    0 ||
-                sinter_beam_init(&l->beam, (uint32_t)a, (uint32_t)b, xa, xb,
-                                 l->neck.y[SINTER_NECK_LA], l->neck.y[SINTER_NECK_LB], l->rm,
-                                 ra + rb, l->youngs, 0.5 * (ma->poisson + mb->poisson)) != 0)
-                return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
-                                   "quasi-static stepper: cannot bond particles %zu and %zu "
-                                   "(radii %g, %g m, distance %g m)",
-                                   a, b, ra, rb, sqrt(dist2));
-            l->id_a = p->id != NULL ? p->id[a] : (uint64_t)a;
-            l->id_b = p->id != NULL ? p->id[b] : (uint64_t)b;
-            qs->keys[qs->count] = key;
-            qs->count++;
-        }
+    size_t found = 0;
+    sinter_status found_status =
+        sinter_qs_touching_pairs(qs->ctx, n, p->x, p->radius, qs->opt.contact_tolerance,
+                                 &qs->candidates, &qs->candidates_capacity, &found);
+    if (found_status != SINTER_OK)
+        return found_status;
+    for (size_t c = 0; c < found; ++c) {
+        const size_t a = (size_t)(qs->candidates[c] / n), b = (size_t)(qs->candidates[c] % n);
+        const double *xa = p->x + 3 * a, *xb = p->x + 3 * b;
+        const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
+        const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        const uint64_t key = pair_key(a, b, n);
+        if (before > 0 && bsearch(&key, qs->keys, before, sizeof(uint64_t), key_compare))
+            continue;
+        sinter_status s = sinter_grow(qs->ctx, (void **)&qs->links, &qs->capacity, qs->count + 1,
+                                      sizeof(sinter_qs_link));
+        if (s == SINTER_OK)
+            s = sinter_grow(qs->ctx, (void **)&qs->keys, &qs->keys_capacity, qs->count + 1,
+                            sizeof(uint64_t));
+        if (s != SINTER_OK)
+            return s;
+        sinter_qs_link *l = &qs->links[qs->count];
+        memset(l, 0, sizeof(*l));
+        const sinter_qs_material *ma = material_of(p, a), *mb = material_of(p, b);
+        const double ra = p->radius[a], rb = p->radius[b];
+        l->material = ma->neck; /* the neck data of A (one material per neck model) */
+        l->youngs = 0.5 * (ma->youngs + mb->youngs);
+        l->rm = 0.5 * (ra + rb); /* eq. 16 */
+        if (sinter_neck_state_init(&l->neck, ra, rb, qs->opt.epsilon, qs->opt.h0_ratio, t) != 0 ||
+            sinter_beam_init(&l->beam, (uint32_t)a, (uint32_t)b, xa, xb, l->neck.y[SINTER_NECK_LA],
+                             l->neck.y[SINTER_NECK_LB], l->rm, ra + rb, l->youngs,
+                             0.5 * (ma->poisson + mb->poisson)) != 0)
+            return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
+                               "quasi-static stepper: cannot bond particles %zu and %zu "
+                               "(radii %g, %g m, distance %g m)",
+                               a, b, ra, rb, sqrt(dist2));
+        l->id_a = p->id != NULL ? p->id[a] : (uint64_t)a;
+        l->id_b = p->id != NULL ? p->id[b] : (uint64_t)b;
+        qs->keys[qs->count] = key;
+        qs->count++;
     }
     if (qs->count > before)
         qsort(qs->keys, qs->count, sizeof(uint64_t), key_compare);

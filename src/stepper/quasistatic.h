@@ -127,6 +127,15 @@ sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
  */
 sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids);
 
+/*
+ * The touching pairs of n spheres (centre distance < (r_a + r_b)(1 + tolerance)) as sorted keys
+ * a n + b with a < b, found with a cell grid (qs_pairs.c). *keys grows with sinter_grow.
+ * Errors: SINTER_ERR_NOMEM, SINTER_ERR_INVALID (a non-finite position).
+ */
+sinter_status sinter_qs_touching_pairs(sinter_ctx *ctx, size_t n, const double *x,
+                                       const double *radius, double tolerance, uint64_t **keys,
+                                       size_t *capacity, size_t *count);
+
 /* The links (count in *n). */
 const sinter_qs_link *sinter_qs_links(const sinter_qs *qs, size_t *n);
 

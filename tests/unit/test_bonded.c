@@ -535,6 +535,54 @@ static void test_qs_options(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/* The cell-grid pair search finds exactly the pairs of the all-pairs loop, in the same order,
+ * on a polydisperse set (radii 1:10) with pairs at, just inside and just outside the reach. */
+static void test_qs_touching_pairs_grid(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    enum { N = 400 };
+    double x[3 * N], r[N];
+    uint64_t rng = 12345;
+    for (size_t i = 0; i < N; ++i) {
+        for (int d = 0; d < 3; ++d) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            x[3 * i + (size_t)d] = (double)(rng >> 11) / 9007199254740992.0 * 0.5e-3 * (d + 1);
+        }
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        r[i] = 10e-6 + 90e-6 * (double)(rng >> 11) / 9007199254740992.0;
+    }
+    /* one exact touch (distance = r_a + r_b) and one just beyond the tolerance */
+    x[3] = x[0] + r[0] + r[1];
+    x[4] = x[1];
+    x[5] = x[2];
+    const double tol = 1e-9;
+    uint64_t *keys = NULL;
+    size_t cap = 0, count = 0, expected = 0;
+    assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, &keys, &cap, &count), SINTER_OK);
+    for (size_t a = 0; a < N; ++a)
+        for (size_t b = a + 1; b < N; ++b) {
+            const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
+                         dz = x[3 * b + 2] - x[3 * a + 2];
+            const double reach = (r[a] + r[b]) * (1.0 + tol);
+            if (dx * dx + dy * dy + dz * dz < reach * reach) {
+                assert_true(expected < count);
+                assert_true(keys[expected] == (uint64_t)a * N + b);
+                expected++;
+            }
+        }
+    assert_int_equal(count, expected);
+    assert_true(count > N / 4); /* the set is dense enough for the test to mean something */
+    assert_true(keys[0] == 1); /* the exact touch 0-1 */
+    x[7] = NAN;
+    assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, &keys, &cap, &count),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(count, 0);
+    sinter_free(ctx, keys);
+    sinter_ctx_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -549,6 +597,7 @@ int main(void)
         cmocka_unit_test(test_qs_triangle),
         cmocka_unit_test(test_qs_remap),
         cmocka_unit_test(test_qs_options),
+        cmocka_unit_test(test_qs_touching_pairs_grid),
         cmocka_unit_test(test_qs_lattice),
         cmocka_unit_test(test_qs_stepper_adapter),
     };
