@@ -20,6 +20,10 @@
  */
 #include <math.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "force_model.h"
 #include "vec3.h"
 
@@ -32,11 +36,17 @@ typedef struct side {
     double xi, mu_s, mu_d, xi_f, mu_r, xi_r;
 } side;
 
-/* Constants of a pair of materials (eq. 3, 9 and the averaged coefficients). */
+/* Constants of a pair of materials (eq. 3, 9 and the averaged coefficients), with the
+ * per-contact prefactors folded in once per pair of materials. */
 typedef struct pair_consts {
     double estar, gstar;
     double sqrt_2estar, sqrt_8gstar; /* for the damping constants, eq. 6 and 11 */
     double xi, mu_s2, mu_d, xi_f, mu_r, xi_r; /* mu_s2 = mu_s^2 (squared comparisons) */
+    double kn_pre;   /* 4/3 E*            (eq. 2: f = kn_pre sqrt(r* delta) delta) */
+    double kt_pre;   /* 8 G*              (eq. 9: k_t = kt_pre sqrt(r* delta)) */
+    double dn_pre;   /* 2 xi sqrt(2 E*)   (eq. 6: d = dn_pre sqrt(m*) (r* delta)^(1/4)) */
+    double dt_pre;   /* 2 xi_f sqrt(8 G*) (eq. 11) */
+    double dr_pre;   /* 2 xi_r sqrt(8 G*) (eq. 20) */
 } pair_consts;
 
 /* Per-contact quantities that depend on the two bodies. */
@@ -73,34 +83,50 @@ static void mix(const side *a, const side *b, pair_consts *p)
     p->xi_f = 0.5 * (a->xi_f + b->xi_f);
     p->mu_r = sqrt(a->mu_r * b->mu_r);
     p->xi_r = 0.5 * (a->xi_r + b->xi_r);
+    p->kn_pre = 4.0 / 3.0 * p->estar;
+    p->kt_pre = 8.0 * p->gstar;
+    p->dn_pre = 2.0 * p->xi * p->sqrt_2estar;
+    p->dt_pre = 2.0 * p->xi_f * p->sqrt_8gstar;
+    p->dr_pre = 2.0 * p->xi_r * p->sqrt_8gstar;
+}
+
+/* The per-contact law is inlined into each specialised loop (rolling on/off, one or many
+ * pairs of materials), so no loop carries a branch for a submodel the scene did not enable. */
+#if defined(__GNUC__)
+#define HM_INLINE static inline __attribute__((always_inline))
+#else
+#define HM_INLINE static inline
+#endif
+
+/* The two roots of a contact: sqrt_rd = sqrt(r* delta) and sm = sqrt(m* sqrt_rd) =
+ * sqrt(m*) (r* delta)^(1/4). */
+HM_INLINE void roots(double rstar, double mstar, double delta, double *sqrt_rd, double *sm)
+{
+    const double s = sqrt(rstar * delta);
+    *sqrt_rd = s;
+    *sm = sqrt(mstar * s);
 }
 
 /*
  * The contact law for one contact. Inputs: geometry, u (relative velocity of
  * the contact points, i minus j), w_rel = w_i - w_j, pair properties.
  * Outputs: force on i, rolling moment on i, trial history.
- * Note r*^(1/4) delta^(1/4) = sqrt(sqrt(r* delta)), so eq. 6 and 11 need one root.
+ * Two roots serve eq. 2, 6, 9 and 11, given by the caller (see roots()).
  */
-static inline void contact_law(const pair_props *p, const double n[3], double delta,
-                               const double u[3], const double w_rel[3], double dt,
-                               const double *hist, double *trial, int rolling, double f[3],
-                               double m_roll[3])
+HM_INLINE void contact_law(const pair_props *p, const double n[3], double delta,
+                           double sqrt_rd, double sm, const double u[3], const double w_rel[3],
+                           double dt, const double *hist, double *trial, int rolling,
+                           double f[3], double m_roll[3])
 {
     const pair_consts *c = p->c;
-    const double sqrt_rd = sqrt(p->rstar * delta);
-    const double rd_q = sqrt(sqrt_rd);    /* (r* delta)^(1/4) */
-    const double sqrt_m = sqrt(p->mstar);
     /* Normal: eq. 2 and 6. delta_dot = -(u_j - u_i).n = u.n with u = u_i - u_j. */
     const double un = v3_dot(u, n);
-    const double d_con = 2.0 * c->xi * c->sqrt_2estar * sqrt_m * rd_q;
-    const double fn = 4.0 / 3.0 * c->estar * sqrt_rd * delta + d_con * un; /* repulsive > 0 */
+    const double fn = c->kn_pre * sqrt_rd * delta + c->dn_pre * sm * un; /* repulsive > 0 */
     const double fabs_n = fabs(fn);
-    for (int d = 0; d < 3; ++d)
-        f[d] = -fn * n[d];
 
     /* Tangential: eq. 7-13. */
     const double ut[3] = {u[0] - un * n[0], u[1] - un * n[1], u[2] - un * n[2]};
-    const double kt = 8.0 * c->gstar * sqrt_rd;
+    const double kt = c->kt_pre * sqrt_rd;
     double sx[3] = {hist[0], hist[1], hist[2]};
     /* Keep the accumulated spring in the current tangent plane (rotate, keep length). */
     const double sn = v3_dot(sx, n);
@@ -119,7 +145,7 @@ static inline void contact_law(const pair_props *p, const double n[3], double de
     }
     for (int d = 0; d < 3; ++d)
         sx[d] += ut[d] * dt; /* eq. 10, 12 */
-    const double d_fric = 2.0 * c->xi_f * c->sqrt_8gstar * sqrt_m * rd_q;
+    const double d_fric = c->dt_pre * sm;
     double ft[3];
     for (int d = 0; d < 3; ++d)
         ft[d] = -kt * sx[d] - d_fric * ut[d];
@@ -127,13 +153,14 @@ static inline void contact_law(const pair_props *p, const double n[3], double de
     if (ft2 > c->mu_s2 * fabs_n * fabs_n && ft2 > 0.0) {
         /* Slip (eq. 8): Coulomb force along the trial direction; spring from eq. 13. */
         const double scale = c->mu_d * fabs_n / sqrt(ft2);
+        const double inv_kt = kt > 0.0 ? 1.0 / kt : 0.0;
         for (int d = 0; d < 3; ++d) {
             ft[d] *= scale;
-            sx[d] = kt > 0.0 ? -(ft[d] + d_fric * ut[d]) / kt : 0.0;
+            sx[d] = kt > 0.0 ? -(ft[d] + d_fric * ut[d]) * inv_kt : 0.0;
         }
     }
     for (int d = 0; d < 3; ++d) {
-        f[d] += ft[d];
+        f[d] = ft[d] - fn * n[d];
         trial[d] = sx[d];
     }
 
@@ -141,16 +168,18 @@ static inline void contact_law(const pair_props *p, const double n[3], double de
     if (rolling) {
         double th[3] = {hist[3] + w_rel[0] * dt, hist[4] + w_rel[1] * dt, hist[5] + w_rel[2] * dt};
         const double kr = kt * p->rstar * p->rstar;
-        const double d_rol = 2.0 * c->xi_r * c->sqrt_8gstar * sqrt(p->jstar) * p->rstar * rd_q;
+        /* d_rol = 2 xi_r sqrt(8 G* J*) r* (r* delta)^(1/4) = dr_pre sqrt(J* s) r* */
+        const double d_rol = c->dr_pre * sqrt(p->jstar * sqrt_rd) * p->rstar;
         double mr[3];
         for (int d = 0; d < 3; ++d)
             mr[d] = -kr * th[d] - d_rol * w_rel[d];
         const double mr_len = v3_norm(mr), limit = c->mu_r * p->rstar * fabs_n;
         if (mr_len > limit && mr_len > 0.0) {
             const double scale = limit / mr_len;
+            const double inv_kr = kr > 0.0 ? 1.0 / kr : 0.0;
             for (int d = 0; d < 3; ++d) {
                 mr[d] *= scale;
-                th[d] = kr > 0.0 ? -(mr[d] + d_rol * w_rel[d]) / kr : 0.0;
+                th[d] = kr > 0.0 ? -(mr[d] + d_rol * w_rel[d]) * inv_kr : 0.0;
             }
         }
         for (int d = 0; d < 3; ++d) {
@@ -195,10 +224,13 @@ static void build_constants(const sinter_force_eval *e, constants *k)
             mix(&k->sides[a], &k->sides[b], &k->table[a * MAX_TABLE + b]);
 }
 
-/* Constants of particles i and j: from the table, or mixed into `scratch`. */
-static inline const pair_consts *pair_of(const constants *k, const sinter_force_eval *e, size_t i,
-                                         size_t j, pair_consts *scratch)
+/* Constants of particles i and j: `single` when one entry serves every pair (one material in
+ * use, no softening), else from the table, or mixed into `scratch`. */
+HM_INLINE const pair_consts *pair_of(const constants *k, const sinter_force_eval *e, size_t i,
+                                     size_t j, const pair_consts *single, pair_consts *scratch)
 {
+    if (single != NULL)
+        return single;
     const sinter_particles *ps = e->ps;
     const int a = k->index[ps->material[i]], b = k->index[ps->material[j]];
     if (!k->softening && a >= 0 && b >= 0)
@@ -212,9 +244,28 @@ static inline const pair_consts *pair_of(const constants *k, const sinter_force_
     return scratch;
 }
 
+/* Reduced radius and mass of contact q and its two roots. The blocked loops below compute
+ * these for several contacts before the rest of the law, so the dependent divisions and
+ * roots of neighbouring contacts overlap instead of stalling one after the other. */
+typedef struct pp_pre {
+    double rstar, mstar, sqrt_rd, sm;
+} pp_pre;
+
+HM_INLINE void pp_prepare(const sinter_force_eval *e, size_t q, pp_pre *o)
+{
+    const sinter_contact_list *c = e->pp;
+    const double *r = e->ps->radius, *mass = e->ps->mass;
+    const uint32_t i = c->i[q], j = c->j[q];
+    const double ri = r[i], rj = r[j], mi = mass[i], mj = mass[j];
+    o->rstar = ri * rj / (ri + rj);
+    o->mstar = mi * mj / (mi + mj);
+    roots(o->rstar, o->mstar, c->delta[q], &o->sqrt_rd, &o->sm);
+}
+
 /* The law for particle-particle contact q: force on i, moments on i and j, trial history. */
-static inline void pp_contact(const sinter_force_eval *e, const constants *k, int rolling,
-                              size_t q, double f[3], double ti_total[3], double tj_total[3])
+HM_INLINE void pp_contact(const sinter_force_eval *e, const constants *k,
+                          const pair_consts *single, int rolling, size_t q, const pp_pre *pre,
+                          double f[3], double ti_total[3], double tj_total[3])
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
@@ -226,48 +277,54 @@ static inline void pp_contact(const sinter_force_eval *e, const constants *k, in
     const double li = c->branch[q], lj = c->dist[q] - li;
     pair_consts scratch;
     pair_props p;
-    p.c = pair_of(k, e, i, j, &scratch);
-    p.rstar = r[i] * r[j] / (r[i] + r[j]);
-    p.mstar = mass[i] * mass[j] / (mass[i] + mass[j]);
+    p.c = pair_of(k, e, i, j, single, &scratch);
+    p.rstar = pre->rstar;
+    p.mstar = pre->mstar;
     p.jstar = rolling ? 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
                                1.0 / (inertia[j] + mass[j] * r[j] * r[j])) /* eq. 18 */
                       : 0.0;
-    /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n. */
-    const double bi[3] = {li * n[0], li * n[1], li * n[2]};
-    const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
-    double wi_b[3], wj_b[3];
-    v3_cross(w + 3 * i, bi, wi_b);
-    v3_cross(w + 3 * j, bj, wj_b);
+    /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n, so
+     * w_i x b_i - w_j x b_j = (L_i w_i + L_j w_j) x n. */
+    const double *wi = w + 3 * i, *wj = w + 3 * j;
+    const double ws[3] = {li * wi[0] + lj * wj[0], li * wi[1] + lj * wj[1],
+                          li * wi[2] + lj * wj[2]};
+    double wsn[3];
+    v3_cross(ws, n, wsn);
     double u[3], w_rel[3];
     for (int d = 0; d < 3; ++d) {
-        u[d] = v[3 * i + d] + wi_b[d] - v[3 * j + d] - wj_b[d];
-        w_rel[d] = w[3 * i + d] - w[3 * j + d];
+        u[d] = v[3 * i + d] - v[3 * j + d] + wsn[d];
+        w_rel[d] = wi[d] - wj[d];
     }
     double mr[3];
-    contact_law(&p, n, c->delta[q], u, w_rel, e->dt, e->hist_pp->committed + width * c->pair[q],
-                e->hist_pp->trial + width * q, rolling, f, mr);
-    double ti[3], tj[3];
-    v3_cross(bi, f, ti); /* moment of f on i about its centre (eq. 14) */
-    const double fj[3] = {-f[0], -f[1], -f[2]};
-    v3_cross(bj, fj, tj);
+    contact_law(&p, n, c->delta[q], pre->sqrt_rd, pre->sm, u, w_rel, e->dt,
+                e->hist_pp->committed + width * c->pair[q], e->hist_pp->trial + width * q,
+                rolling, f, mr);
+    /* moments of f about the centres (eq. 14): b_i x f = L_i (n x f), b_j x (-f) = L_j (n x f) */
+    double nf[3];
+    v3_cross(n, f, nf);
     for (int d = 0; d < 3; ++d) {
-        ti_total[d] = ti[d] + mr[d];
-        tj_total[d] = tj[d] - mr[d];
+        ti_total[d] = li * nf[d] + mr[d];
+        tj_total[d] = lj * nf[d] - mr[d];
     }
 }
 
-static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
+enum { BLOCK = 8 };
+
+/* The serial loop, specialised by inlining on `single` (NULL or not) and `rolling`. */
+HM_INLINE void pp_serial(const sinter_force_eval *e, const constants *k,
+                         const pair_consts *single, int rolling)
 {
     const sinter_contact_list *c = e->pp;
-    double *force = e->force, *torque = e->torque;
-    /* The two-phase path pays only with enough contacts per particle (measured: with 0.37 per
-     * particle it is slower than one thread); both paths give the same bits. */
-    const int threads =
-        c->count < 2048 || c->count < c->particle_count ? 1 : sinter_threads(e->ctx);
-    if (threads <= 1) {
-        for (size_t q = 0; q < c->count; ++q) {
+    double *restrict force = e->force, *restrict torque = e->torque;
+    for (size_t q0 = 0; q0 < c->count; q0 += BLOCK) {
+        const size_t nb = c->count - q0 < BLOCK ? c->count - q0 : BLOCK;
+        pp_pre pre[BLOCK];
+        for (size_t b = 0; b < nb; ++b)
+            pp_prepare(e, q0 + b, &pre[b]);
+        for (size_t b = 0; b < nb; ++b) {
+            const size_t q = q0 + b;
             double f[3], ti[3], tj[3];
-            pp_contact(e, k, rolling, q, f, ti, tj);
+            pp_contact(e, k, single, rolling, q, &pre[b], f, ti, tj);
             const uint32_t i = c->i[q], j = c->j[q];
             for (int d = 0; d < 3; ++d) {
                 force[3 * i + d] += f[d];
@@ -276,6 +333,51 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
                 torque[3 * j + d] += tj[d];
             }
         }
+    }
+}
+
+/* Contacts [lo, hi) into out (9 per contact), for the threaded path. */
+HM_INLINE void pp_range(const sinter_force_eval *e, const constants *k,
+                        const pair_consts *single, int rolling, size_t lo, size_t hi,
+                        double *out)
+{
+    for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
+        const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
+        pp_pre pre[BLOCK];
+        for (size_t b = 0; b < nb; ++b)
+            pp_prepare(e, q0 + b, &pre[b]);
+        for (size_t b = 0; b < nb; ++b) {
+            double *o = out + 9 * (q0 + b);
+            pp_contact(e, k, single, rolling, q0 + b, &pre[b], o, o + 3, o + 6);
+        }
+    }
+}
+
+static void pp_contacts_range(const sinter_force_eval *e, const constants *k,
+                              const pair_consts *single, int rolling, size_t lo, size_t hi,
+                              double *out)
+{
+    /* specialised copies for the common switches */
+    if (single != NULL)
+        rolling ? pp_range(e, k, single, 1, lo, hi, out) : pp_range(e, k, single, 0, lo, hi, out);
+    else
+        rolling ? pp_range(e, k, NULL, 1, lo, hi, out) : pp_range(e, k, NULL, 0, lo, hi, out);
+}
+
+static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
+{
+    const sinter_contact_list *c = e->pp;
+    double *force = e->force, *torque = e->torque;
+    const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
+    /* The two-phase path pays only with enough contacts per particle (measured: with 0.37 per
+     * particle it is slower than one thread); both paths give the same bits. */
+    const int threads =
+        c->count < 2048 || c->count < c->particle_count ? 1 : sinter_threads(e->ctx);
+    if (threads <= 1) {
+        if (single != NULL)
+            rolling ? pp_serial(e, k, single, 1) : pp_serial(e, k, single, 0);
+        else
+            rolling ? pp_serial(e, k, NULL, 1) : pp_serial(e, k, NULL, 0);
         return SINTER_OK;
     }
     /*
@@ -288,9 +390,16 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
     if (out == NULL)
         return SINTER_ERR_NOMEM;
     const long count = (long)c->count;
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (long q = 0; q < count; ++q)
-        pp_contact(e, k, rolling, (size_t)q, out + 9 * q, out + 9 * q + 3, out + 9 * q + 6);
+#pragma omp parallel num_threads(threads)
+    {
+        long lo = 0, hi = count;
+#ifdef _OPENMP
+        const long t = omp_get_thread_num(), nt = omp_get_num_threads();
+        lo = count * t / nt;
+        hi = count * (t + 1) / nt;
+#endif
+        pp_contacts_range(e, k, single, rolling, (size_t)lo, (size_t)hi, out);
+    }
     const long particles = (long)c->particle_count;
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (long p = 0; p < particles; ++p) {
@@ -316,6 +425,9 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
     return SINTER_OK;
 }
 
+/* Wall contacts: constants per (wall, material row) built once when they fit here. */
+enum { MAX_WALL_TABLE = 64 };
+
 static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int rolling)
 {
     const sinter_particles *ps = e->ps;
@@ -325,27 +437,44 @@ static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int
     const size_t width = e->hist_pw->width;
     const double *hist = e->hist_pw->committed;
     double *trial = e->hist_pw->trial;
+    const size_t nw = e->walls->count;
+    pair_consts table[MAX_WALL_TABLE];
+    const int cached = !k->softening && k->rows > 0 && nw * (size_t)k->rows <= MAX_WALL_TABLE;
+    if (cached)
+        for (size_t wall_index = 0; wall_index < nw; ++wall_index) {
+            side sw;
+            side_from_material(&e->walls->wall[wall_index].material, 1.0, &sw);
+            for (int a = 0; a < k->rows; ++a)
+                mix(&k->sides[a], &sw, &table[wall_index * (size_t)k->rows + (size_t)a]);
+        }
     for (size_t q = 0; q < c->count; ++q) {
         const uint32_t i = c->i[q], wall_index = c->j[q];
         const sinter_wall *wall = &e->walls->wall[wall_index];
         const double *n = c->n + 3 * q;
         const double li = c->branch[q];
-        side si, sw;
-        side_from_material(&ps->materials[ps->material[i]],
-                           k->softening ? e->modulus_scale[i] : 1.0, &si);
-        side_from_material(&wall->material, 1.0, &sw);
         pair_consts consts;
-        mix(&si, &sw, &consts);
-        pair_props p = {&consts, r[i], mass[i], inertia[i] + mass[i] * r[i] * r[i]};
+        const int row = k->index[ps->material[i]];
+        const pair_consts *pc = &consts;
+        if (cached && row >= 0) {
+            pc = &table[wall_index * (size_t)k->rows + (size_t)row];
+        } else {
+            side si, sw;
+            side_from_material(&ps->materials[ps->material[i]],
+                               k->softening ? e->modulus_scale[i] : 1.0, &si);
+            side_from_material(&wall->material, 1.0, &sw);
+            mix(&si, &sw, &consts);
+        }
+        pair_props p = {pc, r[i], mass[i], inertia[i] + mass[i] * r[i] * r[i]};
         const double bi[3] = {li * n[0], li * n[1], li * n[2]};
         double wi_b[3];
         v3_cross(w + 3 * i, bi, wi_b);
         double u[3];
         for (int d = 0; d < 3; ++d)
             u[d] = v[3 * i + d] + wi_b[d] - wall->u[d];
-        double f[3], mr[3], ti[3];
-        contact_law(&p, n, c->delta[q], u, w + 3 * i, e->dt, hist + width * (size_t)c->pair[q],
-                    trial + width * q, rolling, f, mr);
+        double f[3], mr[3], ti[3], sqrt_rd, sm;
+        roots(p.rstar, p.mstar, c->delta[q], &sqrt_rd, &sm);
+        contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
+                    hist + width * (size_t)c->pair[q], trial + width * q, rolling, f, mr);
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {
             e->force[3 * i + d] += f[d];
