@@ -649,6 +649,22 @@ SINTER_API sinter_status sinter_stepper_set_option(sinter_stepper *stepper, cons
 /** Read an option of sinter_stepper_set_option. Errors as there. */
 SINTER_API sinter_status sinter_stepper_get_option(const sinter_stepper *stepper, const char *key,
                                                    double *value);
+/**
+ * Furnace: every particle's temperature follows the piecewise-linear schedule
+ * T(t) through `count` points (times [s] strictly increasing, on the
+ * stepper's clock; temperatures [K] finite and > 0; constant before the first
+ * point and after the last). The quasi-static stepper integrates the necks
+ * along T(t) itself (breakpoints at the points and at phase changes); every
+ * stepper kind sets the particle temperatures to T(t) before its first step
+ * and after each accepted step. The arrays are copied; count = 0 removes the
+ * furnace. A furnace prescribes the temperatures, so it cannot be combined
+ * with heat models. Errors: SINTER_ERR_NULL (NULL arrays with count > 0),
+ * SINTER_ERR_INVALID (the message names the bad point), SINTER_ERR_STATE
+ * (the stepper has heat models), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_stepper_set_furnace(sinter_stepper *stepper, size_t count,
+                                                    const double *times,
+                                                    const double *temperatures);
 /** Set the observer (NULL to remove). */
 SINTER_API sinter_status sinter_stepper_set_observer(sinter_stepper *stepper,
                                                      sinter_observer_fn fn, void *user);
@@ -976,8 +992,9 @@ SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
 /**
  * What the quasi-static stepper (SINTER_STEPPER_QUASISTATIC) reports: every
  * touching pair of particles becomes a bonded beam link (seed 001 eq. 18-40)
- * whose 7DOF neck (7dof.md) is advanced each global step at the particles'
- * mean temperature; the sintering forces (eq. 17) load the links and K u = f
+ * whose 7DOF neck (7dof.md) is advanced each global step along the furnace's
+ * T(t) (sinter_stepper_set_furnace) or, without one, at the particles' mean
+ * temperature held over the step; the sintering forces (eq. 17) load the links and K u = f
  * is solved with SUNDIALS PCG, with particles on the principal planes x, y or
  * z = 0 held on them (sec. 3.3); y4 and y7 are corrected as eq. 41-44.
  * Options ("qs_*" keys of sinter_stepper_set_option) are listed in

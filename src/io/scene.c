@@ -456,6 +456,38 @@ static sinter_status build_electric(scene_text *t, sinter_scene *sc, scene_secti
     return at_line(t, s->line, sinter_stepper_set_electric(sc->st, sc->electric));
 }
 
+/* "temperature_schedule = t T, t T, ..." in [stepper]: the furnace every particle follows
+ * (sinter_stepper_set_furnace), timed like the wall motions (from the end of a pour). */
+static sinter_status build_furnace(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    double *tv = NULL;
+    size_t ntv = 0;
+    sinter_status st = scene_get_numbers(t, s, "temperature_schedule", &tv, &ntv);
+    OPTIONAL(st);
+    if (st != SINTER_OK)
+        return SINTER_OK;
+    const int line = scene_find(s, "temperature_schedule")->line;
+    double *times = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+    double *temps = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+    if (ntv % 2 != 0)
+        st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                         "%s:%d: temperature_schedule: expected pairs 't T' [s, K], got %zu "
+                         "numbers",
+                         t->path, line, ntv);
+    else if (times == NULL || temps == NULL)
+        st = SINTER_ERR_NOMEM;
+    for (size_t k = 0; k < ntv / 2 && st == SINTER_OK; ++k) {
+        times[k] = tv[2 * k];
+        temps[k] = tv[2 * k + 1];
+    }
+    if (st == SINTER_OK)
+        st = at_line(t, line, sinter_stepper_set_furnace(sc->st, ntv / 2, times, temps));
+    sinter_free(t->ctx, tv);
+    sinter_free(t->ctx, times);
+    sinter_free(t->ctx, temps);
+    return st;
+}
+
 static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     const char *kind = "explicit";
@@ -494,6 +526,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
     TRY(required(t, s, scene_get_double(t, s, "end_time", &sc->end_time), "end_time"));
     if (!(sc->end_time > 0))
         return section_error(t, s, "end_time must be > 0 s");
+    TRY(build_furnace(t, sc, s));
     const char *thermal = "explicit";
     OPTIONAL(scene_get_word(t, s, "thermal", &thermal));
     if (strcmp(thermal, "explicit") != 0 && strcmp(thermal, "implicit") != 0)
@@ -568,7 +601,7 @@ static const struct {
 } BUILDERS[] = {
     {"scene", build_scene_header, 1},  {"material", build_material, 1},
     {"particles", build_particles, 1}, {"wall", build_wall, 0},
-    {"force", build_force, 1},         {"heat", build_heat, 0},
+    {"force", build_force, 0},         {"heat", build_heat, 0},
     {"electric", build_electric, 0},
     {"stepper", build_stepper, 1},
     {"pour", build_pour, 0},           {"output", build_output, 0},
@@ -604,6 +637,12 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
             return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s: the scene needs a [%s] section",
                                t->path, BUILDERS[b].type);
     }
+    /* Every stepper but the quasi-static one (bonded links, no contact forces) needs forces. */
+    if (sc->force_count == 0 && sc->st->kind != SINTER_STEPPER_QUASISTATIC)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s: the scene needs a [force] section (only kind = quasistatic runs "
+                           "without one)",
+                           t->path);
     TRY(scene_check_unused(t));
     size_t n = 0;
     TRY(sinter_particles_count(sc->ps, &n));

@@ -315,6 +315,7 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
                              sc->pour_t_max, r.row[COL_KE] / (double)sc->ps->count, sc->pour_ke);
         for (size_t k = 0; k < nw && st == SINTER_OK; ++k)
             st = sinter_walls_set_motion_start(sc->walls, k, sc->st->time);
+        sinter_stepper_shift_furnace(sc->st, sc->st->time); /* timed from the pour's end too */
         if (st == SINTER_OK)
             sinter_log(ctx, SINTER_LOG_INFO, "poured: at rest at t = %g s", sc->st->time);
     }

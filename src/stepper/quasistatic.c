@@ -690,12 +690,19 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
         mats[id].youngs = ps->materials[id].value[SINTER_MAT_YOUNGS_MODULUS];
         mats[id].poisson = ps->materials[id].value[SINTER_MAT_POISSON_RATIO];
     }
+    /* The furnace's T(t), or the mean particle temperature held over the step. */
     double mean_temperature = 0.0;
     for (size_t i = 0; i < ps->count; ++i)
         mean_temperature += ps->temperature[i];
     mean_temperature = ps->count > 0 ? mean_temperature / (double)ps->count : 0.0;
     const double times[1] = {st->time}, temps[1] = {mean_temperature};
-    const sinter_neck_schedule schedule = {1, times, temps};
+    sinter_neck_schedule schedule = {1, times, temps};
+    if (st->furnace_count > 0) {
+        schedule.count = st->furnace_count;
+        schedule.times = st->furnace;
+        schedule.temperatures = st->furnace + st->furnace_count;
+        mean_temperature = 1.0; /* the furnace's temperatures are checked positive */
+    }
     const sinter_qs_particles view = {ps->count,    ps->x,  ps->rot, ps->radius,
                                       ps->material, ps->id, mats};
     double step = 0.0;

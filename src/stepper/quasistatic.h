@@ -153,7 +153,8 @@ struct sinter_stepper;
  * step taken goes to *taken, st->time advances by it, st->dt and st->stats.dt get the proposal
  * for the next step, and st->forces_current is cleared (positions moved). *qs is created on
  * first use with `opt` (NULL: defaults); free it with sinter_qs_destroy. The temperature is
- * the mean particle temperature, held over the step; walls and force models are not used.
+ * the furnace's T(t) (sinter_stepper_set_furnace), or without one the mean particle
+ * temperature held over the step; walls and force models are not used.
  * A reordering of st->ps (layout_generation) is followed through the particle ids.
  */
 sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,

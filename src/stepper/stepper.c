@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "sanity.h"
 #include "stepper.h"
 #include "electric/electric.h"
 
@@ -69,6 +70,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_thermal_free(ctx, &st->thermal);
     sinter_staggered_free(ctx, &st->staggered);
     sinter_qs_destroy(st->quasistatic);
+    sinter_free(ctx, st->furnace);
     sinter_free(ctx, st);
 }
 
@@ -412,6 +414,11 @@ sinter_status sinter_stepper_add_heat(sinter_stepper *st, sinter_heat_model *hm)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "sinter_stepper_add_heat: model '%s' belongs to another context",
                            hm->name);
+    if (st->furnace_count > 0)
+        return sinter_fail(st->ctx, SINTER_ERR_STATE,
+                           "sinter_stepper_add_heat: the stepper has a furnace, which prescribes "
+                           "the temperatures; remove it (count 0) before adding heat model '%s'",
+                           hm->name);
     sinter_thermal *th = &st->thermal;
     for (size_t k = 0; k < th->count; ++k)
         if (th->slots[k].model == hm)
@@ -543,9 +550,12 @@ static sinter_status prepare(sinter_stepper *st)
                                    particles; a mere reordering moves forces along */
     if (st->forces_current)
         return SINTER_OK;
+    sinter_stepper_apply_furnace(st);
     sinter_status s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
+    if (s == SINTER_OK && st->kind != SINTER_STEPPER_QUASISTATIC)
+        s = sinter_sanity_start(st); /* particles behind a wall, coincident centres */
     if (s == SINTER_OK)
         s = sinter_stepper_commit(st);
     if (s == SINTER_OK) {
@@ -592,6 +602,66 @@ static void settle_after_failure(sinter_stepper *st)
     memcpy(ctx->last_error, message, sizeof(message));
 }
 
+sinter_status sinter_stepper_set_furnace(sinter_stepper *st, size_t count, const double *times,
+                                        const double *temperatures)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (count > 0) {
+        SINTER_CHECK_NULL(st->ctx, times);
+        SINTER_CHECK_NULL(st->ctx, temperatures);
+    }
+    if (count > 0 && st->thermal.count > 0)
+        return sinter_fail(st->ctx, SINTER_ERR_STATE,
+                           "sinter_stepper_set_furnace: the stepper has %zu heat model(s); a "
+                           "furnace prescribes the temperatures and cannot be combined with them",
+                           st->thermal.count);
+    if (count > SIZE_MAX / (2 * sizeof(double)))
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_furnace: %zu points overflow the size", count);
+    for (size_t k = 0; k < count; ++k) {
+        if (!isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_set_furnace: time %g s of point %zu is not finite "
+                               "or not after the previous point's",
+                               times[k], k);
+        if (!isfinite(temperatures[k]) || !(temperatures[k] > 0.0))
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_set_furnace: temperature %g K of point %zu must be "
+                               "finite and > 0",
+                               temperatures[k], k);
+    }
+    double *copy = NULL;
+    if (count > 0) {
+        copy = sinter_calloc(st->ctx, 2 * count, sizeof(double));
+        if (copy == NULL)
+            return SINTER_ERR_NOMEM;
+        memcpy(copy, times, count * sizeof(double));
+        memcpy(copy + count, temperatures, count * sizeof(double));
+    }
+    sinter_free(st->ctx, st->furnace);
+    st->furnace = copy;
+    st->furnace_count = count;
+    st->forces_current = 0; /* softening reads the temperatures */
+    return SINTER_OK;
+}
+
+void sinter_stepper_apply_furnace(sinter_stepper *st)
+{
+    if (st->furnace_count == 0)
+        return;
+    const double T = sinter_interpolate(st->furnace_count, st->furnace,
+                                        st->furnace + st->furnace_count, st->time);
+    for (size_t i = 0; i < st->ps->count; ++i)
+        st->ps->temperature[i] = T;
+}
+
+void sinter_stepper_shift_furnace(sinter_stepper *st, double delay)
+{
+    for (size_t k = 0; k < st->furnace_count; ++k)
+        st->furnace[k] += delay;
+}
+
 static sinter_status take_step(sinter_stepper *st, double h, double *taken, int *stop)
 {
     sinter_status s;
@@ -607,6 +677,7 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
         settle_after_failure(st);
         return s;
     }
+    sinter_stepper_apply_furnace(st);
     st->stats.steps++;
     if (st->observer != NULL && st->observer(st, st->time, st->observer_user) != 0)
         *stop = 1;

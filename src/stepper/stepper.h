@@ -72,7 +72,15 @@ struct sinter_stepper {
     sinter_staggered staggered;             /* SINTER_STEPPER_STAGGERED only */
     struct sinter_qs *quasistatic;         /* SINTER_STEPPER_QUASISTATIC: links and necks */
     sinter_qs_options quasistatic_options; /* copied into it on the first step */
+    double *furnace;      /* sinter_stepper_set_furnace: times, then temperatures */
+    size_t furnace_count; /* points (0: no furnace) */
 };
+
+/* Set every particle's temperature to the furnace's T(st->time) (no-op without a furnace). */
+void sinter_stepper_apply_furnace(sinter_stepper *st);
+
+/* Delay the furnace's schedule by `delay` [s] (the scene runner times it from a pour's end). */
+void sinter_stepper_shift_furnace(sinter_stepper *st, double delay);
 
 /* alpha <- alpha (+) d_alpha: composition of total rotation vectors, seed 003 eq. 45. */
 static inline void sinter_compose_rotation(double *alpha, const double da[3])

@@ -424,6 +424,20 @@ class StepperApiTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             sinter.Stepper(ctx, self.drop.particles, kind="leapfrog")
 
+    def test_furnace_sets_the_temperatures(self):
+        st = self.st
+        st.set_furnace([0.0, 1e-3], [400.0, 600.0])
+        st.advance(5e-4)
+        temps = as_lists(self.drop.particles.get("temperature"))
+        for t in temps:
+            self.assertAlmostEqual(float(t if not isinstance(t, list) else t[0]), 500.0,
+                                   delta=1e-9)
+        with self.assertRaises(sinter.InvalidArgument):
+            st.set_furnace([0.0, 0.0], [400.0, 600.0])  # times must increase
+        with self.assertRaises(ValueError):
+            st.set_furnace([0.0], [400.0, 600.0])
+        st.set_furnace([], [])  # removed
+
     def test_evaluate_fills_forces(self):
         self.st.evaluate()
         forces = as_lists(self.drop.particles.get("force"))

@@ -121,6 +121,17 @@ static void test_broken_scene_files(void **state)
     char *skin = strstr(text, "skin");
     memcpy(skin, "skim", 4);
     expect_parse_error(text, SINTER_ERR_PARSE, "unknown key 'skim'", "[stepper]");
+    /* a furnace schedule with a lone number, and one going back in time */
+    snprintf(text, sizeof(text), "%.*stemperature_schedule = 0 1293, 10\n%s",
+             (int)(strstr(GOOD, "[output]") - GOOD), GOOD, strstr(GOOD, "[output]"));
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "expected pairs 't T'");
+    snprintf(text, sizeof(text), "%.*stemperature_schedule = 0 1293, 0 1300\n%s",
+             (int)(strstr(GOOD, "[output]") - GOOD), GOOD, strstr(GOOD, "[output]"));
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:31:", "point 1");
+    /* no force model with an explicit stepper */
+    const char *forces = strstr(GOOD, "[force hertz_mindlin]");
+    snprintf(text, sizeof(text), "%.*s%s", (int)(forces - GOOD), GOOD, strstr(GOOD, "[stepper]"));
+    expect_parse_error(text, SINTER_ERR_PARSE, "needs a [force] section", "quasistatic");
     /* a missing file */
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
@@ -281,6 +292,47 @@ static void test_run_writes_outputs(void **state)
 
 
 /* The quasi-static stepper from a scene file; VTU frames carry the neck count per particle. */
+/* [stepper] temperature_schedule: the particles (given 300 K) follow the furnace, and the necks
+ * grow, which at 300 K they would not measurably do. */
+static void test_furnace_scene(void **state)
+{
+    (void)state;
+    const char *text = "[scene]\nname = furnace\nunits = SI\n"
+                       "[material copper]\ndensity = 8960\nyoungs_modulus = 72e9\n"
+                       "[particles]\nmethod = list\nmaterial = copper\n"
+                       "spheres = 25e-6 25e-6 25e-6 25e-6, 75e-6 25e-6 25e-6 25e-6\n"
+                       "temperature = 300\n"
+                       "[stepper]\nkind = quasistatic\ndt = 1e-6\nend_time = 20\n"
+                       "temperature_schedule = 0 1000, 10 1293\n"
+                       "[output]\ninterval = 20\nvtu = no\n";
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("furnace.scene", text)), SINTER_OK);
+    char out[512];
+    snprintf(out, sizeof(out), "%s/furnace", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    sinter_particles *ps = NULL;
+    sinter_stepper *st = NULL;
+    assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
+    assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
+    const double *temp = NULL;
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_TEMPERATURE, (const void **)&temp, NULL, NULL),
+        SINTER_OK);
+    assert_close(temp[0], 1293.0, 0.0);
+    assert_close(temp[1], 1293.0, 0.0);
+    assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_TEMPERATURE), SINTER_OK);
+    sinter_sintering_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    assert_int_equal(sinter_stepper_sintering_stats(st, &stats), SINTER_OK);
+    /* seeded at x/R = 0.01 (7dof.md §4); at >= 1000 K it grows several-fold in 20 s */
+    assert_true(stats.neck_ratio_mean > 0.03);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
 static void test_quasistatic_scene_writes_neck_counts(void **state)
 {
     (void)state;
@@ -327,6 +379,7 @@ int main(void)
         cmocka_unit_test(test_bad_checkpoints_are_refused),
         cmocka_unit_test(test_run_writes_outputs),
         cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
+        cmocka_unit_test(test_furnace_scene),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

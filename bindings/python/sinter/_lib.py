@@ -286,6 +286,7 @@ SIGNATURES = {
     "sinter_scene_end_time": (c_status, [ScenePtr, _P(_double)]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
+    "sinter_stepper_set_furnace": (c_status, [StepperPtr, _size, _P(_double), _P(_double)]),
     "sinter_stepper_set_observer": (c_status, [StepperPtr, ObserverFn, ctypes.c_void_p]),
     "sinter_stepper_advance": (c_status, [StepperPtr, _double]),
     "sinter_stepper_step": (c_status, [StepperPtr, _u64]),

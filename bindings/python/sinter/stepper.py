@@ -258,6 +258,21 @@ class Stepper(_Handle):
         """Set an option of the staggered stepper ("phi", "tolerance", "dt_max", ...; sinter.h)."""
         self._call(lib.sinter_stepper_set_option, self._ptr, key.encode("utf-8"), float(value))
 
+    def set_furnace(self, times, temperatures):
+        """Every particle's temperature follows T(t) through the points (times [s], K).
+
+        The quasi-static stepper integrates the necks along it; an empty schedule removes it.
+        """
+        times = [float(t) for t in times]
+        temperatures = [float(v) for v in temperatures]
+        if len(times) != len(temperatures):
+            raise ValueError("set_furnace: %d times but %d temperatures"
+                             % (len(times), len(temperatures)))
+        n = len(times)
+        array = ctypes.c_double * max(n, 1)
+        self._call(lib.sinter_stepper_set_furnace, self._ptr, n, array(*times),
+                   array(*temperatures))
+
     def get_option(self, key):
         value = ctypes.c_double()
         self._call(lib.sinter_stepper_get_option, self._ptr, key.encode("utf-8"),
