@@ -42,11 +42,22 @@ static int any_special(const sinter_particles *ps)
     return (all & (SINTER_PARTICLE_FIXED | SINTER_PARTICLE_NO_ROTATION)) != 0;
 }
 
+/* 0 for a finite value, NaN for an infinite or NaN one: z * 0. Summing these tells, value by
+ * value and without branches, whether all were finite (the sum of zeros cannot overflow). */
+static inline double nonfinite(double z)
+{
+    return z * 0.0;
+}
+
 /*
  * First half kick and drift, saving the pre-step state for a rollback in the
- * same pass (the old values are read anyway, so the backup costs one store).
+ * same pass (the old values are read anyway, so the backup costs one store),
+ * and the total rotation vector (seed 003 eq. 45, increment w h) in the same
+ * pass. Positions and rotations are final for the step here, so their
+ * finiteness is checked here; returns the first particle with a non-finite
+ * one, or n.
  */
-static void kick_drift(sinter_stepper *st, double h)
+static size_t kick_drift(sinter_stepper *st, double h)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count, n3 = 3 * n;
@@ -58,61 +69,74 @@ static void kick_drift(sinter_stepper *st, double h)
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
+    size_t bad = n;
     if (!any_special(ps)) {
-#pragma omp parallel for num_threads(threads) schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
         for (size_t i = 0; i < n; ++i) {
             const double a = half / m[i], b = half / j[i];
+            double da[3], z = 0.0;
             for (int d = 0; d < 3; ++d) {
                 const size_t k = 3 * i + (size_t)d;
                 bx[k] = x[k];
                 bv[k] = v[k];
                 bw[k] = w[k];
+                brot[k] = rot[k];
                 const double vk = v[k] + a * f[k];
                 v[k] = vk;
-                x[k] += h * vk;
-                w[k] += b * tq[k];
+                const double xk = x[k] + h * vk;
+                x[k] = xk;
+                const double wk = w[k] + b * tq[k];
+                w[k] = wk;
+                da[d] = h * wk;
+                z += nonfinite(xk);
             }
+            double *alpha = rot + 3 * i;
+            sinter_compose_rotation(alpha, da);
+            z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
+            if (!(z == 0.0) && i < bad)
+                bad = i;
         }
-    } else {
-        memcpy(bx, x, n3 * sizeof(double));
-        memcpy(bv, v, n3 * sizeof(double));
-        memcpy(bw, w, n3 * sizeof(double));
-        for (size_t i = 0; i < n; ++i) {
-            const uint32_t fl = flags[i];
-            if (!(fl & SINTER_PARTICLE_FIXED)) {
-                const double a = half / m[i];
-                for (int d = 0; d < 3; ++d)
-                    v[3 * i + d] += a * f[3 * i + d];
-            }
-            for (int d = 0; d < 3; ++d)
-                x[3 * i + d] += h * v[3 * i + d];
-            if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
-                const double b = half / j[i];
-                for (int d = 0; d < 3; ++d)
-                    w[3 * i + d] += b * tq[3 * i + d];
-            }
-        }
+        return bad;
     }
-    /* Total rotation vector, seed 003 eq. 45, with the increment w h. */
-#pragma omp parallel for num_threads(threads) schedule(static)
+    memcpy(bx, x, n3 * sizeof(double));
+    memcpy(bv, v, n3 * sizeof(double));
+    memcpy(bw, w, n3 * sizeof(double));
+    memcpy(brot, rot, n3 * sizeof(double));
     for (size_t i = 0; i < n; ++i) {
-        double *alpha = rot + 3 * i;
-        brot[3 * i] = alpha[0];
-        brot[3 * i + 1] = alpha[1];
-        brot[3 * i + 2] = alpha[2];
+        const uint32_t fl = flags[i];
+        if (!(fl & SINTER_PARTICLE_FIXED)) {
+            const double a = half / m[i];
+            for (int d = 0; d < 3; ++d)
+                v[3 * i + d] += a * f[3 * i + d];
+        }
+        for (int d = 0; d < 3; ++d)
+            x[3 * i + d] += h * v[3 * i + d];
+        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+            const double b = half / j[i];
+            for (int d = 0; d < 3; ++d)
+                w[3 * i + d] += b * tq[3 * i + d];
+        }
         const double da[3] = {h * w[3 * i], h * w[3 * i + 1], h * w[3 * i + 2]};
+        double *alpha = rot + 3 * i;
         sinter_compose_rotation(alpha, da);
+        double z = 0.0;
+        for (int d = 0; d < 3; ++d)
+            z += nonfinite(x[3 * i + d]) + nonfinite(alpha[d]);
+        if (!(z == 0.0) && i < bad)
+            bad = i;
     }
+    return bad;
 }
 
-/* Second half kick; returns the index of the first particle whose state is not finite, or n. */
+/* Second half kick; returns the index of the first particle whose velocity or spin is not
+ * finite, or n (positions and rotations were checked by kick_drift). */
 static size_t kick(sinter_stepper *st, double h)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
-    double *x = ps->x, *v = ps->v, *w = ps->w;
-    const double *f = ps->force, *tq = ps->torque, *m = ps->mass, *j = ps->inertia,
-                 *rot = ps->rot;
+    double *restrict v = ps->v, *restrict w = ps->w;
+    const double *restrict f = ps->force, *restrict tq = ps->torque, *restrict m = ps->mass,
+                           *restrict j = ps->inertia;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
@@ -132,11 +156,10 @@ static size_t kick(sinter_stepper *st, double h)
         }
         /* Every value must be finite (the rotation too: sinter_particles_validate refuses a
          * non-finite one, so a step that makes one could never be continued). */
-        int finite = 1;
+        double z = 0.0;
         for (int d = 0; d < 3; ++d)
-            finite &= isfinite(x[3 * i + d]) & isfinite(v[3 * i + d]) & isfinite(w[3 * i + d]) &
-                      isfinite(rot[3 * i + d]);
-        if (!finite && i < bad)
+            z += nonfinite(v[3 * i + d]) + nonfinite(w[3 * i + d]);
+        if (!(z == 0.0) && i < bad)
             bad = i;
     }
     return bad;
@@ -172,7 +195,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         return s;
     }
     double t0 = sinter_clock();
-    kick_drift(st, h);
+    const size_t bad_drift = kick_drift(st, h);
     st->stats.seconds_integrate += sinter_clock() - t0;
     st->time = t_start + h;
     if (st->walls != NULL)
@@ -183,6 +206,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (s == SINTER_OK) {
         t0 = sinter_clock();
         bad = kick(st, h);
+        bad = bad_drift < bad ? bad_drift : bad;
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
     if (s == SINTER_OK && bad == st->ps->count && st->has_domain) {
