@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "sanity.h"
 #include "stepper.h"
 
 static sinter_status reserve_backup(sinter_stepper *st)
@@ -209,6 +210,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         bad = bad_drift < bad ? bad_drift : bad;
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
+    if (s == SINTER_OK && bad == st->ps->count)
+        s = sinter_sanity_step(st, st->backup, t_start, h); /* backup starts with x at t */
     if (s == SINTER_OK && bad == st->ps->count && st->has_domain) {
         const sinter_particles *ps = st->ps;
         for (size_t i = 0; i < ps->count; ++i) {

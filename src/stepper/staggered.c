@@ -74,6 +74,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "sanity.h"
 #include "stepper.h"
 
 /* ---- options ------------------------------------------------------------------------- */
@@ -682,6 +683,8 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     }
     /* Accepted: (s^K, theta^K) at t + h. */
     s = check_domain(st, t, h);
+    if (s == SINTER_OK)
+        s = sinter_sanity_step(st, a.x, t, h);
     if (s == SINTER_OK && st->thermal.count > 0) {
         /* Copy the iterate's slot powers before the evaluation overwrites them. */
         for (size_t j = 0; j < st->thermal.count; ++j)

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "sanity.h"
 #include "stepper.h"
 #include "electric/electric.h"
 
@@ -553,6 +554,8 @@ static sinter_status prepare(sinter_stepper *st)
     sinter_status s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
+    if (s == SINTER_OK && st->kind != SINTER_STEPPER_QUASISTATIC)
+        s = sinter_sanity_start(st); /* particles behind a wall, coincident centres */
     if (s == SINTER_OK)
         s = sinter_stepper_commit(st);
     if (s == SINTER_OK) {

@@ -1,0 +1,37 @@
+/*
+ * Sanity checks of the steppers (sanity.c): a bad starting state is refused before the first
+ * step, and a trial step that shows an instability is rejected, with a message that names the
+ * particle or pair, the quantity and the time. The limits are justified in sanity.c.
+ */
+#ifndef SINTER_SANITY_H
+#define SINTER_SANITY_H
+
+#include "core/core.h"
+
+/* Largest growth of one contact's overlap in one step, as a fraction of the smaller radius. */
+#define SINTER_SANITY_APPROACH_LIMIT 0.5
+/* Largest temperature a particle may reach [K]. */
+#define SINTER_SANITY_MAX_TEMPERATURE 1e5
+
+struct sinter_stepper;
+
+/*
+ * The state a stepper starts from (its contact lists just evaluated): a particle whose centre
+ * is behind a wall (on the side its normal points away from) and two particles with the same
+ * centre are refused with SINTER_ERR_INVALID naming them.
+ */
+sinter_status sinter_sanity_start(struct sinter_stepper *st);
+
+/*
+ * A trial step from t to t + h whose new state (positions, temperatures, contact lists) is in
+ * the stepper; x_old holds the positions at t (3 per particle). Rejected, with the last
+ * accepted state to be restored by the caller:
+ *   - a particle centre behind a wall (it passed through): SINTER_ERR_LOST_PARTICLE;
+ *   - a contact whose overlap grew by more than SINTER_SANITY_APPROACH_LIMIT of the smaller
+ *     radius in this one step: SINTER_ERR_UNSTABLE;
+ *   - a free temperature not in (0, SINTER_SANITY_MAX_TEMPERATURE]: SINTER_ERR_UNSTABLE.
+ */
+sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
+                                 double h);
+
+#endif
