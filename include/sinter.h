@@ -1179,8 +1179,9 @@ SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double
 
 /**
  * Write the complete state of a stepper (time, step, particles, walls,
- * neighbour lists, contact history) to a versioned binary file with a
- * checksum. Written to a temporary file and renamed: an existing checkpoint
+ * neighbour lists, contact history; for the quasi-static kind also its bonded
+ * links, their 7DOF necks and the principal-plane conditions) to a versioned
+ * binary file (format 3; format 2 files are still read) with a checksum. Written to a temporary file and renamed: an existing checkpoint
  * is never left half-written.
  */
 SINTER_API sinter_status sinter_checkpoint_write(const sinter_stepper *stepper, const char *path);
@@ -1189,7 +1190,8 @@ SINTER_API sinter_status sinter_checkpoint_write(const sinter_stepper *stepper, 
  * Restore a stepper from a checkpoint written by a stepper with the same
  * submodels and walls; the run then continues bit for bit as it would have.
  * A truncated, corrupted or mismatched file is refused with SINTER_ERR_CORRUPT
- * (or SINTER_ERR_INVALID for a mismatch) and nothing is changed.
+ * (or SINTER_ERR_INVALID for a mismatch, e.g. quasi-static links for a stepper
+ * of another kind) and nothing is changed.
  */
 SINTER_API sinter_status sinter_checkpoint_read(sinter_stepper *stepper, const char *path);
 

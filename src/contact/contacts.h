@@ -27,9 +27,6 @@ typedef struct sinter_contact_list {
     size_t particle_count;
 } sinter_contact_list;
 
-/* Threads to use for a context (its setting; 0 means all available). */
-int sinter_threads(const sinter_ctx *ctx);
-
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
 
 /* Contact radii a = sqrt(A / pi) [m] into a[count] (host batches report them). */

@@ -35,6 +35,7 @@ void sinter_neighbors_free(sinter_neighbors *nb)
     sinter_free(nb->ctx, nb->cell_start);
     sinter_free(nb->ctx, nb->cell_items);
     sinter_free(nb->ctx, nb->hash);
+    sinter_free(nb->ctx, nb->scan);
     memset(nb, 0, sizeof(*nb));
 }
 
@@ -99,11 +100,15 @@ int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *p
         return 1;
     double max2 = 0.0;
     const double *x = ps->x, *x0 = nb->x_ref;
-    for (size_t i = 0; i < 3 * ps->count; i += 3) {
-        const double dx = x[i] - x0[i], dy = x[i + 1] - x0[i + 1], dz = x[i + 2] - x0[i + 2];
+    const long n = (long)ps->count;
+    const int threads = n < 16384 ? 1 : sinter_threads(nb->ctx);
+    /* a maximum does not depend on the order: the same for any number of threads */
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(max : max2)
+    for (long i = 0; i < n; ++i) {
+        const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
+                     dz = x[3 * i + 2] - x0[3 * i + 2];
         const double d2 = dx * dx + dy * dy + dz * dz;
-        if (d2 > max2)
-            max2 = d2;
+        max2 = d2 > max2 ? d2 : max2;
     }
     const double max_particle = sqrt(max2);
     return max_particle >= half || max_particle + max_wall >= nb->skin;
@@ -143,7 +148,10 @@ static sinter_status match_pairs(sinter_neighbors *nb, sinter_pair_list *now,
             h = (h + 1) & mask;
         table[h] = (uint32_t)p;
     }
-    for (size_t q = 0; q < now->count; ++q) {
+    const long count = (long)now->count;
+    const int threads = count < 16384 ? 1 : sinter_threads(nb->ctx);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long q = 0; q < count; ++q) {
         size_t h = mix_key(now->key_i[q], now->key_j[q]) & mask;
         uint32_t found = SINTER_NO_PAIR;
         while (table[h] != SINTER_NO_PAIR) {
@@ -166,11 +174,87 @@ static void swap_lists(sinter_pair_list *a, sinter_pair_list *b)
     *b = t;
 }
 
+/* The cell grid of one build: items[start[c] .. start[c+1]) are the particles of cell c. */
+typedef struct grid {
+    size_t dims[3];
+    const uint32_t *start, *items, *cell_of;
+} grid;
+
+/*
+ * Candidate pairs (i, j) with j > i in index of particles lo .. hi-1, in the order of the
+ * serial build, into pi/pj (at most cap). Returns the count; *stop is the first particle whose
+ * pairs did not all fit (hi when all did), and its pairs are not in the count.
+ * Pairs are oriented by persistent id, so that per-pair history (a tangential spring seen
+ * from i) survives reordering.
+ */
+static size_t scan(const grid *g, const sinter_particles *ps, double skin, size_t lo, size_t hi,
+                   uint32_t *pi, uint32_t *pj, size_t cap, size_t *stop)
+{
+    const double *x = ps->x, *r = ps->radius;
+    const uint64_t *id = ps->id;
+    const size_t *dims = g->dims;
+    size_t m = 0;
+    for (size_t i = lo; i < hi; ++i) {
+        const size_t mark = m;
+        const size_t ci = g->cell_of[i];
+        const long cx = (long)(ci % dims[0]), cy = (long)((ci / dims[0]) % dims[1]),
+                   cz = (long)(ci / (dims[0] * dims[1]));
+        const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2], rsi = r[i] + skin;
+        const long z0 = cz > 0 ? cz - 1 : 0, z1 = cz + 1 < (long)dims[2] ? cz + 1 : cz;
+        const long y0 = cy > 0 ? cy - 1 : 0, y1 = cy + 1 < (long)dims[1] ? cy + 1 : cy;
+        const long x0 = cx > 0 ? cx - 1 : 0, x1 = cx + 1 < (long)dims[0] ? cx + 1 : cx;
+        for (long z = z0; z <= z1; ++z)
+            for (long y = y0; y <= y1; ++y) {
+                /* cells x0..x1 of one row are contiguous: one run of items */
+                const size_t row = ((size_t)z * dims[1] + (size_t)y) * dims[0];
+                const uint32_t k0 = g->start[row + (size_t)x0], k1 = g->start[row + (size_t)x1 + 1];
+                for (uint32_t k = k0; k < k1; ++k) {
+                    const uint32_t j = g->items[k];
+                    if (j <= i)
+                        continue;
+                    const double ex = x[3 * j] - xi, ey = x[3 * j + 1] - yi,
+                                 ez = x[3 * j + 2] - zi;
+                    const double cut = rsi + r[j];
+                    if (ex * ex + ey * ey + ez * ez < cut * cut) {
+                        if (m == cap) {
+                            *stop = i;
+                            return mark;
+                        }
+                        const int keep = id[i] < id[j];
+                        pi[m] = keep ? (uint32_t)i : j;
+                        pj[m] = keep ? j : (uint32_t)i;
+                        ++m;
+                    }
+                }
+            }
+    }
+    *stop = hi;
+    return m;
+}
+
+/* Pairs of particles lo .. hi-1 appended to the list, growing it as needed (serial). */
+static sinter_status scan_append(sinter_neighbors *nb, const grid *g, const sinter_particles *ps,
+                                 size_t lo, size_t hi)
+{
+    sinter_pair_list *l = &nb->pp;
+    sinter_status st = reserve_pairs(nb->ctx, l, l->count + 1024);
+    while (st == SINTER_OK && lo < hi) {
+        size_t stop;
+        l->count += scan(g, ps, nb->skin, lo, hi, l->i + l->count, l->j + l->count,
+                         l->capacity - l->count, &stop);
+        if (stop < hi) /* the pairs of particle `stop` did not fit in the room left */
+            st = reserve_pairs(nb->ctx, l, 2 * l->capacity);
+        lo = stop;
+    }
+    return st;
+}
+
 /* Particle-particle candidates: particles binned in cells of side >= the largest cutoff. */
 static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
 {
     sinter_ctx *ctx = nb->ctx;
     const size_t n = ps->count;
+    const size_t expected = nb->pp.count; /* the last build's count: size of the scratch */
     nb->pp.count = 0;
     if (n < 2)
         return SINTER_OK;
@@ -236,49 +320,56 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     for (size_t c = ncell; c > 0; --c)
         start[c] = start[c - 1];
     start[0] = 0;
+    const grid g = {{dims[0], dims[1], dims[2]}, start, items, cell_of};
 
-    const double skin = nb->skin;
-    const uint64_t *id = ps->id;
-    for (size_t i = 0; i < n; ++i) {
-        const size_t ci = cell_of[i];
-        const long cx = (long)(ci % dims[0]), cy = (long)((ci / dims[0]) % dims[1]),
-                   cz = (long)(ci / (dims[0] * dims[1]));
-        for (long dz = -1; dz <= 1; ++dz) {
-            const long z = cz + dz;
-            if (z < 0 || z >= (long)dims[2])
-                continue;
-            for (long dy = -1; dy <= 1; ++dy) {
-                const long y = cy + dy;
-                if (y < 0 || y >= (long)dims[1])
-                    continue;
-                for (long dx = -1; dx <= 1; ++dx) {
-                    const long xc = cx + dx;
-                    if (xc < 0 || xc >= (long)dims[0])
-                        continue;
-                    const size_t c = ((size_t)z * dims[1] + (size_t)y) * dims[0] + (size_t)xc;
-                    for (uint32_t k = start[c]; k < start[c + 1]; ++k) {
-                        const uint32_t j = items[k];
-                        if (j <= i)
-                            continue;
-                        const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
-                                     ez = x[3 * j + 2] - x[3 * i + 2];
-                        const double cut = r[i] + r[j] + skin;
-                        if (ex * ex + ey * ey + ez * ez < cut * cut) {
-                            /* Orient the pair by persistent id, so that per-pair history
-                             * (a tangential spring seen from i) survives reordering. */
-                            const int keep = id[i] < id[j];
-                            st = push_pair(ctx, &nb->pp, keep ? (uint32_t)i : j,
-                                           keep ? j : (uint32_t)i, keep ? id[i] : id[j],
-                                           keep ? id[j] : id[i]);
-                            if (st != SINTER_OK)
-                                return st;
-                        }
-                    }
-                }
-            }
-        }
+    const int threads = n < 8192 ? 1 : sinter_threads(ctx);
+    if (threads <= 1)
+        return scan_append(nb, &g, ps, 0, n);
+    /*
+     * Threads: each scans a contiguous range of particles into its own segment of a scratch
+     * buffer sized from the last build; the segments are appended in range order (the serial
+     * order), and a range whose segment filled up is finished serially. The list is the same
+     * for any number of threads.
+     */
+    enum { MAX_CHUNKS = 64 };
+    const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+    const size_t guess = (expected > 0 ? expected + expected / 4 : 4 * n) / (size_t)chunks + 1024;
+    st = sinter_grow(ctx, (void **)&nb->scan, &nb->scan_capacity, 2 * guess * (size_t)chunks,
+                     sizeof(uint32_t));
+    if (st != SINTER_OK)
+        return st;
+    const size_t seg = nb->scan_capacity / (2 * (size_t)chunks);
+    size_t found[MAX_CHUNKS], stop[MAX_CHUNKS];
+#pragma omp parallel for num_threads(chunks) schedule(static, 1)
+    for (int t = 0; t < chunks; ++t) {
+        const size_t a = n * (size_t)t / (size_t)chunks, b = n * (size_t)(t + 1) / (size_t)chunks;
+        uint32_t *pi = nb->scan + 2 * seg * (size_t)t;
+        found[t] = scan(&g, ps, nb->skin, a, b, pi, pi + seg, seg, &stop[t]);
     }
-    return SINTER_OK;
+    for (int t = 0; t < chunks && st == SINTER_OK; ++t) {
+        st = reserve_pairs(ctx, &nb->pp, nb->pp.count + found[t]);
+        if (st != SINTER_OK)
+            break;
+        const uint32_t *pi = nb->scan + 2 * seg * (size_t)t;
+        memcpy(nb->pp.i + nb->pp.count, pi, found[t] * sizeof(uint32_t));
+        memcpy(nb->pp.j + nb->pp.count, pi + seg, found[t] * sizeof(uint32_t));
+        nb->pp.count += found[t];
+        const size_t b = n * (size_t)(t + 1) / (size_t)chunks;
+        if (stop[t] < b)
+            st = scan_append(nb, &g, ps, stop[t], b);
+    }
+    return st;
+}
+
+/* Persistent ids of both ends of every pair (the keys that carry history across builds). */
+static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
+{
+    const long count = (long)l->count;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long p = 0; p < count; ++p) {
+        l->key_i[p] = id[l->i[p]];
+        l->key_j[p] = id[l->j[p]];
+    }
 }
 
 static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
@@ -341,6 +432,8 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     swap_lists(&nb->pp, &nb->old_pp);
     swap_lists(&nb->pw, &nb->old_pw);
     sinter_status st = build_pp(nb, ps);
+    if (st == SINTER_OK)
+        fill_keys(&nb->pp, ps->id, nb->pp.count < 16384 ? 1 : sinter_threads(ctx));
     if (st == SINTER_OK)
         st = build_pw(nb, ps, walls);
     if (st == SINTER_OK)

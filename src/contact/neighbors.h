@@ -52,7 +52,12 @@ typedef struct sinter_neighbors {
     size_t items_capacity;
     uint32_t *hash; /* open-addressing table of old pair indices */
     size_t hash_capacity;
+    uint32_t *scan; /* per-thread segments of the threaded build */
+    size_t scan_capacity;
 } sinter_neighbors;
+
+/* Threads to use for a context (its setting; 0 means all available); contacts.c. */
+int sinter_threads(const sinter_ctx *ctx);
 
 void sinter_neighbors_init(sinter_neighbors *nb, sinter_ctx *ctx, double skin);
 void sinter_neighbors_free(sinter_neighbors *nb);

@@ -43,7 +43,7 @@ static inline double conductance_pp(int projection, double ki, double kj, double
 {
     if (projection) {
         const double ks = ki + kj; /* LIGGGHTS: 4 k_i k_j / (k_i + k_j) sqrt(pi) r_max */
-        return ks > 0.0 ? 4.0 * ki * kj / ks * SQRT_PI * fmax(ri, rj) : 0.0;
+        return ks > 0.0 ? 4.0 * ki * kj / ks * SQRT_PI * (ri > rj ? ri : rj) : 0.0;
     }
     const double den = ri * kj + rj * ki;                             /* eq. 35 */
     return den > 0.0 ? ki * kj * (ri + rj) / den * area / dist : 0.0; /* eq. 32, 34 */
@@ -59,28 +59,88 @@ static inline double conductance_pw(int projection, double ki, double kw, double
     return dist > 0.0 ? kiw * area / dist : 0.0;                        /* eq. 32 */
 }
 
-static inline void loop_pp(const sinter_heat_eval *e, int projection, int implicit)
+/* Conductivity of every material in use, read once per evaluation. */
+static void conductivities(const sinter_particles *ps, double k[SINTER_MAX_MATERIALS])
+{
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+        k[m] = ps->materials[m].value[SINTER_MAT_THERMAL_CONDUCTIVITY];
+}
+
+/* Conductance of particle-particle contact q. */
+static inline double contact_g(const sinter_heat_eval *e, const double *kmat, int projection,
+                               size_t q)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
-    const double *r = ps->radius, *theta = ps->temperature;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], j = c->j[k];
-        const double g = conductance_pp(
-            projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
-            sinter_particle_param(ps, j, SINTER_MAT_THERMAL_CONDUCTIVITY), r[i], r[j], c->area[k],
-            c->dist[k]);
-        if (implicit) {
-            e->g_pp[k] += g;
-        } else {
-            const double q = g * (theta[j] - theta[i]); /* eq. 32, into i */
-            e->heat[i] += q;
-            e->heat[j] -= q;
-        }
-    }
+    const uint32_t i = c->i[q], j = c->j[q];
+    return conductance_pp(projection, kmat[ps->material[i]], kmat[ps->material[j]],
+                          ps->radius[i], ps->radius[j], c->area[q], c->dist[q]);
 }
 
-static inline void loop_pw(const sinter_heat_eval *e, int projection, int implicit)
+/*
+ * Explicit, threaded: every contact's power into a scratch array, then every particle sums
+ * its contacts in ascending contact order (the contact list's per-particle adjacency) --
+ * the order of the serial loop, so the result does not depend on the number of threads.
+ */
+static sinter_status pp_threaded(const sinter_heat_eval *e, const double *kmat, int projection,
+                                 int threads)
+{
+    const sinter_contact_list *c = e->pp;
+    const double *theta = e->ps->temperature;
+    double *q = sinter_alloc(e->ctx, c->count * sizeof(double));
+    if (q == NULL)
+        return SINTER_ERR_NOMEM;
+    const long count = (long)c->count, particles = (long)c->particle_count;
+    double *heat = e->heat;
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static)
+        for (long k = 0; k < count; ++k)
+            q[k] = contact_g(e, kmat, projection, (size_t)k) *
+                   (theta[c->j[k]] - theta[c->i[k]]); /* eq. 32, into i */
+#pragma omp for schedule(static)
+        for (long p = 0; p < particles; ++p) {
+            double h = heat[p];
+            for (uint32_t a = c->adj_start[p]; a < c->adj_start[p + 1]; ++a) {
+                const uint32_t k = c->pair_to_contact[c->adj_pair[a]];
+                if (k == SINTER_NO_PAIR)
+                    continue;
+                h = c->i[k] == (uint32_t)p ? h + q[k] : h - q[k];
+            }
+            heat[p] = h;
+        }
+    }
+    sinter_free(e->ctx, q);
+    return SINTER_OK;
+}
+
+static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kmat,
+                                    int projection, int implicit)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pp;
+    const double *theta = ps->temperature;
+    const int threads = c->count < 4096 ? 1 : sinter_threads(e->ctx);
+    if (implicit) {
+        const long count = (long)c->count;
+#pragma omp parallel for num_threads(threads) schedule(static)
+        for (long k = 0; k < count; ++k)
+            e->g_pp[k] += contact_g(e, kmat, projection, (size_t)k);
+        return SINTER_OK;
+    }
+    if (threads > 1)
+        return pp_threaded(e, kmat, projection, threads);
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
+        e->heat[i] += q;
+        e->heat[j] -= q;
+    }
+    return SINTER_OK;
+}
+
+static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int projection,
+                           int implicit)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
@@ -88,8 +148,7 @@ static inline void loop_pw(const sinter_heat_eval *e, int projection, int implic
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k];
         const double g = conductance_pw(
-            projection, sinter_particle_param(ps, i, SINTER_MAT_THERMAL_CONDUCTIVITY),
-            e->walls->wall[c->j[k]].material.value[SINTER_MAT_THERMAL_CONDUCTIVITY], r[i],
+            projection, kmat[ps->material[i]], e->walls->wall[c->j[k]].material.value[SINTER_MAT_THERMAL_CONDUCTIVITY], r[i],
             c->area[k], c->dist[k]);
         if (implicit)
             e->g_pw[k] += g;
@@ -108,18 +167,21 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     const int proj = area == 1.0, implicit = e->g_pp != NULL;
     const int walls =
         sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;
+    double kmat[SINTER_MAX_MATERIALS];
+    conductivities(e->ps, kmat);
     /* Constant switches resolved here so each loop is branch-free on them. */
+    sinter_status st;
     if (proj)
-        implicit ? loop_pp(e, 1, 1) : loop_pp(e, 1, 0);
+        st = implicit ? loop_pp(e, kmat, 1, 1) : loop_pp(e, kmat, 1, 0);
     else
-        implicit ? loop_pp(e, 0, 1) : loop_pp(e, 0, 0);
-    if (walls) {
+        st = implicit ? loop_pp(e, kmat, 0, 1) : loop_pp(e, kmat, 0, 0);
+    if (st == SINTER_OK && walls) {
         if (proj)
-            implicit ? loop_pw(e, 1, 1) : loop_pw(e, 1, 0);
+            implicit ? loop_pw(e, kmat, 1, 1) : loop_pw(e, kmat, 1, 0);
         else
-            implicit ? loop_pw(e, 0, 1) : loop_pw(e, 0, 0);
+            implicit ? loop_pw(e, kmat, 0, 1) : loop_pw(e, kmat, 0, 0);
     }
-    return SINTER_OK;
+    return st;
 }
 
 const sinter_heat_ops sinter_heat_conduction = {

@@ -18,8 +18,10 @@
 
 #include "stepper/stepper.h"
 
-/* 2: material parameter count recorded (53 parameters since the neck data) */
-#define CHECKPOINT_VERSION 2u
+/* 2: material parameter count recorded (53 parameters since the neck data)
+ * 3: a quasi-static section at the end (links, necks, plane conditions: stepper/qs_state.c);
+ *    version 2 files are still read (they hold no quasi-static state) */
+#define CHECKPOINT_VERSION 3u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -74,7 +76,7 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = st->ctx;
     SINTER_CHECK_NULL(ctx, path);
-    if (!st->forces_current || !st->nb.built)
+    if (st->kind != SINTER_STEPPER_QUASISTATIC && (!st->forces_current || !st->nb.built))
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_checkpoint_write: take at least one step (or step 0) before "
                            "writing a checkpoint");
@@ -143,6 +145,21 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
     for (size_t k = 0; k < st->force_count; ++k) {
         put_history(&w, &st->forces[k].pp, st->nb.pp.count);
         put_history(&w, &st->forces[k].pw, st->nb.pw.count);
+    }
+    /* quasi-static links and necks (version 3) */
+    put_u64(&w, st->quasistatic != NULL);
+    if (st->quasistatic != NULL) {
+        const size_t bytes = sinter_qs_state_size(st->quasistatic);
+        unsigned char *buf = sinter_calloc(ctx, bytes, 1);
+        if (buf == NULL) {
+            fclose(w.f);
+            remove(tmp);
+            return SINTER_ERR_NOMEM;
+        }
+        sinter_qs_state_save(st->quasistatic, buf);
+        put_u64(&w, bytes);
+        put(&w, buf, bytes);
+        sinter_free(ctx, buf);
     }
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
@@ -278,8 +295,8 @@ static double f64_at(const void *base, size_t k)
  */
 static const char *check_values(double time, double dt, double skin, size_t n, uint64_t next_id,
                                 const void *const field_data[15], const unsigned char *used,
-                                const void *const material_values[SINTER_MAX_MATERIALS],
-                                size_t nw, const void *wall_data, const void *x_ref)
+                                const void *const material_values[SINTER_MAX_MATERIALS], size_t nw,
+                                const void *wall_data, const void *x_ref)
 {
     if (!isfinite(time) || !isfinite(dt) || !(dt > 0.0))
         return "its time or time step is not finite (or the step is not positive)";
@@ -389,10 +406,11 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     uint32_t version = 0, marker = 0;
     memcpy(&version, take(&r, 4), 4);
     memcpy(&marker, take(&r, 4), 4);
-    if (version != CHECKPOINT_VERSION || marker != 0x01020304u) {
+    if ((version != CHECKPOINT_VERSION && version != 2u) || marker != 0x01020304u) {
         sinter_free(ctx, data);
-        return corrupt(ctx, path, "unsupported format version (this library reads version 2) or "
-                                  "byte order");
+        return corrupt(ctx, path,
+                       "unsupported format version (this library reads versions 2 "
+                       "and 3) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -456,12 +474,31 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         take_history(&r, &hist[2 * k], pp.count, st->forces[k].pp.width);
         take_history(&r, &hist[2 * k + 1], pw.count, st->forces[k].pw.width);
     }
+    const uint64_t has_qs = version >= 3u ? take_u64(&r) : 0;
+    const uint64_t qs_bytes = has_qs == 1 ? take_u64(&r) : 0;
+    const unsigned char *qs_data = qs_bytes <= size ? take(&r, (size_t)qs_bytes) : NULL;
+    if (has_qs > 1 || (has_qs && qs_data == NULL))
+        r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
+    if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
+        s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "checkpoint '%s' holds quasi-static links and necks, but the stepper is "
+                        "not of the quasi-static kind; nothing was changed",
+                        path);
     if (s == SINTER_OK) {
         const char *why = check_values(time, dt, skin, n, next_id, field_data, used,
                                        material_values, nw, wall_data, x_ref);
         if (why != NULL)
+            s = corrupt(ctx, path, why);
+    }
+    /* The quasi-static state, built whole before anything changes. */
+    sinter_qs *qs_new = NULL;
+    if (s == SINTER_OK && has_qs) {
+        const char *why = NULL;
+        s = sinter_qs_state_restore(&qs_new, ctx, &st->quasistatic_options, qs_data,
+                                    (size_t)qs_bytes, n, field_data[SINTER_FIELD_ID], &why);
+        if (s == SINTER_ERR_CORRUPT)
             s = corrupt(ctx, path, why);
     }
     /* Apply: grow everything first so that nothing can fail half-way. */
@@ -532,10 +569,16 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         }
     }
     if (s != SINTER_OK) {
+        sinter_qs_destroy(qs_new);
         sinter_free(ctx, data);
         return s;
     }
     /* Nothing can fail from here on. */
+    if (st->kind == SINTER_STEPPER_QUASISTATIC) {
+        sinter_qs_destroy(st->quasistatic);
+        st->quasistatic = qs_new; /* NULL: links are detected afresh at the next step; the
+                                     links name particles by the checkpoint's order */
+    }
     void *targets[15] = {ps->x,      ps->v,       ps->w,           ps->rot,     ps->radius,
                          ps->mass,   ps->inertia, ps->temperature, ps->current, ps->force,
                          ps->torque, ps->heat,    ps->material,    ps->flags,   ps->id};

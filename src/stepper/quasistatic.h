@@ -136,6 +136,18 @@ sinter_status sinter_qs_touching_pairs(sinter_ctx *ctx, size_t n, const double *
                                        const double *radius, double tolerance, uint64_t **keys,
                                        size_t *capacity, size_t *count);
 
+/*
+ * Checkpoint state (qs_state.c): the bytes sinter_qs_state_save writes (links, plane
+ * conditions, extents, next step, counters). sinter_qs_state_restore builds a new stepper
+ * state from such bytes for n particles with ids (8 bytes each, may be unaligned; NULL: not
+ * checked) and options opt; on SINTER_ERR_CORRUPT *why says what is wrong, and nothing is made.
+ */
+size_t sinter_qs_state_size(const sinter_qs *qs);
+void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out);
+sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
+                                      const sinter_qs_options *opt, const unsigned char *data,
+                                      size_t bytes, size_t n, const void *ids, const char **why);
+
 /* The links (count in *n). */
 const sinter_qs_link *sinter_qs_links(const sinter_qs *qs, size_t *n);
 

@@ -134,16 +134,26 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
 }
 
 
-/* A packed, jittered lattice of 15^3 spheres (about 9000 contacts: the threaded paths run). */
-static void run_packed(int threads, double *out, size_t n)
+/* A packed, jittered lattice of 15^3 spheres (about 9000 contacts: the threaded paths run),
+ * with explicit conduction from a 500 K floor when `heat` (the threaded conduction sums). */
+static void run_packed(int threads, int heat, double *out, size_t n)
 {
     scene s;
     scene_init(&s);
     OK(sinter_ctx_set_threads(s.ctx, threads));
     scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.3);
     OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
     scene_open(&s, "hertz_mindlin", 1);
     scene_floor(&s, 0.0);
+    sinter_heat_model *cond = NULL;
+    if (heat) {
+        OK(sinter_walls_set_temperature(s.walls, 0, 500.0));
+        OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+        OK(sinter_stepper_add_heat(s.st, cond));
+    }
     uint64_t seed = 5;
     const double r = 0.5e-3, a = 2 * r * 0.999;
     for (int k = 0; k < 15; ++k)
@@ -160,24 +170,97 @@ static void run_packed(int threads, double *out, size_t n)
     assert_true(stats.contacts > 5000);
     memcpy(out, s.ps->x, 3 * n * sizeof(double));
     memcpy(out + 3 * n, s.ps->w, 3 * n * sizeof(double));
+    memcpy(out + 6 * n, s.ps->temperature, n * sizeof(double));
+    if (heat)
+        assert_true(s.ps->temperature[0] > 300.0 + 1e-3); /* the floor heated the bottom */
     scene_close(&s);
+    sinter_heat_model_destroy(cond);
 }
 
 static void test_results_independent_of_thread_count(void **state)
 {
     (void)state;
     enum { N = 15 * 15 * 15 };
-    double *one = calloc(6 * N, sizeof(double)), *two = calloc(6 * N, sizeof(double)),
-           *three = calloc(6 * N, sizeof(double));
-    run_packed(1, one, N);
-    run_packed(2, two, N);
-    run_packed(3, three, N);
-    /* The threaded sums run in the serial order: equal to the bit. */
-    assert_memory_equal(one, two, 6 * N * sizeof(double));
-    assert_memory_equal(one, three, 6 * N * sizeof(double));
-    free(one);
-    free(two);
-    free(three);
+    for (int heat = 0; heat <= 1; ++heat) {
+        double *one = calloc(7 * N, sizeof(double)), *two = calloc(7 * N, sizeof(double)),
+               *three = calloc(7 * N, sizeof(double));
+        run_packed(1, heat, one, N);
+        run_packed(2, heat, two, N);
+        run_packed(3, heat, three, N);
+        /* The threaded sums run in the serial order: equal to the bit. */
+        assert_memory_equal(one, two, 7 * N * sizeof(double));
+        assert_memory_equal(one, three, 7 * N * sizeof(double));
+        free(one);
+        free(two);
+        free(three);
+    }
+}
+
+/* The threaded cell-grid build gives the same list, pair by pair, for 1, 2 and 3 threads: a
+ * dense cloud of 12000 spheres (about 9 pairs each, so the first build overflows the
+ * per-thread segments sized for 4 and finishes them serially) and a rebuild after a shuffle. */
+static void test_pair_list_independent_of_thread_count(void **state)
+{
+    (void)state;
+    enum { N = 12000 };
+    size_t counts[3], rebuilt[3];
+    uint32_t *ref_i = NULL, *ref_j = NULL, *ref_from = NULL;
+    for (int t = 0; t < 3; ++t) {
+        scene s;
+        scene_init(&s);
+        OK(sinter_ctx_set_threads(s.ctx, t + 1));
+        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
+        scene_open(&s, "hertz_mindlin", 0);
+        uint64_t seed = 11;
+        for (size_t k = 0; k < N; ++k)
+            scene_add(&s, 0.03 * lcg(&seed), 0.03 * lcg(&seed), 0.03 * lcg(&seed),
+                      0.7e-3 * (0.5 + lcg(&seed)));
+        sinter_neighbors nb;
+        sinter_neighbors_init(&nb, s.ctx, 3e-4);
+        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+        counts[t] = nb.pp.count;
+        if (t == 0) {
+            ref_i = malloc(nb.pp.count * sizeof(uint32_t));
+            ref_j = malloc(nb.pp.count * sizeof(uint32_t));
+            memcpy(ref_i, nb.pp.i, nb.pp.count * sizeof(uint32_t));
+            memcpy(ref_j, nb.pp.j, nb.pp.count * sizeof(uint32_t));
+            assert_true(nb.pp.count > 4 * (size_t)N + 2048);
+            print_message("%zu pairs\n", nb.pp.count);
+        } else {
+            assert_int_equal(nb.pp.count, counts[0]);
+            assert_memory_equal(nb.pp.i, ref_i, nb.pp.count * sizeof(uint32_t));
+            assert_memory_equal(nb.pp.j, ref_j, nb.pp.count * sizeof(uint32_t));
+        }
+        for (size_t p = 0; p < nb.pp.count; ++p) {
+            assert_int_equal(nb.pp.key_i[p], s.ps->id[nb.pp.i[p]]);
+            assert_int_equal(nb.pp.key_j[p], s.ps->id[nb.pp.j[p]]);
+            assert_true(nb.pp.key_i[p] < nb.pp.key_j[p]);
+        }
+        /* reversed order in memory: every pair is found again, through the id-keyed match */
+        size_t order[N];
+        for (size_t i = 0; i < N; ++i)
+            order[i] = N - 1 - i;
+        OK(sinter_particles_permute(s.ps, order));
+        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+        rebuilt[t] = nb.pp.count;
+        size_t matched = 0;
+        for (size_t p = 0; p < nb.pp.count; ++p)
+            matched += nb.pp.from[p] != SINTER_NO_PAIR;
+        assert_int_equal(matched, nb.pp.count);
+        if (t == 0) {
+            ref_from = malloc(nb.pp.count * sizeof(uint32_t));
+            memcpy(ref_from, nb.pp.from, nb.pp.count * sizeof(uint32_t));
+        } else {
+            assert_memory_equal(nb.pp.from, ref_from, nb.pp.count * sizeof(uint32_t));
+        }
+        sinter_neighbors_free(&nb);
+        scene_close(&s);
+    }
+    assert_int_equal(rebuilt[1], rebuilt[0]);
+    assert_int_equal(rebuilt[2], rebuilt[0]);
+    free(ref_i);
+    free(ref_j);
+    free(ref_from);
 }
 
 int main(void)
@@ -186,6 +269,7 @@ int main(void)
         cmocka_unit_test(test_pair_list_matches_brute_force),
         cmocka_unit_test(test_trajectory_independent_of_rebuilds_and_order),
         cmocka_unit_test(test_results_independent_of_thread_count),
+        cmocka_unit_test(test_pair_list_independent_of_thread_count),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

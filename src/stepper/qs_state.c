@@ -1,0 +1,238 @@
+/*
+ * The quasi-static stepper's state in a checkpoint: the links (beam, neck state, neck data),
+ * the principal-plane conditions, the initial extents, the next global step and the counters.
+ * The work arrays are not stored: each global step rebuilds them. A restore builds a complete
+ * new sinter_qs from checked bytes, so the caller can swap it in without failing half-way.
+ *
+ * Layout (host order, inside the checkpoint's checksum): u64 sizeof(sinter_qs_link), u64 link
+ * count, the links, u64 particles, u64 plane-condition bytes, those bytes, f64 extent0[3],
+ * f64 dt_next, u64 steps, rejected, pcg_iterations, substepped.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "stepper/qs_struct.h"
+
+enum { QS_HEADER_U64 = 2, QS_TAIL_BYTES = 4 * 8 + 4 * 8 }; /* extent0, dt_next; 4 counters */
+
+static size_t fixed_bytes(const sinter_qs *qs)
+{
+    return qs->particles != SIZE_MAX && qs->fixed != NULL ? 6 * qs->particles : 0;
+}
+
+size_t sinter_qs_state_size(const sinter_qs *qs)
+{
+    return QS_HEADER_U64 * 8 + qs->count * sizeof(sinter_qs_link) + 16 + fixed_bytes(qs) +
+           QS_TAIL_BYTES;
+}
+
+static unsigned char *put(unsigned char *p, const void *data, size_t bytes)
+{
+    if (bytes > 0)
+        memcpy(p, data, bytes);
+    return p + bytes;
+}
+
+static unsigned char *put_u64(unsigned char *p, uint64_t v)
+{
+    return put(p, &v, 8);
+}
+
+void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
+{
+    unsigned char *p = out;
+    p = put_u64(p, sizeof(sinter_qs_link));
+    p = put_u64(p, qs->count);
+    for (size_t k = 0; k < qs->count; ++k) {
+        /* a copy with the padding zeroed, so equal states give equal bytes (and checksums) */
+        sinter_qs_link l;
+        memset(&l, 0, sizeof(l));
+        l.beam = qs->links[k].beam;
+        l.neck = qs->links[k].neck;
+        l.rm = qs->links[k].rm;
+        l.youngs = qs->links[k].youngs;
+        l.material = qs->links[k].material;
+        l.substepped = qs->links[k].substepped;
+        l.id_a = qs->links[k].id_a;
+        l.id_b = qs->links[k].id_b;
+        p = put(p, &l, sizeof(l));
+    }
+    p = put_u64(p, qs->particles == SIZE_MAX ? UINT64_MAX : (uint64_t)qs->particles);
+    p = put_u64(p, fixed_bytes(qs));
+    p = put(p, qs->fixed, fixed_bytes(qs));
+    p = put(p, qs->extent0, sizeof(qs->extent0));
+    p = put(p, &qs->dt_next, 8);
+    p = put_u64(p, qs->steps);
+    p = put_u64(p, qs->rejected);
+    p = put_u64(p, qs->pcg_iterations);
+    (void)put_u64(p, qs->substepped);
+}
+
+typedef struct cursor {
+    const unsigned char *p, *end;
+    int bad;
+} cursor;
+
+static const void *take(cursor *c, size_t bytes)
+{
+    if (c->bad || (size_t)(c->end - c->p) < bytes) {
+        c->bad = 1;
+        return NULL;
+    }
+    const void *at = c->p;
+    c->p += bytes;
+    return at;
+}
+
+static uint64_t take_u64(cursor *c)
+{
+    uint64_t v = 0;
+    const void *at = take(c, 8);
+    if (at != NULL)
+        memcpy(&v, at, 8);
+    return v;
+}
+
+static int key_order(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Particle id i of an id array that may sit unaligned in a file buffer. */
+static uint64_t id_at(const void *ids, size_t i)
+{
+    uint64_t v;
+    memcpy(&v, (const unsigned char *)ids + 8 * i, 8);
+    return v;
+}
+
+/* A link's numbers are usable: indices in range, ids matching, lengths finite and positive. */
+static int link_ok(const sinter_qs_link *l, size_t n, const void *ids)
+{
+    if (l->beam.a >= n || l->beam.b >= n || l->beam.a == l->beam.b)
+        return 0;
+    if (ids != NULL && (id_at(ids, l->beam.a) != l->id_a || id_at(ids, l->beam.b) != l->id_b))
+        return 0;
+    for (int k = 0; k < SINTER_NECK_DOF; ++k)
+        if (!isfinite(l->neck.y[k]) || !(l->neck.y[k] > 0.0))
+            return 0;
+    const double v[] = {l->neck.time,      l->neck.center_distance0,
+                        l->neck.last_dy4,  l->neck.last_dy7,
+                        l->neck.step_hint, l->rm,
+                        l->youngs,         l->beam.arm_a,
+                        l->beam.arm_b,     l->beam.k_axial,
+                        l->beam.k_shear,   l->beam.k_bend,
+                        l->beam.k_torsion, l->beam.axis[0],
+                        l->beam.axis[1],   l->beam.axis[2]};
+    for (size_t k = 0; k < sizeof(v) / sizeof(v[0]); ++k)
+        if (!isfinite(v[k]))
+            return 0;
+    return l->rm > 0.0 && l->youngs > 0.0 && l->neck.center_distance0 > 0.0;
+}
+
+sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
+                                      const sinter_qs_options *opt, const unsigned char *data,
+                                      size_t bytes, size_t n, const void *ids, const char **why)
+{
+    *out = NULL;
+    *why = NULL;
+    cursor c = {data, data + bytes, 0};
+    const uint64_t link_size = take_u64(&c), count = take_u64(&c);
+    if (!c.bad && link_size != sizeof(sinter_qs_link)) {
+        *why = "its quasi-static links were written by a build with another link layout";
+        return SINTER_ERR_CORRUPT;
+    }
+    if (c.bad || count > bytes / sizeof(sinter_qs_link)) {
+        *why = "its quasi-static section does not fit its size";
+        return SINTER_ERR_CORRUPT;
+    }
+    const unsigned char *links = take(&c, (size_t)count * sizeof(sinter_qs_link));
+    const uint64_t particles = take_u64(&c), nfixed = take_u64(&c);
+    const unsigned char *fixed = nfixed <= bytes ? take(&c, (size_t)nfixed) : NULL;
+    double tail[4];
+    uint64_t counters[4];
+    const void *tail_at = take(&c, sizeof(tail));
+    const void *counters_at = take(&c, sizeof(counters));
+    if (c.bad || fixed == NULL || c.p != c.end) {
+        *why = "its quasi-static section does not fit its size";
+        return SINTER_ERR_CORRUPT;
+    }
+    memcpy(tail, tail_at, sizeof(tail));
+    memcpy(counters, counters_at, sizeof(counters));
+    if ((particles != UINT64_MAX && particles != 0 && particles != n) ||
+        (nfixed != 0 && nfixed != 6 * (uint64_t)n) || (nfixed != 0 && particles != n)) {
+        *why = "its quasi-static plane conditions are for another number of particles";
+        return SINTER_ERR_CORRUPT;
+    }
+    for (uint64_t k = 0; k < nfixed; ++k)
+        if (fixed[k] > 1) {
+            *why = "its quasi-static plane conditions hold values other than 0 and 1";
+            return SINTER_ERR_CORRUPT;
+        }
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(tail[d]) || tail[d] < 0.0) {
+            *why = "its quasi-static initial extents are not finite and >= 0";
+            return SINTER_ERR_CORRUPT;
+        }
+    if (!(tail[3] > 0.0) || !isfinite(tail[3])) {
+        *why = "its quasi-static next step is not finite and > 0";
+        return SINTER_ERR_CORRUPT;
+    }
+    sinter_qs *qs = NULL;
+    sinter_status s = sinter_qs_create(&qs, ctx, opt);
+    if (s != SINTER_OK)
+        return s;
+    if (count > 0) {
+        s = sinter_grow(ctx, (void **)&qs->links, &qs->capacity, (size_t)count,
+                        sizeof(sinter_qs_link));
+        if (s == SINTER_OK)
+            s = sinter_grow(ctx, (void **)&qs->keys, &qs->keys_capacity, (size_t)count,
+                            sizeof(uint64_t));
+    }
+    if (s == SINTER_OK && nfixed > 0)
+        s = sinter_grow(ctx, (void **)&qs->fixed, &qs->fixed_capacity, (size_t)nfixed, 1);
+    /* the step's work arrays the set-up would have made (it is skipped for stored conditions) */
+    if (s == SINTER_OK && nfixed > 0)
+        s = sinter_grow(ctx, (void **)&qs->f, &qs->f_capacity, (size_t)nfixed + 1, sizeof(double));
+    if (s == SINTER_OK && nfixed > 0)
+        s = sinter_grow(ctx, (void **)&qs->u, &qs->u_capacity, (size_t)nfixed + 1, sizeof(double));
+    if (s != SINTER_OK) {
+        sinter_qs_destroy(qs);
+        return s;
+    }
+    for (uint64_t k = 0; k < count; ++k) {
+        sinter_qs_link *l = &qs->links[k];
+        memcpy(l, links + k * sizeof(sinter_qs_link), sizeof(*l));
+        if (!link_ok(l, n, ids)) {
+            sinter_qs_destroy(qs);
+            *why = "a quasi-static link names particles that do not exist or holds non-finite "
+                   "or non-positive lengths";
+            return SINTER_ERR_CORRUPT;
+        }
+        const size_t a = l->beam.a, b = l->beam.b;
+        qs->keys[k] = a < b ? (uint64_t)a * n + b : (uint64_t)b * n + a;
+    }
+    qs->count = (size_t)count;
+    qsort(qs->keys, qs->count, sizeof(uint64_t), key_order);
+    for (size_t k = 1; k < qs->count; ++k)
+        if (qs->keys[k] == qs->keys[k - 1]) {
+            sinter_qs_destroy(qs);
+            *why = "two quasi-static links join the same pair of particles";
+            return SINTER_ERR_CORRUPT;
+        }
+    if (nfixed > 0)
+        memcpy(qs->fixed, fixed, (size_t)nfixed);
+    qs->particles = particles == UINT64_MAX ? SIZE_MAX : (size_t)particles;
+    if (nfixed == 0 && qs->particles == n && n > 0)
+        qs->particles = SIZE_MAX; /* no stored conditions: detect them at the next step */
+    memcpy(qs->extent0, tail, sizeof(qs->extent0));
+    qs->dt_next = tail[3];
+    qs->steps = counters[0];
+    qs->rejected = counters[1];
+    qs->pcg_iterations = counters[2];
+    qs->substepped = counters[3];
+    *out = qs;
+    return SINTER_OK;
+}

@@ -1,0 +1,37 @@
+/* The quasi-static stepper's state (private to quasistatic.c and qs_state.c). */
+#ifndef SINTER_STEPPER_QS_STRUCT_H
+#define SINTER_STEPPER_QS_STRUCT_H
+
+#include "stepper/quasistatic.h"
+
+struct sinter_qs {
+    sinter_ctx *ctx;
+    sinter_qs_options opt;
+    sinter_qs_link *links;
+    size_t count, capacity;
+    uint64_t *keys; /* sorted a * n + b (a < b) of every link */
+    size_t keys_capacity;
+    uint64_t *candidates; /* touching pairs found by the cell grid (qs_pairs.c) */
+    size_t candidates_capacity;
+    sinter_bonded_solver *solver;
+    unsigned char *fixed; /* 6 per particle: principal-plane conditions (sec. 3.3) */
+    double *f, *u;
+    size_t fixed_capacity, f_capacity, u_capacity;
+    double (*saved)[SINTER_NECK_DOF]; /* strategy 1: the necks at t, and new states */
+    double (*trial)[SINTER_NECK_DOF];
+    size_t saved_capacity, trial_capacity;
+    sinter_beam *beams; /* the links' beams, contiguous for the solver */
+    size_t beams_capacity;
+    sinter_neck_batch *batch; /* strategy 3 */
+    sinter_neck_state *batch_states;
+    const sinter_neck_material **batch_materials;
+    size_t batch_states_capacity, batch_materials_capacity;
+    uint64_t layout_generation; /* of the stepper's particles (adapter) */
+    int layout_known;
+    size_t particles;  /* count the conditions were detected for (0: not yet) */
+    double extent0[3]; /* initial extent of the centres */
+    double dt_next;
+    uint64_t steps, rejected, pcg_iterations, substepped;
+};
+
+#endif /* SINTER_STEPPER_QS_STRUCT_H */
