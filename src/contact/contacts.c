@@ -149,8 +149,12 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_walls *walls)
 {
     sinter_status st = reserve(ctx, c, pairs->count + 1);
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&c->pair_to_contact, &c->pair_to_contact_capacity,
+                         pairs->count + 1, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
+    c->particle_count = ps->count;
     const double *x = ps->x, *r = ps->radius;
     size_t m = 0;
     for (size_t p = 0; p < pairs->count; ++p) {
@@ -158,8 +162,10 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
         const sinter_wall *w = &walls->wall[k];
         const double s = (x[3 * i] - w->p[0]) * w->n[0] + (x[3 * i + 1] - w->p[1]) * w->n[1] +
                          (x[3 * i + 2] - w->p[2]) * w->n[2];
+        c->pair_to_contact[p] = SINTER_NO_PAIR;
         if (s >= r[i])
             continue;
+        c->pair_to_contact[p] = (uint32_t)m;
         /* The wall is a particle of infinite radius (seed 003 remark 1): L_i = s. */
         const double a2_raw = r[i] * r[i] - s * s, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
         c->i[m] = i;

@@ -18,8 +18,8 @@ typedef struct sinter_contact_list {
     double *dist;     /* centre distance or centre-plane distance [m] */
     double *area;     /* pi a^2 [m^2] */
     double *branch;   /* L_i: distance from the centre of i to the contact plane [m] */
-    /* particle-particle lists: the contact of each candidate pair, or SINTER_NO_PAIR, and the
-     * pairs' per-particle adjacency (borrowed from the pair list) */
+    /* the contact of each candidate pair, or SINTER_NO_PAIR; particle-particle lists also
+     * borrow the pairs' per-particle adjacency from the pair list */
     uint32_t *pair_to_contact;
     size_t pair_to_contact_capacity;
     const uint32_t *adj_start;

@@ -35,11 +35,35 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
         sinter_grow(ctx, (void **)&h->active, &h->active_capacity, c->count + 1, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
+    double *restrict committed = h->committed;
+    const double *restrict trial = h->trial;
+    uint32_t *restrict active = h->active;
+    /* Clear the pairs whose contact ended; the others are overwritten just below. */
+    const uint32_t *p2c = c->pair_to_contact;
     for (size_t k = 0; k < h->active_count; ++k)
-        memset(h->committed + (size_t)h->active[k] * w, 0, w * sizeof(double));
-    for (size_t k = 0; k < c->count; ++k) {
-        memcpy(h->committed + (size_t)c->pair[k] * w, h->trial + k * w, w * sizeof(double));
-        h->active[k] = c->pair[k];
+        if (p2c == NULL || p2c[active[k]] == SINTER_NO_PAIR)
+            memset(committed + (size_t)active[k] * w, 0, w * sizeof(double));
+    /* Inline copies for the built-in widths (a call per contact costs more than the copy). */
+    if (w == 3) {
+        for (size_t k = 0; k < c->count; ++k) {
+            double *dst = committed + 3 * (size_t)c->pair[k];
+            dst[0] = trial[3 * k];
+            dst[1] = trial[3 * k + 1];
+            dst[2] = trial[3 * k + 2];
+            active[k] = c->pair[k];
+        }
+    } else if (w == 6) {
+        for (size_t k = 0; k < c->count; ++k) {
+            double *dst = committed + 6 * (size_t)c->pair[k];
+            for (int d = 0; d < 6; ++d)
+                dst[d] = trial[6 * k + (size_t)d];
+            active[k] = c->pair[k];
+        }
+    } else {
+        for (size_t k = 0; k < c->count; ++k) {
+            memcpy(committed + (size_t)c->pair[k] * w, trial + k * w, w * sizeof(double));
+            active[k] = c->pair[k];
+        }
     }
     h->active_count = c->count;
     return SINTER_OK;
