@@ -149,8 +149,9 @@ static sinter_status option_target(const sinter_stepper *st, const char *func, c
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "%s: '%s' is an option of the implicit staggered stepper "
                            "(SINTER_STEPPER_STAGGERED, scene files: kind = staggered); this "
-                           "stepper is explicit",
-                           func, key);
+                           "stepper is %s",
+                           func, key,
+                           st->kind == SINTER_STEPPER_QUASISTATIC ? "quasi-static" : "explicit");
     return SINTER_OK;
 }
 

@@ -170,6 +170,8 @@ typedef struct fixture {
     sinter_electric_model *electric;
     sinter_stepper *st;    /* particles + walls + contact + heat, stepped to t > 0 */
     sinter_stepper *fresh; /* never stepped */
+    sinter_stepper *stag;  /* implicit staggered, never stepped */
+    sinter_stepper *qs;    /* quasi-static, never stepped */
     sinter_neck_model *neck;
     sinter_series *series;
     sinter_scene *scene;
@@ -266,6 +268,8 @@ static void fixture_open(fixture *f)
     OK(sinter_stepper_set_dt(f->st, 1e-6));
     OK(sinter_stepper_step(f->st, 3));
     OK(sinter_stepper_create(&f->fresh, f->ctx, SINTER_STEPPER_EXPLICIT, f->ps, NULL));
+    OK(sinter_stepper_create(&f->stag, f->ctx, SINTER_STEPPER_STAGGERED, f->ps, f->walls));
+    OK(sinter_stepper_create(&f->qs, f->ctx, SINTER_STEPPER_QUASISTATIC, f->ps, NULL));
     OK(sinter_neck_model_create(&f->neck, f->ctx));
     const char *names[2] = {"time", "energy"}, *units[2] = {"s", "J"};
     OK(sinter_series_create(&f->series, f->ctx, 2, names, units));
@@ -291,6 +295,8 @@ static void fixture_close(fixture *f)
     sinter_series_destroy(f->series);
     sinter_neck_model_destroy(f->neck);
     sinter_stepper_destroy(f->fresh);
+    sinter_stepper_destroy(f->stag);
+    sinter_stepper_destroy(f->qs);
     sinter_stepper_destroy(f->st);
     sinter_electric_model_destroy(f->electric);
     sinter_heat_model_destroy(f->heat);
@@ -389,6 +395,21 @@ static void mix_stepper(hasher *z, const sinter_stepper *st)
     mix(z, &s.dt, sizeof(s.dt));
 }
 
+static sinter_status get_option(const void *o, const char *k, double *v)
+{
+    return sinter_stepper_get_option(o, k, v);
+}
+
+static const char *const STAGGERED_KEYS[] = {"phi",       "target_iterations", "tolerance",
+                                             "exponent",  "dt_max",            "dt_min",
+                                             "adaptive",  "position_tolerance",
+                                             "temperature_tolerance"};
+static const char *const QS_KEYS[] = {
+    "qs_strategy",        "qs_dt_min",          "qs_dt_max",         "qs_alpha",
+    "qs_error_limit",     "qs_grow_fraction",   "qs_shrink_fraction", "qs_contact_tolerance",
+    "qs_plane_tolerance", "qs_solve_rtol",      "qs_rtol",           "qs_epsilon",
+    "qs_h0_ratio",        "qs_max_strain"};
+
 static uint64_t fingerprint(fixture *f)
 {
     hasher z = {0xcbf29ce484222325ull};
@@ -408,6 +429,12 @@ static uint64_t fingerprint(fixture *f)
     }
     mix_stepper(&z, f->st);
     mix_stepper(&z, f->fresh);
+    mix_stepper(&z, f->stag);
+    mix_stepper(&z, f->qs);
+    for (size_t k = 0; k < sizeof(STAGGERED_KEYS) / sizeof(STAGGERED_KEYS[0]); ++k)
+        mix_param(&z, get_option, f->stag, STAGGERED_KEYS[k]);
+    for (size_t k = 0; k < sizeof(QS_KEYS) / sizeof(QS_KEYS[0]); ++k)
+        mix_param(&z, get_option, f->qs, QS_KEYS[k]);
     for (int p = 0; p < SINTER_MAT_PARAM_COUNT_; ++p) {
         double v;
         OK(sinter_material_get(f->mat, (sinter_material_param)p, &v));
@@ -567,6 +594,24 @@ static sinter_neck_stats neck_stats_of_size(size_t size)
     return s;
 }
 
+static sinter_sintering_stats sintering_stats_of(size_t size)
+{
+    sinter_sintering_stats s;
+    memset(&s, 0, sizeof(s));
+    s.struct_size = size ? size : sizeof(s);
+    return s;
+}
+
+static double dummy_softening(double theta, void *user)
+{
+    (void)theta;
+    (void)user;
+    return 1.0;
+}
+
+static const double CURVE_T2[2] = {300.0, 900.0}, FACTOR2[2] = {1.0, 0.5},
+                    FACTOR2_ZERO[2] = {1.0, 0.0}, FACTOR2_NAN[2] = {NAN, 0.5};
+
 static const sinter_vtu_array VTU_NULL_NAME[1] = {{NULL, R1, 1}};
 static const sinter_vtu_array VTU_BAD_COMPONENTS[1] = {{"extra", R1, 2}};
 static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
@@ -724,6 +769,26 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_particles_find_id(f->ps, 999, &f->out.count))                                         \
     X(particles_find_id_null_out, SINTER_ERR_NULL, "'index'",                                      \
       sinter_particles_find_id(f->ps, 0, NULL))                                                    \
+    X(softening_curve_null, SINTER_ERR_NULL, NULL,                                                 \
+      sinter_particles_set_softening_curve(NULL, 0, 2, T2, TEMP2))                                 \
+    X(softening_curve_null_values, SINTER_ERR_NULL, "'factors'",                                   \
+      sinter_particles_set_softening_curve(f->ps, 0, 2, T2, NULL))                                 \
+    X(softening_curve_empty, SINTER_ERR_INVALID, "at least one point",                             \
+      sinter_particles_set_softening_curve(f->ps, 0, 0, T2, FACTOR2))                              \
+    X(softening_curve_unregistered, SINTER_ERR_NOT_FOUND, "material id 5 is not registered",       \
+      sinter_particles_set_softening_curve(f->ps, 5, 2, CURVE_T2, FACTOR2))                        \
+    X(softening_curve_backwards, SINTER_ERR_INVALID, "point 1 (0.5 K, factor 0.5) is invalid",     \
+      sinter_particles_set_softening_curve(f->ps, 0, 2, T2_BACK, FACTOR2))                         \
+    X(softening_curve_zero_factor, SINTER_ERR_INVALID, "point 1 (900 K, factor 0)",                \
+      sinter_particles_set_softening_curve(f->ps, 0, 2, CURVE_T2, FACTOR2_ZERO))                   \
+    X(softening_curve_nan_factor, SINTER_ERR_INVALID, "point 0 (300 K, factor nan)",               \
+      sinter_particles_set_softening_curve(f->ps, 0, 2, CURVE_T2, FACTOR2_NAN))                    \
+    X(softening_curve_id_range, SINTER_ERR_NOT_FOUND, "material id 300",                           \
+      sinter_particles_set_softening_curve(f->ps, 300, 2, CURVE_T2, FACTOR2))                      \
+    X(softening_callback_null_fn, SINTER_ERR_NULL, "'fn'",                                         \
+      sinter_particles_set_softening_callback(f->ps, 0, NULL, NULL))                               \
+    X(softening_callback_unregistered, SINTER_ERR_NOT_FOUND, "material id 7 is not",               \
+      sinter_particles_set_softening_callback(f->ps, 7, dummy_softening, NULL))                    \
     /* walls */                                                                                    \
     X(walls_create_null_ctx, SINTER_ERR_NULL, NULL, sinter_walls_create(&f->out.walls, NULL))      \
     X(walls_create_null_out, SINTER_ERR_NULL, "'out'", sinter_walls_create(NULL, f->ctx))          \
@@ -880,6 +945,90 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(stepper_stats_bad_size, SINTER_ERR_STRUCT_SIZE, "struct_size is 3",                          \
       sinter_stepper_get_stats(f->st, (sinter_stepper_stats[]){stats_of_size(3)}))                 \
     X(stepper_evaluate_null, SINTER_ERR_NULL, NULL, sinter_stepper_evaluate(NULL))                 \
+    /* stepper options: staggered keys */                                                          \
+    X(option_set_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_option(NULL, "phi", 0.5))         \
+    X(option_set_null_key, SINTER_ERR_NULL, "'key'", sinter_stepper_set_option(f->stag, NULL, 1))  \
+    X(option_set_unknown, SINTER_ERR_NOT_FOUND, "unknown option 'phy'; the staggered stepper's",   \
+      sinter_stepper_set_option(f->stag, "phy", 0.5))                                              \
+    X(option_set_on_explicit, SINTER_ERR_INVALID, "'phi' is an option of the implicit staggered",  \
+      sinter_stepper_set_option(f->st, "phi", 0.5))                                                \
+    X(option_phi_nan, SINTER_ERR_INVALID, "phi = nan must be in (0, 1]",                           \
+      sinter_stepper_set_option(f->stag, "phi", NAN))                                              \
+    X(option_phi_zero, SINTER_ERR_INVALID, "phi = 0 must be in (0, 1]",                            \
+      sinter_stepper_set_option(f->stag, "phi", 0.0))                                              \
+    X(option_phi_above_one, SINTER_ERR_INVALID, "phi = 1.5 must be in (0, 1]",                     \
+      sinter_stepper_set_option(f->stag, "phi", 1.5))                                              \
+    X(option_iterations_fraction, SINTER_ERR_INVALID, "target_iterations = 2.5 must be a whole",   \
+      sinter_stepper_set_option(f->stag, "target_iterations", 2.5))                                \
+    X(option_iterations_one, SINTER_ERR_INVALID, "target_iterations = 1 must be",                  \
+      sinter_stepper_set_option(f->stag, "target_iterations", 1.0))                                \
+    X(option_iterations_inf, SINTER_ERR_INVALID, "target_iterations = inf",                        \
+      sinter_stepper_set_option(f->stag, "target_iterations", INFINITY))                           \
+    X(option_tolerance_one, SINTER_ERR_INVALID, "tolerance = 1 must be in (0, 1)",                 \
+      sinter_stepper_set_option(f->stag, "tolerance", 1.0))                                        \
+    X(option_tolerance_negative, SINTER_ERR_INVALID, "tolerance = -0.001 must be in (0, 1)",       \
+      sinter_stepper_set_option(f->stag, "tolerance", -1e-3))                                      \
+    X(option_exponent_negative, SINTER_ERR_INVALID, "exponent = -2 must be in (0, 10]",            \
+      sinter_stepper_set_option(f->stag, "exponent", -2.0))                                        \
+    X(option_dt_max_nan, SINTER_ERR_INVALID, "dt_max = nan s must be > 0",                         \
+      sinter_stepper_set_option(f->stag, "dt_max", NAN))                                           \
+    X(option_dt_max_negative, SINTER_ERR_INVALID, "dt_max = -1 s must be > 0",                     \
+      sinter_stepper_set_option(f->stag, "dt_max", -1.0))                                          \
+    X(option_dt_max_below_min, SINTER_ERR_INVALID, "dt_max = 1e-13 s is below dt_min = 1e-12 s",   \
+      sinter_stepper_set_option(f->stag, "dt_max", 1e-13))                                         \
+    X(option_dt_min_inf, SINTER_ERR_INVALID, "dt_min = inf s must be > 0 and finite",              \
+      sinter_stepper_set_option(f->stag, "dt_min", INFINITY))                                      \
+    X(option_dt_min_zero, SINTER_ERR_INVALID, "dt_min = 0 s must be > 0 and finite",               \
+      sinter_stepper_set_option(f->stag, "dt_min", 0.0))                                           \
+    X(option_adaptive_half, SINTER_ERR_INVALID, "adaptive = 0.5 must be 0",                        \
+      sinter_stepper_set_option(f->stag, "adaptive", 0.5))                                         \
+    X(option_position_tolerance_negative, SINTER_ERR_INVALID, "position_tolerance = -1 m",         \
+      sinter_stepper_set_option(f->stag, "position_tolerance", -1.0))                              \
+    X(option_temperature_tolerance_nan, SINTER_ERR_INVALID, "temperature_tolerance = nan K",       \
+      sinter_stepper_set_option(f->stag, "temperature_tolerance", NAN))                            \
+    X(option_get_null, SINTER_ERR_NULL, NULL,                                                      \
+      sinter_stepper_get_option(NULL, "phi", &f->out.value))                                       \
+    X(option_get_null_out, SINTER_ERR_NULL, "'value'",                                             \
+      sinter_stepper_get_option(f->stag, "phi", NULL))                                             \
+    X(option_get_unknown, SINTER_ERR_NOT_FOUND, "unknown option 'dt'",                             \
+      sinter_stepper_get_option(f->stag, "dt", &f->out.value))                                     \
+    X(option_get_on_explicit, SINTER_ERR_INVALID, "'tolerance' is an option of the implicit",      \
+      sinter_stepper_get_option(f->st, "tolerance", &f->out.value))                                \
+    /* stepper options: quasi-static keys */                                                       \
+    X(qs_strategy_four, SINTER_ERR_INVALID, "qs_strategy = 4: expected 1",                         \
+      sinter_stepper_set_option(f->qs, "qs_strategy", 4.0))                                        \
+    X(qs_strategy_nan, SINTER_ERR_INVALID, "qs_strategy = nan",                                    \
+      sinter_stepper_set_option(f->qs, "qs_strategy", NAN))                                        \
+    X(qs_alpha_one, SINTER_ERR_INVALID, "qs_alpha = 1 is outside (1, 100]",                        \
+      sinter_stepper_set_option(f->qs, "qs_alpha", 1.0))                                           \
+    X(qs_alpha_nan, SINTER_ERR_INVALID, "qs_alpha = nan is outside (1, 100]",                      \
+      sinter_stepper_set_option(f->qs, "qs_alpha", NAN))                                           \
+    X(qs_dt_min_negative, SINTER_ERR_INVALID, "qs_dt_min = -1e-06 is outside (0, inf]",            \
+      sinter_stepper_set_option(f->qs, "qs_dt_min", -1e-6))                                        \
+    X(qs_rtol_zero, SINTER_ERR_INVALID, "qs_rtol = 0 is outside (0, 1]",                           \
+      sinter_stepper_set_option(f->qs, "qs_rtol", 0.0))                                            \
+    X(qs_grow_fraction_high, SINTER_ERR_INVALID, "qs_grow_fraction = 2 is outside [0, 1]",         \
+      sinter_stepper_set_option(f->qs, "qs_grow_fraction", 2.0))                                   \
+    X(qs_epsilon_half, SINTER_ERR_INVALID, "qs_epsilon = 0.6 is outside (0, 0.5]",                 \
+      sinter_stepper_set_option(f->qs, "qs_epsilon", 0.6))                                         \
+    X(qs_h0_ratio_inf, SINTER_ERR_INVALID, "qs_h0_ratio = inf is outside (1, 2]",                  \
+      sinter_stepper_set_option(f->qs, "qs_h0_ratio", INFINITY))                                   \
+    X(qs_key_on_explicit, SINTER_ERR_NOT_FOUND, "unknown option 'qs_alpha'",                       \
+      sinter_stepper_set_option(f->st, "qs_alpha", 1.5))                                           \
+    X(qs_staggered_key_on_qs, SINTER_ERR_INVALID, "this stepper is quasi-static",                  \
+      sinter_stepper_set_option(f->qs, "phi", 0.5))                                                \
+    X(qs_get_null_out, SINTER_ERR_NULL, "'value'",                                                 \
+      sinter_stepper_get_option(f->qs, "qs_alpha", NULL))                                          \
+    /* sintering statistics */                                                                     \
+    X(sintering_stats_null, SINTER_ERR_NULL, NULL, sinter_stepper_sintering_stats(NULL, NULL))     \
+    X(sintering_stats_null_out, SINTER_ERR_NULL, "'stats'",                                        \
+      sinter_stepper_sintering_stats(f->qs, NULL))                                                 \
+    X(sintering_stats_bad_size, SINTER_ERR_STRUCT_SIZE, "struct_size is 3",                        \
+      sinter_stepper_sintering_stats(f->qs, (sinter_sintering_stats[]){sintering_stats_of(3)}))    \
+    X(sintering_stats_explicit, SINTER_ERR_STATE, "not quasi-static or has taken no step",         \
+      sinter_stepper_sintering_stats(f->st, (sinter_sintering_stats[]){sintering_stats_of(0)}))    \
+    X(sintering_stats_before_step, SINTER_ERR_STATE, "not quasi-static or has taken no step",      \
+      sinter_stepper_sintering_stats(f->qs, (sinter_sintering_stats[]){sintering_stats_of(0)}))    \
     X(stable_dt_hertz_zero_speed, SINTER_ERR_INVALID, "relative speed 0 m/s",                      \
       sinter_stable_dt_hertz(f->ps, f->walls, 0.0, &f->out.value))                                 \
     X(stable_dt_hertz_nan_speed, SINTER_ERR_INVALID, "relative speed nan m/s",                     \
@@ -998,6 +1147,51 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(neck_stats_null_out, SINTER_ERR_NULL, "'stats'", sinter_neck_get_stats(f->neck, NULL))       \
     X(neck_stats_bad_size, SINTER_ERR_STRUCT_SIZE, "struct_size is 2",                             \
       sinter_neck_get_stats(f->neck, (sinter_neck_stats[]){neck_stats_of_size(2)}))                \
+    X(neck_set_inf, SINTER_ERR_INVALID, "rtol = inf",                                              \
+      sinter_neck_model_set(f->neck, "rtol", INFINITY))                                            \
+    X(neck_set_negative, SINTER_ERR_INVALID, "atol = -1",                                          \
+      sinter_neck_model_set(f->neck, "atol", -1.0))                                                \
+    X(neck_set_null_key, SINTER_ERR_NULL, "'key'", sinter_neck_model_set(f->neck, NULL, 1.0))      \
+    X(neck_set_null, SINTER_ERR_NULL, NULL, sinter_neck_model_set(NULL, "rtol", 1e-6))             \
+    X(neck_get_unknown, SINTER_ERR_NOT_FOUND, "'eps'",                                             \
+      sinter_neck_model_get(f->neck, "eps", &f->out.value))                                        \
+    X(neck_run_null_model, SINTER_ERR_NULL, NULL,                                                  \
+      sinter_neck_two_particles(NULL, f->mat, 1e-6, 1e-6, 2, NECK_T, NECK_TEMP, 1, NECK_OUT,       \
+                                &f->out.value, &f->out.value, NULL))                               \
+    X(neck_run_negative_radius, SINTER_ERR_INVALID, "radii 1e-06 m and -1e-06 m",                  \
+      sinter_neck_two_particles(f->neck, f->mat, 1e-6, -1e-6, 2, NECK_T, NECK_TEMP, 1, NECK_OUT,   \
+                                &f->out.value, &f->out.value, NULL))                               \
+    X(neck_run_nan_time, SINTER_ERR_INVALID, "schedule time 1 is nan s",                           \
+      sinter_neck_two_particles(f->neck, f->mat, 1e-6, 1e-6, 2, T2_NAN, NECK_TEMP, 1, NECK_OUT,    \
+                                &f->out.value, &f->out.value, NULL))                               \
+    X(electric_set_null, SINTER_ERR_NULL, NULL,                                                    \
+      sinter_electric_model_set(NULL, "tolerance", 1e-3))                                          \
+    X(electric_set_null_key, SINTER_ERR_NULL, "'key'",                                             \
+      sinter_electric_model_set(f->electric, NULL, 1e-3))                                          \
+    X(electric_set_tolerance_one, SINTER_ERR_INVALID, "tolerance 1 must lie in (0, 1)",            \
+      sinter_electric_model_set(f->electric, "tolerance", 1.0))                                    \
+    X(electric_set_iterations_zero, SINTER_ERR_INVALID, "max_iterations 0",                        \
+      sinter_electric_model_set(f->electric, "max_iterations", 0.0))                               \
+    X(electric_set_iterations_negative, SINTER_ERR_INVALID, "max_iterations -5",                   \
+      sinter_electric_model_set(f->electric, "max_iterations", -5.0))                              \
+    X(electric_get_unknown, SINTER_ERR_NOT_FOUND, "'tol'",                                         \
+      sinter_electric_model_get(f->electric, "tol", &f->out.value))                                \
+    X(electric_create_null_out, SINTER_ERR_NULL, "'out'",                                          \
+      sinter_electric_model_create(NULL, f->ctx, "averaged"))                                      \
+    X(electric_create_null_ctx, SINTER_ERR_NULL, NULL,                                             \
+      sinter_electric_model_create(&f->out.em, NULL, "averaged"))                                  \
+    X(pack_random_null_particles, SINTER_ERR_NULL, NULL,                                           \
+      sinter_pack_random(NULL, (const sinter_packing_options[]){packing(0.05, 0, 10)}, 1, NULL))   \
+    X(pack_random_nan_box, SINTER_ERR_INVALID, "box_min[1] = nan",                                 \
+      sinter_pack_random(f->ps, (const sinter_packing_options[]){packing_box(VNAN, HI)}, 1, NULL)) \
+    X(pack_lattice_nan_box, SINTER_ERR_INVALID, "box_min[1] = nan",                                \
+      sinter_pack_lattice(f->ps, VNAN, HI, 0.1, 0.2, 0, 300, NULL))                                \
+    X(pack_lattice_inverted_box, SINTER_ERR_INVALID, "box_max[1] = -2",                            \
+      sinter_pack_lattice(f->ps, LO, HI_INV, 0.1, 0.2, 0, 300, NULL))                              \
+    X(pack_lattice_zero_temperature, SINTER_ERR_INVALID, "temperature = 0 K",                      \
+      sinter_pack_lattice(f->ps, LO, HI, 0.1, 0.2, 0, 0.0, NULL))                                  \
+    X(pack_lattice_null_particles, SINTER_ERR_NULL, NULL,                                          \
+      sinter_pack_lattice(NULL, LO, HI, 0.1, 0.2, 0, 300, NULL))                                   \
     /* packing */                                                                                  \
     X(packing_init_null, SINTER_ERR_NULL, NULL,                                                    \
       sinter_packing_options_init(NULL, sizeof(sinter_packing_options)))                           \
@@ -1363,8 +1557,8 @@ static void test_overlap_at_start(void **state)
         const uint64_t before = fingerprint_rig(&r);
         assert_int_equal(sinter_stepper_step(r.st, 1), SINTER_ERR_INVALID);
         const char *msg = sinter_last_error(r.ctx);
-        if (strstr(msg, "particles 4 and 5 (ids 4 and 5) have the same centre (0.02, 0, 0.003) m") ==
-            NULL) {
+        if (strstr(msg, "particles 4 and 5 (ids 4 and 5) have the same centre (0.02, 0, "
+                        "0.003) m") == NULL) {
             print_error("message '%s'\n", msg);
             fail();
         }
