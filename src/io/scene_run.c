@@ -32,8 +32,8 @@ static sinter_status make_dir(sinter_ctx *ctx, const char *path)
     char partial[4096];
     const size_t len = strlen(path);
     if (len == 0 || len >= sizeof(partial))
-        return sinter_fail(ctx, SINTER_ERR_INVALID, "output directory '%.200s' is empty or too long",
-                           path);
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "output directory '%.200s' is empty or too long", path);
     memcpy(partial, path, len + 1);
     for (size_t k = 1; k <= len; ++k) {
         if (partial[k] != '/' && partial[k] != '\0')
@@ -84,6 +84,14 @@ static double volume_fraction(const sinter_scene *sc, double bed_top)
     return volume > 0 ? solid / volume : NAN;
 }
 
+/* Columns after the wall forces for the quasi-static stepper (seed 001 sec. 4). */
+enum { SINTERING_COLUMNS = 9 };
+static const char *const SINTERING_NAMES[SINTERING_COLUMNS] = {
+    "links",       "neck radius mean", "neck radius min", "neck radius max", "neck ratio mean",
+    "shrinkage x", "shrinkage y",      "shrinkage z",     "relative density"};
+static const char *const SINTERING_UNITS[SINTERING_COLUMNS] = {"1", "m", "m", "m", "1",
+                                                               "1", "1", "1", "1"};
+
 static void observe(const sinter_scene *sc, double *row)
 {
     const sinter_particles *ps = sc->ps;
@@ -110,6 +118,34 @@ static void observe(const sinter_scene *sc, double *row)
         /* force pushing the wall outwards, i.e. against its normal [N] */
         row[COL_FIXED_ + k] =
             -(w->force[0] * w->n[0] + w->force[1] * w->n[1] + w->force[2] * w->n[2]);
+    }
+    if (sc->st->kind == SINTER_STEPPER_QUASISTATIC) {
+        /* seed 001 sec. 4 outputs: necks, shrinkage per axis, relative density */
+        double *q = row + COL_FIXED_ + sc->walls->count;
+        sinter_sintering_stats s;
+        memset(&s, 0, sizeof(s));
+        s.struct_size = sizeof(s);
+        if (sc->st->quasistatic == NULL ||
+            sinter_stepper_sintering_stats(sc->st, &s) != SINTER_OK) {
+            /* before the first step: no links yet; the density of the spheres' bounding box */
+            memset(&s, 0, sizeof(s));
+            double lo[3] = {INFINITY, INFINITY, INFINITY},
+                   hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            double solid = 0.0;
+            for (size_t i = 0; i < ps->count; ++i) {
+                const double r = ps->radius[i];
+                solid += 4.0 / 3.0 * PI * r * r * r;
+                for (int d = 0; d < 3; ++d) {
+                    lo[d] = fmin(lo[d], ps->x[3 * i + d] - r);
+                    hi[d] = fmax(hi[d], ps->x[3 * i + d] + r);
+                }
+            }
+            s.relative_density = solid / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
+        }
+        const double v[SINTERING_COLUMNS] = {
+            (double)s.links, s.neck_mean,    s.neck_min,     s.neck_max,        s.neck_ratio_mean,
+            s.shrinkage[0],  s.shrinkage[1], s.shrinkage[2], s.relative_density};
+        memcpy(q, v, sizeof(v));
     }
 }
 
@@ -196,7 +232,23 @@ static sinter_status write_series(run_state *r)
     if (st == SINTER_OK && sc->write_plot) {
         snprintf(path, sizeof(path), "%s/series.svg", r->out_dir);
         const size_t nw = sc->walls->count;
-        size_t cols[8 + SCENE_MAX_WALLS], start[6], panels = 0, nc = 0;
+        size_t cols[8 + SCENE_MAX_WALLS + SINTERING_COLUMNS], start[8], panels = 0, nc = 0;
+        if (sc->st->kind == SINTER_STEPPER_QUASISTATIC) {
+            const size_t q = COL_FIXED_ + nw; /* links, neck mean/min/max, ratio, shrinkage... */
+            start[panels++] = nc;
+            cols[nc++] = q + 5;
+            cols[nc++] = q + 6;
+            cols[nc++] = q + 7;
+            start[panels++] = nc;
+            cols[nc++] = q + 4;
+            start[panels++] = nc;
+            cols[nc++] = q + 8;
+            start[panels++] = nc;
+            cols[nc++] = COL_T_MEAN;
+            start[panels] = nc;
+            return sinter_series_write_svg(r->series, path, sc->name, COL_TIME, panels, start,
+                                           cols);
+        }
         start[panels++] = nc;
         cols[nc++] = COL_FRACTION;
         start[panels++] = nc;
@@ -276,16 +328,23 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
         st = make_dir(ctx, frames);
     if (st != SINTER_OK)
         return st;
-    const size_t nw = sc->walls->count, ncol = COL_FIXED_ + nw;
-    const char *names[COL_FIXED_ + SCENE_MAX_WALLS] = {
+    const int sintering = sc->st->kind == SINTER_STEPPER_QUASISTATIC;
+    const size_t nw = sc->walls->count,
+                 ncol = COL_FIXED_ + nw + (sintering ? SINTERING_COLUMNS : 0);
+    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS] = {
         "time",    "kinetic energy",  "contacts",         "coordination number",
         "bed top", "volume fraction", "mean temperature", "max temperature"};
-    const char *units[COL_FIXED_ + SCENE_MAX_WALLS] = {"s", "J", "1", "1", "m", "1", "K", "K"};
+    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS] = {"s", "J", "1", "1",
+                                                                           "m", "1", "K", "K"};
     char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
     for (size_t k = 0; k < nw; ++k) {
         snprintf(wall_labels[k], sizeof(wall_labels[k]), "%s force", sc->wall_names[k]);
         names[COL_FIXED_ + k] = wall_labels[k];
         units[COL_FIXED_ + k] = "N";
+    }
+    for (size_t k = 0; sintering && k < SINTERING_COLUMNS; ++k) {
+        names[COL_FIXED_ + nw + k] = SINTERING_NAMES[k];
+        units[COL_FIXED_ + nw + k] = SINTERING_UNITS[k];
     }
     run_state r;
     memset(&r, 0, sizeof(r));

@@ -329,6 +329,28 @@ static void test_furnace_scene(void **state)
     assert_int_equal(sinter_stepper_sintering_stats(st, &stats), SINTER_OK);
     /* seeded at x/R = 0.01 (7dof.md §4); at >= 1000 K it grows several-fold in 20 s */
     assert_true(stats.neck_ratio_mean > 0.03);
+    /* the series carries the sintering outputs (seed 001 sec. 4): the last row's neck ratio and
+     * shrinkage along x are the stepper's */
+    char csv[600];
+    snprintf(csv, sizeof(csv), "%s/series.csv", out);
+    FILE *f = fopen(csv, "r");
+    assert_non_null(f);
+    static char line[4096], last[4096];
+    assert_non_null(fgets(line, sizeof(line), f));
+    assert_non_null(strstr(line, "neck ratio mean [1],shrinkage x [1],shrinkage y [1]"));
+    while (fgets(line, sizeof(line), f) != NULL)
+        memcpy(last, line, sizeof(line));
+    fclose(f);
+    double v[17];
+    char *p = last;
+    for (int k = 0; k < 17; ++k) {
+        v[k] = strtod(p, &p);
+        if (*p == ',')
+            ++p;
+    }
+    assert_close(v[8], 1.0, 0.0); /* links */
+    assert_close(v[12], stats.neck_ratio_mean, 1e-15 * stats.neck_ratio_mean);
+    assert_close(v[13], stats.shrinkage[0], 1e-15 * fabs(stats.shrinkage[0]));
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
 }
