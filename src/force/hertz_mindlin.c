@@ -404,9 +404,17 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
     }
 }
 
-/* contact_law (rolling off) and pp_contact's kinematics and moments, lane by lane. */
+/*
+ * contact_law (rolling off) and pp_contact's kinematics and moments, lane by lane, in three
+ * loops: the rare cases (a spring turned by more than ~1e-2 rad, Coulomb slip) need a root
+ * and divisions that the common case does not, so their loops run only for a block where
+ * some lane needs them; a lane that does not keeps its values, as in contact_law.
+ */
 HM_INLINE void blk_law(blk *restrict b, double dt)
 {
+    double utx[BLOCK], uty[BLOCK], utz[BLOCK], fn[BLOCK], fabs_n[BLOCK], kt[BLOCK];
+    double dfric[BLOCK], ftx[BLOCK], fty[BLOCK], ftz[BLOCK], ft2[BLOCK], big_x[BLOCK];
+    double slip[BLOCK]; /* 1 where the Coulomb limit is exceeded */
     for (int a = 0; a < BLOCK; ++a) {
         const double nx = b->nx[a], ny = b->ny[a], nz = b->nz[a], li = b->li[a], lj = b->lj[a];
         const double rstar = b->ri[a] * b->rj[a] / (b->ri[a] + b->rj[a]);
@@ -420,47 +428,78 @@ HM_INLINE void blk_law(blk *restrict b, double dt)
         const double uy = b->dvy[a] + (wsz * nx - wsx * nz);
         const double uz = b->dvz[a] + (wsx * ny - wsy * nx);
         const double un = ux * nx + uy * ny + uz * nz;
-        const double fn = b->kn[a] * sqrt_rd * b->delta[a] + b->dn[a] * sm * un;
-        const double fabs_n = fabs(fn);
-        const double utx = ux - un * nx, uty = uy - un * ny, utz = uz - un * nz;
-        const double kt = b->kt[a] * sqrt_rd;
+        fn[a] = b->kn[a] * sqrt_rd * b->delta[a] + b->dn[a] * sm * un;
+        fabs_n[a] = fabs(fn[a]);
+        utx[a] = ux - un * nx, uty[a] = uy - un * ny, utz[a] = uz - un * nz;
+        kt[a] = b->kt[a] * sqrt_rd;
+        dfric[a] = b->dtp[a] * sm;
         double sx = b->hx[a], sy = b->hy[a], sz = b->hz[a];
         /* spring turned into the tangent plane, its length kept (contact_law) */
         const double sn = sx * nx + sy * ny + sz * nz;
         const double px = sx - sn * nx, py = sy - sn * ny, pz = sz - sn * nz;
         const double len1_2 = px * px + py * py + pz * pz;
         const double x = sn * sn / len1_2;
-        const double series = 1.0 + x * (0.5 - 0.125 * x), root = sqrt(1.0 + x);
         const int turn = sn != 0.0, rescale = turn & (len1_2 > 0.0);
-        /* x 1.0 is exact: no rescale keeps the value's bits */
-        const double scl = rescale ? (x < 1e-4 ? series : root) : 1.0;
-        sx = (turn ? px : sx) * scl;
-        sy = (turn ? py : sy) * scl;
-        sz = (turn ? pz : sz) * scl;
-        sx += utx * dt;
-        sy += uty * dt;
-        sz += utz * dt;
-        const double d_fric = b->dtp[a] * sm;
-        double ftx = -kt * sx - d_fric * utx, fty = -kt * sy - d_fric * uty,
-               ftz = -kt * sz - d_fric * utz;
-        const double ft2 = ftx * ftx + fty * fty + ftz * ftz;
-        const int slip = (ft2 > b->mus2[a] * fabs_n * fabs_n) & (ft2 > 0.0);
-        const double scale = b->mud[a] * fabs_n / sqrt(ft2);
-        const int stiff = kt > 0.0;
-        const double inv_kt = 1.0 / kt; /* used only where kt > 0 */
-        const double gx = ftx * scale, gy = fty * scale, gz = ftz * scale;
-        const double qx = stiff ? -(gx + d_fric * utx) * inv_kt : 0.0;
-        const double qy = stiff ? -(gy + d_fric * uty) * inv_kt : 0.0;
-        const double qz = stiff ? -(gz + d_fric * utz) * inv_kt : 0.0;
-        ftx = slip ? gx : ftx, fty = slip ? gy : fty, ftz = slip ? gz : ftz;
-        sx = slip ? qx : sx, sy = slip ? qy : sy, sz = slip ? qz : sz;
-        const double fx = ftx - fn * nx, fy = fty - fn * ny, fz = ftz - fn * nz;
-        b->fx[a] = fx, b->fy[a] = fy, b->fz[a] = fz;
+        /* x 1.0 is exact: no rescale keeps the value's bits; x >= 1e-4 is fixed below */
+        const double scl = rescale ? 1.0 + x * (0.5 - 0.125 * x) : 1.0;
+        big_x[a] = rescale & !(x < 1e-4) ? x : 0.0;
+        b->sx[a] = (turn ? px : sx) * scl; /* the turned spring, before the increment */
+        b->sy[a] = (turn ? py : sy) * scl;
+        b->sz[a] = (turn ? pz : sz) * scl;
+        b->hx[a] = turn ? px : sx; /* kept for the rare rescale */
+        b->hy[a] = turn ? py : sy;
+        b->hz[a] = turn ? pz : sz;
+    }
+    int rare = 0;
+    for (int a = 0; a < BLOCK; ++a)
+        rare |= big_x[a] != 0.0;
+    if (rare)
+        for (int a = 0; a < BLOCK; ++a) {
+            const double root = sqrt(1.0 + big_x[a]);
+            const int use = big_x[a] != 0.0;
+            b->sx[a] = use ? b->hx[a] * root : b->sx[a];
+            b->sy[a] = use ? b->hy[a] * root : b->sy[a];
+            b->sz[a] = use ? b->hz[a] * root : b->sz[a];
+        }
+    for (int a = 0; a < BLOCK; ++a) {
+        const double sx = b->sx[a] + utx[a] * dt, sy = b->sy[a] + uty[a] * dt,
+                     sz = b->sz[a] + utz[a] * dt;
         b->sx[a] = sx, b->sy[a] = sy, b->sz[a] = sz;
+        ftx[a] = -kt[a] * sx - dfric[a] * utx[a];
+        fty[a] = -kt[a] * sy - dfric[a] * uty[a];
+        ftz[a] = -kt[a] * sz - dfric[a] * utz[a];
+        ft2[a] = ftx[a] * ftx[a] + fty[a] * fty[a] + ftz[a] * ftz[a];
+        slip[a] = (ft2[a] > b->mus2[a] * fabs_n[a] * fabs_n[a]) & (ft2[a] > 0.0) ? 1.0 : 0.0;
+    }
+    int slips = 0;
+    for (int a = 0; a < BLOCK; ++a)
+        slips |= slip[a] != 0.0;
+    if (slips)
+        for (int a = 0; a < BLOCK; ++a) {
+            /* Slip (eq. 8, 13) */
+            const int slipping = slip[a] != 0.0;
+            const double scale = b->mud[a] * fabs_n[a] / sqrt(ft2[a]);
+            const int stiff = kt[a] > 0.0;
+            const double inv_kt = 1.0 / kt[a]; /* used only where kt > 0 */
+            const double gx = ftx[a] * scale, gy = fty[a] * scale, gz = ftz[a] * scale;
+            const double qx = stiff ? -(gx + dfric[a] * utx[a]) * inv_kt : 0.0;
+            const double qy = stiff ? -(gy + dfric[a] * uty[a]) * inv_kt : 0.0;
+            const double qz = stiff ? -(gz + dfric[a] * utz[a]) * inv_kt : 0.0;
+            ftx[a] = slipping ? gx : ftx[a];
+            fty[a] = slipping ? gy : fty[a];
+            ftz[a] = slipping ? gz : ftz[a];
+            b->sx[a] = slipping ? qx : b->sx[a];
+            b->sy[a] = slipping ? qy : b->sy[a];
+            b->sz[a] = slipping ? qz : b->sz[a];
+        }
+    for (int a = 0; a < BLOCK; ++a) {
+        const double nx = b->nx[a], ny = b->ny[a], nz = b->nz[a];
+        const double fx = ftx[a] - fn[a] * nx, fy = fty[a] - fn[a] * ny, fz = ftz[a] - fn[a] * nz;
+        b->fx[a] = fx, b->fy[a] = fy, b->fz[a] = fz;
         /* moments (eq. 14): L_i (n x f) on i, L_j (n x f) on j */
         const double mx = ny * fz - nz * fy, my = nz * fx - nx * fz, mz = nx * fy - ny * fx;
-        b->tix[a] = li * mx, b->tiy[a] = li * my, b->tiz[a] = li * mz;
-        b->tjx[a] = lj * mx, b->tjy[a] = lj * my, b->tjz[a] = lj * mz;
+        b->tix[a] = b->li[a] * mx, b->tiy[a] = b->li[a] * my, b->tiz[a] = b->li[a] * mz;
+        b->tjx[a] = b->lj[a] * mx, b->tjy[a] = b->lj[a] * my, b->tjz[a] = b->lj[a] * mz;
     }
 }
 
