@@ -1078,6 +1078,99 @@ SINTER_API sinter_status sinter_pack_lattice(sinter_particles *particles, const 
 SINTER_API sinter_status sinter_pack_pour(sinter_stepper *stepper, double ke_per_particle,
                                           double t_min, double t_max);
 
+/** Options of sinter_pack_compact; fill with sinter_compaction_options_init. */
+typedef struct sinter_compaction_options {
+    size_t struct_size;      /**< sizeof(sinter_compaction_options) */
+    double box_min[3];       /**< lower corner of the final box [m] (default 0 0 0) */
+    double box_max[3];       /**< upper corner of the final box [m] (default 1 1 1) */
+    double volume_fraction;  /**< 0 (default): the final box is box_min..box_max; in (0, 0.7405]:
+                                  that box is scaled about box_min, keeping its proportions, so
+                                  that the spheres fill this fraction of it [1] */
+    double friction;         /**< particle-particle friction coefficient during the compaction,
+                                  static = dynamic (walls are frictionless); default 0.1 [1] */
+    double restitution;      /**< restitution of the contacts during the compaction, (0, 1];
+                                  default 0.5 [1] */
+    double velocity;         /**< largest wall speed [m/s]; default 0.5 */
+    double max_pressure;     /**< mean wall stress at which the walls stop advancing [Pa]; 0
+                                  (default): the stress of a packing whose contacts overlap by
+                                  1e-3 of the mean radius */
+    int stop_at_jamming;     /**< 1: if the packing jams before the final box, end there (the
+                                  final box is the box at jamming); 0 (default): that is an error */
+    double ke_per_particle;  /**< the relaxation ends when the translational kinetic energy per
+                                  particle is below this [J]; 0 (default): 1e-10 of (1/2) m v^2
+                                  of a particle of mean mass at the impact speed of the step */
+    double relax_time_max;   /**< longest relaxation [s]; 0 (default): 2e4 automatic steps */
+    double dt;               /**< time step [s]; 0 (default): seed 003 eq. 47 (see sinter_pack_compact) */
+} sinter_compaction_options;
+
+/** What sinter_pack_compact achieved; fill struct_size before the call. */
+typedef struct sinter_compaction_result {
+    size_t struct_size;       /**< sizeof(sinter_compaction_result) */
+    double box_min[3];        /**< the final box [m] */
+    double box_max[3];        /**< [m] */
+    double volume_fraction;   /**< sphere volume / final box volume [1] */
+    int jammed;               /**< 1 if the walls stopped at jamming before the requested box */
+    double coordination;      /**< particle-particle contacts per particle, 2 C / N [1] */
+    uint64_t contacts;        /**< particle-particle contacts C at the end */
+    double max_overlap;       /**< largest overlap of two particles [m] */
+    double max_overlap_ratio; /**< largest overlap / smaller radius of the pair [1] */
+    double max_wall_overlap_ratio; /**< largest overlap of a particle and a wall / its radius [1] */
+    double pressure;          /**< mean normal stress on the six walls at the end [Pa] */
+    double kinetic_energy;    /**< translational kinetic energy per particle before the
+                                   velocities are zeroed [J] */
+    double time;              /**< simulated time, motion and relaxation [s] */
+    double relax_time;        /**< of which relaxation [s] */
+    double dt;                /**< time step used [s] */
+    uint64_t steps;           /**< steps taken */
+} sinter_compaction_result;
+
+/**
+ * Fill `options` with defaults: final box [0, 1]^3 m, no volume fraction, friction 0.1,
+ * restitution 0.5, wall speed 0.5 m/s, automatic stress limit, rest threshold, relaxation and
+ * step. Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE.
+ */
+SINTER_API sinter_status sinter_compaction_options_init(sinter_compaction_options *options,
+                                                        size_t struct_size);
+
+/**
+ * Triaxial compaction to a dense green body (seed 001 sec. 3.2): six frictionless plane walls
+ * start on the bounding box of the spheres and move together along straight lines onto the
+ * final box, all arriving at the same time (a proportional compression of the three axes),
+ * then stay there while the packing relaxes until its translational kinetic energy per
+ * particle is below ke_per_particle. The walls move at `velocity` (the fastest one) slowed
+ * down in proportion as the mean wall stress approaches max_pressure, and wait while it is
+ * above: the packing is compacted quasi-statically and ends nearly stress-free. When it jams
+ * before the final box (the walls make no progress for 20 000 automatic steps) the call fails
+ * with SINTER_ERR_NOT_CONVERGED naming the volume fraction reached, or, with stop_at_jamming,
+ * ends there: the final box is then the walls' box at that moment (on the way from the
+ * spheres' box to the requested one, so of the requested proportions when the spheres start
+ * in a box of those proportions), translated with the packing so that it starts at box_min. The compaction is an explicit DEM run of its own (velocity Verlet, Hertz
+ * contacts with Mindlin friction of coefficient `friction`, damping for `restitution`, no
+ * gravity, a background drag with a time constant of 100 contact durations so that loose
+ * particles come to rest too) on a copy of the set; only its end state is written back:
+ * positions, with velocities, spins, forces and torques zeroed (a stepper over the set
+ * evaluates its forces again). Particles start at rest; flags (fixed particles) and thermal
+ * softening are ignored; masses, radii and the materials' elastic constants are used as they
+ * are. The time step is seed 003 eq. 47 (sinter_stable_dt_hertz) at the impact speed that gives
+ * an overlap of 1 % of the radius in a Hertz collision (at least the wall speed).
+ * Friction sets how dense the packing gets before it jams: with friction 0 the spheres reach
+ * the random close packing (about 0.64 away from the walls), with 0.1 a box fraction of about
+ * 0.59 for 10-diameter boxes, with 0.5 and more they jam near the random loose packing. A final
+ * box below the jamming density leaves a loose packing (see coordination in the result).
+ * @param particles  the set (at least one particle, no views out).
+ * @param options    required; every value is checked first.
+ * @param result     may be NULL; its struct_size must be set.
+ * Errors (the set is unchanged on every error): SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE,
+ * SINTER_ERR_BUSY, SINTER_ERR_STATE (empty set), SINTER_ERR_INVALID (a bad option, named with
+ * its value; a box not wider than the largest sphere or denser than the densest packing,
+ * 0.7405; a run of more than 1e9 steps), SINTER_ERR_NOT_CONVERGED (jammed before the final
+ * box, or not at rest after relax_time_max), SINTER_ERR_UNSTABLE, SINTER_ERR_LOST_PARTICLE
+ * (dt far too large), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_pack_compact(sinter_particles *particles,
+                                             const sinter_compaction_options *options,
+                                             sinter_compaction_result *result);
+
 
 /* ------------------------------------------------------------------------ */
 /* Output: ParaView frames, time series, plots                               */

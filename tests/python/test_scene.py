@@ -169,6 +169,33 @@ class PackingTest(unittest.TestCase):
         with self.assertRaises(sinter.InvalidArgument):
             sinter.pack_random(self.ps, 1, hi, lo)
 
+    def test_pack_compact(self):
+        """Loose spheres compacted to a cube half filled; bad options name themselves."""
+        copper = sinter.Material(self.ctx, "copper", density=8960.0, youngs_modulus=72e9,
+                                 poisson_ratio=0.3)
+        ps = sinter.Particles(self.ctx)
+        ps.set_material(0, copper)
+        r = 25e-6
+        self.assertEqual(sinter.pack_random(ps, 60, (0, 0, 0), (20 * r,) * 3, radius=r,
+                                            seed=3), 60)
+        side = (60 * 4.0 / 3.0 * math.pi * r ** 3 / 0.45) ** (1.0 / 3.0)
+        before = as_lists(ps.get("position"))
+        with self.assertRaises(sinter.InvalidArgument) as raised:
+            sinter.pack_compact(ps, (0, 0, 0), (side,) * 3, friction=-1.0)
+        self.assertIn("friction = -1", str(raised.exception))
+        with self.assertRaises(TypeError):
+            sinter.pack_compact(ps, (0, 0, 0), (side,) * 3, colour="red")
+        self.assertEqual(as_lists(ps.get("position")), before)  # unchanged on error
+        result = sinter.pack_compact(ps, (0, 0, 0), (side,) * 3, velocity=1.0)
+        self.assertEqual(result["box_max"], [side] * 3)
+        self.assertAlmostEqual(result["volume_fraction"], 0.45, places=12)
+        self.assertFalse(result["jammed"])
+        self.assertLess(result["max_overlap_ratio"], 0.01)
+        for p in as_lists(ps.get("position")):
+            for d in range(3):
+                self.assertTrue(r * 0.85 <= p[d] <= side - r * 0.85)
+        self.assertEqual(set(c for v in as_lists(ps.get("velocity")) for c in v), {0.0})
+
     def test_lattice_and_pour(self):
         r = 5e-4
         placed = sinter.pack_lattice(self.ps, (0, 0, 2 * r), (5 * r, 5 * r, 4 * r), r,

@@ -1,4 +1,7 @@
-/* Packing helpers: options, simple-cubic lattice, random sequential addition (seed 000 7.1). */
+/*
+ * Packing helpers: options, simple-cubic lattice, random sequential addition (seed 000 7.1),
+ * triaxial compaction (seed 001 sec. 3.2).
+ */
 #include <math.h>
 #include <string.h>
 
@@ -574,6 +577,393 @@ static void test_allocation_failure_injection(void **state)
     assert_true(failures_seen >= 5);
 }
 
+
+/* ---- triaxial compaction (sinter_pack_compact) --------------------------------------------- */
+
+/*
+ * The compaction tests use copper spheres of the seed 001 sec. 4.1 size (r = 25 um +- 10 %,
+ * uniform) in boxes a few diameters wide: N = 100 spheres keep each run near 1 s in a Debug
+ * build. Tolerances:
+ *  - overlaps below 1 % of the radius: the automatic step is made for contacts up to that
+ *    overlap (seed 003 eq. 47 at the impact speed giving it), and the stress limit of the
+ *    walls aims at a mean overlap of 1e-3 r, so the largest of a few hundred contacts (a few
+ *    times the mean) must stay below 1e-2; the quasi-static stepper then starts its links from
+ *    touching spheres (7dof.md sec. 4) with a centre approach of at most 0.5 % of a diameter.
+ *  - "inside the box": centre - r >= box_min - (largest wall overlap), likewise at box_max.
+ *  - the final box is the requested one exactly (the walls' points are the requested planes
+ *    and their last displacement is exactly 0).
+ */
+#define COMPACT_N 100
+#define COPPER_R 25e-6
+
+typedef struct compact_fixture {
+    sinter_ctx *ctx;
+    sinter_material *copper;
+} compact_fixture;
+
+static int compact_setup(void **state)
+{
+    static compact_fixture f;
+    memset(&f, 0, sizeof(f));
+    if (sinter_ctx_create(&f.ctx, NULL) != SINTER_OK ||
+        sinter_material_create(&f.copper, f.ctx, "copper") != SINTER_OK ||
+        sinter_material_set(f.copper, SINTER_MAT_DENSITY, 8960.0) != SINTER_OK ||
+        sinter_material_set(f.copper, SINTER_MAT_YOUNGS_MODULUS, 72e9) != SINTER_OK ||
+        sinter_material_set(f.copper, SINTER_MAT_POISSON_RATIO, 0.3) != SINTER_OK)
+        return -1;
+    *state = &f;
+    return 0;
+}
+
+static int compact_teardown(void **state)
+{
+    compact_fixture *f = *state;
+    sinter_material_destroy(f->copper);
+    sinter_ctx_destroy(f->ctx);
+    return 0;
+}
+
+/* COMPACT_N copper spheres by random sequential addition in [0, side]^3. */
+static sinter_particles *loose_copper(const compact_fixture *f, double side, uint64_t seed)
+{
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_particles_create(&ps, f->ctx), SINTER_OK);
+    assert_int_equal(sinter_particles_set_material(ps, 0, f->copper), SINTER_OK);
+    sinter_packing_options o = options_in_box(0.0, side);
+    o.distribution = SINTER_RADII_UNIFORM;
+    o.radius_mean = COPPER_R;
+    o.radius_spread = 0.1 * COPPER_R;
+    o.seed = seed;
+    size_t placed = 0;
+    assert_int_equal(sinter_pack_random(ps, &o, COMPACT_N, &placed), SINTER_OK);
+    assert_int_equal(placed, COMPACT_N);
+    return ps;
+}
+
+static double sphere_volume(const sinter_particles *ps)
+{
+    const double *x, *r;
+    const size_t n = view_xr(ps, &x, &r);
+    double v = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        v += 4.0 / 3.0 * PI * r[i] * r[i] * r[i];
+    release_xr(ps);
+    return v;
+}
+
+static void expect_ctx_error(sinter_ctx *ctx, sinter_status got, sinter_status want,
+                             const char *word)
+{
+    assert_int_equal(got, want);
+    assert_int_equal(sinter_last_status(ctx), want);
+    if (strstr(sinter_last_error(ctx), word) == NULL) {
+        print_error("message \"%s\" does not name \"%s\"\n", sinter_last_error(ctx), word);
+        fail();
+    }
+}
+
+static sinter_compaction_options compaction_in_box(double lo, double hi)
+{
+    sinter_compaction_options o;
+    assert_int_equal(sinter_compaction_options_init(&o, sizeof(o)), SINTER_OK);
+    for (int d = 0; d < 3; ++d) {
+        o.box_min[d] = lo;
+        o.box_max[d] = hi;
+    }
+    o.velocity = 1.0;
+    return o;
+}
+
+/* Largest overlap / smaller radius and contact count, recomputed from the positions. */
+static double overlaps_of(const sinter_particles *ps, uint64_t *contacts)
+{
+    const double *x, *r;
+    const size_t n = view_xr(ps, &x, &r);
+    double worst = 0.0;
+    *contacts = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = i + 1; j < n; ++j) {
+            const double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1],
+                         dz = x[3 * i + 2] - x[3 * j + 2];
+            const double delta = r[i] + r[j] - sqrt(dx * dx + dy * dy + dz * dz);
+            if (delta > 0.0) {
+                (*contacts)++;
+                worst = fmax(worst, delta / fmin(r[i], r[j]));
+            }
+        }
+    release_xr(ps);
+    return worst;
+}
+
+/* The state after a successful compaction: at rest, inside the box, overlaps bounded. */
+static void assert_compacted(const sinter_particles *ps, const sinter_compaction_result *res)
+{
+    const double *x, *r, *v, *w;
+    const size_t n = view_xr(ps, &x, &r);
+    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v,
+                                                NULL, NULL),
+                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_SPIN, (const void **)&w, NULL, NULL),
+        SINTER_OK);
+    for (size_t i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d) {
+            assert_true(v[3 * i + d] == 0.0 && w[3 * i + d] == 0.0); /* zeroed at the end */
+            const double slack = res->max_wall_overlap_ratio * r[i] * (1.0 + 1e-9);
+            assert_true(x[3 * i + d] - r[i] >= res->box_min[d] - slack);
+            assert_true(x[3 * i + d] + r[i] <= res->box_max[d] + slack);
+        }
+    assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_VELOCITY), SINTER_OK);
+    assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_SPIN), SINTER_OK);
+    release_xr(ps);
+    assert_true(res->max_wall_overlap_ratio < 0.01);
+    assert_true(res->max_overlap_ratio < 0.01);
+    uint64_t contacts = 0;
+    const double worst = overlaps_of(ps, &contacts);
+    /* The same pairs and overlaps as the stepper's contact list (to round-off). */
+    assert_int_equal(contacts, res->contacts);
+    assert_close(worst, res->max_overlap_ratio, 1e-9);
+    assert_close(res->coordination, 2.0 * (double)contacts / (double)n, 1e-12);
+    /* Static: the default threshold is 1e-10 (1/2) m v^2 at the step's impact speed (~4 m/s
+     * for copper), i.e. an rms speed below 4e-5 m/s: ~4e-19 J for these spheres. */
+    assert_true(res->kinetic_energy >= 0.0 && res->kinetic_energy < 1e-18);
+    assert_true(res->steps > 0 && res->dt > 0.0 && res->time > 0.0);
+    assert_close(res->time, (double)res->steps * res->dt, 1e-9 * res->time);
+}
+
+static void test_compaction_options_init(void **state)
+{
+    (void)state;
+    sinter_compaction_options o;
+    memset(&o, 0xff, sizeof(o));
+    assert_int_equal(sinter_compaction_options_init(&o, sizeof(o)), SINTER_OK);
+    assert_int_equal(o.struct_size, sizeof(o));
+    assert_close(o.box_max[2], 1.0, 0.0);
+    assert_close(o.volume_fraction, 0.0, 0.0);
+    assert_close(o.friction, 0.1, 0.0);
+    assert_close(o.restitution, 0.5, 0.0);
+    assert_close(o.velocity, 0.5, 0.0);
+    assert_int_equal(o.stop_at_jamming, 0);
+    assert_close(o.dt, 0.0, 0.0);
+    assert_int_equal(sinter_compaction_options_init(&o, sizeof(o) - 8), SINTER_ERR_STRUCT_SIZE);
+    assert_int_equal(sinter_compaction_options_init(NULL, sizeof(o)), SINTER_ERR_NULL);
+}
+
+/*
+ * A box below the jamming density (phi = 0.50 < ~0.56 for friction 0.1) is reached exactly;
+ * the same input gives the same packing bit for bit.
+ */
+static void test_compaction_reaches_box(void **state)
+{
+    compact_fixture *f = *state;
+    sinter_particles *a = loose_copper(f, 20.0 * COPPER_R, 7);
+    sinter_particles *b = loose_copper(f, 20.0 * COPPER_R, 7);
+    const double solid = sphere_volume(a);
+    const double side = cbrt(solid / 0.5);
+    sinter_compaction_options o = compaction_in_box(0.0, side);
+    o.box_max[2] = 0.8 * side; /* not a cube, like the seed's 0.5 x 0.5 x 0.4 mm */
+    o.box_max[0] = side / 0.8;
+    sinter_compaction_result ra, rb;
+    ra.struct_size = rb.struct_size = sizeof(ra);
+    assert_int_equal(sinter_pack_compact(a, &o, &ra), SINTER_OK);
+    for (int d = 0; d < 3; ++d) {
+        assert_true(ra.box_min[d] == o.box_min[d]); /* exactly the requested planes */
+        assert_true(ra.box_max[d] == o.box_max[d]);
+    }
+    assert_int_equal(ra.jammed, 0);
+    assert_close(ra.volume_fraction, 0.5, 1e-12);
+    assert_compacted(a, &ra);
+    /* Below jamming the walls carry (almost) nothing: less than 1 % of the servo's limit. */
+    assert_true(ra.pressure < 0.01 * 3.4e5);
+    /* Reproducible: the same set and options, the same bits. */
+    assert_int_equal(sinter_pack_compact(b, &o, &rb), SINTER_OK);
+    assert_true(same_bits(a, b));
+    assert_memory_equal(&ra, &rb, sizeof(ra));
+    sinter_particles_destroy(a);
+    sinter_particles_destroy(b);
+}
+
+/*
+ * Compaction to jamming: the walls advance until the packing carries the stress limit and
+ * stop there (stop_at_jamming), keeping box_min and the box's proportions. A jammed packing
+ * of frictional spheres has the isostatic coordination 4 among its load-bearing spheres
+ * (rattlers and the wall layer lower the mean), so 2 C / N > 3.5 (4.4 in the 805-sphere
+ * copper packing); without stop_at_jamming the same run is an error that leaves the set as
+ * it was.
+ */
+static void test_compaction_to_jamming(void **state)
+{
+    compact_fixture *f = *state;
+    sinter_particles *ps = loose_copper(f, 20.0 * COPPER_R, 11);
+    const double *x0, *r0;
+    const size_t n = view_xr(ps, &x0, &r0);
+    double *before = malloc(3 * n * sizeof(double));
+    assert_non_null(before);
+    memcpy(before, x0, 3 * n * sizeof(double));
+    release_xr(ps);
+    sinter_compaction_options o = compaction_in_box(0.0, 10.0 * COPPER_R);
+    o.box_min[0] = 1e-4; /* lower corner kept where it is asked to be */
+    o.box_max[0] = 1e-4 + 10.0 * COPPER_R;
+    o.volume_fraction = 0.7; /* beyond any jamming density */
+    expect_ctx_error(f->ctx, sinter_pack_compact(ps, &o, NULL),
+                 SINTER_ERR_NOT_CONVERGED, "jammed at volume fraction");
+    const double *x1, *r1;
+    view_xr(ps, &x1, &r1);
+    assert_memory_equal(before, x1, 3 * n * sizeof(double)); /* unchanged */
+    release_xr(ps);
+    o.stop_at_jamming = 1;
+    sinter_compaction_result res;
+    res.struct_size = sizeof(res);
+    assert_int_equal(sinter_pack_compact(ps, &o, &res), SINTER_OK);
+    assert_int_equal(res.jammed, 1);
+    assert_compacted(ps, &res);
+    /* The box: lower corner as asked; on the way from the spheres' box (the RSA cube, up to a
+     * gap of a fraction of a radius) to the requested cube, so a cube to 1 %. */
+    for (int d = 0; d < 3; ++d)
+        assert_true(res.box_min[d] == o.box_min[d]);
+    const double w[3] = {res.box_max[0] - res.box_min[0], res.box_max[1] - res.box_min[1],
+                         res.box_max[2] - res.box_min[2]};
+    assert_close(w[1], w[0], 0.01 * w[0]);
+    assert_close(w[2], w[0], 0.01 * w[0]);
+    assert_true(res.volume_fraction > 0.5 && res.volume_fraction < 0.7);
+    assert_close(res.volume_fraction, sphere_volume(ps) / (w[0] * w[1] * w[2]), 1e-9);
+    assert_true(res.coordination > 3.5);
+    /* Nearly stress-free: the walls stopped once the stress reached the limit (3.4e5 Pa for
+     * copper spheres of 25 um: Hertz contacts at a mean overlap of 1e-3 r), and the
+     * relaxation only lowers it; a jammed packing carries some of it (> 1 %). */
+    assert_true(res.pressure > 0.01 * 3.4e5 && res.pressure < 1.05 * 3.4e5);
+    free(before);
+    sinter_particles_destroy(ps);
+}
+
+/* A volume fraction below jamming is reached: the box scaled about box_min. */
+static void test_compaction_reaches_fraction(void **state)
+{
+    compact_fixture *f = *state;
+    sinter_particles *ps = loose_copper(f, 20.0 * COPPER_R, 3);
+    sinter_compaction_options o = compaction_in_box(0.0, 1.0);
+    o.box_max[2] = 2.0; /* proportions 1:1:2, like the seed's titanium packing */
+    o.volume_fraction = 0.45;
+    o.friction = 0.0;
+    sinter_compaction_result res;
+    res.struct_size = sizeof(res);
+    assert_int_equal(sinter_pack_compact(ps, &o, &res), SINTER_OK);
+    assert_close(res.volume_fraction, 0.45, 1e-12);
+    const double w = res.box_max[0];
+    assert_close(res.box_max[1], w, 0.0);
+    assert_close(res.box_max[2], 2.0 * w, 1e-15 * w);
+    assert_close(sphere_volume(ps) / (2.0 * w * w * w), 0.45, 1e-12);
+    assert_compacted(ps, &res);
+    sinter_particles_destroy(ps);
+}
+
+static void test_compaction_rejects_bad_input(void **state)
+{
+    compact_fixture *f = *state;
+    sinter_particles *ps = loose_copper(f, 20.0 * COPPER_R, 5);
+    const double *x0, *r0;
+    const size_t n = view_xr(ps, &x0, &r0);
+    double *before = malloc(3 * n * sizeof(double));
+    assert_non_null(before);
+    memcpy(before, x0, 3 * n * sizeof(double));
+    release_xr(ps);
+    typedef struct bad_case {
+        const char *field;
+        sinter_status status;
+        const char *word;
+    } bad_case;
+    static const bad_case cases[] = {
+        {"box_flat", SINTER_ERR_INVALID, "box_max[1]"},
+        {"box_nan", SINTER_ERR_INVALID, "box_max[2]"},
+        {"box_inf", SINTER_ERR_INVALID, "box_max[0]"},
+        {"box_narrow", SINTER_ERR_INVALID, "wide along y"},
+        {"box_dense", SINTER_ERR_INVALID, "densest sphere packing"},
+        {"fraction_high", SINTER_ERR_INVALID, "volume_fraction = 0.75"},
+        {"fraction_negative", SINTER_ERR_INVALID, "volume_fraction = -0.1"},
+        {"friction", SINTER_ERR_INVALID, "friction = -1"},
+        {"restitution_zero", SINTER_ERR_INVALID, "restitution = 0"},
+        {"restitution_high", SINTER_ERR_INVALID, "restitution = 1.5"},
+        {"velocity", SINTER_ERR_INVALID, "velocity = 0"},
+        {"velocity_nan", SINTER_ERR_INVALID, "velocity = nan"},
+        {"velocity_tiny", SINTER_ERR_INVALID, "more than 1e9"},
+        {"pressure", SINTER_ERR_INVALID, "max_pressure = -1"},
+        {"jamming", SINTER_ERR_INVALID, "stop_at_jamming = 2"},
+        {"ke", SINTER_ERR_INVALID, "ke_per_particle = inf"},
+        {"relax", SINTER_ERR_INVALID, "relax_time_max = -1"},
+        {"dt", SINTER_ERR_INVALID, "dt = nan"},
+        {"struct_size", SINTER_ERR_STRUCT_SIZE, "options.struct_size"},
+    };
+    for (size_t k = 0; k < sizeof(cases) / sizeof(cases[0]); ++k) {
+        sinter_compaction_options o = compaction_in_box(0.0, 12.0 * COPPER_R);
+        const char *c = cases[k].field;
+        if (!strcmp(c, "box_flat"))
+            o.box_max[1] = 0.0;
+        else if (!strcmp(c, "box_nan"))
+            o.box_max[2] = NAN;
+        else if (!strcmp(c, "box_inf"))
+            o.box_max[0] = INFINITY;
+        else if (!strcmp(c, "box_narrow"))
+            o.box_max[1] = 1.5 * COPPER_R;
+        else if (!strcmp(c, "box_dense"))
+            o.box_max[0] = o.box_max[1] = o.box_max[2] = 6.0 * COPPER_R;
+        else if (!strcmp(c, "fraction_high"))
+            o.volume_fraction = 0.75;
+        else if (!strcmp(c, "fraction_negative"))
+            o.volume_fraction = -0.1;
+        else if (!strcmp(c, "friction"))
+            o.friction = -1.0;
+        else if (!strcmp(c, "restitution_zero"))
+            o.restitution = 0.0;
+        else if (!strcmp(c, "restitution_high"))
+            o.restitution = 1.5;
+        else if (!strcmp(c, "velocity"))
+            o.velocity = 0.0;
+        else if (!strcmp(c, "velocity_nan"))
+            o.velocity = NAN;
+        else if (!strcmp(c, "velocity_tiny"))
+            o.velocity = 1e-12;
+        else if (!strcmp(c, "pressure"))
+            o.max_pressure = -1.0;
+        else if (!strcmp(c, "jamming"))
+            o.stop_at_jamming = 2;
+        else if (!strcmp(c, "ke"))
+            o.ke_per_particle = INFINITY;
+        else if (!strcmp(c, "relax"))
+            o.relax_time_max = -1.0;
+        else if (!strcmp(c, "dt"))
+            o.dt = NAN;
+        else if (!strcmp(c, "struct_size"))
+            o.struct_size = 8;
+        sinter_compaction_result res;
+        res.struct_size = sizeof(res);
+        expect_ctx_error(f->ctx, sinter_pack_compact(ps, &o, &res), cases[k].status, cases[k].word);
+    }
+    sinter_compaction_options o = compaction_in_box(0.0, 12.0 * COPPER_R);
+    sinter_compaction_result res;
+    res.struct_size = 4;
+    expect_ctx_error(f->ctx, sinter_pack_compact(ps, &o, &res), SINTER_ERR_STRUCT_SIZE, "result.struct_size");
+    expect_ctx_error(f->ctx, sinter_pack_compact(ps, NULL, NULL), SINTER_ERR_NULL, "options");
+    assert_int_equal(sinter_pack_compact(NULL, &o, NULL), SINTER_ERR_NULL);
+    /* A view out: busy. */
+    void *data = NULL;
+    assert_int_equal(sinter_particles_view(ps, SINTER_FIELD_VELOCITY, &data, NULL, NULL),
+                     SINTER_OK);
+    expect_ctx_error(f->ctx, sinter_pack_compact(ps, &o, NULL), SINTER_ERR_BUSY, "view");
+    assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_VELOCITY), SINTER_OK);
+    /* Nothing moved. */
+    const double *x1, *r1;
+    view_xr(ps, &x1, &r1);
+    assert_memory_equal(before, x1, 3 * n * sizeof(double));
+    release_xr(ps);
+    /* An empty set. */
+    sinter_particles *empty = NULL;
+    assert_int_equal(sinter_particles_create(&empty, f->ctx), SINTER_OK);
+    expect_ctx_error(f->ctx, sinter_pack_compact(empty, &o, NULL), SINTER_ERR_STATE, "empty");
+    sinter_particles_destroy(empty);
+    free(before);
+    sinter_particles_destroy(ps);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -590,6 +980,15 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_random_rejects_bad_options, setup, teardown),
         cmocka_unit_test_setup_teardown(test_views_make_packing_busy, setup, teardown),
         cmocka_unit_test(test_allocation_failure_injection),
+        cmocka_unit_test(test_compaction_options_init),
+        cmocka_unit_test_setup_teardown(test_compaction_reaches_box, compact_setup,
+                                        compact_teardown),
+        cmocka_unit_test_setup_teardown(test_compaction_to_jamming, compact_setup,
+                                        compact_teardown),
+        cmocka_unit_test_setup_teardown(test_compaction_reaches_fraction, compact_setup,
+                                        compact_teardown),
+        cmocka_unit_test_setup_teardown(test_compaction_rejects_bad_input, compact_setup,
+                                        compact_teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -27,7 +27,8 @@ from .material import Material, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
 from .neck import NeckModel, NeckResult, NeckStats
 from .output import Series, write_pvd, write_vtu
-from .packing import RadiusDistribution, pack_lattice, pack_random, packing_options, pour
+from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
+                      pack_random, packing_options, pour)
 from .particles import FIELDS, FieldInfo, FieldView, Particles
 from .scene import Scene
 from .stepper import (Stepper, StepperKind, StepperStats, ThermalScheme,
@@ -42,7 +43,7 @@ __all__ = [
     "NeckModel", "NeckResult", "NeckStats", "NotFound", "ParamInfo", "Particles",
     "RadiusDistribution", "RangeError", "Scene", "Series", "SinterError", "StateView", "Status",
     "Stepper", "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion",
-    "Walls", "damping_ratio_from_restitution", "library_path", "pack_lattice", "pack_random",
-    "packing_options", "pour", "stable_dt_hertz", "version_number", "version_string",
+    "Walls", "compaction_options", "damping_ratio_from_restitution", "library_path",
+    "pack_compact", "pack_lattice", "pack_random", "packing_options", "pour", "stable_dt_hertz", "version_number", "version_string",
     "write_pvd", "write_vtu",
 ]

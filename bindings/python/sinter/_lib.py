@@ -100,6 +100,28 @@ class PackingOptions(ctypes.Structure):
                 ("temperature", _double)]
 
 
+class CompactionOptions(ctypes.Structure):
+    """struct sinter_compaction_options (lengths in m, speed in m/s, stress in Pa, energy in J)."""
+
+    _cname = "sinter_compaction_options"
+    _fields_ = [("struct_size", _size), ("box_min", _double * 3), ("box_max", _double * 3),
+                ("volume_fraction", _double), ("friction", _double), ("restitution", _double),
+                ("velocity", _double), ("max_pressure", _double), ("stop_at_jamming", _int),
+                ("ke_per_particle", _double), ("relax_time_max", _double), ("dt", _double)]
+
+
+class CompactionResult(ctypes.Structure):
+    """struct sinter_compaction_result: what sinter_pack_compact achieved (SI units)."""
+
+    _cname = "sinter_compaction_result"
+    _fields_ = [("struct_size", _size), ("box_min", _double * 3), ("box_max", _double * 3),
+                ("volume_fraction", _double), ("jammed", _int), ("coordination", _double),
+                ("contacts", _u64), ("max_overlap", _double), ("max_overlap_ratio", _double),
+                ("max_wall_overlap_ratio", _double), ("pressure", _double),
+                ("kinetic_energy", _double), ("time", _double), ("relax_time", _double),
+                ("dt", _double), ("steps", _u64)]
+
+
 class NeckStats(ctypes.Structure):
     """struct sinter_neck_stats: work of the last sinter_neck_two_particles call (seconds in s)."""
 
@@ -312,6 +334,9 @@ SIGNATURES = {
         c_status, [ParticlesPtr, _P(_double), _P(_double), _double, _double, ctypes.c_int32,
                    _double, _P(_size)]),
     "sinter_pack_pour": (c_status, [StepperPtr, _double, _double, _double]),
+    "sinter_compaction_options_init": (c_status, [_P(CompactionOptions), _size]),
+    "sinter_pack_compact": (
+        c_status, [ParticlesPtr, _P(CompactionOptions), _P(CompactionResult)]),
     # sinter_submodel.h: host submodels
     "sinter_force_model_create_host": (
         c_status, [_P(ForceModelPtr), CtxPtr, _str, _P(ForceCallbacks), ctypes.c_void_p]),
