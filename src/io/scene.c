@@ -8,6 +8,7 @@
 
 #include "io/scene.h"
 #include "io/scene_text.h"
+#include "particles/compact.h"
 
 #define TRY(expr)                                                                                  \
     do {                                                                                           \
@@ -577,6 +578,32 @@ static sinter_status build_pour(scene_text *t, sinter_scene *sc, scene_section *
     return SINTER_OK;
 }
 
+/* [compact]: sinter_pack_compact's options, checked against the particles now, run by
+ * sinter_scene_run before the run (after [pour]). */
+static sinter_status build_compact(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    sinter_compaction_options *o = &sc->compact_options;
+    TRY(sinter_compaction_options_init(o, sizeof(*o)));
+    sc->compact = 1;
+    TRY(required(t, s, scene_get_vec3(t, s, "box_min", o->box_min), "box_min"));
+    TRY(required(t, s, scene_get_vec3(t, s, "box_max", o->box_max), "box_max"));
+    const struct {
+        const char *key;
+        double *value;
+    } numbers[] = {{"volume_fraction", &o->volume_fraction},
+                   {"friction", &o->friction},
+                   {"restitution", &o->restitution},
+                   {"velocity", &o->velocity},
+                   {"max_pressure", &o->max_pressure},
+                   {"ke_per_particle", &o->ke_per_particle},
+                   {"relax_time_max", &o->relax_time_max},
+                   {"dt", &o->dt}};
+    for (size_t k = 0; k < sizeof(numbers) / sizeof(numbers[0]); ++k)
+        OPTIONAL(scene_get_double(t, s, numbers[k].key, numbers[k].value));
+    OPTIONAL(scene_get_bool(t, s, "stop_at_jamming", &o->stop_at_jamming));
+    return at_line(t, s->line, sinter_compaction_check(sc->ps, o));
+}
+
 static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     TRY(required(t, s, scene_get_double(t, s, "interval", &sc->output_interval), "interval"));
@@ -604,7 +631,8 @@ static const struct {
     {"force", build_force, 0},         {"heat", build_heat, 0},
     {"electric", build_electric, 0},
     {"stepper", build_stepper, 1},
-    {"pour", build_pour, 0},           {"output", build_output, 0},
+    {"pour", build_pour, 0},           {"compact", build_compact, 0},
+    {"output", build_output, 0},
 };
 
 static sinter_status build(scene_text *t, sinter_scene *sc)
@@ -617,7 +645,7 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
         if (b == nb)
             return section_error(t, &t->sections[k],
                                  "unknown section type; expected scene, material, particles, "
-                                 "wall, force, heat, electric, stepper, pour or output");
+                                 "wall, force, heat, electric, stepper, pour, compact or output");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;
@@ -627,7 +655,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
                 continue;
             const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
                                strcmp(s->type, "electric") == 0 ||
-                               strcmp(s->type, "pour") == 0 || strcmp(s->type, "output") == 0;
+                               strcmp(s->type, "pour") == 0 || strcmp(s->type, "compact") == 0 ||
+                               strcmp(s->type, "output") == 0;
             if (seen && single)
                 return section_error(t, s, "this section may appear only once");
             seen = 1;

@@ -29,6 +29,9 @@ struct sinter_scene {
     /* pour before the run */
     int pour;
     double pour_ke, pour_t_min, pour_t_max;
+    /* triaxial compaction before the run (after the pour), [compact] */
+    int compact;
+    sinter_compaction_options compact_options;
     /* output */
     double output_interval;
     int write_vtu, write_csv, write_plot;

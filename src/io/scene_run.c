@@ -1,7 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 /*
- * Running a scene: an optional pour to rest, then the run to the end time,
- * with global observables recorded every output interval into a series
+ * Running a scene: an optional pour to rest and an optional triaxial compaction, then the
+ * run to the end time, with global observables recorded every output interval into a series
  * (CSV and SVG), VTU frames with a PVD collection, and checkpoints.
  */
 #include <errno.h>
@@ -147,6 +147,28 @@ static void observe(const sinter_scene *sc, double *row)
             s.shrinkage[0],  s.shrinkage[1], s.shrinkage[2], s.relative_density};
         memcpy(q, v, sizeof(v));
     }
+}
+
+/*
+ * [compact]: the triaxial compaction of sinter_pack_compact on the scene's particles (its own
+ * walls and stepper; the scene's walls take no part). A stepper that has already stepped (a
+ * restart from a checkpoint) keeps its state: the compaction belongs to the set-up.
+ */
+static sinter_status compact(sinter_scene *sc)
+{
+    sinter_compaction_result res;
+    memset(&res, 0, sizeof(res));
+    res.struct_size = sizeof(res);
+    const sinter_status st = sinter_pack_compact(sc->ps, &sc->compact_options, &res);
+    if (st == SINTER_OK)
+        sinter_log(sc->ctx, SINTER_LOG_INFO,
+                   "compacted: box %g x %g x %g m, volume fraction %.4f%s, coordination %.3f, "
+                   "largest overlap %.3g of the radius, wall stress %g Pa, %g s simulated",
+                   res.box_max[0] - res.box_min[0], res.box_max[1] - res.box_min[1],
+                   res.box_max[2] - res.box_min[2], res.volume_fraction,
+                   res.jammed ? " (jammed)" : "", res.coordination, res.max_overlap_ratio,
+                   res.pressure, res.time);
+    return st;
 }
 
 typedef struct run_state {
@@ -354,6 +376,9 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
     if (r.row == NULL)
         return SINTER_ERR_NOMEM;
     st = sinter_series_create(&r.series, ctx, ncol, names, units);
+    const int fresh = sc->st->stats.steps == 0 && sc->st->time == 0.0;
+    if (st == SINTER_OK && sc->compact && fresh && !sc->pour)
+        st = compact(sc);
     /* The state at the start, with forces evaluated. */
     if (st == SINTER_OK)
         st = sinter_stepper_step(sc->st, 0);
@@ -377,6 +402,8 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
         sinter_stepper_shift_furnace(sc->st, sc->st->time); /* timed from the pour's end too */
         if (st == SINTER_OK)
             sinter_log(ctx, SINTER_LOG_INFO, "poured: at rest at t = %g s", sc->st->time);
+        if (st == SINTER_OK && sc->compact && fresh)
+            st = compact(sc);
     }
     if (st == SINTER_OK)
         st = run_to(&r, sc->end_time + (sc->pour ? sc->st->time : 0.0), progress, user, 0, 0, NULL);

@@ -393,6 +393,100 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/*
+ * [compact] (sinter_pack_compact before the run): parser errors name the file and the line;
+ * a quasi-static run of a compacted copper packing starts from the compacted state (every
+ * sphere inside the jammed box, lower corner at the origin) with links between the spheres
+ * the compaction left touching.
+ */
+static const char *COMPACT =
+    "[scene]\nname = green\nunits = SI\n"
+    "[material copper]\ndensity = 8960\nyoungs_modulus = 72e9\npoisson_ratio = 0.3\n"
+    "[particles]\nmethod = random\nmaterial = copper\ncount = 60\nradius = 25e-6\n"
+    "distribution = uniform\nspread = 2.5e-6\nbox_min = 0 0 0\n"
+    "box_max = 0.0004 0.0004 0.0004\nseed = 4\ntemperature = 1293\n"
+    "[force gravity]\ngz = 0\n"
+    "[stepper]\nkind = quasistatic\ndt = 1e-6\nend_time = 1\n"
+    "[output]\ninterval = 1\nvtu = no\n"
+    "[compact]\nbox_min = 0 0 0\nbox_max = 0.0002 0.0002 0.0002\nvolume_fraction = 0.7\n"
+    "stop_at_jamming = yes\nvelocity = 1\n";
+
+static void test_compact_section(void **state)
+{
+    (void)state;
+    char text[4096];
+    const char *section = strstr(COMPACT, "[compact]");
+    const int head = (int)(section - COMPACT);
+    /* [compact] is line 28, its keys 29-33; a line added at the end is 34 */
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\n", head, COMPACT);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:28:", "needs 'box_max");
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0\nbox_max = 1 1 1\n", head,
+             COMPACT);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:29:", "box_min: expected three");
+    snprintf(text, sizeof(text), "%s%s", COMPACT, "friction = -0.5\n");
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:28:", "friction = -0.5");
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
+             "velocity = fast\n", head, COMPACT);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "velocity: expected");
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
+             "stop_at_jamming = maybe\n", head, COMPACT);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "yes or no");
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\n"
+             "box_max = 0.0001 0.0001 0.0001\n", head, COMPACT);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:28:", "densest sphere packing");
+    snprintf(text, sizeof(text), "%s%s", COMPACT, "wall_speed = 1\n");
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "unknown key 'wall_speed'");
+    snprintf(text, sizeof(text), "%s%s", COMPACT, "[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n");
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "only once");
+    snprintf(text, sizeof(text), "%s%s", COMPACT, "[compaction]\n");
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "pour, compact or output");
+
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("green.scene", COMPACT)),
+                     SINTER_OK);
+    char out[512];
+    snprintf(out, sizeof(out), "%s/green", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    sinter_particles *ps = NULL;
+    sinter_stepper *st = NULL;
+    assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
+    assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
+    sinter_sintering_stats stats;
+    stats.struct_size = sizeof(stats);
+    assert_int_equal(sinter_stepper_sintering_stats(st, &stats), SINTER_OK);
+    /* The 100-sphere packings of test_packing jam with coordination 3.7; 60 spheres in a box
+     * 5 diameters wide have more of them at the walls: at least 2 links per sphere. */
+    assert_true(stats.coordination > 2.0);
+    const double *x = NULL, *r = NULL;
+    size_t n = 0;
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, &n, NULL),
+        SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_RADIUS, (const void **)&r, NULL, NULL),
+        SINTER_OK);
+    assert_int_equal(n, 60);
+    /* The jammed box starts at the origin (the principal planes of the stepper) and is far
+     * smaller than the RSA box; the run (1 s of sintering) moves spheres by less than 1e-3 of
+     * a radius, so 1 % of a radius is a wide margin for "inside". */
+    double lo[3] = {1, 1, 1}, hi[3] = {0, 0, 0};
+    for (size_t i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = fmin(lo[d], x[3 * i + d] - r[i]);
+            hi[d] = fmax(hi[d], x[3 * i + d] + r[i]);
+        }
+    for (int d = 0; d < 3; ++d) {
+        assert_true(fabs(lo[d]) < 0.01 * 25e-6);
+        assert_true(hi[d] < 0.0003);
+    }
+    sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    sinter_particles_release(ps, SINTER_FIELD_RADIUS);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
 /* A quasi-static run (links, necks, plane conditions) restarted from a checkpoint continues bit
  * for bit, for the per-pair (2) and the CVODE batch (3) strategies; an explicit stepper refuses
  * a checkpoint holding links. The packing is a touching 2 x 2 x 2 cube (12 links). */
@@ -482,6 +576,7 @@ int main(void)
         cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
         cmocka_unit_test(test_furnace_scene),
         cmocka_unit_test(test_quasistatic_restart_is_bit_for_bit),
+        cmocka_unit_test(test_compact_section),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }
