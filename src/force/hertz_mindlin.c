@@ -375,6 +375,7 @@ typedef struct blk {
 
 HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
                           const pair_consts *single, size_t q0, size_t nb, blk *b)
+/* (with `single`, the constants are not gathered: blk_law reads them from it) */
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
@@ -386,8 +387,6 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
         const size_t q = q0 + (a < nb ? a : nb - 1);
         const uint32_t i = c->i[q], j = c->j[q];
         const double *n = c->n + 3 * q, *h = hist + width * c->pair[q];
-        pair_consts scratch;
-        const pair_consts *pc = pair_of(k, e, i, j, single, &scratch);
         b->nx[a] = n[0], b->ny[a] = n[1], b->nz[a] = n[2];
         b->delta[a] = c->delta[q];
         b->li[a] = c->branch[q];
@@ -399,8 +398,12 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
         b->wix[a] = w[3 * i], b->wiy[a] = w[3 * i + 1], b->wiz[a] = w[3 * i + 2];
         b->wjx[a] = w[3 * j], b->wjy[a] = w[3 * j + 1], b->wjz[a] = w[3 * j + 2];
         b->hx[a] = h[0], b->hy[a] = h[1], b->hz[a] = h[2];
-        b->kn[a] = pc->kn_pre, b->dn[a] = pc->dn_pre, b->kt[a] = pc->kt_pre;
-        b->dtp[a] = pc->dt_pre, b->mus2[a] = pc->mu_s2, b->mud[a] = pc->mu_d;
+        if (single == NULL) {
+            pair_consts scratch;
+            const pair_consts *pc = pair_of(k, e, i, j, NULL, &scratch);
+            b->kn[a] = pc->kn_pre, b->dn[a] = pc->dn_pre, b->kt[a] = pc->kt_pre;
+            b->dtp[a] = pc->dt_pre, b->mus2[a] = pc->mu_s2, b->mud[a] = pc->mu_d;
+        }
     }
 }
 
@@ -410,8 +413,10 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
  * and divisions that the common case does not, so their loops run only for a block where
  * some lane needs them; a lane that does not keeps its values, as in contact_law.
  */
-HM_INLINE void blk_law(blk *restrict b, double dt)
+HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
 {
+    /* one pair of materials: the constants are the same in every lane */
+#define HM_C(field, lane) (single != NULL ? single->field : b->lane[a])
     double utx[BLOCK], uty[BLOCK], utz[BLOCK], fn[BLOCK], fabs_n[BLOCK], kt[BLOCK];
     double dfric[BLOCK], ftx[BLOCK], fty[BLOCK], ftz[BLOCK], ft2[BLOCK], big_x[BLOCK];
     double slip[BLOCK]; /* 1 where the Coulomb limit is exceeded */
@@ -428,11 +433,11 @@ HM_INLINE void blk_law(blk *restrict b, double dt)
         const double uy = b->dvy[a] + (wsz * nx - wsx * nz);
         const double uz = b->dvz[a] + (wsx * ny - wsy * nx);
         const double un = ux * nx + uy * ny + uz * nz;
-        fn[a] = b->kn[a] * sqrt_rd * b->delta[a] + b->dn[a] * sm * un;
+        fn[a] = HM_C(kn_pre, kn) * sqrt_rd * b->delta[a] + HM_C(dn_pre, dn) * sm * un;
         fabs_n[a] = fabs(fn[a]);
         utx[a] = ux - un * nx, uty[a] = uy - un * ny, utz[a] = uz - un * nz;
-        kt[a] = b->kt[a] * sqrt_rd;
-        dfric[a] = b->dtp[a] * sm;
+        kt[a] = HM_C(kt_pre, kt) * sqrt_rd;
+        dfric[a] = HM_C(dt_pre, dtp) * sm;
         double sx = b->hx[a], sy = b->hy[a], sz = b->hz[a];
         /* spring turned into the tangent plane, its length kept (contact_law) */
         const double sn = sx * nx + sy * ny + sz * nz;
@@ -469,7 +474,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt)
         fty[a] = -kt[a] * sy - dfric[a] * uty[a];
         ftz[a] = -kt[a] * sz - dfric[a] * utz[a];
         ft2[a] = ftx[a] * ftx[a] + fty[a] * fty[a] + ftz[a] * ftz[a];
-        slip[a] = (ft2[a] > b->mus2[a] * fabs_n[a] * fabs_n[a]) & (ft2[a] > 0.0) ? 1.0 : 0.0;
+        slip[a] = (ft2[a] > HM_C(mu_s2, mus2) * fabs_n[a] * fabs_n[a]) & (ft2[a] > 0.0) ? 1.0 : 0.0;
     }
     int slips = 0;
     for (int a = 0; a < BLOCK; ++a)
@@ -478,7 +483,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt)
         for (int a = 0; a < BLOCK; ++a) {
             /* Slip (eq. 8, 13) */
             const int slipping = slip[a] != 0.0;
-            const double scale = b->mud[a] * fabs_n[a] / sqrt(ft2[a]);
+            const double scale = HM_C(mu_d, mud) * fabs_n[a] / sqrt(ft2[a]);
             const int stiff = kt[a] > 0.0;
             const double inv_kt = 1.0 / kt[a]; /* used only where kt > 0 */
             const double gx = ftx[a] * scale, gy = fty[a] * scale, gz = ftz[a] * scale;
@@ -501,6 +506,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt)
         b->tix[a] = b->li[a] * mx, b->tiy[a] = b->li[a] * my, b->tiz[a] = b->li[a] * mz;
         b->tjx[a] = b->lj[a] * mx, b->tjy[a] = b->lj[a] * my, b->tjz[a] = b->lj[a] * mz;
     }
+#undef HM_C
 }
 
 /*
@@ -522,11 +528,13 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        if (single != NULL)
+        if (single != NULL) {
             blk_gather(e, k, single, q0, nb, &b);
-        else
+            blk_law(&b, e->dt, single);
+        } else {
             blk_gather(e, k, NULL, q0, nb, &b);
-        blk_law(&b, e->dt);
+            blk_law(&b, e->dt, NULL);
+        }
         for (size_t a = 0; a < nb; ++a) {
             const size_t q = q0 + a;
             double *t = trial + width * q;

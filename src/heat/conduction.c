@@ -147,9 +147,9 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
     const double *r = ps->radius, *theta = ps->temperature;
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k];
-        const double g = conductance_pw(
-            projection, kmat[ps->material[i]], e->walls->wall[c->j[k]].material.value[SINTER_MAT_THERMAL_CONDUCTIVITY], r[i],
-            c->area[k], c->dist[k]);
+        const double kw = e->walls->wall[c->j[k]].material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
+        const double g =
+            conductance_pw(projection, kmat[ps->material[i]], kw, r[i], c->area[k], c->dist[k]);
         if (implicit)
             e->g_pw[k] += g;
         else
