@@ -510,9 +510,9 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
 }
 
 /*
- * Contacts [lo, hi) by blocks: into force/torque in contact order (out == NULL), or into
- * out, 9 per contact (the threaded path). Compiled for the baseline and, where the compiler
- * supports it, for AVX2 (picked at load time by the CPU).
+ * Contacts [lo, hi) by blocks: into force/torque in contact order (out == NULL), or the
+ * force into out, 3 per contact (the threaded path). Compiled for the baseline and, where
+ * the compiler supports it, for AVX2 (picked at load time by the CPU).
  */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&    \
     !defined(SINTER_NO_CLONES)
@@ -539,11 +539,9 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
             const size_t q = q0 + a;
             double *t = trial + width * q;
             t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
-            if (out != NULL) {
-                double *o = out + 9 * q;
+            if (out != NULL) { /* the force only: eval_pp forms the moments again */
+                double *o = out + 3 * q;
                 o[0] = b.fx[a], o[1] = b.fy[a], o[2] = b.fz[a];
-                o[3] = b.tix[a], o[4] = b.tiy[a], o[5] = b.tiz[a];
-                o[6] = b.tjx[a], o[7] = b.tjy[a], o[8] = b.tjz[a];
                 continue;
             }
             const uint32_t i = c->i[q], j = c->j[q];
@@ -587,12 +585,15 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
         return SINTER_OK;
     }
     /*
-     * Threads: (1) every contact's force and moments into a scratch array, in parallel;
-     * (2) every particle sums its contacts in ascending contact order, in parallel. The sums
-     * are done in the same order as the loop above, so the result does not depend on the
-     * number of threads.
+     * Threads: (1) every contact's force (and, with rolling resistance, moments) into a
+     * scratch array, in parallel; (2) every particle sums its contacts in ascending contact
+     * order, in parallel. The sums are done in the same order as the serial loop, from the
+     * same values, so the result does not depend on the number of threads. Without rolling
+     * the moments L (n x f) are formed again in (2) from the contact list, as blk_law forms
+     * them: 3 doubles of scratch per contact instead of 9.
      */
-    double *out = sinter_alloc(e->ctx, 9 * c->count * sizeof(double));
+    const size_t per = rolling ? 9 : 3;
+    double *out = sinter_alloc(e->ctx, per * c->count * sizeof(double));
     if (out == NULL)
         return SINTER_ERR_NOMEM;
     const long count = (long)c->count;
@@ -618,12 +619,21 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
             const uint32_t q = c->pair_to_contact[c->adj_pair[a]];
             if (q == SINTER_NO_PAIR)
                 continue;
-            const double *o = out + 9 * (size_t)q;
+            const double *o = out + per * (size_t)q;
             const int first = c->i[q] == (uint32_t)p;
-            for (int d = 0; d < 3; ++d) {
+            for (int d = 0; d < 3; ++d)
                 f[d] = first ? f[d] + o[d] : f[d] - o[d];
-                t[d] += first ? o[3 + d] : o[6 + d];
+            if (rolling) {
+                for (int d = 0; d < 3; ++d)
+                    t[d] += first ? o[3 + d] : o[6 + d];
+                continue;
             }
+            const double *n = c->n + 3 * (size_t)q;
+            const double m[3] = {n[1] * o[2] - n[2] * o[1], n[2] * o[0] - n[0] * o[2],
+                                 n[0] * o[1] - n[1] * o[0]};
+            const double l = first ? c->branch[q] : c->dist[q] - c->branch[q];
+            for (int d = 0; d < 3; ++d)
+                t[d] += l * m[d];
         }
         for (int d = 0; d < 3; ++d) {
             force[3 * p + d] = f[d];

@@ -135,7 +135,8 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
 
 
 /* A packed, jittered lattice of 15^3 spheres (about 9000 contacts: the threaded paths run),
- * with explicit conduction from a 500 K floor when `heat` (the threaded conduction sums). */
+ * with explicit conduction from a 500 K floor and no rolling resistance when `heat` (the
+ * threaded conduction sums and the blocked Hertz-Mindlin law). */
 static void run_packed(int threads, int heat, double *out, size_t n)
 {
     scene s;
@@ -150,6 +151,8 @@ static void run_packed(int threads, int heat, double *out, size_t n)
     scene_floor(&s, 0.0);
     sinter_heat_model *cond = NULL;
     if (heat) {
+        /* and the law without rolling resistance (the blocked path) */
+        OK(sinter_force_model_set(s.contact, "rolling", 0.0));
         OK(sinter_walls_set_temperature(s.walls, 0, 500.0));
         OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
         OK(sinter_stepper_add_heat(s.st, cond));
