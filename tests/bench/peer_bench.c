@@ -16,8 +16,9 @@
  * calib scenes. --heat 1 adds the thermal scene's conduction: the "conduction" heat model
  * with LIGGGHTS' projection conductance (4 k1 k2/(k1+k2) sqrt(pi r^2) = 2 sqrt(pi) k r per
  * contact), k = 100 W/(m K), c_p = 100 J/(kg K), T0 = 300 K, the floor at 500 K with the
- * particles' conductivity and the side walls adiabatic (k = 0), explicit thermal update. --stats prints the stepper's phase times of the timed
- * loop to stderr.
+ * particles' conductivity and the side walls adiabatic (k = 0), explicit thermal update.
+ * --stats prints the stepper's phase times of the timed loop and the peak resident memory
+ * (VmHWM) to stderr; --threads N sets the library's threads (default 1).
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, CLOCK_MONOTONIC under -std=c11 */
 #include <stdio.h>
@@ -250,6 +251,14 @@ int main(int argc, char **argv)
         CHECK(sinter_particles_release(ps, fields[k]));
 
     if (stats) {
+        /* Peak resident memory of the whole process (Linux), for the memory figures. */
+        FILE *status = fopen("/proc/self/status", "r");
+        char line[256];
+        while (status != NULL && fgets(line, sizeof(line), status) != NULL)
+            if (strncmp(line, "VmHWM:", 6) == 0)
+                fprintf(stderr, "STATS peak_rss %s", line + 6);
+        if (status != NULL)
+            fclose(status);
         /* Phase times of the timed loop only (the setup evaluation is subtracted). */
         const double nb = s1.seconds_neighbor - s0.seconds_neighbor,
                      fo = s1.seconds_force - s0.seconds_force,
