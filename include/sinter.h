@@ -1099,7 +1099,7 @@ typedef struct sinter_compaction_options {
     double ke_per_particle;  /**< the relaxation ends when the translational kinetic energy per
                                   particle is below this [J]; 0 (default): 1e-10 of (1/2) m v^2
                                   of a particle of mean mass at the impact speed of the step */
-    double relax_time_max;   /**< longest relaxation [s]; 0 (default): 2e4 automatic steps */
+    double relax_time_max;   /**< longest relaxation [s]; 0 (default): 5e4 automatic steps */
     double dt;               /**< time step [s]; 0 (default): seed 003 eq. 47 (see sinter_pack_compact) */
 } sinter_compaction_options;
 
@@ -1140,7 +1140,7 @@ SINTER_API sinter_status sinter_compaction_options_init(sinter_compaction_option
  * particle is below ke_per_particle. The walls move at `velocity` (the fastest one) slowed
  * down in proportion as the mean wall stress approaches max_pressure, and wait while it is
  * above: the packing is compacted quasi-statically and ends nearly stress-free. When it jams
- * before the final box (the walls make no progress for 20 000 automatic steps) the call fails
+ * before the final box (the walls make no progress for 5000 automatic steps) the call fails
  * with SINTER_ERR_NOT_CONVERGED naming the volume fraction reached, or, with stop_at_jamming,
  * ends there: the final box is then the walls' box at that moment (on the way from the
  * spheres' box to the requested one, so of the requested proportions when the spheres start
@@ -1151,8 +1151,10 @@ SINTER_API sinter_status sinter_compaction_options_init(sinter_compaction_option
  * positions, with velocities, spins, forces and torques zeroed (a stepper over the set
  * evaluates its forces again). Particles start at rest; flags (fixed particles) and thermal
  * softening are ignored; masses, radii and the materials' elastic constants are used as they
- * are. The time step is seed 003 eq. 47 (sinter_stable_dt_hertz) at the impact speed that gives
- * an overlap of 1 % of the radius in a Hertz collision (at least the wall speed).
+ * are. The time step is seed 003 eq. 47 (sinter_stable_dt_hertz) at the impact speed that
+ * gives an overlap of 1 % of the radius in a Hertz collision (at least the wall speed); with
+ * friction of 0.3 and more, sticking contacts couple tangential springs and spins in a faster
+ * mode and a jammed packing may not come to rest: set dt to half of that step.
  * Friction sets how dense the packing gets before it jams: with friction 0 the spheres reach
  * the random close packing (about 0.64 away from the walls), with 0.1 a box fraction of about
  * 0.59 for 10-diameter boxes, with 0.5 and more they jam near the random loose packing. A final
