@@ -539,6 +539,24 @@ static sinter_packing_options packing(double radius_mean, int distribution, uint
     return o;
 }
 
+/* Compaction options onto the box [0, side]^3 with the given friction (sinter_pack_compact). */
+static sinter_compaction_options compaction(double friction, double side)
+{
+    sinter_compaction_options o;
+    sinter_compaction_options_init(&o, sizeof(o));
+    for (int d = 0; d < 3; ++d)
+        o.box_max[d] = side;
+    o.friction = friction;
+    return o;
+}
+
+static sinter_compaction_options compaction_sized(size_t struct_size)
+{
+    sinter_compaction_options o = compaction(0.1, 1.0);
+    o.struct_size = struct_size;
+    return o;
+}
+
 static sinter_packing_options packing_box(const double lo[3], const double hi[3])
 {
     sinter_packing_options o = packing(0.05, SINTER_RADII_MONODISPERSE, 100);
@@ -1330,7 +1348,21 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
     X(checkpoint_read_other_models, SINTER_ERR_INVALID, "has 2 force models, the stepper 1",       \
       sinter_checkpoint_read(f->st, f->foreign_checkpoint))                                        \
     X(checkpoint_read_not_a_checkpoint, SINTER_ERR_CORRUPT, "not a libsinter checkpoint",          \
-      sinter_checkpoint_read(f->st, write_file("text.ckpt", "[scene]\nunits = SI\n#########\n")))
+      sinter_checkpoint_read(f->st, write_file("text.ckpt", "[scene]\nunits = SI\n#########\n")))   \
+    X(pack_compact_null_particles, SINTER_ERR_NULL, NULL,                                          \
+      sinter_pack_compact(NULL, (const sinter_compaction_options[]){compaction(0.1, 1.0)}, NULL))   \
+    X(pack_compact_null_options, SINTER_ERR_NULL, "'options'",                                     \
+      sinter_pack_compact(f->ps, NULL, NULL))                                                      \
+    X(pack_compact_struct_size, SINTER_ERR_STRUCT_SIZE, "options.struct_size is 8",                \
+      sinter_pack_compact(f->ps, (const sinter_compaction_options[]){compaction_sized(8)}, NULL))  \
+    X(pack_compact_nan_friction, SINTER_ERR_INVALID, "friction = nan",                             \
+      sinter_pack_compact(f->ps, (const sinter_compaction_options[]){compaction(NAN, 1.0)}, NULL)) \
+    X(pack_compact_narrow_box, SINTER_ERR_INVALID, "wide along x",                                 \
+      sinter_pack_compact(f->ps, (const sinter_compaction_options[]){compaction(0.1, 0.0015)},     \
+                          NULL))                                                                   \
+    X(pack_compact_empty_set, SINTER_ERR_STATE, "the particle set is empty",                       \
+      sinter_pack_compact(f->empty_ps, (const sinter_compaction_options[]){compaction(0.1, 1.0)},  \
+                          NULL))
 /* clang-format on */
 
 #define MISUSE_FUNCTION(name, status, fragment, call)                                              \
