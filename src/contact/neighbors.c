@@ -81,6 +81,19 @@ static inline sinter_status push_pair(sinter_ctx *ctx, sinter_pair_list *l, uint
     return SINTER_OK;
 }
 
+void sinter_neighbors_set_moved(sinter_neighbors *nb, const sinter_particles *ps, double moved2)
+{
+    nb->moved2 = moved2;
+    nb->moved_valid = 1;
+    nb->moved_layout = ps->layout_generation;
+    nb->moved_write = ps->write_generation;
+}
+
+void sinter_neighbors_clear_moved(sinter_neighbors *nb)
+{
+    nb->moved_valid = 0;
+}
+
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,
                            const sinter_walls *walls)
 {
@@ -99,16 +112,21 @@ int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *p
     if (max_wall >= nb->skin)
         return 1;
     double max2 = 0.0;
-    const double *x = ps->x, *x0 = nb->x_ref;
-    const long n = (long)ps->count;
-    const int threads = n < 16384 ? 1 : sinter_threads(nb->ctx);
-    /* a maximum does not depend on the order: the same for any number of threads */
+    if (nb->moved_valid && nb->moved_layout == ps->layout_generation &&
+        nb->moved_write == ps->write_generation) {
+        max2 = nb->moved2;
+    } else {
+        const double *x = ps->x, *x0 = nb->x_ref;
+        const long n = (long)ps->count;
+        const int threads = n < 16384 ? 1 : sinter_threads(nb->ctx);
+        /* a maximum does not depend on the order: the same for any number of threads */
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(max : max2)
-    for (long i = 0; i < n; ++i) {
-        const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
-                     dz = x[3 * i + 2] - x0[3 * i + 2];
-        const double d2 = dx * dx + dy * dy + dz * dz;
-        max2 = d2 > max2 ? d2 : max2;
+        for (long i = 0; i < n; ++i) {
+            const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
+                         dz = x[3 * i + 2] - x0[3 * i + 2];
+            const double d2 = dx * dx + dy * dy + dz * dz;
+            max2 = d2 > max2 ? d2 : max2;
+        }
     }
     const double max_particle = sqrt(max2);
     return max_particle >= half || max_particle + max_wall >= nb->skin;
@@ -172,6 +190,17 @@ static void swap_lists(sinter_pair_list *a, sinter_pair_list *b)
     sinter_pair_list t = *a;
     *a = *b;
     *b = t;
+}
+
+/* fmin and fmax (a NaN loses), inlined: libm calls cost more than the rest of this loop. */
+static inline double min_num(double a, double b)
+{
+    return b < a || a != a ? b : a;
+}
+
+static inline double max_num(double a, double b)
+{
+    return b > a || a != a ? b : a;
 }
 
 /* The cell grid of one build: items[start[c] .. start[c+1]) are the particles of cell c. */
@@ -262,10 +291,10 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, rmax = 0.0;
     for (size_t i = 0; i < n; ++i) {
         for (int d = 0; d < 3; ++d) {
-            lo[d] = fmin(lo[d], x[3 * i + d]);
-            hi[d] = fmax(hi[d], x[3 * i + d]);
+            lo[d] = min_num(lo[d], x[3 * i + d]);
+            hi[d] = max_num(hi[d], x[3 * i + d]);
         }
-        rmax = fmax(rmax, r[i]);
+        rmax = max_num(rmax, r[i]);
     }
     /* Finite inputs can still overflow: a span beyond DBL_MAX (particles near +-1e308)
      * or a cell of radius ~1e308 counts as DBL_MAX, so every quotient below is finite

@@ -54,6 +54,11 @@ typedef struct sinter_neighbors {
     size_t hash_capacity;
     uint32_t *scan; /* per-thread segments of the threaded build */
     size_t scan_capacity;
+    /* largest squared displacement since the build, measured by the integrator, for the
+     * next staleness test only; valid while moved_valid and the particles' generations match */
+    double moved2;
+    int moved_valid;
+    uint64_t moved_layout, moved_write;
 } sinter_neighbors;
 
 /* Threads to use for a context (its setting; 0 means all available); contacts.c. */
@@ -61,6 +66,11 @@ int sinter_threads(const sinter_ctx *ctx);
 
 void sinter_neighbors_init(sinter_neighbors *nb, sinter_ctx *ctx, double skin);
 void sinter_neighbors_free(sinter_neighbors *nb);
+
+/* The integrator measured the largest squared displacement since the build while it moved
+ * the particles: the next staleness test uses it instead of a pass of its own. */
+void sinter_neighbors_set_moved(sinter_neighbors *nb, const sinter_particles *ps, double moved2);
+void sinter_neighbors_clear_moved(sinter_neighbors *nb);
 
 /* 1 when the lists must be rebuilt before the next evaluation. */
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,

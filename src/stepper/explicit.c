@@ -71,6 +71,46 @@ static size_t kick_drift(sinter_stepper *st, double h)
     const double half = 0.5 * h;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
     size_t bad = n;
+    /* The neighbour list's staleness test needs the largest displacement since its build:
+     * measured here, where the new positions are made, instead of in a pass of its own. */
+    sinter_neighbors *nb = &st->nb;
+    const double *restrict x0 = nb->x_ref;
+    const int measure = nb->built && nb->layout_generation == ps->layout_generation &&
+                        nb->ref_capacity >= n3 && x0 != NULL;
+    double moved2 = 0.0;
+    if (!any_special(ps) && measure) {
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)            \
+    reduction(max : moved2)
+        for (size_t i = 0; i < n; ++i) {
+            const double a = half / m[i], b = half / j[i];
+            double da[3], z = 0.0, d2 = 0.0;
+            for (int d = 0; d < 3; ++d) {
+                const size_t k = 3 * i + (size_t)d;
+                bx[k] = x[k];
+                bv[k] = v[k];
+                bw[k] = w[k];
+                brot[k] = rot[k];
+                const double vk = v[k] + a * f[k];
+                v[k] = vk;
+                const double xk = x[k] + h * vk;
+                x[k] = xk;
+                const double wk = w[k] + b * tq[k];
+                w[k] = wk;
+                da[d] = h * wk;
+                z += nonfinite(xk);
+                const double e = xk - x0[k];
+                d2 += e * e;
+            }
+            moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
+            double *alpha = rot + 3 * i;
+            sinter_compose_rotation(alpha, da);
+            z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
+            if (!(z == 0.0) && i < bad)
+                bad = i;
+        }
+        sinter_neighbors_set_moved(nb, ps, moved2);
+        return bad;
+    }
     if (!any_special(ps)) {
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
         for (size_t i = 0; i < n; ++i) {
@@ -203,6 +243,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         s = sinter_walls_move(st->walls, st->time);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
+    sinter_neighbors_clear_moved(&st->nb); /* valid for that evaluation only */
     size_t bad = st->ps->count;
     if (s == SINTER_OK) {
         t0 = sinter_clock();
