@@ -91,4 +91,13 @@ sinter_status sinter_bonded_solve(sinter_bonded_solver *solver, size_t n, const 
                                   size_t count, const unsigned char *fixed, const double *f,
                                   double *u, double rtol, int *iterations);
 
+/* The same, started from guess[6 n] (NULL: from 0): a quasi-static march passes the last step's
+ * displacements scaled to the new step, which the smooth sintering loading makes a close start.
+ * The stopping test (residual relative to |f|) is the same, so the result is as accurate. */
+sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
+                                       const sinter_beam *links, size_t count,
+                                       const unsigned char *fixed, const double *f,
+                                       const double *guess, double *u, double rtol,
+                                       int *iterations);
+
 #endif /* SINTER_BONDED_BEAM_H */

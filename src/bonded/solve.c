@@ -148,6 +148,15 @@ sinter_status sinter_bonded_solve(sinter_bonded_solver *solver, size_t n, const 
                                   size_t count, const unsigned char *fixed, const double *f,
                                   double *u, double rtol, int *iterations)
 {
+    return sinter_bonded_solve_from(solver, n, links, count, fixed, f, NULL, u, rtol, iterations);
+}
+
+sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
+                                       const sinter_beam *links, size_t count,
+                                       const unsigned char *fixed, const double *f,
+                                       const double *guess, double *u, double rtol,
+                                       int *iterations)
+{
     SINTER_CHECK_NULL(NULL, solver);
     sinter_bonded_solver *s = solver;
     if (iterations)
@@ -191,7 +200,7 @@ sinter_status sinter_bonded_solve(sinter_bonded_solver *solver, size_t n, const 
     double norm = 0.0;
     for (size_t i = 0; i < dofs; ++i) {
         b[i] = s->mask[i] ? 0.0 : f[i];
-        x[i] = 0.0;
+        x[i] = s->mask[i] || guess == NULL ? 0.0 : guess[i]; /* PCG starts from x */
         norm += b[i] * b[i];
     }
     norm = sqrt(norm);

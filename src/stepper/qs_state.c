@@ -6,7 +6,8 @@
  *
  * Layout (host order, inside the checkpoint's checksum): u64 sizeof(sinter_qs_link), u64 link
  * count, the links, u64 particles, u64 plane-condition bytes, those bytes, f64 extent0[3],
- * f64 dt_next, u64 steps, rejected, pcg_iterations, substepped.
+ * f64 dt_next, u64 steps, rejected, pcg_iterations, substepped, f64 u_step and, when it is
+ * > 0, the last displacements u (the next solve starts from them, so they are state too).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -21,10 +22,15 @@ static size_t fixed_bytes(const sinter_qs *qs)
     return qs->particles != SIZE_MAX && qs->fixed != NULL ? 6 * qs->particles : 0;
 }
 
+static size_t u_bytes(const sinter_qs *qs)
+{
+    return qs->u_step > 0.0 && fixed_bytes(qs) > 0 ? fixed_bytes(qs) * sizeof(double) : 0;
+}
+
 size_t sinter_qs_state_size(const sinter_qs *qs)
 {
     return QS_HEADER_U64 * 8 + qs->count * sizeof(sinter_qs_link) + 16 + fixed_bytes(qs) +
-           QS_TAIL_BYTES;
+           QS_TAIL_BYTES + 8 + u_bytes(qs);
 }
 
 static unsigned char *put(unsigned char *p, const void *data, size_t bytes)
@@ -66,7 +72,10 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
     p = put_u64(p, qs->steps);
     p = put_u64(p, qs->rejected);
     p = put_u64(p, qs->pcg_iterations);
-    (void)put_u64(p, qs->substepped);
+    p = put_u64(p, qs->substepped);
+    const double u_step = u_bytes(qs) > 0 ? qs->u_step : 0.0;
+    p = put(p, &u_step, 8);
+    (void)put(p, qs->u, u_bytes(qs));
 }
 
 typedef struct cursor {
@@ -155,7 +164,14 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     uint64_t counters[4];
     const void *tail_at = take(&c, sizeof(tail));
     const void *counters_at = take(&c, sizeof(counters));
-    if (c.bad || fixed == NULL || c.p != c.end) {
+    double u_step = 0.0;
+    const void *u_step_at = take(&c, 8);
+    if (u_step_at != NULL)
+        memcpy(&u_step, u_step_at, 8);
+    const size_t nu = u_step > 0.0 ? (size_t)nfixed * sizeof(double) : 0;
+    const unsigned char *u = nu <= bytes ? take(&c, nu) : NULL;
+    if (c.bad || fixed == NULL || c.p != c.end || !(u_step >= 0.0 && isfinite(u_step)) ||
+        (u_step > 0.0 && (nfixed == 0 || u == NULL))) {
         *why = "its quasi-static section does not fit its size";
         return SINTER_ERR_CORRUPT;
     }
@@ -224,6 +240,16 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
         }
     if (nfixed > 0)
         memcpy(qs->fixed, fixed, (size_t)nfixed);
+    if (nu > 0) {
+        memcpy(qs->u, u, nu);
+        for (size_t i = 0; i < (size_t)nfixed; ++i)
+            if (!isfinite(qs->u[i])) {
+                sinter_qs_destroy(qs);
+                *why = "its quasi-static displacements are not finite";
+                return SINTER_ERR_CORRUPT;
+            }
+        qs->u_step = u_step;
+    }
     qs->particles = particles == UINT64_MAX ? SIZE_MAX : (size_t)particles;
     if (nfixed == 0 && qs->particles == n && n > 0)
         qs->particles = SIZE_MAX; /* no stored conditions: detect them at the next step */

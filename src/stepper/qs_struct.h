@@ -31,6 +31,7 @@ struct sinter_qs {
     size_t particles;  /* count the conditions were detected for (0: not yet) */
     double extent0[3]; /* initial extent of the centres */
     double dt_next;
+    double u_step;  /* step of the displacements in u (0: none to start the next solve from) */
     uint64_t steps, rejected, pcg_iterations, substepped;
 };
 

@@ -340,6 +340,7 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
     if (qs->particles == 0)
         extents(p, qs->extent0); /* the first setup only (not after a remap) */
     qs->particles = n;
+    qs->u_step = 0.0; /* u no longer matches the particles */
     return SINTER_OK;
 }
 
@@ -524,8 +525,17 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     if (st == SINTER_OK) {
         for (size_t k = 0; k < m; ++k)
             qs->beams[k] = qs->links[k].beam;
-        st = sinter_bonded_solve(qs->solver, n, qs->beams, m, qs->fixed, f, u, qs->opt.solve_rtol,
-                                 &iterations);
+        /* start from the last step's displacements scaled to this step (u ~ h) */
+        double *guess = NULL;
+        if (qs->u_step > 0.0) {
+            const double scale = h / qs->u_step;
+            for (size_t i = 0; i < 6 * n; ++i)
+                u[i] *= scale;
+            guess = u;
+        }
+        st = sinter_bonded_solve_from(qs->solver, n, qs->beams, m, qs->fixed, f, guess, u,
+                                      qs->opt.solve_rtol, &iterations);
+        qs->u_step = st == SINTER_OK ? h : 0.0;
     }
     if (st != SINTER_OK) {
         for (size_t k = 0; k < m; ++k)
