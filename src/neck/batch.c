@@ -198,6 +198,11 @@ static sinter_status build_system(sinter_neck_batch *b, size_t n)
     return SINTER_OK;
 }
 
+size_t sinter_neck_batch_failed_pair(const sinter_neck_batch *batch)
+{
+    return batch != NULL && batch->domain_hit ? batch->domain_pair : SIZE_MAX;
+}
+
 sinter_status sinter_neck_batch_create(sinter_neck_batch **out, sinter_ctx *ctx)
 {
     if (ctx == NULL)
@@ -252,6 +257,7 @@ sinter_status sinter_neck_batch_advance(sinter_neck_batch *b, size_t n, sinter_n
     static const char *const WHO = "sinter_neck_batch_advance";
     if (b == NULL)
         return SINTER_ERR_NULL;
+    b->domain_hit = 0; /* sinter_neck_batch_failed_pair reports this call only */
     sinter_ctx *ctx = b->ctx;
     SINTER_CHECK_NULL(ctx, pairs);
     SINTER_CHECK_NULL(ctx, materials);
@@ -346,6 +352,8 @@ sinter_status sinter_neck_batch_advance(sinter_neck_batch *b, size_t n, sinter_n
             sinter_neck_domain_error err;
             if (sinter_neck_check_domain(y + SINTER_NECK_DOF * k, NULL, &err) !=
                 SINTER_NECK_VALID) {
+                b->domain_hit = 1;
+                b->domain_pair = k;
                 char who[96];
                 snprintf(who, sizeof(who), "%s (pair %zu)", WHO, k);
                 err.time = t1;

@@ -400,4 +400,7 @@ sinter_status sinter_neck_batch_advance(sinter_neck_batch *batch, size_t n,
                                         const sinter_neck_tolerances *tol,
                                         sinter_neck_counters *counters);
 
+/* The index of the pair whose domain error stopped the last advance (SIZE_MAX: none). */
+size_t sinter_neck_batch_failed_pair(const sinter_neck_batch *batch);
+
 #endif /* SINTER_NECK_H */

@@ -1,6 +1,7 @@
 /* Quasi-static sintering stepper (seed 001 sec. 2-3, fig. 6-7); see quasistatic.h. */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,6 +60,17 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_max_strain", max_strain, 0.0, 1.0, 1),
 };
 
+/* SINTER_ERR_NOT_FOUND with the list of keys. */
+static sinter_status unknown_key(sinter_ctx *ctx, const char *key)
+{
+    char list[512] = "qs_strategy";
+    size_t len = strlen(list);
+    for (size_t k = 0; k < sizeof(qs_keys) / sizeof(qs_keys[0]) && len < sizeof(list); ++k)
+        len += (size_t)snprintf(list + len, sizeof(list) - len, ", %s", qs_keys[k].key);
+    return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
+                       "the quasi-static stepper has no option '%s' (options: %s)", key, list);
+}
+
 sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
                                    double value)
 {
@@ -78,11 +90,18 @@ sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, cons
         if (!(value <= q->hi && (q->open_lo ? value > q->lo : value >= q->lo)))
             return sinter_fail(ctx, SINTER_ERR_INVALID, "%s = %g is outside %s%g, %g]", key, value,
                                q->open_lo ? "(" : "[", q->lo, q->hi);
+        if (!isfinite(value))
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s = %g: the value must be finite", key,
+                               value);
+        if ((q->offset == offsetof(sinter_qs_options, dt_min) && value > opt->dt_max) ||
+            (q->offset == offsetof(sinter_qs_options, dt_max) && value < opt->dt_min))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s = %g would leave qs_dt_min above qs_dt_max (now %g and %g s)",
+                               key, value, opt->dt_min, opt->dt_max);
         *(double *)((char *)opt + q->offset) = value;
         return SINTER_OK;
     }
-    return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED, "the quasi-static stepper has no option '%s'",
-                       key);
+    return unknown_key(ctx, key);
 }
 
 sinter_status sinter_qs_option_get(const sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
@@ -97,8 +116,7 @@ sinter_status sinter_qs_option_get(const sinter_qs_options *opt, sinter_ctx *ctx
             *value = *(const double *)((const char *)opt + qs_keys[k].offset);
             return SINTER_OK;
         }
-    return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED, "the quasi-static stepper has no option '%s'",
-                       key);
+    return unknown_key(ctx, key);
 }
 
 sinter_status sinter_qs_create(sinter_qs **out, sinter_ctx *ctx, const sinter_qs_options *opt)
@@ -212,7 +230,8 @@ static double pair_step(const sinter_qs *qs, const sinter_neck_material *m,
 }
 
 /* Strategy 2: advance one pair over [t, t + h] with its own sub-steps (hint in step_hint).
- * Returns 0 or -1 when no sub-step above dt_min meets the tolerance. */
+ * Returns 0, -1 when no sub-step above dt_min meets the tolerance, or -2 when even the smallest
+ * sub-step left the model's domain of validity (7dof.md §2.5). */
 static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_neck_schedule *s,
                         double t, double h)
 {
@@ -230,7 +249,7 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
             tau = step / alpha; /* eq. 45 */
             ++rejections;
             if (tau < 1e-3 * qs->opt.dt_min)
-                return -1;
+                return isinf(err) ? -2 : -1;
             continue;
         }
         memcpy(y, out, sizeof(y));
@@ -403,6 +422,16 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
     tol.rtol = qs->opt.rtol;
     st = sinter_neck_batch_advance(qs->batch, m, qs->batch_states, qs->batch_materials, s, t + h,
                                    &tol, NULL);
+    const size_t bad = sinter_neck_batch_failed_pair(qs->batch);
+    if (st != SINTER_OK && bad < m) {
+        char detail[SINTER_ERROR_TEXT_SIZE];
+        snprintf(detail, sizeof(detail), "%s", sinter_last_error(qs->ctx));
+        return sinter_fail(qs->ctx, st,
+                           "quasi-static stepper (strategy 3), step from t = %.9g s: the neck of "
+                           "particles id %llu and id %llu failed; the state at t is kept: %s",
+                           t, (unsigned long long)qs->links[bad].id_a,
+                           (unsigned long long)qs->links[bad].id_b, detail);
+    }
     if (st != SINTER_OK)
         return st;
     for (size_t k = 0; k < m; ++k)
@@ -486,13 +515,24 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     } else {
         size_t sub = 0;
         for (size_t k = 0; k < m; ++k) {
-            if (pair_advance(qs, &qs->links[k], schedule, t, h) != 0) {
+            const int failed = pair_advance(qs, &qs->links[k], schedule, t, h);
+            if (failed != 0) {
                 for (size_t j = 0; j < k; ++j)
                     memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
-                return sinter_fail(qs->ctx, SINTER_ERR_NOT_CONVERGED,
-                                   "quasi-static stepper: the neck of particles %u and %u "
-                                   "cannot be advanced from t = %g s",
-                                   qs->links[k].beam.a, qs->links[k].beam.b, t);
+                const sinter_qs_link *l = &qs->links[k];
+                return sinter_fail(qs->ctx,
+                                   failed == -2 ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
+                                   "quasi-static stepper (strategy 2): the neck of particles id "
+                                   "%llu and id %llu (neck radius %g m, x/R %g) %s from t = %.9g s "
+                                   "(sub-steps down to %g s tried); the state at t is kept",
+                                   (unsigned long long)l->id_a, (unsigned long long)l->id_b,
+                                   l->neck.y[SINTER_NECK_X],
+                                   l->neck.y[SINTER_NECK_X] /
+                                       fmin(l->neck.y[SINTER_NECK_RA], l->neck.y[SINTER_NECK_RB]),
+                                   failed == -2 ? "leaves the 7DOF model's domain of validity "
+                                                  "(7dof.md sec. 2.5)"
+                                                : "cannot meet the neck tolerance",
+                                   t, 1e-3 * qs->opt.dt_min);
             }
             sub += (size_t)qs->links[k].substepped;
         }
@@ -544,6 +584,29 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     }
     qs->pcg_iterations += (uint64_t)iterations;
 
+    /* The new centres of every link must stay apart and finite; checked before anything moves,
+     * so that a failure keeps the state at t. */
+    for (size_t k = 0; k < m; ++k) {
+        const sinter_qs_link *l = &qs->links[k];
+        const size_t a = l->beam.a, b = l->beam.b;
+        double d2 = 0.0;
+        for (size_t d = 0; d < 3; ++d) {
+            const double dd = (p->x[3 * b + d] + u[6 * b + d]) - (p->x[3 * a + d] + u[6 * a + d]);
+            d2 += dd * dd;
+        }
+        if (!(d2 > 0.0) || !isfinite(d2)) {
+            for (size_t j = 0; j < m; ++j)
+                memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
+            qs->u_step = 0.0;
+            return sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
+                               "quasi-static stepper: the step from t = %.9g s to %.9g s would "
+                               "put particles id %llu and id %llu at a centre distance of %g m; "
+                               "the state at t is kept",
+                               t, t + h, (unsigned long long)l->id_a, (unsigned long long)l->id_b,
+                               sqrt(d2));
+        }
+    }
+
     /* 4. move and turn the particles; share the link compression between y4 and y7 */
     for (size_t i = 0; i < n; ++i) {
         for (size_t d = 0; d < 3; ++d)
@@ -571,7 +634,8 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         if (sinter_beam_update(&l->beam, p->x + 3 * a, p->x + 3 * b, l->neck.y[SINTER_NECK_LA],
                                l->neck.y[SINTER_NECK_LB]) != 0)
             return sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
-                               "quasi-static stepper: particles %zu and %zu coincide", a, b);
+                               "quasi-static stepper: particles %zu and %zu coincide at t = %g s",
+                               a, b, t + h); /* excluded by the check above */
     }
 
     /* 5. new contacts */

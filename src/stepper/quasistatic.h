@@ -52,8 +52,9 @@ void sinter_qs_options_default(sinter_qs_options *opt);
  * "qs_dt_min", "qs_dt_max", "qs_alpha", "qs_error_limit", "qs_grow_fraction",
  * "qs_shrink_fraction", "qs_contact_tolerance", "qs_plane_tolerance", "qs_solve_rtol",
  * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain". Set checks the value (the whole set
- * is validated again when the stepper is created). Errors: SINTER_ERR_UNSUPPORTED (unknown
- * key), SINTER_ERR_INVALID (value out of range).
+ * is validated again when the stepper is created). Errors: SINTER_ERR_NOT_FOUND (unknown
+ * key; the message lists the keys), SINTER_ERR_INVALID (value out of range or not finite, or
+ * qs_dt_min above qs_dt_max).
  */
 sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
                                    double value);

@@ -526,8 +526,13 @@ static void test_qs_options(void **state)
     assert_int_equal(o.strategy, 1);
     assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_strategy", 4.0), SINTER_ERR_INVALID);
     assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_alpha", 1.0), SINTER_ERR_INVALID);
-    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_nope", 1.0), SINTER_ERR_UNSUPPORTED);
-    assert_int_equal(sinter_qs_option_get(&o, ctx, "qs_nope", &v), SINTER_ERR_UNSUPPORTED);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_nope", 1.0), SINTER_ERR_NOT_FOUND);
+    assert_non_null(strstr(sinter_last_error(ctx), "qs_max_strain"));
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_dt_min", INFINITY), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_error_limit", INFINITY), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_qs_option_set(&o, ctx, "qs_dt_min", 20.0), SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(ctx), "above qs_dt_max"));
+    assert_int_equal(sinter_qs_option_get(&o, ctx, "qs_nope", &v), SINTER_ERR_NOT_FOUND);
     o.dt_initial = 100.0; /* above dt_max */
     sinter_qs *qs = NULL;
     assert_int_equal(sinter_qs_create(&qs, ctx, &o), SINTER_ERR_INVALID);
@@ -574,7 +579,7 @@ static void test_qs_touching_pairs_grid(void **state)
         }
     assert_int_equal(count, expected);
     assert_true(count > N / 4); /* the set is dense enough for the test to mean something */
-    assert_true(keys[0] == 1); /* the exact touch 0-1 */
+    assert_true(keys[0] == 1);  /* the exact touch 0-1 */
     x[7] = NAN;
     assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, &keys, &cap, &count),
                      SINTER_ERR_INVALID);
