@@ -1097,7 +1097,7 @@ typedef struct sinter_compaction_options {
     int stop_at_jamming;     /**< 1: if the packing jams before the final box, end there (the
                                   final box is the box at jamming); 0 (default): that is an error */
     double ke_per_particle;  /**< the relaxation ends when the translational kinetic energy per
-                                  particle is below this [J]; 0 (default): 1e-10 of (1/2) m v^2
+                                  particle is below this [J]; 0 (default): 1e-9 of (1/2) m v^2
                                   of a particle of mean mass at the impact speed of the step */
     double relax_time_max;   /**< longest relaxation [s]; 0 (default): 5e4 automatic steps */
     double dt;               /**< time step [s]; 0 (default): seed 003 eq. 47 (see sinter_pack_compact) */
