@@ -92,6 +92,15 @@ static const char *const SINTERING_NAMES[SINTERING_COLUMNS] = {
 static const char *const SINTERING_UNITS[SINTERING_COLUMNS] = {"1", "m", "m", "m", "1",
                                                                "1", "1", "1", "1"};
 
+/* Columns after those: the particle currents, when the scene has an electric model. */
+enum { ELECTRIC_COLUMNS = 2 };
+
+static size_t electric_column(const sinter_scene *sc)
+{
+    return COL_FIXED_ + sc->walls->count +
+           (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? SINTERING_COLUMNS : 0);
+}
+
 static void observe(const sinter_scene *sc, double *row)
 {
     const sinter_particles *ps = sc->ps;
@@ -118,6 +127,16 @@ static void observe(const sinter_scene *sc, double *row)
         /* force pushing the wall outwards, i.e. against its normal [N] */
         row[COL_FIXED_ + k] =
             -(w->force[0] * w->n[0] + w->force[1] * w->n[1] + w->force[2] * w->n[2]);
+    }
+    if (sc->electric != NULL) {
+        /* seed 000 sec. 7: the current through the powder (the particles' current magnitudes) */
+        double isum = 0.0, imax = 0.0;
+        for (size_t i = 0; i < ps->count; ++i) {
+            isum += fabs(ps->current[i]);
+            imax = fmax(imax, fabs(ps->current[i]));
+        }
+        row[electric_column(sc)] = isum / n;
+        row[electric_column(sc) + 1] = imax;
     }
     if (sc->st->kind == SINTER_STEPPER_QUASISTATIC) {
         /* seed 001 sec. 4 outputs: necks, shrinkage per axis, relative density */
@@ -254,7 +273,8 @@ static sinter_status write_series(run_state *r)
     if (st == SINTER_OK && sc->write_plot) {
         snprintf(path, sizeof(path), "%s/series.svg", r->out_dir);
         const size_t nw = sc->walls->count;
-        size_t cols[8 + SCENE_MAX_WALLS + SINTERING_COLUMNS], start[8], panels = 0, nc = 0;
+        size_t cols[8 + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS], start[8],
+            panels = 0, nc = 0;
         if (sc->st->kind == SINTER_STEPPER_QUASISTATIC) {
             const size_t q = COL_FIXED_ + nw; /* links, neck mean/min/max, ratio, shrinkage... */
             start[panels++] = nc;
@@ -280,6 +300,11 @@ static sinter_status write_series(run_state *r)
             start[panels++] = nc;
             for (size_t k = 0; k < nw; ++k)
                 cols[nc++] = COL_FIXED_ + k;
+        }
+        if (sc->electric != NULL) {
+            start[panels++] = nc;
+            cols[nc++] = electric_column(sc);
+            cols[nc++] = electric_column(sc) + 1;
         }
         start[panels++] = nc;
         cols[nc++] = COL_KE;
@@ -352,12 +377,12 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
         return st;
     const int sintering = sc->st->kind == SINTER_STEPPER_QUASISTATIC;
     const size_t nw = sc->walls->count,
-                 ncol = COL_FIXED_ + nw + (sintering ? SINTERING_COLUMNS : 0);
-    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS] = {
+                 ncol = electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
+    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS] = {
         "time",    "kinetic energy",  "contacts",         "coordination number",
         "bed top", "volume fraction", "mean temperature", "max temperature"};
-    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS] = {"s", "J", "1", "1",
-                                                                           "m", "1", "K", "K"};
+    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS] = {
+        "s", "J", "1", "1", "m", "1", "K", "K"};
     char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
     for (size_t k = 0; k < nw; ++k) {
         snprintf(wall_labels[k], sizeof(wall_labels[k]), "%s force", sc->wall_names[k]);
@@ -367,6 +392,11 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
     for (size_t k = 0; sintering && k < SINTERING_COLUMNS; ++k) {
         names[COL_FIXED_ + nw + k] = SINTERING_NAMES[k];
         units[COL_FIXED_ + nw + k] = SINTERING_UNITS[k];
+    }
+    if (sc->electric != NULL) {
+        names[electric_column(sc)] = "mean particle current";
+        names[electric_column(sc) + 1] = "max particle current";
+        units[electric_column(sc)] = units[electric_column(sc) + 1] = "A";
     }
     run_state r;
     memset(&r, 0, sizeof(r));

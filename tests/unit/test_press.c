@@ -136,7 +136,14 @@ static const char *SCENE =
     "plot = no\n"
     "checkpoint_interval = 0\n";
 
-enum { COL_TIME = 0, COL_FRACTION = 5, COL_T_MEAN = 6, COL_TOP_FORCE = 9, COLS = 14 };
+enum {
+    COL_TIME = 0,
+    COL_FRACTION = 5,
+    COL_T_MEAN = 6,
+    COL_TOP_FORCE = 9,
+    COL_CURRENT_MEAN = 14, /* after the six wall forces */
+    COLS = 16
+};
 
 static void test_press_three_phases(void **state)
 {
@@ -161,6 +168,7 @@ static void test_press_three_phases(void **state)
     assert_non_null(f);
     char line[4096];
     assert_non_null(fgets(line, sizeof(line), f)); /* header */
+    assert_non_null(strstr(line, "mean particle current [A],max particle current [A]"));
     enum { MAX_ROWS = 1000 };
     static double row[MAX_ROWS][COLS];
     size_t rows = 0;
@@ -200,6 +208,17 @@ static void test_press_three_phases(void **state)
         assert_true(row[k][COL_T_MEAN] > row[k - 1][COL_T_MEAN]);
     const double t_release = row[last][COL_T_MEAN];
     assert_true(t_release > 1000.0);
+    /* current flows only while the circuit is closed: at the hold it exceeds what leaks
+     * through the open circuit before and after (PCG round-off of the +-3e6 V drive, ~1e-4 A)
+     * by more than six orders of magnitude */
+    double closed = 0.0, open_circuit = 0.0;
+    for (size_t k = first; k <= last; ++k)
+        closed = fmax(closed, row[k][COL_CURRENT_MEAN]);
+    for (size_t k = 1; k + 1 < first; ++k)
+        open_circuit = fmax(open_circuit, row[k][COL_CURRENT_MEAN]);
+    for (size_t k = last + 2; k < rows; ++k)
+        open_circuit = fmax(open_circuit, row[k][COL_CURRENT_MEAN]);
+    assert_true(closed > 1e6 * open_circuit);
 
     /* Phase 3: springback to between the two, temperature falling after the release. */
     const double final_fraction = row[rows - 1][COL_FRACTION];
