@@ -176,8 +176,8 @@ static void run_packed(int threads, int heat, double *out, size_t n)
     memcpy(out + 6 * n, s.ps->temperature, n * sizeof(double));
     if (heat)
         assert_true(s.ps->temperature[0] > 300.0 + 1e-3); /* the floor heated the bottom */
+    sinter_heat_model_destroy(cond); /* before its context */
     scene_close(&s);
-    sinter_heat_model_destroy(cond);
 }
 
 static void test_results_independent_of_thread_count(void **state)
