@@ -1007,7 +1007,9 @@ typedef struct sinter_sintering_stats {
     double neck_min;         /**< [m] */
     double neck_max;         /**< [m] */
     double neck_ratio_mean;  /**< mean neck radius / smaller particle radius [1] */
-    double shrinkage[3];     /**< 1 - extent / initial extent of the particle centres along x, y, z [1] */
+    double shrinkage[3];     /**< homogeneous strain along x, y, z: minus the least-squares slope
+                                  of the displacement against the initial position, over the
+                                  particles with links (rattlers excluded) [1] */
     double relative_density; /**< sphere volume / volume of the spheres' bounding box [1] */
     double coordination;     /**< 2 links / particles [1] */
     uint64_t pcg_iterations; /**< linear-solver iterations so far */

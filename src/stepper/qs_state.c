@@ -7,7 +7,8 @@
  * Layout (host order, inside the checkpoint's checksum): u64 sizeof(sinter_qs_link), u64 link
  * count, the links, u64 particles, u64 plane-condition bytes, those bytes, f64 extent0[3],
  * f64 dt_next, u64 steps, rejected, pcg_iterations, substepped, f64 u_step and, when it is
- * > 0, the last displacements u (the next solve starts from them, so they are state too).
+ * > 0, the last displacements u (the next solve starts from them, so they are state too), then
+ * u64 origin count and the origins (id, initial position: the reference of the shrinkage).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -30,7 +31,7 @@ static size_t u_bytes(const sinter_qs *qs)
 size_t sinter_qs_state_size(const sinter_qs *qs)
 {
     return QS_HEADER_U64 * 8 + qs->count * sizeof(sinter_qs_link) + 16 + fixed_bytes(qs) +
-           QS_TAIL_BYTES + 8 + u_bytes(qs);
+           QS_TAIL_BYTES + 8 + u_bytes(qs) + 8 + qs->origin_count * sizeof(sinter_qs_origin);
 }
 
 static unsigned char *put(unsigned char *p, const void *data, size_t bytes)
@@ -75,7 +76,9 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
     p = put_u64(p, qs->substepped);
     const double u_step = u_bytes(qs) > 0 ? qs->u_step : 0.0;
     p = put(p, &u_step, 8);
-    (void)put(p, qs->u, u_bytes(qs));
+    p = put(p, qs->u, u_bytes(qs));
+    p = put_u64(p, qs->origin_count);
+    (void)put(p, qs->origins, qs->origin_count * sizeof(sinter_qs_origin));
 }
 
 typedef struct cursor {
@@ -170,6 +173,12 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
         memcpy(&u_step, u_step_at, 8);
     const size_t nu = u_step > 0.0 ? (size_t)nfixed * sizeof(double) : 0;
     const unsigned char *u = nu <= bytes ? take(&c, nu) : NULL;
+    const uint64_t norigins = take_u64(&c);
+    const unsigned char *origins = norigins <= bytes / sizeof(sinter_qs_origin)
+                                       ? take(&c, (size_t)norigins * sizeof(sinter_qs_origin))
+                                       : NULL;
+    if (origins == NULL)
+        c.bad = 1;
     if (c.bad || fixed == NULL || c.p != c.end || !(u_step >= 0.0 && isfinite(u_step)) ||
         (u_step > 0.0 && (nfixed == 0 || u == NULL))) {
         *why = "its quasi-static section does not fit its size";
@@ -240,6 +249,23 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
         }
     if (nfixed > 0)
         memcpy(qs->fixed, fixed, (size_t)nfixed);
+    if (norigins > 0) {
+        if ((s = sinter_grow(ctx, (void **)&qs->origins, &qs->origin_capacity, (size_t)norigins,
+                             sizeof(sinter_qs_origin))) != SINTER_OK) {
+            sinter_qs_destroy(qs);
+            return s;
+        }
+        memcpy(qs->origins, origins, (size_t)norigins * sizeof(sinter_qs_origin));
+        for (size_t k = 0; k < (size_t)norigins; ++k)
+            if (!isfinite(qs->origins[k].x[0]) || !isfinite(qs->origins[k].x[1]) ||
+                !isfinite(qs->origins[k].x[2]) ||
+                (k > 0 && qs->origins[k].id <= qs->origins[k - 1].id)) {
+                sinter_qs_destroy(qs);
+                *why = "its quasi-static initial positions are not finite or not sorted by id";
+                return SINTER_ERR_CORRUPT;
+            }
+        qs->origin_count = (size_t)norigins;
+    }
     if (nu > 0) {
         memcpy(qs->u, u, nu);
         for (size_t i = 0; i < (size_t)nfixed; ++i)

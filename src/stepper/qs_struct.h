@@ -4,6 +4,12 @@
 
 #include "stepper/quasistatic.h"
 
+/* Where a particle started (the reference of the shrinkage), by particle id. */
+typedef struct sinter_qs_origin {
+    uint64_t id;
+    double x[3]; /* [m] */
+} sinter_qs_origin;
+
 struct sinter_qs {
     sinter_ctx *ctx;
     sinter_qs_options opt;
@@ -30,6 +36,8 @@ struct sinter_qs {
     int layout_known;
     size_t particles;  /* count the conditions were detected for (0: not yet) */
     double extent0[3]; /* initial extent of the centres */
+    sinter_qs_origin *origins; /* every particle of the first set-up, sorted by id */
+    size_t origin_count, origin_capacity;
     double dt_next;
     double u_step;  /* step of the displacements in u (0: none to start the next solve from) */
     uint64_t steps, rejected, pcg_iterations, substepped;

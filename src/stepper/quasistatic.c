@@ -162,6 +162,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->links);
     sinter_free(ctx, qs->keys);
     sinter_free(ctx, qs->candidates);
+    sinter_free(ctx, qs->origins);
     sinter_free(ctx, qs->fixed);
     sinter_free(ctx, qs->f);
     sinter_free(ctx, qs->u);
@@ -356,8 +357,18 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
         for (size_t d = 0; d < 3; ++d)
             qs->fixed[6 * i + d] = (unsigned char)(p->x[3 * i + d] - p->radius[i] <
                                                    qs->opt.plane_tolerance * p->radius[i]);
-    if (qs->particles == 0)
-        extents(p, qs->extent0); /* the first setup only (not after a remap) */
+    if (qs->particles == 0) { /* the first setup only (not after a remap) */
+        extents(p, qs->extent0);
+        if ((s = sinter_grow(qs->ctx, (void **)&qs->origins, &qs->origin_capacity, n + 1,
+                             sizeof(sinter_qs_origin))) != SINTER_OK)
+            return s;
+        for (size_t i = 0; i < n; ++i) {
+            qs->origins[i].id = p->id != NULL ? p->id[i] : (uint64_t)i;
+            memcpy(qs->origins[i].x, p->x + 3 * i, sizeof(qs->origins[i].x));
+        }
+        qsort(qs->origins, n, sizeof(sinter_qs_origin), key_compare); /* by id, the first field */
+        qs->origin_count = n;
+    }
     qs->particles = n;
     qs->u_step = 0.0; /* u no longer matches the particles */
     return SINTER_OK;
@@ -664,6 +675,55 @@ sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
     return SINTER_OK;
 }
 
+/*
+ * Shrinkage along x, y, z: the homogeneous strain of the packing, i.e. minus the least-squares
+ * slope of each particle's displacement against its initial position along that axis, over the
+ * particles that carry at least one link (a rattler without links does not move with the
+ * packing, and one at the edge would pin an extent-based measure). For two linked spheres it is
+ * the pair's centre approach over its initial distance (seed 001 eq. 13). Falls back to the
+ * extent of all centres when the link counts cannot be allocated.
+ */
+static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double out[3])
+{
+    const size_t n = p->count;
+    unsigned char *linked = n > 0 ? sinter_calloc(qs->ctx, n, 1) : NULL;
+    if (linked == NULL || qs->origin_count == 0) {
+        sinter_free(qs->ctx, linked);
+        double ext[3];
+        extents(p, ext);
+        for (int d = 0; d < 3; ++d)
+            out[d] = qs->extent0[d] > 0.0 ? 1.0 - ext[d] / qs->extent0[d] : 0.0;
+        return;
+    }
+    for (size_t k = 0; k < qs->count; ++k)
+        linked[qs->links[k].beam.a] = linked[qs->links[k].beam.b] = 1;
+    double sum0[3] = {0, 0, 0}, sumu[3] = {0, 0, 0}, s00[3] = {0, 0, 0}, s0u[3] = {0, 0, 0};
+    double m = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!linked[i])
+            continue;
+        const uint64_t id = p->id != NULL ? p->id[i] : (uint64_t)i;
+        const sinter_qs_origin *o =
+            bsearch(&id, qs->origins, qs->origin_count, sizeof(sinter_qs_origin), key_compare);
+        if (o == NULL)
+            continue; /* added after the start: no reference */
+        m += 1.0;
+        for (int d = 0; d < 3; ++d) {
+            const double x0 = o->x[d], u = p->x[3 * i + (size_t)d] - x0;
+            sum0[d] += x0;
+            sumu[d] += u;
+            s00[d] += x0 * x0;
+            s0u[d] += x0 * u;
+        }
+    }
+    sinter_free(qs->ctx, linked);
+    for (int d = 0; d < 3; ++d) {
+        const double var = m > 0.0 ? s00[d] - sum0[d] * sum0[d] / m : 0.0;
+        const double cov = m > 0.0 ? s0u[d] - sum0[d] * sumu[d] / m : 0.0;
+        out[d] = var > 0.0 ? -cov / var : 0.0;
+    }
+}
+
 void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sinter_qs_stats *out)
 {
     memset(out, 0, sizeof(*out));
@@ -691,10 +751,7 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
     } else {
         out->neck_min = 0.0;
     }
-    double ext[3];
-    extents(p, ext);
-    for (int d = 0; d < 3; ++d)
-        out->shrinkage[d] = qs->extent0[d] > 0.0 ? 1.0 - ext[d] / qs->extent0[d] : 0.0;
+    shrinkage(qs, p, out->shrinkage);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double volume = 0.0;
     for (size_t i = 0; i < p->count; ++i) {

@@ -96,7 +96,8 @@ typedef struct sinter_qs_stats {
     size_t particles, links;
     double neck_mean, neck_min, neck_max; /* y1 [m] */
     double neck_ratio_mean;               /* mean y1 / min(R_A, R_B) */
-    double shrinkage[3];     /* 1 - extent/extent0 of the particle centres along x, y, z */
+    double shrinkage[3];     /* homogeneous strain of the linked centres along x, y, z (see
+                                quasistatic.c: shrinkage()) */
     double relative_density; /* sphere volume / box of the spheres */
     double coordination;     /* 2 links / particles */
     uint64_t steps, rejected, pcg_iterations, substepped_pairs;
