@@ -1010,7 +1010,8 @@ typedef struct sinter_sintering_stats {
     double shrinkage[3];     /**< homogeneous strain along x, y, z: minus the least-squares slope
                                   of the displacement against the initial position, over the
                                   particles with links (rattlers excluded) [1] */
-    double relative_density; /**< sphere volume / volume of the spheres' bounding box [1] */
+    double relative_density; /**< green density (sphere volume / the spheres' bounding box at
+                                  the start) over (1 - s_x)(1 - s_y)(1 - s_z) of `shrinkage` [1] */
     double coordination;     /**< 2 links / particles [1] */
     uint64_t pcg_iterations; /**< linear-solver iterations so far */
 } sinter_sintering_stats;

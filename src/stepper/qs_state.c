@@ -8,7 +8,8 @@
  * count, the links, u64 particles, u64 plane-condition bytes, those bytes, f64 extent0[3],
  * f64 dt_next, u64 steps, rejected, pcg_iterations, substepped, f64 u_step and, when it is
  * > 0, the last displacements u (the next solve starts from them, so they are state too), then
- * u64 origin count and the origins (id, initial position: the reference of the shrinkage).
+ * u64 origin count and the origins (id, initial position: the reference of the shrinkage),
+ * f64 green density.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -31,7 +32,7 @@ static size_t u_bytes(const sinter_qs *qs)
 size_t sinter_qs_state_size(const sinter_qs *qs)
 {
     return QS_HEADER_U64 * 8 + qs->count * sizeof(sinter_qs_link) + 16 + fixed_bytes(qs) +
-           QS_TAIL_BYTES + 8 + u_bytes(qs) + 8 + qs->origin_count * sizeof(sinter_qs_origin);
+           QS_TAIL_BYTES + 8 + u_bytes(qs) + 8 + qs->origin_count * sizeof(sinter_qs_origin) + 8;
 }
 
 static unsigned char *put(unsigned char *p, const void *data, size_t bytes)
@@ -78,7 +79,8 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
     p = put(p, &u_step, 8);
     p = put(p, qs->u, u_bytes(qs));
     p = put_u64(p, qs->origin_count);
-    (void)put(p, qs->origins, qs->origin_count * sizeof(sinter_qs_origin));
+    p = put(p, qs->origins, qs->origin_count * sizeof(sinter_qs_origin));
+    (void)put(p, &qs->density0, 8);
 }
 
 typedef struct cursor {
@@ -179,6 +181,12 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
                                        : NULL;
     if (origins == NULL)
         c.bad = 1;
+    double density0 = 0.0;
+    const void *density0_at = take(&c, 8);
+    if (density0_at != NULL)
+        memcpy(&density0, density0_at, 8);
+    if (!(density0 >= 0.0 && density0 < 1.0))
+        c.bad = 1;
     if (c.bad || fixed == NULL || c.p != c.end || !(u_step >= 0.0 && isfinite(u_step)) ||
         (u_step > 0.0 && (nfixed == 0 || u == NULL))) {
         *why = "its quasi-static section does not fit its size";
@@ -266,6 +274,7 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
             }
         qs->origin_count = (size_t)norigins;
     }
+    qs->density0 = density0;
     if (nu > 0) {
         memcpy(qs->u, u, nu);
         for (size_t i = 0; i < (size_t)nfixed; ++i)

@@ -38,6 +38,7 @@ struct sinter_qs {
     double extent0[3]; /* initial extent of the centres */
     sinter_qs_origin *origins; /* every particle of the first set-up, sorted by id */
     size_t origin_count, origin_capacity;
+    double density0; /* sphere volume / bounding box of the spheres at the first set-up */
     double dt_next;
     double u_step;  /* step of the displacements in u (0: none to start the next solve from) */
     uint64_t steps, rejected, pcg_iterations, substepped;

@@ -341,6 +341,22 @@ static void extents(const sinter_qs_particles *p, double ext[3])
     }
 }
 
+/* Sphere volume over the volume of the spheres' bounding box. */
+static double box_density(const sinter_qs_particles *p)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double volume = 0.0;
+    for (size_t i = 0; i < p->count; ++i) {
+        const double r = p->radius[i];
+        volume += 4.0 / 3.0 * QS_PI * r * r * r;
+        for (size_t d = 0; d < 3; ++d) {
+            lo[d] = fmin(lo[d], p->x[3 * i + d] - r);
+            hi[d] = fmax(hi[d], p->x[3 * i + d] + r);
+        }
+    }
+    return p->count > 0 ? volume / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])) : 0.0;
+}
+
 /* Particles touching a principal plane Oyz, Oxz, Oxy stay on it (sec. 3.3). */
 static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
 {
@@ -368,6 +384,7 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
         }
         qsort(qs->origins, n, sizeof(sinter_qs_origin), key_compare); /* by id, the first field */
         qs->origin_count = n;
+        qs->density0 = box_density(p);
     }
     qs->particles = n;
     qs->u_step = 0.0; /* u no longer matches the particles */
@@ -752,18 +769,10 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
         out->neck_min = 0.0;
     }
     shrinkage(qs, p, out->shrinkage);
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double volume = 0.0;
-    for (size_t i = 0; i < p->count; ++i) {
-        const double r = p->radius[i];
-        volume += 4.0 / 3.0 * QS_PI * r * r * r;
-        for (size_t d = 0; d < 3; ++d) {
-            lo[d] = fmin(lo[d], p->x[3 * i + d] - r);
-            hi[d] = fmax(hi[d], p->x[3 * i + d] + r);
-        }
-    }
-    if (p->count > 0)
-        out->relative_density = volume / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
+    /* The green density (sphere volume over the spheres' bounding box at the start) carried by
+     * the homogeneous strain: a box that shrinks by s_d along each axis. */
+    out->relative_density = qs->density0 / ((1.0 - out->shrinkage[0]) * (1.0 - out->shrinkage[1]) *
+                                            (1.0 - out->shrinkage[2]));
     out->coordination = p->count > 0 ? 2.0 * (double)qs->count / (double)p->count : 0.0;
 }
 

@@ -98,7 +98,8 @@ typedef struct sinter_qs_stats {
     double neck_ratio_mean;               /* mean y1 / min(R_A, R_B) */
     double shrinkage[3];     /* homogeneous strain of the linked centres along x, y, z (see
                                 quasistatic.c: shrinkage()) */
-    double relative_density; /* sphere volume / box of the spheres */
+    double relative_density; /* initial sphere volume / box of the spheres, over the box's
+                                shrinkage (1 - s_x)(1 - s_y)(1 - s_z) */
     double coordination;     /* 2 links / particles */
     uint64_t steps, rejected, pcg_iterations, substepped_pairs;
 } sinter_qs_stats;

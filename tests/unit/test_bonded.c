@@ -473,6 +473,12 @@ static void test_qs_lattice(void **state)
     assert_close(st.shrinkage[0], shrink_ref, 1e-3 * shrink_ref);
     assert_close(st.neck_max, st.neck_min, 1e-9 * st.neck_max);
     assert_close(st.neck_mean, ref[0], 1e-4 * ref[0]);
+    /* green density of touching spheres in their bounding box: pi/6; the box shrinks with the
+     * strain */
+    assert_close(st.relative_density,
+                 3.14159265358979323846 / 6.0 /
+                     ((1.0 - st.shrinkage[0]) * (1.0 - st.shrinkage[1]) * (1.0 - st.shrinkage[2])),
+                 1e-12);
     packing_free(&pk);
 }
 
