@@ -114,6 +114,7 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     c->adj_start = pairs->adj_start;
     c->adj_pair = pairs->adj_pair;
     c->particle_count = ps->count;
+    c->pair_count = pairs->count;
     const int threads = pairs->count < 4096 ? 1 : sinter_threads(ctx);
     if (threads <= 1) {
         c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0);
@@ -155,6 +156,7 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     if (st != SINTER_OK)
         return st;
     c->particle_count = ps->count;
+    c->pair_count = pairs->count;
     const double *x = ps->x, *r = ps->radius;
     size_t m = 0;
     for (size_t p = 0; p < pairs->count; ++p) {

@@ -10,6 +10,7 @@
 typedef struct sinter_contact_list {
     size_t count;
     size_t capacity;
+    size_t pair_count; /* candidate pairs the contacts were found among */
     uint32_t *i;      /* particle */
     uint32_t *j;      /* particle or wall */
     uint32_t *pair;   /* index of the candidate pair (history slot) */

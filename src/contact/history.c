@@ -16,6 +16,7 @@ void sinter_history_free(sinter_ctx *ctx, sinter_history *h)
 
 sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts, int zero)
 {
+    h->by_pair = 0;
     if (h->width == 0)
         return SINTER_OK;
     sinter_status st = sinter_grow(ctx, (void **)&h->trial, &h->trial_capacity,
@@ -23,6 +24,43 @@ sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t 
     if (st == SINTER_OK && zero)
         memset(h->trial, 0, h->width * contacts * sizeof(double));
     return st;
+}
+
+sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
+                                     const sinter_contact_list *c)
+{
+    /* The swap clears every pair out of contact; it pays where few are (packed beds), while
+     * a sparse scene (more pairs in the skin than in contact) keeps the copy. */
+    if (h->width == 0 || c->pair_to_contact == NULL || c->pair_count - c->count > c->count / 4)
+        return SINTER_OK; /* stays indexed by contact */
+    sinter_status st = sinter_grow(ctx, (void **)&h->trial, &h->trial_capacity,
+                                   h->width * c->pair_count + 1, sizeof(double));
+    if (st == SINTER_OK)
+        h->by_pair = 1;
+    return st;
+}
+
+/* Commit of a trial array indexed by pair: pairs not in contact are cleared in it, and it
+ * becomes the committed array; the old committed array is the next trial array (every entry
+ * is written before the next commit). */
+static void commit_swap(sinter_history *h, const sinter_contact_list *c)
+{
+    const size_t w = h->width;
+    double *trial = h->trial;
+    const uint32_t *p2c = c->pair_to_contact;
+    for (size_t p = 0; p < c->pair_count; ++p)
+        if (p2c[p] == SINTER_NO_PAIR)
+            for (size_t d = 0; d < w; ++d)
+                trial[w * p + d] = 0.0;
+    double *t = h->committed;
+    const size_t cap = h->pair_capacity;
+    h->committed = trial;
+    h->pair_capacity = h->trial_capacity;
+    h->trial = t;
+    h->trial_capacity = cap;
+    for (size_t k = 0; k < c->count; ++k)
+        h->active[k] = c->pair[k];
+    h->active_count = c->count;
 }
 
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
@@ -37,6 +75,10 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
         return st;
     double *restrict committed = h->committed;
     const double *restrict trial = h->trial;
+    if (h->by_pair) {
+        commit_swap(h, c);
+        return SINTER_OK;
+    }
     uint32_t *restrict active = h->active;
     /* Clear the pairs whose contact ended; the others are overwritten just below. */
     const uint32_t *p2c = c->pair_to_contact;

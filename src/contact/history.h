@@ -21,6 +21,10 @@ typedef struct sinter_history {
     size_t active_capacity;
     double *scratch;     /* remapping buffer */
     size_t scratch_capacity;
+    /* set by a model for one evaluation: its trial history is indexed by candidate pair
+     * (width per pair, contacts only written), so the commit swaps the arrays instead of
+     * copying them; cleared by sinter_history_prepare */
+    int by_pair;
 } sinter_history;
 
 void sinter_history_free(sinter_ctx *ctx, sinter_history *h);
@@ -29,6 +33,10 @@ void sinter_history_free(sinter_ctx *ctx, sinter_history *h);
  * write every entry, so they skip the zeroing; host models get zeros). */
 sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts,
                                      int zero);
+
+/* Let a model write trial history by candidate pair for this evaluation (pairs of `c`). */
+sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
+                                     const sinter_contact_list *c);
 
 /* Accept the trial history of the active contacts `c`. */
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,

@@ -297,7 +297,8 @@ HM_INLINE void pp_contact(const sinter_force_eval *e, const constants *k,
     }
     double mr[3];
     contact_law(&p, n, c->delta[q], pre->sqrt_rd, pre->sm, u, w_rel, e->dt,
-                e->hist_pp->committed + width * c->pair[q], e->hist_pp->trial + width * q,
+                e->hist_pp->committed + width * c->pair[q],
+                e->hist_pp->trial + width * (e->hist_pp->by_pair ? c->pair[q] : q),
                 rolling, f, mr);
     /* moments of f about the centres (eq. 14): b_i x f = L_i (n x f), b_j x (-f) = L_j (n x f) */
     double nf[3];
@@ -524,6 +525,7 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
     const sinter_contact_list *c = e->pp;
     double *trial = e->hist_pp->trial;
     const size_t width = e->hist_pp->width;
+    const int by_pair = e->hist_pp->by_pair;
     double *restrict force = e->force, *restrict torque = e->torque;
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
@@ -537,7 +539,7 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
         }
         for (size_t a = 0; a < nb; ++a) {
             const size_t q = q0 + a;
-            double *t = trial + width * q;
+            double *t = trial + width * (by_pair ? c->pair[q] : q); /* by pair: swapped */
             t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
             if (out != NULL) { /* the force only: eval_pp forms the moments again */
                 double *o = out + 3 * q;
@@ -693,7 +695,9 @@ static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int
         double f[3], mr[3], ti[3], sqrt_rd, sm;
         roots(p.rstar, p.mstar, c->delta[q], &sqrt_rd, &sm);
         contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
-                    hist + width * (size_t)c->pair[q], trial + width * q, rolling, f, mr);
+                    hist + width * (size_t)c->pair[q],
+                    trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling, f,
+                    mr);
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {
             e->force[3 * i + d] += f[d];
@@ -706,6 +710,12 @@ static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int
 
 static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_force_eval *e)
 {
+    /* Trial history by pair (see sinter_history_by_pair): committed by a swap, not a copy. */
+    sinter_status hs = sinter_history_by_pair(e->ctx, e->hist_pp, e->pp);
+    if (hs == SINTER_OK && e->walls != NULL)
+        hs = sinter_history_by_pair(e->ctx, e->hist_pw, e->pw);
+    if (hs != SINTER_OK)
+        return hs;
     /* Rolling needs the 6-wide history chosen when the model was added to the stepper. */
     const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6;
     constants k;
