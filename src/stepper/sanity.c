@@ -186,8 +186,11 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
     for (size_t i = 0; i < n; ++i) {
         const double *a = ps->x + 3 * i, *b = x_old + 3 * i;
         const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-        moved2 = fmax(moved2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        rmin = fmin(rmin, ps->radius[i]);
+        /* plain comparisons (not fmax/fmin, which are library calls here): the loop runs
+         * every step; a non-finite position is rejected by the stepper's own test */
+        const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        moved2 = dd > moved2 ? dd : moved2;
+        rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
     }
     double wall_moved = 0.0;
     for (size_t k = 0; st->walls != NULL && k < st->walls->count; ++k) {
