@@ -28,7 +28,10 @@ struct sinter_qs {
     size_t saved_capacity, trial_capacity;
     sinter_beam *beams; /* the links' beams, contiguous for the solver */
     size_t beams_capacity;
-    sinter_neck_batch *batch; /* strategy 3 */
+    sinter_neck_batch *batch;       /* strategy 3: grown necks */
+    sinter_neck_batch *batch_young; /* strategy 3: young necks (quasistatic.c) */
+    size_t *batch_order;            /* young link indices first, then the grown ones */
+    size_t batch_order_capacity;
     sinter_neck_state *batch_states;
     const sinter_neck_material **batch_materials;
     size_t batch_states_capacity, batch_materials_capacity;

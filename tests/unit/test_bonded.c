@@ -332,8 +332,12 @@ static void two_particles(int strategy)
     /* The packing of 2 lets the pair shrink freely: the link compresses by the 7DOF approach,
      * eq. 42 gives back the 7DOF y4, y7, and the centres follow them. */
     assert_close(l->neck.y[3] + l->neck.y[6], dist, 1e-9 * dist);
-    assert_close(l->neck.y[0], ref[0], 1e-5 * ref[0]); /* RK4 at rtol 1e-6 vs CVODE 1e-9 */
-    assert_close(shrink, shrink_ref, 1e-4 * shrink_ref);
+    /* RK4 at rtol 1e-6 vs CVODE 1e-9: 1e-5. Strategy 3 is CVODE at rtol 1e-6 restarted at
+     * each of ~160 global steps from its last step size: its global error is 10-30 rtol per
+     * run (sinter.h, "error_scale"), ~50 rtol over the restarts: 1e-4. */
+    const double neck_tol = strategy == 3 ? 1e-4 : 1e-5;
+    assert_close(l->neck.y[0], ref[0], neck_tol * ref[0]);
+    assert_close(shrink, shrink_ref, (strategy == 3 ? 2e-4 : 1e-4) * shrink_ref);
     assert_close(shrink, 1.029e-2, 2e-3 * 1.029e-2); /* the spec's 4 digits */
     assert_close(l->neck.y[0] / R_CU, 0.2742, 2e-4);
     assert_close(st.shrinkage[0], shrink, 1e-12);
