@@ -448,7 +448,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
         const int turn = sn != 0.0, rescale = turn & (len1_2 > 0.0);
         /* x 1.0 is exact: no rescale keeps the value's bits; x >= 1e-4 is fixed below */
         const double scl = rescale ? 1.0 + x * (0.5 - 0.125 * x) : 1.0;
-        big_x[a] = rescale & !(x < 1e-4) ? x : 0.0;
+        big_x[a] = (rescale & !(x < 1e-4)) ? x : 0.0;
         b->sx[a] = (turn ? px : sx) * scl; /* the turned spring, before the increment */
         b->sy[a] = (turn ? py : sy) * scl;
         b->sz[a] = (turn ? pz : sz) * scl;
@@ -475,7 +475,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
         fty[a] = -kt[a] * sy - dfric[a] * uty[a];
         ftz[a] = -kt[a] * sz - dfric[a] * utz[a];
         ft2[a] = ftx[a] * ftx[a] + fty[a] * fty[a] + ftz[a] * ftz[a];
-        slip[a] = (ft2[a] > HM_C(mu_s2, mus2) * fabs_n[a] * fabs_n[a]) & (ft2[a] > 0.0) ? 1.0 : 0.0;
+        slip[a] = ((ft2[a] > HM_C(mu_s2, mus2) * fabs_n[a] * fabs_n[a]) & (ft2[a] > 0.0)) ? 1.0 : 0.0;
     }
     int slips = 0;
     for (int a = 0; a < BLOCK; ++a)
