@@ -141,8 +141,8 @@ static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_secti
         if (strchr(buf, '\n') == NULL && !feof(f)) {
             /* also ends the read of an endless file without newlines (/dev/zero) */
             st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                             "%s:%d: line longer than %zu characters (or holding a NUL byte)",
-                             path, line, sizeof(buf) - 2);
+                             "%s:%d: line longer than %zu characters (or holding a NUL byte)", path,
+                             line, sizeof(buf) - 2);
             break;
         }
         char *hash = strchr(buf, '#');
@@ -247,6 +247,45 @@ static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_sect
     return SINTER_OK;
 }
 
+/*
+ * "temperature_schedule = t T, t T, ..." of a section (a wall's or the stepper's furnace): the
+ * times [s] and temperatures [K] in new arrays (free both), *count 0 when the key is absent,
+ * *line the key's line. Errors: SINTER_ERR_PARSE (not pairs of numbers), SINTER_ERR_NOMEM.
+ */
+static sinter_status read_temperature_schedule(scene_text *t, scene_section *s, double **times,
+                                               double **temps, size_t *count, int *line)
+{
+    *times = *temps = NULL;
+    *count = 0;
+    double *tv = NULL;
+    size_t ntv = 0;
+    sinter_status st = scene_get_numbers(t, s, "temperature_schedule", &tv, &ntv);
+    OPTIONAL(st);
+    if (st != SINTER_OK)
+        return SINTER_OK;
+    *line = scene_find(s, "temperature_schedule")->line;
+    st = SINTER_OK;
+    if (ntv % 2 != 0)
+        st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                         "%s:%d: temperature_schedule: expected pairs 't T' [s, K], got %zu "
+                         "numbers",
+                         t->path, *line, ntv);
+    if (st == SINTER_OK) {
+        *times = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+        *temps = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+        if (*times == NULL || *temps == NULL)
+            st = SINTER_ERR_NOMEM;
+    }
+    for (size_t k = 0; k < ntv / 2 && st == SINTER_OK; ++k) {
+        (*times)[k] = tv[2 * k];
+        (*temps)[k] = tv[2 * k + 1];
+    }
+    sinter_free(t->ctx, tv);
+    if (st == SINTER_OK)
+        *count = ntv / 2;
+    return st;
+}
+
 static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     size_t index = 0, nw = 0;
@@ -267,34 +306,17 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
     if (st == SINTER_OK)
         TRY(at_line(t, scene_find(s, "temperature")->line,
                     sinter_walls_set_temperature(sc->walls, index, temperature)));
-    double *tv = NULL;
-    size_t ntv = 0;
-    st = scene_get_numbers(t, s, "temperature_schedule", &tv, &ntv);
-    OPTIONAL(st);
-    if (st == SINTER_OK) {
-        sinter_status st2 = SINTER_OK;
-        double *times = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
-        double *temps = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
-        if (ntv % 2 != 0)
-            st2 = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                              "%s:%d: temperature_schedule: expected pairs 't T' [s, K], got %zu "
-                              "numbers",
-                              t->path, scene_find(s, "temperature_schedule")->line, ntv);
-        else if (times == NULL || temps == NULL)
-            st2 = SINTER_ERR_NOMEM;
-        for (size_t k = 0; k < ntv / 2 && st2 == SINTER_OK; ++k) {
-            times[k] = tv[2 * k];
-            temps[k] = tv[2 * k + 1];
-        }
-        if (st2 == SINTER_OK)
-            st2 = at_line(t, scene_find(s, "temperature_schedule")->line,
-                          sinter_walls_set_temperature_schedule(sc->walls, index, ntv / 2, times,
-                                                                temps));
-        sinter_free(t->ctx, tv);
-        sinter_free(t->ctx, times);
-        sinter_free(t->ctx, temps);
-        TRY(st2);
-    }
+    double *heat_times = NULL, *heat_temps = NULL;
+    size_t heat_points = 0;
+    int heat_line = 0;
+    st = read_temperature_schedule(t, s, &heat_times, &heat_temps, &heat_points, &heat_line);
+    if (st == SINTER_OK && heat_points > 0)
+        st = at_line(t, heat_line,
+                     sinter_walls_set_temperature_schedule(sc->walls, index, heat_points,
+                                                           heat_times, heat_temps));
+    sinter_free(t->ctx, heat_times);
+    sinter_free(t->ctx, heat_temps);
+    TRY(st);
     const char *electric = NULL;
     st = scene_get_word(t, s, "electric", &electric);
     OPTIONAL(st);
@@ -309,8 +331,7 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
                                t->path, scene_find(s, "electric")->line, electric);
         double value = 0.0;
         if (mode != SINTER_WALL_NEUTRAL)
-            TRY(required(t, s, scene_get_double(t, s, "electric_value", &value),
-                         "electric_value"));
+            TRY(required(t, s, scene_get_double(t, s, "electric_value", &value), "electric_value"));
         TRY(at_line(t, scene_find(s, "electric")->line,
                     sinter_walls_set_electric(sc->walls, index, mode, value)));
     }
@@ -408,7 +429,8 @@ static sinter_status heat_schedule(scene_text *t, scene_section *s, scene_entry 
             values[k] = v[2 * k + 1];
         }
         if (st == SINTER_OK)
-            st = at_line(t, en->line, sinter_heat_model_set_schedule(hm, key, n / 2, times, values));
+            st =
+                at_line(t, en->line, sinter_heat_model_set_schedule(hm, key, n / 2, times, values));
     }
     sinter_free(t->ctx, v);
     sinter_free(t->ctx, times);
@@ -461,29 +483,12 @@ static sinter_status build_electric(scene_text *t, sinter_scene *sc, scene_secti
  * (sinter_stepper_set_furnace), timed like the wall motions (from the end of a pour). */
 static sinter_status build_furnace(scene_text *t, sinter_scene *sc, scene_section *s)
 {
-    double *tv = NULL;
-    size_t ntv = 0;
-    sinter_status st = scene_get_numbers(t, s, "temperature_schedule", &tv, &ntv);
-    OPTIONAL(st);
-    if (st != SINTER_OK)
-        return SINTER_OK;
-    const int line = scene_find(s, "temperature_schedule")->line;
-    double *times = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
-    double *temps = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
-    if (ntv % 2 != 0)
-        st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                         "%s:%d: temperature_schedule: expected pairs 't T' [s, K], got %zu "
-                         "numbers",
-                         t->path, line, ntv);
-    else if (times == NULL || temps == NULL)
-        st = SINTER_ERR_NOMEM;
-    for (size_t k = 0; k < ntv / 2 && st == SINTER_OK; ++k) {
-        times[k] = tv[2 * k];
-        temps[k] = tv[2 * k + 1];
-    }
-    if (st == SINTER_OK)
-        st = at_line(t, line, sinter_stepper_set_furnace(sc->st, ntv / 2, times, temps));
-    sinter_free(t->ctx, tv);
+    double *times = NULL, *temps = NULL;
+    size_t points = 0;
+    int line = 0;
+    sinter_status st = read_temperature_schedule(t, s, &times, &temps, &points, &line);
+    if (st == SINTER_OK && points > 0)
+        st = at_line(t, line, sinter_stepper_set_furnace(sc->st, points, times, temps));
     sinter_free(t->ctx, times);
     sinter_free(t->ctx, temps);
     return st;
@@ -513,9 +518,15 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         TRY(at_line(t, en->line, sinter_stepper_set_option(sc->st, en->key, value)));
     }
     /* Options of the staggered stepper (seed 000 sec. 3, 6); the explicit one refuses them. */
-    static const char *const options[] = {"phi",      "target_iterations",  "tolerance",
-                                          "exponent", "dt_min",             "dt_max",
-                                          "adaptive", "position_tolerance", "temperature_tolerance"};
+    static const char *const options[] = {"phi",
+                                          "target_iterations",
+                                          "tolerance",
+                                          "exponent",
+                                          "dt_min",
+                                          "dt_max",
+                                          "adaptive",
+                                          "position_tolerance",
+                                          "temperature_tolerance"};
     for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
         double value;
         const sinter_status got = scene_get_double(t, s, options[k], &value);
@@ -590,14 +601,11 @@ static sinter_status build_compact(scene_text *t, sinter_scene *sc, scene_sectio
     const struct {
         const char *key;
         double *value;
-    } numbers[] = {{"volume_fraction", &o->volume_fraction},
-                   {"friction", &o->friction},
-                   {"restitution", &o->restitution},
-                   {"velocity", &o->velocity},
-                   {"max_pressure", &o->max_pressure},
-                   {"ke_per_particle", &o->ke_per_particle},
-                   {"relax_time_max", &o->relax_time_max},
-                   {"dt", &o->dt}};
+    } numbers[] = {
+        {"volume_fraction", &o->volume_fraction}, {"friction", &o->friction},
+        {"restitution", &o->restitution},         {"velocity", &o->velocity},
+        {"max_pressure", &o->max_pressure},       {"ke_per_particle", &o->ke_per_particle},
+        {"relax_time_max", &o->relax_time_max},   {"dt", &o->dt}};
     for (size_t k = 0; k < sizeof(numbers) / sizeof(numbers[0]); ++k)
         OPTIONAL(scene_get_double(t, s, numbers[k].key, numbers[k].value));
     OPTIONAL(scene_get_bool(t, s, "stop_at_jamming", &o->stop_at_jamming));
@@ -629,8 +637,7 @@ static const struct {
     {"scene", build_scene_header, 1},  {"material", build_material, 1},
     {"particles", build_particles, 1}, {"wall", build_wall, 0},
     {"force", build_force, 0},         {"heat", build_heat, 0},
-    {"electric", build_electric, 0},
-    {"stepper", build_stepper, 1},
+    {"electric", build_electric, 0},   {"stepper", build_stepper, 1},
     {"pour", build_pour, 0},           {"compact", build_compact, 0},
     {"output", build_output, 0},
 };
@@ -654,9 +661,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
             if (strcmp(s->type, BUILDERS[b].type) != 0)
                 continue;
             const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
-                               strcmp(s->type, "electric") == 0 ||
-                               strcmp(s->type, "pour") == 0 || strcmp(s->type, "compact") == 0 ||
-                               strcmp(s->type, "output") == 0;
+                               strcmp(s->type, "electric") == 0 || strcmp(s->type, "pour") == 0 ||
+                               strcmp(s->type, "compact") == 0 || strcmp(s->type, "output") == 0;
             if (seen && single)
                 return section_error(t, s, "this section may appear only once");
             seen = 1;
