@@ -10,12 +10,6 @@
 
 #include "stepper/quasistatic.h"
 
-static int key_order(const void *a, const void *b)
-{
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* Cells per axis for the extent `ext` and edge `cell`, at least 1. */
 static size_t cells_along(double ext, double cell)
 {
@@ -120,7 +114,7 @@ sinter_status sinter_qs_touching_pairs(sinter_ctx *ctx, size_t n, const double *
             }
         }
     }
-    qsort(*keys, *count, sizeof(uint64_t), key_order);
+    qsort(*keys, *count, sizeof(uint64_t), sinter_qs_key_compare);
 done:
     sinter_free(ctx, start);
     sinter_free(ctx, order);

@@ -108,12 +108,6 @@ static uint64_t take_u64(cursor *c)
     return v;
 }
 
-static int key_order(const void *a, const void *b)
-{
-    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* Particle id i of an id array that may sit unaligned in a file buffer. */
 static uint64_t id_at(const void *ids, size_t i)
 {
@@ -248,7 +242,7 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
         qs->keys[k] = a < b ? (uint64_t)a * n + b : (uint64_t)b * n + a;
     }
     qs->count = (size_t)count;
-    qsort(qs->keys, qs->count, sizeof(uint64_t), key_order);
+    qsort(qs->keys, qs->count, sizeof(uint64_t), sinter_qs_key_compare);
     for (size_t k = 1; k < qs->count; ++k)
         if (qs->keys[k] == qs->keys[k - 1]) {
             sinter_qs_destroy(qs);

@@ -269,7 +269,7 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
 
 /* ---- links ------------------------------------------------------------------------------ */
 
-static int key_compare(const void *a, const void *b)
+int sinter_qs_key_compare(const void *a, const void *b)
 {
     const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
     return (x > y) - (x < y);
@@ -297,7 +297,7 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
         const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
         const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         const uint64_t key = pair_key(a, b, n);
-        if (before > 0 && bsearch(&key, qs->keys, before, sizeof(uint64_t), key_compare))
+        if (before > 0 && bsearch(&key, qs->keys, before, sizeof(uint64_t), sinter_qs_key_compare))
             continue;
         sinter_status s = sinter_grow(qs->ctx, (void **)&qs->links, &qs->capacity, qs->count + 1,
                                       sizeof(sinter_qs_link));
@@ -327,7 +327,7 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
         qs->count++;
     }
     if (qs->count > before)
-        qsort(qs->keys, qs->count, sizeof(uint64_t), key_compare);
+        qsort(qs->keys, qs->count, sizeof(uint64_t), sinter_qs_key_compare);
     return SINTER_OK;
 }
 
@@ -384,7 +384,8 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
             qs->origins[i].id = p->id != NULL ? p->id[i] : (uint64_t)i;
             memcpy(qs->origins[i].x, p->x + 3 * i, sizeof(qs->origins[i].x));
         }
-        qsort(qs->origins, n, sizeof(sinter_qs_origin), key_compare); /* by id, the first field */
+        qsort(qs->origins, n, sizeof(sinter_qs_origin),
+              sinter_qs_key_compare); /* by id, the first field */
         qs->origin_count = n;
         qs->density0 = box_density(p);
     }
@@ -522,12 +523,12 @@ sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
         order[i][0] = ids[i];
         order[i][1] = i;
     }
-    qsort(order, n, sizeof(*order), key_compare); /* compares the first uint64 (the id) */
+    qsort(order, n, sizeof(*order), sinter_qs_key_compare); /* compares the first uint64 (the id) */
     size_t kept = 0;
     for (size_t k = 0; k < qs->count; ++k) {
         sinter_qs_link *l = &qs->links[k];
-        const uint64_t(*fa)[2] = bsearch(&l->id_a, order, n, sizeof(*order), key_compare);
-        const uint64_t(*fb)[2] = bsearch(&l->id_b, order, n, sizeof(*order), key_compare);
+        const uint64_t(*fa)[2] = bsearch(&l->id_a, order, n, sizeof(*order), sinter_qs_key_compare);
+        const uint64_t(*fb)[2] = bsearch(&l->id_b, order, n, sizeof(*order), sinter_qs_key_compare);
         if (fa == NULL || fb == NULL)
             continue;
         l->beam.a = (uint32_t)(*fa)[1];
@@ -536,7 +537,7 @@ sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
         qs->links[kept++] = *l;
     }
     qs->count = kept;
-    qsort(qs->keys, kept, sizeof(uint64_t), key_compare);
+    qsort(qs->keys, kept, sizeof(uint64_t), sinter_qs_key_compare);
     sinter_free(qs->ctx, order);
     qs->particles = SIZE_MAX; /* detect the plane conditions again */
     return SINTER_OK;
@@ -765,8 +766,8 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
         if (!linked[i])
             continue;
         const uint64_t id = p->id != NULL ? p->id[i] : (uint64_t)i;
-        const sinter_qs_origin *o =
-            bsearch(&id, qs->origins, qs->origin_count, sizeof(sinter_qs_origin), key_compare);
+        const sinter_qs_origin *o = bsearch(&id, qs->origins, qs->origin_count,
+                                            sizeof(sinter_qs_origin), sinter_qs_key_compare);
         if (o == NULL)
             continue; /* added after the start: no reference */
         m += 1.0;

@@ -130,6 +130,9 @@ sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
  */
 sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids);
 
+/* qsort/bsearch order of uint64_t keys (and of structs that start with one). */
+int sinter_qs_key_compare(const void *a, const void *b);
+
 /*
  * The touching pairs of n spheres (centre distance < (r_a + r_b)(1 + tolerance)) as sorted keys
  * a n + b with a < b, found with a cell grid (qs_pairs.c). *keys grows with sinter_grow.
