@@ -55,11 +55,14 @@ static sinter_status make_dir(sinter_ctx *ctx, const char *path)
  * extent where there is no wall; the top is the lower of the top wall and the
  * top of the bed.
  */
-static double volume_fraction(const sinter_scene *sc, double bed_top)
+/* Volume of the spheres and their bounding box [m^3, m]. */
+static double spheres_box(const sinter_particles *ps, double lo[3], double hi[3])
 {
-    const sinter_particles *ps = sc->ps;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double solid = 0.0;
+    for (int d = 0; d < 3; ++d) {
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
+    }
     for (size_t i = 0; i < ps->count; ++i) {
         const double r = ps->radius[i];
         solid += 4.0 / 3.0 * PI * r * r * r;
@@ -68,6 +71,13 @@ static double volume_fraction(const sinter_scene *sc, double bed_top)
             hi[d] = fmax(hi[d], ps->x[3 * i + d] + r);
         }
     }
+    return solid;
+}
+
+static double volume_fraction(const sinter_scene *sc, double bed_top)
+{
+    double lo[3], hi[3];
+    const double solid = spheres_box(sc->ps, lo, hi);
     hi[2] = bed_top;
     for (size_t k = 0; k < sc->walls->count; ++k) {
         const sinter_wall *w = &sc->walls->wall[k];
@@ -148,17 +158,8 @@ static void observe(const sinter_scene *sc, double *row)
             sinter_stepper_sintering_stats(sc->st, &s) != SINTER_OK) {
             /* before the first step: no links yet; the density of the spheres' bounding box */
             memset(&s, 0, sizeof(s));
-            double lo[3] = {INFINITY, INFINITY, INFINITY},
-                   hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-            double solid = 0.0;
-            for (size_t i = 0; i < ps->count; ++i) {
-                const double r = ps->radius[i];
-                solid += 4.0 / 3.0 * PI * r * r * r;
-                for (int d = 0; d < 3; ++d) {
-                    lo[d] = fmin(lo[d], ps->x[3 * i + d] - r);
-                    hi[d] = fmax(hi[d], ps->x[3 * i + d] + r);
-                }
-            }
+            double lo[3], hi[3];
+            const double solid = spheres_box(ps, lo, hi);
             s.relative_density = solid / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
         }
         const double v[SINTERING_COLUMNS] = {
