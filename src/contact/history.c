@@ -43,23 +43,31 @@ sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
 /* Commit of a trial array indexed by pair: pairs not in contact are cleared in it, and it
  * becomes the committed array; the old committed array is the next trial array (every entry
  * is written before the next commit). */
-static void commit_swap(sinter_history *h, const sinter_contact_list *c)
+static void commit_swap(sinter_history *h, const sinter_contact_list *c, int threads)
 {
     const size_t w = h->width;
     double *trial = h->trial;
     const uint32_t *p2c = c->pair_to_contact;
-    for (size_t p = 0; p < c->pair_count; ++p)
-        if (p2c[p] == SINTER_NO_PAIR)
-            for (size_t d = 0; d < w; ++d)
-                trial[w * p + d] = 0.0;
+    const long pairs = (long)c->pair_count, count = (long)c->count;
+    uint32_t *active = h->active;
+    const uint32_t *pair = c->pair;
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static) nowait
+        for (long p = 0; p < pairs; ++p)
+            if (p2c[p] == SINTER_NO_PAIR)
+                for (size_t d = 0; d < w; ++d)
+                    trial[w * (size_t)p + d] = 0.0;
+#pragma omp for schedule(static) nowait
+        for (long k = 0; k < count; ++k)
+            active[k] = pair[k];
+    }
     double *t = h->committed;
     const size_t cap = h->pair_capacity;
     h->committed = trial;
     h->pair_capacity = h->trial_capacity;
     h->trial = t;
     h->trial_capacity = cap;
-    for (size_t k = 0; k < c->count; ++k)
-        h->active[k] = c->pair[k];
     h->active_count = c->count;
 }
 
@@ -76,7 +84,7 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
     double *restrict committed = h->committed;
     const double *restrict trial = h->trial;
     if (h->by_pair) {
-        commit_swap(h, c);
+        commit_swap(h, c, c->pair_count < 4096 ? 1 : sinter_threads(ctx));
         return SINTER_OK;
     }
     uint32_t *restrict active = h->active;

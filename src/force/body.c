@@ -6,7 +6,9 @@ static sinter_status gravity_eval(const sinter_force_model *fm, sinter_force_eva
     const double g[3] = {fm->param[0], fm->param[1], fm->param[2]};
     const double *m = e->ps->mass;
     double *f = e->force;
-    for (size_t i = 0; i < e->ps->count; ++i) {
+    const long n = (long)e->ps->count;
+#pragma omp parallel for num_threads(n < 4096 ? 1 : sinter_threads(e->ctx)) schedule(static)
+    for (long i = 0; i < n; ++i) {
         f[3 * i] += m[i] * g[0];
         f[3 * i + 1] += m[i] * g[1];
         f[3 * i + 2] += m[i] * g[2];

@@ -527,6 +527,12 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
     const size_t width = e->hist_pp->width;
     const int by_pair = e->hist_pp->by_pair;
     double *restrict force = e->force, *restrict torque = e->torque;
+    /* Runs of contacts of one particle i (the list is in pair order, pairs grouped by their
+     * first particle) add into i's force and moment in registers, stored when the run ends:
+     * the same additions in the same order as adding into the arrays contact by contact, as
+     * no other contact of the run touches i (j != i). */
+    uint32_t cur = UINT32_MAX;
+    double fi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0};
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
@@ -547,14 +553,30 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
                 continue;
             }
             const uint32_t i = c->i[q], j = c->j[q];
-            force[3 * i] += b.fx[a], force[3 * i + 1] += b.fy[a], force[3 * i + 2] += b.fz[a];
+            if (i != cur) {
+                if (cur != UINT32_MAX)
+                    for (int d = 0; d < 3; ++d) {
+                        force[3 * (size_t)cur + d] = fi[d];
+                        torque[3 * (size_t)cur + d] = ti[d];
+                    }
+                cur = i;
+                for (int d = 0; d < 3; ++d) {
+                    fi[d] = force[3 * (size_t)i + d];
+                    ti[d] = torque[3 * (size_t)i + d];
+                }
+            }
+            fi[0] += b.fx[a], fi[1] += b.fy[a], fi[2] += b.fz[a];
+            ti[0] += b.tix[a], ti[1] += b.tiy[a], ti[2] += b.tiz[a];
             force[3 * j] -= b.fx[a], force[3 * j + 1] -= b.fy[a], force[3 * j + 2] -= b.fz[a];
-            torque[3 * i] += b.tix[a], torque[3 * i + 1] += b.tiy[a];
-            torque[3 * i + 2] += b.tiz[a];
             torque[3 * j] += b.tjx[a], torque[3 * j + 1] += b.tjy[a];
             torque[3 * j + 2] += b.tjz[a];
         }
     }
+    if (cur != UINT32_MAX)
+        for (int d = 0; d < 3; ++d) {
+            force[3 * (size_t)cur + d] = fi[d];
+            torque[3 * (size_t)cur + d] = ti[d];
+        }
 }
 
 static void pp_contacts_range(const sinter_force_eval *e, const constants *k,

@@ -56,15 +56,16 @@ static inline double nonfinite(double z)
  * and the total rotation vector (seed 003 eq. 45, increment w h) in the same
  * pass. Positions and rotations are final for the step here, so their
  * finiteness is checked here; returns the first particle with a non-finite
- * one, or n.
+ * one, or n. The sanity check's measure of the step (largest displacement,
+ * smallest radius) is taken in the same pass, into *scan.
  */
-static size_t kick_drift(sinter_stepper *st, double h)
+static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count, n3 = 3 * n;
     double *restrict x = ps->x, *restrict v = ps->v, *restrict w = ps->w, *restrict rot = ps->rot;
-    const double *restrict f = ps->force, *restrict tq = ps->torque, *restrict m = ps->mass,
-                           *restrict j = ps->inertia;
+    double *restrict f = ps->force, *restrict tq = ps->torque;
+    const double *restrict m = ps->mass, *restrict j = ps->inertia;
     double *restrict bx = st->backup, *restrict bv = st->backup + n3,
                      *restrict bw = st->backup + 2 * n3, *restrict brot = st->backup + 3 * n3;
     const uint32_t *flags = ps->flags;
@@ -77,31 +78,38 @@ static size_t kick_drift(sinter_stepper *st, double h)
     const double *restrict x0 = nb->x_ref;
     const int measure = nb->built && nb->layout_generation == ps->layout_generation &&
                         nb->ref_capacity >= n3 && x0 != NULL;
-    double moved2 = 0.0;
+    const double *restrict radius = ps->radius;
+    double moved2 = 0.0, step2 = 0.0, rmin = INFINITY;
     if (!any_special(ps) && measure) {
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)            \
-    reduction(max : moved2)
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, rmin)      \
+    reduction(max : moved2, step2)
         for (size_t i = 0; i < n; ++i) {
             const double a = half / m[i], b = half / j[i];
-            double da[3], z = 0.0, d2 = 0.0;
+            double da[3], z = 0.0, d2 = 0.0, s2 = 0.0;
             for (int d = 0; d < 3; ++d) {
                 const size_t k = 3 * i + (size_t)d;
-                bx[k] = x[k];
+                const double xo = x[k];
+                bx[k] = xo;
                 bv[k] = v[k];
                 bw[k] = w[k];
                 brot[k] = rot[k];
                 const double vk = v[k] + a * f[k];
                 v[k] = vk;
-                const double xk = x[k] + h * vk;
+                const double xk = xo + h * vk;
                 x[k] = xk;
                 const double wk = w[k] + b * tq[k];
                 w[k] = wk;
+                f[k] = 0.0; /* read for the last time: the next evaluation adds into it */
+                tq[k] = 0.0;
                 da[d] = h * wk;
                 z += nonfinite(xk);
-                const double e = xk - x0[k];
+                const double e = xk - x0[k], s = xk - xo;
                 d2 += e * e;
+                s2 += s * s;
             }
             moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
+            step2 = s2 > step2 ? s2 : step2;
+            rmin = radius[i] < rmin ? radius[i] : rmin;
             double *alpha = rot + 3 * i;
             sinter_compose_rotation(alpha, da);
             z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
@@ -109,34 +117,48 @@ static size_t kick_drift(sinter_stepper *st, double h)
                 bad = i;
         }
         sinter_neighbors_set_moved(nb, ps, moved2);
+        st->forces_zeroed = 1;
+        scan->moved2 = step2;
+        scan->rmin = rmin;
         return bad;
     }
     if (!any_special(ps)) {
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, rmin)      \
+    reduction(max : step2)
         for (size_t i = 0; i < n; ++i) {
             const double a = half / m[i], b = half / j[i];
-            double da[3], z = 0.0;
+            double da[3], z = 0.0, s2 = 0.0;
             for (int d = 0; d < 3; ++d) {
                 const size_t k = 3 * i + (size_t)d;
-                bx[k] = x[k];
+                const double xo = x[k];
+                bx[k] = xo;
                 bv[k] = v[k];
                 bw[k] = w[k];
                 brot[k] = rot[k];
                 const double vk = v[k] + a * f[k];
                 v[k] = vk;
-                const double xk = x[k] + h * vk;
+                const double xk = xo + h * vk;
                 x[k] = xk;
                 const double wk = w[k] + b * tq[k];
                 w[k] = wk;
+                f[k] = 0.0; /* read for the last time: the next evaluation adds into it */
+                tq[k] = 0.0;
                 da[d] = h * wk;
                 z += nonfinite(xk);
+                const double s = xk - xo;
+                s2 += s * s;
             }
+            step2 = s2 > step2 ? s2 : step2;
+            rmin = radius[i] < rmin ? radius[i] : rmin;
             double *alpha = rot + 3 * i;
             sinter_compose_rotation(alpha, da);
             z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
             if (!(z == 0.0) && i < bad)
                 bad = i;
         }
+        st->forces_zeroed = 1;
+        scan->moved2 = step2;
+        scan->rmin = rmin;
         return bad;
     }
     memcpy(bx, x, n3 * sizeof(double));
@@ -160,12 +182,19 @@ static size_t kick_drift(sinter_stepper *st, double h)
         const double da[3] = {h * w[3 * i], h * w[3 * i + 1], h * w[3 * i + 2]};
         double *alpha = rot + 3 * i;
         sinter_compose_rotation(alpha, da);
-        double z = 0.0;
-        for (int d = 0; d < 3; ++d)
+        double z = 0.0, s2 = 0.0;
+        for (int d = 0; d < 3; ++d) {
             z += nonfinite(x[3 * i + d]) + nonfinite(alpha[d]);
+            const double s = x[3 * i + d] - bx[3 * i + d];
+            s2 += s * s;
+        }
+        step2 = s2 > step2 ? s2 : step2;
+        rmin = radius[i] < rmin ? radius[i] : rmin;
         if (!(z == 0.0) && i < bad)
             bad = i;
     }
+    scan->moved2 = step2;
+    scan->rmin = rmin;
     return bad;
 }
 
@@ -236,7 +265,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         return s;
     }
     double t0 = sinter_clock();
-    const size_t bad_drift = kick_drift(st, h);
+    sinter_sanity_scan scan;
+    const size_t bad_drift = kick_drift(st, h, &scan);
     st->stats.seconds_integrate += sinter_clock() - t0;
     st->time = t_start + h;
     if (st->walls != NULL)
@@ -252,7 +282,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
     if (s == SINTER_OK && bad == st->ps->count)
-        s = sinter_sanity_step(st, st->backup, t_start, h); /* backup starts with x at t */
+        s = sinter_sanity_step(st, st->backup, t_start, h, &scan); /* backup: x at t */
     if (s == SINTER_OK && bad == st->ps->count && st->has_domain) {
         const sinter_particles *ps = st->ps;
         for (size_t i = 0; i < ps->count; ++i) {

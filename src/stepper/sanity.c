@@ -160,8 +160,24 @@ static sinter_status check_approach(struct sinter_stepper *st, const double *x_o
                        growth, worst, limit, c->delta[worst_k], h);
 }
 
+/* The cheap measure of criterion 2 when no integrator pass made it. */
+static sinter_sanity_scan scan_step(const sinter_particles *ps, const double *x_old)
+{
+    sinter_sanity_scan m = {0.0, INFINITY};
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double *a = ps->x + 3 * i, *b = x_old + 3 * i;
+        const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+        /* plain comparisons (not fmax/fmin, which are library calls here): the loop runs
+         * every step; a non-finite position is rejected by the stepper's own test */
+        const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        m.moved2 = dd > m.moved2 ? dd : m.moved2;
+        m.rmin = ps->radius[i] < m.rmin ? ps->radius[i] : m.rmin;
+    }
+    return m;
+}
+
 sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
-                                 double h)
+                                 double h, const sinter_sanity_scan *scan)
 {
     const sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -182,16 +198,8 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
     }
     /* 2. overlap growth: the cheap test first (a pair closes at most twice the largest
      * displacement, a wall contact at most the displacement plus the wall's) */
-    double moved2 = 0.0, rmin = INFINITY;
-    for (size_t i = 0; i < n; ++i) {
-        const double *a = ps->x + 3 * i, *b = x_old + 3 * i;
-        const double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-        /* plain comparisons (not fmax/fmin, which are library calls here): the loop runs
-         * every step; a non-finite position is rejected by the stepper's own test */
-        const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        moved2 = dd > moved2 ? dd : moved2;
-        rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
-    }
+    const sinter_sanity_scan m = scan != NULL ? *scan : scan_step(ps, x_old);
+    const double moved2 = m.moved2, rmin = m.rmin;
     double wall_moved = 0.0;
     for (size_t k = 0; st->walls != NULL && k < st->walls->count; ++k) {
         const double *u = st->walls->wall[k].u;

@@ -15,6 +15,13 @@
 
 struct sinter_stepper;
 
+/* What an integrator pass already measured for criterion 2: the largest squared
+ * displacement of a centre in the step and the smallest radius (saves a pass). */
+typedef struct sinter_sanity_scan {
+    double moved2; /* max over particles of |x(t + h) - x(t)|^2 [m^2] */
+    double rmin;   /* smallest radius [m] */
+} sinter_sanity_scan;
+
 /*
  * The state a stepper starts from (its contact lists just evaluated): a particle whose centre
  * is behind a wall (on the side its normal points away from) and two particles with the same
@@ -30,8 +37,9 @@ sinter_status sinter_sanity_start(struct sinter_stepper *st);
  *   - a contact whose overlap grew by more than SINTER_SANITY_APPROACH_LIMIT of the smaller
  *     radius in this one step: SINTER_ERR_UNSTABLE;
  *   - a free temperature not in (0, SINTER_SANITY_MAX_TEMPERATURE]: SINTER_ERR_UNSTABLE.
+ * `scan` (may be NULL: then measured here) is the integrator's measure of the step.
  */
 sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
-                                 double h);
+                                 double h, const sinter_sanity_scan *scan);
 
 #endif

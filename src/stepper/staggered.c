@@ -685,7 +685,7 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     /* Accepted: (s^K, theta^K) at t + h. */
     s = check_domain(st, t, h);
     if (s == SINTER_OK)
-        s = sinter_sanity_step(st, a.x, t, h);
+        s = sinter_sanity_step(st, a.x, t, h, NULL);
     if (s == SINTER_OK && st->thermal.count > 0) {
         /* Copy the iterate's slot powers before the evaluation overwrites them. */
         for (size_t j = 0; j < st->thermal.count; ++j)

@@ -363,8 +363,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         st->wall_force_capacity = nw + 1;
     }
     memset(st->wall_force, 0, 3 * nw * sizeof(double));
-    memset(ps->force, 0, 3 * ps->count * sizeof(double));
-    memset(ps->torque, 0, 3 * ps->count * sizeof(double));
+    if (!st->forces_zeroed) {
+        memset(ps->force, 0, 3 * ps->count * sizeof(double));
+        memset(ps->torque, 0, 3 * ps->count * sizeof(double));
+    }
+    st->forces_zeroed = 0;
     s = fill_view(st, dt_hist);
     if (s != SINTER_OK)
         return s;

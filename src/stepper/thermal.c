@@ -294,13 +294,17 @@ sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
     } else {
         /* Forward Euler, seed 003 eq. 46. */
         size_t bad = ps->count;
-        for (size_t i = 0; i < ps->count; ++i) {
-            if (fixed(ps, i))
+        const long n = (long)ps->count;
+#pragma omp parallel for num_threads(n < 4096 ? 1 : sinter_threads(st->ctx)) schedule(static) \
+    reduction(min : bad)
+        for (long i = 0; i < n; ++i) {
+            if (fixed(ps, (size_t)i))
                 continue;
-            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            const double mc =
+                ps->mass[i] * sinter_particle_param(ps, (size_t)i, SINTER_MAT_HEAT_CAPACITY);
             ps->temperature[i] += h * ps->heat[i] / mc;
-            if (!(ps->temperature[i] > 0.0 && ps->temperature[i] < INFINITY) && bad == ps->count)
-                bad = i;
+            if (!(ps->temperature[i] > 0.0 && ps->temperature[i] < INFINITY) && (size_t)i < bad)
+                bad = (size_t)i;
         }
         if (bad < ps->count) {
             const double theta = ps->temperature[bad];
