@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "contacts.h"
+#include "contact/chunks.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -18,8 +19,8 @@ void sinter_contact_radii(const sinter_contact_list *c, double *a)
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
-    void *arrays[] = {c->i,    c->j,    c->pair,   c->n,
-                      c->delta, c->dist, c->area, c->branch, c->pair_to_contact};
+    void *arrays[] = {c->i,    c->j,    c->pair,   c->n,           c->delta,
+                      c->dist, c->area, c->branch, c->pair_to_contact, c->chunk_scratch};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -67,11 +68,21 @@ static inline int touching(const sinter_pair_list *pairs, const double *x, const
     return d2 < rs * rs && d2 != 0.0;
 }
 
+/* What a fill pass learns for the partition (chunks.h): whether the first particles ascend,
+ * and the first and last of them. */
+typedef struct fill_part {
+    int ascending, any;
+    uint32_t first, last;
+} fill_part;
+
 /* Contacts among pairs [lo, hi), written from index m on; returns the next free index. */
 static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
-                      const sinter_particles *ps, size_t lo, size_t hi, size_t m)
+                      const sinter_particles *ps, size_t lo, size_t hi, size_t m, fill_part *part)
 {
     const double *x = ps->x, *r = ps->radius;
+    const size_t m0 = m;
+    uint32_t prev = 0;
+    int ascending = 1;
     for (size_t p = lo; p < hi; ++p) {
         const uint32_t i = pairs->i[p], j = pairs->j[p];
         const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
@@ -96,9 +107,69 @@ static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
         c->dist[m] = d;
         c->area[m] = PI * a2; /* the contact radius sqrt(a2) is derived on demand */
         c->branch[m] = li;
+        ascending &= i >= prev;
+        prev = i;
         ++m;
     }
+    part->ascending = ascending;
+    part->any = m > m0;
+    part->first = m > m0 ? c->i[m0] : 0;
+    part->last = prev;
     return m;
+}
+
+/* S from the number of candidate pairs: a power of two (2, 4 or 8, so that 2 or 4 threads get
+ * equal shares), about 32768 pairs per range; 0 (no partition) below 2048 pairs. */
+static int chunk_count(size_t pairs)
+{
+    enum { MIN_PAIRS = 2048, PAIRS_PER_CHUNK = 32768 };
+    if (pairs < MIN_PAIRS)
+        return 0;
+    int count = 2;
+    while (count < SINTER_CHUNKS_MAX && (size_t)(2 * count) * PAIRS_PER_CHUNK <= pairs)
+        count *= 2;
+    return count;
+}
+
+/* First contact whose first particle is at least p (the first particles ascend). */
+static size_t first_contact_of(const sinter_contact_list *c, size_t p)
+{
+    size_t lo = 0, hi = c->count;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (c->i[mid] < p)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The partition from the fill passes' findings (parts in list order); count 0 when the list
+ * is too small, has fewer contacts than particles, or its first particles do not ascend. */
+static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
+                        int count)
+{
+    sinter_chunks *k = &c->chunks;
+    k->count = 0;
+    if (count == 0 || c->count < c->particle_count)
+        return;
+    int seen = 0;
+    uint32_t last = 0;
+    for (int t = 0; t < nparts; ++t) {
+        if (!parts[t].any)
+            continue;
+        if (!parts[t].ascending || (seen && parts[t].first < last))
+            return;
+        last = parts[t].last;
+        seen = 1;
+    }
+    k->count = count;
+    /* the scratch was reserved for every pair in sinter_contacts_find_pp */
+    for (int s = 0; s <= count; ++s) {
+        k->plo[s] = n * (size_t)s / (size_t)count;
+        k->qlo[s] = s == count ? c->count : first_contact_of(c, k->plo[s]);
+    }
 }
 
 sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
@@ -111,13 +182,21 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
                          pairs->count + 1, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
+    if (st == SINTER_OK && chunk_count(pairs->count) > 0)
+        st = sinter_grow(ctx, &c->chunk_scratch, &c->chunk_scratch_capacity,
+                         pairs->count * (3 * sizeof(double) + sizeof(uint32_t)) + 1, 1);
+    if (st != SINTER_OK)
+        return st;
     c->adj_start = pairs->adj_start;
     c->adj_pair = pairs->adj_pair;
     c->particle_count = ps->count;
     c->pair_count = pairs->count;
     const int threads = pairs->count < 4096 ? 1 : sinter_threads(ctx);
+    const int parts_count = chunk_count(pairs->count);
     if (threads <= 1) {
-        c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0);
+        fill_part part = {1, 0, 0, 0};
+        c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0, &part);
+        make_chunks(c, &part, 1, ps->count, parts_count);
         return SINTER_OK;
     }
     /* Threads: count per chunk, then fill each chunk from its offset: the same list, in the
@@ -125,6 +204,7 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     enum { MAX_CHUNKS = 256 };
     const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
     size_t offset[MAX_CHUNKS + 1] = {0};
+    fill_part part[MAX_CHUNKS];
     const size_t n = pairs->count;
 #pragma omp parallel for num_threads(chunks) schedule(static, 1)
     for (int t = 0; t < chunks; ++t) {
@@ -139,9 +219,12 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
 #pragma omp parallel for num_threads(chunks) schedule(static, 1)
     for (int t = 0; t < chunks; ++t) {
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
-        fill_pp(c, pairs, ps, lo, hi, offset[t]);
+        fill_part mine = {1, 0, 0, 0};
+        fill_pp(c, pairs, ps, lo, hi, offset[t], &mine);
+        part[t] = mine;
     }
     c->count = offset[chunks];
+    make_chunks(c, part, chunks, ps->count, parts_count);
     return SINTER_OK;
 }
 

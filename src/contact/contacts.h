@@ -7,6 +7,15 @@
 
 #include "contact/neighbors.h"
 
+/* A fixed partition of a particle-particle list for thread-count independent sums
+ * (contact/chunks.h), made by sinter_contacts_find_pp. */
+enum { SINTER_CHUNKS_MAX = 8 };
+typedef struct sinter_chunks {
+    int count;                         /* S; 0 when the list is not partitioned */
+    size_t plo[SINTER_CHUNKS_MAX + 1]; /* particle ranges [plo[s], plo[s+1]) */
+    size_t qlo[SINTER_CHUNKS_MAX + 1]; /* contact ranges [qlo[s], qlo[s+1]) */
+} sinter_chunks;
+
 typedef struct sinter_contact_list {
     size_t count;
     size_t capacity;
@@ -26,6 +35,11 @@ typedef struct sinter_contact_list {
     const uint32_t *adj_start;
     const uint32_t *adj_pair;
     size_t particle_count;
+    sinter_chunks chunks; /* particle-particle lists only */
+    /* with chunks: room for 3 doubles and one index per contact, for one consumer at a time
+     * (kept across evaluations, so no allocation per step) */
+    void *chunk_scratch;
+    size_t chunk_scratch_capacity;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);

@@ -24,6 +24,7 @@
 #include <omp.h>
 #endif
 
+#include "contact/chunks.h"
 #include "force_model.h"
 #include "vec3.h"
 
@@ -511,17 +512,21 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
 }
 
 /*
- * Contacts [lo, hi) by blocks: into force/torque in contact order (out == NULL), or the
- * force into out, 3 per contact (the threaded path). Compiled for the baseline and, where
- * the compiler supports it, for AVX2 (picked at load time by the CPU).
+ * Contacts [lo, hi) by blocks, added into force/torque in contact order. With `ch`, the
+ * contacts of range s of a chunked list (contact/chunks.h): interior contacts are added, the
+ * boundary contacts' forces are stored in order into bq (contact) and bout (3 per contact);
+ * returns their number. Compiled for the baseline and, where the compiler supports it, for
+ * AVX2 (picked at load time by the CPU).
  */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&    \
     !defined(SINTER_NO_CLONES)
 __attribute__((target_clones("default", "avx2")))
 #endif
-static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair_consts *single,
-                      size_t lo, size_t hi, double *out)
+static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
+                        const pair_consts *single, size_t lo, size_t hi, const sinter_chunks *ch,
+                        int s, uint32_t *bq, double *bout)
 {
+    const uint32_t *bq0 = bq;
     const sinter_contact_list *c = e->pp;
     double *trial = e->hist_pp->trial;
     const size_t width = e->hist_pp->width;
@@ -533,6 +538,9 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
      * no other contact of the run touches i (j != i). */
     uint32_t cur = UINT32_MAX;
     double fi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0};
+    /* the particle range of chunk s (every first particle of the range lies in it) */
+    const size_t range_lo = ch != NULL ? ch->plo[s] : 0;
+    const size_t range_hi = ch != NULL ? ch->plo[s + 1] : SIZE_MAX;
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
@@ -547,12 +555,14 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
             const size_t q = q0 + a;
             double *t = trial + width * (by_pair ? c->pair[q] : q); /* by pair: swapped */
             t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
-            if (out != NULL) { /* the force only: eval_pp forms the moments again */
-                double *o = out + 3 * q;
-                o[0] = b.fx[a], o[1] = b.fy[a], o[2] = b.fz[a];
+            const uint32_t i = c->i[q], j = c->j[q];
+            if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
+                /* the force only: the caller forms the moments again */
+                *bq++ = (uint32_t)q;
+                bout[0] = b.fx[a], bout[1] = b.fy[a], bout[2] = b.fz[a];
+                bout += 3;
                 continue;
             }
-            const uint32_t i = c->i[q], j = c->j[q];
             if (i != cur) {
                 if (cur != UINT32_MAX)
                     for (int d = 0; d < 3; ++d) {
@@ -577,6 +587,7 @@ static void pp_blocks(const sinter_force_eval *e, const constants *k, const pair
             force[3 * (size_t)cur + d] = fi[d];
             torque[3 * (size_t)cur + d] = ti[d];
         }
+    return (size_t)(bq - bq0);
 }
 
 static void pp_contacts_range(const sinter_force_eval *e, const constants *k,
@@ -590,18 +601,77 @@ static void pp_contacts_range(const sinter_force_eval *e, const constants *k,
         pp_range(e, k, NULL, 1, lo, hi, out);
 }
 
+/* Force of contact q (out, from pp_blocks) with the moments L (n x f) formed again as
+ * blk_law forms them: added to particle p, first or second of the contact. */
+static inline void add_from_force(const sinter_contact_list *c, size_t q, const double *o,
+                                  int first, double f[3], double t[3])
+{
+    const double *n = c->n + 3 * q;
+    const double m[3] = {n[1] * o[2] - n[2] * o[1], n[2] * o[0] - n[0] * o[2],
+                         n[0] * o[1] - n[1] * o[0]};
+    const double l = first ? c->branch[q] : c->dist[q] - c->branch[q];
+    for (int d = 0; d < 3; ++d) {
+        f[d] = first ? f[d] + o[d] : f[d] - o[d];
+        t[d] += l * m[d];
+    }
+}
+
+/*
+ * Without rolling resistance, on a partitioned list (contact/chunks.h): the ranges of a
+ * fixed partition in parallel, each adding its interior contacts, then the boundary contacts
+ * in list order. The partition depends on the list only, so any number of threads (one too)
+ * gives the same bits.
+ */
+static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
+                                const pair_consts *single)
+{
+    const sinter_contact_list *c = e->pp;
+    double *force = e->force, *torque = e->torque;
+    const int threads = sinter_threads(e->ctx);
+    const sinter_chunks ch = c->chunks;
+    /* room for every contact to be a boundary one (the list's scratch) */
+    double *bout = c->chunk_scratch;
+    uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
+    size_t boundary[SINTER_CHUNKS_MAX];
+#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
+    for (int s = 0; s < ch.count; ++s)
+        boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s, bq + ch.qlo[s],
+                                bout + 3 * ch.qlo[s]);
+    for (int s = 0; s < ch.count; ++s)
+        for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
+            const size_t q = bq[b];
+            const uint32_t i = c->i[q], j = c->j[q];
+            double fi[3] = {force[3 * i], force[3 * i + 1], force[3 * i + 2]};
+            double ti[3] = {torque[3 * i], torque[3 * i + 1], torque[3 * i + 2]};
+            double fj[3] = {force[3 * j], force[3 * j + 1], force[3 * j + 2]};
+            double tj[3] = {torque[3 * j], torque[3 * j + 1], torque[3 * j + 2]};
+            add_from_force(c, q, bout + 3 * b, 1, fi, ti);
+            add_from_force(c, q, bout + 3 * b, 0, fj, tj);
+            for (int d = 0; d < 3; ++d) {
+                force[3 * i + d] = fi[d], torque[3 * i + d] = ti[d];
+                force[3 * j + d] = fj[d], torque[3 * j + d] = tj[d];
+            }
+        }
+    return SINTER_OK;
+}
+
 static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
     const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
-    /* The two-phase path pays only with enough contacts per particle (measured: with 0.37 per
-     * particle it is slower than one thread); both paths give the same bits. */
-    const int threads =
-        c->count < 2048 || c->count < c->particle_count ? 1 : sinter_threads(e->ctx);
+    if (!rolling && c->chunks.count > 0)
+        return pp_chunked(e, k, single);
+    /* Without rolling resistance and a partition (a small or sparse list, or first particles
+     * that do not ascend): one thread, in list order. With rolling, the two-phase path pays
+     * only with enough contacts per particle (measured: with 0.37 per particle it is slower
+     * than one thread); both paths give the same bits. */
+    const int threads = !rolling || c->count < 2048 || c->count < c->particle_count
+                            ? 1
+                            : sinter_threads(e->ctx);
     if (threads <= 1) {
         if (!rolling)
-            pp_blocks(e, k, single, 0, c->count, NULL);
+            (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL);
         else if (single != NULL)
             pp_serial(e, k, single, 1);
         else
@@ -609,15 +679,12 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
         return SINTER_OK;
     }
     /*
-     * Threads: (1) every contact's force (and, with rolling resistance, moments) into a
-     * scratch array, in parallel; (2) every particle sums its contacts in ascending contact
-     * order, in parallel. The sums are done in the same order as the serial loop, from the
-     * same values, so the result does not depend on the number of threads. Without rolling
-     * the moments L (n x f) are formed again in (2) from the contact list, as blk_law forms
-     * them: 3 doubles of scratch per contact instead of 9.
+     * Rolling resistance, threads: (1) every contact's force and moments into a scratch
+     * array, in parallel; (2) every particle sums its contacts in ascending contact order, in
+     * parallel. The sums are done in the same order as the serial loop, from the same values,
+     * so the result does not depend on the number of threads.
      */
-    const size_t per = rolling ? 9 : 3;
-    double *out = sinter_alloc(e->ctx, per * c->count * sizeof(double));
+    double *out = sinter_alloc(e->ctx, 9 * c->count * sizeof(double));
     if (out == NULL)
         return SINTER_ERR_NOMEM;
     const long count = (long)c->count;
@@ -629,10 +696,7 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
         lo = count * t / nt;
         hi = count * (t + 1) / nt;
 #endif
-        if (rolling)
-            pp_contacts_range(e, k, single, 1, (size_t)lo, (size_t)hi, out);
-        else
-            pp_blocks(e, k, single, (size_t)lo, (size_t)hi, out);
+        pp_contacts_range(e, k, single, 1, (size_t)lo, (size_t)hi, out);
     }
     const long particles = (long)c->particle_count;
 #pragma omp parallel for num_threads(threads) schedule(static)
@@ -643,21 +707,12 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
             const uint32_t q = c->pair_to_contact[c->adj_pair[a]];
             if (q == SINTER_NO_PAIR)
                 continue;
-            const double *o = out + per * (size_t)q;
+            const double *o = out + 9 * (size_t)q;
             const int first = c->i[q] == (uint32_t)p;
-            for (int d = 0; d < 3; ++d)
+            for (int d = 0; d < 3; ++d) {
                 f[d] = first ? f[d] + o[d] : f[d] - o[d];
-            if (rolling) {
-                for (int d = 0; d < 3; ++d)
-                    t[d] += first ? o[3 + d] : o[6 + d];
-                continue;
+                t[d] += first ? o[3 + d] : o[6 + d];
             }
-            const double *n = c->n + 3 * (size_t)q;
-            const double m[3] = {n[1] * o[2] - n[2] * o[1], n[2] * o[0] - n[0] * o[2],
-                                 n[0] * o[1] - n[1] * o[0]};
-            const double l = first ? c->branch[q] : c->dist[q] - c->branch[q];
-            for (int d = 0; d < 3; ++d)
-                t[d] += l * m[d];
         }
         for (int d = 0; d < 3; ++d) {
             force[3 * p + d] = f[d];

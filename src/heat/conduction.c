@@ -29,6 +29,7 @@
  */
 #include <math.h>
 
+#include "contact/chunks.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
@@ -77,40 +78,65 @@ static inline double contact_g(const sinter_heat_eval *e, const double *kmat, in
                           ps->radius[i], ps->radius[j], c->area[q], c->dist[q]);
 }
 
-/*
- * Explicit, threaded: every contact's power into a scratch array, then every particle sums
- * its contacts in ascending contact order (the contact list's per-particle adjacency) --
- * the order of the serial loop, so the result does not depend on the number of threads.
- */
-static sinter_status pp_threaded(const sinter_heat_eval *e, const double *kmat, int projection,
-                                 int threads)
+/* Range s of a partitioned list: interior contacts into heat, boundary ones stored; returns
+ * their number. */
+static inline __attribute__((always_inline)) size_t
+pp_range(const sinter_heat_eval *e, const double *kmat, int projection,
+                     const sinter_chunks *ch, int s, double *restrict heat, uint32_t *restrict bq,
+                     double *restrict bpower)
 {
     const sinter_contact_list *c = e->pp;
-    const double *theta = e->ps->temperature;
-    double *q = sinter_alloc(e->ctx, c->count * sizeof(double));
-    if (q == NULL)
-        return SINTER_ERR_NOMEM;
-    const long count = (long)c->count, particles = (long)c->particle_count;
-    double *heat = e->heat;
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp for schedule(static)
-        for (long k = 0; k < count; ++k)
-            q[k] = contact_g(e, kmat, projection, (size_t)k) *
-                   (theta[c->j[k]] - theta[c->i[k]]); /* eq. 32, into i */
-#pragma omp for schedule(static)
-        for (long p = 0; p < particles; ++p) {
-            double h = heat[p];
-            for (uint32_t a = c->adj_start[p]; a < c->adj_start[p + 1]; ++a) {
-                const uint32_t k = c->pair_to_contact[c->adj_pair[a]];
-                if (k == SINTER_NO_PAIR)
-                    continue;
-                h = c->i[k] == (uint32_t)p ? h + q[k] : h - q[k];
-            }
-            heat[p] = h;
-        }
+    const double *restrict theta = e->ps->temperature;
+    const uint32_t *restrict ci = c->i, *restrict cj = c->j;
+    const size_t lo = ch->plo[s], hi = ch->plo[s + 1];
+    size_t kept = 0;
+    for (size_t k = ch->qlo[s]; k < ch->qlo[s + 1]; ++k) {
+        const uint32_t i = ci[k], j = cj[k];
+        const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
+        /* branch-free: a boundary contact adds 0 here (x + 0 = x) and is kept */
+        const int inside = j >= lo && j < hi && i >= lo && i < hi;
+        const double here = inside ? q : 0.0;
+        heat[i] += here;
+        heat[j] -= here;
+        bq[kept] = (uint32_t)k;
+        bpower[kept] = q;
+        kept += (size_t)!inside;
     }
-    sinter_free(e->ctx, q);
+    return kept;
+}
+
+/*
+ * Explicit, on a partitioned list (contact/chunks.h): the ranges of a fixed partition in
+ * parallel, each adding its interior contacts' powers, then the boundary contacts in list
+ * order (contact/chunks.h). The partition depends on the list only, so any number of threads
+ * gives the same bits.
+ */
+static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, int projection)
+{
+    const sinter_contact_list *c = e->pp;
+    const int threads = sinter_threads(e->ctx);
+    const sinter_chunks ch = c->chunks;
+    /* room for every contact to be a boundary one (the list's scratch) */
+    double *bpower = c->chunk_scratch, *heat = e->heat;
+    uint32_t *bq = (uint32_t *)(bpower + c->count);
+    size_t boundary[SINTER_CHUNKS_MAX];
+    /* the two conductance laws as separate loops, so that neither tests `projection` */
+    if (projection) {
+#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
+        for (int s = 0; s < ch.count; ++s)
+            boundary[s] =
+                pp_range(e, kmat, 1, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
+    } else {
+#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
+        for (int s = 0; s < ch.count; ++s)
+            boundary[s] =
+                pp_range(e, kmat, 0, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
+    }
+    for (int s = 0; s < ch.count; ++s)
+        for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
+            heat[c->i[bq[b]]] += bpower[b];
+            heat[c->j[bq[b]]] -= bpower[b];
+        }
     return SINTER_OK;
 }
 
@@ -128,8 +154,8 @@ static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kma
             e->g_pp[k] += contact_g(e, kmat, projection, (size_t)k);
         return SINTER_OK;
     }
-    if (threads > 1)
-        return pp_threaded(e, kmat, projection, threads);
+    if (c->chunks.count > 0)
+        return pp_chunked(e, kmat, projection);
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], j = c->j[k];
         const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
