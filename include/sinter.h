@@ -402,8 +402,11 @@ SINTER_API sinter_status sinter_particles_remove(sinter_particles *ps, size_t n,
 /**
  * Borrow a field's array for reading and writing: count * components elements
  * of the field's dtype, particle-major (x0,y0,z0,x1,...). The set is locked
- * against add/remove/reserve until every borrowed view is released. The id
- * field is read-only: borrow it with sinter_particles_view_read().
+ * against add/remove/reserve (and steppers refuse to step) until every borrowed
+ * view is released. The id field is read-only: borrow it with
+ * sinter_particles_view_read(). An array's address is valid until its view is
+ * released: the explicit stepper exchanges the position, velocity, spin and
+ * rotation arrays with its own copy at each step, so borrow again after stepping.
  */
 SINTER_API sinter_status sinter_particles_view(sinter_particles *ps, sinter_field field,
                                                void **data, size_t *count, size_t *components);

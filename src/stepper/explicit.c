@@ -11,27 +11,32 @@
 #include "sanity.h"
 #include "stepper.h"
 
-static sinter_status reserve_backup(sinter_stepper *st)
+/* The spare arrays at the set's capacity (the set may have grown since the last step). */
+static sinter_status reserve_spare(sinter_stepper *st)
 {
-    const size_t need = 12 * st->ps->count + 1;
-    if (need <= st->backup_capacity)
+    const size_t cap = st->ps->capacity;
+    if (st->spare_capacity == cap && st->spare[0] != NULL)
         return SINTER_OK;
-    double *grown = sinter_realloc_array(st->ctx, st->backup, need, sizeof(double));
-    if (grown == NULL)
-        return sinter_last_status(st->ctx);
-    st->backup = grown;
-    st->backup_capacity = need;
+    for (int k = 0; k < 4; ++k) {
+        double *grown = sinter_realloc_array(st->ctx, st->spare[k], 3 * cap + 1, sizeof(double));
+        if (grown == NULL)
+            return sinter_last_status(st->ctx); /* the ones grown so far are grown again */
+        st->spare[k] = grown;
+    }
+    st->spare_capacity = cap;
     return SINTER_OK;
 }
 
-static void restore_backup(sinter_stepper *st)
+/* Exchange the set's x, v, w, rot with the spare arrays (same capacity, same allocator). */
+static void swap_spare(sinter_stepper *st)
 {
     sinter_particles *ps = st->ps;
-    const size_t n3 = 3 * ps->count;
-    memcpy(ps->x, st->backup, n3 * sizeof(double));
-    memcpy(ps->v, st->backup + n3, n3 * sizeof(double));
-    memcpy(ps->w, st->backup + 2 * n3, n3 * sizeof(double));
-    memcpy(ps->rot, st->backup + 3 * n3, n3 * sizeof(double));
+    double **fields[4] = {&ps->x, &ps->v, &ps->w, &ps->rot};
+    for (int k = 0; k < 4; ++k) {
+        double *t = *fields[k];
+        *fields[k] = st->spare[k];
+        st->spare[k] = t;
+    }
 }
 
 /* 1 if any particle is fixed or does not rotate (then the general loop is needed). */
@@ -51,23 +56,24 @@ static inline double nonfinite(double z)
 }
 
 /*
- * First half kick and drift, saving the pre-step state for a rollback in the
- * same pass (the old values are read anyway, so the backup costs one store),
- * and the total rotation vector (seed 003 eq. 45, increment w h) in the same
- * pass. Positions and rotations are final for the step here, so their
- * finiteness is checked here; returns the first particle with a non-finite
- * one, or n. The sanity check's measure of the step (largest displacement,
- * smallest radius) is taken in the same pass, into *scan.
+ * First half kick and drift, written into the spare arrays, which then become the set's
+ * (the old state stays in the spare arrays for a rollback: no copy), and the total rotation
+ * vector (seed 003 eq. 45, increment w h) in the same pass. Positions and rotations are
+ * final for the step here, so their finiteness is checked here; returns the first particle
+ * with a non-finite one, or n. The sanity check's measure of the step (largest displacement,
+ * smallest radius) is taken in the same pass, into *scan, and force and torque are zeroed
+ * after their last read (the next evaluation adds into them).
  */
 static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
 {
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count, n3 = 3 * n;
-    double *restrict x = ps->x, *restrict v = ps->v, *restrict w = ps->w, *restrict rot = ps->rot;
+    const size_t n = ps->count;
+    const double *restrict x = ps->x, *restrict v = ps->v, *restrict w = ps->w,
+                           *restrict rot = ps->rot;
     double *restrict f = ps->force, *restrict tq = ps->torque;
     const double *restrict m = ps->mass, *restrict j = ps->inertia;
-    double *restrict bx = st->backup, *restrict bv = st->backup + n3,
-                     *restrict bw = st->backup + 2 * n3, *restrict brot = st->backup + 3 * n3;
+    double *restrict nx = st->spare[0], *restrict nv = st->spare[1], *restrict nw = st->spare[2],
+                     *restrict nrot = st->spare[3];
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
@@ -77,10 +83,10 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
     sinter_neighbors *nb = &st->nb;
     const double *restrict x0 = nb->x_ref;
     const int measure = nb->built && nb->layout_generation == ps->layout_generation &&
-                        nb->ref_capacity >= n3 && x0 != NULL;
+                        nb->ref_capacity >= 3 * n && x0 != NULL;
     const double *restrict radius = ps->radius;
     double moved2 = 0.0, step2 = 0.0, rmin = INFINITY;
-    if (!any_special(ps) && measure) {
+    if (!any_special(ps)) {
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, rmin)      \
     reduction(max : moved2, step2)
         for (size_t i = 0; i < n; ++i) {
@@ -89,110 +95,78 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
             for (int d = 0; d < 3; ++d) {
                 const size_t k = 3 * i + (size_t)d;
                 const double xo = x[k];
-                bx[k] = xo;
-                bv[k] = v[k];
-                bw[k] = w[k];
-                brot[k] = rot[k];
                 const double vk = v[k] + a * f[k];
-                v[k] = vk;
+                nv[k] = vk;
                 const double xk = xo + h * vk;
-                x[k] = xk;
+                nx[k] = xk;
                 const double wk = w[k] + b * tq[k];
-                w[k] = wk;
+                nw[k] = wk;
+                da[d] = h * wk;
                 f[k] = 0.0; /* read for the last time: the next evaluation adds into it */
                 tq[k] = 0.0;
-                da[d] = h * wk;
                 z += nonfinite(xk);
-                const double e = xk - x0[k], s = xk - xo;
-                d2 += e * e;
+                const double s = xk - xo;
                 s2 += s * s;
+                if (measure) {
+                    const double e = xk - x0[k];
+                    d2 += e * e;
+                }
             }
             moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
             step2 = s2 > step2 ? s2 : step2;
             rmin = radius[i] < rmin ? radius[i] : rmin;
-            double *alpha = rot + 3 * i;
+            double *alpha = nrot + 3 * i;
+            alpha[0] = rot[3 * i], alpha[1] = rot[3 * i + 1], alpha[2] = rot[3 * i + 2];
             sinter_compose_rotation(alpha, da);
             z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
             if (!(z == 0.0) && i < bad)
                 bad = i;
         }
-        sinter_neighbors_set_moved(nb, ps, moved2);
         st->forces_zeroed = 1;
-        scan->moved2 = step2;
-        scan->rmin = rmin;
-        return bad;
-    }
-    if (!any_special(ps)) {
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, rmin)      \
-    reduction(max : step2)
+    } else {
         for (size_t i = 0; i < n; ++i) {
-            const double a = half / m[i], b = half / j[i];
-            double da[3], z = 0.0, s2 = 0.0;
+            const uint32_t fl = flags[i];
+            double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+            double wi[3] = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
+            if (!(fl & SINTER_PARTICLE_FIXED)) {
+                const double a = half / m[i];
+                for (int d = 0; d < 3; ++d)
+                    vi[d] += a * f[3 * i + d];
+            }
+            if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+                const double b = half / j[i];
+                for (int d = 0; d < 3; ++d)
+                    wi[d] += b * tq[3 * i + d];
+            }
+            const double da[3] = {h * wi[0], h * wi[1], h * wi[2]};
+            double *alpha = nrot + 3 * i;
+            double z = 0.0, s2 = 0.0, d2 = 0.0;
             for (int d = 0; d < 3; ++d) {
                 const size_t k = 3 * i + (size_t)d;
-                const double xo = x[k];
-                bx[k] = xo;
-                bv[k] = v[k];
-                bw[k] = w[k];
-                brot[k] = rot[k];
-                const double vk = v[k] + a * f[k];
-                v[k] = vk;
-                const double xk = xo + h * vk;
-                x[k] = xk;
-                const double wk = w[k] + b * tq[k];
-                w[k] = wk;
-                f[k] = 0.0; /* read for the last time: the next evaluation adds into it */
-                tq[k] = 0.0;
-                da[d] = h * wk;
-                z += nonfinite(xk);
-                const double s = xk - xo;
+                nv[k] = vi[d];
+                nw[k] = wi[d];
+                nx[k] = x[k] + h * vi[d];
+                alpha[d] = rot[k];
+                const double s = nx[k] - x[k];
                 s2 += s * s;
+                if (measure) {
+                    const double e = nx[k] - x0[k];
+                    d2 += e * e;
+                }
             }
+            sinter_compose_rotation(alpha, da);
+            for (int d = 0; d < 3; ++d)
+                z += nonfinite(nx[3 * i + d]) + nonfinite(alpha[d]);
+            moved2 = d2 > moved2 ? d2 : moved2;
             step2 = s2 > step2 ? s2 : step2;
             rmin = radius[i] < rmin ? radius[i] : rmin;
-            double *alpha = rot + 3 * i;
-            sinter_compose_rotation(alpha, da);
-            z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
             if (!(z == 0.0) && i < bad)
                 bad = i;
         }
-        st->forces_zeroed = 1;
-        scan->moved2 = step2;
-        scan->rmin = rmin;
-        return bad;
     }
-    memcpy(bx, x, n3 * sizeof(double));
-    memcpy(bv, v, n3 * sizeof(double));
-    memcpy(bw, w, n3 * sizeof(double));
-    memcpy(brot, rot, n3 * sizeof(double));
-    for (size_t i = 0; i < n; ++i) {
-        const uint32_t fl = flags[i];
-        if (!(fl & SINTER_PARTICLE_FIXED)) {
-            const double a = half / m[i];
-            for (int d = 0; d < 3; ++d)
-                v[3 * i + d] += a * f[3 * i + d];
-        }
-        for (int d = 0; d < 3; ++d)
-            x[3 * i + d] += h * v[3 * i + d];
-        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
-            const double b = half / j[i];
-            for (int d = 0; d < 3; ++d)
-                w[3 * i + d] += b * tq[3 * i + d];
-        }
-        const double da[3] = {h * w[3 * i], h * w[3 * i + 1], h * w[3 * i + 2]};
-        double *alpha = rot + 3 * i;
-        sinter_compose_rotation(alpha, da);
-        double z = 0.0, s2 = 0.0;
-        for (int d = 0; d < 3; ++d) {
-            z += nonfinite(x[3 * i + d]) + nonfinite(alpha[d]);
-            const double s = x[3 * i + d] - bx[3 * i + d];
-            s2 += s * s;
-        }
-        step2 = s2 > step2 ? s2 : step2;
-        rmin = radius[i] < rmin ? radius[i] : rmin;
-        if (!(z == 0.0) && i < bad)
-            bad = i;
-    }
+    swap_spare(st);
+    if (measure)
+        sinter_neighbors_set_moved(nb, ps, moved2);
     scan->moved2 = step2;
     scan->rmin = rmin;
     return bad;
@@ -254,7 +228,7 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
 
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
-    sinter_status s = reserve_backup(st);
+    sinter_status s = reserve_spare(st);
     if (s != SINTER_OK)
         return s;
     const double t_start = st->time;
@@ -282,7 +256,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
     if (s == SINTER_OK && bad == st->ps->count)
-        s = sinter_sanity_step(st, st->backup, t_start, h, &scan); /* backup: x at t */
+        s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count && st->has_domain) {
         const sinter_particles *ps = st->ps;
         for (size_t i = 0; i < ps->count; ++i) {
@@ -311,8 +285,9 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
                         t_start, t_start + h, what, bad, (unsigned long long)st->ps->id[bad], h);
     }
     if (s != SINTER_OK) {
-        /* Roll back: state, time and walls; history was never committed. */
-        restore_backup(st);
+        /* Roll back: state (the spare arrays hold it), time and walls; history was never
+         * committed. */
+        swap_spare(st);
         sinter_thermal_rollback(st);
         st->time = t_start;
         if (st->walls != NULL)

@@ -65,7 +65,8 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
-    sinter_free(ctx, st->backup);
+    for (int k = 0; k < 4; ++k)
+        sinter_free(ctx, st->spare[k]);
     sinter_free(ctx, st->wall_arrays);
     sinter_thermal_free(ctx, &st->thermal);
     sinter_staggered_free(ctx, &st->staggered);

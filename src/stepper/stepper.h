@@ -56,8 +56,12 @@ struct sinter_stepper {
     uint64_t population_generation; /* particle population_generation then */
     double *wall_force;           /* 3 per wall, from the last evaluation */
     size_t wall_force_capacity;
-    double *backup;               /* x, v, w, rot of the last accepted state, 12 per particle */
-    size_t backup_capacity;
+    /* The other copy of x, v, w and rot (3 doubles per particle each, for ps->capacity
+     * particles): the explicit step writes the new state into it and swaps it with the set's
+     * arrays, so that after a step it holds the last accepted state (rollback, sanity check)
+     * without a copy. */
+    double *spare[4];
+    size_t spare_capacity; /* particles */
     sinter_state_view view;
     double *wall_arrays;          /* point, normal, velocity: 9 per wall, for host views */
     size_t wall_arrays_capacity;

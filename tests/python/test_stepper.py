@@ -161,7 +161,10 @@ class HostSpringNumpyTest(HostSpringCases, unittest.TestCase):
             expected = (x.__array_interface__["data"][0], v.__array_interface__["data"][0])
             self.assertFalse(x.flags.owndata)
         self.assertTrue(addresses)
-        self.assertEqual(set(addresses), {expected})
+        # the last evaluation saw the set's arrays themselves; the explicit stepper exchanges
+        # them with its own copy at each step, so the callbacks see two buffers in turn
+        self.assertEqual(addresses[-1], expected)
+        self.assertLessEqual(len(set(addresses)), 2)
 
 
 class HostSpringMemoryviewTest(HostSpringCases, unittest.TestCase):
