@@ -17,9 +17,8 @@
  * With the particles in a spatial order (cell order, as the benchmark lattices and the
  * packings are) the index ranges are slabs, and the boundary contacts are the few that cross
  * between two. A list whose first particles do not ascend (a set reordered so that pairs,
- * oriented by persistent id, start from the larger index), a list of fewer than 2048 pairs
- * and a list with fewer contacts than particles are not partitioned (c->chunks.count 0):
- * their sums run in list order on one thread.
+ * oriented by persistent id, start from the larger index) and a list of fewer than 2048
+ * pairs are not partitioned (c->chunks.count 0): their sums run in list order on one thread.
  */
 #ifndef SINTER_CHUNKS_H
 #define SINTER_CHUNKS_H

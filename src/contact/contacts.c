@@ -146,13 +146,13 @@ static size_t first_contact_of(const sinter_contact_list *c, size_t p)
 }
 
 /* The partition from the fill passes' findings (parts in list order); count 0 when the list
- * is too small, has fewer contacts than particles, or its first particles do not ascend. */
+ * is too small or its first particles do not ascend. */
 static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
                         int count)
 {
     sinter_chunks *k = &c->chunks;
     k->count = 0;
-    if (count == 0 || c->count < c->particle_count)
+    if (count == 0)
         return;
     int seen = 0;
     uint32_t last = 0;
