@@ -431,6 +431,19 @@ SINTER_API sinter_status sinter_particles_validate(const sinter_particles *ps, s
 SINTER_API sinter_status sinter_particles_find_id(const sinter_particles *ps, uint64_t id,
                                                   size_t *index);
 
+/**
+ * Reorder the particles in memory by position: cells of the largest diameter, x fastest,
+ * then y, then z (particles of one cell by id, so the result does not depend on the order
+ * before). Neighbouring particles then sit near each other
+ * in memory, which the contact loops need to be fast, and the threads' ranges of particles
+ * become slabs. Every field moves with its particle, ids included, and a stepper carries the
+ * contact history over; indices change, so find particles by id afterwards. The stepper
+ * option "sort_interval" repeats this every so many steps. Errors: SINTER_ERR_NULL,
+ * SINTER_ERR_BUSY (a view is out), SINTER_ERR_INVALID (a position is not finite; nothing
+ * moves), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_particles_sort_spatial(sinter_particles *ps);
+
 
 /* ------------------------------------------------------------------------ */
 /* Walls                                                                     */
@@ -643,6 +656,12 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * stagnates (see src/stepper/staggered.c), grows the step at most twofold,
  * and not at all right after a restart.
  * The step starts at the value of sinter_stepper_set_dt, capped by dt_max.
+ * Every kind but the quasi-static one also takes "sort_interval": the particles
+ * are sorted in memory by position (sinter_particles_sort_spatial; indices
+ * change, ids do not) before the first step after the option is set and then
+ * before every step that follows so many accepted steps; 0, the default,
+ * never (SINTER_ERR_UNSUPPORTED on a quasi-static stepper, whose links are
+ * kept by index).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).

@@ -3,11 +3,11 @@
  * (or heat) straight into the particles' sums without a race and with results that do not
  * depend on the number of threads (issue 9). sinter_contacts_find_pp makes it (c->chunks).
  *
- * The particles are split into S index ranges, and the contacts, whose first particles
- * ascend (the pair order of the neighbour build), into the S runs of contacts whose first
- * particle lies in each range. A contact of range s whose second particle lies in particle
- * range s too is interior: only range s touches those particles, so a thread per range adds
- * it directly. Every other contact is a boundary contact: its value is kept (in a scratch
+ * The particles are split into S index ranges, and the contacts into the S runs of contacts
+ * whose smaller particle index lies in each range: in the neighbour build's pair order that
+ * index (the particle whose scan found the pair) ascends, whatever the pair's orientation by
+ * persistent id. A contact of range s whose two particles both lie in particle range s is
+ * interior: only range s touches those particles, so a thread per range adds it directly. Every other contact is a boundary contact: its value is kept (in a scratch
  * array at the range's own contact offset, so no count is needed beforehand) and added after
  * all ranges, in list order, by one thread.
  *
@@ -16,9 +16,9 @@
  * order, then its boundary contacts in list order) whatever the thread count: the same bits.
  * With the particles in a spatial order (cell order, as the benchmark lattices and the
  * packings are) the index ranges are slabs, and the boundary contacts are the few that cross
- * between two. A list whose first particles do not ascend (a set reordered so that pairs,
- * oriented by persistent id, start from the larger index) and a list of fewer than 2048
- * pairs are not partitioned (c->chunks.count 0): their sums run in list order on one thread.
+ * between two. A list of fewer than 2048 pairs, or one whose smaller indices do not ascend
+ * (not made by the neighbour build), is not partitioned (c->chunks.count 0): its sums run in
+ * list order on one thread.
  */
 #ifndef SINTER_CHUNKS_H
 #define SINTER_CHUNKS_H

@@ -68,8 +68,8 @@ static inline int touching(const sinter_pair_list *pairs, const double *x, const
     return d2 < rs * rs && d2 != 0.0;
 }
 
-/* What a fill pass learns for the partition (chunks.h): whether the first particles ascend,
- * and the first and last of them. */
+/* What a fill pass learns for the partition (chunks.h): whether the contacts' smaller
+ * particle indices ascend, and the first and last of them. */
 typedef struct fill_part {
     int ascending, any;
     uint32_t first, last;
@@ -107,13 +107,14 @@ static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
         c->dist[m] = d;
         c->area[m] = PI * a2; /* the contact radius sqrt(a2) is derived on demand */
         c->branch[m] = li;
-        ascending &= i >= prev;
-        prev = i;
+        const uint32_t key = i < j ? i : j; /* the particle whose scan found the pair */
+        ascending &= key >= prev;
+        prev = key;
         ++m;
     }
     part->ascending = ascending;
     part->any = m > m0;
-    part->first = m > m0 ? c->i[m0] : 0;
+    part->first = m > m0 ? (c->i[m0] < c->j[m0] ? c->i[m0] : c->j[m0]) : 0;
     part->last = prev;
     return m;
 }
@@ -131,13 +132,13 @@ static int chunk_count(size_t pairs)
     return count;
 }
 
-/* First contact whose first particle is at least p (the first particles ascend). */
+/* First contact whose smaller particle index is at least p (they ascend). */
 static size_t first_contact_of(const sinter_contact_list *c, size_t p)
 {
     size_t lo = 0, hi = c->count;
     while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        if (c->i[mid] < p)
+        if ((c->i[mid] < c->j[mid] ? c->i[mid] : c->j[mid]) < p)
             lo = mid + 1;
         else
             hi = mid;
@@ -146,7 +147,7 @@ static size_t first_contact_of(const sinter_contact_list *c, size_t p)
 }
 
 /* The partition from the fill passes' findings (parts in list order); count 0 when the list
- * is too small or its first particles do not ascend. */
+ * is too small or its smaller particle indices do not ascend. */
 static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
                         int count)
 {

@@ -538,7 +538,7 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
      * no other contact of the run touches i (j != i). */
     uint32_t cur = UINT32_MAX;
     double fi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0};
-    /* the particle range of chunk s (every first particle of the range lies in it) */
+    /* the particle range of chunk s (interior contacts have both particles in it) */
     const size_t range_lo = ch != NULL ? ch->plo[s] : 0;
     const size_t range_hi = ch != NULL ? ch->plo[s + 1] : SIZE_MAX;
     blk b;
@@ -662,8 +662,8 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
     const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
     if (!rolling && c->chunks.count > 0)
         return pp_chunked(e, k, single);
-    /* Without rolling resistance and a partition (a small or sparse list, or first particles
-     * that do not ascend): one thread, in list order. With rolling, the two-phase path pays
+    /* Without rolling resistance and a partition (a list of fewer than 2048 pairs): one
+     * thread, in list order. With rolling, the two-phase path pays
      * only with enough contacts per particle (measured: with 0.37 per particle it is slower
      * than one thread); both paths give the same bits. */
     const int threads = !rolling || c->count < 2048 || c->count < c->particle_count

@@ -517,8 +517,10 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         TRY(scene_get_double(t, s, en->key, &value));
         TRY(at_line(t, en->line, sinter_stepper_set_option(sc->st, en->key, value)));
     }
-    /* Options of the staggered stepper (seed 000 sec. 3, 6); the explicit one refuses them. */
-    static const char *const options[] = {"phi",
+    /* The spatial sort (any kind but quasi-static) and the options of the staggered stepper
+     * (seed 000 sec. 3, 6; the explicit one refuses those). */
+    static const char *const options[] = {"sort_interval",
+                                          "phi",
                                           "target_iterations",
                                           "tolerance",
                                           "exponent",

@@ -92,11 +92,34 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     return SINTER_OK;
 }
 
+/* Option "sort_interval" (every stepper kind but the quasi-static one, whose links are
+ * indexed by particle): sort the particles by position (sinter_particles_sort_spatial) after
+ * every so many accepted steps; 0 (the default) never. */
+static sinter_status set_sort_interval(sinter_stepper *st, double value)
+{
+    static const char *func = "sinter_stepper_set_option";
+    if (st->kind == SINTER_STEPPER_QUASISTATIC)
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                           "%s: sort_interval: a quasi-static stepper keeps its links by "
+                           "particle index and cannot have its particles reordered",
+                           func);
+    if (!(value >= 0.0 && value <= 1e15 && value == floor(value)))
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "%s: sort_interval = %g must be a whole number of steps >= 0 (0: "
+                           "never sort)",
+                           func, value);
+    st->sort_interval = (uint64_t)value;
+    st->steps_since_sort = st->sort_interval; /* due: sorted before the next step */
+    return SINTER_OK;
+}
+
 sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, double value)
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, key);
+    if (strcmp(key, "sort_interval") == 0)
+        return set_sort_interval(st, value);
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
@@ -108,6 +131,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, key);
     SINTER_CHECK_NULL(st->ctx, value);
+    if (strcmp(key, "sort_interval") == 0) {
+        *value = (double)st->sort_interval;
+        return SINTER_OK;
+    }
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
         return sinter_qs_option_get(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_get(st, key, value);
@@ -669,6 +696,15 @@ void sinter_stepper_shift_furnace(sinter_stepper *st, double delay)
 static sinter_status take_step(sinter_stepper *st, double h, double *taken, int *stop)
 {
     sinter_status s;
+    if (st->sort_interval > 0 && st->kind != SINTER_STEPPER_QUASISTATIC &&
+        st->steps_since_sort >= st->sort_interval) {
+        /* option sort_interval: forces and history move with the particles, and the step
+         * rebuilds the contact lists for the new order */
+        s = sinter_particles_sort_spatial(st->ps);
+        if (s != SINTER_OK)
+            return s;
+        st->steps_since_sort = 0;
+    }
     if (st->kind == SINTER_STEPPER_STAGGERED) {
         s = sinter_staggered_step(st, h, taken);
     } else if (st->kind == SINTER_STEPPER_QUASISTATIC) {
@@ -683,6 +719,7 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
     }
     sinter_stepper_apply_furnace(st);
     st->stats.steps++;
+    st->steps_since_sort++;
     if (st->observer != NULL && st->observer(st, st->time, st->observer_user) != 0)
         *stop = 1;
     return SINTER_OK;

@@ -52,6 +52,8 @@ struct sinter_stepper {
     sinter_stepper_stats stats;
     int forces_current;           /* forces of the current state are evaluated and committed */
     int forces_zeroed;            /* the integrator zeroed force and torque after its last read */
+    uint64_t sort_interval;       /* option "sort_interval": steps between spatial sorts, 0 off */
+    uint64_t steps_since_sort;
     uint64_t write_generation;    /* particle write_generation when forces were evaluated */
     uint64_t population_generation; /* particle population_generation then */
     double *wall_force;           /* 3 per wall, from the last evaluation */

@@ -50,7 +50,10 @@ static double now(void)
 static void usage(void)
 {
     fprintf(stderr, "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
-                    "--heat 0|1 [--stats] [--threads N]\n");
+                    "--heat 0|1 [--stats] [--threads N] [--shuffle SEED] [--sort-interval K]\n"
+                    "  --shuffle: the particles in a random order in memory (as an unsorted host\n"
+                    "    would give them; the PROBE line then follows other particles)\n"
+                    "  --sort-interval: stepper option sort_interval (spatial sort every K steps)\n");
     exit(1);
 }
 
@@ -91,6 +94,7 @@ int main(int argc, char **argv)
     unsigned long long steps = 0;
     double dt = 0.0;
     int heat = 0, stats = 0, threads = 1;
+    unsigned long long shuffle = 0, sort_interval = 0;
     for (int a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (strcmp(argv[a], "--stats") == 0) {
@@ -106,6 +110,8 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--dt") == 0) dt = strtod(v, NULL);
         else if (strcmp(argv[a], "--heat") == 0) heat = atoi(v);
         else if (strcmp(argv[a], "--threads") == 0) threads = atoi(v);
+        else if (strcmp(argv[a], "--shuffle") == 0) shuffle = strtoull(v, NULL, 10);
+        else if (strcmp(argv[a], "--sort-interval") == 0) sort_interval = strtoull(v, NULL, 10);
         else usage();
         ++a;
     }
@@ -114,6 +120,17 @@ int main(int argc, char **argv)
 
     double *pos, *rad, box[6];
     const size_t n = read_xyz(xyz, &pos, &rad);
+    if (shuffle != 0) { /* Fisher-Yates with a 64-bit LCG */
+        unsigned long long z = shuffle;
+        for (size_t k = n; k > 1; --k) {
+            z = z * 6364136223846793005ULL + 1442695040888963407ULL;
+            const size_t j = (size_t)((z >> 11) % k);
+            double t[4] = {pos[3 * (k - 1)], pos[3 * (k - 1) + 1], pos[3 * (k - 1) + 2], rad[k - 1]};
+            for (int d = 0; d < 3; ++d)
+                pos[3 * (k - 1) + d] = pos[3 * j + d], pos[3 * j + d] = t[d];
+            rad[k - 1] = rad[j], rad[j] = t[3];
+        }
+    }
     FILE *bf = fopen(boxf, "r");
     if (bf == NULL || fscanf(bf, "%lf %lf %lf %lf %lf %lf", &box[0], &box[1], &box[2], &box[3],
                              &box[4], &box[5]) != 6) {
@@ -183,6 +200,8 @@ int main(int argc, char **argv)
     CHECK(sinter_stepper_add_force(st, grav));
     CHECK(sinter_stepper_set_dt(st, dt));      /* timestep ${dt} */
     CHECK(sinter_stepper_set_skin(st, 1e-4)); /* neighbor 1.0e-4 bin, check every step */
+    if (sort_interval > 0)
+        CHECK(sinter_stepper_set_option(st, "sort_interval", (double)sort_interval));
     sinter_heat_model *cond = NULL;
     if (heat) {
         /* fix heat/gran/conduction ... contact_area projection */

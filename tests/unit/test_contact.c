@@ -92,6 +92,8 @@ static void run_cloud(double skin, int reorder_at, double *out_x, size_t n)
     scene_floor(&s, -0.001);
     OK(sinter_stepper_set_skin(s.st, skin));
     OK(sinter_stepper_set_dt(s.st, 2e-5));
+    if (reorder_at == -2) /* sorted by position in memory every 37 steps */
+        OK(sinter_stepper_set_option(s.st, "sort_interval", 37));
     for (int k = 0; k < 3; ++k) {
         OK(sinter_stepper_step(s.st, 200));
         if (k == reorder_at) {
@@ -121,15 +123,17 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
 {
     (void)state;
     enum { N = 60 };
-    double every_step[3 * N], rarely[3 * N], reordered[3 * N];
+    double every_step[3 * N], rarely[3 * N], reordered[3 * N], sorted[3 * N];
     run_cloud(0.0, -1, every_step, N);   /* skin 0: rebuilt at every step */
     run_cloud(2e-3, -1, rarely, N);      /* large skin: rebuilt rarely */
     run_cloud(2e-3, 0, reordered, N);    /* reordered in memory after 200 steps */
+    run_cloud(2e-3, -2, sorted, N);      /* stepper option sort_interval 37 */
     /* The same pairs interact in a possibly different order, so sums differ by
      * round-off only; 600 steps of a dissipative pile do not amplify 1e-16 to 1e-12 m. */
     for (size_t k = 0; k < 3 * N; ++k) {
         assert_close(rarely[k], every_step[k], 1e-12);
         assert_close(reordered[k], every_step[k], 1e-12);
+        assert_close(sorted[k], every_step[k], 1e-12);
     }
 }
 
@@ -165,8 +169,8 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
                 scene_add(&s, (i + 0.5) * a + 1e-6 * lcg(&seed), (j + 0.5) * a + 1e-6 * lcg(&seed),
                           (k + 0.5) * a, r);
     if (reverse) {
-        /* ids now descend with the index, so the contacts' first particles (pairs are
-         * oriented by id) do not ascend: the sums take the unpartitioned path */
+        /* ids now descend with the index, so pairs, oriented by id, start from the larger
+         * index: the partition must follow the smaller one */
         size_t *order = malloc(n * sizeof(size_t));
         for (size_t i = 0; i < n; ++i)
             order[i] = n - 1 - i;
@@ -198,7 +202,7 @@ static void test_results_independent_of_thread_count(void **state)
     (void)state;
     enum { N = 15 * 15 * 15 };
     /* heat 1: the blocked contact law and conduction, summed by the partitioned list
-     * (contact/chunks.h); case 2: the same with the particles in reverse (unpartitioned) */
+     * (contact/chunks.h); case 2: the same with the particles in reverse order */
     for (int c = 0; c <= 2; ++c) {
         const int heat = c > 0, reverse = c == 2;
         double *one = calloc(7 * N, sizeof(double)), *two = calloc(7 * N, sizeof(double)),

@@ -433,6 +433,7 @@ static uint64_t fingerprint(fixture *f)
     mix_stepper(&z, f->qs);
     for (size_t k = 0; k < sizeof(STAGGERED_KEYS) / sizeof(STAGGERED_KEYS[0]); ++k)
         mix_param(&z, get_option, f->stag, STAGGERED_KEYS[k]);
+    mix_param(&z, get_option, f->st, "sort_interval");
     for (size_t k = 0; k < sizeof(QS_KEYS) / sizeof(QS_KEYS[0]); ++k)
         mix_param(&z, get_option, f->qs, QS_KEYS[k]);
     for (int p = 0; p < SINTER_MAT_PARAM_COUNT_; ++p) {
@@ -964,6 +965,15 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_get_stats(f->st, (sinter_stepper_stats[]){stats_of_size(3)}))                 \
     X(stepper_evaluate_null, SINTER_ERR_NULL, NULL, sinter_stepper_evaluate(NULL))                 \
     /* stepper options: staggered keys */                                                          \
+    X(sort_spatial_null, SINTER_ERR_NULL, NULL, sinter_particles_sort_spatial(NULL))               \
+    X(sort_interval_negative, SINTER_ERR_INVALID, "sort_interval = -1 must be a whole number",    \
+      sinter_stepper_set_option(f->st, "sort_interval", -1.0))                                     \
+    X(sort_interval_fraction, SINTER_ERR_INVALID, "sort_interval = 2.5",                           \
+      sinter_stepper_set_option(f->st, "sort_interval", 2.5))                                      \
+    X(sort_interval_nan, SINTER_ERR_INVALID, "sort_interval = nan",                                \
+      sinter_stepper_set_option(f->st, "sort_interval", NAN))                                      \
+    X(sort_interval_quasistatic, SINTER_ERR_UNSUPPORTED, "keeps its links by particle index",      \
+      sinter_stepper_set_option(f->qs, "sort_interval", 10.0))                                     \
     X(option_set_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_option(NULL, "phi", 0.5))         \
     X(option_set_null_key, SINTER_ERR_NULL, "'key'", sinter_stepper_set_option(f->stag, NULL, 1))  \
     X(option_set_unknown, SINTER_ERR_NOT_FOUND, "unknown option 'phy'; the staggered stepper's",   \

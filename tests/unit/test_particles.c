@@ -189,6 +189,58 @@ static void test_remove_keeps_order_and_ids(void **state)
     assert_int_equal(count, 3);
 }
 
+/* A 4 x 4 x 4 lattice added in a scrambled order comes out in cell order (z slowest, x
+ * fastest), each id still at its own position; bad input moves nothing. */
+static void test_sort_spatial(void **state)
+{
+    fixture *f = *state;
+    enum { N = 64 };
+    const double r = 1e-3, a = 2.5e-3;
+    double pos[3 * N], rad[N];
+    for (size_t k = 0; k < N; ++k) {
+        const size_t c = (k * 37) % N; /* 37 is prime to 64: a permutation of the cells */
+        pos[3 * k] = a * (double)(c % 4);
+        pos[3 * k + 1] = a * (double)((c / 4) % 4);
+        pos[3 * k + 2] = a * (double)(c / 16);
+        rad[k] = r;
+    }
+    assert_int_equal(sinter_particles_add(f->ps, N, pos, rad, 0, 300.0, NULL), SINTER_OK);
+    assert_int_equal(sinter_particles_sort_spatial(f->ps), SINTER_OK);
+    const uint64_t *id = NULL;
+    const double *x = NULL;
+    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)&id, NULL,
+                                                NULL),
+                     SINTER_OK);
+    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)&x,
+                                                NULL, NULL),
+                     SINTER_OK);
+    for (size_t i = 0; i < N; ++i) {
+        /* index i holds lattice cell i (cells of one diameter, 2 mm, one sphere per cell) */
+        assert_close(x[3 * i], a * (double)(i % 4), 1e-15);
+        assert_close(x[3 * i + 1], a * (double)((i / 4) % 4), 1e-15);
+        assert_close(x[3 * i + 2], a * (double)(i / 16), 1e-15);
+        /* and the particle with that id is the one added there */
+        for (int d = 0; d < 3; ++d)
+            assert_true(x[3 * i + d] == pos[3 * id[i] + d]);
+    }
+    /* a view out: refused (BUSY), nothing moves */
+    assert_int_equal(sinter_particles_sort_spatial(f->ps), SINTER_ERR_BUSY);
+    sinter_particles_release(f->ps, SINTER_FIELD_ID);
+    sinter_particles_release(f->ps, SINTER_FIELD_POSITION);
+    /* a position that is not finite: refused, naming the particle, nothing moves */
+    double *wx = NULL;
+    assert_int_equal(sinter_particles_view(f->ps, SINTER_FIELD_POSITION, (void **)&wx, NULL, NULL),
+                     SINTER_OK);
+    wx[3 * 5 + 1] = NAN;
+    sinter_particles_release(f->ps, SINTER_FIELD_POSITION);
+    assert_int_equal(sinter_particles_sort_spatial(f->ps), SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(f->ctx), "particle 5"));
+    size_t index = 0;
+    assert_int_equal(sinter_particles_find_id(f->ps, 0, &index), SINTER_OK);
+    assert_int_equal(index, 0); /* cell 0 held id 0 (k = 0) */
+    assert_int_equal(sinter_particles_sort_spatial(NULL), SINTER_ERR_NULL);
+}
+
 static void test_validate_names_particle_and_field(void **state)
 {
     fixture *f = *state;
@@ -302,6 +354,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_add_rejects_bad_values_unchanged, setup, teardown),
         cmocka_unit_test_setup_teardown(test_views_lock_resizing, setup, teardown),
         cmocka_unit_test_setup_teardown(test_remove_keeps_order_and_ids, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sort_spatial, setup, teardown),
         cmocka_unit_test_setup_teardown(test_validate_names_particle_and_field, setup, teardown),
         cmocka_unit_test(test_null_handles),
         cmocka_unit_test(test_allocation_failure_injection),

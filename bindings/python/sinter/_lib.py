@@ -235,6 +235,7 @@ SIGNATURES = {
     "sinter_particles_views_out": (c_status, [ParticlesPtr, _P(_size)]),
     "sinter_particles_validate": (c_status, [ParticlesPtr, _P(_size)]),
     "sinter_particles_find_id": (c_status, [ParticlesPtr, _u64, _P(_size)]),
+    "sinter_particles_sort_spatial": (c_status, [ParticlesPtr]),
     # walls
     "sinter_walls_create": (c_status, [_P(WallsPtr), CtxPtr]),
     "sinter_walls_destroy": (None, [WallsPtr]),

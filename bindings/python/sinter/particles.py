@@ -325,6 +325,11 @@ class Particles(_Handle):
                     "sinter_particles_find_id")
         return index.value
 
+    def sort_spatial(self):
+        """Reorder the particles in memory by position (cells of the largest diameter, x
+        fastest); ids move with them, indices change (sinter_particles_sort_spatial)."""
+        self._check(lib.sinter_particles_sort_spatial(self._ptr), "sinter_particles_sort_spatial")
+
     def view(self, field, writable=None):
         """Zero-copy access to a field: ``with ps.view("position") as x: x[0, 2] = 1e-3``.
 
