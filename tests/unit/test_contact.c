@@ -153,6 +153,12 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
     scene_open(&s, "hertz_mindlin", 1);
     scene_floor(&s, 0.0);
+    /* and four side walls touching the lattice: 1125 wall contacts, the ranged wall path */
+    const double side = 15 * 2 * 0.5e-3 * 0.999;
+    const double wp[4][3] = {{0, 0, 0}, {side, 0, 0}, {0, 0, 0}, {0, side, 0}};
+    const double wn[4][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    for (int k = 0; k < 4; ++k)
+        OK(sinter_walls_add_plane(s.walls, wp[k], wn[k], s.wall_mat, NULL));
     sinter_heat_model *cond = NULL;
     if (heat) {
         /* and the law without rolling resistance (the blocked path) */
