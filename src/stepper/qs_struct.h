@@ -37,14 +37,15 @@ struct sinter_qs {
     size_t batch_states_capacity, batch_materials_capacity;
     uint64_t layout_generation; /* of the stepper's particles (adapter) */
     int layout_known;
-    size_t particles;  /* count the conditions were detected for (0: not yet) */
-    double extent0[3]; /* initial extent of the centres */
+    size_t particles;          /* count the conditions were detected for (0: not yet) */
+    double extent0[3];         /* initial extent of the centres */
     sinter_qs_origin *origins; /* every particle of the first set-up, sorted by id */
     size_t origin_count, origin_capacity;
     double density0; /* sphere volume / bounding box of the spheres at the first set-up */
     double dt_next;
-    double u_step;  /* step of the displacements in u (0: none to start the next solve from) */
+    double u_step; /* step of the displacements in u (0: none to start the next solve from) */
     uint64_t steps, rejected, pcg_iterations, substepped;
+    sinter_neck_counters batch_counters[2]; /* strategy 3: CVODE work, young [0] and grown [1] */
 };
 
 #endif /* SINTER_STEPPER_QS_STRUCT_H */

@@ -29,6 +29,7 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->epsilon = 0.01;
     opt->h0_ratio = 1.5;
     opt->max_strain = 1e-4;
+    opt->strain_fraction = 0.0;
 }
 
 /* The option table: key, offset of the double (or -1 for strategy), lower and upper bound, and
@@ -58,6 +59,7 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_epsilon", epsilon, 0.0, 0.5, 1),
     QS_KEY("qs_h0_ratio", h0_ratio, 1.0, 2.0, 1),
     QS_KEY("qs_max_strain", max_strain, 0.0, 1.0, 1),
+    QS_KEY("qs_strain_fraction", strain_fraction, 0.0, 1.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
@@ -433,7 +435,8 @@ static sinter_status advance_global(sinter_qs *qs, const sinter_neck_schedule *s
 
 /* One CVODE batch over pairs order[0..count) (indices into links), states written back. */
 static sinter_status advance_group(sinter_qs *qs, sinter_neck_batch *batch, const size_t *order,
-                                   size_t count, const sinter_neck_schedule *s, double t, double h)
+                                   size_t count, const sinter_neck_schedule *s, double t, double h,
+                                   sinter_neck_counters *counters)
 {
     if (count == 0)
         return SINTER_OK;
@@ -446,7 +449,7 @@ static sinter_status advance_group(sinter_qs *qs, sinter_neck_batch *batch, cons
     sinter_neck_tolerances_default(&tol);
     tol.rtol = qs->opt.rtol;
     sinter_status st = sinter_neck_batch_advance(batch, count, qs->batch_states,
-                                                 qs->batch_materials, s, t + h, &tol, NULL);
+                                                 qs->batch_materials, s, t + h, &tol, counters);
     const size_t bad = sinter_neck_batch_failed_pair(batch);
     if (st != SINTER_OK && bad < count) {
         char detail[SINTER_ERROR_TEXT_SIZE];
@@ -504,9 +507,11 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
         else
             qs->batch_order[--mature] = k;
     }
-    st = advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h);
+    st =
+        advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h, &qs->batch_counters[0]);
     if (st == SINTER_OK)
-        st = advance_group(qs, qs->batch, qs->batch_order + young, m - young, s, t, h);
+        st = advance_group(qs, qs->batch, qs->batch_order + young, m - young, s, t, h,
+                           &qs->batch_counters[1]);
     if (st != SINTER_OK) /* the young group may have moved: every neck back to t */
         for (size_t k = 0; k < m; ++k)
             memcpy(qs->links[k].neck.y, qs->saved[k], sizeof(qs->saved[k]));
@@ -573,14 +578,15 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     if (qs->opt.strategy == 3) {
         if ((st = advance_batch(qs, schedule, t, h)) != SINTER_OK)
             return st;
-        double strain = 0.0; /* largest approach of the step / L0 */
+        size_t above = 0; /* links whose approach of the step / L0 reached max_strain */
         for (size_t k = 0; k < m; ++k) {
             const double *y = qs->links[k].neck.y;
             const double dl = qs->saved[k][SINTER_NECK_LA] - y[SINTER_NECK_LA] +
                               qs->saved[k][SINTER_NECK_LB] - y[SINTER_NECK_LB];
-            strain = fmax(strain, fabs(dl) / qs->links[k].neck.center_distance0);
+            above += fabs(dl) >= qs->opt.max_strain * qs->links[k].neck.center_distance0;
         }
-        next = strain < qs->opt.max_strain ? h * alpha : h / alpha;
+        /* strain_fraction 0: grow only while no link reached max_strain */
+        next = (double)above <= qs->opt.strain_fraction * (double)m ? h * alpha : h / alpha;
     } else if (qs->opt.strategy == 1) {
         int grow = 0;
         if ((st = advance_global(qs, schedule, t, &h, &grow)) != SINTER_OK)
