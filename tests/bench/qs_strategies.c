@@ -4,7 +4,9 @@
  *
  *   qs_strategies --make-packing FILE [--count N] [--box LX LY LZ] [--fraction F] [--friction MU]
  *   qs_strategies --packing FILE [--end T] [--rtols "1e-3 1e-4 ..."] [--strategies "1 2 3"]
- *                 [--reference STRATEGY RTOL] [--svg PATH]
+ *                 [--max-strains "1e-3 1e-4 ..."] [--set KEY VALUE]...
+ *                 [--reference STRATEGY RTOL] [--reference-set KEY VALUE]...
+ *                 [--save-reference PATH | --load-reference PATH] [--svg PATH]
  *
  * --make-packing: seed 001 sec. 4.1's copper green body: N (805) spheres of mean diameter
  * 50 um with a dispersion of 0.1 (normal, std 0.1 of the mean), placed by random sequential
@@ -19,6 +21,18 @@
  * a reference run (default strategy 2 at rtol 1e-9): the largest relative difference of the
  * neck radius over the grown necks (at least half the mean) both runs have, and the relative
  * difference of the shrinkage along x, y and z (links only one run has are counted).
+ * --max-strains: strategy 3 is run at every rtol for each of these qs_max_strain values (its
+ * global-step criterion); strategies 1 and 2 ignore it. --set KEY VALUE sets any other
+ * quasi-static option (sinter_qs_option_set keys, e.g. qs_dt_max) on every compared run,
+ * --reference-set on the reference only (e.g. qs_max_strain 2.5e-5 for small global steps);
+ * both may be repeated. --save-reference writes the reference's shrinkage and neck radii to
+ * PATH, --load-reference reads them instead of running it again (the reference of a whole
+ * run costs tens of minutes): "# strategy S rtol R max_strain M end T links N steps N pcg N
+ * seconds S", "shrink x y z",
+ * then one "key neck" line per link.
+ * Each row also gives the global steps (and their CPU seconds) by the decade of simulated time
+ * they end in, the PCG iterations, and for strategy 3 the CVODE steps (neck Jacobians) of its
+ * young and grown batches.
  * CPU time is CLOCK_PROCESS_CPUTIME_ID.
  * Prints a table (and an SVG of log10 error against log10 CPU seconds with --svg).
  */
@@ -30,6 +44,7 @@
 #include <time.h>
 
 #include "sinter.h"
+#include "stepper/qs_struct.h" /* the CVODE work counters of strategy 3 */
 #include "stepper/quasistatic.h"
 #include "stepper/stepper.h"
 
@@ -160,6 +175,7 @@ static packing read_packing(const char *path)
 typedef struct run {
     int strategy;
     double rtol;
+    double max_strain; /* qs_max_strain of the run */
     double seconds;
     size_t links;
     uint64_t *keys;   /* id_a * n + id_b per link, sorted with the neck radii */
@@ -170,7 +186,34 @@ typedef struct run {
     uint64_t worst_key;           /* the link of neck_err */
     size_t unmatched;             /* links only one of the two runs has */
     uint64_t steps;
+    uint64_t pcg;                                /* PCG iterations of the K u = f solves */
+    uint64_t cvode_steps[2], cvode_jacobians[2]; /* strategy 3: young and grown batches */
+    double cpu_by_decade[5], cpu_last;           /* CPU seconds of those steps */
+    uint64_t by_decade[5]; /* global steps ending in [0, 1), [1, 10), [10, 100), [100, 1000) s
+                            * and from 1000 s on */
 } run;
+
+/* Observer: the global steps and their CPU time counted by the decade of simulated time they
+ * end in. */
+static int count_step(const sinter_stepper *st, double time, void *user)
+{
+    (void)st;
+    run *r = user;
+    const int d = time < 1.0 ? 0 : time < 10.0 ? 1 : time < 100.0 ? 2 : time < 1000.0 ? 3 : 4;
+    const double now = cpu_seconds();
+    r->by_decade[d]++;
+    r->cpu_by_decade[d] += now - r->cpu_last;
+    r->cpu_last = now;
+    return 0;
+}
+
+/* Extra quasi-static options (--set, --reference-set). */
+#define MAX_SETS 8
+typedef struct option_set {
+    int count;
+    const char *key[MAX_SETS];
+    double value[MAX_SETS];
+} option_set;
 
 typedef struct keyed {
     uint64_t key;
@@ -183,7 +226,8 @@ static int keyed_order(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-static run sinter_run(const packing *pk, int strategy, double rtol, double end)
+static run sinter_run(const packing *pk, int strategy, double rtol, double max_strain,
+                      const option_set *extra, double end)
 {
     run out;
     memset(&out, 0, sizeof(out));
@@ -198,7 +242,14 @@ static run sinter_run(const packing *pk, int strategy, double rtol, double end)
     CHECK(sinter_stepper_create(&st, g_ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
     CHECK(sinter_stepper_set_option(st, "qs_strategy", strategy));
     CHECK(sinter_stepper_set_option(st, "qs_rtol", rtol));
+    for (int k = 0; k < extra->count; ++k)
+        CHECK(sinter_stepper_set_option(st, extra->key[k], extra->value[k]));
+    if (max_strain > 0.0)
+        CHECK(sinter_stepper_set_option(st, "qs_max_strain", max_strain));
+    CHECK(sinter_stepper_get_option(st, "qs_max_strain", &out.max_strain));
+    CHECK(sinter_stepper_set_observer(st, count_step, &out));
     const double t0 = cpu_seconds();
+    out.cpu_last = t0;
     CHECK(sinter_stepper_advance(st, end));
     out.seconds = cpu_seconds() - t0;
     sinter_sintering_stats stats;
@@ -206,11 +257,16 @@ static run sinter_run(const packing *pk, int strategy, double rtol, double end)
     stats.struct_size = sizeof(stats);
     CHECK(sinter_stepper_sintering_stats(st, &stats));
     memcpy(out.shrink, stats.shrinkage, sizeof(out.shrink));
+    out.pcg = stats.pcg_iterations;
     sinter_stepper_stats ss;
     memset(&ss, 0, sizeof(ss));
     ss.struct_size = sizeof(ss);
     CHECK(sinter_stepper_get_stats(st, &ss));
     out.steps = ss.steps;
+    for (int g = 0; g < 2; ++g) {
+        out.cvode_steps[g] = st->quasistatic->batch_counters[g].steps;
+        out.cvode_jacobians[g] = st->quasistatic->batch_counters[g].jacobian_evaluations;
+    }
     size_t nl = 0;
     const sinter_qs_link *links = sinter_qs_links(st->quasistatic, &nl);
     keyed *k = calloc(nl + 1, sizeof(keyed));
@@ -316,7 +372,8 @@ static void write_svg(const char *path, const run *runs, size_t count)
             "<text x=\"%g\" y=\"18\" text-anchor=\"middle\">Quasi-static strategies, 805 copper "
             "spheres at 1293 K: error against CPU time</text>\n",
             W / 2);
-    fprintf(f, "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"#000\"/>\n",
+    fprintf(f,
+            "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"#000\"/>\n",
             L, T, W - L - R, H - T - B);
     for (double v = xmin; v <= xmax + 1e-9; v += 1)
         fprintf(f, "<text x=\"%g\" y=\"%g\" text-anchor=\"middle\">1e%g</text>\n",
@@ -349,13 +406,99 @@ static void write_svg(const char *path, const run *runs, size_t count)
     fclose(f);
 }
 
+/* The reference's shrinkage and neck radii to / from a file (--save-reference, --load-reference).
+ */
+static void save_reference(const char *path, const run *ref, double end)
+{
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        perror(path);
+        exit(1);
+    }
+    fprintf(f,
+            "# strategy %d rtol %.3g max_strain %.3g end %.17g links %zu steps %llu pcg %llu "
+            "seconds %.3f\n",
+            ref->strategy, ref->rtol, ref->max_strain, end, ref->links,
+            (unsigned long long)ref->steps, (unsigned long long)ref->pcg, ref->seconds);
+    fprintf(f, "shrink %.17g %.17g %.17g\n", ref->shrink[0], ref->shrink[1], ref->shrink[2]);
+    for (size_t k = 0; k < ref->links; ++k)
+        fprintf(f, "%llu %.17g\n", (unsigned long long)ref->keys[k], ref->necks[k]);
+    fclose(f);
+}
+
+static run load_reference(const char *path, double end)
+{
+    run ref;
+    memset(&ref, 0, sizeof(ref));
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        perror(path);
+        exit(1);
+    }
+    double ref_end = 0.0;
+    unsigned long long steps = 0, pcg = 0;
+    if (fscanf(f,
+               "# strategy %d rtol %lf max_strain %lf end %lf links %zu steps %llu pcg %llu "
+               "seconds %lf\n",
+               &ref.strategy, &ref.rtol, &ref.max_strain, &ref_end, &ref.links, &steps, &pcg,
+               &ref.seconds) != 8 ||
+        fscanf(f, "shrink %lf %lf %lf\n", ref.shrink, ref.shrink + 1, ref.shrink + 2) != 3) {
+        fprintf(stderr, "qs_strategies: %s is not a reference file\n", path);
+        exit(1);
+    }
+    if (fabs(ref_end - end) > 1e-9 * end) {
+        fprintf(stderr, "qs_strategies: %s ends at %g s, not at --end %g s\n", path, ref_end, end);
+        exit(1);
+    }
+    ref.steps = steps;
+    ref.pcg = pcg;
+    ref.keys = calloc(ref.links + 1, sizeof(uint64_t));
+    ref.necks = calloc(ref.links + 1, sizeof(double));
+    for (size_t k = 0; k < ref.links; ++k) {
+        unsigned long long key = 0;
+        if (fscanf(f, "%llu %lf", &key, ref.necks + k) != 2) {
+            fprintf(stderr, "qs_strategies: %s: short at link %zu\n", path, k);
+            exit(1);
+        }
+        ref.keys[k] = key;
+    }
+    fclose(f);
+    return ref;
+}
+
+/* Parse a space-separated list of numbers into out[0..max); returns the count. */
+static size_t parse_list(const char *list, double *out, size_t max)
+{
+    size_t n = 0;
+    for (const char *p = list; *p && n < max;) {
+        char *e = NULL;
+        const double v = strtod(p, &e);
+        if (e == p)
+            break;
+        out[n++] = v;
+        p = e;
+    }
+    return n;
+}
+
+static void add_set(option_set *set, const char *key, const char *value)
+{
+    if (set->count == MAX_SETS) {
+        fprintf(stderr, "qs_strategies: at most %d options per --set list\n", MAX_SETS);
+        exit(2);
+    }
+    set->key[set->count] = key;
+    set->value[set->count++] = strtod(value, NULL);
+}
+
 int main(int argc, char **argv)
 {
-    const char *make = NULL, *pack = NULL, *svg = NULL;
-    const char *rtols = "1e-3 1e-4 1e-5 1e-6 1e-7", *strategies = "1 2 3";
+    const char *make = NULL, *pack = NULL, *svg = NULL, *save_ref = NULL, *load_ref = NULL;
+    const char *rtols = "1e-3 1e-4 1e-5 1e-6 1e-7", *strategies = "1 2 3", *strains = "0";
     size_t count = 805;
     double fraction = 0.0, friction = 0.1, ref_rtol = 1e-9;
     int ref_strategy = 2;
+    option_set sets = {0, {NULL}, {0}}, ref_sets = {0, {NULL}, {0}};
     double box[3] = {0.5e-3, 0.5e-3, 0.4e-3}, end = 5000.0;
     for (int k = 1; k < argc; ++k) {
         if (strcmp(argv[k], "--make-packing") == 0 && k + 1 < argc)
@@ -377,6 +520,18 @@ int main(int argc, char **argv)
             rtols = argv[++k];
         else if (strcmp(argv[k], "--strategies") == 0 && k + 1 < argc)
             strategies = argv[++k];
+        else if (strcmp(argv[k], "--max-strains") == 0 && k + 1 < argc)
+            strains = argv[++k];
+        else if (strcmp(argv[k], "--set") == 0 && k + 2 < argc) {
+            add_set(&sets, argv[k + 1], argv[k + 2]);
+            k += 2;
+        } else if (strcmp(argv[k], "--reference-set") == 0 && k + 2 < argc) {
+            add_set(&ref_sets, argv[k + 1], argv[k + 2]);
+            k += 2;
+        } else if (strcmp(argv[k], "--save-reference") == 0 && k + 1 < argc)
+            save_ref = argv[++k];
+        else if (strcmp(argv[k], "--load-reference") == 0 && k + 1 < argc)
+            load_ref = argv[++k];
         else if (strcmp(argv[k], "--reference") == 0 && k + 2 < argc) {
             ref_strategy = atoi(argv[++k]);
             ref_rtol = strtod(argv[++k], NULL);
@@ -386,7 +541,10 @@ int main(int argc, char **argv)
             fprintf(stderr, "usage: qs_strategies --make-packing FILE [--count N] [--box LX LY LZ] "
                             "[--fraction F] [--friction MU]\n"
                             "       qs_strategies --packing FILE [--end T] [--rtols LIST] "
-                            "[--strategies LIST] [--reference S RTOL] [--svg PATH]\n");
+                            "[--strategies LIST] [--max-strains LIST] [--set KEY VALUE]...\n"
+                            "                     [--reference S RTOL] [--reference-set KEY "
+                            "VALUE]... [--save-reference PATH | --load-reference PATH] "
+                            "[--svg PATH]\n");
             return 2;
         }
     }
@@ -401,38 +559,74 @@ int main(int argc, char **argv)
         return 2;
     }
     const packing pk = read_packing(pack);
-    fprintf(stderr, "reference: strategy %d at rtol %g ...\n", ref_strategy, ref_rtol);
-    run ref = sinter_run(&pk, ref_strategy, ref_rtol, end);
-    printf("reference (strategy %d, rtol %g, to %g s): %zu links, shrinkage x %.6e y %.6e z "
-           "%.6e, %.2f s CPU\n\n",
-           ref_strategy, ref_rtol, end, ref.links, ref.shrink[0], ref.shrink[1], ref.shrink[2],
-           ref.seconds);
+    run ref;
+    if (load_ref != NULL) {
+        ref = load_reference(load_ref, end);
+    } else {
+        fprintf(stderr, "reference: strategy %d at rtol %g ...\n", ref_strategy, ref_rtol);
+        ref = sinter_run(&pk, ref_strategy, ref_rtol, 0.0, &ref_sets, end);
+        if (save_ref != NULL)
+            save_reference(save_ref, &ref, end);
+    }
+    printf("reference (strategy %d, rtol %g, max strain %g, to %g s%s): %zu links, %llu global "
+           "steps, %llu PCG iterations, shrinkage x %.6e y %.6e z %.6e, %.2f s CPU\n\n",
+           ref.strategy, ref.rtol, ref.max_strain, end, load_ref ? ", loaded" : "", ref.links,
+           (unsigned long long)ref.steps, (unsigned long long)ref.pcg, ref.shrink[0], ref.shrink[1],
+           ref.shrink[2], ref.seconds);
+    double strain_list[16];
+    size_t nstrain = parse_list(strains, strain_list, 16);
+    if (nstrain == 0)
+        strain_list[nstrain++] = 0.0;
     run runs[64];
     size_t nr = 0;
-    printf("| strategy | rtol | CPU [s] | global steps | links (not in the reference) | neck error "
-           "median / 99 %% / max (link) | shrinkage error |\n|---|---|---|---|---|---|---|\n");
+    printf("| strategy | rtol | max strain | CPU [s] | global steps | steps (CPU s) ending <1 / "
+           "<10 / <100 / "
+           "<1000 / >=1000 s | PCG iterations | CVODE steps (Jacobians) young / grown | links (not "
+           "in the "
+           "reference) | neck error median / 99 %% / "
+           "max (link) | shrinkage error |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const char *sp = strategies; *sp && nr < 64;) {
         char *se = NULL;
         const int s = (int)strtol(sp, &se, 10);
         if (se == sp)
             break;
         sp = se;
-        for (const char *rp = rtols; *rp && nr < 64;) {
-            char *re = NULL;
-            const double rt = strtod(rp, &re);
-            if (re == rp)
-                break;
-            rp = re;
-            runs[nr] = sinter_run(&pk, s, rt, end);
-            compare(&runs[nr], &ref);
-            printf("| %d | %.0e | %.3f | %llu | %zu (%zu) | %.1e / %.1e / %.1e (%llu-%llu) | "
-                   "%.2e |\n",
-                   s, rt, runs[nr].seconds, (unsigned long long)runs[nr].steps, runs[nr].links,
-                   runs[nr].unmatched, runs[nr].neck_median, runs[nr].neck_p99,
-                   runs[nr].neck_err, (unsigned long long)(runs[nr].worst_key / pk.n),
-                   (unsigned long long)(runs[nr].worst_key % pk.n), runs[nr].shrink_err);
-            fflush(stdout);
-            nr++;
+        for (size_t ms = 0; ms < (s == 3 ? nstrain : 1) && nr < 64; ++ms) {
+            for (const char *rp = rtols; *rp && nr < 64;) {
+                char *re = NULL;
+                const double rt = strtod(rp, &re);
+                if (re == rp)
+                    break;
+                rp = re;
+                runs[nr] = sinter_run(&pk, s, rt, s == 3 ? strain_list[ms] : 0.0, &sets, end);
+                compare(&runs[nr], &ref);
+                char strain_text[32] = "-";
+                char cvode_text[96] = "-";
+                if (s == 3) {
+                    snprintf(strain_text, sizeof(strain_text), "%.1e", runs[nr].max_strain);
+                    snprintf(cvode_text, sizeof(cvode_text), "%llu (%llu) / %llu (%llu)",
+                             (unsigned long long)runs[nr].cvode_steps[0],
+                             (unsigned long long)runs[nr].cvode_jacobians[0],
+                             (unsigned long long)runs[nr].cvode_steps[1],
+                             (unsigned long long)runs[nr].cvode_jacobians[1]);
+                }
+                char decade_text[160] = "";
+                for (int d = 0; d < 5; ++d) {
+                    const size_t len = strlen(decade_text);
+                    snprintf(decade_text + len, sizeof(decade_text) - len, "%s%llu (%.1f)",
+                             d > 0 ? " / " : "", (unsigned long long)runs[nr].by_decade[d],
+                             runs[nr].cpu_by_decade[d]);
+                }
+                printf("| %d | %.0e | %s | %.3f | %llu | %s | %llu | %s | %zu (%zu) | %.1e / %.1e "
+                       "/ %.1e (%llu-%llu) | %.2e |\n",
+                       s, rt, strain_text, runs[nr].seconds, (unsigned long long)runs[nr].steps,
+                       decade_text, (unsigned long long)runs[nr].pcg, cvode_text, runs[nr].links,
+                       runs[nr].unmatched, runs[nr].neck_median, runs[nr].neck_p99,
+                       runs[nr].neck_err, (unsigned long long)(runs[nr].worst_key / pk.n),
+                       (unsigned long long)(runs[nr].worst_key % pk.n), runs[nr].shrink_err);
+                fflush(stdout);
+                nr++;
+            }
         }
     }
     if (svg != NULL)
