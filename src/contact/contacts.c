@@ -19,8 +19,9 @@ void sinter_contact_radii(const sinter_contact_list *c, double *a)
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
-    void *arrays[] = {c->i,    c->j,    c->pair,   c->n,           c->delta,
-                      c->dist, c->area, c->branch, c->pair_to_contact, c->chunk_scratch};
+    void *arrays[] = {c->i,    c->j,      c->pair,   c->n,
+                      c->delta, c->dist,  c->area,   c->branch,
+                      c->pair_to_contact, c->chunk_scratch, c->touch};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -75,20 +76,27 @@ typedef struct fill_part {
     uint32_t first, last;
 } fill_part;
 
-/* Contacts among pairs [lo, hi), written from index m on; returns the next free index. */
+/* Contacts among pairs [lo, hi), written from index m on; returns the next free index. With
+ * `touch` (the counting pass's verdict per pair, from the same arithmetic) the pairs not in
+ * contact are skipped without reading positions. */
 static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
-                      const sinter_particles *ps, size_t lo, size_t hi, size_t m, fill_part *part)
+                      const sinter_particles *ps, size_t lo, size_t hi, size_t m, fill_part *part,
+                      const uint8_t *touch)
 {
     const double *x = ps->x, *r = ps->radius;
     const size_t m0 = m;
     uint32_t prev = 0;
     int ascending = 1;
     for (size_t p = lo; p < hi; ++p) {
+        if (touch != NULL && !touch[p]) {
+            c->pair_to_contact[p] = SINTER_NO_PAIR;
+            continue;
+        }
         const uint32_t i = pairs->i[p], j = pairs->j[p];
         const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
                      ez = x[3 * j + 2] - x[3 * i + 2];
         const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
-        if (d2 >= rs * rs || d2 == 0.0) {
+        if (touch == NULL && (d2 >= rs * rs || d2 == 0.0)) {
             c->pair_to_contact[p] = SINTER_NO_PAIR;
             continue;
         }
@@ -196,12 +204,17 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int parts_count = chunk_count(pairs->count);
     if (threads <= 1) {
         fill_part part = {1, 0, 0, 0};
-        c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0, &part);
+        c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0, &part, NULL);
         make_chunks(c, &part, 1, ps->count, parts_count);
         return SINTER_OK;
     }
-    /* Threads: count per chunk, then fill each chunk from its offset: the same list, in the
-     * same order, as one thread makes. */
+    /* Threads: count per chunk (keeping each pair's verdict), then fill each chunk from its
+     * offset, visiting only the pairs in contact: the same list, in the same order, as one
+     * thread makes. */
+    st = sinter_grow(ctx, (void **)&c->touch, &c->touch_capacity, pairs->count + 1, 1);
+    if (st != SINTER_OK)
+        return st;
+    uint8_t *touch = c->touch;
     enum { MAX_CHUNKS = 256 };
     const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
     size_t offset[MAX_CHUNKS + 1] = {0};
@@ -211,8 +224,11 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     for (int t = 0; t < chunks; ++t) {
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
         size_t count = 0;
-        for (size_t p = lo; p < hi; ++p)
-            count += (size_t)touching(pairs, ps->x, ps->radius, p);
+        for (size_t p = lo; p < hi; ++p) {
+            const int in_contact = touching(pairs, ps->x, ps->radius, p);
+            touch[p] = (uint8_t)in_contact;
+            count += (size_t)in_contact;
+        }
         offset[t + 1] = count;
     }
     for (int t = 0; t < chunks; ++t)
@@ -221,7 +237,7 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     for (int t = 0; t < chunks; ++t) {
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
         fill_part mine = {1, 0, 0, 0};
-        fill_pp(c, pairs, ps, lo, hi, offset[t], &mine);
+        fill_pp(c, pairs, ps, lo, hi, offset[t], &mine, touch);
         part[t] = mine;
     }
     c->count = offset[chunks];

@@ -40,6 +40,8 @@ typedef struct sinter_contact_list {
      * (kept across evaluations, so no allocation per step) */
     void *chunk_scratch;
     size_t chunk_scratch_capacity;
+    uint8_t *touch; /* threaded search: 1 per candidate pair in contact (the counting pass) */
+    size_t touch_capacity;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
