@@ -93,14 +93,13 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection,
     for (size_t k = ch->qlo[s]; k < ch->qlo[s + 1]; ++k) {
         const uint32_t i = ci[k], j = cj[k];
         const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
-        /* branch-free: a boundary contact adds 0 here (x + 0 = x) and is kept */
-        const int inside = j >= lo && j < hi && i >= lo && i < hi;
-        const double here = inside ? q : 0.0;
-        heat[i] += here;
-        heat[j] -= here;
-        bq[kept] = (uint32_t)k;
-        bpower[kept] = q;
-        kept += (size_t)!inside;
+        if (j >= lo && j < hi && i >= lo && i < hi) {
+            heat[i] += q;
+            heat[j] -= q;
+        } else { /* a boundary contact: its particles may be another range's, not touched here */
+            bq[kept] = (uint32_t)k;
+            bpower[kept++] = q;
+        }
     }
     return kept;
 }
