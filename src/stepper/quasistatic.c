@@ -30,6 +30,7 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->h0_ratio = 1.5;
     opt->max_strain = 1e-4;
     opt->strain_fraction = 0.0;
+    opt->grown_rk4 = 0.0;
 }
 
 /* The option table: key, offset of the double (or -1 for strategy), lower and upper bound, and
@@ -60,6 +61,7 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_h0_ratio", h0_ratio, 1.0, 2.0, 1),
     QS_KEY("qs_max_strain", max_strain, 0.0, 1.0, 1),
     QS_KEY("qs_strain_fraction", strain_fraction, 0.0, 1.0, 0),
+    QS_KEY("qs_grown_rk4", grown_rk4, 0.0, 1.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
@@ -509,7 +511,19 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
     }
     st =
         advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h, &qs->batch_counters[0]);
-    if (st == SINTER_OK)
+    if (st == SINTER_OK && qs->opt.grown_rk4 != 0.0) {
+        for (size_t j = young; j < m && st == SINTER_OK; ++j) {
+            sinter_qs_link *l = &qs->links[qs->batch_order[j]];
+            const int failed = pair_advance(qs, l, s, t, h);
+            if (failed != 0)
+                st = sinter_fail(qs->ctx,
+                                 failed == -2 ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
+                                 "quasi-static stepper (strategy 3, grown necks by RK4): the neck "
+                                 "of particles id %llu and id %llu failed from t = %.9g s; the "
+                                 "state at t is kept",
+                                 (unsigned long long)l->id_a, (unsigned long long)l->id_b, t);
+        }
+    } else if (st == SINTER_OK)
         st = advance_group(qs, qs->batch, qs->batch_order + young, m - young, s, t, h,
                            &qs->batch_counters[1]);
     if (st != SINTER_OK) /* the young group may have moved: every neck back to t */

@@ -14,7 +14,12 @@
  *          assumption of sec. 2.4); with strain_fraction > 0 it grows while at most that
  *          fraction of the links reached max_strain L0 (a few links the network compresses
  *          faster than their neck no longer hold the step back; 0.01 gives strategy 2's
- *          accuracy and cost over a whole copper run, tests/bench/RESULTS.md);
+ *          shrinkage error and cost over a whole copper run, with twice its neck error at the
+ *          99th percentile, tests/bench/RESULTS.md); with
+ *          grown_rk4 = 1 only the young necks (x/R < 0.05) stay in CVODE and the grown ones
+ *          take strategy 2's per-pair RK4 sub-steps, which cost less than restarting CVODE
+ *          every global step once the global step is shorter than a neck's own step (about
+ *          30 % less over a whole copper run at the same error, RESULTS.md session 3);
  *   2. turn the approach of each neck into a sintering force (eq. 13, 17);
  *   3. solve K u = f (eq. 40) with PCG under the principal-plane conditions of sec. 3.3;
  *   4. move and turn the particles, and share the axial compression of each link between y4 and
@@ -45,18 +50,20 @@ typedef struct sinter_qs_options {
     double max_strain;        /* strategy 3: largest approach per step / L0 before dt shrinks */
     double strain_fraction;   /* strategy 3: fraction of the links allowed to reach max_strain
                                  while dt grows (0: none) */
+    double grown_rk4;         /* strategy 3: 1 advances the grown necks by strategy 2's RK4 */
 } sinter_qs_options;
 
 /* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (7dof.md §5), alpha 1.5, eps_lim 1,
  * 5 % / 15 %, contact 1e-9, plane 1e-6, solve 1e-10, rtol 1e-6, epsilon 0.01, h0 1.5 x0,
- * max_strain 1e-4, strain_fraction 0. */
+ * max_strain 1e-4, strain_fraction 0, grown_rk4 0. */
 void sinter_qs_options_default(sinter_qs_options *opt);
 
 /*
  * Option keys (for sinter_stepper_set_option on the quasi-static kind): "qs_strategy",
  * "qs_dt_min", "qs_dt_max", "qs_alpha", "qs_error_limit", "qs_grow_fraction",
  * "qs_shrink_fraction", "qs_contact_tolerance", "qs_plane_tolerance", "qs_solve_rtol",
- * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain", "qs_strain_fraction" (in [0, 1]).
+ * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain", "qs_strain_fraction" (in [0, 1]),
+ * "qs_grown_rk4" (0 or 1; any value above 0 means 1).
  * Set checks the value (the whole set is validated again when the stepper is created).
  * Errors: SINTER_ERR_NOT_FOUND (unknown key; the message lists the keys), SINTER_ERR_INVALID
  * (value out of range or not finite, or qs_dt_min above qs_dt_max).

@@ -304,10 +304,18 @@ static void reference_pair(packing *pk, double t_end, double y[SINTER_NECK_DOF])
     memcpy(y, pair.y, sizeof(pair.y));
 }
 
-static void two_particles(int strategy)
+static void two_particles_with(int strategy, double grown_rk4)
 {
     packing pk;
     packing_init(&pk, strategy);
+    if (grown_rk4 != 0.0) { /* strategy 3 with its grown necks on strategy 2's RK4 */
+        sinter_qs_destroy(pk.qs);
+        sinter_qs_options opt;
+        sinter_qs_options_default(&opt);
+        opt.strategy = strategy;
+        assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_grown_rk4", grown_rk4), SINTER_OK);
+        assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
+    }
     lattice(&pk, 1);
     pk.n = 2;
     pk.x[3] = 3 * R_CU;
@@ -323,10 +331,11 @@ static void two_particles(int strategy)
     const double dist = pk.x[3] - pk.x[0];
     const double shrink = 1.0 - dist / (2 * R_CU),
                  shrink_ref = 1.0 - (ref[3] + ref[6]) / (2 * R_CU);
-    print_message("strategy %d, 2 particles, 1000 s: %llu steps (%llu rejected, %llu sub-stepped "
+    print_message("strategy %d%s, 2 particles, 1000 s: %llu steps (%llu rejected, %llu sub-stepped "
                   "pairs), x/R = %.6f (7DOF %.6f), shrinkage %.6e (7DOF %.6e; 7dof.md 6.2: "
                   "1.029e-2), along x %.6e\n",
-                  strategy, (unsigned long long)st.steps, (unsigned long long)st.rejected,
+                  strategy, grown_rk4 != 0.0 ? " (grown necks by RK4)" : "",
+                  (unsigned long long)st.steps, (unsigned long long)st.rejected,
                   (unsigned long long)st.substepped_pairs, l->neck.y[0] / R_CU, ref[0] / R_CU,
                   shrink, shrink_ref, st.shrinkage[0]);
     /* The packing of 2 lets the pair shrink freely: the link compresses by the 7DOF approach,
@@ -334,7 +343,8 @@ static void two_particles(int strategy)
     assert_close(l->neck.y[3] + l->neck.y[6], dist, 1e-9 * dist);
     /* RK4 at rtol 1e-6 vs CVODE 1e-9: 1e-5. Strategy 3 is CVODE at rtol 1e-6 restarted at
      * each of ~160 global steps from its last step size: its global error is 10-30 rtol per
-     * run (sinter.h, "error_scale"), ~50 rtol over the restarts: 1e-4. */
+     * run (sinter.h, "error_scale"), ~50 rtol over the restarts: 1e-4. With qs_grown_rk4 the
+     * neck is integrated by CVODE until x/R = 0.05 and by RK4 after: strategy 3's bounds. */
     const double neck_tol = strategy == 3 ? 1e-4 : 1e-5;
     assert_close(l->neck.y[0], ref[0], neck_tol * ref[0]);
     assert_close(shrink, shrink_ref, (strategy == 3 ? 2e-4 : 1e-4) * shrink_ref);
@@ -346,6 +356,17 @@ static void two_particles(int strategy)
     assert_close(pk.x[4], R_CU, 1e-15);
     assert_close(pk.x[5], R_CU, 1e-15);
     packing_free(&pk);
+}
+
+static void two_particles(int strategy)
+{
+    two_particles_with(strategy, 0.0);
+}
+
+static void test_qs_two_particles_strategy3_grown_rk4(void **state)
+{
+    (void)state;
+    two_particles_with(3, 1.0);
 }
 
 static void test_qs_two_particles_strategy2(void **state)
@@ -678,6 +699,7 @@ int main(void)
         cmocka_unit_test(test_qs_two_particles_strategy2),
         cmocka_unit_test(test_qs_two_particles_strategy1),
         cmocka_unit_test(test_qs_two_particles_strategy3),
+        cmocka_unit_test(test_qs_two_particles_strategy3_grown_rk4),
         cmocka_unit_test(test_qs_triangle),
         cmocka_unit_test(test_qs_strain_fraction),
         cmocka_unit_test(test_qs_remap),
