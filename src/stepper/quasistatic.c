@@ -31,6 +31,7 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->max_strain = 1e-4;
     opt->strain_fraction = 0.0;
     opt->grown_rk4 = 0.0;
+    opt->new_contacts = 1.0;
 }
 
 /* The option table: key, offset of the double (or -1 for strategy), lower and upper bound, and
@@ -62,6 +63,7 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_max_strain", max_strain, 0.0, 1.0, 1),
     QS_KEY("qs_strain_fraction", strain_fraction, 0.0, 1.0, 0),
     QS_KEY("qs_grown_rk4", grown_rk4, 0.0, 1.0, 0),
+    QS_KEY("qs_new_contacts", new_contacts, 0.0, 1.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
@@ -733,7 +735,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     }
 
     /* 5. new contacts */
-    if ((st = detect_contacts(qs, p, t + h)) != SINTER_OK)
+    if (qs->opt.new_contacts != 0.0 && (st = detect_contacts(qs, p, t + h)) != SINTER_OK)
         return st;
     qs->steps++;
     qs->dt_next = next;

@@ -51,6 +51,9 @@ typedef struct sinter_qs_options {
     double strain_fraction;   /* strategy 3: fraction of the links allowed to reach max_strain
                                  while dt grows (0: none) */
     double grown_rk4;         /* strategy 3: 1 advances the grown necks by strategy 2's RK4 */
+    double new_contacts;      /* 1: contacts made during the run become links (sec. 3.3); 0:
+                                 only the contacts of the first step (a diagnostic: the
+                                 titanium packing's shrinkage, RESULTS.md, session 3) */
 } sinter_qs_options;
 
 /* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (7dof.md §5), alpha 1.5, eps_lim 1,
@@ -63,7 +66,8 @@ void sinter_qs_options_default(sinter_qs_options *opt);
  * "qs_dt_min", "qs_dt_max", "qs_alpha", "qs_error_limit", "qs_grow_fraction",
  * "qs_shrink_fraction", "qs_contact_tolerance", "qs_plane_tolerance", "qs_solve_rtol",
  * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain", "qs_strain_fraction" (in [0, 1]),
- * "qs_grown_rk4" (0 or 1; any value above 0 means 1).
+ * "qs_grown_rk4" (0 or 1; any value above 0 means 1), "qs_new_contacts" (1, the default: links
+ * for contacts made during the run; 0: none after the first step; any value above 0 means 1).
  * Set checks the value (the whole set is validated again when the stepper is created).
  * Errors: SINTER_ERR_NOT_FOUND (unknown key; the message lists the keys), SINTER_ERR_INVALID
  * (value out of range or not finite, or qs_dt_min above qs_dt_max).

@@ -501,6 +501,53 @@ static void test_qs_strain_fraction(void **state)
     packing_free(&loose);
 }
 
+/*
+ * New contacts (sec. 3.3) and qs_new_contacts: A and B touch, C sits above their midpoint a gap
+ * of 1e-4 of the contact distance away from both. A-B sintering pulls A and B towards the
+ * midpoint (shrinkage ~1e-2 in 100 s), which closes the gaps, so two links form during the run;
+ * with qs_new_contacts 0 the run keeps its first link only and C stays where it is.
+ */
+static size_t links_after_gap_closes(double new_contacts, double *c_height)
+{
+    packing pk;
+    packing_init(&pk, 2);
+    sinter_qs_destroy(pk.qs);
+    sinter_qs_options opt;
+    sinter_qs_options_default(&opt);
+    assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_new_contacts", new_contacts),
+                     SINTER_OK);
+    assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
+    const double rc = 0.6 * R_CU, d = (R_CU + rc) * (1.0 + 1e-4);
+    const double h = sqrt(d * d - R_CU * R_CU);
+    const double x[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, 2 * R_CU, R_CU + h, R_CU};
+    memcpy(pk.x, x, sizeof(x));
+    pk.radius[0] = pk.radius[1] = R_CU;
+    pk.radius[2] = rc;
+    pk.n = 3;
+    (void)run_packing(&pk, 100.0);
+    size_t nl = 0;
+    (void)sinter_qs_links(pk.qs, &nl);
+    *c_height = pk.x[7];
+    packing_free(&pk);
+    return nl;
+}
+
+static void test_qs_new_contacts(void **state)
+{
+    (void)state;
+    const double h0 = sqrt(pow((R_CU + 0.6 * R_CU) * (1.0 + 1e-4), 2) - R_CU * R_CU) + R_CU;
+    double c_on = 0.0, c_off = 0.0;
+    assert_int_equal(links_after_gap_closes(1.0, &c_on), 3);
+    assert_int_equal(links_after_gap_closes(0.0, &c_off), 1);
+    assert_close(c_off, h0, 1e-15); /* never linked: C does not move */
+    assert_true(c_on < h0);          /* linked: pulled towards A and B */
+    sinter_qs_options o;
+    sinter_qs_options_default(&o);
+    double v = 0.0;
+    assert_int_equal(sinter_qs_option_get(&o, NULL, "qs_new_contacts", &v), SINTER_OK);
+    assert_close(v, 1.0, 0.0);
+}
+
 /* A reordering of the particles (sinter_qs_remap, as the stepper may permute them) changes
  * nothing: an L of 3 particles, run 10 s, reversed and remapped, run to 50 s, against a run
  * without the reordering. */
@@ -702,6 +749,7 @@ int main(void)
         cmocka_unit_test(test_qs_two_particles_strategy3_grown_rk4),
         cmocka_unit_test(test_qs_triangle),
         cmocka_unit_test(test_qs_strain_fraction),
+        cmocka_unit_test(test_qs_new_contacts),
         cmocka_unit_test(test_qs_remap),
         cmocka_unit_test(test_qs_options),
         cmocka_unit_test(test_qs_touching_pairs_grid),

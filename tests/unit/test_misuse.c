@@ -408,7 +408,8 @@ static const char *const QS_KEYS[] = {
     "qs_strategy",        "qs_dt_min",          "qs_dt_max",         "qs_alpha",
     "qs_error_limit",     "qs_grow_fraction",   "qs_shrink_fraction", "qs_contact_tolerance",
     "qs_plane_tolerance", "qs_solve_rtol",      "qs_rtol",           "qs_epsilon",
-    "qs_h0_ratio",        "qs_max_strain"};
+    "qs_h0_ratio",        "qs_max_strain",      "qs_strain_fraction", "qs_grown_rk4",
+    "qs_new_contacts"};
 
 static uint64_t fingerprint(fixture *f)
 {
