@@ -26,26 +26,9 @@
 #include <string.h>
 #include <time.h>
 
+#define BENCH_NAME "neck_bench"
+#include "bench_support.h"
 #include "neck/neck.h"
-
-static sinter_ctx *g_ctx;
-
-static void check(sinter_status s, const char *what)
-{
-    if (s != SINTER_OK) {
-        fprintf(stderr, "neck_bench: %s failed: %s (%s)\n", what, sinter_status_name(s),
-                g_ctx ? sinter_last_error(g_ctx) : "");
-        exit(1);
-    }
-}
-#define CHECK(call) check((call), #call)
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static const double RADIUS = 25e-6, END = 5000.0;
 static const double T_TIMES[1] = {0.0}, T_VALUES[1] = {1293.0};

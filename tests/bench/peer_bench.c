@@ -26,26 +26,9 @@
 #include <string.h>
 #include <time.h>
 
+#define BENCH_NAME "peer_bench"
+#include "bench_support.h"
 #include "sinter.h"
-
-static sinter_ctx *g_ctx; /* for error messages */
-
-static void check(sinter_status s, const char *what)
-{
-    if (s != SINTER_OK) {
-        fprintf(stderr, "peer_bench: %s failed: %s (%s)\n", what, sinter_status_name(s),
-                g_ctx ? sinter_last_error(g_ctx) : "");
-        exit(1);
-    }
-}
-#define CHECK(call) check((call), #call)
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void usage(void)
 {

@@ -34,30 +34,13 @@
 #include <string.h>
 #include <time.h>
 
+#define BENCH_NAME "press_work_precision"
+#include "bench_support.h"
 #include "sinter.h"
 
 #ifndef SINTER_SOURCE_DIR
 #define SINTER_SOURCE_DIR "."
 #endif
-
-static sinter_ctx *g_ctx; /* of the run being made, for error messages */
-
-static void check(sinter_status s, const char *what)
-{
-    if (s != SINTER_OK) {
-        fprintf(stderr, "press_work_precision: %s failed: %s (%s)\n", what, sinter_status_name(s),
-                g_ctx ? sinter_last_error(g_ctx) : "");
-        exit(1);
-    }
-}
-#define CHECK(call) check((call), #call)
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* One configuration and what it gave. */
 typedef struct run {

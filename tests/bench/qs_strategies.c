@@ -43,29 +43,12 @@
 #include <string.h>
 #include <time.h>
 
+#define BENCH_NAME "qs_strategies"
+#include "bench_support.h"
 #include "sinter.h"
 #include "stepper/qs_struct.h" /* the CVODE work counters of strategy 3 */
 #include "stepper/quasistatic.h"
 #include "stepper/stepper.h"
-
-static sinter_ctx *g_ctx;
-
-static void check(sinter_status s, const char *what)
-{
-    if (s != SINTER_OK) {
-        fprintf(stderr, "qs_strategies: %s failed: %s (%s)\n", what, sinter_status_name(s),
-                g_ctx ? sinter_last_error(g_ctx) : "");
-        exit(1);
-    }
-}
-#define CHECK(call) check((call), #call)
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static sinter_material *copper(void)
 {

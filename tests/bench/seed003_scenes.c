@@ -52,28 +52,11 @@
 #include <string.h>
 #include <time.h>
 
+#define BENCH_NAME "seed003_scenes"
+#include "bench_support.h"
 #include "sinter.h"
 
 static const double PI = 3.14159265358979323846;
-static sinter_ctx *g_ctx;
-
-static void check(sinter_status s, const char *what, int line)
-{
-    if (s != SINTER_OK) {
-        fprintf(stderr, "seed003_scenes:%d: %s failed: %s (%s)\n", line, what,
-                sinter_status_name(s), g_ctx ? sinter_last_error(g_ctx) : "");
-        exit(1);
-    }
-}
-#define CHECK(call) check((call), #call, __LINE__)
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* ---- small helpers over the public API ------------------------------------------------ */
 
 typedef struct loaded {

@@ -54,30 +54,13 @@
 #include <string.h>
 #include <time.h>
 
+#define BENCH_NAME "ti_shrinkage"
+#include "bench_support.h"
 #include "sinter.h"
 #include "io/scene.h"
 #include "stepper/qs_struct.h"
 #include "stepper/quasistatic.h"
 #include "stepper/stepper.h"
-
-static sinter_ctx *g_ctx;
-
-static void check(sinter_status s, const char *what)
-{
-    if (s != SINTER_OK) {
-        fprintf(stderr, "ti_shrinkage: %s failed: %s (%s)\n", what, sinter_status_name(s),
-                g_ctx ? sinter_last_error(g_ctx) : "");
-        exit(1);
-    }
-}
-#define CHECK(call) check((call), #call)
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* E14B from 793 K (the scene's furnace) or 1373 K held. */
 static const double E14B_TIMES[4] = {0.0, 1740.0, 7140.0, 8880.0};
