@@ -24,7 +24,10 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->shrink_fraction = 0.15;
     opt->contact_tolerance = 1e-9;
     opt->plane_tolerance = 1e-6;
-    opt->solve_rtol = 1e-10;
+    /* PCG residual of each step's K u = f relative to |f|: 1e-7 moves the copper packing's
+     * shrinkage at 5000 s by 1.3e-8 relative to 1e-10 (the mechanical discretization error is
+     * 3e-4) for 30 % less CPU (tests/bench/RESULTS.md, session 3) */
+    opt->solve_rtol = 1e-7;
     opt->rtol = 1e-6;
     opt->epsilon = 0.01;
     opt->h0_ratio = 1.5;
