@@ -88,14 +88,20 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
         return SINTER_OK;
     }
     uint32_t *restrict active = h->active;
-    /* Clear the pairs whose contact ended; the others are overwritten just below. */
+    /* Clear the pairs whose contact ended; the others are overwritten just below. Each loop
+     * writes distinct pairs (a pair is active once and in contact once), and the two loops
+     * write disjoint pairs, so the threads need no order. */
     const uint32_t *p2c = c->pair_to_contact;
-    for (size_t k = 0; k < h->active_count; ++k)
+    const long ended = (long)h->active_count, count = (long)c->count;
+    const int threads = count < 4096 ? 1 : sinter_threads(ctx);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long k = 0; k < ended; ++k)
         if (p2c == NULL || p2c[active[k]] == SINTER_NO_PAIR)
             memset(committed + (size_t)active[k] * w, 0, w * sizeof(double));
     /* Inline copies for the built-in widths (a call per contact costs more than the copy). */
     if (w == 3) {
-        for (size_t k = 0; k < c->count; ++k) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+        for (long k = 0; k < count; ++k) {
             double *dst = committed + 3 * (size_t)c->pair[k];
             dst[0] = trial[3 * k];
             dst[1] = trial[3 * k + 1];
@@ -103,10 +109,11 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
             active[k] = c->pair[k];
         }
     } else if (w == 6) {
-        for (size_t k = 0; k < c->count; ++k) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+        for (long k = 0; k < count; ++k) {
             double *dst = committed + 6 * (size_t)c->pair[k];
             for (int d = 0; d < 6; ++d)
-                dst[d] = trial[6 * k + (size_t)d];
+                dst[d] = trial[6 * (size_t)k + (size_t)d];
             active[k] = c->pair[k];
         }
     } else {
