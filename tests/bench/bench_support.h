@@ -9,6 +9,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "sinter.h"
@@ -39,6 +40,48 @@ static inline double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Spheres read from "x y z r" lines [m] (lines starting with '#' or not of four numbers are
+ * skipped); stops the program when the file cannot be read or holds no sphere. */
+typedef struct spheres {
+    size_t n;
+    double *x, *r; /* 3 and 1 per sphere, malloc'ed */
+} spheres;
+
+static inline spheres read_spheres(const char *path)
+{
+    spheres p = {0, NULL, NULL};
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        perror(path);
+        exit(1);
+    }
+    char line[512];
+    size_t cap = 0;
+    while (fgets(line, sizeof(line), f) != NULL) {
+        double v[4];
+        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf", v, v + 1, v + 2, v + 3) != 4)
+            continue;
+        if (p.n == cap) {
+            cap = cap ? 2 * cap : 1024;
+            double *x = realloc(p.x, 3 * cap * sizeof(double)),
+                   *r = x ? realloc(p.r, cap * sizeof(double)) : NULL;
+            if (x == NULL || r == NULL) {
+                fprintf(stderr, "%s: out of memory reading %s\n", BENCH_NAME, path);
+                exit(1);
+            }
+            p.x = x, p.r = r;
+        }
+        memcpy(p.x + 3 * p.n, v, 3 * sizeof(double));
+        p.r[p.n++] = v[3];
+    }
+    fclose(f);
+    if (p.n == 0) {
+        fprintf(stderr, "%s: no spheres in %s\n", BENCH_NAME, path);
+        exit(1);
+    }
+    return p;
 }
 
 #endif

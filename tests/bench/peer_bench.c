@@ -40,37 +40,6 @@ static void usage(void)
     exit(1);
 }
 
-/* Read "x y z r" lines; returns N and fills *pos (3N) and *rad (N). */
-static size_t read_xyz(const char *path, double **pos, double **rad)
-{
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        perror(path);
-        exit(1);
-    }
-    size_t n = 0, cap = 1024;
-    double *p = malloc(3 * cap * sizeof(double)), *r = malloc(cap * sizeof(double));
-    double x, y, z, rr;
-    while (p && r && fscanf(f, "%lf %lf %lf %lf", &x, &y, &z, &rr) == 4) {
-        if (n == cap) {
-            cap *= 2;
-            p = realloc(p, 3 * cap * sizeof(double));
-            r = realloc(r, cap * sizeof(double));
-            if (p == NULL || r == NULL)
-                break;
-        }
-        p[3 * n] = x, p[3 * n + 1] = y, p[3 * n + 2] = z, r[n] = rr;
-        ++n;
-    }
-    fclose(f);
-    if (p == NULL || r == NULL || n == 0) {
-        fprintf(stderr, "peer_bench: no particles read from %s\n", path);
-        exit(1);
-    }
-    *pos = p, *rad = r;
-    return n;
-}
-
 int main(int argc, char **argv)
 {
     const char *scene = NULL, *xyz = NULL, *boxf = NULL;
@@ -101,8 +70,10 @@ int main(int argc, char **argv)
     if (scene == NULL || xyz == NULL || boxf == NULL || steps == 0 || !(dt > 0.0))
         usage();
 
-    double *pos, *rad, box[6];
-    const size_t n = read_xyz(xyz, &pos, &rad);
+    double box[6];
+    const spheres read = read_spheres(xyz);
+    double *pos = read.x, *rad = read.r;
+    const size_t n = read.n;
     if (shuffle != 0) { /* Fisher-Yates with a 64-bit LCG */
         unsigned long long z = shuffle;
         for (size_t k = n; k > 1; --k) {

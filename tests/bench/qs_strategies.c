@@ -124,37 +124,6 @@ static void make_packing(const char *path, size_t count, const double box[3], do
     sinter_material_destroy(cu);
 }
 
-typedef struct packing {
-    size_t n;
-    double *x, *r;
-} packing;
-
-static packing read_packing(const char *path)
-{
-    packing p = {0, NULL, NULL};
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        perror(path);
-        exit(1);
-    }
-    char line[512];
-    size_t cap = 0;
-    while (fgets(line, sizeof(line), f) != NULL) {
-        double v[4];
-        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf", v, v + 1, v + 2, v + 3) != 4)
-            continue;
-        if (p.n == cap) {
-            cap = cap ? 2 * cap : 1024;
-            p.x = realloc(p.x, 3 * cap * sizeof(double));
-            p.r = realloc(p.r, cap * sizeof(double));
-        }
-        memcpy(p.x + 3 * p.n, v, 3 * sizeof(double));
-        p.r[p.n++] = v[3];
-    }
-    fclose(f);
-    return p;
-}
-
 typedef struct run {
     int strategy;
     double rtol;
@@ -209,7 +178,7 @@ static int keyed_order(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-static run sinter_run(const packing *pk, int strategy, double rtol, double max_strain,
+static run sinter_run(const spheres *pk, int strategy, double rtol, double max_strain,
                       const option_set *extra, double end)
 {
     run out;
@@ -541,7 +510,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "qs_strategies: give --make-packing or --packing\n");
         return 2;
     }
-    const packing pk = read_packing(pack);
+    const spheres pk = read_spheres(pack);
     run ref;
     if (load_ref != NULL) {
         ref = load_reference(load_ref, end);

@@ -127,37 +127,6 @@ static sinter_material *scene_material(const char *path, sinter_scene **keep)
     return m;
 }
 
-typedef struct packing {
-    size_t n;
-    double *x, *r;
-} packing;
-
-static packing read_packing(const char *path)
-{
-    packing p = {0, NULL, NULL};
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        perror(path);
-        exit(1);
-    }
-    char line[512];
-    size_t cap = 0;
-    while (fgets(line, sizeof(line), f) != NULL) {
-        double v[4];
-        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf", v, v + 1, v + 2, v + 3) != 4)
-            continue;
-        if (p.n == cap) {
-            cap = cap ? 2 * cap : 1024;
-            p.x = realloc(p.x, 3 * cap * sizeof(double));
-            p.r = realloc(p.r, cap * sizeof(double));
-        }
-        memcpy(p.x + 3 * p.n, v, 3 * sizeof(double));
-        p.r[p.n++] = v[3];
-    }
-    fclose(f);
-    return p;
-}
-
 /* ---- --make ------------------------------------------------------------------------------ */
 
 static void make_packing(const char *scene_path, const char *out, size_t count, double aspect)
@@ -294,7 +263,7 @@ static void pairs(const char *scene_path, const char *pack_path, const schedule 
     const double t0 = cpu_seconds();
 
     /* The packing's initial links. */
-    const packing pk = read_packing(pack_path);
+    const spheres pk = read_spheres(pack_path);
     uint64_t *keys = NULL;
     size_t cap = 0, found = 0;
     CHECK(sinter_qs_touching_pairs(g_ctx, pk.n, pk.x, pk.r, 1e-9, &keys, &cap, &found));
@@ -525,7 +494,7 @@ static void run(const char *scene_path, const char *pack_path, const schedule *s
                 int mode, const char *time_list)
 {
     sinter_material *ti = scene_material(scene_path, NULL);
-    const packing pk = read_packing(pack_path);
+    const spheres pk = read_spheres(pack_path);
     double temperature0 = s->temps[0];
     sinter_particles *ps = NULL;
     CHECK(sinter_particles_create(&ps, g_ctx));
