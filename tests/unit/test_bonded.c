@@ -394,18 +394,30 @@ static void test_qs_two_particles_strategy3(void **state)
  * B is not), every link's y4 + y7 still equals its centre distance (eq. 41-44 keep the 7DOF
  * state on the particles), and the A-B approach differs from the free pair's.
  */
+/* The triangle of the tests below: A and B (radius R_CU) touching along x, C (0.6 R_CU) above
+ * their midpoint, touching both, or a relative gap `gap` of the contact distance away; the
+ * stepper made with `opt` (NULL: the defaults with strategy 2). */
+static void triangle_init(packing *pk, const sinter_qs_options *opt, double gap)
+{
+    packing_init(pk, 2);
+    if (opt != NULL) {
+        sinter_qs_destroy(pk->qs);
+        assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, opt), SINTER_OK);
+    }
+    const double rc = 0.6 * R_CU, d = (R_CU + rc) * (1.0 + gap);
+    const double h = sqrt(d * d - R_CU * R_CU);
+    const double x[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, 2 * R_CU, R_CU + h, R_CU};
+    memcpy(pk->x, x, sizeof(x));
+    pk->radius[0] = pk->radius[1] = R_CU;
+    pk->radius[2] = rc;
+    pk->n = 3;
+}
+
 static void test_qs_triangle(void **state)
 {
     (void)state;
     packing pk;
-    packing_init(&pk, 2);
-    const double rc = 0.6 * R_CU, d = R_CU + rc;
-    const double h = sqrt(d * d - R_CU * R_CU);
-    const double x[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, 2 * R_CU, R_CU + h, R_CU};
-    memcpy(pk.x, x, sizeof(x));
-    pk.radius[0] = pk.radius[1] = R_CU;
-    pk.radius[2] = rc;
-    pk.n = 3;
+    triangle_init(&pk, NULL, 0.0);
     const sinter_qs_stats st = run_packing(&pk, 100.0);
     size_t nl = 0;
     const sinter_qs_link *l = sinter_qs_links(pk.qs, &nl);
@@ -442,21 +454,12 @@ static void test_qs_triangle(void **state)
  */
 static sinter_qs_stats triangle_strategy3(packing *pk, double fraction, double *ab)
 {
-    packing_init(pk, 3);
-    sinter_qs_destroy(pk->qs);
     sinter_qs_options opt;
     sinter_qs_options_default(&opt);
-    assert_int_equal(sinter_qs_option_set(&opt, pk->ctx, "qs_strategy", 3.0), SINTER_OK);
-    assert_int_equal(sinter_qs_option_set(&opt, pk->ctx, "qs_strain_fraction", fraction),
+    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_strategy", 3.0), SINTER_OK);
+    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_strain_fraction", fraction),
                      SINTER_OK);
-    assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, &opt), SINTER_OK);
-    const double rc = 0.6 * R_CU, d = R_CU + rc;
-    const double h = sqrt(d * d - R_CU * R_CU);
-    const double x[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, 2 * R_CU, R_CU + h, R_CU};
-    memcpy(pk->x, x, sizeof(x));
-    pk->radius[0] = pk->radius[1] = R_CU;
-    pk->radius[2] = rc;
-    pk->n = 3;
+    triangle_init(pk, &opt, 0.0);
     const sinter_qs_stats st = run_packing(pk, 100.0);
     size_t nl = 0;
     const sinter_qs_link *l = sinter_qs_links(pk->qs, &nl);
@@ -509,21 +512,12 @@ static void test_qs_strain_fraction(void **state)
  */
 static size_t links_after_gap_closes(double new_contacts, double *c_height)
 {
-    packing pk;
-    packing_init(&pk, 2);
-    sinter_qs_destroy(pk.qs);
     sinter_qs_options opt;
     sinter_qs_options_default(&opt);
-    assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_new_contacts", new_contacts),
+    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_new_contacts", new_contacts),
                      SINTER_OK);
-    assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
-    const double rc = 0.6 * R_CU, d = (R_CU + rc) * (1.0 + 1e-4);
-    const double h = sqrt(d * d - R_CU * R_CU);
-    const double x[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, 2 * R_CU, R_CU + h, R_CU};
-    memcpy(pk.x, x, sizeof(x));
-    pk.radius[0] = pk.radius[1] = R_CU;
-    pk.radius[2] = rc;
-    pk.n = 3;
+    packing pk;
+    triangle_init(&pk, &opt, 1e-4);
     (void)run_packing(&pk, 100.0);
     size_t nl = 0;
     (void)sinter_qs_links(pk.qs, &nl);
