@@ -76,45 +76,49 @@ typedef struct fill_part {
     uint32_t first, last;
 } fill_part;
 
+/* Geometry of contact m from its particles' centres (sinter_pp_geometry; a^2 = R_i^2 - L_i^2,
+ * seed 000 eq. 7, 11). */
+static inline void put_geometry(sinter_contact_list *c, const double *x, const double *r,
+                                size_t m, uint32_t i, uint32_t j)
+{
+    const sinter_pp_geom g = sinter_pp_geometry(x[3 * j] - x[3 * i], x[3 * j + 1] - x[3 * i + 1],
+                                                x[3 * j + 2] - x[3 * i + 2], r[i], r[j]);
+    const double a2_raw = r[i] * r[i] - g.li * g.li, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
+    c->n[3 * m] = g.nx;
+    c->n[3 * m + 1] = g.ny;
+    c->n[3 * m + 2] = g.nz;
+    c->delta[m] = g.delta;
+    c->dist[m] = g.d;
+    c->area[m] = PI * a2; /* the contact radius sqrt(a2) is derived on demand */
+    c->branch[m] = g.li;
+}
+
 /* Contacts among pairs [lo, hi), written from index m on; returns the next free index. With
  * `touch` (the counting pass's verdict per pair, from the same arithmetic) the pairs not in
- * contact are skipped without reading positions. */
-static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
-                      const sinter_particles *ps, size_t lo, size_t hi, size_t m, fill_part *part,
-                      const uint8_t *touch)
+ * contact are skipped without reading positions. `geometry` 0 writes the indices only. */
+static inline __attribute__((always_inline)) size_t
+fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs, const sinter_particles *ps,
+        size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry)
 {
-    const double *x = ps->x, *r = ps->radius;
+    const double *restrict x = ps->x, *restrict r = ps->radius;
+    const uint32_t *restrict pi = pairs->i, *restrict pj = pairs->j;
+    uint32_t *restrict ci = c->i, *restrict cj = c->j, *restrict cpair = c->pair;
+    uint32_t *restrict to_contact = c->pair_to_contact;
     const size_t m0 = m;
     uint32_t prev = 0;
     int ascending = 1;
     for (size_t p = lo; p < hi; ++p) {
-        if (touch != NULL && !touch[p]) {
-            c->pair_to_contact[p] = SINTER_NO_PAIR;
+        const uint32_t i = pi[p], j = pj[p];
+        if (touch != NULL ? !touch[p] : !touching(pairs, x, r, p)) {
+            to_contact[p] = SINTER_NO_PAIR;
             continue;
         }
-        const uint32_t i = pairs->i[p], j = pairs->j[p];
-        const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
-                     ez = x[3 * j + 2] - x[3 * i + 2];
-        const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
-        if (touch == NULL && (d2 >= rs * rs || d2 == 0.0)) {
-            c->pair_to_contact[p] = SINTER_NO_PAIR;
-            continue;
-        }
-        const double d = sqrt(d2), inv = 1.0 / d;
-        /* L_i from seed 000 eq. 12; a^2 = R_i^2 - L_i^2 (eq. 7, 11). */
-        const double li = 0.5 * (d - (r[j] * r[j] - r[i] * r[i]) * inv);
-        const double a2_raw = r[i] * r[i] - li * li, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
-        c->i[m] = i;
-        c->j[m] = j;
-        c->pair[m] = (uint32_t)p;
-        c->pair_to_contact[p] = (uint32_t)m;
-        c->n[3 * m] = ex * inv;
-        c->n[3 * m + 1] = ey * inv;
-        c->n[3 * m + 2] = ez * inv;
-        c->delta[m] = rs - d; /* seed 000 eq. 10 */
-        c->dist[m] = d;
-        c->area[m] = PI * a2; /* the contact radius sqrt(a2) is derived on demand */
-        c->branch[m] = li;
+        ci[m] = i;
+        cj[m] = j;
+        cpair[m] = (uint32_t)p;
+        to_contact[p] = (uint32_t)m;
+        if (geometry)
+            put_geometry(c, x, r, m, i, j);
         const uint32_t key = i < j ? i : j; /* the particle whose scan found the pair */
         ascending &= key >= prev;
         prev = key;
@@ -122,9 +126,23 @@ static size_t fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs,
     }
     part->ascending = ascending;
     part->any = m > m0;
-    part->first = m > m0 ? (c->i[m0] < c->j[m0] ? c->i[m0] : c->j[m0]) : 0;
+    part->first = m > m0 ? (ci[m0] < cj[m0] ? ci[m0] : cj[m0]) : 0;
     part->last = prev;
     return m;
+}
+
+static size_t fill_pp_full(sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const sinter_particles *ps, size_t lo, size_t hi, size_t m,
+                           fill_part *part, const uint8_t *touch)
+{
+    return fill_pp(c, pairs, ps, lo, hi, m, part, touch, 1);
+}
+
+static size_t fill_pp_lean(sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const sinter_particles *ps, size_t lo, size_t hi, size_t m,
+                           fill_part *part, const uint8_t *touch)
+{
+    return fill_pp(c, pairs, ps, lo, hi, m, part, touch, 0);
 }
 
 /* S from the number of candidate pairs: a power of two (2, 4 or 8, so that 2 or 4 threads get
@@ -181,8 +199,9 @@ static void make_chunks(sinter_contact_list *c, const fill_part *parts, int npar
     }
 }
 
-sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
-                                      const sinter_pair_list *pairs, const sinter_particles *ps)
+static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
+                             const sinter_pair_list *pairs, const sinter_particles *ps,
+                             int geometry)
 {
     /* Reserve for the worst case so the loops below never allocate. */
     sinter_status st = reserve(ctx, c, pairs->count + 1);
@@ -202,9 +221,13 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     c->pair_count = pairs->count;
     const int threads = pairs->count < 4096 ? 1 : sinter_threads(ctx);
     const int parts_count = chunk_count(pairs->count);
+    c->geometry = geometry;
+    size_t (*fill)(sinter_contact_list *, const sinter_pair_list *, const sinter_particles *,
+                   size_t, size_t, size_t, fill_part *, const uint8_t *) =
+        geometry ? fill_pp_full : fill_pp_lean;
     if (threads <= 1) {
         fill_part part = {1, 0, 0, 0};
-        c->count = fill_pp(c, pairs, ps, 0, pairs->count, 0, &part, NULL);
+        c->count = fill(c, pairs, ps, 0, pairs->count, 0, &part, NULL);
         make_chunks(c, &part, 1, ps->count, parts_count);
         return SINTER_OK;
     }
@@ -237,12 +260,38 @@ sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     for (int t = 0; t < chunks; ++t) {
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
         fill_part mine = {1, 0, 0, 0};
-        fill_pp(c, pairs, ps, lo, hi, offset[t], &mine, touch);
+        fill(c, pairs, ps, lo, hi, offset[t], &mine, touch);
         part[t] = mine;
     }
     c->count = offset[chunks];
     make_chunks(c, part, chunks, ps->count, parts_count);
     return SINTER_OK;
+}
+
+sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
+                                      const sinter_pair_list *pairs, const sinter_particles *ps)
+{
+    return find_pp(ctx, c, pairs, ps, 1);
+}
+
+sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list *c,
+                                           const sinter_pair_list *pairs,
+                                           const sinter_particles *ps)
+{
+    return find_pp(ctx, c, pairs, ps, 0);
+}
+
+void sinter_contacts_geometry(const sinter_ctx *ctx, sinter_contact_list *c,
+                              const sinter_particles *ps)
+{
+    if (c->geometry)
+        return;
+    const long count = (long)c->count;
+    const int threads = count < 4096 ? 1 : sinter_threads(ctx);
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (long m = 0; m < count; ++m)
+        put_geometry(c, ps->x, ps->radius, (size_t)m, c->i[m], c->j[m]);
+    c->geometry = 1;
 }
 
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
@@ -283,5 +332,6 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
         ++m;
     }
     c->count = m;
+    c->geometry = 1;
     return SINTER_OK;
 }

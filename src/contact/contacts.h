@@ -5,6 +5,8 @@
 #ifndef SINTER_CONTACTS_H
 #define SINTER_CONTACTS_H
 
+#include <math.h>
+
 #include "contact/neighbors.h"
 
 /* A fixed partition of a particle-particle list for thread-count independent sums
@@ -28,6 +30,9 @@ typedef struct sinter_contact_list {
     double *dist;     /* centre distance or centre-plane distance [m] */
     double *area;     /* pi a^2 [m^2] */
     double *branch;   /* L_i: distance from the centre of i to the contact plane [m] */
+    /* 1 when n, delta, dist, area and branch hold this list's geometry; 0 for a list made by
+     * sinter_contacts_find_pp_lean until sinter_contacts_geometry fills them */
+    int geometry;
     /* the contact of each candidate pair, or SINTER_NO_PAIR; particle-particle lists also
      * borrow the pairs' per-particle adjacency from the pair list */
     uint32_t *pair_to_contact;
@@ -52,6 +57,43 @@ void sinter_contact_radii(const sinter_contact_list *c, double *a);
 /* Particle-particle contacts among the candidate pairs. */
 sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps);
+
+/* The same list without its geometry (c->geometry 0): i, j, pair, pair_to_contact and the
+ * partition only, for a stepper whose submodels form the geometry themselves from the
+ * centres (issue 9: the 8 doubles per contact are neither written nor read back). */
+sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list *c,
+                                           const sinter_pair_list *pairs,
+                                           const sinter_particles *ps);
+
+/* Fill n, delta, dist, area and branch of a lean list from the particles' current centres
+ * (which must be those it was found at); nothing to do when c->geometry is 1. */
+void sinter_contacts_geometry(const sinter_ctx *ctx, sinter_contact_list *c,
+                              const sinter_particles *ps);
+
+/* Geometry of a particle pair from the centre difference e = x_j - x_i and the radii (seed
+ * 000 eq. 7-12): the one formula of the contact list and of the laws that form it
+ * themselves, so that both give the same bits. */
+typedef struct sinter_pp_geom {
+    double nx, ny, nz; /* unit normal from i towards j */
+    double d;          /* centre distance [m] */
+    double delta;      /* overlap r_i + r_j - d [m] (eq. 10) */
+    double li;         /* L_i (eq. 12) */
+} sinter_pp_geom;
+
+static inline sinter_pp_geom sinter_pp_geometry(double ex, double ey, double ez, double ri,
+                                                double rj)
+{
+    sinter_pp_geom g;
+    const double d2 = ex * ex + ey * ey + ez * ez;
+    const double d = sqrt(d2), inv = 1.0 / d;
+    g.nx = ex * inv;
+    g.ny = ey * inv;
+    g.nz = ez * inv;
+    g.d = d;
+    g.delta = (ri + rj) - d;
+    g.li = 0.5 * (d - (rj * rj - ri * ri) * inv);
+    return g;
+}
 
 /* Particle-wall contacts among the candidate pairs. */
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,

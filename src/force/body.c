@@ -28,7 +28,7 @@ static sinter_status body_force_eval(const sinter_force_model *fm, sinter_force_
 }
 
 const sinter_force_ops sinter_force_gravity = {
-    "gravity", 0, 0, 0, {"gx", "gy", "gz", NULL}, {0.0, 0.0, -9.81}, gravity_eval, NULL};
+    "gravity", 0, 0, 0, {"gx", "gy", "gz", NULL}, {0.0, 0.0, -9.81}, gravity_eval, NULL, NULL};
 
 const sinter_force_ops sinter_force_body_force = {
-    "body_force", 0, 0, 0, {"fx", "fy", "fz", NULL}, {0.0, 0.0, 0.0}, body_force_eval, NULL};
+    "body_force", 0, 0, 0, {"fx", "fy", "fz", NULL}, {0.0, 0.0, 0.0}, body_force_eval, NULL, NULL};

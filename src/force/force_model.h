@@ -36,6 +36,10 @@ typedef struct sinter_force_ops {
     /* optional: history width that depends on the model's parameters (read when the model
      * is added to a stepper); NULL means history_pp / history_pw */
     size_t (*history_width)(const sinter_force_model *fm, int wall);
+    /* optional: 0 when an evaluation with this particle-particle history width reads no
+     * geometry (n, delta, dist, area, branch) of e->pp, forming it from the centres itself;
+     * NULL means it reads the geometry when it uses contacts */
+    int (*reads_geometry)(const sinter_force_model *fm, size_t history_width);
 } sinter_force_ops;
 
 struct sinter_force_model {
@@ -68,6 +72,13 @@ static inline size_t sinter_force_history_pp(const sinter_force_model *fm)
 static inline size_t sinter_force_history_pw(const sinter_force_model *fm)
 {
     return fm->ops->history_width ? fm->ops->history_width(fm, 1) : fm->ops->history_pw;
+}
+
+/* 1 if an evaluation of fm (its particle-particle history width given) reads the contact
+ * list's geometry (see sinter_contacts_find_pp_lean). */
+static inline int sinter_force_reads_geometry(const sinter_force_model *fm, size_t width)
+{
+    return fm->ops->reads_geometry ? fm->ops->reads_geometry(fm, width) : fm->ops->uses_contacts;
 }
 
 #endif

@@ -376,23 +376,31 @@ typedef struct blk {
 } blk;
 
 HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
-                          const pair_consts *single, size_t q0, size_t nb, blk *b)
-/* (with `single`, the constants are not gathered: blk_law reads them from it) */
+                          const pair_consts *single, size_t q0, size_t nb, int lean, blk *b)
+/* (with `single`, the constants are not gathered: blk_law reads them from it; with `lean`,
+ * nx, ny, nz take the centre difference x_j - x_i and blk_geometry forms the geometry) */
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
-    const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass;
+    const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass, *x = ps->x;
     const double *hist = e->hist_pp->committed;
     const size_t width = e->hist_pp->width;
     for (size_t a = 0; a < BLOCK; ++a) {
         /* lanes past the end repeat the last contact; their results are not used */
         const size_t q = q0 + (a < nb ? a : nb - 1);
         const uint32_t i = c->i[q], j = c->j[q];
-        const double *n = c->n + 3 * q, *h = hist + width * c->pair[q];
-        b->nx[a] = n[0], b->ny[a] = n[1], b->nz[a] = n[2];
-        b->delta[a] = c->delta[q];
-        b->li[a] = c->branch[q];
-        b->lj[a] = c->dist[q] - c->branch[q];
+        const double *h = hist + width * c->pair[q];
+        if (lean) {
+            b->nx[a] = x[3 * j] - x[3 * i];
+            b->ny[a] = x[3 * j + 1] - x[3 * i + 1];
+            b->nz[a] = x[3 * j + 2] - x[3 * i + 2];
+        } else {
+            const double *n = c->n + 3 * q;
+            b->nx[a] = n[0], b->ny[a] = n[1], b->nz[a] = n[2];
+            b->delta[a] = c->delta[q];
+            b->li[a] = c->branch[q];
+            b->lj[a] = c->dist[q] - c->branch[q];
+        }
         b->ri[a] = r[i], b->rj[a] = r[j], b->mi[a] = mass[i], b->mj[a] = mass[j];
         b->dvx[a] = v[3 * i] - v[3 * j];
         b->dvy[a] = v[3 * i + 1] - v[3 * j + 1];
@@ -406,6 +414,20 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
             b->kn[a] = pc->kn_pre, b->dn[a] = pc->dn_pre, b->kt[a] = pc->kt_pre;
             b->dtp[a] = pc->dt_pre, b->mus2[a] = pc->mu_s2, b->mud[a] = pc->mu_d;
         }
+    }
+}
+
+/* A lean list's geometry from the gathered centre differences, lane by lane: the contact
+ * list's own formula (sinter_pp_geometry), so the same bits as a list that carries it. */
+HM_INLINE void blk_geometry(blk *restrict b)
+{
+    for (int a = 0; a < BLOCK; ++a) {
+        const sinter_pp_geom g =
+            sinter_pp_geometry(b->nx[a], b->ny[a], b->nz[a], b->ri[a], b->rj[a]);
+        b->nx[a] = g.nx, b->ny[a] = g.ny, b->nz[a] = g.nz;
+        b->delta[a] = g.delta;
+        b->li[a] = g.li;
+        b->lj[a] = g.d - g.li;
     }
 }
 
@@ -528,6 +550,7 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
 {
     const uint32_t *bq0 = bq;
     const sinter_contact_list *c = e->pp;
+    const int lean = !c->geometry;
     double *trial = e->hist_pp->trial;
     const size_t width = e->hist_pp->width;
     const int by_pair = e->hist_pp->by_pair;
@@ -544,11 +567,21 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        if (single != NULL) {
-            blk_gather(e, k, single, q0, nb, &b);
+        /* four specialised bodies: one pair of materials or a table, geometry formed here
+         * or read from the list */
+        if (single != NULL && lean) {
+            blk_gather(e, k, single, q0, nb, 1, &b);
+            blk_geometry(&b);
             blk_law(&b, e->dt, single);
+        } else if (single != NULL) {
+            blk_gather(e, k, single, q0, nb, 0, &b);
+            blk_law(&b, e->dt, single);
+        } else if (lean) {
+            blk_gather(e, k, NULL, q0, nb, 1, &b);
+            blk_geometry(&b);
+            blk_law(&b, e->dt, NULL);
         } else {
-            blk_gather(e, k, NULL, q0, nb, &b);
+            blk_gather(e, k, NULL, q0, nb, 0, &b);
             blk_law(&b, e->dt, NULL);
         }
         for (size_t a = 0; a < nb; ++a) {
@@ -602,14 +635,29 @@ static void pp_contacts_range(const sinter_force_eval *e, const constants *k,
 }
 
 /* Force of contact q (out, from pp_blocks) with the moments L (n x f) formed again as
- * blk_law forms them: added to particle p, first or second of the contact. */
-static inline void add_from_force(const sinter_contact_list *c, size_t q, const double *o,
-                                  int first, double f[3], double t[3])
+ * blk_law forms them: added to particle p, first or second of the contact. A lean list's
+ * geometry is formed again as blk_geometry forms it. */
+static inline void add_from_force(const sinter_contact_list *c, const sinter_particles *ps,
+                                  size_t q, const double *o, int first, double f[3], double t[3])
 {
-    const double *n = c->n + 3 * q;
+    double n[3], li, lj;
+    if (c->geometry) {
+        n[0] = c->n[3 * q], n[1] = c->n[3 * q + 1], n[2] = c->n[3 * q + 2];
+        li = c->branch[q];
+        lj = c->dist[q] - c->branch[q];
+    } else {
+        const double *x = ps->x, *r = ps->radius;
+        const uint32_t i = c->i[q], j = c->j[q];
+        const sinter_pp_geom g =
+            sinter_pp_geometry(x[3 * j] - x[3 * i], x[3 * j + 1] - x[3 * i + 1],
+                               x[3 * j + 2] - x[3 * i + 2], r[i], r[j]);
+        n[0] = g.nx, n[1] = g.ny, n[2] = g.nz;
+        li = g.li;
+        lj = g.d - g.li;
+    }
     const double m[3] = {n[1] * o[2] - n[2] * o[1], n[2] * o[0] - n[0] * o[2],
                          n[0] * o[1] - n[1] * o[0]};
-    const double l = first ? c->branch[q] : c->dist[q] - c->branch[q];
+    const double l = first ? li : lj;
     for (int d = 0; d < 3; ++d) {
         f[d] = first ? f[d] + o[d] : f[d] - o[d];
         t[d] += l * m[d];
@@ -645,8 +693,8 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
             double ti[3] = {torque[3 * i], torque[3 * i + 1], torque[3 * i + 2]};
             double fj[3] = {force[3 * j], force[3 * j + 1], force[3 * j + 2]};
             double tj[3] = {torque[3 * j], torque[3 * j + 1], torque[3 * j + 2]};
-            add_from_force(c, q, bout + 3 * b, 1, fi, ti);
-            add_from_force(c, q, bout + 3 * b, 0, fj, tj);
+            add_from_force(c, e->ps, q, bout + 3 * b, 1, fi, ti);
+            add_from_force(c, e->ps, q, bout + 3 * b, 0, fj, tj);
             for (int d = 0; d < 3; ++d) {
                 force[3 * i + d] = fi[d], torque[3 * i + d] = ti[d];
                 force[3 * j + d] = fj[d], torque[3 * j + d] = tj[d];
@@ -810,6 +858,12 @@ static size_t hertz_mindlin_history(const sinter_force_model *fm, int wall)
     return fm->param[PARAM_ROLLING] != 0.0 ? 6 : 3;
 }
 
+/* Without rolling resistance the blocked law forms the geometry from the centres. */
+static int hertz_mindlin_reads_geometry(const sinter_force_model *fm, size_t width)
+{
+    return fm->param[PARAM_ROLLING] != 0.0 && width == 6;
+}
+
 const sinter_force_ops sinter_force_hertz_mindlin = {
     .name = "hertz_mindlin",
     .history_pp = 6,
@@ -819,4 +873,5 @@ const sinter_force_ops sinter_force_hertz_mindlin = {
     .defaults = {1.0},
     .eval = hertz_mindlin_eval,
     .history_width = hertz_mindlin_history,
+    .reads_geometry = hertz_mindlin_reads_geometry,
 };

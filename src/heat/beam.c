@@ -94,10 +94,10 @@ const sinter_heat_ops sinter_heat_nozzle = {"nozzle",
                                             0,
                                             {"x", "y", "radius", "intensity", "depth", NULL},
                                             {0.0, 0.0, 5e-3, 0.0, 1e-3},
-                                            nozzle_eval};
+                                            nozzle_eval, NULL};
 
 const sinter_heat_ops sinter_heat_laser = {"laser",
                                            0,
                                            {"x", "y", "radius", "intensity", "attenuation", NULL},
                                            {0.0, 0.0, 5e-3, 0.0, 1e3},
-                                           laser_eval};
+                                           laser_eval, NULL};

@@ -74,8 +74,10 @@ static inline double contact_g(const sinter_heat_eval *e, const double *kmat, in
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
     const uint32_t i = c->i[q], j = c->j[q];
+    /* the projection law reads no geometry (the list may be lean: conduction_reads_geometry) */
     return conductance_pp(projection, kmat[ps->material[i]], kmat[ps->material[j]],
-                          ps->radius[i], ps->radius[j], c->area[q], c->dist[q]);
+                          ps->radius[i], ps->radius[j], projection ? 0.0 : c->area[q],
+                          projection ? 0.0 : c->dist[q]);
 }
 
 /* Range s of a partitioned list: interior contacts into heat, boundary ones stored; returns
@@ -209,5 +211,13 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     return st;
 }
 
-const sinter_heat_ops sinter_heat_conduction = {
-    "conduction", 1, {"area", "walls", NULL}, {0.0, 1.0}, conduction_eval};
+/* The projection law reads radii and temperatures only (the wall contacts, which always
+ * carry their geometry, aside). */
+static int conduction_reads_geometry(const sinter_heat_model *hm, double t)
+{
+    return sinter_heat_param(hm, PARAM_AREA, t) != 1.0;
+}
+
+const sinter_heat_ops sinter_heat_conduction = {"conduction",      1,
+                                                {"area", "walls", NULL}, {0.0, 1.0},
+                                                conduction_eval,   conduction_reads_geometry};

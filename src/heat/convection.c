@@ -64,4 +64,4 @@ const sinter_heat_ops sinter_heat_convection = {"convection",
                                                  "fluid_viscosity", "fluid_heat_capacity",
                                                  "fluid_density", "fluid_speed", NULL},
                                                 {293.15, 0.0, 0.026, 1.8e-5, 1005.0, 1.2, 0.0},
-                                                convection_eval};
+                                                convection_eval, NULL};

@@ -32,6 +32,9 @@ typedef struct sinter_heat_ops {
     const char *keys[SINTER_HEAT_MAX_PARAMS]; /* parameters, NULL-terminated */
     double defaults[SINTER_HEAT_MAX_PARAMS];
     sinter_status (*eval)(const sinter_heat_model *hm, sinter_heat_eval *e);
+    /* 1 if an evaluation at time t reads the geometry (n, delta, dist, area, branch) of
+     * e->pp; NULL: it reads no contact geometry. A model reading it must set this. */
+    int (*reads_geometry)(const sinter_heat_model *hm, double t);
 } sinter_heat_ops;
 
 struct sinter_heat_model {
@@ -60,5 +63,12 @@ extern const sinter_heat_ops sinter_heat_joule;
 
 /* Host model evaluation (host.c). */
 sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e);
+int sinter_heat_host_reads_geometry(const sinter_heat_model *hm, double t); /* 1: contact radii */
+
+/* 1 if an evaluation of hm at time t reads the contact list's geometry. */
+static inline int sinter_heat_reads_geometry(const sinter_heat_model *hm, double t)
+{
+    return hm->ops->reads_geometry != NULL && hm->ops->reads_geometry(hm, t);
+}
 
 #endif

@@ -42,3 +42,10 @@ sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eva
     sinter_free(e->ctx, q);
     return st;
 }
+
+int sinter_heat_host_reads_geometry(const sinter_heat_model *hm, double t)
+{
+    (void)hm;
+    (void)t;
+    return 1; /* the batches carry the contact radii */
+}

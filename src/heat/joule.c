@@ -110,4 +110,4 @@ const sinter_heat_ops sinter_heat_joule = {
     0,
     {"sigmoid", "theta_ref", "k1", "gamma1", "k2", "gamma2", "field_ref", NULL},
     {0.0, 293.15, 0.0, 0.0, 0.0, 0.0, 0.0},
-    joule_eval};
+    joule_eval, NULL};

@@ -27,4 +27,4 @@ static sinter_status radiation_eval(const sinter_heat_model *hm, sinter_heat_eva
 }
 
 const sinter_heat_ops sinter_heat_radiation = {
-    "radiation", 0, {"temperature", NULL}, {293.15}, radiation_eval};
+    "radiation", 0, {"temperature", NULL}, {293.15}, radiation_eval, NULL};

@@ -75,6 +75,7 @@ sinter_status sinter_heat_model_create_host(sinter_heat_model **out, sinter_ctx 
     hm->host_ops.conduction = 0;
     hm->host_ops.keys[0] = NULL;
     hm->host_ops.eval = sinter_heat_host_eval;
+    hm->host_ops.reads_geometry = sinter_heat_host_reads_geometry;
     hm->ops = &hm->host_ops;
     *out = hm;
     return SINTER_OK;

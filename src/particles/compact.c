@@ -448,7 +448,8 @@ static void fill_result(const compaction *c, const plan *p, double ke, double re
                         sinter_compaction_result *r)
 {
     const sinter_particles *ps = c->work;
-    const sinter_stepper *s = c->stepper;
+    sinter_stepper *s = c->stepper;
+    sinter_contacts_geometry(s->ctx, &s->pp, s->ps); /* a lean list gets its overlaps */
     r->pressure = wall_stress(c->walls, r->box_min, r->box_max);
     const double size[3] = {r->box_max[0] - r->box_min[0], r->box_max[1] - r->box_min[1],
                             r->box_max[2] - r->box_min[2]};

@@ -103,6 +103,7 @@ static sinter_status check_approach(struct sinter_stepper *st, const double *x_o
     double worst = limit, growth = 0.0;
     size_t worst_k = SIZE_MAX;
     int wall = 0;
+    sinter_contacts_geometry(st->ctx, &st->pp, ps); /* a lean list gets its overlaps */
     const sinter_contact_list *pp = &st->pp;
     for (size_t k = 0; k < pp->count; ++k) {
         const size_t i = pp->i[k], j = pp->j[k];

@@ -357,6 +357,22 @@ static sinter_status fill_view(sinter_stepper *st, double dt)
     return SINTER_OK;
 }
 
+/* 1 if a submodel of this evaluation reads the particle-particle contacts' geometry; when
+ * none does, the list is found lean (sinter_contacts_find_pp_lean, issue 9). A reader the
+ * test misses still gets it: each reader asks sinter_contacts_geometry first. */
+static int geometry_needed(const sinter_stepper *st)
+{
+    if (st->electric != NULL)
+        return 1;
+    for (size_t k = 0; k < st->force_count; ++k)
+        if (sinter_force_reads_geometry(st->forces[k].model, st->forces[k].pp.width))
+            return 1;
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        if (sinter_heat_reads_geometry(st->thermal.slots[k].model, st->time))
+            return 1;
+    return 0;
+}
+
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
@@ -366,7 +382,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         return s;
     const double t0 = sinter_clock();
     st->stats.evaluations++;
-    s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
+    s = geometry_needed(st) ? sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps)
+                            : sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
     if (s != SINTER_OK)
@@ -376,6 +393,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     if (st->electric != NULL) {
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
+        sinter_contacts_geometry(ctx, &st->pp, ps);
         s = sinter_electric_solve(st->electric, ps, st->walls, &st->pp, &st->pw,
                                   &electric_iterations);
         st->electric_iterations += electric_iterations;
@@ -423,6 +441,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
             break;
         e.hist_pp = &slot->pp;
         e.hist_pw = &slot->pw;
+        if (sinter_force_reads_geometry(slot->model, slot->pp.width))
+            sinter_contacts_geometry(ctx, &st->pp, ps);
         s = slot->model->ops->eval(slot->model, &e);
     }
     st->stats.contacts = st->pp.count;

@@ -107,6 +107,9 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
     e.ctx = st->ctx;
     e.ps = ps;
     e.walls = st->walls;
+    for (size_t k = 0; k < th->count; ++k)
+        if (sinter_heat_reads_geometry(th->slots[k].model, st->time))
+            sinter_contacts_geometry(st->ctx, &st->pp, ps); /* a lean list gets it here */
     e.pp = &st->pp;
     e.pw = &st->pw;
     e.time = st->time;

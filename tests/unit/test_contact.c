@@ -140,7 +140,9 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
 
 /* A packed, jittered lattice of 15^3 spheres (about 9000 contacts: the threaded paths run),
  * with explicit conduction from a 500 K floor and no rolling resistance when `heat` (the
- * threaded conduction sums and the blocked Hertz-Mindlin law). */
+ * threaded conduction sums and the blocked Hertz-Mindlin law): heat 1 conducts by eq. 34's
+ * area, which the contact list carries; heat 2 by LIGGGHTS' projection, which reads no
+ * geometry, so the list is found lean and the law forms the geometry itself. */
 static void run_packed(int threads, int heat, int reverse, double *out, size_t n)
 {
     scene s;
@@ -165,6 +167,7 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
         OK(sinter_force_model_set(s.contact, "rolling", 0.0));
         OK(sinter_walls_set_temperature(s.walls, 0, 500.0));
         OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+        OK(sinter_heat_model_set(cond, "area", heat == 2 ? 1.0 : 0.0));
         OK(sinter_stepper_add_heat(s.st, cond));
     }
     uint64_t seed = 5;
@@ -208,9 +211,12 @@ static void test_results_independent_of_thread_count(void **state)
     (void)state;
     enum { N = 15 * 15 * 15 };
     /* heat 1: the blocked contact law and conduction, summed by the partitioned list
-     * (contact/chunks.h); case 2: the same with the particles in reverse order */
-    for (int c = 0; c <= 2; ++c) {
-        const int heat = c > 0, reverse = c == 2;
+     * (contact/chunks.h); heat 2: the same from a lean list; reversed: the particles in
+     * reverse order (not partitioned: the serial sums) */
+    const int cases[5][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}}; /* heat, reverse */
+    double *with_geometry[2] = {NULL, NULL};
+    for (int c = 0; c < 5; ++c) {
+        const int heat = cases[c][0], reverse = cases[c][1];
         double *one = calloc(7 * N, sizeof(double)), *two = calloc(7 * N, sizeof(double)),
                *three = calloc(7 * N, sizeof(double));
         run_packed(1, heat, reverse, one, N);
@@ -219,10 +225,18 @@ static void test_results_independent_of_thread_count(void **state)
         /* The threaded sums run in the serial order: equal to the bit. */
         assert_memory_equal(one, two, 7 * N * sizeof(double));
         assert_memory_equal(one, three, 7 * N * sizeof(double));
-        free(one);
+        if (heat == 1) {
+            with_geometry[reverse] = one;
+        } else {
+            if (heat == 2) /* the law's own geometry is the list's: the same motion, bit for bit */
+                assert_memory_equal(one, with_geometry[reverse], 6 * N * sizeof(double));
+            free(one);
+        }
         free(two);
         free(three);
     }
+    free(with_geometry[0]);
+    free(with_geometry[1]);
 }
 
 /* The threaded cell-grid build gives the same list, pair by pair, for 1, 2 and 3 threads: a
