@@ -204,6 +204,7 @@ sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
     for (size_t i = 0; i < ps->count; ++i)
         if (ps->material[i] == id)
             update_mass(ps, i);
+    ps->write_generation++; /* masses may have changed: steppers evaluate their forces again */
     return SINTER_OK;
 }
 
