@@ -661,7 +661,12 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * change, ids do not) before the first step after the option is set and then
  * before every step that follows so many accepted steps; 0, the default,
  * never (SINTER_ERR_UNSUPPORTED on a quasi-static stepper, whose links are
- * kept by index).
+ * kept by index). They also take "rotation": 1, the default, integrates the
+ * total rotation vector of each particle (seed 003 eq. 45,
+ * SINTER_FIELD_ROTATION); 0 leaves it as it is, which saves a quarter of the
+ * explicit integrator's memory traffic when nothing reads it (no force or
+ * heat model does: rolling resistance keeps its own relative rotation per
+ * contact) (SINTER_ERR_UNSUPPORTED on a quasi-static stepper).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).

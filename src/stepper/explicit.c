@@ -27,12 +27,13 @@ static sinter_status reserve_spare(sinter_stepper *st)
     return SINTER_OK;
 }
 
-/* Exchange the set's x, v, w, rot with the spare arrays (same capacity, same allocator). */
+/* Exchange the set's x, v, w and, when the stepper integrates it, rot with the spare arrays
+ * (same capacity, same allocator). */
 static void swap_spare(sinter_stepper *st)
 {
     sinter_particles *ps = st->ps;
     double **fields[4] = {&ps->x, &ps->v, &ps->w, &ps->rot};
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < (st->rotation ? 4 : 3); ++k) {
         double *t = *fields[k];
         *fields[k] = st->spare[k];
         st->spare[k] = t;
@@ -58,7 +59,7 @@ static inline double nonfinite(double z)
 /*
  * First half kick and drift, written into the spare arrays, which then become the set's
  * (the old state stays in the spare arrays for a rollback: no copy), and the total rotation
- * vector (seed 003 eq. 45, increment w h) in the same pass. Positions and rotations are
+ * vector (seed 003 eq. 45, increment w h) in the same pass unless the option "rotation" is 0. Positions and rotations are
  * final for the step here, so their finiteness is checked here; returns the first particle
  * with a non-finite one, or n. The sanity check's measure of the step (largest displacement,
  * smallest radius) is taken in the same pass, into *scan, and force and torque are zeroed
@@ -77,6 +78,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
+    const int rotation = st->rotation;
     size_t bad = n;
     /* The neighbour list's staleness test needs the largest displacement since its build:
      * measured here, where the new positions are made, instead of in a pass of its own. */
@@ -115,10 +117,12 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
             moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
             step2 = s2 > step2 ? s2 : step2;
             rmin = radius[i] < rmin ? radius[i] : rmin;
-            double *alpha = nrot + 3 * i;
-            alpha[0] = rot[3 * i], alpha[1] = rot[3 * i + 1], alpha[2] = rot[3 * i + 2];
-            sinter_compose_rotation(alpha, da);
-            z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
+            if (rotation) {
+                double *alpha = nrot + 3 * i;
+                alpha[0] = rot[3 * i], alpha[1] = rot[3 * i + 1], alpha[2] = rot[3 * i + 2];
+                sinter_compose_rotation(alpha, da);
+                z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
+            }
             if (!(z == 0.0) && i < bad)
                 bad = i;
         }
@@ -139,7 +143,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                     wi[d] += b * tq[3 * i + d];
             }
             const double da[3] = {h * wi[0], h * wi[1], h * wi[2]};
-            double *alpha = nrot + 3 * i;
+            double alpha[3];
             double z = 0.0, s2 = 0.0, d2 = 0.0;
             for (int d = 0; d < 3; ++d) {
                 const size_t k = 3 * i + (size_t)d;
@@ -154,7 +158,11 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                     d2 += e * e;
                 }
             }
-            sinter_compose_rotation(alpha, da);
+            if (rotation) {
+                sinter_compose_rotation(alpha, da);
+                for (int d = 0; d < 3; ++d)
+                    nrot[3 * i + d] = alpha[d];
+            }
             for (int d = 0; d < 3; ++d)
                 z += nonfinite(nx[3 * i + d]) + nonfinite(alpha[d]);
             moved2 = d2 > moved2 ? d2 : moved2;

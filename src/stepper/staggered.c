@@ -144,7 +144,9 @@ static sinter_status option_target(const sinter_stepper *st, const char *func, c
     if (*which < 0)
         return sinter_fail(
             st->ctx, SINTER_ERR_NOT_FOUND,
-            "%s: unknown option '%s'; the staggered stepper's options are " OPTION_LIST, func, key);
+            "%s: unknown option '%s'; the explicit and staggered steppers take sort_interval "
+            "and rotation, the staggered stepper also " OPTION_LIST,
+            func, key);
     if (st->kind != SINTER_STEPPER_STAGGERED)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "%s: '%s' is an option of the implicit staggered stepper "
@@ -398,7 +400,8 @@ static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double 
         memcpy(alpha, a->rot + 3 * i, 3 * sizeof(double));
         const double da[3] = {h * (phi * w[0] + psi * w0[0]), h * (phi * w[1] + psi * w0[1]),
                               h * (phi * w[2] + psi * w0[2])};
-        sinter_compose_rotation(alpha, da); /* seed 003 eq. 45 */
+        if (st->rotation)
+            sinter_compose_rotation(alpha, da); /* seed 003 eq. 45 */
         const double check = x[0] + x[1] + x[2] + v[0] + v[1] + v[2] + w[0] + w[1] + w[2];
         if (!isfinite(check) && bad == n)
             bad = i;

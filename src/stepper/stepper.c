@@ -42,6 +42,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->ps = particles;
     st->walls = walls;
     st->dt = 1e-5;
+    st->rotation = 1;
     sinter_neighbors_init(&st->nb, ctx, 0.0);
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
@@ -113,6 +114,23 @@ static sinter_status set_sort_interval(sinter_stepper *st, double value)
     return SINTER_OK;
 }
 
+/* Option "rotation" (explicit and staggered steppers): 1 (the default) integrates the total
+ * rotation vector of seed 003 eq. 45 (SINTER_FIELD_ROTATION); 0 leaves it as it is. */
+static sinter_status set_rotation(sinter_stepper *st, double value)
+{
+    if (st->kind == SINTER_STEPPER_QUASISTATIC)
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                           "sinter_stepper_set_option: rotation: the quasi-static stepper has no "
+                           "total rotation vector to integrate");
+    if (value != 0.0 && value != 1.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_option: rotation = %g must be 1 (integrate the "
+                           "total rotation vector, the default) or 0 (leave it as it is)",
+                           value);
+    st->rotation = value == 1.0;
+    return SINTER_OK;
+}
+
 sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, double value)
 {
     if (st == NULL)
@@ -120,6 +138,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
     SINTER_CHECK_NULL(st->ctx, key);
     if (strcmp(key, "sort_interval") == 0)
         return set_sort_interval(st, value);
+    if (strcmp(key, "rotation") == 0)
+        return set_rotation(st, value);
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
@@ -133,6 +153,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     SINTER_CHECK_NULL(st->ctx, value);
     if (strcmp(key, "sort_interval") == 0) {
         *value = (double)st->sort_interval;
+        return SINTER_OK;
+    }
+    if (strcmp(key, "rotation") == 0 && st->kind != SINTER_STEPPER_QUASISTATIC) {
+        *value = st->rotation;
         return SINTER_OK;
     }
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)

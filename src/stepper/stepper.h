@@ -54,6 +54,7 @@ struct sinter_stepper {
     int forces_zeroed;            /* the integrator zeroed force and torque after its last read */
     uint64_t sort_interval;       /* option "sort_interval": steps between spatial sorts, 0 off */
     uint64_t steps_since_sort;
+    int rotation;                 /* option "rotation": integrate the total rotation vector */
     uint64_t write_generation;    /* particle write_generation when forces were evaluated */
     uint64_t population_generation; /* particle population_generation then */
     double *wall_force;           /* 3 per wall, from the last evaluation */

@@ -435,6 +435,7 @@ static uint64_t fingerprint(fixture *f)
     for (size_t k = 0; k < sizeof(STAGGERED_KEYS) / sizeof(STAGGERED_KEYS[0]); ++k)
         mix_param(&z, get_option, f->stag, STAGGERED_KEYS[k]);
     mix_param(&z, get_option, f->st, "sort_interval");
+    mix_param(&z, get_option, f->st, "rotation");
     for (size_t k = 0; k < sizeof(QS_KEYS) / sizeof(QS_KEYS[0]); ++k)
         mix_param(&z, get_option, f->qs, QS_KEYS[k]);
     for (int p = 0; p < SINTER_MAT_PARAM_COUNT_; ++p) {
@@ -977,7 +978,13 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_set_option(f->qs, "sort_interval", 10.0))                                     \
     X(option_set_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_option(NULL, "phi", 0.5))         \
     X(option_set_null_key, SINTER_ERR_NULL, "'key'", sinter_stepper_set_option(f->stag, NULL, 1))  \
-    X(option_set_unknown, SINTER_ERR_NOT_FOUND, "unknown option 'phy'; the staggered stepper's",   \
+    X(rotation_two, SINTER_ERR_INVALID, "rotation = 2 must be 1",                                  \
+      sinter_stepper_set_option(f->st, "rotation", 2.0))                                           \
+    X(rotation_nan, SINTER_ERR_INVALID, "rotation = nan",                                          \
+      sinter_stepper_set_option(f->stag, "rotation", NAN))                                         \
+    X(rotation_quasistatic, SINTER_ERR_UNSUPPORTED, "no total rotation vector",                    \
+      sinter_stepper_set_option(f->qs, "rotation", 0.0))                                           \
+    X(option_set_unknown, SINTER_ERR_NOT_FOUND, "unknown option 'phy'; the explicit and",          \
       sinter_stepper_set_option(f->stag, "phy", 0.5))                                              \
     X(option_set_on_explicit, SINTER_ERR_INVALID, "'phi' is an option of the implicit staggered",  \
       sinter_stepper_set_option(f->st, "phi", 0.5))                                                \
