@@ -80,21 +80,41 @@ static inline double contact_g(const sinter_heat_eval *e, const double *kmat, in
                           projection ? 0.0 : c->dist[q]);
 }
 
+/* The projection law's factor 4 k_i k_j / (k_i + k_j) sqrt(pi) when one material is in use
+ * (then G = factor r_max, the same bits as conductance_pp), else -1. */
+static double projection_factor(const sinter_particles *ps, const double *kmat)
+{
+    int used = -1;
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+        if (ps->material_used[m]) {
+            if (used >= 0)
+                return -1.0;
+            used = m;
+        }
+    if (used < 0)
+        return -1.0;
+    const double k = kmat[used], ks = k + k;
+    return ks > 0.0 ? 4.0 * k * k / ks * SQRT_PI : 0.0;
+}
+
 /* Range s of a partitioned list: interior contacts into heat, boundary ones stored; returns
- * their number. */
+ * their number. With `factor` >= 0 (projection_factor) the conductance is factor r_max. */
 static inline __attribute__((always_inline)) size_t
-pp_range(const sinter_heat_eval *e, const double *kmat, int projection,
-                     const sinter_chunks *ch, int s, double *restrict heat, uint32_t *restrict bq,
-                     double *restrict bpower)
+pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
+         const sinter_chunks *ch, int s, double *restrict heat, uint32_t *restrict bq,
+         double *restrict bpower)
 {
     const sinter_contact_list *c = e->pp;
     const double *restrict theta = e->ps->temperature;
     const uint32_t *restrict ci = c->i, *restrict cj = c->j;
     const size_t lo = ch->plo[s], hi = ch->plo[s + 1];
     size_t kept = 0;
+    const double *restrict r = e->ps->radius;
     for (size_t k = ch->qlo[s]; k < ch->qlo[s + 1]; ++k) {
         const uint32_t i = ci[k], j = cj[k];
-        const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
+        const double g = factor >= 0.0 ? factor * (r[i] > r[j] ? r[i] : r[j])
+                                       : contact_g(e, kmat, projection, k);
+        const double q = g * (theta[j] - theta[i]); /* eq. 32 */
         if (j >= lo && j < hi && i >= lo && i < hi) {
             heat[i] += q;
             heat[j] -= q;
@@ -121,17 +141,23 @@ static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, i
     double *bpower = c->chunk_scratch, *heat = e->heat;
     uint32_t *bq = (uint32_t *)(bpower + c->count);
     size_t boundary[SINTER_CHUNKS_MAX];
-    /* the two conductance laws as separate loops, so that neither tests `projection` */
-    if (projection) {
+    /* the conductance laws as separate loops, so that none tests `projection` */
+    const double factor = projection ? projection_factor(e->ps, kmat) : -1.0;
+    if (projection && factor >= 0.0) {
+#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
+        for (int s = 0; s < ch.count; ++s)
+            boundary[s] = pp_range(e, kmat, 1, factor, &ch, s, heat, bq + ch.qlo[s],
+                                   bpower + ch.qlo[s]);
+    } else if (projection) {
 #pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
         for (int s = 0; s < ch.count; ++s)
             boundary[s] =
-                pp_range(e, kmat, 1, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
+                pp_range(e, kmat, 1, -1.0, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
     } else {
 #pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
         for (int s = 0; s < ch.count; ++s)
             boundary[s] =
-                pp_range(e, kmat, 0, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
+                pp_range(e, kmat, 0, -1.0, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
     }
     for (int s = 0; s < ch.count; ++s)
         for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
