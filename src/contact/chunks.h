@@ -3,8 +3,8 @@
  * (or heat) straight into the particles' sums without a race and with results that do not
  * depend on the number of threads (issue 9). sinter_contacts_find_pp makes it (c->chunks).
  *
- * The particles are split into S index ranges, and the contacts into the S runs of contacts
- * whose smaller particle index lies in each range: in the neighbour build's pair order that
+ * The particles are split into S index ranges holding about equal numbers of contacts, and
+ * the contacts into the S runs of contacts whose smaller particle index lies in each range: in the neighbour build's pair order that
  * index (the particle whose scan found the pair) ascends, whatever the pair's orientation by
  * persistent id. A contact of range s whose two particles both lie in particle range s is
  * interior: only range s touches those particles, so a thread per range adds it directly. Every other contact is a boundary contact: its value is kept (in a scratch

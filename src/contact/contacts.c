@@ -192,9 +192,19 @@ static void make_chunks(sinter_contact_list *c, const fill_part *parts, int npar
         seen = 1;
     }
     k->count = count;
-    /* the scratch was reserved for every pair in sinter_contacts_find_pp */
-    for (int s = 0; s <= count; ++s) {
-        k->plo[s] = n * (size_t)s / (size_t)count;
+    /* the scratch was reserved for every pair in sinter_contacts_find_pp. The ranges hold
+     * about equal numbers of contacts (a falling pile has them all at the bottom): range s
+     * starts at the particle of contact count s / S. */
+    k->plo[0] = 0;
+    k->qlo[0] = 0;
+    for (int s = 1; s <= count; ++s) {
+        size_t p = n;
+        if (s < count) {
+            const size_t q = c->count * (size_t)s / (size_t)count;
+            if (q < c->count)
+                p = c->i[q] < c->j[q] ? c->i[q] : c->j[q];
+        }
+        k->plo[s] = p > k->plo[s - 1] ? p : k->plo[s - 1];
         k->qlo[s] = s == count ? c->count : first_contact_of(c, k->plo[s]);
     }
 }
