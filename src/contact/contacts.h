@@ -10,7 +10,9 @@
 #include "contact/neighbors.h"
 
 /* A fixed partition of a particle-particle list for thread-count independent sums
- * (contact/chunks.h), made by sinter_contacts_find_pp. */
+ * (contact/chunks.h), made by sinter_contacts_find_pp. A particle-wall list made by
+ * sinter_contacts_find_pw uses qlo only: runs of contacts that never split a particle's
+ * contacts (the list is in particle order), so threads add into distinct particles. */
 enum { SINTER_CHUNKS_MAX = 8 };
 typedef struct sinter_chunks {
     int count;                         /* S; 0 when the list is not partitioned */
@@ -40,7 +42,7 @@ typedef struct sinter_contact_list {
     const uint32_t *adj_start;
     const uint32_t *adj_pair;
     size_t particle_count;
-    sinter_chunks chunks; /* particle-particle lists only */
+    sinter_chunks chunks; /* the partition (see sinter_chunks) */
     /* with chunks: room for 3 doubles and one index per contact, for one consumer at a time
      * (kept across evaluations, so no allocation per step) */
     void *chunk_scratch;

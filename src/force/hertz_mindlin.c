@@ -777,7 +777,10 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
 /* Wall contacts: constants per (wall, material row) built once when they fit here. */
 enum { MAX_WALL_TABLE = 64 };
 
-static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int rolling)
+/* Wall contacts [lo, hi) in list order: forces and moments into the particles, reactions into
+ * wall_force (3 per wall). */
+HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pair_consts *table,
+                        int cached, int rolling, size_t lo, size_t hi, double *wall_force)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
@@ -786,17 +789,7 @@ static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int
     const size_t width = e->hist_pw->width;
     const double *hist = e->hist_pw->committed;
     double *trial = e->hist_pw->trial;
-    const size_t nw = e->walls->count;
-    pair_consts table[MAX_WALL_TABLE];
-    const int cached = !k->softening && k->rows > 0 && nw * (size_t)k->rows <= MAX_WALL_TABLE;
-    if (cached)
-        for (size_t wall_index = 0; wall_index < nw; ++wall_index) {
-            side sw;
-            side_from_material(&e->walls->wall[wall_index].material, 1.0, &sw);
-            for (int a = 0; a < k->rows; ++a)
-                mix(&k->sides[a], &sw, &table[wall_index * (size_t)k->rows + (size_t)a]);
-        }
-    for (size_t q = 0; q < c->count; ++q) {
+    for (size_t q = lo; q < hi; ++q) {
         const uint32_t i = c->i[q], wall_index = c->j[q];
         const sinter_wall *wall = &e->walls->wall[wall_index];
         const double *n = c->n + 3 * q;
@@ -830,9 +823,52 @@ static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int
         for (int d = 0; d < 3; ++d) {
             e->force[3 * i + d] += f[d];
             e->torque[3 * i + d] += ti[d] + mr[d];
-            e->wall_force[3 * wall_index + d] -= f[d];
+            wall_force[3 * wall_index + d] -= f[d];
         }
     }
+}
+
+enum { MAX_THREADED_WALLS = 16 };
+
+static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int rolling)
+{
+    const sinter_contact_list *c = e->pw;
+    const size_t nw = e->walls->count;
+    pair_consts table[MAX_WALL_TABLE];
+    const int cached = !k->softening && k->rows > 0 && nw * (size_t)k->rows <= MAX_WALL_TABLE;
+    if (cached)
+        for (size_t wall_index = 0; wall_index < nw; ++wall_index) {
+            side sw;
+            side_from_material(&e->walls->wall[wall_index].material, 1.0, &sw);
+            for (int a = 0; a < k->rows; ++a)
+                mix(&k->sides[a], &sw, &table[wall_index * (size_t)k->rows + (size_t)a]);
+        }
+    const sinter_chunks ch = c->chunks;
+    if (ch.count == 0 || nw > MAX_THREADED_WALLS) {
+        if (rolling)
+            pw_range(e, k, table, cached, 1, 0, c->count, e->wall_force);
+        else
+            pw_range(e, k, table, cached, 0, 0, c->count, e->wall_force);
+        return SINTER_OK;
+    }
+    /* A partitioned list (contacts.c, wall_ranges): the ranges never split a particle's
+     * contacts, so threads add into distinct particles in list order; each range sums its own
+     * wall reactions, added to the walls' in range order. The partition depends on the list
+     * only: the same bits for any number of threads. */
+    double partial[SINTER_CHUNKS_MAX][3 * MAX_THREADED_WALLS];
+    const int threads = sinter_threads(e->ctx);
+#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
+    for (int s = 0; s < ch.count; ++s) {
+        for (size_t d = 0; d < 3 * nw; ++d)
+            partial[s][d] = 0.0;
+        if (rolling)
+            pw_range(e, k, table, cached, 1, ch.qlo[s], ch.qlo[s + 1], partial[s]);
+        else
+            pw_range(e, k, table, cached, 0, ch.qlo[s], ch.qlo[s + 1], partial[s]);
+    }
+    for (int s = 0; s < ch.count; ++s)
+        for (size_t d = 0; d < 3 * nw; ++d)
+            e->wall_force[d] += partial[s][d];
     return SINTER_OK;
 }
 

@@ -198,15 +198,24 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
     const double *r = ps->radius, *theta = ps->temperature;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k];
-        const double kw = e->walls->wall[c->j[k]].material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
-        const double g =
-            conductance_pw(projection, kmat[ps->material[i]], kw, r[i], c->area[k], c->dist[k]);
-        if (implicit)
-            e->g_pw[k] += g;
-        else
-            e->heat[i] += g * (e->walls->wall[c->j[k]].temperature - theta[i]); /* eq. 32 */
+    /* a partitioned list's ranges never split a particle's contacts (contacts.c) */
+    const int ranges = c->chunks.count > 0 ? c->chunks.count : 1;
+    const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
+#pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)
+    for (int s = 0; s < ranges; ++s) {
+        const size_t lo = ranges > 1 ? c->chunks.qlo[s] : 0;
+        const size_t hi = ranges > 1 ? c->chunks.qlo[s + 1] : c->count;
+        for (size_t k = lo; k < hi; ++k) {
+            const uint32_t i = c->i[k];
+            const sinter_wall *wall = &e->walls->wall[c->j[k]];
+            const double kw = wall->material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
+            const double g = conductance_pw(projection, kmat[ps->material[i]], kw, r[i],
+                                            c->area[k], c->dist[k]);
+            if (implicit)
+                e->g_pw[k] += g;
+            else
+                e->heat[i] += g * (wall->temperature - theta[i]); /* eq. 32 */
+        }
     }
 }
 
