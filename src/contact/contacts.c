@@ -21,7 +21,7 @@ void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
     void *arrays[] = {c->i,    c->j,      c->pair,   c->n,
                       c->delta, c->dist,  c->area,   c->branch,
-                      c->pair_to_contact, c->chunk_scratch, c->touch};
+                      c->pair_to_contact, c->chunk_scratch, c->touch, c->fill_scratch};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -93,16 +93,17 @@ static inline void put_geometry(sinter_contact_list *c, const double *x, const d
     c->branch[m] = g.li;
 }
 
-/* Contacts among pairs [lo, hi), written from index m on; returns the next free index. With
- * `touch` (the counting pass's verdict per pair, from the same arithmetic) the pairs not in
- * contact are skipped without reading positions. `geometry` 0 writes the indices only. */
+/* Contacts among pairs [lo, hi), written from index m on into ci, cj, cpair (the list's own
+ * arrays, or a scratch copy: fill_segments); returns the next free index. With `touch` (the
+ * counting pass's verdict per pair, from the same arithmetic) the pairs not in contact are
+ * skipped without reading positions. `geometry` 0 writes the indices only. */
 static inline __attribute__((always_inline)) size_t
-fill_pp(sinter_contact_list *c, const sinter_pair_list *pairs, const sinter_particles *ps,
-        size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry)
+fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
+          uint32_t *restrict cpair, const sinter_pair_list *pairs, const sinter_particles *ps,
+          size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry)
 {
     const double *restrict x = ps->x, *restrict r = ps->radius;
     const uint32_t *restrict pi = pairs->i, *restrict pj = pairs->j;
-    uint32_t *restrict ci = c->i, *restrict cj = c->j, *restrict cpair = c->pair;
     uint32_t *restrict to_contact = c->pair_to_contact;
     const size_t m0 = m;
     uint32_t prev = 0;
@@ -135,14 +136,55 @@ static size_t fill_pp_full(sinter_contact_list *c, const sinter_pair_list *pairs
                            const sinter_particles *ps, size_t lo, size_t hi, size_t m,
                            fill_part *part, const uint8_t *touch)
 {
-    return fill_pp(c, pairs, ps, lo, hi, m, part, touch, 1);
+    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 1);
 }
 
 static size_t fill_pp_lean(sinter_contact_list *c, const sinter_pair_list *pairs,
                            const sinter_particles *ps, size_t lo, size_t hi, size_t m,
                            fill_part *part, const uint8_t *touch)
 {
-    return fill_pp(c, pairs, ps, lo, hi, m, part, touch, 0);
+    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 0);
+}
+
+/* A lean list on threads in one pass over the pairs: each thread fills its range of pairs
+ * into a scratch copy at the range's own start (a range has at most as many contacts as
+ * pairs), then copies its contacts to their place in the list and points their pairs at
+ * them: the same list, in the same order, as one thread makes, without a counting pass.
+ * Returns the number of contacts. */
+static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
+                            const sinter_particles *ps, int chunks, fill_part *part)
+{
+    enum { MAX_CHUNKS = 256 };
+    const size_t n = pairs->count;
+    uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
+    size_t found[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
+#pragma omp parallel num_threads(chunks)
+    {
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < chunks; ++t) {
+            const size_t lo = n * (size_t)t / (size_t)chunks;
+            const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
+            fill_part mine = {1, 0, 0, 0};
+            found[t] = fill_into(c, si, sj, sp, pairs, ps, lo, hi, lo, &mine, NULL, 0) - lo;
+            part[t] = mine;
+        }
+#pragma omp single
+        {
+            offset[0] = 0;
+            for (int t = 0; t < chunks; ++t)
+                offset[t + 1] = offset[t] + found[t];
+        }
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < chunks; ++t) {
+            const size_t lo = n * (size_t)t / (size_t)chunks, to = offset[t];
+            memcpy(c->i + to, si + lo, found[t] * sizeof(uint32_t));
+            memcpy(c->j + to, sj + lo, found[t] * sizeof(uint32_t));
+            memcpy(c->pair + to, sp + lo, found[t] * sizeof(uint32_t));
+            for (size_t m = to; m < to + found[t]; ++m)
+                c->pair_to_contact[c->pair[m]] = (uint32_t)m;
+        }
+    }
+    return offset[chunks];
 }
 
 /* S from the number of candidate pairs: a power of two (2, 4 or 8, so that 2 or 4 threads get
@@ -241,15 +283,25 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         make_chunks(c, &part, 1, ps->count, parts_count);
         return SINTER_OK;
     }
-    /* Threads: count per chunk (keeping each pair's verdict), then fill each chunk from its
-     * offset, visiting only the pairs in contact: the same list, in the same order, as one
-     * thread makes. */
+    enum { MAX_CHUNKS = 256 };
+    const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+    if (!geometry) {
+        st = sinter_grow(ctx, (void **)&c->fill_scratch, &c->fill_scratch_capacity,
+                         3 * pairs->count + 1, sizeof(uint32_t));
+        if (st != SINTER_OK)
+            return st;
+        fill_part part[MAX_CHUNKS];
+        c->count = fill_segments(c, pairs, ps, chunks, part);
+        make_chunks(c, part, chunks, ps->count, parts_count);
+        return SINTER_OK;
+    }
+    /* Threads, with the geometry: count per chunk (keeping each pair's verdict), then fill
+     * each chunk from its offset, visiting only the pairs in contact: the same list, in the
+     * same order, as one thread makes. */
     st = sinter_grow(ctx, (void **)&c->touch, &c->touch_capacity, pairs->count + 1, 1);
     if (st != SINTER_OK)
         return st;
     uint8_t *touch = c->touch;
-    enum { MAX_CHUNKS = 256 };
-    const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
     size_t offset[MAX_CHUNKS + 1] = {0};
     fill_part part[MAX_CHUNKS];
     const size_t n = pairs->count;

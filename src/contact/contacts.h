@@ -49,6 +49,8 @@ typedef struct sinter_contact_list {
     size_t chunk_scratch_capacity;
     uint8_t *touch; /* threaded search: 1 per candidate pair in contact (the counting pass) */
     size_t touch_capacity;
+    uint32_t *fill_scratch; /* threaded search of a lean list: i, j, pair per candidate pair */
+    size_t fill_scratch_capacity;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
