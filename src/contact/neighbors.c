@@ -185,6 +185,58 @@ static sinter_status match_pairs(sinter_neighbors *nb, sinter_pair_list *now,
     return SINTER_OK;
 }
 
+static inline uint32_t key_of(const sinter_pair_list *l, size_t p)
+{
+    return l->i[p] < l->j[p] ? l->i[p] : l->j[p];
+}
+
+/*
+ * match_pairs for particle-particle lists when the particles kept their indices since the
+ * last build (the common case): both lists come from the scan, so their pairs are grouped
+ * by the smaller particle index in ascending order, and a pair's old twin is among the old
+ * pairs of the same smaller particle, with the same i and j (pairs are oriented by id, and
+ * ids stay with the indices). A table of where each particle's old run starts replaces the
+ * hash; both passes run on the threads. Returns 0 (nothing written) if the old list's runs do
+ * not ascend, and the caller uses the hash.
+ */
+static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
+                         const sinter_pair_list *before, size_t n)
+{
+    const size_t old_count = before->count;
+    for (size_t p = 1; p < old_count; ++p) /* cheap: one pass over the old keys */
+        if (key_of(before, p) < key_of(before, p - 1))
+            return 0;
+    if (sinter_grow(nb->ctx, (void **)&nb->hash, &nb->hash_capacity, n + 2, sizeof(uint32_t)) !=
+        SINTER_OK)
+        return 0; /* the hash path reports the failure */
+    uint32_t *start = nb->hash; /* old pairs of particle a: [start[a], start[a + 1]) */
+    const long pairs = (long)old_count, count = (long)now->count;
+    const int threads = count < 16384 ? 1 : sinter_threads(nb->ctx);
+#pragma omp parallel num_threads(threads)
+    {
+        /* each run start p fills start[a] for the particles a from the previous key up */
+#pragma omp for schedule(static)
+        for (long p = 0; p <= pairs; ++p) {
+            const size_t key = p < pairs ? key_of(before, (size_t)p) : n;
+            const size_t prev = p > 0 ? (size_t)key_of(before, (size_t)p - 1) + 1 : 0;
+            for (size_t a = prev; a <= key && a <= n; ++a)
+                start[a] = (uint32_t)p;
+        }
+#pragma omp for schedule(static)
+        for (long q = 0; q < count; ++q) {
+            const uint32_t i = now->i[q], j = now->j[q], a = key_of(now, (size_t)q);
+            uint32_t found = SINTER_NO_PAIR;
+            for (uint32_t p = start[a]; p < start[a + 1]; ++p)
+                if (before->i[p] == i && before->j[p] == j) {
+                    found = p;
+                    break;
+                }
+            now->from[q] = found;
+        }
+    }
+    return 1;
+}
+
 static void swap_lists(sinter_pair_list *a, sinter_pair_list *b)
 {
     sinter_pair_list t = *a;
@@ -471,7 +523,10 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = reserve_pairs(ctx, &nb->pw, 1);
     if (st == SINTER_OK)
         st = build_adjacency(nb, ps->count);
-    if (st == SINTER_OK)
+    /* the last build's indices still name the same particles: match by runs */
+    const int same_layout = nb->built && nb->layout_generation == ps->layout_generation;
+    if (st == SINTER_OK &&
+        !(same_layout && nb->old_pp.count > 0 && match_by_runs(nb, &nb->pp, &nb->old_pp, ps->count)))
         st = match_pairs(nb, &nb->pp, &nb->old_pp);
     if (st == SINTER_OK)
         st = match_pairs(nb, &nb->pw, &nb->old_pw);

@@ -67,6 +67,28 @@ static void test_pair_list_matches_brute_force(void **state)
     for (size_t p = 0; p < nb.pp.count; ++p)
         assert_int_equal(nb.pp.from[p], p);
     assert_false(sinter_neighbors_stale(&nb, s.ps, s.walls));
+    /* Particles moved (same indices): each new pair's old twin, found by brute force over
+     * the old list's ids, is the one the build names (the run-wise match). */
+    const size_t old_count = nb.pp.count;
+    uint64_t *old_ki = malloc(old_count * sizeof(uint64_t)), *old_kj = malloc(old_count * 8);
+    memcpy(old_ki, nb.pp.key_i, old_count * sizeof(uint64_t));
+    memcpy(old_kj, nb.pp.key_j, old_count * sizeof(uint64_t));
+    uint64_t seed = 3;
+    for (size_t k = 0; k < 3 * ps->count; ++k)
+        s.ps->x[k] += 4e-4 * (lcg(&seed) - 0.5);
+    OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+    size_t kept = 0;
+    for (size_t q = 0; q < nb.pp.count; ++q) {
+        uint32_t twin = SINTER_NO_PAIR;
+        for (size_t p = 0; p < old_count; ++p)
+            if (old_ki[p] == nb.pp.key_i[q] && old_kj[p] == nb.pp.key_j[q])
+                twin = (uint32_t)p;
+        assert_int_equal(nb.pp.from[q], twin);
+        kept += twin != SINTER_NO_PAIR;
+    }
+    assert_true(kept > 0 && kept < nb.pp.count); /* some pairs stayed, some are new */
+    free(old_ki);
+    free(old_kj);
     sinter_neighbors_free(&nb);
     scene_close(&s);
 }
