@@ -126,6 +126,18 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
     return kept;
 }
 
+/* The ranges of a partition in parallel (pp_range each); boundary[s] their kept counts. */
+static inline __attribute__((always_inline)) void
+all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
+           int threads, const sinter_chunks *ch, double *heat, uint32_t *bq, double *bpower,
+           size_t *boundary)
+{
+#pragma omp parallel for num_threads(threads < ch->count ? threads : ch->count) schedule(static)
+    for (int s = 0; s < ch->count; ++s)
+        boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
+                               bpower + ch->qlo[s]);
+}
+
 /*
  * Explicit, on a partitioned list (contact/chunks.h): the ranges of a fixed partition in
  * parallel, each adding its interior contacts' powers, then the boundary contacts in list
@@ -141,24 +153,14 @@ static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, i
     double *bpower = c->chunk_scratch, *heat = e->heat;
     uint32_t *bq = (uint32_t *)(bpower + c->count);
     size_t boundary[SINTER_CHUNKS_MAX];
-    /* the conductance laws as separate loops, so that none tests `projection` */
+    /* the conductance laws as separate loops (constants inlined), so that none tests them */
     const double factor = projection ? projection_factor(e->ps, kmat) : -1.0;
-    if (projection && factor >= 0.0) {
-#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
-        for (int s = 0; s < ch.count; ++s)
-            boundary[s] = pp_range(e, kmat, 1, factor, &ch, s, heat, bq + ch.qlo[s],
-                                   bpower + ch.qlo[s]);
-    } else if (projection) {
-#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
-        for (int s = 0; s < ch.count; ++s)
-            boundary[s] =
-                pp_range(e, kmat, 1, -1.0, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
-    } else {
-#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
-        for (int s = 0; s < ch.count; ++s)
-            boundary[s] =
-                pp_range(e, kmat, 0, -1.0, &ch, s, heat, bq + ch.qlo[s], bpower + ch.qlo[s]);
-    }
+    if (projection && factor >= 0.0)
+        all_ranges(e, kmat, 1, factor, threads, &ch, heat, bq, bpower, boundary);
+    else if (projection)
+        all_ranges(e, kmat, 1, -1.0, threads, &ch, heat, bq, bpower, boundary);
+    else
+        all_ranges(e, kmat, 0, -1.0, threads, &ch, heat, bq, bpower, boundary);
     for (int s = 0; s < ch.count; ++s)
         for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
             heat[c->i[bq[b]]] += bpower[b];
