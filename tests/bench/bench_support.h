@@ -1,6 +1,6 @@
 /*
- * Shared by the benchmark programs: stop with the library's message when a call fails, and
- * the clocks they time with. Define BENCH_NAME (the program's name, for messages) before
+ * Shared by the benchmark programs: stop with the library's message when a call fails, the
+ * clocks they time with, a sphere-file reader, a list parser and a random packing. Define BENCH_NAME (the program's name, for messages) before
  * including; the program sets g_ctx to the context whose last error a failure prints.
  * Needs _POSIX_C_SOURCE >= 199309L (clock_gettime under -std=c11), defined before any header.
  */
@@ -82,6 +82,48 @@ static inline spheres read_spheres(const char *path)
         exit(1);
     }
     return p;
+}
+
+/* A space-separated list of numbers into out[0..max); returns the count. */
+static inline size_t parse_numbers(const char *list, double *out, size_t max)
+{
+    size_t n = 0;
+    for (const char *p = list; *p && n < max;) {
+        char *e = NULL;
+        const double v = strtod(p, &e);
+        if (e == p)
+            break;
+        out[n++] = v;
+        p = e;
+    }
+    return n;
+}
+
+/* count spheres of normally distributed radii (mean, spread [m]) placed by random sequential
+ * addition into [0, box * scale] (material 0, temperature [K]); stops the program unless all
+ * were placed. */
+static inline void pack_normal(sinter_particles *ps, const double box[3], double scale,
+                               double mean, double spread, uint64_t seed, double temperature,
+                               size_t count)
+{
+    sinter_packing_options po;
+    CHECK(sinter_packing_options_init(&po, sizeof(po)));
+    for (int d = 0; d < 3; ++d) {
+        po.box_min[d] = 0.0;
+        po.box_max[d] = box[d] * scale;
+    }
+    po.distribution = SINTER_RADII_NORMAL;
+    po.radius_mean = mean;
+    po.radius_spread = spread;
+    po.seed = seed;
+    po.material = 0;
+    po.temperature = temperature;
+    size_t placed = 0;
+    CHECK(sinter_pack_random(ps, &po, count, &placed));
+    if (placed != count) {
+        fprintf(stderr, "%s: RSA placed only %zu of %zu spheres\n", BENCH_NAME, placed, count);
+        exit(1);
+    }
 }
 
 #endif

@@ -67,25 +67,8 @@ static void make_packing(const char *path, size_t count, const double box[3], do
     sinter_particles *ps = NULL;
     CHECK(sinter_particles_create(&ps, g_ctx));
     CHECK(sinter_particles_set_material(ps, 0, cu));
-    sinter_packing_options po;
-    CHECK(sinter_packing_options_init(&po, sizeof(po)));
-    const double scale = cbrt(2.0); /* RSA in twice the final volume */
-    for (int d = 0; d < 3; ++d) {
-        po.box_min[d] = 0.0;
-        po.box_max[d] = box[d] * scale;
-    }
-    po.distribution = SINTER_RADII_NORMAL;
-    po.radius_mean = 25e-6;
-    po.radius_spread = 2.5e-6;
-    po.seed = 805;
-    po.material = 0;
-    po.temperature = 1293.0;
-    size_t placed = 0;
-    CHECK(sinter_pack_random(ps, &po, count, &placed));
-    if (placed != count) {
-        fprintf(stderr, "qs_strategies: RSA placed only %zu of %zu spheres\n", placed, count);
-        exit(1);
-    }
+    /* RSA in twice the final volume */
+    pack_normal(ps, box, cbrt(2.0), 25e-6, 2.5e-6, 805, 1293.0, count);
     sinter_compaction_options co;
     CHECK(sinter_compaction_options_init(&co, sizeof(co)));
     for (int d = 0; d < 3; ++d) {
@@ -418,20 +401,6 @@ static run load_reference(const char *path, double end)
     return ref;
 }
 
-/* Parse a space-separated list of numbers into out[0..max); returns the count. */
-static size_t parse_list(const char *list, double *out, size_t max)
-{
-    size_t n = 0;
-    for (const char *p = list; *p && n < max;) {
-        char *e = NULL;
-        const double v = strtod(p, &e);
-        if (e == p)
-            break;
-        out[n++] = v;
-        p = e;
-    }
-    return n;
-}
 
 static void add_set(option_set *set, const char *key, const char *value)
 {
@@ -526,7 +495,7 @@ int main(int argc, char **argv)
            (unsigned long long)ref.steps, (unsigned long long)ref.pcg, ref.shrink[0], ref.shrink[1],
            ref.shrink[2], ref.seconds);
     double strain_list[16];
-    size_t nstrain = parse_list(strains, strain_list, 16);
+    size_t nstrain = parse_numbers(strains, strain_list, 16);
     if (nstrain == 0)
         strain_list[nstrain++] = 0.0;
     run runs[64];

@@ -138,24 +138,7 @@ static void make_packing(const char *scene_path, const char *out, size_t count, 
     sinter_particles *ps = NULL;
     CHECK(sinter_particles_create(&ps, g_ctx));
     CHECK(sinter_particles_set_material(ps, 0, ti));
-    sinter_packing_options po;
-    CHECK(sinter_packing_options_init(&po, sizeof(po)));
-    for (int d = 0; d < 3; ++d) {
-        po.box_min[d] = 0.0;
-        po.box_max[d] = 1.3 * box[d];
-    }
-    po.distribution = SINTER_RADII_NORMAL;
-    po.radius_mean = 32e-6;
-    po.radius_spread = 3.2e-6;
-    po.seed = 1;
-    po.material = 0;
-    po.temperature = 793.0;
-    size_t placed = 0;
-    CHECK(sinter_pack_random(ps, &po, count, &placed));
-    if (placed != count) {
-        fprintf(stderr, "ti_shrinkage: RSA placed only %zu of %zu spheres\n", placed, count);
-        exit(1);
-    }
+    pack_normal(ps, box, 1.3, 32e-6, 3.2e-6, 1, 793.0, count);
     sinter_compaction_options co = sc->compact_options;
     for (int d = 0; d < 3; ++d) {
         co.box_min[d] = 0.0;
@@ -237,19 +220,6 @@ static double draw_radius(uint64_t *state)
     }
 }
 
-static size_t parse_times(const char *list, double *out)
-{
-    size_t n = 0;
-    for (const char *p = list; *p && n < MAX_OUT;) {
-        char *e = NULL;
-        const double v = strtod(p, &e);
-        if (e == p)
-            break;
-        out[n++] = v;
-        p = e;
-    }
-    return n;
-}
 
 static void pairs(const char *scene_path, const char *pack_path, const schedule *s, size_t stride,
                   const char *time_list)
@@ -258,7 +228,7 @@ static void pairs(const char *scene_path, const char *pack_path, const schedule 
     sinter_neck_model *nm = NULL;
     CHECK(sinter_neck_model_create(&nm, g_ctx));
     double out[MAX_OUT];
-    const size_t n_out = parse_times(time_list, out);
+    const size_t n_out = parse_numbers(time_list, out, MAX_OUT);
     double shrink[MAX_OUT], ratio[MAX_OUT];
     const double t0 = cpu_seconds();
 
@@ -510,7 +480,7 @@ static void run(const char *scene_path, const char *pack_path, const schedule *s
     tr.mode = mode;
     CHECK(sinter_stepper_set_observer(st, observe, &tr));
     double out[MAX_OUT];
-    const size_t n_out = parse_times(time_list, out);
+    const size_t n_out = parse_numbers(time_list, out, MAX_OUT);
     printf("%zu spheres, strategy %d, new links %s\n\n", pk.n, strategy,
            mode == NEW_LIVE    ? "live"
            : mode == NEW_INERT ? "inert"
