@@ -218,6 +218,8 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
     memcpy(out, s.ps->x, 3 * n * sizeof(double));
     memcpy(out + 3 * n, s.ps->w, 3 * n * sizeof(double));
     memcpy(out + 6 * n, s.ps->temperature, n * sizeof(double));
+    for (size_t k = 0; k < 5; ++k) /* the walls' reactions (threaded wall runs sum them) */
+        OK(sinter_walls_get_force(s.walls, k, out + 7 * n + 3 * k));
     if (heat) { /* the floor heated the bottom layer */
         double hottest = 0.0;
         for (size_t i = 0; i < n; ++i)
@@ -236,22 +238,27 @@ static void test_results_independent_of_thread_count(void **state)
      * (contact/chunks.h); heat 2: the same from a lean list; reversed: the particles in
      * reverse order (not partitioned: the serial sums) */
     const int cases[5][2] = {{0, 0}, {1, 0}, {1, 1}, {2, 0}, {2, 1}}; /* heat, reverse */
+    enum { SIZE = 7 * N + 15 }; /* x, w, temperature; the 5 walls' reactions */
     double *with_geometry[2] = {NULL, NULL};
     for (int c = 0; c < 5; ++c) {
         const int heat = cases[c][0], reverse = cases[c][1];
-        double *one = calloc(7 * N, sizeof(double)), *two = calloc(7 * N, sizeof(double)),
-               *three = calloc(7 * N, sizeof(double));
+        double *one = calloc(SIZE, sizeof(double)), *two = calloc(SIZE, sizeof(double)),
+               *three = calloc(SIZE, sizeof(double));
         run_packed(1, heat, reverse, one, N);
         run_packed(2, heat, reverse, two, N);
         run_packed(3, heat, reverse, three, N);
         /* The threaded sums run in the serial order: equal to the bit. */
-        assert_memory_equal(one, two, 7 * N * sizeof(double));
-        assert_memory_equal(one, three, 7 * N * sizeof(double));
+        assert_memory_equal(one, two, SIZE * sizeof(double));
+        assert_memory_equal(one, three, SIZE * sizeof(double));
         if (heat == 1) {
             with_geometry[reverse] = one;
         } else {
-            if (heat == 2) /* the law's own geometry is the list's: the same motion, bit for bit */
+            if (heat == 2) { /* the law's own geometry is the list's: the same motion, bit for
+                                bit, and the same wall reactions */
                 assert_memory_equal(one, with_geometry[reverse], 6 * N * sizeof(double));
+                assert_memory_equal(one + 7 * N, with_geometry[reverse] + 7 * N,
+                                    15 * sizeof(double));
+            }
             free(one);
         }
         free(two);
