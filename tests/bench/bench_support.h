@@ -1,6 +1,6 @@
 /*
  * Shared by the benchmark programs: stop with the library's message when a call fails, the
- * clocks they time with, a sphere-file reader, a list parser and a random packing. Define BENCH_NAME (the program's name, for messages) before
+ * clocks they time with, a sphere-file reader and writer, a list parser and a random packing. Define BENCH_NAME (the program's name, for messages) before
  * including; the program sets g_ctx to the context whose last error a failure prints.
  * Needs _POSIX_C_SOURCE >= 199309L (clock_gettime under -std=c11), defined before any header.
  */
@@ -82,6 +82,30 @@ static inline spheres read_spheres(const char *path)
         exit(1);
     }
     return p;
+}
+
+/* The set's spheres as "x y z r" lines [m] under the comment line `header` (no '#', no
+ * newline), the format read_spheres reads; stops the program when the file cannot be written. */
+static inline void write_spheres(const char *path, sinter_particles *ps, const char *header)
+{
+    size_t count = 0;
+    const double *x = NULL, *r = NULL;
+    CHECK(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, &count, NULL));
+    CHECK(sinter_particles_view_read(ps, SINTER_FIELD_RADIUS, (const void **)&r, NULL, NULL));
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        perror(path);
+        exit(1);
+    }
+    fprintf(f, "# %s\n", header);
+    for (size_t i = 0; i < count; ++i)
+        fprintf(f, "%.17g %.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2], r[i]);
+    if (fclose(f) != 0) {
+        perror(path);
+        exit(1);
+    }
+    sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    sinter_particles_release(ps, SINTER_FIELD_RADIUS);
 }
 
 /* A space-separated list of numbers into out[0..max); returns the count. */

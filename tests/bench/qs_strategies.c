@@ -88,21 +88,11 @@ static void make_packing(const char *path, size_t count, const double box[3], do
             "the radius, %.1f s CPU\n",
             count, res.volume_fraction, res.coordination, res.max_overlap_ratio,
             cpu_seconds() - t0);
-    const double *x = NULL, *r = NULL;
-    CHECK(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL));
-    CHECK(sinter_particles_view_read(ps, SINTER_FIELD_RADIUS, (const void **)&r, NULL, NULL));
-    FILE *f = fopen(path, "w");
-    if (f == NULL) {
-        perror(path);
-        exit(1);
-    }
-    fprintf(f, "# seed 001 sec. 4.1 copper green body: x y z r [m]; fraction %.6f\n",
-            res.volume_fraction);
-    for (size_t i = 0; i < count; ++i)
-        fprintf(f, "%.17g %.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2], r[i]);
-    fclose(f);
-    sinter_particles_release(ps, SINTER_FIELD_POSITION);
-    sinter_particles_release(ps, SINTER_FIELD_RADIUS);
+    char header[128];
+    snprintf(header, sizeof(header),
+             "seed 001 sec. 4.1 copper green body: x y z r [m]; fraction %.6f",
+             res.volume_fraction);
+    write_spheres(path, ps, header);
     sinter_particles_destroy(ps);
     sinter_material_destroy(cu);
 }

@@ -155,23 +155,11 @@ static void make_packing(const char *scene_path, const char *out, size_t count, 
             count, 1e3 * (res.box_max[0] - res.box_min[0]), 1e3 * (res.box_max[1] - res.box_min[1]),
             1e3 * (res.box_max[2] - res.box_min[2]), res.jammed ? " (jammed)" : "",
             res.volume_fraction, res.coordination, cpu_seconds() - t0);
-    const double *x = NULL, *r = NULL;
-    CHECK(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL));
-    CHECK(sinter_particles_view_read(ps, SINTER_FIELD_RADIUS, (const void **)&r, NULL, NULL));
-    FILE *f = fopen(out, "w");
-    if (f == NULL) {
-        perror(out);
-        exit(1);
-    }
-    fprintf(f,
-            "# titanium green body (ti_shrinkage --make): x y z r [m]; %zu spheres, fraction "
-            "%.6f\n",
-            count, res.volume_fraction);
-    for (size_t i = 0; i < count; ++i)
-        fprintf(f, "%.17g %.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2], r[i]);
-    fclose(f);
-    sinter_particles_release(ps, SINTER_FIELD_POSITION);
-    sinter_particles_release(ps, SINTER_FIELD_RADIUS);
+    char header[160];
+    snprintf(header, sizeof(header),
+             "titanium green body (ti_shrinkage --make): x y z r [m]; %zu spheres, fraction %.6f",
+             count, res.volume_fraction);
+    write_spheres(out, ps, header);
     sinter_particles_destroy(ps);
     sinter_material_destroy(ti);
     sinter_scene_destroy(sc);
