@@ -167,7 +167,7 @@ static sinter_status match_pairs(sinter_neighbors *nb, sinter_pair_list *now,
         table[h] = (uint32_t)p;
     }
     const long count = (long)now->count;
-    const int threads = count < 16384 ? 1 : sinter_threads(nb->ctx);
+    const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (long q = 0; q < count; ++q) {
         size_t h = mix_key(now->key_i[q], now->key_j[q]) & mask;
@@ -211,7 +211,7 @@ static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
         return 0; /* the hash path reports the failure */
     uint32_t *start = nb->hash; /* old pairs of particle a: [start[a], start[a + 1]) */
     const long pairs = (long)old_count, count = (long)now->count;
-    const int threads = count < 16384 ? 1 : sinter_threads(nb->ctx);
+    const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
 #pragma omp parallel num_threads(threads)
     {
         /* each run start p fills start[a] for the particles a from the previous key up */
@@ -403,7 +403,7 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     start[0] = 0;
     const grid g = {{dims[0], dims[1], dims[2]}, start, items, cell_of};
 
-    const int threads = n < 8192 ? 1 : sinter_threads(ctx);
+    const int threads = n < 4096 ? 1 : sinter_threads(ctx);
     if (threads <= 1)
         return scan_append(nb, &g, ps, 0, n);
     /*
@@ -514,7 +514,7 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     swap_lists(&nb->pw, &nb->old_pw);
     sinter_status st = build_pp(nb, ps);
     if (st == SINTER_OK)
-        fill_keys(&nb->pp, ps->id, nb->pp.count < 16384 ? 1 : sinter_threads(ctx));
+        fill_keys(&nb->pp, ps->id, nb->pp.count < 4096 ? 1 : sinter_threads(ctx));
     if (st == SINTER_OK)
         st = build_pw(nb, ps, walls);
     if (st == SINTER_OK)
