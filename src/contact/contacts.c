@@ -69,6 +69,9 @@ static inline int touching(const sinter_pair_list *pairs, const double *x, const
     return d2 < rs * rs && d2 != 0.0;
 }
 
+/* Most threads the threaded search splits its pairs for. */
+enum { MAX_CHUNKS = 256 };
+
 /* What a fill pass learns for the partition (chunks.h): whether the contacts' smaller
  * particle indices ascend, and the first and last of them. */
 typedef struct fill_part {
@@ -154,7 +157,6 @@ static size_t fill_pp_lean(sinter_contact_list *c, const sinter_pair_list *pairs
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
                             const sinter_particles *ps, int chunks, fill_part *part)
 {
-    enum { MAX_CHUNKS = 256 };
     const size_t n = pairs->count;
     uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
     size_t found[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
@@ -283,7 +285,6 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         make_chunks(c, &part, 1, ps->count, parts_count);
         return SINTER_OK;
     }
-    enum { MAX_CHUNKS = 256 };
     const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
     if (!geometry) {
         st = sinter_grow(ctx, (void **)&c->fill_scratch, &c->fill_scratch_capacity,

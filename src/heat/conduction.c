@@ -107,7 +107,6 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
     const sinter_contact_list *c = e->pp;
     const double *restrict theta = e->ps->temperature;
     const uint32_t *restrict ci = c->i, *restrict cj = c->j;
-    const size_t lo = ch->plo[s], hi = ch->plo[s + 1];
     size_t kept = 0;
     const double *restrict r = e->ps->radius;
     for (size_t k = ch->qlo[s]; k < ch->qlo[s + 1]; ++k) {
@@ -115,7 +114,7 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
         const double g = factor >= 0.0 ? factor * (r[i] > r[j] ? r[i] : r[j])
                                        : contact_g(e, kmat, projection, k);
         const double q = g * (theta[j] - theta[i]); /* eq. 32 */
-        if (j >= lo && j < hi && i >= lo && i < hi) {
+        if (sinter_chunks_interior(ch, s, i, j)) {
             heat[i] += q;
             heat[j] -= q;
         } else { /* a boundary contact: its particles may be another range's, not touched here */
