@@ -1,6 +1,7 @@
 /*
  * Shared by the benchmark programs: stop with the library's message when a call fails, the
- * clocks they time with, a sphere-file reader and writer, a list parser and a random packing. Define BENCH_NAME (the program's name, for messages) before
+ * clocks they time with, a sphere-file reader and writer, a list parser, a random packing and
+ * its compaction. Define BENCH_NAME (the program's name, for messages) before
  * including; the program sets g_ctx to the context whose last error a failure prints.
  * Needs _POSIX_C_SOURCE >= 199309L (clock_gettime under -std=c11), defined before any header.
  */
@@ -148,6 +149,25 @@ static inline void pack_normal(sinter_particles *ps, const double box[3], double
         fprintf(stderr, "%s: RSA placed only %zu of %zu spheres\n", BENCH_NAME, placed, count);
         exit(1);
     }
+}
+
+/* Compact the set into the box [0, box] with the options co (their box is set here); returns
+ * the result and the CPU seconds it took in *cpu. */
+static inline sinter_compaction_result compact_into(sinter_particles *ps,
+                                                    sinter_compaction_options *co,
+                                                    const double box[3], double *cpu)
+{
+    for (int d = 0; d < 3; ++d) {
+        co->box_min[d] = 0.0;
+        co->box_max[d] = box[d];
+    }
+    sinter_compaction_result res;
+    memset(&res, 0, sizeof(res));
+    res.struct_size = sizeof(res);
+    const double t0 = cpu_seconds();
+    CHECK(sinter_pack_compact(ps, co, &res));
+    *cpu = cpu_seconds() - t0;
+    return res;
 }
 
 #endif

@@ -71,23 +71,15 @@ static void make_packing(const char *path, size_t count, const double box[3], do
     pack_normal(ps, box, cbrt(2.0), 25e-6, 2.5e-6, 805, 1293.0, count);
     sinter_compaction_options co;
     CHECK(sinter_compaction_options_init(&co, sizeof(co)));
-    for (int d = 0; d < 3; ++d) {
-        co.box_min[d] = 0.0;
-        co.box_max[d] = box[d];
-    }
     co.friction = friction;
     co.volume_fraction = fraction; /* 0: the box as given */
     co.stop_at_jamming = 1;        /* a packing that jams first is taken as it is */
-    sinter_compaction_result res;
-    memset(&res, 0, sizeof(res));
-    res.struct_size = sizeof(res);
-    const double t0 = cpu_seconds();
-    CHECK(sinter_pack_compact(ps, &co, &res));
+    double cpu = 0.0;
+    const sinter_compaction_result res = compact_into(ps, &co, box, &cpu);
     fprintf(stderr,
             "packing: %zu spheres, fraction %.4f, coordination %.2f, largest overlap %.2e of "
             "the radius, %.1f s CPU\n",
-            count, res.volume_fraction, res.coordination, res.max_overlap_ratio,
-            cpu_seconds() - t0);
+            count, res.volume_fraction, res.coordination, res.max_overlap_ratio, cpu);
     char header[128];
     snprintf(header, sizeof(header),
              "seed 001 sec. 4.1 copper green body: x y z r [m]; fraction %.6f",

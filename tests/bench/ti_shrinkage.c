@@ -140,21 +140,14 @@ static void make_packing(const char *scene_path, const char *out, size_t count, 
     CHECK(sinter_particles_set_material(ps, 0, ti));
     pack_normal(ps, box, 1.3, 32e-6, 3.2e-6, 1, 793.0, count);
     sinter_compaction_options co = sc->compact_options;
-    for (int d = 0; d < 3; ++d) {
-        co.box_min[d] = 0.0;
-        co.box_max[d] = box[d];
-    }
-    sinter_compaction_result res;
-    memset(&res, 0, sizeof(res));
-    res.struct_size = sizeof(res);
-    const double t0 = cpu_seconds();
-    CHECK(sinter_pack_compact(ps, &co, &res));
+    double cpu = 0.0;
+    const sinter_compaction_result res = compact_into(ps, &co, box, &cpu);
     fprintf(stderr,
             "packing: %zu spheres, box %.4g x %.4g x %.4g mm%s, fraction %.4f, coordination "
             "%.2f, %.1f s CPU\n",
             count, 1e3 * (res.box_max[0] - res.box_min[0]), 1e3 * (res.box_max[1] - res.box_min[1]),
             1e3 * (res.box_max[2] - res.box_min[2]), res.jammed ? " (jammed)" : "",
-            res.volume_fraction, res.coordination, cpu_seconds() - t0);
+            res.volume_fraction, res.coordination, cpu);
     char header[160];
     snprintf(header, sizeof(header),
              "titanium green body (ti_shrinkage --make): x y z r [m]; %zu spheres, fraction %.6f",
