@@ -35,6 +35,23 @@ static int teardown(void **state)
     return 0;
 }
 
+/* Read views of the ids and positions (released by release_ids_positions). */
+static void view_ids_positions(fixture *f, const uint64_t **id, const double **x)
+{
+    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)id, NULL,
+                                                NULL),
+                     SINTER_OK);
+    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)x,
+                                                NULL, NULL),
+                     SINTER_OK);
+}
+
+static void release_ids_positions(fixture *f)
+{
+    sinter_particles_release(f->ps, SINTER_FIELD_ID);
+    sinter_particles_release(f->ps, SINTER_FIELD_POSITION);
+}
+
 static void add_line(fixture *f, size_t n, double r)
 {
     double pos[3 * 8], rad[8];
@@ -164,18 +181,12 @@ static void test_remove_keeps_order_and_ids(void **state)
     assert_int_equal(count, 3);
     const uint64_t *id = NULL;
     const double *x = NULL;
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)&id, NULL,
-                                                NULL),
-                     SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)&x,
-                                                NULL, NULL),
-                     SINTER_OK);
+    view_ids_positions(f, &id, &x);
     assert_int_equal(id[0], 0);
     assert_int_equal(id[1], 2);
     assert_int_equal(id[2], 4);
     assert_close(x[3 * 2], 12e-3, 1e-18);
-    sinter_particles_release(f->ps, SINTER_FIELD_ID);
-    sinter_particles_release(f->ps, SINTER_FIELD_POSITION);
+    release_ids_positions(f);
     size_t index = 0;
     assert_int_equal(sinter_particles_find_id(f->ps, 4, &index), SINTER_OK);
     assert_int_equal(index, 2);
@@ -208,12 +219,7 @@ static void test_sort_spatial(void **state)
     assert_int_equal(sinter_particles_sort_spatial(f->ps), SINTER_OK);
     const uint64_t *id = NULL;
     const double *x = NULL;
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)&id, NULL,
-                                                NULL),
-                     SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)&x,
-                                                NULL, NULL),
-                     SINTER_OK);
+    view_ids_positions(f, &id, &x);
     for (size_t i = 0; i < N; ++i) {
         /* index i holds lattice cell i (cells of one diameter, 2 mm, one sphere per cell) */
         assert_close(x[3 * i], a * (double)(i % 4), 1e-15);
@@ -225,8 +231,7 @@ static void test_sort_spatial(void **state)
     }
     /* a view out: refused (BUSY), nothing moves */
     assert_int_equal(sinter_particles_sort_spatial(f->ps), SINTER_ERR_BUSY);
-    sinter_particles_release(f->ps, SINTER_FIELD_ID);
-    sinter_particles_release(f->ps, SINTER_FIELD_POSITION);
+    release_ids_positions(f);
     /* a position that is not finite: refused, naming the particle, nothing moves */
     double *wx = NULL;
     assert_int_equal(sinter_particles_view(f->ps, SINTER_FIELD_POSITION, (void **)&wx, NULL, NULL),
