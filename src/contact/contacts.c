@@ -149,17 +149,87 @@ static size_t fill_pp_lean(sinter_contact_list *c, const sinter_pair_list *pairs
     return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 0);
 }
 
-/* A lean list on threads in one pass over the pairs: each thread fills its range of pairs
+/* The ordering findings of two consecutive stretches of contacts as one. */
+static fill_part join_parts(fill_part a, fill_part b)
+{
+    fill_part j;
+    j.ascending = a.ascending && b.ascending && (!a.any || !b.any || b.first >= a.last);
+    j.any = a.any || b.any;
+    j.first = a.any ? a.first : b.first;
+    j.last = b.any ? b.last : a.last;
+    return j;
+}
+
+/*
+ * A lean search over the pairs the list was last found among (issue 9: a packed bed keeps its
+ * contacts step after step, and at a million particles writing the same 16 bytes per contact
+ * again costs more than checking them): the pairs from lo on are tested, and each verdict
+ * compared with what pair_to_contact records, without writing. Stops at the first pair whose
+ * verdict differs (a new contact, an ended one, or a contact that would now sit at another
+ * index) and returns it (hi when all agree). *start is the index the first contact must hold
+ * (0 for the whole list), or SIZE_MAX to accept the one it holds (a range of a threaded
+ * search), and returns it; *checked counts the contacts confirmed; *part as fill_into.
+ */
+static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const sinter_particles *ps, size_t lo, size_t hi, size_t *start,
+                           size_t *checked, fill_part *part)
+{
+    const double *restrict x = ps->x, *restrict r = ps->radius;
+    const uint32_t *restrict pi = pairs->i, *restrict pj = pairs->j;
+    const uint32_t *restrict to_contact = c->pair_to_contact;
+    size_t m = *start, k = 0, p = lo;
+    uint32_t prev = 0, first = 0;
+    int ascending = 1;
+    for (; p < hi; ++p) {
+        const uint32_t was = to_contact[p];
+        if (!touching(pairs, x, r, p)) {
+            if (was != SINTER_NO_PAIR)
+                break;
+            continue;
+        }
+        if (m == SIZE_MAX && was != SINTER_NO_PAIR)
+            m = was; /* the range's first contact: where the list holds it */
+        if ((size_t)was != m)
+            break;
+        const uint32_t key = pi[p] < pj[p] ? pi[p] : pj[p];
+        if (k == 0) {
+            first = key;
+            *start = m;
+        }
+        ascending &= key >= prev;
+        prev = key;
+        ++m;
+        ++k;
+    }
+    *checked = k;
+    part->ascending = ascending;
+    part->any = k > 0;
+    part->first = first;
+    part->last = prev;
+    return p;
+}
+
+/*
+ * A lean list on threads in one pass over the pairs: each thread fills its range of pairs
  * into a scratch copy at the range's own start (a range has at most as many contacts as
  * pairs), then copies its contacts to their place in the list and points their pairs at
  * them: the same list, in the same order, as one thread makes, without a counting pass.
- * Returns the number of contacts. */
+ * With `verify` (the list holds the contacts of these pairs from the last search), each range
+ * is first checked against the list (verify_range) and filled from its first change only; a
+ * range whose contacts all agree and still start at the same index is left as it is (no
+ * write at all when none changed). *change_pair and *change_contact tell where the list
+ * changed (sinter_contacts_changed; SIZE_MAX: nowhere). Returns the number of contacts.
+ */
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
-                            const sinter_particles *ps, int chunks, fill_part *part)
+                            const sinter_particles *ps, int chunks, int verify, fill_part *part,
+                            size_t *change_pair, size_t *change_contact)
 {
     const size_t n = pairs->count;
     uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
     size_t found[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
+    size_t start[MAX_CHUNKS], checked[MAX_CHUNKS], stop[MAX_CHUNKS];
+    int in_place[MAX_CHUNKS];
+    int all_in_place = verify;
 #pragma omp parallel num_threads(chunks)
     {
 #pragma omp for schedule(static, 1)
@@ -167,24 +237,68 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
             const size_t lo = n * (size_t)t / (size_t)chunks;
             const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
             fill_part mine = {1, 0, 0, 0};
-            found[t] = fill_into(c, si, sj, sp, pairs, ps, lo, hi, lo, &mine, NULL, 0) - lo;
+            size_t p = lo;
+            start[t] = SIZE_MAX;
+            checked[t] = 0;
+            if (verify)
+                p = verify_range(c, pairs, ps, lo, hi, &start[t], &checked[t], &mine);
+            stop[t] = p;
+            size_t tail = 0;
+            if (p < hi) { /* from the first change on, into the scratch at the pair's index */
+                fill_part rest = {1, 0, 0, 0};
+                tail = fill_into(c, si, sj, sp, pairs, ps, p, hi, p, &rest, NULL, 0) - p;
+                mine = join_parts(mine, rest);
+            }
+            found[t] = checked[t] + tail;
             part[t] = mine;
         }
 #pragma omp single
         {
             offset[0] = 0;
-            for (int t = 0; t < chunks; ++t)
+            for (int t = 0; t < chunks; ++t) {
                 offset[t + 1] = offset[t] + found[t];
+                const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
+                in_place[t] = verify && stop[t] == hi && (checked[t] == 0 || start[t] == offset[t]);
+                all_in_place &= in_place[t];
+            }
+        }
+        /* a range that moves takes its confirmed contacts into the scratch too, before any
+         * range overwrites the list (the barrier of this loop) */
+#pragma omp for schedule(static, 1)
+        for (int t = 0; t < chunks; ++t) {
+            const size_t lo = n * (size_t)t / (size_t)chunks;
+            if (!in_place[t] && checked[t] > 0) {
+                memcpy(si + lo, c->i + start[t], checked[t] * sizeof(uint32_t));
+                memcpy(sj + lo, c->j + start[t], checked[t] * sizeof(uint32_t));
+                memcpy(sp + lo, c->pair + start[t], checked[t] * sizeof(uint32_t));
+            }
         }
 #pragma omp for schedule(static, 1)
         for (int t = 0; t < chunks; ++t) {
-            const size_t lo = n * (size_t)t / (size_t)chunks, to = offset[t];
-            memcpy(c->i + to, si + lo, found[t] * sizeof(uint32_t));
-            memcpy(c->j + to, sj + lo, found[t] * sizeof(uint32_t));
-            memcpy(c->pair + to, sp + lo, found[t] * sizeof(uint32_t));
+            if (in_place[t])
+                continue;
+            const size_t lo = n * (size_t)t / (size_t)chunks, to = offset[t], k = checked[t];
+            const size_t tail = found[t] - k;
+            memcpy(c->i + to, si + lo, k * sizeof(uint32_t));
+            memcpy(c->j + to, sj + lo, k * sizeof(uint32_t));
+            memcpy(c->pair + to, sp + lo, k * sizeof(uint32_t));
+            memcpy(c->i + to + k, si + stop[t], tail * sizeof(uint32_t));
+            memcpy(c->j + to + k, sj + stop[t], tail * sizeof(uint32_t));
+            memcpy(c->pair + to + k, sp + stop[t], tail * sizeof(uint32_t));
             for (size_t m = to; m < to + found[t]; ++m)
                 c->pair_to_contact[c->pair[m]] = (uint32_t)m;
         }
+    }
+    /* the first range not in place: the lists agree before its first change, or before the
+     * range if it moved */
+    *change_pair = *change_contact = SIZE_MAX;
+    for (int t = 0; t < chunks && !all_in_place; ++t) {
+        if (in_place[t])
+            continue;
+        const int moved = checked[t] > 0 && start[t] != offset[t];
+        *change_pair = moved ? n * (size_t)t / (size_t)chunks : stop[t];
+        *change_contact = moved ? offset[t] : offset[t] + checked[t];
+        break;
     }
     return offset[chunks];
 }
@@ -269,6 +383,11 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
                          pairs->count * (3 * sizeof(double) + sizeof(uint32_t)) + 1, 1);
     if (st != SINTER_OK)
         return st;
+    /* a lean search over the very pairs of the last one checks before it writes */
+    const int verify = !geometry && c->revision != 0 && c->lean_source != 0 &&
+                       c->lean_source == pairs->build_id && c->pair_count == pairs->count &&
+                       c->particle_count == ps->count;
+    c->lean_source = 0; /* set again when a lean search completes */
     c->adj_start = pairs->adj_start;
     c->adj_pair = pairs->adj_pair;
     c->particle_count = ps->count;
@@ -281,8 +400,17 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         geometry ? fill_pp_full : fill_pp_lean;
     if (threads <= 1) {
         fill_part part = {1, 0, 0, 0};
-        c->count = fill(c, pairs, ps, 0, pairs->count, 0, &part, NULL);
+        size_t p = 0, m = 0, checked = 0;
+        if (verify)
+            p = verify_range(c, pairs, ps, 0, pairs->count, &m, &checked, &part);
+        if (!verify || p < pairs->count) { /* written from the first change on */
+            fill_part rest = {1, 0, 0, 0};
+            c->count = fill(c, pairs, ps, p, pairs->count, checked, &rest, NULL);
+            part = join_parts(part, rest);
+            sinter_contacts_changed(c, p, checked);
+        }
         make_chunks(c, &part, 1, ps->count, parts_count);
+        c->lean_source = geometry ? 0 : pairs->build_id;
         return SINTER_OK;
     }
     const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
@@ -292,10 +420,15 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         if (st != SINTER_OK)
             return st;
         fill_part part[MAX_CHUNKS];
-        c->count = fill_segments(c, pairs, ps, chunks, part);
+        size_t change_pair = 0, change_contact = 0;
+        c->count = fill_segments(c, pairs, ps, chunks, verify, part, &change_pair, &change_contact);
+        if (change_pair != SIZE_MAX)
+            sinter_contacts_changed(c, change_pair, change_contact);
         make_chunks(c, part, chunks, ps->count, parts_count);
+        c->lean_source = pairs->build_id;
         return SINTER_OK;
     }
+    sinter_contacts_changed(c, 0, 0);
     /* Threads, with the geometry: count per chunk (keeping each pair's verdict), then fill
      * each chunk from its offset, visiting only the pairs in contact: the same list, in the
      * same order, as one thread makes. */
@@ -419,6 +552,8 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     c->count = m;
     c->geometry = 1;
+    sinter_contacts_changed(c, 0, 0);
+    c->lean_source = 0;
     wall_ranges(c, ascending);
     return SINTER_OK;
 }

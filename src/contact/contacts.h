@@ -51,9 +51,56 @@ typedef struct sinter_contact_list {
     size_t touch_capacity;
     uint32_t *fill_scratch; /* threaded search of a lean list: i, j, pair per candidate pair */
     size_t fill_scratch_capacity;
+    /* identity of the membership (count, i, j, pair, pair_to_contact): a new sinter_unique_id
+     * whenever a search changes it, kept when a search finds the same contacts again, so that
+     * history commits can tell what changed (contact/history.c); 0 before the first search */
+    uint64_t revision;
+    /* the last two changes of membership, newest first: the revision changed from, and the
+     * first candidate pair and the first contact index from which the lists may differ (0, 0
+     * after a search that did not compare) */
+    struct sinter_list_change {
+        uint64_t from;
+        size_t pair, contact;
+    } change[2];
+    /* build_id of the pair list the last lean search ran over (0 after any other search): a
+     * lean search over the same pairs first checks the contacts against the list it holds
+     * and writes only from the first pair whose verdict changed */
+    uint64_t lean_source;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
+
+/* Where list c may differ from its own earlier membership of revision r: from candidate pair
+ * *pair and contact index *contact on (SIZE_MAX for both when r is c's revision; 0 for both
+ * when r is 0 or older than c's last two changes). */
+static inline void sinter_contacts_changed_since(const sinter_contact_list *c, uint64_t r,
+                                                 size_t *pair, size_t *contact)
+{
+    size_t p = SIZE_MAX, m = SIZE_MAX;
+    if (r == 0 || r != c->revision)
+        for (int k = 0;; ++k) {
+            if (k == 2 || r == 0) {
+                p = m = 0;
+                break;
+            }
+            p = c->change[k].pair < p ? c->change[k].pair : p;
+            m = c->change[k].contact < m ? c->change[k].contact : m;
+            if (c->change[k].from == r)
+                break;
+        }
+    *pair = p;
+    *contact = m;
+}
+
+/* Record a change of c's membership from pair and contact index on: a new revision. */
+static inline void sinter_contacts_changed(sinter_contact_list *c, size_t pair, size_t contact)
+{
+    c->change[1] = c->change[0];
+    c->change[0].from = c->revision;
+    c->change[0].pair = pair;
+    c->change[0].contact = contact;
+    c->revision = sinter_unique_id();
+}
 
 /* Contact radii a = sqrt(A / pi) [m] into a[count] (host batches report them). */
 void sinter_contact_radii(const sinter_contact_list *c, double *a);

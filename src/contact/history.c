@@ -17,6 +17,10 @@ void sinter_history_free(sinter_ctx *ctx, sinter_history *h)
 sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts, int zero)
 {
     h->by_pair = 0;
+    /* an evaluation that does not declare its writes by pair (sinter_history_by_pair) writes
+     * the trial array by contact */
+    h->written_before = h->trial_written;
+    h->trial_written = SINTER_HISTORY_MIXED;
     if (h->width == 0)
         return SINTER_OK;
     sinter_status st = sinter_grow(ctx, (void **)&h->trial, &h->trial_capacity,
@@ -35,32 +39,46 @@ sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
         return SINTER_OK; /* stays indexed by contact */
     sinter_status st = sinter_grow(ctx, (void **)&h->trial, &h->trial_capacity,
                                    h->width * c->pair_count + 1, sizeof(double));
-    if (st == SINTER_OK)
+    if (st == SINTER_OK) {
         h->by_pair = 1;
+        const uint64_t before = h->written_before;
+        h->trial_written = before == 0 || before == c->revision ? c->revision : SINTER_HISTORY_MIXED;
+    }
     return st;
 }
 
 /* Commit of a trial array indexed by pair: pairs not in contact are cleared in it, and it
  * becomes the committed array; the old committed array is the next trial array (every entry
- * is written before the next commit). */
+ * is written before the next commit). Only from where the contact list changed since the
+ * trial array was last zero off its contacts (the list's revisions) are pairs cleared, and
+ * `active` copied from where it changed since `active` was written: a packed bed whose
+ * contacts change only near its top, or not at all, costs that much (issue 9). */
 static void commit_swap(sinter_history *h, const sinter_contact_list *c, int threads)
 {
     const size_t w = h->width;
     double *trial = h->trial;
     const uint32_t *p2c = c->pair_to_contact;
-    const long pairs = (long)c->pair_count, count = (long)c->count;
     uint32_t *active = h->active;
     const uint32_t *pair = c->pair;
+    size_t zero_from = 0, copy_from = 0, unused;
+    if (h->trial_written == 0 || h->trial_written == c->revision)
+        sinter_contacts_changed_since(c, h->trial_clean_rev, &zero_from, &unused);
+    sinter_contacts_changed_since(c, h->active_rev, &unused, &copy_from);
+    const long zero_lo = zero_from < c->pair_count ? (long)zero_from : (long)c->pair_count;
+    const long copy_lo = copy_from < c->count ? (long)copy_from : (long)c->count;
+    const long pairs = (long)c->pair_count, count = (long)c->count;
+    if (zero_lo < pairs || copy_lo < count) {
 #pragma omp parallel num_threads(threads)
-    {
+        {
 #pragma omp for schedule(static) nowait
-        for (long p = 0; p < pairs; ++p)
-            if (p2c[p] == SINTER_NO_PAIR)
-                for (size_t d = 0; d < w; ++d)
-                    trial[w * (size_t)p + d] = 0.0;
+            for (long p = zero_lo; p < pairs; ++p)
+                if (p2c[p] == SINTER_NO_PAIR)
+                    for (size_t d = 0; d < w; ++d)
+                        trial[w * (size_t)p + d] = 0.0;
 #pragma omp for schedule(static) nowait
-        for (long k = 0; k < count; ++k)
-            active[k] = pair[k];
+            for (long k = copy_lo; k < count; ++k)
+                active[k] = pair[k];
+        }
     }
     double *t = h->committed;
     const size_t cap = h->pair_capacity;
@@ -69,6 +87,9 @@ static void commit_swap(sinter_history *h, const sinter_contact_list *c, int thr
     h->trial = t;
     h->trial_capacity = cap;
     h->active_count = c->count;
+    h->trial_clean_rev = h->committed_rev; /* the old committed array, zero off its list */
+    h->trial_written = 0;
+    h->committed_rev = h->active_rev = c->revision;
 }
 
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
@@ -123,6 +144,9 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
         }
     }
     h->active_count = c->count;
+    h->committed_rev = h->active_rev = c->revision;
+    h->trial_clean_rev = 0; /* indexed by contact */
+    h->trial_written = SINTER_HISTORY_MIXED;
     return SINTER_OK;
 }
 
@@ -154,6 +178,7 @@ sinter_status sinter_history_remap(sinter_ctx *ctx, sinter_history *h, size_t ol
         h->active[kept++] = q;
     }
     h->active_count = kept;
+    sinter_history_forget(h); /* new pair indices */
     /* swap buffers: the old committed array becomes scratch */
     double *old = h->committed;
     size_t old_cap = h->pair_capacity;

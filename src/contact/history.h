@@ -25,7 +25,22 @@ typedef struct sinter_history {
      * (width per pair, contacts only written), so the commit swaps the arrays instead of
      * copying them; cleared by sinter_history_prepare */
     int by_pair;
+    /* contact list revisions (sinter_contact_list.revision; 0: unknown) that let a commit
+     * redo only what changed (issue 9): the list off whose pairs the committed array is
+     * zero, the one whose pairs `active` copies, and the one off whose pairs the trial array
+     * (by pair) was zero at the last commit; trial_written is the list the evaluations since
+     * wrote it on by pair (0: none yet, SINTER_HISTORY_MIXED: another or by contact) */
+    uint64_t committed_rev, active_rev, trial_clean_rev, trial_written, written_before;
 } sinter_history;
+
+#define SINTER_HISTORY_MIXED UINT64_MAX
+
+/* The arrays were changed from outside (a restore, a remap): no revision is known to hold. */
+static inline void sinter_history_forget(sinter_history *h)
+{
+    h->committed_rev = h->active_rev = h->trial_clean_rev = 0;
+    h->trial_written = SINTER_HISTORY_MIXED;
+}
 
 void sinter_history_free(sinter_ctx *ctx, sinter_history *h);
 

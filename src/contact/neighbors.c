@@ -512,6 +512,7 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
                            "%zu particles exceed the neighbour list's 32-bit indices", ps->count);
     swap_lists(&nb->pp, &nb->old_pp);
     swap_lists(&nb->pw, &nb->old_pw);
+    nb->pp.build_id = nb->pw.build_id = 0;
     sinter_status st = build_pp(nb, ps);
     if (st == SINTER_OK)
         fill_keys(&nb->pp, ps->id, nb->pp.count < 4096 ? 1 : sinter_threads(ctx));
@@ -548,6 +549,8 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     }
     nb->wall_count = nw;
     nb->layout_generation = ps->layout_generation;
+    nb->pp.build_id = sinter_unique_id();
+    nb->pw.build_id = sinter_unique_id();
     nb->built = 1;
     return SINTER_OK;
 }

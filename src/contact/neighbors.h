@@ -29,6 +29,10 @@ typedef struct sinter_pair_list {
     size_t adj_start_capacity;
     uint32_t *adj_pair;
     size_t adj_pair_capacity;
+    /* this content's identity (sinter_unique_id), set by each completed build or restore; 0
+     * while a build is under way. A contact list found among these pairs can tell by it that
+     * its pairs did not change since (sinter_contacts_find_pp_lean) */
+    uint64_t build_id;
 } sinter_pair_list;
 
 typedef struct sinter_neighbors {

@@ -43,6 +43,10 @@ void sinter_free(sinter_ctx *ctx, void *ptr);
  * items, doubling; *ptr and *capacity change only on success. */
 sinter_status sinter_grow(sinter_ctx *ctx, void **ptr, size_t *capacity, size_t need, size_t elem);
 
+/* A number no earlier call in this process returned, never 0 (thread-safe): versions of the
+ * internal lists (a pair list's build, a contact list's membership) are told apart by it. */
+uint64_t sinter_unique_id(void);
+
 /* Index of `key` in a NULL-terminated list of at most `max` keys, or -1. */
 int sinter_find_key(const char *const *keys, int max, const char *key);
 

@@ -1,4 +1,5 @@
 /* The context: allocator hook, last error, log callback, thread count. */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -181,6 +182,13 @@ void sinter_free(sinter_ctx *ctx, void *ptr)
 {
     if (ptr != NULL)
         ctx->allocator.free(ptr, ctx->allocator.user);
+}
+
+static atomic_uint_fast64_t last_unique_id;
+
+uint64_t sinter_unique_id(void)
+{
+    return (uint64_t)atomic_fetch_add(&last_unique_id, 1) + 1;
 }
 
 sinter_status sinter_grow(sinter_ctx *ctx, void **ptr, size_t *capacity, size_t need, size_t elem)

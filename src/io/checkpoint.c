@@ -613,6 +613,7 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         memcpy(L->j, staged[l]->j, L->count * 4);
         memcpy(L->key_i, staged[l]->key_i, L->count * 8);
         memcpy(L->key_j, staged[l]->key_j, L->count * 8);
+        L->build_id = sinter_unique_id();
     }
     nb->old_pp.count = nb->old_pw.count = 0;
     memcpy(nb->x_ref, x_ref, 3 * n * sizeof(double));
@@ -632,6 +633,7 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
             memcpy(hs[l]->committed, sh->committed, sh->width * pairs[l] * sizeof(double));
             memcpy(hs[l]->active, sh->active, sh->active_count * sizeof(uint32_t));
             hs[l]->active_count = sh->active_count;
+            sinter_history_forget(hs[l]);
         }
     }
     st->time = time;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "scene_support.h"
+#include "contact/contacts.h"
 #include "contact/neighbors.h"
 #include "stepper/stepper.h"
 
@@ -335,6 +336,235 @@ static void test_pair_list_independent_of_thread_count(void **state)
     free(ref_from);
 }
 
+/* A copy of a contact list's membership, to compare the next search with. */
+typedef struct membership {
+    size_t count, pairs;
+    uint32_t *i, *j, *pair, *to_contact;
+    uint64_t revision;
+} membership;
+
+static void take_membership(membership *m, const sinter_contact_list *c)
+{
+    m->count = c->count;
+    m->pairs = c->pair_count;
+    m->revision = c->revision;
+    m->i = realloc(m->i, (c->count + 1) * sizeof(uint32_t));
+    m->j = realloc(m->j, (c->count + 1) * sizeof(uint32_t));
+    m->pair = realloc(m->pair, (c->count + 1) * sizeof(uint32_t));
+    m->to_contact = realloc(m->to_contact, (c->pair_count + 1) * sizeof(uint32_t));
+    memcpy(m->i, c->i, c->count * sizeof(uint32_t));
+    memcpy(m->j, c->j, c->count * sizeof(uint32_t));
+    memcpy(m->pair, c->pair, c->count * sizeof(uint32_t));
+    memcpy(m->to_contact, c->pair_to_contact, c->pair_count * sizeof(uint32_t));
+}
+
+/* The first contact index and the first pair at which list c differs from m (SIZE_MAX when
+ * it does not). */
+static void first_difference(const membership *m, const sinter_contact_list *c,
+                             size_t *contact, size_t *pair)
+{
+    *contact = *pair = SIZE_MAX;
+    const size_t both = m->count < c->count ? m->count : c->count;
+    for (size_t k = 0; k < both && *contact == SIZE_MAX; ++k)
+        if (m->i[k] != c->i[k] || m->j[k] != c->j[k] || m->pair[k] != c->pair[k])
+            *contact = k;
+    if (*contact == SIZE_MAX && m->count != c->count)
+        *contact = both;
+    for (size_t p = 0; p < c->pair_count && *pair == SIZE_MAX; ++p)
+        if (m->to_contact[p] != c->pair_to_contact[p])
+            *pair = p;
+}
+
+/*
+ * A lean search over the same pairs as the last one checks the list it holds before it
+ * writes (contacts.c, verify_range; issue 9). After rounds in which nothing changes, or
+ * particles shrink out of or grow into contact near the start, the middle or the end of the
+ * list, the list must equal one found from scratch, entry for entry and with the same
+ * partition, for 1, 2 and 3 threads (the threaded search checks and moves ranges); its
+ * revision must stay exactly when nothing changed, and the change it records must start no
+ * later than the first entry that differs (history commits clear and copy only from there).
+ */
+static void test_lean_search_matches_a_fresh_one(void **state)
+{
+    (void)state;
+    enum { N = 12000, ROUNDS = 9 };
+    for (int t = 1; t <= 3; ++t) {
+        scene s;
+        scene_init(&s);
+        OK(sinter_ctx_set_threads(s.ctx, t));
+        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
+        scene_open(&s, "hertz_mindlin", 0);
+        uint64_t seed = 11;
+        for (size_t k = 0; k < N; ++k)
+            scene_add(&s, 0.03 * lcg(&seed), 0.03 * lcg(&seed), 0.03 * lcg(&seed),
+                      0.7e-3 * (0.5 + lcg(&seed)));
+        sinter_neighbors nb;
+        sinter_neighbors_init(&nb, s.ctx, 3e-4);
+        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+        sinter_contact_list kept;
+        memset(&kept, 0, sizeof(kept));
+        membership before;
+        memset(&before, 0, sizeof(before));
+        double *r = s.ps->radius;
+        const double *x = s.ps->x;
+        int kept_revision = 0, changed = 0;
+        for (int round = 0; round < ROUNDS; ++round) {
+            /* rounds 1, 4, 8 change nothing; the others shrink a particle out of its contacts
+             * (at the start, middle and end of the list) or grow a pair into contact */
+            const size_t at[ROUNDS] = {0, 0, 3, kept.count / 2, 0, kept.count - 4, 0, 0, 0};
+            if (round == 2 || round == 3 || round == 5)
+                r[kept.i[at[round]]] *= 0.3;
+            if (round == 6 || round == 7) { /* the first / last pair apart, now touching */
+                for (size_t q = 0; q < nb.pp.count; ++q) {
+                    const size_t p = round == 6 ? q : nb.pp.count - 1 - q;
+                    if (kept.pair_to_contact[p] != SINTER_NO_PAIR)
+                        continue;
+                    const uint32_t i = nb.pp.i[p], j = nb.pp.j[p];
+                    double d2 = 0.0;
+                    for (int d = 0; d < 3; ++d)
+                        d2 += (x[3 * j + d] - x[3 * i + d]) * (x[3 * j + d] - x[3 * i + d]);
+                    r[i] = r[j] = 0.51 * sqrt(d2);
+                    break;
+                }
+            }
+            OK(sinter_contacts_find_pp_lean(s.ctx, &kept, &nb.pp, s.ps));
+            sinter_contact_list fresh;
+            memset(&fresh, 0, sizeof(fresh));
+            OK(sinter_contacts_find_pp_lean(s.ctx, &fresh, &nb.pp, s.ps));
+            assert_true(fresh.count > 1000);
+            assert_int_equal(kept.count, fresh.count);
+            assert_memory_equal(kept.i, fresh.i, fresh.count * sizeof(uint32_t));
+            assert_memory_equal(kept.j, fresh.j, fresh.count * sizeof(uint32_t));
+            assert_memory_equal(kept.pair, fresh.pair, fresh.count * sizeof(uint32_t));
+            assert_memory_equal(kept.pair_to_contact, fresh.pair_to_contact,
+                                nb.pp.count * sizeof(uint32_t));
+            assert_int_equal(kept.chunks.count, fresh.chunks.count);
+            assert_memory_equal(kept.chunks.plo, fresh.chunks.plo, sizeof(fresh.chunks.plo));
+            assert_memory_equal(kept.chunks.qlo, fresh.chunks.qlo, sizeof(fresh.chunks.qlo));
+            if (round > 0) {
+                size_t contact = 0, pair = 0;
+                first_difference(&before, &kept, &contact, &pair);
+                const int same = contact == SIZE_MAX && pair == SIZE_MAX;
+                assert_int_equal(same, round == 1 || round == 4 || round == 8);
+                assert_int_equal(kept.revision == before.revision, same);
+                if (!same) {
+                    assert_int_equal(kept.change[0].from, before.revision);
+                    assert_true(kept.change[0].contact <= contact);
+                    assert_true(kept.change[0].pair <= pair);
+                    /* one thread records the first difference itself; threads, at worst
+                     * the start of the range that holds it (the ranges before agree) */
+                    if (t == 1) {
+                        assert_int_equal(kept.change[0].contact, contact);
+                        assert_int_equal(kept.change[0].pair, pair);
+                    } else {
+                        const size_t range = pair * (size_t)t / nb.pp.count;
+                        size_t lo = nb.pp.count * range / (size_t)t;
+                        if (lo > pair) /* the division's rounding */
+                            lo = nb.pp.count * (range - 1) / (size_t)t;
+                        assert_true(kept.change[0].pair >= lo);
+                    }
+                    size_t p2 = 0, m2 = 0;
+                    sinter_contacts_changed_since(&kept, before.revision, &p2, &m2);
+                    assert_true(p2 == kept.change[0].pair && m2 == kept.change[0].contact);
+                    ++changed;
+                } else {
+                    ++kept_revision;
+                }
+            }
+            take_membership(&before, &kept);
+            sinter_contact_list_free(s.ctx, &fresh);
+        }
+        assert_int_equal(kept_revision, 3);
+        assert_int_equal(changed, ROUNDS - 1 - 3);
+        free(before.i);
+        free(before.j);
+        free(before.pair);
+        free(before.to_contact);
+        sinter_contact_list_free(s.ctx, &kept);
+        sinter_neighbors_free(&nb);
+        scene_close(&s);
+    }
+}
+
+/*
+ * A packed lattice whose top layer rattles: its contacts open and close step after step
+ * while the rest stay. Found lean (projection conduction), the list is kept or rewritten
+ * from its first change, and the history commit clears and copies only from where it
+ * changed (history.c); with eq. 34 conduction the list carries the geometry and is written
+ * whole every step, and every commit is a full one. The motion must be the same, bit for
+ * bit, for 1 and 2 threads; the lean runs must have kept their list on some steps and
+ * changed it past the start on others.
+ */
+static void run_rattling(int threads, int heat, double *out, size_t n, int *kept, int *partial)
+{
+    scene s;
+    scene_init(&s);
+    OK(sinter_ctx_set_threads(s.ctx, threads));
+    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.3);
+    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
+    scene_open(&s, "hertz_mindlin", 1);
+    OK(sinter_force_model_set(s.contact, "rolling", 0.0));
+    scene_floor(&s, 0.0);
+    sinter_heat_model *cond = NULL;
+    OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+    OK(sinter_heat_model_set(cond, "area", heat == 2 ? 1.0 : 0.0));
+    OK(sinter_stepper_add_heat(s.st, cond));
+    const double r = 0.5e-3, a = 2 * r * 0.999;
+    const size_t side = 12;
+    /* side walls touching the lattice keep it packed */
+    const double wp[4][3] = {{0, 0, 0}, {side * a, 0, 0}, {0, 0, 0}, {0, side * a, 0}};
+    const double wn[4][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    for (int k = 0; k < 4; ++k)
+        OK(sinter_walls_add_plane(s.walls, wp[k], wn[k], s.wall_mat, NULL));
+    uint64_t seed = 7;
+    for (size_t k = 0; k < n; ++k)
+        scene_add(&s, ((double)(k % side) + 0.5) * a, ((double)(k / side % side) + 0.5) * a,
+                  ((double)(k / (side * side)) + 0.5) * a, r);
+    for (size_t k = n - side * side; k < n; ++k) { /* the top layer rattles */
+        const double v[3] = {0.02 * (lcg(&seed) - 0.5), 0.02 * (lcg(&seed) - 0.5),
+                             0.02 * (lcg(&seed) - 0.5)};
+        set3(&s, SINTER_FIELD_VELOCITY, k, v);
+    }
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_step(s.st, 0));
+    *kept = *partial = 0;
+    for (int step = 0; step < 150; ++step) {
+        const uint64_t revision = s.st->pp.revision;
+        OK(sinter_stepper_step(s.st, 1));
+        if (s.st->pp.revision == revision)
+            ++*kept;
+        else if (s.st->pp.change[0].pair > 0)
+            ++*partial;
+    }
+    assert_true(s.st->forces[0].pp.by_pair); /* the commits swap */
+    memcpy(out, s.ps->x, 3 * n * sizeof(double));
+    memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
+    memcpy(out + 6 * n, s.ps->w, 3 * n * sizeof(double));
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+}
+
+static void test_commit_follows_a_changing_list(void **state)
+{
+    (void)state;
+    enum { N = 12 * 12 * 12, SIZE = 9 * N };
+    double *whole = malloc(SIZE * sizeof(double)), *lean = malloc(SIZE * sizeof(double));
+    int kept = 0, partial = 0;
+    run_rattling(1, 1, whole, N, &kept, &partial);
+    assert_int_equal(kept, 0); /* the list with geometry is written every step */
+    assert_int_equal(partial, 0);
+    for (int threads = 1; threads <= 2; ++threads) {
+        run_rattling(threads, 2, lean, N, &kept, &partial);
+        print_message("%d thread(s): list kept on %d steps, changed past its start on %d\n",
+                      threads, kept, partial);
+        assert_true(kept >= 3 && partial >= 10);
+        assert_memory_equal(lean, whole, SIZE * sizeof(double));
+    }
+    free(whole);
+    free(lean);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -342,6 +572,8 @@ int main(void)
         cmocka_unit_test(test_trajectory_independent_of_rebuilds_and_order),
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
+        cmocka_unit_test(test_lean_search_matches_a_fresh_one),
+        cmocka_unit_test(test_commit_follows_a_changing_list),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
