@@ -21,10 +21,25 @@ static sinter_status reserve_spare(sinter_stepper *st)
         double *grown = sinter_realloc_array(st->ctx, st->spare[k], 3 * cap + 1, sizeof(double));
         if (grown == NULL)
             return sinter_last_status(st->ctx); /* the ones grown so far are grown again */
+        memset(grown, 0, (3 * cap + 1) * sizeof(double)); /* scratch: touched here, once */
         st->spare[k] = grown;
     }
     st->spare_capacity = cap;
     return SINTER_OK;
+}
+
+sinter_status sinter_explicit_reserve(sinter_stepper *st)
+{
+    return reserve_spare(st);
+}
+
+/* The acceleration of gravity when it is the stepper's first force model (kick_drift then
+ * writes its force, m g, instead of zero), else NULL. */
+static const double *first_gravity(const sinter_stepper *st)
+{
+    if (st->force_count == 0 || st->forces[0].model->ops != &sinter_force_gravity)
+        return NULL;
+    return st->forces[0].model->param;
 }
 
 /* Exchange the set's x, v, w and, when the stepper integrates it, rot with the spare arrays
@@ -88,7 +103,13 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                         nb->ref_capacity >= 3 * n && x0 != NULL;
     const double *restrict radius = ps->radius;
     double moved2 = 0.0, step2 = 0.0, rmin = INFINITY;
-    if (!any_special(ps)) {
+    /* gravity's force written where the force is zeroed: 0 + m g, as its evaluation adds it
+     * (0 + m 0 = +0 without it) */
+    const double *gravity = first_gravity(st);
+    const double g[3] = {gravity ? gravity[0] : 0.0, gravity ? gravity[1] : 0.0,
+                         gravity ? gravity[2] : 0.0};
+    st->plain_particles = !any_special(ps);
+    if (st->plain_particles) {
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, rmin)      \
     reduction(max : moved2, step2)
         for (size_t i = 0; i < n; ++i) {
@@ -104,7 +125,8 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                 const double wk = w[k] + b * tq[k];
                 nw[k] = wk;
                 da[d] = h * wk;
-                f[k] = 0.0; /* read for the last time: the next evaluation adds into it */
+                f[k] = 0.0 + m[i] * g[d]; /* read for the last time: the next evaluation
+                                              adds into it */
                 tq[k] = 0.0;
                 z += nonfinite(xk);
                 const double s = xk - xo;
@@ -127,6 +149,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                 bad = i;
         }
         st->forces_zeroed = 1;
+        st->gravity_seeded = gravity != NULL;
     } else {
         for (size_t i = 0; i < n; ++i) {
             const uint32_t fl = flags[i];
@@ -193,6 +216,23 @@ static size_t kick(sinter_stepper *st, double h)
     const double half = 0.5 * h;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
     size_t bad = n;
+    if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
+        for (size_t i = 0; i < n; ++i) {
+            const double a = half / m[i], b = half / j[i];
+            double z = 0.0;
+            for (int d = 0; d < 3; ++d) {
+                const double vk = v[3 * i + d] + a * f[3 * i + d];
+                const double wk = w[3 * i + d] + b * tq[3 * i + d];
+                v[3 * i + d] = vk;
+                w[3 * i + d] = wk;
+                z += nonfinite(vk) + nonfinite(wk);
+            }
+            if (!(z == 0.0) && i < bad)
+                bad = i;
+        }
+        return bad;
+    }
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
     for (size_t i = 0; i < n; ++i) {
         const uint32_t fl = flags[i];

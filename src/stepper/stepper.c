@@ -436,11 +436,15 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         st->wall_force_capacity = nw + 1;
     }
     memset(st->wall_force, 0, 3 * nw * sizeof(double));
+    /* the integrator zeroed force and torque after their last read, and may have written m g
+     * (gravity as the first model: 0 + m g, the same bits as its evaluation) into the force */
+    const size_t first_model = st->forces_zeroed && st->gravity_seeded ? 1 : 0;
     if (!st->forces_zeroed) {
         memset(ps->force, 0, 3 * ps->count * sizeof(double));
         memset(ps->torque, 0, 3 * ps->count * sizeof(double));
     }
     st->forces_zeroed = 0;
+    st->gravity_seeded = 0;
     s = fill_view(st, dt_hist);
     if (s != SINTER_OK)
         return s;
@@ -458,7 +462,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.wall_force = st->wall_force;
     e.view = &st->view;
     s = sinter_thermal_softening(st, &e.modulus_scale);
-    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+    for (size_t k = first_model; k < st->force_count && s == SINTER_OK; ++k) {
         sinter_force_slot *slot = &st->forces[k];
         const int host = slot->model->ops->eval == sinter_force_host_eval;
         s = sinter_history_prepare(ctx, &slot->pp, st->pp.count, host);
@@ -630,6 +634,8 @@ static sinter_status prepare(sinter_stepper *st)
         return SINTER_OK;
     sinter_stepper_apply_furnace(st);
     sinter_status s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
+    if (s == SINTER_OK && st->kind == SINTER_STEPPER_EXPLICIT)
+        s = sinter_explicit_reserve(st);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
     if (s == SINTER_OK && st->kind != SINTER_STEPPER_QUASISTATIC)

@@ -52,6 +52,9 @@ struct sinter_stepper {
     sinter_stepper_stats stats;
     int forces_current;           /* forces of the current state are evaluated and committed */
     int forces_zeroed;            /* the integrator zeroed force and torque after its last read */
+    int gravity_seeded;           /* ... and wrote the first force model's m g into the force
+                                     (that model, gravity, is not evaluated again) */
+    int plain_particles;          /* the integrator found no fixed or non-rotating particle */
     uint64_t sort_interval;       /* option "sort_interval": steps between spatial sorts, 0 off */
     uint64_t steps_since_sort;
     int rotation;                 /* option "rotation": integrate the total rotation vector */
@@ -112,6 +115,10 @@ sinter_status sinter_stepper_commit(sinter_stepper *st);
 
 /* Explicit velocity-Verlet step of size h (explicit.c). */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h);
+
+/* The explicit step's spare arrays at the set's capacity, their pages touched: done when the
+ * forces are set up, so that the first step does not fault them in (explicit.c). */
+sinter_status sinter_explicit_reserve(sinter_stepper *st);
 
 /* Change the kind of a stepper that has not stepped yet (the scene reader creates its stepper
  * before it reads [stepper] kind). Errors: SINTER_ERR_UNSUPPORTED, SINTER_ERR_STATE. */

@@ -156,8 +156,10 @@ int main(int argc, char **argv)
     CHECK(sinter_force_model_set(hm, "rolling", 0.0)); /* no rolling model */
     CHECK(sinter_force_model_create(&grav, g_ctx, "gravity"));
     CHECK(sinter_force_model_set(grav, "gz", -9.81)); /* fix gravity 9.81 vector 0 0 -1 */
-    CHECK(sinter_stepper_add_force(st, hm));
+    /* gravity first: the integrator then writes m g where it zeroes the force (no pass of
+     * its own; the force sums start from m g instead of ending with it) */
     CHECK(sinter_stepper_add_force(st, grav));
+    CHECK(sinter_stepper_add_force(st, hm));
     CHECK(sinter_stepper_set_dt(st, dt));      /* timestep ${dt} */
     CHECK(sinter_stepper_set_skin(st, 1e-4)); /* neighbor 1.0e-4 bin, check every step */
     if (sort_interval > 0)

@@ -10,6 +10,13 @@
 
 #include "scene_support.h"
 
+/* Deterministic uniform numbers in [0, 1). */
+static double lcg(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*s >> 11) / 9007199254740992.0;
+}
+
 /* Host re-implementation of the built-in "linear_spring" (kn, cn). */
 typedef struct spring_params {
     double kn, cn;
@@ -368,6 +375,75 @@ static void test_rotation_vector(void **state)
     assert_true(off[6] == 0.0 && off[7] == 0.0 && off[8] == 0.0);
 }
 
+/*
+ * Gravity as the stepper's first force model is written by the integrator where it zeroes
+ * the force (0 + m g) and not evaluated again (explicit.c, issue 9). Reference: a zero
+ * gravity first (seeded: 0 + m 0 = +0) and the same gravity evaluated after it. A settling
+ * heap with friction must move the same to the bit, with and without a fixed particle (the
+ * integrator's general loop seeds nothing), and a particle far from the heap falls as
+ * z0 - g t^2 / 2 (velocity Verlet is exact for a constant acceleration).
+ */
+static void run_gravity_first(int reference, int with_fixed, double *out, size_t n)
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.4);
+    OK(sinter_particles_create(&s.ps, s.ctx));
+    OK(sinter_particles_set_material(s.ps, 0, s.mat));
+    OK(sinter_walls_create(&s.walls, s.ctx));
+    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, s.walls));
+    sinter_force_model *zero = NULL;
+    if (reference) {
+        OK(sinter_force_model_create(&zero, s.ctx, "gravity"));
+        OK(sinter_force_model_set(zero, "gz", 0.0));
+        OK(sinter_stepper_add_force(s.st, zero));
+    }
+    OK(sinter_force_model_create(&s.gravity, s.ctx, "gravity"));
+    OK(sinter_force_model_set(s.gravity, "gx", 0.5));
+    OK(sinter_stepper_add_force(s.st, s.gravity));
+    OK(sinter_force_model_create(&s.contact, s.ctx, "hertz_mindlin"));
+    OK(sinter_stepper_add_force(s.st, s.contact));
+    scene_floor(&s, 0.0);
+    uint64_t seed = 3;
+    const double r = 1e-3;
+    for (size_t k = 0; k + 1 < n; ++k) /* a heap of overlapping spheres on the floor */
+        scene_add(&s, 1.9 * r * (double)(k % 3) + 1e-5 * lcg(&seed),
+                  1.9 * r * (double)(k / 3 % 3) + 1e-5 * lcg(&seed),
+                  r + 1.9 * r * (double)(k / 9), r);
+    scene_add(&s, 0.1, 0.1, 0.5, r); /* far from the heap */
+    if (with_fixed) {
+        uint32_t *flags = NULL;
+        OK(sinter_particles_view(s.ps, SINTER_FIELD_FLAGS, (void **)&flags, NULL, NULL));
+        flags[1] |= SINTER_PARTICLE_FIXED;
+        OK(sinter_particles_release(s.ps, SINTER_FIELD_FLAGS));
+    }
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_step(s.st, 400));
+    const sinter_field fields[4] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY,
+                                    SINTER_FIELD_SPIN, SINTER_FIELD_FORCE};
+    for (int f = 0; f < 4; ++f)
+        for (size_t i = 0; i < n; ++i)
+            get3(&s, fields[f], i, out + 3 * (n * (size_t)f + i));
+    const double t = 400 * 1e-5, *x = out + 3 * (n - 1);
+    assert_close(x[2], 0.5 - 0.5 * 9.81 * t * t, 1e-13);
+    assert_close(x[0], 0.1 + 0.5 * 0.5 * t * t, 1e-13);
+    sinter_force_model_destroy(zero);
+    scene_close(&s);
+}
+
+static void test_gravity_written_by_the_integrator(void **state)
+{
+    (void)state;
+    enum { N = 28, SIZE = 12 * N };
+    for (int with_fixed = 0; with_fixed < 2; ++with_fixed) {
+        double seeded[SIZE], evaluated[SIZE];
+        run_gravity_first(0, with_fixed, seeded, N);
+        run_gravity_first(1, with_fixed, evaluated, N);
+        assert_memory_equal(seeded, evaluated, sizeof(seeded));
+        assert_true(seeded[2] != 0.0 && seeded[3 * N + 2] != 0.0); /* the heap moved */
+    }
+}
+
 /* 1000 particles poured into a box come to rest inside it; none escapes. */
 static void test_pour_comes_to_rest_in_box(void **state)
 {
@@ -432,6 +508,7 @@ int main(void)
         cmocka_unit_test(test_misuse_is_refused),
         cmocka_unit_test(test_observer_and_stats),
         cmocka_unit_test(test_rotation_vector),
+        cmocka_unit_test(test_gravity_written_by_the_integrator),
         cmocka_unit_test(test_pour_comes_to_rest_in_box),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
