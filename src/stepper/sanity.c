@@ -212,10 +212,13 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
         if (s != SINTER_OK)
             return s;
     }
-    /* 3. temperatures */
+    /* 3. temperatures (the explicit update of this step took the test in its own pass) */
     if (st->thermal.count == 0)
         return SINTER_OK;
-    for (size_t i = 0; i < n; ++i) {
+    sinter_thermal *th = &st->thermal;
+    const size_t from = th->hot_checked ? th->hot : 0;
+    th->hot_checked = 0;
+    for (size_t i = from; i < n; ++i) {
         const double theta = ps->temperature[i];
         if (theta > 0.0 && theta <= SINTER_SANITY_MAX_TEMPERATURE)
             continue;

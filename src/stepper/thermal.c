@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "core/pcg.h"
+#include "sanity.h"
 #include "stepper.h"
 
 struct sinter_thermal_solver {
@@ -134,9 +135,16 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
         sinter_status s = slot->model->ops->eval(slot->model, &e);
         if (s != SINTER_OK)
             return s;
-        double after = 0.0;
-        for (size_t i = 0; i < n; ++i)
-            after += ps->heat[i];
+        /* four partial sums: the dependent additions of one would take longer than the
+         * submodel at a million particles */
+        double part[4] = {0.0, 0.0, 0.0, 0.0};
+        size_t i = 0;
+        for (; i + 4 <= n; i += 4)
+            for (int a = 0; a < 4; ++a)
+                part[a] += ps->heat[i + (size_t)a];
+        for (; i < n; ++i)
+            part[0] += ps->heat[i];
+        const double after = (part[0] + part[1]) + (part[2] + part[3]);
         slot->power = after - before;
         before = after;
     }
@@ -284,31 +292,45 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
 sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
 {
     sinter_thermal *th = &st->thermal;
+    th->hot_checked = 0;
     if (th->count == 0)
         return SINTER_OK;
-    sinter_status s = backup(st);
-    if (s != SINTER_OK)
-        return s;
     sinter_particles *ps = st->ps;
+    sinter_status s = SINTER_OK;
     if (th->scheme == SINTER_THERMAL_IMPLICIT) {
-        s = implicit_update(st, h);
+        s = backup(st);
+        if (s == SINTER_OK)
+            s = implicit_update(st, h);
         if (s != SINTER_OK)
             return s;
     } else {
-        /* Forward Euler, seed 003 eq. 46. */
-        size_t bad = ps->count;
+        /* Forward Euler, seed 003 eq. 46, saving the temperatures in the same pass; it also
+         * finds the first free particle above the sanity check's limit (sanity.c). */
+        s = sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity,
+                        ps->count + 1, sizeof(double));
+        if (s != SINTER_OK)
+            return s;
+        double *restrict saved = th->theta_backup, *restrict temp = ps->temperature;
+        size_t bad = ps->count, hot = ps->count;
         const long n = (long)ps->count;
 #pragma omp parallel for num_threads(n < 4096 ? 1 : sinter_threads(st->ctx)) schedule(static) \
-    reduction(min : bad)
+    reduction(min : bad, hot)
         for (long i = 0; i < n; ++i) {
+            const double t0 = temp[i];
+            saved[i] = t0;
             if (fixed(ps, (size_t)i))
                 continue;
             const double mc =
                 ps->mass[i] * sinter_particle_param(ps, (size_t)i, SINTER_MAT_HEAT_CAPACITY);
-            ps->temperature[i] += h * ps->heat[i] / mc;
-            if (!(ps->temperature[i] > 0.0 && ps->temperature[i] < INFINITY) && (size_t)i < bad)
+            const double t1 = t0 + h * ps->heat[i] / mc;
+            temp[i] = t1;
+            if (!(t1 > 0.0 && t1 < INFINITY) && (size_t)i < bad)
                 bad = (size_t)i;
+            if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && (size_t)i < hot)
+                hot = (size_t)i;
         }
+        th->hot_checked = 1;
+        th->hot = hot;
         if (bad < ps->count) {
             const double theta = ps->temperature[bad];
             memcpy(ps->temperature, th->theta_backup, ps->count * sizeof(double));

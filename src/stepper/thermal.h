@@ -34,6 +34,10 @@ typedef struct sinter_thermal {
     int softening;         /* 1 if the last evaluation computed modulus_scale */
     double *theta_backup;  /* temperatures of the last accepted state */
     size_t backup_capacity;
+    /* the explicit update of this step also took the sanity check's temperature test
+     * (sanity.c, criterion 3): the first free particle above its limit, or the count */
+    int hot_checked;
+    size_t hot;
     sinter_thermal_solver *solver;
 } sinter_thermal;
 

@@ -194,6 +194,61 @@ static void test_laser_energy_is_absorbed_power_integral(void **state)
     scene_close(&s);
 }
 
+/* A laser far too strong for the particles (sanity check 3, sanity.c): a step that takes a
+ * free particle above 1e5 K is rejected, naming the first such particle (a fixed-temperature
+ * one above the limit does not count), and the last accepted temperatures are kept; the
+ * explicit update takes this test in its own pass (thermal.c), the implicit one is checked
+ * after it: both give the same verdict. */
+static void test_runaway_temperature_is_rejected(void **state)
+{
+    (void)state;
+    for (int scheme = 0; scheme < 2; ++scheme) {
+        scene s;
+        scene_init(&s);
+        scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
+        OK(sinter_material_set(s.mat, SINTER_MAT_ABSORPTANCE, 0.6));
+        OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 300.0));
+        OK(sinter_particles_create(&s.ps, s.ctx));
+        OK(sinter_particles_set_material(s.ps, 0, s.mat));
+        OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+        const double r = 0.5e-3;
+        for (int k = 0; k < 3; ++k)
+            scene_add(&s, 0, 0, 2.5 * r * k, r); /* a column under the beam, apart */
+        uint32_t *flags = NULL;
+        OK(sinter_particles_view(s.ps, SINTER_FIELD_FLAGS, (void **)&flags, NULL, NULL));
+        flags[2] |= SINTER_PARTICLE_FIXED_TEMPERATURE; /* the top one, heated most */
+        OK(sinter_particles_release(s.ps, SINTER_FIELD_FLAGS));
+        sinter_heat_model *laser = NULL;
+        add_heat(&s, "laser", &laser);
+        /* dT = h a I0 pi r^2 exp(-mu z) / (m C): in one step of 1e-4 s about 1.6e5 K for the
+         * middle particle (z = 2.5 r) and 7e4 K for the bottom one (z = 5 r) */
+        const double i0 = 4e12, mu = 800.0;
+        OK(sinter_heat_model_set(laser, "intensity", i0));
+        OK(sinter_heat_model_set(laser, "attenuation", mu));
+        OK(sinter_heat_model_set(laser, "radius", 1e-3));
+        OK(sinter_stepper_set_thermal_scheme(s.st, scheme));
+        OK(sinter_stepper_set_dt(s.st, 1e-4));
+        const double mc = get1(&s, SINTER_FIELD_MASS, 0) * 300.0;
+        const double rise = 1e-4 * 0.6 * i0 * PI * r * r * exp(-mu * 2.5 * r) / mc;
+        assert_true(rise > 1.2e5 && rise * exp(-mu * 2.5 * r) < 0.9e5);
+        assert_int_equal(sinter_stepper_advance(s.st, 1e-3), SINTER_ERR_UNSTABLE);
+        const char *msg = sinter_last_error(s.ctx);
+        print_message("%s\n", msg);
+        if (strstr(msg, "the temperature of particle 1 (id 1) became") == NULL ||
+            strstr(msg, "at most 100000 K") == NULL ||
+            strstr(msg, "The last accepted state is kept.") == NULL) {
+            print_error("message '%s'\n", msg);
+            fail();
+        }
+        for (size_t i = 0; i < 3; ++i)
+            assert_true(get1(&s, SINTER_FIELD_TEMPERATURE, i) == 300.0);
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_heat_model_destroy(laser);
+        scene_close(&s);
+    }
+}
+
 /* A row of small conducting spheres: explicit stepping beyond m C / sum G blows up
  * and is refused with the step limit in the message; the implicit scheme is stable. */
 static void test_explicit_limit_and_implicit_stability(void **state)
@@ -470,6 +525,7 @@ int main(void)
         cmocka_unit_test(test_no_heat_model_no_thermal_work),
         cmocka_unit_test(test_tabulated_and_host_softening),
         cmocka_unit_test(test_host_heat_model),
+        cmocka_unit_test(test_runaway_temperature_is_rejected),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
