@@ -21,7 +21,8 @@ static sinter_status reserve_spare(sinter_stepper *st)
         double *grown = sinter_realloc_array(st->ctx, st->spare[k], 3 * cap + 1, sizeof(double));
         if (grown == NULL)
             return sinter_last_status(st->ctx); /* the ones grown so far are grown again */
-        memset(grown, 0, (3 * cap + 1) * sizeof(double)); /* scratch: touched here, once */
+        if (k < 3 || st->rotation) /* the ones the steps write: touched here, once */
+            memset(grown, 0, (3 * cap + 1) * sizeof(double));
         st->spare[k] = grown;
     }
     st->spare_capacity = cap;
