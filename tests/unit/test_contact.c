@@ -26,6 +26,22 @@ static void random_cloud(scene *s, size_t n, uint64_t seed)
     }
 }
 
+/* n spheres of 0.35-1.05 mm at random in a 3 cm cube (about 4.7 candidate pairs each within
+ * the 0.3 mm skin, some in contact) on `threads` threads, and their pair list. */
+static void dense_cloud(scene *s, int threads, size_t n, sinter_neighbors *nb)
+{
+    scene_init(s);
+    OK(sinter_ctx_set_threads(s->ctx, threads));
+    scene_material(s, 1e7, 0.3, 2500, 0.0, 0.3);
+    scene_open(s, "hertz_mindlin", 0);
+    uint64_t seed = 11;
+    for (size_t k = 0; k < n; ++k)
+        scene_add(s, 0.03 * lcg(&seed), 0.03 * lcg(&seed), 0.03 * lcg(&seed),
+                  0.7e-3 * (0.5 + lcg(&seed)));
+    sinter_neighbors_init(nb, s->ctx, 3e-4);
+    OK(sinter_neighbors_build(nb, s->ps, s->walls));
+}
+
 static void test_pair_list_matches_brute_force(void **state)
 {
     (void)state;
@@ -161,6 +177,16 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
 }
 
 
+/* A scene on `threads` threads whose particles conduct heat (k 100 W/m/K, C 100 J/kg/K). */
+static void conducting_scene(scene *s, int threads)
+{
+    scene_init(s);
+    OK(sinter_ctx_set_threads(s->ctx, threads));
+    scene_material(s, 1e7, 0.3, 2500, 0.2, 0.3);
+    OK(sinter_material_set(s->mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
+    OK(sinter_material_set(s->mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
+}
+
 /* A packed, jittered lattice of 15^3 spheres (about 9000 contacts: the threaded paths run),
  * with explicit conduction from a 500 K floor and no rolling resistance when `heat` (the
  * threaded conduction sums and the blocked Hertz-Mindlin law): heat 1 conducts by eq. 34's
@@ -169,12 +195,8 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
 static void run_packed(int threads, int heat, int reverse, double *out, size_t n)
 {
     scene s;
-    scene_init(&s);
-    OK(sinter_ctx_set_threads(s.ctx, threads));
-    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.3);
+    conducting_scene(&s, threads);
     OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
-    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
-    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
     scene_open(&s, "hertz_mindlin", 1);
     scene_floor(&s, 0.0);
@@ -280,17 +302,8 @@ static void test_pair_list_independent_of_thread_count(void **state)
     uint32_t *ref_i = NULL, *ref_j = NULL, *ref_from = NULL;
     for (int t = 0; t < 3; ++t) {
         scene s;
-        scene_init(&s);
-        OK(sinter_ctx_set_threads(s.ctx, t + 1));
-        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
-        scene_open(&s, "hertz_mindlin", 0);
-        uint64_t seed = 11;
-        for (size_t k = 0; k < N; ++k)
-            scene_add(&s, 0.03 * lcg(&seed), 0.03 * lcg(&seed), 0.03 * lcg(&seed),
-                      0.7e-3 * (0.5 + lcg(&seed)));
         sinter_neighbors nb;
-        sinter_neighbors_init(&nb, s.ctx, 3e-4);
-        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+        dense_cloud(&s, t + 1, N, &nb);
         counts[t] = nb.pp.count;
         if (t == 0) {
             ref_i = malloc(nb.pp.count * sizeof(uint32_t));
@@ -390,17 +403,8 @@ static void test_lean_search_matches_a_fresh_one(void **state)
     enum { N = 12000, ROUNDS = 9 };
     for (int t = 1; t <= 3; ++t) {
         scene s;
-        scene_init(&s);
-        OK(sinter_ctx_set_threads(s.ctx, t));
-        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
-        scene_open(&s, "hertz_mindlin", 0);
-        uint64_t seed = 11;
-        for (size_t k = 0; k < N; ++k)
-            scene_add(&s, 0.03 * lcg(&seed), 0.03 * lcg(&seed), 0.03 * lcg(&seed),
-                      0.7e-3 * (0.5 + lcg(&seed)));
         sinter_neighbors nb;
-        sinter_neighbors_init(&nb, s.ctx, 3e-4);
-        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+        dense_cloud(&s, t, N, &nb);
         sinter_contact_list kept;
         memset(&kept, 0, sizeof(kept));
         membership before;
@@ -498,11 +502,7 @@ static void test_lean_search_matches_a_fresh_one(void **state)
 static void run_rattling(int threads, int heat, double *out, size_t n, int *kept, int *partial)
 {
     scene s;
-    scene_init(&s);
-    OK(sinter_ctx_set_threads(s.ctx, threads));
-    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.3);
-    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
-    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
+    conducting_scene(&s, threads);
     scene_open(&s, "hertz_mindlin", 1);
     OK(sinter_force_model_set(s.contact, "rolling", 0.0));
     scene_floor(&s, 0.0);

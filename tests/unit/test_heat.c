@@ -18,6 +18,20 @@ static void add_heat(scene *s, const char *name, sinter_heat_model **hm)
     OK(sinter_stepper_add_heat(s->st, *hm));
 }
 
+/* A scene of particles with density 3000 kg/m^3, the given heat capacity and one more
+ * material parameter (or the capacity again), and an explicit stepper without walls or
+ * force models. */
+static void open_heat_only(scene *s, sinter_material_param p, double value, double capacity)
+{
+    scene_init(s);
+    scene_material(s, 1e7, 0.3, 3000, 0.0, 0.0);
+    OK(sinter_material_set(s->mat, p, value));
+    OK(sinter_material_set(s->mat, SINTER_MAT_HEAT_CAPACITY, capacity));
+    OK(sinter_particles_create(&s->ps, s->ctx));
+    OK(sinter_particles_set_material(s->ps, 0, s->mat));
+    OK(sinter_stepper_create(&s->st, s->ctx, SINTER_STEPPER_EXPLICIT, s->ps, NULL));
+}
+
 static double sum_mc_theta(scene *s, double c)
 {
     size_t n = 0;
@@ -99,13 +113,7 @@ static double one_sphere_cooling(const char *model, double theta0, double theta_
                                  double emissivity)
 {
     scene s;
-    scene_init(&s);
-    scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
-    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 200.0));
-    OK(sinter_material_set(s.mat, SINTER_MAT_EMISSIVITY, emissivity));
-    OK(sinter_particles_create(&s.ps, s.ctx));
-    OK(sinter_particles_set_material(s.ps, 0, s.mat));
-    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+    open_heat_only(&s, SINTER_MAT_EMISSIVITY, emissivity, 200.0);
     const double r = 1e-3;
     scene_add(&s, 0, 0, 0, r);
     set_temperature(&s, 0, theta0);
@@ -154,13 +162,7 @@ static void test_laser_energy_is_absorbed_power_integral(void **state)
 {
     (void)state;
     scene s;
-    scene_init(&s);
-    scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
-    OK(sinter_material_set(s.mat, SINTER_MAT_ABSORPTANCE, 0.6));
-    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 300.0));
-    OK(sinter_particles_create(&s.ps, s.ctx));
-    OK(sinter_particles_set_material(s.ps, 0, s.mat));
-    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+    open_heat_only(&s, SINTER_MAT_ABSORPTANCE, 0.6, 300.0);
     const double r = 0.5e-3;
     for (int k = 0; k < 3; ++k)
         scene_add(&s, 0, 0, 2 * r * k, r); /* a column under the beam */
@@ -204,13 +206,7 @@ static void test_runaway_temperature_is_rejected(void **state)
     (void)state;
     for (int scheme = 0; scheme < 2; ++scheme) {
         scene s;
-        scene_init(&s);
-        scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
-        OK(sinter_material_set(s.mat, SINTER_MAT_ABSORPTANCE, 0.6));
-        OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 300.0));
-        OK(sinter_particles_create(&s.ps, s.ctx));
-        OK(sinter_particles_set_material(s.ps, 0, s.mat));
-        OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+        open_heat_only(&s, SINTER_MAT_ABSORPTANCE, 0.6, 300.0);
         const double r = 0.5e-3;
         for (int k = 0; k < 3; ++k)
             scene_add(&s, 0, 0, 2.5 * r * k, r); /* a column under the beam, apart */
@@ -256,13 +252,7 @@ static void test_explicit_limit_and_implicit_stability(void **state)
     (void)state;
     for (int scheme = 0; scheme < 2; ++scheme) {
         scene s;
-        scene_init(&s);
-        scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
-        OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 400.0));
-        OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 400.0));
-        OK(sinter_particles_create(&s.ps, s.ctx));
-        OK(sinter_particles_set_material(s.ps, 0, s.mat));
-        OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+        open_heat_only(&s, SINTER_MAT_THERMAL_CONDUCTIVITY, 400.0, 400.0);
         const double r = 20e-6;
         for (int k = 0; k < 10; ++k)
             scene_add(&s, 1.9 * r * k, 0, 0, r);
@@ -478,12 +468,7 @@ static void test_host_heat_model(void **state)
 {
     (void)state;
     scene s;
-    scene_init(&s);
-    scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
-    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 400.0));
-    OK(sinter_particles_create(&s.ps, s.ctx));
-    OK(sinter_particles_set_material(s.ps, 0, s.mat));
-    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, NULL));
+    open_heat_only(&s, SINTER_MAT_HEAT_CAPACITY, 400.0, 400.0);
     scene_add(&s, 0, 0, 0, 1e-3);
     scene_add(&s, 0.01, 0, 0, 1e-3);
     double power = 0.25;
