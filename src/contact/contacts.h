@@ -76,20 +76,21 @@ void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
 static inline void sinter_contacts_changed_since(const sinter_contact_list *c, uint64_t r,
                                                  size_t *pair, size_t *contact)
 {
+    if (r != 0 && r == c->revision) {
+        *pair = *contact = SIZE_MAX;
+        return;
+    }
     size_t p = SIZE_MAX, m = SIZE_MAX;
-    if (r == 0 || r != c->revision)
-        for (int k = 0;; ++k) {
-            if (k == 2 || r == 0) {
-                p = m = 0;
-                break;
-            }
-            p = c->change[k].pair < p ? c->change[k].pair : p;
-            m = c->change[k].contact < m ? c->change[k].contact : m;
-            if (c->change[k].from == r)
-                break;
+    for (int k = 0; k < 2 && r != 0; ++k) {
+        p = c->change[k].pair < p ? c->change[k].pair : p;
+        m = c->change[k].contact < m ? c->change[k].contact : m;
+        if (c->change[k].from == r) {
+            *pair = p;
+            *contact = m;
+            return;
         }
-    *pair = p;
-    *contact = m;
+    }
+    *pair = *contact = 0;
 }
 
 /* Record a change of c's membership from pair and contact index on: a new revision. */

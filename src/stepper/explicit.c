@@ -11,8 +11,9 @@
 #include "sanity.h"
 #include "stepper.h"
 
-/* The spare arrays at the set's capacity (the set may have grown since the last step). */
-static sinter_status reserve_spare(sinter_stepper *st)
+/* The spare arrays at the set's capacity (the set may have grown since the last step); see
+ * stepper.h. */
+sinter_status sinter_explicit_reserve(sinter_stepper *st)
 {
     const size_t cap = st->ps->capacity;
     if (st->spare_capacity == cap && st->spare[0] != NULL)
@@ -27,11 +28,6 @@ static sinter_status reserve_spare(sinter_stepper *st)
     }
     st->spare_capacity = cap;
     return SINTER_OK;
-}
-
-sinter_status sinter_explicit_reserve(sinter_stepper *st)
-{
-    return reserve_spare(st);
 }
 
 /* The acceleration of gravity when it is the stepper's first force model (kick_drift then
@@ -277,7 +273,7 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
 
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
-    sinter_status s = reserve_spare(st);
+    sinter_status s = sinter_explicit_reserve(st);
     if (s != SINTER_OK)
         return s;
     const double t_start = st->time;

@@ -412,11 +412,10 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
     if (s != SINTER_OK)
         return s;
-    if (st->walls == NULL)
-        if (st->pw.count != 0 || st->pw.revision == 0) {
-            st->pw.count = 0;
-            st->pw.revision = sinter_unique_id();
-        }
+    if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {
+        st->pw.count = 0;
+        st->pw.revision = sinter_unique_id();
+    }
     if (st->electric != NULL) {
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
