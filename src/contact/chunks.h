@@ -11,6 +11,11 @@
  * array at the range's own contact offset, so no count is needed beforehand) and added after
  * all ranges, in list order, by one thread.
  *
+ * The particle ranges are made when a list is found over a new pair list or gains contacts;
+ * a search over the same pairs that only loses contacts keeps them (and finds the runs of
+ * contacts again), so that contacts a force law drops itself leave the sums in the order a
+ * search would give (sinter_contacts_confirm).
+ *
  * S depends on the number of candidate pairs only, never on the number of threads, so each
  * particle receives the same additions in the same order (its interior contacts in list
  * order, then its boundary contacts in list order) whatever the thread count: the same bits.

@@ -77,6 +77,7 @@ enum { MAX_CHUNKS = 256 };
 typedef struct fill_part {
     int ascending, any;
     uint32_t first, last;
+    int added; /* with `track`: a pair the list did not hold as a contact is one now */
 } fill_part;
 
 /* Geometry of contact m from its particles' centres (sinter_pp_geometry; a^2 = R_i^2 - L_i^2,
@@ -103,20 +104,23 @@ static inline void put_geometry(sinter_contact_list *c, const double *x, const d
 static inline __attribute__((always_inline)) size_t
 fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
           uint32_t *restrict cpair, const sinter_pair_list *pairs, const sinter_particles *ps,
-          size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry)
+          size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry,
+          int track)
 {
     const double *restrict x = ps->x, *restrict r = ps->radius;
     const uint32_t *restrict pi = pairs->i, *restrict pj = pairs->j;
     uint32_t *restrict to_contact = c->pair_to_contact;
     const size_t m0 = m;
     uint32_t prev = 0;
-    int ascending = 1;
+    int ascending = 1, added = 0;
     for (size_t p = lo; p < hi; ++p) {
         const uint32_t i = pi[p], j = pj[p];
         if (touch != NULL ? !touch[p] : !touching(pairs, x, r, p)) {
             to_contact[p] = SINTER_NO_PAIR;
             continue;
         }
+        if (track)
+            added |= to_contact[p] == SINTER_NO_PAIR;
         ci[m] = i;
         cj[m] = j;
         cpair[m] = (uint32_t)p;
@@ -132,21 +136,22 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
     part->any = m > m0;
     part->first = m > m0 ? (ci[m0] < cj[m0] ? ci[m0] : cj[m0]) : 0;
     part->last = prev;
+    part->added = added;
     return m;
 }
 
 static size_t fill_pp_full(sinter_contact_list *c, const sinter_pair_list *pairs,
                            const sinter_particles *ps, size_t lo, size_t hi, size_t m,
-                           fill_part *part, const uint8_t *touch)
+                           fill_part *part, const uint8_t *touch, int track)
 {
-    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 1);
+    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 1, track);
 }
 
 static size_t fill_pp_lean(sinter_contact_list *c, const sinter_pair_list *pairs,
                            const sinter_particles *ps, size_t lo, size_t hi, size_t m,
-                           fill_part *part, const uint8_t *touch)
+                           fill_part *part, const uint8_t *touch, int track)
 {
-    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 0);
+    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 0, track);
 }
 
 /* The ordering findings of two consecutive stretches of contacts as one. */
@@ -157,6 +162,7 @@ static fill_part join_parts(fill_part a, fill_part b)
     j.any = a.any || b.any;
     j.first = a.any ? a.first : b.first;
     j.last = b.any ? b.last : a.last;
+    j.added = a.added || b.added;
     return j;
 }
 
@@ -206,6 +212,7 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
     part->any = k > 0;
     part->first = first;
     part->last = prev;
+    part->added = 0;
     return p;
 }
 
@@ -221,8 +228,8 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
  * changed (sinter_contacts_changed; SIZE_MAX: nowhere). Returns the number of contacts.
  */
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
-                            const sinter_particles *ps, int chunks, int verify, fill_part *part,
-                            size_t *change_pair, size_t *change_contact)
+                            const sinter_particles *ps, int chunks, int verify, int track,
+                            fill_part *part, size_t *change_pair, size_t *change_contact)
 {
     const size_t n = pairs->count;
     uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
@@ -236,7 +243,7 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
         for (int t = 0; t < chunks; ++t) {
             const size_t lo = n * (size_t)t / (size_t)chunks;
             const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
-            fill_part mine = {1, 0, 0, 0};
+            fill_part mine = {1, 0, 0, 0, 0};
             size_t p = lo;
             start[t] = SIZE_MAX;
             checked[t] = 0;
@@ -245,8 +252,8 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
             stop[t] = p;
             size_t tail = 0;
             if (p < hi) { /* from the first change on, into the scratch at the pair's index */
-                fill_part rest = {1, 0, 0, 0};
-                tail = fill_into(c, si, sj, sp, pairs, ps, p, hi, p, &rest, NULL, 0) - p;
+                fill_part rest = {1, 0, 0, 0, 0};
+                tail = fill_into(c, si, sj, sp, pairs, ps, p, hi, p, &rest, NULL, 0, track) - p;
                 mine = join_parts(mine, rest);
             }
             found[t] = checked[t] + tail;
@@ -330,31 +337,50 @@ static size_t first_contact_of(const sinter_contact_list *c, size_t p)
     return lo;
 }
 
-/* The partition from the fill passes' findings (parts in list order); count 0 when the list
- * is too small or its smaller particle indices do not ascend. */
-static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
-                        int count)
+/* The contact ranges of c's partition from its particle ranges. */
+static void contact_ranges(sinter_contact_list *c)
 {
     sinter_chunks *k = &c->chunks;
-    k->count = 0;
-    if (count == 0)
-        return;
-    int seen = 0;
+    k->qlo[0] = 0;
+    for (int s = 1; s < k->count; ++s)
+        k->qlo[s] = first_contact_of(c, k->plo[s]);
+    k->qlo[k->count] = c->count;
+}
+
+/* The partition from the fill passes' findings (parts in list order); count 0 when the list
+ * is too small or its smaller particle indices do not ascend. The particle ranges are kept
+ * when the list was partitioned over the same pairs and gained no contact (`added` over all
+ * parts): contacts that end do not move them (chunks.h). */
+static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
+                        int count, uint64_t pairs_id)
+{
+    sinter_chunks *k = &c->chunks;
+    int seen = 0, added = 0;
     uint32_t last = 0;
     for (int t = 0; t < nparts; ++t) {
+        added |= parts[t].added;
         if (!parts[t].any)
             continue;
         if (!parts[t].ascending || (seen && parts[t].first < last))
-            return;
+            count = 0;
         last = parts[t].last;
         seen = 1;
     }
+    if (count == 0) {
+        k->count = 0;
+        k->source = 0;
+        return;
+    }
+    if (k->count == count && k->source == pairs_id && !added) {
+        contact_ranges(c);
+        return;
+    }
     k->count = count;
+    k->source = pairs_id;
     /* the scratch was reserved for every pair in sinter_contacts_find_pp. The ranges hold
      * about equal numbers of contacts (a falling pile has them all at the bottom): range s
      * starts at the particle of contact count s / S. */
     k->plo[0] = 0;
-    k->qlo[0] = 0;
     for (int s = 1; s <= count; ++s) {
         size_t p = n;
         if (s < count) {
@@ -363,8 +389,8 @@ static void make_chunks(sinter_contact_list *c, const fill_part *parts, int npar
                 p = c->i[q] < c->j[q] ? c->i[q] : c->j[q];
         }
         k->plo[s] = p > k->plo[s - 1] ? p : k->plo[s - 1];
-        k->qlo[s] = s == count ? c->count : first_contact_of(c, k->plo[s]);
     }
+    contact_ranges(c);
 }
 
 static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
@@ -387,6 +413,9 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int verify = !geometry && c->revision != 0 && c->lean_source != 0 &&
                        c->lean_source == pairs->build_id && c->pair_count == pairs->count &&
                        c->particle_count == ps->count;
+    /* the partition may be kept (make_chunks): watch for contacts the list did not hold */
+    const int track = c->chunks.source != 0 && c->chunks.source == pairs->build_id &&
+                      c->pair_count == pairs->count;
     c->lean_source = 0; /* set again when a lean search completes */
     c->adj_start = pairs->adj_start;
     c->adj_pair = pairs->adj_pair;
@@ -396,20 +425,20 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int parts_count = chunk_count(pairs->count);
     c->geometry = geometry;
     size_t (*fill)(sinter_contact_list *, const sinter_pair_list *, const sinter_particles *,
-                   size_t, size_t, size_t, fill_part *, const uint8_t *) =
+                   size_t, size_t, size_t, fill_part *, const uint8_t *, int) =
         geometry ? fill_pp_full : fill_pp_lean;
     if (threads <= 1) {
-        fill_part part = {1, 0, 0, 0};
+        fill_part part = {1, 0, 0, 0, 0};
         size_t p = 0, m = 0, checked = 0;
         if (verify)
             p = verify_range(c, pairs, ps, 0, pairs->count, &m, &checked, &part);
         if (!verify || p < pairs->count) { /* written from the first change on */
-            fill_part rest = {1, 0, 0, 0};
-            c->count = fill(c, pairs, ps, p, pairs->count, checked, &rest, NULL);
+            fill_part rest = {1, 0, 0, 0, 0};
+            c->count = fill(c, pairs, ps, p, pairs->count, checked, &rest, NULL, track);
             part = join_parts(part, rest);
             sinter_contacts_changed(c, p, checked);
         }
-        make_chunks(c, &part, 1, ps->count, parts_count);
+        make_chunks(c, &part, 1, ps->count, parts_count, pairs->build_id);
         c->lean_source = geometry ? 0 : pairs->build_id;
         return SINTER_OK;
     }
@@ -421,10 +450,11 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
             return st;
         fill_part part[MAX_CHUNKS];
         size_t change_pair = 0, change_contact = 0;
-        c->count = fill_segments(c, pairs, ps, chunks, verify, part, &change_pair, &change_contact);
+        c->count = fill_segments(c, pairs, ps, chunks, verify, track, part, &change_pair,
+                                 &change_contact);
         if (change_pair != SIZE_MAX)
             sinter_contacts_changed(c, change_pair, change_contact);
-        make_chunks(c, part, chunks, ps->count, parts_count);
+        make_chunks(c, part, chunks, ps->count, parts_count, pairs->build_id);
         c->lean_source = pairs->build_id;
         return SINTER_OK;
     }
@@ -455,12 +485,12 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
 #pragma omp parallel for num_threads(chunks) schedule(static, 1)
     for (int t = 0; t < chunks; ++t) {
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
-        fill_part mine = {1, 0, 0, 0};
-        fill(c, pairs, ps, lo, hi, offset[t], &mine, touch);
+        fill_part mine = {1, 0, 0, 0, 0};
+        fill(c, pairs, ps, lo, hi, offset[t], &mine, touch, track);
         part[t] = mine;
     }
     c->count = offset[chunks];
-    make_chunks(c, part, chunks, ps->count, parts_count);
+    make_chunks(c, part, chunks, ps->count, parts_count, pairs->build_id);
     return SINTER_OK;
 }
 

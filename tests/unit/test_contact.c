@@ -392,8 +392,9 @@ static void first_difference(const membership *m, const sinter_contact_list *c,
  * A lean search over the same pairs as the last one checks the list it holds before it
  * writes (contacts.c, verify_range; issue 9). After rounds in which nothing changes, or
  * particles shrink out of or grow into contact near the start, the middle or the end of the
- * list, the list must equal one found from scratch, entry for entry and with the same
- * partition, for 1, 2 and 3 threads (the threaded search checks and moves ranges); its
+ * list, the list must equal one found from scratch, entry for entry, with the partition of
+ * one found from scratch when it gained contacts and its own particle ranges when it only
+ * lost some, for 1, 2 and 3 threads (the threaded search checks and moves ranges); its
  * revision must stay exactly when nothing changed, and the change it records must start no
  * later than the first entry that differs (history commits clear and copy only from there).
  */
@@ -412,6 +413,7 @@ static void test_lean_search_matches_a_fresh_one(void **state)
         double *r = s.ps->radius;
         const double *x = s.ps->x;
         int kept_revision = 0, changed = 0;
+        size_t plo_before[SINTER_CHUNKS_MAX + 1];
         for (int round = 0; round < ROUNDS; ++round) {
             /* rounds 1, 4, 8 change nothing; the others shrink a particle out of its contacts
              * (at the start, middle and end of the list) or grow a pair into contact */
@@ -443,8 +445,22 @@ static void test_lean_search_matches_a_fresh_one(void **state)
             assert_memory_equal(kept.pair_to_contact, fresh.pair_to_contact,
                                 nb.pp.count * sizeof(uint32_t));
             assert_int_equal(kept.chunks.count, fresh.chunks.count);
-            assert_memory_equal(kept.chunks.plo, fresh.chunks.plo, sizeof(fresh.chunks.plo));
-            assert_memory_equal(kept.chunks.qlo, fresh.chunks.qlo, sizeof(fresh.chunks.qlo));
+            assert_true(kept.chunks.count > 0);
+            /* the particle ranges: made afresh when the list gained contacts, kept when it
+             * only lost some (contacts.c, make_chunks); the contact ranges follow them */
+            if (round == 0 || round == 6 || round == 7)
+                assert_memory_equal(kept.chunks.plo, fresh.chunks.plo, sizeof(fresh.chunks.plo));
+            else
+                assert_memory_equal(kept.chunks.plo, plo_before, sizeof(plo_before));
+            memcpy(plo_before, kept.chunks.plo, sizeof(plo_before));
+            for (int k = 0; k <= kept.chunks.count; ++k) {
+                size_t q = 0;
+                while (q < kept.count && (k == kept.chunks.count ||
+                                          (kept.i[q] < kept.j[q] ? kept.i[q] : kept.j[q]) <
+                                              kept.chunks.plo[k]))
+                    ++q;
+                assert_int_equal(kept.chunks.qlo[k], q);
+            }
             if (round > 0) {
                 size_t contact = 0, pair = 0;
                 first_difference(&before, &kept, &contact, &pair);
