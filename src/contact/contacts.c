@@ -417,6 +417,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int track = c->chunks.source != 0 && c->chunks.source == pairs->build_id &&
                       c->pair_count == pairs->count;
     c->lean_source = 0; /* set again when a lean search completes */
+    c->unconfirmed = 0;
     c->adj_start = pairs->adj_start;
     c->adj_pair = pairs->adj_pair;
     c->particle_count = ps->count;
@@ -505,6 +506,81 @@ sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list 
                                            const sinter_particles *ps)
 {
     return find_pp(ctx, c, pairs, ps, 0);
+}
+
+/* 1 if a pair the list does not hold is in contact. */
+static int new_contacts(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                        const sinter_particles *ps, int threads)
+{
+    const uint32_t *restrict to_contact = c->pair_to_contact;
+    const double *x = ps->x, *r = ps->radius;
+    const long n = (long)pairs->count;
+    int found = 0;
+    if (threads <= 1) {
+        for (long p = 0; p < n && !found; ++p)
+            found = to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p);
+        return found;
+    }
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : found)
+    for (long p = 0; p < n; ++p)
+        found |= to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p);
+    return found;
+}
+
+sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_list *c,
+                                               const sinter_pair_list *pairs,
+                                               const sinter_particles *ps, int *deferred)
+{
+    /* searches to skip after one that found new contacts: 1, 3, 7, ... up to 63 (a falling
+     * pile gains contacts nearly every step, a packed bed rarely) */
+    enum { MAX_WAIT = 63 };
+    *deferred = 0;
+    const int same_pairs = c->revision != 0 && c->lean_source != 0 &&
+                           c->lean_source == pairs->build_id && c->pair_count == pairs->count &&
+                           c->particle_count == ps->count && !c->unconfirmed;
+    if (!same_pairs || c->defer_skip > 0) {
+        c->defer_skip -= c->defer_skip > 0;
+        return find_pp(ctx, c, pairs, ps, 0);
+    }
+    if (new_contacts(c, pairs, ps, pairs->count < 4096 ? 1 : sinter_threads(ctx))) {
+        c->defer_wait = c->defer_wait < MAX_WAIT ? 2 * c->defer_wait + 1 : MAX_WAIT;
+        c->defer_skip = c->defer_wait;
+        return find_pp(ctx, c, pairs, ps, 0);
+    }
+    c->defer_wait = 0;
+    c->unconfirmed = 1;
+    *deferred = 1;
+    return SINTER_OK;
+}
+
+void sinter_contacts_confirm(sinter_contact_list *c, const sinter_pair_list *pairs,
+                             const sinter_particles *ps, size_t from)
+{
+    c->unconfirmed = 0;
+    if (from >= c->count)
+        return;
+    /* the law skipped contact `from` and maybe later ones: the search's test again (the
+     * same verdicts), keeping the others in order */
+    const double *x = ps->x, *r = ps->radius;
+    uint32_t *to_contact = c->pair_to_contact;
+    const size_t first_pair = c->pair[from]; /* pairs before it kept their verdicts */
+    size_t kept = from;
+    for (size_t q = from; q < c->count; ++q) {
+        const uint32_t p = c->pair[q];
+        if (!touching(pairs, x, r, p)) {
+            to_contact[p] = SINTER_NO_PAIR;
+            continue;
+        }
+        c->i[kept] = c->i[q];
+        c->j[kept] = c->j[q];
+        c->pair[kept] = p;
+        to_contact[p] = (uint32_t)kept;
+        ++kept;
+    }
+    sinter_contacts_changed(c, first_pair, from);
+    c->count = kept;
+    if (c->chunks.count > 0) /* contacts only ended: the particle ranges stay (make_chunks) */
+        contact_ranges(c);
 }
 
 void sinter_contacts_geometry(const sinter_ctx *ctx, sinter_contact_list *c,

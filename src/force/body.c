@@ -27,8 +27,12 @@ static sinter_status body_force_eval(const sinter_force_model *fm, sinter_force_
     return SINTER_OK;
 }
 
-const sinter_force_ops sinter_force_gravity = {
-    "gravity", 0, 0, 0, {"gx", "gy", "gz", NULL}, {0.0, 0.0, -9.81}, gravity_eval, NULL, NULL};
+const sinter_force_ops sinter_force_gravity = {.name = "gravity",
+                                               .keys = {"gx", "gy", "gz", NULL},
+                                               .defaults = {0.0, 0.0, -9.81},
+                                               .eval = gravity_eval};
 
-const sinter_force_ops sinter_force_body_force = {
-    "body_force", 0, 0, 0, {"fx", "fy", "fz", NULL}, {0.0, 0.0, 0.0}, body_force_eval, NULL, NULL};
+const sinter_force_ops sinter_force_body_force = {.name = "body_force",
+                                                  .keys = {"fx", "fy", "fz", NULL},
+                                                  .defaults = {0.0, 0.0, 0.0},
+                                                  .eval = body_force_eval};

@@ -23,6 +23,9 @@ typedef struct sinter_force_eval {
     double *wall_force;             /* 3 per wall, accumulated (force on the wall) */
     const double *modulus_scale;    /* per particle E(theta)/E_0, or NULL for 1 */
     const sinter_state_view *view;  /* for host callbacks */
+    /* pp->unconfirmed (sinter_contacts_find_pp_deferred): a model that confirms contacts
+     * skips those no longer touching and sets the first one's index here (else SIZE_MAX) */
+    size_t pp_ended;
 } sinter_force_eval;
 
 typedef struct sinter_force_ops {
@@ -40,6 +43,11 @@ typedef struct sinter_force_ops {
      * geometry (n, delta, dist, area, branch) of e->pp, forming it from the centres itself;
      * NULL means it reads the geometry when it uses contacts */
     int (*reads_geometry)(const sinter_force_model *fm, size_t history_width);
+    /* optional: 1 when an evaluation with this history width reads a lean list's centres,
+     * skips every contact that no longer touches and reports the first in e->pp_ended, so that
+     * the stepper may leave the search's check to it (sinter_contacts_find_pp_deferred);
+     * NULL means it does not */
+    int (*confirms_contacts)(const sinter_force_model *fm, size_t history_width);
 } sinter_force_ops;
 
 struct sinter_force_model {
@@ -72,6 +80,12 @@ static inline size_t sinter_force_history_pp(const sinter_force_model *fm)
 static inline size_t sinter_force_history_pw(const sinter_force_model *fm)
 {
     return fm->ops->history_width ? fm->ops->history_width(fm, 1) : fm->ops->history_pw;
+}
+
+/* 1 if an evaluation of fm may be given an unconfirmed list (see confirms_contacts). */
+static inline int sinter_force_confirms_contacts(const sinter_force_model *fm, size_t width)
+{
+    return fm->ops->confirms_contacts ? fm->ops->confirms_contacts(fm, width) : 0;
 }
 
 /* 1 if an evaluation of fm (its particle-particle history width given) reads the contact

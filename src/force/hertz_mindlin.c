@@ -373,6 +373,7 @@ typedef struct blk {
     double wix[BLOCK], wiy[BLOCK], wiz[BLOCK], wjx[BLOCK], wjy[BLOCK], wjz[BLOCK];
     double hx[BLOCK], hy[BLOCK], hz[BLOCK];
     double kn[BLOCK], dn[BLOCK], kt[BLOCK], dtp[BLOCK], mus2[BLOCK], mud[BLOCK];
+    double apart[BLOCK]; /* lean lists: 1 where the pair no longer touches (skipped) */
     /* results: force on i, moments on i and j, spring */
     double fx[BLOCK], fy[BLOCK], fz[BLOCK], tix[BLOCK], tiy[BLOCK], tiz[BLOCK];
     double tjx[BLOCK], tjy[BLOCK], tjz[BLOCK], sx[BLOCK], sy[BLOCK], sz[BLOCK];
@@ -421,10 +422,15 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
 }
 
 /* A lean list's geometry from the gathered centre differences, lane by lane: the contact
- * list's own formula (sinter_pp_geometry), so the same bits as a list that carries it. */
+ * list's own formula (sinter_pp_geometry), so the same bits as a list that carries it; and
+ * the search's test of each pair (contacts.c, touching: the same arithmetic), which an
+ * unconfirmed list needs (sinter_contacts_find_pp_deferred). */
 HM_INLINE void blk_geometry(blk *restrict b)
 {
     for (int a = 0; a < BLOCK; ++a) {
+        const double ex = b->nx[a], ey = b->ny[a], ez = b->nz[a], rs = b->ri[a] + b->rj[a];
+        const double d2 = ex * ex + ey * ey + ez * ez;
+        b->apart[a] = (d2 < rs * rs) & (d2 != 0.0) ? 0.0 : 1.0;
         const sinter_pp_geom g =
             sinter_pp_geometry(b->nx[a], b->ny[a], b->nz[a], b->ri[a], b->rj[a]);
         b->nx[a] = g.nx, b->ny[a] = g.ny, b->nz[a] = g.nz;
@@ -537,7 +543,9 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
 }
 
 /*
- * Contacts [lo, hi) by blocks, added into force/torque in contact order. With `ch`, the
+ * Contacts [lo, hi) by blocks, added into force/torque in contact order; on a lean list the
+ * contacts that no longer touch are skipped, the first one's index into *ended (which must be
+ * SIZE_MAX or above hi on entry). With `ch`, the
  * contacts of range s of a chunked list (contact/chunks.h): interior contacts are added, the
  * boundary contacts' forces are stored in order into bq (contact) and bout (3 per contact);
  * returns their number. Compiled for the baseline and, where the compiler supports it, for
@@ -549,7 +557,7 @@ __attribute__((target_clones("default", "avx2")))
 #endif
 static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
                         const pair_consts *single, size_t lo, size_t hi, const sinter_chunks *ch,
-                        int s, uint32_t *bq, double *bout)
+                        int s, uint32_t *bq, double *bout, size_t *ended)
 {
     const uint32_t *bq0 = bq;
     const sinter_contact_list *c = e->pp;
@@ -589,6 +597,10 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
         }
         for (size_t a = 0; a < nb; ++a) {
             const size_t q = q0 + a;
+            if (lean && b.apart[a] != 0.0) { /* an unconfirmed list's ended contact */
+                *ended = q < *ended ? q : *ended;
+                continue;
+            }
             double *t = trial + width * (by_pair ? c->pair[q] : q); /* by pair: swapped */
             t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
             const uint32_t i = c->i[q], j = c->j[q];
@@ -674,7 +686,7 @@ static inline void add_from_force(const sinter_contact_list *c, const sinter_par
  * gives the same bits.
  */
 static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
-                                const pair_consts *single)
+                                const pair_consts *single, size_t *ended)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
@@ -683,11 +695,15 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     /* room for every contact to be a boundary one (the list's scratch) */
     double *bout = c->chunk_scratch;
     uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
-    size_t boundary[SINTER_CHUNKS_MAX];
+    size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
 #pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
-    for (int s = 0; s < ch.count; ++s)
+    for (int s = 0; s < ch.count; ++s) {
+        first_ended[s] = SIZE_MAX;
         boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s, bq + ch.qlo[s],
-                                bout + 3 * ch.qlo[s]);
+                                bout + 3 * ch.qlo[s], &first_ended[s]);
+    }
+    for (int s = 0; s < ch.count; ++s)
+        *ended = first_ended[s] < *ended ? first_ended[s] : *ended;
     for (int s = 0; s < ch.count; ++s)
         for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
             const size_t q = bq[b];
@@ -706,13 +722,14 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     return SINTER_OK;
 }
 
-static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling)
+static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling,
+                             size_t *ended)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
     const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
     if (!rolling && c->chunks.count > 0)
-        return pp_chunked(e, k, single);
+        return pp_chunked(e, k, single, ended);
     /* Without rolling resistance and a partition (a list of fewer than 2048 pairs): one
      * thread, in list order. With rolling, the two-phase path pays
      * only with enough contacts per particle (measured: with 0.37 per particle it is slower
@@ -722,7 +739,7 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
                             : sinter_threads(e->ctx);
     if (threads <= 1) {
         if (!rolling)
-            (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL);
+            (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL, ended);
         else if (single != NULL)
             pp_serial(e, k, single, 1);
         else
@@ -884,7 +901,8 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6;
     constants k;
     build_constants(e, &k);
-    sinter_status st = rolling ? eval_pp(e, &k, 1) : eval_pp(e, &k, 0);
+    e->pp_ended = SIZE_MAX;
+    sinter_status st = rolling ? eval_pp(e, &k, 1, &e->pp_ended) : eval_pp(e, &k, 0, &e->pp_ended);
     if (st == SINTER_OK && e->walls != NULL)
         st = rolling ? eval_pw(e, &k, 1) : eval_pw(e, &k, 0);
     return st;
@@ -903,6 +921,12 @@ static int hertz_mindlin_reads_geometry(const sinter_force_model *fm, size_t wid
     return fm->param[PARAM_ROLLING] != 0.0 && width == 6;
 }
 
+/* ... and tests each contact as the search does (blk_geometry), skipping ended ones. */
+static int hertz_mindlin_confirms_contacts(const sinter_force_model *fm, size_t width)
+{
+    return !hertz_mindlin_reads_geometry(fm, width);
+}
+
 const sinter_force_ops sinter_force_hertz_mindlin = {
     .name = "hertz_mindlin",
     .history_pp = 6,
@@ -913,4 +937,5 @@ const sinter_force_ops sinter_force_hertz_mindlin = {
     .eval = hertz_mindlin_eval,
     .history_width = hertz_mindlin_history,
     .reads_geometry = hertz_mindlin_reads_geometry,
+    .confirms_contacts = hertz_mindlin_confirms_contacts,
 };

@@ -48,4 +48,4 @@ static sinter_status linear_spring_eval(const sinter_force_model *fm, sinter_for
 }
 
 const sinter_force_ops sinter_force_linear_spring = {
-    "linear_spring", 0, 0, 1, {"kn", "cn", NULL}, {1e3, 0.0}, linear_spring_eval, NULL, NULL};
+    "linear_spring", 0, 0, 1, {"kn", "cn", NULL}, {1e3, 0.0}, linear_spring_eval, NULL, NULL, NULL};

@@ -175,4 +175,4 @@ static sinter_status power_law_eval(const sinter_force_model *fm, sinter_force_e
 }
 
 const sinter_force_ops sinter_force_power_law = {
-    "power_law", 1, 0, 1, {NULL}, {0.0}, power_law_eval, NULL, NULL};
+    "power_law", 1, 0, 1, {NULL}, {0.0}, power_law_eval, NULL, NULL, NULL};

@@ -397,6 +397,22 @@ static int geometry_needed(const sinter_stepper *st)
     return 0;
 }
 
+/* The force slot that may confirm a lean list's contacts in its law
+ * (sinter_contacts_find_pp_deferred): the only slot that uses contacts, if it can; else -1. */
+static long confirming_slot(const sinter_stepper *st)
+{
+    long slot = -1;
+    for (size_t k = 0; k < st->force_count; ++k) {
+        const sinter_force_model *fm = st->forces[k].model;
+        if (!fm->ops->uses_contacts)
+            continue;
+        if (slot >= 0 || !sinter_force_confirms_contacts(fm, st->forces[k].pp.width))
+            return -1;
+        slot = (long)k;
+    }
+    return slot;
+}
+
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
@@ -406,8 +422,16 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         return s;
     const double t0 = sinter_clock();
     st->stats.evaluations++;
-    s = geometry_needed(st) ? sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps)
-                            : sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
+    /* a lean list whose only contact model tests its contacts itself: the search checks
+     * only the pairs out of contact, the law the contacts (issue 9) */
+    int deferred = 0;
+    const long confirmer = geometry_needed(st) ? -1 : confirming_slot(st);
+    if (geometry_needed(st))
+        s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
+    else if (confirmer >= 0)
+        s = sinter_contacts_find_pp_deferred(ctx, &st->pp, &st->nb.pp, ps, &deferred);
+    else
+        s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
     if (s != SINTER_OK)
@@ -473,8 +497,22 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         e.hist_pw = &slot->pw;
         if (sinter_force_reads_geometry(slot->model, slot->pp.width))
             sinter_contacts_geometry(ctx, &st->pp, ps);
+        e.pp_ended = SIZE_MAX;
         s = slot->model->ops->eval(slot->model, &e);
+        if (s == SINTER_OK && deferred && (long)k == confirmer) {
+            /* the law skipped the contacts that ended: drop them from the list; its trial
+             * history was written on the pairs of the list that results */
+            const uint64_t before = st->pp.revision;
+            st->law_confirmed++;
+            st->law_dropped += e.pp_ended != SIZE_MAX;
+            sinter_contacts_confirm(&st->pp, &st->nb.pp, ps, e.pp_ended);
+            if (slot->pp.trial_written == before)
+                slot->pp.trial_written = st->pp.revision;
+            deferred = 0;
+        }
     }
+    if (deferred) /* the law did not run: the search's check of every contact */
+        sinter_contacts_confirm(&st->pp, &st->nb.pp, ps, 0);
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;

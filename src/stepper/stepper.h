@@ -55,6 +55,9 @@ struct sinter_stepper {
     int gravity_seeded;           /* ... and wrote the first force model's m g into the force
                                      (that model, gravity, is not evaluated again) */
     int plain_particles;          /* the integrator found no fixed or non-rotating particle */
+    /* evaluations whose contacts the force law confirmed (sinter_contacts_find_pp_deferred),
+     * and those of them in which it dropped ended contacts */
+    uint64_t law_confirmed, law_dropped;
     uint64_t sort_interval;       /* option "sort_interval": steps between spatial sorts, 0 off */
     uint64_t steps_since_sort;
     int rotation;                 /* option "rotation": integrate the total rotation vector */

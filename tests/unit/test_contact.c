@@ -511,11 +511,15 @@ static void test_lean_search_matches_a_fresh_one(void **state)
  * while the rest stay. Found lean (projection conduction), the list is kept or rewritten
  * from its first change, and the history commit clears and copies only from where it
  * changed (history.c); with eq. 34 conduction the list carries the geometry and is written
- * whole every step, and every commit is a full one. The motion must be the same, bit for
- * bit, for 1 and 2 threads; the lean runs must have kept their list on some steps and
- * changed it past the start on others.
+ * whole every step, and every commit is a full one. The lean list's only contact model
+ * tests the contacts in its law (sinter_contacts_find_pp_deferred): the search checks only
+ * the pairs out of contact, and the law drops the contacts that ended. The motion must be
+ * the same, bit for bit, for 1 and 2 threads (2 ranges of the partition); the lean runs must
+ * have kept their list on some steps and changed it past the start on others, and their law
+ * must have confirmed the list on some steps and dropped contacts on others.
  */
-static void run_rattling(int threads, int heat, double *out, size_t n, int *kept, int *partial)
+static void run_rattling(int threads, int heat, double *out, size_t n, int *kept, int *partial,
+                         int *confirmed, int *dropped)
 {
     scene s;
     conducting_scene(&s, threads);
@@ -554,6 +558,8 @@ static void run_rattling(int threads, int heat, double *out, size_t n, int *kept
             ++*partial;
     }
     assert_true(s.st->forces[0].pp.by_pair); /* the commits swap */
+    *confirmed = (int)s.st->law_confirmed;
+    *dropped = (int)s.st->law_dropped;
     memcpy(out, s.ps->x, 3 * n * sizeof(double));
     memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
     memcpy(out + 6 * n, s.ps->w, 3 * n * sizeof(double));
@@ -566,15 +572,18 @@ static void test_commit_follows_a_changing_list(void **state)
     (void)state;
     enum { N = 12 * 12 * 12, SIZE = 9 * N };
     double *whole = malloc(SIZE * sizeof(double)), *lean = malloc(SIZE * sizeof(double));
-    int kept = 0, partial = 0;
-    run_rattling(1, 1, whole, N, &kept, &partial);
+    int kept = 0, partial = 0, confirmed = 0, dropped = 0;
+    run_rattling(1, 1, whole, N, &kept, &partial, &confirmed, &dropped);
     assert_int_equal(kept, 0); /* the list with geometry is written every step */
     assert_int_equal(partial, 0);
+    assert_int_equal(confirmed, 0);
     for (int threads = 1; threads <= 2; ++threads) {
-        run_rattling(threads, 2, lean, N, &kept, &partial);
-        print_message("%d thread(s): list kept on %d steps, changed past its start on %d\n",
-                      threads, kept, partial);
+        run_rattling(threads, 2, lean, N, &kept, &partial, &confirmed, &dropped);
+        print_message("%d thread(s): list kept on %d steps, changed past its start on %d; "
+                      "confirmed by the law on %d, of which it dropped contacts on %d\n",
+                      threads, kept, partial, confirmed, dropped);
         assert_true(kept >= 3 && partial >= 10);
+        assert_true(confirmed >= 10 && dropped >= 5 && confirmed - dropped >= 5);
         assert_memory_equal(lean, whole, SIZE * sizeof(double));
     }
     free(whole);
