@@ -11,10 +11,11 @@
  * array at the range's own contact offset, so no count is needed beforehand) and added after
  * all ranges, in list order, by one thread.
  *
- * The particle ranges are made when a list is found over a new pair list or gains contacts;
- * a search over the same pairs that only loses contacts keeps them (and finds the runs of
- * contacts again), so that contacts a force law drops itself leave the sums in the order a
- * search would give (sinter_contacts_confirm).
+ * The particle ranges are made by the first search over a pair list and kept by the later
+ * searches over it (which find the runs of contacts again): the partition does not depend on
+ * how the list came to hold its contacts, so a force law that drops ended contacts itself
+ * sums in the order a search would give (sinter_contacts_confirm). A neighbour rebuild (every
+ * few tens of steps where particles move) balances the ranges again.
  *
  * S depends on the number of candidate pairs only, never on the number of threads, so each
  * particle receives the same additions in the same order (its interior contacts in list

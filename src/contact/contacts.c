@@ -77,7 +77,6 @@ enum { MAX_CHUNKS = 256 };
 typedef struct fill_part {
     int ascending, any;
     uint32_t first, last;
-    int added; /* with `track`: a pair the list did not hold as a contact is one now */
 } fill_part;
 
 /* Geometry of contact m from its particles' centres (sinter_pp_geometry; a^2 = R_i^2 - L_i^2,
@@ -104,23 +103,20 @@ static inline void put_geometry(sinter_contact_list *c, const double *x, const d
 static inline __attribute__((always_inline)) size_t
 fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
           uint32_t *restrict cpair, const sinter_pair_list *pairs, const sinter_particles *ps,
-          size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry,
-          int track)
+          size_t lo, size_t hi, size_t m, fill_part *part, const uint8_t *touch, int geometry)
 {
     const double *restrict x = ps->x, *restrict r = ps->radius;
     const uint32_t *restrict pi = pairs->i, *restrict pj = pairs->j;
     uint32_t *restrict to_contact = c->pair_to_contact;
     const size_t m0 = m;
     uint32_t prev = 0;
-    int ascending = 1, added = 0;
+    int ascending = 1;
     for (size_t p = lo; p < hi; ++p) {
         const uint32_t i = pi[p], j = pj[p];
         if (touch != NULL ? !touch[p] : !touching(pairs, x, r, p)) {
             to_contact[p] = SINTER_NO_PAIR;
             continue;
         }
-        if (track)
-            added |= to_contact[p] == SINTER_NO_PAIR;
         ci[m] = i;
         cj[m] = j;
         cpair[m] = (uint32_t)p;
@@ -136,22 +132,21 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
     part->any = m > m0;
     part->first = m > m0 ? (ci[m0] < cj[m0] ? ci[m0] : cj[m0]) : 0;
     part->last = prev;
-    part->added = added;
     return m;
 }
 
 static size_t fill_pp_full(sinter_contact_list *c, const sinter_pair_list *pairs,
                            const sinter_particles *ps, size_t lo, size_t hi, size_t m,
-                           fill_part *part, const uint8_t *touch, int track)
+                           fill_part *part, const uint8_t *touch)
 {
-    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 1, track);
+    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 1);
 }
 
 static size_t fill_pp_lean(sinter_contact_list *c, const sinter_pair_list *pairs,
                            const sinter_particles *ps, size_t lo, size_t hi, size_t m,
-                           fill_part *part, const uint8_t *touch, int track)
+                           fill_part *part, const uint8_t *touch)
 {
-    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 0, track);
+    return fill_into(c, c->i, c->j, c->pair, pairs, ps, lo, hi, m, part, touch, 0);
 }
 
 /* The ordering findings of two consecutive stretches of contacts as one. */
@@ -162,7 +157,6 @@ static fill_part join_parts(fill_part a, fill_part b)
     j.any = a.any || b.any;
     j.first = a.any ? a.first : b.first;
     j.last = b.any ? b.last : a.last;
-    j.added = a.added || b.added;
     return j;
 }
 
@@ -212,7 +206,6 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
     part->any = k > 0;
     part->first = first;
     part->last = prev;
-    part->added = 0;
     return p;
 }
 
@@ -228,8 +221,8 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
  * changed (sinter_contacts_changed; SIZE_MAX: nowhere). Returns the number of contacts.
  */
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
-                            const sinter_particles *ps, int chunks, int verify, int track,
-                            fill_part *part, size_t *change_pair, size_t *change_contact)
+                            const sinter_particles *ps, int chunks, int verify, fill_part *part,
+                            size_t *change_pair, size_t *change_contact)
 {
     const size_t n = pairs->count;
     uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
@@ -243,7 +236,7 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
         for (int t = 0; t < chunks; ++t) {
             const size_t lo = n * (size_t)t / (size_t)chunks;
             const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
-            fill_part mine = {1, 0, 0, 0, 0};
+            fill_part mine = {1, 0, 0, 0};
             size_t p = lo;
             start[t] = SIZE_MAX;
             checked[t] = 0;
@@ -252,8 +245,8 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
             stop[t] = p;
             size_t tail = 0;
             if (p < hi) { /* from the first change on, into the scratch at the pair's index */
-                fill_part rest = {1, 0, 0, 0, 0};
-                tail = fill_into(c, si, sj, sp, pairs, ps, p, hi, p, &rest, NULL, 0, track) - p;
+                fill_part rest = {1, 0, 0, 0};
+                tail = fill_into(c, si, sj, sp, pairs, ps, p, hi, p, &rest, NULL, 0) - p;
                 mine = join_parts(mine, rest);
             }
             found[t] = checked[t] + tail;
@@ -348,17 +341,15 @@ static void contact_ranges(sinter_contact_list *c)
 }
 
 /* The partition from the fill passes' findings (parts in list order); count 0 when the list
- * is too small or its smaller particle indices do not ascend. The particle ranges are kept
- * when the list was partitioned over the same pairs and gained no contact (`added` over all
- * parts): contacts that end do not move them (chunks.h). */
+ * is too small or its smaller particle indices do not ascend. The particle ranges are made
+ * by the first search over a pair list and kept by the later ones (chunks.h). */
 static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
                         int count, uint64_t pairs_id)
 {
     sinter_chunks *k = &c->chunks;
-    int seen = 0, added = 0;
+    int seen = 0;
     uint32_t last = 0;
     for (int t = 0; t < nparts; ++t) {
-        added |= parts[t].added;
         if (!parts[t].any)
             continue;
         if (!parts[t].ascending || (seen && parts[t].first < last))
@@ -371,7 +362,7 @@ static void make_chunks(sinter_contact_list *c, const fill_part *parts, int npar
         k->source = 0;
         return;
     }
-    if (k->count == count && k->source == pairs_id && !added) {
+    if (k->count == count && k->source == pairs_id) {
         contact_ranges(c);
         return;
     }
@@ -413,9 +404,6 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int verify = !geometry && c->revision != 0 && c->lean_source != 0 &&
                        c->lean_source == pairs->build_id && c->pair_count == pairs->count &&
                        c->particle_count == ps->count;
-    /* the partition may be kept (make_chunks): watch for contacts the list did not hold */
-    const int track = c->chunks.source != 0 && c->chunks.source == pairs->build_id &&
-                      c->pair_count == pairs->count;
     c->lean_source = 0; /* set again when a lean search completes */
     c->unconfirmed = 0;
     c->adj_start = pairs->adj_start;
@@ -426,16 +414,16 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int parts_count = chunk_count(pairs->count);
     c->geometry = geometry;
     size_t (*fill)(sinter_contact_list *, const sinter_pair_list *, const sinter_particles *,
-                   size_t, size_t, size_t, fill_part *, const uint8_t *, int) =
+                   size_t, size_t, size_t, fill_part *, const uint8_t *) =
         geometry ? fill_pp_full : fill_pp_lean;
     if (threads <= 1) {
-        fill_part part = {1, 0, 0, 0, 0};
+        fill_part part = {1, 0, 0, 0};
         size_t p = 0, m = 0, checked = 0;
         if (verify)
             p = verify_range(c, pairs, ps, 0, pairs->count, &m, &checked, &part);
         if (!verify || p < pairs->count) { /* written from the first change on */
-            fill_part rest = {1, 0, 0, 0, 0};
-            c->count = fill(c, pairs, ps, p, pairs->count, checked, &rest, NULL, track);
+            fill_part rest = {1, 0, 0, 0};
+            c->count = fill(c, pairs, ps, p, pairs->count, checked, &rest, NULL);
             part = join_parts(part, rest);
             sinter_contacts_changed(c, p, checked);
         }
@@ -451,8 +439,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
             return st;
         fill_part part[MAX_CHUNKS];
         size_t change_pair = 0, change_contact = 0;
-        c->count = fill_segments(c, pairs, ps, chunks, verify, track, part, &change_pair,
-                                 &change_contact);
+        c->count = fill_segments(c, pairs, ps, chunks, verify, part, &change_pair, &change_contact);
         if (change_pair != SIZE_MAX)
             sinter_contacts_changed(c, change_pair, change_contact);
         make_chunks(c, part, chunks, ps->count, parts_count, pairs->build_id);
@@ -486,8 +473,8 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
 #pragma omp parallel for num_threads(chunks) schedule(static, 1)
     for (int t = 0; t < chunks; ++t) {
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
-        fill_part mine = {1, 0, 0, 0, 0};
-        fill(c, pairs, ps, lo, hi, offset[t], &mine, touch, track);
+        fill_part mine = {1, 0, 0, 0};
+        fill(c, pairs, ps, lo, hi, offset[t], &mine, touch);
         part[t] = mine;
     }
     c->count = offset[chunks];
@@ -508,31 +495,47 @@ sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list 
     return find_pp(ctx, c, pairs, ps, 0);
 }
 
-/* 1 if a pair the list does not hold is in contact. */
-static int new_contacts(const sinter_contact_list *c, const sinter_pair_list *pairs,
-                        const sinter_particles *ps, int threads)
+/* The first pair the list does not hold that is in contact (pairs->count: none). */
+static size_t first_new_contact(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                                const sinter_particles *ps, int threads)
 {
     const uint32_t *restrict to_contact = c->pair_to_contact;
     const double *x = ps->x, *r = ps->radius;
     const long n = (long)pairs->count;
-    int found = 0;
+    long first = n;
     if (threads <= 1) {
-        for (long p = 0; p < n && !found; ++p)
-            found = to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p);
-        return found;
+        for (long p = 0; p < n; ++p)
+            if (to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p))
+                return (size_t)p;
+        return (size_t)n;
     }
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(| : found)
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : first)
     for (long p = 0; p < n; ++p)
-        found |= to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p);
-    return found;
+        if (p < first && to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p))
+            first = p;
+    return (size_t)first;
+}
+
+/* The first contact whose candidate pair is p or later (the list is in pair order). */
+static size_t first_contact_from_pair(const sinter_contact_list *c, size_t p)
+{
+    size_t lo = 0, hi = c->count;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (c->pair[mid] < p)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
 }
 
 sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_list *c,
                                                const sinter_pair_list *pairs,
                                                const sinter_particles *ps, int *deferred)
 {
-    /* searches to skip after one that found new contacts: 1, 3, 7, ... up to 63 (a falling
-     * pile gains contacts nearly every step, a packed bed rarely) */
+    /* searches done whole after one whose new contacts lay early in a threaded list: 1, 3,
+     * 7, ... up to 63 (a falling pile gains contacts all over, nearly every step) */
     enum { MAX_WAIT = 63 };
     *deferred = 0;
     const int same_pairs = c->revision != 0 && c->lean_source != 0 &&
@@ -542,10 +545,29 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
         c->defer_skip -= c->defer_skip > 0;
         return find_pp(ctx, c, pairs, ps, 0);
     }
-    if (new_contacts(c, pairs, ps, pairs->count < 4096 ? 1 : sinter_threads(ctx))) {
-        c->defer_wait = c->defer_wait < MAX_WAIT ? 2 * c->defer_wait + 1 : MAX_WAIT;
-        c->defer_skip = c->defer_wait;
-        return find_pp(ctx, c, pairs, ps, 0);
+    const size_t n = pairs->count;
+    const int threads = n < 4096 ? 1 : sinter_threads(ctx);
+    const size_t p = first_new_contact(c, pairs, ps, threads);
+    if (p < n) {
+        /* pairs from p on are searched afresh (on one thread: with threads, only when they
+         * are the last eighth, as a packed bed's top layer is); the contacts before are
+         * left to the law */
+        if (threads > 1 && n - p > n / 8) {
+            c->defer_wait = c->defer_wait < MAX_WAIT ? 2 * c->defer_wait + 1 : MAX_WAIT;
+            c->defer_skip = c->defer_wait;
+            return find_pp(ctx, c, pairs, ps, 0);
+        }
+        const size_t m = first_contact_from_pair(c, p);
+        fill_part rest = {1, 0, 0, 0};
+        const uint32_t before = m > 0 ? (c->i[m - 1] < c->j[m - 1] ? c->i[m - 1] : c->j[m - 1]) : 0;
+        c->count = fill_pp_lean(c, pairs, ps, p, n, m, &rest, NULL);
+        sinter_contacts_changed(c, p, m);
+        if (!rest.ascending || (rest.any && rest.first < before)) {
+            /* not in the neighbour build's order: the whole search decides the partition */
+            return find_pp(ctx, c, pairs, ps, 0);
+        }
+        if (c->chunks.count > 0)
+            contact_ranges(c);
     }
     c->defer_wait = 0;
     c->unconfirmed = 1;

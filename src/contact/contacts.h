@@ -18,9 +18,8 @@ typedef struct sinter_chunks {
     int count;                         /* S; 0 when the list is not partitioned */
     size_t plo[SINTER_CHUNKS_MAX + 1]; /* particle ranges [plo[s], plo[s+1]) */
     size_t qlo[SINTER_CHUNKS_MAX + 1]; /* contact ranges [qlo[s], qlo[s+1]) */
-    /* build_id of the pair list plo was made over (0: none). A search over the same pairs
-     * that only loses contacts keeps plo (contact/chunks.h), so that a force law that confirms
-     * the contacts itself (sinter_contacts_confirm) sums in the same order as a search. */
+    /* build_id of the pair list plo was made over (0: none); later searches over the same
+     * pairs keep plo (contact/chunks.h) */
     uint64_t source;
 } sinter_chunks;
 
