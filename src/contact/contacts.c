@@ -21,7 +21,8 @@ void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
     void *arrays[] = {c->i,    c->j,      c->pair,   c->n,
                       c->delta, c->dist,  c->area,   c->branch,
-                      c->pair_to_contact, c->chunk_scratch, c->touch, c->fill_scratch};
+                      c->pair_to_contact, c->chunk_scratch, c->touch, c->fill_scratch,
+                      c->ended};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -569,27 +570,36 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
         if (c->chunks.count > 0)
             contact_ranges(c);
     }
+    if (c->count + 1 > c->ended_capacity) { /* the marks, all 0 (sinter_contacts_confirm) */
+        const size_t cap = c->capacity + 1;
+        uint8_t *grown = sinter_realloc_array(ctx, c->ended, cap, 1);
+        if (grown == NULL)
+            return sinter_last_status(ctx);
+        memset(grown, 0, cap);
+        c->ended = grown;
+        c->ended_capacity = cap;
+    }
     c->defer_wait = 0;
     c->unconfirmed = 1;
     *deferred = 1;
     return SINTER_OK;
 }
 
-void sinter_contacts_confirm(sinter_contact_list *c, const sinter_pair_list *pairs,
-                             const sinter_particles *ps, size_t from)
+/* Drop the contacts from index `from` on that no longer touch, keeping the others in order:
+ * those marked in `ended` (clearing the marks), or without it those failing the search's
+ * test; and record the change (pairs before the first dropped kept their verdicts). */
+static void drop_contacts(sinter_contact_list *c, size_t from, uint8_t *ended,
+                          const sinter_pair_list *pairs, const sinter_particles *ps)
 {
-    c->unconfirmed = 0;
-    if (from >= c->count)
-        return;
-    /* the law skipped contact `from` and maybe later ones: the search's test again (the
-     * same verdicts), keeping the others in order */
-    const double *x = ps->x, *r = ps->radius;
+    const size_t first_pair = c->pair[from];
     uint32_t *to_contact = c->pair_to_contact;
-    const size_t first_pair = c->pair[from]; /* pairs before it kept their verdicts */
     size_t kept = from;
     for (size_t q = from; q < c->count; ++q) {
         const uint32_t p = c->pair[q];
-        if (!touching(pairs, x, r, p)) {
+        const int touches = ended != NULL ? !ended[q] : touching(pairs, ps->x, ps->radius, p);
+        if (ended != NULL)
+            ended[q] = 0;
+        if (!touches) {
             to_contact[p] = SINTER_NO_PAIR;
             continue;
         }
@@ -601,8 +611,25 @@ void sinter_contacts_confirm(sinter_contact_list *c, const sinter_pair_list *pai
     }
     sinter_contacts_changed(c, first_pair, from);
     c->count = kept;
-    if (c->chunks.count > 0) /* contacts only ended: the particle ranges stay (make_chunks) */
+    if (c->chunks.count > 0) /* the particle ranges stay (make_chunks) */
         contact_ranges(c);
+}
+
+void sinter_contacts_confirm(sinter_contact_list *c, size_t from)
+{
+    c->unconfirmed = 0;
+    if (from < c->count)
+        drop_contacts(c, from, c->ended, NULL, NULL);
+}
+
+void sinter_contacts_check(sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const sinter_particles *ps)
+{
+    c->unconfirmed = 0;
+    if (c->ended != NULL)
+        memset(c->ended, 0, c->ended_capacity);
+    if (c->count > 0)
+        drop_contacts(c, 0, NULL, pairs, ps);
 }
 
 void sinter_contacts_geometry(const sinter_ctx *ctx, sinter_contact_list *c,

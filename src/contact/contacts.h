@@ -74,6 +74,10 @@ typedef struct sinter_contact_list {
      * after one that found new contacts */
     int unconfirmed;
     uint32_t defer_wait, defer_skip;
+    /* an unconfirmed list: the law sets 1 for each contact it skipped (0 otherwise, and
+     * everywhere outside a deferred evaluation) */
+    uint8_t *ended;
+    size_t ended_capacity;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
@@ -129,22 +133,28 @@ sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list 
  * A lean search that leaves its contacts to the force law to confirm (issue 9: a packed bed
  * keeps its contacts, and the law reads both centres of each contact a moment later anyway).
  * Over the pairs of the last lean search, only the pairs the list does not hold are tested;
- * if none has come into contact, *deferred is 1 and the list is kept as it is, unconfirmed:
- * the law must skip every contact that no longer touches (the test of the search, d^2 <
- * (r_i + r_j)^2 and d^2 != 0, from the same centres) and give the first one's index to
- * sinter_contacts_confirm before anything else reads the list. Otherwise (other pairs, new
- * contacts) it is sinter_contacts_find_pp_lean and *deferred is 0. The list after
- * sinter_contacts_confirm equals the one sinter_contacts_find_pp_lean makes, partition
- * included (chunks.h).
+ * if none has come into contact, *deferred is 1 and the list is kept as it is, unconfirmed
+ * (when some have, the pairs from the first of them on are searched afresh and the contacts
+ * before kept unconfirmed). The law must skip every contact that no longer touches (the test
+ * of the search, d^2 < (r_i + r_j)^2 and d^2 != 0, from the same centres), set c->ended[q] to
+ * 1 for each, and give the first one's index to sinter_contacts_confirm before anything else
+ * reads the list (sinter_contacts_check if the law did not run). Otherwise (other pairs, new
+ * contacts early in a threaded list) it is sinter_contacts_find_pp_lean and *deferred is 0.
+ * The list after sinter_contacts_confirm equals the one sinter_contacts_find_pp_lean makes,
+ * partition included (chunks.h).
  */
 sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_list *c,
                                                const sinter_pair_list *pairs,
                                                const sinter_particles *ps, int *deferred);
 
-/* Drop the contacts of an unconfirmed list that no longer touch, from contact index `from`
- * on (the first the law skipped; SIZE_MAX: none did), and record the change. */
-void sinter_contacts_confirm(sinter_contact_list *c, const sinter_pair_list *pairs,
-                             const sinter_particles *ps, size_t from);
+/* Drop the contacts of an unconfirmed list that the law marked in c->ended, from contact
+ * index `from` on (the first it marked; SIZE_MAX: none), and record the change. */
+void sinter_contacts_confirm(sinter_contact_list *c, size_t from);
+
+/* Confirm an unconfirmed list by the search's own test of every contact (the law did not
+ * run). */
+void sinter_contacts_check(sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const sinter_particles *ps);
 
 /* Fill n, delta, dist, area and branch of a lean list from the particles' current centres
  * (which must be those it was found at); nothing to do when c->geometry is 1. */

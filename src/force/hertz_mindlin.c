@@ -598,6 +598,8 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
         for (size_t a = 0; a < nb; ++a) {
             const size_t q = q0 + a;
             if (lean && b.apart[a] != 0.0) { /* an unconfirmed list's ended contact */
+                if (c->unconfirmed)
+                    c->ended[q] = 1;
                 *ended = q < *ended ? q : *ended;
                 continue;
             }

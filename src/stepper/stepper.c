@@ -505,14 +505,14 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
             const uint64_t before = st->pp.revision;
             st->law_confirmed++;
             st->law_dropped += e.pp_ended != SIZE_MAX;
-            sinter_contacts_confirm(&st->pp, &st->nb.pp, ps, e.pp_ended);
+            sinter_contacts_confirm(&st->pp, e.pp_ended);
             if (slot->pp.trial_written == before)
                 slot->pp.trial_written = st->pp.revision;
             deferred = 0;
         }
     }
     if (deferred) /* the law did not run: the search's check of every contact */
-        sinter_contacts_confirm(&st->pp, &st->nb.pp, ps, 0);
+        sinter_contacts_check(&st->pp, &st->nb.pp, ps);
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;
