@@ -22,7 +22,7 @@ void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
     void *arrays[] = {c->i,    c->j,      c->pair,   c->n,
                       c->delta, c->dist,  c->area,   c->branch,
                       c->pair_to_contact, c->chunk_scratch, c->touch, c->fill_scratch,
-                      c->ended};
+                      c->ended, c->gaps};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -496,25 +496,79 @@ sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list 
     return find_pp(ctx, c, pairs, ps, 0);
 }
 
-/* The first pair the list does not hold that is in contact (pairs->count: none). */
-static size_t first_new_contact(const sinter_contact_list *c, const sinter_pair_list *pairs,
-                                const sinter_particles *ps, int threads)
+/* Pairs of range [lo, hi) the list does not hold: the first in contact (hi: none), and the
+ * others written to gaps[0 .. cap) while they fit (*count; SIZE_MAX when they did not). */
+static size_t scan_range(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                         const sinter_particles *ps, size_t lo, size_t hi, uint32_t *gaps,
+                         size_t cap, size_t *count)
 {
     const uint32_t *restrict to_contact = c->pair_to_contact;
-    const double *x = ps->x, *r = ps->radius;
-    const long n = (long)pairs->count;
-    long first = n;
-    if (threads <= 1) {
-        for (long p = 0; p < n; ++p)
-            if (to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p))
-                return (size_t)p;
-        return (size_t)n;
+    size_t k = 0;
+    for (size_t p = lo; p < hi; ++p) {
+        if (to_contact[p] != SINTER_NO_PAIR)
+            continue;
+        if (touching(pairs, ps->x, ps->radius, p))
+            return p;
+        if (k < cap)
+            gaps[k] = (uint32_t)p;
+        k += k <= cap;
     }
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : first)
-    for (long p = 0; p < n; ++p)
-        if (p < first && to_contact[p] == SINTER_NO_PAIR && touching(pairs, x, r, (size_t)p))
-            first = p;
-    return (size_t)first;
+    *count = k <= cap ? k : SIZE_MAX;
+    return hi;
+}
+
+/*
+ * The first pair the list does not hold that is in contact (pairs->count: none). Scanning
+ * every pair's entry costs a read of the whole pair list (2 % of a packed bed's step at half
+ * a million particles), so a scan that finds none keeps the pairs out of contact when they
+ * are few (an eighth of the pairs at most): until the list changes, only those are tested.
+ */
+static size_t first_new_contact(sinter_ctx *ctx, sinter_contact_list *c,
+                                const sinter_pair_list *pairs, const sinter_particles *ps,
+                                int threads)
+{
+    const size_t n = pairs->count;
+    if (c->gap_revision != 0 && c->gap_revision == c->revision) {
+        for (size_t k = 0; k < c->gap_count; ++k)
+            if (touching(pairs, ps->x, ps->radius, c->gaps[k]))
+                return c->gaps[k];
+        return n;
+    }
+    c->gap_revision = 0;
+    const size_t cap = n / 8 + (size_t)threads;
+    uint32_t *gaps = NULL;
+    if (sinter_grow(ctx, (void **)&c->gaps, &c->gap_capacity, cap + 1, sizeof(uint32_t)) ==
+        SINTER_OK)
+        gaps = c->gaps;
+    else
+        sinter_clear_error(ctx); /* no room for them: the scan still answers */
+    size_t first[MAX_CHUNKS], count[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
+    const int ranges = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+    offset[0] = 0;
+    for (int t = 0; t < ranges; ++t) /* each range writes its share of the room */
+        offset[t + 1] = gaps != NULL ? cap * (size_t)(t + 1) / (size_t)ranges : 0;
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t lo = n * (size_t)t / (size_t)ranges, hi = n * (size_t)(t + 1) / (size_t)ranges;
+        first[t] = scan_range(c, pairs, ps, lo, hi, gaps != NULL ? gaps + offset[t] : NULL,
+                              offset[t + 1] - offset[t], &count[t]);
+    }
+    size_t kept = 0;
+    for (int t = 0; t < ranges; ++t) {
+        const size_t hi = n * (size_t)(t + 1) / (size_t)ranges;
+        if (first[t] < hi)
+            return first[t];
+        if (count[t] == SIZE_MAX)
+            gaps = NULL;
+        if (gaps != NULL)
+            memmove(gaps + kept, gaps + offset[t], count[t] * sizeof(uint32_t));
+        kept += gaps != NULL ? count[t] : 0;
+    }
+    if (gaps != NULL) {
+        c->gap_count = kept;
+        c->gap_revision = c->revision;
+    }
+    return n;
 }
 
 /* The first contact whose candidate pair is p or later (the list is in pair order). */
@@ -548,7 +602,7 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
     }
     const size_t n = pairs->count;
     const int threads = n < 4096 ? 1 : sinter_threads(ctx);
-    const size_t p = first_new_contact(c, pairs, ps, threads);
+    const size_t p = first_new_contact(ctx, c, pairs, ps, threads);
     if (p < n) {
         /* pairs from p on are searched afresh (on one thread: with threads, only when they
          * are the last eighth, as a packed bed's top layer is); the contacts before are

@@ -78,6 +78,11 @@ typedef struct sinter_contact_list {
      * everywhere outside a deferred evaluation) */
     uint8_t *ended;
     size_t ended_capacity;
+    /* the candidate pairs not in contact, when they are few, for membership gap_revision
+     * (0: none kept): what a deferred search tests */
+    uint32_t *gaps;
+    size_t gap_count, gap_capacity;
+    uint64_t gap_revision;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);
