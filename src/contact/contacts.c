@@ -643,7 +643,8 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
  * those marked in `ended` (clearing the marks), or without it those failing the search's
  * test; and record the change (pairs before the first dropped kept their verdicts). */
 static void drop_contacts(sinter_contact_list *c, size_t from, uint8_t *ended,
-                          const sinter_pair_list *pairs, const sinter_particles *ps)
+                          const sinter_pair_list *pairs, const sinter_particles *ps,
+                          double *rows, size_t width)
 {
     const size_t first_pair = c->pair[from];
     uint32_t *to_contact = c->pair_to_contact;
@@ -661,6 +662,8 @@ static void drop_contacts(sinter_contact_list *c, size_t from, uint8_t *ended,
         c->j[kept] = c->j[q];
         c->pair[kept] = p;
         to_contact[p] = (uint32_t)kept;
+        if (rows != NULL && kept != q)
+            memcpy(rows + width * kept, rows + width * q, width * sizeof(double));
         ++kept;
     }
     sinter_contacts_changed(c, first_pair, from);
@@ -669,11 +672,11 @@ static void drop_contacts(sinter_contact_list *c, size_t from, uint8_t *ended,
         contact_ranges(c);
 }
 
-void sinter_contacts_confirm(sinter_contact_list *c, size_t from)
+void sinter_contacts_confirm(sinter_contact_list *c, size_t from, double *rows, size_t width)
 {
     c->unconfirmed = 0;
     if (from < c->count)
-        drop_contacts(c, from, c->ended, NULL, NULL);
+        drop_contacts(c, from, c->ended, NULL, NULL, rows, width);
 }
 
 void sinter_contacts_check(sinter_contact_list *c, const sinter_pair_list *pairs,
@@ -683,7 +686,7 @@ void sinter_contacts_check(sinter_contact_list *c, const sinter_pair_list *pairs
     if (c->ended != NULL)
         memset(c->ended, 0, c->ended_capacity);
     if (c->count > 0)
-        drop_contacts(c, 0, NULL, pairs, ps);
+        drop_contacts(c, 0, NULL, pairs, ps, NULL, 0);
 }
 
 void sinter_contacts_geometry(const sinter_ctx *ctx, sinter_contact_list *c,

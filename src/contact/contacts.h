@@ -153,8 +153,10 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
                                                const sinter_particles *ps, int *deferred);
 
 /* Drop the contacts of an unconfirmed list that the law marked in c->ended, from contact
- * index `from` on (the first it marked; SIZE_MAX: none), and record the change. */
-void sinter_contacts_confirm(sinter_contact_list *c, size_t from);
+ * index `from` on (the first it marked; SIZE_MAX: none), and record the change. `rows` (or
+ * NULL): `width` doubles per contact that the law wrote by contact index (trial history not
+ * indexed by pair), moved along with the contacts kept. */
+void sinter_contacts_confirm(sinter_contact_list *c, size_t from, double *rows, size_t width);
 
 /* Confirm an unconfirmed list by the search's own test of every contact (the law did not
  * run). */

@@ -505,7 +505,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
             const uint64_t before = st->pp.revision;
             st->law_confirmed++;
             st->law_dropped += e.pp_ended != SIZE_MAX;
-            sinter_contacts_confirm(&st->pp, e.pp_ended);
+            /* trial history by contact index moves with the contacts */
+            sinter_contacts_confirm(&st->pp, e.pp_ended,
+                                    slot->pp.by_pair || slot->pp.width == 0 ? NULL
+                                                                            : slot->pp.trial,
+                                    slot->pp.width);
             if (slot->pp.trial_written == before)
                 slot->pp.trial_written = st->pp.revision;
             deferred = 0;
