@@ -413,6 +413,30 @@ static long confirming_slot(const sinter_stepper *st)
     return slot;
 }
 
+/* After the law of `slot` ran on a deferred list: drop the contacts it skipped (from index
+ * `ended` on); trial history indexed by contact moves with the contacts kept, and trial
+ * history by pair was written on the pairs of the list that results. */
+static void confirm_contacts(sinter_stepper *st, sinter_force_slot *slot, size_t ended)
+{
+    const uint64_t before = st->pp.revision;
+    st->law_confirmed++;
+    st->law_dropped += ended != SIZE_MAX;
+    sinter_history *h = &slot->pp;
+    sinter_contacts_confirm(&st->pp, ended, h->by_pair || h->width == 0 ? NULL : h->trial,
+                            h->width);
+    if (h->trial_written == before)
+        h->trial_written = st->pp.revision;
+}
+
+/* An evaluation that stops before the law: a deferred list is checked by the search's test,
+ * so that no reader sees contacts that ended. */
+static sinter_status stop_before_law(sinter_stepper *st, int deferred, sinter_status s)
+{
+    if (deferred)
+        sinter_contacts_check(&st->pp, &st->nb.pp, st->ps);
+    return s;
+}
+
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
@@ -425,8 +449,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     /* a lean list whose only contact model tests its contacts itself: the search checks
      * only the pairs out of contact, the law the contacts (issue 9) */
     int deferred = 0;
-    const long confirmer = geometry_needed(st) ? -1 : confirming_slot(st);
-    if (geometry_needed(st))
+    const int geometry = geometry_needed(st);
+    const long confirmer = geometry ? -1 : confirming_slot(st);
+    if (geometry)
         s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
     else if (confirmer >= 0)
         s = sinter_contacts_find_pp_deferred(ctx, &st->pp, &st->nb.pp, ps, &deferred);
@@ -435,7 +460,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
     if (s != SINTER_OK)
-        return s;
+        return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {
         st->pw.count = 0;
         st->pw.revision = sinter_unique_id();
@@ -454,7 +479,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     if (nw + 1 > st->wall_force_capacity) {
         double *grown = sinter_realloc_array(ctx, st->wall_force, 3 * (nw + 1), sizeof(double));
         if (grown == NULL)
-            return sinter_last_status(ctx);
+            return stop_before_law(st, deferred, sinter_last_status(ctx));
         st->wall_force = grown;
         st->wall_force_capacity = nw + 1;
     }
@@ -470,7 +495,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->gravity_seeded = 0;
     s = fill_view(st, dt_hist);
     if (s != SINTER_OK)
-        return s;
+        return stop_before_law(st, deferred, s);
     sinter_force_eval e;
     memset(&e, 0, sizeof(e));
     e.ctx = ctx;
@@ -500,23 +525,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         e.pp_ended = SIZE_MAX;
         s = slot->model->ops->eval(slot->model, &e);
         if (s == SINTER_OK && deferred && (long)k == confirmer) {
-            /* the law skipped the contacts that ended: drop them from the list; its trial
-             * history was written on the pairs of the list that results */
-            const uint64_t before = st->pp.revision;
-            st->law_confirmed++;
-            st->law_dropped += e.pp_ended != SIZE_MAX;
-            /* trial history by contact index moves with the contacts */
-            sinter_contacts_confirm(&st->pp, e.pp_ended,
-                                    slot->pp.by_pair || slot->pp.width == 0 ? NULL
-                                                                            : slot->pp.trial,
-                                    slot->pp.width);
-            if (slot->pp.trial_written == before)
-                slot->pp.trial_written = st->pp.revision;
+            confirm_contacts(st, slot, e.pp_ended);
             deferred = 0;
         }
     }
-    if (deferred) /* the law did not run: the search's check of every contact */
-        sinter_contacts_check(&st->pp, &st->nb.pp, ps);
+    (void)stop_before_law(st, deferred, s); /* when the law did not run */
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;
