@@ -317,13 +317,28 @@ static int chunk_count(size_t pairs)
     return count;
 }
 
+/* The smaller particle index of contact q: the particle whose scan found its pair. */
+static inline uint32_t smaller_index(const sinter_contact_list *c, size_t q)
+{
+    return c->i[q] < c->j[q] ? c->i[q] : c->j[q];
+}
+
+/* 1 if c was last found lean over these very pairs (and particles), so that its membership
+ * may be checked rather than found afresh. */
+static int over_same_pairs(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const sinter_particles *ps)
+{
+    return c->revision != 0 && c->lean_source != 0 && c->lean_source == pairs->build_id &&
+           c->pair_count == pairs->count && c->particle_count == ps->count;
+}
+
 /* First contact whose smaller particle index is at least p (they ascend). */
 static size_t first_contact_of(const sinter_contact_list *c, size_t p)
 {
     size_t lo = 0, hi = c->count;
     while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        if ((c->i[mid] < c->j[mid] ? c->i[mid] : c->j[mid]) < p)
+        if (smaller_index(c, mid) < p)
             lo = mid + 1;
         else
             hi = mid;
@@ -378,7 +393,7 @@ static void make_chunks(sinter_contact_list *c, const fill_part *parts, int npar
         if (s < count) {
             const size_t q = c->count * (size_t)s / (size_t)count;
             if (q < c->count)
-                p = c->i[q] < c->j[q] ? c->i[q] : c->j[q];
+                p = smaller_index(c, q);
         }
         k->plo[s] = p > k->plo[s - 1] ? p : k->plo[s - 1];
     }
@@ -402,9 +417,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     if (st != SINTER_OK)
         return st;
     /* a lean search over the very pairs of the last one checks before it writes */
-    const int verify = !geometry && c->revision != 0 && c->lean_source != 0 &&
-                       c->lean_source == pairs->build_id && c->pair_count == pairs->count &&
-                       c->particle_count == ps->count;
+    const int verify = !geometry && over_same_pairs(c, pairs, ps);
     c->lean_source = 0; /* set again when a lean search completes */
     c->unconfirmed = 0;
     c->adj_start = pairs->adj_start;
@@ -593,9 +606,7 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
      * 7, ... up to 63 (a falling pile gains contacts all over, nearly every step) */
     enum { MAX_WAIT = 63 };
     *deferred = 0;
-    const int same_pairs = c->revision != 0 && c->lean_source != 0 &&
-                           c->lean_source == pairs->build_id && c->pair_count == pairs->count &&
-                           c->particle_count == ps->count && !c->unconfirmed;
+    const int same_pairs = over_same_pairs(c, pairs, ps) && !c->unconfirmed;
     if (!same_pairs || c->defer_skip > 0) {
         c->defer_skip -= c->defer_skip > 0;
         return find_pp(ctx, c, pairs, ps, 0);
@@ -614,7 +625,7 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
         }
         const size_t m = first_contact_from_pair(c, p);
         fill_part rest = {1, 0, 0, 0};
-        const uint32_t before = m > 0 ? (c->i[m - 1] < c->j[m - 1] ? c->i[m - 1] : c->j[m - 1]) : 0;
+        const uint32_t before = m > 0 ? smaller_index(c, m - 1) : 0;
         c->count = fill_pp_lean(c, pairs, ps, p, n, m, &rest, NULL);
         sinter_contacts_changed(c, p, m);
         if (!rest.ascending || (rest.any && rest.first < before)) {
