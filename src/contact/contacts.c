@@ -211,32 +211,36 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
 }
 
 /*
- * A lean list on threads in one pass over the pairs: each thread fills its range of pairs
- * into a scratch copy at the range's own start (a range has at most as many contacts as
- * pairs), then copies its contacts to their place in the list and points their pairs at
- * them: the same list, in the same order, as one thread makes, without a counting pass.
- * With `verify` (the list holds the contacts of these pairs from the last search), each range
- * is first checked against the list (verify_range) and filled from its first change only; a
- * range whose contacts all agree and still start at the same index is left as it is (no
- * write at all when none changed). *change_pair and *change_contact tell where the list
- * changed (sinter_contacts_changed; SIZE_MAX: nowhere). Returns the number of contacts.
+ * A lean list on threads in one pass over the pairs from p0 on (the contacts before pair p0,
+ * m0 of them, stay): each thread fills its ranges of pairs into a scratch copy at the range's
+ * own start (a range has at most as many contacts as pairs), then copies its contacts to
+ * their place in the list and points their pairs at them: the same list, in the same order,
+ * as one thread makes, without a counting pass. With `verify` (the list holds the contacts of
+ * these pairs from the last search; p0 = m0 = 0), each range is first checked against the
+ * list (verify_range) and filled from its first change only; a range whose contacts all agree
+ * and still start at the same index is left as it is (no write at all when none changed).
+ * *change_pair and *change_contact tell where the list changed (sinter_contacts_changed;
+ * SIZE_MAX: nowhere). Returns the number of contacts.
  */
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
-                            const sinter_particles *ps, int chunks, int verify, fill_part *part,
-                            size_t *change_pair, size_t *change_contact)
+                            const sinter_particles *ps, size_t p0, size_t m0, int threads,
+                            int chunks, int verify, fill_part *part, size_t *change_pair,
+                            size_t *change_contact)
 {
-    const size_t n = pairs->count;
+    const size_t n = pairs->count, span = n - p0;
     uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
     size_t found[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
     size_t start[MAX_CHUNKS], checked[MAX_CHUNKS], stop[MAX_CHUNKS];
     int in_place[MAX_CHUNKS];
     int all_in_place = verify;
-#pragma omp parallel num_threads(chunks)
+#define RANGE_LO(t) (p0 + span * (size_t)(t) / (size_t)chunks)
+#pragma omp parallel num_threads(threads)
     {
-#pragma omp for schedule(static, 1)
+        /* ranges taken in turn: their work differs (a falling pile's contacts change in the
+         * ranges of its lower particles only) */
+#pragma omp for schedule(dynamic, 1)
         for (int t = 0; t < chunks; ++t) {
-            const size_t lo = n * (size_t)t / (size_t)chunks;
-            const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
+            const size_t lo = RANGE_LO(t), hi = RANGE_LO(t + 1);
             fill_part mine = {1, 0, 0, 0};
             size_t p = lo;
             start[t] = SIZE_MAX;
@@ -255,11 +259,11 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
         }
 #pragma omp single
         {
-            offset[0] = 0;
+            offset[0] = m0;
             for (int t = 0; t < chunks; ++t) {
                 offset[t + 1] = offset[t] + found[t];
-                const size_t hi = n * (size_t)(t + 1) / (size_t)chunks;
-                in_place[t] = verify && stop[t] == hi && (checked[t] == 0 || start[t] == offset[t]);
+                in_place[t] = verify && stop[t] == RANGE_LO(t + 1) &&
+                              (checked[t] == 0 || start[t] == offset[t]);
                 all_in_place &= in_place[t];
             }
         }
@@ -267,7 +271,7 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
          * range overwrites the list (the barrier of this loop) */
 #pragma omp for schedule(static, 1)
         for (int t = 0; t < chunks; ++t) {
-            const size_t lo = n * (size_t)t / (size_t)chunks;
+            const size_t lo = RANGE_LO(t);
             if (!in_place[t] && checked[t] > 0) {
                 memcpy(si + lo, c->i + start[t], checked[t] * sizeof(uint32_t));
                 memcpy(sj + lo, c->j + start[t], checked[t] * sizeof(uint32_t));
@@ -278,7 +282,7 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
         for (int t = 0; t < chunks; ++t) {
             if (in_place[t])
                 continue;
-            const size_t lo = n * (size_t)t / (size_t)chunks, to = offset[t], k = checked[t];
+            const size_t lo = RANGE_LO(t), to = offset[t], k = checked[t];
             const size_t tail = found[t] - k;
             memcpy(c->i + to, si + lo, k * sizeof(uint32_t));
             memcpy(c->j + to, sj + lo, k * sizeof(uint32_t));
@@ -297,11 +301,22 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
         if (in_place[t])
             continue;
         const int moved = checked[t] > 0 && start[t] != offset[t];
-        *change_pair = moved ? n * (size_t)t / (size_t)chunks : stop[t];
+        *change_pair = moved ? RANGE_LO(t) : stop[t];
         *change_contact = moved ? offset[t] : offset[t] + checked[t];
         break;
     }
+#undef RANGE_LO
     return offset[chunks];
+}
+
+/* The ranges of a threaded fill of `pairs` pairs on `threads` threads: a few per thread, of
+ * 4096 pairs at least (one per thread when there are not that many). */
+static int fill_ranges(size_t pairs, int threads)
+{
+    int ranges = 4 * threads < MAX_CHUNKS ? 4 * threads : MAX_CHUNKS;
+    while (ranges > threads && pairs / (size_t)ranges < 4096)
+        ranges /= 2;
+    return ranges > threads ? ranges : threads;
 }
 
 /* S from the number of candidate pairs: a power of two (2, 4 or 8, so that 2 or 4 threads get
@@ -447,16 +462,18 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     }
     const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
     if (!geometry) {
+        const int ranges = fill_ranges(pairs->count, chunks);
         st = sinter_grow(ctx, (void **)&c->fill_scratch, &c->fill_scratch_capacity,
                          3 * pairs->count + 1, sizeof(uint32_t));
         if (st != SINTER_OK)
             return st;
         fill_part part[MAX_CHUNKS];
         size_t change_pair = 0, change_contact = 0;
-        c->count = fill_segments(c, pairs, ps, chunks, verify, part, &change_pair, &change_contact);
+        c->count = fill_segments(c, pairs, ps, 0, 0, chunks, ranges, verify, part, &change_pair,
+                                 &change_contact);
         if (change_pair != SIZE_MAX)
             sinter_contacts_changed(c, change_pair, change_contact);
-        make_chunks(c, part, chunks, ps->count, parts_count, pairs->build_id);
+        make_chunks(c, part, ranges, ps->count, parts_count, pairs->build_id);
         c->lean_source = pairs->build_id;
         return SINTER_OK;
     }
@@ -615,10 +632,10 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
     const int threads = n < 4096 ? 1 : sinter_threads(ctx);
     const size_t p = first_new_contact(ctx, c, pairs, ps, threads);
     if (p < n) {
-        /* pairs from p on are searched afresh (on one thread: with threads, only when they
-         * are the last eighth, as a packed bed's top layer is); the contacts before are
-         * left to the law */
-        if (threads > 1 && n - p > n / 8) {
+        /* pairs from p on are searched afresh (on threads when there are enough of them), the
+         * contacts before are left to the law; with threads, when p lies in the first half
+         * (new contacts all over, as in a falling pile), the whole search is done instead */
+        if (threads > 1 && n - p > n / 2) {
             c->defer_wait = c->defer_wait < MAX_WAIT ? 2 * c->defer_wait + 1 : MAX_WAIT;
             c->defer_skip = c->defer_wait;
             return find_pp(ctx, c, pairs, ps, 0);
@@ -626,7 +643,24 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
         const size_t m = first_contact_from_pair(c, p);
         fill_part rest = {1, 0, 0, 0};
         const uint32_t before = m > 0 ? smaller_index(c, m - 1) : 0;
-        c->count = fill_pp_lean(c, pairs, ps, p, n, m, &rest, NULL);
+        const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+        int threaded = chunks > 1 && n - p >= 2 * 4096;
+        if (threaded && sinter_grow(ctx, (void **)&c->fill_scratch, &c->fill_scratch_capacity,
+                                    3 * n + 1, sizeof(uint32_t)) != SINTER_OK) {
+            sinter_clear_error(ctx); /* no room for the scratch: one thread fills them */
+            threaded = 0;
+        }
+        if (threaded) {
+            fill_part parts[MAX_CHUNKS];
+            size_t change_pair = 0, change_contact = 0;
+            const int ranges = fill_ranges(n - p, chunks);
+            c->count = fill_segments(c, pairs, ps, p, m, chunks, ranges, 0, parts, &change_pair,
+                                     &change_contact);
+            for (int t = 0; t < ranges; ++t)
+                rest = join_parts(rest, parts[t]);
+        } else {
+            c->count = fill_pp_lean(c, pairs, ps, p, n, m, &rest, NULL);
+        }
         sinter_contacts_changed(c, p, m);
         if (!rest.ascending || (rest.any && rest.first < before)) {
             /* not in the neighbour build's order: the whole search decides the partition */

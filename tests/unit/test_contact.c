@@ -399,6 +399,47 @@ static void first_difference(const membership *m, const sinter_contact_list *c,
             *pair = p;
 }
 
+/* The first pair of nb not in c's list whose spheres now overlap (nb->pp.count: none). */
+static size_t first_new_pair(const sinter_neighbors *nb, const sinter_contact_list *c,
+                             const sinter_particles *ps)
+{
+    for (size_t p = 0; p < nb->pp.count; ++p) {
+        const uint32_t i = nb->pp.i[p], j = nb->pp.j[p];
+        double d2 = 0.0;
+        for (int d = 0; d < 3; ++d)
+            d2 += (ps->x[3 * j + d] - ps->x[3 * i + d]) * (ps->x[3 * j + d] - ps->x[3 * i + d]);
+        const double rs = ps->radius[i] + ps->radius[j];
+        if (c->pair_to_contact[p] == SINTER_NO_PAIR && d2 < rs * rs)
+            return p;
+    }
+    return nb->pp.count;
+}
+
+/* Grow the spheres of the first pair apart from pair `from` on just into contact (each by
+ * 0.51 of the gap), where that makes it the first new contact of c's pairs; returns it. */
+static size_t grow_into_contact(const sinter_neighbors *nb, const sinter_contact_list *c,
+                                sinter_particles *ps, size_t from)
+{
+    for (size_t p = from; p < nb->pp.count; ++p) {
+        const uint32_t i = nb->pp.i[p], j = nb->pp.j[p];
+        if (c->pair_to_contact[p] != SINTER_NO_PAIR)
+            continue;
+        double d2 = 0.0;
+        for (int d = 0; d < 3; ++d)
+            d2 += (ps->x[3 * j + d] - ps->x[3 * i + d]) * (ps->x[3 * j + d] - ps->x[3 * i + d]);
+        const double ri = ps->radius[i], rj = ps->radius[j];
+        const double gap = sqrt(d2) - ri - rj;
+        ps->radius[i] = ri + 0.51 * gap;
+        ps->radius[j] = rj + 0.51 * gap;
+        if (first_new_pair(nb, c, ps) == p)
+            return p;
+        ps->radius[i] = ri; /* it made others touch before it: the next */
+        ps->radius[j] = rj;
+    }
+    fail_msg("no pair from %zu on could be grown into contact alone", from);
+    return nb->pp.count;
+}
+
 /*
  * A lean search over the same pairs as the last one checks the list it holds before it
  * writes (contacts.c, verify_range; issue 9). After rounds in which nothing changes, or
@@ -412,7 +453,7 @@ static void first_difference(const membership *m, const sinter_contact_list *c,
 static void test_lean_search_matches_a_fresh_one(void **state)
 {
     (void)state;
-    enum { N = 12000, ROUNDS = 9 };
+    enum { N = 12000, ROUNDS = 10 };
     for (int t = 1; t <= 3; ++t) {
         scene s;
         sinter_neighbors nb;
@@ -428,10 +469,17 @@ static void test_lean_search_matches_a_fresh_one(void **state)
         size_t plo_before[SINTER_CHUNKS_MAX + 1];
         for (int round = 0; round < ROUNDS; ++round) {
             /* rounds 1, 4, 8 change nothing; the others shrink a particle out of its contacts
-             * (at the start, middle and end of the list) or grow a pair into contact */
-            const size_t at[ROUNDS] = {0, 0, 3, kept.count / 2, 0, kept.count - 4, 0, 0, 0};
+             * (at the start, middle and end of the list) or grow a pair into contact (the
+             * first, the last, and one at 3/5 of the pairs: with threads, the pairs from it
+             * on are searched on threads) */
+            const size_t at[ROUNDS] = {0, 0, 3, kept.count / 2, 0, kept.count - 4, 0, 0, 0, 0};
             if (round == 2 || round == 3 || round == 5)
                 r[kept.i[at[round]]] *= 0.3;
+            if (round == 9) { /* the deferred search's new contact: with threads, the pairs
+                               * from it on (8192 or more, less than half) on threads */
+                const size_t p = grow_into_contact(&nb, &kept, s.ps, nb.pp.count * 3 / 5);
+                assert_in_range(nb.pp.count - p, 8192, nb.pp.count / 2);
+            }
             if (round == 6 || round == 7) { /* the first / last pair apart, now touching */
                 for (size_t q = 0; q < nb.pp.count; ++q) {
                     const size_t p = round == 6 ? q : nb.pp.count - 1 - q;
