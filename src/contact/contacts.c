@@ -768,6 +768,31 @@ static void wall_ranges(sinter_contact_list *c, int ascending)
     k->qlo[RANGES] = c->count;
 }
 
+/* The geometry of wall contact m: pair p of particle i with wall w at centre-plane distance s
+ * (the wall is a particle of infinite radius, seed 003 remark 1: L_i = s). */
+static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t p, uint32_t i,
+                                     uint32_t k, const sinter_wall *w, double r, double s)
+{
+    const double a2_raw = r * r - s * s, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
+    c->i[m] = i;
+    c->j[m] = k;
+    c->pair[m] = p;
+    c->n[3 * m] = -w->n[0];
+    c->n[3 * m + 1] = -w->n[1];
+    c->n[3 * m + 2] = -w->n[2];
+    c->delta[m] = r - s;
+    c->dist[m] = s;
+    c->area[m] = PI * a2;
+    c->branch[m] = s;
+}
+
+/* Signed distance of particle i's centre from the plane of wall w. */
+static inline double wall_distance(const double *x, size_t i, const sinter_wall *w)
+{
+    return (x[3 * i] - w->p[0]) * w->n[0] + (x[3 * i + 1] - w->p[1]) * w->n[1] +
+           (x[3 * i + 2] - w->p[2]) * w->n[2];
+}
+
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
                                       const sinter_walls *walls)
@@ -776,41 +801,71 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&c->pair_to_contact, &c->pair_to_contact_capacity,
                          pairs->count + 1, sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&c->touch, &c->touch_capacity, pairs->count + 1, 1);
     if (st != SINTER_OK)
         return st;
+    /* over the pairs of the last search, the membership is compared as the verdicts come
+     * (and the geometry of the contacts that stay written in place) */
+    const int compare = c->revision != 0 && c->lean_source == pairs->build_id &&
+                        c->pair_count == pairs->count && c->particle_count == ps->count;
+    int same = compare;
     c->particle_count = ps->count;
     c->pair_count = pairs->count;
+    c->lean_source = pairs->build_id; /* for the comparison only: the list has its geometry */
     const double *x = ps->x, *r = ps->radius;
-    size_t m = 0;
+    const uint32_t *pi = pairs->i, *pk = pairs->j;
+    uint32_t *to_contact = c->pair_to_contact;
+    uint8_t *touch = c->touch;
+    const size_t n = pairs->count;
+    enum { RANGES_MAX = 8 };
+    const int threads = n < 1024 ? 1 : sinter_threads(ctx);
+    const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
+    size_t offset[RANGES_MAX + 1] = {0};
     int ascending = 1;
-    for (size_t p = 0; p < pairs->count; ++p) {
-        const uint32_t i = pairs->i[p], k = pairs->j[p];
-        ascending &= p == 0 || i >= pairs->i[p - 1];
-        const sinter_wall *w = &walls->wall[k];
-        const double s = (x[3 * i] - w->p[0]) * w->n[0] + (x[3 * i + 1] - w->p[1]) * w->n[1] +
-                         (x[3 * i + 2] - w->p[2]) * w->n[2];
-        c->pair_to_contact[p] = SINTER_NO_PAIR;
-        if (s >= r[i])
-            continue;
-        c->pair_to_contact[p] = (uint32_t)m;
-        /* The wall is a particle of infinite radius (seed 003 remark 1): L_i = s. */
-        const double a2_raw = r[i] * r[i] - s * s, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
-        c->i[m] = i;
-        c->j[m] = k;
-        c->pair[m] = (uint32_t)p;
-        c->n[3 * m] = -w->n[0];
-        c->n[3 * m + 1] = -w->n[1];
-        c->n[3 * m + 2] = -w->n[2];
-        c->delta[m] = r[i] - s;
-        c->dist[m] = s;
-        c->area[m] = PI * a2;
-        c->branch[m] = s;
-        ++m;
+#pragma omp parallel for num_threads(ranges) schedule(static, 1) reduction(& : same, ascending)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t lo = n * (size_t)t / (size_t)ranges, hi = n * (size_t)(t + 1) / (size_t)ranges;
+        size_t count = 0;
+        for (size_t p = lo; p < hi; ++p) {
+            const uint32_t i = pi[p], k = pk[p];
+            ascending &= p == 0 || i >= pi[p - 1];
+            const sinter_wall *w = &walls->wall[k];
+            const double sd = wall_distance(x, i, w);
+            const int touches = sd < r[i];
+            touch[p] = (uint8_t)touches;
+            count += (size_t)touches;
+            const uint32_t was = compare ? to_contact[p] : SINTER_NO_PAIR;
+            if (touches != (was != SINTER_NO_PAIR))
+                same = 0;
+            else if (compare && touches)
+                put_wall_geometry(c, was, (uint32_t)p, i, k, w, r[i], sd);
+        }
+        offset[t + 1] = count;
     }
-    c->count = m;
     c->geometry = 1;
+    if (same)
+        return SINTER_OK; /* the same contacts, their geometry renewed */
+    for (int t = 0; t < ranges; ++t)
+        offset[t + 1] += offset[t];
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t lo = n * (size_t)t / (size_t)ranges, hi = n * (size_t)(t + 1) / (size_t)ranges;
+        size_t m = offset[t];
+        for (size_t p = lo; p < hi; ++p) {
+            if (!touch[p]) {
+                to_contact[p] = SINTER_NO_PAIR;
+                continue;
+            }
+            const uint32_t i = pi[p], k = pk[p];
+            const sinter_wall *w = &walls->wall[k];
+            to_contact[p] = (uint32_t)m;
+            put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i], wall_distance(x, i, w));
+            ++m;
+        }
+    }
+    c->count = offset[ranges];
     sinter_contacts_changed(c, 0, 0);
-    c->lean_source = 0;
     wall_ranges(c, ascending);
     return SINTER_OK;
 }

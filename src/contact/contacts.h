@@ -67,7 +67,8 @@ typedef struct sinter_contact_list {
     } change[2];
     /* build_id of the pair list the last lean search ran over (0 after any other search): a
      * lean search over the same pairs first checks the contacts against the list it holds
-     * and writes only from the first pair whose verdict changed */
+     * and writes only from the first pair whose verdict changed. A wall list: the pair list
+     * of its last search (sinter_contacts_find_pw, which compares in the same way) */
     uint64_t lean_source;
     /* 1 after sinter_contacts_find_pp_deferred left the contacts it holds unchecked, until
      * sinter_contacts_confirm; defer_wait and defer_skip space out the deferred searches
@@ -144,9 +145,9 @@ sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list 
  * of the search, d^2 < (r_i + r_j)^2 and d^2 != 0, from the same centres), set c->ended[q] to
  * 1 for each, and give the first one's index to sinter_contacts_confirm before anything else
  * reads the list (sinter_contacts_check if the law did not run). Otherwise (other pairs, new
- * contacts early in a threaded list) it is sinter_contacts_find_pp_lean and *deferred is 0.
- * The list after sinter_contacts_confirm equals the one sinter_contacts_find_pp_lean makes,
- * partition included (chunks.h).
+ * contacts in the first half of a threaded list) it is sinter_contacts_find_pp_lean and
+ * *deferred is 0. The list after sinter_contacts_confirm equals the one
+ * sinter_contacts_find_pp_lean makes, partition included (chunks.h).
  */
 sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_list *c,
                                                const sinter_pair_list *pairs,

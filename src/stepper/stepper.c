@@ -463,6 +463,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {
         st->pw.count = 0;
+        st->pw.lean_source = 0;
         st->pw.revision = sinter_unique_id();
     }
     if (st->electric != NULL) {

@@ -440,6 +440,108 @@ static size_t grow_into_contact(const sinter_neighbors *nb, const sinter_contact
     return nb->pp.count;
 }
 
+/* Wall lists a and b hold the same contacts with the same geometry, partition and pairs. */
+static void assert_same_wall_contacts(const sinter_contact_list *a, const sinter_contact_list *b)
+{
+    assert_int_equal(a->count, b->count);
+    assert_int_equal(a->geometry, 1);
+    assert_int_equal(b->geometry, 1);
+    const size_t n = a->count;
+    assert_memory_equal(a->i, b->i, n * sizeof(uint32_t));
+    assert_memory_equal(a->j, b->j, n * sizeof(uint32_t));
+    assert_memory_equal(a->pair, b->pair, n * sizeof(uint32_t));
+    assert_memory_equal(a->n, b->n, 3 * n * sizeof(double));
+    assert_memory_equal(a->delta, b->delta, n * sizeof(double));
+    assert_memory_equal(a->dist, b->dist, n * sizeof(double));
+    assert_memory_equal(a->area, b->area, n * sizeof(double));
+    assert_memory_equal(a->branch, b->branch, n * sizeof(double));
+    assert_int_equal(a->pair_count, b->pair_count);
+    assert_memory_equal(a->pair_to_contact, b->pair_to_contact, a->pair_count * sizeof(uint32_t));
+    assert_int_equal(a->chunks.count, b->chunks.count);
+    assert_memory_equal(a->chunks.qlo, b->chunks.qlo, sizeof(a->chunks.qlo));
+}
+
+/*
+ * A wall search over the same pairs as the last one compares the contacts as it goes and,
+ * when none came or went, renews their geometry in place and keeps the revision (issue 9).
+ * A layer of spheres on a floor between two side walls, on 1-3 threads (the search is
+ * threaded from 1024 pairs): after rounds that move every sphere a little (the membership
+ * kept), lift the first contact off, press a sphere apart into contact, or move nothing, the
+ * kept list must equal a fresh one in every field, and its revision change exactly when the
+ * membership did.
+ */
+static void test_wall_search_matches_a_fresh_one(void **state)
+{
+    (void)state;
+    enum { N = 3000, ROUNDS = 5 };
+    for (int t = 1; t <= 3; ++t) {
+        scene s;
+        scene_init(&s);
+        OK(sinter_ctx_set_threads(s.ctx, t));
+        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
+        scene_open(&s, "hertz_mindlin", 0);
+        scene_floor(&s, 0.0);
+        const double px[3] = {0, 0, 0}, nx[3] = {1, 0, 0};
+        const double qx[3] = {0.02, 0, 0}, mx[3] = {-1, 0, 0};
+        OK(sinter_walls_add_plane(s.walls, px, nx, s.wall_mat, NULL));
+        OK(sinter_walls_add_plane(s.walls, qx, mx, s.wall_mat, NULL));
+        uint64_t seed = 5;
+        for (size_t k = 0; k < N; ++k) { /* centres within 0.1 r of touching the floor */
+            const double r = 0.4e-3 * (0.5 + lcg(&seed));
+            scene_add(&s, 0.02 * lcg(&seed), 0.02 * lcg(&seed), r * (0.9 + 0.2 * lcg(&seed)), r);
+        }
+        sinter_neighbors nb;
+        sinter_neighbors_init(&nb, s.ctx, 2e-4);
+        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
+        assert_true(nb.pw.count > 2048);
+        sinter_contact_list kept;
+        memset(&kept, 0, sizeof(kept));
+        double *x = s.ps->x;
+        const double *r = s.ps->radius;
+        for (int round = 0; round < ROUNDS; ++round) {
+            const uint64_t revision = kept.revision;
+            uint32_t *before = NULL;
+            if (round > 0) {
+                before = malloc(kept.pair_count * sizeof(uint32_t));
+                memcpy(before, kept.pair_to_contact, kept.pair_count * sizeof(uint32_t));
+            }
+            if (round == 1) /* every sphere down by 1e-9 of its radius: the same contacts */
+                for (size_t i = 0; i < N; ++i)
+                    x[3 * i + 2] -= 1e-9 * r[i];
+            if (round == 2) /* the first contact's sphere lifted off the floor */
+                x[3 * kept.i[0] + 2] = 1.05 * r[kept.i[0]];
+            if (round == 3) /* a sphere apart, pressed onto the floor */
+                for (size_t p = 0; p < nb.pw.count; ++p) {
+                    const uint32_t i = nb.pw.i[p];
+                    if (nb.pw.j[p] == 0 && kept.pair_to_contact[p] == SINTER_NO_PAIR &&
+                        x[3 * i] > 0.001 && x[3 * i] < 0.019) {
+                        x[3 * i + 2] = 0.95 * r[i];
+                        break;
+                    }
+                }
+            OK(sinter_contacts_find_pw(s.ctx, &kept, &nb.pw, s.ps, s.walls));
+            sinter_contact_list fresh;
+            memset(&fresh, 0, sizeof(fresh));
+            OK(sinter_contacts_find_pw(s.ctx, &fresh, &nb.pw, s.ps, s.walls));
+            assert_true(fresh.count > 1000 && fresh.count < nb.pw.count);
+            assert_true(fresh.chunks.count > 0);
+            assert_same_wall_contacts(&kept, &fresh);
+            if (round > 0) {
+                const int changed = round == 2 || round == 3;
+                assert_int_equal(memcmp(before, kept.pair_to_contact,
+                                        kept.pair_count * sizeof(uint32_t)) != 0,
+                                 changed);
+                assert_int_equal(kept.revision != revision, changed);
+            }
+            free(before);
+            sinter_contact_list_free(s.ctx, &fresh);
+        }
+        sinter_contact_list_free(s.ctx, &kept);
+        sinter_neighbors_free(&nb);
+        scene_close(&s);
+    }
+}
+
 /*
  * A lean search over the same pairs as the last one checks the list it holds before it
  * writes (contacts.c, verify_range; issue 9). After rounds in which nothing changes, or
@@ -695,6 +797,7 @@ int main(void)
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
+        cmocka_unit_test(test_wall_search_matches_a_fresh_one),
         cmocka_unit_test(test_commit_follows_a_changing_list),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
