@@ -87,6 +87,31 @@ void sinter_neighbors_set_moved(sinter_neighbors *nb, const sinter_particles *ps
     nb->moved_valid = 1;
     nb->moved_layout = ps->layout_generation;
     nb->moved_write = ps->write_generation;
+    nb->moved_bound = sqrt(moved2);
+    nb->bound_valid = moved2 >= 0.0; /* not NaN */
+    nb->bound_layout = ps->layout_generation;
+    nb->bound_write = ps->write_generation;
+}
+
+int sinter_neighbors_bound_holds(const sinter_neighbors *nb, const sinter_particles *ps)
+{
+    return nb->bound_valid && nb->bound_layout == ps->layout_generation &&
+           nb->bound_write == ps->write_generation && nb->moved_bound < 0.25 * nb->skin;
+}
+
+void sinter_neighbors_add_step(sinter_neighbors *nb, const sinter_particles *ps, double step)
+{
+    const double bound = nb->moved_bound + step; /* |x - x_ref| <= the sum of the steps */
+    nb->moved_valid = 0;
+    if (!sinter_neighbors_bound_holds(nb, ps) || !(bound < 0.25 * nb->skin)) {
+        nb->bound_valid = 0; /* the staleness test measures, and the next step too */
+        return;
+    }
+    nb->moved_bound = bound;
+    nb->moved2 = bound * bound;
+    nb->moved_valid = 1;
+    nb->moved_layout = ps->layout_generation;
+    nb->moved_write = ps->write_generation;
 }
 
 void sinter_neighbors_clear_moved(sinter_neighbors *nb)
@@ -549,6 +574,10 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     }
     nb->wall_count = nw;
     nb->layout_generation = ps->layout_generation;
+    nb->moved_bound = 0.0; /* nothing moved since */
+    nb->bound_valid = 1;
+    nb->bound_layout = ps->layout_generation;
+    nb->bound_write = ps->write_generation;
     nb->pp.build_id = sinter_unique_id();
     nb->pw.build_id = sinter_unique_id();
     nb->built = 1;

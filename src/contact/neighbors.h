@@ -63,6 +63,13 @@ typedef struct sinter_neighbors {
     double moved2;
     int moved_valid;
     uint64_t moved_layout, moved_write;
+    /* an upper bound on the largest displacement since the build [m]: the last exact measure
+     * (sinter_neighbors_set_moved) plus each later step's largest displacement
+     * (sinter_neighbors_add_step); valid while bound_valid and the particles' generations
+     * match */
+    double moved_bound;
+    int bound_valid;
+    uint64_t bound_layout, bound_write;
 } sinter_neighbors;
 
 /* Threads to use for a context (its setting; 0 means all available); contacts.c. */
@@ -75,6 +82,15 @@ void sinter_neighbors_free(sinter_neighbors *nb);
  * the particles: the next staleness test uses it instead of a pass of its own. */
 void sinter_neighbors_set_moved(sinter_neighbors *nb, const sinter_particles *ps, double moved2);
 void sinter_neighbors_clear_moved(sinter_neighbors *nb);
+
+/* 1 when the displacement bound holds for ps and is under a quarter of the skin: then the
+ * integrator may report just the step's largest displacement (sinter_neighbors_add_step)
+ * instead of measuring against x_ref (issue 9: 24 bytes a particle less to read). */
+int sinter_neighbors_bound_holds(const sinter_neighbors *nb, const sinter_particles *ps);
+/* A step in which no particle moved more than `step` [m]: the bound grows by it and, while
+ * it stays under a quarter of the skin, answers the next staleness test (no particle can have
+ * moved half the skin); beyond, the test measures. */
+void sinter_neighbors_add_step(sinter_neighbors *nb, const sinter_particles *ps, double step);
 
 /* 1 when the lists must be rebuilt before the next evaluation. */
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,

@@ -11,6 +11,13 @@
 #include "sanity.h"
 #include "stepper.h"
 
+#if defined(__x86_64__) && defined(__SSE2__)
+#include <emmintrin.h>
+#define STREAMING_STORES 1
+#else
+#define STREAMING_STORES 0
+#endif
+
 /* The spare arrays at the set's capacity (the set may have grown since the last step); see
  * stepper.h. */
 sinter_status sinter_explicit_reserve(sinter_stepper *st)
@@ -68,14 +75,125 @@ static inline double nonfinite(double z)
     return z * 0.0;
 }
 
+/* *p = v, past the caches with `stream` (a non-temporal store, x86-64's SSE2): the line is
+ * not read first, and does not evict data the next passes read. */
+static inline void put(double *p, double v, int stream)
+{
+#if STREAMING_STORES
+    if (stream) {
+        long long bits;
+        memcpy(&bits, &v, sizeof(bits));
+        _mm_stream_si64((long long *)p, bits);
+        return;
+    }
+#endif
+    (void)stream;
+    *p = v;
+}
+
+/* The smallest radius, for the sanity check's measure of the step: kept while no particle
+ * was added, removed, reordered or written (its generations), instead of read every step. */
+static double smallest_radius(sinter_stepper *st)
+{
+    const sinter_particles *ps = st->ps;
+    if (st->rmin_known && st->rmin_layout == ps->layout_generation &&
+        st->rmin_write == ps->write_generation)
+        return st->rmin;
+    double rmin = INFINITY;
+    for (size_t i = 0; i < ps->count; ++i)
+        rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
+    st->rmin = rmin;
+    st->rmin_known = 1;
+    st->rmin_layout = ps->layout_generation;
+    st->rmin_write = ps->write_generation;
+    return rmin;
+}
+
+/* What a pass of plain_kick_drift found: the first particle with a non-finite position or
+ * rotation (n: none), the largest squared displacement since the neighbour build (with
+ * `exact`) and in this step. */
+typedef struct drift_scan {
+    size_t bad;
+    double moved2, step2;
+} drift_scan;
+
+/*
+ * kick_drift for particles that are neither fixed nor without rotation (see there), with
+ * `exact` (measure the displacement since the neighbour build against x_ref) and `stream`
+ * (streaming stores for the new x, v, w) fixed at each call, so that each combination is its
+ * own loop.
+ */
+static inline __attribute__((always_inline)) drift_scan
+plain_kick_drift(sinter_stepper *st, double h, const double g[3], int threads, int exact,
+                 int stream)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    const double *restrict x = ps->x, *restrict v = ps->v, *restrict w = ps->w,
+                           *restrict rot = ps->rot, *restrict x0 = st->nb.x_ref;
+    double *restrict f = ps->force, *restrict tq = ps->torque;
+    const double *restrict m = ps->mass, *restrict j = ps->inertia;
+    double *restrict nx = st->spare[0], *restrict nv = st->spare[1], *restrict nw = st->spare[2],
+                     *restrict nrot = st->spare[3];
+    const double half = 0.5 * h;
+    const int rotation = st->rotation;
+    size_t bad = n;
+    double moved2 = 0.0, step2 = 0.0;
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static) reduction(min : bad) reduction(max : moved2, step2) nowait
+        for (size_t i = 0; i < n; ++i) {
+            const double a = half / m[i], b = half / j[i];
+            double da[3], z = 0.0, d2 = 0.0, s2 = 0.0;
+            for (int d = 0; d < 3; ++d) {
+                const size_t k = 3 * i + (size_t)d;
+                const double xo = x[k];
+                const double vk = v[k] + a * f[k];
+                put(nv + k, vk, stream);
+                const double xk = xo + h * vk;
+                put(nx + k, xk, stream);
+                const double wk = w[k] + b * tq[k];
+                put(nw + k, wk, stream);
+                da[d] = h * wk;
+                f[k] = 0.0 + m[i] * g[d]; /* read for the last time: the next evaluation
+                                              adds into it */
+                tq[k] = 0.0;
+                z += nonfinite(xk);
+                const double sk = xk - xo;
+                s2 += sk * sk;
+                if (exact) {
+                    const double e = xk - x0[k];
+                    d2 += e * e;
+                }
+            }
+            moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
+            step2 = s2 > step2 ? s2 : step2;
+            if (rotation) {
+                double *alpha = nrot + 3 * i;
+                alpha[0] = rot[3 * i], alpha[1] = rot[3 * i + 1], alpha[2] = rot[3 * i + 2];
+                sinter_compose_rotation(alpha, da);
+                z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
+            }
+            if (!(z == 0.0) && i < bad)
+                bad = i;
+        }
+#if STREAMING_STORES
+        if (stream)
+            _mm_sfence(); /* this thread's streamed stores before the barrier */
+#endif
+    }
+    return (drift_scan){bad, moved2, step2};
+}
+
 /*
  * First half kick and drift, written into the spare arrays, which then become the set's
  * (the old state stays in the spare arrays for a rollback: no copy), and the total rotation
- * vector (seed 003 eq. 45, increment w h) in the same pass unless the option "rotation" is 0. Positions and rotations are
- * final for the step here, so their finiteness is checked here; returns the first particle
- * with a non-finite one, or n. The sanity check's measure of the step (largest displacement,
- * smallest radius) is taken in the same pass, into *scan, and force and torque are zeroed
- * after their last read (the next evaluation adds into them).
+ * vector (seed 003 eq. 45, increment w h) in the same pass unless the option "rotation" is
+ * 0. Positions and rotations are final for the step here, so their finiteness is checked
+ * here; returns the first particle with a non-finite one, or n. The sanity check's measure
+ * of the step (largest displacement; the smallest radius, kept between steps) goes into
+ * *scan, and force and torque are zeroed after their last read (the next evaluation adds
+ * into them).
  */
 static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
 {
@@ -99,7 +217,6 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
     const int measure = nb->built && nb->layout_generation == ps->layout_generation &&
                         nb->ref_capacity >= 3 * n && x0 != NULL;
     const double *restrict radius = ps->radius;
-    double moved2 = 0.0, step2 = 0.0, rmin = INFINITY;
     /* gravity's force written where the force is zeroed: 0 + m g, as its evaluation adds it
      * (0 + m 0 = +0 without it) */
     const double *gravity = first_gravity(st);
@@ -107,90 +224,72 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                          gravity ? gravity[2] : 0.0};
     st->plain_particles = !any_special(ps);
     if (st->plain_particles) {
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, rmin)      \
-    reduction(max : moved2, step2)
-        for (size_t i = 0; i < n; ++i) {
-            const double a = half / m[i], b = half / j[i];
-            double da[3], z = 0.0, d2 = 0.0, s2 = 0.0;
-            for (int d = 0; d < 3; ++d) {
-                const size_t k = 3 * i + (size_t)d;
-                const double xo = x[k];
-                const double vk = v[k] + a * f[k];
-                nv[k] = vk;
-                const double xk = xo + h * vk;
-                nx[k] = xk;
-                const double wk = w[k] + b * tq[k];
-                nw[k] = wk;
-                da[d] = h * wk;
-                f[k] = 0.0 + m[i] * g[d]; /* read for the last time: the next evaluation
-                                              adds into it */
-                tq[k] = 0.0;
-                z += nonfinite(xk);
-                const double s = xk - xo;
-                s2 += s * s;
-                if (measure) {
-                    const double e = xk - x0[k];
-                    d2 += e * e;
-                }
-            }
-            moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
-            step2 = s2 > step2 ? s2 : step2;
-            rmin = radius[i] < rmin ? radius[i] : rmin;
-            if (rotation) {
-                double *alpha = nrot + 3 * i;
-                alpha[0] = rot[3 * i], alpha[1] = rot[3 * i + 1], alpha[2] = rot[3 * i + 2];
-                sinter_compose_rotation(alpha, da);
-                z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
-            }
-            if (!(z == 0.0) && i < bad)
-                bad = i;
-        }
+        /* while the neighbour list's displacement bound holds, the step's largest
+         * displacement is all it needs (sinter_neighbors_add_step): x_ref is not read */
+        const int exact = measure && !sinter_neighbors_bound_holds(nb, ps);
+        const int stream = st->stores.stream_now;
+        drift_scan d;
+        if (exact)
+            d = stream ? plain_kick_drift(st, h, g, threads, 1, 1)
+                       : plain_kick_drift(st, h, g, threads, 1, 0);
+        else
+            d = stream ? plain_kick_drift(st, h, g, threads, 0, 1)
+                       : plain_kick_drift(st, h, g, threads, 0, 0);
+        swap_spare(st);
+        if (exact)
+            sinter_neighbors_set_moved(nb, ps, d.moved2);
+        else if (measure)
+            sinter_neighbors_add_step(nb, ps, sqrt(d.step2));
         st->forces_zeroed = 1;
         st->gravity_seeded = gravity != NULL;
-    } else {
-        for (size_t i = 0; i < n; ++i) {
-            const uint32_t fl = flags[i];
-            double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-            double wi[3] = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
-            if (!(fl & SINTER_PARTICLE_FIXED)) {
-                const double a = half / m[i];
-                for (int d = 0; d < 3; ++d)
-                    vi[d] += a * f[3 * i + d];
-            }
-            if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
-                const double b = half / j[i];
-                for (int d = 0; d < 3; ++d)
-                    wi[d] += b * tq[3 * i + d];
-            }
-            const double da[3] = {h * wi[0], h * wi[1], h * wi[2]};
-            double alpha[3];
-            double z = 0.0, s2 = 0.0, d2 = 0.0;
-            for (int d = 0; d < 3; ++d) {
-                const size_t k = 3 * i + (size_t)d;
-                nv[k] = vi[d];
-                nw[k] = wi[d];
-                nx[k] = x[k] + h * vi[d];
-                alpha[d] = rot[k];
-                const double s = nx[k] - x[k];
-                s2 += s * s;
-                if (measure) {
-                    const double e = nx[k] - x0[k];
-                    d2 += e * e;
-                }
-            }
-            if (rotation) {
-                sinter_compose_rotation(alpha, da);
-                for (int d = 0; d < 3; ++d)
-                    nrot[3 * i + d] = alpha[d];
-            }
+        scan->moved2 = d.step2;
+        scan->rmin = smallest_radius(st);
+        return d.bad;
+    }
+    /* fixed or non-rotating particles among them: one thread, every case by its flags */
+    double moved2 = 0.0, step2 = 0.0, rmin = INFINITY;
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t fl = flags[i];
+        double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+        double wi[3] = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
+        if (!(fl & SINTER_PARTICLE_FIXED)) {
+            const double a = half / m[i];
             for (int d = 0; d < 3; ++d)
-                z += nonfinite(nx[3 * i + d]) + nonfinite(alpha[d]);
-            moved2 = d2 > moved2 ? d2 : moved2;
-            step2 = s2 > step2 ? s2 : step2;
-            rmin = radius[i] < rmin ? radius[i] : rmin;
-            if (!(z == 0.0) && i < bad)
-                bad = i;
+                vi[d] += a * f[3 * i + d];
         }
+        if (!(fl & (SINTER_PARTICLE_NO_ROTATION | SINTER_PARTICLE_FIXED))) {
+            const double b = half / j[i];
+            for (int d = 0; d < 3; ++d)
+                wi[d] += b * tq[3 * i + d];
+        }
+        const double da[3] = {h * wi[0], h * wi[1], h * wi[2]};
+        double alpha[3];
+        double z = 0.0, s2 = 0.0, d2 = 0.0;
+        for (int d = 0; d < 3; ++d) {
+            const size_t k = 3 * i + (size_t)d;
+            nv[k] = vi[d];
+            nw[k] = wi[d];
+            nx[k] = x[k] + h * vi[d];
+            alpha[d] = rot[k];
+            const double s = nx[k] - x[k];
+            s2 += s * s;
+            if (measure) {
+                const double e = nx[k] - x0[k];
+                d2 += e * e;
+            }
+        }
+        if (rotation) {
+            sinter_compose_rotation(alpha, da);
+            for (int d = 0; d < 3; ++d)
+                nrot[3 * i + d] = alpha[d];
+        }
+        for (int d = 0; d < 3; ++d)
+            z += nonfinite(nx[3 * i + d]) + nonfinite(alpha[d]);
+        moved2 = d2 > moved2 ? d2 : moved2;
+        step2 = s2 > step2 ? s2 : step2;
+        rmin = radius[i] < rmin ? radius[i] : rmin;
+        if (!(z == 0.0) && i < bad)
+            bad = i;
     }
     swap_spare(st);
     if (measure)
@@ -254,6 +353,46 @@ static size_t kick(sinter_stepper *st, double h)
     return bad;
 }
 
+/* Steps timed before the choice of stores (sinter_store_choice): the first few of each kind
+ * warm the caches and are not counted; then the shortest of 8 steps of each kind decides. */
+enum { STREAM_MIN_PARTICLES = 65536, STREAM_WARMUP = 4, STREAM_TRIALS = 16 };
+
+/* The kind of stores for the next step: 1 streaming, 0 plain. */
+static int choose_stores(sinter_stepper *st)
+{
+    sinter_store_choice *c = &st->stores;
+    const size_t n = st->ps->count;
+    const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
+    if (!STREAMING_STORES || c->option == 0)
+        return 0;
+    if (c->option == 1)
+        return 1;
+    if (n < STREAM_MIN_PARTICLES) /* arrays of a few MB: in the caches of any machine */
+        return 0;
+    if (c->layout != st->ps->layout_generation || c->threads != threads) {
+        c->decided = -1; /* other particles or threads: measured again */
+        c->layout = st->ps->layout_generation;
+        c->threads = threads;
+        c->trials = 0;
+        c->best[0] = c->best[1] = INFINITY;
+    }
+    return c->decided >= 0 ? c->decided : c->trials & 1;
+}
+
+/* An accepted step of `seconds`, taken with the stores of choose_stores. */
+static void time_stores(sinter_stepper *st, double seconds)
+{
+    sinter_store_choice *c = &st->stores;
+    if (c->option != -1 || c->decided >= 0 || st->ps->count < STREAM_MIN_PARTICLES ||
+        c->threads == 0)
+        return;
+    const int k = c->trials++;
+    if (k >= STREAM_WARMUP && seconds < c->best[k & 1])
+        c->best[k & 1] = seconds;
+    if (c->trials == STREAM_WARMUP + STREAM_TRIALS)
+        c->decided = c->best[1] < c->best[0];
+}
+
 static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
 {
     for (int d = 0; d < 3; ++d)
@@ -276,7 +415,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     sinter_status s = sinter_explicit_reserve(st);
     if (s != SINTER_OK)
         return s;
-    const double t_start = st->time;
+    const double t_start = st->time, clock_start = sinter_clock();
+    st->stores.stream_now = choose_stores(st);
     /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5). */
     s = sinter_thermal_advance(st, h);
     if (s != SINTER_OK) {
@@ -341,5 +481,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         st->stats.rejected++;
         return s;
     }
-    return sinter_stepper_commit(st);
+    s = sinter_stepper_commit(st);
+    if (s == SINTER_OK)
+        time_stores(st, sinter_clock() - clock_start);
+    return s;
 }

@@ -43,6 +43,8 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->walls = walls;
     st->dt = 1e-5;
     st->rotation = 1;
+    st->stores.option = -1; /* measured (explicit.c) */
+    st->stores.decided = -1;
     sinter_neighbors_init(&st->nb, ctx, 0.0);
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
@@ -131,6 +133,22 @@ static sinter_status set_rotation(sinter_stepper *st, double value)
     return SINTER_OK;
 }
 
+/* Option "stream_stores" (explicit stepper): -1 (the default) times steps with and without
+ * streaming stores for the new positions, velocities and spins and keeps the faster; 1
+ * always, 0 never (sinter_store_choice). */
+static sinter_status set_stream_stores(sinter_stepper *st, double value)
+{
+    if (value != -1.0 && value != 0.0 && value != 1.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_option: stream_stores = %g must be -1 (measure "
+                           "which is faster, the default), 0 (never) or 1 (always)",
+                           value);
+    st->stores.option = (int)value;
+    st->stores.decided = -1;
+    st->stores.threads = 0; /* measured afresh */
+    return SINTER_OK;
+}
+
 sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, double value)
 {
     if (st == NULL)
@@ -140,6 +158,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_sort_interval(st, value);
     if (strcmp(key, "rotation") == 0)
         return set_rotation(st, value);
+    if (strcmp(key, "stream_stores") == 0)
+        return set_stream_stores(st, value);
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
@@ -157,6 +177,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     }
     if (strcmp(key, "rotation") == 0 && st->kind != SINTER_STEPPER_QUASISTATIC) {
         *value = st->rotation;
+        return SINTER_OK;
+    }
+    if (strcmp(key, "stream_stores") == 0) {
+        *value = st->stores.option;
         return SINTER_OK;
     }
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)

@@ -33,6 +33,23 @@ typedef struct sinter_staggered {
     size_t power_capacity;
 } sinter_staggered;
 
+/*
+ * Streaming stores for the explicit step's new x, v and w (explicit.c): they pay when the
+ * particles' arrays do not fit in the caches (a 512k bed: the integrator's passes 13 %
+ * faster) and cost where they do (64k: 60 % slower); where that lies depends on the machine,
+ * so the stepper times steps of both kinds and keeps the faster. Both write the same values:
+ * the results do not depend on the choice.
+ */
+typedef struct sinter_store_choice {
+    int option;      /* option "stream_stores": -1 measure (the default), 0 never, 1 always */
+    int stream_now;  /* the kind of the step being taken */
+    int decided;     /* the kind chosen (0 or 1), or -1 while measuring, for: */
+    uint64_t layout; /* the particles' layout_generation */
+    int threads;
+    int trials;      /* steps timed so far */
+    double best[2];  /* the shortest step of each kind [s] */
+} sinter_store_choice;
+
 struct sinter_stepper {
     sinter_ctx *ctx;
     int kind;
@@ -71,6 +88,11 @@ struct sinter_stepper {
      * without a copy. */
     double *spare[4];
     size_t spare_capacity; /* particles */
+    sinter_store_choice stores;
+    /* the smallest radius (explicit.c, smallest_radius), for these particle generations */
+    double rmin;
+    int rmin_known;
+    uint64_t rmin_layout, rmin_write;
     sinter_state_view view;
     double *wall_arrays;          /* point, normal, velocity: 9 per wall, for host views */
     size_t wall_arrays_capacity;

@@ -696,6 +696,64 @@ static void test_lean_search_matches_a_fresh_one(void **state)
     }
 }
 
+/* Neighbour builds of scene s so far. */
+static uint64_t builds_of(scene *s)
+{
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s->st, &stats));
+    return stats.neighbor_builds;
+}
+
+/*
+ * The integrator reports a bound on the displacement since the neighbour build (the sum of
+ * the steps' largest displacements) instead of measuring it, while that is under a quarter
+ * of the skin (neighbors.c, sinter_neighbors_add_step; issue 9), and measures beyond. The
+ * list must still be rebuilt exactly when a particle has moved half the skin: free spheres
+ * drifting at most 1/10.5 of half the skin per step are rebuilt every 11 steps, on 1 and 2
+ * threads. A particle moved by the host (a view write) voids the bound: moved 0.3 mm
+ * further along its way right after a build, the fastest one closes the skin's half
+ * (0.5 mm) 5 steps later, not 11.
+ */
+static void test_displacement_bound_keeps_rebuilds(void **state)
+{
+    (void)state;
+    enum { N = 5000 };
+    const double skin = 1e-3, h = 1e-4, vmax = 0.5 * skin / (10.5 * h);
+    for (int t = 1; t <= 2; ++t) {
+        scene s;
+        scene_init(&s);
+        OK(sinter_ctx_set_threads(s.ctx, t));
+        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
+        scene_open(&s, "hertz_mindlin", 0);
+        uint64_t seed = 3;
+        for (size_t k = 0; k < N; ++k) /* 2 cm apart: never in contact */
+            scene_add(&s, 2e-2 * (double)(k % 20), 2e-2 * (double)((k / 20) % 20),
+                      2e-2 * (double)(k / 400), 0.5e-3);
+        for (size_t k = 0; k < N; ++k) { /* the first at vmax along x, the others slower */
+            const double u = k == 0 ? 1.0 : 0.9 * lcg(&seed);
+            const double v[3] = {u * vmax, 0.0, 0.0};
+            set3(&s, SINTER_FIELD_VELOCITY, k, v);
+        }
+        OK(sinter_stepper_set_skin(s.st, skin));
+        OK(sinter_stepper_set_dt(s.st, h));
+        OK(sinter_stepper_step(s.st, 1)); /* the first build, then one step */
+        const uint64_t first = builds_of(&s);
+        OK(sinter_stepper_step(s.st, 109)); /* 110 steps since the first build */
+        assert_int_equal(builds_of(&s) - first, 10);
+        double x[3];
+        get3(&s, SINTER_FIELD_POSITION, 0, x);
+        x[0] += 0.3e-3;
+        set3(&s, SINTER_FIELD_POSITION, 0, x);
+        OK(sinter_stepper_step(s.st, 4));
+        assert_int_equal(builds_of(&s) - first, 10);
+        OK(sinter_stepper_step(s.st, 1));
+        assert_int_equal(builds_of(&s) - first, 11);
+        scene_close(&s);
+    }
+}
+
 /*
  * A packed lattice whose top layer rattles: its contacts open and close step after step
  * while the rest stay. Found lean (projection conduction), the list is kept or rewritten
@@ -799,6 +857,7 @@ int main(void)
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
         cmocka_unit_test(test_commit_follows_a_changing_list),
+        cmocka_unit_test(test_displacement_bound_keeps_rebuilds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
