@@ -457,8 +457,10 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
         if (st != SINTER_OK)
             break;
         const uint32_t *pi = nb->scan + 2 * seg * (size_t)t;
-        memcpy(nb->pp.i + nb->pp.count, pi, found[t] * sizeof(uint32_t));
-        memcpy(nb->pp.j + nb->pp.count, pi + seg, found[t] * sizeof(uint32_t));
+        if (found[t] > 0) { /* (no pairs at all: the list's arrays may not exist yet) */
+            memcpy(nb->pp.i + nb->pp.count, pi, found[t] * sizeof(uint32_t));
+            memcpy(nb->pp.j + nb->pp.count, pi + seg, found[t] * sizeof(uint32_t));
+        }
         nb->pp.count += found[t];
         const size_t b = n * (size_t)(t + 1) / (size_t)chunks;
         if (stop[t] < b)

@@ -26,6 +26,9 @@ typedef struct sinter_force_eval {
     /* pp->unconfirmed (sinter_contacts_find_pp_deferred): a model that confirms contacts
      * skips those no longer touching and sets the first one's index here (else SIZE_MAX) */
     size_t pp_ended;
+    /* 1: arrays written now and read only at the next step (trial history) may be written
+     * with streaming stores (core/stream_store.h; the stepper's choice) */
+    int stream;
 } sinter_force_eval;
 
 typedef struct sinter_force_ops {

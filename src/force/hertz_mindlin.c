@@ -25,6 +25,7 @@
 #endif
 
 #include "contact/chunks.h"
+#include "core/stream_store.h"
 #include "force_model.h"
 #include "vec3.h"
 
@@ -565,6 +566,7 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     double *trial = e->hist_pp->trial;
     const size_t width = e->hist_pp->width;
     const int by_pair = e->hist_pp->by_pair;
+    const int stream = e->stream;
     double *restrict force = e->force, *restrict torque = e->torque;
     /* Runs of contacts of one particle i (the list is in pair order, pairs grouped by their
      * first particle) add into i's force and moment in registers, stored when the run ends:
@@ -604,7 +606,9 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
                 continue;
             }
             double *t = trial + width * (by_pair ? c->pair[q] : q); /* by pair: swapped */
-            t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
+            sinter_put(t, b.sx[a], stream);
+            sinter_put(t + 1, b.sy[a], stream);
+            sinter_put(t + 2, b.sz[a], stream);
             const uint32_t i = c->i[q], j = c->j[q];
             if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
                 /* the force only: the caller forms the moments again */
@@ -637,6 +641,7 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
             force[3 * (size_t)cur + d] = fi[d];
             torque[3 * (size_t)cur + d] = ti[d];
         }
+    sinter_put_fence(stream);
     return (size_t)(bq - bq0);
 }
 

@@ -8,15 +8,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/stream_store.h"
 #include "sanity.h"
 #include "stepper.h"
 
-#if defined(__x86_64__) && defined(__SSE2__)
-#include <emmintrin.h>
-#define STREAMING_STORES 1
-#else
-#define STREAMING_STORES 0
-#endif
 
 /* The spare arrays at the set's capacity (the set may have grown since the last step); see
  * stepper.h. */
@@ -73,22 +68,6 @@ static int any_special(const sinter_particles *ps)
 static inline double nonfinite(double z)
 {
     return z * 0.0;
-}
-
-/* *p = v, past the caches with `stream` (a non-temporal store, x86-64's SSE2): the line is
- * not read first, and does not evict data the next passes read. */
-static inline void put(double *p, double v, int stream)
-{
-#if STREAMING_STORES
-    if (stream) {
-        long long bits;
-        memcpy(&bits, &v, sizeof(bits));
-        _mm_stream_si64((long long *)p, bits);
-        return;
-    }
-#endif
-    (void)stream;
-    *p = v;
 }
 
 /* The smallest radius, for the sanity check's measure of the step: kept while no particle
@@ -149,11 +128,11 @@ plain_kick_drift(sinter_stepper *st, double h, const double g[3], int threads, i
                 const size_t k = 3 * i + (size_t)d;
                 const double xo = x[k];
                 const double vk = v[k] + a * f[k];
-                put(nv + k, vk, stream);
+                sinter_put(nv + k, vk, stream);
                 const double xk = xo + h * vk;
-                put(nx + k, xk, stream);
+                sinter_put(nx + k, xk, stream);
                 const double wk = w[k] + b * tq[k];
-                put(nw + k, wk, stream);
+                sinter_put(nw + k, wk, stream);
                 da[d] = h * wk;
                 f[k] = 0.0 + m[i] * g[d]; /* read for the last time: the next evaluation
                                               adds into it */
@@ -177,10 +156,7 @@ plain_kick_drift(sinter_stepper *st, double h, const double g[3], int threads, i
             if (!(z == 0.0) && i < bad)
                 bad = i;
         }
-#if STREAMING_STORES
-        if (stream)
-            _mm_sfence(); /* this thread's streamed stores before the barrier */
-#endif
+        sinter_put_fence(stream); /* this thread's streamed stores before the barrier */
     }
     return (drift_scan){bad, moved2, step2};
 }
@@ -363,7 +339,7 @@ static int choose_stores(sinter_stepper *st)
     sinter_store_choice *c = &st->stores;
     const size_t n = st->ps->count;
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
-    if (!STREAMING_STORES || c->option == 0)
+    if (!SINTER_STREAMING_STORES || c->option == 0)
         return 0;
     if (c->option == 1)
         return 1;

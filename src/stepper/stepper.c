@@ -534,6 +534,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.torque = ps->torque;
     e.wall_force = st->wall_force;
     e.view = &st->view;
+    e.stream = st->stores.stream_now;
     s = sinter_thermal_softening(st, &e.modulus_scale);
     for (size_t k = first_model; k < st->force_count && s == SINTER_OK; ++k) {
         sinter_force_slot *slot = &st->forces[k];
