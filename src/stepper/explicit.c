@@ -54,13 +54,27 @@ static void swap_spare(sinter_stepper *st)
     }
 }
 
-/* 1 if any particle is fixed or does not rotate (then the general loop is needed). */
-static int any_special(const sinter_particles *ps)
+/* 1 if any particle is fixed or does not rotate (then the general loop is needed); found
+ * again only when the particles were added, removed, reordered or written (their flags may
+ * have changed), with the smallest radius (the sanity check's measure of the step). */
+static int any_special(sinter_stepper *st)
 {
+    const sinter_particles *ps = st->ps;
+    if (st->particles_known && st->known_layout == ps->layout_generation &&
+        st->known_write == ps->write_generation)
+        return st->any_special;
     uint32_t all = 0;
-    for (size_t i = 0; i < ps->count; ++i)
+    double rmin = INFINITY;
+    for (size_t i = 0; i < ps->count; ++i) {
         all |= ps->flags[i];
-    return (all & (SINTER_PARTICLE_FIXED | SINTER_PARTICLE_NO_ROTATION)) != 0;
+        rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
+    }
+    st->any_special = (all & (SINTER_PARTICLE_FIXED | SINTER_PARTICLE_NO_ROTATION)) != 0;
+    st->rmin = rmin;
+    st->particles_known = 1;
+    st->known_layout = ps->layout_generation;
+    st->known_write = ps->write_generation;
+    return st->any_special;
 }
 
 /* 0 for a finite value, NaN for an infinite or NaN one: z * 0. Summing these tells, value by
@@ -68,24 +82,6 @@ static int any_special(const sinter_particles *ps)
 static inline double nonfinite(double z)
 {
     return z * 0.0;
-}
-
-/* The smallest radius, for the sanity check's measure of the step: kept while no particle
- * was added, removed, reordered or written (its generations), instead of read every step. */
-static double smallest_radius(sinter_stepper *st)
-{
-    const sinter_particles *ps = st->ps;
-    if (st->rmin_known && st->rmin_layout == ps->layout_generation &&
-        st->rmin_write == ps->write_generation)
-        return st->rmin;
-    double rmin = INFINITY;
-    for (size_t i = 0; i < ps->count; ++i)
-        rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
-    st->rmin = rmin;
-    st->rmin_known = 1;
-    st->rmin_layout = ps->layout_generation;
-    st->rmin_write = ps->write_generation;
-    return rmin;
 }
 
 /* What a pass of plain_kick_drift found: the first particle with a non-finite position or
@@ -198,7 +194,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
     const double *gravity = first_gravity(st);
     const double g[3] = {gravity ? gravity[0] : 0.0, gravity ? gravity[1] : 0.0,
                          gravity ? gravity[2] : 0.0};
-    st->plain_particles = !any_special(ps);
+    st->plain_particles = !any_special(st);
     if (st->plain_particles) {
         /* while the neighbour list's displacement bound holds, the step's largest
          * displacement is all it needs (sinter_neighbors_add_step): x_ref is not read */
@@ -219,7 +215,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
         st->forces_zeroed = 1;
         st->gravity_seeded = gravity != NULL;
         scan->moved2 = d.step2;
-        scan->rmin = smallest_radius(st);
+        scan->rmin = st->rmin; /* found with any_special */
         return d.bad;
     }
     /* fixed or non-rotating particles among them: one thread, every case by its flags */

@@ -89,10 +89,12 @@ struct sinter_stepper {
     double *spare[4];
     size_t spare_capacity; /* particles */
     sinter_store_choice stores;
-    /* the smallest radius (explicit.c, smallest_radius), for these particle generations */
+    /* whether a particle is fixed or does not rotate, and the smallest radius (explicit.c,
+     * any_special), for these particle generations */
+    int any_special;
     double rmin;
-    int rmin_known;
-    uint64_t rmin_layout, rmin_write;
+    int particles_known;
+    uint64_t known_layout, known_write;
     sinter_state_view view;
     double *wall_arrays;          /* point, normal, velocity: 9 per wall, for host views */
     size_t wall_arrays_capacity;

@@ -376,6 +376,38 @@ static void test_rotation_vector(void **state)
     assert_true(off[6] == 0.0 && off[7] == 0.0 && off[8] == 0.0);
 }
 
+/* The integrator finds whether a particle is fixed only when the particles were added or
+ * written (explicit.c, any_special; issue 9): a falling sphere fixed through a view between
+ * two runs of steps must keep the velocity it had (a fixed particle moves as prescribed, no
+ * force acts on it), while the other keeps falling freely (velocity Verlet is exact for a
+ * constant acceleration: v = -g t to round-off). */
+static void test_fixed_between_steps(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.4);
+    scene_open(&s, "hertz_mindlin", 1);
+    scene_add(&s, 0.0, 0.0, 1.0, 1e-3);
+    scene_add(&s, 0.1, 0.0, 1.0, 1e-3);
+    const double h = 1e-4, g = 9.81;
+    OK(sinter_stepper_set_dt(s.st, h));
+    OK(sinter_stepper_step(s.st, 10));
+    double before[3], after[3], other[3];
+    get3(&s, SINTER_FIELD_VELOCITY, 0, before);
+    assert_close(before[2], -g * 10 * h, 1e-12); /* it fell */
+    uint32_t *flags = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_FLAGS, (void **)&flags, NULL, NULL));
+    flags[0] |= SINTER_PARTICLE_FIXED;
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_FLAGS));
+    OK(sinter_stepper_step(s.st, 10));
+    get3(&s, SINTER_FIELD_VELOCITY, 0, after);
+    get3(&s, SINTER_FIELD_VELOCITY, 1, other);
+    assert_memory_equal(before, after, sizeof(before));
+    assert_close(other[2], -g * 20 * h, 1e-12);
+    scene_close(&s);
+}
+
 /* A lattice of n^3 spheres of 1 mm, `spacing` apart, falling onto a floor with friction, on
  * `threads` threads, stepped `steps` times with option "stream_stores" `stores`: positions,
  * velocities and spins into out (9 per particle). */
@@ -576,6 +608,7 @@ int main(void)
         cmocka_unit_test(test_observer_and_stats),
         cmocka_unit_test(test_rotation_vector),
         cmocka_unit_test(test_stream_stores_change_nothing),
+        cmocka_unit_test(test_fixed_between_steps),
         cmocka_unit_test(test_gravity_written_by_the_integrator),
         cmocka_unit_test(test_pour_comes_to_rest_in_box),
     };
