@@ -435,8 +435,9 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
     const int verify = !geometry && over_same_pairs(c, pairs, ps);
     c->lean_source = 0; /* set again when a lean search completes */
     c->unconfirmed = 0;
-    c->adj_start = pairs->adj_start;
-    c->adj_pair = pairs->adj_pair;
+    const int adjacency = pairs->adj_build != 0 && pairs->adj_build == pairs->build_id;
+    c->adj_start = adjacency ? pairs->adj_start : NULL;
+    c->adj_pair = adjacency ? pairs->adj_pair : NULL;
     c->particle_count = ps->count;
     c->pair_count = pairs->count;
     const int threads = pairs->count < 4096 ? 1 : sinter_threads(ctx);
@@ -514,9 +515,11 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
 }
 
 sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
-                                      const sinter_pair_list *pairs, const sinter_particles *ps)
+                                      sinter_pair_list *pairs, const sinter_particles *ps)
 {
-    return find_pp(ctx, c, pairs, ps, 1);
+    /* a list with its geometry may serve a law that sums per particle on threads */
+    const sinter_status st = sinter_pairs_adjacency(ctx, pairs, ps->count);
+    return st == SINTER_OK ? find_pp(ctx, c, pairs, ps, 1) : st;
 }
 
 sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list *c,

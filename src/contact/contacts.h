@@ -38,8 +38,9 @@ typedef struct sinter_contact_list {
     /* 1 when n, delta, dist, area and branch hold this list's geometry; 0 for a list made by
      * sinter_contacts_find_pp_lean until sinter_contacts_geometry fills them */
     int geometry;
-    /* the contact of each candidate pair, or SINTER_NO_PAIR; particle-particle lists also
-     * borrow the pairs' per-particle adjacency from the pair list */
+    /* the contact of each candidate pair, or SINTER_NO_PAIR; particle-particle lists found
+     * with their geometry also borrow the pairs' per-particle adjacency from the pair list
+     * (NULL otherwise) */
     uint32_t *pair_to_contact;
     size_t pair_to_contact_capacity;
     const uint32_t *adj_start;
@@ -124,9 +125,10 @@ static inline void sinter_contacts_changed(sinter_contact_list *c, size_t pair, 
 /* Contact radii a = sqrt(A / pi) [m] into a[count] (host batches report them). */
 void sinter_contact_radii(const sinter_contact_list *c, double *a);
 
-/* Particle-particle contacts among the candidate pairs. */
+/* Particle-particle contacts among the candidate pairs, with their geometry and the pairs'
+ * per-particle adjacency (made for the pairs if they lack it: sinter_pairs_adjacency). */
 sinter_status sinter_contacts_find_pp(sinter_ctx *ctx, sinter_contact_list *c,
-                                      const sinter_pair_list *pairs, const sinter_particles *ps);
+                                      sinter_pair_list *pairs, const sinter_particles *ps);
 
 /* The same list without its geometry (c->geometry 0): i, j, pair, pair_to_contact and the
  * partition only, for a stepper whose submodels form the geometry themselves from the

@@ -504,14 +504,16 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
 }
 
 /* Per-particle lists of pairs, in ascending pair index (a stable counting sort). */
-static sinter_status build_adjacency(sinter_neighbors *nb, size_t n)
+sinter_status sinter_pairs_adjacency(sinter_ctx *ctx, sinter_pair_list *l, size_t n)
 {
-    sinter_pair_list *l = &nb->pp;
-    sinter_status st = sinter_grow(nb->ctx, (void **)&l->adj_start, &l->adj_start_capacity,
-                                   n + 2, sizeof(uint32_t));
+    if (l->adj_build != 0 && l->adj_build == l->build_id)
+        return SINTER_OK;
+    l->adj_build = 0;
+    sinter_status st = sinter_grow(ctx, (void **)&l->adj_start, &l->adj_start_capacity, n + 2,
+                                   sizeof(uint32_t));
     if (st == SINTER_OK)
-        st = sinter_grow(nb->ctx, (void **)&l->adj_pair, &l->adj_pair_capacity,
-                         2 * l->count + 1, sizeof(uint32_t));
+        st = sinter_grow(ctx, (void **)&l->adj_pair, &l->adj_pair_capacity, 2 * l->count + 1,
+                         sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
     uint32_t *start = l->adj_start, *list = l->adj_pair;
@@ -527,6 +529,7 @@ static sinter_status build_adjacency(sinter_neighbors *nb, size_t n)
         list[start[l->i[p] + 1]++] = (uint32_t)p;
         list[start[l->j[p] + 1]++] = (uint32_t)p;
     }
+    l->adj_build = l->build_id;
     return SINTER_OK;
 }
 
@@ -549,8 +552,6 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = reserve_pairs(ctx, &nb->pp, 1);
     if (st == SINTER_OK)
         st = reserve_pairs(ctx, &nb->pw, 1);
-    if (st == SINTER_OK)
-        st = build_adjacency(nb, ps->count);
     /* the last build's indices still name the same particles: match by runs */
     const int same_layout = nb->built && nb->layout_generation == ps->layout_generation;
     if (st == SINTER_OK &&

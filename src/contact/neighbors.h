@@ -22,13 +22,15 @@ typedef struct sinter_pair_list {
     uint64_t *key_i; /* persistent particle id of i */
     uint64_t *key_j; /* persistent id of j, or the wall index */
     uint32_t *from;  /* after a build: index of the same pair in the previous list, or SINTER_NO_PAIR */
-    /* particle-particle lists only: for each particle its pairs in ascending pair index (both
-     * roles), adj_pair[adj_start[p] .. adj_start[p + 1]); lets threads sum forces per particle
-     * in exactly the serial order */
+    /* particle-particle lists only, made on demand (sinter_pairs_adjacency): for each
+     * particle its pairs in ascending pair index (both roles), adj_pair[adj_start[p] ..
+     * adj_start[p + 1]); lets threads sum forces per particle in exactly the serial order.
+     * Valid while adj_build is build_id */
     uint32_t *adj_start;
     size_t adj_start_capacity;
     uint32_t *adj_pair;
     size_t adj_pair_capacity;
+    uint64_t adj_build;
     /* this content's identity (sinter_unique_id), set by each completed build or restore; 0
      * while a build is under way. A contact list found among these pairs can tell by it that
      * its pairs did not change since (sinter_contacts_find_pp_lean) */
@@ -95,6 +97,11 @@ void sinter_neighbors_add_step(sinter_neighbors *nb, const sinter_particles *ps,
 /* 1 when the lists must be rebuilt before the next evaluation. */
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,
                            const sinter_walls *walls);
+
+/* The per-particle adjacency of particle-particle list l over n particles, made unless it
+ * is current (adj_build): only the laws that sum per particle on threads read it (rolling
+ * resistance), so a build does not make it (issue 9: 20 % of a build). */
+sinter_status sinter_pairs_adjacency(sinter_ctx *ctx, sinter_pair_list *l, size_t n);
 
 /* Rebuild both lists; pp.from and pw.from map each new pair to its old index. */
 sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particles *ps,

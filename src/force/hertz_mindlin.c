@@ -741,9 +741,10 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
      * thread, in list order. With rolling, the two-phase path pays
      * only with enough contacts per particle (measured: with 0.37 per particle it is slower
      * than one thread); both paths give the same bits. */
-    const int threads = !rolling || c->count < 2048 || c->count < c->particle_count
-                            ? 1
-                            : sinter_threads(e->ctx);
+    const int threads =
+        !rolling || c->count < 2048 || c->count < c->particle_count || c->adj_start == NULL
+            ? 1
+            : sinter_threads(e->ctx);
     if (threads <= 1) {
         if (!rolling)
             (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL, ended);

@@ -3,8 +3,11 @@
  * id-keyed history across rebuilds, and trajectories that do not depend on
  * how often the list is rebuilt or on the particles' order in memory.
  */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "scene_support.h"
 #include "contact/contacts.h"
@@ -192,7 +195,46 @@ static void conducting_scene(scene *s, int threads)
  * threaded conduction sums and the blocked Hertz-Mindlin law): heat 1 conducts by eq. 34's
  * area, which the contact list carries; heat 2 by LIGGGHTS' projection, which reads no
  * geometry, so the list is found lean and the law forms the geometry itself. */
+static void open_packed(scene *s, int threads, int heat, sinter_heat_model **cond);
+
 static void run_packed(int threads, int heat, int reverse, double *out, size_t n)
+{
+    scene s;
+    sinter_heat_model *cond = NULL;
+    open_packed(&s, threads, heat, &cond);
+    if (reverse) {
+        /* ids now descend with the index, so pairs, oriented by id, start from the larger
+         * index: the partition must follow the smaller one */
+        size_t *order = malloc(n * sizeof(size_t));
+        for (size_t i = 0; i < n; ++i)
+            order[i] = n - 1 - i;
+        OK(sinter_particles_permute(s.ps, order));
+        free(order);
+    }
+    OK(sinter_stepper_step(s.st, 50));
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    assert_true(stats.contacts > 5000);
+    memcpy(out, s.ps->x, 3 * n * sizeof(double));
+    memcpy(out + 3 * n, s.ps->w, 3 * n * sizeof(double));
+    memcpy(out + 6 * n, s.ps->temperature, n * sizeof(double));
+    for (size_t k = 0; k < 5; ++k) /* the walls' reactions (threaded wall runs sum them) */
+        OK(sinter_walls_get_force(s.walls, k, out + 7 * n + 3 * k));
+    if (heat) { /* the floor heated the bottom layer */
+        double hottest = 0.0;
+        for (size_t i = 0; i < n; ++i)
+            hottest = s.ps->temperature[i] > hottest ? s.ps->temperature[i] : hottest;
+        assert_true(hottest > 300.0 + 1e-3);
+    }
+    sinter_heat_model_destroy(cond); /* before its context */
+    scene_close(&s);
+}
+
+/* The packed lattice of run_packed, set up (dt 1e-5 s) but not stepped; *cond is its
+ * conduction model when `heat` (else NULL). */
+static void open_packed(scene *s_out, int threads, int heat, sinter_heat_model **cond_out)
 {
     scene s;
     conducting_scene(&s, threads);
@@ -222,35 +264,48 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
             for (int i = 0; i < 15; ++i)
                 scene_add(&s, (i + 0.5) * a + 1e-6 * lcg(&seed), (j + 0.5) * a + 1e-6 * lcg(&seed),
                           (k + 0.5) * a, r);
-    if (reverse) {
-        /* ids now descend with the index, so pairs, oriented by id, start from the larger
-         * index: the partition must follow the smaller one */
-        size_t *order = malloc(n * sizeof(size_t));
-        for (size_t i = 0; i < n; ++i)
-            order[i] = n - 1 - i;
-        OK(sinter_particles_permute(s.ps, order));
-        free(order);
-    }
     OK(sinter_stepper_set_dt(s.st, 1e-5));
-    OK(sinter_stepper_step(s.st, 50));
-    sinter_stepper_stats stats;
-    memset(&stats, 0, sizeof(stats));
-    stats.struct_size = sizeof(stats);
-    OK(sinter_stepper_get_stats(s.st, &stats));
-    assert_true(stats.contacts > 5000);
-    memcpy(out, s.ps->x, 3 * n * sizeof(double));
-    memcpy(out + 3 * n, s.ps->w, 3 * n * sizeof(double));
-    memcpy(out + 6 * n, s.ps->temperature, n * sizeof(double));
-    for (size_t k = 0; k < 5; ++k) /* the walls' reactions (threaded wall runs sum them) */
-        OK(sinter_walls_get_force(s.walls, k, out + 7 * n + 3 * k));
-    if (heat) { /* the floor heated the bottom layer */
-        double hottest = 0.0;
-        for (size_t i = 0; i < n; ++i)
-            hottest = s.ps->temperature[i] > hottest ? s.ps->temperature[i] : hottest;
-        assert_true(hottest > 300.0 + 1e-3);
+    *s_out = s;
+    *cond_out = cond;
+}
+
+/* A restart of the packed lattice with rolling resistance on 2 threads (the two-phase law,
+ * which sums per particle over the pairs' adjacency) continues bit for bit in a fresh
+ * stepper: the restored pair lists get their adjacency made for them (neighbors.c,
+ * sinter_pairs_adjacency) although that stepper never built a list of its own. */
+static void test_rolling_restart_on_threads(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15 };
+    char dir[] = "/tmp/sinter_restart_XXXXXX", path[64];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof(path), "%s/state.ckpt", dir);
+    double *straight = malloc(9 * N * sizeof(double)), *restarted = malloc(9 * N * sizeof(double));
+    for (int run = 0; run < 2; ++run) {
+        scene s;
+        sinter_heat_model *cond = NULL;
+        open_packed(&s, 2, 0, &cond);
+        if (run == 0) {
+            OK(sinter_stepper_step(s.st, 30));
+            OK(sinter_checkpoint_write(s.st, path));
+        } else {
+            OK(sinter_checkpoint_read(s.st, path));
+        }
+        OK(sinter_stepper_step(s.st, 30));
+        sinter_stepper_stats stats = {.struct_size = sizeof(stats)};
+        OK(sinter_stepper_get_stats(s.st, &stats));
+        assert_true(stats.contacts >= 2048 && stats.contacts >= N); /* the two-phase law */
+        double *out = run == 0 ? straight : restarted;
+        memcpy(out, s.ps->x, 3 * N * sizeof(double));
+        memcpy(out + 3 * N, s.ps->v, 3 * N * sizeof(double));
+        memcpy(out + 6 * N, s.ps->w, 3 * N * sizeof(double));
+        scene_close(&s);
     }
-    sinter_heat_model_destroy(cond); /* before its context */
-    scene_close(&s);
+    assert_memory_equal(straight, restarted, 9 * N * sizeof(double));
+    free(straight);
+    free(restarted);
+    remove(path);
+    rmdir(dir);
 }
 
 static void test_results_independent_of_thread_count(void **state)
@@ -852,6 +907,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pair_list_matches_brute_force),
         cmocka_unit_test(test_trajectory_independent_of_rebuilds_and_order),
+        cmocka_unit_test(test_rolling_restart_on_threads),
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
