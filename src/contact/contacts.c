@@ -789,13 +789,6 @@ static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t 
     c->branch[m] = s;
 }
 
-/* Signed distance of particle i's centre from the plane of wall w. */
-static inline double wall_distance(const double *x, size_t i, const sinter_wall *w)
-{
-    return (x[3 * i] - w->p[0]) * w->n[0] + (x[3 * i + 1] - w->p[1]) * w->n[1] +
-           (x[3 * i + 2] - w->p[2]) * w->n[2];
-}
-
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
                                       const sinter_walls *walls)
@@ -834,7 +827,7 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
             const uint32_t i = pi[p], k = pk[p];
             ascending &= p == 0 || i >= pi[p - 1];
             const sinter_wall *w = &walls->wall[k];
-            const double sd = wall_distance(x, i, w);
+            const double sd = sinter_wall_distance(w, x + 3 * i);
             const int touches = sd < r[i];
             touch[p] = (uint8_t)touches;
             count += (size_t)touches;
@@ -863,7 +856,8 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
             const uint32_t i = pi[p], k = pk[p];
             const sinter_wall *w = &walls->wall[k];
             to_contact[p] = (uint32_t)m;
-            put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i], wall_distance(x, i, w));
+            put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i],
+                              sinter_wall_distance(w, x + 3 * i));
             ++m;
         }
     }

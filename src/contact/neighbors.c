@@ -34,6 +34,7 @@ void sinter_neighbors_free(sinter_neighbors *nb)
     sinter_free(nb->ctx, nb->wall_ref);
     sinter_free(nb->ctx, nb->cell_start);
     sinter_free(nb->ctx, nb->cell_items);
+    sinter_free(nb->ctx, nb->cell_counts);
     sinter_free(nb->ctx, nb->hash);
     sinter_free(nb->ctx, nb->scan);
     memset(nb, 0, sizeof(*nb));
@@ -62,22 +63,6 @@ static sinter_status reserve_pairs(sinter_ctx *ctx, sinter_pair_list *l, size_t 
     l->i = arrays[0], l->j = arrays[1], l->key_i = arrays[2], l->key_j = arrays[3];
     l->from = arrays[4];
     l->capacity = c;
-    return SINTER_OK;
-}
-
-static inline sinter_status push_pair(sinter_ctx *ctx, sinter_pair_list *l, uint32_t i, uint32_t j,
-                                      uint64_t ki, uint64_t kj)
-{
-    if (l->count == l->capacity) {
-        sinter_status st = reserve_pairs(ctx, l, l->count + 1);
-        if (st != SINTER_OK)
-            return st;
-    }
-    l->i[l->count] = i;
-    l->j[l->count] = j;
-    l->key_i[l->count] = ki;
-    l->key_j[l->count] = kj;
-    l->count++;
     return SINTER_OK;
 }
 
@@ -365,13 +350,34 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     if (n < 2)
         return SINTER_OK;
     const double *x = ps->x, *r = ps->radius;
-    double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, rmax = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        for (int d = 0; d < 3; ++d) {
-            lo[d] = min_num(lo[d], x[3 * i + d]);
-            hi[d] = max_num(hi[d], x[3 * i + d]);
+    /* the bounding box and largest radius, in ranges on the threads (a minimum and a maximum
+     * do not depend on the order) */
+    enum { RANGES_MAX = 64 };
+    const int threads = n < 16384 ? 1 : sinter_threads(ctx);
+    const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
+    double part[RANGES_MAX][7];
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+        double *q = part[t];
+        for (int d = 0; d < 3; ++d)
+            q[d] = q[3 + d] = x[3 * a + d];
+        q[6] = 0.0;
+        for (size_t i = a; i < b; ++i) {
+            for (int d = 0; d < 3; ++d) {
+                q[d] = min_num(q[d], x[3 * i + d]);
+                q[3 + d] = max_num(q[3 + d], x[3 * i + d]);
+            }
+            q[6] = max_num(q[6], r[i]);
         }
-        rmax = max_num(rmax, r[i]);
+    }
+    double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, rmax = 0.0;
+    for (int t = 0; t < ranges; ++t) {
+        for (int d = 0; d < 3; ++d) {
+            lo[d] = min_num(lo[d], part[t][d]);
+            hi[d] = max_num(hi[d], part[t][3 + d]);
+        }
+        rmax = max_num(rmax, part[t][6]);
     }
     /* Finite inputs can still overflow: a span beyond DBL_MAX (particles near +-1e308)
      * or a cell of radius ~1e308 counts as DBL_MAX, so every quotient below is finite
@@ -403,33 +409,54 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&nb->cell_items, &nb->items_capacity, 2 * n,
                          sizeof(uint32_t));
+    /* each range's count of particles per cell, then where its particles of each cell go */
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&nb->cell_counts, &nb->cell_counts_capacity,
+                         (size_t)ranges * ncell + 1, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
     uint32_t *start = nb->cell_start, *items = nb->cell_items, *cell_of = nb->cell_items + n;
-    memset(start, 0, (ncell + 1) * sizeof(uint32_t));
     const double inv = 1.0 / cell;
-    for (size_t i = 0; i < n; ++i) {
-        size_t c[3];
-        for (int d = 0; d < 3; ++d) {
-            /* >= 0, possibly +inf (overflowed difference) or NaN (inf * 0): clamp first */
-            const double q = (x[3 * i + d] - lo[d]) * inv;
-            c[d] = q < (double)dims[d] ? (size_t)q : dims[d] - 1;
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+        uint32_t *count = nb->cell_counts + (size_t)t * ncell;
+        memset(count, 0, ncell * sizeof(uint32_t));
+        for (size_t i = a; i < b; ++i) {
+            size_t c[3];
+            for (int d = 0; d < 3; ++d) {
+                /* >= 0, possibly +inf (overflowed difference) or NaN (inf * 0): clamp first */
+                const double q = (x[3 * i + d] - lo[d]) * inv;
+                c[d] = q < (double)dims[d] ? (size_t)q : dims[d] - 1;
+            }
+            cell_of[i] = (uint32_t)((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
+            count[cell_of[i]]++;
         }
-        cell_of[i] = (uint32_t)((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
-        start[cell_of[i] + 1]++;
     }
-    for (size_t c = 0; c < ncell; ++c)
-        start[c + 1] += start[c];
-    /* counting sort: items[start[c] .. start[c+1]) are the particles of cell c, by index */
-    for (size_t i = 0; i < n; ++i)
-        items[start[cell_of[i]]++] = (uint32_t)i;
-    for (size_t c = ncell; c > 0; --c)
-        start[c] = start[c - 1];
-    start[0] = 0;
+    /* counting sort: items[start[c] .. start[c+1]) are the particles of cell c, by index
+     * (the ranges in order within a cell) */
+    uint32_t next = 0;
+    for (size_t c = 0; c < ncell; ++c) {
+        start[c] = next;
+        for (int t = 0; t < ranges; ++t) {
+            uint32_t *count = nb->cell_counts + (size_t)t * ncell + c;
+            const uint32_t k = *count;
+            *count = next; /* the range's first slot in cell c */
+            next += k;
+        }
+    }
+    start[ncell] = next;
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+        uint32_t *slot = nb->cell_counts + (size_t)t * ncell;
+        for (size_t i = a; i < b; ++i)
+            items[slot[cell_of[i]]++] = (uint32_t)i;
+    }
     const grid g = {{dims[0], dims[1], dims[2]}, start, items, cell_of};
 
-    const int threads = n < 4096 ? 1 : sinter_threads(ctx);
-    if (threads <= 1)
+    const int scanners = n < 4096 ? 1 : sinter_threads(ctx);
+    if (scanners <= 1)
         return scan_append(nb, &g, ps, 0, n);
     /*
      * Threads: each scans a contiguous range of particles into its own segment of a scratch
@@ -438,7 +465,7 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
      * for any number of threads.
      */
     enum { MAX_CHUNKS = 64 };
-    const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+    const int chunks = scanners < MAX_CHUNKS ? scanners : MAX_CHUNKS;
     const size_t guess = (expected > 0 ? expected + expected / 4 : 4 * n) / (size_t)chunks + 1024;
     st = sinter_grow(ctx, (void **)&nb->scan, &nb->scan_capacity, 2 * guess * (size_t)chunks,
                      sizeof(uint32_t));
@@ -480,26 +507,50 @@ static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
     }
 }
 
+/* Particle-wall candidates, by particle and then wall: counted in ranges of particles on the
+ * threads, then written from each range's offset (the order of one thread). */
 static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
                               const sinter_walls *walls)
 {
     nb->pw.count = 0;
-    if (walls == NULL)
+    if (walls == NULL || walls->count == 0)
         return SINTER_OK;
-    const double *x = ps->x, *r = ps->radius;
-    for (size_t i = 0; i < ps->count; ++i) {
-        for (size_t k = 0; k < walls->count; ++k) {
-            const sinter_wall *w = &walls->wall[k];
-            const double s = (x[3 * i] - w->p[0]) * w->n[0] + (x[3 * i + 1] - w->p[1]) * w->n[1] +
-                             (x[3 * i + 2] - w->p[2]) * w->n[2];
-            if (s < r[i] + nb->skin) {
-                sinter_status st =
-                    push_pair(nb->ctx, &nb->pw, (uint32_t)i, (uint32_t)k, ps->id[i], k);
-                if (st != SINTER_OK)
-                    return st;
-            }
-        }
+    enum { RANGES_MAX = 64 };
+    const size_t n = ps->count, nw = walls->count;
+    const double *x = ps->x, *r = ps->radius, skin = nb->skin;
+    const int threads = n * nw < 16384 ? 1 : sinter_threads(nb->ctx);
+    const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
+    size_t offset[RANGES_MAX + 1] = {0};
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+        size_t count = 0;
+        for (size_t i = a; i < b; ++i)
+            for (size_t k = 0; k < nw; ++k)
+                count += sinter_wall_distance(&walls->wall[k], x + 3 * i) < r[i] + skin;
+        offset[t + 1] = count;
     }
+    for (int t = 0; t < ranges; ++t)
+        offset[t + 1] += offset[t];
+    sinter_pair_list *l = &nb->pw;
+    const sinter_status st = reserve_pairs(nb->ctx, l, offset[ranges] + 1);
+    if (st != SINTER_OK)
+        return st;
+#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+    for (int t = 0; t < ranges; ++t) {
+        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+        size_t m = offset[t];
+        for (size_t i = a; i < b; ++i)
+            for (size_t k = 0; k < nw; ++k)
+                if (sinter_wall_distance(&walls->wall[k], x + 3 * i) < r[i] + skin) {
+                    l->i[m] = (uint32_t)i;
+                    l->j[m] = (uint32_t)k;
+                    l->key_i[m] = ps->id[i];
+                    l->key_j[m] = k;
+                    ++m;
+                }
+    }
+    l->count = offset[ranges];
     return SINTER_OK;
 }
 

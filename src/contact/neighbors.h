@@ -56,6 +56,8 @@ typedef struct sinter_neighbors {
     size_t cell_capacity;
     uint32_t *cell_items;
     size_t items_capacity;
+    uint32_t *cell_counts; /* per range of particles, per cell: the threaded counting sort */
+    size_t cell_counts_capacity;
     uint32_t *hash; /* open-addressing table of old pair indices */
     size_t hash_capacity;
     uint32_t *scan; /* per-thread segments of the threaded build */

@@ -48,11 +48,6 @@
 #include "stepper.h"
 
 /* The wall's normal, point and the particle's position, for messages. */
-static double plane_distance(const sinter_wall *w, const double *x)
-{
-    return (x[0] - w->p[0]) * w->n[0] + (x[1] - w->p[1]) * w->n[1] + (x[2] - w->p[2]) * w->n[2];
-}
-
 sinter_status sinter_sanity_start(struct sinter_stepper *st)
 {
     const sinter_particles *ps = st->ps;
@@ -195,7 +190,7 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
                            "moving %g m in one step; the time step %g s is too large for its "
                            "speed. The last accepted state is kept.",
                            t, t + h, i, (unsigned long long)ps->id[i], j,
-                           -plane_distance(&st->walls->wall[j], ps->x + 3 * i), moved, h);
+                           -sinter_wall_distance(&st->walls->wall[j], ps->x + 3 * i), moved, h);
     }
     /* 2. overlap growth: the cheap test first (a pair closes at most twice the largest
      * displacement, a wall contact at most the displacement plus the wall's) */

@@ -30,6 +30,13 @@ typedef struct sinter_wall {
     double electric_value; /* CURRENT: J_ext [A]; POTENTIAL: [V]; NEUTRAL: 0 */
 } sinter_wall;
 
+/* Signed distance [m] of point x from the plane of wall w, positive on the particles' side
+ * (the one arithmetic every search and check uses, so that their verdicts agree). */
+static inline double sinter_wall_distance(const sinter_wall *w, const double *x)
+{
+    return (x[0] - w->p[0]) * w->n[0] + (x[1] - w->p[1]) * w->n[1] + (x[2] - w->p[2]) * w->n[2];
+}
+
 struct sinter_walls {
     sinter_ctx *ctx;
     size_t count;

@@ -352,26 +352,46 @@ static void test_results_independent_of_thread_count(void **state)
 static void test_pair_list_independent_of_thread_count(void **state)
 {
     (void)state;
-    enum { N = 12000 };
-    size_t counts[3], rebuilt[3];
-    uint32_t *ref_i = NULL, *ref_j = NULL, *ref_from = NULL;
+    enum { N = 20000 }; /* the bounding box and cell sort run on threads from 16384 */
+    size_t counts[3], rebuilt[3], walls[3];
+    uint32_t *ref_i = NULL, *ref_j = NULL, *ref_from = NULL, *ref_wi = NULL, *ref_wj = NULL;
     for (int t = 0; t < 3; ++t) {
         scene s;
         sinter_neighbors nb;
         dense_cloud(&s, t + 1, N, &nb);
+        /* two walls through the cloud (the wall pairs are found on threads too) */
+        const double p0[3] = {0.0, 0.0, 0.01}, n0[3] = {0.0, 0.0, 1.0};
+        const double p1[3] = {0.02, 0.0, 0.0}, n1[3] = {-1.0, 0.0, 0.0};
+        OK(sinter_walls_add_plane(s.walls, p0, n0, s.wall_mat, NULL));
+        OK(sinter_walls_add_plane(s.walls, p1, n1, s.wall_mat, NULL));
+        OK(sinter_neighbors_build(&nb, s.ps, s.walls));
         counts[t] = nb.pp.count;
+        walls[t] = nb.pw.count;
+        for (size_t p = 0; p < nb.pw.count; ++p) /* by particle, then wall; keys by id */
+            assert_true(p == 0 || nb.pw.i[p] > nb.pw.i[p - 1] ||
+                        (nb.pw.i[p] == nb.pw.i[p - 1] && nb.pw.j[p] > nb.pw.j[p - 1]));
         if (t == 0) {
             ref_i = malloc(nb.pp.count * sizeof(uint32_t));
             ref_j = malloc(nb.pp.count * sizeof(uint32_t));
             memcpy(ref_i, nb.pp.i, nb.pp.count * sizeof(uint32_t));
             memcpy(ref_j, nb.pp.j, nb.pp.count * sizeof(uint32_t));
             assert_true(nb.pp.count > 4 * (size_t)N + 2048);
-            print_message("%zu pairs\n", nb.pp.count);
+            ref_wi = malloc(nb.pw.count * sizeof(uint32_t));
+            ref_wj = malloc(nb.pw.count * sizeof(uint32_t));
+            memcpy(ref_wi, nb.pw.i, nb.pw.count * sizeof(uint32_t));
+            memcpy(ref_wj, nb.pw.j, nb.pw.count * sizeof(uint32_t));
+            assert_true(nb.pw.count > 1000);
+            print_message("%zu pairs, %zu wall pairs\n", nb.pp.count, nb.pw.count);
         } else {
             assert_int_equal(nb.pp.count, counts[0]);
             assert_memory_equal(nb.pp.i, ref_i, nb.pp.count * sizeof(uint32_t));
             assert_memory_equal(nb.pp.j, ref_j, nb.pp.count * sizeof(uint32_t));
+            assert_int_equal(walls[t], walls[0]);
+            assert_memory_equal(nb.pw.i, ref_wi, nb.pw.count * sizeof(uint32_t));
+            assert_memory_equal(nb.pw.j, ref_wj, nb.pw.count * sizeof(uint32_t));
         }
+        for (size_t p = 0; p < nb.pw.count; ++p)
+            assert_int_equal(nb.pw.key_i[p], s.ps->id[nb.pw.i[p]]);
         for (size_t p = 0; p < nb.pp.count; ++p) {
             assert_int_equal(nb.pp.key_i[p], s.ps->id[nb.pp.i[p]]);
             assert_int_equal(nb.pp.key_j[p], s.ps->id[nb.pp.j[p]]);
@@ -402,6 +422,8 @@ static void test_pair_list_independent_of_thread_count(void **state)
     free(ref_i);
     free(ref_j);
     free(ref_from);
+    free(ref_wi);
+    free(ref_wj);
 }
 
 /* A copy of a contact list's membership, to compare the next search with. */
