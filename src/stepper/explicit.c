@@ -12,7 +12,6 @@
 #include "sanity.h"
 #include "stepper.h"
 
-
 /* The spare arrays at the set's capacity (the set may have grown since the last step); see
  * stepper.h. */
 sinter_status sinter_explicit_reserve(sinter_stepper *st)
@@ -188,7 +187,6 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
     const double *restrict x0 = nb->x_ref;
     const int measure = nb->built && nb->layout_generation == ps->layout_generation &&
                         nb->ref_capacity >= 3 * n && x0 != NULL;
-    const double *restrict radius = ps->radius;
     /* gravity's force written where the force is zeroed: 0 + m g, as its evaluation adds it
      * (0 + m 0 = +0 without it) */
     const double *gravity = first_gravity(st);
@@ -219,7 +217,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
         return d.bad;
     }
     /* fixed or non-rotating particles among them: one thread, every case by its flags */
-    double moved2 = 0.0, step2 = 0.0, rmin = INFINITY;
+    double moved2 = 0.0, step2 = 0.0;
     for (size_t i = 0; i < n; ++i) {
         const uint32_t fl = flags[i];
         double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
@@ -259,7 +257,6 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
             z += nonfinite(nx[3 * i + d]) + nonfinite(alpha[d]);
         moved2 = d2 > moved2 ? d2 : moved2;
         step2 = s2 > step2 ? s2 : step2;
-        rmin = radius[i] < rmin ? radius[i] : rmin;
         if (!(z == 0.0) && i < bad)
             bad = i;
     }
@@ -267,7 +264,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
     if (measure)
         sinter_neighbors_set_moved(nb, ps, moved2);
     scan->moved2 = step2;
-    scan->rmin = rmin;
+    scan->rmin = st->rmin; /* found with any_special */
     return bad;
 }
 
