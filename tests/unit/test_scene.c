@@ -166,6 +166,31 @@ static void state_of(sinter_scene *scene, double *out, size_t n)
     sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
 }
 
+/* The explicit stepper's streaming stores from a scene file ([stepper] stream_stores); a value
+ * other than -1, 0 or 1 is refused at its line. */
+static void test_stream_stores_key(void **state)
+{
+    (void)state;
+    char text[4096];
+    const char *end = strstr(GOOD, "end_time = 0.01\n");
+    assert_non_null(end);
+    const int head = (int)(end - GOOD);
+    snprintf(text, sizeof(text), "%.*sstream_stores = 1\n%s", head, GOOD, end);
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("stores.scene", text)), SINTER_OK);
+    sinter_stepper *st = NULL;
+    assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
+    double value = -1.0;
+    assert_int_equal(sinter_stepper_get_option(st, "stream_stores", &value), SINTER_OK);
+    assert_true(value == 1.0);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    snprintf(text, sizeof(text), "%.*sstream_stores = 3\n%s", head, GOOD, end);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", "stream_stores = 3");
+}
+
 static void test_restart_is_bit_for_bit(void **state)
 {
     (void)state;
@@ -570,6 +595,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_broken_scene_files),
+        cmocka_unit_test(test_stream_stores_key),
         cmocka_unit_test(test_restart_is_bit_for_bit),
         cmocka_unit_test(test_bad_checkpoints_are_refused),
         cmocka_unit_test(test_run_writes_outputs),
