@@ -703,29 +703,40 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     double *bout = c->chunk_scratch;
     uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
     size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
-#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
-    for (int s = 0; s < ch.count; ++s) {
-        first_ended[s] = SIZE_MAX;
-        boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s, bq + ch.qlo[s],
-                                bout + 3 * ch.qlo[s], &first_ended[s]);
+#pragma omp parallel num_threads(threads < ch.count ? threads : ch.count)
+    {
+#pragma omp for schedule(static)
+        for (int s = 0; s < ch.count; ++s) {
+            first_ended[s] = SIZE_MAX;
+            boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s,
+                                    bq + ch.qlo[s], bout + 3 * ch.qlo[s], &first_ended[s]);
+        }
+        /* The boundary contacts, in list order, by the range that holds each particle: a
+         * particle receives them in the order one pass over the list gives, and no two
+         * ranges add into the same particle. */
+#pragma omp for schedule(static)
+        for (int r = 0; r < ch.count; ++r) {
+            const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
+            for (int s = 0; s <= r; ++s) /* a range's contacts have their smaller particle
+                                          * index in it: later ranges touch none of r's */
+                for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
+                    const size_t q = bq[b];
+                    const uint32_t ij[2] = {c->i[q], c->j[q]};
+                    for (int end = 0; end < 2; ++end) {
+                        const uint32_t p = ij[end];
+                        if (p < lo || p >= hi)
+                            continue;
+                        double f[3] = {force[3 * p], force[3 * p + 1], force[3 * p + 2]};
+                        double t[3] = {torque[3 * p], torque[3 * p + 1], torque[3 * p + 2]};
+                        add_from_force(c, e->ps, q, bout + 3 * b, end == 0, f, t);
+                        for (int d = 0; d < 3; ++d)
+                            force[3 * p + d] = f[d], torque[3 * p + d] = t[d];
+                    }
+                }
+        }
     }
     for (int s = 0; s < ch.count; ++s)
         *ended = first_ended[s] < *ended ? first_ended[s] : *ended;
-    for (int s = 0; s < ch.count; ++s)
-        for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
-            const size_t q = bq[b];
-            const uint32_t i = c->i[q], j = c->j[q];
-            double fi[3] = {force[3 * i], force[3 * i + 1], force[3 * i + 2]};
-            double ti[3] = {torque[3 * i], torque[3 * i + 1], torque[3 * i + 2]};
-            double fj[3] = {force[3 * j], force[3 * j + 1], force[3 * j + 2]};
-            double tj[3] = {torque[3 * j], torque[3 * j + 1], torque[3 * j + 2]};
-            add_from_force(c, e->ps, q, bout + 3 * b, 1, fi, ti);
-            add_from_force(c, e->ps, q, bout + 3 * b, 0, fj, tj);
-            for (int d = 0; d < 3; ++d) {
-                force[3 * i + d] = fi[d], torque[3 * i + d] = ti[d];
-                force[3 * j + d] = fj[d], torque[3 * j + d] = tj[d];
-            }
-        }
     return SINTER_OK;
 }
 

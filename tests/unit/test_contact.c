@@ -269,6 +269,76 @@ static void open_packed(scene *s_out, int threads, int heat, sinter_heat_model *
     *cond_out = cond;
 }
 
+/*
+ * The partitioned law (hertz_mindlin.c, pp_chunked: ranges of particles on the threads, the
+ * contacts between ranges added afterwards by the range of each particle) against Hertz's
+ * closed form: a jittered packed lattice of 15^3 spheres at rest, overlapping their
+ * neighbours by about 1 um, no gravity, no walls. At the first evaluation there is no
+ * tangential history and no velocity, so each contact pushes its spheres apart with
+ * 4/3 E* sqrt(R*) delta^(3/2) along the line of centres (seed 003 eq. 4); each sphere's net
+ * force must be the sum over its overlapping neighbours, to 1e-9 of the largest contact
+ * force (the law's arithmetic differs from this loop's), on 1-3 threads, with the list found
+ * with and without its geometry (heat conduction by projection makes it lean).
+ */
+static void test_partitioned_law_matches_hertz(void **state)
+{
+    (void)state;
+    enum { M = 15, N = M * M * M };
+    const double e = 1e7, nu = 0.3, r = 0.5e-3, a = 2 * r * 0.999;
+    const double estar = e / (2.0 * (1.0 - nu * nu)), k = 4.0 / 3.0 * estar * sqrt(0.5 * r);
+    for (int lean = 0; lean <= 1; ++lean)
+        for (int t = 1; t <= 3; ++t) {
+            scene s;
+            conducting_scene(&s, t);
+            scene_open(&s, "hertz_mindlin", 0);
+            OK(sinter_force_model_set(s.contact, "rolling", 0.0));
+            sinter_heat_model *cond = NULL;
+            if (lean) {
+                OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+                OK(sinter_heat_model_set(cond, "area", 1.0));
+                OK(sinter_stepper_add_heat(s.st, cond));
+            }
+            uint64_t seed = 9;
+            for (int z = 0; z < M; ++z)
+                for (int y = 0; y < M; ++y)
+                    for (int x = 0; x < M; ++x)
+                        scene_add(&s, (x + 0.5) * a + 2e-7 * lcg(&seed),
+                                  (y + 0.5) * a + 2e-7 * lcg(&seed),
+                                  (z + 0.5) * a + 2e-7 * lcg(&seed), r);
+            OK(sinter_stepper_set_dt(s.st, 1e-6));
+            OK(sinter_stepper_step(s.st, 0)); /* the first evaluation only */
+            const double *x = s.ps->x, *f = s.ps->force;
+            double *expected = calloc(3 * N, sizeof(double));
+            double fmax = 0.0;
+            size_t contacts = 0;
+            for (size_t i = 0; i < N; ++i)
+                for (size_t j = i + 1; j < N; ++j) {
+                    double d[3], d2 = 0.0;
+                    for (int c = 0; c < 3; ++c) {
+                        d[c] = x[3 * j + c] - x[3 * i + c];
+                        d2 += d[c] * d[c];
+                    }
+                    if (!(d2 < 4 * r * r))
+                        continue;
+                    const double dist = sqrt(d2), delta = 2 * r - dist;
+                    const double fn = k * delta * sqrt(delta);
+                    fmax = fn > fmax ? fn : fmax;
+                    ++contacts;
+                    for (int c = 0; c < 3; ++c) {
+                        expected[3 * i + c] -= fn * d[c] / dist;
+                        expected[3 * j + c] += fn * d[c] / dist;
+                    }
+                }
+            assert_true(contacts > 9000);
+            assert_true(s.st->pp.chunks.count >= 2); /* the partitioned path, boundaries */
+            for (size_t q = 0; q < 3 * N; ++q)
+                assert_close(f[q], expected[q], 1e-9 * fmax);
+            free(expected);
+            sinter_heat_model_destroy(cond);
+            scene_close(&s);
+        }
+}
+
 /* A restart of the packed lattice with rolling resistance on 2 threads (the two-phase law,
  * which sums per particle over the pairs' adjacency) continues bit for bit in a fresh
  * stepper: the restored pair lists get their adjacency made for them (neighbors.c,
@@ -930,6 +1000,7 @@ int main(void)
         cmocka_unit_test(test_pair_list_matches_brute_force),
         cmocka_unit_test(test_trajectory_independent_of_rebuilds_and_order),
         cmocka_unit_test(test_rolling_restart_on_threads),
+        cmocka_unit_test(test_partitioned_law_matches_hertz),
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
