@@ -309,12 +309,15 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
     return offset[chunks];
 }
 
+/* Fewest pairs a range of a threaded fill is given (fill_ranges). */
+enum { FILL_RANGE_MIN = 4096 };
+
 /* The ranges of a threaded fill of `pairs` pairs on `threads` threads: a few per thread, of
- * 4096 pairs at least (one per thread when there are not that many). */
+ * FILL_RANGE_MIN pairs at least (one per thread when there are not that many). */
 static int fill_ranges(size_t pairs, int threads)
 {
     int ranges = 4 * threads < MAX_CHUNKS ? 4 * threads : MAX_CHUNKS;
-    while (ranges > threads && pairs / (size_t)ranges < 4096)
+    while (ranges > threads && pairs / (size_t)ranges < FILL_RANGE_MIN)
         ranges /= 2;
     return ranges > threads ? ranges : threads;
 }
@@ -647,7 +650,7 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
         fill_part rest = {1, 0, 0, 0};
         const uint32_t before = m > 0 ? smaller_index(c, m - 1) : 0;
         const int chunks = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
-        int threaded = chunks > 1 && n - p >= 2 * 4096;
+        int threaded = chunks > 1 && n - p >= 2 * FILL_RANGE_MIN;
         if (threaded && sinter_grow(ctx, (void **)&c->fill_scratch, &c->fill_scratch_capacity,
                                     3 * n + 1, sizeof(uint32_t)) != SINTER_OK) {
             sinter_clear_error(ctx); /* no room for the scratch: one thread fills them */

@@ -66,16 +66,22 @@ static sinter_status reserve_pairs(sinter_ctx *ctx, sinter_pair_list *l, size_t 
     return SINTER_OK;
 }
 
+/* The displacement bound from a measure of it (`bound` [m]; NaN: none) for ps's generations. */
+static void set_bound(sinter_neighbors *nb, const sinter_particles *ps, double bound)
+{
+    nb->moved_bound = bound;
+    nb->bound_valid = bound >= 0.0; /* not NaN */
+    nb->bound_layout = ps->layout_generation;
+    nb->bound_write = ps->write_generation;
+}
+
 void sinter_neighbors_set_moved(sinter_neighbors *nb, const sinter_particles *ps, double moved2)
 {
     nb->moved2 = moved2;
     nb->moved_valid = 1;
     nb->moved_layout = ps->layout_generation;
     nb->moved_write = ps->write_generation;
-    nb->moved_bound = sqrt(moved2);
-    nb->bound_valid = moved2 >= 0.0; /* not NaN */
-    nb->bound_layout = ps->layout_generation;
-    nb->bound_write = ps->write_generation;
+    set_bound(nb, ps, sqrt(moved2));
 }
 
 int sinter_neighbors_bound_holds(const sinter_neighbors *nb, const sinter_particles *ps)
@@ -628,10 +634,7 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     }
     nb->wall_count = nw;
     nb->layout_generation = ps->layout_generation;
-    nb->moved_bound = 0.0; /* nothing moved since */
-    nb->bound_valid = 1;
-    nb->bound_layout = ps->layout_generation;
-    nb->bound_write = ps->write_generation;
+    set_bound(nb, ps, 0.0); /* nothing moved since */
     nb->pp.build_id = sinter_unique_id();
     nb->pw.build_id = sinter_unique_id();
     nb->built = 1;
