@@ -25,6 +25,7 @@
 #endif
 
 #include "contact/chunks.h"
+#include "core/clones.h"
 #include "core/stream_store.h"
 #include "force_model.h"
 #include "vec3.h"
@@ -552,10 +553,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
  * returns their number. Compiled for the baseline and, where the compiler supports it, for
  * AVX2 (picked at load time by the CPU).
  */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&    \
-    !defined(SINTER_NO_CLONES)
-__attribute__((target_clones("default", "avx2")))
-#endif
+SINTER_CLONES
 static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
                         const pair_consts *single, size_t lo, size_t hi, const sinter_chunks *ch,
                         int s, uint32_t *bq, double *bout, size_t *ended)

@@ -11,6 +11,7 @@
 #include "core/stream_store.h"
 #include "sanity.h"
 #include "stepper.h"
+#include "verlet_blocks.h"
 
 /* The spare arrays at the set's capacity (the set may have grown since the last step); see
  * stepper.h. */
@@ -83,77 +84,43 @@ static inline double nonfinite(double z)
     return z * 0.0;
 }
 
-/* What a pass of plain_kick_drift found: the first particle with a non-finite position or
- * rotation (n: none), the largest squared displacement since the neighbour build (with
- * `exact`) and in this step. */
-typedef struct drift_scan {
-    size_t bad;
-    double moved2, step2;
-} drift_scan;
+/* Ranges of particles for `threads` threads: [n t / T, n (t + 1) / T). */
+static inline size_t range_bound(size_t n, int t, int threads)
+{
+    return n * (size_t)t / (size_t)threads;
+}
 
 /*
- * kick_drift for particles that are neither fixed nor without rotation (see there), with
- * `exact` (measure the displacement since the neighbour build against x_ref) and `stream`
- * (streaming stores for the new x, v, w) fixed at each call, so that each combination is its
- * own loop.
+ * kick_drift for particles that are neither fixed nor without rotation (see there), one
+ * range per thread in vectorised blocks (verlet_blocks.c); with `exact`, the displacement
+ * since the neighbour build is measured against x_ref; `stream`: streaming stores for the
+ * new x, v, w. The first non-finite particle (n: none) and the largest squared
+ * displacements are the ranges' (a first and a maximum: the same for any split).
  */
-static inline __attribute__((always_inline)) drift_scan
-plain_kick_drift(sinter_stepper *st, double h, const double g[3], int threads, int exact,
-                 int stream)
+static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const double g[3],
+                                          int threads, int exact, int stream)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
-    const double *restrict x = ps->x, *restrict v = ps->v, *restrict w = ps->w,
-                           *restrict rot = ps->rot, *restrict x0 = st->nb.x_ref;
-    double *restrict f = ps->force, *restrict tq = ps->torque;
-    const double *restrict m = ps->mass, *restrict j = ps->inertia;
-    double *restrict nx = st->spare[0], *restrict nv = st->spare[1], *restrict nw = st->spare[2],
-                     *restrict nrot = st->spare[3];
-    const double half = 0.5 * h;
+    const sinter_verlet_arrays arrays = {
+        .x = ps->x, .v = ps->v, .w = ps->w, .rot = ps->rot, .f = ps->force, .tq = ps->torque,
+        .m = ps->mass, .j = ps->inertia, .x0 = st->nb.x_ref, .nx = st->spare[0],
+        .nv = st->spare[1], .nw = st->spare[2], .nrot = st->spare[3]};
     const int rotation = st->rotation;
     size_t bad = n;
     double moved2 = 0.0, step2 = 0.0;
-#pragma omp parallel num_threads(threads)
-    {
-#pragma omp for schedule(static) reduction(min : bad) reduction(max : moved2, step2) nowait
-        for (size_t i = 0; i < n; ++i) {
-            const double a = half / m[i], b = half / j[i];
-            double da[3], z = 0.0, d2 = 0.0, s2 = 0.0;
-            for (int d = 0; d < 3; ++d) {
-                const size_t k = 3 * i + (size_t)d;
-                const double xo = x[k];
-                const double vk = v[k] + a * f[k];
-                sinter_put(nv + k, vk, stream);
-                const double xk = xo + h * vk;
-                sinter_put(nx + k, xk, stream);
-                const double wk = w[k] + b * tq[k];
-                sinter_put(nw + k, wk, stream);
-                da[d] = h * wk;
-                f[k] = 0.0 + m[i] * g[d]; /* read for the last time: the next evaluation
-                                              adds into it */
-                tq[k] = 0.0;
-                z += nonfinite(xk);
-                const double sk = xk - xo;
-                s2 += sk * sk;
-                if (exact) {
-                    const double e = xk - x0[k];
-                    d2 += e * e;
-                }
-            }
-            moved2 = d2 > moved2 ? d2 : moved2; /* as sinter_neighbors_stale: NaN not taken */
-            step2 = s2 > step2 ? s2 : step2;
-            if (rotation) {
-                double *alpha = nrot + 3 * i;
-                alpha[0] = rot[3 * i], alpha[1] = rot[3 * i + 1], alpha[2] = rot[3 * i + 2];
-                sinter_compose_rotation(alpha, da);
-                z += nonfinite(alpha[0]) + nonfinite(alpha[1]) + nonfinite(alpha[2]);
-            }
-            if (!(z == 0.0) && i < bad)
-                bad = i;
-        }
+#pragma omp parallel for num_threads(threads) schedule(static, 1)                             \
+    reduction(min : bad) reduction(max : moved2, step2)
+    for (int t = 0; t < threads; ++t) {
+        const size_t lo = range_bound(n, t, threads), hi = range_bound(n, t + 1, threads);
+        const sinter_drift_scan d =
+            sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
         sinter_put_fence(stream); /* this thread's streamed stores before the barrier */
+        bad = d.bad < hi && d.bad < bad ? d.bad : bad;
+        moved2 = d.moved2 > moved2 ? d.moved2 : moved2;
+        step2 = d.step2 > step2 ? d.step2 : step2;
     }
-    return (drift_scan){bad, moved2, step2};
+    return (sinter_drift_scan){bad, moved2, step2};
 }
 
 /*
@@ -197,14 +164,8 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
         /* while the neighbour list's displacement bound holds, the step's largest
          * displacement is all it needs (sinter_neighbors_add_step): x_ref is not read */
         const int exact = measure && !sinter_neighbors_bound_holds(nb, ps);
-        const int stream = st->stores.stream_now;
-        drift_scan d;
-        if (exact)
-            d = stream ? plain_kick_drift(st, h, g, threads, 1, 1)
-                       : plain_kick_drift(st, h, g, threads, 1, 0);
-        else
-            d = stream ? plain_kick_drift(st, h, g, threads, 0, 1)
-                       : plain_kick_drift(st, h, g, threads, 0, 0);
+        const sinter_drift_scan d =
+            plain_kick_drift(st, h, g, threads, exact, st->stores.stream_now);
         swap_spare(st);
         if (exact)
             sinter_neighbors_set_moved(nb, ps, d.moved2);
@@ -282,19 +243,11 @@ static size_t kick(sinter_stepper *st, double h)
     const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
     size_t bad = n;
     if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
-        for (size_t i = 0; i < n; ++i) {
-            const double a = half / m[i], b = half / j[i];
-            double z = 0.0;
-            for (int d = 0; d < 3; ++d) {
-                const double vk = v[3 * i + d] + a * f[3 * i + d];
-                const double wk = w[3 * i + d] + b * tq[3 * i + d];
-                v[3 * i + d] = vk;
-                w[3 * i + d] = wk;
-                z += nonfinite(vk) + nonfinite(wk);
-            }
-            if (!(z == 0.0) && i < bad)
-                bad = i;
+#pragma omp parallel for num_threads(threads) schedule(static, 1) reduction(min : bad)
+        for (int t = 0; t < threads; ++t) {
+            const size_t lo = range_bound(n, t, threads), hi = range_bound(n, t + 1, threads);
+            const size_t b = sinter_verlet_kick(v, w, f, tq, m, j, h, lo, hi);
+            bad = b < hi && b < bad ? b : bad;
         }
         return bad;
     }
