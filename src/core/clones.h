@@ -9,7 +9,7 @@
 #ifndef SINTER_CLONES_H
 #define SINTER_CLONES_H
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&    \
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
     !defined(SINTER_NO_CLONES)
 #define SINTER_CLONES __attribute__((target_clones("default", "avx2")))
 #else

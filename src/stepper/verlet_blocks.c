@@ -45,11 +45,11 @@ spread_factors(const double *restrict m, const double *restrict j, double half, 
 
 /* One specialisation of the first pass (exact, stream and rotation fixed). */
 static inline __attribute__((always_inline)) sinter_drift_scan
-kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int rotation,
-                int exact, int stream, size_t lo, size_t hi)
+kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int rotation, int exact,
+                int stream, size_t lo, size_t hi)
 {
-    const double *restrict x = a->x, *restrict v = a->v, *restrict w = a->w,
-                           *restrict x0 = a->x0, *restrict m = a->m;
+    const double *restrict x = a->x, *restrict v = a->v, *restrict w = a->w, *restrict x0 = a->x0,
+                           *restrict m = a->m;
     double *restrict f = a->f, *restrict tq = a->tq;
     const double half = 0.5 * h;
     sinter_drift_scan out = {hi, 0.0, 0.0};
@@ -116,8 +116,8 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
 
 SINTER_CLONES
 sinter_drift_scan sinter_verlet_kick_drift(const sinter_verlet_arrays *a, double h,
-                                           const double g[3], int rotation, int exact,
-                                           int stream, size_t lo, size_t hi)
+                                           const double g[3], int rotation, int exact, int stream,
+                                           size_t lo, size_t hi)
 {
     /* each combination its own loop, with no branch inside */
 #define KD(r, e, s) kick_drift_body(a, h, g, r, e, s, lo, hi)

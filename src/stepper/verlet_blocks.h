@@ -33,12 +33,12 @@ typedef struct sinter_drift_scan {
  * nw (core/stream_store.h; the caller fences).
  */
 sinter_drift_scan sinter_verlet_kick_drift(const sinter_verlet_arrays *a, double h,
-                                           const double g[3], int rotation, int exact,
-                                           int stream, size_t lo, size_t hi);
+                                           const double g[3], int rotation, int exact, int stream,
+                                           size_t lo, size_t hi);
 
 /* Second half kick of particles [lo, hi), in place: v += h/(2m) f, w += h/(2J) tq. Returns
  * the first particle whose velocity or spin is not finite, or hi. */
-size_t sinter_verlet_kick(double *v, double *w, const double *f, const double *tq,
-                          const double *m, const double *j, double h, size_t lo, size_t hi);
+size_t sinter_verlet_kick(double *v, double *w, const double *f, const double *tq, const double *m,
+                          const double *j, double h, size_t lo, size_t hi);
 
 #endif

@@ -20,8 +20,7 @@
 enum { N = 77 }; /* two blocks of 32 and 13 more */
 
 typedef struct state {
-    double x[3 * N], v[3 * N], w[3 * N], rot[3 * N], f[3 * N], tq[3 * N], m[N], j[N],
-        x0[3 * N];
+    double x[3 * N], v[3 * N], w[3 * N], rot[3 * N], f[3 * N], tq[3 * N], m[N], j[N], x0[3 * N];
 } state;
 
 static double lcg(uint64_t *s)
@@ -43,8 +42,8 @@ static void fill(state *s, uint64_t seed)
 
 /* One particle at a time (the loop the blocks replaced). */
 static sinter_drift_scan reference(state *s, double *nx, double *nv, double *nw, double *nrot,
-                                   double h, const double g[3], int rotation, int exact,
-                                   size_t lo, size_t hi)
+                                   double h, const double g[3], int rotation, int exact, size_t lo,
+                                   size_t hi)
 {
     sinter_drift_scan out = {hi, 0.0, 0.0};
     for (size_t i = lo; i < hi; ++i) {
@@ -91,9 +90,18 @@ static void check_kick_drift(int rotation, int exact, int stream, size_t poisone
     memset(nrot, 0, sizeof nrot);
     const sinter_drift_scan want =
         reference(&a, nx[0], nv[0], nw[0], nrot[0], h, g, rotation, exact, lo, hi);
-    const sinter_verlet_arrays arrays = {.x = b.x, .v = b.v, .w = b.w, .rot = b.rot,
-                                         .f = b.f, .tq = b.tq, .m = b.m, .j = b.j,
-                                         .x0 = b.x0, .nx = nx[1], .nv = nv[1], .nw = nw[1],
+    const sinter_verlet_arrays arrays = {.x = b.x,
+                                         .v = b.v,
+                                         .w = b.w,
+                                         .rot = b.rot,
+                                         .f = b.f,
+                                         .tq = b.tq,
+                                         .m = b.m,
+                                         .j = b.j,
+                                         .x0 = b.x0,
+                                         .nx = nx[1],
+                                         .nv = nv[1],
+                                         .nw = nw[1],
                                          .nrot = nrot[1]};
     const sinter_drift_scan got =
         sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
