@@ -3,7 +3,9 @@
 # ../shared/bench/peers, one cell at a time and interleaved (the peers and libsinter's
 # single-thread run pinned to one core, then libsinter on two threads), so that each ratio
 # comes from the same minutes. Prints one line per run: the programs' "Loop time" [s] and
-# libsinter's peak resident memory [kB]. RESULTS.md, "Performance (issue 9), session 4".
+# libsinter's peak resident memory [kB], and the round trip of a cache line between the two
+# cores before and after the 2-thread run (rt_ns, core_latency.c: the 2-thread times follow
+# it). RESULTS.md, "Performance (issue 9)", sessions 4 and 8.
 #
 #   tests/bench/peer_table.sh                     # every cell, two runs each (~10 min)
 #   CELLS="thermal:40:500:1" REPS=3 tests/bench/peer_table.sh
@@ -29,6 +31,9 @@ thermal:100:100:0 mech:10:20000:0 mech:20:4000:0 mech:40:2000:0}"
 mkdir -p "$DATA"
 cd "$DATA"
 loop_time() { grep 'Loop time' "$1" | awk '{print $4}'; }
+# the round trip of a cache line between the two cores [ns], before and after the 2-thread
+# run (rt_ns): 60-80 ns with both on one die, ~350 ns on two (core_latency.c)
+round_trip() { "$BUILD/bin/core_latency" 0 1 100000 | awk '{print $(NF-1)}'; }
 echo "# $(date -u '+%F %T') UTC, libsinter $(git -C "$ROOT" rev-parse --short HEAD), build $BUILD," \
      "load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), $(nproc) cores"
@@ -56,8 +61,9 @@ for cell in $CELLS; do
       echo "$(loop_time sinter.log) $(grep peak_rss sinter.stats | awk '{print $3}')"
     }
     read -r one rss1 <<< "$(run 1 "taskset -c $PIN")"
+    rt0=$(round_trip)
     read -r two rss2 <<< "$(run 2 "")"
     echo "$scene n=$n N=$((n * n * n)) steps=$steps heat=$heat liggghts=$lig lammps=$lmp_t" \
-         "one=$one two=$two rss1_kB=$rss1 rss2_kB=$rss2 $(date -u +%T)"
+         "one=$one two=$two rss1_kB=$rss1 rss2_kB=$rss2 rt_ns=$rt0/$(round_trip) $(date -u +%T)"
   done
 done
