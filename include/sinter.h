@@ -674,6 +674,15 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * do; -1, the default, times steps of both kinds after each change of the
  * particles or threads and keeps the faster; 1 always, 0 never. The results
  * are the same to the bit either way.
+ * Any stepper takes "thread_choice", which only the explicit one uses: when the
+ * context allows more than one thread (sinter_ctx_set_threads), -1, the
+ * default, times a few steps on that many threads and on one, takes the
+ * faster, and measures again after half a second or more (and at least 50
+ * times the measurement's own time, so that measuring costs little): where
+ * the threads' cores share no cache (two dies or sockets; the project's VMs
+ * when the host places their cores so) a small system on two threads can take
+ * twice as long as on one. 0 always takes the context's count. The results
+ * are the same to the bit either way (no sum depends on the thread count).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).

@@ -49,7 +49,7 @@ static sinter_status reserve(sinter_ctx *ctx, sinter_contact_list *c, size_t nee
     return SINTER_OK;
 }
 
-int sinter_threads(const sinter_ctx *ctx)
+int sinter_threads_allowed(const sinter_ctx *ctx)
 {
 #ifdef _OPENMP
     return ctx->threads > 0 ? ctx->threads : omp_get_max_threads();
@@ -57,6 +57,11 @@ int sinter_threads(const sinter_ctx *ctx)
     (void)ctx;
     return 1;
 #endif
+}
+
+int sinter_threads(const sinter_ctx *ctx)
+{
+    return ctx->step_threads > 0 ? ctx->step_threads : sinter_threads_allowed(ctx);
 }
 
 /* 1 if pair p is in contact (the test of the fill pass, without its arithmetic). */

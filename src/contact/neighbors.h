@@ -76,7 +76,11 @@ typedef struct sinter_neighbors {
     uint64_t bound_layout, bound_write;
 } sinter_neighbors;
 
-/* Threads to use for a context (its setting; 0 means all available); contacts.c. */
+/* Threads a context allows (its setting; 0 means all available); contacts.c. */
+int sinter_threads_allowed(const sinter_ctx *ctx);
+
+/* Threads to use now: those the explicit stepper chose for the step being taken
+ * (stepper/thread_choice.h), else the context's allowed count; contacts.c. */
 int sinter_threads(const sinter_ctx *ctx);
 
 void sinter_neighbors_init(sinter_neighbors *nb, sinter_ctx *ctx, double skin);

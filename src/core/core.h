@@ -18,6 +18,7 @@ struct sinter_ctx {
     void *log_user;
     int log_level;
     int threads;
+    int step_threads; /* > 0: the threads of the step being taken (stepper/thread_choice.h) */
 };
 
 #if defined(__GNUC__)

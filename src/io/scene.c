@@ -523,6 +523,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
     static const char *const options[] = {"sort_interval",
                                           "rotation",
                                           "stream_stores",
+                                          "thread_choice",
                                           "phi",
                                           "target_iterations",
                                           "tolerance",

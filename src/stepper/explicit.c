@@ -284,7 +284,8 @@ static int choose_stores(sinter_stepper *st)
 {
     sinter_store_choice *c = &st->stores;
     const size_t n = st->ps->count;
-    const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
+    /* the context's count, not the thread choice's of this step (thread_choice.h) */
+    const int threads = n < 4096 ? 1 : sinter_threads_allowed(st->ctx);
     if (!SINTER_STREAMING_STORES || c->option == 0)
         return 0;
     if (c->option == 1)
@@ -299,6 +300,13 @@ static int choose_stores(sinter_stepper *st)
         c->best[0] = c->best[1] = INFINITY;
     }
     return c->decided >= 0 ? c->decided : c->trials & 1;
+}
+
+int sinter_explicit_stores_measuring(const sinter_stepper *st)
+{
+    const sinter_store_choice *c = &st->stores;
+    return SINTER_STREAMING_STORES && c->option == -1 && c->decided < 0 &&
+           st->ps->count >= STREAM_MIN_PARTICLES;
 }
 
 /* An accepted step of `seconds`, taken with the stores of choose_stores. */

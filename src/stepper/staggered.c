@@ -145,7 +145,8 @@ static sinter_status option_target(const sinter_stepper *st, const char *func, c
         return sinter_fail(
             st->ctx, SINTER_ERR_NOT_FOUND,
             "%s: unknown option '%s'; the explicit and staggered steppers take sort_interval "
-            "and rotation, the explicit stepper stream_stores, the staggered stepper also "
+            "and rotation, the explicit stepper stream_stores and thread_choice, the staggered "
+            "stepper also "
             OPTION_LIST,
             func, key);
     if (st->kind != SINTER_STEPPER_STAGGERED)

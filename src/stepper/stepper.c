@@ -45,6 +45,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->rotation = 1;
     st->stores.option = -1; /* measured (explicit.c) */
     st->stores.decided = -1;
+    sinter_thread_choice_init(&st->threads_choice);
     sinter_neighbors_init(&st->nb, ctx, 0.0);
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
@@ -149,6 +150,22 @@ static sinter_status set_stream_stores(sinter_stepper *st, double value)
     return SINTER_OK;
 }
 
+/* Option "thread_choice" (explicit stepper): -1 (the default) times steps on the context's
+ * threads and on one and takes the faster, measured again from time to time; 0 always the
+ * context's threads (thread_choice.h). */
+static sinter_status set_thread_choice(sinter_stepper *st, double value)
+{
+    if (value != -1.0 && value != 0.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_option: thread_choice = %g must be -1 (time "
+                           "steps on the context's threads and on one and take the faster, the "
+                           "default) or 0 (always the context's threads)",
+                           value);
+    sinter_thread_choice_init(&st->threads_choice);
+    st->threads_choice.option = (int)value;
+    return SINTER_OK;
+}
+
 sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, double value)
 {
     if (st == NULL)
@@ -160,6 +177,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_rotation(st, value);
     if (strcmp(key, "stream_stores") == 0)
         return set_stream_stores(st, value);
+    if (strcmp(key, "thread_choice") == 0)
+        return set_thread_choice(st, value);
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
@@ -181,6 +200,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     }
     if (strcmp(key, "stream_stores") == 0) {
         *value = st->stores.option;
+        return SINTER_OK;
+    }
+    if (strcmp(key, "thread_choice") == 0) {
+        *value = st->threads_choice.option;
         return SINTER_OK;
     }
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
@@ -843,7 +866,10 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
     } else if (st->kind == SINTER_STEPPER_QUASISTATIC) {
         s = sinter_quasistatic_step(st, &st->quasistatic, &st->quasistatic_options, h, taken);
     } else {
+        sinter_thread_choice_begin(st); /* 1 or the context's threads, by timing */
+        const double clock_start = sinter_clock();
         s = sinter_explicit_step(st, h);
+        sinter_thread_choice_end(st, sinter_clock() - clock_start, s == SINTER_OK);
         *taken = h;
     }
     if (s != SINTER_OK) {

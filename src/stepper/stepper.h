@@ -6,6 +6,7 @@
 #include "force/force_model.h"
 #include "stepper/thermal.h"
 #include "stepper/quasistatic.h"
+#include "stepper/thread_choice.h"
 
 typedef struct sinter_force_slot {
     sinter_force_model *model;
@@ -89,6 +90,7 @@ struct sinter_stepper {
     double *spare[4];
     size_t spare_capacity; /* particles */
     sinter_store_choice stores;
+    sinter_thread_choice threads_choice; /* explicit stepper, option "thread_choice" */
     /* whether a particle is fixed or does not rotate, and the smallest radius (explicit.c,
      * any_special), for these particle generations */
     int any_special;
@@ -142,6 +144,9 @@ sinter_status sinter_stepper_commit(sinter_stepper *st);
 
 /* Explicit velocity-Verlet step of size h (explicit.c). */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h);
+
+/* 1 while the explicit stepper times its streaming stores (the thread choice waits). */
+int sinter_explicit_stores_measuring(const sinter_stepper *st);
 
 /* The explicit step's spare arrays at the set's capacity, their pages touched: done when the
  * forces are set up, so that the first step does not fault them in (explicit.c). */

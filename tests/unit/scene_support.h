@@ -38,6 +38,9 @@ static inline void scene_open(scene *s, const char *contact_model, int gravity)
     OK(sinter_particles_set_material(s->ps, 0, s->mat));
     OK(sinter_walls_create(&s->walls, s->ctx));
     OK(sinter_stepper_create(&s->st, s->ctx, SINTER_STEPPER_EXPLICIT, s->ps, s->walls));
+    /* on exactly the context's threads: the tests that compare thread counts need every step
+     * on the count they set (the choice by timing has a test of its own, test_stepper.c) */
+    OK(sinter_stepper_set_option(s->st, "thread_choice", 0));
     OK(sinter_force_model_create(&s->contact, s->ctx, contact_model));
     OK(sinter_stepper_add_force(s->st, s->contact));
     if (gravity) {

@@ -437,6 +437,7 @@ static uint64_t fingerprint(fixture *f)
     mix_param(&z, get_option, f->st, "sort_interval");
     mix_param(&z, get_option, f->st, "rotation");
     mix_param(&z, get_option, f->st, "stream_stores");
+    mix_param(&z, get_option, f->st, "thread_choice");
     for (size_t k = 0; k < sizeof(QS_KEYS) / sizeof(QS_KEYS[0]); ++k)
         mix_param(&z, get_option, f->qs, QS_KEYS[k]);
     for (int p = 0; p < SINTER_MAT_PARAM_COUNT_; ++p) {
@@ -989,6 +990,10 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_set_option(f->st, "stream_stores", 2.0))                                      \
     X(stream_stores_nan, SINTER_ERR_INVALID, "stream_stores = nan",                                \
       sinter_stepper_set_option(f->st, "stream_stores", NAN))                                      \
+    X(thread_choice_one, SINTER_ERR_INVALID, "thread_choice = 1 must be -1",                       \
+      sinter_stepper_set_option(f->st, "thread_choice", 1.0))                                      \
+    X(thread_choice_nan, SINTER_ERR_INVALID, "thread_choice = nan",                                \
+      sinter_stepper_set_option(f->st, "thread_choice", NAN))                                      \
     X(option_set_unknown, SINTER_ERR_NOT_FOUND, "unknown option 'phy'; the explicit and",          \
       sinter_stepper_set_option(f->stag, "phy", 0.5))                                              \
     X(option_set_on_explicit, SINTER_ERR_INVALID, "'phi' is an option of the implicit staggered",  \

@@ -189,6 +189,18 @@ static void test_stream_stores_key(void **state)
     sinter_ctx_destroy(ctx);
     snprintf(text, sizeof(text), "%.*sstream_stores = 3\n%s", head, GOOD, end);
     expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", "stream_stores = 3");
+    /* the thread choice by timing likewise ([stepper] thread_choice: -1 or 0) */
+    snprintf(text, sizeof(text), "%.*sthread_choice = 0\n%s", head, GOOD, end);
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("threads.scene", text)),
+                     SINTER_OK);
+    assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
+    assert_int_equal(sinter_stepper_get_option(st, "thread_choice", &value), SINTER_OK);
+    assert_true(value == 0.0);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    snprintf(text, sizeof(text), "%.*sthread_choice = 2\n%s", head, GOOD, end);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", "thread_choice = 2");
 }
 
 static void test_restart_is_bit_for_bit(void **state)

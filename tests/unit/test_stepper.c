@@ -409,9 +409,10 @@ static void test_fixed_between_steps(void **state)
 }
 
 /* A lattice of n^3 spheres of 1 mm, `spacing` apart, falling onto a floor with friction, on
- * `threads` threads, stepped `steps` times with option "stream_stores" `stores`: positions,
- * velocities and spins into out (9 per particle). */
-static void run_stores(int n, double spacing, int threads, int stores, int steps, double *out)
+ * `threads` threads, stepped `steps` times with stepper option `key` (default -1) at `value`:
+ * positions, velocities and spins into out (9 per particle). */
+static void run_option(int n, double spacing, int threads, const char *key, double value,
+                       int steps, double *out)
 {
     scene s;
     scene_init(&s);
@@ -427,11 +428,14 @@ static void run_stores(int n, double spacing, int threads, int stores, int steps
     }
     scene_floor(&s, 0.0);
     double got = 0.0;
-    OK(sinter_stepper_get_option(s.st, "stream_stores", &got));
+    sinter_stepper *fresh = NULL; /* the defaults, as a fresh stepper has them */
+    OK(sinter_stepper_create(&fresh, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, s.walls));
+    OK(sinter_stepper_get_option(fresh, key, &got));
+    sinter_stepper_destroy(fresh);
     assert_true(got == -1.0); /* the default: measured */
-    OK(sinter_stepper_set_option(s.st, "stream_stores", stores));
-    OK(sinter_stepper_get_option(s.st, "stream_stores", &got));
-    assert_true(got == stores);
+    OK(sinter_stepper_set_option(s.st, key, value));
+    OK(sinter_stepper_get_option(s.st, key, &got));
+    assert_true(got == value);
     OK(sinter_stepper_set_dt(s.st, 2e-5));
     OK(sinter_stepper_step(s.st, (uint64_t)steps));
     const size_t count = (size_t)n * (size_t)n * (size_t)n;
@@ -463,15 +467,48 @@ static void test_stream_stores_change_nothing(void **state)
     assert_non_null(never);
     assert_non_null(other);
     for (int threads = 1; threads <= 2; ++threads) {
-        run_stores(SMALL, 1.9e-3, threads, 0, 400, never);
-        run_stores(SMALL, 1.9e-3, threads, 1, 400, other);
+        run_option(SMALL, 1.9e-3, threads, "stream_stores", 0, 400, never);
+        run_option(SMALL, 1.9e-3, threads, "stream_stores", 1, 400, other);
         assert_memory_equal(never, other, 9 * SMALL * SMALL * SMALL * sizeof(double));
-        run_stores(LARGE, 2.5e-3, threads, 0, 30, never);
-        run_stores(LARGE, 2.5e-3, threads, -1, 30, other);
+        run_option(LARGE, 2.5e-3, threads, "stream_stores", 0, 30, never);
+        run_option(LARGE, 2.5e-3, threads, "stream_stores", -1, 30, other);
         assert_memory_equal(never, other, 9 * LARGE * LARGE * LARGE * sizeof(double));
     }
     free(never);
     free(other);
+}
+
+/*
+ * The thread count chosen by timing (stepper/thread_choice.h) changes no bit: the stepper
+ * takes steps on the context's two threads and on one, yet a settling heap of 2744 spheres
+ * with friction (400 steps) and a lattice of 68921 (30 steps: the streaming-store choice
+ * first, then the thread choice's 5 steps on 2 threads and 5 on one) move the same to the
+ * bit with the choice (-1, the default), without it (0: always 2 threads) and on one
+ * thread.
+ */
+static void test_thread_choice_changes_nothing(void **state)
+{
+    (void)state;
+    enum { SMALL = 14, LARGE = 41 };
+    const size_t big = 9 * (size_t)LARGE * LARGE * LARGE;
+    double *fixed = malloc(big * sizeof(double)), *chosen = malloc(big * sizeof(double));
+    double *one = malloc(big * sizeof(double));
+    assert_non_null(fixed);
+    assert_non_null(chosen);
+    assert_non_null(one);
+    const int n[2] = {SMALL, LARGE}, steps[2] = {400, 30};
+    const double spacing[2] = {1.9e-3, 2.5e-3};
+    for (int k = 0; k < 2; ++k) {
+        const size_t bytes = 9 * (size_t)n[k] * n[k] * n[k] * sizeof(double);
+        run_option(n[k], spacing[k], 2, "thread_choice", 0, steps[k], fixed);
+        run_option(n[k], spacing[k], 2, "thread_choice", -1, steps[k], chosen);
+        run_option(n[k], spacing[k], 1, "thread_choice", 0, steps[k], one);
+        assert_memory_equal(fixed, chosen, bytes);
+        assert_memory_equal(fixed, one, bytes);
+    }
+    free(fixed);
+    free(chosen);
+    free(one);
 }
 
 /*
@@ -608,6 +645,7 @@ int main(void)
         cmocka_unit_test(test_observer_and_stats),
         cmocka_unit_test(test_rotation_vector),
         cmocka_unit_test(test_stream_stores_change_nothing),
+        cmocka_unit_test(test_thread_choice_changes_nothing),
         cmocka_unit_test(test_fixed_between_steps),
         cmocka_unit_test(test_gravity_written_by_the_integrator),
         cmocka_unit_test(test_pour_comes_to_rest_in_box),
