@@ -36,10 +36,12 @@ static void usage(void)
 {
     fprintf(stderr, "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
                     "--heat 0|1 [--stats] [--threads N] [--shuffle SEED] [--sort-interval K]\n"
-                    "       [--rotation 0|1]\n"
+                    "       [--rotation 0|1] [--thread-choice -1|0]\n"
                     "  --shuffle: the particles in a random order in memory (as an unsorted host\n"
                     "    would give them; the PROBE line then follows other particles)\n"
                     "  --sort-interval: stepper option sort_interval (spatial sort every K steps)\n"
+                    "  --thread-choice: stepper option thread_choice (-1, the default, times\n"
+                    "    steps on the threads and on one and takes the faster; 0 always --threads)\n"
                     "  --rotation: stepper option rotation (1 integrates the rotation vector;\n"
                     "    default 0, as the peers)\n");
     exit(1);
@@ -50,7 +52,7 @@ int main(int argc, char **argv)
     const char *scene = NULL, *xyz = NULL, *boxf = NULL;
     unsigned long long steps = 0;
     double dt = 0.0;
-    int heat = 0, stats = 0, threads = 1, rotation = 0;
+    int heat = 0, stats = 0, threads = 1, rotation = 0, thread_choice = -1;
     unsigned long long shuffle = 0, sort_interval = 0;
     for (int a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
@@ -70,6 +72,7 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--shuffle") == 0) shuffle = strtoull(v, NULL, 10);
         else if (strcmp(argv[a], "--sort-interval") == 0) sort_interval = strtoull(v, NULL, 10);
         else if (strcmp(argv[a], "--rotation") == 0) rotation = atoi(v);
+        else if (strcmp(argv[a], "--thread-choice") == 0) thread_choice = atoi(v);
         else usage();
         ++a;
     }
@@ -165,6 +168,7 @@ int main(int argc, char **argv)
     if (sort_interval > 0)
         CHECK(sinter_stepper_set_option(st, "sort_interval", (double)sort_interval));
     CHECK(sinter_stepper_set_option(st, "rotation", (double)rotation));
+    CHECK(sinter_stepper_set_option(st, "thread_choice", (double)thread_choice));
     sinter_heat_model *cond = NULL;
     if (heat) {
         /* fix heat/gran/conduction ... contact_area projection */
