@@ -166,41 +166,38 @@ static void state_of(sinter_scene *scene, double *out, size_t n)
     sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
 }
 
-/* The explicit stepper's streaming stores from a scene file ([stepper] stream_stores); a value
- * other than -1, 0 or 1 is refused at its line. */
-static void test_stream_stores_key(void **state)
+/* A stepper option given in [stepper] (key = good) reaches the stepper; key = bad is refused at
+ * its line. */
+static void check_stepper_key(const char *key, double good, double bad)
 {
-    (void)state;
-    char text[4096];
+    char text[4096], expected[64];
     const char *end = strstr(GOOD, "end_time = 0.01\n");
     assert_non_null(end);
     const int head = (int)(end - GOOD);
-    snprintf(text, sizeof(text), "%.*sstream_stores = 1\n%s", head, GOOD, end);
+    snprintf(text, sizeof(text), "%.*s%s = %g\n%s", head, GOOD, key, good, end);
     sinter_ctx *ctx = NULL;
     assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
     sinter_scene *scene = NULL;
-    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("stores.scene", text)), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("option.scene", text)), SINTER_OK);
     sinter_stepper *st = NULL;
     assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
     double value = -1.0;
-    assert_int_equal(sinter_stepper_get_option(st, "stream_stores", &value), SINTER_OK);
-    assert_true(value == 1.0);
+    assert_int_equal(sinter_stepper_get_option(st, key, &value), SINTER_OK);
+    assert_true(value == good);
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
-    snprintf(text, sizeof(text), "%.*sstream_stores = 3\n%s", head, GOOD, end);
-    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", "stream_stores = 3");
-    /* the thread choice by timing likewise ([stepper] thread_choice: -1 or 0) */
-    snprintf(text, sizeof(text), "%.*sthread_choice = 0\n%s", head, GOOD, end);
-    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
-    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("threads.scene", text)),
-                     SINTER_OK);
-    assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
-    assert_int_equal(sinter_stepper_get_option(st, "thread_choice", &value), SINTER_OK);
-    assert_true(value == 0.0);
-    sinter_scene_destroy(scene);
-    sinter_ctx_destroy(ctx);
-    snprintf(text, sizeof(text), "%.*sthread_choice = 2\n%s", head, GOOD, end);
-    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", "thread_choice = 2");
+    snprintf(text, sizeof(text), "%.*s%s = %g\n%s", head, GOOD, key, bad, end);
+    snprintf(expected, sizeof(expected), "%s = %g", key, bad);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", expected);
+}
+
+/* The explicit stepper's streaming stores ([stepper] stream_stores: -1, 0 or 1) and its thread
+ * choice by timing ([stepper] thread_choice: -1 or 0) from a scene file. */
+static void test_stream_stores_key(void **state)
+{
+    (void)state;
+    check_stepper_key("stream_stores", 1, 3);
+    check_stepper_key("thread_choice", 0, 2);
 }
 
 static void test_restart_is_bit_for_bit(void **state)
