@@ -73,5 +73,10 @@ void sinter_thread_choice_end(sinter_stepper *st, double seconds, int accepted)
         c->decided = c->best[1] < c->best[0] ? 1 : c->requested;
         const double now = sinter_clock();
         c->next = now + fmax(MIN_INTERVAL, INTERVAL_FACTOR * (now - c->started));
+        sinter_log(st->ctx, SINTER_LOG_DEBUG,
+                   "explicit stepper: %d thread%s for the next %.3g s (shortest step %.3g ms on "
+                   "%d threads, %.3g ms on one)",
+                   c->decided, c->decided == 1 ? "" : "s", c->next - now, 1e3 * c->best[0],
+                   c->requested, 1e3 * c->best[1]);
     }
 }
