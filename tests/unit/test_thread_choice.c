@@ -50,6 +50,7 @@ static int step(sinter_stepper *st, double seconds, int accepted)
     return used;
 }
 
+#ifdef _OPENMP
 /* A measurement: 5 steps on 2 threads, then 5 on one, with these times (the first of each
  * block `warm`); returns the count it chose. */
 static int measure(scene *s, double two, double one, double warm)
@@ -62,6 +63,7 @@ static int measure(scene *s, double two, double one, double warm)
     assert_int_equal(sinter_threads(s->ctx), 2); /* the context's own count after a step */
     return s->st->threads_choice.decided;
 }
+#endif
 
 static void test_faster_count_is_kept(void **unused)
 {
