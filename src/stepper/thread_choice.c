@@ -38,7 +38,6 @@ void sinter_thread_choice_begin(sinter_stepper *st)
     sinter_thread_choice *c = &st->threads_choice;
     sinter_ctx *ctx = st->ctx;
     ctx->step_threads = 0;
-    c->now = 0;
     const int requested = sinter_threads_allowed(ctx);
     if (c->option == 0 || requested <= 1 || sinter_explicit_stores_measuring(st))
         return;
@@ -47,20 +46,20 @@ void sinter_thread_choice_begin(sinter_stepper *st)
         (c->decided > 0 && now >= c->next))
         restart(c, requested, st->ps->layout_generation);
     if (c->decided > 0) {
-        c->now = c->decided;
+        ctx->step_threads = c->decided;
     } else {
         if (c->trial == 0)
             c->started = now;
-        c->now = c->trial < BLOCK ? requested : 1;
+        ctx->step_threads = c->trial < BLOCK ? requested : 1;
     }
-    ctx->step_threads = c->now;
 }
 
 void sinter_thread_choice_end(sinter_stepper *st, double seconds, int accepted)
 {
     sinter_thread_choice *c = &st->threads_choice;
+    const int chosen = st->ctx->step_threads; /* 0: the step was not the choice's */
     st->ctx->step_threads = 0;
-    if (c->now == 0 || c->decided > 0)
+    if (chosen == 0 || c->decided > 0)
         return;
     if (!accepted) { /* measured again from the next step */
         restart(c, c->requested, c->layout);

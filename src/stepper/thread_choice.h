@@ -20,7 +20,6 @@ typedef struct sinter_thread_choice {
     int requested;   /* the context's thread count T the choice was made for (0: none) */
     int decided;     /* T or 1, or 0 while measuring */
     int trial;       /* steps of the measurement so far */
-    int now;         /* threads of the step being taken (0: the context's, unchosen) */
     uint64_t layout; /* the particles' layout_generation */
     double best[2];  /* the shortest timed step on T threads [0] and on one [1] [s] */
     double started;  /* clock at the measurement's first step [s] */
