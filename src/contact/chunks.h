@@ -38,4 +38,41 @@ static inline int sinter_chunks_interior(const sinter_chunks *k, int s, uint32_t
     return i >= lo && i < hi && j >= lo && j < hi;
 }
 
+/* First contact of wall list pw (particle indices ascending) whose particle is at least p. */
+static inline size_t sinter_chunks_first_wall_contact(const sinter_contact_list *pw, size_t p)
+{
+    size_t lo = 0, hi = pw->count;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (pw->i[mid] < p)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/*
+ * The runs of wall list pw that hold the wall contacts of the particle ranges of the
+ * particle-particle partition pp: qlo[s] .. qlo[s + 1] for s < S. Returns S, or 0 when pp
+ * has no partition or pw's particle indices do not ascend (then pw's own runs serve).
+ *
+ * A loop over these runs with the same thread count and schedule as the pp ranges' loop
+ * (`omp for schedule(static)` over S on min(threads, S) threads) gives each thread the
+ * particles it already added the pair forces into: their cache lines stay on its core
+ * (issue 9: on a two-core machine a line fetched from the other core costs 60-350 ns). The
+ * runs, like the partition, depend on the lists only: the same bits on any thread count.
+ */
+static inline int sinter_chunks_wall_runs(const sinter_chunks *pp, const sinter_contact_list *pw,
+                                          size_t qlo[SINTER_CHUNKS_MAX + 1])
+{
+    if (pp->count == 0 || !pw->ascending || pw->count == 0)
+        return 0;
+    qlo[0] = 0;
+    for (int s = 1; s < pp->count; ++s)
+        qlo[s] = sinter_chunks_first_wall_contact(pw, pp->plo[s]);
+    qlo[pp->count] = pw->count;
+    return pp->count;
+}
+
 #endif

@@ -797,9 +797,24 @@ static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t 
     c->branch[m] = s;
 }
 
+/* First pair of a pair list whose particle i is at least p, were they ascending (any index in
+ * [0, count] otherwise: the ranges made with it stay a partition). */
+static size_t first_pair_of(const sinter_pair_list *pairs, size_t p)
+{
+    size_t lo = 0, hi = pairs->count;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (pairs->i[mid] < p)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
-                                      const sinter_walls *walls)
+                                      const sinter_walls *walls, const sinter_chunks *owner)
 {
     sinter_status st = reserve(ctx, c, pairs->count + 1);
     if (st == SINTER_OK)
@@ -822,14 +837,32 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     uint32_t *to_contact = c->pair_to_contact;
     uint8_t *touch = c->touch;
     const size_t n = pairs->count;
-    enum { RANGES_MAX = 8 };
-    const int threads = n < 1024 ? 1 : sinter_threads(ctx);
-    const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
+    /* Ranges of pairs: by preference the pair partition's particle ranges (owner), so that
+     * each thread reads the positions it wrote and writes the contacts its law will read
+     * (chunks.h, sinter_chunks_wall_runs); else equal ranges, one per thread, from 1024
+     * pairs. */
+    enum { RANGES_MAX = SINTER_CHUNKS_MAX };
+    const int threads = sinter_threads(ctx);
+    size_t bound[RANGES_MAX + 1];
+    int ranges = owner != NULL && owner->count > 0 && threads > 1 ? owner->count : 0;
+    if (ranges > 0) {
+        bound[0] = 0;
+        for (int t = 1; t < ranges; ++t) {
+            const size_t b = first_pair_of(pairs, owner->plo[t]);
+            bound[t] = b > bound[t - 1] ? b : bound[t - 1];
+        }
+    } else {
+        ranges = n < 1024 ? 1 : threads < RANGES_MAX ? threads : RANGES_MAX;
+        for (int t = 0; t < ranges; ++t)
+            bound[t] = n * (size_t)t / (size_t)ranges;
+    }
+    bound[ranges] = n;
+    const int team = threads < ranges ? threads : ranges;
     size_t offset[RANGES_MAX + 1] = {0};
     int ascending = 1;
-#pragma omp parallel for num_threads(ranges) schedule(static, 1) reduction(& : same, ascending)
+#pragma omp parallel for num_threads(team) schedule(static) reduction(& : same, ascending)
     for (int t = 0; t < ranges; ++t) {
-        const size_t lo = n * (size_t)t / (size_t)ranges, hi = n * (size_t)(t + 1) / (size_t)ranges;
+        const size_t lo = bound[t], hi = bound[t + 1];
         size_t count = 0;
         for (size_t p = lo; p < hi; ++p) {
             const uint32_t i = pi[p], k = pk[p];
@@ -848,13 +881,14 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
         offset[t + 1] = count;
     }
     c->geometry = 1;
+    c->ascending = ascending;
     if (same)
         return SINTER_OK; /* the same contacts, their geometry renewed */
     for (int t = 0; t < ranges; ++t)
         offset[t + 1] += offset[t];
-#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+#pragma omp parallel for num_threads(team) schedule(static)
     for (int t = 0; t < ranges; ++t) {
-        const size_t lo = n * (size_t)t / (size_t)ranges, hi = n * (size_t)(t + 1) / (size_t)ranges;
+        const size_t lo = bound[t], hi = bound[t + 1];
         size_t m = offset[t];
         for (size_t p = lo; p < hi; ++p) {
             if (!touch[p]) {

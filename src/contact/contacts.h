@@ -47,6 +47,9 @@ typedef struct sinter_contact_list {
     const uint32_t *adj_pair;
     size_t particle_count;
     sinter_chunks chunks; /* the partition (see sinter_chunks) */
+    /* a particle-wall list: 1 when its particle indices ascend (sinter_contacts_find_pw),
+     * so that it splits at any particle index (sinter_chunks_wall_runs) */
+    int ascending;
     /* with chunks: room for 3 doubles and one index per contact, for one consumer at a time
      * (kept across evaluations, so no allocation per step) */
     void *chunk_scratch;
@@ -196,9 +199,11 @@ static inline sinter_pp_geom sinter_pp_geometry(double ex, double ey, double ez,
     return g;
 }
 
-/* Particle-wall contacts among the candidate pairs. */
+/* Particle-wall contacts among the candidate pairs. owner (may be NULL): the partition of
+ * the particle-particle list found this step, whose particle ranges then split the search
+ * among the threads (each its own particles; the contacts found are the same). */
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
-                                      const sinter_walls *walls);
+                                      const sinter_walls *walls, const sinter_chunks *owner);
 
 #endif

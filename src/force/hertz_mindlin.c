@@ -877,30 +877,39 @@ static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int
             for (int a = 0; a < k->rows; ++a)
                 mix(&k->sides[a], &sw, &table[wall_index * (size_t)k->rows + (size_t)a]);
         }
-    const sinter_chunks ch = c->chunks;
-    if (ch.count == 0 || nw > MAX_THREADED_WALLS) {
+    /* Runs of the list that never split a particle's contacts: by preference those of the
+     * pair partition's particle ranges (chunks.h, sinter_chunks_wall_runs: each thread
+     * the particles it added the pair forces into, and at any size), else the list's own
+     * (contacts.c, wall_ranges, from 1024 contacts). */
+    size_t qlo[SINTER_CHUNKS_MAX + 1];
+    int runs = sinter_chunks_wall_runs(&e->pp->chunks, c, qlo);
+    if (runs == 0 && c->chunks.count > 0) {
+        runs = c->chunks.count;
+        for (int s = 0; s <= runs; ++s)
+            qlo[s] = c->chunks.qlo[s];
+    }
+    if (runs == 0 || nw > MAX_THREADED_WALLS) {
         if (rolling)
             pw_range(e, k, table, cached, 1, 0, c->count, e->wall_force);
         else
             pw_range(e, k, table, cached, 0, 0, c->count, e->wall_force);
         return SINTER_OK;
     }
-    /* A partitioned list (contacts.c, wall_ranges): the ranges never split a particle's
-     * contacts, so threads add into distinct particles in list order; each range sums its own
-     * wall reactions, added to the walls' in range order. The partition depends on the list
-     * only: the same bits for any number of threads. */
+    /* Threads add into distinct particles in list order; each run sums its own wall
+     * reactions, added to the walls' in run order. The runs depend on the lists only: the
+     * same bits for any number of threads. */
     double partial[SINTER_CHUNKS_MAX][3 * MAX_THREADED_WALLS];
     const int threads = sinter_threads(e->ctx);
-#pragma omp parallel for num_threads(threads < ch.count ? threads : ch.count) schedule(static)
-    for (int s = 0; s < ch.count; ++s) {
+#pragma omp parallel for num_threads(threads < runs ? threads : runs) schedule(static)
+    for (int s = 0; s < runs; ++s) {
         for (size_t d = 0; d < 3 * nw; ++d)
             partial[s][d] = 0.0;
         if (rolling)
-            pw_range(e, k, table, cached, 1, ch.qlo[s], ch.qlo[s + 1], partial[s]);
+            pw_range(e, k, table, cached, 1, qlo[s], qlo[s + 1], partial[s]);
         else
-            pw_range(e, k, table, cached, 0, ch.qlo[s], ch.qlo[s + 1], partial[s]);
+            pw_range(e, k, table, cached, 0, qlo[s], qlo[s + 1], partial[s]);
     }
-    for (int s = 0; s < ch.count; ++s)
+    for (int s = 0; s < runs; ++s)
         for (size_t d = 0; d < 3 * nw; ++d)
             e->wall_force[d] += partial[s][d];
     return SINTER_OK;

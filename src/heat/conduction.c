@@ -199,13 +199,20 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
     const double *r = ps->radius, *theta = ps->temperature;
-    /* a partitioned list's ranges never split a particle's contacts (contacts.c) */
-    const int ranges = c->chunks.count > 0 ? c->chunks.count : 1;
+    /* runs that never split a particle's contacts: those of the pair partition's particle
+     * ranges (each thread its own particles, chunks.h), else the list's own (contacts.c) */
+    size_t qlo[SINTER_CHUNKS_MAX + 1] = {0, c->count};
+    int ranges = sinter_chunks_wall_runs(&e->pp->chunks, c, qlo);
+    if (ranges == 0 && c->chunks.count > 0) {
+        ranges = c->chunks.count;
+        for (int s = 0; s <= ranges; ++s)
+            qlo[s] = c->chunks.qlo[s];
+    }
+    ranges = ranges > 0 ? ranges : 1;
     const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
 #pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)
     for (int s = 0; s < ranges; ++s) {
-        const size_t lo = ranges > 1 ? c->chunks.qlo[s] : 0;
-        const size_t hi = ranges > 1 ? c->chunks.qlo[s + 1] : c->count;
+        const size_t lo = qlo[s], hi = qlo[s + 1];
         for (size_t k = lo; k < hi; ++k) {
             const uint32_t i = c->i[k];
             const sinter_wall *wall = &e->walls->wall[c->j[k]];

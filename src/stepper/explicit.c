@@ -145,7 +145,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                      *restrict nrot = st->spare[3];
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
-    const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
+    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
     const int rotation = st->rotation;
     size_t bad = n;
     /* The neighbour list's staleness test needs the largest displacement since its build:
@@ -240,7 +240,7 @@ static size_t kick(sinter_stepper *st, double h)
                            *restrict j = ps->inertia;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
-    const int threads = n < 4096 ? 1 : sinter_threads(st->ctx);
+    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
     size_t bad = n;
     if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
 #pragma omp parallel for num_threads(threads) schedule(static, 1) reduction(min : bad)

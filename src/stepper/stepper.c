@@ -505,7 +505,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     else
         s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
     if (s == SINTER_OK && st->walls != NULL)
-        s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls);
+        s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks);
     if (s != SINTER_OK)
         return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {

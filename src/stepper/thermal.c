@@ -313,8 +313,8 @@ sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
         double *restrict saved = th->theta_backup, *restrict temp = ps->temperature;
         size_t bad = ps->count, hot = ps->count;
         const long n = (long)ps->count;
-#pragma omp parallel for num_threads(n < 4096 ? 1 : sinter_threads(st->ctx)) schedule(static) \
-    reduction(min : bad, hot)
+        const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, hot)
         for (long i = 0; i < n; ++i) {
             const double t0 = temp[i];
             saved[i] = t0;

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "scene_support.h"
+#include "contact/chunks.h"
 #include "contact/contacts.h"
 #include "contact/neighbors.h"
 #include "stepper/stepper.h"
@@ -686,13 +687,30 @@ static void test_wall_search_matches_a_fresh_one(void **state)
                         break;
                     }
                 }
-            OK(sinter_contacts_find_pw(s.ctx, &kept, &nb.pw, s.ps, s.walls));
+            OK(sinter_contacts_find_pw(s.ctx, &kept, &nb.pw, s.ps, s.walls, NULL));
             sinter_contact_list fresh;
             memset(&fresh, 0, sizeof(fresh));
-            OK(sinter_contacts_find_pw(s.ctx, &fresh, &nb.pw, s.ps, s.walls));
+            OK(sinter_contacts_find_pw(s.ctx, &fresh, &nb.pw, s.ps, s.walls, NULL));
             assert_true(fresh.count > 1000 && fresh.count < nb.pw.count);
             assert_true(fresh.chunks.count > 0);
             assert_same_wall_contacts(&kept, &fresh);
+            /* split by a pair partition's particle ranges (the owners): the same contacts;
+             * its runs hold each range's contacts, and all of them */
+            const sinter_chunks owner = {.count = 4, .plo = {0, N / 5, N / 2, 2 * N / 3, N}};
+            sinter_contact_list owned;
+            memset(&owned, 0, sizeof(owned));
+            OK(sinter_contacts_find_pw(s.ctx, &owned, &nb.pw, s.ps, s.walls, &owner));
+            assert_same_wall_contacts(&owned, &fresh);
+            size_t qlo[SINTER_CHUNKS_MAX + 1];
+            assert_int_equal(sinter_chunks_wall_runs(&owner, &owned, qlo), 4);
+            assert_int_equal(qlo[0], 0);
+            assert_int_equal(qlo[4], owned.count);
+            for (int u = 0; u < 4; ++u) {
+                assert_true(qlo[u + 1] > qlo[u]);
+                for (size_t q = qlo[u]; q < qlo[u + 1]; ++q)
+                    assert_true(owned.i[q] >= owner.plo[u] && owned.i[q] < owner.plo[u + 1]);
+            }
+            sinter_contact_list_free(s.ctx, &owned);
             if (round > 0) {
                 const int changed = round == 2 || round == 3;
                 assert_int_equal(memcmp(before, kept.pair_to_contact,

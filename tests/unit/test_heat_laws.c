@@ -71,7 +71,7 @@ static void find_contacts(fixture *f)
 {
     OK(sinter_neighbors_build(&f->nb, f->ps, f->walls));
     OK(sinter_contacts_find_pp(f->ctx, &f->pp, &f->nb.pp, f->ps));
-    OK(sinter_contacts_find_pw(f->ctx, &f->pw, &f->nb.pw, f->ps, f->walls));
+    OK(sinter_contacts_find_pw(f->ctx, &f->pw, &f->nb.pw, f->ps, f->walls, NULL));
 }
 
 /* One evaluation at time t into f->heat (zeroed first); implicit: into g_pp / g_pw. */
