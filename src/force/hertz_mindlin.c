@@ -654,6 +654,54 @@ static void pp_contacts_range(const sinter_force_eval *e, const constants *k,
         pp_range(e, k, NULL, 1, lo, hi, out);
 }
 
+/* Wall contacts: constants per (wall, material row) built once when they fit here. */
+enum { MAX_WALL_TABLE = 64, MAX_THREADED_WALLS = 16 };
+
+/*
+ * The wall contacts' work for one evaluation: the constants, and the runs of the list that
+ * never split a particle's contacts, by preference those of the pair partition's particle
+ * ranges (chunks.h, sinter_chunks_wall_runs: each thread the particles it added the pair
+ * forces into, at any size), else the list's own (contacts.c, wall_ranges, from 1024
+ * contacts); each run sums its own wall reactions into `partial`, added to the walls' in run
+ * order afterwards. The runs depend on the lists only: the same bits for any thread count.
+ */
+typedef struct wall_job {
+    size_t nw;
+    int cached;
+    pair_consts table[MAX_WALL_TABLE];
+    int runs;    /* 0: one pass over the list, on one thread */
+    int aligned; /* the runs are the pair partition's ranges */
+    size_t qlo[SINTER_CHUNKS_MAX + 1];
+    double partial[SINTER_CHUNKS_MAX][3 * MAX_THREADED_WALLS];
+} wall_job;
+
+static void plan_walls(const sinter_force_eval *e, const constants *k, wall_job *job)
+{
+    const sinter_contact_list *c = e->pw;
+    const size_t nw = e->walls->count;
+    job->nw = nw;
+    job->cached = !k->softening && k->rows > 0 && nw * (size_t)k->rows <= MAX_WALL_TABLE;
+    if (job->cached)
+        for (size_t wall_index = 0; wall_index < nw; ++wall_index) {
+            side sw;
+            side_from_material(&e->walls->wall[wall_index].material, 1.0, &sw);
+            for (int a = 0; a < k->rows; ++a)
+                mix(&k->sides[a], &sw, &job->table[wall_index * (size_t)k->rows + (size_t)a]);
+        }
+    job->runs = sinter_chunks_wall_runs(&e->pp->chunks, c, job->qlo);
+    job->aligned = job->runs > 0;
+    if (job->runs == 0 && c->chunks.count > 0) {
+        job->runs = c->chunks.count;
+        for (int s = 0; s <= job->runs; ++s)
+            job->qlo[s] = c->chunks.qlo[s];
+    }
+    if (nw > MAX_THREADED_WALLS)
+        job->runs = job->aligned = 0;
+}
+
+static void pw_runs_rolling_off(const sinter_force_eval *e, const constants *k, wall_job *job,
+                                int s);
+
 /* Force of contact q (out, from pp_blocks) with the moments L (n x f) formed again as
  * blk_law forms them: added to particle p, first or second of the contact. A lean list's
  * geometry is formed again as blk_geometry forms it. */
@@ -691,7 +739,7 @@ static inline void add_from_force(const sinter_contact_list *c, const sinter_par
  * gives the same bits.
  */
 static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
-                                const pair_consts *single, size_t *ended)
+                                const pair_consts *single, size_t *ended, wall_job *walls)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
@@ -711,8 +759,11 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
         }
         /* The boundary contacts, in list order, by the range that holds each particle: a
          * particle receives them in the order one pass over the list gives, and no two
-         * ranges add into the same particle. */
-#pragma omp for schedule(static)
+         * ranges add into the same particle. With `walls` (runs aligned with the ranges),
+         * no barrier: the wall loop's run r falls to the thread of range r (the same static
+         * schedule over as many iterations), after that range's boundary contacts, as in
+         * two evaluations one after the other. */
+#pragma omp for schedule(static) nowait
         for (int r = 0; r < ch.count; ++r) {
             const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
             for (int s = 0; s <= r; ++s) /* a range's contacts have their smaller particle
@@ -732,20 +783,27 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                     }
                 }
         }
+        if (walls != NULL) {
+#pragma omp for schedule(static)
+            for (int r = 0; r < ch.count; ++r)
+                pw_runs_rolling_off(e, k, walls, r);
+        }
     }
     for (int s = 0; s < ch.count; ++s)
         *ended = first_ended[s] < *ended ? first_ended[s] : *ended;
     return SINTER_OK;
 }
 
+/* Pair contacts; with `walls` (rolling off, a partitioned list, wall runs aligned with its
+ * ranges) the wall contacts too, in the same parallel region (pp_chunked). */
 static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling,
-                             size_t *ended)
+                             size_t *ended, wall_job *walls)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
     const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
     if (!rolling && c->chunks.count > 0)
-        return pp_chunked(e, k, single, ended);
+        return pp_chunked(e, k, single, ended, walls);
     /* Without rolling resistance and a partition (a list of fewer than 2048 pairs): one
      * thread, in list order. With rolling, the two-phase path pays
      * only with enough contacts per particle (measured: with 0.37 per particle it is slower
@@ -808,9 +866,6 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
     return SINTER_OK;
 }
 
-/* Wall contacts: constants per (wall, material row) built once when they fit here. */
-enum { MAX_WALL_TABLE = 64 };
-
 /* Wall contacts [lo, hi) in list order: forces and moments into the particles, reactions into
  * wall_force (3 per wall). */
 HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pair_consts *table,
@@ -862,57 +917,46 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
     }
 }
 
-enum { MAX_THREADED_WALLS = 16 };
+/* Run s of a wall job, rolling off, its reactions into the run's partial sums. */
+static void pw_runs_rolling_off(const sinter_force_eval *e, const constants *k, wall_job *job,
+                                int s)
+{
+    for (size_t d = 0; d < 3 * job->nw; ++d)
+        job->partial[s][d] = 0.0;
+    pw_range(e, k, job->table, job->cached, 0, job->qlo[s], job->qlo[s + 1], job->partial[s]);
+}
 
-static sinter_status eval_pw(const sinter_force_eval *e, const constants *k, int rolling)
+/* The wall contacts by the job's plan (plan_walls); `done`: its runs were evaluated already
+ * (with the pair contacts), only their reactions are left to add. */
+static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling, wall_job *job,
+                    int done)
 {
     const sinter_contact_list *c = e->pw;
-    const size_t nw = e->walls->count;
-    pair_consts table[MAX_WALL_TABLE];
-    const int cached = !k->softening && k->rows > 0 && nw * (size_t)k->rows <= MAX_WALL_TABLE;
-    if (cached)
-        for (size_t wall_index = 0; wall_index < nw; ++wall_index) {
-            side sw;
-            side_from_material(&e->walls->wall[wall_index].material, 1.0, &sw);
-            for (int a = 0; a < k->rows; ++a)
-                mix(&k->sides[a], &sw, &table[wall_index * (size_t)k->rows + (size_t)a]);
-        }
-    /* Runs of the list that never split a particle's contacts: by preference those of the
-     * pair partition's particle ranges (chunks.h, sinter_chunks_wall_runs: each thread
-     * the particles it added the pair forces into, and at any size), else the list's own
-     * (contacts.c, wall_ranges, from 1024 contacts). */
-    size_t qlo[SINTER_CHUNKS_MAX + 1];
-    int runs = sinter_chunks_wall_runs(&e->pp->chunks, c, qlo);
-    if (runs == 0 && c->chunks.count > 0) {
-        runs = c->chunks.count;
-        for (int s = 0; s <= runs; ++s)
-            qlo[s] = c->chunks.qlo[s];
-    }
-    if (runs == 0 || nw > MAX_THREADED_WALLS) {
+    const int runs = job->runs;
+    if (runs == 0) {
         if (rolling)
-            pw_range(e, k, table, cached, 1, 0, c->count, e->wall_force);
+            pw_range(e, k, job->table, job->cached, 1, 0, c->count, e->wall_force);
         else
-            pw_range(e, k, table, cached, 0, 0, c->count, e->wall_force);
-        return SINTER_OK;
+            pw_range(e, k, job->table, job->cached, 0, 0, c->count, e->wall_force);
+        return;
     }
-    /* Threads add into distinct particles in list order; each run sums its own wall
-     * reactions, added to the walls' in run order. The runs depend on the lists only: the
-     * same bits for any number of threads. */
-    double partial[SINTER_CHUNKS_MAX][3 * MAX_THREADED_WALLS];
-    const int threads = sinter_threads(e->ctx);
+    if (!done) {
+        const int threads = sinter_threads(e->ctx);
 #pragma omp parallel for num_threads(threads < runs ? threads : runs) schedule(static)
-    for (int s = 0; s < runs; ++s) {
-        for (size_t d = 0; d < 3 * nw; ++d)
-            partial[s][d] = 0.0;
-        if (rolling)
-            pw_range(e, k, table, cached, 1, qlo[s], qlo[s + 1], partial[s]);
-        else
-            pw_range(e, k, table, cached, 0, qlo[s], qlo[s + 1], partial[s]);
+        for (int s = 0; s < runs; ++s) {
+            if (rolling) {
+                for (size_t d = 0; d < 3 * job->nw; ++d)
+                    job->partial[s][d] = 0.0;
+                pw_range(e, k, job->table, job->cached, 1, job->qlo[s], job->qlo[s + 1],
+                         job->partial[s]);
+            } else {
+                pw_runs_rolling_off(e, k, job, s);
+            }
+        }
     }
     for (int s = 0; s < runs; ++s)
-        for (size_t d = 0; d < 3 * nw; ++d)
-            e->wall_force[d] += partial[s][d];
-    return SINTER_OK;
+        for (size_t d = 0; d < 3 * job->nw; ++d)
+            e->wall_force[d] += job->partial[s][d];
 }
 
 static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_force_eval *e)
@@ -928,9 +972,22 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     constants k;
     build_constants(e, &k);
     e->pp_ended = SIZE_MAX;
-    sinter_status st = rolling ? eval_pp(e, &k, 1, &e->pp_ended) : eval_pp(e, &k, 0, &e->pp_ended);
-    if (st == SINTER_OK && e->walls != NULL)
-        st = rolling ? eval_pw(e, &k, 1) : eval_pw(e, &k, 0);
+    /* the wall contacts with the pair contacts, in one parallel region, when their runs are
+     * the pair partition's ranges (one fork and join fewer per step: a 1k bed's step takes
+     * 60-75 us on two threads, each region 1-2 us) */
+    wall_job walls;
+    if (e->walls != NULL)
+        plan_walls(e, &k, &walls);
+    const int with_pairs =
+        e->walls != NULL && !rolling && walls.aligned && e->pp->chunks.count > 0;
+    sinter_status st = rolling ? eval_pp(e, &k, 1, &e->pp_ended, NULL)
+                               : eval_pp(e, &k, 0, &e->pp_ended, with_pairs ? &walls : NULL);
+    if (st == SINTER_OK && e->walls != NULL) {
+        if (rolling)
+            eval_pw(e, &k, 1, &walls, 0);
+        else
+            eval_pw(e, &k, 0, &walls, with_pairs);
+    }
     return st;
 }
 

@@ -125,25 +125,77 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
     return kept;
 }
 
-/* The ranges of a partition in parallel (pp_range each); boundary[s] their kept counts. */
+/* Wall contacts [lo, hi) (eq. 32, the wall side at the wall's temperature): their
+ * conductances into g_pw when implicit, else their powers into heat. */
+static inline __attribute__((always_inline)) void
+pw_run(const sinter_heat_eval *e, const double *kmat, int projection, int implicit, size_t lo,
+       size_t hi)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pw;
+    const double *r = ps->radius, *theta = ps->temperature;
+    for (size_t k = lo; k < hi; ++k) {
+        const uint32_t i = c->i[k];
+        const sinter_wall *wall = &e->walls->wall[c->j[k]];
+        const double kw = wall->material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
+        const double g =
+            conductance_pw(projection, kmat[ps->material[i]], kw, r[i], c->area[k], c->dist[k]);
+        if (implicit)
+            e->g_pw[k] += g;
+        else
+            e->heat[i] += g * (wall->temperature - theta[i]); /* eq. 32 */
+    }
+}
+
+/*
+ * The ranges of a partition in one parallel region: each range adds its interior contacts'
+ * powers (pp_range), then, after a barrier, the boundary contacts in list order by the range
+ * that holds each particle (a contact of range s touches ranges s and later only), so that
+ * every particle receives them in the order of one pass over the list; then, with `wq` (wall
+ * runs aligned with the ranges, chunks.h), each range's wall contacts, with no barrier
+ * between: the same static schedule over as many iterations gives run r to the thread of
+ * range r.
+ */
 static inline __attribute__((always_inline)) void
 all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
            int threads, const sinter_chunks *ch, double *heat, uint32_t *bq, double *bpower,
-           size_t *boundary)
+           const size_t *wq)
 {
-#pragma omp parallel for num_threads(threads < ch->count ? threads : ch->count) schedule(static)
-    for (int s = 0; s < ch->count; ++s)
-        boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
-                               bpower + ch->qlo[s]);
+    const sinter_contact_list *c = e->pp;
+    size_t boundary[SINTER_CHUNKS_MAX];
+#pragma omp parallel num_threads(threads < ch->count ? threads : ch->count)
+    {
+#pragma omp for schedule(static)
+        for (int s = 0; s < ch->count; ++s)
+            boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
+                                   bpower + ch->qlo[s]);
+#pragma omp for schedule(static) nowait
+        for (int r = 0; r < ch->count; ++r) {
+            const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
+            for (int s = 0; s <= r; ++s)
+                for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s]; ++b) {
+                    const uint32_t i = c->i[bq[b]], j = c->j[bq[b]];
+                    if (i >= lo && i < hi)
+                        heat[i] += bpower[b];
+                    if (j >= lo && j < hi)
+                        heat[j] -= bpower[b];
+                }
+        }
+        if (wq != NULL) {
+#pragma omp for schedule(static)
+            for (int r = 0; r < ch->count; ++r)
+                pw_run(e, kmat, projection, 0, wq[r], wq[r + 1]);
+        }
+    }
 }
 
 /*
  * Explicit, on a partitioned list (contact/chunks.h): the ranges of a fixed partition in
- * parallel, each adding its interior contacts' powers, then the boundary contacts in list
- * order (contact/chunks.h). The partition depends on the list only, so any number of threads
- * gives the same bits.
+ * parallel (all_ranges), with the wall contacts when `wq` gives their runs. The partition
+ * depends on the list only, so any number of threads gives the same bits.
  */
-static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, int projection)
+static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, int projection,
+                                const size_t *wq)
 {
     const sinter_contact_list *c = e->pp;
     const int threads = sinter_threads(e->ctx);
@@ -151,25 +203,21 @@ static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, i
     /* room for every contact to be a boundary one (the list's scratch) */
     double *bpower = c->chunk_scratch, *heat = e->heat;
     uint32_t *bq = (uint32_t *)(bpower + c->count);
-    size_t boundary[SINTER_CHUNKS_MAX];
     /* the conductance laws as separate loops (constants inlined), so that none tests them */
     const double factor = projection ? projection_factor(e->ps, kmat) : -1.0;
     if (projection && factor >= 0.0)
-        all_ranges(e, kmat, 1, factor, threads, &ch, heat, bq, bpower, boundary);
+        all_ranges(e, kmat, 1, factor, threads, &ch, heat, bq, bpower, wq);
     else if (projection)
-        all_ranges(e, kmat, 1, -1.0, threads, &ch, heat, bq, bpower, boundary);
+        all_ranges(e, kmat, 1, -1.0, threads, &ch, heat, bq, bpower, wq);
     else
-        all_ranges(e, kmat, 0, -1.0, threads, &ch, heat, bq, bpower, boundary);
-    for (int s = 0; s < ch.count; ++s)
-        for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
-            heat[c->i[bq[b]]] += bpower[b];
-            heat[c->j[bq[b]]] -= bpower[b];
-        }
+        all_ranges(e, kmat, 0, -1.0, threads, &ch, heat, bq, bpower, wq);
     return SINTER_OK;
 }
 
+/* Pair contacts; with `wq` (explicit, a partitioned list: wall runs aligned with its ranges)
+ * the wall contacts too, in the same parallel region. */
 static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kmat,
-                                    int projection, int implicit)
+                                    int projection, int implicit, const size_t *wq)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
@@ -183,7 +231,7 @@ static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kma
         return SINTER_OK;
     }
     if (c->chunks.count > 0)
-        return pp_chunked(e, kmat, projection);
+        return pp_chunked(e, kmat, projection, wq);
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], j = c->j[k];
         const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
@@ -196,9 +244,7 @@ static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kma
 static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int projection,
                            int implicit)
 {
-    const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
-    const double *r = ps->radius, *theta = ps->temperature;
     /* runs that never split a particle's contacts: those of the pair partition's particle
      * ranges (each thread its own particles, chunks.h), else the list's own (contacts.c) */
     size_t qlo[SINTER_CHUNKS_MAX + 1] = {0, c->count};
@@ -211,20 +257,8 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
     ranges = ranges > 0 ? ranges : 1;
     const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
 #pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)
-    for (int s = 0; s < ranges; ++s) {
-        const size_t lo = qlo[s], hi = qlo[s + 1];
-        for (size_t k = lo; k < hi; ++k) {
-            const uint32_t i = c->i[k];
-            const sinter_wall *wall = &e->walls->wall[c->j[k]];
-            const double kw = wall->material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
-            const double g = conductance_pw(projection, kmat[ps->material[i]], kw, r[i],
-                                            c->area[k], c->dist[k]);
-            if (implicit)
-                e->g_pw[k] += g;
-            else
-                e->heat[i] += g * (wall->temperature - theta[i]); /* eq. 32 */
-        }
-    }
+    for (int s = 0; s < ranges; ++s)
+        pw_run(e, kmat, projection, implicit, qlo[s], qlo[s + 1]);
 }
 
 static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
@@ -240,12 +274,18 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     double kmat[SINTER_MAX_MATERIALS];
     conductivities(e->ps, kmat);
     /* Constant switches resolved here so each loop is branch-free on them. */
+    /* explicit, with walls and a partitioned pair list: the wall contacts in the pairs'
+     * parallel region, each by the thread of its particle's range (one region fewer) */
+    size_t wq[SINTER_CHUNKS_MAX + 1];
+    const int fused = walls && !implicit && e->pp->chunks.count > 0 &&
+                      sinter_chunks_wall_runs(&e->pp->chunks, e->pw, wq) > 0;
+    const size_t *runs = fused ? wq : NULL;
     sinter_status st;
     if (proj)
-        st = implicit ? loop_pp(e, kmat, 1, 1) : loop_pp(e, kmat, 1, 0);
+        st = implicit ? loop_pp(e, kmat, 1, 1, NULL) : loop_pp(e, kmat, 1, 0, runs);
     else
-        st = implicit ? loop_pp(e, kmat, 0, 1) : loop_pp(e, kmat, 0, 0);
-    if (st == SINTER_OK && walls) {
+        st = implicit ? loop_pp(e, kmat, 0, 1, NULL) : loop_pp(e, kmat, 0, 0, runs);
+    if (st == SINTER_OK && walls && !fused) {
         if (proj)
             implicit ? loop_pw(e, kmat, 1, 1) : loop_pw(e, kmat, 1, 0);
         else
