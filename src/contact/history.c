@@ -1,6 +1,10 @@
 /* Commit/rollback of per-contact history and its transfer across neighbour rebuilds. */
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "history.h"
 
 void sinter_history_free(sinter_ctx *ctx, sinter_history *h)
@@ -92,6 +96,36 @@ static void commit_swap(sinter_history *h, const sinter_contact_list *c, int thr
     h->committed_rev = h->active_rev = c->revision;
 }
 
+/* Trial values of contacts [lo, hi) into their pairs' committed slots, and the pairs into
+ * `active`; inline copies for the built-in widths (a call per contact costs more than the
+ * copy). */
+static inline void copy_trial(double *restrict committed, const double *restrict trial,
+                              uint32_t *restrict active, const uint32_t *restrict pair,
+                              size_t w, size_t lo, size_t hi)
+{
+    if (w == 3) {
+        for (size_t k = lo; k < hi; ++k) {
+            double *dst = committed + 3 * (size_t)pair[k];
+            dst[0] = trial[3 * k];
+            dst[1] = trial[3 * k + 1];
+            dst[2] = trial[3 * k + 2];
+            active[k] = pair[k];
+        }
+    } else if (w == 6) {
+        for (size_t k = lo; k < hi; ++k) {
+            double *dst = committed + 6 * (size_t)pair[k];
+            for (int d = 0; d < 6; ++d)
+                dst[d] = trial[6 * k + (size_t)d];
+            active[k] = pair[k];
+        }
+    } else {
+        for (size_t k = lo; k < hi; ++k) {
+            memcpy(committed + (size_t)pair[k] * w, trial + k * w, w * sizeof(double));
+            active[k] = pair[k];
+        }
+    }
+}
+
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
                                     const sinter_contact_list *c)
 {
@@ -111,36 +145,35 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
     uint32_t *restrict active = h->active;
     /* Clear the pairs whose contact ended; the others are overwritten just below. Each loop
      * writes distinct pairs (a pair is active once and in contact once), and the two loops
-     * write disjoint pairs, so the threads need no order. */
+     * write disjoint pairs, so the threads need no order in either. The copies go by the list's runs
+     * where it has them (contact/chunks.h: a pair list's ranges), so that each thread copies
+     * the trial values its share of the law wrote, at any size (issue 9); else by equal
+     * shares from 4096 contacts. */
     const uint32_t *p2c = c->pair_to_contact;
     const long ended = (long)h->active_count, count = (long)c->count;
-    const int threads = count < 4096 ? 1 : sinter_threads(ctx);
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (long k = 0; k < ended; ++k)
-        if (p2c == NULL || p2c[active[k]] == SINTER_NO_PAIR)
-            memset(committed + (size_t)active[k] * w, 0, w * sizeof(double));
-    /* Inline copies for the built-in widths (a call per contact costs more than the copy). */
-    if (w == 3) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-        for (long k = 0; k < count; ++k) {
-            double *dst = committed + 3 * (size_t)c->pair[k];
-            dst[0] = trial[3 * k];
-            dst[1] = trial[3 * k + 1];
-            dst[2] = trial[3 * k + 2];
-            active[k] = c->pair[k];
-        }
-    } else if (w == 6) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-        for (long k = 0; k < count; ++k) {
-            double *dst = committed + 6 * (size_t)c->pair[k];
-            for (int d = 0; d < 6; ++d)
-                dst[d] = trial[6 * (size_t)k + (size_t)d];
-            active[k] = c->pair[k];
-        }
-    } else {
-        for (size_t k = 0; k < c->count; ++k) {
-            memcpy(committed + (size_t)c->pair[k] * w, trial + k * w, w * sizeof(double));
-            active[k] = c->pair[k];
+    const int runs = c->chunks.count > 0 ? c->chunks.count : 1;
+    const int allowed = sinter_threads(ctx);
+    const int threads = runs > 1 ? (allowed < runs ? allowed : runs)
+                                 : count < 4096 ? 1 : allowed;
+    const size_t *qlo = c->chunks.qlo;
+#pragma omp parallel num_threads(threads)
+    {
+#pragma omp for schedule(static) /* the barrier: the copies overwrite `active` */
+        for (long k = 0; k < ended; ++k)
+            if (p2c == NULL || p2c[active[k]] == SINTER_NO_PAIR)
+                memset(committed + (size_t)active[k] * w, 0, w * sizeof(double));
+        if (runs > 1) {
+#pragma omp for schedule(static)
+            for (int r = 0; r < runs; ++r)
+                copy_trial(committed, trial, active, c->pair, w, qlo[r], qlo[r + 1]);
+        } else {
+#ifdef _OPENMP
+            const long t = omp_get_thread_num(), nt = omp_get_num_threads();
+#else
+            const long t = 0, nt = 1;
+#endif
+            copy_trial(committed, trial, active, c->pair, w, (size_t)(count * t / nt),
+                       (size_t)(count * (t + 1) / nt));
         }
     }
     h->active_count = c->count;
