@@ -12,7 +12,9 @@
 /* A fixed partition of a particle-particle list for thread-count independent sums
  * (contact/chunks.h), made by sinter_contacts_find_pp. A particle-wall list made by
  * sinter_contacts_find_pw uses qlo only: runs of contacts that never split a particle's
- * contacts (the list is in particle order), so threads add into distinct particles. */
+ * contacts (the list is in particle order), so threads add into distinct particles; where
+ * the pair list is partitioned, the wall law and conduction take the runs of its particle
+ * ranges instead (sinter_chunks_wall_runs), so that each thread works on its own particles. */
 enum { SINTER_CHUNKS_MAX = 8 };
 typedef struct sinter_chunks {
     int count;                         /* S; 0 when the list is not partitioned */
