@@ -38,13 +38,14 @@ static inline int sinter_chunks_interior(const sinter_chunks *k, int s, uint32_t
     return i >= lo && i < hi && j >= lo && j < hi;
 }
 
-/* First contact of wall list pw (particle indices ascending) whose particle is at least p. */
-static inline size_t sinter_chunks_first_wall_contact(const sinter_contact_list *pw, size_t p)
+/* The first k in [0, n) with a[k] >= value, a ascending (n when there is none; any index in
+ * [0, n] when a does not ascend). */
+static inline size_t sinter_lower_bound_u32(const uint32_t *a, size_t n, size_t value)
 {
-    size_t lo = 0, hi = pw->count;
+    size_t lo = 0, hi = n;
     while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        if (pw->i[mid] < p)
+        if (a[mid] < value)
             lo = mid + 1;
         else
             hi = mid;
@@ -70,7 +71,7 @@ static inline int sinter_chunks_wall_runs(const sinter_chunks *pp, const sinter_
         return 0;
     qlo[0] = 0;
     for (int s = 1; s < pp->count; ++s)
-        qlo[s] = sinter_chunks_first_wall_contact(pw, pp->plo[s]);
+        qlo[s] = sinter_lower_bound_u32(pw->i, pw->count, pp->plo[s]);
     qlo[pp->count] = pw->count;
     return pp->count;
 }

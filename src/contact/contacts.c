@@ -615,15 +615,7 @@ static size_t first_new_contact(sinter_ctx *ctx, sinter_contact_list *c,
 /* The first contact whose candidate pair is p or later (the list is in pair order). */
 static size_t first_contact_from_pair(const sinter_contact_list *c, size_t p)
 {
-    size_t lo = 0, hi = c->count;
-    while (lo < hi) {
-        const size_t mid = lo + (hi - lo) / 2;
-        if (c->pair[mid] < p)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
+    return sinter_lower_bound_u32(c->pair, c->count, p);
 }
 
 sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_list *c,
@@ -797,21 +789,6 @@ static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t 
     c->branch[m] = s;
 }
 
-/* First pair of a pair list whose particle i is at least p, were they ascending (any index in
- * [0, count] otherwise: the ranges made with it stay a partition). */
-static size_t first_pair_of(const sinter_pair_list *pairs, size_t p)
-{
-    size_t lo = 0, hi = pairs->count;
-    while (lo < hi) {
-        const size_t mid = lo + (hi - lo) / 2;
-        if (pairs->i[mid] < p)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
                                       const sinter_walls *walls, const sinter_chunks *owner)
@@ -848,7 +825,8 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     if (ranges > 0) {
         bound[0] = 0;
         for (int t = 1; t < ranges; ++t) {
-            const size_t b = first_pair_of(pairs, owner->plo[t]);
+            /* any index when the pairs' particles do not ascend: still a partition */
+            const size_t b = sinter_lower_bound_u32(pairs->i, n, owner->plo[t]);
             bound[t] = b > bound[t - 1] ? b : bound[t - 1];
         }
     } else {
