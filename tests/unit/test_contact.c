@@ -418,6 +418,62 @@ static void test_results_independent_of_thread_count(void **state)
 }
 
 /*
+ * Conduction on a partitioned list (contact/chunks.h, heat/conduction.c): each range adds its
+ * interior contacts, then each range its particles' share of the boundary contacts, in one
+ * parallel region. Exchange between particles is antisymmetric (eq. 32), so with the walls'
+ * conduction off, sum m c theta must stay to round-off (1e-13 relative over 50 steps of a
+ * 15^3 lattice whose temperatures are spread over 300-500 K), on 1, 2 and 3 threads; a boundary
+ * contact added twice, or by no range, would change it by 1e-6 or more. With the walls on
+ * the wall runs join the same region: the energy must change, and by the
+ * same amount on every thread count (the floor at 500 K, the four side walls at 293.15 K).
+ */
+static void test_partitioned_conduction_conserves_energy(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15, STEPS = 50 };
+    double gained[2][3];
+    for (int walls = 0; walls <= 1; ++walls)
+        for (int t = 1; t <= 3; ++t) {
+            scene s;
+            sinter_heat_model *cond = NULL;
+            open_packed(&s, t, 1, &cond);
+            OK(sinter_heat_model_set(cond, "walls", walls));
+            uint64_t seed = 23;
+            double *theta = NULL;
+            OK(sinter_particles_view(s.ps, SINTER_FIELD_TEMPERATURE, (void **)&theta, NULL, NULL));
+            for (size_t i = 0; i < N; ++i)
+                theta[i] = 300.0 + 200.0 * lcg(&seed);
+            OK(sinter_particles_release(s.ps, SINTER_FIELD_TEMPERATURE));
+            const double c = 100.0; /* conducting_scene's heat capacity */
+            double e0 = 0.0, e1 = 0.0, spread0 = 0.0, spread1 = 0.0;
+            for (size_t i = 0; i < N; ++i) {
+                e0 += s.ps->mass[i] * c * s.ps->temperature[i];
+                spread0 += fabs(s.ps->temperature[i] - 400.0);
+            }
+            OK(sinter_stepper_step(s.st, STEPS));
+            assert_true(s.st->pp.chunks.count > 0);
+            for (size_t i = 0; i < N; ++i) {
+                e1 += s.ps->mass[i] * c * s.ps->temperature[i];
+                spread1 += fabs(s.ps->temperature[i] - 400.0);
+            }
+            print_message("walls %d, %d threads: spread %.9g -> %.9g K, energy change %.3g\n",
+                          walls, t, spread0 / N, spread1 / N, (e1 - e0) / e0);
+            /* heat did flow between the particles (a time constant m c / G of about 1 s) */
+            assert_true(spread1 < (1.0 - 1e-5) * spread0);
+            gained[walls][t - 1] = (e1 - e0) / e0;
+            if (!walls)
+                assert_true(fabs(gained[walls][t - 1]) < 1e-13);
+            else /* the floor at 500 K heats, the side walls at 293.15 K cool: a net change */
+                assert_true(fabs(gained[walls][t - 1]) > 1e-6);
+            sinter_heat_model_destroy(cond); /* before its context */
+            scene_close(&s);
+        }
+    for (int walls = 0; walls <= 1; ++walls)
+        for (int t = 1; t < 3; ++t)
+            assert_true(gained[walls][t] == gained[walls][0]);
+}
+
+/*
  * A colliding cloud: contacts begin and end every few steps, more pairs in the skin than in
  * contact, so the history is committed by contact (history.c: the ended pairs cleared, the
  * trial values copied by the list's runs on the threads). On 1, 2 and 3 threads, with and
@@ -1107,6 +1163,7 @@ int main(void)
         cmocka_unit_test(test_partitioned_law_matches_hertz),
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_colliding_cloud_independent_of_thread_count),
+        cmocka_unit_test(test_partitioned_conduction_conserves_energy),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
