@@ -418,6 +418,51 @@ static void test_results_independent_of_thread_count(void **state)
 }
 
 /*
+ * The blocked law's pair and wall contacts in one parallel region (force/hertz_mindlin.c,
+ * pp_chunked with the wall runs of the pair partition's ranges): pair forces cancel in pairs
+ * and each wall contact's force on its particle is minus its share of the wall's reaction, so
+ * after a step the particles' forces less gravity plus the walls' reactions must sum to zero,
+ * to round-off (1e-12 of the largest reaction), on 1, 2 and 3 threads, in a packed lattice
+ * pressed against a floor and four side walls (1125 wall contacts).
+ */
+static void test_partitioned_law_balances_walls(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15 };
+    for (int t = 1; t <= 3; ++t) {
+        scene s;
+        sinter_heat_model *cond = NULL;
+        open_packed(&s, t, 1, &cond); /* the blocked law: no rolling resistance */
+        double g[3];
+        OK(sinter_force_model_get(s.gravity, "gx", &g[0]));
+        OK(sinter_force_model_get(s.gravity, "gy", &g[1]));
+        OK(sinter_force_model_get(s.gravity, "gz", &g[2]));
+        OK(sinter_stepper_step(s.st, 20));
+        assert_true(s.st->pp.chunks.count > 0 && s.st->pw.count > 1000);
+        const double *f = NULL;
+        OK(sinter_particles_view_read(s.ps, SINTER_FIELD_FORCE, (const void **)&f, NULL, NULL));
+        double sum[3] = {0.0, 0.0, 0.0}, largest = 0.0;
+        for (size_t i = 0; i < N; ++i)
+            for (int d = 0; d < 3; ++d)
+                sum[d] += f[3 * i + d] - s.ps->mass[i] * g[d];
+        OK(sinter_particles_release(s.ps, SINTER_FIELD_FORCE));
+        for (size_t k = 0; k < 5; ++k) {
+            double r[3];
+            OK(sinter_walls_get_force(s.walls, k, r));
+            for (int d = 0; d < 3; ++d) {
+                sum[d] += r[d];
+                largest = fabs(r[d]) > largest ? fabs(r[d]) : largest;
+            }
+        }
+        assert_true(largest > 0.0);
+        for (int d = 0; d < 3; ++d)
+            assert_true(fabs(sum[d]) < 1e-12 * largest);
+        sinter_heat_model_destroy(cond); /* before its context */
+        scene_close(&s);
+    }
+}
+
+/*
  * Conduction on a partitioned list (contact/chunks.h, heat/conduction.c): each range adds its
  * interior contacts, then each range its particles' share of the boundary contacts, in one
  * parallel region. Exchange between particles is antisymmetric (eq. 32), so with the walls'
@@ -1164,6 +1209,7 @@ int main(void)
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_colliding_cloud_independent_of_thread_count),
         cmocka_unit_test(test_partitioned_conduction_conserves_energy),
+        cmocka_unit_test(test_partitioned_law_balances_walls),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
