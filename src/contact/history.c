@@ -100,8 +100,8 @@ static void commit_swap(sinter_history *h, const sinter_contact_list *c, int thr
  * `active`; inline copies for the built-in widths (a call per contact costs more than the
  * copy). */
 static inline void copy_trial(double *restrict committed, const double *restrict trial,
-                              uint32_t *restrict active, const uint32_t *restrict pair,
-                              size_t w, size_t lo, size_t hi)
+                              uint32_t *restrict active, const uint32_t *restrict pair, size_t w,
+                              size_t lo, size_t hi)
 {
     if (w == 3) {
         for (size_t k = lo; k < hi; ++k) {
@@ -145,16 +145,15 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
     uint32_t *restrict active = h->active;
     /* Clear the pairs whose contact ended; the others are overwritten just below. Each loop
      * writes distinct pairs (a pair is active once and in contact once), and the two loops
-     * write disjoint pairs, so the threads need no order in either. The copies go by the list's runs
-     * where it has them (contact/chunks.h: a pair list's ranges), so that each thread copies
-     * the trial values its share of the law wrote, at any size (issue 9); else by equal
-     * shares from 4096 contacts. */
+     * write disjoint pairs, so the threads need no order in either. The copies go by the
+     * list's runs where it has them (contact/chunks.h: a pair list's ranges), so that each
+     * thread copies the trial values its share of the law wrote, at any size (issue 9); else
+     * by equal shares from 4096 contacts. */
     const uint32_t *p2c = c->pair_to_contact;
     const long ended = (long)h->active_count, count = (long)c->count;
     const int runs = c->chunks.count > 0 ? c->chunks.count : 1;
     const int allowed = sinter_threads(ctx);
-    const int threads = runs > 1 ? (allowed < runs ? allowed : runs)
-                                 : count < 4096 ? 1 : allowed;
+    const int threads = runs > 1 ? (allowed < runs ? allowed : runs) : count < 4096 ? 1 : allowed;
     const size_t *qlo = c->chunks.qlo;
 #pragma omp parallel num_threads(threads)
     {

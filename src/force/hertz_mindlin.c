@@ -660,10 +660,10 @@ enum { MAX_WALL_TABLE = 64, MAX_THREADED_WALLS = 16 };
 /*
  * The wall contacts' work for one evaluation: the constants, and the runs of the list that
  * never split a particle's contacts, by preference those of the pair partition's particle
- * ranges (chunks.h, sinter_chunks_wall_runs: each thread the particles it added the pair
- * forces into, at any size), else the list's own (contacts.c, wall_ranges, from 1024
- * contacts); each run sums its own wall reactions into `partial`, added to the walls' in run
- * order afterwards. The runs depend on the lists only: the same bits for any thread count.
+ * ranges (chunks.h, sinter_chunks_wall_plan: each thread the particles it added the pair
+ * forces into, at any size); each run sums its own wall reactions into `partial`, added to
+ * the walls' in run order afterwards. The runs depend on the lists only: the same bits for
+ * any thread count.
  */
 typedef struct wall_job {
     size_t nw;
@@ -688,19 +688,13 @@ static void plan_walls(const sinter_force_eval *e, const constants *k, wall_job 
             for (int a = 0; a < k->rows; ++a)
                 mix(&k->sides[a], &sw, &job->table[wall_index * (size_t)k->rows + (size_t)a]);
         }
-    job->runs = sinter_chunks_wall_runs(&e->pp->chunks, c, job->qlo);
-    job->aligned = job->runs > 0;
-    if (job->runs == 0 && c->chunks.count > 0) {
-        job->runs = c->chunks.count;
-        for (int s = 0; s <= job->runs; ++s)
-            job->qlo[s] = c->chunks.qlo[s];
-    }
+    job->runs = sinter_chunks_wall_plan(&e->pp->chunks, c, job->qlo, &job->aligned);
     if (nw > MAX_THREADED_WALLS)
         job->runs = job->aligned = 0;
 }
 
-static void pw_runs_rolling_off(const sinter_force_eval *e, const constants *k, wall_job *job,
-                                int s);
+static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job, int s,
+                   int rolling);
 
 /* Force of contact q (out, from pp_blocks) with the moments L (n x f) formed again as
  * blk_law forms them: added to particle p, first or second of the contact. A lean list's
@@ -786,7 +780,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
         if (walls != NULL) {
 #pragma omp for schedule(static)
             for (int r = 0; r < ch.count; ++r)
-                pw_runs_rolling_off(e, k, walls, r);
+                pw_run(e, k, walls, r, 0);
         }
     }
     for (int s = 0; s < ch.count; ++s)
@@ -917,13 +911,16 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
     }
 }
 
-/* Run s of a wall job, rolling off, its reactions into the run's partial sums. */
-static void pw_runs_rolling_off(const sinter_force_eval *e, const constants *k, wall_job *job,
-                                int s)
+/* Run s of a wall job, its reactions into the run's partial sums. */
+static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job, int s,
+                   int rolling)
 {
     for (size_t d = 0; d < 3 * job->nw; ++d)
         job->partial[s][d] = 0.0;
-    pw_range(e, k, job->table, job->cached, 0, job->qlo[s], job->qlo[s + 1], job->partial[s]);
+    if (rolling)
+        pw_range(e, k, job->table, job->cached, 1, job->qlo[s], job->qlo[s + 1], job->partial[s]);
+    else
+        pw_range(e, k, job->table, job->cached, 0, job->qlo[s], job->qlo[s + 1], job->partial[s]);
 }
 
 /* The wall contacts by the job's plan (plan_walls); `done`: its runs were evaluated already
@@ -943,16 +940,8 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
     if (!done) {
         const int threads = sinter_threads(e->ctx);
 #pragma omp parallel for num_threads(threads < runs ? threads : runs) schedule(static)
-        for (int s = 0; s < runs; ++s) {
-            if (rolling) {
-                for (size_t d = 0; d < 3 * job->nw; ++d)
-                    job->partial[s][d] = 0.0;
-                pw_range(e, k, job->table, job->cached, 1, job->qlo[s], job->qlo[s + 1],
-                         job->partial[s]);
-            } else {
-                pw_runs_rolling_off(e, k, job, s);
-            }
-        }
+        for (int s = 0; s < runs; ++s)
+            pw_run(e, k, job, s, rolling);
     }
     for (int s = 0; s < runs; ++s)
         for (size_t d = 0; d < 3 * job->nw; ++d)
@@ -978,8 +967,7 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     wall_job walls;
     if (e->walls != NULL)
         plan_walls(e, &k, &walls);
-    const int with_pairs =
-        e->walls != NULL && !rolling && walls.aligned && e->pp->chunks.count > 0;
+    const int with_pairs = e->walls != NULL && !rolling && walls.aligned && e->pp->chunks.count > 0;
     sinter_status st = rolling ? eval_pp(e, &k, 1, &e->pp_ended, NULL)
                                : eval_pp(e, &k, 0, &e->pp_ended, with_pairs ? &walls : NULL);
     if (st == SINTER_OK && e->walls != NULL) {

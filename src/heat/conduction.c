@@ -127,9 +127,9 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
 
 /* Wall contacts [lo, hi) (eq. 32, the wall side at the wall's temperature): their
  * conductances into g_pw when implicit, else their powers into heat. */
-static inline __attribute__((always_inline)) void
-pw_run(const sinter_heat_eval *e, const double *kmat, int projection, int implicit, size_t lo,
-       size_t hi)
+static inline __attribute__((always_inline)) void pw_run(const sinter_heat_eval *e,
+                                                         const double *kmat, int projection,
+                                                         int implicit, size_t lo, size_t hi)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
@@ -216,8 +216,8 @@ static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, i
 
 /* Pair contacts; with `wq` (explicit, a partitioned list: wall runs aligned with its ranges)
  * the wall contacts too, in the same parallel region. */
-static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kmat,
-                                    int projection, int implicit, const size_t *wq)
+static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kmat, int projection,
+                                    int implicit, const size_t *wq)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
@@ -246,14 +246,10 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
 {
     const sinter_contact_list *c = e->pw;
     /* runs that never split a particle's contacts: those of the pair partition's particle
-     * ranges (each thread its own particles, chunks.h), else the list's own (contacts.c) */
+     * ranges (each thread its own particles), else the list's own (chunks.h) */
     size_t qlo[SINTER_CHUNKS_MAX + 1] = {0, c->count};
-    int ranges = sinter_chunks_wall_runs(&e->pp->chunks, c, qlo);
-    if (ranges == 0 && c->chunks.count > 0) {
-        ranges = c->chunks.count;
-        for (int s = 0; s <= ranges; ++s)
-            qlo[s] = c->chunks.qlo[s];
-    }
+    int aligned;
+    int ranges = sinter_chunks_wall_plan(&e->pp->chunks, c, qlo, &aligned);
     ranges = ranges > 0 ? ranges : 1;
     const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
 #pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)

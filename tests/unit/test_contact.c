@@ -555,7 +555,8 @@ static void run_colliding_cloud(int threads, int rolling, double *out, size_t n)
     memset(&stats, 0, sizeof(stats));
     stats.struct_size = sizeof(stats);
     OK(sinter_stepper_get_stats(s.st, &stats));
-    print_message("cloud: %d, %llu contacts, %llu builds\n", by_contact, (unsigned long long)stats.contacts, (unsigned long long)stats.neighbor_builds);
+    print_message("cloud: %d, %llu contacts, %llu builds\n", by_contact,
+                  (unsigned long long)stats.contacts, (unsigned long long)stats.neighbor_builds);
     assert_true(stats.contacts > 200);
     memcpy(out, s.ps->x, 3 * n * sizeof(double));
     memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
