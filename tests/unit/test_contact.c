@@ -114,6 +114,22 @@ static void test_pair_list_matches_brute_force(void **state)
     scene_close(&s);
 }
 
+/* n spheres on a lattice of `row` x `row` layers `spacing` apart, radii 1 mm times
+ * r0 + dr u, velocities with components in [-0.5, 0.5) m/s (u uniform in [0, 1) from seed),
+ * above a floor at z = -1 mm. */
+static void add_cloud(scene *s, size_t n, size_t row, double spacing, double r0, double dr,
+                      uint64_t seed)
+{
+    for (size_t k = 0; k < n; ++k)
+        scene_add(s, spacing * (double)(k % row), spacing * (double)((k / row) % row),
+                  spacing * (double)(k / (row * row)), 1e-3 * (r0 + dr * lcg(&seed)));
+    for (size_t k = 0; k < n; ++k) {
+        const double v[3] = {lcg(&seed) - 0.5, lcg(&seed) - 0.5, lcg(&seed) - 0.5};
+        set3(s, SINTER_FIELD_VELOCITY, k, v);
+    }
+    scene_floor(s, -0.001);
+}
+
 /* A falling, colliding cloud in a box, with friction (history) and rolling. */
 static void run_cloud(double skin, int reorder_at, double *out_x, size_t n)
 {
@@ -124,15 +140,7 @@ static void run_cloud(double skin, int reorder_at, double *out_x, size_t n)
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
     scene_open(&s, "hertz_mindlin", 1);
     /* jittered lattice with random velocities: many collisions, no initial overlap */
-    uint64_t seed = 11;
-    for (size_t k = 0; k < n; ++k)
-        scene_add(&s, 2.05e-3 * (double)(k % 4), 2.05e-3 * (double)((k / 4) % 4),
-                  2.05e-3 * (double)(k / 16), 1e-3 * (0.8 + 0.2 * lcg(&seed)));
-    for (size_t k = 0; k < n; ++k) {
-        const double v[3] = {lcg(&seed) - 0.5, lcg(&seed) - 0.5, lcg(&seed) - 0.5};
-        set3(&s, SINTER_FIELD_VELOCITY, k, v);
-    }
-    scene_floor(&s, -0.001);
+    add_cloud(&s, n, 4, 2.05e-3, 0.8, 0.2, 11);
     OK(sinter_stepper_set_skin(s.st, skin));
     OK(sinter_stepper_set_dt(s.st, 2e-5));
     if (reorder_at == -2) /* sorted by position in memory every 37 steps */
@@ -535,15 +543,7 @@ static void run_colliding_cloud(int threads, int rolling, double *out, size_t n)
     OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, rolling ? 0.05 : 0.0));
     scene_open(&s, "hertz_mindlin", 1);
     OK(sinter_force_model_set(s.contact, "rolling", rolling ? 1.0 : 0.0));
-    uint64_t seed = 19;
-    for (size_t k = 0; k < n; ++k) /* 16 x 16 layers, gaps of 0.02-0.22 mm */
-        scene_add(&s, 2.02e-3 * (double)(k % 16), 2.02e-3 * (double)((k / 16) % 16),
-                  2.02e-3 * (double)(k / 256), 1e-3 * (0.9 + 0.1 * lcg(&seed)));
-    for (size_t k = 0; k < n; ++k) {
-        const double v[3] = {lcg(&seed) - 0.5, lcg(&seed) - 0.5, lcg(&seed) - 0.5};
-        set3(&s, SINTER_FIELD_VELOCITY, k, v);
-    }
-    scene_floor(&s, -0.001);
+    add_cloud(&s, n, 16, 2.02e-3, 0.9, 0.1, 19); /* 16 x 16 layers, gaps of 0.02-0.22 mm */
     OK(sinter_stepper_set_dt(s.st, 2e-5));
     int by_contact = 0; /* steps committed by contact on a partitioned list */
     for (int k = 0; k < 300; ++k) {
