@@ -77,13 +77,14 @@ static inline int sinter_chunks_wall_runs(const sinter_chunks *pp, const sinter_
 }
 
 /* The runs a loop over wall list pw takes: the pair partition's (sinter_chunks_wall_runs,
- * *aligned 1), else pw's own (contacts.c, wall_ranges, from 1024 contacts; *aligned 0).
- * Returns their number; 0: one pass over the list on one thread. */
+ * *aligned 1), else pw's own (contacts.c, wall_ranges, from 1024 contacts; *aligned 0);
+ * aligned may be NULL. Returns their number; 0: one pass over the list on one thread. */
 static inline int sinter_chunks_wall_plan(const sinter_chunks *pp, const sinter_contact_list *pw,
                                           size_t qlo[SINTER_CHUNKS_MAX + 1], int *aligned)
 {
     int runs = sinter_chunks_wall_runs(pp, pw, qlo);
-    *aligned = runs > 0;
+    if (aligned != NULL)
+        *aligned = runs > 0;
     if (runs == 0 && pw->chunks.count > 0) {
         runs = pw->chunks.count;
         for (int s = 0; s <= runs; ++s)

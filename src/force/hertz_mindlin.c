@@ -967,7 +967,7 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     wall_job walls;
     if (e->walls != NULL)
         plan_walls(e, &k, &walls);
-    const int with_pairs = e->walls != NULL && !rolling && walls.aligned && e->pp->chunks.count > 0;
+    const int with_pairs = e->walls != NULL && !rolling && walls.aligned; /* aligned: partitioned */
     sinter_status st = rolling ? eval_pp(e, &k, 1, &e->pp_ended, NULL)
                                : eval_pp(e, &k, 0, &e->pp_ended, with_pairs ? &walls : NULL);
     if (st == SINTER_OK && e->walls != NULL) {

@@ -248,8 +248,7 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
     /* runs that never split a particle's contacts: those of the pair partition's particle
      * ranges (each thread its own particles), else the list's own (chunks.h) */
     size_t qlo[SINTER_CHUNKS_MAX + 1] = {0, c->count};
-    int aligned;
-    int ranges = sinter_chunks_wall_plan(&e->pp->chunks, c, qlo, &aligned);
+    int ranges = sinter_chunks_wall_plan(&e->pp->chunks, c, qlo, NULL);
     ranges = ranges > 0 ? ranges : 1;
     const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
 #pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)
@@ -273,8 +272,7 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     /* explicit, with walls and a partitioned pair list: the wall contacts in the pairs'
      * parallel region, each by the thread of its particle's range (one region fewer) */
     size_t wq[SINTER_CHUNKS_MAX + 1];
-    const int fused = walls && !implicit && e->pp->chunks.count > 0 &&
-                      sinter_chunks_wall_runs(&e->pp->chunks, e->pw, wq) > 0;
+    const int fused = walls && !implicit && sinter_chunks_wall_runs(&e->pp->chunks, e->pw, wq) > 0;
     const size_t *runs = fused ? wq : NULL;
     sinter_status st;
     if (proj)
