@@ -54,6 +54,40 @@ static inline size_t sinter_lower_bound_u32(const uint32_t *a, size_t n, size_t 
 }
 
 /*
+ * Ranges of particles for a loop over the particles on threads (the integrator, the explicit
+ * temperature update): the pair partition's particle ranges when it has one for n particles,
+ * looped over as its law loops over them (`omp for schedule(static)` over `count` ranges on
+ * `team` threads), so that each thread updates the particles whose contact forces it summed
+ * and whose positions its next search and law read (issue 9: on a falling pile, whose
+ * contacts crowd at the bottom, equal ranges of particles left a third of them on the other
+ * core); else `threads` equal ranges. Any split gives the same bits (particle by particle).
+ */
+typedef struct sinter_particle_ranges {
+    int count;         /* ranges */
+    int team;          /* threads of the loop over them */
+    size_t n;          /* particles */
+    const size_t *plo; /* the partition's bounds (count + 1), or NULL: equal ranges */
+} sinter_particle_ranges;
+
+static inline sinter_particle_ranges sinter_chunks_particle_ranges(const sinter_chunks *pp,
+                                                                   size_t n, int threads)
+{
+    sinter_particle_ranges r = {threads, threads, n, NULL};
+    if (threads > 1 && pp != NULL && pp->count > 0 && pp->plo[pp->count] == n) {
+        r.count = pp->count;
+        r.team = threads < pp->count ? threads : pp->count;
+        r.plo = pp->plo;
+    }
+    return r;
+}
+
+/* First particle of range s (s = count: n). */
+static inline size_t sinter_particle_range_lo(const sinter_particle_ranges *r, int s)
+{
+    return r->plo != NULL ? r->plo[s] : r->n * (size_t)s / (size_t)r->count;
+}
+
+/*
  * The runs of wall list pw that hold the wall contacts of the particle ranges of the
  * particle-particle partition pp: qlo[s] .. qlo[s + 1] for s < S. Returns S, or 0 when pp
  * has no partition or pw's particle indices do not ascend (then pw's own runs serve).

@@ -215,35 +215,89 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
     return p;
 }
 
+/* Ranges of pairs for a threaded pass over pairs [p0, n) on `threads` threads. */
+typedef struct pair_ranges {
+    int count;                  /* ranges */
+    int team;                   /* threads of the loop over them, schedule(static) */
+    size_t lo[MAX_CHUNKS + 1];  /* range t: pairs [lo[t], lo[t + 1]) */
+} pair_ranges;
+
+/* Fewest pairs a range of a threaded fill is given (fill_ranges). */
+enum { FILL_RANGE_MIN = 4096 };
+
+/* The first pair in [from, n) whose smaller particle index is at least p (they ascend in the
+ * neighbour build's order; any index in [from, n] when they do not). */
+static size_t first_pair_of(const sinter_pair_list *pairs, size_t from, size_t p)
+{
+    size_t lo = from, hi = pairs->count;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        const uint32_t a = pairs->i[mid], b = pairs->j[mid];
+        if ((a < b ? a : b) < p)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/*
+ * The ranges of a threaded pass over pairs [p0, n): where c has a partition for these
+ * particles, the pairs of its particle ranges, on its law's team (contact/chunks.h), so that
+ * each thread reads the positions of the particles it integrates and sums, not the other
+ * core's (issue 9); else `ranges` equal ranges, contiguous per thread.
+ */
+static pair_ranges pass_ranges(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                               size_t particles, size_t p0, int threads, int ranges)
+{
+    pair_ranges r;
+    const size_t n = pairs->count;
+    const sinter_chunks *k = &c->chunks;
+    if (k->count > 0 && k->count <= MAX_CHUNKS && k->plo[k->count] == particles) {
+        r.count = k->count;
+        r.team = threads < k->count ? threads : k->count;
+        r.lo[0] = p0;
+        for (int s = 1; s < k->count; ++s)
+            r.lo[s] = first_pair_of(pairs, r.lo[s - 1], k->plo[s]);
+        r.lo[k->count] = n;
+        return r;
+    }
+    r.count = ranges;
+    r.team = threads < ranges ? threads : ranges;
+    for (int t = 0; t <= ranges; ++t)
+        r.lo[t] = p0 + (n - p0) * (size_t)t / (size_t)ranges;
+    return r;
+}
+
 /*
  * A lean list on threads in one pass over the pairs from p0 on (the contacts before pair p0,
- * m0 of them, stay): each thread fills its ranges of pairs into a scratch copy at the range's
- * own start (a range has at most as many contacts as pairs), then copies its contacts to
- * their place in the list and points their pairs at them: the same list, in the same order,
- * as one thread makes, without a counting pass. With `verify` (the list holds the contacts of
- * these pairs from the last search; p0 = m0 = 0), each range is first checked against the
- * list (verify_range) and filled from its first change only; a range whose contacts all agree
- * and still start at the same index is left as it is (no write at all when none changed).
+ * m0 of them, stay), in ranges r (pass_ranges): each thread fills its ranges of pairs into a
+ * scratch copy at the range's own start (a range has at most as many contacts as pairs), then
+ * copies its contacts to their place in the list and points their pairs at them: the same
+ * list, in the same order, as one thread makes, without a counting pass. With `verify` (the
+ * list holds the contacts of these pairs from the last search; p0 = m0 = 0), each range is
+ * first checked against the list (verify_range) and filled from its first change only; a
+ * range whose contacts all agree and still start at the same index is left as it is (no
+ * write at all when none changed).
  * *change_pair and *change_contact tell where the list changed (sinter_contacts_changed;
  * SIZE_MAX: nowhere). Returns the number of contacts.
  */
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
-                            const sinter_particles *ps, size_t p0, size_t m0, int threads,
-                            int chunks, int verify, fill_part *part, size_t *change_pair,
+                            const sinter_particles *ps, size_t m0, const pair_ranges *r,
+                            int verify, fill_part *part, size_t *change_pair,
                             size_t *change_contact)
 {
-    const size_t n = pairs->count, span = n - p0;
+    const size_t n = pairs->count;
+    const int chunks = r->count;
     uint32_t *si = c->fill_scratch, *sj = si + n, *sp = sj + n;
     size_t found[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
     size_t start[MAX_CHUNKS], checked[MAX_CHUNKS], stop[MAX_CHUNKS];
     int in_place[MAX_CHUNKS];
     int all_in_place = verify;
-#define RANGE_LO(t) (p0 + span * (size_t)(t) / (size_t)chunks)
-#pragma omp parallel num_threads(threads)
+#define RANGE_LO(t) (r->lo[t])
+#pragma omp parallel num_threads(r->team)
     {
-        /* ranges taken in turn: their work differs (a falling pile's contacts change in the
-         * ranges of its lower particles only) */
-#pragma omp for schedule(dynamic, 1)
+#pragma omp for schedule(static)
         for (int t = 0; t < chunks; ++t) {
             const size_t lo = RANGE_LO(t), hi = RANGE_LO(t + 1);
             fill_part mine = {1, 0, 0, 0};
@@ -314,9 +368,6 @@ static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pair
     return offset[chunks];
 }
 
-/* Fewest pairs a range of a threaded fill is given (fill_ranges). */
-enum { FILL_RANGE_MIN = 4096 };
-
 /* The ranges of a threaded fill of `pairs` pairs on `threads` threads: a few per thread, of
  * FILL_RANGE_MIN pairs at least (one per thread when there are not that many). */
 static int fill_ranges(size_t pairs, int threads)
@@ -379,11 +430,32 @@ static void contact_ranges(sinter_contact_list *c)
     k->qlo[k->count] = c->count;
 }
 
-/* The partition from the fill passes' findings (parts in list order); count 0 when the list
+/*
+ * The work of a step on particles [0, p), in units of one contact's force law: the contacts
+ * whose smaller particle index is below p, the candidate pairs the search tests (PAIR_COST
+ * of a contact each) and the particles the integrator moves (PARTICLE_COST each). Measured
+ * on one core of the falling pile and the packed bed (`peer_bench --stats`, RESULTS.md,
+ * session 10): a contact 20-30 ns with its wall share and history, a pair's test 1.5-2 ns,
+ * a particle's two Verlet passes about 10 ns.
+ */
+enum { COST_UNITS = 16, PAIR_COST = 1, PARTICLE_COST = 6 }; /* sixteenths of a contact */
+
+static size_t work_below(const sinter_contact_list *c, const sinter_pair_list *pairs, size_t p)
+{
+    return COST_UNITS * first_contact_of(c, p) + PAIR_COST * first_pair_of(pairs, 0, p) +
+           PARTICLE_COST * p;
+}
+
+/*
+ * The partition from the fill passes' findings (parts in list order); count 0 when the list
  * is too small or its smaller particle indices do not ascend. The particle ranges are made
- * by the first search over a pair list and kept by the later ones (chunks.h). */
-static void make_chunks(sinter_contact_list *c, const fill_part *parts, int nparts, size_t n,
-                        int count, uint64_t pairs_id)
+ * by the first search over a pair list and kept by the later ones (chunks.h); they hold about
+ * equal work (work_below): the law's contacts, and the search and the integrator, which run
+ * on the same ranges (a falling pile has its contacts all at the bottom: ranges of equal
+ * contacts left the integrator's particles mostly to one thread).
+ */
+static void make_chunks(sinter_contact_list *c, const sinter_pair_list *pairs,
+                        const fill_part *parts, int nparts, size_t n, int count)
 {
     sinter_chunks *k = &c->chunks;
     int seen = 0;
@@ -401,25 +473,29 @@ static void make_chunks(sinter_contact_list *c, const fill_part *parts, int npar
         k->source = 0;
         return;
     }
-    if (k->count == count && k->source == pairs_id) {
+    if (k->count == count && k->source == pairs->build_id) {
         contact_ranges(c);
         return;
     }
     k->count = count;
-    k->source = pairs_id;
-    /* the scratch was reserved for every pair in sinter_contacts_find_pp. The ranges hold
-     * about equal numbers of contacts (a falling pile has them all at the bottom): range s
-     * starts at the particle of contact count s / S. */
+    k->source = pairs->build_id;
+    /* the scratch was reserved for every pair in sinter_contacts_find_pp. Range s starts at
+     * the first particle below which lies s / S of the work. */
+    const double total = (double)work_below(c, pairs, n);
     k->plo[0] = 0;
-    for (int s = 1; s <= count; ++s) {
-        size_t p = n;
-        if (s < count) {
-            const size_t q = c->count * (size_t)s / (size_t)count;
-            if (q < c->count)
-                p = smaller_index(c, q);
+    for (int s = 1; s < count; ++s) {
+        const double target = total * (double)s / (double)count;
+        size_t lo = k->plo[s - 1], hi = n;
+        while (lo < hi) {
+            const size_t mid = lo + (hi - lo) / 2;
+            if ((double)work_below(c, pairs, mid) < target)
+                lo = mid + 1;
+            else
+                hi = mid;
         }
-        k->plo[s] = p > k->plo[s - 1] ? p : k->plo[s - 1];
+        k->plo[s] = lo;
     }
+    k->plo[count] = n;
     contact_ranges(c);
 }
 
@@ -465,7 +541,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
             part = join_parts(part, rest);
             sinter_contacts_changed(c, p, checked);
         }
-        make_chunks(c, &part, 1, ps->count, parts_count, pairs->build_id);
+        make_chunks(c, pairs, &part, 1, ps->count, parts_count);
         c->lean_source = geometry ? 0 : pairs->build_id;
         return SINTER_OK;
     }
@@ -478,11 +554,11 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
             return st;
         fill_part part[MAX_CHUNKS];
         size_t change_pair = 0, change_contact = 0;
-        c->count = fill_segments(c, pairs, ps, 0, 0, chunks, ranges, verify, part, &change_pair,
-                                 &change_contact);
+        const pair_ranges r = pass_ranges(c, pairs, ps->count, 0, chunks, ranges);
+        c->count = fill_segments(c, pairs, ps, 0, &r, verify, part, &change_pair, &change_contact);
         if (change_pair != SIZE_MAX)
             sinter_contacts_changed(c, change_pair, change_contact);
-        make_chunks(c, part, ranges, ps->count, parts_count, pairs->build_id);
+        make_chunks(c, pairs, part, r.count, ps->count, parts_count);
         c->lean_source = pairs->build_id;
         return SINTER_OK;
     }
@@ -518,7 +594,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         part[t] = mine;
     }
     c->count = offset[chunks];
-    make_chunks(c, part, chunks, ps->count, parts_count, pairs->build_id);
+    make_chunks(c, pairs, part, chunks, ps->count, parts_count);
     return SINTER_OK;
 }
 
@@ -584,19 +660,21 @@ static size_t first_new_contact(sinter_ctx *ctx, sinter_contact_list *c,
     else
         sinter_clear_error(ctx); /* no room for them: the scan still answers */
     size_t first[MAX_CHUNKS], count[MAX_CHUNKS], offset[MAX_CHUNKS + 1];
-    const int ranges = threads < MAX_CHUNKS ? threads : MAX_CHUNKS;
+    const pair_ranges r =
+        pass_ranges(c, pairs, ps->count, 0, threads, threads < MAX_CHUNKS ? threads : MAX_CHUNKS);
+    const int ranges = r.count;
     offset[0] = 0;
     for (int t = 0; t < ranges; ++t) /* each range writes its share of the room */
-        offset[t + 1] = gaps != NULL ? cap * (size_t)(t + 1) / (size_t)ranges : 0;
-#pragma omp parallel for num_threads(ranges) schedule(static, 1)
+        offset[t + 1] = gaps != NULL && n > 0 ? cap * r.lo[t + 1] / n : 0;
+#pragma omp parallel for num_threads(r.team) schedule(static)
     for (int t = 0; t < ranges; ++t) {
-        const size_t lo = n * (size_t)t / (size_t)ranges, hi = n * (size_t)(t + 1) / (size_t)ranges;
-        first[t] = scan_range(c, pairs, ps, lo, hi, gaps != NULL ? gaps + offset[t] : NULL,
-                              offset[t + 1] - offset[t], &count[t]);
+        first[t] = scan_range(c, pairs, ps, r.lo[t], r.lo[t + 1],
+                              gaps != NULL ? gaps + offset[t] : NULL, offset[t + 1] - offset[t],
+                              &count[t]);
     }
     size_t kept = 0;
     for (int t = 0; t < ranges; ++t) {
-        const size_t hi = n * (size_t)(t + 1) / (size_t)ranges;
+        const size_t hi = r.lo[t + 1];
         if (first[t] < hi)
             return first[t];
         if (count[t] == SIZE_MAX)
@@ -657,9 +735,9 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
             fill_part parts[MAX_CHUNKS];
             size_t change_pair = 0, change_contact = 0;
             const int ranges = fill_ranges(n - p, chunks);
-            c->count = fill_segments(c, pairs, ps, p, m, chunks, ranges, 0, parts, &change_pair,
-                                     &change_contact);
-            for (int t = 0; t < ranges; ++t)
+            const pair_ranges r = pass_ranges(c, pairs, ps->count, p, chunks, ranges);
+            c->count = fill_segments(c, pairs, ps, m, &r, 0, parts, &change_pair, &change_contact);
+            for (int t = 0; t < r.count; ++t)
                 rest = join_parts(rest, parts[t]);
         } else {
             c->count = fill_pp_lean(c, pairs, ps, p, n, m, &rest, NULL);

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contact/chunks.h"
 #include "core/stream_store.h"
 #include "sanity.h"
 #include "stepper.h"
@@ -84,17 +85,17 @@ static inline double nonfinite(double z)
     return z * 0.0;
 }
 
-/* Ranges of particles for `threads` threads: [n t / T, n (t + 1) / T). */
-static inline size_t range_bound(size_t n, int t, int threads)
+/* The particle ranges of the integrator's passes on `threads` threads (contact/chunks.h). */
+static sinter_particle_ranges particle_ranges(const sinter_stepper *st, int threads)
 {
-    return n * (size_t)t / (size_t)threads;
+    return sinter_chunks_particle_ranges(&st->pp.chunks, st->ps->count, threads);
 }
 
 /*
- * kick_drift for particles that are neither fixed nor without rotation (see there), one
- * range per thread in vectorised blocks (verlet_blocks.c); with `exact`, the displacement
- * since the neighbour build is measured against x_ref; `stream`: streaming stores for the
- * new x, v, w. The first non-finite particle (n: none) and the largest squared
+ * kick_drift for particles that are neither fixed nor without rotation (see there), by
+ * particle ranges (particle_ranges) in vectorised blocks (verlet_blocks.c); with `exact`,
+ * the displacement since the neighbour build is measured against x_ref; `stream`: streaming
+ * stores for the new x, v, w. The first non-finite particle (n: none) and the largest squared
  * displacements are the ranges' (a first and a maximum: the same for any split).
  */
 static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const double g[3],
@@ -109,10 +110,12 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
     const int rotation = st->rotation;
     size_t bad = n;
     double moved2 = 0.0, step2 = 0.0;
-#pragma omp parallel for num_threads(threads) schedule(static, 1)                             \
-    reduction(min : bad) reduction(max : moved2, step2)
-    for (int t = 0; t < threads; ++t) {
-        const size_t lo = range_bound(n, t, threads), hi = range_bound(n, t + 1, threads);
+    const sinter_particle_ranges r = particle_ranges(st, threads);
+#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad)            \
+    reduction(max : moved2, step2)
+    for (int t = 0; t < r.count; ++t) {
+        const size_t lo = sinter_particle_range_lo(&r, t),
+                     hi = sinter_particle_range_lo(&r, t + 1);
         const sinter_drift_scan d =
             sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
         sinter_put_fence(stream); /* this thread's streamed stores before the barrier */
@@ -243,9 +246,11 @@ static size_t kick(sinter_stepper *st, double h)
     const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
     size_t bad = n;
     if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
-#pragma omp parallel for num_threads(threads) schedule(static, 1) reduction(min : bad)
-        for (int t = 0; t < threads; ++t) {
-            const size_t lo = range_bound(n, t, threads), hi = range_bound(n, t + 1, threads);
+        const sinter_particle_ranges r = particle_ranges(st, threads);
+#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad)
+        for (int t = 0; t < r.count; ++t) {
+            const size_t lo = sinter_particle_range_lo(&r, t),
+                         hi = sinter_particle_range_lo(&r, t + 1);
             const size_t b = sinter_verlet_kick(v, w, f, tq, m, j, h, lo, hi);
             bad = b < hi && b < bad ? b : bad;
         }

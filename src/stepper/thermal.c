@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contact/chunks.h"
 #include "core/pcg.h"
 #include "sanity.h"
 #include "stepper.h"
@@ -312,22 +313,27 @@ sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
             return s;
         double *restrict saved = th->theta_backup, *restrict temp = ps->temperature;
         size_t bad = ps->count, hot = ps->count;
-        const long n = (long)ps->count;
+        const size_t n = ps->count;
         const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad, hot)
-        for (long i = 0; i < n; ++i) {
-            const double t0 = temp[i];
-            saved[i] = t0;
-            if (fixed(ps, (size_t)i))
-                continue;
-            const double mc =
-                ps->mass[i] * sinter_particle_param(ps, (size_t)i, SINTER_MAT_HEAT_CAPACITY);
-            const double t1 = t0 + h * ps->heat[i] / mc;
-            temp[i] = t1;
-            if (!(t1 > 0.0 && t1 < INFINITY) && (size_t)i < bad)
-                bad = (size_t)i;
-            if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && (size_t)i < hot)
-                hot = (size_t)i;
+        /* the particles of the threads that summed their heat (contact/chunks.h) */
+        const sinter_particle_ranges r = sinter_chunks_particle_ranges(&st->pp.chunks, n, threads);
+#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad, hot)
+        for (int range = 0; range < r.count; ++range) {
+            const size_t hi = sinter_particle_range_lo(&r, range + 1);
+            for (size_t i = sinter_particle_range_lo(&r, range); i < hi; ++i) {
+                const double t0 = temp[i];
+                saved[i] = t0;
+                if (fixed(ps, i))
+                    continue;
+                const double mc =
+                    ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+                const double t1 = t0 + h * ps->heat[i] / mc;
+                temp[i] = t1;
+                if (!(t1 > 0.0 && t1 < INFINITY) && i < bad)
+                    bad = i;
+                if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < hot)
+                    hot = i;
+            }
         }
         th->hot_checked = 1;
         th->hot = hot;
