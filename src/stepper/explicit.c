@@ -108,6 +108,9 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
         .m = ps->mass, .j = ps->inertia, .x0 = st->nb.x_ref, .nx = st->spare[0],
         .nv = st->spare[1], .nw = st->spare[2], .nrot = st->spare[3]};
     const int rotation = st->rotation;
+    /* the heat powers are summed again by this step's evaluation: zeroed here, by the ranges
+     * whose threads sum them (thermal.h, heat_zeroed) */
+    double *heat = st->thermal.count > 0 ? ps->heat : NULL;
     size_t bad = n;
     double moved2 = 0.0, step2 = 0.0;
     const sinter_particle_ranges r = particle_ranges(st, threads);
@@ -119,10 +122,13 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
         const sinter_drift_scan d =
             sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
         sinter_put_fence(stream); /* this thread's streamed stores before the barrier */
+        if (heat != NULL)
+            memset(heat + lo, 0, (hi - lo) * sizeof(double));
         bad = d.bad < hi && d.bad < bad ? d.bad : bad;
         moved2 = d.moved2 > moved2 ? d.moved2 : moved2;
         step2 = d.step2 > step2 ? d.step2 : step2;
     }
+    st->thermal.heat_zeroed = heat != NULL;
     return (sinter_drift_scan){bad, moved2, step2};
 }
 
@@ -367,6 +373,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         s = sinter_walls_move(st->walls, st->time);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
+    st->thermal.heat_zeroed = 0;           /* for that evaluation only */
     sinter_neighbors_clear_moved(&st->nb); /* valid for that evaluation only */
     size_t bad = st->ps->count;
     if (s == SINTER_OK) {

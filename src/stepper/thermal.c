@@ -101,7 +101,9 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
     sinter_thermal *th = &st->thermal;
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
-    memset(ps->heat, 0, n * sizeof(double));
+    if (!th->heat_zeroed)
+        memset(ps->heat, 0, n * sizeof(double));
+    th->heat_zeroed = 0;
     if (th->count == 0)
         return SINTER_OK;
     sinter_heat_eval e;

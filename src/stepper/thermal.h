@@ -38,6 +38,10 @@ typedef struct sinter_thermal {
      * (sanity.c, criterion 3): the first free particle above its limit, or the count */
     int hot_checked;
     size_t hot;
+    /* 1: the explicit step's drift zeroed ps->heat range by range, on the threads that sum
+     * into it (issue 9), so the evaluation of that step adds into it without a memset of its
+     * own; set by the drift and cleared by the evaluation (explicit.c) */
+    int heat_zeroed;
     sinter_thermal_solver *solver;
 } sinter_thermal;
 

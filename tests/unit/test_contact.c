@@ -509,6 +509,16 @@ static void test_partitioned_conduction_conserves_energy(void **state)
                 e1 += s.ps->mass[i] * c * s.ps->temperature[i];
                 spread1 += fabs(s.ps->temperature[i] - 400.0);
             }
+            /* the step's heat powers (summed into an array its drift zeroed by ranges) are a
+             * fresh evaluation's of the same state (a zeroed array), to the bit */
+            double *heat = malloc(N * sizeof(double));
+            assert_non_null(heat);
+            memcpy(heat, s.ps->heat, N * sizeof(double));
+            OK(sinter_particles_view(s.ps, SINTER_FIELD_TEMPERATURE, (void **)&theta, NULL, NULL));
+            OK(sinter_particles_release(s.ps, SINTER_FIELD_TEMPERATURE)); /* state "written" */
+            OK(sinter_stepper_evaluate(s.st));
+            assert_memory_equal(heat, s.ps->heat, N * sizeof(double));
+            free(heat);
             print_message("walls %d, %d threads: spread %.9g -> %.9g K, energy change %.3g\n",
                           walls, t, spread0 / N, spread1 / N, (e1 - e0) / e0);
             /* heat did flow between the particles (a time constant m c / G of about 1 s) */
