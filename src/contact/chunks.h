@@ -3,13 +3,17 @@
  * (or heat) straight into the particles' sums without a race and with results that do not
  * depend on the number of threads (issue 9). sinter_contacts_find_pp makes it (c->chunks).
  *
- * The particles are split into S index ranges holding about equal numbers of contacts, and
- * the contacts into the S runs of contacts whose smaller particle index lies in each range: in the neighbour build's pair order that
- * index (the particle whose scan found the pair) ascends, whatever the pair's orientation by
- * persistent id. A contact of range s whose two particles both lie in particle range s is
- * interior: only range s touches those particles, so a thread per range adds it directly. Every other contact is a boundary contact: its value is kept (in a scratch
+ * The particles are split into S index ranges holding about equal work (contacts, candidate
+ * pairs and particles, weighted by their cost: contacts.c, work_below), and the contacts into
+ * the S runs of contacts whose smaller particle index lies in each range: in the neighbour
+ * build's pair order that index (the particle whose scan found the pair) ascends, whatever the
+ * pair's orientation by persistent id. A contact of range s whose two particles both lie in
+ * particle range s is interior: only range s touches those particles, so a thread per range
+ * adds it directly. Every other contact is a boundary contact: its value is kept (in a scratch
  * array at the range's own contact offset, so no count is needed beforehand) and added after
- * all ranges, in list order, by one thread.
+ * all ranges, in list order, by the range of each of its particles. The search, the
+ * integrator and the explicit temperature update run on the same ranges and threads
+ * (sinter_chunks_particle_ranges), so a particle's lines stay on one core all step.
  *
  * The particle ranges are made by the first search over a pair list and kept by the later
  * searches over it (which find the runs of contacts again): the partition does not depend on

@@ -27,12 +27,11 @@ typedef struct sinter_thread_choice {
 } sinter_thread_choice;
 
 /* The explicit step's per-particle passes (the integrator's kicks, the forward Euler update of
- * the temperatures) run on the step's threads from this many particles. Their equal ranges of
- * particles are close to the contact law's (ranges of equal contacts) in a packed bed, so each
- * thread updates mostly the particles whose forces and heat it summed; on one thread instead,
- * half of those lines would cross to the other core and back every step
- * (1k packed bed, 2 threads, cores on one die: 1.55-1.59 s -> 1.26-1.55 s; RESULTS.md,
- * session 9). */
+ * the temperatures) run on the step's threads from this many particles, on the pair
+ * partition's particle ranges (contact/chunks.h, sinter_chunks_particle_ranges), so each
+ * thread updates the particles whose forces and heat it summed; on one thread instead, half of
+ * those lines would cross to the other core and back every step (1k packed bed, 2 threads,
+ * cores on one die: 1.55-1.59 s -> 1.26-1.55 s; RESULTS.md, sessions 9 and 10). */
 enum { SINTER_THREADED_PARTICLES = 512 };
 
 struct sinter_stepper;
