@@ -225,20 +225,25 @@ typedef struct pair_ranges {
 /* Fewest pairs a range of a threaded fill is given (fill_ranges). */
 enum { FILL_RANGE_MIN = 4096 };
 
-/* The first pair in [from, n) whose smaller particle index is at least p (they ascend in the
- * neighbour build's order; any index in [from, n] when they do not). */
-static size_t first_pair_of(const sinter_pair_list *pairs, size_t from, size_t p)
+/* The first k in [lo, hi) whose smaller index min(a[k], b[k]) is at least p (they ascend in
+ * the neighbour build's pair order; any k in [lo, hi] when they do not). */
+static size_t first_with_smaller_index(const uint32_t *a, const uint32_t *b, size_t lo, size_t hi,
+                                       size_t p)
 {
-    size_t lo = from, hi = pairs->count;
     while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        const uint32_t a = pairs->i[mid], b = pairs->j[mid];
-        if ((a < b ? a : b) < p)
+        if ((a[mid] < b[mid] ? a[mid] : b[mid]) < p)
             lo = mid + 1;
         else
             hi = mid;
     }
     return lo;
+}
+
+/* The first pair in [from, n) whose smaller particle index is at least p. */
+static size_t first_pair_of(const sinter_pair_list *pairs, size_t from, size_t p)
+{
+    return first_with_smaller_index(pairs->i, pairs->j, from, pairs->count, p);
 }
 
 /*
@@ -409,15 +414,7 @@ static int over_same_pairs(const sinter_contact_list *c, const sinter_pair_list 
 /* First contact whose smaller particle index is at least p (they ascend). */
 static size_t first_contact_of(const sinter_contact_list *c, size_t p)
 {
-    size_t lo = 0, hi = c->count;
-    while (lo < hi) {
-        const size_t mid = lo + (hi - lo) / 2;
-        if (smaller_index(c, mid) < p)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
+    return first_with_smaller_index(c->i, c->j, 0, c->count, p);
 }
 
 /* The contact ranges of c's partition from its particle ranges. */
