@@ -432,7 +432,7 @@ HM_INLINE void blk_geometry(blk *restrict b)
     for (int a = 0; a < BLOCK; ++a) {
         const double ex = b->nx[a], ey = b->ny[a], ez = b->nz[a], rs = b->ri[a] + b->rj[a];
         const double d2 = ex * ex + ey * ey + ez * ez;
-        b->apart[a] = (d2 < rs * rs) & (d2 != 0.0) ? 0.0 : 1.0;
+        b->apart[a] = ((d2 < rs * rs) & (d2 != 0.0)) ? 0.0 : 1.0;
         const sinter_pp_geom g =
             sinter_pp_geometry(b->nx[a], b->ny[a], b->nz[a], b->ri[a], b->rj[a]);
         b->nx[a] = g.nx, b->ny[a] = g.ny, b->nz[a] = g.nz;
