@@ -29,6 +29,15 @@ typedef struct sinter_force_eval {
     /* 1: arrays written now and read only at the next step (trial history) may be written
      * with streaming stores (core/stream_store.h; the stepper's choice) */
     int stream;
+    /* Optional (the explicit stepper, for its last force model): a law that sums by the pair
+     * partition's particle ranges (contact/chunks.h) may call range_final(range_user, r, lo, hi)
+     * for every range r once each force and torque on particles [lo, hi) is final, on the
+     * thread that summed them, and then sets ranges_final; the stepper's second half kick
+     * then runs there, in the law's parallel region (issue 9: one fork and join fewer per
+     * step, and the imbalances of the law and the kick between the threads partly cancel). */
+    void (*range_final)(void *range_user, int range, size_t lo, size_t hi);
+    void *range_user;
+    int ranges_final;
 } sinter_force_eval;
 
 typedef struct sinter_force_ops {

@@ -730,10 +730,11 @@ static inline void add_from_force(const sinter_contact_list *c, const sinter_par
  * Without rolling resistance, on a partitioned list (contact/chunks.h): the ranges of a
  * fixed partition in parallel, each adding its interior contacts, then the boundary contacts
  * in list order. The partition depends on the list only, so any number of threads (one too)
- * gives the same bits.
+ * gives the same bits. With `final`, e->range_final for each range at the end of the region.
  */
 static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
-                                const pair_consts *single, size_t *ended, wall_job *walls)
+                                const pair_consts *single, size_t *ended, wall_job *walls,
+                                int final)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
@@ -778,9 +779,16 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                 }
         }
         if (walls != NULL) {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
             for (int r = 0; r < ch.count; ++r)
                 pw_run(e, k, walls, r, 0);
+        }
+        /* range r's particles have all their forces now (its interior contacts before the
+         * barrier, its boundary contacts and walls on this thread): e->range_final there */
+        if (final) {
+#pragma omp for schedule(static) nowait
+            for (int r = 0; r < ch.count; ++r)
+                e->range_final(e->range_user, r, ch.plo[r], ch.plo[r + 1]);
         }
     }
     for (int s = 0; s < ch.count; ++s)
@@ -791,13 +799,13 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
 /* Pair contacts; with `walls` (rolling off, a partitioned list, wall runs aligned with its
  * ranges) the wall contacts too, in the same parallel region (pp_chunked). */
 static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling,
-                             size_t *ended, wall_job *walls)
+                             size_t *ended, wall_job *walls, int final)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
     const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
     if (!rolling && c->chunks.count > 0)
-        return pp_chunked(e, k, single, ended, walls);
+        return pp_chunked(e, k, single, ended, walls, final);
     /* Without rolling resistance and a partition (a list of fewer than 2048 pairs): one
      * thread, in list order. With rolling, the two-phase path pays
      * only with enough contacts per particle (measured: with 0.37 per particle it is slower
@@ -968,8 +976,14 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     if (e->walls != NULL)
         plan_walls(e, &k, &walls);
     const int with_pairs = e->walls != NULL && !rolling && walls.aligned; /* aligned: partitioned */
-    sinter_status st = rolling ? eval_pp(e, &k, 1, &e->pp_ended, NULL)
-                               : eval_pp(e, &k, 0, &e->pp_ended, with_pairs ? &walls : NULL);
+    /* the forces are final by ranges in pp_chunked's region when every wall contact is
+     * evaluated there too (eval_pp takes it without rolling, on a partitioned list) */
+    const int final = e->range_final != NULL && !rolling && e->pp->chunks.count > 0 &&
+                      (e->walls == NULL || with_pairs);
+    sinter_status st = rolling
+                           ? eval_pp(e, &k, 1, &e->pp_ended, NULL, 0)
+                           : eval_pp(e, &k, 0, &e->pp_ended, with_pairs ? &walls : NULL, final);
+    e->ranges_final = final && st == SINTER_OK;
     if (st == SINTER_OK && e->walls != NULL) {
         if (rolling)
             eval_pw(e, &k, 1, &walls, 0);

@@ -286,6 +286,39 @@ static size_t kick(sinter_stepper *st, double h)
     return bad;
 }
 
+/* The second half kick of the particles of one partition range, run by the force law on the
+ * thread that summed their forces (sinter_force_eval.range_final): the same operations as
+ * kick's, so the same bits. */
+typedef struct range_kick {
+    sinter_stepper *st;
+    double h;
+    size_t bad[SINTER_CHUNKS_MAX]; /* per range: the first non-finite particle, or n */
+} range_kick;
+
+static void kick_range(void *user, int range, size_t lo, size_t hi)
+{
+    range_kick *job = user;
+    sinter_particles *ps = job->st->ps;
+    const size_t b = sinter_verlet_kick(ps->v, ps->w, ps->force, ps->torque, ps->mass,
+                                        ps->inertia, job->h, lo, hi);
+    job->bad[range] = b < hi ? b : ps->count;
+}
+
+/* 1 if this step's second half kick may run in the law's region: plain particles integrated
+ * on the partition's ranges, and no host heat model, which might read the velocities of the
+ * state after the law (the half-kicked ones, as before). */
+static int kick_with_law(const sinter_stepper *st)
+{
+    const size_t n = st->ps->count;
+    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
+    if (!st->plain_particles || particle_ranges(st, threads).plo == NULL)
+        return 0;
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        if (st->thermal.slots[k].model->ops->eval == sinter_heat_host_eval)
+            return 0;
+    return 1;
+}
+
 /* Steps timed before the choice of stores (sinter_store_choice): the first few of each kind
  * warm the caches and are not counted; then the shortest of 8 steps of each kind decides. */
 enum { STREAM_MIN_PARTICLES = 65536, STREAM_WARMUP = 4, STREAM_TRIALS = 16 };
@@ -371,14 +404,29 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     st->time = t_start + h;
     if (st->walls != NULL)
         s = sinter_walls_move(st->walls, st->time);
+    range_kick job = {st, h, {0}};
+    if (s == SINTER_OK && kick_with_law(st)) {
+        for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
+            job.bad[r] = st->ps->count;
+        st->range_final = kick_range;
+        st->range_final_user = &job;
+    }
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
+    const int kicked = st->range_final != NULL && st->ranges_final;
+    st->range_final = NULL;
+    st->range_final_user = NULL;
     st->thermal.heat_zeroed = 0;           /* for that evaluation only */
     sinter_neighbors_clear_moved(&st->nb); /* valid for that evaluation only */
     size_t bad = st->ps->count;
     if (s == SINTER_OK) {
         t0 = sinter_clock();
-        bad = kick(st, h);
+        bad = st->ps->count;
+        if (kicked) /* by the law, range by range */
+            for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
+                bad = job.bad[r] < bad ? job.bad[r] : bad;
+        else
+            bad = kick(st, h);
         bad = bad_drift < bad ? bad_drift : bad;
         st->stats.seconds_integrate += sinter_clock() - t0;
     }

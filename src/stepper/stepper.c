@@ -559,6 +559,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.view = &st->view;
     e.stream = st->stores.stream_now;
     s = sinter_thermal_softening(st, &e.modulus_scale);
+    st->ranges_final = 0;
     for (size_t k = first_model; k < st->force_count && s == SINTER_OK; ++k) {
         sinter_force_slot *slot = &st->forces[k];
         const int host = slot->model->ops->eval == sinter_force_host_eval;
@@ -572,7 +573,12 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         if (sinter_force_reads_geometry(slot->model, slot->pp.width))
             sinter_contacts_geometry(ctx, &st->pp, ps);
         e.pp_ended = SIZE_MAX;
+        const int last = k + 1 == st->force_count;
+        e.range_final = last ? st->range_final : NULL;
+        e.range_user = last ? st->range_final_user : NULL;
+        e.ranges_final = 0;
         s = slot->model->ops->eval(slot->model, &e);
+        st->ranges_final = last && e.ranges_final;
         if (s == SINTER_OK && deferred && (long)k == confirmer) {
             confirm_contacts(st, slot, e.pp_ended);
             deferred = 0;

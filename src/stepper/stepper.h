@@ -73,6 +73,12 @@ struct sinter_stepper {
     int gravity_seeded;           /* ... and wrote the first force model's m g into the force
                                      (that model, gravity, is not evaluated again) */
     int plain_particles;          /* the integrator found no fixed or non-rotating particle */
+    /* the explicit step's second half kick by ranges, handed to the last force model's law
+     * during its evaluation (sinter_force_eval.range_final; NULL otherwise), and whether that
+     * law called it for every range (ranges_final) */
+    void (*range_final)(void *user, int range, size_t lo, size_t hi);
+    void *range_final_user;
+    int ranges_final;
     /* evaluations whose contacts the force law confirmed (sinter_contacts_find_pp_deferred),
      * and those of them in which it dropped ended contacts */
     uint64_t law_confirmed, law_dropped;

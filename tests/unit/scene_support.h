@@ -32,6 +32,8 @@ static inline void scene_material(scene *s, double e, double nu, double rho, dou
     OK(sinter_material_clone(&s->wall_mat, s->mat));
 }
 
+/* gravity: 0 none, 1 after the contact model, 2 before it (then the integrator seeds m g and
+ * the contact law, the last model, may run the second half kick in its parallel region) */
 static inline void scene_open(scene *s, const char *contact_model, int gravity)
 {
     OK(sinter_particles_create(&s->ps, s->ctx));
@@ -41,12 +43,15 @@ static inline void scene_open(scene *s, const char *contact_model, int gravity)
     /* on exactly the context's threads: the tests that compare thread counts need every step
      * on the count they set (the choice by timing has a test of its own, test_stepper.c) */
     OK(sinter_stepper_set_option(s->st, "thread_choice", 0));
-    OK(sinter_force_model_create(&s->contact, s->ctx, contact_model));
-    OK(sinter_stepper_add_force(s->st, s->contact));
     if (gravity) {
         OK(sinter_force_model_create(&s->gravity, s->ctx, "gravity"));
-        OK(sinter_stepper_add_force(s->st, s->gravity));
+        if (gravity == 2)
+            OK(sinter_stepper_add_force(s->st, s->gravity));
     }
+    OK(sinter_force_model_create(&s->contact, s->ctx, contact_model));
+    OK(sinter_stepper_add_force(s->st, s->contact));
+    if (gravity == 1)
+        OK(sinter_stepper_add_force(s->st, s->gravity));
 }
 
 static inline void scene_init(scene *s)

@@ -542,25 +542,34 @@ static void test_partitioned_conduction_conserves_energy(void **state)
  * trial values copied by the list's runs on the threads). On 1, 2 and 3 threads, with and
  * without rolling resistance (3 and 6 values per contact), 300 steps must give the same
  * positions, velocities and spins to the bit (issue 9: a commit that read `active` while
- * another thread rewrote it left ended springs uncleared on two threads).
+ * another thread rewrote it left ended springs uncleared on two threads). With gravity as the
+ * first model (gravity 2) and no rolling, the contact law is the last model and runs the
+ * second half kick by ranges in its own parallel region on two and three threads.
  */
-static void run_colliding_cloud(int threads, int rolling, double *out, size_t n)
+static void run_colliding_cloud(int threads, int rolling, int gravity, double *out, size_t n)
 {
     scene s;
     scene_init(&s);
     OK(sinter_ctx_set_threads(s.ctx, threads));
     scene_material(&s, 1e7, 0.3, 2500, 0.3, 0.4);
     OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, rolling ? 0.05 : 0.0));
-    scene_open(&s, "hertz_mindlin", 1);
+    scene_open(&s, "hertz_mindlin", gravity);
     OK(sinter_force_model_set(s.contact, "rolling", rolling ? 1.0 : 0.0));
     add_cloud(&s, n, 16, 2.02e-3, 0.9, 0.1, 19); /* 16 x 16 layers, gaps of 0.02-0.22 mm */
     OK(sinter_stepper_set_dt(s.st, 2e-5));
     int by_contact = 0; /* steps committed by contact on a partitioned list */
+    int kicked_by_law = 0;
+    const size_t law = gravity == 2 ? 1 : 0;
     for (int k = 0; k < 300; ++k) {
         OK(sinter_stepper_step(s.st, 1));
-        by_contact += s.st->pp.chunks.count > 0 && !s.st->forces[0].pp.by_pair;
+        by_contact += s.st->pp.chunks.count > 0 && !s.st->forces[law].pp.by_pair;
+        kicked_by_law += s.st->ranges_final;
     }
     assert_true(by_contact >= 250);
+    if (gravity == 2 && !rolling && threads > 1)
+        assert_true(kicked_by_law >= 250);
+    else
+        assert_int_equal(kicked_by_law, 0);
     sinter_stepper_stats stats;
     memset(&stats, 0, sizeof(stats));
     stats.struct_size = sizeof(stats);
@@ -581,13 +590,14 @@ static void test_colliding_cloud_independent_of_thread_count(void **state)
     double *one = malloc(9 * N * sizeof(double)), *other = malloc(9 * N * sizeof(double));
     assert_non_null(one);
     assert_non_null(other);
-    for (int rolling = 0; rolling <= 1; ++rolling) {
-        run_colliding_cloud(1, rolling, one, N);
-        for (int t = 2; t <= 3; ++t) {
-            run_colliding_cloud(t, rolling, other, N);
-            assert_memory_equal(one, other, 9 * N * sizeof(double));
+    for (int rolling = 0; rolling <= 1; ++rolling)
+        for (int gravity = 1; gravity <= 2; ++gravity) {
+            run_colliding_cloud(1, rolling, gravity, one, N);
+            for (int t = 2; t <= 3; ++t) {
+                run_colliding_cloud(t, rolling, gravity, other, N);
+                assert_memory_equal(one, other, 9 * N * sizeof(double));
+            }
         }
-    }
     free(one);
     free(other);
 }
