@@ -85,6 +85,12 @@ static inline double nonfinite(double z)
     return z * 0.0;
 }
 
+/* The threads of the integrator's passes: the step's, from SINTER_THREADED_PARTICLES. */
+static int pass_threads(const sinter_stepper *st)
+{
+    return st->ps->count < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
+}
+
 /* The particle ranges of the integrator's passes on `threads` threads (contact/chunks.h). */
 static sinter_particle_ranges particle_ranges(const sinter_stepper *st, int threads)
 {
@@ -154,7 +160,7 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
                      *restrict nrot = st->spare[3];
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
-    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
+    const int threads = pass_threads(st);
     const int rotation = st->rotation;
     size_t bad = n;
     /* The neighbour list's staleness test needs the largest displacement since its build:
@@ -249,7 +255,7 @@ static size_t kick(sinter_stepper *st, double h)
                            *restrict j = ps->inertia;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
-    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
+    const int threads = pass_threads(st);
     size_t bad = n;
     if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
         const sinter_particle_ranges r = particle_ranges(st, threads);
@@ -309,9 +315,7 @@ static void kick_range(void *user, int range, size_t lo, size_t hi)
  * state after the law (the half-kicked ones, as before). */
 static int kick_with_law(const sinter_stepper *st)
 {
-    const size_t n = st->ps->count;
-    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
-    if (!st->plain_particles || particle_ranges(st, threads).plo == NULL)
+    if (!st->plain_particles || particle_ranges(st, pass_threads(st)).plo == NULL)
         return 0;
     for (size_t k = 0; k < st->thermal.count; ++k)
         if (st->thermal.slots[k].model->ops->eval == sinter_heat_host_eval)
@@ -405,9 +409,9 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (st->walls != NULL)
         s = sinter_walls_move(st->walls, st->time);
     range_kick job = {st, h, {0}};
+    for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
+        job.bad[r] = st->ps->count;
     if (s == SINTER_OK && kick_with_law(st)) {
-        for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
-            job.bad[r] = st->ps->count;
         st->range_final = kick_range;
         st->range_final_user = &job;
     }
