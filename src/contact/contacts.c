@@ -846,32 +846,42 @@ static void wall_ranges(sinter_contact_list *c, int ascending)
     k->qlo[RANGES] = c->count;
 }
 
-/* The geometry of wall contact m at centre-plane distance s from wall w (the wall is a
- * particle of infinite radius, seed 003 remark 1: L_i = s), for a contact that holds the same
- * pair as before: its indices stay, and its normal is written only when it changed (the wall
- * turned). A store to a cache line another core has read costs a round trip to it even when
- * the value is the same (issue 9: 40 % of a 1k bed's wall search on two threads). */
-static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const sinter_wall *w,
-                                       double r, double s)
+/* The overlap, distance, area and branch of wall contact m at centre-plane distance s from
+ * the wall (the wall is a particle of infinite radius, seed 003 remark 1: L_i = s). */
+static inline void put_wall_distances(sinter_contact_list *c, size_t m, double r, double s)
 {
     const double a2_raw = r * r - s * s, a2 = a2_raw > 0.0 ? a2_raw : 0.0;
-    const double n[3] = {-w->n[0], -w->n[1], -w->n[2]};
-    if (memcmp(c->n + 3 * m, n, sizeof(n)) != 0) /* bits, so that a zero keeps its sign */
-        memcpy(c->n + 3 * m, n, sizeof(n));
     c->delta[m] = r - s;
     c->dist[m] = s;
     c->area[m] = PI * a2;
     c->branch[m] = s;
 }
 
-/* Wall contact m: pair p of particle i with wall k, and its geometry. */
+/* Wall contact m: pair p of particle i with wall k (w), and its geometry. */
 static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t p, uint32_t i,
                                      uint32_t k, const sinter_wall *w, double r, double s)
 {
     c->i[m] = i;
     c->j[m] = k;
     c->pair[m] = p;
-    renew_wall_geometry(c, m, w, r, s);
+    c->n[3 * m] = -w->n[0];
+    c->n[3 * m + 1] = -w->n[1];
+    c->n[3 * m + 2] = -w->n[2];
+    put_wall_distances(c, m, r, s);
+}
+
+/* The geometry of wall contact m renewed, for a contact that holds the same pair as before:
+ * the values of put_wall_geometry, written only where they may have changed (the indices
+ * never; the normal when the wall turned). A store to a cache line another core has read
+ * costs a round trip to it even when the value is the same (issue 9: 40 % of a 1k bed's wall
+ * search on two threads). */
+static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const sinter_wall *w,
+                                       double r, double s)
+{
+    const double n[3] = {-w->n[0], -w->n[1], -w->n[2]};
+    if (memcmp(c->n + 3 * m, n, sizeof(n)) != 0) /* bits, so that a zero keeps its sign */
+        memcpy(c->n + 3 * m, n, sizeof(n));
+    put_wall_distances(c, m, r, s);
 }
 
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
