@@ -26,11 +26,14 @@
 
 #include "contact/chunks.h"
 #include "core/clones.h"
+#include "core/range_flags.h"
 #include "core/stream_store.h"
 #include "force_model.h"
 #include "vec3.h"
 
 enum { PARAM_ROLLING = 0 };
+
+_Static_assert((int)SINTER_CHUNKS_MAX <= (int)SINTER_RANGE_FLAGS_MAX, "a flag per partition range");
 
 /* Material data of one side of a contact. */
 typedef struct side {
@@ -744,23 +747,33 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     double *bout = c->chunk_scratch;
     uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
     size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
+    sinter_range_flags interior_done;
+    sinter_range_flags_clear(&interior_done, ch.count);
 #pragma omp parallel num_threads(threads < ch.count ? threads : ch.count)
     {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
         for (int s = 0; s < ch.count; ++s) {
             first_ended[s] = SIZE_MAX;
             boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s,
                                     bq + ch.qlo[s], bout + 3 * ch.qlo[s], &first_ended[s]);
+            sinter_range_flags_set(&interior_done, s);
         }
         /* The boundary contacts, in list order, by the range that holds each particle: a
          * particle receives them in the order one pass over the list gives, and no two
-         * ranges add into the same particle. With `walls` (runs aligned with the ranges),
-         * no barrier: the wall loop's run r falls to the thread of range r (the same static
-         * schedule over as many iterations), after that range's boundary contacts, as in
-         * two evaluations one after the other. */
+         * ranges add into the same particle. Range r waits for the interior pass of ranges
+         * below it only, not for a barrier: their boundary contacts are the only ones that
+         * reach r (a contact's smaller particle index is in its range), and their interior
+         * pass is the only other one that reads r's particles (which the kick below then
+         * writes). The static schedule gives a thread ranges above those of the threads
+         * before it, so the first thread never waits, and each thread's interior pass marks
+         * its ranges without waiting (the flags' condition, range_flags.h). With `walls`
+         * (runs aligned with the ranges), the wall loop's run r falls to the thread of range
+         * r (the same static schedule over as many iterations), after that range's boundary
+         * contacts, as in two evaluations one after the other. */
 #pragma omp for schedule(static) nowait
         for (int r = 0; r < ch.count; ++r) {
             const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
+            sinter_range_flags_wait_below(&interior_done, r);
             for (int s = 0; s <= r; ++s) /* a range's contacts have their smaller particle
                                           * index in it: later ranges touch none of r's */
                 for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
@@ -783,8 +796,9 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
             for (int r = 0; r < ch.count; ++r)
                 pw_run(e, k, walls, r, 0);
         }
-        /* range r's particles have all their forces now (its interior contacts before the
-         * barrier, its boundary contacts and walls on this thread): e->range_final there */
+        /* range r's particles have all their forces now (its interior and boundary contacts
+         * and walls, on this thread, after the interior pass of the ranges below it):
+         * e->range_final there */
         if (final) {
 #pragma omp for schedule(static) nowait
             for (int r = 0; r < ch.count; ++r)
