@@ -42,7 +42,7 @@ static inline void sinter_range_flags_set(sinter_range_flags *f, int s)
     atomic_store_explicit(&f->done[s], 1, memory_order_release);
 }
 
-/* Returns once ranges 0 .. r-1 are done. */
+/* Returns once ranges 0 .. r-1 are done (r at most the count cleared). */
 static inline void sinter_range_flags_wait_below(sinter_range_flags *f, int r)
 {
     for (int s = 0; s < r; ++s) {

@@ -761,19 +761,21 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
         /* The boundary contacts, in list order, by the range that holds each particle: a
          * particle receives them in the order one pass over the list gives, and no two
          * ranges add into the same particle. Range r waits for the interior pass of ranges
-         * below it only, not for a barrier: their boundary contacts are the only ones that
-         * reach r (a contact's smaller particle index is in its range), and their interior
-         * pass is the only other one that reads r's particles (which the kick below then
-         * writes). The static schedule gives a thread ranges above those of the threads
-         * before it, so the first thread never waits, and each thread's interior pass marks
-         * its ranges without waiting (the flags' condition, range_flags.h). With `walls`
+         * 0 .. r only, not for a barrier: theirs are the only boundary contacts that reach r
+         * (a contact's smaller particle index is in its range), and their interior passes
+         * are the only other ones that read or write r's particles (which the kick below then
+         * writes). The same static schedule gives range r's interior pass to this thread,
+         * and a thread ranges above those of the threads before it, so the first thread
+         * never waits; the wait includes r itself so that no schedule could break this. Each
+         * thread's interior pass marks its ranges without waiting (the flags' condition,
+         * range_flags.h). With `walls`
          * (runs aligned with the ranges), the wall loop's run r falls to the thread of range
          * r (the same static schedule over as many iterations), after that range's boundary
          * contacts, as in two evaluations one after the other. */
 #pragma omp for schedule(static) nowait
         for (int r = 0; r < ch.count; ++r) {
             const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
-            sinter_range_flags_wait_below(&interior_done, r);
+            sinter_range_flags_wait_below(&interior_done, r + 1);
             for (int s = 0; s <= r; ++s) /* a range's contacts have their smaller particle
                                           * index in it: later ranges touch none of r's */
                 for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
@@ -797,7 +799,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                 pw_run(e, k, walls, r, 0);
         }
         /* range r's particles have all their forces now (its interior and boundary contacts
-         * and walls, on this thread, after the interior pass of the ranges below it):
+         * and walls, after the interior pass of ranges 0 .. r):
          * e->range_final there */
         if (final) {
 #pragma omp for schedule(static) nowait
