@@ -394,13 +394,20 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
         default:
             break;
         }
-        for (int d = 0; d < 3; ++d) {
-            w->p[d] = w->p0[d] + disp[d];
-            w->u[d] = vel[d];
-        }
-        if (w->temperature_count > 0)
-            w->temperature =
+        /* written only where the bits change (a wall at rest: never; sinter_wall) */
+        double p[3];
+        for (int d = 0; d < 3; ++d)
+            p[d] = w->p0[d] + disp[d];
+        if (memcmp(w->p, p, sizeof(p)) != 0)
+            memcpy(w->p, p, sizeof(p));
+        if (memcmp(w->u, vel, sizeof(vel)) != 0)
+            memcpy(w->u, vel, sizeof(vel));
+        if (w->temperature_count > 0) {
+            const double temperature =
                 sinter_interpolate(w->temperature_count, w->temperature_t, w->temperature_v, t);
+            if (memcmp(&w->temperature, &temperature, sizeof(temperature)) != 0)
+                w->temperature = temperature;
+        }
     }
     walls->time = t;
     return SINTER_OK;

@@ -6,12 +6,14 @@
 #include "particles/material.h"
 
 typedef struct sinter_wall {
-    double p0[3];     /* point of the plane at t = 0 [m] */
+    /* Read by every search and contact law on every thread, and written only when they change
+     * (sinter_walls_move), so that each core keeps its copy of these lines: a store, even of
+     * the same value, would make every other core fetch them again (issue 9). */
     double n[3];      /* unit normal into the particle region */
     double p[3];      /* point at the current time [m] */
     double u[3];      /* velocity at the current time [m/s] */
-    double force[3];  /* reaction: force the particles exert on the wall [N] */
     double temperature; /* [K], at the current time */
+    double p0[3];     /* point of the plane at t = 0 [m] */
     size_t temperature_count; /* > 0: temperature follows (temperature_t, temperature_v) */
     double *temperature_t;
     double *temperature_v;
@@ -28,6 +30,10 @@ typedef struct sinter_wall {
     sinter_material material;
     int electric_mode;     /* sinter_wall_electric_mode (0 = neutral: add_plane zeroes a wall) */
     double electric_value; /* CURRENT: J_ext [A]; POTENTIAL: [V]; NEUTRAL: 0 */
+    /* Written at every step's commit: last, and a cache line away from the next wall's first
+     * fields (the array of walls is not line-aligned). */
+    double force[3]; /* reaction: force the particles exert on the wall [N] */
+    char line_gap[64];
 } sinter_wall;
 
 /* Signed distance [m] of point x from the plane of wall w, positive on the particles' side
@@ -42,6 +48,9 @@ struct sinter_walls {
     size_t count;
     size_t capacity;
     sinter_wall *wall;
+    /* written at every step, and a cache line away from the fields above, which every thread
+     * reads in its searches and laws (sinter_wall) */
+    char line_gap[64];
     double time; /* time of the current p and u */
 };
 
