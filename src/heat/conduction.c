@@ -30,6 +30,7 @@
 #include <math.h>
 
 #include "contact/chunks.h"
+#include "core/range_flags.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
@@ -149,12 +150,13 @@ static inline __attribute__((always_inline)) void pw_run(const sinter_heat_eval 
 
 /*
  * The ranges of a partition in one parallel region: each range adds its interior contacts'
- * powers (pp_range), then, after a barrier, the boundary contacts in list order by the range
- * that holds each particle (a contact of range s touches ranges s and later only), so that
- * every particle receives them in the order of one pass over the list; then, with `wq` (wall
- * runs aligned with the ranges, chunks.h), each range's wall contacts, with no barrier
- * between: the same static schedule over as many iterations gives run r to the thread of
- * range r.
+ * powers (pp_range), then the boundary contacts in list order by the range that holds each
+ * particle (a contact of range s touches ranges s and later only), so that every particle
+ * receives them in the order of one pass over the list; then, with `wq` (wall runs aligned
+ * with the ranges, chunks.h), each range's wall contacts. No barrier: range r waits for the
+ * interior pass of ranges 0 .. r only (range_flags.h; the force law's pp_chunked does the
+ * same, see there), and the same static schedule over as many iterations gives run r to the
+ * thread of range r.
  */
 static inline __attribute__((always_inline)) void
 all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
@@ -163,15 +165,20 @@ all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double
 {
     const sinter_contact_list *c = e->pp;
     size_t boundary[SINTER_CHUNKS_MAX];
+    sinter_range_flags interior_done;
+    sinter_range_flags_clear(&interior_done, ch->count);
 #pragma omp parallel num_threads(threads < ch->count ? threads : ch->count)
     {
-#pragma omp for schedule(static)
-        for (int s = 0; s < ch->count; ++s)
+#pragma omp for schedule(static) nowait
+        for (int s = 0; s < ch->count; ++s) {
             boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
                                    bpower + ch->qlo[s]);
+            sinter_range_flags_set(&interior_done, s);
+        }
 #pragma omp for schedule(static) nowait
         for (int r = 0; r < ch->count; ++r) {
             const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
+            sinter_range_flags_wait_below(&interior_done, r + 1);
             for (int s = 0; s <= r; ++s)
                 for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s]; ++b) {
                     const uint32_t i = c->i[bq[b]], j = c->j[bq[b]];
@@ -182,7 +189,7 @@ all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double
                 }
         }
         if (wq != NULL) {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait
             for (int r = 0; r < ch->count; ++r)
                 pw_run(e, kmat, projection, 0, wq[r], wq[r + 1]);
         }
