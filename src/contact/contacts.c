@@ -4,6 +4,7 @@
 
 #include "contacts.h"
 #include "contact/chunks.h"
+#include "core/stream_store.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -879,8 +880,7 @@ static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const s
                                        double r, double s)
 {
     const double n[3] = {-w->n[0], -w->n[1], -w->n[2]};
-    if (memcmp(c->n + 3 * m, n, sizeof(n)) != 0) /* bits, so that a zero keeps its sign */
-        memcpy(c->n + 3 * m, n, sizeof(n));
+    sinter_put_changed(c->n + 3 * m, n, sizeof(n));
     put_wall_distances(c, m, r, s);
 }
 

@@ -31,6 +31,15 @@ static inline void sinter_put(double *p, double v, int stream)
     *p = v;
 }
 
+/* dst = src (size bytes) only where the bits differ (so that a zero keeps its sign): a
+ * store, even of the same value, takes the cache line from every other core that holds it,
+ * which then fetches it again (issue 9: wall contacts' normals, walls' points). */
+static inline void sinter_put_changed(void *dst, const void *src, size_t size)
+{
+    if (memcmp(dst, src, size) != 0)
+        memcpy(dst, src, size);
+}
+
 /* After a thread's streamed stores, before other threads read them (the end of its share
  * of a parallel loop). */
 static inline void sinter_put_fence(int stream)

@@ -768,10 +768,9 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
          * and a thread ranges above those of the threads before it, so the first thread
          * never waits; the wait includes r itself so that no schedule could break this. Each
          * thread's interior pass marks its ranges without waiting (the flags' condition,
-         * range_flags.h). With `walls`
-         * (runs aligned with the ranges), the wall loop's run r falls to the thread of range
-         * r (the same static schedule over as many iterations), after that range's boundary
-         * contacts, as in two evaluations one after the other. */
+         * range_flags.h). With `walls` (runs aligned with the ranges), the wall loop's run r
+         * falls to the thread of range r (the same static schedule over as many iterations),
+         * after that range's boundary contacts, as in two evaluations one after the other. */
 #pragma omp for schedule(static) nowait
         for (int r = 0; r < ch.count; ++r) {
             const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
@@ -799,8 +798,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                 pw_run(e, k, walls, r, 0);
         }
         /* range r's particles have all their forces now (its interior and boundary contacts
-         * and walls, after the interior pass of ranges 0 .. r):
-         * e->range_final there */
+         * and walls, after the interior pass of ranges 0 .. r): e->range_final there */
         if (final) {
 #pragma omp for schedule(static) nowait
             for (int r = 0; r < ch.count; ++r)

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/stream_store.h"
 #include "walls.h"
 
 sinter_status sinter_walls_create(sinter_walls **out, sinter_ctx *ctx)
@@ -398,15 +399,12 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
         double p[3];
         for (int d = 0; d < 3; ++d)
             p[d] = w->p0[d] + disp[d];
-        if (memcmp(w->p, p, sizeof(p)) != 0)
-            memcpy(w->p, p, sizeof(p));
-        if (memcmp(w->u, vel, sizeof(vel)) != 0)
-            memcpy(w->u, vel, sizeof(vel));
+        sinter_put_changed(w->p, p, sizeof(p));
+        sinter_put_changed(w->u, vel, sizeof(vel));
         if (w->temperature_count > 0) {
             const double temperature =
                 sinter_interpolate(w->temperature_count, w->temperature_t, w->temperature_v, t);
-            if (memcmp(&w->temperature, &temperature, sizeof(temperature)) != 0)
-                w->temperature = temperature;
+            sinter_put_changed(&w->temperature, &temperature, sizeof(temperature));
         }
     }
     walls->time = t;
