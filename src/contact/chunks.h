@@ -34,6 +34,11 @@
 #define SINTER_CHUNKS_H
 
 #include "contact/contacts.h"
+#include "core/range_flags.h"
+
+/* the loops over a partition's ranges wait for them with these flags (the force law's and
+ * the conduction's pp_chunked) */
+_Static_assert((int)SINTER_CHUNKS_MAX <= (int)SINTER_RANGE_FLAGS_MAX, "a flag per partition range");
 
 /* 1 if contact (i, j) of range s is interior. */
 static inline int sinter_chunks_interior(const sinter_chunks *k, int s, uint32_t i, uint32_t j)

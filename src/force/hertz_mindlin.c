@@ -26,14 +26,11 @@
 
 #include "contact/chunks.h"
 #include "core/clones.h"
-#include "core/range_flags.h"
 #include "core/stream_store.h"
 #include "force_model.h"
 #include "vec3.h"
 
 enum { PARAM_ROLLING = 0 };
-
-_Static_assert((int)SINTER_CHUNKS_MAX <= (int)SINTER_RANGE_FLAGS_MAX, "a flag per partition range");
 
 /* Material data of one side of a contact. */
 typedef struct side {

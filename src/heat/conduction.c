@@ -30,7 +30,6 @@
 #include <math.h>
 
 #include "contact/chunks.h"
-#include "core/range_flags.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
