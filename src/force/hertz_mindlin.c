@@ -549,16 +549,18 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
  * contacts that no longer touch are skipped, the first one's index into *ended (which must be
  * SIZE_MAX or above hi on entry). With `ch`, the
  * contacts of range s of a chunked list (contact/chunks.h): interior contacts are added, the
- * boundary contacts' forces are stored in order into bq (contact) and bout (3 per contact);
- * returns their number. Compiled for the baseline and, where the compiler supports it, for
- * AVX2 (picked at load time by the CPU).
+ * boundary contacts' forces are stored in order into bq (contact) and bout (3 per contact),
+ * and *reach is 1 + the largest particle index among them (0: none); returns their number.
+ * Compiled for the baseline and, where the compiler supports it, for AVX2 (picked at load time
+ * by the CPU).
  */
 SINTER_CLONES
 static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
                         const pair_consts *single, size_t lo, size_t hi, const sinter_chunks *ch,
-                        int s, uint32_t *bq, double *bout, size_t *ended)
+                        int s, uint32_t *bq, double *bout, uint32_t *reach, size_t *ended)
 {
     const uint32_t *bq0 = bq;
+    uint32_t top = 0; /* 1 + the largest particle index of a boundary contact */
     const sinter_contact_list *c = e->pp;
     const int lean = !c->geometry;
     double *trial = e->hist_pp->trial;
@@ -611,6 +613,8 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
             if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
                 /* the force only: the caller forms the moments again */
                 *bq++ = (uint32_t)q;
+                top = i >= top ? i + 1 : top;
+                top = j >= top ? j + 1 : top;
                 bout[0] = b.fx[a], bout[1] = b.fy[a], bout[2] = b.fz[a];
                 bout += 3;
                 continue;
@@ -640,6 +644,8 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
             torque[3 * (size_t)cur + d] = ti[d];
         }
     sinter_put_fence(stream);
+    if (reach != NULL)
+        *reach = top;
     return (size_t)(bq - bq0);
 }
 
@@ -744,6 +750,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     double *bout = c->chunk_scratch;
     uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
     size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
+    uint32_t reach[SINTER_CHUNKS_MAX];
     sinter_range_flags interior_done;
     sinter_range_flags_clear(&interior_done, ch.count);
 #pragma omp parallel num_threads(threads < ch.count ? threads : ch.count)
@@ -752,7 +759,8 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
         for (int s = 0; s < ch.count; ++s) {
             first_ended[s] = SIZE_MAX;
             boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s,
-                                    bq + ch.qlo[s], bout + 3 * ch.qlo[s], &first_ended[s]);
+                                    bq + ch.qlo[s], bout + 3 * ch.qlo[s], &reach[s],
+                                    &first_ended[s]);
             sinter_range_flags_set(&interior_done, s);
         }
         /* The boundary contacts, in list order, by the range that holds each particle: a
@@ -772,9 +780,10 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
         for (int r = 0; r < ch.count; ++r) {
             const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
             sinter_range_flags_wait_below(&interior_done, r + 1);
-            for (int s = 0; s <= r; ++s) /* a range's contacts have their smaller particle
-                                          * index in it: later ranges touch none of r's */
-                for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
+            /* a range's contacts have their smaller particle index in it: later ranges touch
+             * none of r's; nor do those whose boundary contacts reach no index of r */
+            for (int s = 0; s <= r; ++s)
+                for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s] && reach[s] > lo; ++b) {
                     const size_t q = bq[b];
                     const uint32_t ij[2] = {c->i[q], c->j[q]};
                     for (int end = 0; end < 2; ++end) {
@@ -827,7 +836,7 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
             : sinter_threads(e->ctx);
     if (threads <= 1) {
         if (!rolling)
-            (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL, ended);
+            (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL, NULL, ended);
         else if (single != NULL)
             pp_serial(e, k, single, 1);
         else

@@ -97,17 +97,19 @@ static double projection_factor(const sinter_particles *ps, const double *kmat)
     return ks > 0.0 ? 4.0 * k * k / ks * SQRT_PI : 0.0;
 }
 
-/* Range s of a partitioned list: interior contacts into heat, boundary ones stored; returns
- * their number. With `factor` >= 0 (projection_factor) the conductance is factor r_max. */
+/* Range s of a partitioned list: interior contacts into heat, boundary ones stored, *reach
+ * 1 + the largest particle index among them (0: none); returns their number. With `factor`
+ * >= 0 (projection_factor) the conductance is factor r_max. */
 static inline __attribute__((always_inline)) size_t
 pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
          const sinter_chunks *ch, int s, double *restrict heat, uint32_t *restrict bq,
-         double *restrict bpower)
+         double *restrict bpower, uint32_t *reach)
 {
     const sinter_contact_list *c = e->pp;
     const double *restrict theta = e->ps->temperature;
     const uint32_t *restrict ci = c->i, *restrict cj = c->j;
     size_t kept = 0;
+    uint32_t top = 0;
     const double *restrict r = e->ps->radius;
     for (size_t k = ch->qlo[s]; k < ch->qlo[s + 1]; ++k) {
         const uint32_t i = ci[k], j = cj[k];
@@ -120,8 +122,11 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
         } else { /* a boundary contact: its particles may be another range's, not touched here */
             bq[kept] = (uint32_t)k;
             bpower[kept++] = q;
+            top = i >= top ? i + 1 : top;
+            top = j >= top ? j + 1 : top;
         }
     }
+    *reach = top;
     return kept;
 }
 
@@ -164,6 +169,7 @@ all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double
 {
     const sinter_contact_list *c = e->pp;
     size_t boundary[SINTER_CHUNKS_MAX];
+    uint32_t reach[SINTER_CHUNKS_MAX];
     sinter_range_flags interior_done;
     sinter_range_flags_clear(&interior_done, ch->count);
 #pragma omp parallel num_threads(threads < ch->count ? threads : ch->count)
@@ -171,15 +177,15 @@ all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double
 #pragma omp for schedule(static) nowait
         for (int s = 0; s < ch->count; ++s) {
             boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
-                                   bpower + ch->qlo[s]);
+                                   bpower + ch->qlo[s], &reach[s]);
             sinter_range_flags_set(&interior_done, s);
         }
 #pragma omp for schedule(static) nowait
         for (int r = 0; r < ch->count; ++r) {
             const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
             sinter_range_flags_wait_below(&interior_done, r + 1);
-            for (int s = 0; s <= r; ++s)
-                for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s]; ++b) {
+            for (int s = 0; s <= r; ++s) /* ranges whose boundary contacts reach r */
+                for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s] && reach[s] > lo; ++b) {
                     const uint32_t i = c->i[bq[b]], j = c->j[bq[b]];
                     if (i >= lo && i < hi)
                         heat[i] += bpower[b];
