@@ -29,4 +29,13 @@ double *sinter_pcg_solution(sinter_pcg *pcg);
 int sinter_pcg_solve(sinter_pcg *pcg, sinter_pcg_operator apply, sinter_pcg_operator precondition,
                      void *data, double tol, int *iterations, double *residual);
 
+/*
+ * The vector kernels the PCG's N_Vectors use instead of SUNDIALS' serial ones (pcg.c): a dot
+ * product summed in 8 lanes (SUNDIALS' is one chain of additions, a floating-point add's
+ * latency per element), and the elementwise z = a x + b y (z = c x too, inside pcg.c).
+ */
+double sinter_pcg_dot(const double *x, const double *y, size_t n);
+void sinter_pcg_linear_sum(double a, const double *x, double b, const double *y, double *z,
+                           size_t n);
+
 #endif
