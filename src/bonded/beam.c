@@ -11,13 +11,6 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 static int positive(double v)
 {
     return v > 0.0 && isfinite(v);
@@ -59,55 +52,6 @@ int sinter_beam_init(sinter_beam *beam, uint32_t a, uint32_t b, const double xa[
     beam->k_bend = youngs * inertia / length0; /* eq. 34b */
     beam->k_torsion = shear * polar / length0;
     return 0;
-}
-
-void sinter_beam_deformation(const sinter_beam *beam, const double ya[6], const double yb[6],
-                             double eps[3], double gamma[3])
-{
-    /* eq. 25: eps = u_A - u_B - L_A0 theta_A + L_B0 theta_B, with L theta = l x theta,
-     * l_A0 = L_A0 e3, l_B0 = -L_B0 e3 (eq. 21); eq. 26: gamma = theta_A - theta_B. */
-    double la_x_ta[3], lb_x_tb[3];
-    const double *e = beam->axis;
-    const double la[3] = {beam->arm_a * e[0], beam->arm_a * e[1], beam->arm_a * e[2]};
-    const double lb[3] = {-beam->arm_b * e[0], -beam->arm_b * e[1], -beam->arm_b * e[2]};
-    cross3(la, ya + 3, la_x_ta);
-    cross3(lb, yb + 3, lb_x_tb);
-    for (int k = 0; k < 3; ++k) {
-        eps[k] = ya[k] - yb[k] - la_x_ta[k] + lb_x_tb[k];
-        gamma[k] = ya[3 + k] - yb[3 + k];
-    }
-}
-
-/* v -> (k_perp (I - e e^T) + k_par e e^T) v: a local diag(k_perp, k_perp, k_par) in global
- * components (eq. 34 rotated to the global frame). */
-static void axial_split(const double e[3], double k_perp, double k_par, const double v[3],
-                        double out[3])
-{
-    const double p = dot3(e, v);
-    for (int k = 0; k < 3; ++k)
-        out[k] = k_perp * (v[k] - p * e[k]) + k_par * p * e[k];
-}
-
-void sinter_beam_apply(const sinter_beam *beam, const double ya[6], const double yb[6],
-                       double pa[6], double pb[6])
-{
-    double eps[3], gamma[3], f[3], m[3];
-    sinter_beam_deformation(beam, ya, yb, eps, gamma);
-    axial_split(beam->axis, beam->k_shear, beam->k_axial, eps, f);    /* F_link, eq. 32-34a */
-    axial_split(beam->axis, beam->k_bend, beam->k_torsion, gamma, m); /* M_link, eq. 34b */
-    /* P = H^T P_link (eq. 39) with H of eq. 29: (-L_A0)^T F = l_A0 x F, L_B0^T F = -l_B0 x F. */
-    const double *e = beam->axis;
-    const double la[3] = {beam->arm_a * e[0], beam->arm_a * e[1], beam->arm_a * e[2]};
-    const double lb[3] = {-beam->arm_b * e[0], -beam->arm_b * e[1], -beam->arm_b * e[2]};
-    double la_x_f[3], lb_x_f[3];
-    cross3(la, f, la_x_f);
-    cross3(lb, f, lb_x_f);
-    for (int k = 0; k < 3; ++k) {
-        pa[k] += f[k];
-        pa[3 + k] += la_x_f[k] + m[k];
-        pb[k] -= f[k];
-        pb[3 + k] += -lb_x_f[k] - m[k];
-    }
 }
 
 void sinter_beam_stiffness(const sinter_beam *beam, double k[144])

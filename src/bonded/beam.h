@@ -54,16 +54,68 @@ int sinter_beam_init(sinter_beam *beam, uint32_t a, uint32_t b, const double xa[
 int sinter_beam_update(sinter_beam *beam, const double xa[3], const double xb[3], double arm_a,
                        double arm_b);
 
+/* c = a x b */
+static inline void sinter_beam_cross(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 /*
  * Link deformation y_link = H y (eq. 25-27) from the DOFs of A and B: eps[3], gamma[3] in
- * global components.
+ * global components. Inline (with sinter_beam_apply): the bonded solve applies every link
+ * at every PCG iteration.
  */
-void sinter_beam_deformation(const sinter_beam *beam, const double ya[6], const double yb[6],
-                             double eps[3], double gamma[3]);
+static inline void sinter_beam_deformation(const sinter_beam *beam, const double ya[6],
+                                           const double yb[6], double eps[3], double gamma[3])
+{
+    /* eq. 25: eps = u_A - u_B - L_A0 theta_A + L_B0 theta_B, with L theta = l x theta,
+     * l_A0 = L_A0 e3, l_B0 = -L_B0 e3 (eq. 21); eq. 26: gamma = theta_A - theta_B. */
+    double la_x_ta[3], lb_x_tb[3];
+    const double *e = beam->axis;
+    const double la[3] = {beam->arm_a * e[0], beam->arm_a * e[1], beam->arm_a * e[2]};
+    const double lb[3] = {-beam->arm_b * e[0], -beam->arm_b * e[1], -beam->arm_b * e[2]};
+    sinter_beam_cross(la, ya + 3, la_x_ta);
+    sinter_beam_cross(lb, yb + 3, lb_x_tb);
+    for (int k = 0; k < 3; ++k) {
+        eps[k] = ya[k] - yb[k] - la_x_ta[k] + lb_x_tb[k];
+        gamma[k] = ya[3 + k] - yb[3 + k];
+    }
+}
+
+/* v -> (k_perp (I - e e^T) + k_par e e^T) v: a local diag(k_perp, k_perp, k_par) in global
+ * components (eq. 34 rotated to the global frame). */
+static inline void sinter_beam_axial_split(const double e[3], double k_perp, double k_par,
+                                           const double v[3], double out[3])
+{
+    const double p = e[0] * v[0] + e[1] * v[1] + e[2] * v[2];
+    for (int k = 0; k < 3; ++k)
+        out[k] = k_perp * (v[k] - p * e[k]) + k_par * p * e[k];
+}
 
 /* Add P = H^T K_link H y (eq. 40) of the link to pa and pb (6 each). */
-void sinter_beam_apply(const sinter_beam *beam, const double ya[6], const double yb[6],
-                       double pa[6], double pb[6]);
+static inline void sinter_beam_apply(const sinter_beam *beam, const double ya[6],
+                                     const double yb[6], double pa[6], double pb[6])
+{
+    double eps[3], gamma[3], f[3], m[3];
+    sinter_beam_deformation(beam, ya, yb, eps, gamma);
+    sinter_beam_axial_split(beam->axis, beam->k_shear, beam->k_axial, eps, f); /* eq. 32-34a */
+    sinter_beam_axial_split(beam->axis, beam->k_bend, beam->k_torsion, gamma, m); /* eq. 34b */
+    /* P = H^T P_link (eq. 39) with H of eq. 29: (-L_A0)^T F = l_A0 x F, L_B0^T F = -l_B0 x F. */
+    const double *e = beam->axis;
+    const double la[3] = {beam->arm_a * e[0], beam->arm_a * e[1], beam->arm_a * e[2]};
+    const double lb[3] = {-beam->arm_b * e[0], -beam->arm_b * e[1], -beam->arm_b * e[2]};
+    double la_x_f[3], lb_x_f[3];
+    sinter_beam_cross(la, f, la_x_f);
+    sinter_beam_cross(lb, f, lb_x_f);
+    for (int k = 0; k < 3; ++k) {
+        pa[k] += f[k];
+        pa[3 + k] += la_x_f[k] + m[k];
+        pb[k] -= f[k];
+        pb[3 + k] += -lb_x_f[k] - m[k];
+    }
+}
 
 /* The 12x12 element stiffness H^T K_link H in global coordinates, row-major, DOFs
  * [u_A, theta_A, u_B, theta_B] (eq. 28, 40). */
