@@ -47,6 +47,15 @@ static inline int sinter_chunks_interior(const sinter_chunks *k, int s, uint32_t
     return i >= lo && i < hi && j >= lo && j < hi;
 }
 
+/* The reach of a range's boundary contacts, 1 + the largest particle index among them (0 for
+ * none), grown by contact (i, j): a later range's boundary pass reads the lists whose reach
+ * exceeds its first particle only (the others add nothing to its particles). */
+static inline uint32_t sinter_chunks_reach(uint32_t reach, uint32_t i, uint32_t j)
+{
+    reach = i >= reach ? i + 1 : reach;
+    return j >= reach ? j + 1 : reach;
+}
+
 /* The first k in [0, n) with a[k] >= value, a ascending (n when there is none; any index in
  * [0, n] when a does not ascend). */
 static inline size_t sinter_lower_bound_u32(const uint32_t *a, size_t n, size_t value)

@@ -613,8 +613,7 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
             if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
                 /* the force only: the caller forms the moments again */
                 *bq++ = (uint32_t)q;
-                top = i >= top ? i + 1 : top;
-                top = j >= top ? j + 1 : top;
+                top = sinter_chunks_reach(top, i, j);
                 bout[0] = b.fx[a], bout[1] = b.fy[a], bout[2] = b.fz[a];
                 bout += 3;
                 continue;
@@ -782,8 +781,10 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
             sinter_range_flags_wait_below(&interior_done, r + 1);
             /* a range's contacts have their smaller particle index in it: later ranges touch
              * none of r's; nor do those whose boundary contacts reach no index of r */
-            for (int s = 0; s <= r; ++s)
-                for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s] && reach[s] > lo; ++b) {
+            for (int s = 0; s <= r; ++s) {
+                if (reach[s] <= lo)
+                    continue;
+                for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
                     const size_t q = bq[b];
                     const uint32_t ij[2] = {c->i[q], c->j[q]};
                     for (int end = 0; end < 2; ++end) {
@@ -797,6 +798,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                             force[3 * p + d] = f[d], torque[3 * p + d] = t[d];
                     }
                 }
+            }
         }
         if (walls != NULL) {
 #pragma omp for schedule(static) nowait

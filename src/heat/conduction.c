@@ -122,8 +122,7 @@ pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double f
         } else { /* a boundary contact: its particles may be another range's, not touched here */
             bq[kept] = (uint32_t)k;
             bpower[kept++] = q;
-            top = i >= top ? i + 1 : top;
-            top = j >= top ? j + 1 : top;
+            top = sinter_chunks_reach(top, i, j);
         }
     }
     *reach = top;
@@ -184,14 +183,17 @@ all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double
         for (int r = 0; r < ch->count; ++r) {
             const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
             sinter_range_flags_wait_below(&interior_done, r + 1);
-            for (int s = 0; s <= r; ++s) /* ranges whose boundary contacts reach r */
-                for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s] && reach[s] > lo; ++b) {
+            for (int s = 0; s <= r; ++s) {
+                if (reach[s] <= lo) /* no boundary contact of range s reaches r */
+                    continue;
+                for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s]; ++b) {
                     const uint32_t i = c->i[bq[b]], j = c->j[bq[b]];
                     if (i >= lo && i < hi)
                         heat[i] += bpower[b];
                     if (j >= lo && j < hi)
                         heat[j] -= bpower[b];
                 }
+            }
         }
         if (wq != NULL) {
 #pragma omp for schedule(static) nowait
