@@ -77,6 +77,9 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->scale);
     sinter_free(ctx, em->pin);
     sinter_free(ctx, em->diag);
+    sinter_free(ctx, em->free_a);
+    sinter_free(ctx, em->free_b);
+    sinter_free(ctx, em->free_g);
     sinter_free(ctx, em);
 }
 

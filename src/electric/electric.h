@@ -65,6 +65,11 @@ struct sinter_electric_model {
     size_t pin_capacity;
     double *diag; /* network: Jacobi diagonal */
     size_t diag_capacity;
+    /* network: the edges between two free nodes, in edge order: the PCG operator's couplings,
+     * so that its loop reads no node state (the press scene's main cost) */
+    uint32_t *free_a, *free_b;
+    double *free_g;
+    size_t free_a_capacity, free_b_capacity, free_g_capacity, free_edges;
     size_t edge_count;
     struct sinter_pcg *pcg; /* network model: the PCG solver (core/pcg.h) */
     size_t pcg_nodes;       /* unknowns of the solve under way */

@@ -55,18 +55,19 @@ enum {
 
 static const uint32_t NO_NODE = UINT32_MAX;
 
-/* z = A v: Jacobi diagonal times v minus the couplings between free nodes. */
+/* z = A v: Jacobi diagonal times v minus the couplings between free nodes (a coupling to a
+ * pinned node lives in the right-hand side). */
 static void apply_operator(const double *vv, double *zz, void *data)
 {
     const sinter_electric_model *em = data;
+    const uint32_t *fa = em->free_a, *fb = em->free_b;
+    const double *fg = em->free_g;
     for (size_t p = 0; p < em->pcg_nodes; ++p)
         zz[p] = em->diag[p] * vv[p];
-    for (size_t e = 0; e < em->edge_count; ++e) {
-        const uint32_t a = em->edge_a[e], b = em->edge_b[e];
-        if (!(em->state[a] & NODE_FREE) || !(em->state[b] & NODE_FREE))
-            continue; /* a coupling to a pinned node lives in the right-hand side */
-        zz[a] -= em->edge_g[e] * vv[b];
-        zz[b] -= em->edge_g[e] * vv[a];
+    for (size_t e = 0; e < em->free_edges; ++e) {
+        const uint32_t a = fa[e], b = fb[e];
+        zz[a] -= fg[e] * vv[b];
+        zz[b] -= fg[e] * vv[a];
     }
 }
 
@@ -255,6 +256,19 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
 
     /* A zero right-hand side on an SPD system has the solution 0, which phi already holds. */
     if (free_count > 0 && bnorm > 0.0) {
+        SINTER_ELECTRIC_RESERVE(em, free_a, em->edge_count + 1);
+        SINTER_ELECTRIC_RESERVE(em, free_b, em->edge_count + 1);
+        SINTER_ELECTRIC_RESERVE(em, free_g, em->edge_count + 1);
+        size_t kept = 0;
+        for (size_t e = 0; e < em->edge_count; ++e) {
+            const uint32_t a = em->edge_a[e], b = em->edge_b[e];
+            if ((state[a] & NODE_FREE) && (state[b] & NODE_FREE)) {
+                em->free_a[kept] = a;
+                em->free_b[kept] = b;
+                em->free_g[kept++] = em->edge_g[e];
+            }
+        }
+        em->free_edges = kept;
         const int maxl = (int)fmin(em->max_iterations, 2147483647.0);
         s = sinter_pcg_reserve(em->ctx, &em->pcg, nodes, maxl);
         if (s != SINTER_OK)
