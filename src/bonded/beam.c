@@ -6,11 +6,6 @@
 
 #define SINTER_BEAM_PI 3.14159265358979323846
 
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 static int positive(double v)
 {
     return v > 0.0 && isfinite(v);
@@ -20,7 +15,7 @@ int sinter_beam_update(sinter_beam *beam, const double xa[3], const double xb[3]
                        double arm_b)
 {
     const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-    const double len = sqrt(dot3(d, d));
+    const double len = sqrt(sinter_beam_dot(d, d));
     if (!positive(len))
         return -1;
     for (int k = 0; k < 3; ++k)

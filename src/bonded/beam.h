@@ -54,6 +54,12 @@ int sinter_beam_init(sinter_beam *beam, uint32_t a, uint32_t b, const double xa[
 int sinter_beam_update(sinter_beam *beam, const double xa[3], const double xb[3], double arm_a,
                        double arm_b);
 
+/* a . b */
+static inline double sinter_beam_dot(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
 /* c = a x b */
 static inline void sinter_beam_cross(const double a[3], const double b[3], double c[3])
 {
@@ -89,7 +95,7 @@ static inline void sinter_beam_deformation(const sinter_beam *beam, const double
 static inline void sinter_beam_axial_split(const double e[3], double k_perp, double k_par,
                                            const double v[3], double out[3])
 {
-    const double p = e[0] * v[0] + e[1] * v[1] + e[2] * v[2];
+    const double p = sinter_beam_dot(e, v);
     for (int k = 0; k < 3; ++k)
         out[k] = k_perp * (v[k] - p * e[k]) + k_par * p * e[k];
 }
