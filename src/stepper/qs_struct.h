@@ -26,6 +26,8 @@ struct sinter_qs {
     double (*saved)[SINTER_NECK_DOF]; /* strategy 1: the necks at t, and new states */
     double (*trial)[SINTER_NECK_DOF];
     size_t saved_capacity, trial_capacity;
+    double *saved_hint; /* strategy 2: the necks' step hints at t */
+    size_t saved_hint_capacity;
     sinter_beam *beams; /* the links' beams, contiguous for the solver */
     size_t beams_capacity;
     sinter_neck_batch *batch;       /* strategy 3: grown necks */

@@ -9,6 +9,7 @@
 #include "stepper/qs_struct.h"
 #include "stepper/stepper.h"
 #include "particles/particles.h"
+#include "contact/neighbors.h"
 
 #define QS_PI 3.14159265358979323846
 
@@ -176,6 +177,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->f);
     sinter_free(ctx, qs->u);
     sinter_free(ctx, qs->saved);
+    sinter_free(ctx, qs->saved_hint);
     sinter_free(ctx, qs->trial);
     sinter_free(ctx, qs->beams);
     sinter_neck_batch_destroy(qs->batch);
@@ -274,6 +276,26 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
     l->neck.step_hint = tau;
     l->substepped = substeps > 1 || rejections > 0;
     return 0;
+}
+
+/* Strategy 2 over every link, on the context's threads (pairs of uneven cost: dynamic
+ * chunks). Returns UINT64_MAX, or for the failed pair of lowest index k, 2 k + 1 if it left the
+ * model's domain and 2 k if it could not meet the tolerance. */
+static uint64_t advance_pairs(sinter_qs *qs, const sinter_neck_schedule *s, double t, double h)
+{
+    const size_t m = qs->count;
+    const int threads = m < 64 ? 1 : sinter_threads(qs->ctx);
+    uint64_t first = UINT64_MAX;
+    (void)threads; /* without OpenMP */
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 16) reduction(min : first)
+    for (size_t k = 0; k < m; ++k) {
+        const int failed = pair_advance(qs, &qs->links[k], s, t, h);
+        if (failed != 0) {
+            const uint64_t key = 2 * (uint64_t)k + (failed == -2 ? 1u : 0u);
+            first = key < first ? key : first;
+        }
+    }
+    return first;
 }
 
 /* ---- links ------------------------------------------------------------------------------ */
@@ -612,29 +634,40 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
             return st;
         next = grow ? h * alpha : h; /* eq. 47 */
     } else {
-        size_t sub = 0;
-        for (size_t k = 0; k < m; ++k) {
-            const int failed = pair_advance(qs, &qs->links[k], schedule, t, h);
-            if (failed != 0) {
-                for (size_t j = 0; j < k; ++j)
-                    memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
-                const sinter_qs_link *l = &qs->links[k];
-                return sinter_fail(qs->ctx,
-                                   failed == -2 ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
-                                   "quasi-static stepper (strategy 2): the neck of particles id "
-                                   "%llu and id %llu (neck radius %g m, x/R %g) %s from t = %.9g s "
-                                   "(sub-steps down to %g s tried); the state at t is kept",
-                                   (unsigned long long)l->id_a, (unsigned long long)l->id_b,
-                                   l->neck.y[SINTER_NECK_X],
-                                   l->neck.y[SINTER_NECK_X] /
-                                       fmin(l->neck.y[SINTER_NECK_RA], l->neck.y[SINTER_NECK_RB]),
-                                   failed == -2 ? "leaves the 7DOF model's domain of validity "
-                                                  "(7dof.md sec. 2.5)"
-                                                : "cannot meet the neck tolerance",
-                                   t, 1e-3 * qs->opt.dt_min);
+        /* Every pair on its own (the pairs share nothing), on the context's threads; a failure
+         * reports the pair of lowest index and puts every neck back at t, hints included, so
+         * the state and the message do not depend on the thread count. */
+        st = sinter_grow(qs->ctx, (void **)&qs->saved_hint, &qs->saved_hint_capacity, m + 1,
+                         sizeof(double));
+        if (st != SINTER_OK)
+            return st;
+        for (size_t k = 0; k < m; ++k)
+            qs->saved_hint[k] = qs->links[k].neck.step_hint;
+        const uint64_t first_failed = advance_pairs(qs, schedule, t, h);
+        if (first_failed != UINT64_MAX) {
+            const size_t k = (size_t)(first_failed >> 1);
+            const int outside = (int)(first_failed & 1u);
+            for (size_t j = 0; j < m; ++j) {
+                memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
+                qs->links[j].neck.step_hint = qs->saved_hint[j];
             }
-            sub += (size_t)qs->links[k].substepped;
+            const sinter_qs_link *l = &qs->links[k];
+            return sinter_fail(qs->ctx, outside ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
+                               "quasi-static stepper (strategy 2): the neck of particles id "
+                               "%llu and id %llu (neck radius %g m, x/R %g) %s from t = %.9g s "
+                               "(sub-steps down to %g s tried); the state at t is kept",
+                               (unsigned long long)l->id_a, (unsigned long long)l->id_b,
+                               l->neck.y[SINTER_NECK_X],
+                               l->neck.y[SINTER_NECK_X] /
+                                   fmin(l->neck.y[SINTER_NECK_RA], l->neck.y[SINTER_NECK_RB]),
+                               outside ? "leaves the 7DOF model's domain of validity "
+                                         "(7dof.md sec. 2.5)"
+                                       : "cannot meet the neck tolerance",
+                               t, 1e-3 * qs->opt.dt_min);
         }
+        size_t sub = 0;
+        for (size_t k = 0; k < m; ++k)
+            sub += (size_t)qs->links[k].substepped;
         qs->substepped += sub;
         const double fraction = m > 0 ? (double)sub / (double)m : 0.0;
         if (fraction < qs->opt.grow_fraction)

@@ -6,11 +6,13 @@
  */
 #include "test_support.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "bonded/beam.h"
 #include "neck/neck.h"
 #include "particles/particles.h"
+#include "stepper/qs_struct.h"
 #include "stepper/quasistatic.h"
 #include "stepper/stepper.h"
 
@@ -234,7 +236,7 @@ typedef struct packing {
     sinter_qs_material mat;
     sinter_qs *qs;
     size_t n;
-    double x[3 * 27], rot[3 * 27], radius[27];
+    double x[3 * 64], rot[3 * 64], radius[64];
 } packing;
 
 static void packing_init(packing *pk, int strategy)
@@ -624,6 +626,110 @@ static void test_qs_lattice(void **state)
     packing_free(&pk);
 }
 
+/* An m x m x m cube of touching spheres of radius r, its corner sphere's centre at c + r. */
+static void cube(packing *pk, int m, double r, const double c[3])
+{
+    for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j)
+            for (int k = 0; k < m; ++k) {
+                double *x = pk->x + 3 * pk->n;
+                x[0] = c[0] + (1 + 2 * i) * r;
+                x[1] = c[1] + (1 + 2 * j) * r;
+                x[2] = c[2] + (1 + 2 * k) * r;
+                pk->radius[pk->n++] = r;
+            }
+}
+
+typedef struct qs_outcome {
+    double x[3 * 54];
+    double y[108][SINTER_NECK_DOF], hint[108];
+    char message[512];
+    uint64_t ids[2]; /* the particles of link 60 */
+} qs_outcome;
+
+/*
+ * Strategy 2 on `threads` threads over two 3 x 3 x 3 cubes of touching copper spheres (108
+ * links, enough to share): 25 um (particles 0-26, links 0-53) and 12.5 um (27-53, links
+ * 54-107, necks growing 16 times faster). To 20 s; with `fail`, a step in which the necks of
+ * links 60 and 100 are made invalid (a negative neck radius: every sub-step of those two pairs
+ * leaves the model's domain, every other pair advances), whose message goes to out, the two
+ * necks then put back; then to 40 s.
+ */
+static void two_cubes(int threads, int fail, qs_outcome *out)
+{
+    packing pk;
+    packing_init(&pk, 2);
+    assert_int_equal(sinter_ctx_set_threads(pk.ctx, threads), SINTER_OK);
+    const double big[3] = {0, 0, 0}, small[3] = {8 * R_CU, 0, 0};
+    cube(&pk, 3, R_CU, big);
+    cube(&pk, 3, 0.5 * R_CU, small);
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    const sinter_qs_particles view = {pk.n, pk.x, pk.rot, pk.radius, NULL, NULL, &pk.mat};
+    assert_int_equal(sinter_qs_run(pk.qs, &view, &schedule, 0.0, 20.0), SINTER_OK);
+    assert_int_equal(pk.qs->count, 108);
+    sinter_qs_link *links = pk.qs->links;
+    out->message[0] = '\0';
+    out->ids[0] = links[60].id_a;
+    out->ids[1] = links[60].id_b;
+    if (fail) {
+        static double x[3 * 54], y[108][SINTER_NECK_DOF], hint[108];
+        const double x60 = links[60].neck.y[SINTER_NECK_X], x100 = links[100].neck.y[SINTER_NECK_X];
+        links[60].neck.y[SINTER_NECK_X] = -x60;
+        links[100].neck.y[SINTER_NECK_X] = -x100;
+        memcpy(x, pk.x, sizeof(x));
+        for (size_t k = 0; k < 108; ++k) {
+            memcpy(y[k], links[k].neck.y, sizeof(y[k]));
+            hint[k] = links[k].neck.step_hint;
+        }
+        double taken = 0.0;
+        assert_int_equal(sinter_qs_step(pk.qs, &view, &schedule, 20.0, pk.qs->dt_next, &taken),
+                         SINTER_ERR_DOMAIN);
+        snprintf(out->message, sizeof(out->message), "%s", sinter_last_error(pk.ctx));
+        /* nothing moved, every neck and its sub-step hint as at 20 s */
+        assert_memory_equal(x, pk.x, sizeof(x));
+        for (size_t k = 0; k < 108; ++k) {
+            assert_memory_equal(y[k], links[k].neck.y, sizeof(y[k]));
+            assert_true(hint[k] == links[k].neck.step_hint);
+        }
+        links[60].neck.y[SINTER_NECK_X] = x60;
+        links[100].neck.y[SINTER_NECK_X] = x100;
+    }
+    assert_int_equal(sinter_qs_run(pk.qs, &view, &schedule, 20.0, 40.0), SINTER_OK);
+    memcpy(out->x, pk.x, sizeof(out->x));
+    for (size_t k = 0; k < 108; ++k) {
+        memcpy(out->y[k], links[k].neck.y, sizeof(out->y[k]));
+        out->hint[k] = links[k].neck.step_hint;
+    }
+    packing_free(&pk);
+}
+
+/*
+ * The pairs of strategy 2 advance on the context's threads: the same bits on one and on two;
+ * a step that fails reports the failed pair of lowest index (link 60 of the two that fail) and
+ * keeps the state at its start, sub-step hints included, so that the run then goes on exactly
+ * as one that never tried it.
+ */
+static void test_qs_pairs_on_threads(void **state)
+{
+    (void)state;
+    static qs_outcome straight, one, two;
+    two_cubes(1, 0, &straight);
+    two_cubes(1, 1, &one);
+    two_cubes(2, 1, &two);
+    print_message("failed step: %s\n", one.message);
+    char ids[64];
+    snprintf(ids, sizeof(ids), "particles id %llu and id %llu", (unsigned long long)one.ids[0],
+             (unsigned long long)one.ids[1]);
+    assert_non_null(strstr(one.message, ids));
+    assert_non_null(strstr(one.message, "leaves the 7DOF model's domain"));
+    assert_string_equal(one.message, two.message);
+    assert_memory_equal(&straight, &one, offsetof(qs_outcome, message));
+    assert_memory_equal(&one, &two, offsetof(qs_outcome, message));
+    /* the two cubes' necks differ: the small ones grew more, relative to their radius */
+    assert_true(one.y[54][SINTER_NECK_X] / (0.5 * R_CU) > 1.2 * one.y[0][SINTER_NECK_X] / R_CU);
+}
+
 /* The stepper adapter on public objects: two copper particles at 1293 K for 100 s. */
 static void test_qs_stepper_adapter(void **state)
 {
@@ -745,6 +851,7 @@ int main(void)
         cmocka_unit_test(test_chain_axial_series),
         cmocka_unit_test(test_chain_cantilever),
         cmocka_unit_test(test_qs_two_particles_strategy2),
+        cmocka_unit_test(test_qs_pairs_on_threads),
         cmocka_unit_test(test_qs_two_particles_strategy1),
         cmocka_unit_test(test_qs_two_particles_strategy3),
         cmocka_unit_test(test_qs_two_particles_strategy3_grown_rk4),
