@@ -2,14 +2,17 @@
 /*
  * sinter: run libsinter scene files from the command line.
  *
- *   sinter run SCENE [-o DIR] [--restart CHECKPOINT]
+ *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N]
  *   sinter check SCENE
  *   sinter info
  *
  * On a terminal, `run` shows progress (simulated time, steps per second, time
- * left); otherwise it is quiet apart from a one-line summary.
+ * left); otherwise it is quiet apart from a one-line summary. --threads N runs the library on N
+ * threads (sinter_ctx_set_threads; 0: as many as OpenMP offers, OMP_NUM_THREADS or the cores;
+ * default 1): the results are the same for every N.
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -53,7 +56,7 @@ static int show_progress(double time, double end_time, void *user)
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT]\n"
+    fprintf(stderr, "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N]\n"
                     "       sinter check SCENE\n"
                     "       sinter info\n");
     return 2;
@@ -68,12 +71,24 @@ static int fail(sinter_ctx *ctx, sinter_status st)
 static int run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
+    int threads = 1;
     for (int k = 2; k < argc; ++k) {
         if (strcmp(argv[k], "-o") == 0 && k + 1 < argc)
             out_dir = argv[++k];
         else if (strcmp(argv[k], "--restart") == 0 && k + 1 < argc)
             restart = argv[++k];
-        else if (argv[k][0] != '-' && scene_path == NULL)
+        else if (strcmp(argv[k], "--threads") == 0 && k + 1 < argc) {
+            char *end = NULL;
+            const long value = strtol(argv[++k], &end, 10);
+            if (end == argv[k] || *end != '\0' || value < 0 || value > 4096) {
+                fprintf(stderr,
+                        "sinter: --threads %s: expected a whole number from 0 (all) to "
+                        "4096\n",
+                        argv[k]);
+                return 2;
+            }
+            threads = (int)value;
+        } else if (argv[k][0] != '-' && scene_path == NULL)
             scene_path = argv[k];
         else
             return usage();
@@ -83,8 +98,14 @@ static int run(int argc, char **argv)
     sinter_ctx *ctx = NULL;
     if (sinter_ctx_create(&ctx, NULL) != SINTER_OK)
         return 1;
+    sinter_status st = sinter_ctx_set_threads(ctx, threads);
+    if (st != SINTER_OK) {
+        const int rc = fail(ctx, st);
+        sinter_ctx_destroy(ctx);
+        return rc;
+    }
     sinter_scene *scene = NULL;
-    sinter_status st = sinter_scene_load(&scene, ctx, scene_path);
+    st = sinter_scene_load(&scene, ctx, scene_path);
     if (st == SINTER_OK && restart != NULL) {
         sinter_stepper *stepper = NULL;
         sinter_scene_get_stepper(scene, &stepper);
@@ -138,7 +159,7 @@ static int info(void)
 {
     printf("libsinter %s (version number %u)\n", sinter_version_string(), sinter_version_number());
     printf("force models: hertz_mindlin, power_law, linear_spring, drag, gravity, body_force\n");
-    printf("steppers: explicit\n");
+    printf("steppers: explicit, staggered, quasistatic\n");
     printf("units: SI (m, kg, s, K, N, Pa, W, A, V)\n");
     return 0;
 }
