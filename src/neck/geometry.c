@@ -19,12 +19,14 @@ static int side_eval(double x, double radius, double junction, double centre_to_
     if (!(R > 0.0) || !(fabs(d) < R))
         return -1;
     /* 7dof.md §2.1: H = L - d, h = sqrt(R^2 - d^2) (as (R - d)(R + d) against cancellation
-     * when d is close to R), s = sqrt(H^2 + (h - x)^2). */
+     * when d is close to R), s = sqrt(H^2 + (h - x)^2) (lengths of a neck: their squares are far
+     * from overflow and underflow, so no hypot). */
     const double H = L - d;
     const double h = sqrt((R - d) * (R + d));
-    const double s = hypot(H, h - x);
+    const double s = sqrt(H * H + (h - x) * (h - x));
     if (!(s > 0.0) || !(h > 0.0))
         return -1;
+    const double inv_h = 1.0 / h, inv_s = 1.0 / s;
     side->cone_height = H;
     side->junction_radius = h;
     side->slant = s;
@@ -42,18 +44,18 @@ static int side_eval(double x, double radius, double junction, double centre_to_
      * dV/dL = (pi/3)(x^2 + x h + h^2)                                     (d fixed). */
     const double dv_dh = PI / 3.0 * H * (x + 2.0 * h);
     dv[0] = PI / 3.0 * H * (2.0 * x + h);
-    dv[1] = 2.0 * PI * R * (R + d) + dv_dh * R / h;
-    dv[2] = PI * h * h - PI / 3.0 * frustum - dv_dh * d / h;
+    dv[1] = 2.0 * PI * R * (R + d) + dv_dh * R * inv_h;
+    dv[2] = PI * h * h - PI / 3.0 * frustum - dv_dh * d * inv_h;
     dv[3] = PI / 3.0 * frustum;
 
     /* 7dof.md §2.3, area: dA/dx = pi [H^2 - 2x(h - x)] / s; helper dA/dh = pi [s + (h^2 - x^2)/s];
      * dA/dR = 2 pi (2R + d) + (dA/dh) R/h; dA/dd = 2 pi R - (dA/dh) d/h - pi (x + h) H / s;
      * dA/dL = pi (x + h) H / s. */
-    const double da_dh = PI * (s + (h - x) * (h + x) / s);
-    const double da_dheight = PI * (x + h) * H / s;
-    da[0] = PI * (H * H - 2.0 * x * (h - x)) / s;
-    da[1] = 2.0 * PI * (2.0 * R + d) + da_dh * R / h;
-    da[2] = 2.0 * PI * R - da_dh * d / h - da_dheight;
+    const double da_dh = PI * (s + (h - x) * (h + x) * inv_s);
+    const double da_dheight = PI * (x + h) * H * inv_s;
+    da[0] = PI * (H * H - 2.0 * x * (h - x)) * inv_s;
+    da[1] = 2.0 * PI * (2.0 * R + d) + da_dh * R * inv_h;
+    da[2] = 2.0 * PI * R - da_dh * d * inv_h - da_dheight;
     da[3] = da_dheight;
     return 0;
 }

@@ -92,11 +92,13 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
 
     /* Seed 001 eq. 9 with 7dof.md §2.4: mu_i = Omega (gamma_s dA_s/dy_i + gamma_gb dA_gb/dy_i)
      * / (dV/dy_i), the "specific volume" V_i of eq. 2 being the total volume's change. */
-    double *mu = w->potential;
-    for (int i = 0; i < SINTER_NECK_DOF; ++i)
+    double *mu = w->potential, inv_dv[SINTER_NECK_DOF]; /* divisions once (eq. 2 and 9) */
+    for (int i = 0; i < SINTER_NECK_DOF; ++i) {
+        inv_dv[i] = 1.0 / g->dvolume[i];
         mu[i] = c->atomic_volume *
-                (c->surface_energy * g->dsurface[i] + c->boundary_energy * g->dboundary[i]) /
-                g->dvolume[i];
+                (c->surface_energy * g->dsurface[i] + c->boundary_energy * g->dboundary[i]) *
+                inv_dv[i];
+    }
 
     /* Seed 001 table 1 cross-sections C and 7dof.md §3 path lengths ds, per side P with
      * regions ring = 1, cap = 2 + 3P, cone = 3 + 3P, GB = 4 + 3P (1-based as in the seed):
@@ -111,23 +113,24 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
     const double ring_mu = mu[SINTER_NECK_X];
     double *rate = w->region_rate;
     rate[SINTER_NECK_X] = 0.0;
+    const double per_gb_path = 4.0 / x; /* 1 / ds, ds = x/4 */
     for (int p = 0; p < 2; ++p) {
         const double h = g->side[p].junction_radius, s = g->side[p].slant;
         const double cap_mu = mu[1 + 3 * p], cone_mu = mu[2 + 3 * p], gb_mu = mu[3 + 3 * p];
-        const double gb_path = 0.25 * x, cone_path = 0.5 * s, cap_path = s;
+        const double per_cap_path = 1.0 / s, per_cone_path = 2.0 * per_cap_path; /* s, s/2 */
         double *f = w->flux[p];
-        f[SINTER_NECK_FLUX_I] =
-            PI * x * c->boundary_thickness * c->mobility_boundary * (gb_mu - ring_mu) / gb_path;
+        f[SINTER_NECK_FLUX_I] = PI * x * c->boundary_thickness * c->mobility_boundary *
+                                (gb_mu - ring_mu) * per_gb_path;
         f[SINTER_NECK_FLUX_II] =
-            2.0 / 3.0 * PI * x * x * c->mobility_lattice * (gb_mu - ring_mu) / gb_path;
+            2.0 / 3.0 * PI * x * x * c->mobility_lattice * (gb_mu - ring_mu) * per_gb_path;
         f[SINTER_NECK_FLUX_III] = PI * (x + h) * c->surface_thickness * c->mobility_surface *
-                                  (cone_mu - ring_mu) / cone_path;
+                                  (cone_mu - ring_mu) * per_cone_path;
         f[SINTER_NECK_FLUX_IV] =
-            PI * (x + h) * s * c->mobility_lattice * (cone_mu - ring_mu) / cone_path;
+            PI * (x + h) * s * c->mobility_lattice * (cone_mu - ring_mu) * per_cone_path;
         f[SINTER_NECK_FLUX_V] = 2.0 * PI * h * c->surface_thickness * c->mobility_surface *
-                                (cap_mu - cone_mu) / cap_path;
+                                (cap_mu - cone_mu) * per_cap_path;
         f[SINTER_NECK_FLUX_VI] =
-            2.0 * PI * h * s * c->mobility_lattice * (cap_mu - cone_mu) / cap_path;
+            2.0 * PI * h * s * c->mobility_lattice * (cap_mu - cone_mu) * per_cap_path;
 
         /* Seed 001 eq. 3 (with 7dof.md §1's correction of eq. 3c):
          * dV1/dt += I + II + III + IV;  dV_cap/dt = -(V + VI);
@@ -142,6 +145,6 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
 
     /* Seed 001 eq. 2: dy_i/dt = (dV_i/dy_i)^-1 dV_i/dt. */
     for (int i = 0; i < SINTER_NECK_DOF; ++i)
-        ydot[i] = rate[i] / g->dvolume[i];
+        ydot[i] = rate[i] * inv_dv[i];
     return SINTER_NECK_VALID;
 }
