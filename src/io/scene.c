@@ -624,6 +624,12 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     if (!(sc->output_interval > 0))
         return section_error(t, s, "interval must be > 0 s");
     OPTIONAL(scene_get_bool(t, s, "vtu", &sc->write_vtu));
+    const char *format = NULL;
+    OPTIONAL(scene_get_word(t, s, "vtu_format", &format));
+    if (format != NULL && strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0)
+        return section_error(t, s, "vtu_format must be binary or ascii");
+    if (format != NULL)
+        sc->vtu_binary = strcmp(format, "binary") == 0;
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));
@@ -727,6 +733,7 @@ sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char 
     else
         snprintf(sc->directory, sizeof(sc->directory), ".");
     sc->write_vtu = sc->write_csv = sc->write_plot = 1;
+    sc->vtu_binary = 1;
     sc->output_interval = 0.0;
     scene_text t;
     sinter_status st = scene_text_read(&t, ctx, path);

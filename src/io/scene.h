@@ -35,6 +35,7 @@ struct sinter_scene {
     /* output */
     double output_interval;
     int write_vtu, write_csv, write_plot;
+    int vtu_binary; /* frames' arrays as inline base64 binary (1, the default) or ascii */
     double checkpoint_interval;
 };
 

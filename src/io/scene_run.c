@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include "io/scene.h"
+#include "io/vtu.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -247,7 +248,7 @@ static sinter_status write_frame(run_state *r)
         }
     }
     const sinter_vtu_array extra[2] = {{"contacts", contacts, 1}, {"necks", necks, 1}};
-    sinter_status st = sinter_write_vtu(sc->ps, path, extra, 2);
+    sinter_status st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
     if (st != SINTER_OK)

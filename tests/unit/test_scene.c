@@ -389,6 +389,14 @@ static void test_furnace_scene(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+static int count_of(const char *doc, const char *what)
+{
+    int n = 0;
+    for (const char *p = strstr(doc, what); p != NULL; p = strstr(p + 1, what))
+        ++n;
+    return n;
+}
+
 static void test_quasistatic_scene_writes_neck_counts(void **state)
 {
     (void)state;
@@ -399,7 +407,7 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
                        "temperature = 1293\n"
                        "[force gravity]\ngz = 0\n"
                        "[stepper]\nkind = quasistatic\nqs_strategy = 2\ndt = 1e-6\nend_time = 10\n"
-                       "[output]\ninterval = 10\n";
+                       "[output]\ninterval = 10\nvtu_format = ascii\n";
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
     assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
@@ -424,7 +432,26 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
         necks = end;
     }
     sinter_scene_destroy(scene);
+    /* without vtu_format the frames are binary (their content: test_vtu_binary.c) */
+    char text2[2048];
+    snprintf(text2, sizeof(text2), "%.*s", (int)(strstr(text, "vtu_format") - text), text);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("cube2.scene", text2)), SINTER_OK);
+    snprintf(out, sizeof(out), "%s/cube2", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    snprintf(frame, sizeof(frame), "%s/frames/frame_00001.vtu", out);
+    f = fopen(frame, "r");
+    assert_non_null(f);
+    const size_t len2 = fread(buf, 1, sizeof(buf) - 1, f);
+    fclose(f);
+    buf[len2] = '\0';
+    assert_non_null(strstr(buf, "header_type=\"UInt64\""));
+    assert_int_equal(count_of(buf, "format=\"binary\""), 14);
+    assert_null(strstr(buf, "format=\"ascii\""));
+    sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
+    snprintf(text2, sizeof(text2), "%.*svtu_format = text\n",
+             (int)(strstr(text, "vtu_format") - text), text);
+    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary or ascii", NULL);
 }
 
 /*

@@ -1,0 +1,258 @@
+/*
+ * Binary VTU frames (src/io/vtu.c, sinter_write_vtu_as; the scene runner's default): every array
+ * decoded from its base64 (a UInt64 byte count encoded on its own, then the little-endian
+ * elements) equals, bit for bit, the same array of the ascii frame ("%.17g", which reads back
+ * exactly) and the particles' own values; byte counts that leave 0, 1 and 2 bytes over a
+ * triplet, and arrays longer than the writer's 3072-byte chunks.
+ */
+#define _XOPEN_SOURCE 700 /* mkdtemp */
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "test_support.h"
+
+#include "io/vtu.h"
+
+static char *slurp(const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    assert_non_null(fp);
+    fseek(fp, 0, SEEK_END);
+    const long size = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    char *doc = malloc((size_t)size + 1);
+    assert_non_null(doc);
+    assert_int_equal(fread(doc, 1, (size_t)size, fp), (size_t)size);
+    doc[size] = '\0';
+    fclose(fp);
+    return doc;
+}
+
+/* The text between the opening tag of <DataArray ... Name="name" ...> and its closing tag;
+ * the tag's type attribute into type. */
+static const char *array_text(const char *doc, const char *name, char type[16], size_t *length)
+{
+    char key[96];
+    snprintf(key, sizeof(key), " Name=\"%s\"", name);
+    for (const char *p = strstr(doc, "<DataArray"); p != NULL; p = strstr(p + 1, "<DataArray")) {
+        const char *end = strchr(p, '>');
+        const char *k = strstr(p, key);
+        if (end == NULL || k == NULL || k > end)
+            continue;
+        const char *t = strstr(p, "type=\"") + 6;
+        const size_t tl = (size_t)(strchr(t, '"') - t);
+        assert_true(tl < 16);
+        memcpy(type, t, tl);
+        type[tl] = '\0';
+        const char *close = strstr(end, "</DataArray>");
+        *length = (size_t)(close - (end + 1));
+        return end + 1;
+    }
+    fail_msg("no DataArray %s", name);
+    return NULL;
+}
+
+static int sextet(char c)
+{
+    if (c >= 'A' && c <= 'Z')
+        return c - 'A';
+    if (c >= 'a' && c <= 'z')
+        return c - 'a' + 26;
+    if (c >= '0' && c <= '9')
+        return c - '0' + 52;
+    if (c == '+')
+        return 62;
+    if (c == '/')
+        return 63;
+    fail_msg("not base64: '%c'", c);
+    return -1;
+}
+
+/* Decode `chars` base64 characters (a multiple of 4, padding included) into out; the bytes. */
+static size_t decode(const char *in, size_t chars, unsigned char *out)
+{
+    assert_int_equal(chars % 4, 0);
+    size_t n = 0;
+    for (size_t k = 0; k < chars; k += 4) {
+        const int pad = (in[k + 2] == '=') + (in[k + 3] == '=');
+        const unsigned long v = ((unsigned long)sextet(in[k]) << 18) |
+                                ((unsigned long)sextet(in[k + 1]) << 12) |
+                                ((unsigned long)(pad >= 2 ? 0 : sextet(in[k + 2])) << 6) |
+                                (unsigned long)(pad >= 1 ? 0 : sextet(in[k + 3]));
+        out[n++] = (unsigned char)(v >> 16);
+        if (pad < 2)
+            out[n++] = (unsigned char)(v >> 8);
+        if (pad < 1)
+            out[n++] = (unsigned char)v;
+        if (pad > 0) /* padding ends a stream */
+            assert_int_equal(k + 4, chars);
+    }
+    return n;
+}
+
+static uint64_t little_endian(const unsigned char *b, size_t width)
+{
+    uint64_t v = 0;
+    for (size_t k = 0; k < width; ++k)
+        v |= (uint64_t)b[k] << (8 * k);
+    return v;
+}
+
+/* The values of a binary array as bit patterns (doubles) or integers, into out; their count. */
+static size_t binary_values(const char *doc, const char *name, uint64_t *out, size_t max)
+{
+    char type[16];
+    size_t length;
+    const char *text = array_text(doc, name, type, &length);
+    while (*text == ' ' || *text == '\n')
+        ++text, --length;
+    while (length > 0 && (text[length - 1] == ' ' || text[length - 1] == '\n'))
+        --length;
+    /* the byte count: eight bytes encoded on their own (12 characters, one '=') */
+    unsigned char header[9];
+    assert_int_equal(decode(text, 12, header), 8);
+    assert_true(text[11] == '=' && text[10] != '=');
+    const uint64_t bytes = little_endian(header, 8);
+    const size_t width = strcmp(type, "UInt8") == 0 ? 1 : strcmp(type, "Int32") == 0 ? 4 : 8;
+    unsigned char *data = malloc(length);
+    assert_non_null(data);
+    assert_int_equal(decode(text + 12, length - 12, data), bytes);
+    assert_int_equal(bytes % width, 0);
+    const size_t count = bytes / width;
+    assert_true(count <= max);
+    for (size_t i = 0; i < count; ++i) {
+        uint64_t v = little_endian(data + width * i, width);
+        if (strcmp(type, "Int32") == 0) /* sign-extended, as the ascii reading gives it */
+            v = (uint64_t)(int64_t)(int32_t)(uint32_t)v;
+        out[i] = v;
+    }
+    free(data);
+    return count;
+}
+
+/* The values of an ascii array the same way (strtod: exact for "%.17g"). */
+static size_t ascii_values(const char *doc, const char *name, uint64_t *out, size_t max)
+{
+    char type[16];
+    size_t length;
+    const char *p = array_text(doc, name, type, &length), *end = p + length;
+    size_t n = 0;
+    while (p < end) {
+        char *next;
+        if (strcmp(type, "Float64") == 0) {
+            const double d = strtod(p, &next);
+            if (next != p)
+                memcpy(&out[n], &d, sizeof(d));
+        } else {
+            const long long v = strtoll(p, &next, 10);
+            if (next != p)
+                out[n] = (uint64_t)v;
+        }
+        if (next == p) {
+            ++p;
+            continue;
+        }
+        assert_true(++n <= max);
+        p = next;
+    }
+    return n;
+}
+
+static const char *const ARRAYS[] = {"radius",   "velocity",     "spin",    "temperature",
+                                     "current",  "force",        "material", "id",
+                                     "contacts", "position",     "connectivity", "offsets",
+                                     "types"};
+
+/* Write ps both ways (with one extra array) and compare every array. */
+static void compare_frames(sinter_particles *ps, size_t n, const char *dir)
+{
+    char ascii_path[128], binary_path[128];
+    snprintf(ascii_path, sizeof(ascii_path), "%s/a.vtu", dir);
+    snprintf(binary_path, sizeof(binary_path), "%s/b.vtu", dir);
+    double *contacts = malloc((n + 1) * sizeof(double));
+    assert_non_null(contacts);
+    for (size_t i = 0; i < n; ++i)
+        contacts[i] = (double)(i % 7) / 3.0;
+    const sinter_vtu_array extra[1] = {{"contacts", contacts, 1}};
+    assert_int_equal(sinter_write_vtu_as(ps, ascii_path, extra, 1, 0), SINTER_OK);
+    assert_int_equal(sinter_write_vtu_as(ps, binary_path, extra, 1, 1), SINTER_OK);
+    char *a = slurp(ascii_path), *b = slurp(binary_path);
+    assert_non_null(strstr(b, "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+                              "byte_order=\"LittleEndian\" header_type=\"UInt64\">"));
+    assert_null(strstr(b, "format=\"ascii\""));
+    const size_t max = 3 * n + 1;
+    uint64_t *va = malloc(max * sizeof(uint64_t)), *vb = malloc(max * sizeof(uint64_t));
+    assert_true(va != NULL && vb != NULL);
+    for (size_t k = 0; k < sizeof(ARRAYS) / sizeof(ARRAYS[0]); ++k) {
+        const size_t na = ascii_values(a, ARRAYS[k], va, max);
+        const size_t nb = binary_values(b, ARRAYS[k], vb, max);
+        assert_int_equal(na, nb);
+        assert_true(na == n || na == 3 * n);
+        assert_memory_equal(va, vb, na * sizeof(uint64_t));
+    }
+    /* and the particles' own positions, bit for bit */
+    const double *x = NULL;
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL),
+        SINTER_OK);
+    assert_int_equal(binary_values(b, "position", vb, max), 3 * n);
+    assert_memory_equal(vb, x, 3 * n * sizeof(double));
+    assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_POSITION), SINTER_OK);
+    free(va);
+    free(vb);
+    free(a);
+    free(b);
+    free(contacts);
+    remove(ascii_path);
+    remove(binary_path);
+}
+
+static void test_binary_frames_match_ascii(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sinter_vtu_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_material_create(&mat, ctx, "copper"), SINTER_OK);
+    assert_int_equal(sinter_particles_create(&ps, ctx), SINTER_OK);
+    assert_int_equal(sinter_particles_set_material(ps, 0, mat), SINTER_OK);
+    /* 5 particles: 40-byte arrays (1 byte over a triplet), 120 (none), 20 and 5 (2 over);
+     * awkward values: signed zero, subnormals, huge and tiny magnitudes */
+    static const double awkward[15] = {1.0 / 3.0, -0.0,   1e-300,  0.1,     -2.5e-7,
+                                       123456.789, 5e-324, -1e300, 2.0 / 7, 1.0,
+                                       -0.3,       6.02214076e23, DBL_MIN, -4.9, 1e-12};
+    const double radius[5] = {1e-3, 2e-3, 1.5e-3, 1e-3 / 3.0, 7e-4};
+    assert_int_equal(sinter_particles_add(ps, 5, awkward, radius, 0, 300.0, NULL), SINTER_OK);
+    compare_frames(ps, 5, dir);
+    /* 1000 more: arrays of 8048 and 24 144 bytes, several chunks */
+    enum { M = 1000 };
+    double *x = malloc(3 * M * sizeof(double)), *r = malloc(M * sizeof(double));
+    assert_true(x != NULL && r != NULL);
+    for (size_t i = 0; i < M; ++i) {
+        for (int d = 0; d < 3; ++d)
+            x[3 * i + (size_t)d] = 0.01 * (double)((i * (size_t)(d + 3)) % 97) / 7.0;
+        r[i] = 1e-4 * (1.0 + (double)(i % 11) / 13.0);
+    }
+    assert_int_equal(sinter_particles_add(ps, M, x, r, 0, 500.0, NULL), SINTER_OK);
+    compare_frames(ps, 5 + M, dir);
+    free(x);
+    free(r);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    rmdir(dir);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_binary_frames_match_ascii),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
