@@ -12,8 +12,7 @@
 static const char *const BUILTIN_ARRAYS[] = {"radius",  "velocity", "spin",     "temperature",
                                              "current", "force",    "material", "id"};
 
-static void begin_array(FILE *fp, const char *type, const char *name, size_t components,
-                        int binary)
+static void begin_array(FILE *fp, const char *type, const char *name, size_t components, int binary)
 {
     fprintf(fp, "        <DataArray type=\"%s\" Name=\"", type);
     sinter_out_xml(fp, name);
@@ -36,10 +35,22 @@ static uint64_t int32_bits(const void *data, size_t i)
 {
     return (uint32_t)((const int32_t *)data)[i];
 }
-static uint64_t uint64_bits(const void *data, size_t i) { return ((const uint64_t *)data)[i]; }
-static uint64_t index_bits(const void *data, size_t i) { return (uint64_t)i; }
-static uint64_t index_plus_one_bits(const void *data, size_t i) { return (uint64_t)i + 1; }
-static uint64_t vertex_type_bits(const void *data, size_t i) { return 1; /* VTK_VERTEX */ }
+static uint64_t uint64_bits(const void *data, size_t i)
+{
+    return ((const uint64_t *)data)[i];
+}
+static uint64_t index_bits(const void *data, size_t i)
+{
+    return (uint64_t)i;
+}
+static uint64_t index_plus_one_bits(const void *data, size_t i)
+{
+    return (uint64_t)i + 1;
+}
+static uint64_t vertex_type_bits(const void *data, size_t i)
+{
+    return 1; /* VTK_VERTEX */
+}
 
 /*
  * Inline binary data of a VTK XML file (header_type UInt64, little-endian): the byte count as
@@ -47,8 +58,7 @@ static uint64_t vertex_type_bits(const void *data, size_t i) { return 1; /* VTK_
  * as one stream (the layout VTK's readers take; the bytes are put in order by shifts, so the
  * file is little-endian on any host).
  */
-static void write_binary(FILE *fp, const void *data, size_t count, size_t width,
-                         element_bits bits)
+static void write_binary(FILE *fp, const void *data, size_t count, size_t width, element_bits bits)
 {
     sinter_base64 b;
     unsigned char chunk[3072]; /* a multiple of 3 (no padding inside) and of 8 */

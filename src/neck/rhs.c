@@ -119,8 +119,8 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
         const double cap_mu = mu[1 + 3 * p], cone_mu = mu[2 + 3 * p], gb_mu = mu[3 + 3 * p];
         const double per_cap_path = 1.0 / s, per_cone_path = 2.0 * per_cap_path; /* s, s/2 */
         double *f = w->flux[p];
-        f[SINTER_NECK_FLUX_I] = PI * x * c->boundary_thickness * c->mobility_boundary *
-                                (gb_mu - ring_mu) * per_gb_path;
+        f[SINTER_NECK_FLUX_I] =
+            PI * x * c->boundary_thickness * c->mobility_boundary * (gb_mu - ring_mu) * per_gb_path;
         f[SINTER_NECK_FLUX_II] =
             2.0 / 3.0 * PI * x * x * c->mobility_lattice * (gb_mu - ring_mu) * per_gb_path;
         f[SINTER_NECK_FLUX_III] = PI * (x + h) * c->surface_thickness * c->mobility_surface *

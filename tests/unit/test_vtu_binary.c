@@ -161,10 +161,9 @@ static size_t ascii_values(const char *doc, const char *name, uint64_t *out, siz
     return n;
 }
 
-static const char *const ARRAYS[] = {"radius",   "velocity",     "spin",    "temperature",
-                                     "current",  "force",        "material", "id",
-                                     "contacts", "position",     "connectivity", "offsets",
-                                     "types"};
+static const char *const ARRAYS[] = {"radius",       "velocity", "spin", "temperature", "current",
+                                     "force",        "material", "id",   "contacts",    "position",
+                                     "connectivity", "offsets",  "types"};
 
 /* Write ps both ways (with one extra array) and compare every array. */
 static void compare_frames(sinter_particles *ps, size_t n, const char *dir)
@@ -224,9 +223,9 @@ static void test_binary_frames_match_ascii(void **state)
     assert_int_equal(sinter_particles_set_material(ps, 0, mat), SINTER_OK);
     /* 5 particles: 40-byte arrays (1 byte over a triplet), 120 (none), 20 and 5 (2 over);
      * awkward values: signed zero, subnormals, huge and tiny magnitudes */
-    static const double awkward[15] = {1.0 / 3.0, -0.0,   1e-300,  0.1,     -2.5e-7,
-                                       123456.789, 5e-324, -1e300, 2.0 / 7, 1.0,
-                                       -0.3,       6.02214076e23, DBL_MIN, -4.9, 1e-12};
+    static const double awkward[15] = {1.0 / 3.0,  -0.0,          1e-300,  0.1,     -2.5e-7,
+                                       123456.789, 5e-324,        -1e300,  2.0 / 7, 1.0,
+                                       -0.3,       6.02214076e23, DBL_MIN, -4.9,    1e-12};
     const double radius[5] = {1e-3, 2e-3, 1.5e-3, 1e-3 / 3.0, 7e-4};
     assert_int_equal(sinter_particles_add(ps, 5, awkward, radius, 0, 300.0, NULL), SINTER_OK);
     compare_frames(ps, 5, dir);
