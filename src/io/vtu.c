@@ -84,10 +84,25 @@ static void write_binary(FILE *fp, const void *data, size_t count, size_t width,
     fputc('\n', fp);
 }
 
-/* count * components doubles: one particle per line, or binary. */
+static int all_zero(const double *data, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t bits;
+        memcpy(&bits, data + i, sizeof(bits));
+        if (bits != 0) /* +0.0 only */
+            return 0;
+    }
+    return 1;
+}
+
+/* count * components doubles: one particle per line, or binary. An array of zeros (a
+ * quasi-static run's velocities, say) stays ascii in a binary file, '0' per value being shorter
+ * than its base64 (the format is per array in VTK XML). */
 static void write_double_array(FILE *fp, const char *name, const double *data, size_t count,
                                size_t components, int binary)
 {
+    if (binary && all_zero(data, count * components))
+        binary = 0;
     begin_array(fp, "Float64", name, components, binary);
     if (binary)
         write_binary(fp, data, count * components, 8, double_bits);

@@ -445,8 +445,11 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
     fclose(f);
     buf[len2] = '\0';
     assert_non_null(strstr(buf, "header_type=\"UInt64\""));
-    assert_int_equal(count_of(buf, "format=\"binary\""), 14);
-    assert_null(strstr(buf, "format=\"ascii\""));
+    /* velocity, spin, force, current and the DEM contact counts are zeros in a quasi-static
+     * run: those stay ascii */
+    assert_int_equal(count_of(buf, "format=\"binary\""), 9);
+    assert_int_equal(count_of(buf, "format=\"ascii\""), 5);
+    assert_non_null(strstr(buf, "Name=\"contacts\" format=\"ascii\""));
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
     snprintf(text2, sizeof(text2), "%.*svtu_format = text\n",
