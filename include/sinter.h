@@ -1321,9 +1321,11 @@ SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double
 /**
  * Write the complete state of a stepper (time, step, particles, walls,
  * neighbour lists, contact history; for the quasi-static kind also its bonded
- * links, their 7DOF necks and the principal-plane conditions) to a versioned
- * binary file (format 3; format 2 files are still read) with a checksum. Written to a temporary file and renamed: an existing checkpoint
- * is never left half-written.
+ * links, their 7DOF necks and the principal-plane conditions; with a "network"
+ * electric model the potentials its next solve starts from) to a versioned
+ * binary file (format 4; formats 2 and 3 are still read) with a checksum.
+ * Written to a temporary file and renamed: an existing checkpoint is never
+ * left half-written.
  */
 SINTER_API sinter_status sinter_checkpoint_write(const sinter_stepper *stepper, const char *path);
 

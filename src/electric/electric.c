@@ -174,3 +174,22 @@ sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles 
         *iterations = em->last_iterations;
     return s;
 }
+
+const double *sinter_electric_warm_potentials(const sinter_electric_model *em, size_t *nodes)
+{
+    const int warm = em->kind == SINTER_ELECTRIC_NETWORK && em->warm_nodes > 0;
+    *nodes = warm ? em->warm_nodes : 0;
+    return warm ? em->potential : NULL;
+}
+
+sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, const double *phi,
+                                                  size_t nodes)
+{
+    em->warm_nodes = 0;
+    if (nodes == 0 || em->kind != SINTER_ELECTRIC_NETWORK)
+        return SINTER_OK;
+    SINTER_ELECTRIC_RESERVE(em, potential, nodes + 1);
+    memcpy(em->potential, phi, nodes * sizeof(double));
+    em->warm_nodes = nodes;
+    return SINTER_OK;
+}

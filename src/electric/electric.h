@@ -39,6 +39,8 @@ struct sinter_electric_model {
     size_t node_count;    /* network: particles then walls; 0 after an averaged solve */
     double *potential;    /* network: node potentials [V] (node n + w is wall w) */
     size_t open_clusters; /* network: clusters left without current (open circuit) */
+    size_t warm_nodes;    /* network: nodes of the last solve, whose potentials start the next
+                             (0: none; see network.c) */
 
     /* Scratch reused across solves (grown on demand, never shrunk). */
     size_t potential_capacity;
@@ -98,6 +100,14 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
                                             const sinter_contact_list *pw);
 
 /* Free the SUNDIALS objects (NULL allowed). */
+
+/* The network model's warm start (network.c): the potentials of its last solve, *nodes of
+ * them (0 and NULL when the next solve starts from 0), for a checkpoint. */
+const double *sinter_electric_warm_potentials(const sinter_electric_model *em, size_t *nodes);
+
+/* Restore them (a checkpoint's; nodes = 0 clears them). Errors: SINTER_ERR_NOMEM. */
+sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, const double *phi,
+                                                  size_t nodes);
 
 /*
  * Storage for at least `count` elements of `size` bytes at `ptr` (contents kept, capacity in

@@ -16,12 +16,15 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "electric/electric.h"
 #include "stepper/stepper.h"
 
 /* 2: material parameter count recorded (53 parameters since the neck data)
  * 3: a quasi-static section at the end (links, necks, plane conditions: stepper/qs_state.c);
- *    version 2 files are still read (they hold no quasi-static state) */
-#define CHECKPOINT_VERSION 3u
+ *    version 2 files are still read (they hold no quasi-static state)
+ * 4: then the electric network's warm start (the potentials its next solve starts from:
+ *    electric/network.c); versions 2 and 3 are still read (the next solve starts from 0) */
+#define CHECKPOINT_VERSION 4u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -161,6 +164,12 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
         put(&w, buf, bytes);
         sinter_free(ctx, buf);
     }
+    /* the electric network's warm start (version 4): node count (0: none), potentials */
+    size_t warm_nodes = 0;
+    const double *warm =
+        st->electric != NULL ? sinter_electric_warm_potentials(st->electric, &warm_nodes) : NULL;
+    put_u64(&w, warm_nodes);
+    put(&w, warm, warm_nodes * sizeof(double));
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -406,11 +415,11 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     uint32_t version = 0, marker = 0;
     memcpy(&version, take(&r, 4), 4);
     memcpy(&marker, take(&r, 4), 4);
-    if ((version != CHECKPOINT_VERSION && version != 2u) || marker != 0x01020304u) {
+    if (version < 2u || version > CHECKPOINT_VERSION || marker != 0x01020304u) {
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "and 3) or byte order");
+                       "to 4) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -479,6 +488,14 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     const unsigned char *qs_data = qs_bytes <= size ? take(&r, (size_t)qs_bytes) : NULL;
     if (has_qs > 1 || (has_qs && qs_data == NULL))
         r.bad = 1;
+    const uint64_t warm_nodes = version >= 4u ? take_u64(&r) : 0;
+    const double *warm = NULL;
+    if (warm_nodes > 0 && !r.bad) {
+        if (warm_nodes != (uint64_t)n + nw) /* particles then walls */
+            r.bad = 1;
+        else
+            warm = take(&r, (size_t)warm_nodes * sizeof(double));
+    }
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -568,6 +585,11 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
             }
         }
     }
+    /* the electric model's warm start: the checkpoint's, or none (the last step that can fail;
+     * it touches nothing but the model's starting potentials) */
+    if (s == SINTER_OK && st->electric != NULL)
+        s = sinter_electric_set_warm_potentials(st->electric, warm,
+                                                warm != NULL ? (size_t)warm_nodes : 0);
     if (s != SINTER_OK) {
         sinter_qs_destroy(qs_new);
         sinter_free(ctx, data);

@@ -317,6 +317,76 @@ static void test_network_series_chain(void **state)
 }
 
 /*
+ * The network's warm start (network.c): a solve starts from the last solve's potentials when
+ * the node count is the same. Solving an unchanged network again takes no iteration and
+ * changes no bit; a new wall potential is met to the same accuracy from the old start; after a
+ * change of the node count or a failed solve the start is 0 again, the same bits as a new
+ * model's solve.
+ */
+static void test_network_warm_start(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 8 };
+    double delta[N - 1];
+    for (size_t k = 0; k < N - 1; ++k)
+        delta[k] = 1e-4 * (1.0 + 0.1 * (double)k); /* unequal conductances */
+    const double x_right = add_chain(&f, N, delta, 2e-4, 0.0, 0);
+    const size_t left = add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 1.0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    model(&f, "network", 1e-12);
+    size_t first = 0, again = 0;
+    OK(solve(&f, &first));
+    double phi[N + 2], current[N];
+    memcpy(phi, f.em->potential, sizeof(phi));
+    memcpy(current, f.ps->current, sizeof(current));
+    OK(solve(&f, &again));
+    print_message("warm start: %zu PCG iterations from 0, %zu from the last solve\n", first,
+                  again);
+    assert_true(first >= 2);
+    assert_int_equal(again, 0);
+    assert_memory_equal(phi, f.em->potential, sizeof(phi));
+    assert_memory_equal(current, f.ps->current, sizeof(current));
+
+    /* twice the wall potential: twice the current in every particle, from the old start */
+    OK(sinter_walls_set_electric(f.walls, left, SINTER_WALL_POTENTIAL, 2.0));
+    OK(solve(&f, &again));
+    assert_true(again >= 1);
+    for (size_t k = 0; k < N; ++k)
+        assert_rel(f.ps->current[k], 2.0 * current[k], 1e-10);
+
+    /* a failed solve (one iteration allowed), then a new node count: each next start is 0 */
+    sinter_electric_model *fresh = NULL;
+    OK(sinter_walls_set_electric(f.walls, left, SINTER_WALL_POTENTIAL, 3.0));
+    OK(sinter_electric_model_set(f.em, "max_iterations", 1));
+    assert_int_equal(solve(&f, &again), SINTER_ERR_NOT_CONVERGED);
+    OK(sinter_electric_model_set(f.em, "max_iterations", 1000));
+    for (int round = 0; round < 2; ++round) {
+        if (round == 1) { /* an isolated particle: one node more */
+            add(&f, 0.5 * x_right, 10.0 * R, 0.0, 0);
+            find_contacts(&f);
+        }
+        OK(solve(&f, &again));
+        double warm_phi[N + 3];
+        const size_t nodes = f.em->node_count;
+        assert_int_equal(nodes, N + 2 + (size_t)round);
+        memcpy(warm_phi, f.em->potential, nodes * sizeof(double));
+        OK(sinter_electric_model_create(&fresh, f.ctx, "network"));
+        OK(sinter_electric_model_set(fresh, "tolerance", 1e-12));
+        size_t cold = 0;
+        OK(sinter_electric_solve(fresh, f.ps, f.walls, &f.pp, &f.pw, &cold));
+        assert_int_equal(again, cold);
+        assert_memory_equal(warm_phi, fresh->potential, nodes * sizeof(double));
+        sinter_electric_model_destroy(fresh);
+        /* the solve after this one starts warm again */
+        OK(sinter_walls_set_electric(f.walls, left, SINTER_WALL_POTENTIAL, 4.0 + round));
+    }
+    close_fixture(&f);
+}
+
+/*
  * Two separate chains of 3 between the same two walls, one of sigma 2 S/m, one of 5 S/m, with
  * the same geometry: currents in the ratio of the conductances. With potential walls each
  * chain carries V0 / R_c; with a current electrode the total I0 splits as G_c / (G_a + G_b).
@@ -680,6 +750,7 @@ int main(void)
         cmocka_unit_test(test_averaged_chain_equal_areas),
         cmocka_unit_test(test_averaged_unequal_areas),
         cmocka_unit_test(test_network_series_chain),
+        cmocka_unit_test(test_network_warm_start),
         cmocka_unit_test(test_parallel_chains),
         cmocka_unit_test(test_isolated_particles),
         cmocka_unit_test(test_iterations),
