@@ -182,7 +182,7 @@ const double *sinter_electric_warm_potentials(const sinter_electric_model *em, s
     return warm ? em->potential : NULL;
 }
 
-sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, const double *phi,
+sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, const void *phi,
                                                   size_t nodes)
 {
     em->warm_nodes = 0;

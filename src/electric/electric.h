@@ -105,8 +105,9 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
  * them (0 and NULL when the next solve starts from 0), for a checkpoint. */
 const double *sinter_electric_warm_potentials(const sinter_electric_model *em, size_t *nodes);
 
-/* Restore them (a checkpoint's; nodes = 0 clears them). Errors: SINTER_ERR_NOMEM. */
-sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, const double *phi,
+/* Restore them from `phi`, nodes doubles at any alignment (a checkpoint's; nodes = 0 clears
+ * them). Errors: SINTER_ERR_NOMEM. */
+sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, const void *phi,
                                                   size_t nodes);
 
 /*

@@ -489,7 +489,7 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     if (has_qs > 1 || (has_qs && qs_data == NULL))
         r.bad = 1;
     const uint64_t warm_nodes = version >= 4u ? take_u64(&r) : 0;
-    const double *warm = NULL;
+    const void *warm = NULL; /* nodes doubles, unaligned in the file */
     if (warm_nodes > 0 && !r.bad) {
         if (warm_nodes != (uint64_t)n + nw) /* particles then walls */
             r.bad = 1;
