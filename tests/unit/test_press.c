@@ -145,16 +145,22 @@ enum {
     COLS = 16
 };
 
-static void test_press_three_phases(void **state)
+/* SCENE into dir/name; its path into path. */
+static void write_scene(const char *name, char *path, size_t size)
 {
-    (void)state;
-    char path[512], out[512], csv[600];
-    snprintf(path, sizeof(path), "%s/press_small.scene", dir);
-    snprintf(out, sizeof(out), "%s/out", dir);
+    snprintf(path, size, "%s/%s", dir, name);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
     fputs(SCENE, f);
     fclose(f);
+}
+
+static void test_press_three_phases(void **state)
+{
+    (void)state;
+    char path[512], out[512], csv[600];
+    write_scene("press_small.scene", path, sizeof(path));
+    snprintf(out, sizeof(out), "%s/out", dir);
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
     assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
@@ -164,7 +170,7 @@ static void test_press_three_phases(void **state)
     sinter_ctx_destroy(ctx);
 
     snprintf(csv, sizeof(csv), "%s/series.csv", out);
-    f = fopen(csv, "r");
+    FILE *f = fopen(csv, "r");
     assert_non_null(f);
     char line[4096];
     assert_non_null(fgets(line, sizeof(line), f)); /* header */
@@ -269,12 +275,8 @@ static void test_press_restart_keeps_warm_start(void **state)
 {
     (void)state;
     char path[512], ckpt[512];
-    snprintf(path, sizeof(path), "%s/press_restart.scene", dir);
+    write_scene("press_restart.scene", path, sizeof(path));
     snprintf(ckpt, sizeof(ckpt), "%s/press.ckpt", dir);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(SCENE, f);
-    fclose(f);
     static press_state straight, restarted;
     uint64_t at_checkpoint = 0;
     for (int pass = 0; pass < 2; ++pass) {
