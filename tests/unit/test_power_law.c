@@ -97,6 +97,9 @@ static void test_pair_contact_force(void **state)
     /* |E| = 0.12 is past the default E* = 0.1, but K_b = 0 (default) leaves no bond force. */
     check_pair_contact(2.0, 0.12);
     check_pair_contact(1.5, 0.02);
+    /* the law's products for whole and half exponents, pow for the others (power_law.c) */
+    check_pair_contact(3.0, 0.04);
+    check_pair_contact(2.3, 0.04);
 }
 
 static void test_pair_friction(void **state)
