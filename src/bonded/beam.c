@@ -15,7 +15,7 @@ int sinter_beam_update(sinter_beam *beam, const double xa[3], const double xb[3]
                        double arm_b)
 {
     const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-    const double len = sqrt(sinter_beam_dot(d, d));
+    const double len = sqrt(v3_dot(d, d));
     if (!positive(len))
         return -1;
     for (int k = 0; k < 3; ++k)

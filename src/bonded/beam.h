@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "core/core.h"
+#include "force/vec3.h"
 
 #define SINTER_BEAM_DOF 6 /* per particle: u_x, u_y, u_z, theta_x, theta_y, theta_z */
 
@@ -54,20 +55,6 @@ int sinter_beam_init(sinter_beam *beam, uint32_t a, uint32_t b, const double xa[
 int sinter_beam_update(sinter_beam *beam, const double xa[3], const double xb[3], double arm_a,
                        double arm_b);
 
-/* a . b */
-static inline double sinter_beam_dot(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* c = a x b */
-static inline void sinter_beam_cross(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /*
  * Link deformation y_link = H y (eq. 25-27) from the DOFs of A and B: eps[3], gamma[3] in
  * global components. Inline (with sinter_beam_apply): the bonded solve applies every link
@@ -82,8 +69,8 @@ static inline void sinter_beam_deformation(const sinter_beam *beam, const double
     const double *e = beam->axis;
     const double la[3] = {beam->arm_a * e[0], beam->arm_a * e[1], beam->arm_a * e[2]};
     const double lb[3] = {-beam->arm_b * e[0], -beam->arm_b * e[1], -beam->arm_b * e[2]};
-    sinter_beam_cross(la, ya + 3, la_x_ta);
-    sinter_beam_cross(lb, yb + 3, lb_x_tb);
+    v3_cross(la, ya + 3, la_x_ta);
+    v3_cross(lb, yb + 3, lb_x_tb);
     for (int k = 0; k < 3; ++k) {
         eps[k] = ya[k] - yb[k] - la_x_ta[k] + lb_x_tb[k];
         gamma[k] = ya[3 + k] - yb[3 + k];
@@ -95,7 +82,7 @@ static inline void sinter_beam_deformation(const sinter_beam *beam, const double
 static inline void sinter_beam_axial_split(const double e[3], double k_perp, double k_par,
                                            const double v[3], double out[3])
 {
-    const double p = sinter_beam_dot(e, v);
+    const double p = v3_dot(e, v);
     for (int k = 0; k < 3; ++k)
         out[k] = k_perp * (v[k] - p * e[k]) + k_par * p * e[k];
 }
@@ -113,8 +100,8 @@ static inline void sinter_beam_apply(const sinter_beam *beam, const double ya[6]
     const double la[3] = {beam->arm_a * e[0], beam->arm_a * e[1], beam->arm_a * e[2]};
     const double lb[3] = {-beam->arm_b * e[0], -beam->arm_b * e[1], -beam->arm_b * e[2]};
     double la_x_f[3], lb_x_f[3];
-    sinter_beam_cross(la, f, la_x_f);
-    sinter_beam_cross(lb, f, lb_x_f);
+    v3_cross(la, f, la_x_f);
+    v3_cross(lb, f, lb_x_f);
     for (int k = 0; k < 3; ++k) {
         pa[k] += f[k];
         pa[3 + k] += la_x_f[k] + m[k];

@@ -1,4 +1,4 @@
-/* Small 3-vector helpers for the contact laws. */
+/* Small 3-vector helpers for the contact laws and the bonded links. */
 #ifndef SINTER_VEC3_H
 #define SINTER_VEC3_H
 
