@@ -99,8 +99,6 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
                                             const sinter_contact_list *pp,
                                             const sinter_contact_list *pw);
 
-/* Free the SUNDIALS objects (NULL allowed). */
-
 /* The network model's warm start (network.c): the potentials of its last solve, *nodes of
  * them (0 and NULL when the next solve starts from 0), for a checkpoint. */
 const double *sinter_electric_warm_potentials(const sinter_electric_model *em, size_t *nodes);

@@ -626,10 +626,11 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_bool(t, s, "vtu", &sc->write_vtu));
     const char *format = NULL;
     OPTIONAL(scene_get_word(t, s, "vtu_format", &format));
-    if (format != NULL && strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0)
-        return section_error(t, s, "vtu_format must be binary or ascii");
-    if (format != NULL)
+    if (format != NULL) {
+        if (strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0)
+            return section_error(t, s, "vtu_format must be binary or ascii");
         sc->vtu_binary = strcmp(format, "binary") == 0;
+    }
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));

@@ -201,15 +201,12 @@ sinter_status sinter_write_vtu_as(const sinter_particles *ps, const char *path,
         return st;
     FILE *fp = out.fp;
     const size_t n = ps->count;
-    fputs(binary ? "<?xml version=\"1.0\"?>\n"
-                   "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-                   "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-                   "  <UnstructuredGrid>\n"
-                 : "<?xml version=\"1.0\"?>\n"
-                   "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
-                   "byte_order=\"LittleEndian\">\n"
-                   "  <UnstructuredGrid>\n",
-          fp);
+    /* binary arrays need version 1.0 for their UInt64 byte counts */
+    fprintf(fp,
+            "<?xml version=\"1.0\"?>\n"
+            "<VTKFile type=\"UnstructuredGrid\" version=\"%s\" byte_order=\"LittleEndian\"%s>\n"
+            "  <UnstructuredGrid>\n",
+            binary ? "1.0" : "0.1", binary ? " header_type=\"UInt64\"" : "");
     fprintf(fp, "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", n, n);
     fputs("      <PointData Scalars=\"radius\">\n", fp);
     write_double_array(fp, "radius", ps->radius, n, 1, binary);
