@@ -49,16 +49,47 @@ int sinter_beam_init(sinter_beam *beam, uint32_t a, uint32_t b, const double xa[
     return 0;
 }
 
+/*
+ * H^T K_link H in closed form. With E the cross-product matrix of the axis e (E v = e x v),
+ * P = I - e e^T, S_F = k_shear I + (k_axial - k_shear) e e^T and S_M likewise with k_bend and
+ * k_torsion (eq. 34), H_A = [I, -L_A0 E; 0, I] and H_B = [-I, -L_B0 E; 0, -I] (eq. 25-29), and
+ * since e^T E = E e = 0 and E E = -P:
+ *
+ *   K_AA = [S_F, -k_s L_A E; k_s L_A E, S_M + k_s L_A^2 P]
+ *   K_BB = [S_F,  k_s L_B E; -k_s L_B E, S_M + k_s L_B^2 P]
+ *   K_AB = [-S_F, -k_s L_B E; -k_s L_A E, k_s L_A L_B P - S_M],   K_BA = K_AB^T.
+ *
+ * tests/unit/test_bonded.c checks it column by column against sinter_beam_apply.
+ */
 void sinter_beam_stiffness(const sinter_beam *beam, double k[144])
 {
-    /* Column c of H^T K_link H is its product with the unit vector c. */
-    for (int c = 0; c < 12; ++c) {
-        double y[12] = {0}, p[12] = {0};
-        y[c] = 1.0;
-        sinter_beam_apply(beam, y, y + 6, p, p + 6);
-        for (int r = 0; r < 12; ++r)
-            k[12 * r + c] = p[r];
-    }
+    const double *e = beam->axis;
+    const double ks = beam->k_shear, la = beam->arm_a, lb = beam->arm_b;
+    const double cross[3][3] = {{0.0, -e[2], e[1]}, {e[2], 0.0, -e[0]}, {-e[1], e[0], 0.0}};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            const double ee = e[r] * e[c], perp = (r == c ? 1.0 : 0.0) - ee;
+            const double sf = ks * perp + beam->k_axial * ee;
+            const double sm = beam->k_bend * perp + beam->k_torsion * ee;
+            const double x = ks * cross[r][c];
+#define K(R, C) k[12 * (R) + (C)]
+            K(r, c) = sf; /* AA */
+            K(r, 3 + c) = -la * x;
+            K(3 + r, c) = la * x;
+            K(3 + r, 3 + c) = sm + ks * la * la * perp;
+            K(6 + r, 6 + c) = sf; /* BB */
+            K(6 + r, 9 + c) = lb * x;
+            K(9 + r, 6 + c) = -lb * x;
+            K(9 + r, 9 + c) = sm + ks * lb * lb * perp;
+            K(r, 6 + c) = -sf; /* AB */
+            K(r, 9 + c) = -lb * x;
+            K(3 + r, 6 + c) = -la * x;
+            K(3 + r, 9 + c) = ks * la * lb * perp - sm;
+#undef K
+        }
+    for (int r = 0; r < 6; ++r) /* BA */
+        for (int c = 0; c < 6; ++c)
+            k[12 * (6 + r) + c] = k[12 * c + 6 + r];
 }
 
 double sinter_sintering_force(double youngs, double rm, double dl)
