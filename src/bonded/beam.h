@@ -57,8 +57,7 @@ int sinter_beam_update(sinter_beam *beam, const double xa[3], const double xb[3]
 
 /*
  * Link deformation y_link = H y (eq. 25-27) from the DOFs of A and B: eps[3], gamma[3] in
- * global components. Inline (with sinter_beam_apply): the bonded solve applies every link
- * at every PCG iteration.
+ * global components.
  */
 static inline void sinter_beam_deformation(const sinter_beam *beam, const double ya[6],
                                            const double yb[6], double eps[3], double gamma[3])
@@ -118,7 +117,7 @@ void sinter_beam_stiffness(const sinter_beam *beam, double k[144]);
 double sinter_sintering_force(double youngs, double rm, double dl);
 
 /* ---------------------------------------------------------------------------------------- */
-/* K u = f over an assembly of links (seed 001 sec. 3.3), SUNDIALS PCG, block-Jacobi          */
+/* K u = f over an assembly of links (seed 001 sec. 3.3): SUNDIALS PCG, block SSOR           */
 /* ---------------------------------------------------------------------------------------- */
 
 typedef struct sinter_bonded_solver sinter_bonded_solver;
@@ -129,8 +128,10 @@ void sinter_bonded_solver_destroy(sinter_bonded_solver *solver);
 /*
  * Solve K u = f for n particles (6 n DOFs) with the links[0..count). fixed[6 n] (NULL: none)
  * marks constrained DOFs: their u is 0 and their row of f is ignored (reaction). rtol: the
- * residual norm target relative to |f|. u[6 n] is written. *iterations (may be NULL) gets the
- * PCG iterations. Errors: SINTER_ERR_NOMEM, SINTER_ERR_NOT_CONVERGED.
+ * target of the true residual |f - K u| relative to |f| (met, or the rounding floor of K u if
+ * that is higher: bonded/solve.c). u[6 n] is written, also on failure. *iterations (may be NULL)
+ * gets the PCG iterations. Errors: SINTER_ERR_NOMEM, SINTER_ERR_INVALID (a link's particle
+ * out of range), SINTER_ERR_NOT_CONVERGED.
  */
 sinter_status sinter_bonded_solve(sinter_bonded_solver *solver, size_t n, const sinter_beam *links,
                                   size_t count, const unsigned char *fixed, const double *f,

@@ -1,0 +1,281 @@
+/* 6x6 block storage of the bonded stiffness and Eisenstat's SSOR sweeps (see block_ssor.h). */
+#include <math.h>
+#include <string.h>
+
+#include "core/clones.h"
+
+#include "bonded/block_ssor.h"
+
+void sinter_block_ssor_release(sinter_block_ssor *m)
+{
+    if (m == NULL)
+        return;
+    sinter_free(m->ctx, m->diag);
+    sinter_free(m->ctx, m->diag_inv);
+    sinter_free(m->ctx, m->row_start);
+    sinter_free(m->ctx, m->column);
+    sinter_free(m->ctx, m->link_of);
+    sinter_free(m->ctx, m->upper_rows);
+    sinter_free(m->ctx, m->upper_cols);
+    sinter_free(m->ctx, m->work);
+    memset(m, 0, sizeof(*m));
+}
+
+sinter_status sinter_block_ssor_layout(sinter_block_ssor *m, size_t n, const uint32_t *lower,
+                                       const uint32_t *upper, size_t count)
+{
+    sinter_ctx *ctx = m->ctx;
+    sinter_status st =
+        sinter_grow(ctx, (void **)&m->diag, &m->diag_capacity, 36 * n + 1, sizeof(double));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&m->diag_inv, &m->diag_inv_capacity, 36 * n + 1,
+                         sizeof(double));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&m->work, &m->work_capacity, 6 * n + 1, sizeof(double));
+    if (st == SINTER_OK)
+        st =
+            sinter_grow(ctx, (void **)&m->row_start, &m->row_start_capacity, n + 2, sizeof(size_t));
+    if (st == SINTER_OK)
+        st =
+            sinter_grow(ctx, (void **)&m->column, &m->column_capacity, count + 1, sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&m->link_of, &m->link_of_capacity, count + 1,
+                         sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&m->upper_rows, &m->upper_rows_capacity, 36 * count + 1,
+                         sizeof(double));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&m->upper_cols, &m->upper_cols_capacity, 36 * count + 1,
+                         sizeof(double));
+    if (st != SINTER_OK)
+        return st;
+    m->n = n;
+    /* Counting sort by lower particle, links in their order within a row. */
+    size_t *start = m->row_start;
+    memset(start, 0, (n + 2) * sizeof(size_t));
+    for (size_t k = 0; k < count; ++k) /* counts, two places up */
+        ++start[lower[k] + 2];
+    for (size_t p = 2; p <= n + 1; ++p)
+        start[p] += start[p - 1];
+    for (size_t k = 0; k < count; ++k) { /* start[p + 1]: where p's next block goes */
+        const size_t e = start[lower[k] + 1]++;
+        m->column[e] = upper[k];
+        m->link_of[e] = (uint32_t)k;
+    }
+    return SINTER_OK;
+}
+
+/* In-place inverse of a 6x6 matrix by Gauss-Jordan with partial pivoting; -1 if singular. */
+static int invert6(double m[36])
+{
+    double a[6][12];
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 12; ++c)
+            a[r][c] = c < 6 ? m[6 * r + c] : (c - 6 == r ? 1.0 : 0.0);
+    for (int c = 0; c < 6; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < 6; ++r)
+            if (fabs(a[r][c]) > fabs(a[piv][c]))
+                piv = r;
+        if (!(fabs(a[piv][c]) > 0.0))
+            return -1;
+        if (piv != c)
+            for (int k = 0; k < 12; ++k) {
+                const double t = a[c][k];
+                a[c][k] = a[piv][k];
+                a[piv][k] = t;
+            }
+        const double d = a[c][c];
+        for (int k = 0; k < 12; ++k)
+            a[c][k] /= d;
+        for (int r = 0; r < 6; ++r) {
+            if (r == c || a[r][c] == 0.0)
+                continue;
+            const double f = a[r][c];
+            for (int k = 0; k < 12; ++k)
+                a[r][k] -= f * a[c][k];
+        }
+    }
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c)
+            m[6 * r + c] = a[r][6 + c];
+    return 0;
+}
+
+int sinter_block_ssor_finish(sinter_block_ssor *m, size_t *singular)
+{
+    const size_t blocks = m->row_start[m->n + 1];
+    for (size_t e = 0; e < blocks; ++e)
+        for (int r = 0; r < 6; ++r)
+            for (int c = 0; c < 6; ++c)
+                m->upper_cols[36 * e + (size_t)(6 * c + r)] =
+                    m->upper_rows[36 * e + (size_t)(6 * r + c)];
+    for (size_t p = 0; p < m->n; ++p) {
+        double *inv = m->diag_inv + 36 * p;
+        memcpy(inv, m->diag + 36 * p, 36 * sizeof(double));
+        if (invert6(inv) != 0) {
+            *singular = p;
+            return -1;
+        }
+        /* D_p is symmetric; so is its inverse, up to rounding, which the kernels below rely on
+         * (they read a symmetric block's rows as its columns). */
+        for (int r = 0; r < 6; ++r)
+            for (int c = r + 1; c < 6; ++c) {
+                const double mean = 0.5 * (inv[6 * r + c] + inv[6 * c + r]);
+                inv[6 * r + c] = inv[6 * c + r] = mean;
+            }
+    }
+    return 0;
+}
+
+/*
+ * The kernels rest on one block product, out = B x with B given by columns (column c at
+ * cols[6 c .. 6 c + 5]): six 6-long multiply-adds, in two partial sums (even and odd columns)
+ * so that consecutive additions need not wait for each other. GCC and Clang get it as 4- and
+ * 2-wide vector operations (GCC leaves the plain loops scalar: tests/bench/RESULTS.md,
+ * session 14); other compilers the plain loops, same operations in the same order. A symmetric
+ * block is its own column form; a coupling block U_pq is read by columns (upper_cols) for
+ * U_pq x and by rows (upper_rows, the columns of U_pq^T) for U_pq^T x.
+ */
+#if defined(__GNUC__) || defined(__clang__)
+typedef double block_v4 __attribute__((vector_size(32)));
+typedef double block_v2 __attribute__((vector_size(16)));
+
+/* (no function returns a vector: GCC warns of the ABI where AVX is not enabled) */
+#define BLOCK_COLUMN(lo, hi, cols, c, xc)                                                          \
+    do {                                                                                           \
+        memcpy(&(lo), (cols) + 6 * (c), sizeof(lo));                                               \
+        memcpy(&(hi), (cols) + 6 * (c) + 4, sizeof(hi));                                           \
+        (lo) *= (xc);                                                                              \
+        (hi) *= (xc);                                                                              \
+    } while (0)
+
+static inline void block_times(const double *restrict cols, const double *restrict x,
+                               double *restrict out)
+{
+    block_v4 le, lo, l2, l3;
+    block_v2 he, ho, h2, h3;
+    BLOCK_COLUMN(le, he, cols, 0, x[0]);
+    BLOCK_COLUMN(lo, ho, cols, 1, x[1]);
+    BLOCK_COLUMN(l2, h2, cols, 2, x[2]);
+    BLOCK_COLUMN(l3, h3, cols, 3, x[3]);
+    le += l2;
+    lo += l3;
+    he += h2;
+    ho += h3;
+    BLOCK_COLUMN(l2, h2, cols, 4, x[4]);
+    BLOCK_COLUMN(l3, h3, cols, 5, x[5]);
+    le += l2;
+    lo += l3;
+    he += h2;
+    ho += h3;
+    le += lo;
+    he += ho;
+    memcpy(out, &le, sizeof(le));
+    memcpy(out + 4, &he, sizeof(he));
+}
+#else
+static inline void block_times(const double *restrict cols, const double *restrict x,
+                               double *restrict out)
+{
+    for (int r = 0; r < 6; ++r)
+        out[r] = (cols[r] * x[0] + cols[12 + r] * x[2] + cols[24 + r] * x[4]) +
+                 (cols[6 + r] * x[1] + cols[18 + r] * x[3] + cols[30 + r] * x[5]);
+}
+#endif
+
+/* Backward sweep: x_p = D_p^-1 (v_p - sum_q>p U_pq x_q), x_q already in v's place. */
+SINTER_CLONES
+void sinter_block_ssor_upper_solve(const sinter_block_ssor *m, double *v)
+{
+    for (size_t p = m->n; p-- > 0;) {
+        double acc[6], t[6];
+        memcpy(acc, v + 6 * p, sizeof(acc));
+        for (size_t e = m->row_start[p]; e < m->row_start[p + 1]; ++e) {
+            block_times(m->upper_cols + 36 * e, v + 6 * (size_t)m->column[e], t);
+            for (int r = 0; r < 6; ++r)
+                acc[r] -= t[r];
+        }
+        block_times(m->diag_inv + 36 * p, acc, v + 6 * p);
+    }
+}
+
+/* Forward sweep in push form: x_p = D_p^-1 v_p once every lower particle has subtracted its
+ * L_pq x_q = U_qp^T x_q from v_p; then p subtracts its own from its upper neighbours. */
+SINTER_CLONES
+void sinter_block_ssor_lower_solve(const sinter_block_ssor *m, double *v)
+{
+    for (size_t p = 0; p < m->n; ++p) {
+        double x[6], t[6];
+        block_times(m->diag_inv + 36 * p, v + 6 * p, x);
+        memcpy(v + 6 * p, x, sizeof(x));
+        for (size_t e = m->row_start[p]; e < m->row_start[p + 1]; ++e) {
+            double *vq = v + 6 * (size_t)m->column[e];
+            block_times(m->upper_rows + 36 * e, x, t);
+            for (int r = 0; r < 6; ++r)
+                vq[r] -= t[r];
+        }
+    }
+}
+
+SINTER_CLONES
+void sinter_block_ssor_upper_multiply(const sinter_block_ssor *m, const double *x, double *y)
+{
+    for (size_t p = 0; p < m->n; ++p) {
+        double acc[6], t[6];
+        block_times(m->diag + 36 * p, x + 6 * p, acc);
+        for (size_t e = m->row_start[p]; e < m->row_start[p + 1]; ++e) {
+            block_times(m->upper_cols + 36 * e, x + 6 * (size_t)m->column[e], t);
+            for (int r = 0; r < 6; ++r)
+                acc[r] += t[r];
+        }
+        memcpy(y + 6 * p, acc, sizeof(acc));
+    }
+}
+
+SINTER_CLONES
+void sinter_block_ssor_multiply(const sinter_block_ssor *m, const double *x, double *y)
+{
+    memset(y, 0, 6 * m->n * sizeof(double));
+    for (size_t p = 0; p < m->n; ++p) {
+        double acc[6], t[6];
+        block_times(m->diag + 36 * p, x + 6 * p, acc);
+        for (size_t e = m->row_start[p]; e < m->row_start[p + 1]; ++e) {
+            double *yq = y + 6 * (size_t)m->column[e];
+            block_times(m->upper_cols + 36 * e, x + 6 * (size_t)m->column[e], t);
+            for (int r = 0; r < 6; ++r)
+                acc[r] += t[r];
+            block_times(m->upper_rows + 36 * e, x + 6 * p, t);
+            for (int r = 0; r < 6; ++r)
+                yq[r] += t[r];
+        }
+        for (int r = 0; r < 6; ++r) /* y_p holds the lower particles' U_qp^T x_q */
+            y[6 * p + (size_t)r] += acc[r];
+    }
+}
+
+SINTER_CLONES
+void sinter_block_ssor_diag_multiply(const sinter_block_ssor *m, const double *x, double *y)
+{
+    for (size_t p = 0; p < m->n; ++p)
+        block_times(m->diag + 36 * p, x + 6 * p, y + 6 * p);
+}
+
+/* K^ v = t + E^-1 (v - D t), t = E^-T v (block_ssor.h). */
+SINTER_CLONES
+void sinter_block_ssor_transformed(const sinter_block_ssor *m, const double *v, double *y)
+{
+    const size_t dofs = 6 * m->n;
+    double *s = m->work;
+    memcpy(y, v, dofs * sizeof(double));
+    sinter_block_ssor_upper_solve(m, y); /* y = t */
+    for (size_t p = 0; p < m->n; ++p) {
+        double dt[6];
+        block_times(m->diag + 36 * p, y + 6 * p, dt);
+        for (int r = 0; r < 6; ++r)
+            s[6 * p + (size_t)r] = v[6 * p + (size_t)r] - dt[r];
+    }
+    sinter_block_ssor_lower_solve(m, s);
+    for (size_t i = 0; i < dofs; ++i)
+        y[i] += s[i];
+}
