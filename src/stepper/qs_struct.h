@@ -30,6 +30,10 @@ struct sinter_qs {
     size_t saved_hint_capacity;
     sinter_beam *beams; /* the links' beams, contiguous for the solver */
     size_t beams_capacity;
+    uint32_t *component;            /* qs_floating.c: the link graph's components */
+    unsigned char *component_held;  /* and the axes planes hold them on */
+    double *component_sums;         /* their centroids, mean rotations and displacements */
+    size_t component_capacity, component_held_capacity, component_sums_capacity;
     sinter_neck_batch *batch;       /* strategy 3: grown necks */
     sinter_neck_batch *batch_young; /* strategy 3: young necks (quasistatic.c) */
     size_t *batch_order;            /* young link indices first, then the grown ones */

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "stepper/quasistatic.h"
+#include "stepper/qs_floating.h"
 #include "stepper/qs_struct.h"
 #include "stepper/stepper.h"
 #include "particles/particles.h"
@@ -180,6 +181,9 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->saved_hint);
     sinter_free(ctx, qs->trial);
     sinter_free(ctx, qs->beams);
+    sinter_free(ctx, qs->component);
+    sinter_free(ctx, qs->component_held);
+    sinter_free(ctx, qs->component_sums);
     sinter_neck_batch_destroy(qs->batch);
     sinter_neck_batch_destroy(qs->batch_young);
     sinter_free(ctx, qs->batch_order);
@@ -707,6 +711,8 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         }
         st = sinter_bonded_solve_from(qs->solver, n, qs->beams, m, qs->fixed, f, guess, u,
                                       qs->opt.solve_rtol, &iterations);
+        if (st == SINTER_OK) /* the rigid motion K leaves free: none (qs_floating.c) */
+            st = sinter_qs_remove_free_motion(qs, p, u);
         qs->u_step = st == SINTER_OK ? h : 0.0;
     }
     if (st != SINTER_OK) {
