@@ -196,6 +196,15 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
                                       sinter_neck_rhs_detail *detail);
 
 /*
+ * The same from the geometry of y, already evaluated (sinter_neck_geometry_eval) and inside the
+ * domain (sinter_neck_check_domain): an integrator that checks each new state reuses its
+ * geometry for the next step's first stage. Same bits as sinter_neck_rhs.
+ */
+void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geometry *g,
+                        const sinter_neck_coeffs *c, double ydot[SINTER_NECK_DOF],
+                        sinter_neck_rhs_detail *detail);
+
+/*
  * Dense Jacobian J[i + 7 j] = d f_i / d y_j by forward differences around (y, f = f(y)), one
  * RHS evaluation per column, increments sqrt(machine epsilon) * |y_j| (floored at 1e-8 y1).
  * Returns SINTER_NECK_VALID or the guard a perturbed state violated.

@@ -89,6 +89,18 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
     const sinter_neck_violation bad = sinter_neck_check_domain(y, g, err);
     if (bad != SINTER_NECK_VALID)
         return bad;
+    sinter_neck_rhs_at(y, g, c, ydot, w);
+    return SINTER_NECK_VALID;
+}
+
+void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geometry *g,
+                        const sinter_neck_coeffs *c, double ydot[SINTER_NECK_DOF],
+                        sinter_neck_rhs_detail *detail)
+{
+    sinter_neck_rhs_detail local;
+    sinter_neck_rhs_detail *w = detail != NULL ? detail : &local;
+    if (detail != NULL && &detail->geometry != g)
+        detail->geometry = *g;
 
     /* Seed 001 eq. 9 with 7dof.md §2.4: mu_i = Omega (gamma_s dA_s/dy_i + gamma_gb dA_gb/dy_i)
      * / (dV/dy_i), the "specific volume" V_i of eq. 2 being the total volume's change. */
@@ -146,5 +158,4 @@ sinter_neck_violation sinter_neck_rhs(const double y[SINTER_NECK_DOF], const sin
     /* Seed 001 eq. 2: dy_i/dt = (dV_i/dy_i)^-1 dV_i/dt. */
     for (int i = 0; i < SINTER_NECK_DOF; ++i)
         ydot[i] = rate[i] * inv_dv[i];
-    return SINTER_NECK_VALID;
 }

@@ -205,39 +205,75 @@ static const sinter_qs_material *material_of(const sinter_qs_particles *p, size_
     return &p->materials[p->material != NULL ? p->material[i] : 0];
 }
 
-/* One classical RK4 step of the 7DOF system (seed 001 eq. 2-9); the coefficients are taken at
- * T(t + dt/2). Returns 0, or -1 if a stage left the domain of spec §2.5. */
-static int rk4_step(const sinter_neck_material *m, const sinter_neck_schedule *s, double t,
-                    double dt, const double y[SINTER_NECK_DOF], double out[SINTER_NECK_DOF])
+/* The coefficients at T(t) (seed 001 eq. 5); `previous` is reused when T is the same, as it is
+ * at every step of a constant-temperature schedule. */
+static void coeffs_at(const sinter_neck_material *m, const sinter_neck_schedule *s, double t,
+                      const sinter_neck_coeffs *previous, sinter_neck_coeffs *c)
 {
-    const double temperature = sinter_neck_schedule_temperature(s, t + 0.5 * dt);
-    sinter_neck_coeffs c;
-    sinter_neck_coeffs_eval(m, sinter_neck_phase_at(m, temperature), temperature, &c);
-    double k[4][SINTER_NECK_DOF], stage[SINTER_NECK_DOF];
+    const double temperature = sinter_neck_schedule_temperature(s, t);
+    if (previous != NULL && previous->temperature == temperature)
+        *c = *previous;
+    else
+        sinter_neck_coeffs_eval(m, sinter_neck_phase_at(m, temperature), temperature, c);
+}
+
+/* One classical RK4 step of the 7DOF system (seed 001 eq. 2-9) at the coefficients c, from y
+ * with k1 = f(y) given. Returns 0, or -1 if a stage left the domain of spec §2.5 (out is not
+ * checked). */
+static int rk4_from(const sinter_neck_coeffs *c, double dt, const double y[SINTER_NECK_DOF],
+                    const double k1[SINTER_NECK_DOF], double out[SINTER_NECK_DOF])
+{
+    double k[3][SINTER_NECK_DOF], stage[SINTER_NECK_DOF];
     static const double a[3] = {0.5, 0.5, 1.0};
-    if (sinter_neck_rhs(y, &c, k[0], NULL, NULL) != SINTER_NECK_VALID)
-        return -1;
     for (int r = 0; r < 3; ++r) {
+        const double *from = r == 0 ? k1 : k[r - 1];
         for (int i = 0; i < SINTER_NECK_DOF; ++i)
-            stage[i] = y[i] + a[r] * dt * k[r][i];
-        if (sinter_neck_rhs(stage, &c, k[r + 1], NULL, NULL) != SINTER_NECK_VALID)
+            stage[i] = y[i] + a[r] * dt * from[i];
+        if (sinter_neck_rhs(stage, c, k[r], NULL, NULL) != SINTER_NECK_VALID)
             return -1;
     }
     for (int i = 0; i < SINTER_NECK_DOF; ++i)
-        out[i] = y[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
-    return sinter_neck_check_domain(out, NULL, NULL) == SINTER_NECK_VALID ? 0 : -1;
+        out[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k[0][i] + 2.0 * k[1][i] + k[2][i]);
+    return 0;
 }
 
-/* A step of dt from y by two half steps into out; returns the local error (Richardson:
- * |y_2 - y_1| / 15) in the neck error weights relative to eps_lim (<= 1: accepted), or
- * INFINITY if the step left the domain. */
+/* *g = the geometry of y; 0 if y is inside the domain of spec §2.5, else -1. */
+static int valid_geometry(const double y[SINTER_NECK_DOF], sinter_neck_geometry *g)
+{
+    return sinter_neck_geometry_eval(y, g) == 0 &&
+                   sinter_neck_check_domain(y, g, NULL) == SINTER_NECK_VALID
+               ? 0
+               : -1;
+}
+
+/* A step of dt from y (its geometry g, valid) by two half steps into out (its geometry into
+ * g_out); each RK4 step takes its coefficients at T(its middle). Returns the local error
+ * (Richardson: |y_2 - y_1| / 15) in the neck error weights relative to eps_lim (<= 1:
+ * accepted), or INFINITY if the step left the domain. The full step and the first half step
+ * share f(y) when their temperatures are the same, and a checked state's geometry serves its
+ * next stage: the same operations as three independent RK4 steps, so the same bits. */
 static double pair_step(const sinter_qs *qs, const sinter_neck_material *m,
                         const sinter_neck_schedule *s, double t, double dt,
-                        const double y[SINTER_NECK_DOF], double out[SINTER_NECK_DOF])
+                        const double y[SINTER_NECK_DOF], const sinter_neck_geometry *g,
+                        double out[SINTER_NECK_DOF], sinter_neck_geometry *g_out)
 {
     double full[SINTER_NECK_DOF], half[SINTER_NECK_DOF], w[SINTER_NECK_DOF];
-    if (rk4_step(m, s, t, dt, y, full) != 0 || rk4_step(m, s, t, 0.5 * dt, y, half) != 0 ||
-        rk4_step(m, s, t + 0.5 * dt, 0.5 * dt, half, out) != 0)
+    double k_full[SINTER_NECK_DOF], k_first[SINTER_NECK_DOF], k_second[SINTER_NECK_DOF];
+    sinter_neck_coeffs c_full, c_first, c_second;
+    sinter_neck_geometry g_half, g_full;
+    coeffs_at(m, s, t + 0.5 * dt, NULL, &c_full);
+    coeffs_at(m, s, t + 0.5 * (0.5 * dt), &c_full, &c_first);
+    coeffs_at(m, s, (t + 0.5 * dt) + 0.5 * (0.5 * dt), &c_first, &c_second);
+    sinter_neck_rhs_at(y, g, &c_full, k_full, NULL);
+    if (c_first.temperature == c_full.temperature)
+        memcpy(k_first, k_full, sizeof(k_first));
+    else
+        sinter_neck_rhs_at(y, g, &c_first, k_first, NULL);
+    if (rk4_from(&c_full, dt, y, k_full, full) != 0 || valid_geometry(full, &g_full) != 0 ||
+        rk4_from(&c_first, 0.5 * dt, y, k_first, half) != 0 || valid_geometry(half, &g_half) != 0)
+        return INFINITY;
+    sinter_neck_rhs_at(half, &g_half, &c_second, k_second, NULL);
+    if (rk4_from(&c_second, 0.5 * dt, half, k_second, out) != 0 || valid_geometry(out, g_out) != 0)
         return INFINITY;
     const double atol = 1e-14 * fmin(y[SINTER_NECK_RA], y[SINTER_NECK_RB]); /* spec §4 */
     sinter_neck_error_weights(y, qs->opt.rtol, atol, SINTER_NECK_SCALE_GEOMETRY, w);
@@ -257,12 +293,16 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
     double tau = l->neck.step_hint > 0.0 ? l->neck.step_hint : qs->opt.dt_min * 1e3;
     double tc = t, y[SINTER_NECK_DOF];
     memcpy(y, l->neck.y, sizeof(y));
+    sinter_neck_geometry g;
+    if (valid_geometry(y, &g) != 0)
+        return -2;
     int substeps = 0, rejections = 0;
     while (tc < t_end) {
         const int last = tau >= t_end - tc;
         const double step = last ? t_end - tc : tau;
         double out[SINTER_NECK_DOF];
-        const double err = pair_step(qs, &l->material, s, tc, step, y, out);
+        sinter_neck_geometry g_out;
+        const double err = pair_step(qs, &l->material, s, tc, step, y, &g, out, &g_out);
         if (!(err <= 1.0)) {
             tau = step / alpha; /* eq. 45 */
             ++rejections;
@@ -271,6 +311,7 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
             continue;
         }
         memcpy(y, out, sizeof(y));
+        g = g_out;
         tc = last ? t_end : tc + step;
         ++substeps;
         if (err < 0.1) /* eq. 46-47 */
@@ -443,9 +484,14 @@ static sinter_status advance_global(sinter_qs *qs, const sinter_neck_schedule *s
         return st;
     for (;;) {
         double worst = 0.0;
-        for (size_t k = 0; k < m && worst <= 1.0; ++k)
-            worst = fmax(worst, pair_step(qs, &qs->links[k].material, s, t, *h, qs->links[k].neck.y,
-                                          qs->trial[k]));
+        for (size_t k = 0; k < m && worst <= 1.0; ++k) {
+            sinter_neck_geometry g, g_out;
+            const double *y = qs->links[k].neck.y;
+            worst = valid_geometry(y, &g) != 0
+                        ? INFINITY
+                        : fmax(worst, pair_step(qs, &qs->links[k].material, s, t, *h, y, &g,
+                                                qs->trial[k], &g_out));
+        }
         if (worst <= 1.0) {
             for (size_t k = 0; k < m; ++k)
                 memcpy(qs->links[k].neck.y, qs->trial[k], sizeof(qs->trial[k]));
