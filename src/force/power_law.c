@@ -72,18 +72,57 @@ static inline double power_of(double x, double p)
 }
 
 /* Friction of eq. 5-6 / 16-17: adds mu_d fn_abs along -u_t to f (u = relative contact-point
- * velocity, i minus j; speed = |u_i| + |u_j| for the threshold). */
-static void add_friction(const double n[3], const double u[3], double speed, double mu_d,
+ * velocity, i minus j; the threshold speed = |u_i| + |u_j|, given by its two parts' squares:
+ * their square roots are taken only when |u_t| is near the threshold, the same test). */
+static void add_friction(const double n[3], const double u[3], double ui2, double uj2, double mu_d,
                          double fn_abs, double f[3])
 {
+    if (mu_d * fn_abs == 0.0)
+        return;
     const double un = v3_dot(u, n);
     const double ut[3] = {u[0] - un * n[0], u[1] - un * n[1], u[2] - un * n[2]};
-    const double ut_len = v3_norm(ut);
-    if (!(ut_len > SLIP_EPS * speed) || mu_d * fn_abs == 0.0)
+    const double ut2 = v3_dot(ut, ut), ut_len = sqrt(ut2);
+    /* (|u_i| + |u_j|)^2 <= 2 (|u_i|^2 + |u_j|^2), with a margin of 1e-6 for the rounding of
+     * both sides (|u_t|^2 scaled up rather than the speeds down, which could underflow): above
+     * it the exact test holds for sure. */
+    if (!(ut2 * (1.0 / (SLIP_EPS * SLIP_EPS)) > 2.000001 * (ui2 + uj2)) &&
+        !(ut_len > SLIP_EPS * (sqrt(ui2) + sqrt(uj2))))
         return;
     const double s = -mu_d * fn_abs / ut_len; /* t = -u_t / |u_t|, eq. 6 and 17 */
     for (int d = 0; d < 3; ++d)
         f[d] += s * ut[d];
+}
+
+/* The parameters of a material pair (means as in the header), kept while consecutive contacts
+ * have the same pair: the same values, without the square root and the lookups each time. */
+typedef struct pair_params {
+    const sinter_material *a, *b;
+    double stiffness, exponent, critical_strain, bond_stiffness, bond_exponent, friction;
+} pair_params;
+
+static void pp_params(const sinter_material *mi, const sinter_material *mj, pair_params *q)
+{
+    if (q->a == mi && q->b == mj)
+        return;
+    q->a = mi;
+    q->b = mj;
+    q->stiffness = mean(mi, mj, SINTER_MAT_CONTACT_STIFFNESS);
+    q->exponent = mean(mi, mj, SINTER_MAT_CONTACT_EXPONENT);
+    q->critical_strain = mean(mi, mj, SINTER_MAT_BOND_CRITICAL_STRAIN);
+    q->bond_stiffness = mean(mi, mj, SINTER_MAT_BOND_STIFFNESS);
+    q->bond_exponent = mean(mi, mj, SINTER_MAT_BOND_EXPONENT);
+    q->friction = geometric_mean(mi, mj, SINTER_MAT_FRICTION_DYNAMIC);
+}
+
+static void pw_params(const sinter_material *mi, const sinter_material *mw, pair_params *q)
+{
+    if (q->a == mi && q->b == mw)
+        return;
+    q->a = mi;
+    q->b = mw;
+    q->stiffness = mean(mi, mw, SINTER_MAT_WALL_STIFFNESS);
+    q->exponent = mean(mi, mw, SINTER_MAT_WALL_EXPONENT);
+    q->friction = geometric_mean(mi, mw, SINTER_MAT_FRICTION_DYNAMIC);
 }
 
 static void eval_pp(const sinter_force_eval *e)
@@ -93,27 +132,22 @@ static void eval_pp(const sinter_force_eval *e)
     const double *v = ps->v, *w = ps->w, *r = ps->radius;
     const double *hist = e->hist_pp->committed;
     double *trial = e->hist_pp->trial;
+    pair_params q = {NULL, NULL, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], j = c->j[k];
-        const sinter_material *mi = &ps->materials[ps->material[i]];
-        const sinter_material *mj = &ps->materials[ps->material[j]];
+        pp_params(&ps->materials[ps->material[i]], &ps->materials[ps->material[j]], &q);
         const double *n = c->n + 3 * k;
         const double strain = c->delta[k] / (r[i] + r[j]); /* |E_ij|, eq. 3 (E_ij = -strain) */
         const double area = c->area[k];                    /* A_ij, eq. 11-12 */
         /* Contact, eq. 2: magnitude K_p |E|^p_p A, repulsive (-n on i). */
-        const double kp =
-            mean(mi, mj, SINTER_MAT_CONTACT_STIFFNESS) * 0.5 * (scale_of(e, i) + scale_of(e, j));
-        const double f_con =
-            kp * power_of(strain, mean(mi, mj, SINTER_MAT_CONTACT_EXPONENT)) * area;
+        const double kp = q.stiffness * 0.5 * (scale_of(e, i) + scale_of(e, j));
+        const double f_con = kp * power_of(strain, q.exponent) * area;
         /* Bond, eq. 18-19: active if committed, or activated now by |E| >= E*. */
-        const int bonded =
-            hist[c->pair[k]] != 0.0 || strain >= mean(mi, mj, SINTER_MAT_BOND_CRITICAL_STRAIN);
+        const int bonded = hist[c->pair[k]] != 0.0 || strain >= q.critical_strain;
         trial[k] = bonded ? 1.0 : 0.0;
-        const double kb = mean(mi, mj, SINTER_MAT_BOND_STIFFNESS);
-        const double f_bond =
-            bonded && kb > 0.0
-                ? kb * power_of(strain, mean(mi, mj, SINTER_MAT_BOND_EXPONENT)) * area
-                : 0.0;
+        const double f_bond = bonded && q.bond_stiffness > 0.0
+                                  ? q.bond_stiffness * power_of(strain, q.bond_exponent) * area
+                                  : 0.0;
         double f[3];
         for (int d = 0; d < 3; ++d)
             f[d] = (f_bond - f_con) * n[d]; /* eq. 2 and 19, force on i */
@@ -129,8 +163,7 @@ static void eval_pp(const sinter_force_eval *e)
             uj[d] += v[3 * j + d];
             u[d] = ui[d] - uj[d];
         }
-        add_friction(n, u, v3_norm(ui) + v3_norm(uj), geometric_mean(mi, mj, SINTER_MAT_FRICTION_DYNAMIC),
-                     f_con, f);
+        add_friction(n, u, v3_dot(ui, ui), v3_dot(uj, uj), q.friction, f_con, f);
         /* Moments about the centres: b_i x f on i, b_j x (-f) on j. */
         const double fj[3] = {-f[0], -f[1], -f[2]};
         double ti[3], tj[3];
@@ -150,16 +183,16 @@ static void eval_pw(const sinter_force_eval *e)
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
     const double *v = ps->v, *w = ps->w, *r = ps->radius;
+    pair_params q = {NULL, NULL, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], wall_index = c->j[k];
         const sinter_wall *wall = &e->walls->wall[wall_index];
-        const sinter_material *mi = &ps->materials[ps->material[i]], *mw = &wall->material;
+        pw_params(&ps->materials[ps->material[i]], &wall->material, &q);
         const double *n = c->n + 3 * k;           /* from the particle towards the wall, eq. 15 */
         const double strain = c->delta[k] / r[i]; /* |E_iw|, eq. 14 with the plane distance */
         /* Wall contact, eq. 13: magnitude K_w |E_iw|^p_w A_i, away from the wall. */
-        const double kw = mean(mi, mw, SINTER_MAT_WALL_STIFFNESS) * scale_of(e, i);
-        const double f_con =
-            kw * power_of(strain, mean(mi, mw, SINTER_MAT_WALL_EXPONENT)) * c->area[k];
+        const double kw = q.stiffness * scale_of(e, i);
+        const double f_con = kw * power_of(strain, q.exponent) * c->area[k];
         double f[3];
         for (int d = 0; d < 3; ++d)
             f[d] = -f_con * n[d];
@@ -172,8 +205,7 @@ static void eval_pw(const sinter_force_eval *e)
             ui[d] += v[3 * i + d];
             u[d] = ui[d] - wall->u[d];
         }
-        add_friction(n, u, v3_norm(ui) + v3_norm(wall->u),
-                     geometric_mean(mi, mw, SINTER_MAT_FRICTION_DYNAMIC), f_con, f);
+        add_friction(n, u, v3_dot(ui, ui), v3_dot(wall->u, wall->u), q.friction, f_con, f);
         double ti[3];
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {
@@ -193,5 +225,5 @@ static sinter_status power_law_eval(const sinter_force_model *fm, sinter_force_e
     return SINTER_OK;
 }
 
-const sinter_force_ops sinter_force_power_law = {
-    "power_law", 1, 0, 1, {NULL}, {0.0}, power_law_eval, NULL, NULL, NULL};
+const sinter_force_ops sinter_force_power_law = {"power_law",    1,    0,    1,   {NULL}, {0.0},
+                                                 power_law_eval, NULL, NULL, NULL};
