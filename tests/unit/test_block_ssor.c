@@ -229,11 +229,42 @@ static void test_solve_meets_true_residual(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/* A link to a particle that is not there, or from a particle to itself, is refused with a
+ * message naming it, and the solver stays usable. */
+static void test_solve_refuses_bad_links(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_bonded_solver *sv = NULL;
+    assert_int_equal(sinter_bonded_solver_create(&sv, ctx), SINTER_OK);
+    const double xa[3] = {0, 0, 0}, xb[3] = {50e-6, 0, 0};
+    sinter_beam l;
+    assert_int_equal(sinter_beam_init(&l, 0, 1, xa, xb, 25e-6, 25e-6, 5e-6, 50e-6, 72e9, 0.3), 0);
+    double f[12] = {0}, u[12];
+    f[6] = 1e-3;
+    unsigned char fixed[12] = {1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 0, 0};
+    int it = -1;
+    sinter_beam bad = l;
+    bad.b = 2; /* of 2 particles */
+    assert_int_equal(sinter_bonded_solve(sv, 2, &bad, 1, fixed, f, u, 1e-7, &it),
+                     SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(ctx), "link 0 joins particles 0 and 2 of 2"));
+    bad.b = 0;
+    assert_int_equal(sinter_bonded_solve(sv, 2, &bad, 1, fixed, f, u, 1e-7, &it),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_bonded_solve(sv, 2, &l, 1, fixed, f, u, 1e-7, &it), SINTER_OK);
+    assert_true(u[6] > 0.0 && it > 0);
+    sinter_bonded_solver_destroy(sv);
+    sinter_ctx_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sweeps_against_dense),
         cmocka_unit_test(test_solve_meets_true_residual),
+        cmocka_unit_test(test_solve_refuses_bad_links),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

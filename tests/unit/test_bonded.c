@@ -637,54 +637,77 @@ static void test_qs_lattice(void **state)
     packing_free(&pk);
 }
 
-/* A 2x2x2 lattice on the planes and, far from it and from the planes, a pair of spheres linked
- * only to each other along a skew axis: K leaves the pair's rigid translations free (and its
- * rotations nearly so), and the stepper takes the motion without them (qs_floating.c): the pair
- * shrinks about its centroid, does not turn, and approaches as a free pair does. */
+/* Put a pair of touching spheres of radius R_CU at a and a + 2 R_CU dir into the packing; returns
+ * the index of the first. */
+static size_t add_pair(packing *pk, const double a[3], const double dir[3])
+{
+    const size_t ia = pk->n;
+    for (int d = 0; d < 3; ++d) {
+        pk->x[3 * ia + (size_t)d] = a[d];
+        pk->x[3 * ia + 3 + (size_t)d] = a[d] + 2 * R_CU * dir[d];
+    }
+    pk->radius[ia] = pk->radius[ia + 1] = R_CU;
+    pk->n += 2;
+    return ia;
+}
+
+/* A 2x2x2 lattice on the planes and two pairs of spheres linked only to each other along skew
+ * axes: one far from everything, one resting on the plane z = 0 only. K leaves the first
+ * pair's rigid translations free (and its rotations nearly so), the second's along x and y and
+ * about z; the stepper takes the motion without them (qs_floating.c): each pair shrinks about
+ * its centroid (the second keeps z = R on its plane), does not turn, and approaches as a free
+ * pair does. */
 static void test_qs_floating_pair(void **state)
 {
     (void)state;
     packing pk;
     packing_init(&pk, 2);
     lattice(&pk, 2);
-    const double dir[3] = {1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0}, c0 = 20 * R_CU;
-    double *a = pk.x + 3 * pk.n, *b = a + 3;
-    for (int d = 0; d < 3; ++d) {
-        a[d] = c0 + (d == 1 ? 0.3 * R_CU : 0.0);
-        b[d] = a[d] + 2 * R_CU * dir[d];
-    }
-    pk.radius[pk.n] = pk.radius[pk.n + 1] = R_CU;
-    const size_t ia = pk.n;
-    pk.n += 2;
-    double mid0[3];
-    for (int d = 0; d < 3; ++d)
-        mid0[d] = 0.5 * (a[d] + b[d]);
+    const double dir_free[3] = {1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0}, dir_plane[3] = {0.6, 0.8, 0.0};
+    const double a_free[3] = {20 * R_CU, 20.3 * R_CU, 20 * R_CU};
+    const double a_plane[3] = {40 * R_CU, 10 * R_CU, R_CU};
+    const size_t first[2] = {add_pair(&pk, a_free, dir_free), add_pair(&pk, a_plane, dir_plane)};
+    const double *dirs[2] = {dir_free, dir_plane};
+    double mid0[2][3];
+    for (int q = 0; q < 2; ++q)
+        for (size_t d = 0; d < 3; ++d)
+            mid0[q][d] = 0.5 * (pk.x[3 * first[q] + d] + pk.x[3 * first[q] + 3 + d]);
     const double t_end = 300.0;
     (void)run_packing(&pk, t_end);
     size_t nl = 0;
     (void)sinter_qs_links(pk.qs, &nl);
-    assert_int_equal(nl, 12 + 1);
+    assert_int_equal(nl, 12 + 2);
     double ref[SINTER_NECK_DOF];
     reference_pair(&pk, t_end, ref);
-    double dist = 0.0, drift = 0.0, turn = 0.0, along = 0.0;
-    for (int d = 0; d < 3; ++d) {
-        dist += (b[d] - a[d]) * (b[d] - a[d]);
-        drift = fmax(drift, fabs(0.5 * (a[d] + b[d]) - mid0[d]));
-        turn = fmax(turn, fmax(fabs(pk.rot[3 * ia + (size_t)d]), fabs(pk.rot[3 * ia + 3 + (size_t)d])));
-        along += (b[d] - a[d]) * dir[d];
+    const double approach_ref = 2 * R_CU - (ref[3] + ref[6]);
+    for (int q = 0; q < 2; ++q) {
+        const double *a = pk.x + 3 * first[q], *b = a + 3;
+        double dist = 0.0, drift = 0.0, turn = 0.0, along = 0.0;
+        for (size_t d = 0; d < 3; ++d) {
+            dist += (b[d] - a[d]) * (b[d] - a[d]);
+            drift = fmax(drift, fabs(0.5 * (a[d] + b[d]) - mid0[q][d]));
+            turn = fmax(turn, fmax(fabs(pk.rot[3 * first[q] + d]),
+                                   fabs(pk.rot[3 * first[q] + 3 + d])));
+            along += (b[d] - a[d]) * dirs[q][d];
+        }
+        dist = sqrt(dist);
+        const double approach = 2 * R_CU - dist;
+        print_message("%s pair, 300 s: approach %.6e m (free pair %.6e), centroid drift %.2e m, "
+                      "rotation %.2e, axis turned by %.2e\n",
+                      q == 0 ? "floating" : "plane-held", approach, approach_ref, drift, turn,
+                      1.0 - along / dist);
+        /* the approach of a free pair (RK4 at rtol 1e-6 against CVODE at 1e-9, as above) */
+        assert_close(approach, approach_ref, 1e-4 * approach_ref);
+        /* no rigid motion: what is left is the solve's residual (1e-7 |f|) seen through the
+         * pair's compliance, a 1e-7 part of each step's approach, and the rounding of 1e-4 m
+         * positions */
+        assert_true(drift <= 1e-6 * approach + 1e-18);
+        assert_true(turn <= 1e-12);
+        assert_true(1.0 - along / dist <= 1e-12);
     }
-    dist = sqrt(dist);
-    const double approach = 2 * R_CU - dist, approach_ref = 2 * R_CU - (ref[3] + ref[6]);
-    print_message("floating pair, 300 s: approach %.6e m (free pair %.6e), centroid drift %.2e m, "
-                  "rotation %.2e, axis turned by %.2e\n",
-                  approach, approach_ref, drift, turn, 1.0 - along / dist);
-    /* the approach of a free pair (RK4 at rtol 1e-6 against CVODE at 1e-9, as above: 1e-4) */
-    assert_close(approach, approach_ref, 1e-4 * approach_ref);
-    /* no rigid motion: what is left is the solve's residual (1e-7 |f|) seen through the pair's
-     * compliance, a 1e-7 part of each step's approach, and the rounding of 1e-4 m positions */
-    assert_true(drift <= 1e-6 * approach + 1e-18);
-    assert_true(turn <= 1e-12);
-    assert_true(1.0 - along / dist <= 1e-12);
+    /* the plane-held pair stays on its plane */
+    assert_close(pk.x[3 * first[1] + 2], R_CU, 1e-15);
+    assert_close(pk.x[3 * first[1] + 5], R_CU, 1e-15);
     packing_free(&pk);
 }
 
