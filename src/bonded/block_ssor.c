@@ -153,22 +153,18 @@ typedef double block_v2 __attribute__((vector_size(16)));
 static inline void block_times(const double *restrict cols, const double *restrict x,
                                double *restrict out)
 {
-    block_v4 le, lo, l2, l3;
-    block_v2 he, ho, h2, h3;
+    block_v4 le, lo, l2, l3; /* rows 0-3: even and odd columns */
+    block_v2 he, ho, h2, h3; /* rows 4-5 */
     BLOCK_COLUMN(le, he, cols, 0, x[0]);
     BLOCK_COLUMN(lo, ho, cols, 1, x[1]);
-    BLOCK_COLUMN(l2, h2, cols, 2, x[2]);
-    BLOCK_COLUMN(l3, h3, cols, 3, x[3]);
-    le += l2;
-    lo += l3;
-    he += h2;
-    ho += h3;
-    BLOCK_COLUMN(l2, h2, cols, 4, x[4]);
-    BLOCK_COLUMN(l3, h3, cols, 5, x[5]);
-    le += l2;
-    lo += l3;
-    he += h2;
-    ho += h3;
+    for (int c = 2; c < 6; c += 2) {
+        BLOCK_COLUMN(l2, h2, cols, c, x[c]);
+        BLOCK_COLUMN(l3, h3, cols, c + 1, x[c + 1]);
+        le += l2;
+        lo += l3;
+        he += h2;
+        ho += h3;
+    }
     le += lo;
     he += ho;
     memcpy(out, &le, sizeof(le));
