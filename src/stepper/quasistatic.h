@@ -44,7 +44,7 @@ typedef struct sinter_qs_options {
     double shrink_fraction;   /* strategy 2: shrink when more than this did (0.15) */
     double contact_tolerance; /* new contact if distance < (r_a + r_b)(1 + this) */
     double plane_tolerance;   /* on a principal plane if x_d - r < this r */
-    double solve_rtol;        /* PCG residual relative to |f| (1e-7) */
+    double solve_rtol;        /* K u = f: true residual |f - K u| relative to |f| (1e-7) */
     double rtol;              /* relative accuracy of the necks (error weights, neck.h) */
     double epsilon, h0_ratio; /* fresh neck, 7dof.md §4 */
     double max_strain;        /* strategy 3: largest approach per step / L0 before dt shrinks */
