@@ -10,8 +10,10 @@
  * projection: the operator is P K P + (I - P) and the right-hand side P f, with P zeroing the
  * constrained DOFs, so the system stays symmetric positive (semi-)definite. A free DOF with no
  * stiffness at all (a particle without links) is treated as constrained. Zero-energy modes that
- * the plane conditions leave (a straight chain can twist about its own axis) are harmless: the
- * loads have no component on them and CG started from zero never enters them.
+ * the plane conditions leave (the rigid motions of spheres linked only to each other) do not
+ * hinder convergence, the loads having no component on them, but the solution may carry any
+ * amount of them, which depends on the start and the preconditioner: the quasi-static stepper
+ * removes it (stepper/qs_floating.c).
  *
  * The stopping test is on the original system, |f - K u| <= rtol |f|: PCG's own test sees the
  * transformed residual E^-1 (f - K u), so its target is set from the ratio of the two norms,
