@@ -39,7 +39,6 @@
 struct sinter_bonded_solver {
     sinter_ctx *ctx;
     sinter_pcg *pcg;
-    size_t dofs;
     sinter_block_ssor matrix;
     unsigned char *mask;     /* 1: constrained (user-fixed or without stiffness) */
     uint32_t *lower, *upper; /* per link: its particles in index order */
@@ -103,11 +102,7 @@ static sinter_status prepare(sinter_bonded_solver *s, size_t n, size_t count)
     if (st != SINTER_OK)
         return st;
     const int maxl = (int)(2 * dofs < 1000 ? 1000 : 2 * dofs);
-    st = sinter_pcg_reserve(s->ctx, &s->pcg, dofs, maxl);
-    if (st != SINTER_OK)
-        return st;
-    s->dofs = dofs;
-    return SINTER_OK;
+    return sinter_pcg_reserve(s->ctx, &s->pcg, dofs, maxl);
 }
 
 /* The blocks of P K P + I - P (eq. 40): each link's 12x12 stiffness adds its AA and BB blocks
