@@ -203,6 +203,9 @@ enum { MAX_TABLE = 8 };
 
 typedef struct constants {
     int softening;
+    /* 1 if a material in use has a rolling coefficient mu_r > 0: without one, every pair's
+     * and wall's mu_r (a geometric mean) is 0 and the rolling moment is 0 (eq. 17) */
+    int any_rolling;
     int index[SINTER_MAX_MATERIALS]; /* material id -> row of the table, or -1 */
     int rows;
     side sides[MAX_TABLE];
@@ -213,9 +216,12 @@ static void build_constants(const sinter_force_eval *e, constants *k)
 {
     const sinter_particles *ps = e->ps;
     k->softening = e->modulus_scale != NULL;
+    k->any_rolling = 0;
     k->rows = 0;
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
         k->index[m] = -1;
+        if (ps->material_used[m] && ps->materials[m].value[SINTER_MAT_ROLLING_FRICTION] > 0.0)
+            k->any_rolling = 1;
         if (ps->material_used[m] && k->rows < MAX_TABLE) {
             k->index[m] = k->rows;
             side_from_material(&ps->materials[m], 1.0, &k->sides[k->rows]);
@@ -609,6 +615,9 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
             sinter_put(t, b.sx[a], stream);
             sinter_put(t + 1, b.sy[a], stream);
             sinter_put(t + 2, b.sz[a], stream);
+            if (width == 6) /* a rolling spring no material uses: held at zero */
+                for (int d = 3; d < 6; ++d)
+                    sinter_put(t + d, 0.0, stream);
             const uint32_t i = c->i[q], j = c->j[q];
             if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
                 /* the force only: the caller forms the moments again */
@@ -932,6 +941,9 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
                     hist + width * (size_t)c->pair[q],
                     trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling, f,
                     mr);
+        if (!rolling && width == 6) /* a rolling spring no material uses: held at zero */
+            for (int d = 3; d < 6; ++d)
+                trial[width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q) + (size_t)d] = 0.0;
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {
             e->force[3 * i + d] += f[d];
@@ -986,10 +998,13 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
         hs = sinter_history_by_pair(e->ctx, e->hist_pw, e->pw);
     if (hs != SINTER_OK)
         return hs;
-    /* Rolling needs the 6-wide history chosen when the model was added to the stepper. */
-    const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6;
+    /* Rolling needs the 6-wide history chosen when the model was added to the stepper, and a
+     * material in use with rolling friction: without one the rolling moment is 0 (mu_r = 0 is
+     * the slip limit of eq. 17) and the blocked law without rolling serves (the rolling spring
+     * is then held at zero, as in a new contact) */
     constants k;
     build_constants(e, &k);
+    const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6 && k.any_rolling;
     e->pp_ended = SIZE_MAX;
     /* the wall contacts with the pair contacts, in one parallel region, when their runs are
      * the pair partition's ranges (one fork and join fewer per step: a 1k bed's step takes

@@ -602,6 +602,76 @@ static void test_colliding_cloud_independent_of_thread_count(void **state)
     free(other);
 }
 
+/*
+ * The colliding cloud with the rolling model on (6 values of history) and the material's
+ * rolling friction mu_r set in three phases of 100 steps (`mu`), its rolling damping 0.3.
+ * Returns positions, velocities and spins in out (9 n) and the largest rolling spring |Delta
+ * theta| committed after each phase in roll[3]. param 0: the model with rolling off.
+ */
+static void run_rolling_phases(int param, const double mu[3], double *out, size_t n,
+                               double roll[3])
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.3, 0.4);
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_DAMPING_RATIO, 0.3));
+    scene_open(&s, "hertz_mindlin", 1);
+    OK(sinter_force_model_set(s.contact, "rolling", param));
+    add_cloud(&s, n, 16, 2.02e-3, 0.9, 0.1, 19);
+    OK(sinter_stepper_set_dt(s.st, 2e-5));
+    for (int phase = 0; phase < 3; ++phase) {
+        OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, mu[phase]));
+        OK(sinter_particles_set_material(s.ps, 0, s.mat));
+        OK(sinter_stepper_step(s.st, 100));
+        /* particle pairs and particle-wall pairs */
+        const sinter_history *h[2] = {&s.st->forces[0].pp, &s.st->forces[0].pw};
+        const size_t pairs[2] = {s.st->nb.pp.count, s.st->nb.pw.count};
+        roll[phase] = 0.0;
+        for (int k = 0; k < 2; ++k)
+            for (size_t p = 0; p < pairs[k] && h[k]->width == 6; ++p)
+                for (int d = 3; d < 6; ++d)
+                    roll[phase] = fmax(roll[phase], fabs(h[k]->committed[6 * p + (size_t)d]));
+    }
+    memcpy(out, s.ps->x, 3 * n * sizeof(double));
+    memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
+    memcpy(out + 6 * n, s.ps->w, 3 * n * sizeof(double));
+    scene_close(&s);
+}
+
+/*
+ * Rolling resistance a scene does not use costs nothing (issue 9): with mu_r = 0 in every
+ * material every rolling moment is 0 (eq. 17: the slider's limit mu_r r* |f_n|), so the
+ * rolling model runs the blocked law without rolling and its trajectory is that of the model
+ * with rolling off, to the bit, with the rolling spring held at zero (phase 2, after springs
+ * loaded in phase 1). With mu_r > 0 the rolling law acts: the trajectories part.
+ */
+static void test_rolling_without_rolling_friction_is_rolling_off(void **state)
+{
+    (void)state;
+    enum { N = 16 * 16 * 12 };
+    double *off = malloc(9 * N * sizeof(double)), *on = malloc(9 * N * sizeof(double));
+    assert_non_null(off);
+    assert_non_null(on);
+    double roll[3];
+    const double none[3] = {0.0, 0.0, 0.0}, middle[3] = {0.05, 0.0, 0.05};
+    run_rolling_phases(0, none, off, N, roll);
+    run_rolling_phases(1, none, on, N, roll);
+    assert_memory_equal(off, on, 9 * N * sizeof(double));
+    assert_true(roll[0] == 0.0 && roll[1] == 0.0 && roll[2] == 0.0);
+    run_rolling_phases(1, middle, on, N, roll);
+    print_message("rolling springs after the phases: %.3g, %.3g, %.3g rad\n", roll[0], roll[1],
+                  roll[2]);
+    assert_true(roll[0] > 0.0);
+    assert_true(roll[1] == 0.0); /* no rolling friction: held at zero */
+    assert_true(roll[2] > 0.0);
+    size_t parted = 0;
+    for (size_t k = 0; k < 9 * N; ++k)
+        parted += off[k] != on[k];
+    assert_true(parted > N); /* most particles moved differently */
+    free(off);
+    free(on);
+}
+
 /* The threaded cell-grid build gives the same list, pair by pair, for 1, 2 and 3 threads: a
  * dense cloud of 12000 spheres (about 9 pairs each, so the first build overflows the
  * per-thread segments sized for 4 and finishes them serially) and a rebuild after a shuffle. */
@@ -1229,6 +1299,7 @@ int main(void)
         cmocka_unit_test(test_partitioned_law_matches_hertz),
         cmocka_unit_test(test_results_independent_of_thread_count),
         cmocka_unit_test(test_colliding_cloud_independent_of_thread_count),
+        cmocka_unit_test(test_rolling_without_rolling_friction_is_rolling_off),
         cmocka_unit_test(test_partitioned_conduction_conserves_energy),
         cmocka_unit_test(test_partitioned_law_balances_walls),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
