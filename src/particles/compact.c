@@ -572,6 +572,9 @@ static sinter_status run(sinter_particles *ps, const sinter_compaction_options *
     st = schedule_walls(c->walls, p, 0.0, 1.0, 0.0, 0.0);
     if (st == SINTER_OK)
         st = sinter_force_model_create(&c->hertz, ctx, "hertz_mindlin");
+    if (st == SINTER_OK) /* no rolling resistance (compaction_material): 3 history values,
+                            contacts without stored geometry */
+        st = sinter_force_model_set(c->hertz, "rolling", 0.0);
     if (st == SINTER_OK)
         st = sinter_force_model_create(&c->drag, ctx, "drag");
     if (st == SINTER_OK)
