@@ -253,121 +253,13 @@ HM_INLINE const pair_consts *pair_of(const constants *k, const sinter_force_eval
     return scratch;
 }
 
-/* Reduced radius and mass of contact q and its two roots. The blocked loops below compute
- * these for several contacts before the rest of the law, so the dependent divisions and
- * roots of neighbouring contacts overlap instead of stalling one after the other. */
-typedef struct pp_pre {
-    double rstar, mstar, sqrt_rd, sm;
-} pp_pre;
-
-HM_INLINE void pp_prepare(const sinter_force_eval *e, size_t q, pp_pre *o)
-{
-    const sinter_contact_list *c = e->pp;
-    const double *r = e->ps->radius, *mass = e->ps->mass;
-    const uint32_t i = c->i[q], j = c->j[q];
-    const double ri = r[i], rj = r[j], mi = mass[i], mj = mass[j];
-    o->rstar = ri * rj / (ri + rj);
-    o->mstar = mi * mj / (mi + mj);
-    roots(o->rstar, o->mstar, c->delta[q], &o->sqrt_rd, &o->sm);
-}
-
-/* The law for particle-particle contact q: force on i, moments on i and j, trial history. */
-HM_INLINE void pp_contact(const sinter_force_eval *e, const constants *k,
-                          const pair_consts *single, int rolling, size_t q, const pp_pre *pre,
-                          double f[3], double ti_total[3], double tj_total[3])
-{
-    const sinter_particles *ps = e->ps;
-    const sinter_contact_list *c = e->pp;
-    const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
-                 *inertia = ps->inertia;
-    const size_t width = e->hist_pp->width;
-    const uint32_t i = c->i[q], j = c->j[q];
-    const double *n = c->n + 3 * q;
-    const double li = c->branch[q], lj = c->dist[q] - li;
-    pair_consts scratch;
-    pair_props p;
-    p.c = pair_of(k, e, i, j, single, &scratch);
-    p.rstar = pre->rstar;
-    p.mstar = pre->mstar;
-    p.jstar = rolling ? 1.0 / (1.0 / (inertia[i] + mass[i] * r[i] * r[i]) +
-                               1.0 / (inertia[j] + mass[j] * r[j] * r[j])) /* eq. 18 */
-                      : 0.0;
-    /* Contact-point velocities: v + w x b, with b_i = L_i n and b_j = -L_j n, so
-     * w_i x b_i - w_j x b_j = (L_i w_i + L_j w_j) x n. */
-    const double *wi = w + 3 * i, *wj = w + 3 * j;
-    const double ws[3] = {li * wi[0] + lj * wj[0], li * wi[1] + lj * wj[1],
-                          li * wi[2] + lj * wj[2]};
-    double wsn[3];
-    v3_cross(ws, n, wsn);
-    double u[3], w_rel[3];
-    for (int d = 0; d < 3; ++d) {
-        u[d] = v[3 * i + d] - v[3 * j + d] + wsn[d];
-        w_rel[d] = wi[d] - wj[d];
-    }
-    double mr[3];
-    contact_law(&p, n, c->delta[q], pre->sqrt_rd, pre->sm, u, w_rel, e->dt,
-                e->hist_pp->committed + width * c->pair[q],
-                e->hist_pp->trial + width * (e->hist_pp->by_pair ? c->pair[q] : q),
-                rolling, f, mr);
-    /* moments of f about the centres (eq. 14): b_i x f = L_i (n x f), b_j x (-f) = L_j (n x f) */
-    double nf[3];
-    v3_cross(n, f, nf);
-    for (int d = 0; d < 3; ++d) {
-        ti_total[d] = li * nf[d] + mr[d];
-        tj_total[d] = lj * nf[d] - mr[d];
-    }
-}
-
 /* Contacts per block of the blocked law: 16 gives the chain of roots and divisions of each
  * contact (geometry, eq. 2, 6) four independent AVX2 vectors to overlap; 8 was 2-3 % slower in
  * the force phase on the 64k packed bed, 32 no better (issue 9). */
 enum { BLOCK = 16 };
 
-/* The serial loop, specialised by inlining on `single` (NULL or not) and `rolling`. */
-HM_INLINE void pp_serial(const sinter_force_eval *e, const constants *k,
-                         const pair_consts *single, int rolling)
-{
-    const sinter_contact_list *c = e->pp;
-    double *restrict force = e->force, *restrict torque = e->torque;
-    for (size_t q0 = 0; q0 < c->count; q0 += BLOCK) {
-        const size_t nb = c->count - q0 < BLOCK ? c->count - q0 : BLOCK;
-        pp_pre pre[BLOCK];
-        for (size_t b = 0; b < nb; ++b)
-            pp_prepare(e, q0 + b, &pre[b]);
-        for (size_t b = 0; b < nb; ++b) {
-            const size_t q = q0 + b;
-            double f[3], ti[3], tj[3];
-            pp_contact(e, k, single, rolling, q, &pre[b], f, ti, tj);
-            const uint32_t i = c->i[q], j = c->j[q];
-            for (int d = 0; d < 3; ++d) {
-                force[3 * i + d] += f[d];
-                force[3 * j + d] -= f[d];
-                torque[3 * i + d] += ti[d];
-                torque[3 * j + d] += tj[d];
-            }
-        }
-    }
-}
-
-/* Contacts [lo, hi) into out (9 per contact), for the threaded path. */
-HM_INLINE void pp_range(const sinter_force_eval *e, const constants *k,
-                        const pair_consts *single, int rolling, size_t lo, size_t hi,
-                        double *out)
-{
-    for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
-        const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        pp_pre pre[BLOCK];
-        for (size_t b = 0; b < nb; ++b)
-            pp_prepare(e, q0 + b, &pre[b]);
-        for (size_t b = 0; b < nb; ++b) {
-            double *o = out + 9 * (q0 + b);
-            pp_contact(e, k, single, rolling, q0 + b, &pre[b], o, o + 3, o + 6);
-        }
-    }
-}
-
 /*
- * Blocked law without rolling resistance, for any mix of materials: contacts are taken
+ * Blocked law, with or without rolling resistance, for any mix of materials: contacts are taken
  * BLOCK at a time, their inputs gathered into short arrays, the arithmetic done in one
  * branch-free loop over the block (selects instead of branches, so the compiler vectorises
  * it, and with a wider instruction set chosen at run time where the CPU has one), and the
@@ -382,19 +274,25 @@ typedef struct blk {
     double hx[BLOCK], hy[BLOCK], hz[BLOCK];
     double kn[BLOCK], dn[BLOCK], kt[BLOCK], dtp[BLOCK], mus2[BLOCK], mud[BLOCK];
     double apart[BLOCK]; /* lean lists: 1 where the pair no longer touches (skipped) */
+    /* rolling resistance: I + m r^2 of i and j (eq. 18), the rolling spring Delta theta, the
+     * constants dr_pre and mu_r (gathered without `single`) */
+    double ii[BLOCK], ij[BLOCK], hrx[BLOCK], hry[BLOCK], hrz[BLOCK], drp[BLOCK], mur[BLOCK];
     /* results: force on i, moments on i and j, spring */
     double fx[BLOCK], fy[BLOCK], fz[BLOCK], tix[BLOCK], tiy[BLOCK], tiz[BLOCK];
     double tjx[BLOCK], tjy[BLOCK], tjz[BLOCK], sx[BLOCK], sy[BLOCK], sz[BLOCK];
+    double thx[BLOCK], thy[BLOCK], thz[BLOCK]; /* rolling: the new rolling spring */
 } blk;
 
 HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
-                          const pair_consts *single, size_t q0, size_t nb, int lean, blk *b)
+                          const pair_consts *single, size_t q0, size_t nb, int lean, int rolling,
+                          blk *b)
 /* (with `single`, the constants are not gathered: blk_law reads them from it; with `lean`,
  * nx, ny, nz take the centre difference x_j - x_i and blk_geometry forms the geometry) */
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
     const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass, *x = ps->x;
+    const double *inertia = ps->inertia;
     const double *hist = e->hist_pp->committed;
     const size_t width = e->hist_pp->width;
     for (size_t a = 0; a < BLOCK; ++a) {
@@ -420,11 +318,18 @@ HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
         b->wix[a] = w[3 * i], b->wiy[a] = w[3 * i + 1], b->wiz[a] = w[3 * i + 2];
         b->wjx[a] = w[3 * j], b->wjy[a] = w[3 * j + 1], b->wjz[a] = w[3 * j + 2];
         b->hx[a] = h[0], b->hy[a] = h[1], b->hz[a] = h[2];
+        if (rolling) {
+            b->ii[a] = inertia[i] + mass[i] * r[i] * r[i];
+            b->ij[a] = inertia[j] + mass[j] * r[j] * r[j];
+            b->hrx[a] = h[3], b->hry[a] = h[4], b->hrz[a] = h[5];
+        }
         if (single == NULL) {
             pair_consts scratch;
             const pair_consts *pc = pair_of(k, e, i, j, NULL, &scratch);
             b->kn[a] = pc->kn_pre, b->dn[a] = pc->dn_pre, b->kt[a] = pc->kt_pre;
             b->dtp[a] = pc->dt_pre, b->mus2[a] = pc->mu_s2, b->mud[a] = pc->mu_d;
+            if (rolling)
+                b->drp[a] = pc->dr_pre, b->mur[a] = pc->mu_r;
         }
     }
 }
@@ -449,23 +354,26 @@ HM_INLINE void blk_geometry(blk *restrict b)
 }
 
 /*
- * contact_law (rolling off) and pp_contact's kinematics and moments, lane by lane, in three
- * loops: the rare cases (a spring turned by more than ~1e-2 rad, Coulomb slip) need a root
- * and divisions that the common case does not, so their loops run only for a block where
- * some lane needs them; a lane that does not keeps its values, as in contact_law.
+ * contact_law with the contact points' kinematics and the moments, lane by lane, in three
+ * loops (five with `rolling`): the rare cases (a spring turned by more than ~1e-2 rad, Coulomb
+ * slip, the rolling slider's limit) need a root and divisions that the common case does not,
+ * so their loops run only for a block where some lane needs them; a lane that does not keeps
+ * its values, as in contact_law.
  */
-HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
+HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, int rolling)
 {
     /* one pair of materials: the constants are the same in every lane */
 #define HM_C(field, lane) (single != NULL ? single->field : b->lane[a])
     double utx[BLOCK], uty[BLOCK], utz[BLOCK], fn[BLOCK], fabs_n[BLOCK], kt[BLOCK];
     double dfric[BLOCK], ftx[BLOCK], fty[BLOCK], ftz[BLOCK], ft2[BLOCK], big_x[BLOCK];
     double slip[BLOCK]; /* 1 where the Coulomb limit is exceeded */
+    double rstars[BLOCK], sqrt_rds[BLOCK]; /* for the rolling law */
     for (int a = 0; a < BLOCK; ++a) {
         const double nx = b->nx[a], ny = b->ny[a], nz = b->nz[a], li = b->li[a], lj = b->lj[a];
         const double rstar = b->ri[a] * b->rj[a] / (b->ri[a] + b->rj[a]);
         const double mstar = b->mi[a] * b->mj[a] / (b->mi[a] + b->mj[a]);
         const double sqrt_rd = sqrt(rstar * b->delta[a]);
+        rstars[a] = rstar, sqrt_rds[a] = sqrt_rd;
         const double sm = sqrt(mstar * sqrt_rd);
         /* u = v_i - v_j + (L_i w_i + L_j w_j) x n */
         const double wsx = li * b->wix[a] + lj * b->wjx[a], wsy = li * b->wiy[a] + lj * b->wjy[a],
@@ -538,14 +446,66 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
             b->sy[a] = slipping ? qy : b->sy[a];
             b->sz[a] = slipping ? qz : b->sz[a];
         }
+    /* Rolling resistance (eq. 15-20): the moment on i, mr (-mr on j), and the new spring */
+    double mrx[BLOCK], mry[BLOCK], mrz[BLOCK];
+    if (rolling) {
+        double wrx[BLOCK], wry[BLOCK], wrz[BLOCK], kr[BLOCK], drol[BLOCK], mlen[BLOCK];
+        double lim[BLOCK], rslip[BLOCK];
+        for (int a = 0; a < BLOCK; ++a) {
+            const double rstar = rstars[a];
+            const double jstar = 1.0 / (1.0 / b->ii[a] + 1.0 / b->ij[a]); /* eq. 18 */
+            wrx[a] = b->wix[a] - b->wjx[a], wry[a] = b->wiy[a] - b->wjy[a];
+            wrz[a] = b->wiz[a] - b->wjz[a];
+            const double thx = b->hrx[a] + wrx[a] * dt, thy = b->hry[a] + wry[a] * dt,
+                         thz = b->hrz[a] + wrz[a] * dt;
+            kr[a] = kt[a] * rstar * rstar;
+            /* d_rol = 2 xi_r sqrt(8 G* J*) r* (r* delta)^(1/4) = dr_pre sqrt(J* s) r* */
+            drol[a] = HM_C(dr_pre, drp) * sqrt(jstar * sqrt_rds[a]) * rstar;
+            mrx[a] = -kr[a] * thx - drol[a] * wrx[a];
+            mry[a] = -kr[a] * thy - drol[a] * wry[a];
+            mrz[a] = -kr[a] * thz - drol[a] * wrz[a];
+            b->thx[a] = thx, b->thy[a] = thy, b->thz[a] = thz;
+            mlen[a] = sqrt(mrx[a] * mrx[a] + mry[a] * mry[a] + mrz[a] * mrz[a]);
+            lim[a] = HM_C(mu_r, mur) * rstar * fabs_n[a];
+            rslip[a] = ((mlen[a] > lim[a]) & (mlen[a] > 0.0)) ? 1.0 : 0.0;
+        }
+        int rolls = 0;
+        for (int a = 0; a < BLOCK; ++a)
+            rolls |= rslip[a] != 0.0;
+        if (rolls)
+            for (int a = 0; a < BLOCK; ++a) {
+                /* the slider's limit mu_r r* |f_n| (eq. 17), the spring reset to match */
+                const int slipping = rslip[a] != 0.0;
+                const double scale = lim[a] / mlen[a];
+                const int stiff = kr[a] > 0.0;
+                const double inv_kr = 1.0 / kr[a]; /* used only where kr > 0 */
+                const double gx = mrx[a] * scale, gy = mry[a] * scale, gz = mrz[a] * scale;
+                const double qx = stiff ? -(gx + drol[a] * wrx[a]) * inv_kr : 0.0;
+                const double qy = stiff ? -(gy + drol[a] * wry[a]) * inv_kr : 0.0;
+                const double qz = stiff ? -(gz + drol[a] * wrz[a]) * inv_kr : 0.0;
+                mrx[a] = slipping ? gx : mrx[a];
+                mry[a] = slipping ? gy : mry[a];
+                mrz[a] = slipping ? gz : mrz[a];
+                b->thx[a] = slipping ? qx : b->thx[a];
+                b->thy[a] = slipping ? qy : b->thy[a];
+                b->thz[a] = slipping ? qz : b->thz[a];
+            }
+    }
     for (int a = 0; a < BLOCK; ++a) {
         const double nx = b->nx[a], ny = b->ny[a], nz = b->nz[a];
         const double fx = ftx[a] - fn[a] * nx, fy = fty[a] - fn[a] * ny, fz = ftz[a] - fn[a] * nz;
         b->fx[a] = fx, b->fy[a] = fy, b->fz[a] = fz;
-        /* moments (eq. 14): L_i (n x f) on i, L_j (n x f) on j */
+        /* moments (eq. 14): L_i (n x f) on i, L_j (n x f) on j; rolling: + mr on i, - mr on j */
         const double mx = ny * fz - nz * fy, my = nz * fx - nx * fz, mz = nx * fy - ny * fx;
-        b->tix[a] = b->li[a] * mx, b->tiy[a] = b->li[a] * my, b->tiz[a] = b->li[a] * mz;
-        b->tjx[a] = b->lj[a] * mx, b->tjy[a] = b->lj[a] * my, b->tjz[a] = b->lj[a] * mz;
+        if (rolling) {
+            b->tix[a] = b->li[a] * mx + mrx[a], b->tiy[a] = b->li[a] * my + mry[a];
+            b->tiz[a] = b->li[a] * mz + mrz[a];
+            b->tjx[a] = b->lj[a] * mx - mrx[a], b->tjy[a] = b->lj[a] * my - mry[a];
+            b->tjz[a] = b->lj[a] * mz - mrz[a];
+        } else {
+            b->tix[a] = b->li[a] * mx, b->tiy[a] = b->li[a] * my, b->tiz[a] = b->li[a] * mz;
+            b->tjx[a] = b->lj[a] * mx, b->tjy[a] = b->lj[a] * my, b->tjz[a] = b->lj[a] * mz;
+        }
     }
 #undef HM_C
 }
@@ -562,8 +522,9 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single)
  */
 SINTER_CLONES
 static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
-                        const pair_consts *single, size_t lo, size_t hi, const sinter_chunks *ch,
-                        int s, uint32_t *bq, double *bout, uint32_t *reach, size_t *ended)
+                        const pair_consts *single, int rolling, size_t lo, size_t hi,
+                        const sinter_chunks *ch, int s, uint32_t *bq, double *bout,
+                        uint32_t *reach, size_t *ended)
 {
     const uint32_t *bq0 = bq;
     uint32_t top = 0; /* 1 + the largest particle index of a boundary contact */
@@ -586,22 +547,28 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        /* four specialised bodies: one pair of materials or a table, geometry formed here
-         * or read from the list */
-        if (single != NULL && lean) {
-            blk_gather(e, k, single, q0, nb, 1, &b);
+        /* six specialised bodies: one pair of materials or a table, geometry formed here
+         * or read from the list, rolling resistance (whose lists carry their geometry) */
+        if (rolling && single != NULL) {
+            blk_gather(e, k, single, q0, nb, 0, 1, &b);
+            blk_law(&b, e->dt, single, 1);
+        } else if (rolling) {
+            blk_gather(e, k, NULL, q0, nb, 0, 1, &b);
+            blk_law(&b, e->dt, NULL, 1);
+        } else if (single != NULL && lean) {
+            blk_gather(e, k, single, q0, nb, 1, 0, &b);
             blk_geometry(&b);
-            blk_law(&b, e->dt, single);
+            blk_law(&b, e->dt, single, 0);
         } else if (single != NULL) {
-            blk_gather(e, k, single, q0, nb, 0, &b);
-            blk_law(&b, e->dt, single);
+            blk_gather(e, k, single, q0, nb, 0, 0, &b);
+            blk_law(&b, e->dt, single, 0);
         } else if (lean) {
-            blk_gather(e, k, NULL, q0, nb, 1, &b);
+            blk_gather(e, k, NULL, q0, nb, 1, 0, &b);
             blk_geometry(&b);
-            blk_law(&b, e->dt, NULL);
+            blk_law(&b, e->dt, NULL, 0);
         } else {
-            blk_gather(e, k, NULL, q0, nb, 0, &b);
-            blk_law(&b, e->dt, NULL);
+            blk_gather(e, k, NULL, q0, nb, 0, 0, &b);
+            blk_law(&b, e->dt, NULL, 0);
         }
         for (size_t a = 0; a < nb; ++a) {
             const size_t q = q0 + a;
@@ -615,9 +582,14 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
             sinter_put(t, b.sx[a], stream);
             sinter_put(t + 1, b.sy[a], stream);
             sinter_put(t + 2, b.sz[a], stream);
-            if (width == 6) /* a rolling spring no material uses: held at zero */
+            if (rolling) {
+                sinter_put(t + 3, b.thx[a], stream);
+                sinter_put(t + 4, b.thy[a], stream);
+                sinter_put(t + 5, b.thz[a], stream);
+            } else if (width == 6) { /* a rolling spring no material uses: held at zero */
                 for (int d = 3; d < 6; ++d)
                     sinter_put(t + d, 0.0, stream);
+            }
             const uint32_t i = c->i[q], j = c->j[q];
             if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
                 /* the force only: the caller forms the moments again */
@@ -657,15 +629,37 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     return (size_t)(bq - bq0);
 }
 
-static void pp_contacts_range(const sinter_force_eval *e, const constants *k,
-                              const pair_consts *single, int rolling, size_t lo, size_t hi,
-                              double *out)
+/* Rolling resistance, contacts [lo, hi) by blocks into out (9 per contact: force on i,
+ * moments on i and j) and their trial history, for the threaded path. */
+SINTER_CLONES
+static void pp_blocks_out(const sinter_force_eval *e, const constants *k,
+                          const pair_consts *single, size_t lo, size_t hi, double *out)
 {
-    (void)rolling; /* the blocked path serves rolling off */
-    if (single != NULL)
-        pp_range(e, k, single, 1, lo, hi, out);
-    else
-        pp_range(e, k, NULL, 1, lo, hi, out);
+    double *trial = e->hist_pp->trial;
+    const size_t width = e->hist_pp->width;
+    const int by_pair = e->hist_pp->by_pair;
+    const sinter_contact_list *c = e->pp;
+    blk b;
+    for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
+        const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
+        if (single != NULL) {
+            blk_gather(e, k, single, q0, nb, 0, 1, &b);
+            blk_law(&b, e->dt, single, 1);
+        } else {
+            blk_gather(e, k, NULL, q0, nb, 0, 1, &b);
+            blk_law(&b, e->dt, NULL, 1);
+        }
+        for (size_t a = 0; a < nb; ++a) {
+            const size_t q = q0 + a;
+            double *t = trial + width * (by_pair ? c->pair[q] : q);
+            t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
+            t[3] = b.thx[a], t[4] = b.thy[a], t[5] = b.thz[a];
+            double *o = out + 9 * q;
+            o[0] = b.fx[a], o[1] = b.fy[a], o[2] = b.fz[a];
+            o[3] = b.tix[a], o[4] = b.tiy[a], o[5] = b.tiz[a];
+            o[6] = b.tjx[a], o[7] = b.tjy[a], o[8] = b.tjz[a];
+        }
+    }
 }
 
 /* Wall contacts: constants per (wall, material row) built once when they fit here. */
@@ -766,7 +760,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
 #pragma omp for schedule(static) nowait
         for (int s = 0; s < ch.count; ++s) {
             first_ended[s] = SIZE_MAX;
-            boundary[s] = pp_blocks(e, k, single, ch.qlo[s], ch.qlo[s + 1], &ch, s,
+            boundary[s] = pp_blocks(e, k, single, 0, ch.qlo[s], ch.qlo[s + 1], &ch, s,
                                     bq + ch.qlo[s], bout + 3 * ch.qlo[s], &reach[s],
                                     &first_ended[s]);
             sinter_range_flags_set(&interior_done, s);
@@ -846,12 +840,7 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
             ? 1
             : sinter_threads(e->ctx);
     if (threads <= 1) {
-        if (!rolling)
-            (void)pp_blocks(e, k, single, 0, c->count, NULL, 0, NULL, NULL, NULL, ended);
-        else if (single != NULL)
-            pp_serial(e, k, single, 1);
-        else
-            pp_serial(e, k, NULL, 1);
+        (void)pp_blocks(e, k, single, rolling, 0, c->count, NULL, 0, NULL, NULL, NULL, ended);
         return SINTER_OK;
     }
     /*
@@ -872,7 +861,7 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
         lo = count * t / nt;
         hi = count * (t + 1) / nt;
 #endif
-        pp_contacts_range(e, k, single, 1, (size_t)lo, (size_t)hi, out);
+        pp_blocks_out(e, k, single, (size_t)lo, (size_t)hi, out);
     }
     const long particles = (long)c->particle_count;
 #pragma omp parallel for num_threads(threads) schedule(static)

@@ -36,14 +36,17 @@ static void usage(void)
 {
     fprintf(stderr, "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
                     "--heat 0|1 [--stats] [--threads N] [--shuffle SEED] [--sort-interval K]\n"
-                    "       [--rotation 0|1] [--thread-choice -1|0]\n"
+                    "       [--rotation 0|1] [--thread-choice -1|0] [--rolling MU_R]\n"
                     "  --shuffle: the particles in a random order in memory (as an unsorted host\n"
                     "    would give them; the PROBE line then follows other particles)\n"
                     "  --sort-interval: stepper option sort_interval (spatial sort every K steps)\n"
                     "  --thread-choice: stepper option thread_choice (-1, the default, times\n"
                     "    steps on the threads and on one and takes the faster; 0 always --threads)\n"
                     "  --rotation: stepper option rotation (1 integrates the rotation vector;\n"
-                    "    default 0, as the peers)\n");
+                    "    default 0, as the peers)\n"
+                    "  --rolling: rolling resistance (seed 003 eq. 15-20) with coefficient MU_R\n"
+                    "    and rolling damping ratio 0.3 (default 0: the rolling model left out, as\n"
+                    "    the peer decks have none)\n");
     exit(1);
 }
 
@@ -51,7 +54,7 @@ int main(int argc, char **argv)
 {
     const char *scene = NULL, *xyz = NULL, *boxf = NULL;
     unsigned long long steps = 0;
-    double dt = 0.0;
+    double dt = 0.0, rolling = 0.0;
     int heat = 0, stats = 0, threads = 1, rotation = 0, thread_choice = -1;
     unsigned long long shuffle = 0, sort_interval = 0;
     for (int a = 1; a < argc; ++a) {
@@ -72,6 +75,7 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--shuffle") == 0) shuffle = strtoull(v, NULL, 10);
         else if (strcmp(argv[a], "--sort-interval") == 0) sort_interval = strtoull(v, NULL, 10);
         else if (strcmp(argv[a], "--rotation") == 0) rotation = atoi(v);
+        else if (strcmp(argv[a], "--rolling") == 0) rolling = strtod(v, NULL);
         else if (strcmp(argv[a], "--thread-choice") == 0) thread_choice = atoi(v);
         else usage();
         ++a;
@@ -121,7 +125,8 @@ int main(int argc, char **argv)
      * 2 sqrt(5/6) |beta| sqrt(S_t m*) (hertz tangential history, tangential damping on);
      * LAMMPS uses x_gamma_t = 1 on its Tsuji damping, Yade es = 0.5. */
     CHECK(sinter_material_set(mat, SINTER_MAT_FRICTION_DAMPING_RATIO, xi));
-    CHECK(sinter_material_set(mat, SINTER_MAT_ROLLING_FRICTION, 0.0)); /* no rolling resistance */
+    CHECK(sinter_material_set(mat, SINTER_MAT_ROLLING_FRICTION, rolling)); /* none by default */
+    CHECK(sinter_material_set(mat, SINTER_MAT_ROLLING_DAMPING_RATIO, rolling > 0.0 ? 0.3 : 0.0));
     CHECK(sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0)); /* thermalConductivity */
     CHECK(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, 100.0)); /* thermalCapacity */
     sinter_material *adiabatic;                                       /* side walls */
@@ -156,7 +161,7 @@ int main(int argc, char **argv)
     sinter_force_model *hm, *grav;
     CHECK(sinter_stepper_create(&st, g_ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
     CHECK(sinter_force_model_create(&hm, g_ctx, "hertz_mindlin"));
-    CHECK(sinter_force_model_set(hm, "rolling", 0.0)); /* no rolling model */
+    CHECK(sinter_force_model_set(hm, "rolling", rolling > 0.0)); /* no rolling model by default */
     CHECK(sinter_force_model_create(&grav, g_ctx, "gravity"));
     CHECK(sinter_force_model_set(grav, "gz", -9.81)); /* fix gravity 9.81 vector 0 0 -1 */
     /* gravity first: the integrator then writes m g where it zeroes the force (no pass of
