@@ -281,6 +281,7 @@ typedef struct blk {
     double fx[BLOCK], fy[BLOCK], fz[BLOCK], tix[BLOCK], tiy[BLOCK], tiz[BLOCK];
     double tjx[BLOCK], tjy[BLOCK], tjz[BLOCK], sx[BLOCK], sy[BLOCK], sz[BLOCK];
     double thx[BLOCK], thy[BLOCK], thz[BLOCK]; /* rolling: the new rolling spring */
+    double mrx[BLOCK], mry[BLOCK], mrz[BLOCK]; /* rolling: the rolling moment on i */
 } blk;
 
 HM_INLINE void blk_gather(const sinter_force_eval *e, const constants *k,
@@ -447,7 +448,7 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
             b->sz[a] = slipping ? qz : b->sz[a];
         }
     /* Rolling resistance (eq. 15-20): the moment on i, mr (-mr on j), and the new spring */
-    double mrx[BLOCK], mry[BLOCK], mrz[BLOCK];
+    double *restrict mrx = b->mrx, *restrict mry = b->mry, *restrict mrz = b->mrz;
     if (rolling) {
         double wrx[BLOCK], wry[BLOCK], wrz[BLOCK], kr[BLOCK], drol[BLOCK], mlen[BLOCK];
         double lim[BLOCK], rslip[BLOCK];
@@ -524,7 +525,7 @@ SINTER_CLONES
 static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
                         const pair_consts *single, int rolling, size_t lo, size_t hi,
                         const sinter_chunks *ch, int s, uint32_t *bq, double *bout,
-                        uint32_t *reach, size_t *ended)
+                        double *bmr, uint32_t *reach, size_t *ended)
 {
     const uint32_t *bq0 = bq;
     uint32_t top = 0; /* 1 + the largest particle index of a boundary contact */
@@ -547,11 +548,19 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     blk b;
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        /* six specialised bodies: one pair of materials or a table, geometry formed here
-         * or read from the list, rolling resistance (whose lists carry their geometry) */
-        if (rolling && single != NULL) {
+        /* eight specialised bodies: one pair of materials or a table, geometry formed here
+         * or read from the list, rolling resistance or not */
+        if (rolling && single != NULL && lean) {
+            blk_gather(e, k, single, q0, nb, 1, 1, &b);
+            blk_geometry(&b);
+            blk_law(&b, e->dt, single, 1);
+        } else if (rolling && single != NULL) {
             blk_gather(e, k, single, q0, nb, 0, 1, &b);
             blk_law(&b, e->dt, single, 1);
+        } else if (rolling && lean) {
+            blk_gather(e, k, NULL, q0, nb, 1, 1, &b);
+            blk_geometry(&b);
+            blk_law(&b, e->dt, NULL, 1);
         } else if (rolling) {
             blk_gather(e, k, NULL, q0, nb, 0, 1, &b);
             blk_law(&b, e->dt, NULL, 1);
@@ -597,6 +606,10 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
                 top = sinter_chunks_reach(top, i, j);
                 bout[0] = b.fx[a], bout[1] = b.fy[a], bout[2] = b.fz[a];
                 bout += 3;
+                if (rolling) {
+                    bmr[0] = b.mrx[a], bmr[1] = b.mry[a], bmr[2] = b.mrz[a];
+                    bmr += 3;
+                }
                 continue;
             }
             if (i != cur) {
@@ -627,39 +640,6 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     if (reach != NULL)
         *reach = top;
     return (size_t)(bq - bq0);
-}
-
-/* Rolling resistance, contacts [lo, hi) by blocks into out (9 per contact: force on i,
- * moments on i and j) and their trial history, for the threaded path. */
-SINTER_CLONES
-static void pp_blocks_out(const sinter_force_eval *e, const constants *k,
-                          const pair_consts *single, size_t lo, size_t hi, double *out)
-{
-    double *trial = e->hist_pp->trial;
-    const size_t width = e->hist_pp->width;
-    const int by_pair = e->hist_pp->by_pair;
-    const sinter_contact_list *c = e->pp;
-    blk b;
-    for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
-        const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        if (single != NULL) {
-            blk_gather(e, k, single, q0, nb, 0, 1, &b);
-            blk_law(&b, e->dt, single, 1);
-        } else {
-            blk_gather(e, k, NULL, q0, nb, 0, 1, &b);
-            blk_law(&b, e->dt, NULL, 1);
-        }
-        for (size_t a = 0; a < nb; ++a) {
-            const size_t q = q0 + a;
-            double *t = trial + width * (by_pair ? c->pair[q] : q);
-            t[0] = b.sx[a], t[1] = b.sy[a], t[2] = b.sz[a];
-            t[3] = b.thx[a], t[4] = b.thy[a], t[5] = b.thz[a];
-            double *o = out + 9 * q;
-            o[0] = b.fx[a], o[1] = b.fy[a], o[2] = b.fz[a];
-            o[3] = b.tix[a], o[4] = b.tiy[a], o[5] = b.tiz[a];
-            o[6] = b.tjx[a], o[7] = b.tjy[a], o[8] = b.tjz[a];
-        }
-    }
 }
 
 /* Wall contacts: constants per (wall, material row) built once when they fit here. */
@@ -705,10 +685,11 @@ static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job
                    int rolling);
 
 /* Force of contact q (out, from pp_blocks) with the moments L (n x f) formed again as
- * blk_law forms them: added to particle p, first or second of the contact. A lean list's
- * geometry is formed again as blk_geometry forms it. */
+ * blk_law forms them, and the rolling moment mr (NULL: none): added to particle p, first or
+ * second of the contact. A lean list's geometry is formed again as blk_geometry forms it. */
 static inline void add_from_force(const sinter_contact_list *c, const sinter_particles *ps,
-                                  size_t q, const double *o, int first, double f[3], double t[3])
+                                  size_t q, const double *o, const double *mr, int first,
+                                  double f[3], double t[3])
 {
     double n[3], li, lj;
     if (c->geometry) {
@@ -730,27 +711,37 @@ static inline void add_from_force(const sinter_contact_list *c, const sinter_par
     const double l = first ? li : lj;
     for (int d = 0; d < 3; ++d) {
         f[d] = first ? f[d] + o[d] : f[d] - o[d];
-        t[d] += l * m[d];
+        if (mr == NULL)
+            t[d] += l * m[d];
+        else /* with the rolling moment, + mr on i and - mr on j, as blk_law adds it */
+            t[d] += first ? l * m[d] + mr[d] : l * m[d] - mr[d];
     }
 }
 
 /*
- * Without rolling resistance, on a partitioned list (contact/chunks.h): the ranges of a
- * fixed partition in parallel, each adding its interior contacts, then the boundary contacts
- * in list order. The partition depends on the list only, so any number of threads (one too)
- * gives the same bits. With `final`, e->range_final for each range at the end of the region.
+ * A partitioned list (contact/chunks.h): the ranges of a fixed partition in parallel, each
+ * adding its interior contacts, then the boundary contacts in list order. The partition
+ * depends on the list only, so any number of threads (one too) gives the same bits. With
+ * `final`, e->range_final for each range at the end of the region.
  */
 static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
-                                const pair_consts *single, size_t *ended, wall_job *walls,
-                                int final)
+                                const pair_consts *single, int rolling, size_t *ended,
+                                wall_job *walls, int final)
 {
     const sinter_contact_list *c = e->pp;
     double *force = e->force, *torque = e->torque;
     const int threads = sinter_threads(e->ctx);
     const sinter_chunks ch = c->chunks;
-    /* room for every contact to be a boundary one (the list's scratch) */
+    /* room for every contact to be a boundary one (the list's scratch), and for their rolling
+     * moments */
     double *bout = c->chunk_scratch;
     uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
+    double *bmr = NULL;
+    if (rolling) {
+        bmr = sinter_alloc(e->ctx, (3 * c->count + 1) * sizeof(double));
+        if (bmr == NULL)
+            return SINTER_ERR_NOMEM;
+    }
     size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
     uint32_t reach[SINTER_CHUNKS_MAX];
     sinter_range_flags interior_done;
@@ -760,8 +751,9 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
 #pragma omp for schedule(static) nowait
         for (int s = 0; s < ch.count; ++s) {
             first_ended[s] = SIZE_MAX;
-            boundary[s] = pp_blocks(e, k, single, 0, ch.qlo[s], ch.qlo[s + 1], &ch, s,
-                                    bq + ch.qlo[s], bout + 3 * ch.qlo[s], &reach[s],
+            boundary[s] = pp_blocks(e, k, single, rolling, ch.qlo[s], ch.qlo[s + 1], &ch, s,
+                                    bq + ch.qlo[s], bout + 3 * ch.qlo[s],
+                                    rolling ? bmr + 3 * ch.qlo[s] : NULL, &reach[s],
                                     &first_ended[s]);
             sinter_range_flags_set(&interior_done, s);
         }
@@ -796,7 +788,8 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                             continue;
                         double f[3] = {force[3 * p], force[3 * p + 1], force[3 * p + 2]};
                         double t[3] = {torque[3 * p], torque[3 * p + 1], torque[3 * p + 2]};
-                        add_from_force(c, e->ps, q, bout + 3 * b, end == 0, f, t);
+                        add_from_force(c, e->ps, q, bout + 3 * b, rolling ? bmr + 3 * b : NULL,
+                                       end == 0, f, t);
                         for (int d = 0; d < 3; ++d)
                             force[3 * p + d] = f[d], torque[3 * p + d] = t[d];
                     }
@@ -806,7 +799,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
         if (walls != NULL) {
 #pragma omp for schedule(static) nowait
             for (int r = 0; r < ch.count; ++r)
-                pw_run(e, k, walls, r, 0);
+                pw_run(e, k, walls, r, rolling);
         }
         /* range r's particles have all their forces now (its interior and boundary contacts
          * and walls, after the interior pass of ranges 0 .. r): e->range_final there */
@@ -818,73 +811,21 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     }
     for (int s = 0; s < ch.count; ++s)
         *ended = first_ended[s] < *ended ? first_ended[s] : *ended;
+    sinter_free(e->ctx, bmr);
     return SINTER_OK;
 }
 
-/* Pair contacts; with `walls` (rolling off, a partitioned list, wall runs aligned with its
- * ranges) the wall contacts too, in the same parallel region (pp_chunked). */
+/* Pair contacts; with `walls` (a partitioned list, wall runs aligned with its ranges) the wall
+ * contacts too, in the same parallel region (pp_chunked). */
 static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int rolling,
                              size_t *ended, wall_job *walls, int final)
 {
     const sinter_contact_list *c = e->pp;
-    double *force = e->force, *torque = e->torque;
     const pair_consts *single = !k->softening && k->rows == 1 ? &k->table[0] : NULL;
-    if (!rolling && c->chunks.count > 0)
-        return pp_chunked(e, k, single, ended, walls, final);
-    /* Without rolling resistance and a partition (a list of fewer than 2048 pairs): one
-     * thread, in list order. With rolling, the two-phase path pays
-     * only with enough contacts per particle (measured: with 0.37 per particle it is slower
-     * than one thread); both paths give the same bits. */
-    const int threads =
-        !rolling || c->count < 2048 || c->count < c->particle_count || c->adj_start == NULL
-            ? 1
-            : sinter_threads(e->ctx);
-    if (threads <= 1) {
-        (void)pp_blocks(e, k, single, rolling, 0, c->count, NULL, 0, NULL, NULL, NULL, ended);
-        return SINTER_OK;
-    }
-    /*
-     * Rolling resistance, threads: (1) every contact's force and moments into a scratch
-     * array, in parallel; (2) every particle sums its contacts in ascending contact order, in
-     * parallel. The sums are done in the same order as the serial loop, from the same values,
-     * so the result does not depend on the number of threads.
-     */
-    double *out = sinter_alloc(e->ctx, 9 * c->count * sizeof(double));
-    if (out == NULL)
-        return SINTER_ERR_NOMEM;
-    const long count = (long)c->count;
-#pragma omp parallel num_threads(threads)
-    {
-        long lo = 0, hi = count;
-#ifdef _OPENMP
-        const long t = omp_get_thread_num(), nt = omp_get_num_threads();
-        lo = count * t / nt;
-        hi = count * (t + 1) / nt;
-#endif
-        pp_blocks_out(e, k, single, (size_t)lo, (size_t)hi, out);
-    }
-    const long particles = (long)c->particle_count;
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (long p = 0; p < particles; ++p) {
-        double f[3] = {force[3 * p], force[3 * p + 1], force[3 * p + 2]};
-        double t[3] = {torque[3 * p], torque[3 * p + 1], torque[3 * p + 2]};
-        for (uint32_t a = c->adj_start[p]; a < c->adj_start[p + 1]; ++a) {
-            const uint32_t q = c->pair_to_contact[c->adj_pair[a]];
-            if (q == SINTER_NO_PAIR)
-                continue;
-            const double *o = out + 9 * (size_t)q;
-            const int first = c->i[q] == (uint32_t)p;
-            for (int d = 0; d < 3; ++d) {
-                f[d] = first ? f[d] + o[d] : f[d] - o[d];
-                t[d] += first ? o[3 + d] : o[6 + d];
-            }
-        }
-        for (int d = 0; d < 3; ++d) {
-            force[3 * p + d] = f[d];
-            torque[3 * p + d] = t[d];
-        }
-    }
-    sinter_free(e->ctx, out);
+    if (c->chunks.count > 0)
+        return pp_chunked(e, k, single, rolling, ended, walls, final);
+    /* Without a partition (a list of fewer than 2048 pairs): one thread, in list order. */
+    (void)pp_blocks(e, k, single, rolling, 0, c->count, NULL, 0, NULL, NULL, NULL, NULL, ended);
     return SINTER_OK;
 }
 
@@ -1001,18 +942,16 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     wall_job walls;
     if (e->walls != NULL)
         plan_walls(e, &k, &walls);
-    const int with_pairs = e->walls != NULL && !rolling && walls.aligned; /* aligned: partitioned */
+    const int with_pairs = e->walls != NULL && walls.aligned; /* aligned: partitioned */
     /* the forces are final by ranges in pp_chunked's region when every wall contact is
-     * evaluated there too (eval_pp takes it without rolling, on a partitioned list) */
-    const int final = e->range_final != NULL && !rolling && e->pp->chunks.count > 0 &&
-                      (e->walls == NULL || with_pairs);
-    sinter_status st = rolling
-                           ? eval_pp(e, &k, 1, &e->pp_ended, NULL, 0)
-                           : eval_pp(e, &k, 0, &e->pp_ended, with_pairs ? &walls : NULL, final);
+     * evaluated there too (eval_pp takes it on a partitioned list) */
+    const int final =
+        e->range_final != NULL && e->pp->chunks.count > 0 && (e->walls == NULL || with_pairs);
+    sinter_status st = eval_pp(e, &k, rolling, &e->pp_ended, with_pairs ? &walls : NULL, final);
     e->ranges_final = final && st == SINTER_OK;
     if (st == SINTER_OK && e->walls != NULL) {
         if (rolling)
-            eval_pw(e, &k, 1, &walls, 0);
+            eval_pw(e, &k, 1, &walls, with_pairs);
         else
             eval_pw(e, &k, 0, &walls, with_pairs);
     }
@@ -1026,16 +965,20 @@ static size_t hertz_mindlin_history(const sinter_force_model *fm, int wall)
     return fm->param[PARAM_ROLLING] != 0.0 ? 6 : 3;
 }
 
-/* Without rolling resistance the blocked law forms the geometry from the centres. */
+/* The blocked law forms the geometry from the centres (blk_geometry) ... */
 static int hertz_mindlin_reads_geometry(const sinter_force_model *fm, size_t width)
 {
-    return fm->param[PARAM_ROLLING] != 0.0 && width == 6;
+    (void)fm;
+    (void)width;
+    return 0;
 }
 
-/* ... and tests each contact as the search does (blk_geometry), skipping ended ones. */
+/* ... and tests each contact as the search does, skipping ended ones. */
 static int hertz_mindlin_confirms_contacts(const sinter_force_model *fm, size_t width)
 {
-    return !hertz_mindlin_reads_geometry(fm, width);
+    (void)fm;
+    (void)width;
+    return 1;
 }
 
 const sinter_force_ops sinter_force_hertz_mindlin = {

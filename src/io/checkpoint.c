@@ -23,8 +23,12 @@
  * 3: a quasi-static section at the end (links, necks, plane conditions: stepper/qs_state.c);
  *    version 2 files are still read (they hold no quasi-static state)
  * 4: then the electric network's warm start (the potentials its next solve starts from:
- *    electric/network.c); versions 2 and 3 are still read (the next solve starts from 0) */
-#define CHECKPOINT_VERSION 4u
+ *    electric/network.c); versions 2 and 3 are still read (the next solve starts from 0)
+ * 5: then the particle ranges of the contact list's partition (contact/chunks.h), which the
+ *    first search over a pair list makes from the contacts of that moment and the later ones
+ *    keep: restored, the sums continue in the same order, bit for bit; earlier versions are
+ *    still read (the partition is made afresh, and sums may differ in the last bits) */
+#define CHECKPOINT_VERSION 5u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -170,6 +174,12 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
         st->electric != NULL ? sinter_electric_warm_potentials(st->electric, &warm_nodes) : NULL;
     put_u64(&w, warm_nodes);
     put(&w, warm, warm_nodes * sizeof(double));
+    /* the partition's particle ranges (version 5), when made over the pair list written */
+    const sinter_chunks *ch = &st->pp.chunks;
+    const int keep = ch->count > 0 && ch->source == st->nb.pp.build_id;
+    put_u64(&w, keep ? (uint64_t)ch->count : 0);
+    for (int k = 0; keep && k <= ch->count; ++k)
+        put_u64(&w, ch->plo[k]);
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -496,6 +506,18 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         else
             warm = take(&r, (size_t)warm_nodes * sizeof(double));
     }
+    const uint64_t ranges = version >= 5u ? take_u64(&r) : 0;
+    size_t plo[SINTER_CHUNKS_MAX + 1];
+    if (ranges > SINTER_CHUNKS_MAX || ranges == 1)
+        r.bad = 1;
+    for (uint64_t k = 0; k <= ranges && ranges > 0 && !r.bad; ++k) {
+        const uint64_t v = take_u64(&r);
+        /* ascending from 0 to the particle count */
+        if (v > n || (k == 0 && v != 0) || (k == ranges && v != n) || (k > 0 && v < plo[k - 1]))
+            r.bad = 1;
+        else
+            plo[k] = (size_t)v;
+    }
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -638,6 +660,11 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         L->build_id = sinter_unique_id();
     }
     nb->old_pp.count = nb->old_pw.count = 0;
+    /* the partition over the restored pairs: kept by the next search (contact/chunks.h) */
+    st->pp.chunks.count = (int)ranges;
+    st->pp.chunks.source = ranges > 0 ? nb->pp.build_id : 0;
+    for (uint64_t k = 0; k <= ranges && ranges > 0; ++k)
+        st->pp.chunks.plo[k] = plo[k];
     memcpy(nb->x_ref, x_ref, 3 * n * sizeof(double));
     memcpy(nb->wall_ref, wall_ref, nw * sizeof(double));
     nb->skin = skin;

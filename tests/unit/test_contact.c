@@ -348,10 +348,11 @@ static void test_partitioned_law_matches_hertz(void **state)
         }
 }
 
-/* A restart of the packed lattice with rolling resistance on 2 threads (the two-phase law,
- * which sums per particle over the pairs' adjacency) continues bit for bit in a fresh
- * stepper: the restored pair lists get their adjacency made for them (neighbors.c,
- * sinter_pairs_adjacency) although that stepper never built a list of its own. */
+/* A restart of the packed lattice with rolling resistance on 2 threads continues bit for bit
+ * in a fresh stepper: the checkpoint keeps the partition's particle ranges (contact/chunks.h),
+ * which the first search over a pair list made from the contacts of that moment; made afresh
+ * from the contacts at the restart, they moved boundary contacts between ranges and the
+ * sums' order with them (x differed in the last bits after 30 steps). */
 static void test_rolling_restart_on_threads(void **state)
 {
     (void)state;
@@ -373,7 +374,7 @@ static void test_rolling_restart_on_threads(void **state)
         OK(sinter_stepper_step(s.st, 30));
         sinter_stepper_stats stats = {.struct_size = sizeof(stats)};
         OK(sinter_stepper_get_stats(s.st, &stats));
-        assert_true(stats.contacts >= 2048 && stats.contacts >= N); /* the two-phase law */
+        assert_true(s.st->pp.chunks.count > 0); /* a partitioned list */
         double *out = run == 0 ? straight : restarted;
         memcpy(out, s.ps->x, 3 * N * sizeof(double));
         memcpy(out + 3 * N, s.ps->v, 3 * N * sizeof(double));
@@ -431,16 +432,24 @@ static void test_results_independent_of_thread_count(void **state)
  * and each wall contact's force on its particle is minus its share of the wall's reaction, so
  * after a step the particles' forces less gravity plus the walls' reactions must sum to zero,
  * to round-off (1e-12 of the largest reaction), on 1, 2 and 3 threads, in a packed lattice
- * pressed against a floor and four side walls (1125 wall contacts).
+ * pressed against a floor and four side walls (1125 wall contacts), without and with rolling
+ * resistance (a wall contact evaluated twice, as in a first version of the rolling law on a
+ * partitioned list, fails it).
  */
 static void test_partitioned_law_balances_walls(void **state)
 {
     (void)state;
     enum { N = 15 * 15 * 15 };
-    for (int t = 1; t <= 3; ++t) {
+    for (int run = 0; run < 6; ++run) {
+        const int t = 1 + run % 3, rolling = run >= 3;
         scene s;
         sinter_heat_model *cond = NULL;
-        open_packed(&s, t, 1, &cond); /* the blocked law: no rolling resistance */
+        open_packed(&s, t, !rolling, &cond); /* heat 1: no rolling resistance */
+        if (rolling) {
+            OK(sinter_material_set(s.wall_mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+            for (size_t k = 0; k < 5; ++k)
+                OK(sinter_walls_set_material(s.walls, k, s.wall_mat));
+        }
         double g[3];
         OK(sinter_force_model_get(s.gravity, "gx", &g[0]));
         OK(sinter_force_model_get(s.gravity, "gy", &g[1]));
@@ -566,7 +575,7 @@ static void run_colliding_cloud(int threads, int rolling, int gravity, double *o
         kicked_by_law += s.st->ranges_final;
     }
     assert_true(by_contact >= 250);
-    if (gravity == 2 && !rolling && sinter_threads_allowed(s.ctx) > 1) /* 1 without OpenMP */
+    if (gravity == 2 && sinter_threads_allowed(s.ctx) > 1) /* 1 without OpenMP */
         assert_true(kicked_by_law >= 250);
     else
         assert_int_equal(kicked_by_law, 0);
