@@ -1326,8 +1326,10 @@ SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double
  * Write the complete state of a stepper (time, step, particles, walls,
  * neighbour lists, contact history; for the quasi-static kind also its bonded
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
- * electric model the potentials its next solve starts from) to a versioned
- * binary file (format 4; formats 2 and 3 are still read) with a checksum.
+ * electric model the potentials its next solve starts from; the particle
+ * ranges its contact sums follow) to a versioned binary file (format 5;
+ * formats 2-4 are still read, and a run restored from them may differ from the
+ * straight run in the last bits) with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */
