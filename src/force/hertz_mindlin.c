@@ -355,6 +355,30 @@ HM_INLINE void blk_geometry(blk *restrict b)
 }
 
 /*
+ * A slider's return to its limit (eq. 13 for friction, eq. 17 for rolling), one lane: where
+ * `slipping`, the trial value (vx, vy, vz) = -k s - d u scaled by `scale` to the limit, and the
+ * spring s that gives it, -(g + d u) / k (0 where k = 0); elsewhere both kept. The same
+ * operations as contact_law's.
+ */
+HM_INLINE void slider_return(int slipping, double scale, double k, double d, double ux, double uy,
+                             double uz, double *vx, double *vy, double *vz, double *sx,
+                             double *sy, double *sz)
+{
+    const int stiff = k > 0.0;
+    const double inv_k = 1.0 / k; /* used only where k > 0 */
+    const double gx = *vx * scale, gy = *vy * scale, gz = *vz * scale;
+    const double qx = stiff ? -(gx + d * ux) * inv_k : 0.0;
+    const double qy = stiff ? -(gy + d * uy) * inv_k : 0.0;
+    const double qz = stiff ? -(gz + d * uz) * inv_k : 0.0;
+    *vx = slipping ? gx : *vx;
+    *vy = slipping ? gy : *vy;
+    *vz = slipping ? gz : *vz;
+    *sx = slipping ? qx : *sx;
+    *sy = slipping ? qy : *sy;
+    *sz = slipping ? qz : *sz;
+}
+
+/*
  * contact_law with the contact points' kinematics and the moments, lane by lane, in three
  * loops (five with `rolling`): the rare cases (a spring turned by more than ~1e-2 rad, Coulomb
  * slip, the rolling slider's limit) need a root and divisions that the common case does not,
@@ -429,24 +453,11 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
     int slips = 0;
     for (int a = 0; a < BLOCK; ++a)
         slips |= slip[a] != 0.0;
-    if (slips)
-        for (int a = 0; a < BLOCK; ++a) {
-            /* Slip (eq. 8, 13) */
-            const int slipping = slip[a] != 0.0;
-            const double scale = HM_C(mu_d, mud) * fabs_n[a] / sqrt(ft2[a]);
-            const int stiff = kt[a] > 0.0;
-            const double inv_kt = 1.0 / kt[a]; /* used only where kt > 0 */
-            const double gx = ftx[a] * scale, gy = fty[a] * scale, gz = ftz[a] * scale;
-            const double qx = stiff ? -(gx + dfric[a] * utx[a]) * inv_kt : 0.0;
-            const double qy = stiff ? -(gy + dfric[a] * uty[a]) * inv_kt : 0.0;
-            const double qz = stiff ? -(gz + dfric[a] * utz[a]) * inv_kt : 0.0;
-            ftx[a] = slipping ? gx : ftx[a];
-            fty[a] = slipping ? gy : fty[a];
-            ftz[a] = slipping ? gz : ftz[a];
-            b->sx[a] = slipping ? qx : b->sx[a];
-            b->sy[a] = slipping ? qy : b->sy[a];
-            b->sz[a] = slipping ? qz : b->sz[a];
-        }
+    if (slips) /* Slip (eq. 8, 13) */
+        for (int a = 0; a < BLOCK; ++a)
+            slider_return(slip[a] != 0.0, HM_C(mu_d, mud) * fabs_n[a] / sqrt(ft2[a]), kt[a],
+                          dfric[a], utx[a], uty[a], utz[a], &ftx[a], &fty[a], &ftz[a], &b->sx[a],
+                          &b->sy[a], &b->sz[a]);
     /* Rolling resistance (eq. 15-20): the moment on i, mr (-mr on j), and the new spring */
     double *restrict mrx = b->mrx, *restrict mry = b->mry, *restrict mrz = b->mrz;
     if (rolling) {
@@ -473,24 +484,11 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
         int rolls = 0;
         for (int a = 0; a < BLOCK; ++a)
             rolls |= rslip[a] != 0.0;
-        if (rolls)
-            for (int a = 0; a < BLOCK; ++a) {
-                /* the slider's limit mu_r r* |f_n| (eq. 17), the spring reset to match */
-                const int slipping = rslip[a] != 0.0;
-                const double scale = lim[a] / mlen[a];
-                const int stiff = kr[a] > 0.0;
-                const double inv_kr = 1.0 / kr[a]; /* used only where kr > 0 */
-                const double gx = mrx[a] * scale, gy = mry[a] * scale, gz = mrz[a] * scale;
-                const double qx = stiff ? -(gx + drol[a] * wrx[a]) * inv_kr : 0.0;
-                const double qy = stiff ? -(gy + drol[a] * wry[a]) * inv_kr : 0.0;
-                const double qz = stiff ? -(gz + drol[a] * wrz[a]) * inv_kr : 0.0;
-                mrx[a] = slipping ? gx : mrx[a];
-                mry[a] = slipping ? gy : mry[a];
-                mrz[a] = slipping ? gz : mrz[a];
-                b->thx[a] = slipping ? qx : b->thx[a];
-                b->thy[a] = slipping ? qy : b->thy[a];
-                b->thz[a] = slipping ? qz : b->thz[a];
-            }
+        if (rolls) /* the slider's limit mu_r r* |f_n| (eq. 17) */
+            for (int a = 0; a < BLOCK; ++a)
+                slider_return(rslip[a] != 0.0, lim[a] / mlen[a], kr[a], drol[a], wrx[a], wry[a],
+                              wrz[a], &mrx[a], &mry[a], &mrz[a], &b->thx[a], &b->thy[a],
+                              &b->thz[a]);
     }
     for (int a = 0; a < BLOCK; ++a) {
         const double nx = b->nx[a], ny = b->ny[a], nz = b->nz[a];
