@@ -947,12 +947,8 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
         e->range_final != NULL && e->pp->chunks.count > 0 && (e->walls == NULL || with_pairs);
     sinter_status st = eval_pp(e, &k, rolling, &e->pp_ended, with_pairs ? &walls : NULL, final);
     e->ranges_final = final && st == SINTER_OK;
-    if (st == SINTER_OK && e->walls != NULL) {
-        if (rolling)
-            eval_pw(e, &k, 1, &walls, with_pairs);
-        else
-            eval_pw(e, &k, 0, &walls, with_pairs);
-    }
+    if (st == SINTER_OK && e->walls != NULL)
+        eval_pw(e, &k, rolling, &walls, with_pairs);
     return st;
 }
 

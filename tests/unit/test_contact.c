@@ -206,6 +206,14 @@ static void conducting_scene(scene *s, int threads)
  * geometry, so the list is found lean and the law forms the geometry itself. */
 static void open_packed(scene *s, int threads, int heat, sinter_heat_model **cond);
 
+/* Positions, velocities and spins of the scene's n particles into out (9 n). */
+static void copy_motion(const scene *s, double *out, size_t n)
+{
+    memcpy(out, s->ps->x, 3 * n * sizeof(double));
+    memcpy(out + 3 * n, s->ps->v, 3 * n * sizeof(double));
+    memcpy(out + 6 * n, s->ps->w, 3 * n * sizeof(double));
+}
+
 static void run_packed(int threads, int heat, int reverse, double *out, size_t n)
 {
     scene s;
@@ -412,9 +420,7 @@ static void test_rolling_restart_on_threads(void **state)
         }
         OK(sinter_stepper_step(s.st, 30));
         assert_true(s.st->pp.chunks.count > 0); /* a partitioned list */
-        memcpy(out[run], s.ps->x, 3 * N * sizeof(double));
-        memcpy(out[run] + 3 * N, s.ps->v, 3 * N * sizeof(double));
-        memcpy(out[run] + 6 * N, s.ps->w, 3 * N * sizeof(double));
+        copy_motion(&s, out[run], N);
         scene_close(&s);
     }
     assert_true(ranges > 0);
@@ -636,9 +642,7 @@ static void run_colliding_cloud(int threads, int rolling, int gravity, double *o
     print_message("cloud: %d, %llu contacts, %llu builds\n", by_contact,
                   (unsigned long long)stats.contacts, (unsigned long long)stats.neighbor_builds);
     assert_true(stats.contacts > 200);
-    memcpy(out, s.ps->x, 3 * n * sizeof(double));
-    memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
-    memcpy(out + 6 * n, s.ps->w, 3 * n * sizeof(double));
+    copy_motion(&s, out, n);
     scene_close(&s);
 }
 
@@ -691,9 +695,7 @@ static void run_rolling_phases(int param, const double mu[3], double *out, size_
                 for (int d = 3; d < 6; ++d)
                     roll[phase] = fmax(roll[phase], fabs(h[k]->committed[6 * p + (size_t)d]));
     }
-    memcpy(out, s.ps->x, 3 * n * sizeof(double));
-    memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
-    memcpy(out + 6 * n, s.ps->w, 3 * n * sizeof(double));
+    copy_motion(&s, out, n);
     scene_close(&s);
 }
 
@@ -1313,9 +1315,7 @@ static void run_rattling(int threads, int heat, double skin, double *out, size_t
     assert_int_equal(s.st->forces[0].pp.by_pair, skin == 0.0);
     *confirmed = (int)s.st->law_confirmed;
     *dropped = (int)s.st->law_dropped;
-    memcpy(out, s.ps->x, 3 * n * sizeof(double));
-    memcpy(out + 3 * n, s.ps->v, 3 * n * sizeof(double));
-    memcpy(out + 6 * n, s.ps->w, 3 * n * sizeof(double));
+    copy_motion(&s, out, n);
     sinter_heat_model_destroy(cond);
     scene_close(&s);
 }
