@@ -2,6 +2,11 @@
 #include <math.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "contact/neighbors.h" /* sinter_threads */
 #include "core/clones.h"
 
 #include "bonded/block_ssor.h"
@@ -22,9 +27,20 @@ void sinter_block_ssor_release(sinter_block_ssor *m)
 }
 
 sinter_status sinter_block_ssor_layout(sinter_block_ssor *m, size_t n, const uint32_t *lower,
-                                       const uint32_t *upper, size_t count)
+                                       const uint32_t *upper, size_t count, size_t split_a,
+                                       size_t split_b)
 {
     sinter_ctx *ctx = m->ctx;
+    if (split_a > split_b || split_b > n)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "block SSOR: domains [0, %zu) and [%zu, %zu) of %zu particles", split_a,
+                           split_a, split_b, n);
+    for (size_t k = 0; k < count; ++k)
+        if (lower[k] < split_a && upper[k] >= split_a && upper[k] < split_b)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "block SSOR: link %zu joins particle %u of the first domain to "
+                               "particle %u of the second",
+                               k, (unsigned)lower[k], (unsigned)upper[k]);
     sinter_status st =
         sinter_grow(ctx, (void **)&m->diag, &m->diag_capacity, 36 * n + 1, sizeof(double));
     if (st == SINTER_OK)
@@ -35,6 +51,9 @@ sinter_status sinter_block_ssor_layout(sinter_block_ssor *m, size_t n, const uin
     if (st == SINTER_OK)
         st =
             sinter_grow(ctx, (void **)&m->row_start, &m->row_start_capacity, n + 2, sizeof(size_t));
+    if (st == SINTER_OK)
+        st =
+            sinter_grow(ctx, (void **)&m->row_cross, &m->row_cross_capacity, n + 1, sizeof(size_t));
     if (st == SINTER_OK)
         st =
             sinter_grow(ctx, (void **)&m->column, &m->column_capacity, count + 1, sizeof(uint32_t));
@@ -50,17 +69,27 @@ sinter_status sinter_block_ssor_layout(sinter_block_ssor *m, size_t n, const uin
     if (st != SINTER_OK)
         return st;
     m->n = n;
-    /* Counting sort by lower particle, links in their order within a row. */
+    m->split_a = split_a;
+    m->split_b = split_b;
+    /* Counting sort by lower particle; within a row the blocks into its own domain, then
+     * those into S, each in link order. */
     size_t *start = m->row_start;
     memset(start, 0, (n + 2) * sizeof(size_t));
     for (size_t k = 0; k < count; ++k) /* counts, two places up */
         ++start[lower[k] + 2];
     for (size_t p = 2; p <= n + 1; ++p)
         start[p] += start[p - 1];
-    for (size_t k = 0; k < count; ++k) { /* start[p + 1]: where p's next block goes */
-        const size_t e = start[lower[k] + 1]++;
-        m->column[e] = upper[k];
-        m->link_of[e] = (uint32_t)k;
+    for (int into_s = 0; into_s < 2; ++into_s) {
+        for (size_t k = 0; k < count; ++k) { /* start[p + 1]: where p's next block goes */
+            if ((upper[k] >= split_b) != into_s)
+                continue;
+            const size_t e = start[lower[k] + 1]++;
+            m->column[e] = upper[k];
+            m->link_of[e] = (uint32_t)k;
+        }
+        if (!into_s)
+            for (size_t p = 0; p < n; ++p)
+                m->row_cross[p] = start[p + 1];
     }
     return SINTER_OK;
 }
@@ -180,11 +209,11 @@ static inline void block_times(const double *restrict cols, const double *restri
 }
 #endif
 
-/* Backward sweep: x_p = D_p^-1 (v_p - sum_q>p U_pq x_q), x_q already in v's place. */
-SINTER_CLONES
-void sinter_block_ssor_upper_solve(const sinter_block_ssor *m, double *v)
+/* Backward sweep over particles [lo, hi): x_p = D_p^-1 (v_p - sum_q>p U_pq x_q), x_q already
+ * in v's place (every q > p of p's domain and of S is done before p). */
+static inline void backward_rows(const sinter_block_ssor *m, double *v, size_t lo, size_t hi)
 {
-    for (size_t p = m->n; p-- > 0;) {
+    for (size_t p = hi; p-- > lo;) {
         double acc[6], t[6];
         memcpy(acc, v + 6 * p, sizeof(acc));
         for (size_t e = m->row_start[p]; e < m->row_start[p + 1]; ++e) {
@@ -196,22 +225,57 @@ void sinter_block_ssor_upper_solve(const sinter_block_ssor *m, double *v)
     }
 }
 
-/* Forward sweep in push form: x_p = D_p^-1 v_p once every lower particle has subtracted its
- * L_pq x_q = U_qp^T x_q from v_p; then p subtracts its own from its upper neighbours. */
-SINTER_CLONES
-void sinter_block_ssor_lower_solve(const sinter_block_ssor *m, double *v)
+/* Push form of the forward sweep over particles [lo, hi): x_p = D_p^-1 v_p once every lower
+ * particle has subtracted its L_pq x_q = U_qp^T x_q from v_p; then p subtracts its own from its
+ * upper neighbours, through its blocks within its domain only (all of them: within_only 0, in
+ * S). */
+static inline void forward_rows(const sinter_block_ssor *m, double *v, size_t lo, size_t hi,
+                                int within_only)
 {
-    for (size_t p = 0; p < m->n; ++p) {
+    for (size_t p = lo; p < hi; ++p) {
         double x[6], t[6];
         block_times(m->diag_inv + 36 * p, v + 6 * p, x);
         memcpy(v + 6 * p, x, sizeof(x));
-        for (size_t e = m->row_start[p]; e < m->row_start[p + 1]; ++e) {
+        const size_t end = within_only ? m->row_cross[p] : m->row_start[p + 1];
+        for (size_t e = m->row_start[p]; e < end; ++e) {
             double *vq = v + 6 * (size_t)m->column[e];
             block_times(m->upper_rows + 36 * e, x, t);
             for (int r = 0; r < 6; ++r)
                 vq[r] -= t[r];
         }
     }
+}
+
+/* The forward sweep's pushes from the domains' particles, solved, into S, in particle order:
+ * each particle of S receives them in the order a sweep over all particles would give. */
+static inline void forward_cross(const sinter_block_ssor *m, double *v)
+{
+    for (size_t p = 0; p < m->split_b; ++p) {
+        const double *x = v + 6 * p;
+        for (size_t e = m->row_cross[p]; e < m->row_start[p + 1]; ++e) {
+            double *vq = v + 6 * (size_t)m->column[e], t[6];
+            block_times(m->upper_rows + 36 * e, x, t);
+            for (int r = 0; r < 6; ++r)
+                vq[r] -= t[r];
+        }
+    }
+}
+
+SINTER_CLONES
+void sinter_block_ssor_upper_solve(const sinter_block_ssor *m, double *v)
+{
+    backward_rows(m, v, m->split_b, m->n);
+    backward_rows(m, v, m->split_a, m->split_b);
+    backward_rows(m, v, 0, m->split_a);
+}
+
+SINTER_CLONES
+void sinter_block_ssor_lower_solve(const sinter_block_ssor *m, double *v)
+{
+    forward_rows(m, v, 0, m->split_a, 1);
+    forward_rows(m, v, m->split_a, m->split_b, 1);
+    forward_cross(m, v);
+    forward_rows(m, v, m->split_b, m->n, 0);
 }
 
 SINTER_CLONES
@@ -250,28 +314,109 @@ void sinter_block_ssor_multiply(const sinter_block_ssor *m, const double *x, dou
     }
 }
 
-SINTER_CLONES
-void sinter_block_ssor_diag_multiply(const sinter_block_ssor *m, const double *x, double *y)
+/* Particles below which one thread does the products alone: the two threads' meeting points
+ * cost about a microsecond, a sweep over so many particles about ten. */
+#define TWO_THREADS_FROM 256
+
+int sinter_block_ssor_threads(const sinter_block_ssor *m)
 {
-    for (size_t p = 0; p < m->n; ++p)
+#ifdef _OPENMP
+    if (m->n >= TWO_THREADS_FROM && m->split_a > 0 && m->split_b > m->split_a &&
+        sinter_threads(m->ctx) >= 2)
+        return 2;
+#endif
+    (void)m;
+    return 1;
+}
+
+SINTER_CLONES
+static void diag_rows(const sinter_block_ssor *m, const double *x, double *y, size_t lo, size_t hi)
+{
+    for (size_t p = lo; p < hi; ++p)
         block_times(m->diag + 36 * p, x + 6 * p, y + 6 * p);
 }
 
-/* K^ v = t + E^-1 (v - D t), t = E^-T v (block_ssor.h). */
-SINTER_CLONES
-void sinter_block_ssor_transformed(const sinter_block_ssor *m, const double *v, double *y)
+void sinter_block_ssor_diag_multiply(const sinter_block_ssor *m, const double *x, double *y)
 {
-    const size_t dofs = 6 * m->n;
-    double *s = m->work;
-    memcpy(y, v, dofs * sizeof(double));
-    sinter_block_ssor_upper_solve(m, y); /* y = t */
-    for (size_t p = 0; p < m->n; ++p) {
+    if (sinter_block_ssor_threads(m) == 2) {
+#pragma omp parallel num_threads(2)
+        {
+#ifdef _OPENMP
+            const int second = omp_get_thread_num() == 1;
+#else
+            const int second = 0;
+#endif
+            if (second)
+                diag_rows(m, x, y, m->split_a, m->split_b);
+            else
+                diag_rows(m, x, y, 0, m->split_a);
+        }
+    } else {
+        diag_rows(m, x, y, 0, m->split_b);
+    }
+    diag_rows(m, x, y, m->split_b, m->n);
+}
+
+/* Eisenstat's product on particles [lo, hi) up to the forward sweep's pushes into S:
+ * y = t = E^-T v there (the particles above them done), s = v - D t. */
+static inline void transformed_backward(const sinter_block_ssor *m, const double *v, double *y,
+                                        double *s, size_t lo, size_t hi)
+{
+    memcpy(y + 6 * lo, v + 6 * lo, 6 * (hi - lo) * sizeof(double));
+    backward_rows(m, y, lo, hi);
+    for (size_t p = lo; p < hi; ++p) {
         double dt[6];
         block_times(m->diag + 36 * p, y + 6 * p, dt);
         for (int r = 0; r < 6; ++r)
             s[6 * p + (size_t)r] = v[6 * p + (size_t)r] - dt[r];
     }
-    sinter_block_ssor_lower_solve(m, s);
-    for (size_t i = 0; i < dofs; ++i)
+}
+
+/* A domain [lo, hi) of Eisenstat's product after S's backward sweep: all of it. (Cloned on
+ * its own: the threads call it from outside sinter_block_ssor_transformed's clone.) */
+SINTER_CLONES
+static void transformed_domain(const sinter_block_ssor *m, const double *v, double *y, double *s,
+                               size_t lo, size_t hi)
+{
+    transformed_backward(m, v, y, s, lo, hi);
+    forward_rows(m, s, lo, hi, 1);
+    for (size_t i = 6 * lo; i < 6 * hi; ++i)
         y[i] += s[i];
+}
+
+/* S's end of Eisenstat's product, after both domains. */
+static inline void transformed_separator_end(const sinter_block_ssor *m, double *y, double *s)
+{
+    forward_cross(m, s);
+    forward_rows(m, s, m->split_b, m->n, 0);
+    for (size_t i = 6 * m->split_b; i < 6 * m->n; ++i)
+        y[i] += s[i];
+}
+
+/* K^ v = t + E^-1 (v - D t), t = E^-T v (block_ssor.h): S's backward sweep, then the two
+ * domains, each all the way (side by side on two threads), then S's forward sweep. */
+SINTER_CLONES
+void sinter_block_ssor_transformed(const sinter_block_ssor *m, const double *v, double *y)
+{
+    double *s = m->work;
+    const int threads = sinter_block_ssor_threads(m);
+    transformed_backward(m, v, y, s, m->split_b, m->n);
+    if (threads == 1) {
+        transformed_domain(m, v, y, s, 0, m->split_a);
+        transformed_domain(m, v, y, s, m->split_a, m->split_b);
+    } else {
+#pragma omp parallel num_threads(2)
+        {
+#ifdef _OPENMP
+            const int second = omp_get_thread_num() == 1;
+#else
+            const int second = 0;
+#endif
+            if (second)
+                transformed_domain(m, v, y, s, m->split_a, m->split_b);
+            else
+                transformed_domain(m, v, y, s, 0, m->split_a);
+        }
+    }
+    transformed_separator_end(m, y, s);
 }

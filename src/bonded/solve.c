@@ -27,6 +27,7 @@
 
 #include "bonded/beam.h"
 #include "bonded/block_ssor.h"
+#include "bonded/domain_order.h"
 
 /* Rounds of "PCG, then the true residual" before the solve gives up. */
 #define BONDED_SOLVE_ROUNDS 6
@@ -40,10 +41,15 @@ struct sinter_bonded_solver {
     sinter_ctx *ctx;
     sinter_pcg *pcg;
     sinter_block_ssor matrix;
+    /* The matrix, mask and vectors below are in the order of bonded/domain_order.h (two
+     * domains and their separator: the sweeps on two threads); f and u in the caller's. */
+    sinter_domain_order order;
     unsigned char *mask;     /* 1: constrained (user-fixed or without stiffness) */
-    uint32_t *lower, *upper; /* per link: its particles in index order */
+    uint32_t *lower, *upper; /* per link: its particles, lower first */
     double *residual;        /* 6 per particle */
-    size_t mask_capacity, lower_capacity, upper_capacity, residual_capacity;
+    double *load, *displacement; /* f and u, 6 per particle */
+    size_t mask_capacity, lower_capacity, upper_capacity, residual_capacity, load_capacity,
+        displacement_capacity;
 };
 
 void sinter_bonded_solver_destroy(sinter_bonded_solver *solver)
@@ -52,10 +58,13 @@ void sinter_bonded_solver_destroy(sinter_bonded_solver *solver)
         return;
     sinter_pcg_free(solver->pcg);
     sinter_block_ssor_release(&solver->matrix);
+    sinter_domain_order_release(&solver->order);
     sinter_free(solver->ctx, solver->mask);
     sinter_free(solver->ctx, solver->lower);
     sinter_free(solver->ctx, solver->upper);
     sinter_free(solver->ctx, solver->residual);
+    sinter_free(solver->ctx, solver->load);
+    sinter_free(solver->ctx, solver->displacement);
     sinter_free(solver->ctx, solver);
 }
 
@@ -68,6 +77,7 @@ sinter_status sinter_bonded_solver_create(sinter_bonded_solver **out, sinter_ctx
         return SINTER_ERR_NOMEM;
     s->ctx = ctx;
     s->matrix.ctx = ctx;
+    s->order.ctx = ctx;
     *out = s;
     return SINTER_OK;
 }
@@ -94,6 +104,11 @@ static sinter_status prepare(sinter_bonded_solver *s, size_t n, size_t count)
         st = sinter_grow(s->ctx, (void **)&s->residual, &s->residual_capacity, dofs + 1,
                          sizeof(double));
     if (st == SINTER_OK)
+        st = sinter_grow(s->ctx, (void **)&s->load, &s->load_capacity, dofs + 1, sizeof(double));
+    if (st == SINTER_OK)
+        st = sinter_grow(s->ctx, (void **)&s->displacement, &s->displacement_capacity, dofs + 1,
+                         sizeof(double));
+    if (st == SINTER_OK)
         st = sinter_grow(s->ctx, (void **)&s->lower, &s->lower_capacity, count + 1,
                          sizeof(uint32_t));
     if (st == SINTER_OK)
@@ -105,9 +120,9 @@ static sinter_status prepare(sinter_bonded_solver *s, size_t n, size_t count)
     return sinter_pcg_reserve(s->ctx, &s->pcg, dofs, maxl);
 }
 
-/* The blocks of P K P + I - P (eq. 40): each link's 12x12 stiffness adds its AA and BB blocks
- * to the diagonal and gives its coupling block; constrained rows and columns become those of
- * the identity. */
+/* The blocks of P K P + I - P (eq. 40) in the domains' order: each link's 12x12 stiffness adds
+ * its AA and BB blocks to the diagonal and gives its coupling block; constrained rows and
+ * columns become those of the identity. */
 static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_beam *links,
                               size_t count, const unsigned char *fixed)
 {
@@ -121,8 +136,18 @@ static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_be
         s->lower[k] = a_first ? links[k].a : links[k].b;
         s->upper[k] = a_first ? links[k].b : links[k].a;
     }
+    sinter_domain_order *o = &s->order;
+    sinter_status st = sinter_domain_order_make(o, n, s->lower, s->upper, count);
+    if (st != SINTER_OK)
+        return st;
+    const uint32_t *place = o->new_of_old;
+    for (size_t k = 0; k < count; ++k) {
+        const uint32_t a = place[links[k].a], b = place[links[k].b];
+        s->lower[k] = a < b ? a : b;
+        s->upper[k] = a < b ? b : a;
+    }
     sinter_block_ssor *m = &s->matrix;
-    sinter_status st = sinter_block_ssor_layout(m, n, s->lower, s->upper, count);
+    st = sinter_block_ssor_layout(m, n, s->lower, s->upper, count, o->split_a, o->split_b);
     if (st != SINTER_OK)
         return st;
     memset(m->diag, 0, 36 * n * sizeof(double));
@@ -131,19 +156,21 @@ static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_be
         const sinter_beam *l = &links[m->link_of[e]];
         double ke[144];
         sinter_beam_stiffness(l, ke);
-        const int a_first = l->a < l->b;
+        const size_t a = place[l->a], b = place[l->b];
+        const int a_first = a < b;
         double *u = m->upper_rows + 36 * e;
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c) {
-                m->diag[36 * (size_t)l->a + (size_t)(6 * r + c)] += ke[12 * r + c];
-                m->diag[36 * (size_t)l->b + (size_t)(6 * r + c)] += ke[12 * (r + 6) + c + 6];
+                m->diag[36 * a + (size_t)(6 * r + c)] += ke[12 * r + c];
+                m->diag[36 * b + (size_t)(6 * r + c)] += ke[12 * (r + 6) + c + 6];
                 /* U_pq, p the lower particle: K_AB if A is the lower one, else K_BA */
                 u[6 * r + c] = a_first ? ke[12 * r + c + 6] : ke[12 * (r + 6) + c];
             }
     }
     for (size_t i = 0; i < dofs; ++i) {
         const double diag = m->diag[36 * (i / 6) + 7 * (i % 6)];
-        s->mask[i] = (unsigned char)((fixed != NULL && fixed[i]) || !(diag > 0.0));
+        const size_t caller = 6 * (size_t)o->old_of_new[i / 6] + i % 6;
+        s->mask[i] = (unsigned char)((fixed != NULL && fixed[caller]) || !(diag > 0.0));
     }
     for (size_t p = 0; p < n; ++p) {
         double *blk = m->diag + 36 * p;
@@ -162,8 +189,8 @@ static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_be
     size_t singular = 0;
     if (sinter_block_ssor_finish(m, &singular) != 0)
         return sinter_fail(s->ctx, SINTER_ERR_NOT_CONVERGED,
-                           "bonded solve: the stiffness block of particle %zu is singular",
-                           singular);
+                           "bonded solve: the stiffness block of particle %u is singular",
+                           (unsigned)o->old_of_new[singular]);
     return SINTER_OK;
 }
 
@@ -201,10 +228,14 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
     const size_t dofs = 6 * n;
     const sinter_block_ssor *m = &s->matrix;
     double *b = sinter_pcg_rhs(s->pcg), *x = sinter_pcg_solution(s->pcg), *r = s->residual;
+    /* f and u in the domains' order (the original unknowns: un) */
+    double *fn = s->load, *un = s->displacement;
     for (size_t i = 0; i < dofs; ++i) {
-        u[i] = s->mask[i] || guess == NULL ? 0.0 : guess[i]; /* u: the original unknowns */
-        b[i] = s->mask[i] ? 0.0 : f[i];
+        const size_t caller = 6 * (size_t)s->order.old_of_new[i / 6] + i % 6;
+        un[i] = s->mask[i] || guess == NULL ? 0.0 : guess[caller];
+        fn[i] = s->mask[i] ? 0.0 : f[caller];
     }
+    memcpy(b, fn, dofs * sizeof(double));
     const double norm = norm2(b, dofs), target = rtol * norm;
     if (norm == 0.0) {
         memset(u, 0, dofs * sizeof(double));
@@ -215,7 +246,7 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
      * solves take 5 % fewer iterations and 12 of 1389 need a second round: RESULTS.md,
      * session 14.) */
     sinter_block_ssor_lower_solve(m, b);
-    sinter_block_ssor_upper_multiply(m, u, x);
+    sinter_block_ssor_upper_multiply(m, un, x);
     double target_hat = FIRST_TARGET_FACTOR * rtol * norm2(b, dofs), true_residual = HUGE_VAL,
            hat_residual = 0.0;
     int taken = 0, rc = 0, done = 0;
@@ -224,11 +255,11 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
         rc = sinter_pcg_solve(s->pcg, apply_transformed, precondition_transformed, s, target_hat,
                               &more, &hat_residual);
         taken += more;
-        memcpy(u, x, dofs * sizeof(double)); /* u = E^-T x^ */
-        sinter_block_ssor_upper_solve(m, u);
-        sinter_block_ssor_multiply(m, u, r);
+        memcpy(un, x, dofs * sizeof(double)); /* u = E^-T x^ */
+        sinter_block_ssor_upper_solve(m, un);
+        sinter_block_ssor_multiply(m, un, r);
         for (size_t i = 0; i < dofs; ++i)
-            r[i] = (s->mask[i] ? 0.0 : f[i]) - r[i];
+            r[i] = fn[i] - r[i];
         const double last = true_residual;
         true_residual = norm2(r, dofs);
         if (rc < 0 || !isfinite(true_residual))
@@ -245,13 +276,12 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
     }
     if (iterations)
         *iterations = taken;
+    for (size_t i = 0; i < dofs; ++i) /* back in the caller's order */
+        u[6 * (size_t)s->order.old_of_new[i / 6] + i % 6] = s->mask[i] ? 0.0 : un[i];
     if (!done)
         return sinter_fail(s->ctx, SINTER_ERR_NOT_CONVERGED,
                            "bonded solve: PCG returned %d after %d iterations (residual %g, "
                            "|f| %g) over %zu DOFs",
                            rc, taken, true_residual, norm, dofs);
-    for (size_t i = 0; i < dofs; ++i)
-        if (s->mask[i])
-            u[i] = 0.0;
     return SINTER_OK;
 }

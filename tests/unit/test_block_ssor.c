@@ -11,6 +11,7 @@
 
 #include "bonded/beam.h"
 #include "bonded/block_ssor.h"
+#include "bonded/domain_order.h"
 
 enum { N = 7, DOFS = 6 * N, LINKS = 9 };
 
@@ -22,15 +23,25 @@ static double next_uniform(uint64_t *s)
 }
 
 /* Links (lower, upper) of a connected graph on N particles, in an order that is not sorted. */
-static const uint32_t lower_of[LINKS] = {3, 0, 1, 0, 2, 4, 1, 5, 3};
-static const uint32_t upper_of[LINKS] = {6, 1, 2, 3, 5, 6, 4, 6, 4};
+static const uint32_t LOWER_OF[LINKS] = {3, 0, 1, 0, 2, 4, 1, 5, 3};
+static const uint32_t UPPER_OF[LINKS] = {6, 1, 2, 3, 5, 6, 4, 6, 4};
+
+/* The same graph in an order with two domains, A = {0, 1}, B = {2, 3, 4}, and the separator
+ * S = {5, 6}: no link between A and B. */
+static const uint32_t split_lower_of[LINKS] = {0, 0, 1, 2, 3, 1, 2, 4, 5};
+static const uint32_t split_upper_of[LINKS] = {1, 5, 6, 3, 4, 5, 6, 6, 6};
 
 /* Random symmetric positive-definite diagonal blocks (sum of the coupling blocks' magnitude
- * plus a margin on the diagonal) and random coupling blocks; dense K, E = D + L alongside. */
-static void build(sinter_block_ssor *m, double k[DOFS][DOFS], double e[DOFS][DOFS])
+ * plus a margin on the diagonal) and random coupling blocks; dense K, E = D + L alongside.
+ * split: the graph with two domains. */
+static void build(sinter_block_ssor *m, double k[DOFS][DOFS], double e[DOFS][DOFS], int split)
 {
     uint64_t seed = 12345;
-    assert_int_equal(sinter_block_ssor_layout(m, N, lower_of, upper_of, LINKS), SINTER_OK);
+    const uint32_t *lower_of = split ? split_lower_of : LOWER_OF,
+                   *upper_of = split ? split_upper_of : UPPER_OF;
+    assert_int_equal(
+        sinter_block_ssor_layout(m, N, lower_of, upper_of, LINKS, split ? 2 : 0, split ? 5 : 0),
+        SINTER_OK);
     memset(k, 0, sizeof(double) * DOFS * DOFS);
     const size_t blocks = m->row_start[N];
     assert_int_equal(blocks, LINKS);
@@ -90,16 +101,15 @@ static void assert_vectors_close(const double *a, const double *b, size_t n, dou
         assert_close(a[i], b[i], tol * scale);
 }
 
-static void test_sweeps_against_dense(void **state)
+static void sweeps_against_dense(int split)
 {
-    (void)state;
     sinter_ctx *ctx = NULL;
     assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
     sinter_block_ssor m;
     memset(&m, 0, sizeof(m));
     m.ctx = ctx;
     static double k[DOFS][DOFS], e[DOFS][DOFS];
-    build(&m, k, e);
+    build(&m, k, e, split);
     uint64_t seed = 777;
     double x[DOFS], y[DOFS], ref[DOFS], t[DOFS];
     for (size_t i = 0; i < DOFS; ++i)
@@ -137,33 +147,65 @@ static void test_sweeps_against_dense(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+static void test_sweeps_against_dense(void **state)
+{
+    (void)state;
+    sweeps_against_dense(0);
+    /* two domains: the sweeps take A and B apart and S last (first, backward), the forward
+     * sweep's pushes from A and B into S in a pass of their own */
+    sweeps_against_dense(1);
+}
+
+/* A link between the two domains is refused, and so are domains beyond the particles. */
+static void test_layout_refuses_linked_domains(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_block_ssor m;
+    memset(&m, 0, sizeof(m));
+    m.ctx = ctx;
+    /* B = [2, 6) would hold particle 5, which particles 0 and 1 link to */
+    assert_int_equal(sinter_block_ssor_layout(&m, N, split_lower_of, split_upper_of, LINKS, 2, 6),
+                     SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(ctx), "joins particle 0 of the first domain"));
+    assert_int_equal(sinter_block_ssor_layout(&m, N, split_lower_of, split_upper_of, LINKS, 3, 2),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_block_ssor_layout(&m, N, split_lower_of, split_upper_of, LINKS, 2, 5),
+                     SINTER_OK);
+    sinter_block_ssor_release(&m);
+    sinter_ctx_destroy(ctx);
+}
+
 /* A 4 x 4 x 3 simple cubic lattice of spheres, bonded to its neighbours by necks of random radii
  * rm in (centre +- spread) R and held on the principal planes as the quasi-static stepper holds
  * a packing. */
 enum { LX = 4, LY = 4, LZ = 3, NP = LX * LY * LZ };
 
-static size_t lattice_links(sinter_beam *links, double *x, double centre, double spread)
+/* An LX x LY x LZ lattice's links (at most 3 per particle) and positions (3 per particle). */
+static size_t lattice_links_of(int lx, int ly, int lz, sinter_beam *links, double *x, double centre,
+                               double spread)
 {
     const double r = 25e-6;
     uint64_t seed = 4242;
-    for (int i = 0; i < LX; ++i)
-        for (int j = 0; j < LY; ++j)
-            for (int l = 0; l < LZ; ++l) {
-                double *xp = x + 3 * (size_t)((i * LY + j) * LZ + l);
+    for (int i = 0; i < lx; ++i)
+        for (int j = 0; j < ly; ++j)
+            for (int l = 0; l < lz; ++l) {
+                double *xp = x + 3 * (size_t)((i * ly + j) * lz + l);
                 xp[0] = (2 * i + 1) * r * 0.98 + 0.5e-6 * next_uniform(&seed);
                 xp[1] = (2 * j + 1) * r * 0.98 + 0.5e-6 * next_uniform(&seed);
                 xp[2] = (2 * l + 1) * r * 0.98 + 0.5e-6 * next_uniform(&seed);
             }
     size_t count = 0;
-    for (int i = 0; i < LX; ++i)
-        for (int j = 0; j < LY; ++j)
-            for (int l = 0; l < LZ; ++l) {
-                const uint32_t a = (uint32_t)((i * LY + j) * LZ + l);
+    for (int i = 0; i < lx; ++i)
+        for (int j = 0; j < ly; ++j)
+            for (int l = 0; l < lz; ++l) {
+                const uint32_t a = (uint32_t)((i * ly + j) * lz + l);
                 const int next[3][3] = {{i + 1, j, l}, {i, j + 1, l}, {i, j, l + 1}};
                 for (int d = 0; d < 3; ++d) {
-                    if (next[d][0] >= LX || next[d][1] >= LY || next[d][2] >= LZ)
+                    if (next[d][0] >= lx || next[d][1] >= ly || next[d][2] >= lz)
                         continue;
-                    const uint32_t b = (uint32_t)((next[d][0] * LY + next[d][1]) * LZ + next[d][2]);
+                    const uint32_t b = (uint32_t)((next[d][0] * ly + next[d][1]) * lz + next[d][2]);
                     const double rm = (centre + spread * next_uniform(&seed)) * r;
                     /* alternate the link's direction so that both orientations are assembled */
                     const uint32_t first = count % 2 ? b : a, second = count % 2 ? a : b;
@@ -175,6 +217,11 @@ static size_t lattice_links(sinter_beam *links, double *x, double centre, double
                 }
             }
     return count;
+}
+
+static size_t lattice_links(sinter_beam *links, double *x, double centre, double spread)
+{
+    return lattice_links_of(LX, LY, LZ, links, x, centre, spread);
 }
 
 static void solve_lattice(double centre, double spread)
@@ -269,10 +316,142 @@ static void test_solve_refuses_bad_links(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/* The domains' order (bonded/domain_order.h) of `count` links: a permutation and its inverse,
+ * no link between the two domains, and (balanced) each domain at least min_domain of the n
+ * particles and the separator at most max_separator. */
+static void check_order(const sinter_domain_order *o, size_t n, const uint32_t *a,
+                        const uint32_t *b, size_t count, double min_domain, double max_separator)
+{
+    for (size_t p = 0; p < n; ++p) {
+        assert_true(o->new_of_old[p] < n);
+        assert_int_equal(o->old_of_new[o->new_of_old[p]], p);
+    }
+    assert_true(o->split_a <= o->split_b && o->split_b <= n);
+    for (size_t k = 0; k < count; ++k) {
+        const uint32_t pa = o->new_of_old[a[k]], pb = o->new_of_old[b[k]];
+        const int da = pa < o->split_a   ? 0
+                       : pa < o->split_b ? 1
+                                         : 2,
+                  db = pb < o->split_a   ? 0
+                       : pb < o->split_b ? 1
+                                         : 2;
+        assert_false((da == 0 && db == 1) || (da == 1 && db == 0));
+    }
+    const size_t in_b = o->split_b - o->split_a;
+    print_message("%zu particles, %zu links: domains of %zu and %zu, separator of %zu\n", n, count,
+                  o->split_a, in_b, n - o->split_b);
+    assert_true((double)o->split_a >= min_domain * (double)n);
+    assert_true((double)in_b >= min_domain * (double)n);
+    assert_true((double)(n - o->split_b) <= max_separator * (double)n);
+}
+
+/* The breadth-first levels of a 10 x 10 x 8 lattice, numbered in lattice order and then at
+ * random, and of two lattices beside isolated particles: two domains of over 40 % each and a
+ * separator of at most 12 % (a corner's level structure: the diagonal planes, the middle one
+ * of 64-70 particles of 800). */
+static void test_domain_order_separates(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    enum { BX = 10, BY = 10, BZ = 8, BN = BX * BY * BZ };
+    static sinter_beam links[3 * BN];
+    static double x[3 * BN];
+    static uint32_t a[6 * BN], b[6 * BN], label[2 * BN + 50];
+    const size_t count = lattice_links_of(BX, BY, BZ, links, x, 0.2, 0.1);
+    sinter_domain_order o;
+    memset(&o, 0, sizeof(o));
+    o.ctx = ctx;
+    for (int relabel = 0; relabel < 2; ++relabel) {
+        for (size_t p = 0; p < BN; ++p)
+            label[p] = (uint32_t)p;
+        uint64_t seed = 31;
+        for (size_t p = BN; relabel && p-- > 1;) { /* Fisher-Yates */
+            const size_t q =
+                (size_t)((next_uniform(&seed) + 1.0) * 0.5 * (double)(p + 1)) % (p + 1);
+            const uint32_t t = label[p];
+            label[p] = label[q];
+            label[q] = t;
+        }
+        for (size_t k = 0; k < count; ++k) {
+            a[k] = label[links[k].a];
+            b[k] = label[links[k].b];
+        }
+        assert_int_equal(sinter_domain_order_make(&o, BN, a, b, count), SINTER_OK);
+        check_order(&o, BN, a, b, count, 0.4, 0.12);
+    }
+    /* two lattices (the second one's particles after 50 isolated ones) */
+    for (size_t k = 0; k < count; ++k) {
+        a[k] = links[k].a;
+        b[k] = links[k].b;
+        a[count + k] = links[k].a + BN + 50;
+        b[count + k] = links[k].b + BN + 50;
+    }
+    assert_int_equal(sinter_domain_order_make(&o, 2 * BN + 50, a, b, 2 * count), SINTER_OK);
+    check_order(&o, 2 * BN + 50, a, b, 2 * count, 0.4, 0.12);
+    /* no links: one level, all of it the separator */
+    assert_int_equal(sinter_domain_order_make(&o, 5, a, b, 0), SINTER_OK);
+    check_order(&o, 5, a, b, 0, 0.0, 1.0);
+    assert_int_equal(o.split_b, 0);
+    sinter_domain_order_release(&o);
+    sinter_ctx_destroy(ctx);
+}
+
+/* The bonded solve of an 8 x 8 x 6 lattice (384 particles: two domains, swept side by side on
+ * two threads) gives the same bits on one thread and on two. */
+static void test_solve_same_on_threads(void **state)
+{
+    (void)state;
+    enum { TX = 8, TY = 8, TZ = 6, TN = TX * TY * TZ };
+    static sinter_beam links[3 * TN];
+    static double x[3 * TN], f[6 * TN], u[2][6 * TN];
+    static unsigned char fixed[6 * TN];
+    static uint32_t a[3 * TN], b[3 * TN];
+    const size_t count = lattice_links_of(TX, TY, TZ, links, x, 0.2, 0.1);
+    const double r = 25e-6;
+    for (size_t p = 0; p < TN; ++p)
+        for (int d = 0; d < 3; ++d)
+            fixed[6 * p + (size_t)d] = x[3 * p + (size_t)d] < 1.5 * r;
+    uint64_t seed = 5;
+    for (size_t i = 0; i < 6 * TN; ++i)
+        f[i] = 1e-3 * next_uniform(&seed);
+    int iterations[2] = {0, 0};
+    for (int threads = 1; threads <= 2; ++threads) {
+        sinter_ctx *ctx = NULL;
+        assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+        assert_int_equal(sinter_ctx_set_threads(ctx, threads), SINTER_OK);
+        sinter_bonded_solver *sv = NULL;
+        assert_int_equal(sinter_bonded_solver_create(&sv, ctx), SINTER_OK);
+        assert_int_equal(sinter_bonded_solve(sv, TN, links, count, fixed, f, u[threads - 1], 1e-9,
+                                             &iterations[threads - 1]),
+                         SINTER_OK);
+        if (threads == 1) { /* the order has two domains, so two threads do sweep */
+            sinter_domain_order o;
+            memset(&o, 0, sizeof(o));
+            o.ctx = ctx;
+            for (size_t k = 0; k < count; ++k) {
+                a[k] = links[k].a;
+                b[k] = links[k].b;
+            }
+            assert_int_equal(sinter_domain_order_make(&o, TN, a, b, count), SINTER_OK);
+            assert_true(o.split_a > 100 && o.split_b - o.split_a > 100);
+            sinter_domain_order_release(&o);
+        }
+        sinter_bonded_solver_destroy(sv);
+        sinter_ctx_destroy(ctx);
+    }
+    assert_true(iterations[0] > 0);
+    assert_int_equal(iterations[0], iterations[1]);
+    assert_memory_equal(u[0], u[1], sizeof(u[0]));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sweeps_against_dense),
+        cmocka_unit_test(test_layout_refuses_linked_domains),
+        cmocka_unit_test(test_domain_order_separates),
+        cmocka_unit_test(test_solve_same_on_threads),
         cmocka_unit_test(test_solve_meets_true_residual),
         cmocka_unit_test(test_solve_refuses_bad_links),
     };
