@@ -247,6 +247,8 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
      * session 14.) */
     sinter_block_ssor_lower_solve(m, b);
     sinter_block_ssor_upper_multiply(m, un, x);
+    /* PCG's vectors in the domains' parts, each on the thread that sweeps it */
+    sinter_pcg_set_parts(s->pcg, 6 * m->split_a, 6 * m->split_b, sinter_block_ssor_threads(m));
     double target_hat = FIRST_TARGET_FACTOR * rtol * norm2(b, dofs), true_residual = HUGE_VAL,
            hat_residual = 0.0;
     int taken = 0, rc = 0, done = 0;

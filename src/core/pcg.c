@@ -1,4 +1,8 @@
 /* SUNDIALS PCG behind a small matrix-free interface (see pcg.h). */
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_pcg.h>
@@ -17,7 +21,15 @@ struct sinter_pcg {
     /* the operator of the solve under way */
     sinter_pcg_operator apply, precondition;
     void *data;
+    /* the unknowns in three parts [0, part_a), [part_a, part_b), [part_b, n) (both 0: one);
+     * part_threads 2: the second part on a second thread */
+    size_t part_a, part_b;
+    int part_threads;
 };
+
+/* The solve under way on this thread: SUNDIALS calls the vector operations below without a
+ * way to reach it. */
+static _Thread_local const sinter_pcg *active_solve;
 
 void sinter_pcg_free(sinter_pcg *pcg)
 {
@@ -67,23 +79,78 @@ void sinter_pcg_linear_sum(double a, const double *x, double b, const double *y,
         z[i] = a * x[i] + b * y[i];
 }
 
+static void scale(double c, const double *x, double *z, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+        z[i] = c * x[i];
+}
+
+/* The three parts of a solve with parts (sinter_pcg_set_parts): the operation `op` on each,
+ * the second on the second thread when there are two. Each part's result is the same on one
+ * thread or two. */
+enum part_op { PART_DOT, PART_LINEAR_SUM, PART_SCALE };
+
+static void part_run(enum part_op op, double a, const double *x, double b, const double *y,
+                     double *z, size_t lo, size_t hi, double *dot)
+{
+    if (op == PART_DOT)
+        *dot = sinter_pcg_dot(x + lo, y + lo, hi - lo);
+    else if (op == PART_LINEAR_SUM)
+        sinter_pcg_linear_sum(a, x + lo, b, y + lo, z + lo, hi - lo);
+    else
+        scale(a, x + lo, z + lo, hi - lo);
+}
+
+static double parts_run(const sinter_pcg *p, enum part_op op, double a, const double *x, double b,
+                        const double *y, double *z)
+{
+    double dot[3] = {0.0, 0.0, 0.0};
+    if (p->part_threads == 2) {
+#pragma omp parallel num_threads(2)
+        {
+#ifdef _OPENMP
+            const int second = omp_get_thread_num() == 1;
+#else
+            const int second = 0;
+#endif
+            if (second)
+                part_run(op, a, x, b, y, z, p->part_a, p->part_b, &dot[1]);
+            else
+                part_run(op, a, x, b, y, z, 0, p->part_a, &dot[0]);
+        }
+    } else {
+        part_run(op, a, x, b, y, z, 0, p->part_a, &dot[0]);
+        part_run(op, a, x, b, y, z, p->part_a, p->part_b, &dot[1]);
+    }
+    part_run(op, a, x, b, y, z, p->part_b, p->n, &dot[2]);
+    return (dot[0] + dot[1]) + dot[2];
+}
+
 static realtype dot_op(N_Vector x, N_Vector y)
 {
+    const sinter_pcg *p = active_solve;
+    if (p != NULL && p->part_b > 0)
+        return parts_run(p, PART_DOT, 0.0, NV_DATA_S(x), 0.0, NV_DATA_S(y), NULL);
     return sinter_pcg_dot(NV_DATA_S(x), NV_DATA_S(y), (size_t)NV_LENGTH_S(x));
 }
 
 static void linear_sum_op(realtype a, N_Vector x, realtype b, N_Vector y, N_Vector z)
 {
-    sinter_pcg_linear_sum(a, NV_DATA_S(x), b, NV_DATA_S(y), NV_DATA_S(z), (size_t)NV_LENGTH_S(z));
+    const sinter_pcg *p = active_solve;
+    if (p != NULL && p->part_b > 0)
+        parts_run(p, PART_LINEAR_SUM, a, NV_DATA_S(x), b, NV_DATA_S(y), NV_DATA_S(z));
+    else
+        sinter_pcg_linear_sum(a, NV_DATA_S(x), b, NV_DATA_S(y), NV_DATA_S(z),
+                              (size_t)NV_LENGTH_S(z));
 }
 
 static void scale_op(realtype c, N_Vector x, N_Vector z)
 {
-    const double *xs = NV_DATA_S(x);
-    double *zs = NV_DATA_S(z);
-    const size_t n = (size_t)NV_LENGTH_S(z);
-    for (size_t i = 0; i < n; ++i)
-        zs[i] = c * xs[i];
+    const sinter_pcg *p = active_solve;
+    if (p != NULL && p->part_b > 0)
+        parts_run(p, PART_SCALE, c, NV_DATA_S(x), 0.0, NULL, NV_DATA_S(z));
+    else
+        scale(c, NV_DATA_S(x), NV_DATA_S(z), (size_t)NV_LENGTH_S(z));
 }
 
 static int apply_trampoline(void *data, N_Vector v, N_Vector z)
@@ -150,13 +217,27 @@ double *sinter_pcg_solution(sinter_pcg *pcg)
     return N_VGetArrayPointer(pcg->x);
 }
 
+void sinter_pcg_set_parts(sinter_pcg *pcg, size_t a, size_t b, int threads)
+{
+    const int valid = a <= b && b <= pcg->n;
+    pcg->part_a = valid ? a : 0;
+    pcg->part_b = valid ? b : 0;
+    pcg->part_threads = valid && threads >= 2 && a > 0 && b > a ? 2 : 1;
+#ifndef _OPENMP
+    pcg->part_threads = 1;
+#endif
+}
+
 int sinter_pcg_solve(sinter_pcg *pcg, sinter_pcg_operator apply, sinter_pcg_operator precondition,
                      void *data, double tol, int *iterations, double *residual)
 {
     pcg->apply = apply;
     pcg->precondition = precondition;
     pcg->data = data;
+    const sinter_pcg *outer = active_solve;
+    active_solve = pcg;
     const int rc = SUNLinSolSolve(pcg->solver, NULL, pcg->x, pcg->b, tol);
+    active_solve = outer;
     if (iterations)
         *iterations = SUNLinSolNumIters(pcg->solver);
     if (residual)

@@ -22,6 +22,16 @@ double *sinter_pcg_rhs(sinter_pcg *pcg);
 double *sinter_pcg_solution(sinter_pcg *pcg);
 
 /*
+ * Split the unknowns into three parts, [0, a), [a, b) and [b, n), for the solver's vector
+ * operations (dot products summed part by part, then joined as (first + second) + third), with
+ * the second part on a second thread when `threads` is 2 and the first two are not empty: an
+ * operator that owns the parts the same way (the bonded solve's domains, bonded/block_ssor.h)
+ * keeps each part's vectors in one core's cache. The results do not depend on `threads`.
+ * b = 0 (the default): one part.
+ */
+void sinter_pcg_set_parts(sinter_pcg *pcg, size_t a, size_t b, int threads);
+
+/*
  * Solve A x = b until |b - A x|_2 <= tol, preconditioned by `precondition`.
  * Returns SUNDIALS' code (0: converged); *iterations and *residual (may be NULL) get the
  * iterations taken and the final residual norm.
