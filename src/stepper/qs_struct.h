@@ -19,6 +19,7 @@ struct sinter_qs {
     size_t keys_capacity;
     uint64_t *candidates; /* touching pairs found by the cell grid (qs_pairs.c) */
     size_t candidates_capacity;
+    sinter_qs_near near; /* the pairs within a skin, kept between searches (qs_pairs.c) */
     sinter_bonded_solver *solver;
     unsigned char *fixed; /* 6 per particle: principal-plane conditions (sec. 3.3) */
     double *f, *u;

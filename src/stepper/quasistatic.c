@@ -173,6 +173,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->links);
     sinter_free(ctx, qs->keys);
     sinter_free(ctx, qs->candidates);
+    sinter_qs_near_free(ctx, &qs->near);
     sinter_free(ctx, qs->origins);
     sinter_free(ctx, qs->fixed);
     sinter_free(ctx, qs->f);
@@ -363,8 +364,9 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
     const size_t before = qs->count;
     size_t found = 0;
     sinter_status found_status =
-        sinter_qs_touching_pairs(qs->ctx, n, p->x, p->radius, qs->opt.contact_tolerance,
-                                 &qs->candidates, &qs->candidates_capacity, &found);
+        sinter_qs_touching_pairs_near(qs->ctx, &qs->near, n, p->x, p->radius,
+                                      qs->opt.contact_tolerance, &qs->candidates,
+                                      &qs->candidates_capacity, &found, NULL);
     if (found_status != SINTER_OK)
         return found_status;
     for (size_t c = 0; c < found; ++c) {
@@ -636,6 +638,7 @@ sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
     qsort(qs->keys, kept, sizeof(uint64_t), sinter_qs_key_compare);
     sinter_free(qs->ctx, order);
     qs->particles = SIZE_MAX; /* detect the plane conditions again */
+    qs->near.valid = 0;       /* the kept pairs' indices are the old ones */
     return SINTER_OK;
 }
 

@@ -151,12 +151,39 @@ int sinter_qs_key_compare(const void *a, const void *b);
 
 /*
  * The touching pairs of n spheres (centre distance < (r_a + r_b)(1 + tolerance)) as sorted keys
- * a n + b with a < b, found with a cell grid (qs_pairs.c). *keys grows with sinter_grow.
+ * a n + b with a < b, found with a cell grid (qs_pairs.c); with margin > 0 [m] the pairs closer
+ * than (r_a + r_b)(1 + tolerance) + margin. *keys grows with sinter_grow.
  * Errors: SINTER_ERR_NOMEM, SINTER_ERR_INVALID (a non-finite position).
  */
 sinter_status sinter_qs_touching_pairs(sinter_ctx *ctx, size_t n, const double *x,
-                                       const double *radius, double tolerance, uint64_t **keys,
-                                       size_t *capacity, size_t *count);
+                                       const double *radius, double tolerance, double margin,
+                                       uint64_t **keys, size_t *capacity, size_t *count);
+
+/*
+ * The pairs within a margin (a skin) of touching, kept from one search to the next while no
+ * sphere has moved by more than 0.45 of the skin since it and no radius and no count changed:
+ * a pair that touches now was then closer than touching plus the skin. The quasi-static
+ * stepper's spheres move a small fraction of a radius a step, so the grid search runs once in
+ * many steps. valid 0: search at the next call.
+ */
+typedef struct sinter_qs_near {
+    uint64_t *keys; /* the pairs within the skin, sorted */
+    size_t count, keys_capacity;
+    double *x0, *r0; /* centres and radii at the search */
+    size_t x0_capacity, r0_capacity;
+    size_t n;
+    double tolerance, skin;
+    int valid;
+} sinter_qs_near;
+
+void sinter_qs_near_free(sinter_ctx *ctx, sinter_qs_near *near);
+
+/* What sinter_qs_touching_pairs gives (the same keys), from near's pairs when they are valid
+ * for the spheres; *searched (may be NULL) is 1 if the grid search ran. */
+sinter_status sinter_qs_touching_pairs_near(sinter_ctx *ctx, sinter_qs_near *near, size_t n,
+                                            const double *x, const double *radius,
+                                            double tolerance, uint64_t **keys, size_t *capacity,
+                                            size_t *count, int *searched);
 
 /*
  * Checkpoint state (qs_state.c): the bytes sinter_qs_state_save writes (links, plane

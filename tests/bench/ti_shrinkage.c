@@ -217,7 +217,7 @@ static void pairs(const char *scene_path, const char *pack_path, const schedule 
     const spheres pk = read_spheres(pack_path);
     uint64_t *keys = NULL;
     size_t cap = 0, found = 0;
-    CHECK(sinter_qs_touching_pairs(g_ctx, pk.n, pk.x, pk.r, 1e-9, &keys, &cap, &found));
+    CHECK(sinter_qs_touching_pairs(g_ctx, pk.n, pk.x, pk.r, 1e-9, 0.0, &keys, &cap, &found));
     double rmean_particles = 0.0;
     for (size_t i = 0; i < pk.n; ++i)
         rmean_particles += pk.r[i] / (double)pk.n;

@@ -904,7 +904,8 @@ static void test_qs_touching_pairs_grid(void **state)
     const double tol = 1e-9;
     uint64_t *keys = NULL;
     size_t cap = 0, count = 0, expected = 0;
-    assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, &keys, &cap, &count), SINTER_OK);
+    assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, 0.0, &keys, &cap, &count),
+                     SINTER_OK);
     for (size_t a = 0; a < N; ++a)
         for (size_t b = a + 1; b < N; ++b) {
             const double dx = x[3 * b] - x[3 * a], dy = x[3 * b + 1] - x[3 * a + 1],
@@ -920,10 +921,73 @@ static void test_qs_touching_pairs_grid(void **state)
     assert_true(count > N / 4); /* the set is dense enough for the test to mean something */
     assert_true(keys[0] == 1);  /* the exact touch 0-1 */
     x[7] = NAN;
-    assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, &keys, &cap, &count),
+    assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, 0.0, &keys, &cap, &count),
                      SINTER_ERR_INVALID);
     assert_int_equal(count, 0);
     sinter_free(ctx, keys);
+    sinter_ctx_destroy(ctx);
+}
+
+/* The kept pairs (sinter_qs_touching_pairs_near) give exactly the grid search's pairs while the
+ * spheres drift, up to 0.26 % of the largest diameter a step, in a pile packed closely enough that
+ * pairs come and go; the grid search runs again only every few steps, at once after a radius
+ * changes, and a non-finite position is still refused. */
+static void test_qs_near_pairs_follow_drift(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    enum { N = 500, STEPS = 120 };
+    static double x[3 * N], r[N], v[3 * N];
+    uint64_t rng = 777;
+    for (size_t i = 0; i < N; ++i) {
+        for (int d = 0; d < 3; ++d) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            x[3 * i + (size_t)d] = (double)(rng >> 11) / 9007199254740992.0 * 0.4e-3;
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            v[3 * i + (size_t)d] = ((double)(rng >> 11) / 9007199254740992.0 - 0.5) * 0.15e-6;
+        }
+        r[i] = 20e-6 + 5e-6 * (double)(i % 7) / 6.0;
+    }
+    const double tol = 1e-3;
+    sinter_qs_near near;
+    memset(&near, 0, sizeof(near));
+    uint64_t *keys = NULL, *expect = NULL;
+    size_t cap = 0, expect_cap = 0, count = 0, expect_count = 0;
+    int searches = 0, changes = 0;
+    size_t last = 0;
+    for (int step = 0; step < STEPS; ++step) {
+        if (step == STEPS / 2)
+            r[3] *= 1.01; /* a radius changes: the kept pairs no longer hold */
+        int searched = 0;
+        assert_int_equal(sinter_qs_touching_pairs_near(ctx, &near, N, x, r, tol, &keys, &cap,
+                                                       &count, &searched),
+                         SINTER_OK);
+        assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, 0.0, &expect, &expect_cap,
+                                                  &expect_count),
+                         SINTER_OK);
+        assert_int_equal(count, expect_count);
+        assert_memory_equal(keys, expect, count * sizeof(uint64_t));
+        searches += searched;
+        if (step == STEPS / 2)
+            assert_true(searched);
+        changes += step > 0 && count != last;
+        last = count;
+        for (size_t i = 0; i < 3 * N; ++i)
+            x[i] += v[i];
+    }
+    print_message("%d steps: %d grid searches, the pair count changed %d times (%zu pairs at "
+                  "the end)\n",
+                  STEPS, searches, changes, count);
+    assert_true(changes >= 10);                   /* pairs came and went */
+    assert_true(searches >= 3 && searches <= STEPS / 4); /* and the grid ran seldom */
+    x[7] = NAN;
+    assert_int_equal(sinter_qs_touching_pairs_near(ctx, &near, N, x, r, tol, &keys, &cap, &count,
+                                                   NULL),
+                     SINTER_ERR_INVALID);
+    sinter_qs_near_free(ctx, &near);
+    sinter_free(ctx, keys);
+    sinter_free(ctx, expect);
     sinter_ctx_destroy(ctx);
 }
 
@@ -946,6 +1010,7 @@ int main(void)
         cmocka_unit_test(test_qs_remap),
         cmocka_unit_test(test_qs_options),
         cmocka_unit_test(test_qs_touching_pairs_grid),
+        cmocka_unit_test(test_qs_near_pairs_follow_drift),
         cmocka_unit_test(test_qs_lattice),
         cmocka_unit_test(test_qs_floating_pair),
         cmocka_unit_test(test_qs_stepper_adapter),
