@@ -2,12 +2,9 @@
 #include <math.h>
 #include <string.h>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "contact/neighbors.h" /* sinter_threads */
 #include "core/clones.h"
+#include "core/two_parts.h"
 
 #include "bonded/block_ssor.h"
 
@@ -336,24 +333,31 @@ static void diag_rows(const sinter_block_ssor *m, const double *x, double *y, si
         block_times(m->diag + 36 * p, x + 6 * p, y + 6 * p);
 }
 
+/* A domain's share of a product (sinter_two_parts): domain A (which 0) or B (1). */
+typedef struct domain_work {
+    const sinter_block_ssor *m;
+    const double *v;
+    double *y, *s;
+} domain_work;
+
+static void domain_rows(const sinter_block_ssor *m, int which, size_t *lo, size_t *hi)
+{
+    *lo = which ? m->split_a : 0;
+    *hi = which ? m->split_b : m->split_a;
+}
+
+static void diag_part(void *data, int which)
+{
+    const domain_work *w = data;
+    size_t lo, hi;
+    domain_rows(w->m, which, &lo, &hi);
+    diag_rows(w->m, w->v, w->y, lo, hi);
+}
+
 void sinter_block_ssor_diag_multiply(const sinter_block_ssor *m, const double *x, double *y)
 {
-    if (sinter_block_ssor_threads(m) == 2) {
-#pragma omp parallel num_threads(2)
-        {
-#ifdef _OPENMP
-            const int second = omp_get_thread_num() == 1;
-#else
-            const int second = 0;
-#endif
-            if (second)
-                diag_rows(m, x, y, m->split_a, m->split_b);
-            else
-                diag_rows(m, x, y, 0, m->split_a);
-        }
-    } else {
-        diag_rows(m, x, y, 0, m->split_b);
-    }
+    domain_work w = {m, x, y, NULL};
+    sinter_two_parts(sinter_block_ssor_threads(m), diag_part, &w);
     diag_rows(m, x, y, m->split_b, m->n);
 }
 
@@ -384,6 +388,14 @@ static void transformed_domain(const sinter_block_ssor *m, const double *v, doub
         y[i] += s[i];
 }
 
+static void transformed_part(void *data, int which)
+{
+    const domain_work *w = data;
+    size_t lo, hi;
+    domain_rows(w->m, which, &lo, &hi);
+    transformed_domain(w->m, w->v, w->y, w->s, lo, hi);
+}
+
 /* S's end of Eisenstat's product, after both domains. */
 static inline void transformed_separator_end(const sinter_block_ssor *m, double *y, double *s)
 {
@@ -399,24 +411,8 @@ SINTER_CLONES
 void sinter_block_ssor_transformed(const sinter_block_ssor *m, const double *v, double *y)
 {
     double *s = m->work;
-    const int threads = sinter_block_ssor_threads(m);
     transformed_backward(m, v, y, s, m->split_b, m->n);
-    if (threads == 1) {
-        transformed_domain(m, v, y, s, 0, m->split_a);
-        transformed_domain(m, v, y, s, m->split_a, m->split_b);
-    } else {
-#pragma omp parallel num_threads(2)
-        {
-#ifdef _OPENMP
-            const int second = omp_get_thread_num() == 1;
-#else
-            const int second = 0;
-#endif
-            if (second)
-                transformed_domain(m, v, y, s, m->split_a, m->split_b);
-            else
-                transformed_domain(m, v, y, s, 0, m->split_a);
-        }
-    }
+    domain_work w = {m, v, y, s};
+    sinter_two_parts(sinter_block_ssor_threads(m), transformed_part, &w);
     transformed_separator_end(m, y, s);
 }

@@ -1,8 +1,4 @@
 /* SUNDIALS PCG behind a small matrix-free interface (see pcg.h). */
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_pcg.h>
@@ -10,6 +6,7 @@
 #include "pcg.h"
 
 #include "core/clones.h"
+#include "core/two_parts.h"
 
 struct sinter_pcg {
     sinter_ctx *ctx;
@@ -101,29 +98,30 @@ static void part_run(enum part_op op, double a, const double *x, double b, const
         scale(a, x + lo, z + lo, hi - lo);
 }
 
+/* The arguments of parts_run for sinter_two_parts. */
+typedef struct part_work {
+    const sinter_pcg *p;
+    enum part_op op;
+    double a, b;
+    const double *x, *y;
+    double *z;
+    double dot[3];
+} part_work;
+
+static void first_two_parts(void *data, int which)
+{
+    part_work *w = data;
+    const size_t lo = which ? w->p->part_a : 0, hi = which ? w->p->part_b : w->p->part_a;
+    part_run(w->op, w->a, w->x, w->b, w->y, w->z, lo, hi, &w->dot[which]);
+}
+
 static double parts_run(const sinter_pcg *p, enum part_op op, double a, const double *x, double b,
                         const double *y, double *z)
 {
-    double dot[3] = {0.0, 0.0, 0.0};
-    if (p->part_threads == 2) {
-#pragma omp parallel num_threads(2)
-        {
-#ifdef _OPENMP
-            const int second = omp_get_thread_num() == 1;
-#else
-            const int second = 0;
-#endif
-            if (second)
-                part_run(op, a, x, b, y, z, p->part_a, p->part_b, &dot[1]);
-            else
-                part_run(op, a, x, b, y, z, 0, p->part_a, &dot[0]);
-        }
-    } else {
-        part_run(op, a, x, b, y, z, 0, p->part_a, &dot[0]);
-        part_run(op, a, x, b, y, z, p->part_a, p->part_b, &dot[1]);
-    }
-    part_run(op, a, x, b, y, z, p->part_b, p->n, &dot[2]);
-    return (dot[0] + dot[1]) + dot[2];
+    part_work w = {p, op, a, b, x, y, z, {0.0, 0.0, 0.0}};
+    sinter_two_parts(p->part_threads, first_two_parts, &w);
+    part_run(op, a, x, b, y, z, p->part_b, p->n, &w.dot[2]);
+    return (w.dot[0] + w.dot[1]) + w.dot[2];
 }
 
 static realtype dot_op(N_Vector x, N_Vector y)
@@ -223,9 +221,6 @@ void sinter_pcg_set_parts(sinter_pcg *pcg, size_t a, size_t b, int threads)
     pcg->part_a = valid ? a : 0;
     pcg->part_b = valid ? b : 0;
     pcg->part_threads = valid && threads >= 2 && a > 0 && b > a ? 2 : 1;
-#ifndef _OPENMP
-    pcg->part_threads = 1;
-#endif
 }
 
 int sinter_pcg_solve(sinter_pcg *pcg, sinter_pcg_operator apply, sinter_pcg_operator precondition,
