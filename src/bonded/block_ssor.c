@@ -15,6 +15,7 @@ void sinter_block_ssor_release(sinter_block_ssor *m)
     sinter_free(m->ctx, m->diag);
     sinter_free(m->ctx, m->diag_inv);
     sinter_free(m->ctx, m->row_start);
+    sinter_free(m->ctx, m->row_cross);
     sinter_free(m->ctx, m->column);
     sinter_free(m->ctx, m->link_of);
     sinter_free(m->ctx, m->upper_rows);
