@@ -129,21 +129,20 @@ static int invert6(double m[36])
     return 0;
 }
 
-int sinter_block_ssor_finish(sinter_block_ssor *m, size_t *singular)
+/* Particles [lo, hi) of sinter_block_ssor_finish: their rows' blocks by columns and their
+ * diagonal blocks' inverses; the first singular one (SIZE_MAX: none). */
+static size_t finish_rows(sinter_block_ssor *m, size_t lo, size_t hi)
 {
-    const size_t blocks = m->row_start[m->n + 1];
-    for (size_t e = 0; e < blocks; ++e)
+    for (size_t e = m->row_start[lo]; e < m->row_start[hi]; ++e)
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c)
                 m->upper_cols[36 * e + (size_t)(6 * c + r)] =
                     m->upper_rows[36 * e + (size_t)(6 * r + c)];
-    for (size_t p = 0; p < m->n; ++p) {
+    for (size_t p = lo; p < hi; ++p) {
         double *inv = m->diag_inv + 36 * p;
         memcpy(inv, m->diag + 36 * p, 36 * sizeof(double));
-        if (invert6(inv) != 0) {
-            *singular = p;
-            return -1;
-        }
+        if (invert6(inv) != 0)
+            return p;
         /* D_p is symmetric; so is its inverse, up to rounding, which the kernels below rely on
          * (they read a symmetric block's rows as its columns). */
         for (int r = 0; r < 6; ++r)
@@ -152,7 +151,34 @@ int sinter_block_ssor_finish(sinter_block_ssor *m, size_t *singular)
                 inv[6 * r + c] = inv[6 * c + r] = mean;
             }
     }
-    return 0;
+    return SIZE_MAX;
+}
+
+/* sinter_block_ssor_finish's share of a domain (sinter_two_parts). */
+typedef struct finish_work {
+    sinter_block_ssor *m;
+    size_t singular[2];
+} finish_work;
+
+static void finish_part(void *data, int which)
+{
+    finish_work *w = data;
+    sinter_block_ssor *m = w->m;
+    w->singular[which] =
+        which ? finish_rows(m, m->split_a, m->split_b) : finish_rows(m, 0, m->split_a);
+}
+
+int sinter_block_ssor_finish(sinter_block_ssor *m, size_t *singular)
+{
+    finish_work w = {m, {SIZE_MAX, SIZE_MAX}};
+    sinter_two_parts(sinter_block_ssor_threads(m), finish_part, &w);
+    size_t first = w.singular[0] < w.singular[1] ? w.singular[0] : w.singular[1];
+    if (first == SIZE_MAX)
+        first = finish_rows(m, m->split_b, m->n);
+    if (first == SIZE_MAX)
+        return 0;
+    *singular = first;
+    return -1;
 }
 
 /*

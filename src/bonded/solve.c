@@ -28,6 +28,7 @@
 #include "bonded/beam.h"
 #include "bonded/block_ssor.h"
 #include "bonded/domain_order.h"
+#include "core/two_parts.h"
 
 /* Rounds of "PCG, then the true residual" before the solve gives up. */
 #define BONDED_SOLVE_ROUNDS 6
@@ -120,6 +121,70 @@ static sinter_status prepare(sinter_bonded_solver *s, size_t n, size_t count)
     return sinter_pcg_reserve(s->ctx, &s->pcg, dofs, maxl);
 }
 
+/* The stiffness blocks of one thread's share (sinter_two_parts over block_ssor.h's domains):
+ * part 1 owns B's particles, part 0 A's and S's. Each owner writes the coupling blocks of its
+ * rows and sums the diagonal blocks of its particles, each over its links in block order, as
+ * one thread would: part 1 takes B's rows, whose blocks touch only B and S (S's share left to
+ * part 0); part 0 A's rows, then the blocks from B's rows into S (their stiffness computed a
+ * second time, for S), then S's rows. */
+typedef struct assembly {
+    sinter_block_ssor *m;
+    const sinter_beam *links;
+    const uint32_t *place;
+} assembly;
+
+static int owns(const sinter_block_ssor *m, int which, size_t p)
+{
+    return (p >= m->split_a && p < m->split_b) == which;
+}
+
+static void stiffness_block(const assembly *w, int which, size_t e, int coupling)
+{
+    sinter_block_ssor *m = w->m;
+    const sinter_beam *l = &w->links[m->link_of[e]];
+    double ke[144];
+    sinter_beam_stiffness(l, ke);
+    const size_t a = w->place[l->a], b = w->place[l->b];
+    const int add_a = owns(m, which, a), add_b = owns(m, which, b), a_first = a < b;
+    double *u = m->upper_rows + 36 * e;
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) {
+            if (add_a)
+                m->diag[36 * a + (size_t)(6 * r + c)] += ke[12 * r + c];
+            if (add_b)
+                m->diag[36 * b + (size_t)(6 * r + c)] += ke[12 * (r + 6) + c + 6];
+            /* U_pq, p the lower particle: K_AB if A is the lower one, else K_BA */
+            if (coupling)
+                u[6 * r + c] = a_first ? ke[12 * r + c + 6] : ke[12 * (r + 6) + c];
+        }
+}
+
+static void assemble_part(void *data, int which)
+{
+    const assembly *w = data;
+    const sinter_block_ssor *m = w->m;
+    const size_t *row = m->row_start;
+    if (which) {
+        for (size_t e = row[m->split_a]; e < row[m->split_b]; ++e)
+            stiffness_block(w, 1, e, 1);
+        return;
+    }
+    for (size_t e = 0; e < row[m->split_a]; ++e)
+        stiffness_block(w, 0, e, 1);
+    for (size_t p = m->split_a; p < m->split_b; ++p)
+        for (size_t e = m->row_cross[p]; e < row[p + 1]; ++e)
+            stiffness_block(w, 0, e, 0);
+    for (size_t e = row[m->split_b]; e < row[m->n]; ++e)
+        stiffness_block(w, 0, e, 1);
+}
+
+/* 1 if particle p has a constrained DOF. */
+static int any_constrained(const unsigned char *mask, size_t p)
+{
+    const unsigned char *d = mask + 6 * p;
+    return d[0] | d[1] | d[2] | d[3] | d[4] | d[5];
+}
+
 /* The blocks of P K P + I - P (eq. 40) in the domains' order: each link's 12x12 stiffness adds
  * its AA and BB blocks to the diagonal and gives its coupling block; constrained rows and
  * columns become those of the identity. */
@@ -152,21 +217,8 @@ static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_be
         return st;
     memset(m->diag, 0, 36 * n * sizeof(double));
     const size_t blocks = m->row_start[n + 1];
-    for (size_t e = 0; e < blocks; ++e) {
-        const sinter_beam *l = &links[m->link_of[e]];
-        double ke[144];
-        sinter_beam_stiffness(l, ke);
-        const size_t a = place[l->a], b = place[l->b];
-        const int a_first = a < b;
-        double *u = m->upper_rows + 36 * e;
-        for (int r = 0; r < 6; ++r)
-            for (int c = 0; c < 6; ++c) {
-                m->diag[36 * a + (size_t)(6 * r + c)] += ke[12 * r + c];
-                m->diag[36 * b + (size_t)(6 * r + c)] += ke[12 * (r + 6) + c + 6];
-                /* U_pq, p the lower particle: K_AB if A is the lower one, else K_BA */
-                u[6 * r + c] = a_first ? ke[12 * r + c + 6] : ke[12 * (r + 6) + c];
-            }
-    }
+    assembly w = {m, links, place};
+    sinter_two_parts(sinter_block_ssor_threads(m), assemble_part, &w);
     for (size_t i = 0; i < dofs; ++i) {
         const double diag = m->diag[36 * (i / 6) + 7 * (i % 6)];
         const size_t caller = 6 * (size_t)o->old_of_new[i / 6] + i % 6;
@@ -181,6 +233,8 @@ static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_be
     }
     for (size_t e = 0; e < blocks; ++e) {
         const size_t p = s->lower[m->link_of[e]], q = m->column[e];
+        if (!any_constrained(s->mask, p) && !any_constrained(s->mask, q))
+            continue;
         for (int r = 0; r < 6; ++r)
             for (int c = 0; c < 6; ++c)
                 if (s->mask[6 * p + (size_t)r] || s->mask[6 * q + (size_t)c])
