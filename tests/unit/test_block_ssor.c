@@ -156,6 +156,31 @@ static void test_sweeps_against_dense(void **state)
     sweeps_against_dense(1);
 }
 
+/* A singular diagonal block is reported, the first in particle order, whichever domain or the
+ * separator holds it. */
+static void test_finish_reports_first_singular(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_block_ssor m;
+    memset(&m, 0, sizeof(m));
+    m.ctx = ctx;
+    static double k[DOFS][DOFS], e[DOFS][DOFS];
+    const size_t cases[3][2] = {{3, 6}, {6, 6}, {1, 3}}; /* zeroed blocks -> first: A {0, 1},
+                                                            B {2, 3, 4}, S {5, 6} */
+    for (int c = 0; c < 3; ++c) {
+        build(&m, k, e, 1);
+        for (int z = 0; z < 2; ++z)
+            memset(m.diag + 36 * cases[c][z], 0, 36 * sizeof(double));
+        size_t singular = 99;
+        assert_int_equal(sinter_block_ssor_finish(&m, &singular), -1);
+        assert_int_equal(singular, cases[c][0]);
+    }
+    sinter_block_ssor_release(&m);
+    sinter_ctx_destroy(ctx);
+}
+
 /* A link between the two domains is refused, and so are domains beyond the particles. */
 static void test_layout_refuses_linked_domains(void **state)
 {
@@ -450,6 +475,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sweeps_against_dense),
         cmocka_unit_test(test_layout_refuses_linked_domains),
+        cmocka_unit_test(test_finish_reports_first_singular),
         cmocka_unit_test(test_domain_order_separates),
         cmocka_unit_test(test_solve_same_on_threads),
         cmocka_unit_test(test_solve_meets_true_residual),
