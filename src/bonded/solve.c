@@ -178,6 +178,12 @@ static void assemble_part(void *data, int which)
         stiffness_block(w, 0, e, 1);
 }
 
+/* The caller's index of unknown i of the domains' order. */
+static size_t caller_dof(const sinter_domain_order *o, size_t i)
+{
+    return 6 * (size_t)o->old_of_new[i / 6] + i % 6;
+}
+
 /* 1 if particle p has a constrained DOF. */
 static int any_constrained(const unsigned char *mask, size_t p)
 {
@@ -221,8 +227,7 @@ static sinter_status assemble(sinter_bonded_solver *s, size_t n, const sinter_be
     sinter_two_parts(sinter_block_ssor_threads(m), assemble_part, &w);
     for (size_t i = 0; i < dofs; ++i) {
         const double diag = m->diag[36 * (i / 6) + 7 * (i % 6)];
-        const size_t caller = 6 * (size_t)o->old_of_new[i / 6] + i % 6;
-        s->mask[i] = (unsigned char)((fixed != NULL && fixed[caller]) || !(diag > 0.0));
+        s->mask[i] = (unsigned char)((fixed != NULL && fixed[caller_dof(o, i)]) || !(diag > 0.0));
     }
     for (size_t p = 0; p < n; ++p) {
         double *blk = m->diag + 36 * p;
@@ -285,7 +290,7 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
     /* f and u in the domains' order (the original unknowns: un) */
     double *fn = s->load, *un = s->displacement;
     for (size_t i = 0; i < dofs; ++i) {
-        const size_t caller = 6 * (size_t)s->order.old_of_new[i / 6] + i % 6;
+        const size_t caller = caller_dof(&s->order, i);
         un[i] = s->mask[i] || guess == NULL ? 0.0 : guess[caller];
         fn[i] = s->mask[i] ? 0.0 : f[caller];
     }
@@ -333,7 +338,7 @@ sinter_status sinter_bonded_solve_from(sinter_bonded_solver *solver, size_t n,
     if (iterations)
         *iterations = taken;
     for (size_t i = 0; i < dofs; ++i) /* back in the caller's order */
-        u[6 * (size_t)s->order.old_of_new[i / 6] + i % 6] = s->mask[i] ? 0.0 : un[i];
+        u[caller_dof(&s->order, i)] = s->mask[i] ? 0.0 : un[i];
     if (!done)
         return sinter_fail(s->ctx, SINTER_ERR_NOT_CONVERGED,
                            "bonded solve: PCG returned %d after %d iterations (residual %g, "

@@ -124,18 +124,25 @@ static double parts_run(const sinter_pcg *p, enum part_op op, double a, const do
     return (w.dot[0] + w.dot[1]) + w.dot[2];
 }
 
-static realtype dot_op(N_Vector x, N_Vector y)
+/* The solve under way if it has parts (sinter_pcg_set_parts), else NULL. */
+static const sinter_pcg *parted_solve(void)
 {
     const sinter_pcg *p = active_solve;
-    if (p != NULL && p->part_b > 0)
+    return p != NULL && p->part_b > 0 ? p : NULL;
+}
+
+static realtype dot_op(N_Vector x, N_Vector y)
+{
+    const sinter_pcg *p = parted_solve();
+    if (p != NULL)
         return parts_run(p, PART_DOT, 0.0, NV_DATA_S(x), 0.0, NV_DATA_S(y), NULL);
     return sinter_pcg_dot(NV_DATA_S(x), NV_DATA_S(y), (size_t)NV_LENGTH_S(x));
 }
 
 static void linear_sum_op(realtype a, N_Vector x, realtype b, N_Vector y, N_Vector z)
 {
-    const sinter_pcg *p = active_solve;
-    if (p != NULL && p->part_b > 0)
+    const sinter_pcg *p = parted_solve();
+    if (p != NULL)
         parts_run(p, PART_LINEAR_SUM, a, NV_DATA_S(x), b, NV_DATA_S(y), NV_DATA_S(z));
     else
         sinter_pcg_linear_sum(a, NV_DATA_S(x), b, NV_DATA_S(y), NV_DATA_S(z),
@@ -144,8 +151,8 @@ static void linear_sum_op(realtype a, N_Vector x, realtype b, N_Vector y, N_Vect
 
 static void scale_op(realtype c, N_Vector x, N_Vector z)
 {
-    const sinter_pcg *p = active_solve;
-    if (p != NULL && p->part_b > 0)
+    const sinter_pcg *p = parted_solve();
+    if (p != NULL)
         parts_run(p, PART_SCALE, c, NV_DATA_S(x), 0.0, NULL, NV_DATA_S(z));
     else
         scale(c, NV_DATA_S(x), NV_DATA_S(z), (size_t)NV_LENGTH_S(z));

@@ -81,6 +81,14 @@ static void build(sinter_block_ssor *m, double k[DOFS][DOFS], double e[DOFS][DOF
     assert_int_equal(sinter_block_ssor_finish(m, &singular), 0);
 }
 
+/* A new context and an empty block matrix of it. */
+static void empty_matrix(sinter_ctx **ctx, sinter_block_ssor *m)
+{
+    assert_int_equal(sinter_ctx_create(ctx, NULL), SINTER_OK);
+    memset(m, 0, sizeof(*m));
+    m->ctx = *ctx;
+}
+
 static void dense_times(double a[DOFS][DOFS], const double *x, double *y, int transpose)
 {
     for (size_t i = 0; i < DOFS; ++i) {
@@ -104,10 +112,8 @@ static void assert_vectors_close(const double *a, const double *b, size_t n, dou
 static void sweeps_against_dense(int split)
 {
     sinter_ctx *ctx = NULL;
-    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
     sinter_block_ssor m;
-    memset(&m, 0, sizeof(m));
-    m.ctx = ctx;
+    empty_matrix(&ctx, &m);
     static double k[DOFS][DOFS], e[DOFS][DOFS];
     build(&m, k, e, split);
     uint64_t seed = 777;
@@ -162,10 +168,8 @@ static void test_finish_reports_first_singular(void **state)
 {
     (void)state;
     sinter_ctx *ctx = NULL;
-    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
     sinter_block_ssor m;
-    memset(&m, 0, sizeof(m));
-    m.ctx = ctx;
+    empty_matrix(&ctx, &m);
     static double k[DOFS][DOFS], e[DOFS][DOFS];
     const size_t cases[3][2] = {{3, 6}, {6, 6}, {1, 3}}; /* zeroed blocks -> first: A {0, 1},
                                                             B {2, 3, 4}, S {5, 6} */
@@ -186,10 +190,8 @@ static void test_layout_refuses_linked_domains(void **state)
 {
     (void)state;
     sinter_ctx *ctx = NULL;
-    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
     sinter_block_ssor m;
-    memset(&m, 0, sizeof(m));
-    m.ctx = ctx;
+    empty_matrix(&ctx, &m);
     /* B = [2, 6) would hold particle 5, which particles 0 and 1 link to */
     assert_int_equal(sinter_block_ssor_layout(&m, N, split_lower_of, split_upper_of, LINKS, 2, 6),
                      SINTER_ERR_INVALID);
