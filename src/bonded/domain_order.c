@@ -18,7 +18,7 @@ void sinter_domain_order_release(sinter_domain_order *o)
     sinter_free(o->ctx, o->adjacency);
     sinter_free(o->ctx, o->level);
     sinter_free(o->ctx, o->queue);
-    sinter_free(o->ctx, o->level_count);
+    sinter_free(o->ctx, o->level_work);
     memset(o, 0, sizeof(*o));
 }
 
@@ -41,7 +41,7 @@ static sinter_status reserve(sinter_domain_order *o, size_t n, size_t count)
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&o->queue, &o->queue_capacity, n + 1, sizeof(uint32_t));
     if (st == SINTER_OK)
-        st = sinter_grow(ctx, (void **)&o->level_count, &o->level_count_capacity, n + 1,
+        st = sinter_grow(ctx, (void **)&o->level_work, &o->level_work_capacity, 2 * (n + 1),
                          sizeof(size_t));
     return st;
 }
@@ -112,6 +112,24 @@ static size_t component_levels(sinter_domain_order *o, uint32_t root, uint32_t *
     return c;
 }
 
+/* The work of particle p in a sweep: its three diagonal-block products (backward sweep, D t,
+ * forward sweep) and about one coupling-block product per link (two per link, shared by its
+ * two particles), in block products. */
+static size_t work_of(const sinter_domain_order *o, uint32_t p)
+{
+    return 3 + degree(o, p);
+}
+
+/* 1 if particle p has a neighbour one level deeper: then, in the separating level, it must stay
+ * in S (B holds the deeper levels); without one it may join A. */
+static int has_deeper(const sinter_domain_order *o, uint32_t p)
+{
+    for (size_t e = o->adjacency_start[p]; e < o->adjacency_start[p + 1]; ++e)
+        if (o->level[o->adjacency[e]] == o->level[p] + 1)
+            return 1;
+    return 0;
+}
+
 sinter_status sinter_domain_order_make(sinter_domain_order *o, size_t n, const uint32_t *lower,
                                        const uint32_t *upper, size_t count)
 {
@@ -124,38 +142,50 @@ sinter_status sinter_domain_order_make(sinter_domain_order *o, size_t n, const u
     for (size_t p = 0, done = 0; p < n; ++p)
         if (o->level[p] == UNSET)
             done += component_levels(o, (uint32_t)p, o->queue + done);
-    /* The separating level L: the most even split of the rest (the smaller L on ties). */
-    size_t *per_level = o->level_count;
-    memset(per_level, 0, (n + 1) * sizeof(size_t));
-    size_t deepest = 0;
+    /* Per level: its work, and the work of its particles with a deeper neighbour (those that
+     * stay in S if the level separates; the others join A). */
+    size_t *level_work = o->level_work, *level_kept = o->level_work + (n + 1);
+    memset(level_work, 0, 2 * (n + 1) * sizeof(size_t));
+    size_t deepest = 0, total = 0;
     for (size_t p = 0; p < n; ++p) {
-        ++per_level[o->level[p]];
-        deepest = o->level[p] > deepest ? o->level[p] : deepest;
+        const uint32_t l = o->level[p];
+        const size_t w = work_of(o, (uint32_t)p);
+        level_work[l] += w;
+        level_kept[l] += has_deeper(o, (uint32_t)p) ? w : 0;
+        total += w;
+        deepest = l > deepest ? l : deepest;
     }
-    size_t below = 0, best_level = 0, best_smaller = 0;
-    for (size_t l = 0; l <= deepest; ++l) {
-        const size_t above = n - below - per_level[l];
-        const size_t smaller = below < above ? below : above;
-        if (smaller > best_smaller) {
-            best_smaller = smaller;
+    /* The separating level L: the least work on the sweeps' longest path, the larger
+     * domain's and then S's (alone), max(A, B) + S; the smaller L on ties. */
+    size_t below = 0, best_level = 0, best_path = SIZE_MAX;
+    for (size_t l = 0; n > 0 && l <= deepest; ++l) {
+        const size_t s = level_kept[l], a = below + level_work[l] - s,
+                     b = total - below - level_work[l];
+        const size_t path = (a > b ? a : b) + s;
+        if (path < best_path) {
+            best_path = path;
             best_level = l;
         }
-        below += per_level[l];
+        below += level_work[l];
     }
-    size_t in_a = 0, in_b = 0;
-    for (size_t l = 0; l <= deepest; ++l) {
-        in_a += l < best_level ? per_level[l] : 0;
-        in_b += l > best_level ? per_level[l] : 0;
+    /* A, B and S, each in breadth-first order; the part of each particle in new_of_old first */
+    size_t in_part[3] = {0, 0, 0};
+    for (size_t p = 0; p < n; ++p) {
+        const uint32_t l = o->level[p];
+        const uint32_t part = l < best_level               ? 0
+                              : l > best_level             ? 1
+                              : has_deeper(o, (uint32_t)p) ? 2
+                                                           : 0;
+        o->new_of_old[p] = part;
+        ++in_part[part];
     }
-    /* A, B and S, each in breadth-first order */
-    size_t next[3] = {0, in_a, in_a + in_b};
+    size_t next[3] = {0, in_part[0], in_part[0] + in_part[1]};
     for (size_t i = 0; i < n; ++i) {
-        const uint32_t p = o->queue[i];
-        const int part = o->level[p] < best_level ? 0 : o->level[p] > best_level ? 1 : 2;
+        const uint32_t p = o->queue[i], part = o->new_of_old[p];
         o->new_of_old[p] = (uint32_t)next[part];
         o->old_of_new[next[part]++] = p;
     }
-    o->split_a = in_a;
-    o->split_b = in_a + in_b;
+    o->split_a = in_part[0];
+    o->split_b = in_part[0] + in_part[1];
     return SINTER_OK;
 }

@@ -9,9 +9,12 @@
  * side and S last (block_ssor.c). The domains come from a breadth-first level structure of the
  * link graph, rooted at a pseudo-peripheral particle of each component (George and Liu,
  * ACM TOMS 5 (1979) 284-295): a link joins particles of the same or of neighbouring levels,
- * so one level L separates the levels below it (A) from those above (B); L is the level that
- * splits the particles most evenly. Within each part the particles keep the breadth-first
- * order, which puts linked particles near each other in the sweeps, as a spatial order would.
+ * so one level L separates the levels below it (A) from those above (B). Only the particles of
+ * L with a neighbour in level L + 1 need to stay in S; the others join A. L is the level that
+ * gives the sweeps the shortest longest path, max(work of A, work of B) + work of S, where a
+ * particle's work is 3 + its number of links (block products per sweep). Within each part the
+ * particles keep the breadth-first order, which puts linked particles near each other in the
+ * sweeps, as a spatial order would.
  *
  * The order depends on the links alone (their particles and their order), never on the number
  * of threads, so the sweeps and the solve give the same bits on any number of threads.
@@ -29,12 +32,12 @@ typedef struct sinter_domain_order {
     uint32_t *new_of_old; /* per particle: its place in the new order */
     uint32_t *old_of_new; /* per place: the particle there */
     size_t split_a, split_b;
-    /* scratch: the link graph's adjacency, levels, the breadth-first queue, counts */
+    /* scratch: the link graph's adjacency, levels, the breadth-first queue */
     size_t *adjacency_start;
     uint32_t *adjacency, *level, *queue;
-    size_t *level_count;
+    size_t *level_work; /* per level: its work, then the work that stays in S */
     size_t new_of_old_capacity, old_of_new_capacity, adjacency_start_capacity, adjacency_capacity,
-        level_capacity, queue_capacity, level_count_capacity;
+        level_capacity, queue_capacity, level_work_capacity;
 } sinter_domain_order;
 
 void sinter_domain_order_release(sinter_domain_order *o);

@@ -416,10 +416,25 @@ static void test_domain_order_separates(void **state)
     }
     assert_int_equal(sinter_domain_order_make(&o, 2 * BN + 50, a, b, 2 * count), SINTER_OK);
     check_order(&o, 2 * BN + 50, a, b, 2 * count, 0.4, 0.12);
-    /* no links: one level, all of it the separator */
+    /* no links: one level, none of it with a deeper neighbour, all of it in A */
     assert_int_equal(sinter_domain_order_make(&o, 5, a, b, 0), SINTER_OK);
-    check_order(&o, 5, a, b, 0, 0.0, 1.0);
-    assert_int_equal(o.split_b, 0);
+    check_order(&o, 5, a, b, 0, 0.0, 0.0);
+    assert_int_equal(o.split_a, 5);
+    /* a comb: a chain of 7 particles c_k (0-6), each with a pendant p_k (7-13). From the
+     * pendant p_0, level l holds c_(l-1) and p_(l-2); the pendant has no deeper neighbour and
+     * joins A, so the separator is one particle of the chain */
+    size_t comb = 0;
+    for (uint32_t k = 0; k < 7; ++k) {
+        if (k > 0) {
+            a[comb] = k - 1;
+            b[comb++] = k;
+        }
+        a[comb] = k;
+        b[comb++] = 7 + k;
+    }
+    assert_int_equal(sinter_domain_order_make(&o, 14, a, b, comb), SINTER_OK);
+    check_order(&o, 14, a, b, comb, 0.25, 1.0 / 14.0);
+    assert_int_equal(14 - o.split_b, 1);
     sinter_domain_order_release(&o);
     sinter_ctx_destroy(ctx);
 }
