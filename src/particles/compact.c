@@ -16,7 +16,9 @@
  *    two-point schedule over each chunk of MOTION_CHUNK steps, so the walls move continuously
  *    and end exactly on the requested planes;
  *  - the "hertz_mindlin" and "drag" force models (no gravity) and an explicit stepper with a
- *    domain around both boxes (a particle escaping through a wall is reported, not lost).
+ *    domain around both boxes (a particle escaping through a wall is reported, not lost),
+ *    which keeps the copy sorted in memory by position (option sort_interval): the copy's
+ *    ids are the set's indices, and the positions go back by id.
  *
  * Servo: over each chunk lambda advances at the rate that moves the farthest wall at
  * `velocity`, times max(0, 1 - p / p_max) where p is the mean normal stress on the walls at
@@ -78,6 +80,11 @@ static const char *const AXIS[3] = {"x", "y", "z"};
 #define JAM_WINDOW 5000.0
 /* Mean overlap / radius of the default stress limit. */
 #define OVERLAP_SERVO 1e-3
+/* Steps between two spatial sorts of the working copy (the stepper's sort_interval): a set
+ * made by random sequential addition lies in memory in no spatial order, so the contact loops
+ * miss the caches and, on two threads, most contacts cross the threads' particle ranges
+ * (tests/bench/RESULTS.md, session 17). The spheres move a few diameters in the compaction. */
+#define SORT_STEPS 1000
 /* Longest run accepted (motion or relaxation), in steps. */
 #define MAX_STEPS 1e9
 /* Default rest threshold: this fraction of (1/2) m v^2 at the impact speed of the automatic
@@ -440,8 +447,8 @@ static sinter_status inner_error(sinter_ctx *ctx, sinter_status st, const char *
         return st;
     char detail[SINTER_ERROR_TEXT_SIZE];
     memcpy(detail, ctx->last_error, sizeof(detail));
-    return sinter_fail(ctx, st, "%s: during the %s (particle indices as in the set): %s", FUNC,
-                       phase, detail);
+    return sinter_fail(ctx, st, "%s: during the %s (particle ids there: the indices in the set): %s",
+                       FUNC, phase, detail);
 }
 
 static void fill_result(const compaction *c, const plan *p, double ke, double relax_time,
@@ -585,6 +592,8 @@ static sinter_status run(sinter_particles *ps, const sinter_compaction_options *
         st = sinter_stepper_add_force(c->stepper, c->drag);
     if (st == SINTER_OK)
         st = sinter_stepper_set_dt(c->stepper, dt);
+    if (st == SINTER_OK) /* the copy in spatial order (its ids: the set's indices) */
+        st = sinter_stepper_set_option(c->stepper, "sort_interval", SORT_STEPS);
     if (st == SINTER_OK) {
         /* A particle pushed through a wall (a step far too large) stops the run. */
         double lo[3], hi[3];
