@@ -536,6 +536,51 @@ static void test_partitioned_law_balances_walls(void **state)
 }
 
 /*
+ * Drag (seed 000 eq. 20) on the pair partition's particle ranges (force/drag.c): in the packed
+ * lattice after 20 steps, the forces evaluated with drag after the contact law minus those
+ * without must be -c v particle by particle (to one rounding of the sum: 1e-12 of |f| + |c v|),
+ * on 1 thread (one loop) and on 2 and 3 (the ranges), with the same bits on each.
+ */
+static void test_partitioned_drag(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15 };
+    const double c = 2e-3; /* [kg/s]: c v ~ 1e-5 of the contact forces' scale here */
+    double *first = malloc(3 * N * sizeof(double)), *plain = malloc(3 * N * sizeof(double));
+    for (int t = 1; t <= 3; ++t) {
+        scene s;
+        sinter_heat_model *cond = NULL;
+        open_packed(&s, t, 0, &cond);
+        OK(sinter_stepper_step(s.st, 20));
+        assert_true(t == 1 || s.st->pp.chunks.count > 0);
+        OK(sinter_stepper_evaluate(s.st));
+        memcpy(plain, s.ps->force, 3 * N * sizeof(double));
+        sinter_force_model *drag = NULL;
+        OK(sinter_force_model_create(&drag, s.ctx, "drag"));
+        s.ps->materials[s.ps->material[0]].value[SINTER_MAT_DRAG_COEFFICIENT] = c;
+        OK(sinter_stepper_add_force(s.st, drag));
+        OK(sinter_stepper_evaluate(s.st));
+        double moving = 0.0;
+        for (size_t k = 0; k < 3 * N; ++k) {
+            const double want = -c * s.ps->v[k], got = s.ps->force[k] - plain[k];
+            assert_true(fabs(got - want) <= 1e-12 * (fabs(plain[k]) + fabs(want)));
+            moving = fmax(moving, fabs(s.ps->v[k]));
+        }
+        assert_true(moving > 0.0);
+        if (t == 1)
+            memcpy(first, s.ps->force, 3 * N * sizeof(double));
+        else
+            assert_memory_equal(first, s.ps->force, 3 * N * sizeof(double));
+        sinter_stepper_destroy(s.st); /* before the model it holds */
+        s.st = NULL;
+        sinter_force_model_destroy(drag);
+        scene_close(&s);
+    }
+    free(first);
+    free(plain);
+}
+
+/*
  * Conduction on a partitioned list (contact/chunks.h, heat/conduction.c): each range adds its
  * interior contacts, then each range its particles' share of the boundary contacts, in one
  * parallel region. Exchange between particles is antisymmetric (eq. 32), so with the walls'
@@ -1361,6 +1406,7 @@ int main(void)
         cmocka_unit_test(test_rolling_without_rolling_friction_is_rolling_off),
         cmocka_unit_test(test_partitioned_conduction_conserves_energy),
         cmocka_unit_test(test_partitioned_law_balances_walls),
+        cmocka_unit_test(test_partitioned_drag),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
