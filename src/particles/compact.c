@@ -586,10 +586,12 @@ static sinter_status run(sinter_particles *ps, const sinter_compaction_options *
         st = sinter_force_model_create(&c->drag, ctx, "drag");
     if (st == SINTER_OK)
         st = sinter_stepper_create(&c->stepper, ctx, SINTER_STEPPER_EXPLICIT, c->work, c->walls);
-    if (st == SINTER_OK)
-        st = sinter_stepper_add_force(c->stepper, c->hertz);
+    /* the drag first: the stepper's last force model gives each thread's particles their
+     * second half kick as it finishes them (stepper.h, range_final), which the contact law does */
     if (st == SINTER_OK)
         st = sinter_stepper_add_force(c->stepper, c->drag);
+    if (st == SINTER_OK)
+        st = sinter_stepper_add_force(c->stepper, c->hertz);
     if (st == SINTER_OK)
         st = sinter_stepper_set_dt(c->stepper, dt);
     if (st == SINTER_OK) /* the copy in spatial order (its ids: the set's indices) */
