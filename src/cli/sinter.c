@@ -2,14 +2,17 @@
 /*
  * sinter: run libsinter scene files from the command line.
  *
- *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N]
+ *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N] [--log LEVEL]
  *   sinter check SCENE
  *   sinter info
  *
  * On a terminal, `run` shows progress (simulated time, steps per second, time
  * left); otherwise it is quiet apart from a one-line summary. --threads N runs the library on N
  * threads (sinter_ctx_set_threads; 0: as many as OpenMP offers, OMP_NUM_THREADS or the cores;
- * default 1): the results are the same for every N.
+ * default 1): the results are the same for every N. --log LEVEL (error, warning, info or debug)
+ * prints the library's messages up to that level to stderr, one per line (sinter_ctx_set_log):
+ * info tells what the set-up did (the compaction's steps, its green body), debug also the
+ * steppers' choices (the explicit stepper's thread count and stores, by timing).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,7 +59,8 @@ static int show_progress(double time, double end_time, void *user)
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N]\n"
+    fprintf(stderr, "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N] "
+                    "[--log error|warning|info|debug]\n"
                     "       sinter check SCENE\n"
                     "       sinter info\n");
     return 2;
@@ -68,10 +72,20 @@ static int fail(sinter_ctx *ctx, sinter_status st)
     return 1;
 }
 
+static const char *const LOG_LEVELS[] = {"error", "warning", "info", "debug"};
+
+/* --log: the library's messages to stderr, one a line, after the level's name. */
+static void print_log(int level, const char *message, void *user)
+{
+    (void)user;
+    fprintf(stderr, "sinter [%s]: %s\n", level >= 0 && level <= 3 ? LOG_LEVELS[level] : "?",
+            message);
+}
+
 static int run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
-    int threads = 1;
+    int threads = 1, log_level = -1;
     for (int k = 2; k < argc; ++k) {
         if (strcmp(argv[k], "-o") == 0 && k + 1 < argc)
             out_dir = argv[++k];
@@ -88,6 +102,16 @@ static int run(int argc, char **argv)
                 return 2;
             }
             threads = (int)value;
+        } else if (strcmp(argv[k], "--log") == 0 && k + 1 < argc) {
+            ++k;
+            for (int level = 0; level < 4; ++level)
+                if (strcmp(argv[k], LOG_LEVELS[level]) == 0)
+                    log_level = level;
+            if (log_level < 0) {
+                fprintf(stderr, "sinter: --log %s: expected error, warning, info or debug\n",
+                        argv[k]);
+                return 2;
+            }
         } else if (argv[k][0] != '-' && scene_path == NULL)
             scene_path = argv[k];
         else
@@ -99,6 +123,8 @@ static int run(int argc, char **argv)
     if (sinter_ctx_create(&ctx, NULL) != SINTER_OK)
         return 1;
     sinter_status st = sinter_ctx_set_threads(ctx, threads);
+    if (st == SINTER_OK && log_level >= 0)
+        st = sinter_ctx_set_log(ctx, print_log, log_level, NULL);
     if (st != SINTER_OK) {
         const int rc = fail(ctx, st);
         sinter_ctx_destroy(ctx);
