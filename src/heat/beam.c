@@ -23,6 +23,7 @@
  */
 #include <math.h>
 
+#include "contact/particle_pass.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 
@@ -37,20 +38,53 @@ static inline int lit(const double *x, size_t i, double bx, double by, double rb
     return dx * dx + dy * dy <= rb2;
 }
 
-/* Power of the lit particles (eq. 29-31); `laser` is constant per call. */
-static inline void deposit(const sinter_particles *ps, double *heat, double bx, double by,
-                           double rb2, double top, double c, double reach, int laser)
+/* One evaluation's beam (the parameters at its time) and, per range of the particle pass
+ * (contact/particle_pass.h), the highest top of its lit particles. */
+typedef struct beam_job {
+    const sinter_particles *ps;
+    double *heat;
+    double bx, by, rb2, top, c, reach;
+    int laser;
+    double range_top[SINTER_CHUNKS_MAX];
+} beam_job;
+
+/* Pass 1: the highest top z + r of the lit particles of [lo, hi) (-inf: none). */
+static void top_range(void *data, int range, size_t lo, size_t hi)
 {
+    beam_job *job = data;
+    const double *x = job->ps->x, *r = job->ps->radius;
+    double top = -HUGE_VAL;
+    for (size_t i = lo; i < hi; ++i)
+        if (lit(x, i, job->bx, job->by, job->rb2))
+            top = fmax(top, x[3 * i + 2] + r[i]);
+    job->range_top[range] = top;
+}
+
+/* Pass 2: the power of the lit particles (eq. 29-31); `laser` is constant per call. */
+static inline void deposit(const beam_job *job, size_t lo, size_t hi, int laser)
+{
+    const sinter_particles *ps = job->ps;
     const double *x = ps->x, *r = ps->radius;
-    const double inv_d = laser ? 0.0 : 1.0 / reach;
-    for (size_t i = 0; i < ps->count; ++i) {
-        if (!lit(x, i, bx, by, rb2))
+    const double inv_d = laser ? 0.0 : 1.0 / job->reach;
+    for (size_t i = lo; i < hi; ++i) {
+        if (!lit(x, i, job->bx, job->by, job->rb2))
             continue;
-        const double z = top - (x[3 * i + 2] + r[i]);        /* depth along the beam, >= 0 */
-        const double f = laser ? exp(-reach * z)             /* eq. 31 */
+        const double z = job->top - (x[3 * i + 2] + r[i]);   /* depth along the beam, >= 0 */
+        const double f = laser ? exp(-job->reach * z)         /* eq. 31 */
                                : fmax(1.0 - z * inv_d, 0.0); /* eq. 30, 0 beyond d_max */
-        heat[i] += sinter_particle_param(ps, i, SINTER_MAT_ABSORPTANCE) * c * r[i] * r[i] * f;
+        job->heat[i] +=
+            sinter_particle_param(ps, i, SINTER_MAT_ABSORPTANCE) * job->c * r[i] * r[i] * f;
     }
+}
+
+static void deposit_range(void *data, int range, size_t lo, size_t hi)
+{
+    (void)range;
+    const beam_job *job = data;
+    if (job->laser)
+        deposit(job, lo, hi, 1);
+    else
+        deposit(job, lo, hi, 0);
 }
 
 static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e, int laser)
@@ -63,20 +97,16 @@ static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e,
         return sinter_fail(e->ctx, SINTER_ERR_INVALID,
                            "heat model '%s' at t = %g s: needs radius >= 0 (is %g) and %s (is %g)",
                            hm->name, e->time, rb, laser ? "attenuation >= 0" : "depth > 0", reach);
-    const sinter_particles *ps = e->ps;
-    const double *x = ps->x, *r = ps->radius, rb2 = rb * rb;
-    /* Pass 1: the bed's top surface under the beam. */
-    double top = -HUGE_VAL;
-    for (size_t i = 0; i < ps->count; ++i)
-        if (lit(x, i, bx, by, rb2))
-            top = fmax(top, x[3 * i + 2] + r[i]);
-    if (top == -HUGE_VAL)
+    /* A_i = pi r_i^2, so a_i I0 A_i f = a_i (pi I0) r_i^2 f. */
+    beam_job job = {e->ps, e->heat, bx, by, rb * rb, -HUGE_VAL, PI * i0, reach, laser, {0.0}};
+    const sinter_chunks *chunks = e->pp != NULL ? &e->pp->chunks : NULL;
+    /* Pass 1: the bed's top surface under the beam (a maximum: the same for any split). */
+    const int ranges = sinter_particle_pass(e->ctx, chunks, e->ps->count, top_range, &job);
+    for (int k = 0; k < ranges; ++k)
+        job.top = fmax(job.top, job.range_top[k]);
+    if (job.top == -HUGE_VAL)
         return SINTER_OK; /* nothing under the beam */
-    /* Pass 2: A_i = pi r_i^2, so a_i I0 A_i f = a_i (pi I0) r_i^2 f. */
-    if (laser)
-        deposit(ps, e->heat, bx, by, rb2, top, PI * i0, reach, 1);
-    else
-        deposit(ps, e->heat, bx, by, rb2, top, PI * i0, reach, 0);
+    sinter_particle_pass(e->ctx, chunks, e->ps->count, deposit_range, &job);
     return SINTER_OK;
 }
 

@@ -5,26 +5,40 @@
  * 5.670367e-8). One-way: "temperature" theta_E (may follow a schedule) does not respond to the
  * particles; no view factors, no exchange between particles or with walls.
  */
+#include "contact/particle_pass.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 
 static const double PI = 3.14159265358979323846;
 static const double SIGMA = 5.670374419e-8;
 
+typedef struct radiation_job {
+    const sinter_particles *ps;
+    double *heat;
+    double te4, c;
+} radiation_job;
+
+static void radiation_range(void *data, int range, size_t lo, size_t hi)
+{
+    (void)range;
+    const radiation_job *job = data;
+    const sinter_particles *ps = job->ps;
+    const double *r = ps->radius, *theta = ps->temperature;
+    for (size_t i = lo; i < hi; ++i) {
+        const double t2 = theta[i] * theta[i];
+        const double eps = sinter_particle_param(ps, i, SINTER_MAT_EMISSIVITY);
+        job->heat[i] += eps * job->c * r[i] * r[i] * (job->te4 - t2 * t2); /* eq. 41 */
+    }
+}
+
 static sinter_status radiation_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
 {
     const double te = sinter_heat_param(hm, 0, e->time);
-    const double te4 = te * te * te * te;
-    const sinter_particles *ps = e->ps;
-    const double *r = ps->radius, *theta = ps->temperature;
-    const double c = 4.0 * PI * SIGMA;
-    for (size_t i = 0; i < ps->count; ++i) {
-        const double t2 = theta[i] * theta[i];
-        const double eps = sinter_particle_param(ps, i, SINTER_MAT_EMISSIVITY);
-        e->heat[i] += eps * c * r[i] * r[i] * (te4 - t2 * t2); /* eq. 41 */
-    }
+    radiation_job job = {e->ps, e->heat, te * te * te * te, 4.0 * PI * SIGMA};
+    sinter_particle_pass(e->ctx, e->pp != NULL ? &e->pp->chunks : NULL, e->ps->count,
+                         radiation_range, &job);
     return SINTER_OK;
 }
 
-const sinter_heat_ops sinter_heat_radiation = {
-    "radiation", 0, {"temperature", NULL}, {293.15}, radiation_eval, NULL};
+const sinter_heat_ops sinter_heat_radiation = {"radiation",    0,   {"temperature", NULL}, {293.15},
+                                               radiation_eval, NULL};

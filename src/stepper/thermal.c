@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "contact/chunks.h"
+#include "contact/particle_pass.h"
 #include "core/pcg.h"
 #include "sanity.h"
 #include "stepper.h"
@@ -66,12 +67,36 @@ static double softening_factor(const sinter_particles *ps, size_t i)
     return fmax(s, floor);
 }
 
+/* The factors of particles [lo, hi) and the first one that is not positive and finite. */
+typedef struct softening_job {
+    const sinter_particles *ps;
+    double *scale;
+    size_t bad[SINTER_CHUNKS_MAX]; /* per range: the first bad particle, or SIZE_MAX */
+} softening_job;
+
+static void softening_range(void *data, int range, size_t lo, size_t hi)
+{
+    softening_job *job = data;
+    job->bad[range] = SIZE_MAX;
+    for (size_t i = lo; i < hi; ++i) {
+        const double f = softening_factor(job->ps, i);
+        if (!(f > 0.0) || !isfinite(f)) {
+            job->bad[range] = i;
+            return;
+        }
+        job->scale[i] = f;
+    }
+}
+
 sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
 {
     const sinter_particles *ps = st->ps;
-    int any = 0;
-    for (int m = 0; m < SINTER_MAX_MATERIALS && !any; ++m)
-        any = ps->material_used[m] && ps->materials[m].value[SINTER_MAT_SOFTENING_LAW] != 0.0;
+    int any = 0, host = 0;
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
+        const double law = ps->materials[m].value[SINTER_MAT_SOFTENING_LAW];
+        any |= ps->material_used[m] && law != 0.0;
+        host |= ps->material_used[m] && law == 4.0;
+    }
     st->thermal.softening = any;
     *scale = NULL;
     if (!any)
@@ -81,15 +106,20 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
                                   ps->count + 1, sizeof(double));
     if (s != SINTER_OK)
         return s;
-    for (size_t i = 0; i < ps->count; ++i) {
-        const double f = softening_factor(ps, i);
-        if (!(f > 0.0) || !isfinite(f))
+    /* on the contact law's particle ranges; a host's softening callback on one thread, as the
+     * other callbacks */
+    softening_job job = {ps, th->modulus_scale, {0}};
+    const int ranges = sinter_particle_pass(st->ctx, host ? NULL : &st->pp.chunks, ps->count,
+                                            softening_range, &job);
+    for (int k = 0; k < ranges; ++k)
+        if (job.bad[k] != SIZE_MAX) {
+            const size_t i = job.bad[k];
             return sinter_fail(st->ctx, SINTER_ERR_CALLBACK,
                                "the softening law of material %d gave E/E_0 = %g for particle %zu "
                                "at %g K; it must be positive and finite",
-                               (int)ps->material[i], f, i, ps->temperature[i]);
-        th->modulus_scale[i] = f;
-    }
+                               (int)ps->material[i], softening_factor(ps, i), i,
+                               ps->temperature[i]);
+        }
     *scale = th->modulus_scale;
     return SINTER_OK;
 }

@@ -581,6 +581,88 @@ static void test_partitioned_drag(void **state)
 }
 
 /*
+ * The per-particle heat sources and the softening factor on the pair partition's particle
+ * ranges (contact/particle_pass.h): in the packed lattice, temperatures spread over 600-900 K,
+ * radiation (eq. 41), convection with a given film coefficient (eq. 37) and a laser down the
+ * lattice's axis (eq. 29, 31: depth from the highest lit top) must give each particle the sum
+ * of the three formulas (to 1e-12), and the exponential softening law (eq. 42) its factor, on
+ * 1 thread (one loop) and on 2 and 3 (the ranges), with the same bits on each.
+ */
+static void test_partitioned_heat_sources(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15 };
+    const double pi = 3.14159265358979323846, sigma = 5.670374419e-8;
+    const double eps = 0.6, h = 25.0, absorb = 0.4, i0 = 1e6, mu = 800.0, t_env = 500.0;
+    const double axis = 7.5 * 2 * 0.5e-3 * 0.999, beam = 3e-3, ts = 600.0, rate = 0.8;
+    double *first = malloc(2 * N * sizeof(double));
+    for (int t = 1; t <= 3; ++t) {
+        scene s;
+        sinter_heat_model *cond = NULL;
+        open_packed(&s, t, 0, &cond);
+        double *v = s.ps->materials[s.ps->material[0]].value;
+        v[SINTER_MAT_EMISSIVITY] = eps;
+        v[SINTER_MAT_ABSORPTANCE] = absorb;
+        v[SINTER_MAT_SOFTENING_LAW] = 2.0;
+        v[SINTER_MAT_SOFTENING_TEMPERATURE] = ts;
+        v[SINTER_MAT_SOFTENING_RATE] = rate;
+        v[SINTER_MAT_SOFTENING_FLOOR] = 0.05;
+        uint64_t seed = 41;
+        for (size_t i = 0; i < N; ++i)
+            s.ps->temperature[i] = 600.0 + 300.0 * lcg(&seed);
+        sinter_heat_model *hm[3] = {NULL, NULL, NULL};
+        OK(sinter_heat_model_create(&hm[0], s.ctx, "radiation"));
+        OK(sinter_heat_model_set(hm[0], "temperature", t_env));
+        OK(sinter_heat_model_create(&hm[1], s.ctx, "convection"));
+        OK(sinter_heat_model_set(hm[1], "temperature", t_env));
+        OK(sinter_heat_model_set(hm[1], "h", h));
+        OK(sinter_heat_model_create(&hm[2], s.ctx, "laser"));
+        OK(sinter_heat_model_set(hm[2], "x", axis));
+        OK(sinter_heat_model_set(hm[2], "y", axis));
+        OK(sinter_heat_model_set(hm[2], "radius", beam));
+        OK(sinter_heat_model_set(hm[2], "intensity", i0));
+        OK(sinter_heat_model_set(hm[2], "attenuation", mu));
+        for (int k = 0; k < 3; ++k)
+            OK(sinter_stepper_add_heat(s.st, hm[k]));
+        OK(sinter_stepper_evaluate(s.st));
+        assert_true(t == 1 || s.st->pp.chunks.count > 0);
+        const double *x = s.ps->x, *r = s.ps->radius, *theta = s.ps->temperature;
+        double top = -HUGE_VAL;
+        size_t lit = 0;
+        for (size_t i = 0; i < N; ++i) {
+            const double dx = x[3 * i] - axis, dy = x[3 * i + 1] - axis;
+            if (dx * dx + dy * dy <= beam * beam)
+                top = fmax(top, x[3 * i + 2] + r[i]), ++lit;
+        }
+        assert_true(lit > 100);
+        for (size_t i = 0; i < N; ++i) {
+            const double dx = x[3 * i] - axis, dy = x[3 * i + 1] - axis, r2 = r[i] * r[i];
+            const double t2 = theta[i] * theta[i], te2 = t_env * t_env;
+            double want = eps * 4.0 * pi * sigma * r2 * (te2 * te2 - t2 * t2);
+            want += h * 4.0 * pi * r2 * (t_env - theta[i]);
+            if (dx * dx + dy * dy <= beam * beam)
+                want += absorb * pi * i0 * r2 * exp(-mu * (top - (x[3 * i + 2] + r[i])));
+            assert_true(fabs(s.ps->heat[i] - want) <= 1e-12 * fabs(want));
+            const double f = fmax(fmin(1.0, exp(rate * (1.0 - theta[i] / ts))), 0.05);
+            assert_true(fabs(s.st->thermal.modulus_scale[i] - f) <= 1e-15 * f);
+        }
+        if (t == 1) {
+            memcpy(first, s.ps->heat, N * sizeof(double));
+            memcpy(first + N, s.st->thermal.modulus_scale, N * sizeof(double));
+        } else {
+            assert_memory_equal(first, s.ps->heat, N * sizeof(double));
+            assert_memory_equal(first + N, s.st->thermal.modulus_scale, N * sizeof(double));
+        }
+        sinter_stepper_destroy(s.st); /* before the models it holds */
+        s.st = NULL;
+        for (int k = 0; k < 3; ++k)
+            sinter_heat_model_destroy(hm[k]);
+        scene_close(&s);
+    }
+    free(first);
+}
+
+/*
  * Conduction on a partitioned list (contact/chunks.h, heat/conduction.c): each range adds its
  * interior contacts, then each range its particles' share of the boundary contacts, in one
  * parallel region. Exchange between particles is antisymmetric (eq. 32), so with the walls'
@@ -1407,6 +1489,7 @@ int main(void)
         cmocka_unit_test(test_partitioned_conduction_conserves_energy),
         cmocka_unit_test(test_partitioned_law_balances_walls),
         cmocka_unit_test(test_partitioned_drag),
+        cmocka_unit_test(test_partitioned_heat_sources),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
