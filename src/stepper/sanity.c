@@ -44,6 +44,7 @@
  */
 #include <math.h>
 
+#include "contact/particle_pass.h"
 #include "sanity.h"
 #include "stepper.h"
 
@@ -229,4 +230,52 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
                            SINTER_SANITY_MAX_TEMPERATURE);
     }
     return SINTER_OK;
+}
+
+/* The domain's test (option domain_min / domain_max) of particles [lo, hi): the first one
+ * whose centre is not inside the box (a non-finite one is not), or SIZE_MAX. Batches of
+ * particles are tested without branches, and only a batch with one outside is searched. */
+typedef struct domain_job {
+    const sinter_stepper *st;
+    size_t first[SINTER_CHUNKS_MAX];
+} domain_job;
+
+enum { DOMAIN_BATCH = 64 };
+
+static inline int outside(const double *x, const double *a, const double *b, int d)
+{
+    return !(x[d] >= a[d]) | !(x[d] <= b[d]);
+}
+
+static void domain_range(void *data, int range, size_t lo, size_t hi)
+{
+    domain_job *job = data;
+    const double *x = job->st->ps->x, *a = job->st->domain_lo, *b = job->st->domain_hi;
+    job->first[range] = SIZE_MAX;
+    for (size_t i0 = lo; i0 < hi; i0 += DOMAIN_BATCH) {
+        const size_t i1 = hi - i0 < DOMAIN_BATCH ? hi : i0 + DOMAIN_BATCH;
+        int out = 0;
+        for (size_t i = i0; i < i1; ++i)
+            out |= outside(x + 3 * i, a, b, 0) | outside(x + 3 * i, a, b, 1) |
+                   outside(x + 3 * i, a, b, 2);
+        if (!out)
+            continue;
+        for (size_t i = i0; i < i1; ++i)
+            if (outside(x + 3 * i, a, b, 0) | outside(x + 3 * i, a, b, 1) |
+                outside(x + 3 * i, a, b, 2)) {
+                job->first[range] = i;
+                return;
+            }
+    }
+}
+
+size_t sinter_sanity_first_outside(const sinter_stepper *st)
+{
+    domain_job job = {st, {0}};
+    const int ranges =
+        sinter_particle_pass(st->ctx, &st->pp.chunks, st->ps->count, domain_range, &job);
+    for (int k = 0; k < ranges; ++k)
+        if (job.first[k] != SIZE_MAX)
+            return job.first[k];
+    return st->ps->count;
 }

@@ -42,4 +42,9 @@ sinter_status sinter_sanity_start(struct sinter_stepper *st);
 sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
                                  double h, const sinter_sanity_scan *scan);
 
+/* The first particle whose centre is not inside the stepper's domain (sinter_stepper_set_domain;
+ * a non-finite centre is not inside), or the particle count: on the contact law's particle
+ * ranges (contact/particle_pass.h). */
+size_t sinter_sanity_first_outside(const struct sinter_stepper *st);
+
 #endif

@@ -596,20 +596,19 @@ static sinter_status check_domain(sinter_stepper *st, double t, double h)
     if (!st->has_domain)
         return SINTER_OK;
     const sinter_particles *ps = st->ps;
-    for (size_t i = 0; i < ps->count; ++i) {
-        const double *x = ps->x + 3 * i;
-        int d = 0;
-        while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
-            ++d;
-        if (d < 3)
-            return sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
-                               "staggered step from t = %.9g s to %.9g s rejected: particle %zu "
-                               "(id %llu) left the domain at %c = %g m (domain %g m to %g m); the "
-                               "last accepted state is kept",
-                               t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
-                               st -> domain_lo[d], st -> domain_hi[d]);
-    }
-    return SINTER_OK;
+    const size_t i = sinter_sanity_first_outside(st);
+    if (i == ps->count)
+        return SINTER_OK;
+    const double *x = ps->x + 3 * i;
+    int d = 0;
+    while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
+        ++d;
+    return sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
+                       "staggered step from t = %.9g s to %.9g s rejected: particle %zu "
+                       "(id %llu) left the domain at %c = %g m (domain %g m to %g m); the "
+                       "last accepted state is kept",
+                       t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
+                       st->domain_lo[d], st->domain_hi[d]);
 }
 
 /* What did not converge, for the error message. */

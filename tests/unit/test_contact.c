@@ -663,6 +663,47 @@ static void test_partitioned_heat_sources(void **state)
 }
 
 /*
+ * The domain's test on the pair partition's particle ranges (stepper/sanity.c): in the packed
+ * lattice with a domain around it, two particles put beyond its top, one in the last slab and
+ * one in the first half (the partition's two ranges here), must stop the step with
+ * SINTER_ERR_LOST_PARTICLE naming the one of lower index, on 1, 2 and 3 threads, and keep the
+ * last accepted state.
+ */
+static void test_partitioned_domain(void **state)
+{
+    (void)state;
+    enum { N = 15 * 15 * 15 };
+    const size_t late = N - 20, middle = N / 4;
+    for (int t = 1; t <= 3; ++t) {
+        scene s;
+        sinter_heat_model *cond = NULL;
+        open_packed(&s, t, 0, &cond);
+        const double lo[3] = {-0.01, -0.01, -0.01}, hi[3] = {0.03, 0.03, 0.03};
+        OK(sinter_stepper_set_domain(s.st, lo, hi));
+        OK(sinter_stepper_step(s.st, 5));
+        assert_true(t == 1 || s.st->pp.chunks.count > 0);
+        double *x = NULL;
+        OK(sinter_particles_view(s.ps, SINTER_FIELD_POSITION, (void **)&x, NULL, NULL));
+        x[3 * late + 2] = 0.05;
+        x[3 * middle + 2] = 0.04;
+        OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+        double before = 0.0;
+        OK(sinter_stepper_time(s.st, &before));
+        assert_int_equal(sinter_stepper_step(s.st, 1), SINTER_ERR_LOST_PARTICLE);
+        char want[64];
+        snprintf(want, sizeof(want), "particle %zu (id %zu) left the domain at z", middle, middle);
+        if (strstr(sinter_last_error(s.ctx), want) == NULL) {
+            print_error("message '%s'\n", sinter_last_error(s.ctx));
+            fail();
+        }
+        double after = 0.0;
+        OK(sinter_stepper_time(s.st, &after));
+        assert_true(after == before);
+        scene_close(&s);
+    }
+}
+
+/*
  * Conduction on a partitioned list (contact/chunks.h, heat/conduction.c): each range adds its
  * interior contacts, then each range its particles' share of the boundary contacts, in one
  * parallel region. Exchange between particles is antisymmetric (eq. 32), so with the walls'
@@ -1490,6 +1531,7 @@ int main(void)
         cmocka_unit_test(test_partitioned_law_balances_walls),
         cmocka_unit_test(test_partitioned_drag),
         cmocka_unit_test(test_partitioned_heat_sources),
+        cmocka_unit_test(test_partitioned_domain),
         cmocka_unit_test(test_pair_list_independent_of_thread_count),
         cmocka_unit_test(test_lean_search_matches_a_fresh_one),
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
