@@ -447,8 +447,9 @@ static sinter_status inner_error(sinter_ctx *ctx, sinter_status st, const char *
         return st;
     char detail[SINTER_ERROR_TEXT_SIZE];
     memcpy(detail, ctx->last_error, sizeof(detail));
-    return sinter_fail(ctx, st, "%s: during the %s (particle ids there: the indices in the set): %s",
-                       FUNC, phase, detail);
+    return sinter_fail(ctx, st,
+                       "%s: during the %s (particle ids there: the indices in the set): %s", FUNC,
+                       phase, detail);
 }
 
 static void fill_result(const compaction *c, const plan *p, double ke, double relax_time,
