@@ -3,10 +3,11 @@
 
 #include "contact/neighbors.h"
 
-int sinter_particle_pass(const sinter_ctx *ctx, const sinter_chunks *chunks, size_t n,
+int sinter_particle_pass(const sinter_ctx *ctx, const sinter_contact_list *pp, size_t n,
                          sinter_particle_range_fn fn, void *data)
 {
-    const sinter_particle_ranges r = sinter_chunks_particle_ranges(chunks, n, sinter_threads(ctx));
+    const sinter_particle_ranges r =
+        sinter_chunks_particle_ranges(pp != NULL ? &pp->chunks : NULL, n, sinter_threads(ctx));
     if (r.plo == NULL) {
         fn(data, 0, 0, n);
         return 1;

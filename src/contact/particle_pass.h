@@ -17,10 +17,10 @@
 /* Work on particles [lo, hi), range `range` of the pass (0 without a partition). */
 typedef void (*sinter_particle_range_fn)(void *data, int range, size_t lo, size_t hi);
 
-/* Calls fn over n particles: on the step's threads (sinter_threads) over the ranges of
- * `chunks` (NULL: none) when it partitions them, else once. Returns the number of ranges
- * (1 without a partition; at most SINTER_CHUNKS_MAX). */
-int sinter_particle_pass(const sinter_ctx *ctx, const sinter_chunks *chunks, size_t n,
+/* Calls fn over n particles: on the step's threads (sinter_threads) over the ranges of the
+ * pair list pp's partition (pp NULL: none) when it has one, else once. Returns the number of
+ * ranges (1 without a partition; at most SINTER_CHUNKS_MAX). */
+int sinter_particle_pass(const sinter_ctx *ctx, const sinter_contact_list *pp, size_t n,
                          sinter_particle_range_fn fn, void *data);
 
 #endif

@@ -36,8 +36,7 @@ static sinter_status drag_eval(const sinter_force_model *fm, sinter_force_eval *
     drag_job job = {fm, e, {0.0}};
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
         job.coefficient[m] = ps->materials[m].value[SINTER_MAT_DRAG_COEFFICIENT];
-    sinter_particle_pass(e->ctx, e->pp != NULL ? &e->pp->chunks : NULL, ps->count, drag_range,
-                         &job);
+    sinter_particle_pass(e->ctx, e->pp, ps->count, drag_range, &job);
     return SINTER_OK;
 }
 

@@ -99,14 +99,13 @@ static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e,
                            hm->name, e->time, rb, laser ? "attenuation >= 0" : "depth > 0", reach);
     /* A_i = pi r_i^2, so a_i I0 A_i f = a_i (pi I0) r_i^2 f. */
     beam_job job = {e->ps, e->heat, bx, by, rb * rb, -HUGE_VAL, PI * i0, reach, laser, {0.0}};
-    const sinter_chunks *chunks = e->pp != NULL ? &e->pp->chunks : NULL;
     /* Pass 1: the bed's top surface under the beam (a maximum: the same for any split). */
-    const int ranges = sinter_particle_pass(e->ctx, chunks, e->ps->count, top_range, &job);
+    const int ranges = sinter_particle_pass(e->ctx, e->pp, e->ps->count, top_range, &job);
     for (int k = 0; k < ranges; ++k)
         job.top = fmax(job.top, job.range_top[k]);
     if (job.top == -HUGE_VAL)
         return SINTER_OK; /* nothing under the beam */
-    sinter_particle_pass(e->ctx, chunks, e->ps->count, deposit_range, &job);
+    sinter_particle_pass(e->ctx, e->pp, e->ps->count, deposit_range, &job);
     return SINTER_OK;
 }
 

@@ -78,8 +78,7 @@ static sinter_status convection_eval(const sinter_heat_model *hm, sinter_heat_ev
         job.pr04 = pow(p[P_C] * mu_e / k_e, 0.4);    /* eq. 40 */
         job.re_per_d = p[P_RHO] * p[P_SPEED] / mu_e; /* Re / (2 r) */
     }
-    sinter_particle_pass(e->ctx, e->pp != NULL ? &e->pp->chunks : NULL, e->ps->count,
-                         convection_range, &job);
+    sinter_particle_pass(e->ctx, e->pp, e->ps->count, convection_range, &job);
     return SINTER_OK;
 }
 

@@ -35,8 +35,7 @@ static sinter_status radiation_eval(const sinter_heat_model *hm, sinter_heat_eva
 {
     const double te = sinter_heat_param(hm, 0, e->time);
     radiation_job job = {e->ps, e->heat, te * te * te * te, 4.0 * PI * SIGMA};
-    sinter_particle_pass(e->ctx, e->pp != NULL ? &e->pp->chunks : NULL, e->ps->count,
-                         radiation_range, &job);
+    sinter_particle_pass(e->ctx, e->pp, e->ps->count, radiation_range, &job);
     return SINTER_OK;
 }
 

@@ -436,22 +436,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     }
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
-    if (s == SINTER_OK && bad == st->ps->count && st->has_domain) {
-        const sinter_particles *ps = st->ps;
-        const size_t i = sinter_sanity_first_outside(st);
-        if (i < ps->count) {
-            const double *x = ps->x + 3 * i;
-            int d = 0;
-            while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
-                ++d;
-            s = sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
-                            "step from t = %.9g s to %.9g s rejected: particle %zu (id %llu) "
-                            "left the domain at %c = %g m (domain %g m to %g m); the last "
-                            "accepted state is kept",
-                            t_start, t_start + h, i, (unsigned long long)ps->id[i], "xyz"[d],
-                            x[d], st->domain_lo[d], st->domain_hi[d]);
-        }
-    }
+    if (s == SINTER_OK && bad == st->ps->count)
+        s = sinter_sanity_domain(st, "step", t_start, h);
     if (s == SINTER_OK && bad < st->ps->count) {
         const char *what = first_bad_quantity(st->ps, bad);
         s = sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,

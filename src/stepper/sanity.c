@@ -269,13 +269,33 @@ static void domain_range(void *data, int range, size_t lo, size_t hi)
     }
 }
 
-size_t sinter_sanity_first_outside(const sinter_stepper *st)
+static size_t first_outside(const sinter_stepper *st)
 {
     domain_job job = {st, {0}};
     const int ranges =
-        sinter_particle_pass(st->ctx, &st->pp.chunks, st->ps->count, domain_range, &job);
+        sinter_particle_pass(st->ctx, &st->pp, st->ps->count, domain_range, &job);
     for (int k = 0; k < ranges; ++k)
         if (job.first[k] != SIZE_MAX)
             return job.first[k];
     return st->ps->count;
+}
+
+sinter_status sinter_sanity_domain(sinter_stepper *st, const char *step, double t, double h)
+{
+    const sinter_particles *ps = st->ps;
+    if (!st->has_domain)
+        return SINTER_OK;
+    const size_t i = first_outside(st);
+    if (i == ps->count)
+        return SINTER_OK;
+    const double *x = ps->x + 3 * i;
+    int d = 0;
+    while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
+        ++d;
+    return sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
+                       "%s from t = %.9g s to %.9g s rejected: particle %zu (id %llu) left the "
+                       "domain at %c = %g m (domain %g m to %g m); the last accepted state is "
+                       "kept",
+                       step, t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
+                       st->domain_lo[d], st->domain_hi[d]);
 }

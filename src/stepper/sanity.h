@@ -42,9 +42,13 @@ sinter_status sinter_sanity_start(struct sinter_stepper *st);
 sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
                                  double h, const sinter_sanity_scan *scan);
 
-/* The first particle whose centre is not inside the stepper's domain (sinter_stepper_set_domain;
- * a non-finite centre is not inside), or the particle count: on the contact law's particle
- * ranges (contact/particle_pass.h). */
-size_t sinter_sanity_first_outside(const struct sinter_stepper *st);
+/*
+ * The stepper's domain (sinter_stepper_set_domain; none: nothing to check) after a trial
+ * `step` ("step", "staggered step") from t to t + h: a particle whose centre is not inside it
+ * (a non-finite centre is not) is SINTER_ERR_LOST_PARTICLE naming the one of lowest index and
+ * its first axis outside. Tested on the contact law's particle ranges (contact/particle_pass.h).
+ */
+sinter_status sinter_sanity_domain(struct sinter_stepper *st, const char *step, double t,
+                                   double h);
 
 #endif

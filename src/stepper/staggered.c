@@ -591,26 +591,6 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
 
 /* ---- the step ---------------------------------------------------------------------------- */
 
-static sinter_status check_domain(sinter_stepper *st, double t, double h)
-{
-    if (!st->has_domain)
-        return SINTER_OK;
-    const sinter_particles *ps = st->ps;
-    const size_t i = sinter_sanity_first_outside(st);
-    if (i == ps->count)
-        return SINTER_OK;
-    const double *x = ps->x + 3 * i;
-    int d = 0;
-    while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
-        ++d;
-    return sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
-                       "staggered step from t = %.9g s to %.9g s rejected: particle %zu "
-                       "(id %llu) left the domain at %c = %g m (domain %g m to %g m); the "
-                       "last accepted state is kept",
-                       t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
-                       st->domain_lo[d], st->domain_hi[d]);
-}
-
 /* What did not converge, for the error message. */
 static const char *limiting_field(const attempt_result *r)
 {
@@ -687,7 +667,7 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
         restarted = 1;
     }
     /* Accepted: (s^K, theta^K) at t + h. */
-    s = check_domain(st, t, h);
+    s = sinter_sanity_domain(st, "staggered step", t, h);
     if (s == SINTER_OK)
         s = sinter_sanity_step(st, a.x, t, h, NULL);
     if (s == SINTER_OK && st->thermal.count > 0) {

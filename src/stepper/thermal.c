@@ -109,7 +109,7 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
     /* on the contact law's particle ranges; a host's softening callback on one thread, as the
      * other callbacks */
     softening_job job = {ps, th->modulus_scale, {0}};
-    const int ranges = sinter_particle_pass(st->ctx, host ? NULL : &st->pp.chunks, ps->count,
+    const int ranges = sinter_particle_pass(st->ctx, host ? NULL : &st->pp, ps->count,
                                             softening_range, &job);
     for (int k = 0; k < ranges; ++k)
         if (job.bad[k] != SIZE_MAX) {
