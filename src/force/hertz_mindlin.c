@@ -516,8 +516,8 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
  * contacts of range s of a chunked list (contact/chunks.h): interior contacts are added, the
  * boundary contacts' forces are stored in order into bq (contact) and bout (3 per contact),
  * and *reach is 1 + the largest particle index among them (0: none); returns their number.
- * Compiled for the baseline and, where the compiler supports it, for AVX2 (picked at load time
- * by the CPU).
+ * Compiled for the baseline and, where the compiler supports it, for AVX2 and AVX-512
+ * (core/clones.h: picked at load time by the CPU).
  */
 SINTER_CLONES
 static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
