@@ -9,6 +9,7 @@
 #
 #   tests/bench/peer_table.sh                     # every cell, two runs each (~10 min)
 #   CELLS="thermal:40:500:1" REPS=3 tests/bench/peer_table.sh
+#   tests/bench/peer_table.sh > t.txt; tests/bench/peer_summary.sh t.txt  # best of the runs
 #
 # Settings (environment, defaults in brackets):
 #   BUILD [build]         libsinter's build directory (bin/peer_bench, lib/)
