@@ -4,9 +4,9 @@
  * only), so the default build runs on any x86-64 machine and uses wider vectors where there
  * are some. No copy contracts a * b + c into a fused multiply-add (-std=c11: fp-contract off;
  * none is in the objects), and every lane does its own IEEE operations, so all give the same
- * bits (RESULTS.md, session 18: seven scenes' outputs identical). The AVX-512 copy: the 8k
+ * bits (RESULTS.md, session 18: six scenes' outputs identical). The AVX-512 copy: the 8k
  * and 64k packed beds' force phase on one thread 1.5 % faster at the best of 10-12
- * interleaved runs, 7-10 % at the median, on the 2026 Intel VMs. Empty elsewhere or with
+ * interleaved runs, 8-10 % at the median, on session 18's Intel VM. Empty elsewhere or with
  * SINTER_NO_CLONES.
  */
 #ifndef SINTER_CLONES_H
