@@ -4,10 +4,10 @@
  * only), so the default build runs on any x86-64 machine and uses wider vectors where there
  * are some. No copy contracts a * b + c into a fused multiply-add (-std=c11: fp-contract off;
  * none is in the objects), and every lane does its own IEEE operations, so all give the same
- * bits (RESULTS.md, session 18: six scenes' outputs identical). The AVX-512 copy: the 8k
- * and 64k packed beds' force phase on one thread 1.5 % faster at the best of 10-12
- * interleaved runs, 8-10 % at the median, on session 18's Intel VM. Empty elsewhere or with
- * SINTER_NO_CLONES.
+ * bits (RESULTS.md, session 18; .ci/run compares three scenes' outputs with a build without
+ * the copies). The AVX-512 copy: the 8k and 64k packed beds' force phase on one thread 1.5 %
+ * faster at the best of 10-12 interleaved runs, 8-10 % at the median, on session 18's Intel
+ * VM. Empty elsewhere or with SINTER_NO_CLONES.
  */
 #ifndef SINTER_CLONES_H
 #define SINTER_CLONES_H
