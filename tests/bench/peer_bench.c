@@ -21,6 +21,13 @@
  * 0), as LIGGGHTS' fix nve/sphere integrates no orientation either; --rotation 1 adds it.
  * --stats prints the stepper's phase times of the timed loop and the peak resident memory
  * (VmHWM) to stderr; --threads N sets the library's threads (default 1).
+ *
+ * --alternate K (with --threads N > 1) measures the N-thread speed-up on a host whose speed
+ * drifts from minute to minute (RESULTS.md, issue 9, session 19): the timed loop runs in
+ * blocks of K steps, by turns on one thread and on N (the order swapped every other pair),
+ * and prints an ALTERNATE line with each side's time and the ratio; pairs of neighbouring
+ * blocks see the same host minute, so a slow minute slows both sides. The library gives the
+ * same bits on any thread count, so the run is the same simulation as one on either count.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, CLOCK_MONOTONIC under -std=c11 */
 #include <stdio.h>
@@ -34,20 +41,73 @@
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
-                    "--heat 0|1 [--stats] [--threads N] [--shuffle SEED] [--sort-interval K]\n"
-                    "       [--rotation 0|1] [--thread-choice -1|0] [--rolling MU_R]\n"
-                    "  --shuffle: the particles in a random order in memory (as an unsorted host\n"
-                    "    would give them; the PROBE line then follows other particles)\n"
-                    "  --sort-interval: stepper option sort_interval (spatial sort every K steps)\n"
-                    "  --thread-choice: stepper option thread_choice (-1, the default, times\n"
-                    "    steps on the threads and on one and takes the faster; 0 always --threads)\n"
-                    "  --rotation: stepper option rotation (1 integrates the rotation vector;\n"
-                    "    default 0, as the peers)\n"
-                    "  --rolling: rolling resistance (seed 003 eq. 15-20) with coefficient MU_R\n"
-                    "    and rolling damping ratio 0.3 (default 0: the rolling model left out, as\n"
-                    "    the peer decks have none)\n");
+    fprintf(stderr,
+            "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
+            "--heat 0|1 [--stats] [--threads N] [--shuffle SEED] [--sort-interval K]\n"
+            "       [--rotation 0|1] [--thread-choice -1|0] [--rolling MU_R] [--alternate K]\n"
+            "  --shuffle: the particles in a random order in memory (as an unsorted host\n"
+            "    would give them; the PROBE line then follows other particles)\n"
+            "  --sort-interval: stepper option sort_interval (spatial sort every K steps)\n"
+            "  --thread-choice: stepper option thread_choice (-1, the default, times\n"
+            "    steps on the threads and on one and takes the faster; 0 always --threads)\n"
+            "  --rotation: stepper option rotation (1 integrates the rotation vector;\n"
+            "    default 0, as the peers)\n"
+            "  --rolling: rolling resistance (seed 003 eq. 15-20) with coefficient MU_R\n"
+            "    and rolling damping ratio 0.3 (default 0: the rolling model left out, as\n"
+            "    the peer decks have none)\n"
+            "  --alternate: blocks of K steps by turns on one thread and on --threads,\n"
+            "    the ALTERNATE line gives each side's time and the speed-up\n");
     exit(1);
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The timed loop in blocks of `block` steps by turns on one thread and on `threads` (one
+ * first, then `threads` first, ...); prints the ALTERNATE line: each side's steps and time,
+ * the ratio of their times per step, and the median and range of the block pairs' ratios. */
+static void alternate_threads(sinter_stepper *st, unsigned long long steps,
+                              unsigned long long block, int threads)
+{
+    double side[2] = {0.0, 0.0};
+    unsigned long long done[2] = {0, 0}, pairs = 0;
+    size_t nratio = 0;
+    double *ratios = malloc((size_t)(steps / block / 2 + 2) * sizeof(double));
+    if (ratios == NULL)
+        exit(1);
+    CHECK(sinter_stepper_set_option(st, "thread_choice", 0.0)); /* no choosing: the count given */
+    for (unsigned long long k = 0; k < steps; ++pairs) {
+        double pair[2] = {0.0, 0.0};
+        unsigned long long taken[2] = {0, 0};
+        for (int turn = 0; turn < 2 && k < steps; ++turn) {
+            const int which = (int)(pairs % 2) ^ turn; /* 0: one thread, 1: `threads` */
+            const unsigned long long m = steps - k < block ? steps - k : block;
+            CHECK(sinter_ctx_set_threads(g_ctx, which ? threads : 1));
+            const double t = now();
+            CHECK(sinter_stepper_step(st, m));
+            pair[which] = now() - t;
+            taken[which] = m;
+            side[which] += pair[which];
+            done[which] += m;
+            k += m;
+        }
+        if (taken[0] == block && taken[1] == block) /* whole pairs only */
+            ratios[nratio++] = pair[0] / pair[1];
+    }
+    qsort(ratios, nratio, sizeof(double), compare_doubles);
+    const double median = nratio == 0  ? 0.0
+                          : nratio % 2 ? ratios[nratio / 2]
+                                       : 0.5 * (ratios[nratio / 2 - 1] + ratios[nratio / 2]);
+    CHECK(sinter_ctx_set_threads(g_ctx, threads));
+    printf("ALTERNATE block=%llu threads=%d one=%.6g s/%llu steps many=%.6g s/%llu steps "
+           "speedup=%.4f pairs=%zu pair_median=%.4f pair_range=%.3f-%.3f\n",
+           block, threads, side[0], done[0], side[1], done[1],
+           (side[0] / (double)done[0]) / (side[1] / (double)done[1]), nratio, median,
+           nratio ? ratios[0] : 0.0, nratio ? ratios[nratio - 1] : 0.0);
+    free(ratios);
 }
 
 int main(int argc, char **argv)
@@ -56,7 +116,7 @@ int main(int argc, char **argv)
     unsigned long long steps = 0;
     double dt = 0.0, rolling = 0.0;
     int heat = 0, stats = 0, threads = 1, rotation = 0, thread_choice = -1;
-    unsigned long long shuffle = 0, sort_interval = 0;
+    unsigned long long shuffle = 0, sort_interval = 0, alternate = 0;
     for (int a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (strcmp(argv[a], "--stats") == 0) {
@@ -77,10 +137,13 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--rotation") == 0) rotation = atoi(v);
         else if (strcmp(argv[a], "--rolling") == 0) rolling = strtod(v, NULL);
         else if (strcmp(argv[a], "--thread-choice") == 0) thread_choice = atoi(v);
+        else if (strcmp(argv[a], "--alternate") == 0)
+            alternate = strtoull(v, NULL, 10);
         else usage();
         ++a;
     }
-    if (scene == NULL || xyz == NULL || boxf == NULL || steps == 0 || !(dt > 0.0))
+    if (scene == NULL || xyz == NULL || boxf == NULL || steps == 0 || !(dt > 0.0) ||
+        (alternate > 0 && threads < 2))
         usage();
 
     double box[6];
@@ -188,7 +251,10 @@ int main(int argc, char **argv)
     sinter_stepper_stats s0 = {.struct_size = sizeof(sinter_stepper_stats)}, s1 = s0;
     CHECK(sinter_stepper_get_stats(st, &s0));
     const double t0 = now();
-    CHECK(sinter_stepper_step(st, steps)); /* the timed stepping loop */
+    if (alternate > 0)
+        alternate_threads(st, steps, alternate, threads);
+    else
+        CHECK(sinter_stepper_step(st, steps)); /* the timed stepping loop */
     const double loop = now() - t0;
     CHECK(sinter_stepper_get_stats(st, &s1));
     printf("Loop time of %.6g on 1 procs for %llu steps with %zu atoms\n", loop, steps, n);
