@@ -716,100 +716,143 @@ static inline void add_from_force(const sinter_contact_list *c, const sinter_par
     }
 }
 
+/* One evaluation of a partitioned list (pp_chunked): what each range's passes read and
+ * write. */
+typedef struct law_job {
+    const sinter_force_eval *e;
+    const constants *k;
+    const pair_consts *single;
+    int rolling, final;
+    wall_job *walls;
+    const sinter_chunks *ch;
+    uint32_t *bq; /* boundary contacts, at each range's own contact offset */
+    double *bout; /* their forces, 3 each */
+    double *bmr;  /* their rolling moments, 3 each (rolling only) */
+    size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
+    uint32_t reach[SINTER_CHUNKS_MAX];
+    sinter_range_flags interior_done;
+} law_job;
+
+/* Range s's interior pass: its interior contacts added, its boundary contacts kept in list
+ * order; then marked done (without waiting for anything). */
+static void range_interior(law_job *j, int s)
+{
+    const sinter_chunks *ch = j->ch;
+    const size_t q = ch->qlo[s];
+    j->first_ended[s] = SIZE_MAX;
+    j->boundary[s] = pp_blocks(j->e, j->k, j->single, j->rolling, q, ch->qlo[s + 1], ch, s,
+                               j->bq + q, j->bout + 3 * q, j->rolling ? j->bmr + 3 * q : NULL,
+                               &j->reach[s], &j->first_ended[s]);
+    sinter_range_flags_set(&j->interior_done, s);
+}
+
+/*
+ * Range r's particles made final: the boundary contacts, in list order, by the range that
+ * holds each particle (a particle receives them in the order one pass over the list gives,
+ * and no two ranges add into the same particle), then the range's wall contacts (`walls`:
+ * runs aligned with the ranges), as in two evaluations one after the other, then
+ * e->range_final (`final`). Waits for the interior pass of ranges 0 .. r only, not for a
+ * barrier: theirs are the only boundary contacts that reach r (a contact's smaller particle
+ * index is in its range), and their interior passes are the only other ones that read or
+ * write r's particles (which range_final may then write).
+ */
+static void range_rest(law_job *j, int r)
+{
+    const sinter_force_eval *e = j->e;
+    const sinter_contact_list *c = e->pp;
+    const sinter_chunks *ch = j->ch;
+    double *force = e->force, *torque = e->torque;
+    const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
+    sinter_range_flags_wait_below(&j->interior_done, r + 1);
+    /* a range's contacts have their smaller particle index in it: later ranges touch none of
+     * r's; nor do those whose boundary contacts reach no index of r */
+    for (int s = 0; s <= r; ++s) {
+        if (j->reach[s] <= lo)
+            continue;
+        for (size_t b = ch->qlo[s]; b < ch->qlo[s] + j->boundary[s]; ++b) {
+            const size_t q = j->bq[b];
+            const uint32_t ij[2] = {c->i[q], c->j[q]};
+            for (int end = 0; end < 2; ++end) {
+                const uint32_t p = ij[end];
+                if (p < lo || p >= hi)
+                    continue;
+                double f[3] = {force[3 * p], force[3 * p + 1], force[3 * p + 2]};
+                double t[3] = {torque[3 * p], torque[3 * p + 1], torque[3 * p + 2]};
+                add_from_force(c, e->ps, q, j->bout + 3 * b, j->rolling ? j->bmr + 3 * b : NULL,
+                               end == 0, f, t);
+                for (int d = 0; d < 3; ++d)
+                    force[3 * p + d] = f[d], torque[3 * p + d] = t[d];
+            }
+        }
+    }
+    if (j->walls != NULL)
+        pw_run(e, j->k, j->walls, r, j->rolling);
+    if (j->final) /* r's interior and boundary contacts and walls are all in */
+        e->range_final(e->range_user, r, lo, hi);
+}
+
 /*
  * A partitioned list (contact/chunks.h): the ranges of a fixed partition in parallel, each
  * adding its interior contacts, then the boundary contacts in list order. The partition
- * depends on the list only, so any number of threads (one too) gives the same bits. With
- * `final`, e->range_final for each range at the end of the region.
+ * depends on the list only, and each range's sums do not depend on the thread that makes
+ * them, so any number of threads (one too) gives the same bits. With `final`,
+ * e->range_final for each range at the end of the region.
+ *
+ * Which thread runs a range: with as many ranges as threads (a list under about 64k
+ * pairs), range r is thread r's in both loops (the static schedule), as it is in the
+ * integrator's passes, so that a range's lines stay on one core. With more ranges than
+ * threads they go to whichever thread is free (dynamic schedule): on the project's VMs one
+ * core is often slower than the other for seconds, and the faster one then takes more ranges
+ * (RESULTS.md, issue 9, session 19: 512k bed, law 10-15 % shorter on two threads). No wait
+ * can hang: a thread reaches the second loop only after the first has handed out every
+ * range, and an interior pass waits for nothing.
  */
 static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
                                 const pair_consts *single, int rolling, size_t *ended,
                                 wall_job *walls, int final)
 {
     const sinter_contact_list *c = e->pp;
-    double *force = e->force, *torque = e->torque;
     const int threads = sinter_threads(e->ctx);
     const sinter_chunks ch = c->chunks;
+    law_job job = {.e = e,
+                   .k = k,
+                   .single = single,
+                   .rolling = rolling,
+                   .final = final,
+                   .walls = walls,
+                   .ch = &ch};
     /* room for every contact to be a boundary one (the list's scratch), and for their rolling
      * moments */
-    double *bout = c->chunk_scratch;
-    uint32_t *bq = (uint32_t *)(bout + 3 * c->count);
-    double *bmr = NULL;
+    job.bout = c->chunk_scratch;
+    job.bq = (uint32_t *)(job.bout + 3 * c->count);
     if (rolling) {
-        bmr = sinter_alloc(e->ctx, (3 * c->count + 1) * sizeof(double));
-        if (bmr == NULL)
+        job.bmr = sinter_alloc(e->ctx, (3 * c->count + 1) * sizeof(double));
+        if (job.bmr == NULL)
             return SINTER_ERR_NOMEM;
     }
-    size_t boundary[SINTER_CHUNKS_MAX], first_ended[SINTER_CHUNKS_MAX];
-    uint32_t reach[SINTER_CHUNKS_MAX];
-    sinter_range_flags interior_done;
-    sinter_range_flags_clear(&interior_done, ch.count);
-#pragma omp parallel num_threads(threads < ch.count ? threads : ch.count)
+    sinter_range_flags_clear(&job.interior_done, ch.count);
+    const int team = threads < ch.count ? threads : ch.count, shared = team < ch.count;
+#pragma omp parallel num_threads(team)
     {
+        if (shared) {
+#pragma omp for schedule(dynamic, 1) nowait
+            for (int s = 0; s < ch.count; ++s)
+                range_interior(&job, s);
+#pragma omp for schedule(dynamic, 1) nowait
+            for (int r = 0; r < ch.count; ++r)
+                range_rest(&job, r);
+        } else {
 #pragma omp for schedule(static) nowait
-        for (int s = 0; s < ch.count; ++s) {
-            first_ended[s] = SIZE_MAX;
-            boundary[s] = pp_blocks(e, k, single, rolling, ch.qlo[s], ch.qlo[s + 1], &ch, s,
-                                    bq + ch.qlo[s], bout + 3 * ch.qlo[s],
-                                    rolling ? bmr + 3 * ch.qlo[s] : NULL, &reach[s],
-                                    &first_ended[s]);
-            sinter_range_flags_set(&interior_done, s);
-        }
-        /* The boundary contacts, in list order, by the range that holds each particle: a
-         * particle receives them in the order one pass over the list gives, and no two
-         * ranges add into the same particle. Range r waits for the interior pass of ranges
-         * 0 .. r only, not for a barrier: theirs are the only boundary contacts that reach r
-         * (a contact's smaller particle index is in its range), and their interior passes
-         * are the only other ones that read or write r's particles (which the kick below then
-         * writes). The same static schedule gives range r's interior pass to this thread,
-         * and a thread ranges above those of the threads before it, so the first thread
-         * never waits; the wait includes r itself so that no schedule could break this. Each
-         * thread's interior pass marks its ranges without waiting (the flags' condition,
-         * range_flags.h). With `walls` (runs aligned with the ranges), the wall loop's run r
-         * falls to the thread of range r (the same static schedule over as many iterations),
-         * after that range's boundary contacts, as in two evaluations one after the other. */
-#pragma omp for schedule(static) nowait
-        for (int r = 0; r < ch.count; ++r) {
-            const size_t lo = ch.plo[r], hi = ch.plo[r + 1];
-            sinter_range_flags_wait_below(&interior_done, r + 1);
-            /* a range's contacts have their smaller particle index in it: later ranges touch
-             * none of r's; nor do those whose boundary contacts reach no index of r */
-            for (int s = 0; s <= r; ++s) {
-                if (reach[s] <= lo)
-                    continue;
-                for (size_t b = ch.qlo[s]; b < ch.qlo[s] + boundary[s]; ++b) {
-                    const size_t q = bq[b];
-                    const uint32_t ij[2] = {c->i[q], c->j[q]};
-                    for (int end = 0; end < 2; ++end) {
-                        const uint32_t p = ij[end];
-                        if (p < lo || p >= hi)
-                            continue;
-                        double f[3] = {force[3 * p], force[3 * p + 1], force[3 * p + 2]};
-                        double t[3] = {torque[3 * p], torque[3 * p + 1], torque[3 * p + 2]};
-                        add_from_force(c, e->ps, q, bout + 3 * b, rolling ? bmr + 3 * b : NULL,
-                                       end == 0, f, t);
-                        for (int d = 0; d < 3; ++d)
-                            force[3 * p + d] = f[d], torque[3 * p + d] = t[d];
-                    }
-                }
-            }
-        }
-        if (walls != NULL) {
+            for (int s = 0; s < ch.count; ++s)
+                range_interior(&job, s);
 #pragma omp for schedule(static) nowait
             for (int r = 0; r < ch.count; ++r)
-                pw_run(e, k, walls, r, rolling);
-        }
-        /* range r's particles have all their forces now (its interior and boundary contacts
-         * and walls, after the interior pass of ranges 0 .. r): e->range_final there */
-        if (final) {
-#pragma omp for schedule(static) nowait
-            for (int r = 0; r < ch.count; ++r)
-                e->range_final(e->range_user, r, ch.plo[r], ch.plo[r + 1]);
+                range_rest(&job, r);
         }
     }
     for (int s = 0; s < ch.count; ++s)
-        *ended = first_ended[s] < *ended ? first_ended[s] : *ended;
-    sinter_free(e->ctx, bmr);
+        *ended = job.first_ended[s] < *ended ? job.first_ended[s] : *ended;
+    sinter_free(e->ctx, job.bmr);
     return SINTER_OK;
 }
 

@@ -151,54 +151,76 @@ static inline __attribute__((always_inline)) void pw_run(const sinter_heat_eval 
     }
 }
 
+/* Range r's boundary contacts (those of ranges 0 .. r that reach it, in list order), then,
+ * with `wq`, its wall contacts: after the interior passes of ranges 0 .. r (all_ranges). */
+static inline __attribute__((always_inline)) void
+range_rest(const sinter_heat_eval *e, const double *kmat, int projection, const sinter_chunks *ch,
+           int r, double *heat, const uint32_t *bq, const double *bpower, const size_t *boundary,
+           const uint32_t *reach, const size_t *wq)
+{
+    const sinter_contact_list *c = e->pp;
+    const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
+    for (int s = 0; s <= r; ++s) {
+        if (reach[s] <= lo) /* no boundary contact of range s reaches r */
+            continue;
+        for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s]; ++b) {
+            const uint32_t i = c->i[bq[b]], j = c->j[bq[b]];
+            if (i >= lo && i < hi)
+                heat[i] += bpower[b];
+            if (j >= lo && j < hi)
+                heat[j] -= bpower[b];
+        }
+    }
+    if (wq != NULL)
+        pw_run(e, kmat, projection, 0, wq[r], wq[r + 1]);
+}
+
 /*
  * The ranges of a partition in one parallel region: each range adds its interior contacts'
  * powers (pp_range), then the boundary contacts in list order by the range that holds each
  * particle (a contact of range s touches ranges s and later only), so that every particle
  * receives them in the order of one pass over the list; then, with `wq` (wall runs aligned
  * with the ranges, chunks.h), each range's wall contacts. No barrier: range r waits for the
- * interior pass of ranges 0 .. r only (range_flags.h; the force law's pp_chunked does the
- * same, see there), and the same static schedule over as many iterations gives run r to the
- * thread of range r.
+ * interior pass of ranges 0 .. r only (range_flags.h). Which thread runs a range, as in the
+ * force law's pp_chunked (see there): range r is thread r's when there are as many ranges as
+ * threads, else the next free thread's; no wait can hang, and the bits do not depend on it.
  */
 static inline __attribute__((always_inline)) void
 all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
            int threads, const sinter_chunks *ch, double *heat, uint32_t *bq, double *bpower,
            const size_t *wq)
 {
-    const sinter_contact_list *c = e->pp;
     size_t boundary[SINTER_CHUNKS_MAX];
     uint32_t reach[SINTER_CHUNKS_MAX];
     sinter_range_flags interior_done;
     sinter_range_flags_clear(&interior_done, ch->count);
-#pragma omp parallel num_threads(threads < ch->count ? threads : ch->count)
+    const int team = threads < ch->count ? threads : ch->count, shared = team < ch->count;
+#pragma omp parallel num_threads(team)
     {
-#pragma omp for schedule(static) nowait
-        for (int s = 0; s < ch->count; ++s) {
-            boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
-                                   bpower + ch->qlo[s], &reach[s]);
-            sinter_range_flags_set(&interior_done, s);
-        }
-#pragma omp for schedule(static) nowait
-        for (int r = 0; r < ch->count; ++r) {
-            const size_t lo = ch->plo[r], hi = ch->plo[r + 1];
-            sinter_range_flags_wait_below(&interior_done, r + 1);
-            for (int s = 0; s <= r; ++s) {
-                if (reach[s] <= lo) /* no boundary contact of range s reaches r */
-                    continue;
-                for (size_t b = ch->qlo[s]; b < ch->qlo[s] + boundary[s]; ++b) {
-                    const uint32_t i = c->i[bq[b]], j = c->j[bq[b]];
-                    if (i >= lo && i < hi)
-                        heat[i] += bpower[b];
-                    if (j >= lo && j < hi)
-                        heat[j] -= bpower[b];
-                }
+        if (shared) {
+#pragma omp for schedule(dynamic, 1) nowait
+            for (int s = 0; s < ch->count; ++s) {
+                boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
+                                       bpower + ch->qlo[s], &reach[s]);
+                sinter_range_flags_set(&interior_done, s);
             }
-        }
-        if (wq != NULL) {
+#pragma omp for schedule(dynamic, 1) nowait
+            for (int r = 0; r < ch->count; ++r) {
+                sinter_range_flags_wait_below(&interior_done, r + 1);
+                range_rest(e, kmat, projection, ch, r, heat, bq, bpower, boundary, reach, wq);
+            }
+        } else {
 #pragma omp for schedule(static) nowait
-            for (int r = 0; r < ch->count; ++r)
-                pw_run(e, kmat, projection, 0, wq[r], wq[r + 1]);
+            for (int s = 0; s < ch->count; ++s) {
+                boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
+                                       bpower + ch->qlo[s], &reach[s]);
+                sinter_range_flags_set(&interior_done, s);
+            }
+#pragma omp for schedule(static) nowait
+            for (int r = 0; r < ch->count; ++r) {
+                sinter_range_flags_wait_below(&interior_done, r + 1);
+                range_rest(e, kmat, projection, ch, r, heat, bq, bpower, boundary, reach, wq);
+            }
         }
     }
 }

@@ -205,6 +205,7 @@ static void conducting_scene(scene *s, int threads)
  * area, which the contact list carries; heat 2 by LIGGGHTS' projection, which reads no
  * geometry, so the list is found lean and the law forms the geometry itself. */
 static void open_packed(scene *s, int threads, int heat, sinter_heat_model **cond);
+static void open_packed_m(scene *s, int threads, int heat, sinter_heat_model **cond, int m);
 
 /* Positions, velocities and spins of the scene's n particles into out (9 n). */
 static void copy_motion(const scene *s, double *out, size_t n)
@@ -214,11 +215,23 @@ static void copy_motion(const scene *s, double *out, size_t n)
     memcpy(out + 6 * n, s->ps->w, 3 * n * sizeof(double));
 }
 
+/* run_packed on an m^3 lattice, for `steps` steps. */
+static void run_packed_m(int threads, int heat, int reverse, double *out, size_t n, int m,
+                         int steps);
+
 static void run_packed(int threads, int heat, int reverse, double *out, size_t n)
+{
+    run_packed_m(threads, heat, reverse, out, n, 15, 50);
+}
+
+static int packed_ranges; /* the partition's ranges at the end of the last run_packed_m */
+
+static void run_packed_m(int threads, int heat, int reverse, double *out, size_t n, int m,
+                         int steps)
 {
     scene s;
     sinter_heat_model *cond = NULL;
-    open_packed(&s, threads, heat, &cond);
+    open_packed_m(&s, threads, heat, &cond, m);
     if (reverse) {
         /* ids now descend with the index, so pairs, oriented by id, start from the larger
          * index: the partition must follow the smaller one */
@@ -228,7 +241,8 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
         OK(sinter_particles_permute(s.ps, order));
         free(order);
     }
-    OK(sinter_stepper_step(s.st, 50));
+    OK(sinter_stepper_step(s.st, (uint64_t)steps));
+    packed_ranges = s.st->pp.chunks.count;
     sinter_stepper_stats stats;
     memset(&stats, 0, sizeof(stats));
     stats.struct_size = sizeof(stats);
@@ -253,14 +267,20 @@ static void run_packed(int threads, int heat, int reverse, double *out, size_t n
  * conduction model when `heat` (else NULL). */
 static void open_packed(scene *s_out, int threads, int heat, sinter_heat_model **cond_out)
 {
+    open_packed_m(s_out, threads, heat, cond_out, 15);
+}
+
+static void open_packed_m(scene *s_out, int threads, int heat, sinter_heat_model **cond_out, int m)
+{
     scene s;
     conducting_scene(&s, threads);
     OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0));
     scene_open(&s, "hertz_mindlin", 1);
     scene_floor(&s, 0.0);
-    /* and four side walls touching the lattice: 1125 wall contacts, the ranged wall path */
-    const double side = 15 * 2 * 0.5e-3 * 0.999;
+    /* and four side walls touching the lattice (1125 wall contacts at m = 15): the ranged
+     * wall path */
+    const double side = m * 2 * 0.5e-3 * 0.999;
     const double wp[4][3] = {{0, 0, 0}, {side, 0, 0}, {0, 0, 0}, {0, side, 0}};
     const double wn[4][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
     for (int k = 0; k < 4; ++k)
@@ -276,9 +296,9 @@ static void open_packed(scene *s_out, int threads, int heat, sinter_heat_model *
     }
     uint64_t seed = 5;
     const double r = 0.5e-3, a = 2 * r * 0.999;
-    for (int k = 0; k < 15; ++k)
-        for (int j = 0; j < 15; ++j)
-            for (int i = 0; i < 15; ++i)
+    for (int k = 0; k < m; ++k)
+        for (int j = 0; j < m; ++j)
+            for (int i = 0; i < m; ++i)
                 scene_add(&s, (i + 0.5) * a + 1e-6 * lcg(&seed), (j + 0.5) * a + 1e-6 * lcg(&seed),
                           (k + 0.5) * a, r);
     OK(sinter_stepper_set_dt(s.st, 1e-5));
@@ -480,6 +500,37 @@ static void test_results_independent_of_thread_count(void **state)
     }
     free(with_geometry[0]);
     free(with_geometry[1]);
+}
+
+/*
+ * More ranges than threads (force/hertz_mindlin.c and heat/conduction.c, pp_chunked and
+ * all_ranges: the ranges go to whichever thread is free): a packed 38^3 lattice (160 000
+ * pairs, so 4 ranges) on a heated floor between four side walls, 10 steps on 1, 2 and 3
+ * threads, with rolling resistance (the general law) and with the blocked law and conduction
+ * from a lean list: positions, spins, temperatures and the walls' reactions equal to the bit.
+ * A range whose boundary contacts were added before its interior pass ended, or a wall run
+ * or kick taken out of its range's order, would change them.
+ */
+static void test_ranges_shared_by_threads(void **state)
+{
+    (void)state;
+    enum { M = 38, N = M * M * M, SIZE = 7 * N + 15 };
+    for (int heat = 0; heat <= 2; heat += 2) {
+        double *out[3];
+        for (int t = 0; t < 3; ++t) {
+            out[t] = calloc(SIZE, sizeof(double));
+            run_packed_m(t + 1, heat, 0, out[t], N, M, 10);
+            assert_true(packed_ranges > 3); /* more than the threads */
+        }
+        assert_memory_equal(out[0], out[1], SIZE * sizeof(double));
+        assert_memory_equal(out[0], out[2], SIZE * sizeof(double));
+        double moved = 0.0; /* the lattice settled under gravity: the test sees motion */
+        for (size_t k = 0; k < 3 * (size_t)N; ++k)
+            moved = fmax(moved, fabs(out[0][3 * N + k]));
+        assert_true(moved > 0.0);
+        for (int t = 0; t < 3; ++t)
+            free(out[t]);
+    }
 }
 
 /*
@@ -1529,6 +1580,7 @@ int main(void)
         cmocka_unit_test(test_rolling_without_rolling_friction_is_rolling_off),
         cmocka_unit_test(test_partitioned_conduction_conserves_energy),
         cmocka_unit_test(test_partitioned_law_balances_walls),
+        cmocka_unit_test(test_ranges_shared_by_threads),
         cmocka_unit_test(test_partitioned_drag),
         cmocka_unit_test(test_partitioned_heat_sources),
         cmocka_unit_test(test_partitioned_domain),
