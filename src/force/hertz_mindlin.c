@@ -798,9 +798,9 @@ static void range_rest(law_job *j, int r)
  * them, so any number of threads (one too) gives the same bits. With `final`,
  * e->range_final for each range at the end of the region.
  *
- * Which thread runs a range: with as many ranges as threads (a list under about 64k
- * pairs), range r is thread r's in both loops (the static schedule), as it is in the
- * integrator's passes, so that a range's lines stay on one core. With more ranges than
+ * Which thread runs a range: with as many ranges as threads (a list under about 64k pairs),
+ * range r is thread r's in both loops (the static schedule; on one thread too), as it is in
+ * the integrator's passes, so that a range's lines stay on one core. With more ranges than
  * threads they go to whichever thread is free (dynamic schedule): on the project's VMs one
  * core is often slower than the other for seconds, and the faster one then takes more ranges
  * (RESULTS.md, issue 9, session 19: 512k bed, law 10-15 % shorter on two threads). No wait
@@ -831,7 +831,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
             return SINTER_ERR_NOMEM;
     }
     sinter_range_flags_clear(&job.interior_done, ch.count);
-    const int team = threads < ch.count ? threads : ch.count, shared = team < ch.count;
+    const int team = threads < ch.count ? threads : ch.count, shared = team > 1 && team < ch.count;
 #pragma omp parallel num_threads(team)
     {
         if (shared) {

@@ -182,8 +182,9 @@ range_rest(const sinter_heat_eval *e, const double *kmat, int projection, const 
  * receives them in the order of one pass over the list; then, with `wq` (wall runs aligned
  * with the ranges, chunks.h), each range's wall contacts. No barrier: range r waits for the
  * interior pass of ranges 0 .. r only (range_flags.h). Which thread runs a range, as in the
- * force law's pp_chunked (see there): range r is thread r's when there are as many ranges as
- * threads, else the next free thread's; no wait can hang, and the bits do not depend on it.
+ * force law's pp_chunked (see there): the static schedule on one thread or with as many
+ * ranges as threads, else the next free thread; no wait can hang, and the bits do not depend
+ * on it.
  */
 static inline __attribute__((always_inline)) void
 all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
@@ -194,7 +195,8 @@ all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double
     uint32_t reach[SINTER_CHUNKS_MAX];
     sinter_range_flags interior_done;
     sinter_range_flags_clear(&interior_done, ch->count);
-    const int team = threads < ch->count ? threads : ch->count, shared = team < ch->count;
+    const int team = threads < ch->count ? threads : ch->count,
+              shared = team > 1 && team < ch->count;
 #pragma omp parallel num_threads(team)
     {
         if (shared) {
