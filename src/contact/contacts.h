@@ -151,7 +151,9 @@ sinter_status sinter_contacts_find_pp_lean(sinter_ctx *ctx, sinter_contact_list 
  * before kept unconfirmed). The law must skip every contact that no longer touches (the test
  * of the search, d^2 < (r_i + r_j)^2 and d^2 != 0, from the same centres), set c->ended[q] to
  * 1 for each, and give the first one's index to sinter_contacts_confirm before anything else
- * reads the list (sinter_contacts_check if the law did not run). Otherwise (other pairs, new
+ * reads the list (sinter_contacts_check if the law did not run; the one reader meanwhile is
+ * the conduction in the law's region, which reads a range after the law's pass over it and
+ * leaves out the marked contacts: heat/conduction_ranges.h). Otherwise (other pairs, new
  * contacts in the first half of a threaded list) it is sinter_contacts_find_pp_lean and
  * *deferred is 0. The list after sinter_contacts_confirm equals the one
  * sinter_contacts_find_pp_lean makes, partition included (chunks.h).

@@ -734,7 +734,8 @@ typedef struct law_job {
 } law_job;
 
 /* Range s's interior pass: its interior contacts added, its boundary contacts kept in list
- * order; then marked done (without waiting for anything). */
+ * order; then marked done (without waiting for anything), and with `final`
+ * e->range_interior_done. */
 static void range_interior(law_job *j, int s)
 {
     const sinter_chunks *ch = j->ch;
@@ -744,6 +745,8 @@ static void range_interior(law_job *j, int s)
                                j->bq + q, j->bout + 3 * q, j->rolling ? j->bmr + 3 * q : NULL,
                                &j->reach[s], &j->first_ended[s]);
     sinter_range_flags_set(&j->interior_done, s);
+    if (j->final && j->e->range_interior_done != NULL)
+        j->e->range_interior_done(j->e->range_user, s);
 }
 
 /*

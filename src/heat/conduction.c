@@ -29,6 +29,7 @@
  */
 #include <math.h>
 
+#include "conduction_ranges.h"
 #include "contact/chunks.h"
 #include "heat_model.h"
 #include "particles/particles.h"
@@ -99,19 +100,25 @@ static double projection_factor(const sinter_particles *ps, const double *kmat)
 
 /* Range s of a partitioned list: interior contacts into heat, boundary ones stored, *reach
  * 1 + the largest particle index among them (0: none); returns their number. With `factor`
- * >= 0 (projection_factor) the conductance is factor r_max. */
+ * >= 0 (projection_factor) the conductance is factor r_max. With `skip_ended` (an
+ * unconfirmed list, read in the law's region after the law's pass over range s) the contacts
+ * the law marked ended are left out, as sinter_contacts_confirm then drops them: the same
+ * sums as over the confirmed list. */
 static inline __attribute__((always_inline)) size_t
 pp_range(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
-         const sinter_chunks *ch, int s, double *restrict heat, uint32_t *restrict bq,
-         double *restrict bpower, uint32_t *reach)
+         int skip_ended, const sinter_chunks *ch, int s, double *restrict heat,
+         uint32_t *restrict bq, double *restrict bpower, uint32_t *reach)
 {
     const sinter_contact_list *c = e->pp;
     const double *restrict theta = e->ps->temperature;
     const uint32_t *restrict ci = c->i, *restrict cj = c->j;
+    const uint8_t *restrict ended = c->ended;
     size_t kept = 0;
     uint32_t top = 0;
     const double *restrict r = e->ps->radius;
     for (size_t k = ch->qlo[s]; k < ch->qlo[s + 1]; ++k) {
+        if (skip_ended && ended[k]) /* a contact the law found ended (not yet dropped) */
+            continue;
         const uint32_t i = ci[k], j = cj[k];
         const double g = factor >= 0.0 ? factor * (r[i] > r[j] ? r[i] : r[j])
                                        : contact_g(e, kmat, projection, k);
@@ -175,87 +182,104 @@ range_rest(const sinter_heat_eval *e, const double *kmat, int projection, const 
         pw_run(e, kmat, projection, 0, wq[r], wq[r + 1]);
 }
 
+/* The conductance laws of a partitioned evaluation, each its own loop (constants inlined, so
+ * that none tests them): eq. 34's area, the projection, the projection with one material. */
+enum law { LAW_AREA = 0, LAW_PROJECTION = 1, LAW_FACTOR = 2 };
+
+int sinter_conduction_ranges_begin(const sinter_heat_model *hm, const sinter_heat_eval *e,
+                                   void *scratch, sinter_conduction_ranges *j)
+{
+    const sinter_contact_list *c = e->pp;
+    if (hm->ops != &sinter_heat_conduction || e->g_pp != NULL || c->chunks.count == 0)
+        return 0;
+    const double area = sinter_heat_param(hm, PARAM_AREA, e->time);
+    if (area != 0.0 && area != 1.0) /* conduction_eval reports it */
+        return 0;
+    const int projection = area == 1.0;
+    if (!projection && !c->geometry) /* the area and distance of a lean list are not formed */
+        return 0;
+    const int walls =
+        sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;
+    j->walls = walls && sinter_chunks_wall_runs(&c->chunks, e->pw, j->wq) > 0;
+    j->walls_left = walls && !j->walls;
+    j->e = *e;
+    conductivities(e->ps, j->kmat);
+    j->factor = projection ? projection_factor(e->ps, j->kmat) : -1.0;
+    j->law = !projection ? LAW_AREA : j->factor >= 0.0 ? LAW_FACTOR : LAW_PROJECTION;
+    j->ch = c->chunks;
+    j->skip_ended = c->unconfirmed;
+    j->bpower = scratch;
+    j->bq = (uint32_t *)(j->bpower + c->count);
+    sinter_range_flags_clear(&j->interior_done, j->ch.count);
+    return 1;
+}
+
+static inline __attribute__((always_inline)) void
+interior_pass(sinter_conduction_ranges *j, int s, int projection, double factor, int skip_ended)
+{
+    const size_t q = j->ch.qlo[s];
+    j->boundary[s] = pp_range(&j->e, j->kmat, projection, factor, skip_ended, &j->ch, s,
+                              j->e.heat, j->bq + q, j->bpower + q, &j->reach[s]);
+    sinter_range_flags_set(&j->interior_done, s);
+}
+
+void sinter_conduction_range_interior(sinter_conduction_ranges *j, int s)
+{
+    const int skip = j->skip_ended;
+    if (j->law == LAW_FACTOR)
+        skip ? interior_pass(j, s, 1, j->factor, 1) : interior_pass(j, s, 1, j->factor, 0);
+    else if (j->law == LAW_PROJECTION)
+        skip ? interior_pass(j, s, 1, -1.0, 1) : interior_pass(j, s, 1, -1.0, 0);
+    else
+        skip ? interior_pass(j, s, 0, -1.0, 1) : interior_pass(j, s, 0, -1.0, 0);
+}
+
+void sinter_conduction_range_rest(sinter_conduction_ranges *j, int r)
+{
+    sinter_range_flags_wait_below(&j->interior_done, r + 1);
+    range_rest(&j->e, j->kmat, j->law != LAW_AREA, &j->ch, r, j->e.heat, j->bq, j->bpower,
+               j->boundary, j->reach, j->walls ? j->wq : NULL);
+}
+
 /*
- * The ranges of a partition in one parallel region: each range adds its interior contacts'
- * powers (pp_range), then the boundary contacts in list order by the range that holds each
- * particle (a contact of range s touches ranges s and later only), so that every particle
- * receives them in the order of one pass over the list; then, with `wq` (wall runs aligned
- * with the ranges, chunks.h), each range's wall contacts. No barrier: range r waits for the
- * interior pass of ranges 0 .. r only (range_flags.h). Which thread runs a range, as in the
+ * Explicit, on a partitioned list: the ranges in one parallel region of their own, each
+ * adding its interior contacts' powers, then the boundary contacts in list order by the range
+ * that holds each particle (a contact of range s touches ranges s and later only), so that
+ * every particle receives them in the order of one pass over the list; then, when the model
+ * conducts to the walls, each range's wall contacts. No barrier: range r waits for the
+ * interior passes of ranges 0 .. r only (range_flags.h). Which thread runs a range, as in the
  * force law's pp_chunked (see there): the static schedule on one thread or with as many
  * ranges as threads, else the next free thread; no wait can hang, and the bits do not depend
- * on it.
+ * on it. The list's scratch holds the boundary contacts.
  */
-static inline __attribute__((always_inline)) void
-all_ranges(const sinter_heat_eval *e, const double *kmat, int projection, double factor,
-           int threads, const sinter_chunks *ch, double *heat, uint32_t *bq, double *bpower,
-           const size_t *wq)
+static void all_ranges(sinter_conduction_ranges *j, int threads)
 {
-    size_t boundary[SINTER_CHUNKS_MAX];
-    uint32_t reach[SINTER_CHUNKS_MAX];
-    sinter_range_flags interior_done;
-    sinter_range_flags_clear(&interior_done, ch->count);
-    const int team = threads < ch->count ? threads : ch->count,
-              shared = team > 1 && team < ch->count;
+    const int count = j->ch.count;
+    const int team = threads < count ? threads : count, shared = team > 1 && team < count;
 #pragma omp parallel num_threads(team)
     {
         if (shared) {
 #pragma omp for schedule(dynamic, 1) nowait
-            for (int s = 0; s < ch->count; ++s) {
-                boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
-                                       bpower + ch->qlo[s], &reach[s]);
-                sinter_range_flags_set(&interior_done, s);
-            }
+            for (int s = 0; s < count; ++s)
+                sinter_conduction_range_interior(j, s);
 #pragma omp for schedule(dynamic, 1) nowait
-            for (int r = 0; r < ch->count; ++r) {
-                sinter_range_flags_wait_below(&interior_done, r + 1);
-                range_rest(e, kmat, projection, ch, r, heat, bq, bpower, boundary, reach, wq);
-            }
+            for (int r = 0; r < count; ++r)
+                sinter_conduction_range_rest(j, r);
         } else {
 #pragma omp for schedule(static) nowait
-            for (int s = 0; s < ch->count; ++s) {
-                boundary[s] = pp_range(e, kmat, projection, factor, ch, s, heat, bq + ch->qlo[s],
-                                       bpower + ch->qlo[s], &reach[s]);
-                sinter_range_flags_set(&interior_done, s);
-            }
+            for (int s = 0; s < count; ++s)
+                sinter_conduction_range_interior(j, s);
 #pragma omp for schedule(static) nowait
-            for (int r = 0; r < ch->count; ++r) {
-                sinter_range_flags_wait_below(&interior_done, r + 1);
-                range_rest(e, kmat, projection, ch, r, heat, bq, bpower, boundary, reach, wq);
-            }
+            for (int r = 0; r < count; ++r)
+                sinter_conduction_range_rest(j, r);
         }
     }
 }
 
-/*
- * Explicit, on a partitioned list (contact/chunks.h): the ranges of a fixed partition in
- * parallel (all_ranges), with the wall contacts when `wq` gives their runs. The partition
- * depends on the list only, so any number of threads gives the same bits.
- */
-static sinter_status pp_chunked(const sinter_heat_eval *e, const double *kmat, int projection,
-                                const size_t *wq)
-{
-    const sinter_contact_list *c = e->pp;
-    const int threads = sinter_threads(e->ctx);
-    const sinter_chunks ch = c->chunks;
-    /* room for every contact to be a boundary one (the list's scratch) */
-    double *bpower = c->chunk_scratch, *heat = e->heat;
-    uint32_t *bq = (uint32_t *)(bpower + c->count);
-    /* the conductance laws as separate loops (constants inlined), so that none tests them */
-    const double factor = projection ? projection_factor(e->ps, kmat) : -1.0;
-    if (projection && factor >= 0.0)
-        all_ranges(e, kmat, 1, factor, threads, &ch, heat, bq, bpower, wq);
-    else if (projection)
-        all_ranges(e, kmat, 1, -1.0, threads, &ch, heat, bq, bpower, wq);
-    else
-        all_ranges(e, kmat, 0, -1.0, threads, &ch, heat, bq, bpower, wq);
-    return SINTER_OK;
-}
-
-/* Pair contacts; with `wq` (explicit, a partitioned list: wall runs aligned with its ranges)
- * the wall contacts too, in the same parallel region. */
-static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kmat, int projection,
-                                    int implicit, const size_t *wq)
+/* Pair contacts, on a list without a partition or implicit (a partitioned list's explicit
+ * sums are all_ranges'). */
+static inline void loop_pp(const sinter_heat_eval *e, const double *kmat, int projection,
+                           int implicit)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
@@ -266,17 +290,14 @@ static inline sinter_status loop_pp(const sinter_heat_eval *e, const double *kma
 #pragma omp parallel for num_threads(threads) schedule(static)
         for (long k = 0; k < count; ++k)
             e->g_pp[k] += contact_g(e, kmat, projection, (size_t)k);
-        return SINTER_OK;
+        return;
     }
-    if (c->chunks.count > 0)
-        return pp_chunked(e, kmat, projection, wq);
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], j = c->j[k];
         const double q = contact_g(e, kmat, projection, k) * (theta[j] - theta[i]); /* eq. 32 */
         e->heat[i] += q;
         e->heat[j] -= q;
     }
-    return SINTER_OK;
 }
 
 static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int projection,
@@ -304,26 +325,30 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     const int proj = area == 1.0, implicit = e->g_pp != NULL;
     const int walls =
         sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;
+    /* explicit on a partitioned list: by its ranges, in a parallel region of their own, with
+     * the wall contacts when their runs align with the ranges (each by the thread of its
+     * particle's range: one region fewer); the list's scratch holds the boundary contacts */
+    sinter_conduction_ranges j;
+    if (sinter_conduction_ranges_begin(hm, e, e->pp->chunk_scratch, &j)) {
+        all_ranges(&j, sinter_threads(e->ctx));
+        if (j.walls_left)
+            proj ? loop_pw(e, j.kmat, 1, 0) : loop_pw(e, j.kmat, 0, 0);
+        return SINTER_OK;
+    }
     double kmat[SINTER_MAX_MATERIALS];
     conductivities(e->ps, kmat);
     /* Constant switches resolved here so each loop is branch-free on them. */
-    /* explicit, with walls and a partitioned pair list: the wall contacts in the pairs'
-     * parallel region, each by the thread of its particle's range (one region fewer) */
-    size_t wq[SINTER_CHUNKS_MAX + 1];
-    const int fused = walls && !implicit && sinter_chunks_wall_runs(&e->pp->chunks, e->pw, wq) > 0;
-    const size_t *runs = fused ? wq : NULL;
-    sinter_status st;
     if (proj)
-        st = implicit ? loop_pp(e, kmat, 1, 1, NULL) : loop_pp(e, kmat, 1, 0, runs);
+        implicit ? loop_pp(e, kmat, 1, 1) : loop_pp(e, kmat, 1, 0);
     else
-        st = implicit ? loop_pp(e, kmat, 0, 1, NULL) : loop_pp(e, kmat, 0, 0, runs);
-    if (st == SINTER_OK && walls && !fused) {
+        implicit ? loop_pp(e, kmat, 0, 1) : loop_pp(e, kmat, 0, 0);
+    if (walls) {
         if (proj)
             implicit ? loop_pw(e, kmat, 1, 1) : loop_pw(e, kmat, 1, 0);
         else
             implicit ? loop_pw(e, kmat, 0, 1) : loop_pw(e, kmat, 0, 0);
     }
-    return st;
+    return SINTER_OK;
 }
 
 /* The projection law reads radii and temperatures only (the wall contacts, which always

@@ -415,11 +415,13 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         st->range_final = kick_range;
         st->range_final_user = &job;
     }
+    st->heat_in_law = 1; /* conduction in the law's region when it can (thermal.h) */
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
     const int kicked = st->range_final != NULL && st->ranges_final;
     st->range_final = NULL;
     st->range_final_user = NULL;
+    st->heat_in_law = 0;
     st->thermal.heat_zeroed = 0;           /* for that evaluation only */
     sinter_neighbors_clear_moved(&st->nb); /* valid for that evaluation only */
     size_t bad = st->ps->count;

@@ -484,6 +484,16 @@ static sinter_status stop_before_law(sinter_stepper *st, int deferred, sinter_st
     return s;
 }
 
+/* A range's final work in the law's region when the conduction runs there: its conduction
+ * (the boundary and wall contacts), then the stepper's own (the second half kick), if any. */
+static void heat_then_final(void *user, int range, size_t lo, size_t hi)
+{
+    sinter_stepper *st = user;
+    sinter_thermal_law_rest(st, range);
+    if (st->range_final != NULL)
+        st->range_final(st->range_final_user, range, lo, hi);
+}
+
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
@@ -559,6 +569,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.view = &st->view;
     e.stream = st->stores.stream_now;
     s = sinter_thermal_softening(st, &e.modulus_scale);
+    /* the explicit step's conduction in the last law's region, by ranges (thermal.h) */
+    const int heat_ranges = s == SINTER_OK && st->heat_in_law && sinter_thermal_law_begin(st);
     st->ranges_final = 0;
     for (size_t k = first_model; k < st->force_count && s == SINTER_OK; ++k) {
         sinter_force_slot *slot = &st->forces[k];
@@ -574,8 +586,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
             sinter_contacts_geometry(ctx, &st->pp, ps);
         e.pp_ended = SIZE_MAX;
         const int last = k + 1 == st->force_count;
-        e.range_final = last ? st->range_final : NULL;
-        e.range_user = last ? st->range_final_user : NULL;
+        e.range_final = !last ? NULL : heat_ranges ? heat_then_final : st->range_final;
+        e.range_interior_done = last && heat_ranges ? sinter_thermal_law_interior : NULL;
+        e.range_user = !last ? NULL : heat_ranges ? (void *)st : st->range_final_user;
         e.ranges_final = 0;
         s = slot->model->ops->eval(slot->model, &e);
         st->ranges_final = last && e.ranges_final;
@@ -584,6 +597,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
             deferred = 0;
         }
     }
+    if (heat_ranges)
+        sinter_thermal_law_end(st, s == SINTER_OK && st->ranges_final);
     (void)stop_before_law(st, deferred, s); /* when the law did not run */
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;

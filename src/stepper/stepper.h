@@ -79,6 +79,9 @@ struct sinter_stepper {
     void (*range_final)(void *user, int range, size_t lo, size_t hi);
     void *range_final_user;
     int ranges_final;
+    /* the explicit step asks for its conduction in the same region (thermal.h,
+     * sinter_thermal_law_begin) */
+    int heat_in_law;
     /* evaluations whose contacts the force law confirmed (sinter_contacts_find_pp_deferred),
      * and those of them in which it dropped ended contacts */
     uint64_t law_confirmed, law_dropped;

@@ -33,6 +33,7 @@ void sinter_thermal_free(sinter_ctx *ctx, sinter_thermal *th)
     sinter_free(ctx, th->g_pw);
     sinter_free(ctx, th->modulus_scale);
     sinter_free(ctx, th->theta_backup);
+    sinter_free(ctx, th->law_scratch);
     solver_free(ctx, th->solver);
     memset(th, 0, sizeof(*th));
 }
@@ -126,6 +127,63 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
 
 /* ---- evaluation ----------------------------------------------------------- */
 
+/* The explicit evaluation's inputs (the implicit one adds g_pp and g_pw). */
+static sinter_heat_eval explicit_eval(sinter_stepper *st)
+{
+    sinter_heat_eval e;
+    memset(&e, 0, sizeof(e));
+    e.ctx = st->ctx;
+    e.ps = st->ps;
+    e.walls = st->walls;
+    e.pp = &st->pp;
+    e.pw = &st->pw;
+    e.time = st->time;
+    e.heat = st->ps->heat;
+    e.view = &st->view;
+    return e;
+}
+
+int sinter_thermal_law_begin(sinter_stepper *st)
+{
+    sinter_thermal *th = &st->thermal;
+    th->first_in_law = 0;
+    /* on one thread there is no fork to save nor wait to fill, and the interleaved passes
+     * measured 1-2 % slower (RESULTS.md, issue 9, session 20) */
+    if (th->count == 0 || th->scheme != SINTER_THERMAL_EXPLICIT ||
+        th->slots[0].model->ops != &sinter_heat_conduction || st->pp.chunks.count == 0 ||
+        sinter_threads(st->ctx) < 2)
+        return 0;
+    if (sinter_grow(st->ctx, &th->law_scratch, &th->law_scratch_capacity,
+                    sinter_conduction_ranges_scratch(st->pp.count), 1) != SINTER_OK) {
+        sinter_clear_error(st->ctx); /* no room: evaluated after the law, as before */
+        return 0;
+    }
+    const sinter_heat_eval e = explicit_eval(st);
+    if (!sinter_conduction_ranges_begin(th->slots[0].model, &e, th->law_scratch, &th->law_job) ||
+        th->law_job.walls_left)
+        return 0;
+    if (!th->heat_zeroed) /* the drift zeroes it on the threads when it can */
+        memset(st->ps->heat, 0, st->ps->count * sizeof(double));
+    th->heat_zeroed = 1;
+    return 1;
+}
+
+void sinter_thermal_law_interior(void *stepper, int range)
+{
+    sinter_conduction_range_interior(&((sinter_stepper *)stepper)->thermal.law_job, range);
+}
+
+void sinter_thermal_law_rest(sinter_stepper *st, int range)
+{
+    sinter_conduction_range_rest(&st->thermal.law_job, range);
+}
+
+void sinter_thermal_law_end(sinter_stepper *st, int ran)
+{
+    st->thermal.first_in_law = ran;
+    st->thermal.law_evaluations += (uint64_t)ran;
+}
+
 sinter_status sinter_thermal_eval(sinter_stepper *st)
 {
     sinter_thermal *th = &st->thermal;
@@ -134,21 +192,14 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
     if (!th->heat_zeroed)
         memset(ps->heat, 0, n * sizeof(double));
     th->heat_zeroed = 0;
+    const int first_done = th->first_in_law;
+    th->first_in_law = 0;
     if (th->count == 0)
         return SINTER_OK;
-    sinter_heat_eval e;
-    memset(&e, 0, sizeof(e));
-    e.ctx = st->ctx;
-    e.ps = ps;
-    e.walls = st->walls;
     for (size_t k = 0; k < th->count; ++k)
         if (sinter_heat_reads_geometry(th->slots[k].model, st->time))
             sinter_contacts_geometry(st->ctx, &st->pp, ps); /* a lean list gets it here */
-    e.pp = &st->pp;
-    e.pw = &st->pw;
-    e.time = st->time;
-    e.heat = ps->heat;
-    e.view = &st->view;
+    sinter_heat_eval e = explicit_eval(st);
     if (th->scheme == SINTER_THERMAL_IMPLICIT) {
         sinter_status s = sinter_grow(st->ctx, (void **)&th->g_pp, &th->g_pp_capacity,
                                       st->pp.count + 1, sizeof(double));
@@ -165,7 +216,9 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
     double before = 0.0;
     for (size_t k = 0; k < th->count; ++k) {
         sinter_heat_slot *slot = &th->slots[k];
-        sinter_status s = slot->model->ops->eval(slot->model, &e);
+        /* the first model may have been summed in the law's region (sinter_thermal_law_begin) */
+        sinter_status s =
+            k == 0 && first_done ? SINTER_OK : slot->model->ops->eval(slot->model, &e);
         if (s != SINTER_OK)
             return s;
         /* four partial sums: the dependent additions of one would take longer than the

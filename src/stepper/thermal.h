@@ -9,6 +9,7 @@
 #ifndef SINTER_THERMAL_H
 #define SINTER_THERMAL_H
 
+#include "heat/conduction_ranges.h"
 #include "heat/heat_model.h"
 
 typedef struct sinter_heat_slot {
@@ -42,6 +43,15 @@ typedef struct sinter_thermal {
      * into it (issue 9), so the evaluation of that step adds into it without a memset of its
      * own; set by the drift and cleared by the evaluation (explicit.c) */
     int heat_zeroed;
+    /* The explicit step's first heat model, conduction, summed in the contact law's parallel
+     * region by the pair partition's ranges (sinter_thermal_law_begin; issue 9): its job and
+     * scratch; first_in_law: this evaluation's first model is in ps->heat already (set after
+     * the law, cleared by sinter_thermal_eval); law_evaluations counts such evaluations. */
+    sinter_conduction_ranges law_job;
+    void *law_scratch;
+    size_t law_scratch_capacity;
+    int first_in_law;
+    uint64_t law_evaluations;
     sinter_thermal_solver *solver;
 } sinter_thermal;
 
@@ -54,6 +64,22 @@ sinter_status sinter_thermal_softening(struct sinter_stepper *st, const double *
 
 /* Evaluate every heat submodel into ps->heat (and conductances when implicit). */
 sinter_status sinter_thermal_eval(struct sinter_stepper *st);
+
+/*
+ * The explicit step's conduction in the contact law's region (issue 9). Before the last
+ * force model's law, with the contact lists of the state found: returns 1 if the first heat
+ * model is conduction and can be summed by the pair partition's ranges; ps->heat is then
+ * zeroed and the law is to call sinter_thermal_law_interior(st, s) after its pass over the
+ * contacts of each range s (range_interior_done) and sinter_thermal_law_rest(st, r) for each
+ * range r (from range_final). After the law, sinter_thermal_law_end(st, ran): ran is 1 if the
+ * law called both for every range (ranges_final); then sinter_thermal_eval does not evaluate
+ * that model again, else it evaluates it as usual. The sums are those of an evaluation after
+ * the law, to the bit (conduction_ranges.h).
+ */
+int sinter_thermal_law_begin(struct sinter_stepper *st);
+void sinter_thermal_law_interior(void *stepper, int range);
+void sinter_thermal_law_rest(struct sinter_stepper *st, int range);
+void sinter_thermal_law_end(struct sinter_stepper *st, int ran);
 
 /* Advance temperatures over h with the powers of the last evaluation. */
 sinter_status sinter_thermal_advance(struct sinter_stepper *st, double h);

@@ -885,6 +885,78 @@ static void test_colliding_cloud_independent_of_thread_count(void **state)
 }
 
 /*
+ * The explicit step's conduction summed in the contact law's parallel region, range by range,
+ * on more than one thread (stepper/thermal.c, sinter_thermal_law_begin; conduction_ranges.h),
+ * against the same model evaluated after the law: a lattice of 16 x 16 x 12 spheres pressed
+ * together (spacing 0.998 diameters, jittered) on a floor and released, so that its contacts
+ * end one after another and none begin, with random temperatures (300-500 K); conduction by
+ * eq. 34's area (the list carries its geometry) and by projection (a lean list that the law
+ * confirms: it only marks the contacts that ended while the conduction reads the list). After every
+ * step the step's heat powers must equal a fresh evaluation's of the same state to the bit,
+ * on 1, 2 and 3 threads; on 2 and 3 every step's conduction must have run in the law's region
+ * (on one thread none), and with projection some of those steps must have dropped ended
+ * contacts (a conduction that counted them differs there).
+ */
+static void test_conduction_in_law_matches_after_law(void **state)
+{
+    (void)state;
+    enum { M = 16, L = 12, N = M * M * L, STEPS = 120 };
+    double *heat = malloc(N * sizeof(double));
+    assert_non_null(heat);
+    for (int projection = 0; projection <= 1; ++projection)
+        for (int t = 1; t <= 3; ++t) {
+            scene s;
+            conducting_scene(&s, t);
+            scene_open(&s, "hertz_mindlin", 0);
+            scene_floor(&s, -0.499e-3); /* touching the bottom layer: the law's ranged walls */
+            OK(sinter_force_model_set(s.contact, "rolling", 0.0));
+            sinter_heat_model *cond = NULL;
+            OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+            OK(sinter_heat_model_set(cond, "area", projection));
+            OK(sinter_stepper_add_heat(s.st, cond));
+            uint64_t seed = 31;
+            const double r = 0.5e-3, a = 2 * r * 0.998;
+            for (int k = 0; k < L; ++k)
+                for (int j = 0; j < M; ++j)
+                    for (int i = 0; i < M; ++i)
+                        scene_add(&s, i * a + 1e-6 * lcg(&seed), j * a + 1e-6 * lcg(&seed),
+                                  k * a + 1e-6 * lcg(&seed), r);
+            for (size_t i = 0; i < N; ++i)
+                s.ps->temperature[i] = 300.0 + 200.0 * lcg(&seed);
+            OK(sinter_stepper_set_dt(s.st, 1e-5));
+            OK(sinter_stepper_set_option(s.st, "thread_choice", 0.0)); /* t threads throughout */
+            const int fusing = t > 1 && sinter_threads_allowed(s.ctx) > 1; /* 1 without OpenMP */
+            int dropped = 0, partitioned = 0;
+            double largest = 0.0;
+            for (int k = 0; k < STEPS; ++k) {
+                const uint64_t fused = s.st->thermal.law_evaluations, ended = s.st->law_dropped;
+                OK(sinter_stepper_step(s.st, 1));
+                const int ranges = s.st->pp.chunks.count > 0;
+                partitioned += ranges;
+                assert_true(s.st->thermal.law_evaluations == fused + (uint64_t)(fusing && ranges));
+                dropped += s.st->law_dropped > ended;
+                memcpy(heat, s.ps->heat, N * sizeof(double));
+                OK(sinter_stepper_evaluate(s.st)); /* conduction after the law */
+                assert_memory_equal(heat, s.ps->heat, N * sizeof(double));
+                for (size_t i = 0; i < N; ++i)
+                    largest = fmax(largest, fabs(heat[i]));
+            }
+            print_message("conduction in the law's region: area %s, %d thread(s): %d of %d "
+                          "steps partitioned, %d dropped ended contacts, %zu contacts left, "
+                          "largest power %.3g W\n",
+                          projection ? "projection" : "eq. 34", t, partitioned, STEPS, dropped,
+                          s.st->pp.count, largest);
+            assert_true(partitioned >= STEPS - 10);
+            assert_true(largest > 0.0); /* heat flowed */
+            if (projection)
+                assert_true(dropped > 10);
+            sinter_heat_model_destroy(cond); /* before its context */
+            scene_close(&s);
+        }
+    free(heat);
+}
+
+/*
  * The colliding cloud with the rolling model on (6 values of history) and the material's
  * rolling friction mu_r set in three phases of 100 steps (`mu`), its rolling damping 0.3.
  * Returns positions, velocities and spins in out (9 n) and the largest rolling spring |Delta
@@ -1581,6 +1653,7 @@ int main(void)
         cmocka_unit_test(test_partitioned_conduction_conserves_energy),
         cmocka_unit_test(test_partitioned_law_balances_walls),
         cmocka_unit_test(test_ranges_shared_by_threads),
+        cmocka_unit_test(test_conduction_in_law_matches_after_law),
         cmocka_unit_test(test_partitioned_drag),
         cmocka_unit_test(test_partitioned_heat_sources),
         cmocka_unit_test(test_partitioned_domain),
