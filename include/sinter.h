@@ -589,7 +589,9 @@ typedef struct sinter_stepper_stats {
     double time;              /**< simulated time [s] */
     double dt;                /**< current step [s] */
     double seconds_neighbor;  /**< wall-clock time in neighbour search [s] */
-    double seconds_force;     /**< wall-clock time in force evaluation [s] */
+    double seconds_force;     /**< wall-clock time in force evaluation [s] (on two or more
+                                   threads the explicit step's conduction, summed in the
+                                   contact law's parallel region, counts here) */
     double seconds_integrate; /**< wall-clock time in the update of positions and velocities [s] */
     double seconds_total;     /**< wall-clock time in sinter_stepper_advance [s] */
     /* Appended in 0.x (struct_size tells the library which fields a caller has). */

@@ -112,7 +112,8 @@ struct sinter_stepper {
     sinter_thermal thermal;       /* heat submodels and the temperature update */
     double thermal_last_h;        /* step of the last temperature update [s] */
     uint64_t stats_thermal_iterations; /* PCG iterations of implicit conduction */
-    double stats_seconds_heat;    /* wall-clock time in heat evaluation [s] */
+    double stats_seconds_heat;    /* wall-clock time in heat evaluation [s] (conduction summed
+                                     in the law's region counts in stats.seconds_force) */
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];
