@@ -102,10 +102,12 @@ static sinter_particle_ranges particle_ranges(const sinter_stepper *st, int thre
  * particle ranges (particle_ranges) in vectorised blocks (verlet_blocks.c); with `exact`,
  * the displacement since the neighbour build is measured against x_ref; `stream`: streaming
  * stores for the new x, v, w. The first non-finite particle (n: none) and the largest squared
- * displacements are the ranges' (a first and a maximum: the same for any split).
+ * displacements are the ranges' (a first and a maximum: the same for any split); with
+ * `heat_update`, each range's temperature update before its drift (kick_drift).
  */
 static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const double g[3],
-                                          int threads, int exact, int stream)
+                                          int threads, int exact, int stream, int heat_update,
+                                          size_t heat_first[2])
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -117,14 +119,20 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
     /* the heat powers are summed again by this step's evaluation: zeroed here, by the ranges
      * whose threads sum them (thermal.h, heat_zeroed) */
     double *heat = st->thermal.count > 0 ? ps->heat : NULL;
-    size_t bad = n;
+    size_t bad = n, heat_bad = n, heat_hot = n;
     double moved2 = 0.0, step2 = 0.0;
     const sinter_particle_ranges r = particle_ranges(st, threads);
-#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad)            \
-    reduction(max : moved2, step2)
+#pragma omp parallel for num_threads(r.team) schedule(static)                                  \
+    reduction(min : bad, heat_bad, heat_hot) reduction(max : moved2, step2)
     for (int t = 0; t < r.count; ++t) {
         const size_t lo = sinter_particle_range_lo(&r, t),
                      hi = sinter_particle_range_lo(&r, t + 1);
+        if (heat_update) { /* the temperatures first, with the heat powers zeroed below */
+            size_t b, o;
+            sinter_thermal_explicit_range(st, h, lo, hi, &b, &o);
+            heat_bad = b < hi && b < heat_bad ? b : heat_bad;
+            heat_hot = o < hi && o < heat_hot ? o : heat_hot;
+        }
         const sinter_drift_scan d =
             sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
         sinter_put_fence(stream); /* this thread's streamed stores before the barrier */
@@ -135,6 +143,8 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
         step2 = d.step2 > step2 ? d.step2 : step2;
     }
     st->thermal.heat_zeroed = heat != NULL;
+    heat_first[0] = heat_bad;
+    heat_first[1] = heat_hot;
     return (sinter_drift_scan){bad, moved2, step2};
 }
 
@@ -146,9 +156,12 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
  * here; returns the first particle with a non-finite one, or n. The sanity check's measure
  * of the step (largest displacement; the smallest radius, kept between steps) goes into
  * *scan, and force and torque are zeroed after their last read (the next evaluation adds
- * into them).
+ * into them). With `heat_update`, each range's explicit temperature update first (thermal.h,
+ * sinter_thermal_explicit_range: one parallel region fewer a step), its first particles with
+ * a bad and a hot temperature into heat_first (the count for none).
  */
-static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
+static size_t kick_drift(sinter_stepper *st, double h, int heat_update, size_t heat_first[2],
+                         sinter_sanity_scan *scan)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -179,8 +192,8 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
         /* while the neighbour list's displacement bound holds, the step's largest
          * displacement is all it needs (sinter_neighbors_add_step): x_ref is not read */
         const int exact = measure && !sinter_neighbors_bound_holds(nb, ps);
-        const sinter_drift_scan d =
-            plain_kick_drift(st, h, g, threads, exact, st->stores.stream_now);
+        const sinter_drift_scan d = plain_kick_drift(
+            st, h, g, threads, exact, st->stores.stream_now, heat_update, heat_first);
         swap_spare(st);
         if (exact)
             sinter_neighbors_set_moved(nb, ps, d.moved2);
@@ -193,6 +206,9 @@ static size_t kick_drift(sinter_stepper *st, double h, sinter_sanity_scan *scan)
         return d.bad;
     }
     /* fixed or non-rotating particles among them: one thread, every case by its flags */
+    heat_first[0] = heat_first[1] = n;
+    if (heat_update)
+        sinter_thermal_explicit_range(st, h, 0, n, &heat_first[0], &heat_first[1]);
     double moved2 = 0.0, step2 = 0.0;
     for (size_t i = 0; i < n; ++i) {
         const uint32_t fl = flags[i];
@@ -395,16 +411,32 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         return s;
     const double t_start = st->time, clock_start = sinter_clock();
     st->stores.stream_now = choose_stores(st);
-    /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5). */
-    s = sinter_thermal_advance(st, h);
+    /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5):
+     * the explicit scheme's in the kick and drift's pass, range by range (thermal.h) */
+    const int heat_update =
+        st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
+    s = heat_update ? sinter_thermal_explicit_begin(st) : sinter_thermal_advance(st, h);
     if (s != SINTER_OK) {
         st->stats.rejected++;
         return s;
     }
     double t0 = sinter_clock();
     sinter_sanity_scan scan;
-    const size_t bad_drift = kick_drift(st, h, &scan);
+    size_t heat_first[2];
+    const size_t bad_drift = kick_drift(st, h, heat_update, heat_first, &scan);
     st->stats.seconds_integrate += sinter_clock() - t0;
+    if (heat_update) {
+        s = sinter_thermal_explicit_end(st, h, heat_first[0], heat_first[1]);
+        if (s != SINTER_OK) { /* refused: temperatures restored; the drift undone, and the
+                               * forces and heat powers it zeroed evaluated again */
+            swap_spare(st);
+            st->forces_current = 0;
+            st->forces_zeroed = st->gravity_seeded = 0;
+            st->thermal.heat_zeroed = 0;
+            st->stats.rejected++;
+            return s;
+        }
+    }
     st->time = t_start + h;
     if (st->walls != NULL)
         s = sinter_walls_move(st->walls, st->time);

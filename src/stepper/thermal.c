@@ -375,6 +375,59 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     return SINTER_OK;
 }
 
+/* The saved temperatures' room, for the explicit update. */
+sinter_status sinter_thermal_explicit_begin(sinter_stepper *st)
+{
+    sinter_thermal *th = &st->thermal;
+    th->hot_checked = 0;
+    return sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity,
+                       st->ps->count + 1, sizeof(double));
+}
+
+void sinter_thermal_explicit_range(sinter_stepper *st, double h, size_t lo, size_t hi,
+                                   size_t *bad, size_t *hot)
+{
+    sinter_particles *ps = st->ps;
+    double *restrict saved = st->thermal.theta_backup, *restrict temp = ps->temperature;
+    size_t first_bad = hi, first_hot = hi;
+    for (size_t i = lo; i < hi; ++i) {
+        const double t0 = temp[i];
+        saved[i] = t0;
+        if (fixed(ps, i))
+            continue;
+        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        const double t1 = t0 + h * ps->heat[i] / mc;
+        temp[i] = t1;
+        if (!(t1 > 0.0 && t1 < INFINITY) && i < first_bad)
+            first_bad = i;
+        if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < first_hot)
+            first_hot = i;
+    }
+    *bad = first_bad;
+    *hot = first_hot;
+}
+
+sinter_status sinter_thermal_explicit_end(sinter_stepper *st, double h, size_t bad, size_t hot)
+{
+    sinter_thermal *th = &st->thermal;
+    sinter_particles *ps = st->ps;
+    th->hot_checked = 1;
+    th->hot = hot;
+    if (bad < ps->count) {
+        const double theta = ps->temperature[bad];
+        memcpy(ps->temperature, th->theta_backup, ps->count * sizeof(double));
+        double dt_stable = 0.0;
+        sinter_stepper_stable_dt_thermal(st, &dt_stable);
+        return sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,
+                           "explicit heat step at t = %g s rejected: the temperature of "
+                           "particle %zu (id %llu) would become %g K; the step %g s exceeds "
+                           "the explicit thermal limit %g s (use the implicit thermal "
+                           "scheme or a smaller step)",
+                           st->time, bad, (unsigned long long)ps->id[bad], theta, h, dt_stable);
+    }
+    return sinter_thermal_booked(st, h);
+}
+
 sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
 {
     sinter_thermal *th = &st->thermal;
@@ -387,54 +440,32 @@ sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
         s = backup(st);
         if (s == SINTER_OK)
             s = implicit_update(st, h);
-        if (s != SINTER_OK)
-            return s;
-    } else {
-        /* Forward Euler, seed 003 eq. 46, saving the temperatures in the same pass; it also
-         * finds the first free particle above the sanity check's limit (sanity.c). */
-        s = sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity,
-                        ps->count + 1, sizeof(double));
-        if (s != SINTER_OK)
-            return s;
-        double *restrict saved = th->theta_backup, *restrict temp = ps->temperature;
-        size_t bad = ps->count, hot = ps->count;
-        const size_t n = ps->count;
-        const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
-        /* the particles of the threads that summed their heat (contact/chunks.h) */
-        const sinter_particle_ranges r = sinter_chunks_particle_ranges(&st->pp.chunks, n, threads);
-#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad, hot)
-        for (int range = 0; range < r.count; ++range) {
-            const size_t hi = sinter_particle_range_lo(&r, range + 1);
-            for (size_t i = sinter_particle_range_lo(&r, range); i < hi; ++i) {
-                const double t0 = temp[i];
-                saved[i] = t0;
-                if (fixed(ps, i))
-                    continue;
-                const double mc =
-                    ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
-                const double t1 = t0 + h * ps->heat[i] / mc;
-                temp[i] = t1;
-                if (!(t1 > 0.0 && t1 < INFINITY) && i < bad)
-                    bad = i;
-                if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < hot)
-                    hot = i;
-            }
-        }
-        th->hot_checked = 1;
-        th->hot = hot;
-        if (bad < ps->count) {
-            const double theta = ps->temperature[bad];
-            memcpy(ps->temperature, th->theta_backup, ps->count * sizeof(double));
-            double dt_stable = 0.0;
-            sinter_stepper_stable_dt_thermal(st, &dt_stable);
-            return sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,
-                               "explicit heat step at t = %g s rejected: the temperature of "
-                               "particle %zu (id %llu) would become %g K; the step %g s exceeds "
-                               "the explicit thermal limit %g s (use the implicit thermal "
-                               "scheme or a smaller step)",
-                               st->time, bad, (unsigned long long)ps->id[bad], theta, h, dt_stable);
-        }
+        return s == SINTER_OK ? sinter_thermal_booked(st, h) : s;
     }
+    /* Forward Euler, seed 003 eq. 46, saving the temperatures in the same pass; it also finds
+     * the first free particle above the sanity check's limit (sanity.c). */
+    s = sinter_thermal_explicit_begin(st);
+    if (s != SINTER_OK)
+        return s;
+    size_t bad = ps->count, hot = ps->count;
+    const size_t n = ps->count;
+    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
+    /* the particles of the threads that summed their heat (contact/chunks.h) */
+    const sinter_particle_ranges r = sinter_chunks_particle_ranges(&st->pp.chunks, n, threads);
+#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad, hot)
+    for (int range = 0; range < r.count; ++range) {
+        const size_t hi = sinter_particle_range_lo(&r, range + 1);
+        size_t b, t;
+        sinter_thermal_explicit_range(st, h, sinter_particle_range_lo(&r, range), hi, &b, &t);
+        bad = b < hi && b < bad ? b : bad;
+        hot = t < hi && t < hot ? t : hot;
+    }
+    return sinter_thermal_explicit_end(st, h, bad, hot);
+}
+
+sinter_status sinter_thermal_booked(sinter_stepper *st, double h)
+{
+    sinter_thermal *th = &st->thermal;
     for (size_t k = 0; k < th->count; ++k) {
         th->slots[k].applied = th->slots[k].power * h;
         th->slots[k].energy += th->slots[k].applied;
