@@ -250,7 +250,7 @@ void sinter_conduction_range_rest(sinter_conduction_ranges *j, int r)
  * interior passes of ranges 0 .. r only (range_flags.h). Which thread runs a range, as in the
  * force law's pp_chunked (see there): the static schedule on one thread or with as many
  * ranges as threads, else the next free thread; no wait can hang, and the bits do not depend
- * on it. The list's scratch holds the boundary contacts.
+ * on it.
  */
 static void all_ranges(sinter_conduction_ranges *j, int threads)
 {
