@@ -415,7 +415,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
      * the explicit scheme's in the kick and drift's pass, range by range (thermal.h) */
     const int heat_update =
         st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
-    s = heat_update ? sinter_thermal_explicit_begin(st) : sinter_thermal_advance(st, h);
+    s = heat_update ? sinter_thermal_explicit_begin(st) : sinter_thermal_implicit_advance(st, h);
     if (s != SINTER_OK) {
         st->stats.rejected++;
         return s;

@@ -375,6 +375,8 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     return SINTER_OK;
 }
 
+static sinter_status thermal_booked(sinter_stepper *st, double h);
+
 /* The saved temperatures' room, for the explicit update. */
 sinter_status sinter_thermal_explicit_begin(sinter_stepper *st)
 {
@@ -425,45 +427,23 @@ sinter_status sinter_thermal_explicit_end(sinter_stepper *st, double h, size_t b
                            "scheme or a smaller step)",
                            st->time, bad, (unsigned long long)ps->id[bad], theta, h, dt_stable);
     }
-    return sinter_thermal_booked(st, h);
+    return thermal_booked(st, h);
 }
 
-sinter_status sinter_thermal_advance(sinter_stepper *st, double h)
+sinter_status sinter_thermal_implicit_advance(sinter_stepper *st, double h)
 {
     sinter_thermal *th = &st->thermal;
     th->hot_checked = 0;
     if (th->count == 0)
         return SINTER_OK;
-    sinter_particles *ps = st->ps;
-    sinter_status s = SINTER_OK;
-    if (th->scheme == SINTER_THERMAL_IMPLICIT) {
-        s = backup(st);
-        if (s == SINTER_OK)
-            s = implicit_update(st, h);
-        return s == SINTER_OK ? sinter_thermal_booked(st, h) : s;
-    }
-    /* Forward Euler, seed 003 eq. 46, saving the temperatures in the same pass; it also finds
-     * the first free particle above the sanity check's limit (sanity.c). */
-    s = sinter_thermal_explicit_begin(st);
-    if (s != SINTER_OK)
-        return s;
-    size_t bad = ps->count, hot = ps->count;
-    const size_t n = ps->count;
-    const int threads = n < SINTER_THREADED_PARTICLES ? 1 : sinter_threads(st->ctx);
-    /* the particles of the threads that summed their heat (contact/chunks.h) */
-    const sinter_particle_ranges r = sinter_chunks_particle_ranges(&st->pp.chunks, n, threads);
-#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad, hot)
-    for (int range = 0; range < r.count; ++range) {
-        const size_t hi = sinter_particle_range_lo(&r, range + 1);
-        size_t b, t;
-        sinter_thermal_explicit_range(st, h, sinter_particle_range_lo(&r, range), hi, &b, &t);
-        bad = b < hi && b < bad ? b : bad;
-        hot = t < hi && t < hot ? t : hot;
-    }
-    return sinter_thermal_explicit_end(st, h, bad, hot);
+    sinter_status s = backup(st);
+    if (s == SINTER_OK)
+        s = implicit_update(st, h);
+    return s == SINTER_OK ? thermal_booked(st, h) : s;
 }
 
-sinter_status sinter_thermal_booked(sinter_stepper *st, double h)
+/* The energies of an update that succeeded booked, and its step kept. */
+static sinter_status thermal_booked(sinter_stepper *st, double h)
 {
     sinter_thermal *th = &st->thermal;
     for (size_t k = 0; k < th->count; ++k) {

@@ -81,19 +81,20 @@ void sinter_thermal_law_interior(void *stepper, int range);
 void sinter_thermal_law_rest(struct sinter_stepper *st, int range);
 void sinter_thermal_law_end(struct sinter_stepper *st, int ran);
 
-/* Advance temperatures over h with the powers of the last evaluation. */
-sinter_status sinter_thermal_advance(struct sinter_stepper *st, double h);
+/* Advance temperatures over h by the implicit scheme (backward Euler, conduction solved with
+ * PCG); nothing without heat models. The explicit scheme's update runs in pieces (below), in
+ * the explicit step's kick and drift. */
+sinter_status sinter_thermal_implicit_advance(struct sinter_stepper *st, double h);
 
 /*
- * The explicit scheme's update (seed 003 eq. 46) in pieces, for a caller that runs it by
- * particle ranges in a pass of its own (the explicit step's kick and drift, issue 9: one
- * parallel region fewer a step): begin (the saved temperatures' room), then every particle
+ * The explicit scheme's update (seed 003 eq. 46) in pieces, for the caller that runs it by
+ * particle ranges in a pass of its own (the explicit step's kick and drift, issue 9: no
+ * parallel region of its own): begin (the saved temperatures' room), then every particle
  * once through range(lo, hi), which saves and advances the temperatures of [lo, hi) and gives
  * the first particle whose new temperature is not positive and finite (*bad) and the first
  * free one above the sanity check's limit (*hot), hi for none; then end with the smallest of
- * each (the count for none), which refuses the update (temperatures restored, with the error
- * sinter_thermal_advance gives) or books its energies. The same bits as
- * sinter_thermal_advance.
+ * each (the count for none), which refuses the update (temperatures restored, with the
+ * step limit in the error) or books its energies.
  */
 sinter_status sinter_thermal_explicit_begin(struct sinter_stepper *st);
 void sinter_thermal_explicit_range(struct sinter_stepper *st, double h, size_t lo, size_t hi,
@@ -101,10 +102,7 @@ void sinter_thermal_explicit_range(struct sinter_stepper *st, double h, size_t l
 sinter_status sinter_thermal_explicit_end(struct sinter_stepper *st, double h, size_t bad,
                                           size_t hot);
 
-/* The energies of an update that succeeded booked, and its step kept. */
-sinter_status sinter_thermal_booked(struct sinter_stepper *st, double h);
-
-/* Restore the temperatures saved by the last sinter_thermal_advance. */
+/* Restore the temperatures saved by the last update (either scheme). */
 void sinter_thermal_rollback(struct sinter_stepper *st);
 
 #endif
