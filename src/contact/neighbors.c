@@ -110,6 +110,12 @@ void sinter_neighbors_clear_moved(sinter_neighbors *nb)
     nb->moved_valid = 0;
 }
 
+void sinter_neighbors_positions_restored(sinter_neighbors *nb)
+{
+    nb->moved_valid = 0;
+    nb->bound_valid = 0;
+}
+
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,
                            const sinter_walls *walls)
 {

@@ -99,6 +99,10 @@ int sinter_neighbors_bound_holds(const sinter_neighbors *nb, const sinter_partic
  * it stays under a quarter of the skin, answers the next staleness test (no particle can have
  * moved half the skin); beyond, the test measures. */
 void sinter_neighbors_add_step(sinter_neighbors *nb, const sinter_particles *ps, double step);
+/* The particles were put back at positions of an earlier state (a rejected step's rollback):
+ * what was measured or bounded of the undone positions says nothing of these, so the next
+ * staleness test and the next step measure against x_ref again. */
+void sinter_neighbors_positions_restored(sinter_neighbors *nb);
 
 /* 1 when the lists must be rebuilt before the next evaluation. */
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,

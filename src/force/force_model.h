@@ -36,10 +36,12 @@ typedef struct sinter_force_eval {
      * then runs there, in the law's parallel region (issue 9: one fork and join fewer per
      * step, and the imbalances of the law and the kick between the threads partly cancel). */
     void (*range_final)(void *range_user, int range, size_t lo, size_t hi);
-    /* Optional beside range_final: called on the thread of range s right after the law's own
+    /* Set only beside range_final: called on the thread of range s right after the law's own
      * pass over the contacts inside s (a phase that waits for nothing), for the stepper's work
      * that needs nothing of the law (its conduction: stepper/thermal.c), so that a thread
-     * that next waits for another range's pass has that to do first. */
+     * that next waits for another range's pass has that to do first. When it is set, a law
+     * that calls range_final must call it too, for every range: the stepper's range_final
+     * for range r waits until it was called for ranges 0 .. r. */
     void (*range_interior_done)(void *range_user, int range);
     void *range_user;
     int ranges_final;

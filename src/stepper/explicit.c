@@ -430,6 +430,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         if (s != SINTER_OK) { /* refused: temperatures restored; the drift undone, and the
                                * forces and heat powers it zeroed evaluated again */
             swap_spare(st);
+            sinter_neighbors_positions_restored(&st->nb);
             st->forces_current = 0;
             st->forces_zeroed = st->gravity_seeded = 0;
             st->thermal.heat_zeroed = 0;
@@ -485,6 +486,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         /* Roll back: state (the spare arrays hold it), time and walls; history was never
          * committed. */
         swap_spare(st);
+        sinter_neighbors_positions_restored(&st->nb);
         sinter_thermal_rollback(st);
         st->time = t_start;
         if (st->walls != NULL)

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <sinter_submodel.h>
+
 #include "scene_support.h"
 #include "contact/chunks.h"
 #include "contact/contacts.h"
@@ -1549,6 +1551,96 @@ static void test_displacement_bound_keeps_rebuilds(void **state)
     }
 }
 
+/* A host force model adding nothing but a NaN on particle 0's force at its fail_at-th call
+ * (counted from 1; 0: never): one rejected step. */
+typedef struct nan_once {
+    int calls, fail_at;
+} nan_once;
+
+static int nan_once_force(const sinter_state_view *view, double *force, double *torque,
+                          void *user)
+{
+    (void)view;
+    (void)torque;
+    nan_once *p = user;
+    if (++p->calls == p->fail_at)
+        force[0] = NAN;
+    return 0;
+}
+
+/* Whether the neighbour list's displacement bound, when it claims to hold, bounds the
+ * particles' largest displacement since the build. */
+static int bound_covers_displacement(scene *s)
+{
+    const sinter_neighbors *nb = &s->st->nb;
+    if (!sinter_neighbors_bound_holds(nb, s->ps))
+        return 1;
+    double moved = 0.0;
+    for (size_t k = 0; k < 3 * s->ps->count; ++k)
+        moved = fmax(moved, fabs(s->ps->x[k] - nb->x_ref[k]));
+    return moved <= nb->moved_bound;
+}
+
+/*
+ * A rejected step puts the particles back where they were, and what the integrator measured
+ * of the undone positions must go with them: here the rejected step rebuilt the neighbour
+ * list at its new positions (bound 0 there), so the restored particles are one step from
+ * x_ref. Free spheres moving at 0.1 skin a step; the bound, whenever it claims to hold, must
+ * cover the displacement, after the rejection and over the 30 steps after it.
+ */
+static void test_displacement_bound_after_a_rejected_step(void **state)
+{
+    (void)state;
+    const double skin = 1e-4, h = 1e-5, v = 0.1 * skin / h;
+    int fail_call = 0; /* attempt 0 finds the call of the rebuild's step; 1 makes it fail */
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        scene s;
+        scene_init(&s);
+        scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.3);
+        scene_open(&s, "hertz_mindlin", 0);
+        for (int k = 0; k < 8; ++k) { /* 1 cm apart: never in contact */
+            scene_add(&s, 1e-2 * k, 0.0, 0.0, 0.5e-3);
+            const double u[3] = {v * (k % 2 ? 1.0 : -0.5), 0.0, 0.0};
+            set3(&s, SINTER_FIELD_VELOCITY, (size_t)k, u);
+        }
+        nan_once job = {0, attempt == 0 ? 0 : fail_call};
+        sinter_force_callbacks cb;
+        memset(&cb, 0, sizeof(cb));
+        cb.struct_size = sizeof(cb);
+        cb.particles = nan_once_force;
+        sinter_force_model *fm = NULL;
+        OK(sinter_force_model_create_host(&fm, s.ctx, "nan_once", &cb, &job));
+        OK(sinter_stepper_add_force(s.st, fm));
+        OK(sinter_stepper_set_skin(s.st, skin));
+        OK(sinter_stepper_set_dt(s.st, h));
+        OK(sinter_stepper_step(s.st, 1)); /* the first build, then one step */
+        if (attempt == 0) {
+            const uint64_t first = builds_of(&s);
+            for (int k = 0; k < 20 && fail_call == 0; ++k) {
+                OK(sinter_stepper_step(s.st, 1));
+                if (builds_of(&s) > first)
+                    fail_call = job.calls; /* the evaluation after that step's rebuild */
+            }
+            assert_true(fail_call > 0);
+        } else {
+            sinter_status st = SINTER_OK;
+            while (st == SINTER_OK)
+                st = sinter_stepper_step(s.st, 1);
+            assert_int_equal(st, SINTER_ERR_UNSTABLE);
+            assert_true(job.calls >= fail_call); /* (the rollback may evaluate again) */
+            assert_true(bound_covers_displacement(&s));
+            for (int k = 0; k < 30; ++k) {
+                OK(sinter_stepper_step(s.st, 1));
+                assert_true(bound_covers_displacement(&s));
+            }
+        }
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_force_model_destroy(fm);
+        scene_close(&s);
+    }
+}
+
 /*
  * A packed lattice whose top layer rattles: its contacts open and close step after step
  * while the rest stay. Found lean (projection conduction), the list is kept or rewritten
@@ -1662,6 +1754,7 @@ int main(void)
         cmocka_unit_test(test_wall_search_matches_a_fresh_one),
         cmocka_unit_test(test_commit_follows_a_changing_list),
         cmocka_unit_test(test_displacement_bound_keeps_rebuilds),
+        cmocka_unit_test(test_displacement_bound_after_a_rejected_step),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
