@@ -1557,8 +1557,7 @@ typedef struct nan_once {
     int calls, fail_at;
 } nan_once;
 
-static int nan_once_force(const sinter_state_view *view, double *force, double *torque,
-                          void *user)
+static int nan_once_force(const sinter_state_view *view, double *force, double *torque, void *user)
 {
     (void)view;
     (void)torque;
