@@ -4,6 +4,7 @@
 
 #include "contacts.h"
 #include "contact/chunks.h"
+#include "core/ranges_run.h"
 #include "core/stream_store.h"
 
 #ifdef _OPENMP
@@ -884,6 +885,74 @@ static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const s
     put_wall_distances(c, m, r, s);
 }
 
+/* The wall search's ranges of pairs (sinter_contacts_find_pw), run by sinter_ranges_run. */
+typedef struct wall_search {
+    sinter_contact_list *c;
+    const sinter_pair_list *pairs;
+    const sinter_particles *ps;
+    const sinter_walls *walls;
+    const size_t *bound; /* range t: pairs [bound[t], bound[t + 1]) */
+    int compare;         /* the list holds these pairs' contacts: compared, geometry renewed */
+    int same[SINTER_CHUNKS_MAX], ascending[SINTER_CHUNKS_MAX];
+    size_t offset[SINTER_CHUNKS_MAX + 1]; /* range t's contacts at offset[t + 1], then summed */
+} wall_search;
+
+/* Range t's verdicts: which pairs touch, whether they are the contacts the list holds (their
+ * geometry renewed in place), whether the particles ascend, how many contacts. */
+static void wall_test_range(void *data, int t)
+{
+    wall_search *job = data;
+    sinter_contact_list *c = job->c;
+    const double *x = job->ps->x, *r = job->ps->radius;
+    const uint32_t *pi = job->pairs->i, *pk = job->pairs->j;
+    const uint32_t *to_contact = c->pair_to_contact;
+    uint8_t *touch = c->touch;
+    const size_t lo = job->bound[t], hi = job->bound[t + 1];
+    size_t count = 0;
+    int same = 1, ascending = 1;
+    for (size_t p = lo; p < hi; ++p) {
+        const uint32_t i = pi[p], k = pk[p];
+        ascending &= p == 0 || i >= pi[p - 1];
+        const sinter_wall *w = &job->walls->wall[k];
+        const double sd = sinter_wall_distance(w, x + 3 * i);
+        const int touches = sd < r[i];
+        touch[p] = (uint8_t)touches;
+        count += (size_t)touches;
+        const uint32_t was = job->compare ? to_contact[p] : SINTER_NO_PAIR;
+        if (touches != (was != SINTER_NO_PAIR))
+            same = 0;
+        else if (job->compare && touches)
+            renew_wall_geometry(c, was, w, r[i], sd);
+    }
+    job->same[t] = same;
+    job->ascending[t] = ascending;
+    job->offset[t + 1] = count;
+}
+
+/* Range t's contacts written from offset[t] on, their pairs pointed at them. */
+static void wall_put_range(void *data, int t)
+{
+    wall_search *job = data;
+    sinter_contact_list *c = job->c;
+    const double *x = job->ps->x, *r = job->ps->radius;
+    const uint32_t *pi = job->pairs->i, *pk = job->pairs->j;
+    uint32_t *to_contact = c->pair_to_contact;
+    const uint8_t *touch = c->touch;
+    const size_t lo = job->bound[t], hi = job->bound[t + 1];
+    size_t m = job->offset[t];
+    for (size_t p = lo; p < hi; ++p) {
+        if (!touch[p]) {
+            to_contact[p] = SINTER_NO_PAIR;
+            continue;
+        }
+        const uint32_t i = pi[p], k = pk[p];
+        const sinter_wall *w = &job->walls->wall[k];
+        to_contact[p] = (uint32_t)m;
+        put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i], sinter_wall_distance(w, x + 3 * i));
+        ++m;
+    }
+}
+
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
                                       const sinter_walls *walls, const sinter_chunks *owner)
@@ -904,10 +973,6 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     c->particle_count = ps->count;
     c->pair_count = pairs->count;
     c->lean_source = pairs->build_id; /* for the comparison only: the list has its geometry */
-    const double *x = ps->x, *r = ps->radius;
-    const uint32_t *pi = pairs->i, *pk = pairs->j;
-    uint32_t *to_contact = c->pair_to_contact;
-    uint8_t *touch = c->touch;
     const size_t n = pairs->count;
     /* Ranges of pairs: by preference the pair partition's particle ranges (owner), so that
      * each thread reads the positions it wrote and writes the contacts its law will read
@@ -931,52 +996,21 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     bound[ranges] = n;
     const int team = threads < ranges ? threads : ranges;
-    size_t offset[RANGES_MAX + 1] = {0};
+    wall_search job = {c, pairs, ps, walls, bound, compare, {0}, {0}, {0}};
+    sinter_ranges_run(team, ranges, wall_test_range, &job);
     int ascending = 1;
-#pragma omp parallel for num_threads(team) schedule(static) reduction(& : same, ascending)
     for (int t = 0; t < ranges; ++t) {
-        const size_t lo = bound[t], hi = bound[t + 1];
-        size_t count = 0;
-        for (size_t p = lo; p < hi; ++p) {
-            const uint32_t i = pi[p], k = pk[p];
-            ascending &= p == 0 || i >= pi[p - 1];
-            const sinter_wall *w = &walls->wall[k];
-            const double sd = sinter_wall_distance(w, x + 3 * i);
-            const int touches = sd < r[i];
-            touch[p] = (uint8_t)touches;
-            count += (size_t)touches;
-            const uint32_t was = compare ? to_contact[p] : SINTER_NO_PAIR;
-            if (touches != (was != SINTER_NO_PAIR))
-                same = 0;
-            else if (compare && touches)
-                renew_wall_geometry(c, was, w, r[i], sd);
-        }
-        offset[t + 1] = count;
+        same &= job.same[t];
+        ascending &= job.ascending[t];
     }
     c->geometry = 1;
     c->ascending = ascending;
     if (same)
         return SINTER_OK; /* the same contacts, their geometry renewed */
     for (int t = 0; t < ranges; ++t)
-        offset[t + 1] += offset[t];
-#pragma omp parallel for num_threads(team) schedule(static)
-    for (int t = 0; t < ranges; ++t) {
-        const size_t lo = bound[t], hi = bound[t + 1];
-        size_t m = offset[t];
-        for (size_t p = lo; p < hi; ++p) {
-            if (!touch[p]) {
-                to_contact[p] = SINTER_NO_PAIR;
-                continue;
-            }
-            const uint32_t i = pi[p], k = pk[p];
-            const sinter_wall *w = &walls->wall[k];
-            to_contact[p] = (uint32_t)m;
-            put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i],
-                              sinter_wall_distance(w, x + 3 * i));
-            ++m;
-        }
-    }
-    c->count = offset[ranges];
+        job.offset[t + 1] += job.offset[t];
+    sinter_ranges_run(team, ranges, wall_put_range, &job);
+    c->count = job.offset[ranges];
     sinter_contacts_changed(c, 0, 0);
     wall_ranges(c, ascending);
     return SINTER_OK;

@@ -2,6 +2,20 @@
 #include "contact/particle_pass.h"
 
 #include "contact/neighbors.h"
+#include "core/ranges_run.h"
+
+typedef struct pass_job {
+    const sinter_particle_ranges *r;
+    sinter_particle_range_fn fn;
+    void *data;
+} pass_job;
+
+static void pass_range(void *data, int t)
+{
+    const pass_job *job = data;
+    job->fn(job->data, t, sinter_particle_range_lo(job->r, t),
+            sinter_particle_range_lo(job->r, t + 1));
+}
 
 int sinter_particle_pass(const sinter_ctx *ctx, const sinter_contact_list *pp, size_t n,
                          sinter_particle_range_fn fn, void *data)
@@ -12,8 +26,7 @@ int sinter_particle_pass(const sinter_ctx *ctx, const sinter_contact_list *pp, s
         fn(data, 0, 0, n);
         return 1;
     }
-#pragma omp parallel for num_threads(r.team) schedule(static)
-    for (int t = 0; t < r.count; ++t)
-        fn(data, t, sinter_particle_range_lo(&r, t), sinter_particle_range_lo(&r, t + 1));
+    pass_job job = {&r, fn, data};
+    sinter_ranges_run(r.team, r.count, pass_range, &job);
     return r.count;
 }

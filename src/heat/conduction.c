@@ -310,6 +310,11 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int pr
     int ranges = sinter_chunks_wall_plan(&e->pp->chunks, c, qlo, NULL);
     ranges = ranges > 0 ? ranges : 1;
     const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
+    if (threads == 1) { /* (a region of one thread costs a team's allocation: ranges_run.h) */
+        for (int s = 0; s < ranges; ++s)
+            pw_run(e, kmat, projection, implicit, qlo[s], qlo[s + 1]);
+        return;
+    }
 #pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)
     for (int s = 0; s < ranges; ++s)
         pw_run(e, kmat, projection, implicit, qlo[s], qlo[s + 1]);

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "contact/chunks.h"
+#include "core/ranges_run.h"
 #include "core/stream_store.h"
 #include "sanity.h"
 #include "stepper.h"
@@ -97,6 +98,42 @@ static sinter_particle_ranges particle_ranges(const sinter_stepper *st, int thre
     return sinter_chunks_particle_ranges(&st->pp.chunks, st->ps->count, threads);
 }
 
+/* One range's part of plain_kick_drift (ranges_run.h): its temperatures, its kick and drift,
+ * its heat powers zeroed; its first bad particles and largest displacements into the job. */
+typedef struct kick_drift_job {
+    sinter_stepper *st;
+    const sinter_verlet_arrays *arrays;
+    const sinter_particle_ranges *r;
+    double h;
+    const double *g;
+    int exact, stream, heat_update;
+    double *heat; /* the heat powers to zero, or NULL */
+    sinter_drift_scan scan[SINTER_CHUNKS_MAX];
+    size_t heat_bad[SINTER_CHUNKS_MAX], heat_hot[SINTER_CHUNKS_MAX];
+} kick_drift_job;
+
+static void kick_drift_range(void *data, int t)
+{
+    kick_drift_job *job = data;
+    const size_t lo = sinter_particle_range_lo(job->r, t),
+                 hi = sinter_particle_range_lo(job->r, t + 1);
+    const size_t n = job->st->ps->count;
+    job->heat_bad[t] = job->heat_hot[t] = n;
+    if (job->heat_update) { /* the temperatures first, with the heat powers zeroed below */
+        size_t b, o;
+        sinter_thermal_explicit_range(job->st, job->h, lo, hi, &b, &o);
+        job->heat_bad[t] = b < hi ? b : n;
+        job->heat_hot[t] = o < hi ? o : n;
+    }
+    sinter_drift_scan d = sinter_verlet_kick_drift(job->arrays, job->h, job->g, job->st->rotation,
+                                                   job->exact, job->stream, lo, hi);
+    sinter_put_fence(job->stream); /* this thread's streamed stores before the barrier */
+    if (job->heat != NULL)
+        memset(job->heat + lo, 0, (hi - lo) * sizeof(double));
+    d.bad = d.bad < hi ? d.bad : n;
+    job->scan[t] = d;
+}
+
 /*
  * kick_drift for particles that are neither fixed nor without rotation (see there), by
  * particle ranges (particle_ranges) in vectorised blocks (verlet_blocks.c); with `exact`,
@@ -115,37 +152,31 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
         .x = ps->x, .v = ps->v, .w = ps->w, .rot = ps->rot, .f = ps->force, .tq = ps->torque,
         .m = ps->mass, .j = ps->inertia, .x0 = st->nb.x_ref, .nx = st->spare[0],
         .nv = st->spare[1], .nw = st->spare[2], .nrot = st->spare[3]};
-    const int rotation = st->rotation;
+    const sinter_particle_ranges r = particle_ranges(st, threads);
     /* the heat powers are summed again by this step's evaluation: zeroed here, by the ranges
      * whose threads sum them (thermal.h, heat_zeroed) */
-    double *heat = st->thermal.count > 0 ? ps->heat : NULL;
-    size_t bad = n, heat_bad = n, heat_hot = n;
-    double moved2 = 0.0, step2 = 0.0;
-    const sinter_particle_ranges r = particle_ranges(st, threads);
-#pragma omp parallel for num_threads(r.team) schedule(static)                                  \
-    reduction(min : bad, heat_bad, heat_hot) reduction(max : moved2, step2)
+    kick_drift_job job = {.st = st,
+                          .arrays = &arrays,
+                          .r = &r,
+                          .h = h,
+                          .g = g,
+                          .exact = exact,
+                          .stream = stream,
+                          .heat_update = heat_update,
+                          .heat = st->thermal.count > 0 ? ps->heat : NULL};
+    sinter_ranges_run(r.team, r.count, kick_drift_range, &job);
+    sinter_drift_scan all = {n, 0.0, 0.0};
+    heat_first[0] = heat_first[1] = n;
     for (int t = 0; t < r.count; ++t) {
-        const size_t lo = sinter_particle_range_lo(&r, t),
-                     hi = sinter_particle_range_lo(&r, t + 1);
-        if (heat_update) { /* the temperatures first, with the heat powers zeroed below */
-            size_t b, o;
-            sinter_thermal_explicit_range(st, h, lo, hi, &b, &o);
-            heat_bad = b < hi && b < heat_bad ? b : heat_bad;
-            heat_hot = o < hi && o < heat_hot ? o : heat_hot;
-        }
-        const sinter_drift_scan d =
-            sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
-        sinter_put_fence(stream); /* this thread's streamed stores before the barrier */
-        if (heat != NULL)
-            memset(heat + lo, 0, (hi - lo) * sizeof(double));
-        bad = d.bad < hi && d.bad < bad ? d.bad : bad;
-        moved2 = d.moved2 > moved2 ? d.moved2 : moved2;
-        step2 = d.step2 > step2 ? d.step2 : step2;
+        const sinter_drift_scan d = job.scan[t];
+        all.bad = d.bad < all.bad ? d.bad : all.bad;
+        all.moved2 = d.moved2 > all.moved2 ? d.moved2 : all.moved2;
+        all.step2 = d.step2 > all.step2 ? d.step2 : all.step2;
+        heat_first[0] = job.heat_bad[t] < heat_first[0] ? job.heat_bad[t] : heat_first[0];
+        heat_first[1] = job.heat_hot[t] < heat_first[1] ? job.heat_hot[t] : heat_first[1];
     }
-    st->thermal.heat_zeroed = heat != NULL;
-    heat_first[0] = heat_bad;
-    heat_first[1] = heat_hot;
-    return (sinter_drift_scan){bad, moved2, step2};
+    st->thermal.heat_zeroed = job.heat != NULL;
+    return all;
 }
 
 /*
@@ -260,32 +291,44 @@ static size_t kick_drift(sinter_stepper *st, double h, int heat_update, size_t h
     return bad;
 }
 
-/* Second half kick; returns the index of the first particle whose velocity or spin is not
- * finite, or n (positions and rotations were checked by kick_drift). */
-static size_t kick(sinter_stepper *st, double h)
+/* The second half kick of the particles of one partition range, run by the force law on the
+ * thread that summed their forces (sinter_force_eval.range_final): the same operations as
+ * kick's, so the same bits. */
+typedef struct range_kick {
+    sinter_stepper *st;
+    double h;
+    size_t bad[SINTER_CHUNKS_MAX];   /* per range: the first non-finite particle, or n */
+    const sinter_particle_ranges *r; /* kick's own pass (kick_one_range); NULL in the law */
+} range_kick;
+
+static void kick_range(void *user, int range, size_t lo, size_t hi)
+{
+    range_kick *job = user;
+    sinter_particles *ps = job->st->ps;
+    const size_t b = sinter_verlet_kick(ps->v, ps->w, ps->force, ps->torque, ps->mass, ps->inertia,
+                                        job->h, lo, hi);
+    job->bad[range] = b < hi ? b : ps->count;
+}
+
+/* Range t of kick's own pass over the particle ranges (ranges_run.h). */
+static void kick_one_range(void *user, int t)
+{
+    range_kick *job = user;
+    kick_range(user, t, sinter_particle_range_lo(job->r, t),
+               sinter_particle_range_lo(job->r, t + 1));
+}
+
+/* The second half kick of particles [lo, hi), any of them fixed or without rotation, every
+ * case by its flags; returns the first particle whose velocity or spin is not finite, or n. */
+static size_t kick_flagged(sinter_stepper *st, double h, size_t lo, size_t hi)
 {
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count;
     double *restrict v = ps->v, *restrict w = ps->w;
     const double *restrict f = ps->force, *restrict tq = ps->torque, *restrict m = ps->mass,
                            *restrict j = ps->inertia;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
-    const int threads = pass_threads(st);
-    size_t bad = n;
-    if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
-        const sinter_particle_ranges r = particle_ranges(st, threads);
-#pragma omp parallel for num_threads(r.team) schedule(static) reduction(min : bad)
-        for (int t = 0; t < r.count; ++t) {
-            const size_t lo = sinter_particle_range_lo(&r, t),
-                         hi = sinter_particle_range_lo(&r, t + 1);
-            const size_t b = sinter_verlet_kick(v, w, f, tq, m, j, h, lo, hi);
-            bad = b < hi && b < bad ? b : bad;
-        }
-        return bad;
-    }
-#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = lo; i < hi; ++i) {
         const uint32_t fl = flags[i];
         if (!(fl & SINTER_PARTICLE_FIXED)) {
             const double a = half / m[i];
@@ -302,28 +345,36 @@ static size_t kick(sinter_stepper *st, double h)
         double z = 0.0;
         for (int d = 0; d < 3; ++d)
             z += nonfinite(v[3 * i + d]) + nonfinite(w[3 * i + d]);
-        if (!(z == 0.0) && i < bad)
-            bad = i;
+        if (!(z == 0.0))
+            return i;
     }
-    return bad;
+    return ps->count;
 }
 
-/* The second half kick of the particles of one partition range, run by the force law on the
- * thread that summed their forces (sinter_force_eval.range_final): the same operations as
- * kick's, so the same bits. */
-typedef struct range_kick {
-    sinter_stepper *st;
-    double h;
-    size_t bad[SINTER_CHUNKS_MAX]; /* per range: the first non-finite particle, or n */
-} range_kick;
-
-static void kick_range(void *user, int range, size_t lo, size_t hi)
+/* Second half kick; returns the index of the first particle whose velocity or spin is not
+ * finite, or n (positions and rotations were checked by kick_drift). */
+static size_t kick(sinter_stepper *st, double h)
 {
-    range_kick *job = user;
-    sinter_particles *ps = job->st->ps;
-    const size_t b = sinter_verlet_kick(ps->v, ps->w, ps->force, ps->torque, ps->mass,
-                                        ps->inertia, job->h, lo, hi);
-    job->bad[range] = b < hi ? b : ps->count;
+    const size_t n = st->ps->count;
+    const int threads = pass_threads(st);
+    size_t bad = n;
+    if (st->plain_particles) { /* kick_drift found none fixed or without rotation */
+        const sinter_particle_ranges r = particle_ranges(st, threads);
+        range_kick job = {st, h, {0}, &r};
+        sinter_ranges_run(r.team, r.count, kick_one_range, &job);
+        for (int t = 0; t < r.count; ++t)
+            bad = job.bad[t] < bad ? job.bad[t] : bad;
+        return bad;
+    }
+    if (threads <= 1) /* (a region of one thread costs a team's allocation: ranges_run.h) */
+        return kick_flagged(st, h, 0, n);
+#pragma omp parallel for num_threads(threads) schedule(static) reduction(min : bad)
+    for (int t = 0; t < threads; ++t) {
+        const size_t b = kick_flagged(st, h, n * (size_t)t / (size_t)threads,
+                                      n * (size_t)(t + 1) / (size_t)threads);
+        bad = b < bad ? b : bad;
+    }
+    return bad;
 }
 
 /* 1 if this step's second half kick may run in the law's region: plain particles integrated
@@ -441,7 +492,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     st->time = t_start + h;
     if (st->walls != NULL)
         s = sinter_walls_move(st->walls, st->time);
-    range_kick job = {st, h, {0}};
+    range_kick job = {st, h, {0}, NULL};
     for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
         job.bad[r] = st->ps->count;
     if (s == SINTER_OK && kick_with_law(st)) {
