@@ -328,6 +328,7 @@ static size_t kick_flagged(sinter_stepper *st, double h, size_t lo, size_t hi)
                            *restrict j = ps->inertia;
     const uint32_t *flags = ps->flags;
     const double half = 0.5 * h;
+    size_t bad = ps->count;
     for (size_t i = lo; i < hi; ++i) {
         const uint32_t fl = flags[i];
         if (!(fl & SINTER_PARTICLE_FIXED)) {
@@ -345,10 +346,10 @@ static size_t kick_flagged(sinter_stepper *st, double h, size_t lo, size_t hi)
         double z = 0.0;
         for (int d = 0; d < 3; ++d)
             z += nonfinite(v[3 * i + d]) + nonfinite(w[3 * i + d]);
-        if (!(z == 0.0))
-            return i;
+        if (!(z == 0.0) && bad == ps->count)
+            bad = i;
     }
-    return ps->count;
+    return bad;
 }
 
 /* Second half kick; returns the index of the first particle whose velocity or spin is not

@@ -580,6 +580,65 @@ static void test_gravity_written_by_the_integrator(void **state)
     }
 }
 
+/* A lattice of 9 x 9 x 8 spheres falling onto a floor, every 7th fixed and every 5th without
+ * rotation (so the integrator's flagged passes run), on `threads` threads for 300 steps:
+ * positions, velocities and spins into out (9 per particle). */
+static void run_flagged_lattice(int threads, double *out, size_t n)
+{
+    scene s;
+    scene_init(&s);
+    OK(sinter_ctx_set_threads(s.ctx, threads));
+    scene_material(&s, 1e7, 0.3, 2500, 0.2, 0.4);
+    scene_open(&s, "hertz_mindlin", 1);
+    OK(sinter_stepper_set_option(s.st, "thread_choice", 0.0)); /* the count given */
+    const double r = 1e-3, a = 1.98e-3;
+    for (size_t k = 0; k < n; ++k)
+        scene_add(&s, a * (double)(k % 9), a * (double)(k / 9 % 9), r + a * (double)(k / 81), r);
+    scene_floor(&s, 0.0);
+    uint32_t *flags = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_FLAGS, (void **)&flags, NULL, NULL));
+    for (size_t k = 0; k < n; ++k)
+        flags[k] |= (k % 7 == 3 ? SINTER_PARTICLE_FIXED : 0u) |
+                    (k % 5 == 1 ? SINTER_PARTICLE_NO_ROTATION : 0u);
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_FLAGS));
+    OK(sinter_stepper_set_dt(s.st, 2e-5));
+    OK(sinter_stepper_step(s.st, 300));
+    const sinter_field fields[3] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY,
+                                    SINTER_FIELD_SPIN};
+    for (size_t i = 0; i < n; ++i)
+        for (int f = 0; f < 3; ++f)
+            get3(&s, fields[f], i, out + 9 * i + 3 * (size_t)f);
+    scene_close(&s);
+}
+
+/* Fixed and non-rotating particles among enough free ones for the integrator's passes to run
+ * on threads: the same bits on 1, 2 and 3 threads; the fixed ones never move, the
+ * non-rotating ones never spin, the others fall. */
+static void test_flagged_particles_independent_of_thread_count(void **state)
+{
+    (void)state;
+    enum { N = 648 };
+    double *one = malloc(9 * N * sizeof(double)), *many = malloc(9 * N * sizeof(double));
+    assert_non_null(one);
+    assert_non_null(many);
+    run_flagged_lattice(1, one, N);
+    for (size_t k = 0; k < N; ++k) {
+        const double *v = one + 9 * k + 3, *w = one + 9 * k + 6;
+        if (k % 7 == 3)
+            assert_true(v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0);
+        else
+            assert_true(v[2] != 0.0);
+        if (k % 7 == 3 || k % 5 == 1)
+            assert_true(w[0] == 0.0 && w[1] == 0.0 && w[2] == 0.0);
+    }
+    for (int threads = 2; threads <= 3; ++threads) {
+        run_flagged_lattice(threads, many, N);
+        assert_memory_equal(one, many, 9 * N * sizeof(double));
+    }
+    free(one);
+    free(many);
+}
+
 /* 1000 particles poured into a box come to rest inside it; none escapes. */
 static void test_pour_comes_to_rest_in_box(void **state)
 {
@@ -640,6 +699,7 @@ int main(void)
         cmocka_unit_test(test_host_spring_matches_builtin),
         cmocka_unit_test(test_callback_failure_keeps_last_state),
         cmocka_unit_test(test_unstable_step_is_rejected),
+        cmocka_unit_test(test_flagged_particles_independent_of_thread_count),
         cmocka_unit_test(test_wall_motions),
         cmocka_unit_test(test_misuse_is_refused),
         cmocka_unit_test(test_observer_and_stats),
