@@ -34,7 +34,7 @@ static sinter_status drag_eval(const sinter_force_model *fm, sinter_force_eval *
 {
     const sinter_particles *ps = e->ps;
     drag_job job = {fm, e, {0.0}};
-    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+    for (int m = 0; m < ps->material_top; ++m) /* the others are 0 (job's initialiser) */
         job.coefficient[m] = ps->materials[m].value[SINTER_MAT_DRAG_COEFFICIENT];
     sinter_particle_pass(e->ctx, e->pp, ps->count, drag_range, &job);
     return SINTER_OK;

@@ -218,8 +218,9 @@ static void build_constants(const sinter_force_eval *e, constants *k)
     k->softening = e->modulus_scale != NULL;
     k->any_rolling = 0;
     k->rows = 0;
-    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
+    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
         k->index[m] = -1;
+    for (int m = 0; m < ps->material_top; ++m) {
         if (ps->material_used[m] && ps->materials[m].value[SINTER_MAT_ROLLING_FRICTION] > 0.0)
             k->any_rolling = 1;
         if (ps->material_used[m] && k->rows < MAX_TABLE) {

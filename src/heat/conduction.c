@@ -28,6 +28,7 @@
  * g_pw[k] instead and nothing is added to e->heat.
  */
 #include <math.h>
+#include <string.h>
 
 #include "conduction_ranges.h"
 #include "contact/chunks.h"
@@ -61,11 +62,14 @@ static inline double conductance_pw(int projection, double ki, double kw, double
     return dist > 0.0 ? kiw * area / dist : 0.0;                        /* eq. 32 */
 }
 
-/* Conductivity of every material in use, read once per evaluation. */
+/* Conductivity of every material, read once per evaluation (those above the registered ids
+ * are 0, as an unregistered material's values are, without reading them). */
 static void conductivities(const sinter_particles *ps, double k[SINTER_MAX_MATERIALS])
 {
-    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+    const int top = ps->material_top;
+    for (int m = 0; m < top; ++m)
         k[m] = ps->materials[m].value[SINTER_MAT_THERMAL_CONDUCTIVITY];
+    memset(k + top, 0, (size_t)(SINTER_MAX_MATERIALS - top) * sizeof(double));
 }
 
 /* Conductance of particle-particle contact q. */
@@ -86,7 +90,7 @@ static inline double contact_g(const sinter_heat_eval *e, const double *kmat, in
 static double projection_factor(const sinter_particles *ps, const double *kmat)
 {
     int used = -1;
-    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
+    for (int m = 0; m < ps->material_top; ++m)
         if (ps->material_used[m]) {
             if (used >= 0)
                 return -1.0;

@@ -630,9 +630,11 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         memcpy(targets[f], field_data[f], field_bytes[f]);
     ps->count = n;
     ps->next_id = next_id;
+    ps->material_top = 0;
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
         ps->material_used[m] = used[m];
         if (used[m]) {
+            ps->material_top = m + 1;
             memcpy(ps->materials[m].value, material_values[m], sizeof(ps->materials[m].value));
             ps->materials[m].ctx = ctx;
         }

@@ -201,6 +201,7 @@ sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
     ps->materials[id] = *m;
     ps->materials[id].ctx = ps->ctx;
     ps->material_used[id] = 1;
+    ps->material_top = id >= ps->material_top ? id + 1 : ps->material_top;
     for (size_t i = 0; i < ps->count; ++i)
         if (ps->material[i] == id)
             update_mass(ps, i);

@@ -34,6 +34,9 @@ struct sinter_particles {
     unsigned field_views[SINTER_FIELD_COUNT_];
     /* materials, copied at registration */
     unsigned char material_used[SINTER_MAX_MATERIALS];
+    /* 1 + the largest registered id (0: none): the per-step loops over the materials in use
+     * stop there instead of reading all SINTER_MAX_MATERIALS (issue 9) */
+    int material_top;
     sinter_material materials[SINTER_MAX_MATERIALS];
     /* softening laws 3 (tabulated) and 4 (host callback), per material */
     struct sinter_softening_curve {

@@ -93,7 +93,7 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
 {
     const sinter_particles *ps = st->ps;
     int any = 0, host = 0;
-    for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
+    for (int m = 0; m < ps->material_top; ++m) {
         const double law = ps->materials[m].value[SINTER_MAT_SOFTENING_LAW];
         any |= ps->material_used[m] && law != 0.0;
         host |= ps->material_used[m] && law == 4.0;
