@@ -836,22 +836,29 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
     }
     sinter_range_flags_clear(&job.interior_done, ch.count);
     const int team = threads < ch.count ? threads : ch.count, shared = team > 1 && team < ch.count;
+    if (team <= 1) { /* as the region's one thread would (its team's allocation: ranges_run.h) */
+        for (int s = 0; s < ch.count; ++s)
+            range_interior(&job, s);
+        for (int r = 0; r < ch.count; ++r)
+            range_rest(&job, r);
+    } else {
 #pragma omp parallel num_threads(team)
-    {
-        if (shared) {
+        {
+            if (shared) {
 #pragma omp for schedule(dynamic, 1) nowait
-            for (int s = 0; s < ch.count; ++s)
-                range_interior(&job, s);
+                for (int s = 0; s < ch.count; ++s)
+                    range_interior(&job, s);
 #pragma omp for schedule(dynamic, 1) nowait
-            for (int r = 0; r < ch.count; ++r)
-                range_rest(&job, r);
-        } else {
+                for (int r = 0; r < ch.count; ++r)
+                    range_rest(&job, r);
+            } else {
 #pragma omp for schedule(static) nowait
-            for (int s = 0; s < ch.count; ++s)
-                range_interior(&job, s);
+                for (int s = 0; s < ch.count; ++s)
+                    range_interior(&job, s);
 #pragma omp for schedule(static) nowait
-            for (int r = 0; r < ch.count; ++r)
-                range_rest(&job, r);
+                for (int r = 0; r < ch.count; ++r)
+                    range_rest(&job, r);
+            }
         }
     }
     for (int s = 0; s < ch.count; ++s)

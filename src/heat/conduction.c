@@ -260,6 +260,13 @@ static void all_ranges(sinter_conduction_ranges *j, int threads)
 {
     const int count = j->ch.count;
     const int team = threads < count ? threads : count, shared = team > 1 && team < count;
+    if (team <= 1) { /* as the region's one thread would (its team's allocation: ranges_run.h) */
+        for (int s = 0; s < count; ++s)
+            sinter_conduction_range_interior(j, s);
+        for (int r = 0; r < count; ++r)
+            sinter_conduction_range_rest(j, r);
+        return;
+    }
 #pragma omp parallel num_threads(team)
     {
         if (shared) {
