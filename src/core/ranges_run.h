@@ -12,4 +12,13 @@
  * (and OpenMP is there), else in that order on the calling thread. */
 void sinter_ranges_run(int team, int count, void (*range)(void *data, int t), void *data);
 
+/* Two passes over `count` ranges whose second waits inside (range_flags.h) for the first
+ * pass's ranges 0 .. t: interior(data, t) for every t, then rest(data, t) for every t, on
+ * min(threads, count) threads. A thread takes interior passes before rests (nowait loops), so
+ * no wait can hang: by a static schedule when the team has as many threads as ranges, else
+ * each range to the next free thread (dynamic); on the calling thread, in that order, for a
+ * team of one. Which thread runs a range must not change its sums. */
+void sinter_ranges_run_two_passes(int threads, int count, void (*interior)(void *data, int t),
+                                  void (*rest)(void *data, int t), void *data);
+
 #endif

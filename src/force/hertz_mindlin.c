@@ -26,6 +26,7 @@
 
 #include "contact/chunks.h"
 #include "core/clones.h"
+#include "core/ranges_run.h"
 #include "core/stream_store.h"
 #include "force_model.h"
 #include "vec3.h"
@@ -795,6 +796,17 @@ static void range_rest(law_job *j, int r)
         e->range_final(e->range_user, r, lo, hi);
 }
 
+/* The two passes of pp_chunked, for sinter_ranges_run_two_passes. */
+static void interior_of(void *job, int s)
+{
+    range_interior(job, s);
+}
+
+static void rest_of(void *job, int r)
+{
+    range_rest(job, r);
+}
+
 /*
  * A partitioned list (contact/chunks.h): the ranges of a fixed partition in parallel, each
  * adding its interior contacts, then the boundary contacts in list order. The partition
@@ -835,32 +847,7 @@ static sinter_status pp_chunked(const sinter_force_eval *e, const constants *k,
             return SINTER_ERR_NOMEM;
     }
     sinter_range_flags_clear(&job.interior_done, ch.count);
-    const int team = threads < ch.count ? threads : ch.count, shared = team > 1 && team < ch.count;
-    if (team <= 1) { /* as the region's one thread would (its team's allocation: ranges_run.h) */
-        for (int s = 0; s < ch.count; ++s)
-            range_interior(&job, s);
-        for (int r = 0; r < ch.count; ++r)
-            range_rest(&job, r);
-    } else {
-#pragma omp parallel num_threads(team)
-        {
-            if (shared) {
-#pragma omp for schedule(dynamic, 1) nowait
-                for (int s = 0; s < ch.count; ++s)
-                    range_interior(&job, s);
-#pragma omp for schedule(dynamic, 1) nowait
-                for (int r = 0; r < ch.count; ++r)
-                    range_rest(&job, r);
-            } else {
-#pragma omp for schedule(static) nowait
-                for (int s = 0; s < ch.count; ++s)
-                    range_interior(&job, s);
-#pragma omp for schedule(static) nowait
-                for (int r = 0; r < ch.count; ++r)
-                    range_rest(&job, r);
-            }
-        }
-    }
+    sinter_ranges_run_two_passes(threads, ch.count, interior_of, rest_of, &job);
     for (int s = 0; s < ch.count; ++s)
         *ended = job.first_ended[s] < *ended ? job.first_ended[s] : *ended;
     sinter_free(e->ctx, job.bmr);

@@ -32,6 +32,7 @@
 
 #include "conduction_ranges.h"
 #include "contact/chunks.h"
+#include "core/ranges_run.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
@@ -245,46 +246,29 @@ void sinter_conduction_range_rest(sinter_conduction_ranges *j, int r)
                j->boundary, j->reach, j->walls ? j->wq : NULL);
 }
 
+/* The two passes of all_ranges, for sinter_ranges_run_two_passes. */
+static void interior_of(void *j, int s)
+{
+    sinter_conduction_range_interior(j, s);
+}
+
+static void rest_of(void *j, int r)
+{
+    sinter_conduction_range_rest(j, r);
+}
+
 /*
  * Explicit, on a partitioned list: the ranges in one parallel region of their own, each
  * adding its interior contacts' powers, then the boundary contacts in list order by the range
  * that holds each particle (a contact of range s touches ranges s and later only), so that
  * every particle receives them in the order of one pass over the list; then, when the model
  * conducts to the walls, each range's wall contacts. No barrier: range r waits for the
- * interior passes of ranges 0 .. r only (range_flags.h). Which thread runs a range, as in the
- * force law's pp_chunked (see there): the static schedule on one thread or with as many
- * ranges as threads, else the next free thread; no wait can hang, and the bits do not depend
- * on it.
+ * interior passes of ranges 0 .. r only (range_flags.h). Which thread runs a range: see
+ * sinter_ranges_run_two_passes (core/ranges_run.h); the bits do not depend on it.
  */
 static void all_ranges(sinter_conduction_ranges *j, int threads)
 {
-    const int count = j->ch.count;
-    const int team = threads < count ? threads : count, shared = team > 1 && team < count;
-    if (team <= 1) { /* as the region's one thread would (its team's allocation: ranges_run.h) */
-        for (int s = 0; s < count; ++s)
-            sinter_conduction_range_interior(j, s);
-        for (int r = 0; r < count; ++r)
-            sinter_conduction_range_rest(j, r);
-        return;
-    }
-#pragma omp parallel num_threads(team)
-    {
-        if (shared) {
-#pragma omp for schedule(dynamic, 1) nowait
-            for (int s = 0; s < count; ++s)
-                sinter_conduction_range_interior(j, s);
-#pragma omp for schedule(dynamic, 1) nowait
-            for (int r = 0; r < count; ++r)
-                sinter_conduction_range_rest(j, r);
-        } else {
-#pragma omp for schedule(static) nowait
-            for (int s = 0; s < count; ++s)
-                sinter_conduction_range_interior(j, s);
-#pragma omp for schedule(static) nowait
-            for (int r = 0; r < count; ++r)
-                sinter_conduction_range_rest(j, r);
-        }
-    }
+    sinter_ranges_run_two_passes(threads, j->ch.count, interior_of, rest_of, j);
 }
 
 /* Pair contacts, on a list without a partition or implicit (a partitioned list's explicit
