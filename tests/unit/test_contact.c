@@ -17,7 +17,11 @@
 #include "contact/neighbors.h"
 #include "stepper/stepper.h"
 
-/* Deterministic uniform numbers in [0, 1). */
+/* Deterministic uniform numbers in [0, 1). A scene draws them one statement at a time: the
+ * order in which a call's arguments (or an initializer list's items) are evaluated is
+ * unspecified in C, and gcc and clang differ, so draws inside one call would give each
+ * compiler its own scene (the orders below are those gcc gave the scenes the tests were
+ * written on: a call's last argument first). */
 static double lcg(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -28,7 +32,8 @@ static void random_cloud(scene *s, size_t n, uint64_t seed)
 {
     for (size_t k = 0; k < n; ++k) {
         const double r = 1e-3 * (0.5 + lcg(&seed)); /* 2:1 size ratio */
-        scene_add(s, 0.02 * lcg(&seed), 0.02 * lcg(&seed), 0.02 * lcg(&seed), r);
+        const double z = 0.02 * lcg(&seed), y = 0.02 * lcg(&seed), x = 0.02 * lcg(&seed);
+        scene_add(s, x, y, z, r);
     }
 }
 
@@ -41,9 +46,11 @@ static void dense_cloud(scene *s, int threads, size_t n, sinter_neighbors *nb)
     scene_material(s, 1e7, 0.3, 2500, 0.0, 0.3);
     scene_open(s, "hertz_mindlin", 0);
     uint64_t seed = 11;
-    for (size_t k = 0; k < n; ++k)
-        scene_add(s, 0.03 * lcg(&seed), 0.03 * lcg(&seed), 0.03 * lcg(&seed),
-                  0.7e-3 * (0.5 + lcg(&seed)));
+    for (size_t k = 0; k < n; ++k) {
+        const double r = 0.7e-3 * (0.5 + lcg(&seed));
+        const double z = 0.03 * lcg(&seed), y = 0.03 * lcg(&seed), x = 0.03 * lcg(&seed);
+        scene_add(s, x, y, z, r);
+    }
     sinter_neighbors_init(nb, s->ctx, 3e-4);
     OK(sinter_neighbors_build(nb, s->ps, s->walls));
 }
@@ -126,7 +133,8 @@ static void add_cloud(scene *s, size_t n, size_t row, double spacing, double r0,
         scene_add(s, spacing * (double)(k % row), spacing * (double)((k / row) % row),
                   spacing * (double)(k / (row * row)), 1e-3 * (r0 + dr * lcg(&seed)));
     for (size_t k = 0; k < n; ++k) {
-        const double v[3] = {lcg(&seed) - 0.5, lcg(&seed) - 0.5, lcg(&seed) - 0.5};
+        const double vx = lcg(&seed) - 0.5, vy = lcg(&seed) - 0.5, vz = lcg(&seed) - 0.5;
+        const double v[3] = {vx, vy, vz};
         set3(s, SINTER_FIELD_VELOCITY, k, v);
     }
     scene_floor(s, -0.001);
@@ -300,9 +308,10 @@ static void open_packed_m(scene *s_out, int threads, int heat, sinter_heat_model
     const double r = 0.5e-3, a = 2 * r * 0.999;
     for (int k = 0; k < m; ++k)
         for (int j = 0; j < m; ++j)
-            for (int i = 0; i < m; ++i)
-                scene_add(&s, (i + 0.5) * a + 1e-6 * lcg(&seed), (j + 0.5) * a + 1e-6 * lcg(&seed),
-                          (k + 0.5) * a, r);
+            for (int i = 0; i < m; ++i) {
+                const double dy = 1e-6 * lcg(&seed), dx = 1e-6 * lcg(&seed);
+                scene_add(&s, (i + 0.5) * a + dx, (j + 0.5) * a + dy, (k + 0.5) * a, r);
+            }
     OK(sinter_stepper_set_dt(s.st, 1e-5));
     *s_out = s;
     *cond_out = cond;
@@ -920,9 +929,11 @@ static void test_conduction_in_law_matches_after_law(void **state)
             const double r = 0.5e-3, a = 2 * r * 0.998;
             for (int k = 0; k < L; ++k)
                 for (int j = 0; j < M; ++j)
-                    for (int i = 0; i < M; ++i)
-                        scene_add(&s, i * a + 1e-6 * lcg(&seed), j * a + 1e-6 * lcg(&seed),
-                                  k * a + 1e-6 * lcg(&seed), r);
+                    for (int i = 0; i < M; ++i) {
+                        const double dz = 1e-6 * lcg(&seed), dy = 1e-6 * lcg(&seed),
+                                     dx = 1e-6 * lcg(&seed);
+                        scene_add(&s, i * a + dx, j * a + dy, k * a + dz, r);
+                    }
             for (size_t i = 0; i < N; ++i)
                 s.ps->temperature[i] = 300.0 + 200.0 * lcg(&seed);
             OK(sinter_stepper_set_dt(s.st, 1e-5));
@@ -1265,7 +1276,9 @@ static void test_wall_search_matches_a_fresh_one(void **state)
         uint64_t seed = 5;
         for (size_t k = 0; k < N; ++k) { /* centres within 0.1 r of touching the floor */
             const double r = 0.4e-3 * (0.5 + lcg(&seed));
-            scene_add(&s, 0.02 * lcg(&seed), 0.02 * lcg(&seed), r * (0.9 + 0.2 * lcg(&seed)), r);
+            const double z = r * (0.9 + 0.2 * lcg(&seed)), y = 0.02 * lcg(&seed),
+                         x = 0.02 * lcg(&seed);
+            scene_add(&s, x, y, z, r);
         }
         sinter_neighbors nb;
         sinter_neighbors_init(&nb, s.ctx, 2e-4);
@@ -1678,8 +1691,9 @@ static void run_rattling(int threads, int heat, double skin, double *out, size_t
         scene_add(&s, ((double)(k % side) + 0.5) * a, ((double)(k / side % side) + 0.5) * a,
                   ((double)(k / (side * side)) + 0.5) * a, r);
     for (size_t k = n - side * side; k < n; ++k) { /* the top layer rattles */
-        const double v[3] = {0.02 * (lcg(&seed) - 0.5), 0.02 * (lcg(&seed) - 0.5),
-                             0.02 * (lcg(&seed) - 0.5)};
+        const double vx = 0.02 * (lcg(&seed) - 0.5), vy = 0.02 * (lcg(&seed) - 0.5),
+                     vz = 0.02 * (lcg(&seed) - 0.5);
+        const double v[3] = {vx, vy, vz};
         set3(&s, SINTER_FIELD_VELOCITY, k, v);
     }
     OK(sinter_stepper_set_dt(s.st, 1e-5));
