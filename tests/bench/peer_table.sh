@@ -16,6 +16,8 @@
 #   PEERS_DIR [../shared/bench/peers]   the peer decks and gen_lattice.py
 #   DATA [/tmp/peer_data] lattices, made with gen_lattice.py when missing
 #   REPS [2]  PIN [1] (core for the single-thread runs)
+#   LIG2 [0]  1: LIGGGHTS also on two MPI ranks (mpirun -np 2, Open MPI), after its one-rank
+#             run, printed as liggghts2= (its 2-core speed-up beside ours, session 23)
 #   CELLS: scene:n:steps:heat ... (N = n^3); LAMMPS runs the mechanics (heat 0) only, as this
 #          LAMMPS has no heat conduction: in.mech on the packed lattice is the packed bed
 #          without heat.
@@ -26,6 +28,7 @@ PEERS_DIR="$(cd "${PEERS_DIR:-$ROOT/../shared/bench/peers}" && pwd)"
 DATA="${DATA:-/tmp/peer_data}"
 REPS="${REPS:-2}"
 PIN="${PIN:-1}"
+LIG2="${LIG2:-0}"
 CELLS="${CELLS:-thermal:10:20000:1 thermal:20:4000:1 thermal:40:500:1 thermal:80:100:1
 thermal:100:100:1 thermal:10:20000:0 thermal:20:4000:0 thermal:40:500:0 thermal:80:100:0
 thermal:100:100:0 mech:10:20000:0 mech:20:4000:0 mech:40:2000:0}"
@@ -48,6 +51,13 @@ for cell in $CELLS; do
       -in "$PEERS_DIR/liggghts/in.$scene" -var data "$base.lmp" -var L "$L" -var steps "$steps" \
       -var dt 1e-5 -var heat "$heat"
     lig=$(loop_time lig.log)
+    lig2=
+    if [ "$LIG2" = 1 ]; then
+      mpirun --allow-run-as-root -np 2 liggghts -nocite -echo none -screen none -log lig2.log \
+        -in "$PEERS_DIR/liggghts/in.$scene" -var data "$base.lmp" -var L "$L" -var steps "$steps" \
+        -var dt 1e-5 -var heat "$heat" > /dev/null
+      lig2=" liggghts2=$(loop_time lig2.log)"
+    fi
     lmp_t=-
     if [ "$heat" = 0 ]; then
       OMP_NUM_THREADS=1 taskset -c "$PIN" lmp -nocite -echo none -screen none -log lmp.log \
@@ -64,7 +74,7 @@ for cell in $CELLS; do
     read -r one rss1 <<< "$(run 1 "taskset -c $PIN")"
     rt0=$(round_trip)
     read -r two rss2 <<< "$(run 2 "")"
-    echo "$scene n=$n N=$((n * n * n)) steps=$steps heat=$heat liggghts=$lig lammps=$lmp_t" \
+    echo "$scene n=$n N=$((n * n * n)) steps=$steps heat=$heat liggghts=$lig$lig2 lammps=$lmp_t" \
          "one=$one two=$two rss1_kB=$rss1 rss2_kB=$rss2 rt_ns=$rt0/$(round_trip) $(date -u +%T)"
   done
 done
