@@ -62,7 +62,8 @@ extern "C" {
     X(SINTER_ERR_CALLBACK, -15, "a host callback reported an error")                 \
     X(SINTER_ERR_UNSUPPORTED, -16, "the feature is not supported by this build")     \
     X(SINTER_ERR_LOST_PARTICLE, -17, "a particle left the simulation domain")        \
-    X(SINTER_ERR_DOMAIN, -18, "a model left its domain of validity")
+    X(SINTER_ERR_DOMAIN, -18, "a model left its domain of validity")                \
+    X(SINTER_ERR_INTERRUPTED, -19, "the run was stopped on request")
 
 #define SINTER_STATUS_ENUM_ENTRY_(name, value, message) name = value,
 /** Status code returned by every function. Negative: error. */
@@ -147,6 +148,20 @@ SINTER_API sinter_status sinter_ctx_set_log(sinter_ctx *ctx, sinter_log_fn fn, i
 /** Number of threads the library may use internally (1 by default, 0 = all available). */
 SINTER_API sinter_status sinter_ctx_set_threads(sinter_ctx *ctx, int threads);
 SINTER_API sinter_status sinter_ctx_get_threads(const sinter_ctx *ctx, int *threads);
+
+/**
+ * Ask the runs of this context to stop: the next check between two steps (in
+ * sinter_stepper_advance, sinter_stepper_step and sinter_scene_run) returns
+ * SINTER_ERR_INTERRUPTED and withdraws the request. The step under way is
+ * finished or refused as usual, so the state left is the last accepted one,
+ * readable and checkpointable; a later call continues from it.
+ *
+ * The one function of the library that may be called from a signal handler
+ * (it only stores to a lock-free atomic flag) or from another thread while the
+ * context is in use. A request made while nothing runs stops the next run
+ * before its first step. Errors: SINTER_ERR_NULL.
+ */
+SINTER_API sinter_status sinter_ctx_request_stop(sinter_ctx *ctx);
 
 /* ------------------------------------------------------------------------ */
 /* Materials                                                                 */
@@ -1268,6 +1283,14 @@ SINTER_API sinter_status sinter_series_rows(const sinter_series *series, size_t 
 /** Read value (row, column). */
 SINTER_API sinter_status sinter_series_get(const sinter_series *series, size_t row, size_t column,
                                            double *value);
+/**
+ * Read a series back from a CSV file written by sinter_series_write_csv or by
+ * a run: names and units from the header, every complete row (a last line
+ * without its newline is left out). Errors: SINTER_ERR_NULL, SINTER_ERR_IO,
+ * SINTER_ERR_PARSE ("file:line: what was expected"), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_series_read_csv(sinter_series **out, sinter_ctx *ctx,
+                                                const char *path);
 /** Write as CSV: a header line "name [unit],..." then one line per row, full precision. */
 SINTER_API sinter_status sinter_series_write_csv(const sinter_series *series, const char *path);
 /**
@@ -1301,16 +1324,74 @@ typedef struct sinter_scene sinter_scene;
 SINTER_API sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char *path);
 SINTER_API void sinter_scene_destroy(sinter_scene *scene);
 
-/** Progress callback of sinter_scene_run: time reached and end time [s]. Non-zero stops the run. */
+/**
+ * Progress callback of sinter_scene_run, called after every sample: time reached and the
+ * run's end time [s] (after a pour, the pour's end plus the scene's end time). Non-zero stops
+ * the run as sinter_ctx_request_stop does.
+ */
 typedef int (*sinter_progress_fn)(double time, double end_time, void *user);
 
 /**
- * Run the scene to its end time, writing into `out_dir` (created if missing):
- * VTU frames and a PVD collection, series.csv, series.svg and checkpoints, as
- * the scene's [output] section asks. `progress` may be NULL.
+ * Run the scene from where it stands to its end time, writing into `out_dir`
+ * (created if missing) as the scene's [output] section asks: series.csv (each
+ * sample appended and flushed as the run goes, so that a crash loses at most
+ * the sample being written), VTU frames in frames/ with the PVD collection
+ * rewritten after every frame, checkpoint.bin at the checkpoint interval and
+ * at the end, and series.svg, drawn from series.csv at the end, whatever
+ * ended the run. `out_dir` is made and checked writable before the first step.
+ *
+ * A fresh scene first does its set-up (compaction, the first sample, the pour
+ * to rest); a scene restored with sinter_scene_restart continues its program
+ * without repeating any of it, appending to the series.csv and frames of
+ * `out_dir` where they hold the samples written before the checkpoint (else
+ * starting them at the restart). A stop request (sinter_ctx_request_stop) or a
+ * progress callback returning non-zero ends the run after the current step
+ * with SINTER_ERR_INTERRUPTED, writing checkpoint.bin (even without a
+ * checkpoint interval) and the plot. `progress` may be NULL.
  */
 SINTER_API sinter_status sinter_scene_run(sinter_scene *scene, const char *out_dir,
                                           sinter_progress_fn progress, void *user);
+
+/**
+ * Write the scene's checkpoint: the stepper's state (sinter_checkpoint_write)
+ * and the scene's program (its phase, the time origin its pour fixed, the
+ * output schedule, the samples and frames written), so that
+ * sinter_scene_restart continues the run exactly. sinter_scene_run writes
+ * these itself. Errors: SINTER_ERR_NULL, SINTER_ERR_STATE (the run has not
+ * started), SINTER_ERR_IO, SINTER_ERR_INVALID (a path too long).
+ */
+SINTER_API sinter_status sinter_scene_checkpoint_write(const sinter_scene *scene, const char *path);
+
+/**
+ * Restore a scene loaded from its scene file to a checkpoint written by its
+ * run; the next sinter_scene_run continues the run as the straight run would
+ * have gone on, bit for bit. A checkpoint of another scene (other particle
+ * count, stepper kind, walls or their order, materials, heat or electric
+ * models) is refused with SINTER_ERR_INVALID naming the first difference, a
+ * stepper checkpoint without a scene program likewise; a path that is a
+ * directory or not a regular file with SINTER_ERR_INVALID, an empty, truncated
+ * or corrupted file with SINTER_ERR_CORRUPT; nothing is changed then. Values
+ * the checkpoint carries that the scene file sets otherwise (the time step,
+ * material parameters) are taken from the checkpoint and named at the info log
+ * level. The end time stays the scene's (sinter_scene_set_end_time).
+ */
+SINTER_API sinter_status sinter_scene_restart(sinter_scene *scene, const char *path);
+
+/**
+ * Change the scene's end time [s] (its [stepper] end_time: after a pour,
+ * counted from the pour's end), also after a restart, to run a scene shorter
+ * or longer. Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (not positive and
+ * finite).
+ */
+SINTER_API sinter_status sinter_scene_set_end_time(sinter_scene *scene, double end_time);
+
+/**
+ * Draw `out_dir`/series.svg from `out_dir`/series.csv, as a run does at its
+ * end, for any run, finished or not (a last line without its newline is left
+ * out). `title` may be NULL. Errors: SINTER_ERR_NULL, SINTER_ERR_IO,
+ * SINTER_ERR_PARSE (naming the line), SINTER_ERR_STATE (no sample yet).
+ */
+SINTER_API sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, const char *title);
 
 /** Borrow the scene's objects (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);
@@ -1329,9 +1410,10 @@ SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double
  * neighbour lists, contact history; for the quasi-static kind also its bonded
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
  * electric model the potentials its next solve starts from; the particle
- * ranges its contact sums follow) to a versioned binary file (format 5;
- * formats 2-4 are still read, and a run restored from them may differ from the
- * straight run in the last bits) with a checksum.
+ * ranges its contact sums follow, the steps since its last spatial sort) to
+ * a versioned binary file (format 6; formats 2-5 are still read, and a run
+ * restored from formats 2-4 may differ from the straight run in the last bits)
+ * with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */

@@ -3,6 +3,7 @@
 #define SINTER_CORE_H
 
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,7 +20,12 @@ struct sinter_ctx {
     int log_level;
     int threads;
     int step_threads; /* > 0: the threads of the step being taken (stepper/thread_choice.h) */
+    atomic_int stop_requested; /* sinter_ctx_request_stop: set by a signal handler or a thread */
 };
+
+/* SINTER_ERR_INTERRUPTED (and the request withdrawn) if a stop was requested, else SINTER_OK;
+ * `where` names the run in the message ("sinter_stepper_advance"), `time` its time [s]. */
+sinter_status sinter_ctx_take_stop(sinter_ctx *ctx, const char *where, double time);
 
 #if defined(__GNUC__)
 #define SINTER_PRINTF(fmt_index, first_arg) __attribute__((format(printf, fmt_index, first_arg)))

@@ -44,6 +44,7 @@ sinter_status sinter_ctx_create(sinter_ctx **out, const sinter_allocator *alloca
     ctx->allocator = a;
     ctx->last_status = SINTER_OK;
     ctx->threads = 1;
+    atomic_init(&ctx->stop_requested, 0);
     ctx->log_level = SINTER_LOG_WARNING;
     *out = ctx;
     return SINTER_OK;
@@ -113,6 +114,24 @@ sinter_status sinter_ctx_get_threads(const sinter_ctx *ctx, int *threads)
     SINTER_CHECK_NULL((sinter_ctx *)ctx, threads);
     *threads = ctx->threads;
     return SINTER_OK;
+}
+
+sinter_status sinter_ctx_request_stop(sinter_ctx *ctx)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    atomic_store(&ctx->stop_requested, 1); /* async-signal-safe: a lock-free store, no error record */
+    return SINTER_OK;
+}
+
+sinter_status sinter_ctx_take_stop(sinter_ctx *ctx, const char *where, double time)
+{
+    if (atomic_load_explicit(&ctx->stop_requested, memory_order_relaxed) == 0 ||
+        atomic_exchange(&ctx->stop_requested, 0) == 0)
+        return SINTER_OK;
+    return sinter_fail(ctx, SINTER_ERR_INTERRUPTED,
+                       "%s: stopped on request at t = %.17g s (the last accepted state)", where,
+                       time);
 }
 
 sinter_status sinter_fail(sinter_ctx *ctx, sinter_status status, const char *fmt, ...)

@@ -930,6 +930,8 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
         s = prepare(st);
     int stop = 0;
     while (s == SINTER_OK && !stop && st->time < t_end) {
+        if ((s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_advance", st->time)) != SINTER_OK)
+            break;
         const double proposal = next_step(st);
         double h = proposal, taken = 0.0;
         const double remaining = t_end - st->time;
@@ -966,8 +968,11 @@ sinter_status sinter_stepper_step(sinter_stepper *st, uint64_t n)
         s = prepare(st);
     int stop = 0;
     double taken = 0.0;
-    for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k)
-        s = take_step(st, next_step(st), &taken, &stop);
+    for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k) {
+        s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_step", st->time);
+        if (s == SINTER_OK)
+            s = take_step(st, next_step(st), &taken, &stop);
+    }
     st->stats.seconds_total += sinter_clock() - t0;
     return s;
 }
