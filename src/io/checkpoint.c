@@ -16,7 +16,10 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <sys/stat.h>
+
 #include "electric/electric.h"
+#include "io/checkpoint.h"
 #include "stepper/stepper.h"
 
 /* 2: material parameter count recorded (53 parameters since the neck data)
@@ -27,8 +30,14 @@
  * 5: then the particle ranges of the contact list's partition (contact/chunks.h), which the
  *    first search over a pair list makes from the contacts of that moment and the later ones
  *    keep: restored, the sums continue in the same order, bit for bit; earlier versions are
- *    still read (the partition is made afresh, and sums may differ in the last bits) */
-#define CHECKPOINT_VERSION 5u
+ *    still read (the partition is made afresh, and sums may differ in the last bits)
+ * 6: then the steps since the last spatial sort (option sort_interval), whether the forces
+ *    of the state are evaluated (a quasi-static step leaves them to the next advance, which
+ *    evaluates them at its start: a restored run must do the same), and a host section
+ *    (u64 bytes, then the bytes: a scene's program, io/scene_program.c; 0 bytes from
+ *    sinter_checkpoint_write); earlier versions are still read (no host section, the sort
+ *    counter as it was) */
+#define CHECKPOINT_VERSION 6u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -79,6 +88,12 @@ static void put_history(writer *w, const sinter_history *h, size_t pairs)
 
 sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path)
 {
+    return sinter_checkpoint_write_with(st, path, NULL, 0);
+}
+
+sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char *path,
+                                           const void *host, size_t host_bytes)
+{
     if (st == NULL)
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = st->ctx;
@@ -88,7 +103,10 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
                            "sinter_checkpoint_write: take at least one step (or step 0) before "
                            "writing a checkpoint");
     char tmp[4096];
-    snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+    if ((size_t)snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= sizeof(tmp))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "cannot write checkpoint '%.200s...': the path is longer than %zu bytes",
+                           path, sizeof(tmp) - 5);
     writer w = {fopen(tmp, "wb"), 0xcbf29ce484222325ull, 0};
     if (w.f == NULL)
         return sinter_fail(ctx, SINTER_ERR_IO, "cannot write checkpoint '%s': %s", tmp,
@@ -180,6 +198,11 @@ sinter_status sinter_checkpoint_write(const sinter_stepper *st, const char *path
     put_u64(&w, keep ? (uint64_t)ch->count : 0);
     for (int k = 0; keep && k <= ch->count; ++k)
         put_u64(&w, ch->plo[k]);
+    /* the sort counter and the host's section (version 6) */
+    put_u64(&w, st->steps_since_sort);
+    put_u64(&w, (uint64_t)st->forces_current);
+    put_u64(&w, host_bytes);
+    put(&w, host, host_bytes);
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -363,9 +386,21 @@ static sinter_status load_file(sinter_ctx *ctx, const char *path, unsigned char 
                            strerror(errno));
     sinter_status st = SINTER_OK;
     long len = -1;
-    if (fseek(f, 0, SEEK_END) == 0)
+    struct stat info;
+    if (fstat(fileno(f), &info) != 0)
+        st = sinter_fail(ctx, SINTER_ERR_IO, "cannot read checkpoint '%s': %s", path,
+                         strerror(errno));
+    else if (!S_ISREG(info.st_mode))
+        st = sinter_fail(ctx, SINTER_ERR_INVALID,
+                         "checkpoint '%s' is refused: it is %s, not a file written by a run "
+                         "(give the checkpoint file itself, e.g. OUT/checkpoint.bin)",
+                         path, S_ISDIR(info.st_mode) ? "a directory" : "not a regular file");
+    else if (info.st_size == 0)
+        st = sinter_fail(ctx, SINTER_ERR_CORRUPT, "checkpoint '%s' is refused: the file is empty",
+                         path);
+    if (st == SINTER_OK && fseek(f, 0, SEEK_END) == 0)
         len = ftell(f);
-    if (len < 0 || fseek(f, 0, SEEK_SET) != 0)
+    if (st == SINTER_OK && (len < 0 || fseek(f, 0, SEEK_SET) != 0))
         st = sinter_fail(ctx, SINTER_ERR_IO, "cannot read checkpoint '%s'", path);
     unsigned char *buf = NULL;
     if (st == SINTER_OK) {
@@ -392,6 +427,12 @@ static sinter_status corrupt(sinter_ctx *ctx, const char *path, const char *why)
 }
 
 sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
+{
+    return sinter_checkpoint_read_with(st, path, NULL, NULL);
+}
+
+sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
+                                          sinter_checkpoint_host_fn host_check, void *user)
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
@@ -429,7 +470,7 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "to 4) or byte order");
+                       "to 6) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -518,6 +559,14 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
         else
             plo[k] = (size_t)v;
     }
+    const uint64_t since_sort = version >= 6u ? take_u64(&r) : st->steps_since_sort;
+    const uint64_t forces_current = version >= 6u ? take_u64(&r) : 1;
+    if (forces_current > 1)
+        r.bad = 1;
+    const uint64_t host_bytes = version >= 6u ? take_u64(&r) : 0;
+    const void *host = host_bytes <= size ? take(&r, (size_t)host_bytes) : NULL;
+    if (host_bytes > 0 && host == NULL)
+        r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -530,6 +579,12 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
                                        material_values, nw, wall_data, x_ref);
         if (why != NULL)
             s = corrupt(ctx, path, why);
+    }
+    /* The host's section (a scene's program): checked, and staged by the host, before
+     * anything changes. */
+    if (s == SINTER_OK && host_check != NULL) {
+        const sinter_checkpoint_facts facts = {time, dt, n, nw, version};
+        s = host_check(user, host_bytes > 0 ? host : NULL, (size_t)host_bytes, &facts);
     }
     /* The quasi-static state, built whole before anything changes. */
     sinter_qs *qs_new = NULL;
@@ -690,10 +745,11 @@ sinter_status sinter_checkpoint_read(sinter_stepper *st, const char *path)
     st->time = time;
     st->dt = dt;
     st->stats.dt = dt;
+    st->steps_since_sort = since_sort;
     st->stats.steps = steps;
     st->stats.rejected = rejected;
     st->stats.neighbor_builds = builds;
-    st->forces_current = 1;
+    st->forces_current = (int)forces_current || st->kind != SINTER_STEPPER_QUASISTATIC;
     st->write_generation = ps->write_generation;
     st->population_generation = ps->population_generation;
     sinter_free(ctx, data);
