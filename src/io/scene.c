@@ -713,6 +713,7 @@ void sinter_scene_destroy(sinter_scene *sc)
         sinter_material_destroy(sc->materials[k]);
     sinter_walls_destroy(sc->walls);
     sinter_particles_destroy(sc->ps);
+    scene_program_free(sc->ctx, &sc->program);
     sinter_free(sc->ctx, sc);
 }
 

@@ -2,6 +2,7 @@
 #ifndef SINTER_SCENE_H
 #define SINTER_SCENE_H
 
+#include "io/scene_program.h"
 #include "stepper/stepper.h"
 
 #define SCENE_MAX_MATERIALS 32
@@ -37,6 +38,9 @@ struct sinter_scene {
     int write_vtu, write_csv, write_plot;
     int vtu_binary; /* frames' arrays as inline base64 binary (1, the default) or ascii */
     double checkpoint_interval;
+    /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
+    scene_program program;
+    double furnace_shift; /* how far the stepper's furnace has been delayed (the origin) [s] */
 };
 
 #endif

@@ -2,7 +2,9 @@
 /*
  * Running a scene: an optional pour to rest and an optional triaxial compaction, then the
  * run to the end time, with global observables recorded every output interval into a series
- * (CSV and SVG), VTU frames with a PVD collection, and checkpoints.
+ * (series.csv, appended as the run goes; series.svg drawn from it at the end), VTU frames with
+ * a PVD collection rewritten after every frame, and checkpoints that carry the program
+ * (io/scene_program.h), so that a restart continues the run where it stood.
  */
 #include <errno.h>
 #include <math.h>
@@ -10,6 +12,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "io/csv_stream.h"
+#include "io/run_plot.h"
 #include "io/scene.h"
 #include "io/vtu.h"
 
@@ -195,34 +199,69 @@ static sinter_status compact(sinter_scene *sc)
 typedef struct run_state {
     sinter_scene *sc;
     const char *out_dir;
-    sinter_series *series;
+    sinter_series *series; /* the columns; rows kept only when a plot is drawn without a CSV */
+    sinter_csv_stream csv;
     double *row;
-    size_t frames;
-    size_t frame_capacity;
-    double *frame_times;
-    char **frame_files;
-    double next_checkpoint;
+    char csv_path[4096];
+    uint64_t earlier;       /* frames of the program written before this call */
+    unsigned char *present; /* which of them are in out_dir (listed in the collection) */
 } run_state;
+
+/* dir/name into path (size bytes), refusing a path that does not fit. */
+static sinter_status join(sinter_ctx *ctx, char *path, size_t size, const char *dir,
+                          const char *name)
+{
+    const int n = snprintf(path, size, "%s/%s", dir, name);
+    if (n < 0 || (size_t)n >= size)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "the output path '%.100s.../%.100s' is longer than %zu bytes", dir, name,
+                           size - 1);
+    return SINTER_OK;
+}
+
+/* The PVD collection of the frames written so far (those of an earlier run only where their
+ * files are in this directory: a restart into another directory lists its own). */
+static sinter_status write_collection(run_state *r)
+{
+    sinter_scene *sc = r->sc;
+    sinter_ctx *ctx = sc->ctx;
+    const scene_program *p = &sc->program;
+    char **files = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(char *));
+    double *times = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(double));
+    char rel[64], path[4096];
+    sinter_status st = files && times ? SINTER_OK : sinter_last_status(ctx);
+    size_t listed = 0;
+    for (uint64_t k = 0; k < p->frames && st == SINTER_OK; ++k) {
+        if (k < r->earlier && !r->present[k])
+            continue;
+        snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
+        files[listed] = sinter_strdup(ctx, rel);
+        times[listed] = p->frame_times[k];
+        st = files[listed] != NULL ? SINTER_OK : sinter_last_status(ctx);
+        listed += st == SINTER_OK;
+    }
+    char name[SCENE_NAME + 8];
+    snprintf(name, sizeof(name), "%s.pvd", sc->name);
+    if (st == SINTER_OK)
+        st = join(ctx, path, sizeof(path), r->out_dir, name);
+    if (st == SINTER_OK)
+        st = sinter_write_pvd(ctx, path, listed, times, (const char *const *)files);
+    for (size_t k = 0; files != NULL && k < listed; ++k)
+        sinter_free(ctx, files[k]);
+    sinter_free(ctx, files);
+    sinter_free(ctx, times);
+    return st;
+}
 
 static sinter_status write_frame(run_state *r)
 {
     sinter_scene *sc = r->sc;
     sinter_ctx *ctx = sc->ctx;
-    if (r->frames == r->frame_capacity) {
-        size_t cap = r->frame_capacity ? 2 * r->frame_capacity : 64;
-        double *t = sinter_realloc_array(ctx, r->frame_times, cap, sizeof(double));
-        if (t == NULL)
-            return SINTER_ERR_NOMEM;
-        r->frame_times = t;
-        char **f = sinter_realloc_array(ctx, r->frame_files, cap, sizeof(char *));
-        if (f == NULL)
-            return SINTER_ERR_NOMEM;
-        r->frame_files = f;
-        r->frame_capacity = cap;
-    }
-    char rel[64], path[2048];
-    snprintf(rel, sizeof(rel), "frames/frame_%05zu.vtu", r->frames);
-    snprintf(path, sizeof(path), "%s/%s", r->out_dir, rel);
+    char rel[64], path[4096];
+    snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)sc->program.frames);
+    sinter_status st = join(ctx, path, sizeof(path), r->out_dir, rel);
+    if (st != SINTER_OK)
+        return st;
     /* contact count per particle, for ParaView */
     double *contacts = sinter_calloc(ctx, sc->ps->count + 1, sizeof(double));
     if (contacts == NULL)
@@ -248,119 +287,232 @@ static sinter_status write_frame(run_state *r)
         }
     }
     const sinter_vtu_array extra[2] = {{"contacts", contacts, 1}, {"necks", necks, 1}};
-    sinter_status st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
+    st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
-    if (st != SINTER_OK)
-        return st;
-    r->frame_times[r->frames] = sc->st->time;
-    r->frame_files[r->frames] = sinter_strdup(ctx, rel);
-    if (r->frame_files[r->frames] == NULL)
-        return SINTER_ERR_NOMEM;
-    r->frames++;
-    snprintf(path, sizeof(path), "%s/%s.pvd", r->out_dir, sc->name);
-    return sinter_write_pvd(ctx, path, r->frames, r->frame_times,
-                            (const char *const *)r->frame_files);
+    if (st == SINTER_OK)
+        st = scene_program_add_frame(ctx, &sc->program, sc->st->time);
+    return st == SINTER_OK ? write_collection(r) : st;
 }
 
-static sinter_status write_series(run_state *r)
+/* The plot, from the CSV (or the rows kept in memory when no CSV is written). */
+static sinter_status write_plot(run_state *r)
 {
     sinter_scene *sc = r->sc;
-    char path[2048];
-    sinter_status st = SINTER_OK;
-    if (sc->write_csv) {
-        snprintf(path, sizeof(path), "%s/series.csv", r->out_dir);
-        st = sinter_series_write_csv(r->series, path);
-    }
-    if (st == SINTER_OK && sc->write_plot) {
-        snprintf(path, sizeof(path), "%s/series.svg", r->out_dir);
-        const size_t nw = sc->walls->count;
-        size_t cols[8 + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS], start[8],
-            panels = 0, nc = 0;
-        if (sc->st->kind == SINTER_STEPPER_QUASISTATIC) {
-            const size_t q = COL_FIXED_ + nw; /* links, neck mean/min/max, ratio, shrinkage... */
-            start[panels++] = nc;
-            cols[nc++] = q + 5;
-            cols[nc++] = q + 6;
-            cols[nc++] = q + 7;
-            start[panels++] = nc;
-            cols[nc++] = q + 4;
-            start[panels++] = nc;
-            cols[nc++] = q + 8;
-            start[panels++] = nc;
-            cols[nc++] = COL_T_MEAN;
-            start[panels] = nc;
-            return sinter_series_write_svg(r->series, path, sc->name, COL_TIME, panels, start,
-                                           cols);
-        }
-        start[panels++] = nc;
-        cols[nc++] = COL_FRACTION;
-        start[panels++] = nc;
-        cols[nc++] = COL_T_MEAN;
-        cols[nc++] = COL_T_MAX;
-        if (nw > 0) {
-            start[panels++] = nc;
-            for (size_t k = 0; k < nw; ++k)
-                cols[nc++] = COL_FIXED_ + k;
-        }
-        if (sc->electric != NULL) {
-            start[panels++] = nc;
-            cols[nc++] = electric_column(sc);
-            cols[nc++] = electric_column(sc) + 1;
-        }
-        start[panels++] = nc;
-        cols[nc++] = COL_KE;
-        start[panels] = nc;
-        st = sinter_series_write_svg(r->series, path, sc->name, COL_TIME, panels, start, cols);
-    }
-    return st;
+    if (!sc->write_plot)
+        return SINTER_OK;
+    if (sc->write_csv)
+        return sinter_plot_run(sc->ctx, r->out_dir, sc->name);
+    char path[4096];
+    sinter_status st = join(sc->ctx, path, sizeof(path), r->out_dir, "series.svg");
+    return st == SINTER_OK ? sinter_plot_series(r->series, path, sc->name) : st;
 }
 
+/* One sample: the series row (appended to the CSV at once) and a frame. */
 static sinter_status record(run_state *r)
 {
-    observe(r->sc, r->row);
-    sinter_status st = sinter_series_append(r->series, r->row);
-    if (st == SINTER_OK && r->sc->write_vtu)
+    sinter_scene *sc = r->sc;
+    observe(sc, r->row);
+    sinter_status st = SINTER_OK;
+    if (sc->write_csv)
+        st = sinter_csv_stream_append(&r->csv, r->row);
+    else if (sc->write_plot)
+        st = sinter_series_append(r->series, r->row);
+    if (st == SINTER_OK && sc->write_vtu)
         st = write_frame(r);
+    if (st == SINTER_OK) {
+        sc->program.rows++;
+        sc->program.next_output = sc->st->time + sc->output_interval;
+    }
     return st;
 }
 
-static sinter_status maybe_checkpoint(run_state *r, int force)
+static sinter_status checkpoint(run_state *r)
 {
     sinter_scene *sc = r->sc;
-    if (sc->checkpoint_interval <= 0.0 || (!force && sc->st->time < r->next_checkpoint))
-        return SINTER_OK;
-    char path[2048];
-    snprintf(path, sizeof(path), "%s/checkpoint.bin", r->out_dir);
-    r->next_checkpoint = sc->st->time + sc->checkpoint_interval;
-    return sinter_checkpoint_write(sc->st, path);
+    char path[4096];
+    sinter_status st = join(sc->ctx, path, sizeof(path), r->out_dir, "checkpoint.bin");
+    if (st == SINTER_OK && sc->write_csv)
+        st = sinter_csv_stream_sync(&r->csv); /* the rows the checkpoint counts are on disk */
+    return st == SINTER_OK ? sinter_scene_checkpoint_write(sc, path) : st;
 }
 
-/* Advance to t, in output intervals, recording each. */
-static sinter_status run_to(run_state *r, double t_end, sinter_progress_fn progress, void *user,
-                            double ke_stop, double t_min_stop, int *stopped_at_rest)
+static sinter_status maybe_checkpoint(run_state *r)
 {
     sinter_scene *sc = r->sc;
-    const double t_begin = sc->st->time;
-    while (sc->st->time < t_end) {
-        const double next = fmin(t_end, sc->st->time + sc->output_interval);
-        sinter_status st = sinter_stepper_advance(sc->st, next);
-        if (st == SINTER_OK)
-            st = record(r);
-        if (st == SINTER_OK)
-            st = maybe_checkpoint(r, 0);
-        if (st != SINTER_OK)
-            return st;
-        if (progress != NULL && progress(sc->st->time, sc->end_time, user) != 0)
-            return sinter_fail(sc->ctx, SINTER_ERR_CALLBACK, "the run was stopped at t = %g s",
-                               sc->st->time);
-        if (stopped_at_rest != NULL && sc->st->time - t_begin >= t_min_stop &&
-            r->row[COL_KE] / (double)sc->ps->count < ke_stop) {
-            *stopped_at_rest = 1;
+    if (sc->checkpoint_interval <= 0.0 || sc->st->time < sc->program.next_checkpoint)
+        return SINTER_OK;
+    sc->program.next_checkpoint = sc->st->time + sc->checkpoint_interval;
+    return checkpoint(r);
+}
+
+/* The pour's end: the walls' programs, the furnace and the end time start from now. */
+static sinter_status end_pour(run_state *r)
+{
+    sinter_scene *sc = r->sc;
+    scene_program *p = &sc->program;
+    sinter_status st = SINTER_OK;
+    for (size_t k = 0; k < sc->walls->count && st == SINTER_OK; ++k)
+        st = sinter_walls_set_motion_start(sc->walls, k, sc->st->time);
+    if (st != SINTER_OK)
+        return st;
+    p->origin = sc->st->time;
+    sinter_stepper_shift_furnace(sc->st, p->origin - sc->furnace_shift);
+    sc->furnace_shift = p->origin;
+    p->phase = SCENE_PHASE_MAIN;
+    sinter_log(sc->ctx, SINTER_LOG_INFO, "poured: at rest at t = %g s", sc->st->time);
+    return sc->compact ? compact(sc) : SINTER_OK;
+}
+
+/* The set-up of a fresh run: the compaction (without a pour), the first sample, the pour. */
+static sinter_status begin(run_state *r)
+{
+    sinter_scene *sc = r->sc;
+    scene_program *p = &sc->program;
+    sinter_status st = SINTER_OK;
+    if (sc->compact && !sc->pour)
+        st = compact(sc);
+    /* The state at the start, with forces evaluated. */
+    if (st == SINTER_OK)
+        st = sinter_stepper_step(sc->st, 0);
+    if (st != SINTER_OK)
+        return st;
+    p->phase = sc->pour ? SCENE_PHASE_POUR : SCENE_PHASE_MAIN;
+    p->pour_start = p->origin = 0.0;
+    st = record(r);
+    p->next_checkpoint = sc->st->time + sc->checkpoint_interval;
+    if (st == SINTER_OK && sc->pour) {
+        /* Pour to rest with every wall held; wall motions are timed from the end of the pour. */
+        p->pour_start = sc->st->time;
+        for (size_t k = 0; k < sc->walls->count && st == SINTER_OK; ++k)
+            st = sinter_walls_set_motion_start(sc->walls, k, HUGE_VAL);
+    }
+    return st;
+}
+
+/*
+ * The program from where it stands: sample after sample (each output interval), the pour's
+ * end when the bed is at rest, checkpoints; to the end time after the origin.
+ */
+static sinter_status run_program(run_state *r, sinter_progress_fn progress, void *user)
+{
+    sinter_scene *sc = r->sc;
+    sinter_ctx *ctx = sc->ctx;
+    scene_program *p = &sc->program;
+    for (;;) {
+        const int pouring = p->phase == SCENE_PHASE_POUR;
+        const double end = pouring ? p->pour_start + sc->pour_t_max : sc->end_time + p->origin;
+        if (sc->st->time >= end) {
+            if (pouring)
+                return sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
+                                   "the pour did not come to rest within t_max = %g s (kinetic "
+                                   "energy %g J per particle, threshold %g J)",
+                                   sc->pour_t_max, r->row[COL_KE] / (double)sc->ps->count,
+                                   sc->pour_ke);
             return SINTER_OK;
         }
+        sinter_status st = sinter_stepper_advance(sc->st, fmin(end, p->next_output));
+        if (st == SINTER_OK)
+            st = record(r);
+        if (st == SINTER_OK && pouring && sc->st->time - p->pour_start >= sc->pour_t_min &&
+            r->row[COL_KE] / (double)sc->ps->count < sc->pour_ke)
+            st = end_pour(r);
+        if (st == SINTER_OK)
+            st = maybe_checkpoint(r);
+        if (st != SINTER_OK)
+            return st;
+        if (progress != NULL && progress(sc->st->time, sc->end_time + p->origin, user) != 0)
+            return sinter_fail(ctx, SINTER_ERR_INTERRUPTED,
+                               "the run was stopped by its progress callback at t = %.17g s",
+                               sc->st->time);
     }
-    return SINTER_OK;
+}
+
+/* Column names and units of the series, into names and units (room for every column). */
+static size_t columns(const sinter_scene *sc, const char **names, const char **units,
+                      char (*wall_labels)[SCENE_NAME + 16])
+{
+    static const char *const fixed[COL_FIXED_] = {
+        "time",    "kinetic energy",  "contacts",         "coordination number",
+        "bed top", "volume fraction", "mean temperature", "max temperature"};
+    static const char *const fixed_units[COL_FIXED_] = {"s", "J", "1", "1", "m", "1", "K", "K"};
+    for (size_t k = 0; k < COL_FIXED_; ++k) {
+        names[k] = fixed[k];
+        units[k] = fixed_units[k];
+    }
+    const size_t nw = sc->walls->count;
+    for (size_t k = 0; k < nw; ++k) {
+        snprintf(wall_labels[k], sizeof(wall_labels[k]), "%s force", sc->wall_names[k]);
+        names[COL_FIXED_ + k] = wall_labels[k];
+        units[COL_FIXED_ + k] = "N";
+    }
+    for (size_t k = 0; sc->st->kind == SINTER_STEPPER_QUASISTATIC && k < SINTERING_COLUMNS; ++k) {
+        names[COL_FIXED_ + nw + k] = SINTERING_NAMES[k];
+        units[COL_FIXED_ + nw + k] = SINTERING_UNITS[k];
+    }
+    if (sc->electric != NULL) {
+        names[electric_column(sc)] = "mean particle current";
+        names[electric_column(sc) + 1] = "max particle current";
+        units[electric_column(sc)] = units[electric_column(sc) + 1] = "A";
+    }
+    return electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
+}
+
+/* The output directory made and writable, and the series opened in it: before the first step. */
+static sinter_status open_output(run_state *r)
+{
+    sinter_scene *sc = r->sc;
+    sinter_ctx *ctx = sc->ctx;
+    char path[4096];
+    sinter_status st = make_dir(ctx, r->out_dir);
+    if (st == SINTER_OK && sc->write_vtu)
+        st = join(ctx, path, sizeof(path), r->out_dir, "frames");
+    if (st == SINTER_OK && sc->write_vtu)
+        st = make_dir(ctx, path);
+    if (st == SINTER_OK)
+        st = join(ctx, path, sizeof(path), r->out_dir, ".sinter_write_test");
+    if (st == SINTER_OK) {
+        FILE *probe = fopen(path, "wb");
+        if (probe == NULL)
+            return sinter_fail(ctx, SINTER_ERR_IO,
+                               "the output directory '%s' cannot be written: %s", r->out_dir,
+                               strerror(errno));
+        fclose(probe);
+        remove(path);
+    }
+    /* a restart's earlier frames: listed where they are in this directory */
+    r->earlier = sc->write_vtu ? sc->program.frames : 0;
+    r->present = sinter_calloc(ctx, (size_t)r->earlier + 1, 1);
+    if (r->present == NULL)
+        return sinter_last_status(ctx);
+    for (uint64_t k = 0; k < r->earlier && st == SINTER_OK; ++k) {
+        char rel[64];
+        struct stat info;
+        snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
+        st = join(ctx, path, sizeof(path), r->out_dir, rel);
+        r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
+    }
+    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
+    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
+    char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
+    const size_t ncol = columns(sc, names, units, wall_labels);
+    r->row = sinter_calloc(ctx, ncol, sizeof(double));
+    if (r->row == NULL)
+        return sinter_last_status(ctx);
+    if (st == SINTER_OK)
+        st = sinter_series_create(&r->series, ctx, ncol, names, units);
+    if (st == SINTER_OK)
+        st = join(ctx, r->csv_path, sizeof(r->csv_path), r->out_dir, "series.csv");
+    if (st == SINTER_OK && sc->write_csv) {
+        int kept = 0;
+        st = sinter_csv_stream_open(&r->csv, ctx, r->csv_path, r->series, sc->program.rows, &kept);
+        if (st == SINTER_OK && sc->program.rows > 0 && !kept)
+            sinter_log(ctx, SINTER_LOG_INFO,
+                       "restart: '%s' does not hold the %llu samples written before the "
+                       "checkpoint; it starts again from the restart",
+                       r->csv_path, (unsigned long long)sc->program.rows);
+    }
+    return st;
 }
 
 sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_progress_fn progress,
@@ -370,86 +522,44 @@ sinter_status sinter_scene_run(sinter_scene *sc, const char *out_dir, sinter_pro
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = sc->ctx;
     SINTER_CHECK_NULL(ctx, out_dir);
-    char frames[2048];
-    snprintf(frames, sizeof(frames), "%s/frames", out_dir);
-    sinter_status st = make_dir(ctx, out_dir);
-    if (st == SINTER_OK && sc->write_vtu)
-        st = make_dir(ctx, frames);
-    if (st != SINTER_OK)
-        return st;
-    const int sintering = sc->st->kind == SINTER_STEPPER_QUASISTATIC;
-    const size_t nw = sc->walls->count,
-                 ncol = electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
-    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS] = {
-        "time",    "kinetic energy",  "contacts",         "coordination number",
-        "bed top", "volume fraction", "mean temperature", "max temperature"};
-    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS] = {
-        "s", "J", "1", "1", "m", "1", "K", "K"};
-    char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
-    for (size_t k = 0; k < nw; ++k) {
-        snprintf(wall_labels[k], sizeof(wall_labels[k]), "%s force", sc->wall_names[k]);
-        names[COL_FIXED_ + k] = wall_labels[k];
-        units[COL_FIXED_ + k] = "N";
-    }
-    for (size_t k = 0; sintering && k < SINTERING_COLUMNS; ++k) {
-        names[COL_FIXED_ + nw + k] = SINTERING_NAMES[k];
-        units[COL_FIXED_ + nw + k] = SINTERING_UNITS[k];
-    }
-    if (sc->electric != NULL) {
-        names[electric_column(sc)] = "mean particle current";
-        names[electric_column(sc) + 1] = "max particle current";
-        units[electric_column(sc)] = units[electric_column(sc) + 1] = "A";
-    }
     run_state r;
     memset(&r, 0, sizeof(r));
     r.sc = sc;
     r.out_dir = out_dir;
-    r.row = sinter_calloc(ctx, ncol, sizeof(double));
-    if (r.row == NULL)
-        return SINTER_ERR_NOMEM;
-    st = sinter_series_create(&r.series, ctx, ncol, names, units);
-    const int fresh = sc->st->stats.steps == 0 && sc->st->time == 0.0;
-    if (st == SINTER_OK && sc->compact && fresh && !sc->pour)
-        st = compact(sc);
-    /* The state at the start, with forces evaluated. */
+    sinter_status st = open_output(&r);
+    const int fresh = sc->program.phase == SCENE_PHASE_NONE;
+    if (st == SINTER_OK && fresh)
+        st = begin(&r);
     if (st == SINTER_OK)
-        st = sinter_stepper_step(sc->st, 0);
-    if (st == SINTER_OK)
-        st = record(&r);
-    r.next_checkpoint = sc->st->time + sc->checkpoint_interval;
-    if (st == SINTER_OK && sc->pour) {
-        /* Pour to rest with every wall held; wall motions are timed from the end of the pour. */
-        for (size_t k = 0; k < nw && st == SINTER_OK; ++k)
-            st = sinter_walls_set_motion_start(sc->walls, k, HUGE_VAL);
-        int at_rest = 0;
-        st = run_to(&r, sc->st->time + sc->pour_t_max, progress, user, sc->pour_ke, sc->pour_t_min,
-                    &at_rest);
-        if (st == SINTER_OK && !at_rest)
-            st = sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
-                             "the pour did not come to rest within t_max = %g s (kinetic energy "
-                             "%g J per particle, threshold %g J)",
-                             sc->pour_t_max, r.row[COL_KE] / (double)sc->ps->count, sc->pour_ke);
-        for (size_t k = 0; k < nw && st == SINTER_OK; ++k)
-            st = sinter_walls_set_motion_start(sc->walls, k, sc->st->time);
-        sinter_stepper_shift_furnace(sc->st, sc->st->time); /* timed from the pour's end too */
+        st = run_program(&r, progress, user);
+    /* Stopped on request, or at the end: a checkpoint to continue from. */
+    if ((st == SINTER_ERR_INTERRUPTED && sc->program.phase != SCENE_PHASE_NONE) ||
+        (st == SINTER_OK && sc->checkpoint_interval > 0.0)) {
+        char message[SINTER_ERROR_TEXT_SIZE];
+        snprintf(message, sizeof(message), "%s", sinter_last_error(ctx));
+        const sinter_status written = checkpoint(&r);
         if (st == SINTER_OK)
-            sinter_log(ctx, SINTER_LOG_INFO, "poured: at rest at t = %g s", sc->st->time);
-        if (st == SINTER_OK && sc->compact && fresh)
-            st = compact(sc);
+            st = written;
+        else if (written == SINTER_OK)
+            sinter_fail(ctx, st, "%s", message); /* the interruption's message stands */
     }
-    if (st == SINTER_OK)
-        st = run_to(&r, sc->end_time + (sc->pour ? sc->st->time : 0.0), progress, user, 0, 0, NULL);
-    /* Whatever happened, write what was recorded (the last good state is in the series). */
-    const sinter_status written = r.series ? write_series(&r) : SINTER_OK;
-    if (st == SINTER_OK)
-        st = written;
-    if (st == SINTER_OK)
-        st = maybe_checkpoint(&r, 1);
-    for (size_t k = 0; k < r.frames; ++k)
-        sinter_free(ctx, r.frame_files[k]);
-    sinter_free(ctx, r.frame_files);
-    sinter_free(ctx, r.frame_times);
+    /* Whatever happened, close the series and draw what was recorded (the last good state). */
+    if (sc->write_csv) {
+        const sinter_status closed = sinter_csv_stream_close(&r.csv);
+        if (st == SINTER_OK)
+            st = closed;
+    }
+    if (r.series != NULL && sc->program.rows > 0) {
+        char message[SINTER_ERROR_TEXT_SIZE];
+        snprintf(message, sizeof(message), "%s", sinter_last_error(ctx));
+        const sinter_status drawn = write_plot(&r);
+        if (st == SINTER_OK)
+            st = drawn;
+        else
+            sinter_fail(ctx, st, "%s", message); /* the run's own error stands */
+    }
     sinter_series_destroy(r.series);
     sinter_free(ctx, r.row);
+    sinter_free(ctx, r.present);
     return st;
 }

@@ -272,6 +272,26 @@ static void csv_write_header_field(FILE *fp, const char *name, const char *unit)
         fputc('"', fp);
 }
 
+void sinter_series_csv_header(FILE *fp, const sinter_series *s)
+{
+    for (size_t c = 0; c < s->columns; ++c) {
+        if (c > 0)
+            fputc(',', fp);
+        csv_write_header_field(fp, s->names[c], s->units[c]);
+    }
+    fputc('\n', fp);
+}
+
+void sinter_series_csv_row(FILE *fp, const double *row, size_t columns)
+{
+    for (size_t c = 0; c < columns; ++c) {
+        if (c > 0)
+            fputc(',', fp);
+        sinter_out_double(fp, row[c]);
+    }
+    fputc('\n', fp);
+}
+
 sinter_status sinter_series_write_csv(const sinter_series *s, const char *path)
 {
     if (s == NULL)
@@ -280,20 +300,8 @@ sinter_status sinter_series_write_csv(const sinter_series *s, const char *path)
     sinter_status st = sinter_out_open(&out, s->ctx, "sinter_series_write_csv", path);
     if (st != SINTER_OK)
         return st;
-    for (size_t c = 0; c < s->columns; ++c) {
-        if (c > 0)
-            fputc(',', out.fp);
-        csv_write_header_field(out.fp, s->names[c], s->units[c]);
-    }
-    fputc('\n', out.fp);
-    for (size_t r = 0; r < s->rows; ++r) {
-        const double *row = s->values + r * s->columns;
-        for (size_t c = 0; c < s->columns; ++c) {
-            if (c > 0)
-                fputc(',', out.fp);
-            sinter_out_double(out.fp, row[c]);
-        }
-        fputc('\n', out.fp);
-    }
+    sinter_series_csv_header(out.fp, s);
+    for (size_t r = 0; r < s->rows; ++r)
+        sinter_series_csv_row(out.fp, s->values + r * s->columns, s->columns);
     return sinter_out_close(&out, SINTER_OK);
 }

@@ -50,6 +50,10 @@ void sinter_out_double(FILE *fp, double value);
 void sinter_out_xml_n(FILE *fp, const char *text, size_t length);
 void sinter_out_xml(FILE *fp, const char *text);
 
+/* The CSV header line ("name [unit],...") and one row, as sinter_series_write_csv writes them. */
+void sinter_series_csv_header(FILE *fp, const sinter_series *s);
+void sinter_series_csv_row(FILE *fp, const double *row, size_t columns);
+
 /* Index + 1 of the first control character (bytes 0x01-0x1f, 0x7f) of `text`, 0 if none. */
 size_t sinter_find_control_char(const char *text);
 
