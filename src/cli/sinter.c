@@ -2,20 +2,32 @@
 /*
  * sinter: run libsinter scene files from the command line.
  *
- *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N] [--log LEVEL]
+ *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--end-time T] [--stop-at T]
+ *                    [--threads N] [--log LEVEL]
  *   sinter check SCENE
- *   sinter info
+ *   sinter plot DIR [--title TEXT]
+ *   sinter info | --help | --version
  *
  * On a terminal, `run` shows progress (simulated time, steps per second, time
  * left); otherwise it is quiet apart from a one-line summary. --threads N runs the library on N
  * threads (sinter_ctx_set_threads; 0: as many as OpenMP offers, OMP_NUM_THREADS or the cores;
  * default 1): the results are the same for every N. --log LEVEL (error, warning, info or debug)
  * prints the library's messages up to that level to stderr, one per line (sinter_ctx_set_log):
- * info tells what the set-up did (the compaction's steps, its green body), debug also the
- * steppers' choices (the explicit stepper's thread count and stores, by timing).
+ * info tells what the set-up did (the compaction's steps, its green body, what a restart took
+ * from its checkpoint), debug also the steppers' choices (the explicit stepper's thread count
+ * and stores, by timing).
+ *
+ * --restart continues the run of DIR/checkpoint.bin (sinter_scene_restart): the series and
+ * frames of -o DIR are continued where they hold the run's earlier samples. --end-time T
+ * replaces the scene's end time; --stop-at T stops at the first sample at or after the
+ * simulated time T, writing the checkpoint to continue from (exit status 0).
+ * SIGINT (Ctrl-C) or SIGTERM ends the current step, writes the checkpoint and the plot and
+ * exits with 130 or 143; a second signal ends the program at once.
  */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -33,11 +45,20 @@ typedef struct progress_state {
     sinter_scene *scene;
     double started;
     double last_print;
+    int tty;        /* show progress */
+    double stop_at; /* --stop-at [s], or infinity */
+    int stopped_at; /* the run was stopped by --stop-at */
 } progress_state;
 
 static int show_progress(double time, double end_time, void *user)
 {
     progress_state *p = user;
+    if (time >= p->stop_at) {
+        p->stopped_at = 1;
+        return 1;
+    }
+    if (!p->tty)
+        return 0;
     const double t = now();
     if (t - p->last_print < 0.2)
         return 0;
@@ -57,13 +78,35 @@ static int show_progress(double time, double end_time, void *user)
     return 0;
 }
 
+static const char USAGE[] =
+    "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--end-time T] [--stop-at T]\n"
+    "                        [--threads N] [--log error|warning|info|debug]\n"
+    "       sinter check SCENE\n"
+    "       sinter plot DIR [--title TEXT]\n"
+    "       sinter info | --help | --version\n";
+
 static int usage(void)
 {
-    fprintf(stderr, "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--threads N] "
-                    "[--log error|warning|info|debug]\n"
-                    "       sinter check SCENE\n"
-                    "       sinter info\n");
+    fputs(USAGE, stderr);
     return 2;
+}
+
+static int help(void)
+{
+    fputs(USAGE, stdout);
+    fputs("\n"
+          "run      run a scene file, writing DIR (default out/): series.csv, series.svg,\n"
+          "         the ParaView collection NAME.pvd with frames/, checkpoint.bin\n"
+          "         --restart F   continue the run that wrote checkpoint F\n"
+          "         --end-time T  the scene's end time [s] instead of the file's\n"
+          "         --stop-at T   stop at the first sample at or after T [s], with a checkpoint\n"
+          "         Ctrl-C stops after the current step, with a checkpoint (exit status 130)\n"
+          "check    read and check a scene without running it\n"
+          "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not)\n"
+          "info     the library's version, models and units\n"
+          "Units are SI throughout. Scene files: examples/scenes/README.md.\n",
+          stdout);
+    return 0;
 }
 
 static int fail(sinter_ctx *ctx, sinter_status st)
@@ -82,16 +125,62 @@ static void print_log(int level, const char *message, void *user)
             message);
 }
 
+/* SIGINT and SIGTERM: a stop request to the running context (sinter_ctx_request_stop is
+ * async-signal-safe); the handler is reset, so a second signal ends the program at once. */
+static sinter_ctx *volatile signal_ctx = NULL;
+static volatile sig_atomic_t signal_number = 0;
+
+static void on_signal(int sig)
+{
+    signal_number = sig;
+    if (signal_ctx != NULL)
+        sinter_ctx_request_stop(signal_ctx);
+}
+
+static void catch_signals(sinter_ctx *ctx)
+{
+    signal_ctx = ctx;
+    struct sigaction action;
+    memset(&action, 0, sizeof(action));
+    action.sa_handler = on_signal;
+    action.sa_flags = (int)SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, NULL);
+    sigaction(SIGTERM, &action, NULL);
+}
+
+/* A time option's value [s]: finite and not negative. */
+static int time_value(const char *option, const char *text, double *value)
+{
+    char *end = NULL;
+    *value = strtod(text, &end);
+    if (end == text || *end != '\0' || !(*value >= 0.0) || *value > 1e300) {
+        fprintf(stderr, "sinter: %s %s: expected a time in seconds (a number >= 0)\n", option,
+                text);
+        return 0;
+    }
+    return 1;
+}
+
 static int run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
     int threads = 1, log_level = -1;
+    double end_time = -1.0, stop_at = HUGE_VAL;
     for (int k = 2; k < argc; ++k) {
         if (strcmp(argv[k], "-o") == 0 && k + 1 < argc)
             out_dir = argv[++k];
         else if (strcmp(argv[k], "--restart") == 0 && k + 1 < argc)
             restart = argv[++k];
-        else if (strcmp(argv[k], "--threads") == 0 && k + 1 < argc) {
+        else if (strcmp(argv[k], "--end-time") == 0 && k + 1 < argc) {
+            if (!time_value(argv[k], argv[k + 1], &end_time))
+                return 2;
+            ++k;
+        } else if (strcmp(argv[k], "--stop-at") == 0 && k + 1 < argc) {
+            if (!time_value(argv[k], argv[k + 1], &stop_at))
+                return 2;
+            ++k;
+        } else if (strcmp(argv[k], "--threads") == 0 && k + 1 < argc) {
             char *end = NULL;
             const long value = strtol(argv[++k], &end, 10);
             if (end == argv[k] || *end != '\0' || value < 0 || value > 4096) {
@@ -132,28 +221,38 @@ static int run(int argc, char **argv)
     }
     sinter_scene *scene = NULL;
     st = sinter_scene_load(&scene, ctx, scene_path);
-    if (st == SINTER_OK && restart != NULL) {
-        sinter_stepper *stepper = NULL;
-        sinter_scene_get_stepper(scene, &stepper);
-        st = sinter_checkpoint_read(stepper, restart);
-    }
+    if (st == SINTER_OK && end_time >= 0.0)
+        st = sinter_scene_set_end_time(scene, end_time);
+    if (st == SINTER_OK && restart != NULL)
+        st = sinter_scene_restart(scene, restart);
     int rc = 0;
+    progress_state p = {scene, now(), 0.0, isatty(fileno(stderr)), stop_at, 0};
     if (st == SINTER_OK) {
-        const int tty = isatty(fileno(stderr));
-        progress_state p = {scene, now(), 0.0};
-        st = sinter_scene_run(scene, out_dir, tty ? show_progress : NULL, &p);
-        if (tty)
+        catch_signals(ctx);
+        st = sinter_scene_run(scene, out_dir, show_progress, &p);
+        if (p.tty)
             fprintf(stderr, "\n");
-        if (st == SINTER_OK) {
-            double end = 0;
-            sinter_scene_end_time(scene, &end);
-            printf("sinter: ran %s in %.1f s; results in %s/ (series.csv, series.svg, "
-                   "ParaView collection *.pvd with frames/)\n",
-                   scene_path, now() - p.started, out_dir);
-        }
     }
-    if (st != SINTER_OK)
+    double t = 0.0;
+    sinter_stepper *stepper = NULL;
+    if (scene != NULL && sinter_scene_get_stepper(scene, &stepper) == SINTER_OK)
+        sinter_stepper_time(stepper, &t);
+    if (st == SINTER_OK) {
+        printf("sinter: ran %s in %.1f s; results in %s/ (series.csv, series.svg, "
+               "ParaView collection *.pvd with frames/)\n",
+               scene_path, now() - p.started, out_dir);
+    } else if (st == SINTER_ERR_INTERRUPTED) {
+        const int sig = (int)signal_number;
+        printf("sinter: %s at t = %.9g s; continue with: sinter run %s -o %s --restart "
+               "%s/checkpoint.bin\n",
+               sig ? "interrupted" : "stopped (--stop-at)", t, scene_path, out_dir, out_dir);
+        rc = sig ? 128 + sig : 0;
+        if (sig)
+            fprintf(stderr, "sinter: %s\n", sinter_last_error(ctx));
+    } else {
         rc = fail(ctx, st);
+    }
+    signal_ctx = NULL;
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
     return rc;
@@ -190,10 +289,44 @@ static int info(void)
     return 0;
 }
 
+/* plot DIR [--title TEXT]: series.svg from series.csv, for any run, finished or not. */
+static int plot(int argc, char **argv)
+{
+    const char *dir = NULL, *title = NULL;
+    for (int k = 2; k < argc; ++k) {
+        if (strcmp(argv[k], "--title") == 0 && k + 1 < argc)
+            title = argv[++k];
+        else if (argv[k][0] != '-' && dir == NULL)
+            dir = argv[k];
+        else
+            return usage();
+    }
+    if (dir == NULL)
+        return usage();
+    sinter_ctx *ctx = NULL;
+    if (sinter_ctx_create(&ctx, NULL) != SINTER_OK)
+        return 1;
+    const sinter_status st = sinter_plot_run(ctx, dir, title);
+    const int rc = st == SINTER_OK ? 0 : fail(ctx, st);
+    if (st == SINTER_OK)
+        printf("sinter: drew %s/series.svg\n", dir);
+    sinter_ctx_destroy(ctx);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2)
         return usage();
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+        strcmp(argv[1], "help") == 0)
+        return help();
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("sinter %s\n", sinter_version_string());
+        return 0;
+    }
+    if (strcmp(argv[1], "plot") == 0)
+        return plot(argc, argv);
     if (strcmp(argv[1], "run") == 0)
         return run(argc, argv);
     if (strcmp(argv[1], "check") == 0 && argc == 3)

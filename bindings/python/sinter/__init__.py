@@ -26,7 +26,7 @@ from .context import Context, LogLevel, version_number, version_string
 from .material import Material, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
 from .neck import NeckModel, NeckResult, NeckStats
-from .output import Series, write_pvd, write_vtu
+from .output import Series, plot_run, write_pvd, write_vtu
 from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
 from .particles import FIELDS, FieldInfo, FieldView, Particles
@@ -44,6 +44,6 @@ __all__ = [
     "RadiusDistribution", "RangeError", "Scene", "Series", "SinterError", "StateView", "Status",
     "Stepper", "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion",
     "Walls", "compaction_options", "damping_ratio_from_restitution", "library_path",
-    "pack_compact", "pack_lattice", "pack_random", "packing_options", "pour", "stable_dt_hertz", "version_number", "version_string",
+    "pack_compact", "pack_lattice", "pack_random", "packing_options", "plot_run", "pour", "stable_dt_hertz", "version_number", "version_string",
     "write_pvd", "write_vtu",
 ]

@@ -133,6 +133,14 @@ class Context:
         """Status of the last error reported on this context (Status.OK if none)."""
         return Status(lib.sinter_last_status(self._ptr))
 
+    def request_stop(self):
+        """Ask the running step loop of this context to stop after its current step.
+
+        Safe from a signal handler or another thread; the run then fails with the status
+        SINTER_ERR_INTERRUPTED, its last accepted state readable and checkpointable.
+        """
+        self._check(lib.sinter_ctx_request_stop(self._ptr), "sinter_ctx_request_stop")
+
     def clear_error(self):
         """Forget the last error."""
         self._check(lib.sinter_clear_error(self._ptr), "sinter_clear_error")

@@ -140,3 +140,11 @@ def write_pvd(context, path, times, files):
     c_files = (ctypes.c_char_p * max(len(files), 1))(*files)
     check(lib.sinter_write_pvd(context._ptr, os.fsencode(path), len(times), c_times, c_files),
           context._handle, "sinter_write_pvd")
+
+
+def plot_run(context, out_dir, title=None):
+    """Draw out_dir/series.svg from out_dir/series.csv, as a run does at its end (any run,
+    finished or not)."""
+    check(lib.sinter_plot_run(context._ptr, os.fsencode(out_dir),
+                              None if title is None else title.encode("utf-8")),
+          context._handle, "sinter_plot_run")

@@ -96,6 +96,26 @@ class Scene(_Handle):
                     "sinter_scene_end_time")
         return end_time.value
 
+    @end_time.setter
+    def end_time(self, end_time):
+        """Change the end time [s] (after a pour, counted from its end), also after a restart."""
+        self._check(lib.sinter_scene_set_end_time(self._ptr, float(end_time)),
+                    "sinter_scene_set_end_time")
+
+    def restart(self, checkpoint):
+        """Restore the scene to a checkpoint its run wrote; the next run() continues it.
+
+        A checkpoint of another scene is refused (InvalidError naming the difference) and
+        nothing changes.
+        """
+        self._check(lib.sinter_scene_restart(self._ptr, os.fsencode(checkpoint)),
+                    "sinter_scene_restart")
+
+    def write_checkpoint(self, path):
+        """Write the scene's checkpoint (the stepper's state and where the run stands)."""
+        self._check(lib.sinter_scene_checkpoint_write(self._ptr, os.fsencode(path)),
+                    "sinter_scene_checkpoint_write")
+
     def run(self, out_dir, progress=None):
         """Run to the end time, writing the [output] files into out_dir (created if missing).
 
