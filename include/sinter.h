@@ -192,7 +192,7 @@ typedef enum sinter_material_param {
     SINTER_MAT_SOFTENING_FLOOR = 24,     /**< lowest stiffness as a fraction of the reference value [-] */
     /* --- electric ------------------------------------------------------------ */
     SINTER_MAT_ELECTRIC_CONDUCTIVITY = 25, /**< electrical conductivity sigma, seed 000 eq. 35 [S/m] */
-    /* --- solid-state sintering: the 7DOF neck model (seed 001 sec. 2.2, 7dof.md) ---------
+    /* --- solid-state sintering: the 7DOF neck model (seed 001 sec. 2.2, docs/7dof.md) ---------
      * Defaults: copper, seed 001 table 2. When phase_transition_temperature is > 0, the
      * neck model uses the *_HOT set at temperatures >= it (titanium beta, seed 001 table 4)
      * and the base set below it; the HOT defaults repeat the copper values.
@@ -952,7 +952,7 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
 
 /**
  * The two-particle solid-state sintering model of Thomsen et al. (seed 001 sec. 2.2, eqs. 1-9,
- * table 1) as specified by 7dof.md ("parametrisation 2", the path lengths of its §3): seven
+ * table 1) as specified by docs/7dof.md ("parametrisation 2", the path lengths of its §3): seven
  * lengths describe two spherical caps of radii R_A, R_B joined by two cones that meet in the
  * grain-boundary disc of radius x (the neck). Grain-boundary, surface and lattice diffusion move
  * volume between the ring, caps, cones and grain boundary, driven by the surface and
@@ -962,11 +962,11 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
  *
  * Options, by key (sinter_neck_model_set / _get; SINTER_ERR_NOT_FOUND for an unknown key,
  * SINTER_ERR_INVALID outside the range):
- *  - "epsilon": seeded neck radius x0 / min(R_A, R_B) (7dof.md §4) [-]; 0.01, (0, 0.1]
- *  - "h0_ratio": junction radius of the seeded neck h0 / x0 (7dof.md §4) [-]; 1.5, (1, 2)
+ *  - "epsilon": seeded neck radius x0 / min(R_A, R_B) (docs/7dof.md §4) [-]; 0.01, (0, 0.1]
+ *  - "h0_ratio": junction radius of the seeded neck h0 / x0 (docs/7dof.md §4) [-]; 1.5, (1, 2)
  *  - "rtol": relative tolerance of every state component [-]; 1e-8, [1e-14, 1e-2]
  *  - "atol": absolute tolerance of the state lengths [m]; 0 = 1e-14 min(R_A, R_B); [0, 1]
- *  - "initial_step": first step [s]; 1e-12 (7dof.md §4), 0 lets CVODE estimate; [0, 1e6]
+ *  - "initial_step": first step [s]; 1e-12 (docs/7dof.md §4), 0 lets CVODE estimate; [0, 1e6]
  *  - "max_steps": most accepted steps of one run; 1e6, [1, 1e12], whole number
  *  - "integrator": 0 = CVODE BDF with Newton and a dense 7x7 solver (default); 1 = the seed's
  *    classical RK4 on a fixed grid, for comparisons (tolerances are then unused)
@@ -975,7 +975,7 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
  *  - "error_scale": what rtol is relative to. 1 (default): the geometry; the neck radius for
  *    y1 and the cone height H = L - d for the lengths of each side, the smallest length the
  *    state resolves, so the worst error stays within 10-30 rtol (rtol <= 1e-5). 0: each
- *    component's own magnitude, as 7dof.md §4 writes it; the side lengths are then ~R, a
+ *    component's own magnitude, as docs/7dof.md §4 writes it; the side lengths are then ~R, a
  *    young neck's cone height ~1e-4 R goes unresolved at loose rtol, and at rtol 1e-4 the
  *    worst of 2400 copper necks was 11 % off in shrinkage (0.7 % with 1). Both cost about
  *    the same for the same error (tests/bench/RESULTS.md).
@@ -997,16 +997,16 @@ SINTER_API sinter_status sinter_neck_model_get(const sinter_neck_model *nm, cons
  * Two particles of radii radius_a, radius_b [m] (> 0) touching at t0 = times[0], sintered
  * under the piecewise-linear temperature schedule (times[k] [s], strictly increasing;
  * temperatures[k] [K], > 0; n_times >= 1; held constant outside, so n_times = 1 is isothermal).
- * The neck is seeded at t0 as in 7dof.md §4. Outputs at the n_out out_times [s]
+ * The neck is seeded at t0 as in docs/7dof.md §4. Outputs at the n_out out_times [s]
  * (nondecreasing, each >= t0; may lie beyond the last schedule time):
- *  - neck_radius: x = y1 [m] (divide by min(R_A, R_B) for the neck ratio, 7dof.md §5),
+ *  - neck_radius: x = y1 [m] (divide by min(R_A, R_B) for the neck ratio, docs/7dof.md §5),
  *  - shrinkage: centre approach Delta L / L0 = (L0 - y4 - y7) / L0 with L0 = y4(t0) + y7(t0)
  *    (seed 001 eqs. 11, 13),
- *  - state (may be NULL): the 7 lengths [m] y1..y7 per output time (7dof.md §2.1).
+ *  - state (may be NULL): the 7 lengths [m] y1..y7 per output time (docs/7dof.md §2.1).
  * All arrays are the caller's (borrowed); outputs are written, NaN for times a failed run did
  * not reach. With n_out = 0 the output pointers may be NULL (nothing is integrated).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments), SINTER_ERR_DOMAIN (the neck left
- * the model's domain of validity, 7dof.md §2.5; the message names the quantity and the time),
+ * the model's domain of validity, docs/7dof.md §2.5; the message names the quantity and the time),
  * SINTER_ERR_NOT_CONVERGED (CVODE failure or max_steps), SINTER_ERR_UNSTABLE (RK4 left the
  * domain: too few steps), SINTER_ERR_NOMEM.
  */
@@ -1041,7 +1041,7 @@ SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
 /**
  * What the quasi-static stepper (SINTER_STEPPER_QUASISTATIC) reports: every
  * touching pair of particles becomes a bonded beam link (seed 001 eq. 18-40)
- * whose 7DOF neck (7dof.md) is advanced each global step along the furnace's
+ * whose 7DOF neck (docs/7dof.md) is advanced each global step along the furnace's
  * T(t) (sinter_stepper_set_furnace) or, without one, at the particles' mean
  * temperature held over the step; the sintering forces (eq. 17) load the links and K u = f
  * is solved with SUNDIALS PCG, with particles on the principal planes x, y or
