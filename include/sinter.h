@@ -20,6 +20,12 @@
 #ifndef SINTER_H
 #define SINTER_H
 
+/**
+ * @file sinter.h
+ * @brief The public API of libsinter: contexts, materials, particles, walls, force, heat and
+ * electric submodels, steppers, the 7DOF neck model, packings, output and scenes.
+ */
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -29,6 +35,10 @@
 extern "C" {
 #endif
 
+/**
+ * @def SINTER_API
+ * Marks the functions the shared library exports; empty for users of the header.
+ */
 #if defined(SINTER_BUILDING_LIBRARY) && defined(__GNUC__)
 #define SINTER_API __attribute__((visibility("default")))
 #else
@@ -39,7 +49,7 @@ extern "C" {
 /* Status codes                                                              */
 /* ------------------------------------------------------------------------ */
 
-/*
+/**
  * The one list of status codes: X(name, value, message). Values are pinned
  * once released; new codes are appended with the next free negative value.
  */
@@ -64,6 +74,7 @@ extern "C" {
     X(SINTER_ERR_LOST_PARTICLE, -17, "a particle left the simulation domain")        \
     X(SINTER_ERR_DOMAIN, -18, "a model left its domain of validity")
 
+/** Helper of SINTER_STATUS_LIST: one enumerator of sinter_status (undefined after use). */
 #define SINTER_STATUS_ENUM_ENTRY_(name, value, message) name = value,
 /** Status code returned by every function. Negative: error. */
 typedef enum sinter_status { SINTER_STATUS_LIST(SINTER_STATUS_ENUM_ENTRY_) } sinter_status;
@@ -95,9 +106,13 @@ typedef struct sinter_ctx sinter_ctx;
 /** A custom allocator. Callbacks follow malloc/realloc/free semantics; `user` is last. */
 typedef struct sinter_allocator {
     size_t struct_size; /**< sizeof(sinter_allocator) as the caller compiled it. */
+    /** Allocate `size` bytes (as malloc); NULL on failure. */
     void *(*alloc)(size_t size, void *user);
+    /** Resize a block (as realloc); NULL on failure, the block then unchanged. */
     void *(*realloc)(void *ptr, size_t size, void *user);
+    /** Release a block (as free); NULL is allowed. */
     void (*free)(void *ptr, void *user);
+    /** Passed as the last argument of the three callbacks. */
     void *user;
 } sinter_allocator;
 
@@ -146,6 +161,7 @@ SINTER_API sinter_status sinter_ctx_set_log(sinter_ctx *ctx, sinter_log_fn fn, i
 
 /** Number of threads the library may use internally (1 by default, 0 = all available). */
 SINTER_API sinter_status sinter_ctx_set_threads(sinter_ctx *ctx, int threads);
+/** Read the thread count set by sinter_ctx_set_threads (0 = all available). Errors: SINTER_ERR_NULL. */
 SINTER_API sinter_status sinter_ctx_get_threads(const sinter_ctx *ctx, int *threads);
 
 /* ------------------------------------------------------------------------ */
@@ -472,7 +488,9 @@ typedef enum sinter_wall_motion {
  */
 typedef int (*sinter_wall_motion_fn)(double t, double *displacement, double *velocity, void *user);
 
+/** Create an empty wall set. Errors: SINTER_ERR_NULL, SINTER_ERR_NOMEM. */
 SINTER_API sinter_status sinter_walls_create(sinter_walls **out, sinter_ctx *ctx);
+/** Destroy a wall set (NULL is allowed); destroy the steppers using it first. */
 SINTER_API void sinter_walls_destroy(sinter_walls *walls);
 /** Number of walls. */
 SINTER_API sinter_status sinter_walls_count(const sinter_walls *walls, size_t *count);
@@ -555,12 +573,14 @@ typedef struct sinter_force_model sinter_force_model;
 /** Create a built-in force model by name. Errors: SINTER_ERR_NOT_FOUND names the unknown model. */
 SINTER_API sinter_status sinter_force_model_create(sinter_force_model **out, sinter_ctx *ctx,
                                                    const char *name);
+/** Destroy a force model (NULL is allowed); remove it from steppers first. */
 SINTER_API void sinter_force_model_destroy(sinter_force_model *fm);
 /** The model's name (borrowed). */
 SINTER_API const char *sinter_force_model_name(const sinter_force_model *fm);
 /** Set a model-level parameter by key (e.g. "gz" of gravity); unknown keys give SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key,
                                                 double value);
+/** Read a model-level parameter by key. Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_force_model_get(const sinter_force_model *fm, const char *key,
                                                 double *value);
 
@@ -617,6 +637,7 @@ typedef int (*sinter_observer_fn)(const sinter_stepper *stepper, double time, vo
 SINTER_API sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx,
                                                sinter_stepper_kind kind,
                                                sinter_particles *particles, sinter_walls *walls);
+/** Destroy a stepper (NULL is allowed); the particles, walls and models it borrows remain. */
 SINTER_API void sinter_stepper_destroy(sinter_stepper *stepper);
 /** Add a force submodel (borrowed; it may be shared by several steppers). */
 SINTER_API sinter_status sinter_stepper_add_force(sinter_stepper *stepper, sinter_force_model *fm);
@@ -808,12 +829,17 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  */
 typedef struct sinter_heat_model sinter_heat_model;
 
+/** Create a built-in heat model by name (list above). Errors: SINTER_ERR_NOT_FOUND names the unknown model. */
 SINTER_API sinter_status sinter_heat_model_create(sinter_heat_model **out, sinter_ctx *ctx,
                                                   const char *name);
+/** Destroy a heat model (NULL is allowed). */
 SINTER_API void sinter_heat_model_destroy(sinter_heat_model *hm);
+/** The model's name (borrowed). */
 SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
+/** Set a parameter by key (list above). Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
                                                double value);
+/** Read a parameter by key (its constant value, not a schedule's). Errors: SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key,
                                                double *value);
 /**
@@ -933,6 +959,7 @@ SINTER_API const char *sinter_electric_model_name(const sinter_electric_model *e
 /** Set a parameter by key. Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_electric_model_set(sinter_electric_model *em, const char *key,
                                                    double value);
+/** Read a parameter by key. Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_electric_model_get(const sinter_electric_model *em,
                                                    const char *key, double *value);
 /**
@@ -1260,6 +1287,7 @@ typedef struct sinter_series sinter_series;
 /** Create a series with `columns` columns; names and units are copied. */
 SINTER_API sinter_status sinter_series_create(sinter_series **out, sinter_ctx *ctx, size_t columns,
                                               const char *const *names, const char *const *units);
+/** Destroy a series (NULL is allowed). */
 SINTER_API void sinter_series_destroy(sinter_series *series);
 /** Append one row of `columns` values (NaN is allowed and written as "nan"). */
 SINTER_API sinter_status sinter_series_append(sinter_series *series, const double *row);
@@ -1299,6 +1327,7 @@ typedef struct sinter_scene sinter_scene;
  * the errors of the objects the scene builds.
  */
 SINTER_API sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char *path);
+/** Destroy a scene and every object it built (NULL is allowed). */
 SINTER_API void sinter_scene_destroy(sinter_scene *scene);
 
 /** Progress callback of sinter_scene_run: time reached and end time [s]. Non-zero stops the run. */
@@ -1314,8 +1343,10 @@ SINTER_API sinter_status sinter_scene_run(sinter_scene *scene, const char *out_d
 
 /** Borrow the scene's objects (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);
+/** Borrow the scene's particle set (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_particles(sinter_scene *scene,
                                                     sinter_particles **particles);
+/** Borrow the scene's walls (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_walls(sinter_scene *scene, sinter_walls **walls);
 /** The scene's end time [s]. */
 SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double *end_time);
