@@ -20,6 +20,12 @@
 #ifndef SINTER_H
 #define SINTER_H
 
+/**
+ * @file sinter.h
+ * @brief The public API of libsinter: contexts, materials, particles, walls, force, heat and
+ * electric submodels, steppers, the 7DOF neck model, packings, output and scenes.
+ */
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -29,6 +35,10 @@
 extern "C" {
 #endif
 
+/**
+ * @def SINTER_API
+ * Marks the functions the shared library exports; empty for users of the header.
+ */
 #if defined(SINTER_BUILDING_LIBRARY) && defined(__GNUC__)
 #define SINTER_API __attribute__((visibility("default")))
 #else
@@ -39,7 +49,7 @@ extern "C" {
 /* Status codes                                                              */
 /* ------------------------------------------------------------------------ */
 
-/*
+/**
  * The one list of status codes: X(name, value, message). Values are pinned
  * once released; new codes are appended with the next free negative value.
  */
@@ -65,6 +75,7 @@ extern "C" {
     X(SINTER_ERR_DOMAIN, -18, "a model left its domain of validity")                \
     X(SINTER_ERR_INTERRUPTED, -19, "the run was stopped on request")
 
+/** Helper of SINTER_STATUS_LIST: one enumerator of sinter_status (undefined after use). */
 #define SINTER_STATUS_ENUM_ENTRY_(name, value, message) name = value,
 /** Status code returned by every function. Negative: error. */
 typedef enum sinter_status { SINTER_STATUS_LIST(SINTER_STATUS_ENUM_ENTRY_) } sinter_status;
@@ -96,9 +107,13 @@ typedef struct sinter_ctx sinter_ctx;
 /** A custom allocator. Callbacks follow malloc/realloc/free semantics; `user` is last. */
 typedef struct sinter_allocator {
     size_t struct_size; /**< sizeof(sinter_allocator) as the caller compiled it. */
+    /** Allocate `size` bytes (as malloc); NULL on failure. */
     void *(*alloc)(size_t size, void *user);
+    /** Resize a block (as realloc); NULL on failure, the block then unchanged. */
     void *(*realloc)(void *ptr, size_t size, void *user);
+    /** Release a block (as free); NULL is allowed. */
     void (*free)(void *ptr, void *user);
+    /** Passed as the last argument of the three callbacks. */
     void *user;
 } sinter_allocator;
 
@@ -147,6 +162,7 @@ SINTER_API sinter_status sinter_ctx_set_log(sinter_ctx *ctx, sinter_log_fn fn, i
 
 /** Number of threads the library may use internally (1 by default, 0 = all available). */
 SINTER_API sinter_status sinter_ctx_set_threads(sinter_ctx *ctx, int threads);
+/** Read the thread count set by sinter_ctx_set_threads (0 = all available). Errors: SINTER_ERR_NULL. */
 SINTER_API sinter_status sinter_ctx_get_threads(const sinter_ctx *ctx, int *threads);
 
 /**
@@ -207,7 +223,7 @@ typedef enum sinter_material_param {
     SINTER_MAT_SOFTENING_FLOOR = 24,     /**< lowest stiffness as a fraction of the reference value [-] */
     /* --- electric ------------------------------------------------------------ */
     SINTER_MAT_ELECTRIC_CONDUCTIVITY = 25, /**< electrical conductivity sigma, seed 000 eq. 35 [S/m] */
-    /* --- solid-state sintering: the 7DOF neck model (seed 001 sec. 2.2, 7dof.md) ---------
+    /* --- solid-state sintering: the 7DOF neck model (seed 001 sec. 2.2, docs/7dof.md) ---------
      * Defaults: copper, seed 001 table 2. When phase_transition_temperature is > 0, the
      * neck model uses the *_HOT set at temperatures >= it (titanium beta, seed 001 table 4)
      * and the base set below it; the HOT defaults repeat the copper values.
@@ -487,7 +503,9 @@ typedef enum sinter_wall_motion {
  */
 typedef int (*sinter_wall_motion_fn)(double t, double *displacement, double *velocity, void *user);
 
+/** Create an empty wall set. Errors: SINTER_ERR_NULL, SINTER_ERR_NOMEM. */
 SINTER_API sinter_status sinter_walls_create(sinter_walls **out, sinter_ctx *ctx);
+/** Destroy a wall set (NULL is allowed); destroy the steppers using it first. */
 SINTER_API void sinter_walls_destroy(sinter_walls *walls);
 /** Number of walls. */
 SINTER_API sinter_status sinter_walls_count(const sinter_walls *walls, size_t *count);
@@ -570,12 +588,14 @@ typedef struct sinter_force_model sinter_force_model;
 /** Create a built-in force model by name. Errors: SINTER_ERR_NOT_FOUND names the unknown model. */
 SINTER_API sinter_status sinter_force_model_create(sinter_force_model **out, sinter_ctx *ctx,
                                                    const char *name);
+/** Destroy a force model (NULL is allowed); remove it from steppers first. */
 SINTER_API void sinter_force_model_destroy(sinter_force_model *fm);
 /** The model's name (borrowed). */
 SINTER_API const char *sinter_force_model_name(const sinter_force_model *fm);
 /** Set a model-level parameter by key (e.g. "gz" of gravity); unknown keys give SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key,
                                                 double value);
+/** Read a model-level parameter by key. Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_force_model_get(const sinter_force_model *fm, const char *key,
                                                 double *value);
 
@@ -632,6 +652,7 @@ typedef int (*sinter_observer_fn)(const sinter_stepper *stepper, double time, vo
 SINTER_API sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx,
                                                sinter_stepper_kind kind,
                                                sinter_particles *particles, sinter_walls *walls);
+/** Destroy a stepper (NULL is allowed); the particles, walls and models it borrows remain. */
 SINTER_API void sinter_stepper_destroy(sinter_stepper *stepper);
 /** Add a force submodel (borrowed; it may be shared by several steppers). */
 SINTER_API sinter_status sinter_stepper_add_force(sinter_stepper *stepper, sinter_force_model *fm);
@@ -823,12 +844,17 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  */
 typedef struct sinter_heat_model sinter_heat_model;
 
+/** Create a built-in heat model by name (list above). Errors: SINTER_ERR_NOT_FOUND names the unknown model. */
 SINTER_API sinter_status sinter_heat_model_create(sinter_heat_model **out, sinter_ctx *ctx,
                                                   const char *name);
+/** Destroy a heat model (NULL is allowed). */
 SINTER_API void sinter_heat_model_destroy(sinter_heat_model *hm);
+/** The model's name (borrowed). */
 SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
+/** Set a parameter by key (list above). Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
                                                double value);
+/** Read a parameter by key (its constant value, not a schedule's). Errors: SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key,
                                                double *value);
 /**
@@ -948,6 +974,7 @@ SINTER_API const char *sinter_electric_model_name(const sinter_electric_model *e
 /** Set a parameter by key. Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_electric_model_set(sinter_electric_model *em, const char *key,
                                                    double value);
+/** Read a parameter by key. Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_electric_model_get(const sinter_electric_model *em,
                                                    const char *key, double *value);
 /**
@@ -967,7 +994,7 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
 
 /**
  * The two-particle solid-state sintering model of Thomsen et al. (seed 001 sec. 2.2, eqs. 1-9,
- * table 1) as specified by 7dof.md ("parametrisation 2", the path lengths of its §3): seven
+ * table 1) as specified by docs/7dof.md ("parametrisation 2", the path lengths of its §3): seven
  * lengths describe two spherical caps of radii R_A, R_B joined by two cones that meet in the
  * grain-boundary disc of radius x (the neck). Grain-boundary, surface and lattice diffusion move
  * volume between the ring, caps, cones and grain boundary, driven by the surface and
@@ -977,11 +1004,11 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
  *
  * Options, by key (sinter_neck_model_set / _get; SINTER_ERR_NOT_FOUND for an unknown key,
  * SINTER_ERR_INVALID outside the range):
- *  - "epsilon": seeded neck radius x0 / min(R_A, R_B) (7dof.md §4) [-]; 0.01, (0, 0.1]
- *  - "h0_ratio": junction radius of the seeded neck h0 / x0 (7dof.md §4) [-]; 1.5, (1, 2)
+ *  - "epsilon": seeded neck radius x0 / min(R_A, R_B) (docs/7dof.md §4) [-]; 0.01, (0, 0.1]
+ *  - "h0_ratio": junction radius of the seeded neck h0 / x0 (docs/7dof.md §4) [-]; 1.5, (1, 2)
  *  - "rtol": relative tolerance of every state component [-]; 1e-8, [1e-14, 1e-2]
  *  - "atol": absolute tolerance of the state lengths [m]; 0 = 1e-14 min(R_A, R_B); [0, 1]
- *  - "initial_step": first step [s]; 1e-12 (7dof.md §4), 0 lets CVODE estimate; [0, 1e6]
+ *  - "initial_step": first step [s]; 1e-12 (docs/7dof.md §4), 0 lets CVODE estimate; [0, 1e6]
  *  - "max_steps": most accepted steps of one run; 1e6, [1, 1e12], whole number
  *  - "integrator": 0 = CVODE BDF with Newton and a dense 7x7 solver (default); 1 = the seed's
  *    classical RK4 on a fixed grid, for comparisons (tolerances are then unused)
@@ -990,7 +1017,7 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
  *  - "error_scale": what rtol is relative to. 1 (default): the geometry; the neck radius for
  *    y1 and the cone height H = L - d for the lengths of each side, the smallest length the
  *    state resolves, so the worst error stays within 10-30 rtol (rtol <= 1e-5). 0: each
- *    component's own magnitude, as 7dof.md §4 writes it; the side lengths are then ~R, a
+ *    component's own magnitude, as docs/7dof.md §4 writes it; the side lengths are then ~R, a
  *    young neck's cone height ~1e-4 R goes unresolved at loose rtol, and at rtol 1e-4 the
  *    worst of 2400 copper necks was 11 % off in shrinkage (0.7 % with 1). Both cost about
  *    the same for the same error (tests/bench/RESULTS.md).
@@ -1012,16 +1039,16 @@ SINTER_API sinter_status sinter_neck_model_get(const sinter_neck_model *nm, cons
  * Two particles of radii radius_a, radius_b [m] (> 0) touching at t0 = times[0], sintered
  * under the piecewise-linear temperature schedule (times[k] [s], strictly increasing;
  * temperatures[k] [K], > 0; n_times >= 1; held constant outside, so n_times = 1 is isothermal).
- * The neck is seeded at t0 as in 7dof.md §4. Outputs at the n_out out_times [s]
+ * The neck is seeded at t0 as in docs/7dof.md §4. Outputs at the n_out out_times [s]
  * (nondecreasing, each >= t0; may lie beyond the last schedule time):
- *  - neck_radius: x = y1 [m] (divide by min(R_A, R_B) for the neck ratio, 7dof.md §5),
+ *  - neck_radius: x = y1 [m] (divide by min(R_A, R_B) for the neck ratio, docs/7dof.md §5),
  *  - shrinkage: centre approach Delta L / L0 = (L0 - y4 - y7) / L0 with L0 = y4(t0) + y7(t0)
  *    (seed 001 eqs. 11, 13),
- *  - state (may be NULL): the 7 lengths [m] y1..y7 per output time (7dof.md §2.1).
+ *  - state (may be NULL): the 7 lengths [m] y1..y7 per output time (docs/7dof.md §2.1).
  * All arrays are the caller's (borrowed); outputs are written, NaN for times a failed run did
  * not reach. With n_out = 0 the output pointers may be NULL (nothing is integrated).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments), SINTER_ERR_DOMAIN (the neck left
- * the model's domain of validity, 7dof.md §2.5; the message names the quantity and the time),
+ * the model's domain of validity, docs/7dof.md §2.5; the message names the quantity and the time),
  * SINTER_ERR_NOT_CONVERGED (CVODE failure or max_steps), SINTER_ERR_UNSTABLE (RK4 left the
  * domain: too few steps), SINTER_ERR_NOMEM.
  */
@@ -1056,7 +1083,7 @@ SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
 /**
  * What the quasi-static stepper (SINTER_STEPPER_QUASISTATIC) reports: every
  * touching pair of particles becomes a bonded beam link (seed 001 eq. 18-40)
- * whose 7DOF neck (7dof.md) is advanced each global step along the furnace's
+ * whose 7DOF neck (docs/7dof.md) is advanced each global step along the furnace's
  * T(t) (sinter_stepper_set_furnace) or, without one, at the particles' mean
  * temperature held over the step; the sintering forces (eq. 17) load the links and K u = f
  * is solved with SUNDIALS PCG, with particles on the principal planes x, y or
@@ -1275,6 +1302,7 @@ typedef struct sinter_series sinter_series;
 /** Create a series with `columns` columns; names and units are copied. */
 SINTER_API sinter_status sinter_series_create(sinter_series **out, sinter_ctx *ctx, size_t columns,
                                               const char *const *names, const char *const *units);
+/** Destroy a series (NULL is allowed). */
 SINTER_API void sinter_series_destroy(sinter_series *series);
 /** Append one row of `columns` values (NaN is allowed and written as "nan"). */
 SINTER_API sinter_status sinter_series_append(sinter_series *series, const double *row);
@@ -1322,6 +1350,7 @@ typedef struct sinter_scene sinter_scene;
  * the errors of the objects the scene builds.
  */
 SINTER_API sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char *path);
+/** Destroy a scene and every object it built (NULL is allowed). */
 SINTER_API void sinter_scene_destroy(sinter_scene *scene);
 
 /**
@@ -1395,8 +1424,10 @@ SINTER_API sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, c
 
 /** Borrow the scene's objects (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);
+/** Borrow the scene's particle set (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_particles(sinter_scene *scene,
                                                     sinter_particles **particles);
+/** Borrow the scene's walls (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_walls(sinter_scene *scene, sinter_walls **walls);
 /** The scene's end time [s]. */
 SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double *end_time);

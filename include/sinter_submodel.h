@@ -20,6 +20,11 @@
 #ifndef SINTER_SUBMODEL_H
 #define SINTER_SUBMODEL_H
 
+/**
+ * @file sinter_submodel.h
+ * @brief The API for submodel authors: force and heat models written as batched host callbacks.
+ */
+
 #include "sinter.h"
 
 #ifdef __cplusplus
@@ -66,6 +71,7 @@ typedef enum sinter_contact_kind {
  * i to the contact plane. For a wall, L_i is the centre-to-plane distance.
  */
 typedef struct sinter_contact_batch {
+    /** Number of contacts in the batch. */
     size_t count;
     int kind;                    /**< a sinter_contact_kind */
     const uint32_t *i;           /**< particle index */
@@ -95,7 +101,9 @@ typedef struct sinter_contact_batch {
 typedef struct sinter_force_callbacks {
     size_t struct_size;  /**< sizeof(sinter_force_callbacks) */
     size_t history_size; /**< doubles of per-contact history the model keeps */
+    /** Contact law: fills force, torque_i, torque_j and history_trial of a batch (may be NULL). */
     int (*contacts)(const sinter_state_view *state, sinter_contact_batch *batch, void *user);
+    /** Body forces: fills force and torque, 3 per particle (may be NULL). */
     int (*particles)(const sinter_state_view *state, double *force, double *torque, void *user);
     void (*destroy_user)(void *user); /**< called once when the model is destroyed (may be NULL) */
 } sinter_force_callbacks;
@@ -118,11 +126,17 @@ SINTER_API sinter_status sinter_force_model_create_host(sinter_force_model **out
  */
 typedef struct sinter_heat_callbacks {
     size_t struct_size; /**< sizeof(sinter_heat_callbacks) */
+    /** Fills heat [W], one per particle, from the state and the two contact batches. */
     int (*power)(const sinter_state_view *state, const sinter_contact_batch *particle_contacts,
                  const sinter_contact_batch *wall_contacts, double *heat, void *user);
     void (*destroy_user)(void *user); /**< called once when the model is destroyed (may be NULL) */
 } sinter_heat_callbacks;
 
+/**
+ * Create a heat model from host callbacks (copied; `name` copied, may be NULL). On error
+ * destroy_user is not called: the caller still owns `user`. Errors: SINTER_ERR_NULL,
+ * SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (no power callback), SINTER_ERR_NOMEM.
+ */
 SINTER_API sinter_status sinter_heat_model_create_host(sinter_heat_model **out, sinter_ctx *ctx,
                                                        const char *name,
                                                        const sinter_heat_callbacks *callbacks,

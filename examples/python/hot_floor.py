@@ -9,7 +9,7 @@ the overlap and the contact area grow, and it reaches the floor's temperature
 sooner. The seed reports: static contact force 1.23e-4 N in both cases,
 equilibrium near 12 s with softening and 18 s without, a contact area about 63 %
 larger with softening and a temperature about 7 % higher at t = 8 s.
-(docs/VALIDATION.md explains the reading of the seed's floor conductivity.)
+(docs/validation.md explains the reading of the seed's floor conductivity.)
 
 Prints the static force, the equilibrium times and the area ratio; plots the
 temperature against time into hot_floor.png when matplotlib imports, and writes

@@ -4,7 +4,7 @@
 The 7DOF two-particle model of Thomsen et al. (seed 001 sec. 2.2, specified by
 docs/7dof.md) gives the neck ratio x/R and the shrinkage Delta L / L0 (centre
 approach) against time. The copper data are the material defaults (seed 001
-table 2). Printed next to the reference numbers of 7dof.md sec. 6.2 (an
+table 2). Printed next to the reference numbers of docs/7dof.md sec. 6.2 (an
 independent RKF45 integration of the same specification); plotted into
 neck_two_particles.png when matplotlib imports, written to
 neck_two_particles.csv otherwise. Units: SI.
@@ -26,7 +26,7 @@ from sinter import _lib
 RADIUS = 25e-6  # m, both spheres (50 um diameter, the seed's sec. 4.1 size)
 TEMPERATURE = 1293.0  # K, isothermal
 END_TIME = 5000.0  # s
-# 7dof.md sec. 6.2: t [s] -> (x/R, Delta L / L0)
+# docs/7dof.md sec. 6.2: t [s] -> (x/R, Delta L / L0)
 REFERENCE = {1.0: (0.0892, 3.49e-4), 10.0: (0.1276, 1.11e-3), 100.0: (0.1856, 3.47e-3),
              300.0: (0.2232, 5.87e-3), 1000.0: (0.2742, 1.029e-2),
              3000.0: (0.3313, 1.693e-2), 5000.0: (0.3618, 2.123e-2)}
@@ -46,8 +46,8 @@ def write_output(ctx, out_dir, times, ratio, shrinkage, plot):
             top.loglog(times, ratio, label="libsinter")
             bottom.loglog(times, shrinkage, label="libsinter")
             ref_t = sorted(REFERENCE)
-            top.loglog(ref_t, [REFERENCE[t][0] for t in ref_t], "o", label="7dof.md 6.2")
-            bottom.loglog(ref_t, [REFERENCE[t][1] for t in ref_t], "o", label="7dof.md 6.2")
+            top.loglog(ref_t, [REFERENCE[t][0] for t in ref_t], "o", label="docs/7dof.md 6.2")
+            bottom.loglog(ref_t, [REFERENCE[t][1] for t in ref_t], "o", label="docs/7dof.md 6.2")
             top.set_ylabel("neck ratio x/R [-]")
             bottom.set_ylabel("shrinkage dL/L0 [-]")
             bottom.set_xlabel("time [s]")
@@ -98,7 +98,7 @@ def main(argv=None):
             print("%8g  %10.4f %10.4f  %11.4e %11.4e"
                   % (t, ratio[k], ref_ratio, shrinkage[k], ref_shrinkage))
             worst = max(worst, abs(ratio[k] / ref_ratio - 1.0))
-        print("largest relative difference of x/R from 7dof.md 6.2: %.2f %%" % (100 * worst))
+        print("largest relative difference of x/R from docs/7dof.md 6.2: %.2f %%" % (100 * worst))
         print("wrote", write_output(ctx, args.out, times, ratio, shrinkage,
                                     plot=not args.no_plot))
     if worst > 0.05:

@@ -2,8 +2,9 @@
  * Per-contact history of one force submodel (tangential springs, rolling
  * springs, bonds). Committed history lives per candidate pair; an evaluation
  * writes trial history per active contact; commit copies trial into the pair
- * slots and clears pairs whose contact ended (ARCHITECTURE sec. 2: evaluation
- * is pure, history is committed only when a step is accepted).
+ * slots and clears pairs whose contact ended (the commit/rollback contract of
+ * include/sinter_submodel.h: evaluation is pure, history is committed only when a step is
+ * accepted).
  */
 #ifndef SINTER_HISTORY_H
 #define SINTER_HISTORY_H

@@ -1,6 +1,6 @@
 /*
  * Candidate pairs within a Verlet skin, found with a uniform cell grid
- * (ARCHITECTURE sec. 2). A pair list is valid until some particle moved more
+ * (docs/models.md, "Contact geometry"). A pair list is valid until some particle moved more
  * than half the skin, or a wall moved so far that particle and wall together
  * could have closed the skin.
  */

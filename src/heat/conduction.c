@@ -16,7 +16,7 @@
  * wall->temperature. "area" = 0: G = k_iw A / d with A = pi a^2 of the contact list, d the
  * centre-to-plane distance and k_iw = 2 k_i k_w / (k_i + k_w), eq. 35 with the wall taken as
  * a body of the particle's size: a wall of the particle's own conductivity gives k_i
- * (VALIDATION.md's reading of seed 003 sec. 5.1) and k_w = 0 an adiabatic wall (seed 003
+ * (docs/validation.md's reading of seed 003 sec. 5.1) and k_w = 0 an adiabatic wall (seed 003
  * sec. 5.3's side walls). "area" = 1: LIGGGHTS' wall formula
  * 4 k_p k_w / (k_p + k_w) sqrt(pi r_i^2) with k_w the wall material's conductivity, as in
  * LIGGGHTS (a wall with k_w = 0 is adiabatic; k_w = k_p gives G = 2 sqrt(pi) k_i r_i).

@@ -4,7 +4,7 @@
  *  - J_i: the particle's current field (ps->current), written by the stepper's electric model
  *    (src/electric/) or set by the host. The formula is used as printed: with J a current
  *    density [A/m^2] H is a power [W]; the library's field is documented in A, and seed 000
- *    sec. 7 mixes both readings (see VALIDATION.md's note on 000 sec. 7's units).
+ *    sec. 7 mixes both readings (see docs/validation.md's note on 000 sec. 7's units).
  *  - a_i: the absorptance of the particle's material (SINTER_MAT_ABSORPTANCE, 0 <= a <= 1).
  *  - sigma_i: the electric conductivity of its material (SINTER_MAT_ELECTRIC_CONDUCTIVITY),
  *    or, with "sigmoid" = 1, the thermo-electric saturation law of seed 000 eq. 50:

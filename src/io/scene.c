@@ -1,6 +1,6 @@
 /*
  * Scene files: from sections to objects. The format is described in
- * examples/scenes/README.md. Every problem is reported as "file:line: ...".
+ * docs/scene-reference.md. Every problem is reported as "file:line: ...".
  */
 #include <math.h>
 #include <stdio.h>

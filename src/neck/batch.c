@@ -280,7 +280,7 @@ sinter_status sinter_neck_batch_advance(sinter_neck_batch *b, size_t n, sinter_n
             sinter_neck_check_advance(ctx, &pairs[k], schedule, t_end, NULL, WHO);
         if (status != SINTER_OK)
             return status;
-        /* 7dof.md §4: atol ~ 1e-14 R, over the smallest sphere of the batch. */
+        /* docs/7dof.md §4: atol ~ 1e-14 R, over the smallest sphere of the batch. */
         if (tol->atol == 0.0) {
             const double r = fmin(pairs[k].y[SINTER_NECK_RA], pairs[k].y[SINTER_NECK_RB]);
             atol = (k == 0) ? 1e-14 * r : fmin(atol, 1e-14 * r);

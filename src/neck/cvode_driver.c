@@ -2,9 +2,9 @@
  * Advance one neck with CVODE: BDF with Newton iteration and the SUNDIALS dense 7x7 linear
  * solver, the Jacobian from jacobian.c. The temperature schedule is integrated piecewise:
  * CVODE stops (CVodeSetStopTime) at every schedule point and phase switch and is
- * re-initialised there, so that the RHS is smooth inside each piece (7dof.md §6.5).
+ * re-initialised there, so that the RHS is smooth inside each piece (docs/7dof.md §6.5).
  * Accepted steps are taken one at a time (CV_ONE_STEP) so that each can be checked against the
- * guards of 7dof.md §2.5 and shown to an observer; outputs are interpolated (CVodeGetDky).
+ * guards of docs/7dof.md §2.5 and shown to an observer; outputs are interpolated (CVodeGetDky).
  */
 #include <math.h>
 #include <stdio.h>
@@ -50,7 +50,7 @@ void sinter_neck_tolerances_default(sinter_neck_tolerances *tol)
 {
     tol->rtol = 1e-8;
     tol->atol = 0.0;
-    tol->initial_step = 1e-12; /* 7dof.md §4: "start the adaptive step near 1e-12 s" */
+    tol->initial_step = 1e-12; /* docs/7dof.md §4: "start the adaptive step near 1e-12 s" */
     tol->max_steps = 1000000;
     tol->error_scale = SINTER_NECK_SCALE_GEOMETRY;
 }
@@ -59,7 +59,7 @@ void sinter_neck_error_weights(const double y[SINTER_NECK_DOF], double rtol, dou
                                int error_scale, double w[SINTER_NECK_DOF])
 {
     /* neck.h, sinter_neck_error_scale: y1 by |x|; the lengths of side P by |y_i| or, for
-     * GEOMETRY, by min(|y_i|, H_P) with H_P = L_P - d_P (7dof.md §2.1) the cone height. */
+     * GEOMETRY, by min(|y_i|, H_P) with H_P = L_P - d_P (docs/7dof.md §2.1) the cone height. */
     w[SINTER_NECK_X] = 1.0 / (rtol * fabs(y[SINTER_NECK_X]) + atol);
     for (int p = 0; p < 2; ++p) {
         const double height = fabs(y[3 + 3 * p] - y[2 + 3 * p]);
@@ -311,7 +311,7 @@ sinter_status sinter_neck_advance_pair(sinter_neck_solver *s, sinter_neck_state 
     if (counters == NULL)
         counters = &local;
     const double y4_start = state->y[SINTER_NECK_LA], y7_start = state->y[SINTER_NECK_LB];
-    /* 7dof.md §4: absolute tolerance about 1e-14 R on lengths. */
+    /* docs/7dof.md §4: absolute tolerance about 1e-14 R on lengths. */
     const double atol = tol->atol > 0.0
                             ? tol->atol
                             : 1e-14 * fmin(state->y[SINTER_NECK_RA], state->y[SINTER_NECK_RB]);
@@ -362,7 +362,7 @@ sinter_status sinter_neck_advance_pair(sinter_neck_solver *s, sinter_neck_state 
                                    state->time, s->coeffs.temperature, CVodeGetReturnFlagName(flag),
                                    s->cvode_message);
             }
-            /* The accepted state itself must satisfy the guards (7dof.md §2.5). */
+            /* The accepted state itself must satisfy the guards (docs/7dof.md §2.5). */
             sinter_neck_domain_error err;
             if (sinter_neck_check_domain(y, NULL, &err) != SINTER_NECK_VALID) {
                 close_piece(s, counters);

@@ -1,6 +1,6 @@
 /*
  * Geometry of the 7DOF neck in parametrisation 2: two spherical caps joined by two cones
- * (frusta) meeting in the grain-boundary disc (7dof.md §2.1-2.3, seed 001 fig. 1a).
+ * (frusta) meeting in the grain-boundary disc (docs/7dof.md §2.1-2.3, seed 001 fig. 1a).
  * Volumes, free-surface area and their analytic partial derivatives; the guards of §2.5.
  */
 #include <math.h>
@@ -65,7 +65,7 @@ static int sides_eval(double x, const double y[SINTER_NECK_DOF], sinter_neck_geo
     return 0;
 }
 #else
-/* Contributions of one side P to V, A_s and to dV/dy, dA_s/dy (7dof.md §2.2-2.3). */
+/* Contributions of one side P to V, A_s and to dV/dy, dA_s/dy (docs/7dof.md §2.2-2.3). */
 static int side_eval(double x, double radius, double junction, double centre_to_gb,
                      sinter_neck_side *side, double *volume, double *area, double dv[4],
                      double da[4])
@@ -73,7 +73,7 @@ static int side_eval(double x, double radius, double junction, double centre_to_
     const double R = radius, d = junction, L = centre_to_gb;
     if (!(R > 0.0) || !(fabs(d) < R))
         return -1;
-    /* 7dof.md §2.1: H = L - d, h = sqrt(R^2 - d^2) (as (R - d)(R + d) against cancellation
+    /* docs/7dof.md §2.1: H = L - d, h = sqrt(R^2 - d^2) (as (R - d)(R + d) against cancellation
      * when d is close to R), s = sqrt(H^2 + (h - x)^2) (lengths of a neck: their squares are far
      * from overflow and underflow, so no hypot). */
     const double H = L - d;
@@ -86,13 +86,13 @@ static int side_eval(double x, double radius, double junction, double centre_to_
     side->junction_radius = h;
     side->slant = s;
 
-    /* 7dof.md §2.2: V_cap = (pi/3)(R + d)^2 (2R - d), V_cone = (pi/3) H (x^2 + x h + h^2),
+    /* docs/7dof.md §2.2: V_cap = (pi/3)(R + d)^2 (2R - d), V_cone = (pi/3) H (x^2 + x h + h^2),
      * A_cap = 2 pi R (R + d), A_cone = pi (x + h) s. */
     const double frustum = x * x + x * h + h * h;
     *volume = PI / 3.0 * (R + d) * (R + d) * (2.0 * R - d) + PI / 3.0 * H * frustum;
     *area = 2.0 * PI * R * (R + d) + PI * (x + h) * s;
 
-    /* 7dof.md §2.3, volume: dV/dx = (pi/3) H (2x + h); the frustum's h-derivative
+    /* docs/7dof.md §2.3, volume: dV/dx = (pi/3) H (2x + h); the frustum's h-derivative
      * (pi/3) H (x + 2h) enters through dh/dR = R/h and dh/dd = -d/h;
      * dV/dR = 2 pi R (R + d) + (pi/3) H (x + 2h) R/h;
      * dV/dd = pi h^2 - (pi/3)(x^2 + x h + h^2) - (pi/3) H (x + 2h) d/h   (L fixed);
@@ -103,7 +103,7 @@ static int side_eval(double x, double radius, double junction, double centre_to_
     dv[2] = PI * h * h - PI / 3.0 * frustum - dv_dh * d * inv_h;
     dv[3] = PI / 3.0 * frustum;
 
-    /* 7dof.md §2.3, area: dA/dx = pi [H^2 - 2x(h - x)] / s; helper dA/dh = pi [s + (h^2 - x^2)/s];
+    /* docs/7dof.md §2.3, area: dA/dx = pi [H^2 - 2x(h - x)] / s; helper dA/dh = pi [s + (h^2 - x^2)/s];
      * dA/dR = 2 pi (2R + d) + (dA/dh) R/h; dA/dd = 2 pi R - (dA/dh) d/h - pi (x + h) H / s;
      * dA/dL = pi (x + h) H / s. */
     const double da_dh = PI * (s + (h - x) * (h + x) * inv_s);
@@ -136,12 +136,12 @@ int sinter_neck_geometry_eval(const double y[SINTER_NECK_DOF], sinter_neck_geome
     if (sides_eval(x, y, g, volume, area, dv, da) != 0)
         return -1;
 
-    /* 7dof.md §2.2: V = sum over sides, A_s = sum over sides, A_gb = pi y1^2. */
+    /* docs/7dof.md §2.2: V = sum over sides, A_s = sum over sides, A_gb = pi y1^2. */
     g->volume = volume[0] + volume[1];
     g->surface_area = area[0] + area[1];
     g->boundary_area = PI * x * x;
 
-    /* 7dof.md §2.3, assembled: y1 is shared by both sides; y2..y4 belong to A, y5..y7 to B;
+    /* docs/7dof.md §2.3, assembled: y1 is shared by both sides; y2..y4 belong to A, y5..y7 to B;
      * A_gb depends on y1 only (dA_gb/dy1 = 2 pi y1). */
     g->dvolume[SINTER_NECK_X] = dv[0][0] + dv[1][0];
     g->dsurface[SINTER_NECK_X] = da[0][0] + da[1][0];
@@ -173,7 +173,7 @@ sinter_neck_violation sinter_neck_check_domain(const double y[SINTER_NECK_DOF],
                                                const sinter_neck_geometry *g,
                                                sinter_neck_domain_error *err)
 {
-    /* 7dof.md §2.5, in order: finite values; 0 < y1; R_P > 0; |d_P| < R_P (so h_P <= R_P);
+    /* docs/7dof.md §2.5, in order: finite values; 0 < y1; R_P > 0; |d_P| < R_P (so h_P <= R_P);
      * H_P = L_P - d_P > 0; |dV/dy3|, |dV/dy6| >= 1e-3 pi h_P^2 (cone not tangent to sphere). */
     for (int i = 0; i < SINTER_NECK_DOF; ++i)
         if (!isfinite(y[i]))

@@ -1,4 +1,4 @@
-/* Initial condition of two touching spheres with a small seeded neck (7dof.md §4). */
+/* Initial condition of two touching spheres with a small seeded neck (docs/7dof.md §4). */
 #include <math.h>
 
 #include "neck/neck.h"
@@ -10,14 +10,14 @@ int sinter_neck_initial_state(double radius_a, double radius_b, double epsilon, 
         return -1;
     if (!(epsilon > 0.0 && epsilon < 0.5) || !(h0_ratio > 1.0 && h0_ratio < 2.0))
         return -1;
-    /* 7dof.md §4: x0 = epsilon min(R_A, R_B) (the model cannot start at y1 = 0, where
+    /* docs/7dof.md §4: x0 = epsilon min(R_A, R_B) (the model cannot start at y1 = 0, where
      * dV/dy1 = 0); h0 = h0_ratio x0 in (x0, 2 x0) (2 x0 is tangency for x0 << R). */
     const double x0 = epsilon * fmin(radius_a, radius_b);
     const double h0 = h0_ratio * x0;
     if (!(h0 < fmin(radius_a, radius_b)))
         return -1;
     y[SINTER_NECK_X] = x0;
-    /* 7dof.md §4: y2 = y4 = R_A (GB plane tangent to sphere A: touching, no overlap),
+    /* docs/7dof.md §4: y2 = y4 = R_A (GB plane tangent to sphere A: touching, no overlap),
      * y3 = d_A0 = sqrt(R_A^2 - h0^2) (junction on sphere A); the same for B. The neck adds a
      * volume O(x0^4 / R), about 1e-8 relative for epsilon = 0.01, which is not subtracted. */
     const double radius[2] = {radius_a, radius_b};

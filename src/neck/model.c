@@ -34,11 +34,11 @@ typedef struct option_spec {
 
 /* Indexed by the OPTION_ enum; documented in include/sinter.h. */
 static const option_spec OPTIONS[OPTION_COUNT] = {
-    {"epsilon", 0.01, 0.0, 0.1, OPEN_MIN},            /* 7dof.md §4 */
-    {"h0_ratio", 1.5, 1.0, 2.0, OPEN_MIN | OPEN_MAX}, /* 7dof.md §4: h0 in (x0, 2 x0) */
+    {"epsilon", 0.01, 0.0, 0.1, OPEN_MIN},            /* docs/7dof.md §4 */
+    {"h0_ratio", 1.5, 1.0, 2.0, OPEN_MIN | OPEN_MAX}, /* docs/7dof.md §4: h0 in (x0, 2 x0) */
     {"rtol", 1e-8, 1e-14, 1e-2, OPEN_NONE},
-    {"atol", 0.0, 0.0, 1.0, OPEN_NONE},           /* 0: 1e-14 min(R_A, R_B), 7dof.md §4 */
-    {"initial_step", 1e-12, 0.0, 1e6, OPEN_NONE}, /* 7dof.md §4 */
+    {"atol", 0.0, 0.0, 1.0, OPEN_NONE},           /* 0: 1e-14 min(R_A, R_B), docs/7dof.md §4 */
+    {"initial_step", 1e-12, 0.0, 1e6, OPEN_NONE}, /* docs/7dof.md §4 */
     {"max_steps", 1e6, 1.0, 1e12, WHOLE},
     {"integrator", 0.0, 0.0, 1.0, WHOLE},
     {"rk4_steps", 20000.0, 1.0, 1e10, WHOLE},
@@ -243,7 +243,7 @@ sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_mate
         }
     }
 
-    /* 7dof.md §5 outputs: x = y1; Delta L / L0 = (L0 - (y4 + y7)) / L0 (seed 001 eq. 13).
+    /* docs/7dof.md §5 outputs: x = y1; Delta L / L0 = (L0 - (y4 + y7)) / L0 (seed 001 eq. 13).
      * NaN states (not reached) stay NaN. */
     const double l0 = pair.center_distance0;
     for (size_t k = 0; k < n_out; ++k) {

@@ -1,5 +1,5 @@
 /*
- * Private API of the 7DOF two-particle neck model (../shared/docs/7dof.md, "the spec" below;
+ * Private API of the 7DOF two-particle neck model (docs/7dof.md, "the spec" below;
  * seed 001 = Ivannikov et al. 2022, sec. 2.2, eqs. 1-9, table 1).
  *
  * State Y = [y1 .. y7] in "parametrisation 2" (spec §2.1), all lengths in m:
@@ -274,7 +274,7 @@ int sinter_neck_state_init(sinter_neck_state *state, double radius_a, double rad
 /*
  * How the local error of each component is weighed: CVODE keeps the WRMS norm of
  * error_i / (rtol scale_i + atol) below 1.
- *  - COMPONENT: scale_i = |y_i|, as 7dof.md §4 writes it. In parametrisation 2 the lengths
+ *  - COMPONENT: scale_i = |y_i|, as docs/7dof.md §4 writes it. In parametrisation 2 the lengths
  *    R, d, L are ~R while the cone height H = L - d they define is ~x^2/(2R) for a young neck
  *    (1e-4 R), so a loose rtol leaves H unresolved early on and the error at the end depends
  *    erratically on the neck: over the benchmark's 2400 copper necks (22.5-27.5 um, 5000 s)

@@ -1,7 +1,7 @@
 /*
  * Right-hand side of the 7DOF neck model: Arrhenius mobilities with the phase switch, chemical
  * potentials, the twelve volume fluxes, the regional volume balances and the chain rule
- * (seed 001 eqs. 2-9 and table 1; 7dof.md §2.4 and §3).
+ * (seed 001 eqs. 2-9 and table 1; docs/7dof.md §2.4 and §3).
  */
 #include <math.h>
 
@@ -41,7 +41,7 @@ void sinter_neck_material_from(const sinter_material *m, sinter_neck_material *o
 
 int sinter_neck_phase_at(const sinter_neck_material *m, double temperature)
 {
-    /* 7dof.md §6.1: alpha -> beta at the transition on heating, beta -> alpha on cooling, no
+    /* docs/7dof.md §6.1: alpha -> beta at the transition on heating, beta -> alpha on cooling, no
      * hysteresis; 0 means a single-phase material. */
     return m->transition_temperature > 0.0 && temperature >= m->transition_temperature;
 }
@@ -66,7 +66,7 @@ void sinter_neck_coeffs_eval(const sinter_neck_material *m, int phase, double te
     c->boundary_energy = p->grain_boundary_energy;
     c->surface_thickness = p->surface_thickness;
     c->boundary_thickness = p->grain_boundary_thickness;
-    /* Seed 001 eq. 4 with 7dof.md §3: V = C (D n_frac / (k_B T)) (mu_a - mu_b) / ds, n Omega =
+    /* Seed 001 eq. 4 with docs/7dof.md §3: V = C (D n_frac / (k_B T)) (mu_a - mu_b) / ds, n Omega =
      * n_frac for surface and grain boundary, n_v = 1 for the lattice. */
     c->mobility_lattice = arrhenius(p->lattice_d0, p->lattice_q, temperature) / kt;
     c->mobility_surface =
@@ -102,7 +102,7 @@ void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geome
     if (detail != NULL && &detail->geometry != g)
         detail->geometry = *g;
 
-    /* Seed 001 eq. 9 with 7dof.md §2.4: mu_i = Omega (gamma_s dA_s/dy_i + gamma_gb dA_gb/dy_i)
+    /* Seed 001 eq. 9 with docs/7dof.md §2.4: mu_i = Omega (gamma_s dA_s/dy_i + gamma_gb dA_gb/dy_i)
      * / (dV/dy_i), the "specific volume" V_i of eq. 2 being the total volume's change. */
     double *mu = w->potential, inv_dv[SINTER_NECK_DOF]; /* divisions once (eq. 2 and 9) */
     for (int i = 0; i < SINTER_NECK_DOF; ++i) {
@@ -112,7 +112,7 @@ void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geome
                 inv_dv[i];
     }
 
-    /* Seed 001 table 1 cross-sections C and 7dof.md §3 path lengths ds, per side P with
+    /* Seed 001 table 1 cross-sections C and docs/7dof.md §3 path lengths ds, per side P with
      * regions ring = 1, cap = 2 + 3P, cone = 3 + 3P, GB = 4 + 3P (1-based as in the seed):
      *   I   GB -> ring,    C = pi x delta_gb,       ds = x/4, D_gb n_gb
      *   II  GB -> ring,    C = (2/3) pi x^2,        ds = x/4, D_v
@@ -144,7 +144,7 @@ void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geome
         f[SINTER_NECK_FLUX_VI] =
             2.0 * PI * h * s * c->mobility_lattice * (cap_mu - cone_mu) * per_cap_path;
 
-        /* Seed 001 eq. 3 (with 7dof.md §1's correction of eq. 3c):
+        /* Seed 001 eq. 3 (with docs/7dof.md §1's correction of eq. 3c):
          * dV1/dt += I + II + III + IV;  dV_cap/dt = -(V + VI);
          * dV_cone/dt = V + VI - (III + IV);  dV_gb/dt = -(I + II). */
         rate[SINTER_NECK_X] += f[SINTER_NECK_FLUX_I] + f[SINTER_NECK_FLUX_II] +

@@ -1,7 +1,7 @@
 /*
  * Piecewise-linear temperature schedule T(t) and the times where the neck RHS stops being
  * smooth: the schedule's points (dT/dt jumps) and crossings of the phase-transition temperature
- * (the diffusion data jump, 7dof.md §6.1 and §6.5: "integrate piecewise, with breakpoints at
+ * (the diffusion data jump, docs/7dof.md §6.1 and §6.5: "integrate piecewise, with breakpoints at
  * the switch times and at the start and end of the hold").
  */
 #include <math.h>

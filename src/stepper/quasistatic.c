@@ -19,7 +19,7 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->strategy = 2;
     opt->dt_initial = 1e-6;
     opt->dt_min = 1e-12;
-    opt->dt_max = 10.0; /* 7dof.md §5: the seed's maximum global step */
+    opt->dt_max = 10.0; /* docs/7dof.md §5: the seed's maximum global step */
     opt->alpha = 1.5;
     opt->error_limit = 1.0;
     opt->grow_fraction = 0.05;
@@ -286,7 +286,7 @@ static double pair_step(const sinter_qs *qs, const sinter_neck_material *m,
 
 /* Strategy 2: advance one pair over [t, t + h] with its own sub-steps (hint in step_hint).
  * Returns 0, -1 when no sub-step above dt_min meets the tolerance, or -2 when even the smallest
- * sub-step left the model's domain of validity (7dof.md §2.5). */
+ * sub-step left the model's domain of validity (docs/7dof.md §2.5). */
 static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_neck_schedule *s,
                         double t, double h)
 {
@@ -357,7 +357,7 @@ static uint64_t pair_key(size_t a, size_t b, size_t n)
     return a < b ? (uint64_t)a * n + b : (uint64_t)b * n + a;
 }
 
-/* New touching pairs become links with a fresh neck at time t (sec. 3.3, 7dof.md §4). */
+/* New touching pairs become links with a fresh neck at time t (sec. 3.3, docs/7dof.md §4). */
 static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p, double t)
 {
     const size_t n = p->count;
@@ -511,7 +511,7 @@ static sinter_status advance_global(sinter_qs *qs, const sinter_neck_schedule *s
 }
 
 /* Strategy 3: every pair in one CVODE system over [t, t + h] (neck/batch.c). */
-/* Necks below this neck ratio x / min(R_A, R_B) are young (seeded at 0.01, 7dof.md §4). */
+/* Necks below this neck ratio x / min(R_A, R_B) are young (seeded at 0.01, docs/7dof.md §4). */
 #define QS_YOUNG_NECK_RATIO 0.05
 
 /* One CVODE batch over pairs order[0..count) (indices into links), states written back. */
@@ -554,7 +554,7 @@ static sinter_status advance_group(sinter_qs *qs, sinter_neck_batch *batch, cons
 /*
  * Strategy 3: the pairs in CVODE batches over [t, t + h] (neck/batch.c), grouped by age: a
  * batch shares one step, which follows its most demanding neck, and a neck seeded at
- * x = 0.01 R starts on steps of about 1e-12 s (7dof.md §4). In one batch every new contact
+ * x = 0.01 R starts on steps of about 1e-12 s (docs/7dof.md §4). In one batch every new contact
  * would restart all necks on such steps; the young necks (ratio below QS_YOUNG_NECK_RATIO)
  * are therefore integrated in a batch of their own.
  */

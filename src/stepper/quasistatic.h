@@ -24,7 +24,7 @@
  *   3. solve K u = f (eq. 40) with PCG under the principal-plane conditions of sec. 3.3;
  *   4. move and turn the particles, and share the axial compression of each link between y4 and
  *      y7 (eq. 41-44);
- *   5. turn new touching pairs into links with a fresh neck (7dof.md §4).
+ *   5. turn new touching pairs into links with a fresh neck (docs/7dof.md §4).
  * The core (sinter_qs_*) works on borrowed particle arrays; sinter_quasistatic_* adapt it to a
  * sinter_stepper.
  */
@@ -46,7 +46,7 @@ typedef struct sinter_qs_options {
     double plane_tolerance;   /* on a principal plane if x_d - r < this r */
     double solve_rtol;        /* K u = f: true residual |f - K u| relative to |f| (1e-7) */
     double rtol;              /* relative accuracy of the necks (error weights, neck.h) */
-    double epsilon, h0_ratio; /* fresh neck, 7dof.md §4 */
+    double epsilon, h0_ratio; /* fresh neck, docs/7dof.md §4 */
     double max_strain;        /* strategy 3: largest approach per step / L0 before dt shrinks */
     double strain_fraction;   /* strategy 3: fraction of the links allowed to reach max_strain
                                  while dt grows (0: none) */
@@ -56,7 +56,7 @@ typedef struct sinter_qs_options {
                                  titanium packing's shrinkage, RESULTS.md, session 3) */
 } sinter_qs_options;
 
-/* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (7dof.md §5), alpha 1.5, eps_lim 1,
+/* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (docs/7dof.md §5), alpha 1.5, eps_lim 1,
  * 5 % / 15 %, contact 1e-9, plane 1e-6, solve 1e-10, rtol 1e-6, epsilon 0.01, h0 1.5 x0,
  * max_strain 1e-4, strain_fraction 0, grown_rk4 0. */
 void sinter_qs_options_default(sinter_qs_options *opt);
@@ -105,7 +105,7 @@ typedef struct sinter_qs_link {
     uint64_t id_a, id_b;           /* particle ids of a and b, to follow a reordering */
 } sinter_qs_link;
 
-/* Outputs (seed 001 sec. 4; 7dof.md §5). */
+/* Outputs (seed 001 sec. 4; docs/7dof.md §5). */
 typedef struct sinter_qs_stats {
     double time;    /* [s] */
     double dt_next; /* proposal for the next global step [s] */

@@ -9,7 +9,7 @@
  *   for K = 1 .. K_d:
  *     evaluate the pipeline at (s^K, theta^(K-1)) with the walls at t + h: neighbours,
  *       contacts, currents (eq. 43), forces F^K, heat Q^K; history increments over h are
- *       written as trial history only (ARCHITECTURE sec. 2)
+ *       written as trial history only (the commit/rollback contract of include/sinter_submodel.h)
  *     theta^K = theta^L + h/(m C) (phi Q^K + (1 - phi) Q^L)                      eq. 36, 46
  *     normalised errors (eq. 47), violation ratio Z_K (eq. 48), step scale Lambda_K (eq. 49)
  *     Z_K <= 1: accept (s^K, theta^K)

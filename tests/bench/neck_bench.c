@@ -1,5 +1,5 @@
 /*
- * neck_bench: work-precision of the 7DOF neck model (../shared/docs/7dof.md) on its copper
+ * neck_bench: work-precision of the 7DOF neck model (docs/7dof.md) on its copper
  * case (spec §6.2: two 25 um copper spheres at 1293 K, seed 001 table 2), and necks advanced
  * per second at the copper scene's error level (seed 001 §4.1: 805 particles, 5000 s).
  *

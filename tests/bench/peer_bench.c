@@ -1,5 +1,6 @@
 /*
- * peer_bench: libsinter's entry in the peer DEM benchmark (../shared/bench/peers).
+ * peer_bench: libsinter's entry in the peer DEM benchmark (the same canonical scenes run by
+ * LIGGGHTS, LAMMPS and Yade, kept outside this repository).
  *
  *   peer_bench --scene {scene} --xyz {xyz} --box {box} --steps {steps} --dt {dt} --heat {heat}
  *              [--stats]

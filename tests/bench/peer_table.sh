@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # peer_table.sh -- libsinter against LIGGGHTS and LAMMPS on the canonical scenes of
-# ../shared/bench/peers, one cell at a time and interleaved (the peers and libsinter's
+# the peer benchmark (kept outside this repository: $PEERS_DIR), one cell at a time and interleaved (the peers and libsinter's
 # single-thread run pinned to one core, then libsinter on two threads), so that each ratio
 # comes from the same minutes. Prints one line per run: the programs' "Loop time" [s] and
 # libsinter's peak resident memory [kB], and the round trip of a cache line between the two
@@ -13,7 +13,8 @@
 #
 # Settings (environment, defaults in brackets):
 #   BUILD [build]         libsinter's build directory (bin/peer_bench, lib/)
-#   PEERS_DIR [../shared/bench/peers]   the peer decks and gen_lattice.py
+#   PEERS_DIR (required)  the peer benchmark's folder (its LIGGGHTS and LAMMPS decks,
+#                         gen_lattice.py, run_peers.sh), which is not in this repository
 #   DATA [/tmp/peer_data] lattices, made with gen_lattice.py when missing
 #   REPS [2]  PIN [1] (core for the single-thread runs)
 #   LIG2 [0]  1: LIGGGHTS also on two MPI ranks (mpirun -np 2, Open MPI), after its one-rank
@@ -24,7 +25,8 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="$(cd "${BUILD:-$ROOT/build}" && pwd)"
-PEERS_DIR="$(cd "${PEERS_DIR:-$ROOT/../shared/bench/peers}" && pwd)"
+: "${PEERS_DIR:?set PEERS_DIR to the folder of the peer benchmark, not in this repository}"
+PEERS_DIR="$(cd "$PEERS_DIR" && pwd)"
 DATA="${DATA:-/tmp/peer_data}"
 REPS="${REPS:-2}"
 PIN="${PIN:-1}"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# speedup_table.sh -- libsinter's 2-thread speed-up on the packed bed of ../shared/bench/peers,
+# speedup_table.sh -- libsinter's 2-thread speed-up on the packed bed of the peer benchmark,
 # measured by alternating blocks of steps in one run (peer_bench --alternate): one thread, then
 # two, then two, then one, ... each block ~50-150 ms. On a host whose speed moves by up to 60 %
 # within minutes (RESULTS.md, issue 9, sessions 18-19), separate 1- and 2-thread runs give a
@@ -12,12 +12,13 @@
 #   CELLS="thermal:20:100:40000:1" tests/bench/speedup_table.sh
 #
 # Settings (environment, defaults in brackets):
-#   BUILD [build]   PEERS_DIR [../shared/bench/peers]   DATA [/tmp/peer_data]   THREADS [2]
+#   BUILD [build]   PEERS_DIR (required: the peer benchmark's folder, not in this repository)   DATA [/tmp/peer_data]   THREADS [2]
 #   CELLS: scene:n:block:steps:heat ... (N = n^3; steps in all, half on each side)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="$(cd "${BUILD:-$ROOT/build}" && pwd)"
-PEERS_DIR="$(cd "${PEERS_DIR:-$ROOT/../shared/bench/peers}" && pwd)"
+: "${PEERS_DIR:?set PEERS_DIR to the folder of the peer benchmark, not in this repository}"
+PEERS_DIR="$(cd "$PEERS_DIR" && pwd)"
 DATA="${DATA:-/tmp/peer_data}"
 THREADS="${THREADS:-2}"
 CELLS="${CELLS:-thermal:10:500:200000:1 thermal:20:100:40000:1 thermal:40:10:2000:1

@@ -31,7 +31,7 @@
  *   link from its birth: its natural (7DOF) approach, the sum of the per-step decrements d4 + d7 of
  *   eq. 43, and its mechanical approach L0 - y4 - y7 (after eq. 41-44 it is the sum of the link's
  *   compressions xi). --new inert: links born during the run get zero grain-boundary and lattice
- *   diffusion (no natural approach, 7dof.md sec. 3); off: also 1e-6 of the beam stiffness (as if
+ *   diffusion (no natural approach, docs/7dof.md sec. 3); off: also 1e-6 of the beam stiffness (as if
  *   they were not detected). Prints, at the output times, the shrinkage, per cohort (links present
  *   at the start / born during the run) the mean natural and mechanical strains, and the affine
  *   estimate of the shrinkage: the sum over the global steps of the R_m^2 L0-weighted mean natural

@@ -103,7 +103,7 @@ class NeckCases(ArrayBackend):
         self.addCleanup(self.ctx.close)
 
     def test_copper_pair_matches_reference(self):
-        # 7dof.md sec. 6.2: copper, R = 25 um, 1293 K.
+        # docs/7dof.md sec. 6.2: copper, R = 25 um, 1293 K.
         copper = sinter.Material(self.ctx, "copper")
         model = sinter.NeckModel(self.ctx, rtol=1e-8)
         self.assertEqual(model["rtol"], 1e-8)

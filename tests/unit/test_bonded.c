@@ -1,7 +1,7 @@
 /*
  * Bonded links and the quasi-static stepper (seed 001 = Ivannikov et al. 2022, sec. 2.3-3.3):
  * beam link stiffness against hand-computed values (eq. 25-40), the sintering force (eq. 17)
- * against the 7dof.md §6.2 shrinkage, the PCG solve of K u = f on chains (series springs,
+ * against the docs/7dof.md §6.2 shrinkage, the PCG solve of K u = f on chains (series springs,
  * lumped cantilever), and the quasi-static packing of 2 and 27 copper particles.
  */
 #include "test_support.h"
@@ -141,7 +141,7 @@ static void test_single_link_closed_forms(void **state)
 static void test_sintering_force(void **state)
 {
     (void)state;
-    /* 7dof.md §6.2: copper R = 25 um, 1293 K, Delta L/L0 = 1.029e-2 at 1000 s with L0 = 2R:
+    /* docs/7dof.md §6.2: copper R = 25 um, 1293 K, Delta L/L0 = 1.029e-2 at 1000 s with L0 = 2R:
      * F_n = (pi/2) E R_m Delta L = (pi/2) 72e9 25e-6 (1.029e-2 x 50e-6) = 1.454714 N. */
     const double dl = 1.029e-2 * 50e-6;
     const double f = sinter_sintering_force(E_CU, R_CU, dl);
@@ -345,7 +345,7 @@ static void two_particles_with(int strategy, double grown_rk4)
     const double shrink = 1.0 - dist / (2 * R_CU),
                  shrink_ref = 1.0 - (ref[3] + ref[6]) / (2 * R_CU);
     print_message("strategy %d%s, 2 particles, 1000 s: %llu steps (%llu rejected, %llu sub-stepped "
-                  "pairs), x/R = %.6f (7DOF %.6f), shrinkage %.6e (7DOF %.6e; 7dof.md 6.2: "
+                  "pairs), x/R = %.6f (7DOF %.6f), shrinkage %.6e (7DOF %.6e; docs/7dof.md 6.2: "
                   "1.029e-2), along x %.6e\n",
                   strategy, grown_rk4 != 0.0 ? " (grown necks by RK4)" : "",
                   (unsigned long long)st.steps, (unsigned long long)st.rejected,
@@ -841,7 +841,7 @@ static void test_qs_stepper_adapter(void **state)
         assert_true(taken > 0.0 && taken <= h);
     }
     const double shrink = 1.0 - (ps->x[3] - ps->x[0]) / (2 * R_CU);
-    print_message("adapter: 2 particles, 100 s: shrinkage %.6e (7dof.md 6.2: 3.47e-3)\n", shrink);
+    print_message("adapter: 2 particles, 100 s: shrinkage %.6e (docs/7dof.md 6.2: 3.47e-3)\n", shrink);
     assert_close(shrink, 3.47e-3, 0.01 * 3.47e-3);
     sinter_qs_destroy(qs);
     sinter_stepper_destroy(st);

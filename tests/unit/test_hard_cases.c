@@ -11,7 +11,7 @@
  *   - a 10:1 size ratio: Hertz's static overlap of a small sphere on a large one, and the cell
  *     grid finding every small sphere around a large one;
  *   - many necks forming at once: a 3x3x3 copper lattice in the quasi-static (7DOF) stepper,
- *     every neck against the pair model of 7dof.md sec. 6.
+ *     every neck against the pair model of docs/7dof.md sec. 6.
  * (The press scene at the seed's largest step is a recorded benchmark: tests/bench/RESULTS.md,
  * "Hard cases (issue 10)".)
  */
@@ -361,9 +361,9 @@ static void test_ten_to_one_size_ratio(void **state)
 /*
  * A 3x3x3 simple cubic lattice of touching copper spheres (R = 25 um) at 1293 K in the
  * quasi-static stepper: all 54 necks start together at t = 0 (the fast transient of the
- * first second, 7dof.md sec. 4, for every pair at once). The lattice shrinks affinely (the
+ * first second, docs/7dof.md sec. 4, for every pair at once). The lattice shrinks affinely (the
  * corner particle sits on the principal planes), so every neck follows the two-particle model:
- * x/R = 0.1275-0.1276 at 10 s (7dof.md sec. 6.2, the Cu insensitivity study), asserted for the
+ * x/R = 0.1275-0.1276 at 10 s (docs/7dof.md sec. 6.2, the Cu insensitivity study), asserted for the
  * smallest and the largest neck within the regression's 0.5 %; the shrinkage is the same along
  * the three axes (1e-9).
  */

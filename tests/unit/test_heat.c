@@ -1,5 +1,5 @@
 /*
- * Heat in the stepper against closed forms (docs VALIDATION, heat rows) and
+ * Heat in the stepper against closed forms (docs/validation.md, heat rows) and
  * seed 003 sec. 5.1: two spheres exchanging heat, convective and radiative
  * cooling, absorbed laser energy, explicit vs implicit stability, and a
  * particle settling on a 700 K floor with and without thermal softening.
@@ -349,8 +349,9 @@ static hot_floor particle_on_hot_floor(int softening)
         OK(sinter_material_set(s.mat, SINTER_MAT_SOFTENING_LAW, 2));
         OK(sinter_material_set(s.mat, SINTER_MAT_SOFTENING_TEMPERATURE, 400.0));
     }
-    /* rigid floor (VALIDATION: E* = E/(1 - nu^2)), a fixed 700 K reservoir that conducts with
-     * the particle's conductivity (VALIDATION's reading of the seed's "zero conductivity") */
+    /* rigid floor (docs/validation.md: E* = E/(1 - nu^2)), a fixed 700 K reservoir that
+     * conducts with the particle's conductivity (docs/validation.md's reading of the seed's
+     * "zero conductivity") */
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_YOUNGS_MODULUS, 1e13));
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 60.0));
     scene_open(&s, "hertz_mindlin", 1);

@@ -1,6 +1,6 @@
 /*
  * Hertz-Mindlin contact and the explicit stepper against closed forms
- * (docs VALIDATION: contact, friction, dynamics).
+ * (docs/validation.md: contact, friction, dynamics).
  */
 #include <math.h>
 

@@ -1,5 +1,5 @@
 /*
- * The 7DOF two-particle neck model (../shared/docs/7dof.md, "the spec"; seed 001 sec. 2.2):
+ * The 7DOF two-particle neck model (docs/7dof.md, "the spec"; seed 001 sec. 2.2):
  * the nine tests of spec §7.3, then the public API (sinter_neck_two_particles) on copper and on
  * a titanium profile with a phase switch, then the RK4 integrator and the batch.
  *
@@ -845,7 +845,7 @@ static void test_public_copper(void **state)
     stats.struct_size = sizeof(stats) - 8;
     assert_int_equal(sinter_neck_get_stats(nm, &stats), SINTER_ERR_STRUCT_SIZE);
 
-    /* The spec's literal error weights (7dof.md §4: relative to each component) give the same
+    /* The spec's literal error weights (docs/7dof.md §4: relative to each component) give the same
      * table at rtol 1e-8 (0.5 %, spec §7.3.7). */
     OK(sinter_neck_model_set(nm, "error_scale", 0.0));
     OK(sinter_neck_two_particles(nm, cu, COPPER_RADIUS, COPPER_RADIUS, 1, ISOTHERMAL_TIME, COPPER_T,

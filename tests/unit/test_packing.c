@@ -588,7 +588,7 @@ static void test_allocation_failure_injection(void **state)
  *    overlap (seed 003 eq. 47 at the impact speed giving it), and the stress limit of the
  *    walls aims at a mean overlap of 1e-3 r, so the largest of a few hundred contacts (a few
  *    times the mean) must stay below 1e-2; the quasi-static stepper then starts its links from
- *    touching spheres (7dof.md sec. 4) with a centre approach of at most 0.5 % of a diameter.
+ *    touching spheres (docs/7dof.md sec. 4) with a centre approach of at most 0.5 % of a diameter.
  *  - "inside the box": centre - r >= box_min - (largest wall overlap), likewise at box_max.
  *  - the final box is the requested one exactly (the walls' points are the requested planes
  *    and their last displacement is exactly 0).

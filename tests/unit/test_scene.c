@@ -361,7 +361,7 @@ static void test_furnace_scene(void **state)
     memset(&stats, 0, sizeof(stats));
     stats.struct_size = sizeof(stats);
     assert_int_equal(sinter_stepper_sintering_stats(st, &stats), SINTER_OK);
-    /* seeded at x/R = 0.01 (7dof.md §4); at >= 1000 K it grows several-fold in 20 s */
+    /* seeded at x/R = 0.01 (docs/7dof.md §4); at >= 1000 K it grows several-fold in 20 s */
     assert_true(stats.neck_ratio_mean > 0.03);
     /* the series carries the sintering outputs (seed 001 sec. 4): the last row's neck ratio and
      * shrinkage along x are the stepper's */

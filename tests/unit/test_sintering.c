@@ -1,6 +1,6 @@
 /*
  * The quasi-static stepper through the public API: two copper spheres
- * (R = 25 um) at 1293 K reproduce the 7DOF pair model of 7dof.md sec. 6.2,
+ * (R = 25 um) at 1293 K reproduce the 7DOF pair model of docs/7dof.md sec. 6.2,
  * and under a furnace ramp the pair model run along the same schedule.
  */
 #include <math.h>
@@ -29,7 +29,7 @@ static void test_two_copper_particles_follow_the_pair_model(void **state)
     OK(sinter_stepper_sintering_stats(s.st, &stats));
     double t = 0;
     OK(sinter_stepper_time(s.st, &t));
-    print_message("t = %g s: %llu link, x/R = %.5f, shrinkage x %.5e (7dof.md 6.2: 0.2742, "
+    print_message("t = %g s: %llu link, x/R = %.5f, shrinkage x %.5e (docs/7dof.md 6.2: 0.2742, "
                   "1.029e-2)\n",
                   t, (unsigned long long)stats.links, stats.neck_ratio_mean, stats.shrinkage[0]);
     assert_close(t, 1000.0, 0.0);
@@ -90,7 +90,7 @@ static void test_furnace_ramp_follows_the_pair_model(void **state)
         assert_close(neck_qs[k], neck[k] / r, 0.005 * neck[k] / r);
         assert_close(shrink_qs[k], shrink[k], 0.005 * shrink[k]);
     }
-    /* at a constant 1293 K the pair shrinks 3.47e-3 by 100 s already (7dof.md 6.2): the ramp
+    /* at a constant 1293 K the pair shrinks 3.47e-3 by 100 s already (docs/7dof.md 6.2): the ramp
      * mattered, so the comparison tests the schedule, not just the hold */
     assert_true(shrink_qs[0] < 0.5 * 3.47e-3);
     sinter_neck_model_destroy(nm);
@@ -141,7 +141,7 @@ static void test_furnace_errors(void **state)
 }
 
 /* A rattler (a sphere without links) beyond the sintering pair does not pin the shrinkage: the
- * packing's shrinkage is the strain of the linked particles, here the pair's own (7dof.md 6.2,
+ * packing's shrinkage is the strain of the linked particles, here the pair's own (docs/7dof.md 6.2,
  * the regression's 0.5 %). An extent-based measure would report 2R/(10R) of it. */
 static void test_rattler_does_not_pin_the_shrinkage(void **state)
 {

@@ -4,7 +4,7 @@
  * step shrinks through an impact and grows back, and rejected steps leave the committed
  * history untouched; Joule heating (eq. 35) and the currents of eq. 44 through the stepper;
  * heat conduction conserves sum m C theta; options, failures and misuse.
- * Each tolerance is derived where it is asserted (VALIDATION.md).
+ * Each tolerance is derived where it is asserted (docs/validation.md).
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <float.h>

@@ -1,4 +1,4 @@
-"""The 7DOF two-particle neck model (seed 001 sec. 2.2, 7dof.md)."""
+"""The 7DOF two-particle neck model (seed 001 sec. 2.2, docs/7dof.md)."""
 
 import ctypes
 import dataclasses
