@@ -2,17 +2,19 @@
 #ifndef SINTER_SCENE_H
 #define SINTER_SCENE_H
 
+#include "io/path.h"
 #include "stepper/stepper.h"
 
 #define SCENE_MAX_MATERIALS 32
 #define SCENE_MAX_WALLS 64
 #define SCENE_MAX_FORCES 16
-#define SCENE_NAME 64
+#define SCENE_NAME 64        /* bytes of a name with its NUL; longer names are refused */
+#define SCENE_NAME_TEXT "63" /* SCENE_NAME - 1, for messages */
 
 struct sinter_scene {
     sinter_ctx *ctx;
     char name[SCENE_NAME];
-    char directory[1024]; /* of the scene file, for relative paths */
+    char directory[SINTER_PATH_SIZE]; /* of the scene file, for relative paths */
     sinter_material *materials[SCENE_MAX_MATERIALS];
     char material_names[SCENE_MAX_MATERIALS][SCENE_NAME];
     size_t material_count;
