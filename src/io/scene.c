@@ -676,7 +676,13 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));
     if (sc->checkpoint_interval < 0)
         return section_error(t, s, "checkpoint_interval must be >= 0 s (0: none)");
-    return SINTER_OK;
+    OPTIONAL(scene_get_double(t, s, "max_frames", &sc->max_frames));
+    if (!(sc->max_frames >= 1) || sc->max_frames != floor(sc->max_frames))
+        return section_error(t, s, "max_frames must be a whole number >= 1");
+    /* [stepper] and [pour] are built: the run's length is known */
+    return at_line(t, scene_find(s, "interval")->line,
+                   sinter_scene_check_output(t->ctx, sc->end_time, sc->pour ? sc->pour_t_max : 0.0,
+                                             sc->output_interval, sc->max_frames));
 }
 
 typedef sinter_status (*section_builder)(scene_text *, sinter_scene *, scene_section *);
@@ -780,6 +786,7 @@ sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char 
     sc->write_vtu = sc->write_csv = sc->write_plot = 1;
     sc->vtu_binary = 1;
     sc->output_interval = 0.0;
+    sc->max_frames = SCENE_MAX_FRAMES;
     scene_text t;
     st = scene_text_read(&t, ctx, path);
     if (st == SINTER_OK)

@@ -39,6 +39,18 @@ struct sinter_scene {
     int write_vtu, write_csv, write_plot;
     int vtu_binary; /* frames' arrays as inline base64 binary (1, the default) or ascii */
     double checkpoint_interval;
+    double max_frames; /* most records (series rows, VTU frames) the run may write */
 };
+
+/* Default of [output] max_frames. */
+#define SCENE_MAX_FRAMES 1e6
+
+/*
+ * The output plan of a run of end_time after a pour of at most pour_time [s] (0: none),
+ * recording every interval: SINTER_ERR_INVALID when t + interval == t at the last time
+ * (the run would never end) or when it would record more than max_frames times.
+ */
+sinter_status sinter_scene_check_output(sinter_ctx *ctx, double end_time, double pour_time,
+                                        double interval, double max_frames);
 
 #endif

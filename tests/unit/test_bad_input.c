@@ -2,7 +2,8 @@
 /*
  * Bad input that used to get through (issue 35): paths cut to fit a buffer, scene names that
  * escape the output directory or break the SVG, wall normals lost to overflow, a duplicate key
- * among many, malformed particle and scene files. Each is refused with a message naming what is wrong.
+ * among many, malformed particle and scene files, and scenes that `sinter check` passed but
+ * whose run could not start or end. Each is refused with a message naming what is wrong.
  */
 #include <stdio.h>
 #include <string.h>
@@ -310,6 +311,75 @@ static void test_bad_scene_files(void **state)
                 "dir.scene' is a directory, not a file");
 }
 
+/* ---- 6. sinter_scene_check ---------------------------------------------------------------- */
+
+/* Load text, then sinter_scene_check: its status and message. */
+static void expect_scene_check(const char *text, sinter_status status, const char *fragment)
+{
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("check.scene", text)), SINTER_OK);
+    const sinter_status got = sinter_scene_check(scene);
+    if (got != status || (fragment && strstr(sinter_last_error(ctx), fragment) == NULL)) {
+        print_error("status %s, message '%s'; expected %s with '%s'\n", sinter_status_name(got),
+                    sinter_last_error(ctx), sinter_status_name(status), fragment ? fragment : "");
+        fail();
+    }
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
+static void test_scene_check(void **state)
+{
+    (void)state;
+    char text[4096];
+    assert_int_equal(sinter_scene_check(NULL), SINTER_ERR_NULL);
+    expect_scene_check(scene_text(text, sizeof(text), LATTICE, OUTPUT), SINTER_OK, NULL);
+    /* a particle below the floor */
+    static const char *const below = "[particles]\nmethod = list\nmaterial = glass\n"
+                                     "spheres = 0 0 0.001 0.0005, 0.002 0 -0.0001 0.0005\n";
+    expect_scene_check(scene_text(text, sizeof(text), below, OUTPUT), SINTER_ERR_INVALID,
+                       "particle 1 (id 1) is behind wall 0 (floor)");
+    /* two particles with the same centre */
+    static const char *const twice = "[particles]\nmethod = list\nmaterial = glass\n"
+                                     "spheres = 0 0 0.001 0.0005, 0.002 0 0.001 0.0005, "
+                                     "0 0 0.001 0.0004\n";
+    expect_scene_check(scene_text(text, sizeof(text), twice, OUTPUT), SINTER_ERR_INVALID,
+                       "particles 0 and 2 (ids 0 and 2) have the same centre");
+    /* a particle outside the stepper's domain */
+    char extra[512];
+    snprintf(extra, sizeof(extra), "domain_min = -1 -1 -1\ndomain_max = 0.001 1 1\n%s", OUTPUT);
+    expect_scene_check(scene_text(text, sizeof(text), LATTICE, extra), SINTER_ERR_INVALID,
+                       "starts outside the domain: x = ");
+}
+
+static void test_output_intervals(void **state)
+{
+    (void)state;
+    char text[4096];
+    /* t + interval == t at the end time: the run would never end (refused at load) */
+    expect_text(scene_text(text, sizeof(text), LATTICE, "[output]\ninterval = 1e-300\nvtu = no\n"),
+                SINTER_ERR_INVALID, "bad.scene:30: output interval 1e-300 s cannot advance", NULL);
+    /* 1e7 records over 0.01 s: more than max_frames = 1e6 */
+    expect_text(scene_text(text, sizeof(text), LATTICE, "[output]\ninterval = 1e-9\nvtu = no\n"),
+                SINTER_ERR_INVALID, "bad.scene:30:", "more than max_frames = 1000000");
+    /* ... unless max_frames says so */
+    expect_scene_check(scene_text(text, sizeof(text), LATTICE,
+                                  "[output]\ninterval = 1e-9\nvtu = no\nmax_frames = 2e7\n"),
+                       SINTER_OK, NULL);
+    /* 6 records (t = 0 and five intervals) with max_frames = 5: refused; 6 is fine */
+    expect_text(scene_text(text, sizeof(text), LATTICE,
+                           "[output]\ninterval = 0.002\nvtu = no\nmax_frames = 5\n"),
+                SINTER_ERR_INVALID, "makes 6 records", NULL);
+    expect_scene_check(scene_text(text, sizeof(text), LATTICE,
+                                  "[output]\ninterval = 0.002\nvtu = no\nmax_frames = 6\n"),
+                       SINTER_OK, NULL);
+    expect_text(
+        scene_text(text, sizeof(text), LATTICE, "[output]\ninterval = 0.002\nmax_frames = 0.5\n"),
+        SINTER_ERR_PARSE, "max_frames must be a whole number >= 1", NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -321,6 +391,8 @@ int main(void)
         cmocka_unit_test(test_duplicate_key_among_many),
         cmocka_unit_test(test_bad_particle_files),
         cmocka_unit_test(test_bad_scene_files),
+        cmocka_unit_test(test_scene_check),
+        cmocka_unit_test(test_output_intervals),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

@@ -307,6 +307,7 @@ SIGNATURES = {
     "sinter_scene_get_particles": (c_status, [ScenePtr, _P(ParticlesPtr)]),
     "sinter_scene_get_walls": (c_status, [ScenePtr, _P(WallsPtr)]),
     "sinter_scene_end_time": (c_status, [ScenePtr, _P(_double)]),
+    "sinter_scene_check": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
     "sinter_stepper_set_furnace": (c_status, [StepperPtr, _size, _P(_double), _P(_double)]),
