@@ -9,6 +9,8 @@ import ctypes
 import ctypes.util
 import os
 
+from ._integers import checked_function
+
 
 class LibraryNotFound(OSError):
     """libsinter could not be loaded; the message lists every place tried."""
@@ -388,6 +390,7 @@ def declare(cdll):
             continue
         function.restype = restype
         function.argtypes = argtypes
+        setattr(cdll, name, checked_function(name, function))  # OverflowError, not wrapping
     return missing
 
 
