@@ -1432,6 +1432,18 @@ SINTER_API sinter_status sinter_scene_get_walls(sinter_scene *scene, sinter_wall
 /** The scene's end time [s]. */
 SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double *end_time);
 
+/**
+ * Check a scene as sinter_scene_run would before its first step, without stepping or
+ * writing anything: the output plan (an interval too small to advance the time at the end,
+ * or more than [output] max_frames records), the particles' values
+ * (sinter_particles_validate), no field view out (SINTER_ERR_BUSY), and, for the explicit
+ * and staggered steppers, a starting state with no particle centre behind a wall, none outside
+ * the stepper's domain and no two particles with the same centre (SINTER_ERR_INVALID naming
+ * the particle). A scene with [compact] and no [pour] is compacted before its first step, so
+ * its starting state is not checked. Used by `sinter check`.
+ */
+SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
+
 /* ------------------------------------------------------------------------ */
 /* Checkpoints                                                               */
 /* ------------------------------------------------------------------------ */

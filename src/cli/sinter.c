@@ -264,7 +264,9 @@ static int check(const char *path)
     if (sinter_ctx_create(&ctx, NULL) != SINTER_OK)
         return 1;
     sinter_scene *scene = NULL;
-    const sinter_status st = sinter_scene_load(&scene, ctx, path);
+    sinter_status st = sinter_scene_load(&scene, ctx, path);
+    if (st == SINTER_OK) /* the set-up checks of a run, without stepping */
+        st = sinter_scene_check(scene);
     int rc = 0;
     if (st != SINTER_OK) {
         rc = fail(ctx, st);

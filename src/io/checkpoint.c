@@ -20,6 +20,7 @@
 
 #include "electric/electric.h"
 #include "io/checkpoint.h"
+#include "io/path.h"
 #include "stepper/stepper.h"
 
 /* 2: material parameter count recorded (53 parameters since the neck data)
@@ -102,11 +103,10 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_checkpoint_write: take at least one step (or step 0) before "
                            "writing a checkpoint");
-    char tmp[4096];
-    if ((size_t)snprintf(tmp, sizeof(tmp), "%s.tmp", path) >= sizeof(tmp))
-        return sinter_fail(ctx, SINTER_ERR_INVALID,
-                           "cannot write checkpoint '%.200s...': the path is longer than %zu bytes",
-                           path, sizeof(tmp) - 5);
+    char tmp[SINTER_PATH_SIZE];
+    const sinter_status named = sinter_path_format(ctx, tmp, sizeof(tmp), "%s.tmp", path);
+    if (named != SINTER_OK)
+        return named;
     writer w = {fopen(tmp, "wb"), 0xcbf29ce484222325ull, 0};
     if (w.f == NULL)
         return sinter_fail(ctx, SINTER_ERR_IO, "cannot write checkpoint '%s': %s", tmp,

@@ -2,12 +2,15 @@
  * Scene files: from sections to objects. The format is described in
  * docs/scene-reference.md. Every problem is reported as "file:line: ...".
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "io/file_name.h"
 #include "io/scene.h"
 #include "io/scene_text.h"
+#include "io/text_file.h"
 #include "particles/compact.h"
 
 #define TRY(expr)                                                                                  \
@@ -82,8 +85,18 @@ static sinter_status build_scene_header(scene_text *t, sinter_scene *sc, scene_s
                            t->path, scene_find(s, "units")->line, units);
     const char *name = NULL;
     OPTIONAL(scene_get_word(t, s, "name", &name));
-    if (name)
-        snprintf(sc->name, sizeof(sc->name), "%s", name);
+    if (name == NULL)
+        return SINTER_OK;
+    /* the name makes the file name <name>.pvd in the output directory and the plot's title */
+    const char *problem = sinter_file_name_problem(name);
+    if (problem == NULL && strlen(name) >= sizeof(sc->name))
+        problem = "it is longer than " SCENE_NAME_TEXT " bytes";
+    if (problem != NULL)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: name: expected a file name without '/', '..' or control "
+                           "characters, in UTF-8, but %s",
+                           t->path, scene_find(s, "name")->line, problem);
+    snprintf(sc->name, sizeof(sc->name), "%s", name);
     return SINTER_OK;
 }
 
@@ -91,6 +104,8 @@ static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_secti
 {
     if (*s->name == '\0')
         return section_error(t, s, "a material needs a name: [material NAME]");
+    if (strlen(s->name) >= SCENE_NAME)
+        return section_error(t, s, "the name is longer than " SCENE_NAME_TEXT " bytes");
     if (find_material(sc, s->name) >= 0)
         return section_error(t, s, "this material name is used twice");
     if (sc->material_count == SCENE_MAX_MATERIALS)
@@ -118,45 +133,68 @@ static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_secti
                    sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m));
 }
 
+/* One line "x y z r" [m] of a particle file (blank or a '#' comment: nothing). */
+static sinter_status particle_line(scene_text *t, sinter_scene *sc, scene_section *s,
+                                   const char *path, int line, char *text, int mat,
+                                   double temperature)
+{
+    char *hash = strchr(text, '#');
+    if (hash)
+        *hash = '\0';
+    double row[4];
+    int used = 0;
+    const int n = sscanf(text, "%lf %lf %lf %lf%n", &row[0], &row[1], &row[2], &row[3], &used);
+    if (n <= 0)
+        return SINTER_OK;
+    if (n != 4)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: expected 'x y z r' [m]", path, line);
+    const char *rest = text + used;
+    while (*rest == ' ' || *rest == '\t' || *rest == '\r')
+        ++rest;
+    if (*rest != '\0')
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: expected 'x y z r' [m] and nothing after, got '%.40s' after "
+                           "the radius",
+                           path, line, rest);
+    return at_line(t, s->line,
+                   sinter_particles_add(sc->ps, 1, row, &row[3], mat, temperature, NULL));
+}
+
 static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_section *s, int mat,
                                     double temperature)
 {
     const char *file = NULL;
     TRY(required(t, s, scene_get_word(t, s, "file", &file), "file"));
-    char path[2048];
-    if (file[0] == '/')
-        snprintf(path, sizeof(path), "%s", file);
-    else
-        snprintf(path, sizeof(path), "%s/%s", sc->directory, file);
-    FILE *f = fopen(path, "r");
-    if (f == NULL)
-        return sinter_fail(t->ctx, SINTER_ERR_IO, "%s:%d: file: cannot open '%s'", t->path,
-                           scene_find(s, "file")->line, path);
-    double row[4];
+    char path[SINTER_PATH_SIZE];
+    const int line_of_file = scene_find(s, "file")->line;
+    TRY(at_line(t, line_of_file,
+                file[0] == '/'
+                    ? sinter_path_format(t->ctx, path, sizeof(path), "%s", file)
+                    : sinter_path_join(t->ctx, path, sizeof(path), sc->directory, file)));
+    char where[SINTER_PATH_SIZE + 32];
+    snprintf(where, sizeof(where), "%s:%d: file: ", t->path, line_of_file); /* a message prefix */
+    FILE *f = NULL;
+    TRY(sinter_text_open(t->ctx, where, "particle file", path, &f));
     int line = 0;
     sinter_status st = SINTER_OK;
     char buf[512];
-    while (st == SINTER_OK && fgets(buf, sizeof(buf), f)) {
+    while (st == SINTER_OK) {
+        const sinter_line_result got = sinter_text_line(f, buf, sizeof(buf));
+        if (got == SINTER_LINE_END)
+            break;
         ++line;
-        if (strchr(buf, '\n') == NULL && !feof(f)) {
-            /* also ends the read of an endless file without newlines (/dev/zero) */
+        if (got == SINTER_LINE_OK)
+            st = particle_line(t, sc, s, path, line, buf, mat, temperature);
+        else if (got == SINTER_LINE_TOO_LONG) /* also ends an endless line (/dev/zero) */
+            st = sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters",
+                             path, line, sizeof(buf) - 1);
+        else if (got == SINTER_LINE_NUL)
             st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                             "%s:%d: line longer than %zu characters (or holding a NUL byte)", path,
-                             line, sizeof(buf) - 2);
-            break;
-        }
-        char *hash = strchr(buf, '#');
-        if (hash)
-            *hash = '\0';
-        int n = sscanf(buf, "%lf %lf %lf %lf", &row[0], &row[1], &row[2], &row[3]);
-        if (n <= 0)
-            continue;
-        if (n != 4) {
-            st = sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: expected 'x y z r' [m]", path, line);
-            break;
-        }
-        st = at_line(t, s->line,
-                     sinter_particles_add(sc->ps, 1, row, &row[3], mat, temperature, NULL));
+                             "%s:%d: a NUL byte inside the line (a particle file is text)", path,
+                             line);
+        else
+            st = sinter_fail(t->ctx, SINTER_ERR_IO, "%s:%d: error reading the file: %s", path, line,
+                             strerror(errno));
     }
     fclose(f);
     return st;
@@ -292,6 +330,8 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
     TRY(sinter_walls_count(sc->walls, &nw));
     if (nw == SCENE_MAX_WALLS)
         return section_error(t, s, "too many walls");
+    if (strlen(s->name) >= SCENE_NAME)
+        return section_error(t, s, "the name is longer than " SCENE_NAME_TEXT " bytes");
     double point[3], normal[3];
     int mat = 0;
     TRY(required(t, s, scene_get_vec3(t, s, "point", point), "point"));
@@ -636,7 +676,13 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));
     if (sc->checkpoint_interval < 0)
         return section_error(t, s, "checkpoint_interval must be >= 0 s (0: none)");
-    return SINTER_OK;
+    OPTIONAL(scene_get_double(t, s, "max_frames", &sc->max_frames));
+    if (!(sc->max_frames >= 1) || sc->max_frames != floor(sc->max_frames))
+        return section_error(t, s, "max_frames must be a whole number >= 1");
+    /* [stepper] and [pour] are built: the run's length is known */
+    return at_line(t, scene_find(s, "interval")->line,
+                   sinter_scene_check_output(t->ctx, sc->end_time, sc->pour ? sc->pour_t_max : 0.0,
+                                             sc->output_interval, sc->max_frames));
 }
 
 typedef sinter_status (*section_builder)(scene_text *, sinter_scene *, scene_section *);
@@ -728,7 +774,11 @@ sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char 
         return sinter_last_status(ctx);
     sc->ctx = ctx;
     snprintf(sc->name, sizeof(sc->name), "scene");
-    snprintf(sc->directory, sizeof(sc->directory), "%s", path);
+    sinter_status st = sinter_path_format(ctx, sc->directory, sizeof(sc->directory), "%s", path);
+    if (st != SINTER_OK) {
+        sinter_free(ctx, sc);
+        return st;
+    }
     char *slash = strrchr(sc->directory, '/');
     if (slash)
         *slash = '\0';
@@ -737,8 +787,9 @@ sinter_status sinter_scene_load(sinter_scene **out, sinter_ctx *ctx, const char 
     sc->write_vtu = sc->write_csv = sc->write_plot = 1;
     sc->vtu_binary = 1;
     sc->output_interval = 0.0;
+    sc->max_frames = SCENE_MAX_FRAMES;
     scene_text t;
-    sinter_status st = scene_text_read(&t, ctx, path);
+    st = scene_text_read(&t, ctx, path);
     if (st == SINTER_OK)
         st = sinter_particles_create(&sc->ps, ctx);
     if (st == SINTER_OK)

@@ -3,17 +3,19 @@
 #define SINTER_SCENE_H
 
 #include "io/scene_program.h"
+#include "io/path.h"
 #include "stepper/stepper.h"
 
 #define SCENE_MAX_MATERIALS 32
 #define SCENE_MAX_WALLS 64
 #define SCENE_MAX_FORCES 16
-#define SCENE_NAME 64
+#define SCENE_NAME 64        /* bytes of a name with its NUL; longer names are refused */
+#define SCENE_NAME_TEXT "63" /* SCENE_NAME - 1, for messages */
 
 struct sinter_scene {
     sinter_ctx *ctx;
     char name[SCENE_NAME];
-    char directory[1024]; /* of the scene file, for relative paths */
+    char directory[SINTER_PATH_SIZE]; /* of the scene file, for relative paths */
     sinter_material *materials[SCENE_MAX_MATERIALS];
     char material_names[SCENE_MAX_MATERIALS][SCENE_NAME];
     size_t material_count;
@@ -41,6 +43,18 @@ struct sinter_scene {
     /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
     scene_program program;
     double furnace_shift; /* how far the stepper's furnace has been delayed (the origin) [s] */
+    double max_frames; /* most records (series rows, VTU frames) the run may write */
 };
+
+/* Default of [output] max_frames. */
+#define SCENE_MAX_FRAMES 1e6
+
+/*
+ * The output plan of a run of end_time after a pour of at most pour_time [s] (0: none),
+ * recording every interval: SINTER_ERR_INVALID when t + interval == t at the last time
+ * (the run would never end) or when it would record more than max_frames times.
+ */
+sinter_status sinter_scene_check_output(sinter_ctx *ctx, double end_time, double pour_time,
+                                        double interval, double max_frames);
 
 #endif

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "io/text_file.h"
 #include "scene_text.h"
 
 static char *trim(char *s)
@@ -26,6 +27,7 @@ void scene_text_free(scene_text *t)
             sinter_free(t->ctx, s->entries[e].value);
         }
         sinter_free(t->ctx, s->entries);
+        sinter_key_set_free(t->ctx, &s->keys);
         sinter_free(t->ctx, s->type);
         sinter_free(t->ctx, s->name);
     }
@@ -102,12 +104,12 @@ static sinter_status parse_line(scene_text *t, char *text, int line)
                            "%s:%d: expected a section header '[type name]' before '%s = ...'",
                            t->path, line, key);
     scene_section *sec = &t->sections[t->count - 1];
-    for (size_t e = 0; e < sec->count; ++e)
-        if (strcmp(sec->entries[e].key, key) == 0)
-            return sinter_fail(ctx, SINTER_ERR_PARSE,
-                               "%s:%d: key '%s' is given twice in [%s%s%s] (first on line %d)",
-                               t->path, line, key, sec->type, *sec->name ? " " : "", sec->name,
-                               sec->entries[e].line);
+    const size_t first = sinter_key_set_find(&sec->keys, key);
+    if (first != SIZE_MAX)
+        return sinter_fail(ctx, SINTER_ERR_PARSE,
+                           "%s:%d: key '%s' is given twice in [%s%s%s] (first on line %d)", t->path,
+                           line, key, sec->type, *sec->name ? " " : "", sec->name,
+                           sec->entries[first].line);
     sinter_status st = sinter_grow(ctx, (void **)&sec->entries, &sec->capacity, sec->count + 1,
                                    sizeof(scene_entry));
     if (st != SINTER_OK)
@@ -117,8 +119,19 @@ static sinter_status parse_line(scene_text *t, char *text, int line)
     en->value = sinter_strdup(ctx, value);
     en->line = line;
     en->used = 0;
+    if (en->key == NULL || en->value == NULL) {
+        sinter_free(ctx, en->key);
+        sinter_free(ctx, en->value);
+        return SINTER_ERR_NOMEM;
+    }
+    st = sinter_key_set_insert(ctx, &sec->keys, en->key, sec->count);
+    if (st != SINTER_OK) {
+        sinter_free(ctx, en->key);
+        sinter_free(ctx, en->value);
+        return st;
+    }
     sec->count++;
-    return (en->key && en->value) ? SINTER_OK : SINTER_ERR_NOMEM;
+    return SINTER_OK;
 }
 
 sinter_status scene_text_read(scene_text *t, sinter_ctx *ctx, const char *path)
@@ -128,24 +141,30 @@ sinter_status scene_text_read(scene_text *t, sinter_ctx *ctx, const char *path)
     t->path = sinter_strdup(ctx, path);
     if (t->path == NULL)
         return SINTER_ERR_NOMEM;
-    FILE *f = fopen(path, "r");
-    if (f == NULL)
-        return sinter_fail(ctx, SINTER_ERR_IO, "cannot open scene file '%s': %s", path,
-                           strerror(errno));
+    FILE *f = NULL;
+    sinter_status st = sinter_text_open(ctx, "", "scene file", path, &f);
+    if (st != SINTER_OK)
+        return st;
     char buf[4096];
     int line = 0;
-    sinter_status st = SINTER_OK;
-    while (st == SINTER_OK && fgets(buf, sizeof(buf), f) != NULL) {
-        ++line;
-        if (strchr(buf, '\n') == NULL && !feof(f)) {
-            st = sinter_fail(ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters", path,
-                             line, sizeof(buf) - 2);
+    while (st == SINTER_OK) {
+        const sinter_line_result got = sinter_text_line(f, buf, sizeof(buf));
+        if (got == SINTER_LINE_END)
             break;
-        }
-        st = parse_line(t, buf, line);
+        ++line;
+        if (got == SINTER_LINE_OK)
+            st = parse_line(t, buf, line);
+        else if (got == SINTER_LINE_TOO_LONG)
+            st = sinter_fail(ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters", path,
+                             line, sizeof(buf) - 1);
+        else if (got == SINTER_LINE_NUL)
+            st =
+                sinter_fail(ctx, SINTER_ERR_PARSE,
+                            "%s:%d: a NUL byte inside the line (a scene file is text)", path, line);
+        else
+            st = sinter_fail(ctx, SINTER_ERR_IO, "%s:%d: error reading the scene file: %s", path,
+                             line, strerror(errno));
     }
-    if (st == SINTER_OK && ferror(f))
-        st = sinter_fail(ctx, SINTER_ERR_IO, "error reading scene file '%s'", path);
     fclose(f);
     if (st == SINTER_OK && t->count == 0)
         st = sinter_fail(ctx, SINTER_ERR_PARSE, "%s: the file has no sections", path);
@@ -154,13 +173,11 @@ sinter_status scene_text_read(scene_text *t, sinter_ctx *ctx, const char *path)
 
 scene_entry *scene_find(scene_section *s, const char *key)
 {
-    for (size_t e = 0; e < s->count; ++e) {
-        if (strcmp(s->entries[e].key, key) == 0) {
-            s->entries[e].used = 1;
-            return &s->entries[e];
-        }
-    }
-    return NULL;
+    const size_t e = sinter_key_set_find(&s->keys, key);
+    if (e == SIZE_MAX)
+        return NULL;
+    s->entries[e].used = 1;
+    return &s->entries[e];
 }
 
 static sinter_status expected(scene_text *t, const scene_entry *e, const char *what)

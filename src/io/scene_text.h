@@ -7,6 +7,7 @@
 #define SINTER_SCENE_TEXT_H
 
 #include "core/core.h"
+#include "io/key_set.h"
 
 typedef struct scene_entry {
     char *key;
@@ -22,6 +23,7 @@ typedef struct scene_section {
     scene_entry *entries;
     size_t count;
     size_t capacity;
+    sinter_key_set keys; /* entry index by key */
 } scene_section;
 
 typedef struct scene_text {

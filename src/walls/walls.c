@@ -60,6 +60,20 @@ static int finite3(const double v[3])
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
 
+/* v / |v| into unit, scaled by the largest component first so that neither 1e200 (whose
+ * square overflows) nor 1e-200 (whose square underflows) is lost; 0 for the zero vector. */
+static int unit_vector(const double v[3], double unit[3])
+{
+    const double scale = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+    if (!(scale > 0.0))
+        return 0;
+    const double s[3] = {v[0] / scale, v[1] / scale, v[2] / scale};
+    const double len = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    for (int d = 0; d < 3; ++d)
+        unit[d] = s[d] / len;
+    return 1;
+}
+
 sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
                                      const double normal[3], const sinter_material *material,
                                      size_t *index)
@@ -75,8 +89,8 @@ sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
                            "sinter_walls_add_plane: point (%g, %g, %g) and normal (%g, %g, %g) "
                            "must be finite",
                            point[0], point[1], point[2], normal[0], normal[1], normal[2]);
-    const double len = sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-    if (!(len > 0.0))
+    double unit[3];
+    if (!unit_vector(normal, unit))
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "sinter_walls_add_plane: the normal is the zero vector");
     if (walls->count == walls->capacity) {
@@ -91,7 +105,7 @@ sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
     memset(w, 0, sizeof(*w));
     for (int d = 0; d < 3; ++d) {
         w->p0[d] = w->p[d] = point[d];
-        w->n[d] = normal[d] / len;
+        w->n[d] = unit[d];
     }
     w->temperature = 293.15;
     w->motion = SINTER_WALL_FIXED;

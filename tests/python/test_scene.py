@@ -93,6 +93,14 @@ class SceneTest(unittest.TestCase):
             sinter.Scene(self.ctx, os.path.join(self.tmp.name, "missing.scene"))
         self.assertIs(caught.exception.status, sinter.Status.ERR_IO)
 
+    def test_check_refuses_a_particle_behind_a_wall(self):
+        sinter.Scene(self.ctx, self.path).check()  # the drop scene is sound
+        below = DROP_SCENE.replace("box_min = 0 0 0.0002", "box_min = 0 0 -0.0009")
+        scene = sinter.Scene(self.ctx, write_scene(self.tmp.name, below, "below.scene"))
+        with self.assertRaises(sinter.InvalidArgument) as caught:
+            scene.check()
+        self.assertIn("is behind wall 0 (floor)", caught.exception.message)
+
 
 @unittest.skipIf("sinter_neck_two_particles" in _lib.missing_functions,
                  "the library has no sinter_neck_two_particles")

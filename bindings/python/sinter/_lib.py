@@ -9,6 +9,8 @@ import ctypes
 import ctypes.util
 import os
 
+from ._integers import checked_function
+
 
 class LibraryNotFound(OSError):
     """libsinter could not be loaded; the message lists every place tried."""
@@ -313,6 +315,7 @@ SIGNATURES = {
     "sinter_scene_checkpoint_write": (c_status, [ScenePtr, _str]),
     "sinter_scene_restart": (c_status, [ScenePtr, _str]),
     "sinter_plot_run": (c_status, [CtxPtr, _str, _str]),
+    "sinter_scene_check": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
     "sinter_stepper_set_furnace": (c_status, [StepperPtr, _size, _P(_double), _P(_double)]),
@@ -393,6 +396,7 @@ def declare(cdll):
             continue
         function.restype = restype
         function.argtypes = argtypes
+        setattr(cdll, name, checked_function(name, function))  # OverflowError, not wrapping
     return missing
 
 

@@ -18,6 +18,7 @@ import itertools
 from . import _callbacks
 from ._callbacks import ContactBatch, StateView
 from ._errors import NotFound, check
+from ._integers import to_c
 from ._lib import (BodyFn, ContactsFn, ElectricModelPtr, ForceCallbacks,
                    ForceModelPtr, HeatCallbacks, HeatModelPtr, PowerFn, lib, text)
 from .context import _Handle
@@ -116,7 +117,7 @@ class ForceModel(_KeyedModel):
         functions = []
         table = ForceCallbacks()
         table.struct_size = ctypes.sizeof(ForceCallbacks)
-        table.history_size = int(history_size)
+        table.history_size = to_c(int(history_size), ctypes.c_size_t, "history_size")
         if contacts is not None:
             functions.append(_contacts_trampoline(contacts))
             table.contacts = functions[-1]

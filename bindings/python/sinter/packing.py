@@ -4,6 +4,7 @@ import ctypes
 import enum
 
 from ._errors import check
+from ._integers import to_c
 from ._lib import CompactionOptions, CompactionResult, PackingOptions, lib
 
 
@@ -37,9 +38,9 @@ def packing_options(**options):
         elif key == "distribution":
             if isinstance(value, str):
                 value = RadiusDistribution[value.upper()]
-            c.distribution = int(value)
+            c.distribution = to_c(int(value), ctypes.c_int, "distribution")
         elif key in ("seed", "max_attempts", "material"):
-            setattr(c, key, int(value))
+            setattr(c, key, to_c(int(value), dict(PackingOptions._fields_)[key], key))
         elif key in {name for name, _ in PackingOptions._fields_} - {"struct_size"}:
             setattr(c, key, float(value))
         else:

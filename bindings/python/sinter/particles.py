@@ -71,13 +71,38 @@ def _field(name):
                        % (name, ", ".join(FIELDS))) from None
 
 
-def _wrap(address, count, components, fmt, writable):
-    """A NumPy array or memoryview over count*components elements at `address` (no copy)."""
+class _SetKeeper:
+    """Held by the memory under a field array: while an array over a set's memory lives (a
+    NumPy array kept after its ``with`` block), closing the set (or its context) only marks
+    it closed, and its C object is destroyed when the last such array goes, so a write
+    through the array never lands in freed memory."""
+
+    def __init__(self, particles):
+        self._particles = particles
+        particles._users += 1
+
+    def __del__(self):
+        try:
+            self._particles._users -= 1
+            self._particles._destroy_if_unused()
+        except Exception:  # interpreter shutdown: modules may be gone
+            pass
+
+
+def _wrap(address, count, components, fmt, writable, owner=None):
+    """A NumPy array or memoryview over count*components elements at `address` (no copy).
+
+    owner: the Particles whose memory it is, kept undestroyed while the array (whose base
+    holds the memory object) lives.
+    """
     size = count * components
     if size == 0:
         buffer = memoryview(bytearray() if writable else b"")
     else:
-        buffer = memoryview((_CTYPES[fmt] * size).from_address(address)).cast("B")
+        memory = (_CTYPES[fmt] * size).from_address(address)
+        if owner is not None:
+            memory._sinter_keeper = _SetKeeper(owner)
+        buffer = memoryview(memory).cast("B")
         if not writable:
             buffer = buffer.toreadonly()
     shape = (count, components) if components > 1 else (count,)
@@ -111,7 +136,7 @@ class FieldView:
         self._borrowed = True
         try:
             self._array = _wrap(data.value, count.value, components.value,
-                                self.field.format, self.writable)
+                                self.field.format, self.writable, owner=self.particles)
         except BaseException:
             self.release()
             raise
@@ -337,7 +362,9 @@ class Particles(_Handle):
         over the library's memory: NumPy when available, else a memoryview.
         writable defaults to True except for read-only fields (id). While a
         view is out, add/remove/reserve raise BusyError. Do not keep x after
-        the block: it points at memory the library may move or free.
+        the block: it points at memory the library may move (add, remove, reserve). A NumPy
+        array kept anyway keeps the set's memory allocated: closing the set then destroys it
+        only once the array is gone.
         """
         info = _field(field)
         return FieldView(self, info, info.writable if writable is None else writable)

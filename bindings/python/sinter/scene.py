@@ -116,6 +116,13 @@ class Scene(_Handle):
         self._check(lib.sinter_scene_checkpoint_write(self._ptr, os.fsencode(path)),
                     "sinter_scene_checkpoint_write")
 
+    def check(self):
+        """Make the checks a run makes before its first step, without stepping
+        (sinter_scene_check): the output plan, the particles' values, no particle behind a wall
+        or outside the domain, no two with the same centre. Raises InvalidArgument (or
+        BusyError while a field view is out) naming what is wrong."""
+        self._check(lib.sinter_scene_check(self._ptr), "sinter_scene_check")
+
     def run(self, out_dir, progress=None):
         """Run to the end time, writing the [output] files into out_dir (created if missing).
 
