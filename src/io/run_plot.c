@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "io/path.h"
 #include "io/run_plot.h"
 
 enum { MAX_PANELS = 8 };
@@ -110,14 +111,14 @@ sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, const char *
     if (ctx == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(ctx, out_dir);
-    char csv[4096], svg[4096];
-    if ((size_t)snprintf(csv, sizeof(csv), "%s/series.csv", out_dir) >= sizeof(csv) ||
-        (size_t)snprintf(svg, sizeof(svg), "%s/series.svg", out_dir) >= sizeof(svg))
-        return sinter_fail(ctx, SINTER_ERR_INVALID,
-                           "sinter_plot_run: the directory '%.200s...' is too long a path",
-                           out_dir);
+    char csv[SINTER_PATH_SIZE], svg[SINTER_PATH_SIZE];
+    sinter_status st = sinter_path_join(ctx, csv, sizeof(csv), out_dir, "series.csv");
+    if (st == SINTER_OK)
+        st = sinter_path_join(ctx, svg, sizeof(svg), out_dir, "series.svg");
+    if (st != SINTER_OK)
+        return st;
     sinter_series *s = NULL;
-    sinter_status st = sinter_series_read_csv(&s, ctx, csv);
+    st = sinter_series_read_csv(&s, ctx, csv);
     if (st == SINTER_OK && s->rows == 0)
         st = sinter_fail(ctx, SINTER_ERR_STATE, "sinter_plot_run: '%s' has no sample yet", csv);
     if (st == SINTER_OK)

@@ -34,7 +34,7 @@ enum {
 /* Create `path` and any missing parents (like mkdir -p). */
 static sinter_status make_dir(sinter_ctx *ctx, const char *path)
 {
-    char partial[4096];
+    char partial[SINTER_PATH_SIZE];
     const size_t len = strlen(path);
     if (len == 0 || len >= sizeof(partial))
         return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -202,22 +202,10 @@ typedef struct run_state {
     sinter_series *series; /* the columns; rows kept only when a plot is drawn without a CSV */
     sinter_csv_stream csv;
     double *row;
-    char csv_path[4096];
+    char csv_path[SINTER_PATH_SIZE];
     uint64_t earlier;       /* frames of the program written before this call */
     unsigned char *present; /* which of them are in out_dir (listed in the collection) */
 } run_state;
-
-/* dir/name into path (size bytes), refusing a path that does not fit. */
-static sinter_status join(sinter_ctx *ctx, char *path, size_t size, const char *dir,
-                          const char *name)
-{
-    const int n = snprintf(path, size, "%s/%s", dir, name);
-    if (n < 0 || (size_t)n >= size)
-        return sinter_fail(ctx, SINTER_ERR_INVALID,
-                           "the output path '%.100s.../%.100s' is longer than %zu bytes", dir, name,
-                           size - 1);
-    return SINTER_OK;
-}
 
 /* The PVD collection of the frames written so far (those of an earlier run only where their
  * files are in this directory: a restart into another directory lists its own). */
@@ -228,7 +216,7 @@ static sinter_status write_collection(run_state *r)
     const scene_program *p = &sc->program;
     char **files = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(char *));
     double *times = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(double));
-    char rel[64], path[4096];
+    char rel[64], path[SINTER_PATH_SIZE];
     sinter_status st = files && times ? SINTER_OK : sinter_last_status(ctx);
     size_t listed = 0;
     for (uint64_t k = 0; k < p->frames && st == SINTER_OK; ++k) {
@@ -243,7 +231,7 @@ static sinter_status write_collection(run_state *r)
     char name[SCENE_NAME + 8];
     snprintf(name, sizeof(name), "%s.pvd", sc->name);
     if (st == SINTER_OK)
-        st = join(ctx, path, sizeof(path), r->out_dir, name);
+        st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, name);
     if (st == SINTER_OK)
         st = sinter_write_pvd(ctx, path, listed, times, (const char *const *)files);
     for (size_t k = 0; files != NULL && k < listed; ++k)
@@ -257,9 +245,9 @@ static sinter_status write_frame(run_state *r)
 {
     sinter_scene *sc = r->sc;
     sinter_ctx *ctx = sc->ctx;
-    char rel[64], path[4096];
+    char rel[64], path[SINTER_PATH_SIZE];
     snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)sc->program.frames);
-    sinter_status st = join(ctx, path, sizeof(path), r->out_dir, rel);
+    sinter_status st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, rel);
     if (st != SINTER_OK)
         return st;
     /* contact count per particle, for ParaView */
@@ -303,8 +291,8 @@ static sinter_status write_plot(run_state *r)
         return SINTER_OK;
     if (sc->write_csv)
         return sinter_plot_run(sc->ctx, r->out_dir, sc->name);
-    char path[4096];
-    sinter_status st = join(sc->ctx, path, sizeof(path), r->out_dir, "series.svg");
+    char path[SINTER_PATH_SIZE];
+    sinter_status st = sinter_path_join(sc->ctx, path, sizeof(path), r->out_dir, "series.svg");
     return st == SINTER_OK ? sinter_plot_series(r->series, path, sc->name) : st;
 }
 
@@ -330,8 +318,8 @@ static sinter_status record(run_state *r)
 static sinter_status checkpoint(run_state *r)
 {
     sinter_scene *sc = r->sc;
-    char path[4096];
-    sinter_status st = join(sc->ctx, path, sizeof(path), r->out_dir, "checkpoint.bin");
+    char path[SINTER_PATH_SIZE];
+    sinter_status st = sinter_path_join(sc->ctx, path, sizeof(path), r->out_dir, "checkpoint.bin");
     if (st == SINTER_OK && sc->write_csv)
         st = sinter_csv_stream_sync(&r->csv); /* the rows the checkpoint counts are on disk */
     return st == SINTER_OK ? sinter_scene_checkpoint_write(sc, path) : st;
@@ -463,14 +451,14 @@ static sinter_status open_output(run_state *r)
 {
     sinter_scene *sc = r->sc;
     sinter_ctx *ctx = sc->ctx;
-    char path[4096];
+    char path[SINTER_PATH_SIZE];
     sinter_status st = make_dir(ctx, r->out_dir);
     if (st == SINTER_OK && sc->write_vtu)
-        st = join(ctx, path, sizeof(path), r->out_dir, "frames");
+        st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, "frames");
     if (st == SINTER_OK && sc->write_vtu)
         st = make_dir(ctx, path);
     if (st == SINTER_OK)
-        st = join(ctx, path, sizeof(path), r->out_dir, ".sinter_write_test");
+        st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, ".sinter_write_test");
     if (st == SINTER_OK) {
         FILE *probe = fopen(path, "wb");
         if (probe == NULL)
@@ -489,7 +477,7 @@ static sinter_status open_output(run_state *r)
         char rel[64];
         struct stat info;
         snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
-        st = join(ctx, path, sizeof(path), r->out_dir, rel);
+        st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, rel);
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
     const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
@@ -502,7 +490,7 @@ static sinter_status open_output(run_state *r)
     if (st == SINTER_OK)
         st = sinter_series_create(&r->series, ctx, ncol, names, units);
     if (st == SINTER_OK)
-        st = join(ctx, r->csv_path, sizeof(r->csv_path), r->out_dir, "series.csv");
+        st = sinter_path_join(ctx, r->csv_path, sizeof(r->csv_path), r->out_dir, "series.csv");
     if (st == SINTER_OK && sc->write_csv) {
         int kept = 0;
         st = sinter_csv_stream_open(&r->csv, ctx, r->csv_path, r->series, sc->program.rows, &kept);
