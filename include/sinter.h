@@ -826,7 +826,13 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    particle's top below
  *    the highest particle top inside the beam. "x", "y" and "intensity" may
  *    follow schedules (sinter_heat_model_set_schedule).
- *  - "joule": Joule heating H = a J^2 / sigma V (seed 000 eq. 35) with J the
+ *  - "joule": Joule heating. With a "network" electric model (by default,
+ *    "source" = 0): the power the network dissipates in its contacts,
+ *    G (phi_a - phi_b)^2 per contact, half to each particle of a pair and all
+ *    of it to the particle at an electrode, so that the heat put into the
+ *    particles equals the walls' electrical work (sinter_electric_model_power).
+ *    Otherwise, or with "source" = 1 (2: the network's, an error without one):
+ *    H = a J^2 / sigma V (seed 000 eq. 35) with J the
  *    particle's current field (written by an electric model or the host),
  *    a the absorptance, sigma the electric conductivity of its material and
  *    V = 4/3 pi r^3. "sigmoid" = 1 makes sigma follow seed 000 eq. 50,
@@ -957,7 +963,11 @@ SINTER_API sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k
  *    do not conduct.
  * Parameters (both models): "tolerance" (> 0, < 1; default 1e-6 averaged,
  * 1e-10 network), "max_iterations" (sweeps or PCG iterations, integer >= 1,
- * default 10000); exceeding it is SINTER_ERR_NOT_CONVERGED.
+ * default 10000); exceeding it is SINTER_ERR_NOT_CONVERGED. The network's
+ * conductivities follow seed 000 eq. 50's temperature term with "sigmoid" = 1:
+ * sigma_0 (1 + "k1" s("gamma1" (theta - "theta_ref"))), s(x) = 1 / (1 + e^-x)
+ * (defaults 0, 0, 0 1/K, 293.15 K; a conductivity <= 0 from it is
+ * SINTER_ERR_DOMAIN; the averaged model refuses these keys).
  * Only particles touching a non-neutral wall are flagged
  * SINTER_PARTICLE_ELECTRIFIED ("averaged": current walls only); the flag is
  * cleared on the others.
@@ -984,6 +994,19 @@ SINTER_API sinter_status sinter_electric_model_get(const sinter_electric_model *
  */
 SINTER_API sinter_status sinter_stepper_set_electric(sinter_stepper *stepper,
                                                      sinter_electric_model *em);
+/**
+ * The power of the network model's last solve [W]: `supplied`, what the driven
+ * walls deliver (sum over walls of its potential times the current from it
+ * into the powder), and `dissipated`, Joule's G (phi_a - phi_b)^2 summed over
+ * the conducting contacts. By Tellegen's theorem they are equal to the
+ * accuracy of the solve ("tolerance"); the "joule" heat model puts the
+ * dissipated power into the particles (its default with this model). Errors:
+ * SINTER_ERR_NULL, SINTER_ERR_UNSUPPORTED (the "averaged" model, which has no
+ * potentials).
+ */
+SINTER_API sinter_status sinter_electric_model_power(const sinter_electric_model *em,
+                                                     double *supplied, double *dissipated);
+
 /** Total iterations (sweeps or PCG iterations) of the stepper's electric solves so far. */
 SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper *stepper,
                                                             uint64_t *iterations);

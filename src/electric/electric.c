@@ -46,6 +46,7 @@ sinter_status sinter_electric_model_create(sinter_electric_model **out, sinter_c
         strncpy(em->name, BUILTIN[k].name, sizeof(em->name) - 1);
         em->tolerance = BUILTIN[k].tolerance;
         em->max_iterations = DEFAULT_MAX_ITERATIONS;
+        em->theta_ref = 293.15;
         *out = em;
         return SINTER_OK;
     }
@@ -80,6 +81,7 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->free_a);
     sinter_free(ctx, em->free_b);
     sinter_free(ctx, em->free_g);
+    sinter_free(ctx, em->dissipation);
     sinter_free(ctx, em);
 }
 
@@ -88,8 +90,17 @@ const char *sinter_electric_model_name(const sinter_electric_model *em)
     return em == NULL ? "" : em->name;
 }
 
-enum { KEY_TOLERANCE = 0, KEY_MAX_ITERATIONS = 1, KEY_COUNT = 2 };
-static const char *const KEYS[KEY_COUNT] = {"tolerance", "max_iterations"};
+enum {
+    KEY_TOLERANCE = 0,
+    KEY_MAX_ITERATIONS,
+    KEY_SIGMOID,
+    KEY_THETA_REF,
+    KEY_K1,
+    KEY_GAMMA1,
+    KEY_COUNT
+};
+static const char *const KEYS[KEY_COUNT] = {"tolerance", "max_iterations", "sigmoid", "theta_ref",
+                                            "k1",        "gamma1"};
 
 static sinter_status find_key(const sinter_electric_model *em, const char *key, int *k)
 {
@@ -99,8 +110,15 @@ static sinter_status find_key(const sinter_electric_model *em, const char *key, 
             return SINTER_OK;
     return sinter_fail(em->ctx, SINTER_ERR_NOT_FOUND,
                        "electric model '%s' has no parameter '%s' (known: tolerance, "
-                       "max_iterations)",
+                       "max_iterations, sigmoid, theta_ref, k1, gamma1)",
                        em->name, key);
+}
+
+static double *value_of(sinter_electric_model *em, int k)
+{
+    double *const values[KEY_COUNT] = {
+        &em->tolerance, &em->max_iterations, &em->sigmoid, &em->theta_ref, &em->k1, &em->gamma1};
+    return values[k];
 }
 
 sinter_status sinter_electric_model_set(sinter_electric_model *em, const char *key, double value)
@@ -111,20 +129,23 @@ sinter_status sinter_electric_model_set(sinter_electric_model *em, const char *k
     sinter_status s = find_key(em, key, &k);
     if (s != SINTER_OK)
         return s;
-    if (k == KEY_TOLERANCE) {
-        if (!(value > 0.0 && value < 1.0))
-            return sinter_fail(em->ctx, SINTER_ERR_INVALID,
-                               "electric model '%s': tolerance %g must lie in (0, 1)", em->name,
-                               value);
-        em->tolerance = value;
-    } else {
-        if (!(value >= 1.0 && value <= 1e9 && value == floor(value)))
-            return sinter_fail(em->ctx, SINTER_ERR_INVALID,
-                               "electric model '%s': max_iterations %g must be an integer in "
-                               "[1, 1e9]",
-                               em->name, value);
-        em->max_iterations = value;
-    }
+    const char *why = NULL;
+    if (k == KEY_TOLERANCE && !(value > 0.0 && value < 1.0))
+        why = "must lie in (0, 1)";
+    else if (k == KEY_MAX_ITERATIONS && !(value >= 1.0 && value <= 1e9 && value == floor(value)))
+        why = "must be an integer in [1, 1e9]";
+    else if (k == KEY_SIGMOID && value != 0.0 && value != 1.0)
+        why = "must be 0 (constant conductivities) or 1 (seed 000 eq. 50's temperature term)";
+    else if (k == KEY_THETA_REF && !(value > 0.0 && isfinite(value)))
+        why = "must be a positive temperature [K]";
+    else if ((k == KEY_K1 || k == KEY_GAMMA1) && !isfinite(value))
+        why = "must be finite";
+    else if (k >= KEY_SIGMOID && em->kind != SINTER_ELECTRIC_NETWORK)
+        why = "is a parameter of the network model's conductances only";
+    if (why != NULL)
+        return sinter_fail(em->ctx, SINTER_ERR_INVALID, "electric model '%s': %s %g %s", em->name,
+                           key, value, why);
+    *value_of(em, k) = value;
     return SINTER_OK;
 }
 
@@ -137,8 +158,32 @@ sinter_status sinter_electric_model_get(const sinter_electric_model *em, const c
     int k = 0;
     sinter_status s = find_key(em, key, &k);
     if (s == SINTER_OK)
-        *value = k == KEY_TOLERANCE ? em->tolerance : em->max_iterations;
+        *value = *value_of((sinter_electric_model *)em, k);
     return s;
+}
+
+sinter_status sinter_electric_model_power(const sinter_electric_model *em, double *supplied,
+                                          double *dissipated)
+{
+    if (em == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(em->ctx, supplied);
+    SINTER_CHECK_NULL(em->ctx, dissipated);
+    if (em->kind != SINTER_ELECTRIC_NETWORK)
+        return sinter_fail(em->ctx, SINTER_ERR_UNSUPPORTED,
+                           "sinter_electric_model_power: the '%s' model propagates a current "
+                           "magnitude without potentials; only 'network' has a power",
+                           em->name);
+    *supplied = em->supplied_power;
+    *dissipated = em->dissipated_power;
+    return SINTER_OK;
+}
+
+const double *sinter_electric_dissipation(const sinter_electric_model *em, size_t n)
+{
+    return em != NULL && em->kind == SINTER_ELECTRIC_NETWORK && em->dissipation_count == n && n > 0
+               ? em->dissipation
+               : NULL;
 }
 
 sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles *ps,

@@ -41,6 +41,13 @@ struct sinter_electric_model {
     size_t open_clusters; /* network: clusters left without current (open circuit) */
     size_t warm_nodes;    /* network: nodes of the last solve, whose potentials start the next
                              (0: none; see network.c) */
+    /* network: the power of the last solve (network.c): delivered by the driven walls, and
+     * dissipated in the contacts, per particle (its share) and in all [W] */
+    double supplied_power, dissipated_power;
+    double *dissipation; /* per particle, dissipation_count of them (0: none yet) */
+    size_t dissipation_count, dissipation_capacity;
+    /* network: the conductivities follow seed 000 eq. 50's temperature term (network.c) */
+    double sigmoid, theta_ref, k1, gamma1;
 
     /* Scratch reused across solves (grown on demand, never shrunk). */
     size_t potential_capacity;
@@ -88,6 +95,10 @@ struct sinter_electric_model {
 sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles *ps,
                                     const sinter_walls *walls, const sinter_contact_list *pp,
                                     const sinter_contact_list *pw, size_t *iterations);
+
+/* The Joule power each particle receives from the last network solve [W] (n values), or NULL
+ * when the model is not a network or its last solve was not over n particles. */
+const double *sinter_electric_dissipation(const sinter_electric_model *em, size_t n);
 
 /* The two models (averaged.c, network.c); arguments are checked by sinter_electric_solve. */
 sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_particles *ps,

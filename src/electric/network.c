@@ -100,6 +100,25 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b)
         parent[a > b ? a : b] = a < b ? a : b; /* the smaller index becomes the root */
 }
 
+/*
+ * A particle's conductivity [S/m]: its material's sigma_0, times seed 000 eq. 50's temperature
+ * term 1 + k1 s(gamma1 (theta - theta_ref)), s(x) = 1 / (1 + e^-x), when "sigmoid" = 1 (the
+ * field term of eq. 50 would make the network nonlinear in its own solution and is left to the
+ * "joule" model's eq. 35 reading). 0 with *bad set when eq. 50 gives no positive value.
+ */
+static double conductivity(const sinter_electric_model *em, const sinter_particles *ps, size_t i,
+                           int *bad)
+{
+    const double sigma0 = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+    if (em->sigmoid == 0.0)
+        return sigma0;
+    const double x = em->gamma1 * (ps->temperature[i] - em->theta_ref);
+    const double sigma = sigma0 * (1.0 + em->k1 / (1.0 + exp(-x)));
+    if (sigma0 > 0.0 && !(sigma > 0.0 && isfinite(sigma)))
+        *bad = 1;
+    return sigma;
+}
+
 /* Conducting edges of the contact lists (G > 0), and the ELECTRIFIED flags. */
 static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps,
                                  const sinter_walls *walls, const sinter_contact_list *pp,
@@ -111,10 +130,10 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
     SINTER_ELECTRIC_RESERVE(em, edge_g, m + 1);
     size_t count = 0;
     const double *r = ps->radius;
+    int bad = 0;
     for (size_t k = 0; k < pp->count; ++k) {
         const uint32_t i = pp->i[k], j = pp->j[k];
-        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double sj = sinter_particle_param(ps, j, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+        const double si = conductivity(em, ps, i, &bad), sj = conductivity(em, ps, j, &bad);
         const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35 */
         const double g = den > 0.0 && pp->dist[k] > 0.0
                              ? si * sj * (r[i] + r[j]) / den * pp->area[k] / pp->dist[k]
@@ -132,7 +151,7 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
         if (walls->wall[w].electric_mode == SINTER_WALL_NEUTRAL)
             continue;
         ps->flags[i] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
-        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+        const double si = conductivity(em, ps, i, &bad);
         const double g = pw->dist[k] > 0.0 ? si * pw->area[k] / pw->dist[k] : 0.0;
         if (g > 0.0 && isfinite(g)) {
             em->edge_a[count] = i;
@@ -141,6 +160,43 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
         }
     }
     em->edge_count = count;
+    if (bad)
+        return sinter_fail(em->ctx, SINTER_ERR_DOMAIN,
+                           "electric model '%s': seed 000 eq. 50 (k1 = %g, gamma1 = %g 1/K, "
+                           "theta_ref = %g K) gives a conductivity <= 0 at a particle's "
+                           "temperature; it must stay positive",
+                           em->name, em->k1, em->gamma1, em->theta_ref);
+    return SINTER_OK;
+}
+
+/*
+ * The power of the solution (Joule's law on each resistor, P = G (phi_a - phi_b)^2): a
+ * particle-particle contact gives half its power to each particle, a particle-wall contact all
+ * of it to the particle (the electrode is a reservoir that takes no heat from the powder). The
+ * driven walls deliver sum_w phi_w I_w, I_w the current from wall w into the powder; by
+ * Tellegen's theorem the two are equal to the accuracy of the solve.
+ */
+static sinter_status account_power(sinter_electric_model *em, size_t n)
+{
+    SINTER_ELECTRIC_RESERVE(em, dissipation, n + 1);
+    const double *phi = em->potential;
+    double *p = em->dissipation, dissipated = 0.0, supplied = 0.0;
+    memset(p, 0, n * sizeof(double));
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t a = em->edge_a[e], b = em->edge_b[e];
+        const double drop = phi[a] - phi[b], power = em->edge_g[e] * drop * drop;
+        dissipated += power;
+        if (b < n) {
+            p[a] += 0.5 * power;
+            p[b] += 0.5 * power;
+        } else {
+            p[a] += power;
+            supplied += phi[b] * em->edge_g[e] * (phi[b] - phi[a]);
+        }
+    }
+    em->dissipation_count = n;
+    em->dissipated_power = dissipated;
+    em->supplied_power = supplied;
     return SINTER_OK;
 }
 
@@ -219,6 +275,8 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
      * error below leaves the next solve a start from 0) */
     const int warm = em->warm_nodes == nodes;
     em->warm_nodes = 0;
+    em->dissipation_count = 0;
+    em->supplied_power = em->dissipated_power = 0.0;
     sinter_status s = build_edges(em, ps, walls, pp, pw);
     if (s != SINTER_OK)
         return s;
@@ -314,6 +372,9 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
         if (b < n)
             J[b] += half;
     }
+    s = account_power(em, n);
+    if (s != SINTER_OK)
+        return s;
     if (em->open_clusters > 0)
         sinter_log(em->ctx, SINTER_LOG_WARNING,
                    "electric model 'network': %zu cluster(s) of particles touch current walls "

@@ -24,6 +24,9 @@ typedef struct sinter_heat_eval {
     double *g_pp;
     double *g_pw;
     const sinter_state_view *view; /* for host callbacks */
+    /* the Joule power each particle received from the last network electric solve [W] (the
+     * "joule" model's energy-consistent source), or NULL without a network model */
+    const double *joule_dissipation;
 } sinter_heat_eval;
 
 typedef struct sinter_heat_ops {

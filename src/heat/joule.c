@@ -1,5 +1,7 @@
 /*
- * Joule heating (seed 000 eq. 35, sec. 5 remark 1): H_i = a_i J_i^2 / sigma_i V_i.
+ * Joule heating. With the "network" electric model (by default): the power its solution
+ * dissipates in the contacts (joule_from_network below), energy-consistent. Otherwise, and
+ * with "source" = 1, seed 000 eq. 35 (sec. 5 remark 1): H_i = a_i J_i^2 / sigma_i V_i.
  *
  *  - J_i: the particle's current field (ps->current), written by the stepper's electric model
  *    (src/electric/) or set by the host. The formula is used as printed: with J a current
@@ -39,6 +41,7 @@
 #include "particles/particles.h"
 
 enum {
+    PARAM_SOURCE = 7, /* after the eq. 50 parameters, so that their indices stay */
     PARAM_SIGMOID = 0,
     PARAM_THETA_REF = 1,
     PARAM_K1 = 2,
@@ -56,9 +59,45 @@ static double logistic(double x)
     return 1.0 / (1.0 + exp(-x));
 }
 
+/*
+ * "source" = 0 (automatic, the default) or 2: each particle's share of the power the network
+ * electric model dissipates in the contacts, G (phi_a - phi_b)^2 per contact, half to each
+ * particle of a pair and all to the particle at an electrode (electric/network.c): the heat
+ * put into the particles is the electrical work of the walls, exactly (energy-consistent; the
+ * absorptance does not enter: all of the work is heat in the bodies). With "source" = 0 and a
+ * model that has no potentials ("averaged", or none), and with "source" = 1: eq. 35 below.
+ */
+static sinter_status joule_from_network(const sinter_heat_model *hm, sinter_heat_eval *e,
+                                        int source)
+{
+    if (e->joule_dissipation == NULL) {
+        if (source == 2)
+            return sinter_fail(e->ctx, SINTER_ERR_STATE,
+                               "heat model '%s': 'source' = 2 takes the power the network "
+                               "electric model dissipates, and the stepper has no network model "
+                               "solved over these particles",
+                               hm->name);
+        return SINTER_ERR_NOT_FOUND; /* automatic: eq. 35 */
+    }
+    for (size_t i = 0; i < e->ps->count; ++i)
+        e->heat[i] += e->joule_dissipation[i];
+    return SINTER_OK;
+}
+
 static sinter_status joule_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
 {
     const double t = e->time;
+    const double source = sinter_heat_param(hm, PARAM_SOURCE, t);
+    if (source != 0.0 && source != 1.0 && source != 2.0)
+        return sinter_fail(e->ctx, SINTER_ERR_INVALID,
+                           "heat model '%s': 'source' = %g must be 0 (automatic), 1 (eq. 35) or "
+                           "2 (the network's dissipation)",
+                           hm->name, source);
+    if (source != 1.0) {
+        const sinter_status st = joule_from_network(hm, e, (int)source);
+        if (st != SINTER_ERR_NOT_FOUND)
+            return st;
+    }
     const double sigmoid = sinter_heat_param(hm, PARAM_SIGMOID, t);
     if (sigmoid != 0.0 && sigmoid != 1.0)
         return sinter_fail(e->ctx, SINTER_ERR_INVALID,
@@ -108,6 +147,7 @@ static sinter_status joule_eval(const sinter_heat_model *hm, sinter_heat_eval *e
 const sinter_heat_ops sinter_heat_joule = {
     "joule",
     0,
-    {"sigmoid", "theta_ref", "k1", "gamma1", "k2", "gamma2", "field_ref", NULL},
-    {0.0, 293.15, 0.0, 0.0, 0.0, 0.0, 0.0},
-    joule_eval, NULL};
+    {"sigmoid", "theta_ref", "k1", "gamma1", "k2", "gamma2", "field_ref", "source", NULL},
+    {0.0, 293.15, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    joule_eval,
+    NULL};

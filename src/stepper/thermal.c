@@ -5,6 +5,7 @@
 #include "contact/chunks.h"
 #include "contact/particle_pass.h"
 #include "core/pcg.h"
+#include "electric/electric.h"
 #include "sanity.h"
 #include "stepper.h"
 
@@ -110,8 +111,8 @@ sinter_status sinter_thermal_softening(sinter_stepper *st, const double **scale)
     /* on the contact law's particle ranges; a host's softening callback on one thread, as the
      * other callbacks */
     softening_job job = {ps, th->modulus_scale, {0}};
-    const int ranges = sinter_particle_pass(st->ctx, host ? NULL : &st->pp, ps->count,
-                                            softening_range, &job);
+    const int ranges =
+        sinter_particle_pass(st->ctx, host ? NULL : &st->pp, ps->count, softening_range, &job);
     for (int k = 0; k < ranges; ++k)
         if (job.bad[k] != SIZE_MAX) {
             const size_t i = job.bad[k];
@@ -140,6 +141,7 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     e.time = st->time;
     e.heat = st->ps->heat;
     e.view = &st->view;
+    e.joule_dissipation = sinter_electric_dissipation(st->electric, st->ps->count);
     return e;
 }
 
@@ -382,12 +384,12 @@ sinter_status sinter_thermal_explicit_begin(sinter_stepper *st)
 {
     sinter_thermal *th = &st->thermal;
     th->hot_checked = 0;
-    return sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity,
-                       st->ps->count + 1, sizeof(double));
+    return sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity, st->ps->count + 1,
+                       sizeof(double));
 }
 
-void sinter_thermal_explicit_range(sinter_stepper *st, double h, size_t lo, size_t hi,
-                                   size_t *bad, size_t *hot)
+void sinter_thermal_explicit_range(sinter_stepper *st, double h, size_t lo, size_t hi, size_t *bad,
+                                   size_t *hot)
 {
     sinter_particles *ps = st->ps;
     double *restrict saved = st->thermal.theta_backup, *restrict temp = ps->temperature;

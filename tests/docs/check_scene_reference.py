@@ -121,7 +121,10 @@ def electric_keys():
     names = re.findall(r'\{\s*"(\w+)"\s*,\s*SINTER_ELECTRIC_\w+', src)
     keys = re.search(r"KEYS\[\w*\]\s*=\s*\{(.*?)\};", src, re.S)
     keys = set(re.findall(r'"(\w+)"', keys.group(1))) if keys else set()
-    return {n: keys for n in names}
+    # the conductivity law's keys are the network model's only (electric.c refuses them on
+    # the averaged model)
+    network_only = {"sigmoid", "theta_ref", "k1", "gamma1"}
+    return {n: keys if n == "network" else keys - network_only for n in names}
 
 
 def quasistatic_keys():

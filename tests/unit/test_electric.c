@@ -343,8 +343,7 @@ static void test_network_warm_start(void **state)
     memcpy(phi, f.em->potential, sizeof(phi));
     memcpy(current, f.ps->current, sizeof(current));
     OK(solve(&f, &again));
-    print_message("warm start: %zu PCG iterations from 0, %zu from the last solve\n", first,
-                  again);
+    print_message("warm start: %zu PCG iterations from 0, %zu from the last solve\n", first, again);
     assert_true(first >= 2);
     assert_int_equal(again, 0);
     assert_memory_equal(phi, f.em->potential, sizeof(phi));
@@ -744,6 +743,211 @@ static void test_misuse(void **state)
     close_fixture(&f);
 }
 
+/* ---- the network's power and energy-consistent Joule heating (issue 39) ----------------- */
+
+/*
+ * A series chain between walls at v0 and 0: each contact dissipates G (phi_a - phi_b)^2; a
+ * pair gives half to each particle, an electrode contact all to its particle; the walls deliver
+ * v0 I. Closed forms: the chain's I = v0 / (2 / G_w + (N - 1) / G_pp), an end particle gets
+ * I^2 / G_w + I^2 / (2 G_pp), an inner one I^2 / G_pp; the total is v0 I = I^2 R (Tellegen).
+ * The "joule" model (source 0, automatic) puts exactly these shares into the particles; with
+ * source = 1 it is eq. 35 again; source = 2 without a network solve is refused.
+ */
+static void test_network_power_and_joule_shares(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 5 };
+    const double dp = 1e-4, dw = 2e-4, v0 = 2.0;
+    const double delta[N - 1] = {dp, dp, dp, dp};
+    const double x_right = add_chain(&f, N, delta, dw, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, v0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    const double g_pp = SIGMA[0] * pair_area(dp) / (2.0 * R - dp);
+    const double g_w = SIGMA[0] * wall_area(dw) / (R - dw);
+    const double current = v0 / (2.0 / g_w + (N - 1) / g_pp);
+    model(&f, "network", 1e-14);
+    OK(solve(&f, NULL));
+    double supplied = 0, dissipated = 0;
+    OK(sinter_electric_model_power(f.em, &supplied, &dissipated));
+    print_message("chain: I = %.9g A, v0 I = %.9g W, supplied %.9g W, dissipated %.9g W\n", current,
+                  v0 * current, supplied, dissipated);
+    assert_rel(supplied, v0 * current, 1e-12);
+    assert_rel(dissipated, v0 * current, 1e-12);
+    const double *p = sinter_electric_dissipation(f.em, N);
+    assert_non_null(p);
+    const double end = current * current / g_w + 0.5 * current * current / g_pp;
+    for (size_t k = 0; k < N; ++k)
+        assert_rel(p[k], k == 0 || k == N - 1 ? end : current * current / g_pp, 1e-12);
+    assert_null(sinter_electric_dissipation(f.em, N + 1)); /* another particle count */
+
+    sinter_heat_model *hm;
+    OK(sinter_heat_model_create(&hm, f.ctx, "joule"));
+    double heat[N] = {0};
+    sinter_heat_eval e;
+    memset(&e, 0, sizeof(e));
+    e.ctx = f.ctx;
+    e.ps = f.ps;
+    e.walls = f.walls;
+    e.pp = &f.pp;
+    e.pw = &f.pw;
+    e.heat = heat;
+    e.joule_dissipation = p;
+    OK(hm->ops->eval(hm, &e));
+    double sum = 0;
+    for (size_t k = 0; k < N; ++k) {
+        assert_true(heat[k] == p[k]);
+        sum += heat[k];
+    }
+    assert_rel(sum, supplied, 1e-12); /* the walls' work, all of it into the particles */
+    OK(sinter_heat_model_set(hm, "source", 1));
+    memset(heat, 0, sizeof(heat));
+    OK(hm->ops->eval(hm, &e));
+    const double volume = 4.0 / 3.0 * PI * R * R * R;
+    assert_rel(heat[1], ABSORPTANCE[0] * current * current / SIGMA[0] * volume, 1e-10);
+    OK(sinter_heat_model_set(hm, "source", 2));
+    e.joule_dissipation = NULL;
+    assert_int_equal(hm->ops->eval(hm, &e), SINTER_ERR_STATE);
+    OK(sinter_heat_model_set(hm, "source", 0)); /* automatic without a network: eq. 35 */
+    memset(heat, 0, sizeof(heat));
+    OK(hm->ops->eval(hm, &e));
+    assert_rel(heat[1], ABSORPTANCE[0] * current * current / SIGMA[0] * volume, 1e-10);
+    sinter_heat_model_destroy(hm);
+    /* the averaged model has no potentials and so no power */
+    sinter_electric_model *averaged;
+    OK(sinter_electric_model_create(&averaged, f.ctx, "averaged"));
+    assert_int_equal(sinter_electric_model_power(averaged, &supplied, &dissipated),
+                     SINTER_ERR_UNSUPPORTED);
+    assert_int_equal(sinter_electric_model_set(averaged, "sigmoid", 1), SINTER_ERR_INVALID);
+    sinter_electric_model_destroy(averaged);
+    close_fixture(&f);
+}
+
+/*
+ * Seed 000 eq. 50's temperature term in the network's conductances: two particles at 300 K
+ * and 900 K between walls; sigma(theta) = sigma_0 (1 + k1 s(gamma1 (theta - theta_ref))), the
+ * pair's harmonic rule (r_i + r_j) / sigma_ij = r / sigma_i + r / sigma_j, each wall contact
+ * with its particle's own sigma: the current against the closed form of the three resistors.
+ */
+static void test_network_conductivity_follows_temperature(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double dp = 1e-4, dw = 2e-4, v0 = 1.0, k1 = -0.6, gamma1 = 0.01, theta_ref = 600.0;
+    const double delta[1] = {dp};
+    const double x_right = add_chain(&f, 2, delta, dw, 0.0, 0);
+    f.ps->temperature[0] = 300.0;
+    f.ps->temperature[1] = 900.0;
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, v0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    model(&f, "network", 1e-14);
+    OK(sinter_electric_model_set(f.em, "sigmoid", 1));
+    OK(sinter_electric_model_set(f.em, "k1", k1));
+    OK(sinter_electric_model_set(f.em, "gamma1", gamma1));
+    OK(sinter_electric_model_set(f.em, "theta_ref", theta_ref));
+    double sigma[2];
+    for (int k = 0; k < 2; ++k)
+        sigma[k] =
+            SIGMA[0] * (1.0 + k1 / (1.0 + exp(-gamma1 * (f.ps->temperature[k] - theta_ref))));
+    const double s_pair = 2.0 * sigma[0] * sigma[1] / (sigma[0] + sigma[1]);
+    const double r_total = (R - dw) / (sigma[0] * wall_area(dw)) +
+                           (2.0 * R - dp) / (s_pair * pair_area(dp)) +
+                           (R - dw) / (sigma[1] * wall_area(dw));
+    OK(solve(&f, NULL));
+    print_message("sigma(300 K) = %.6g, sigma(900 K) = %.6g S/m; I = %.9g A\n", sigma[0], sigma[1],
+                  f.ps->current[0]);
+    assert_rel(f.ps->current[0], v0 / r_total, 1e-12);
+    assert_rel(f.ps->current[1], v0 / r_total, 1e-12);
+    /* a law that makes a conductivity negative is refused */
+    OK(sinter_electric_model_set(f.em, "k1", -3.0));
+    assert_int_equal(solve(&f, NULL), SINTER_ERR_DOMAIN);
+    close_fixture(&f);
+}
+
+typedef struct energy_log {
+    sinter_electric_model *em;
+    double power[400];
+    int count;
+} energy_log;
+
+static int log_power(const sinter_stepper *st, double time, void *user)
+{
+    (void)st;
+    (void)time;
+    energy_log *l = user;
+    double dissipated = 0;
+    if (l->count < 400)
+        OK(sinter_electric_model_power(l->em, &l->power[l->count++], &dissipated));
+    return 0;
+}
+
+/*
+ * The energy balance of a run (the explicit stepper, the network model, energy-consistent
+ * Joule heating, no other heat): sum_i m_i C (theta_i - theta_i0) equals the walls' electrical
+ * work, sum over steps of h times the power delivered at the state each temperature update
+ * used (the update of step n uses the powers of the evaluation before it), to round-off.
+ */
+static void test_joule_energy_balance_over_a_run(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double heat_capacity = 500.0, h = 2e-6;
+    sinter_material *mat;
+    OK(sinter_material_create(&mat, f.ctx, NULL));
+    OK(sinter_material_set(mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, 1e4));
+    OK(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, heat_capacity));
+    OK(sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 1e7));
+    OK(sinter_material_set(mat, SINTER_MAT_DENSITY, 8000.0));
+    OK(sinter_particles_set_material(f.ps, 0, mat));
+    sinter_material_destroy(mat);
+    const double dp = 1e-4, dw = 2e-4;
+    const double delta[3] = {dp, 2 * dp, dp};
+    const double x_right = add_chain(&f, 4, delta, dw, 0.0, 0);
+    add_chain(&f, 4, delta, dw, 3.0 * R, 0); /* a second, parallel chain */
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 0.5);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, -0.5);
+    model(&f, "network", 1e-14);
+    sinter_stepper *st;
+    sinter_force_model *contact;
+    sinter_heat_model *joule;
+    OK(sinter_stepper_create(&st, f.ctx, SINTER_STEPPER_EXPLICIT, f.ps, f.walls));
+    OK(sinter_force_model_create(&contact, f.ctx, "hertz_mindlin"));
+    OK(sinter_stepper_add_force(st, contact));
+    OK(sinter_heat_model_create(&joule, f.ctx, "joule"));
+    OK(sinter_stepper_add_heat(st, joule));
+    OK(sinter_stepper_set_electric(st, f.em));
+    OK(sinter_stepper_set_dt(st, h));
+    const size_t n = f.ps->count;
+    double theta0[8];
+    memcpy(theta0, f.ps->temperature, n * sizeof(double));
+    energy_log l = {f.em, {0}, 0};
+    OK(sinter_stepper_step(st, 0)); /* the first evaluation: the powers the first update uses */
+    log_power(st, 0.0, &l);
+    OK(sinter_stepper_set_observer(st, log_power, &l));
+    enum { STEPS = 300 };
+    OK(sinter_stepper_step(st, STEPS));
+    double work = 0, gained = 0;
+    for (int k = 0; k < STEPS; ++k)
+        work += h * l.power[k];
+    for (size_t i = 0; i < n; ++i)
+        gained += f.ps->mass[i] * heat_capacity * (f.ps->temperature[i] - theta0[i]);
+    print_message("electrical work %.12g J, heat gained %.12g J (power %.6g -> %.6g W)\n", work,
+                  gained, l.power[0], l.power[STEPS - 1]);
+    assert_true(work > 0.0 && l.power[0] != l.power[STEPS - 1]); /* the contacts moved */
+    /* round-off: 300 updates of theta ~ 300 K by ~2e-5 K each (ulp(300 K) / 2e-5 K ~ 3e-9 per
+     * update at worst; solves to 1e-14) */
+    assert_rel(gained, work, 1e-9);
+    sinter_stepper_destroy(st);
+    sinter_force_model_destroy(contact);
+    sinter_heat_model_destroy(joule);
+    close_fixture(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -757,6 +961,9 @@ int main(void)
         cmocka_unit_test(test_joule_constant_conductivity),
         cmocka_unit_test(test_joule_sigmoid),
         cmocka_unit_test(test_misuse),
+        cmocka_unit_test(test_network_power_and_joule_shares),
+        cmocka_unit_test(test_network_conductivity_follows_temperature),
+        cmocka_unit_test(test_joule_energy_balance_over_a_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -114,7 +114,7 @@ static const char *SCENE =
     "[force gravity]\n"
     "gz = -9.81\n"
     "[heat conduction]\n"
-    "[heat joule]\n"
+    "[heat joule]\nsource = 1\n"
     "[electric network]\n"
     "tolerance = 1e-8\n"
     "max_iterations = 10000\n"

@@ -301,6 +301,7 @@ SIGNATURES = {
     "sinter_electric_model_name": (_str, [ElectricModelPtr]),
     "sinter_electric_model_set": (c_status, [ElectricModelPtr, _str, _double]),
     "sinter_electric_model_get": (c_status, [ElectricModelPtr, _str, _P(_double)]),
+    "sinter_electric_model_power": (c_status, [ElectricModelPtr, _P(_double), _P(_double)]),
     "sinter_stepper_set_electric": (c_status, [StepperPtr, ElectricModelPtr]),
     "sinter_stepper_electric_iterations": (c_status, [StepperPtr, _P(_u64)]),
     # scenes and checkpoints

@@ -188,12 +188,22 @@ class HeatModel(_KeyedModel):
 class ElectricModel(_KeyedModel):
     """An electric submodel (sinter_electric_model): "averaged" or "network".
 
-    Parameters: "tolerance", "max_iterations". Wall boundary data are set with
-    Walls.set_electric.
+    Parameters: "tolerance", "max_iterations"; the network model also "sigmoid",
+    "theta_ref", "k1", "gamma1" (its conductances follow seed 000 eq. 50's temperature
+    term). Wall boundary data are set with Walls.set_electric.
     """
 
     _ptr_type = ElectricModelPtr
     _prefix = "sinter_electric_model"
+
+    def power(self):
+        """(supplied, dissipated) [W] of the network model's last solve: the walls' electrical
+        power and the contacts' Joule power, equal to the solve's accuracy."""
+        supplied, dissipated = ctypes.c_double(), ctypes.c_double()
+        self._check(lib.sinter_electric_model_power(self._ptr, ctypes.byref(supplied),
+                                                    ctypes.byref(dissipated)),
+                    "sinter_electric_model_power")
+        return supplied.value, dissipated.value
 
 
 # --- trampolines -----------------------------------------------------------
