@@ -929,6 +929,38 @@ SINTER_API sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k
                                                    double value);
 
 /**
+ * Make wall k's electric value (the current [A] or potential [V] of its mode)
+ * follow a piecewise-linear schedule of n points (times [s] strictly
+ * increasing, in the simulation's time, as wall temperature schedules; held
+ * constant outside); n = 0 removes it (the value of sinter_walls_set_electric
+ * again). Copied. Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE, SINTER_ERR_INVALID
+ * (the point named), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_walls_set_electric_schedule(sinter_walls *walls, size_t k,
+                                                            size_t n, const double *times,
+                                                            const double *values);
+
+/**
+ * Pulse wall k's drive: on for `on` seconds, then off (value 0) for `off`
+ * seconds, repeated from t = 0 [s]; off = 0 makes it continuous again.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE, SINTER_ERR_INVALID (on <= 0,
+ * off < 0, or not finite).
+ */
+SINTER_API sinter_status sinter_walls_set_electric_pulse(sinter_walls *walls, size_t k,
+                                                         double on, double off);
+
+/**
+ * The compliance limit of wall k's supply, as a laboratory power supply has
+ * one (used by the "network" model): a current electrode (SINTER_WALL_CURRENT)
+ * is held at +-limit [V] when its potential would pass it, a potential
+ * electrode (SINTER_WALL_POTENTIAL) carries +-limit [A] when its current would
+ * pass it; 0 (the default) is no limit. Errors: SINTER_ERR_NULL,
+ * SINTER_ERR_RANGE, SINTER_ERR_INVALID (negative or not finite).
+ */
+SINTER_API sinter_status sinter_walls_set_electric_limit(sinter_walls *walls, size_t k,
+                                                         double limit);
+
+/**
  * One electric submodel: the steady current through the contact graph
  * (seed 000 sec. 5, eq. 39-44), solved once per evaluation of a stepper that
  * has one, before forces and heat. It writes the particles' current field

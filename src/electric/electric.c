@@ -82,6 +82,8 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->free_b);
     sinter_free(ctx, em->free_g);
     sinter_free(ctx, em->dissipation);
+    sinter_free(ctx, em->wall_mode);
+    sinter_free(ctx, em->wall_value);
     sinter_free(ctx, em);
 }
 

@@ -46,6 +46,11 @@ struct sinter_electric_model {
     double supplied_power, dissipated_power;
     double *dissipation; /* per particle, dissipation_count of them (0: none yet) */
     size_t dissipation_count, dissipation_capacity;
+    /* network: each wall's mode and value in the solve under way (a compliance limit may
+     * switch a wall: network.c) */
+    int *wall_mode;
+    double *wall_value;
+    size_t wall_mode_capacity, wall_value_capacity;
     /* network: the conductivities follow seed 000 eq. 50's temperature term (network.c) */
     double sigmoid, theta_ref, k1, gamma1;
 

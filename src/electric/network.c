@@ -148,7 +148,7 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
         ps->flags[i] &= ~(uint32_t)SINTER_PARTICLE_ELECTRIFIED;
     for (size_t k = 0; k < pw->count; ++k) {
         const uint32_t i = pw->i[k], w = pw->j[k];
-        if (walls->wall[w].electric_mode == SINTER_WALL_NEUTRAL)
+        if (em->wall_mode[w] == SINTER_WALL_NEUTRAL)
             continue;
         ps->flags[i] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
         const double si = conductivity(em, ps, i, &bad);
@@ -201,8 +201,7 @@ static sinter_status account_power(sinter_electric_model *em, size_t n)
 }
 
 /* Clusters, their boundary conditions, and which nodes are free (state bits). */
-static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls, size_t n,
-                           size_t nw)
+static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
 {
     const size_t nodes = n + nw;
     uint32_t *parent = em->parent;
@@ -216,23 +215,23 @@ static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls,
     /* A potential wall does not join clusters: its potential is fixed. */
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t b = em->edge_b[e];
-        if (b < n || walls->wall[b - n].electric_mode == SINTER_WALL_CURRENT)
+        if (b < n || em->wall_mode[b - n] == SINTER_WALL_CURRENT)
             unite(parent, em->edge_a[e], b);
     }
     for (size_t p = 0; p < n; ++p)
         state[find_root(parent, (uint32_t)p)] |= CLUSTER_PARTICLE;
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t b = em->edge_b[e];
-        if (b >= n && walls->wall[b - n].electric_mode == SINTER_WALL_POTENTIAL)
+        if (b >= n && em->wall_mode[b - n] == SINTER_WALL_POTENTIAL)
             state[find_root(parent, em->edge_a[e])] |= CLUSTER_GROUND;
     }
     for (size_t w = 0; w < nw; ++w) {
-        if (walls->wall[w].electric_mode != SINTER_WALL_CURRENT)
+        if (em->wall_mode[w] != SINTER_WALL_CURRENT)
             continue;
         const uint32_t root = find_root(parent, (uint32_t)(n + w));
         state[root] |= CLUSTER_CURRENT;
-        em->net[root] += walls->wall[w].electric_value;
-        em->scale[root] += fabs(walls->wall[w].electric_value);
+        em->net[root] += em->wall_value[w];
+        em->scale[root] += fabs(em->wall_value[w]);
         if (em->pin[root] == NO_NODE)
             em->pin[root] = (uint32_t)(n + w);
     }
@@ -251,19 +250,20 @@ static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls,
         const uint32_t root = find_root(parent, (uint32_t)p);
         if (!(state[root] & CLUSTER_SOLVED))
             continue;
-        if (p >= n && walls->wall[p - n].electric_mode != SINTER_WALL_CURRENT)
+        if (p >= n && em->wall_mode[p - n] != SINTER_WALL_CURRENT)
             continue; /* potential and neutral walls are singletons, never free */
         if ((state[root] & CLUSTER_GROUND) || em->pin[root] != p)
             state[p] |= NODE_FREE;
     }
 }
 
-sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_particles *ps,
-                                            const sinter_walls *walls,
-                                            const sinter_contact_list *pp,
-                                            const sinter_contact_list *pw)
+/* One solve with the walls' effective modes and values (em->wall_mode, em->wall_value). */
+static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
+                                const sinter_walls *walls, const sinter_contact_list *pp,
+                                const sinter_contact_list *pw)
 {
     const size_t n = ps->count, nw = walls != NULL ? walls->count : 0, nodes = n + nw;
+    em->open_clusters = 0;
     SINTER_ELECTRIC_RESERVE(em, parent, nodes + 1);
     SINTER_ELECTRIC_RESERVE(em, state, nodes + 1);
     SINTER_ELECTRIC_RESERVE(em, net, nodes + 1);
@@ -280,23 +280,23 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
     sinter_status s = build_edges(em, ps, walls, pp, pw);
     if (s != SINTER_OK)
         return s;
-    classify_nodes(em, walls, n, nw);
+    classify_nodes(em, n, nw);
 
     /* Right-hand side, diagonal and start: pinned rows are identities at their value. */
     double *phi = em->potential, *diag = em->diag, *rhs = em->net; /* net is no longer needed */
     const unsigned char *state = em->state;
     size_t free_count = 0;
     for (size_t p = 0; p < nodes; ++p) {
-        const sinter_wall *w = p >= n ? &walls->wall[p - n] : NULL;
+        const int wall_mode = p >= n ? em->wall_mode[p - n] : -1;
+        const double wall_value = p >= n ? em->wall_value[p - n] : 0.0;
         if (state[p] & NODE_FREE) {
             free_count++;
             diag[p] = 0.0;
             phi[p] = warm && isfinite(phi[p]) ? phi[p] : 0.0;
-            rhs[p] = w != NULL ? w->electric_value : 0.0; /* a free wall node is a current wall */
+            rhs[p] = wall_value; /* a free wall node is a current wall; a particle: 0 */
         } else {
             diag[p] = 1.0;
-            phi[p] =
-                w != NULL && w->electric_mode == SINTER_WALL_POTENTIAL ? w->electric_value : 0.0;
+            phi[p] = wall_mode == SINTER_WALL_POTENTIAL ? wall_value : 0.0;
             rhs[p] = phi[p];
         }
     }
@@ -372,14 +372,62 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
         if (b < n)
             J[b] += half;
     }
-    s = account_power(em, n);
-    if (s != SINTER_OK)
-        return s;
-    if (em->open_clusters > 0)
+    return account_power(em, n);
+}
+
+/*
+ * Compliance (walls/electric_drive.c): a current electrode whose potential passes its limit is
+ * held at the limit, a potential electrode whose current passes its limit carries the limit.
+ * 1 if a wall changed its mode (solve again).
+ */
+static int apply_limits(sinter_electric_model *em, const sinter_walls *walls, size_t n)
+{
+    const double *phi = em->potential;
+    int changed = 0;
+    for (size_t w = 0; w < walls->count; ++w) {
+        const double limit = walls->wall[w].electric_limit;
+        if (!(limit > 0.0) || em->wall_mode[w] != walls->wall[w].electric_mode)
+            continue; /* no limit, or already switched in this solve */
+        if (em->wall_mode[w] == SINTER_WALL_CURRENT && fabs(phi[n + w]) > limit) {
+            em->wall_mode[w] = SINTER_WALL_POTENTIAL;
+            em->wall_value[w] = copysign(limit, phi[n + w]);
+            changed = 1;
+        } else if (em->wall_mode[w] == SINTER_WALL_POTENTIAL) {
+            double current = 0.0; /* from the wall into the powder */
+            for (size_t e = 0; e < em->edge_count; ++e)
+                if (em->edge_b[e] == n + w)
+                    current += em->edge_g[e] * (phi[n + w] - phi[em->edge_a[e]]);
+            if (fabs(current) > limit) {
+                em->wall_mode[w] = SINTER_WALL_CURRENT;
+                em->wall_value[w] = copysign(limit, current);
+                changed = 1;
+            }
+        }
+    }
+    return changed;
+}
+
+sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_particles *ps,
+                                            const sinter_walls *walls,
+                                            const sinter_contact_list *pp,
+                                            const sinter_contact_list *pw)
+{
+    const size_t nw = walls != NULL ? walls->count : 0;
+    SINTER_ELECTRIC_RESERVE(em, wall_mode, nw + 1);
+    SINTER_ELECTRIC_RESERVE(em, wall_value, nw + 1);
+    for (size_t w = 0; w < nw; ++w) {
+        em->wall_mode[w] = walls->wall[w].electric_mode;
+        em->wall_value[w] = walls->wall[w].electric_value;
+    }
+    sinter_status s = solve_once(em, ps, walls, pp, pw);
+    /* each wall changes its mode at most once: at most nw solves more */
+    for (size_t pass = 0; s == SINTER_OK && pass < nw && apply_limits(em, walls, ps->count); ++pass)
+        s = solve_once(em, ps, walls, pp, pw);
+    if (s == SINTER_OK && em->open_clusters > 0)
         sinter_log(em->ctx, SINTER_LOG_WARNING,
                    "electric model 'network': %zu cluster(s) of particles touch current walls "
                    "but no potential wall and the currents do not balance (open circuit); they "
                    "carry no current",
                    em->open_clusters);
-    return SINTER_OK;
+    return s;
 }

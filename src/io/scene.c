@@ -286,42 +286,88 @@ static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_sect
 }
 
 /*
- * "temperature_schedule = t T, t T, ..." of a section (a wall's or the stepper's furnace): the
- * times [s] and temperatures [K] in new arrays (free both), *count 0 when the key is absent,
- * *line the key's line. Errors: SINTER_ERR_PARSE (not pairs of numbers), SINTER_ERR_NOMEM.
+ * A schedule "KEY = t v, t v, ..." of a section (a wall's temperature or electric value, the
+ * stepper's furnace): the times [s] and values in new arrays (free both), *count 0 when the key
+ * is absent, *line the key's line. `units` names the pair in messages ("t T' [s, K"). Errors:
+ * SINTER_ERR_PARSE (not pairs of numbers), SINTER_ERR_NOMEM.
  */
-static sinter_status read_temperature_schedule(scene_text *t, scene_section *s, double **times,
-                                               double **temps, size_t *count, int *line)
+static sinter_status read_schedule(scene_text *t, scene_section *s, const char *key,
+                                   const char *units, double **times, double **values,
+                                   size_t *count, int *line)
 {
-    *times = *temps = NULL;
+    *times = *values = NULL;
     *count = 0;
     double *tv = NULL;
     size_t ntv = 0;
-    sinter_status st = scene_get_numbers(t, s, "temperature_schedule", &tv, &ntv);
+    sinter_status st = scene_get_numbers(t, s, key, &tv, &ntv);
     OPTIONAL(st);
     if (st != SINTER_OK)
         return SINTER_OK;
-    *line = scene_find(s, "temperature_schedule")->line;
+    *line = scene_find(s, key)->line;
     st = SINTER_OK;
     if (ntv % 2 != 0)
-        st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                         "%s:%d: temperature_schedule: expected pairs 't T' [s, K], got %zu "
-                         "numbers",
-                         t->path, *line, ntv);
+        st =
+            sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: %s: expected pairs '%s], got %zu numbers",
+                        t->path, *line, key, units, ntv);
     if (st == SINTER_OK) {
         *times = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
-        *temps = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
-        if (*times == NULL || *temps == NULL)
+        *values = sinter_calloc(t->ctx, ntv / 2 + 1, sizeof(double));
+        if (*times == NULL || *values == NULL)
             st = SINTER_ERR_NOMEM;
     }
     for (size_t k = 0; k < ntv / 2 && st == SINTER_OK; ++k) {
         (*times)[k] = tv[2 * k];
-        (*temps)[k] = tv[2 * k + 1];
+        (*values)[k] = tv[2 * k + 1];
     }
     sinter_free(t->ctx, tv);
     if (st == SINTER_OK)
         *count = ntv / 2;
     return st;
+}
+
+static sinter_status read_temperature_schedule(scene_text *t, scene_section *s, double **times,
+                                               double **temps, size_t *count, int *line)
+{
+    return read_schedule(t, s, "temperature_schedule", "t T' [s, K", times, temps, count, line);
+}
+
+/* A wall's electric_schedule, electric_pulse and electric_limit (walls/electric_drive.c). */
+static sinter_status build_wall_drive(scene_text *t, sinter_scene *sc, scene_section *s,
+                                      size_t index)
+{
+    double *times = NULL, *values = NULL;
+    size_t points = 0;
+    int line = 0;
+    sinter_status st = read_schedule(t, s, "electric_schedule", "t value' [s, A or V", &times,
+                                     &values, &points, &line);
+    if (st == SINTER_OK && points > 0)
+        st = at_line(t, line,
+                     sinter_walls_set_electric_schedule(sc->walls, index, points, times, values));
+    sinter_free(t->ctx, times);
+    sinter_free(t->ctx, values);
+    TRY(st);
+    double *pulse = NULL;
+    size_t n = 0;
+    st = scene_get_numbers(t, s, "electric_pulse", &pulse, &n);
+    OPTIONAL(st);
+    if (st == SINTER_OK) {
+        line = scene_find(s, "electric_pulse")->line;
+        st = n == 2 ? at_line(t, line,
+                              sinter_walls_set_electric_pulse(sc->walls, index, pulse[0], pulse[1]))
+                    : sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                                  "%s:%d: electric_pulse: expected 'on off' [s, s], got %zu "
+                                  "numbers",
+                                  t->path, line, n);
+        sinter_free(t->ctx, pulse);
+        TRY(st);
+    }
+    double limit = 0.0;
+    st = scene_get_double(t, s, "electric_limit", &limit);
+    OPTIONAL(st);
+    if (st == SINTER_OK)
+        TRY(at_line(t, scene_find(s, "electric_limit")->line,
+                    sinter_walls_set_electric_limit(sc->walls, index, limit)));
+    return SINTER_OK;
 }
 
 static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *s)
@@ -375,6 +421,7 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
         TRY(at_line(t, scene_find(s, "electric")->line,
                     sinter_walls_set_electric(sc->walls, index, mode, value)));
     }
+    TRY(build_wall_drive(t, sc, s, index));
     const char *motion = "fixed";
     OPTIONAL(scene_get_word(t, s, "motion", &motion));
     if (strcmp(motion, "fixed") == 0)

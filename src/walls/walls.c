@@ -41,6 +41,7 @@ void sinter_walls_destroy(sinter_walls *walls)
     for (size_t k = 0; k < walls->count; ++k) {
         clear_schedule(walls, &walls->wall[k]);
         clear_temperature_schedule(walls, &walls->wall[k]);
+        sinter_wall_drive_free(walls, &walls->wall[k]);
     }
     sinter_free(walls->ctx, walls->wall);
     sinter_free(walls->ctx, walls);
@@ -117,7 +118,7 @@ sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
     return SINTER_OK;
 }
 
-static sinter_status get_wall(const sinter_walls *walls, size_t k, const char *func,
+sinter_status sinter_wall_get(const sinter_walls *walls, size_t k, const char *func,
                               sinter_wall **w)
 {
     if (k >= walls->count)
@@ -131,7 +132,7 @@ static sinter_status get_wall(const sinter_walls *walls, size_t k, const char *f
     do {                                                                                           \
         if ((walls) == NULL)                                                                       \
             return SINTER_ERR_NULL;                                                                \
-        sinter_status st_ = get_wall((walls), (k), __func__, &(w));                                \
+        sinter_status st_ = sinter_wall_get((walls), (k), __func__, &(w));                         \
         if (st_ != SINTER_OK)                                                                      \
             return st_;                                                                            \
     } while (0)
@@ -273,7 +274,8 @@ sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k, int mode,
                            "(a current [A] or a potential [V])",
                            value, k);
     w->electric_mode = mode;
-    w->electric_value = mode == SINTER_WALL_NEUTRAL ? 0.0 : value;
+    w->electric_set = mode == SINTER_WALL_NEUTRAL ? 0.0 : value;
+    w->electric_value = sinter_wall_drive_value(w, walls->time);
     return SINTER_OK;
 }
 
@@ -419,6 +421,10 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
             const double temperature =
                 sinter_interpolate(w->temperature_count, w->temperature_t, w->temperature_v, t);
             sinter_put_changed(&w->temperature, &temperature, sizeof(temperature));
+        }
+        if (w->electric_count > 0 || w->pulse_off > 0.0) {
+            const double value = sinter_wall_drive_value(w, t);
+            sinter_put_changed(&w->electric_value, &value, sizeof(value));
         }
     }
     walls->time = t;

@@ -9,27 +9,35 @@ typedef struct sinter_wall {
     /* Read by every search and contact law on every thread, and written only when they change
      * (sinter_walls_move), so that each core keeps its copy of these lines: a store, even of
      * the same value, would make every other core fetch them again (issue 9). */
-    double n[3];      /* unit normal into the particle region */
-    double p[3];      /* point at the current time [m] */
-    double u[3];      /* velocity at the current time [m/s] */
-    double temperature; /* [K], at the current time */
-    double p0[3];     /* point of the plane at t = 0 [m] */
+    double n[3];              /* unit normal into the particle region */
+    double p[3];              /* point at the current time [m] */
+    double u[3];              /* velocity at the current time [m/s] */
+    double temperature;       /* [K], at the current time */
+    double p0[3];             /* point of the plane at t = 0 [m] */
     size_t temperature_count; /* > 0: temperature follows (temperature_t, temperature_v) */
     double *temperature_t;
     double *temperature_v;
-    int motion;       /* sinter_wall_motion */
+    int motion;          /* sinter_wall_motion */
     double motion_start; /* [s] */
-    double velocity[3]; /* SINTER_WALL_VELOCITY */
+    double velocity[3];  /* SINTER_WALL_VELOCITY */
     double amplitude[3]; /* SINTER_WALL_SINE */
     double omega;
     size_t schedule_count; /* SINTER_WALL_SCHEDULE */
     double *schedule_t;
-    double *schedule_d;    /* 3 per point */
+    double *schedule_d; /* 3 per point */
     sinter_wall_motion_fn callback;
     void *callback_user;
     sinter_material material;
     int electric_mode;     /* sinter_wall_electric_mode (0 = neutral: add_plane zeroes a wall) */
-    double electric_value; /* CURRENT: J_ext [A]; POTENTIAL: [V]; NEUTRAL: 0 */
+    double electric_value; /* at the current time: CURRENT: J_ext [A]; POTENTIAL: [V]; NEUTRAL:
+                              0 (electric_drive.c) */
+    double electric_set;   /* the value set (sinter_walls_set_electric) */
+    size_t electric_count; /* > 0: the value follows (electric_t, electric_v) instead */
+    double *electric_t;
+    double *electric_v;
+    double pulse_on, pulse_off; /* pulsed drive: on for pulse_on, off for pulse_off [s] */
+    double electric_limit;      /* compliance: the largest |V| of a current electrode or |I| of
+                                   a potential one (network model); 0: none */
     /* Written at every step's commit: last, and a cache line away from the next wall's first
      * fields (the array of walls is not line-aligned). */
     double force[3]; /* reaction: force the particles exert on the wall [N] */
@@ -56,5 +64,14 @@ struct sinter_walls {
 
 /* Move every wall to time t (sets p and u). Errors: SINTER_ERR_CALLBACK. */
 sinter_status sinter_walls_move(sinter_walls *walls, double t);
+
+/* Wall k, or SINTER_ERR_RANGE naming `func`. */
+sinter_status sinter_wall_get(const sinter_walls *walls, size_t k, const char *func,
+                              sinter_wall **w);
+
+/* The electric drive (electric_drive.c): the wall's value at time t [s], and its schedule
+ * freed. */
+double sinter_wall_drive_value(const sinter_wall *w, double t);
+void sinter_wall_drive_free(sinter_walls *walls, sinter_wall *w);
 
 #endif

@@ -48,7 +48,8 @@ def functions(src):
     return out
 
 
-KEY_CALL = re.compile(r'scene_(?:get_\w+|find)\s*\(\s*\w+\s*,\s*\w+\s*,\s*"(\w+)"', re.S)
+KEY_CALL = re.compile(r'(?:scene_(?:get_\w+|find)|read_schedule)\s*\(\s*\w+\s*,\s*\w+\s*,\s*"(\w+)"',
+                      re.S)
 FIND_CALL = re.compile(r'scene_find\s*\(\s*\w+\s*,\s*"(\w+)"', re.S)
 
 

@@ -948,6 +948,72 @@ static void test_joule_energy_balance_over_a_run(void **state)
     close_fixture(&f);
 }
 
+/*
+ * Power supplies (walls/electric_drive.c): a chain of resistance R between a driven wall and a
+ * grounded one. A current drive I0 with a voltage limit V < I0 R is held at V and carries V / R;
+ * a potential drive V0 with a current limit I < V0 / R carries I (its potential I R); a limit
+ * above the operating point changes nothing. A pulsed drive is 0 in its off time; a schedule is
+ * interpolated.
+ */
+static void test_supply_limits_pulses_and_schedules(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 4 };
+    const double dp = 1e-4, dw = 2e-4;
+    const double delta[N - 1] = {dp, dp, dp};
+    const double x_right = add_chain(&f, N, delta, dw, 0.0, 0);
+    const size_t drive = add_wall(&f, 0.0, 1.0, SINTER_WALL_CURRENT, 1e-3);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    const double g_pp = SIGMA[0] * pair_area(dp) / (2.0 * R - dp);
+    const double g_w = SIGMA[0] * wall_area(dw) / (R - dw);
+    const double resistance = 2.0 / g_w + (N - 1) / g_pp;
+    model(&f, "network", 1e-14);
+    OK(solve(&f, NULL));
+    assert_rel(f.ps->current[1], 1e-3, 1e-12); /* no limit: the current set */
+    const double v_limit = 0.5 * 1e-3 * resistance;
+    OK(sinter_walls_set_electric_limit(f.walls, drive, v_limit));
+    OK(solve(&f, NULL));
+    print_message("current drive 1 mA, R = %.6g ohm, limit %.6g V: I = %.9g A\n", resistance,
+                  v_limit, f.ps->current[1]);
+    assert_rel(f.ps->current[1], v_limit / resistance, 1e-12);
+    assert_rel(f.em->potential[N + drive], v_limit, 1e-15);
+    OK(sinter_walls_set_electric_limit(f.walls, drive, 10.0 * v_limit)); /* not reached */
+    OK(solve(&f, NULL));
+    assert_rel(f.ps->current[1], 1e-3, 1e-12);
+    /* a potential drive with a current limit */
+    const double v0 = 2.0, i_limit = 0.25 * v0 / resistance;
+    OK(sinter_walls_set_electric(f.walls, drive, SINTER_WALL_POTENTIAL, v0));
+    OK(sinter_walls_set_electric_limit(f.walls, drive, i_limit));
+    OK(solve(&f, NULL));
+    assert_rel(f.ps->current[1], i_limit, 1e-12);
+    assert_rel(f.em->potential[N + drive], i_limit * resistance, 1e-12);
+    OK(sinter_walls_set_electric_limit(f.walls, drive, 0.0));
+    /* pulses: on 2 ms, off 3 ms */
+    OK(sinter_walls_set_electric_pulse(f.walls, drive, 2e-3, 3e-3));
+    const double times[4] = {0.0, 1.9e-3, 2.1e-3, 5.5e-3};
+    for (int k = 0; k < 4; ++k) {
+        OK(sinter_walls_move(f.walls, times[k]));
+        OK(solve(&f, NULL));
+        const double expected = k == 2 ? 0.0 : v0 / resistance;
+        assert_true(fabs(f.ps->current[1] - expected) <= 1e-12 * v0 / resistance);
+    }
+    assert_int_equal(sinter_walls_set_electric_pulse(f.walls, drive, 0.0, 1.0), SINTER_ERR_INVALID);
+    OK(sinter_walls_set_electric_pulse(f.walls, drive, 1.0, 0.0)); /* continuous again */
+    /* a schedule: 0 V at 0 s to 4 V at 1 s */
+    const double st[2] = {0.0, 1.0}, sv[2] = {0.0, 4.0};
+    OK(sinter_walls_set_electric_schedule(f.walls, drive, 2, st, sv));
+    OK(sinter_walls_move(f.walls, 0.25));
+    OK(solve(&f, NULL));
+    assert_rel(f.ps->current[1], 1.0 / resistance, 1e-12);
+    const double bad_t[2] = {1.0, 0.5};
+    assert_int_equal(sinter_walls_set_electric_schedule(f.walls, drive, 2, bad_t, sv),
+                     SINTER_ERR_INVALID);
+    close_fixture(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -964,6 +1030,7 @@ int main(void)
         cmocka_unit_test(test_network_power_and_joule_shares),
         cmocka_unit_test(test_network_conductivity_follows_temperature),
         cmocka_unit_test(test_joule_energy_balance_over_a_run),
+        cmocka_unit_test(test_supply_limits_pulses_and_schedules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

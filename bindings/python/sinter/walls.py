@@ -168,6 +168,26 @@ class Walls(_Handle):
         self._call(lib.sinter_walls_set_electric, self._ptr, self._index(k), int(mode),
                                                   float(value))
 
+    def set_electric_schedule(self, k, times, values):
+        """The electric value of wall k follows (times [s], values [A or V]) piecewise linearly;
+        empty lists remove the schedule."""
+        times, values = [float(t) for t in times], [float(v) for v in values]
+        if len(times) != len(values):
+            raise ValueError("times and values differ in length")
+        n = len(times)
+        self._call(lib.sinter_walls_set_electric_schedule, self._ptr, self._index(k), n,
+                   (ctypes.c_double * max(n, 1))(*times), (ctypes.c_double * max(n, 1))(*values))
+
+    def set_electric_pulse(self, k, on, off):
+        """Pulse wall k's drive: on for `on` s, off for `off` s, from t = 0 (off = 0: continuous)."""
+        self._call(lib.sinter_walls_set_electric_pulse, self._ptr, self._index(k), float(on),
+                   float(off))
+
+    def set_electric_limit(self, k, limit):
+        """Compliance limit of wall k's supply: |V| of a current electrode, |I| of a potential
+        one (network model); 0: none."""
+        self._call(lib.sinter_walls_set_electric_limit, self._ptr, self._index(k), float(limit))
+
     def state(self, k):
         """(point, velocity) of wall k at the stepper's current time, as tuples."""
         point, velocity = (ctypes.c_double * 3)(), (ctypes.c_double * 3)()
