@@ -17,13 +17,16 @@ import os
 import shutil
 import subprocess
 
-from setuptools import setup
+from setuptools import Distribution, setup
 from setuptools.command.build_py import build_py
 
-try:
-    from wheel.bdist_wheel import bdist_wheel
-except ImportError:  # no wheel package: pip's legacy path still builds the library
-    bdist_wheel = None
+try:  # setuptools >= 70.1 has its own; before, the wheel package (Debian 12: python3-wheel)
+    from setuptools.command.bdist_wheel import bdist_wheel
+except ImportError:
+    try:
+        from wheel.bdist_wheel import bdist_wheel
+    except ImportError:  # no wheel package: pip's legacy path still builds the library
+        bdist_wheel = None
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIBRARY_NAME = "libsinter.so"  # the file name sinter._lib looks for inside the package
@@ -72,14 +75,18 @@ if bdist_wheel is not None:
     class bdist_wheel_platform(bdist_wheel):
         """A platform wheel (it holds a shared library) for any Python 3 (ctypes, no extension)."""
 
-        def finalize_options(self):
-            super().finalize_options()
-            self.root_is_pure = False
-
         def get_tag(self):
             _, _, plat = super().get_tag()
             return "py3", "none", plat
 
     commands["bdist_wheel"] = bdist_wheel_platform
 
-setup(cmdclass=commands)
+
+class platform_distribution(Distribution):
+    """Not pure Python: the package goes to platlib and the wheel is a platform wheel."""
+
+    def has_ext_modules(self):
+        return True
+
+
+setup(cmdclass=commands, distclass=platform_distribution)
