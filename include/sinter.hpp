@@ -835,39 +835,23 @@ template <typename Api> class named_model : public handle<typename Api::type, Ap
     std::string name() const { return Api::name(this->live("name")); }
 };
 
-struct force_api {
-    using type = sinter_force_model;
-    static constexpr void (*destroy)(type *) = sinter_force_model_destroy;
-    static constexpr auto create = sinter_force_model_create;
-    static constexpr auto set = sinter_force_model_set;
-    static constexpr auto get = sinter_force_model_get;
-    static constexpr auto name = sinter_force_model_name;
-    static constexpr const char *create_name = "sinter_force_model_create";
-    static constexpr const char *set_name = "sinter_force_model_set";
-    static constexpr const char *get_name = "sinter_force_model_get";
-};
-struct heat_api {
-    using type = sinter_heat_model;
-    static constexpr void (*destroy)(type *) = sinter_heat_model_destroy;
-    static constexpr auto create = sinter_heat_model_create;
-    static constexpr auto set = sinter_heat_model_set;
-    static constexpr auto get = sinter_heat_model_get;
-    static constexpr auto name = sinter_heat_model_name;
-    static constexpr const char *create_name = "sinter_heat_model_create";
-    static constexpr const char *set_name = "sinter_heat_model_set";
-    static constexpr const char *get_name = "sinter_heat_model_get";
-};
-struct electric_api {
-    using type = sinter_electric_model;
-    static constexpr void (*destroy)(type *) = sinter_electric_model_destroy;
-    static constexpr auto create = sinter_electric_model_create;
-    static constexpr auto set = sinter_electric_model_set;
-    static constexpr auto get = sinter_electric_model_get;
-    static constexpr auto name = sinter_electric_model_name;
-    static constexpr const char *create_name = "sinter_electric_model_create";
-    static constexpr const char *set_name = "sinter_electric_model_set";
-    static constexpr const char *get_name = "sinter_electric_model_get";
-};
+// The C functions of one kind of named submodel: kind##_api for sinter_##kind##_model_*.
+#define SINTER_HPP_MODEL_API_(kind)                                                            \
+    struct kind##_api {                                                                        \
+        using type = sinter_##kind##_model;                                                    \
+        static constexpr void (*destroy)(type *) = sinter_##kind##_model_destroy;              \
+        static constexpr auto create = sinter_##kind##_model_create;                           \
+        static constexpr auto set = sinter_##kind##_model_set;                                 \
+        static constexpr auto get = sinter_##kind##_model_get;                                 \
+        static constexpr auto name = sinter_##kind##_model_name;                               \
+        static constexpr const char *create_name = "sinter_" #kind "_model_create";            \
+        static constexpr const char *set_name = "sinter_" #kind "_model_set";                  \
+        static constexpr const char *get_name = "sinter_" #kind "_model_get";                  \
+    };
+SINTER_HPP_MODEL_API_(force)
+SINTER_HPP_MODEL_API_(heat)
+SINTER_HPP_MODEL_API_(electric)
+#undef SINTER_HPP_MODEL_API_
 } // namespace detail
 
 /// A force submodel ("hertz_mindlin", "gravity", ...: sinter_force_model_create).
