@@ -4,7 +4,9 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import unittest
+from unittest import mock
 
 import sinter
 from sinter import _cdef, _lib
@@ -96,6 +98,16 @@ class DiscoveryTest(unittest.TestCase):
         candidates = _lib.library_candidates({})
         self.assertTrue(candidates[0].endswith(os.path.join("lib", "libsinter.so")))
         self.assertIn("libsinter.so.0", candidates)
+
+    def test_bundled_library_comes_first(self):
+        # an installed wheel holds sinter/libsinter.so (bindings/python/setup.py): tried first
+        with tempfile.TemporaryDirectory() as tmp:
+            bundled = os.path.join(tmp, "libsinter.so")
+            open(bundled, "wb").close()
+            with mock.patch.object(_lib, "_bundled_library", return_value=bundled):
+                candidates = _lib.library_candidates({})
+        self.assertEqual(candidates[0], bundled)
+        self.assertTrue(candidates[1].endswith(os.path.join("lib", "libsinter.so")))
 
     def test_missing_library_lists_what_was_tried(self):
         missing = "/nonexistent/dir/libsinter.so"

@@ -361,6 +361,11 @@ SIGNATURES = {
 
 # --- loading -------------------------------------------------------------
 
+def _bundled_library():
+    """libsinter.so inside this package: where a wheel (bindings/python/setup.py) puts it."""
+    return os.path.join(os.path.dirname(os.path.realpath(__file__)), "libsinter.so")
+
+
 def _source_tree_library():
     """lib/libsinter.so of the source tree this package sits in (bindings/python/sinter)."""
     package_dir = os.path.dirname(os.path.realpath(__file__))
@@ -370,14 +375,19 @@ def _source_tree_library():
 def library_candidates(environ=None):
     """The paths or names tried, in order.
 
-    SINTER_LIBRARY, when set, is the only candidate; otherwise the source
-    tree's lib/libsinter.so, then an installed library.
+    SINTER_LIBRARY, when set, is the only candidate; otherwise the library
+    bundled in the package (an installed wheel), when there is one, then the
+    source tree's lib/libsinter.so, then an installed library.
     """
     environ = os.environ if environ is None else environ
     explicit = environ.get("SINTER_LIBRARY")
     if explicit:
         return [explicit]
-    candidates = [_source_tree_library()]
+    candidates = []
+    bundled = _bundled_library()
+    if os.path.isfile(bundled):
+        candidates.append(bundled)
+    candidates.append(_source_tree_library())
     installed = ctypes.util.find_library("sinter")
     if installed:
         candidates.append(installed)
