@@ -41,8 +41,32 @@
  *    for the heat submodels). One pass over the temperatures, only with heat submodels.
  *    (The explicit thermal update already refuses a non-positive or non-finite temperature
  *    and quotes the stable thermal step; this check also covers the implicit schemes.)
+ *
+ * 4. Energy created (explicit stepper, issue 35). A damped contact cannot give back more
+ *    energy than it took, so in one step a particle can gain kinetic energy (translation and
+ *    spin) only from the work of gravity, body forces and the drag's moving medium, of a
+ *    moving wall, and from the elastic energy its contacts release. A step far above the
+ *    stable one breaks this at once: a sphere resting on a floor at 100 times its stable step
+ *    drifts into an overlap it never had, and the force there throws it out with 30 times
+ *    the elastic energy of that overlap in the same step (the explicit stepper kicks with the
+ *    force at the end of the step). The test: a particle whose kinetic energy more than
+ *    doubled in the step beyond the work of the body forces, and by more than
+ *    SINTER_SANITY_ENERGY_FACTOR = 2 times the elastic energy of its contacts at t plus that
+ *    at t + h, is rejected. The factor covers what the elastic energy here leaves out (the
+ *    tangential and rolling springs of Mindlin's friction) and the energy a sound step passes
+ *    on from a partner within the step: at the peak of a Hertz collision a step of t_c / 10
+ *    moves 0.4 times the contact's energy, so that one step of t_c (far beyond the stable
+ *    step, about 0.6 t_c) fires. The doubling requirement keeps the test on growth: a fast
+ *    particle is not examined for a small relative gain. Cost: one pass over the particles
+ *    (their velocities, spins and displacements at t and t + h: spare arrays, no copy); only
+ *    when a particle more than doubled its energy, the neighbour pairs of the particles that
+ *    did are examined, with their overlaps at t and t + h from the positions (the elastic
+ *    energy by sinter_contact_energy, unsoftened: an upper bound). Particles touching a moving
+ *    wall are not examined, nor any when a host model computes contact forces.
  */
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
 
 #include "contact/particle_pass.h"
 #include "sanity.h"
@@ -230,6 +254,277 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
                            SINTER_SANITY_MAX_TEMPERATURE);
     }
     return SINTER_OK;
+}
+
+/* Criterion 4: the body forces' acceleration and force, and the drag's medium. */
+typedef struct body_work {
+    double g[3], f[3]; /* sum of the gravity models' g and body force models' f */
+    double env;        /* largest |v_env| of a drag model [m/s] */
+} body_work;
+
+/* 0 when a host model computes contact forces (their energy is not known here). */
+static int body_forces(const sinter_stepper *st, body_work *b)
+{
+    memset(b, 0, sizeof(*b));
+    for (size_t k = 0; k < st->force_count; ++k) {
+        const sinter_force_model *fm = st->forces[k].model;
+        const double *p = fm->param;
+        if (fm->ops == &sinter_force_gravity || fm->ops == &sinter_force_body_force)
+            for (int d = 0; d < 3; ++d)
+                (fm->ops == &sinter_force_gravity ? b->g : b->f)[d] += p[d];
+        else if (fm->ops == &sinter_force_drag)
+            b->env = fmax(b->env, sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
+        else if (fm->ops->uses_contacts && fm->ops != &sinter_force_hertz_mindlin &&
+                 fm->ops != &sinter_force_power_law && fm->ops != &sinter_force_linear_spring)
+            return 0;
+    }
+    return 1;
+}
+
+/* Kinetic energy of particle i at t (from the spare arrays) and at t + h, and its gain beyond
+ * the work of the body forces, in the laboratory frame. */
+typedef struct energy_gain {
+    double before, after, work, gain;
+    double tolerance; /* round-off: of the energies, and of the work's displacement x - x0
+                         (a short step far from the origin: its relative error eps |x| / dx) */
+} energy_gain;
+
+static energy_gain gain_of(const sinter_stepper *st, const body_work *b, size_t i)
+{
+    const sinter_particles *ps = st->ps;
+    const double *x = ps->x + 3 * i, *v = ps->v + 3 * i, *w = ps->w + 3 * i;
+    const double *x0 = st->spare[0] + 3 * i, *v0 = st->spare[1] + 3 * i, *w0 = st->spare[2] + 3 * i;
+    const double m = ps->mass[i], J = ps->inertia[i];
+    energy_gain e = {0.0, 0.0, 0.0, 0.0, 0.0};
+    double moved2 = 0.0, spread = 0.0;
+    for (int d = 0; d < 3; ++d) {
+        const double dx = x[d] - x0[d], body = m * b->g[d] + b->f[d];
+        e.before += 0.5 * (m * v0[d] * v0[d] + J * w0[d] * w0[d]);
+        e.after += 0.5 * (m * v[d] * v[d] + J * w[d] * w[d]);
+        e.work += body * dx;
+        spread += fabs(body) * (fabs(x[d]) + fabs(x0[d]));
+        moved2 += dx * dx;
+    }
+    if (b->env > 0.0) /* the drag pulls along the medium: at most c |v_env| per metre */
+        e.work += sinter_particle_param(ps, i, SINTER_MAT_DRAG_COEFFICIENT) * b->env * sqrt(moved2);
+    e.gain = e.after - e.before - e.work;
+    e.tolerance = 1e-9 * (e.before + e.after) + 1e-14 * spread;
+    return e;
+}
+
+/* More than doubled (beyond round-off): examined with its contacts. */
+static int doubled(const energy_gain *e)
+{
+    return e->gain > e->before + e->tolerance;
+}
+
+/* Flags of criterion 4 per particle (st->energy_flag). */
+enum {
+    E_CANDIDATE = 1, /* its energy more than doubled */
+    E_PARTNER = 2,   /* in contact with a candidate at t or t + h */
+    E_MOVING = 4,    /* touches a moving wall: not examined, nor its cluster */
+    E_ANCHORED = 8   /* touches a wall (or is fixed): its cluster's frame is the walls' */
+};
+
+/* The overlaps of neighbour pair k at t (x0) and at t + h. */
+static void pair_overlaps(const sinter_stepper *st, size_t i, size_t j, double d[2])
+{
+    const double *x = st->ps->x, *x0 = st->spare[0], *r = st->ps->radius;
+    d[0] = r[i] + r[j] - distance(x0 + 3 * i, x0 + 3 * j);
+    d[1] = r[i] + r[j] - distance(x + 3 * i, x + 3 * j);
+}
+
+/* The energy gain of candidate i's cluster (i and its contact partners, adj[lo..hi)) in the
+ * frame of its centre of mass, or of the walls when a member touches one or is fixed: energy
+ * passed on between members within the step cancels, and so does what a uniform body force
+ * gives the cluster as a whole. Also the members' elastic energies and the tolerance. */
+typedef struct cluster_gain {
+    double gain, work, elastic[2], tolerance;
+    int moving;
+} cluster_gain;
+
+static cluster_gain cluster_of(const sinter_stepper *st, const body_work *b, size_t i,
+                               const uint32_t *adj, size_t lo, size_t hi)
+{
+    const sinter_particles *ps = st->ps;
+    const unsigned char *flag = st->energy_flag;
+    const double *store = st->energy_store;
+    cluster_gain c = {0.0, 0.0, {0.0, 0.0}, 0.0, 0};
+    double mass = 0.0, p0[3] = {0, 0, 0}, p1[3] = {0, 0, 0}, dx[3] = {0, 0, 0}, count = 0.0;
+    int anchored = 0;
+    for (size_t k = lo; k <= hi; ++k) {
+        const size_t p = k == hi ? i : adj[k];
+        const energy_gain e = gain_of(st, b, p);
+        c.gain += e.after - e.before;
+        c.work += e.work;
+        c.tolerance += e.tolerance;
+        c.elastic[0] += store[2 * p];
+        c.elastic[1] += store[2 * p + 1];
+        c.moving |= (flag[p] & E_MOVING) != 0;
+        anchored |= (flag[p] & E_ANCHORED) || (ps->flags[p] & SINTER_PARTICLE_FIXED);
+        const double m = ps->mass[p];
+        mass += m;
+        count += 1.0;
+        for (int d = 0; d < 3; ++d) {
+            p0[d] += m * st->spare[1][3 * p + d];
+            p1[d] += m * ps->v[3 * p + d];
+            dx[d] += m * (ps->x[3 * p + d] - st->spare[0][3 * p + d]);
+        }
+    }
+    if (!anchored) /* the centre of mass's energy and the body forces' work on it go */
+        for (int d = 0; d < 3; ++d) {
+            c.gain -= 0.5 * (p1[d] * p1[d] - p0[d] * p0[d]) / mass;
+            c.work -= (mass * b->g[d] + count * b->f[d]) * dx[d] / mass;
+        }
+    c.gain -= c.work;
+    return c;
+}
+
+sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
+{
+    const sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    body_work b;
+    if (!body_forces(st, &b))
+        return SINTER_OK;
+    size_t candidates = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const energy_gain e = gain_of(st, &b, i);
+        candidates += doubled(&e) && !(ps->flags[i] & SINTER_PARTICLE_FIXED);
+    }
+    if (candidates == 0)
+        return SINTER_OK;
+    sinter_status s =
+        sinter_grow(st->ctx, (void **)&st->energy_flag, &st->energy_flag_capacity, n + 1, 1);
+    if (s == SINTER_OK)
+        s = sinter_grow(st->ctx, (void **)&st->energy_store, &st->energy_store_capacity, 2 * n + 2,
+                        sizeof(double));
+    if (s == SINTER_OK)
+        s = sinter_grow(st->ctx, (void **)&st->energy_start, &st->energy_start_capacity, n + 2,
+                        sizeof(size_t));
+    if (s != SINTER_OK)
+        return s;
+    unsigned char *flag = st->energy_flag;
+    double *store = st->energy_store;
+    size_t *start = st->energy_start;
+    memset(store, 0, 2 * n * sizeof(double));
+    memset(start, 0, (n + 2) * sizeof(size_t));
+    for (size_t i = 0; i < n; ++i) {
+        const energy_gain e = gain_of(st, &b, i);
+        flag[i] = doubled(&e) && !(ps->flags[i] & SINTER_PARTICLE_FIXED) ? E_CANDIDATE : 0;
+    }
+    /* the candidates' partners (any contact at t or t + h: a pair that ended in the step
+     * released its energy too), counted for the candidates' lists */
+    const sinter_pair_list *pp = &st->nb.pp;
+    for (size_t k = 0; k < pp->count; ++k) {
+        const size_t i = pp->i[k], j = pp->j[k];
+        if (!((flag[i] | flag[j]) & E_CANDIDATE))
+            continue;
+        double d[2];
+        pair_overlaps(st, i, j, d);
+        if (!(d[0] > 0.0 || d[1] > 0.0))
+            continue;
+        if (flag[i] & E_CANDIDATE) {
+            flag[j] |= E_PARTNER;
+            start[i + 2]++;
+        }
+        if (flag[j] & E_CANDIDATE) {
+            flag[i] |= E_PARTNER;
+            start[j + 2]++;
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+        start[i + 2] += start[i + 1];
+    const size_t links = start[n + 1];
+    s = sinter_grow(st->ctx, (void **)&st->energy_adj, &st->energy_adj_capacity, links + 1,
+                    sizeof(uint32_t));
+    if (s != SINTER_OK)
+        return s;
+    uint32_t *adj = st->energy_adj;
+    /* elastic energies of every contact of a candidate or partner; the lists (start[i + 1]
+     * runs from start[i] to start[i + 1] as they fill) */
+    for (size_t k = 0; k < pp->count; ++k) {
+        const size_t i = pp->i[k], j = pp->j[k];
+        if (!(flag[i] | flag[j]))
+            continue;
+        double d[2];
+        pair_overlaps(st, i, j, d);
+        for (int a = 0; a < 2; ++a) {
+            const double u = d[a] > 0.0 ? sinter_contact_energy(st, i, j, 0, d[a]) : 0.0;
+            store[2 * i + (size_t)a] += u;
+            store[2 * j + (size_t)a] += u;
+        }
+        if (!(d[0] > 0.0 || d[1] > 0.0))
+            continue;
+        if (flag[i] & E_CANDIDATE)
+            adj[start[i + 1]++] = (uint32_t)j;
+        if (flag[j] & E_CANDIDATE)
+            adj[start[j + 1]++] = (uint32_t)i;
+    }
+    const sinter_pair_list *pw = &st->nb.pw;
+    const double *x = ps->x, *x0 = st->spare[0], *r = ps->radius;
+    for (size_t k = 0; k < pw->count && st->walls != NULL; ++k) {
+        const size_t i = pw->i[k], j = pw->j[k];
+        if (!flag[i])
+            continue;
+        const sinter_wall *w = &st->walls->wall[j];
+        const double d0 = r[i] - sinter_wall_distance(w, x0 + 3 * i);
+        const double d1 = r[i] - sinter_wall_distance(w, x + 3 * i);
+        if (!(d0 > 0.0 || d1 > 0.0))
+            continue;
+        if (w->u[0] != 0.0 || w->u[1] != 0.0 || w->u[2] != 0.0) {
+            flag[i] |= E_MOVING; /* the wall's work is not known here */
+            continue;
+        }
+        flag[i] |= E_ANCHORED;
+        store[2 * i] += d0 > 0.0 ? sinter_contact_energy(st, i, SIZE_MAX, j, d0) : 0.0;
+        store[2 * i + 1] += d1 > 0.0 ? sinter_contact_energy(st, i, SIZE_MAX, j, d1) : 0.0;
+    }
+    size_t worst = n, count = 0, named[4] = {0, 0, 0, 0};
+    double worst_ratio = 1.0;
+    cluster_gain worst_c = {0.0, 0.0, {0.0, 0.0}, 0.0, 0};
+    for (size_t i = 0; i < n; ++i) {
+        if (!(flag[i] & E_CANDIDATE))
+            continue;
+        const cluster_gain c = cluster_of(st, &b, i, adj, start[i], start[i + 1]);
+        const double bound =
+            SINTER_SANITY_ENERGY_FACTOR * (c.elastic[0] + c.elastic[1]) + c.tolerance;
+        if (c.moving || !(c.gain > bound))
+            continue;
+        if (count < 4)
+            named[count] = i;
+        count++;
+        const double ratio = bound > 0.0 ? c.gain / bound : INFINITY;
+        if (worst == n || ratio > worst_ratio) {
+            worst = i;
+            worst_ratio = ratio;
+            worst_c = c;
+        }
+    }
+    if (count == 0)
+        return SINTER_OK;
+    char others[160] = "";
+    size_t used = 0;
+    for (size_t k = 0; k < count && k < 4; ++k)
+        if (named[k] != worst && used < sizeof(others))
+            used += (size_t)snprintf(others + used, sizeof(others) - used, "%s%zu (id %llu)",
+                                     used == 0 ? ". Also particle(s) " : ", ", named[k],
+                                     (unsigned long long)ps->id[named[k]]);
+    if (count > 4 && used < sizeof(others))
+        snprintf(others + used, sizeof(others) - used, " and %zu more", count - 4);
+    const energy_gain e = gain_of(st, &b, worst);
+    return sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,
+                       "step from t = %.9g s to %.9g s rejected: energy created in a contact: "
+                       "particle %zu (id %llu) and %zu contact partner(s) gained %g J of kinetic "
+                       "energy (its own: %g J to %g J) beyond the work of body forces, over %g "
+                       "times their contacts' elastic energy (%g J at t, %g J at t + h); a "
+                       "damped contact cannot return more than it took. The step %g s is too "
+                       "large (see sinter_stepper_stable_step; stepper option \"energy_check\" "
+                       "= 0 turns this check off). The last accepted state is kept%s",
+                       t, t + h, worst, (unsigned long long)ps->id[worst],
+                       start[worst + 1] - start[worst], worst_c.gain, e.before, e.after,
+                       SINTER_SANITY_ENERGY_FACTOR, worst_c.elastic[0], worst_c.elastic[1], h,
+                       others);
 }
 
 /* The domain's test (option domain_min / domain_max) of particles [lo, hi): the first one
