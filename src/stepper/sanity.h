@@ -13,6 +13,8 @@
 /* Criterion 4: a particle's kinetic energy gain in one step beyond this many times the elastic
  * energy of its contacts at the start and at the end of the step is energy created. */
 #define SINTER_SANITY_ENERGY_FACTOR 2.0
+/* ... and beyond this fraction of its (and its contact partners') kinetic energy at t. */
+#define SINTER_SANITY_ENERGY_GROWTH 0.5
 /* Largest temperature a particle may reach [K]. */
 #define SINTER_SANITY_MAX_TEMPERATURE 1e5
 
@@ -49,11 +51,14 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
  * Criterion 4 of sanity.c (the explicit stepper, option "energy_check", on by default), after
  * an accepted-looking trial step from t to t + h whose state at t is in the stepper's spare
  * arrays (x, v, w): a particle whose kinetic energy more than doubled in the step, beyond the
- * work of gravity, body forces and the drag's medium, by more than
- * SINTER_SANITY_ENERGY_FACTOR times the elastic energy its contacts held at t and at t + h, is
- * SINTER_ERR_UNSTABLE naming it (and a few others), the energies and the time. Particles
- * touching a moving wall are not examined (the wall's work is not known here), nor any when a
- * host model computes contact forces.
+ * work of gravity, body forces and the drag's medium, while it and its contact partners (in
+ * their centre-of-mass frame, or the walls' when one touches a wall) gained more than
+ * SINTER_SANITY_ENERGY_FACTOR times the elastic energy of their contacts at t and at t + h and
+ * a bound of the work of their contacts with other particles, plus SINTER_SANITY_ENERGY_GROWTH
+ * times their kinetic energy at t, is SINTER_ERR_UNSTABLE
+ * naming it (and a few others), the energies and the time. Particles touching a moving wall
+ * are not examined (the wall's work is not known here), nor any when a host model computes
+ * contact forces.
  */
 sinter_status sinter_sanity_energy(struct sinter_stepper *st, double t, double h);
 

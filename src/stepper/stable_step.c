@@ -277,3 +277,51 @@ double sinter_contact_energy(const sinter_stepper *st, size_t i, size_t j, size_
     }
     return u;
 }
+
+double sinter_contact_force_bound(const sinter_stepper *st, size_t i, size_t j, size_t wall,
+                                  double delta, double speed)
+{
+    const sinter_particles *ps = st->ps;
+    const sinter_material *a = &ps->materials[ps->material[i]];
+    const int is_wall = j == SIZE_MAX;
+    const sinter_material *b =
+        is_wall ? &st->walls->wall[wall].material : &ps->materials[ps->material[j]];
+    const double *va = a->value, *vb = b->value;
+    const double ri = ps->radius[i], rj = is_wall ? INFINITY : ps->radius[j];
+    const double rstar = is_wall ? ri : ri * rj / (ri + rj);
+    const double mstar =
+        is_wall ? ps->mass[i] : ps->mass[i] * ps->mass[j] / (ps->mass[i] + ps->mass[j]);
+    const double length = is_wall ? ri : ri + rj;
+    const double mu = fmax(sqrt(va[SINTER_MAT_FRICTION_STATIC] * vb[SINTER_MAT_FRICTION_STATIC]),
+                           sqrt(va[SINTER_MAT_FRICTION_DYNAMIC] * vb[SINTER_MAT_FRICTION_DYNAMIC]));
+    double f = 0.0;
+    for (size_t k = 0; k < st->force_count; ++k) {
+        const sinter_force_model *fm = st->forces[k].model;
+        if (fm->ops == &sinter_force_hertz_mindlin) {
+            /* seed 003 eq. 2 and 6 */
+            const double estar = 1.0 / (hertz_compliance(a, 1.0) + hertz_compliance(b, 1.0));
+            const double xi = 0.5 * (va[SINTER_MAT_DAMPING_RATIO] + vb[SINTER_MAT_DAMPING_RATIO]);
+            const double srd = sqrt(rstar * delta);
+            f += (4.0 / 3.0 * estar * srd * delta +
+                  2.0 * xi * sqrt(2.0 * estar * mstar * srd) * speed) *
+                 (1.0 + mu);
+        } else if (fm->ops == &sinter_force_power_law) {
+            /* seed 000 eq. 2, 13, 19 with A <= 2 pi R* delta */
+            const sinter_material_param kp =
+                is_wall ? SINTER_MAT_WALL_STIFFNESS : SINTER_MAT_CONTACT_STIFFNESS;
+            const sinter_material_param pp =
+                is_wall ? SINTER_MAT_WALL_EXPONENT : SINTER_MAT_CONTACT_EXPONENT;
+            const double area = 2.0 * PI * rstar * delta, strain = delta / length;
+            double g = 0.5 * (va[kp] + vb[kp]) * pow(strain, 0.5 * (va[pp] + vb[pp])) * area;
+            if (!is_wall)
+                g += 0.5 * (va[SINTER_MAT_BOND_STIFFNESS] + vb[SINTER_MAT_BOND_STIFFNESS]) *
+                     pow(strain,
+                         0.5 * (va[SINTER_MAT_BOND_EXPONENT] + vb[SINTER_MAT_BOND_EXPONENT])) *
+                     area;
+            f += g * (1.0 + mu);
+        } else if (fm->ops == &sinter_force_linear_spring) {
+            f += fm->param[0] * delta + fm->param[1] * speed;
+        }
+    }
+    return f;
+}

@@ -82,6 +82,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_free(ctx, st->energy_store);
     sinter_free(ctx, st->energy_start);
     sinter_free(ctx, st->energy_adj);
+    sinter_free(ctx, st->energy_force);
     sinter_free(ctx, st);
 }
 

@@ -136,6 +136,8 @@ struct sinter_stepper {
     size_t energy_start_capacity;
     uint32_t *energy_adj;
     size_t energy_adj_capacity;
+    double *energy_force; /* beside energy_adj: a bound of that contact's force in the step */
+    size_t energy_force_capacity;
 };
 
 /* Set every particle's temperature to the furnace's T(st->time) (no-op without a furnace). */
@@ -209,5 +211,12 @@ sinter_status sinter_stable_step_check(sinter_stepper *st);
  * an upper bound; stable_step.c). */
 double sinter_contact_energy(const sinter_stepper *st, size_t i, size_t j, size_t wall,
                              double delta);
+
+/* A bound [N] of the force of the stepper's built-in contact models in one contact of overlap
+ * delta > 0 between particles i and j (wall contacts: j is SIZE_MAX) closing or opening at
+ * normal speed at most `speed` [m/s]: the unsoftened normal force with its damping, times
+ * 1 + the friction coefficient (Coulomb's limit of the tangential force). */
+double sinter_contact_force_bound(const sinter_stepper *st, size_t i, size_t j, size_t wall,
+                                  double delta, double speed);
 
 #endif
