@@ -521,8 +521,8 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
     s = sinter_grow(st->ctx, (void **)&st->energy_adj, &st->energy_adj_capacity, links + 1,
                     sizeof(uint32_t));
     if (s == SINTER_OK)
-        s = sinter_grow(st->ctx, (void **)&st->energy_force, &st->energy_force_capacity,
-                        links + 1, sizeof(double));
+        s = sinter_grow(st->ctx, (void **)&st->energy_force, &st->energy_force_capacity, links + 1,
+                        sizeof(double));
     if (s != SINTER_OK)
         return s;
     uint32_t *adj = st->energy_adj;
@@ -619,8 +619,7 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
                        t, t + h, worst, (unsigned long long)ps->id[worst],
                        start[worst + 1] - start[worst], worst_c.gain, e.before, e.after,
                        SINTER_SANITY_ENERGY_FACTOR, worst_c.elastic[0], worst_c.elastic[1],
-                       worst_c.transfer, SINTER_SANITY_ENERGY_GROWTH, worst_c.kinetic, h,
-                       others);
+                       worst_c.transfer, SINTER_SANITY_ENERGY_GROWTH, worst_c.kinetic, h, others);
 }
 
 /* The domain's test (option domain_min / domain_max) of particles [lo, hi): the first one
