@@ -88,6 +88,7 @@
 #include <string.h>
 
 #include "contact/particle_pass.h"
+#include "core/clones.h"
 #include "sanity.h"
 #include "stepper.h"
 
@@ -342,9 +343,94 @@ enum {
     E_CANDIDATE = 1, /* its energy more than doubled */
     E_PARTNER = 2,   /* in contact with a candidate at t or t + h */
     E_MOVING = 4,    /* touches a moving wall: not examined, nor its cluster */
-    E_ANCHORED = 8,  /* touches a wall (or is fixed): its cluster's frame is the walls' */
-    E_MEMBER = 16    /* of the cluster being weighed */
+    E_ANCHORED = 8   /* touches a wall (or is fixed): its cluster's frame is the walls' */
 };
+
+/* The excess of particle i's gain (gain_of) over doubling its kinetic energy (doubled): > 0
+ * when it more than doubled; far below zero for a fixed particle. Without calls or branches,
+ * for the vectorised loop of any_doubled (it runs every step). */
+typedef struct doubling_arrays {
+    const double *restrict x, *restrict v, *restrict w, *restrict x0, *restrict v0,
+        *restrict w0, *restrict m, *restrict J;
+    const uint32_t *restrict flags;
+    double g[3], f[3];
+} doubling_arrays;
+
+static inline double doubling_excess(const doubling_arrays *a, size_t i)
+{
+    const double *restrict x = a->x, *restrict v = a->v, *restrict w = a->w;
+    const double *restrict x0 = a->x0, *restrict v0 = a->v0, *restrict w0 = a->w0;
+    const double m = a->m[i], J = a->J[i];
+    const double before = 0.5 * (m * (v0[3 * i] * v0[3 * i] + v0[3 * i + 1] * v0[3 * i + 1] +
+                                      v0[3 * i + 2] * v0[3 * i + 2]) +
+                                 J * (w0[3 * i] * w0[3 * i] + w0[3 * i + 1] * w0[3 * i + 1] +
+                                      w0[3 * i + 2] * w0[3 * i + 2]));
+    const double after = 0.5 * (m * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] +
+                                     v[3 * i + 2] * v[3 * i + 2]) +
+                                J * (w[3 * i] * w[3 * i] + w[3 * i + 1] * w[3 * i + 1] +
+                                     w[3 * i + 2] * w[3 * i + 2]));
+    const double b0 = m * a->g[0] + a->f[0], b1 = m * a->g[1] + a->f[1],
+                 b2 = m * a->g[2] + a->f[2];
+    const double work = b0 * (x[3 * i] - x0[3 * i]) + b1 * (x[3 * i + 1] - x0[3 * i + 1]) +
+                        b2 * (x[3 * i + 2] - x0[3 * i + 2]);
+    const double spread = fabs(b0) * (fabs(x[3 * i]) + fabs(x0[3 * i])) +
+                          fabs(b1) * (fabs(x[3 * i + 1]) + fabs(x0[3 * i + 1])) +
+                          fabs(b2) * (fabs(x[3 * i + 2]) + fabs(x0[3 * i + 2]));
+    const double tolerance = 1e-9 * (before + after) + 1e-14 * spread;
+    const double pinned = (double)(a->flags[i] & SINTER_PARTICLE_FIXED);
+    return after - before - work - (before + tolerance) - 1e300 * pinned;
+}
+
+/* 1 if a particle's kinetic energy more than doubled (an integer reduction: vectorised, unlike
+ * a floating-point one). */
+SINTER_CLONES
+static size_t any_doubled(const doubling_arrays *a, size_t n)
+{
+    long hits = 0;
+    for (size_t i = 0; i < n; ++i)
+        hits |= (long)(doubling_excess(a, i) > 0.0);
+    return (size_t)hits;
+}
+
+/* Each particle's doubling_excess into out[0 .. n) (vectorised too). */
+SINTER_CLONES
+static void store_excess(const doubling_arrays *a, size_t n, double *restrict out)
+{
+    for (size_t i = 0; i < n; ++i)
+        out[i] = doubling_excess(a, i);
+}
+
+/* With `flag`, `scratch` holds n doubles. */
+static size_t doubled_pass(const sinter_stepper *st, const body_work *b, unsigned char *flag,
+                           double *scratch)
+{
+    const sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    if (!(b->env > 0.0)) { /* (the drag's medium: gain_of's own allowance) */
+        const doubling_arrays a = {ps->x,         ps->v,       ps->w,       st->spare[0],
+                                   st->spare[1],  st->spare[2], ps->mass,   ps->inertia,
+                                   ps->flags,     {b->g[0], b->g[1], b->g[2]},
+                                   {b->f[0], b->f[1], b->f[2]}};
+        if (flag == NULL)
+            return any_doubled(&a, n);
+        store_excess(&a, n, scratch);
+        size_t count = 0;
+        for (size_t i = 0; i < n; ++i) {
+            flag[i] = scratch[i] > 0.0 ? E_CANDIDATE : 0;
+            count += flag[i];
+        }
+        return count;
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const energy_gain e = gain_of(st, b, i);
+        const int c = doubled(&e) && !(ps->flags[i] & SINTER_PARTICLE_FIXED);
+        count += (size_t)c;
+        if (flag != NULL)
+            flag[i] = c ? E_CANDIDATE : 0;
+    }
+    return count;
+}
 
 /* The overlaps of neighbour pair k at t (x0) and at t + h. */
 static void pair_overlaps(const sinter_stepper *st, size_t i, size_t j, double d[2])
@@ -385,19 +471,16 @@ typedef struct cluster_gain {
     int moving;
 } cluster_gain;
 
-/* The members' work bound through contacts with non-members: each contact's force bound
- * (energy_force) times the member's displacement in the cluster's frame plus its surface's
- * turn (r |w| h). */
-static double boundary_work(const sinter_stepper *st, size_t p, const double frame[3], double h)
+/* A bound of the work on member p through its contacts with non-members: their force bounds
+ * (`force`: all of p's contacts' but the one with the candidate; a contact between two
+ * partners counts too, which only widens the bound) times p's displacement in the cluster's
+ * frame plus its surface's turn (r |w| h). */
+static double boundary_work(const sinter_stepper *st, size_t p, double force, const double frame[3],
+                            double h)
 {
     const sinter_particles *ps = st->ps;
-    const unsigned char *flag = st->energy_flag;
-    const size_t *start = st->energy_start;
-    double s2 = 0.0, w2 = 0.0, force = 0.0;
-    for (size_t k = start[p]; k < start[p + 1]; ++k)
-        if (!(flag[st->energy_adj[k]] & E_MEMBER))
-            force += st->energy_force[k];
-    if (force == 0.0)
+    double s2 = 0.0, w2 = 0.0;
+    if (!(force > 0.0))
         return 0.0;
     for (int d = 0; d < 3; ++d) {
         const double s = ps->x[3 * p + d] - st->spare[0][3 * p + d] - frame[d];
@@ -412,7 +495,7 @@ static cluster_gain cluster_of(const sinter_stepper *st, const body_work *b, siz
                                const uint32_t *adj, size_t lo, size_t hi, double h)
 {
     const sinter_particles *ps = st->ps;
-    unsigned char *flag = st->energy_flag;
+    const unsigned char *flag = st->energy_flag;
     const double *store = st->energy_store;
     cluster_gain c = {0.0, 0.0, {0.0, 0.0}, 0.0, 0.0, 0.0, 0};
     double mass = 0.0, p0[3] = {0, 0, 0}, p1[3] = {0, 0, 0}, dx[3] = {0, 0, 0}, count = 0.0;
@@ -446,13 +529,12 @@ static cluster_gain cluster_of(const sinter_stepper *st, const body_work *b, siz
             frame[d] = dx[d] / mass;
         }
     c.gain -= c.work;
-    /* energy passed on to or from particles outside (by the elastic force or the damping) */
-    for (size_t k = lo; k <= hi; ++k)
-        flag[k == hi ? i : adj[k]] |= E_MEMBER;
-    for (size_t k = lo; k <= hi; ++k)
-        c.transfer += boundary_work(st, k == hi ? i : adj[k], frame, h);
-    for (size_t k = lo; k <= hi; ++k)
-        flag[k == hi ? i : adj[k]] &= (unsigned char)~E_MEMBER;
+    /* energy passed on to or from particles outside (by the elastic force or the damping):
+     * every contact of the candidate is with a partner */
+    const double *force_sum = store + 2 * ps->count;
+    for (size_t k = lo; k < hi; ++k)
+        c.transfer +=
+            boundary_work(st, adj[k], force_sum[adj[k]] - st->energy_force[k], frame, h);
     return c;
 }
 
@@ -463,17 +545,12 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
     body_work b;
     if (!body_forces(st, &b))
         return SINTER_OK;
-    size_t candidates = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const energy_gain e = gain_of(st, &b, i);
-        candidates += doubled(&e) && !(ps->flags[i] & SINTER_PARTICLE_FIXED);
-    }
-    if (candidates == 0)
+    if (doubled_pass(st, &b, NULL, NULL) == 0)
         return SINTER_OK;
     sinter_status s =
         sinter_grow(st->ctx, (void **)&st->energy_flag, &st->energy_flag_capacity, n + 1, 1);
     if (s == SINTER_OK)
-        s = sinter_grow(st->ctx, (void **)&st->energy_store, &st->energy_store_capacity, 2 * n + 2,
+        s = sinter_grow(st->ctx, (void **)&st->energy_store, &st->energy_store_capacity, 3 * n + 3,
                         sizeof(double));
     if (s == SINTER_OK)
         s = sinter_grow(st->ctx, (void **)&st->energy_start, &st->energy_start_capacity, n + 2,
@@ -483,14 +560,11 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
     unsigned char *flag = st->energy_flag;
     double *store = st->energy_store;
     size_t *start = st->energy_start;
-    memset(store, 0, 2 * n * sizeof(double));
+    (void)doubled_pass(st, &b, flag, store);
+    memset(store, 0, 3 * n * sizeof(double));
     memset(start, 0, (n + 2) * sizeof(size_t));
-    for (size_t i = 0; i < n; ++i) {
-        const energy_gain e = gain_of(st, &b, i);
-        flag[i] = doubled(&e) && !(ps->flags[i] & SINTER_PARTICLE_FIXED) ? E_CANDIDATE : 0;
-    }
     /* the candidates' partners (any contact at t or t + h: a pair that ended in the step
-     * released its energy too) */
+     * released its energy too), and the candidates' lists counted */
     const sinter_pair_list *pp = &st->nb.pp;
     for (size_t k = 0; k < pp->count; ++k) {
         const size_t i = pp->i[k], j = pp->j[k];
@@ -500,20 +574,10 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
         pair_overlaps(st, i, j, d);
         if (!(d[0] > 0.0 || d[1] > 0.0))
             continue;
+        start[i + 2] += (flag[i] & E_CANDIDATE) != 0;
+        start[j + 2] += (flag[j] & E_CANDIDATE) != 0;
         flag[i] |= (flag[j] & E_CANDIDATE) ? E_PARTNER : 0;
         flag[j] |= (flag[i] & E_CANDIDATE) ? E_PARTNER : 0;
-    }
-    /* the contact lists of candidates and partners, counted */
-    for (size_t k = 0; k < pp->count; ++k) {
-        const size_t i = pp->i[k], j = pp->j[k];
-        if (!(flag[i] | flag[j]))
-            continue;
-        double d[2];
-        pair_overlaps(st, i, j, d);
-        if (!(d[0] > 0.0 || d[1] > 0.0))
-            continue;
-        start[i + 2] += flag[i] != 0;
-        start[j + 2] += flag[j] != 0;
     }
     for (size_t i = 0; i < n; ++i)
         start[i + 2] += start[i + 1];
@@ -526,30 +590,34 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
     if (s != SINTER_OK)
         return s;
     uint32_t *adj = st->energy_adj;
-    /* elastic energies of every contact of a candidate or partner; the lists (start[i + 1]
-     * runs from start[i] to start[i + 1] as they fill) */
+    /* elastic energies and force bounds of every contact of a candidate or partner (store:
+     * 3 per particle, at t, at t + h, and the sum of the force bounds); the candidates' lists
+     * (start[i + 1] runs from start[i] to start[i + 1] as they fill) */
+    double *force_sum = store + 2 * n;
     for (size_t k = 0; k < pp->count; ++k) {
         const size_t i = pp->i[k], j = pp->j[k];
         if (!(flag[i] | flag[j]))
             continue;
         double d[2];
         pair_overlaps(st, i, j, d);
+        if (!(d[0] > 0.0 || d[1] > 0.0))
+            continue;
         for (int a = 0; a < 2; ++a) {
             const double u = d[a] > 0.0 ? sinter_contact_energy(st, i, j, 0, d[a]) : 0.0;
             store[2 * i + (size_t)a] += u;
             store[2 * j + (size_t)a] += u;
         }
-        if (!(d[0] > 0.0 || d[1] > 0.0))
-            continue;
         const double speed = pair_speed(st, i, j);
         const double f =
             fmax(d[0] > 0.0 ? sinter_contact_force_bound(st, i, j, 0, d[0], speed) : 0.0,
                  d[1] > 0.0 ? sinter_contact_force_bound(st, i, j, 0, d[1], speed) : 0.0);
-        if (flag[i]) {
+        force_sum[i] += f;
+        force_sum[j] += f;
+        if (flag[i] & E_CANDIDATE) {
             st->energy_force[start[i + 1]] = f;
             adj[start[i + 1]++] = (uint32_t)j;
         }
-        if (flag[j]) {
+        if (flag[j] & E_CANDIDATE) {
             st->energy_force[start[j + 1]] = f;
             adj[start[j + 1]++] = (uint32_t)i;
         }
