@@ -694,14 +694,18 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * the stable step estimate (sinter_stepper_stable_step) before the first step
  * of sinter_stepper_advance or sinter_stepper_step, with SINTER_ERR_INVALID
  * giving both numbers; 0 runs it knowingly. "energy_check": 1, the default,
- * rejects a step in which a particle's kinetic energy more than doubled, beyond
- * the work of gravity, body forces and the drag's medium, by more than twice
- * the elastic energy its contacts held at the start and at the end of the
- * step (energy created in a contact: a damped contact cannot return more than
- * it took), with SINTER_ERR_UNSTABLE naming the particle(s), the energies and
- * the time, the last accepted state kept; particles touching a moving wall
- * are not examined, nor any with a host contact model; 0 turns it off. It
- * reads the state only: results are the same to the bit either way.
+ * rejects a step that created energy in a contact (a damped contact cannot
+ * return more than it took): a particle's kinetic energy more than doubled,
+ * beyond the work of gravity, body forces and the drag's medium, and it and
+ * its contact partners (in their centre-of-mass frame, or the walls' when one
+ * touches a wall) gained more than twice the elastic energy of their contacts
+ * at the start and at the end of the step and a bound of the work of their
+ * contacts with others, plus half their kinetic energy; SINTER_ERR_UNSTABLE
+ * names the particle(s), the energies and the time, and the last accepted
+ * state is kept (src/stepper/sanity.c, criterion 4). Particles touching a
+ * moving wall are not examined, nor any with a host contact model; 0 turns
+ * it off. It reads the state only: results are the same to the bit either
+ * way.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).
