@@ -700,7 +700,9 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * its contact partners (in their centre-of-mass frame, or the walls' when one
  * touches a wall) gained more than twice the elastic energy of their contacts
  * at the start and at the end of the step and a bound of the work of their
- * contacts with others, plus half their kinetic energy; SINTER_ERR_UNSTABLE
+ * contacts with others, plus half their kinetic energy (gains below a
+ * thousandth of a contact's elastic energy at the estimate's reference
+ * overlap are not examined); SINTER_ERR_UNSTABLE
  * names the particle(s), the energies and the time, and the last accepted
  * state is kept (src/stepper/sanity.c, criterion 4). Particles touching a
  * moving wall are not examined, nor any with a host contact model; 0 turns

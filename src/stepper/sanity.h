@@ -15,6 +15,9 @@
 #define SINTER_SANITY_ENERGY_FACTOR 2.0
 /* ... and beyond this fraction of its (and its contact partners') kinetic energy at t. */
 #define SINTER_SANITY_ENERGY_GROWTH 0.5
+/* ... and beyond this fraction of the least elastic energy of a contact at the stable step's
+ * reference overlap (the check's resolution: stable_step.c). */
+#define SINTER_SANITY_ENERGY_FLOOR 1e-3
 /* Largest temperature a particle may reach [K]. */
 #define SINTER_SANITY_MAX_TEMPERATURE 1e5
 
@@ -55,10 +58,10 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
  * their centre-of-mass frame, or the walls' when one touches a wall) gained more than
  * SINTER_SANITY_ENERGY_FACTOR times the elastic energy of their contacts at t and at t + h and
  * a bound of the work of their contacts with other particles, plus SINTER_SANITY_ENERGY_GROWTH
- * times their kinetic energy at t, is SINTER_ERR_UNSTABLE
- * naming it (and a few others), the energies and the time. Particles touching a moving wall
- * are not examined (the wall's work is not known here), nor any when a host model computes
- * contact forces.
+ * times their kinetic energy at t (a gain below st->energy_floor is not examined), is
+ * SINTER_ERR_UNSTABLE naming it (and a few others), the energies and the time. Particles
+ * touching a moving wall are not examined (the wall's work is not known here), nor any when a
+ * host model computes contact forces.
  */
 sinter_status sinter_sanity_energy(struct sinter_stepper *st, double t, double h);
 

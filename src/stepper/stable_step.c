@@ -145,13 +145,43 @@ static double model_critical(const sinter_force_model *fm, const contact_side *a
     return INFINITY;
 }
 
-/* The estimate and a description of the contact that sets it (into text, if not NULL). */
-static double estimate(const sinter_stepper *st, char *text, size_t size)
+/* Elastic energy of model fm's contact between sides a and b at the reference overlap (Hertz,
+ * linear spring: 1 % of R*) or strain (power law: 0.1), unsoftened; 0 for other models. */
+static double model_energy(const sinter_force_model *fm, const contact_side *a,
+                           const contact_side *b)
+{
+    double rstar, mstar;
+    reduced(a, b, &rstar, &mstar);
+    const int wall = isinf(b->r);
+    const double *va = a->mat->value, *vb = b->mat->value;
+    const double delta = SINTER_STABLE_HERTZ_OVERLAP * rstar;
+    if (fm->ops == &sinter_force_hertz_mindlin) {
+        const double estar = 1.0 / (hertz_compliance(a->mat, 1.0) + hertz_compliance(b->mat, 1.0));
+        return 8.0 / 15.0 * estar * sqrt(rstar * delta) * delta * delta;
+    }
+    if (fm->ops == &sinter_force_power_law) {
+        const sinter_material_param kp =
+            wall ? SINTER_MAT_WALL_STIFFNESS : SINTER_MAT_CONTACT_STIFFNESS;
+        const sinter_material_param pp =
+            wall ? SINTER_MAT_WALL_EXPONENT : SINTER_MAT_CONTACT_EXPONENT;
+        const double length = wall ? a->r : a->r + b->r;
+        const double p = 0.5 * (va[pp] + vb[pp]), d = SINTER_STABLE_POWER_STRAIN * length;
+        return 2.0 * PI * rstar * 0.5 * (va[kp] + vb[kp]) * d * d *
+               pow(SINTER_STABLE_POWER_STRAIN, p) / (p + 2.0);
+    }
+    if (fm->ops == &sinter_force_linear_spring)
+        return 0.5 * fm->param[0] * delta * delta;
+    return 0.0;
+}
+
+/* The estimate and a description of the contact that sets it (into text, if not NULL); into
+ * *energy (if not NULL) the least elastic energy of a contact at the reference overlap. */
+static double estimate(const sinter_stepper *st, char *text, size_t size, double *energy)
 {
     const sinter_particles *ps = st->ps;
     smallest s;
     find_smallest(ps, &s);
-    double best = INFINITY;
+    double best = INFINITY, least = INFINITY;
     if (text != NULL && size > 0)
         text[0] = '\0';
     const size_t nw = st->walls != NULL ? st->walls->count : 0;
@@ -169,6 +199,8 @@ static double estimate(const sinter_stepper *st, char *text, size_t size)
                 const contact_side sb = {&ps->materials[b], s.r[b], s.m[b], s.scale[b]};
                 const char *what = "";
                 const double dt = model_critical(fm, &sa, &sb, &what);
+                const double u = model_energy(fm, &sa, &sb);
+                least = u > 0.0 && u < least ? u : least;
                 if (dt < best) {
                     best = dt;
                     if (text != NULL)
@@ -182,6 +214,8 @@ static double estimate(const sinter_stepper *st, char *text, size_t size)
                 const contact_side sw = {&st->walls->wall[k].material, INFINITY, INFINITY, 1.0};
                 const char *what = "";
                 const double dt = model_critical(fm, &sa, &sw, &what);
+                const double u = model_energy(fm, &sa, &sw);
+                least = u > 0.0 && u < least ? u : least;
                 if (dt < best) {
                     best = dt;
                     if (text != NULL)
@@ -193,6 +227,8 @@ static double estimate(const sinter_stepper *st, char *text, size_t size)
             }
         }
     }
+    if (energy != NULL)
+        *energy = isfinite(least) ? least : 0.0;
     return best;
 }
 
@@ -205,14 +241,16 @@ sinter_status sinter_stepper_stable_step(sinter_stepper *st, double *dt)
     const sinter_status valid = sinter_particles_validate(st->ps, NULL);
     if (valid != SINTER_OK)
         return valid;
-    *dt = estimate(st, NULL, 0);
+    *dt = estimate(st, NULL, 0, NULL);
     return SINTER_OK;
 }
 
 sinter_status sinter_stable_step_check(sinter_stepper *st)
 {
     char what[256];
-    const double crit = estimate(st, what, sizeof(what));
+    double least = 0.0;
+    const double crit = estimate(st, what, sizeof(what), &least);
+    st->energy_floor = SINTER_SANITY_ENERGY_FLOOR * least; /* (sanity.c, criterion 4) */
     if (crit != st->stable_logged && isfinite(crit)) {
         sinter_log(st->ctx, SINTER_LOG_INFO,
                    "explicit stepper: stable step estimate %g s (time step %g s, %.3g of it), "
