@@ -357,8 +357,14 @@ enum {
  * when it more than doubled; far below zero for a fixed particle. Without calls or branches,
  * for the vectorised loop of any_doubled (it runs every step). */
 typedef struct doubling_arrays {
-    const double *restrict x, *restrict v, *restrict w, *restrict x0, *restrict v0,
-        *restrict w0, *restrict m, *restrict J;
+    const double *restrict x; /* at t + h, then at t (the spare arrays) */
+    const double *restrict v;
+    const double *restrict w;
+    const double *restrict x0;
+    const double *restrict v0;
+    const double *restrict w0;
+    const double *restrict m;
+    const double *restrict J;
     const uint32_t *restrict flags;
     double g[3], f[3];
     double floor; /* the check's resolution [J] (st->energy_floor) */
@@ -373,12 +379,11 @@ static inline double doubling_excess(const doubling_arrays *a, size_t i)
                                       v0[3 * i + 2] * v0[3 * i + 2]) +
                                  J * (w0[3 * i] * w0[3 * i] + w0[3 * i + 1] * w0[3 * i + 1] +
                                       w0[3 * i + 2] * w0[3 * i + 2]));
-    const double after = 0.5 * (m * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] +
-                                     v[3 * i + 2] * v[3 * i + 2]) +
-                                J * (w[3 * i] * w[3 * i] + w[3 * i + 1] * w[3 * i + 1] +
-                                     w[3 * i + 2] * w[3 * i + 2]));
-    const double b0 = m * a->g[0] + a->f[0], b1 = m * a->g[1] + a->f[1],
-                 b2 = m * a->g[2] + a->f[2];
+    const double after =
+        0.5 *
+        (m * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]) +
+         J * (w[3 * i] * w[3 * i] + w[3 * i + 1] * w[3 * i + 1] + w[3 * i + 2] * w[3 * i + 2]));
+    const double b0 = m * a->g[0] + a->f[0], b1 = m * a->g[1] + a->f[1], b2 = m * a->g[2] + a->f[2];
     const double work = b0 * (x[3 * i] - x0[3 * i]) + b1 * (x[3 * i + 1] - x0[3 * i + 1]) +
                         b2 * (x[3 * i + 2] - x0[3 * i + 2]);
     const double spread = fabs(b0) * (fabs(x[3 * i]) + fabs(x0[3 * i])) +
@@ -415,11 +420,18 @@ static size_t doubled_pass(const sinter_stepper *st, const body_work *b, unsigne
     const sinter_particles *ps = st->ps;
     const size_t n = ps->count;
     if (!(b->env > 0.0)) { /* (the drag's medium: gain_of's own allowance) */
-        const doubling_arrays a = {ps->x,         ps->v,       ps->w,       st->spare[0],
-                                   st->spare[1],  st->spare[2], ps->mass,   ps->inertia,
-                                   ps->flags,     {b->g[0], b->g[1], b->g[2]},
-                                   {b->f[0], b->f[1], b->f[2]},
-                                   st->energy_floor};
+        const doubling_arrays a = {.x = ps->x,
+                                   .v = ps->v,
+                                   .w = ps->w,
+                                   .x0 = st->spare[0],
+                                   .v0 = st->spare[1],
+                                   .w0 = st->spare[2],
+                                   .m = ps->mass,
+                                   .J = ps->inertia,
+                                   .flags = ps->flags,
+                                   .g = {b->g[0], b->g[1], b->g[2]},
+                                   .f = {b->f[0], b->f[1], b->f[2]},
+                                   .floor = st->energy_floor};
         if (flag == NULL)
             return any_doubled(&a, n);
         store_excess(&a, n, scratch);
@@ -542,8 +554,7 @@ static cluster_gain cluster_of(const sinter_stepper *st, const body_work *b, siz
      * every contact of the candidate is with a partner */
     const double *force_sum = store + 2 * ps->count;
     for (size_t k = lo; k < hi; ++k)
-        c.transfer +=
-            boundary_work(st, adj[k], force_sum[adj[k]] - st->energy_force[k], frame, h);
+        c.transfer += boundary_work(st, adj[k], force_sum[adj[k]] - st->energy_force[k], frame, h);
     return c;
 }
 

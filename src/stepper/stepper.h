@@ -128,8 +128,8 @@ struct sinter_stepper {
     int dt_check;         /* option "dt_check": 1 (the default) refuses a step beyond the limit */
     int energy_check;     /* option "energy_check": 1 (the default) stops energy creation */
     double stable_logged; /* the last estimate logged at info level (0: none) */
-    double energy_floor; /* the energy check's resolution [J]: SINTER_SANITY_ENERGY_FLOOR of the
-                            least elastic energy of a contact at the reference overlap */
+    double energy_floor;  /* the energy check's resolution [J]: SINTER_SANITY_ENERGY_FLOOR of the
+                             least elastic energy of a contact at the reference overlap */
     unsigned char *energy_flag; /* per particle: examined by the energy check */
     size_t energy_flag_capacity;
     double *energy_store; /* per particle: elastic energy of its contacts at t and at t + h */
