@@ -725,6 +725,25 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * when the host places their cores so) a small system on two threads can take
  * twice as long as on one. 0 always takes the context's count. The results
  * are the same to the bit either way (no sum depends on the thread count).
+ * Any stepper takes "dt_check" and "energy_check", which only the explicit one
+ * uses (issue 35). "dt_check": 1, the default, refuses a fixed step above twice
+ * the stable step estimate (sinter_stepper_stable_step) before the first step
+ * of sinter_stepper_advance or sinter_stepper_step, with SINTER_ERR_INVALID
+ * giving both numbers; 0 runs it knowingly. "energy_check": 1, the default,
+ * rejects a step that created energy in a contact (a damped contact cannot
+ * return more than it took): a particle's kinetic energy more than doubled,
+ * beyond the work of gravity, body forces and the drag's medium, and it and
+ * its contact partners (in their centre-of-mass frame, or the walls' when one
+ * touches a wall) gained more than twice the elastic energy of their contacts
+ * at the start and at the end of the step and a bound of the work of their
+ * contacts with others, plus half their kinetic energy (gains below a
+ * thousandth of a contact's elastic energy at the estimate's reference
+ * overlap are not examined); SINTER_ERR_UNSTABLE
+ * names the particle(s), the energies and the time, and the last accepted
+ * state is kept (src/stepper/sanity.c, criterion 4). Particles touching a
+ * moving wall are not examined, nor any with a host contact model; 0 turns
+ * it off. It reads the state only: results are the same to the bit either
+ * way.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).
@@ -787,6 +806,24 @@ SINTER_API sinter_status sinter_stepper_evaluate(sinter_stepper *stepper);
 SINTER_API sinter_status sinter_stable_dt_hertz(const sinter_particles *particles,
                                                 const sinter_walls *walls, double v_rel,
                                                 double *dt);
+
+/**
+ * Stable step estimate [s] of the explicit stepper (issue 35): the critical
+ * step of velocity Verlet, (2 / omega) (sqrt(1 + xi^2) - xi) with omega =
+ * sqrt(k / m*), for the stiffest contact the particles can meet: every pair of
+ * the materials they hold and every material against every wall, for each of
+ * the stepper's built-in contact models, between the smallest particles of the
+ * materials. Hertz: k = 2 E* sqrt(R* delta) at delta = 1 % of R*, xi the pair's
+ * damping ratio; power law: k = 2 pi (p + 1) K R* E^p at strain E = 0.1;
+ * linear spring: k = kn, xi = cn / (2 sqrt(kn m*)); unsoftened moduli. The
+ * formula and its sources are in src/stepper/stable_step.c. +infinity
+ * (HUGE_VAL) without a built-in contact model. The explicit stepper refuses a
+ * step above twice this (option "dt_check"); steps of a fifth to a tenth of it
+ * are advisable (a grain in several contacts vibrates faster than in one).
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (an invalid particle set, as
+ * sinter_particles_validate).
+ */
+SINTER_API sinter_status sinter_stepper_stable_step(sinter_stepper *stepper, double *dt);
 
 /** Damping ratio xi of seed 003 eq. 6 that gives restitution e in a Hertz collision (0 < e <= 1). */
 SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double *xi);

@@ -611,6 +611,8 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "rotation",
                                           "stream_stores",
                                           "thread_choice",
+                                          "dt_check",
+                                          "energy_check",
                                           "phi",
                                           "target_iterations",
                                           "tolerance",

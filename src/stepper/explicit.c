@@ -525,6 +525,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_domain(st, "step", t_start, h);
+    if (s == SINTER_OK && bad == st->ps->count && st->energy_check)
+        s = sinter_sanity_energy(st, t_start, h); /* energy created (sanity.c, 4) */
     if (s == SINTER_OK && bad < st->ps->count) {
         const char *what = first_bad_quantity(st->ps, bad);
         s = sinter_fail(st->ctx, SINTER_ERR_UNSTABLE,

@@ -10,6 +10,14 @@
 
 /* Largest growth of one contact's overlap in one step, as a fraction of the smaller radius. */
 #define SINTER_SANITY_APPROACH_LIMIT 0.5
+/* Criterion 4: a particle's kinetic energy gain in one step beyond this many times the elastic
+ * energy of its contacts at the start and at the end of the step is energy created. */
+#define SINTER_SANITY_ENERGY_FACTOR 2.0
+/* ... and beyond this fraction of its (and its contact partners') kinetic energy at t. */
+#define SINTER_SANITY_ENERGY_GROWTH 0.5
+/* ... and beyond this fraction of the least elastic energy of a contact at the stable step's
+ * reference overlap (the check's resolution: stable_step.c). */
+#define SINTER_SANITY_ENERGY_FLOOR 1e-3
 /* Largest temperature a particle may reach [K]. */
 #define SINTER_SANITY_MAX_TEMPERATURE 1e5
 
@@ -41,6 +49,21 @@ sinter_status sinter_sanity_start(struct sinter_stepper *st);
  */
 sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
                                  double h, const sinter_sanity_scan *scan);
+
+/*
+ * Criterion 4 of sanity.c (the explicit stepper, option "energy_check", on by default), after
+ * an accepted-looking trial step from t to t + h whose state at t is in the stepper's spare
+ * arrays (x, v, w): a particle whose kinetic energy more than doubled in the step, beyond the
+ * work of gravity, body forces and the drag's medium, while it and its contact partners (in
+ * their centre-of-mass frame, or the walls' when one touches a wall) gained more than
+ * SINTER_SANITY_ENERGY_FACTOR times the elastic energy of their contacts at t and at t + h and
+ * a bound of the work of their contacts with other particles, plus SINTER_SANITY_ENERGY_GROWTH
+ * times their kinetic energy at t (a gain below st->energy_floor is not examined), is
+ * SINTER_ERR_UNSTABLE naming it (and a few others), the energies and the time. Particles
+ * touching a moving wall are not examined (the wall's work is not known here), nor any when a
+ * host model computes contact forces.
+ */
+sinter_status sinter_sanity_energy(struct sinter_stepper *st, double t, double h);
 
 /*
  * The stepper's domain (sinter_stepper_set_domain; none: nothing to check) after a trial

@@ -145,9 +145,9 @@ static sinter_status option_target(const sinter_stepper *st, const char *func, c
         return sinter_fail(
             st->ctx, SINTER_ERR_NOT_FOUND,
             "%s: unknown option '%s'; the explicit and staggered steppers take sort_interval "
-            "and rotation, the explicit stepper stream_stores and thread_choice, the staggered "
-            "stepper also "
-            OPTION_LIST,
+            "and rotation, the explicit stepper stream_stores, thread_choice, dt_check and "
+            "energy_check, the staggered "
+            "stepper also " OPTION_LIST,
             func, key);
     if (st->kind != SINTER_STEPPER_STAGGERED)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,

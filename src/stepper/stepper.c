@@ -43,6 +43,8 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->walls = walls;
     st->dt = 1e-5;
     st->rotation = 1;
+    st->dt_check = 1;
+    st->energy_check = 1;
     st->stores.option = -1; /* measured (explicit.c) */
     st->stores.decided = -1;
     sinter_thread_choice_init(&st->threads_choice);
@@ -76,6 +78,11 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_staggered_free(ctx, &st->staggered);
     sinter_qs_destroy(st->quasistatic);
     sinter_free(ctx, st->furnace);
+    sinter_free(ctx, st->energy_flag);
+    sinter_free(ctx, st->energy_store);
+    sinter_free(ctx, st->energy_start);
+    sinter_free(ctx, st->energy_adj);
+    sinter_free(ctx, st->energy_force);
     sinter_free(ctx, st);
 }
 
@@ -166,6 +173,19 @@ static sinter_status set_thread_choice(sinter_stepper *st, double value)
     return SINTER_OK;
 }
 
+/* Options "dt_check" and "energy_check" (any stepper; the explicit one uses them, issue 35):
+ * 1, the default, on; 0 off. */
+static sinter_status set_check(sinter_stepper *st, const char *key, int *flag, double value)
+{
+    if (value != 0.0 && value != 1.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_option: %s = %g must be 1 (check, the default) or "
+                           "0 (do not check)",
+                           key, value);
+    *flag = value == 1.0;
+    return SINTER_OK;
+}
+
 sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, double value)
 {
     if (st == NULL)
@@ -179,6 +199,10 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_stream_stores(st, value);
     if (strcmp(key, "thread_choice") == 0)
         return set_thread_choice(st, value);
+    if (strcmp(key, "dt_check") == 0)
+        return set_check(st, key, &st->dt_check, value);
+    if (strcmp(key, "energy_check") == 0)
+        return set_check(st, key, &st->energy_check, value);
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
@@ -204,6 +228,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     }
     if (strcmp(key, "thread_choice") == 0) {
         *value = st->threads_choice.option;
+        return SINTER_OK;
+    }
+    if (strcmp(key, "dt_check") == 0 || strcmp(key, "energy_check") == 0) {
+        *value = key[0] == 'd' ? st->dt_check : st->energy_check;
         return SINTER_OK;
     }
     if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
@@ -750,6 +778,11 @@ static sinter_status check_ready(sinter_stepper *st, const char *func)
 /* Bring forces, wall positions and history in line with the current state. */
 static sinter_status prepare(sinter_stepper *st)
 {
+    if (st->kind == SINTER_STEPPER_EXPLICIT) { /* its fixed step against the estimate */
+        const sinter_status c = sinter_stable_step_check(st);
+        if (c != SINTER_OK)
+            return c;
+    }
     if (st->write_generation != st->ps->write_generation ||
         st->population_generation != st->ps->population_generation)
         st->forces_current = 0; /* the host changed the state through a view, or added/removed

@@ -124,6 +124,22 @@ struct sinter_stepper {
     sinter_qs_options quasistatic_options; /* copied into it on the first step */
     double *furnace;      /* sinter_stepper_set_furnace: times, then temperatures */
     size_t furnace_count; /* points (0: no furnace) */
+    /* issue 35 (stable_step.c, sanity.c criterion 4), explicit stepper only */
+    int dt_check;         /* option "dt_check": 1 (the default) refuses a step beyond the limit */
+    int energy_check;     /* option "energy_check": 1 (the default) stops energy creation */
+    double stable_logged; /* the last estimate logged at info level (0: none) */
+    double energy_floor;  /* the energy check's resolution [J]: SINTER_SANITY_ENERGY_FLOOR of the
+                             least elastic energy of a contact at the reference overlap */
+    unsigned char *energy_flag; /* per particle: examined by the energy check */
+    size_t energy_flag_capacity;
+    double *energy_store; /* per particle: elastic energy of its contacts at t and at t + h */
+    size_t energy_store_capacity;
+    size_t *energy_start; /* per particle: its contact partners' list in energy_adj */
+    size_t energy_start_capacity;
+    uint32_t *energy_adj;
+    size_t energy_adj_capacity;
+    double *energy_force; /* beside energy_adj: a bound of that contact's force in the step */
+    size_t energy_force_capacity;
 };
 
 /* Set every particle's temperature to the furnace's T(st->time) (no-op without a furnace). */
@@ -178,5 +194,31 @@ sinter_status sinter_staggered_get(const sinter_stepper *st, const char *key, do
  * step actually taken (smaller after rejections) is returned in *taken, and the proposal for
  * the next step is left in st->dt. */
 sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken);
+
+/*
+ * The explicit stepper's stable step (stable_step.c, where the formula is justified): the
+ * reference overlap of Hertz contacts as a fraction of R*, the reference strain of the power
+ * law, and the factor above the estimate from which a fixed step is refused.
+ */
+#define SINTER_STABLE_HERTZ_OVERLAP 0.01
+#define SINTER_STABLE_POWER_STRAIN 0.1
+#define SINTER_STABLE_STEP_FACTOR 2.0
+
+/* Refuse the explicit stepper's dt beyond SINTER_STABLE_STEP_FACTOR times the estimate (unless
+ * option "dt_check" is 0) with SINTER_ERR_INVALID; logs a new estimate at info level. */
+sinter_status sinter_stable_step_check(sinter_stepper *st);
+
+/* Elastic energy [J] stored by the stepper's built-in contact models in one contact of overlap
+ * delta > 0 of particle i with particle j, or with wall `wall` when j is SIZE_MAX (unsoftened:
+ * an upper bound; stable_step.c). */
+double sinter_contact_energy(const sinter_stepper *st, size_t i, size_t j, size_t wall,
+                             double delta);
+
+/* A bound [N] of the force of the stepper's built-in contact models in one contact of overlap
+ * delta > 0 between particles i and j (wall contacts: j is SIZE_MAX) closing or opening at
+ * normal speed at most `speed` [m/s]: the unsoftened normal force with its damping, times
+ * 1 + the friction coefficient (Coulomb's limit of the tangential force). */
+double sinter_contact_force_bound(const sinter_stepper *st, size_t i, size_t j, size_t wall,
+                                  double delta, double speed);
 
 #endif

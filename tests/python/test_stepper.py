@@ -488,6 +488,10 @@ class StepperApiTest(unittest.TestCase):
         with self.assertRaises(sinter.InvalidArgument):
             sinter.damping_ratio_from_restitution(0.0)
         self.assertEqual(self.st.stable_dt_thermal(), math.inf)  # no heat model conducts
+        # the explicit stepper's estimate (issue 35): a bound far above eq. 47's accurate step
+        self.assertTrue(dt < self.st.stable_step() < math.inf)
+        self.assertEqual(self.st.get_option("dt_check"), 1.0)
+        self.assertEqual(self.st.get_option("energy_check"), 1.0)
 
 
 class ModelTest(unittest.TestCase):

@@ -163,6 +163,10 @@ static void test_unstable_step_is_rejected(void **state)
     OK(sinter_stable_dt_hertz(s.ps, s.walls, 1.0, &dt));
     assert_true(dt > 0 && dt < 1e-6);
     OK(sinter_stepper_set_dt(s.st, 100 * dt));
+    /* taken knowingly: the step is far beyond the stable step estimate, and the energy check
+     * would stop it first (issue 35); this test is of the domain */
+    OK(sinter_stepper_set_option(s.st, "dt_check", 0));
+    OK(sinter_stepper_set_option(s.st, "energy_check", 0));
     const double lo[3] = {-0.01, -0.01, -0.01}, hi[3] = {0.01, 0.01, 0.05};
     OK(sinter_stepper_set_domain(s.st, lo, hi));
     sinter_status st = SINTER_OK;
@@ -241,6 +245,9 @@ static void test_wall_motions(void **state)
     OK(sinter_walls_set_sine(s.walls, 2, amp, 20.0));
     OK(sinter_walls_set_callback(s.walls, 3, wall_motion, NULL));
     OK(sinter_stepper_set_dt(s.st, 1e-3));
+    /* no contact ever forms: the step, 50 times the stable step estimate of a contact of
+     * these spheres, is taken knowingly (issue 35) */
+    OK(sinter_stepper_set_option(s.st, "dt_check", 0));
     OK(sinter_stepper_advance(s.st, 0.05));
     double p[3], v[3];
     OK(sinter_walls_get_state(s.walls, 0, p, v));

@@ -293,6 +293,7 @@ SIGNATURES = {
     "sinter_stepper_add_heat": (c_status, [StepperPtr, HeatModelPtr]),
     "sinter_stepper_set_thermal_scheme": (c_status, [StepperPtr, _int]),
     "sinter_stepper_stable_dt_thermal": (c_status, [StepperPtr, _P(_double)]),
+    "sinter_stepper_stable_step": (c_status, [StepperPtr, _P(_double)]),
     "sinter_stepper_heat_energy": (c_status, [StepperPtr, _size, _P(_double)]),
     # electric submodels
     "sinter_walls_set_electric": (c_status, [WallsPtr, _size, _int, _double]),

@@ -353,6 +353,13 @@ class Stepper(_Handle):
         self._guarded(lib.sinter_stepper_stable_dt_thermal, ctypes.byref(dt))
         return dt.value
 
+    def stable_step(self):
+        """Stable step estimate of the explicit stepper [s] (issue 35; inf without a contact
+        model): a fixed step above twice it is refused unless option "dt_check" is 0."""
+        dt = ctypes.c_double()
+        self._guarded(lib.sinter_stepper_stable_step, ctypes.byref(dt))
+        return dt.value
+
     def stable_dt_hertz(self, v_rel=1.0):
         """Stable explicit step [s] for Hertz contacts at relative speed v_rel [m/s] (eq. 47)."""
         return stable_dt_hertz(self.particles, self.walls, v_rel)
