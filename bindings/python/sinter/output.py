@@ -1,9 +1,10 @@
 """Output: time series (CSV and SVG plots drawn by the library) and ParaView files."""
 
+import csv
 import ctypes
 import os
 
-from ._errors import check
+from ._errors import check, check_path
 from ._lib import SeriesPtr, VtuArray, lib
 from .context import _Handle
 
@@ -32,6 +33,30 @@ class Series(_Handle):
         super().__init__(context, handle)
         self.columns = [name for name, _ in columns]
         self.units = [unit for _, unit in columns]
+
+    @classmethod
+    def read_csv(cls, context, path):
+        """Read a series back from a CSV file written by write_csv or by a run (names and
+        units from the header, every complete row). FileNotFoundError when `path` does not
+        exist; SinterError ERR_PARSE naming the line for a malformed file."""
+        handle = SeriesPtr()
+        check_path(lib.sinter_series_read_csv(ctypes.byref(handle), context._ptr,
+                                              os.fsencode(path)),
+                   context._handle, "sinter_series_read_csv", path)
+        series = cls.__new__(cls)
+        _Handle.__init__(series, context, handle)
+        names, units = [], []
+        header = _csv_header(path)
+        for column in header:
+            name, bracket, unit = column.rpartition(" [")
+            if bracket and unit.endswith("]"):
+                names.append(name)
+                units.append(unit[:-1])
+            else:
+                names.append(column)
+                units.append("")
+        series.columns, series.units = names, units
+        return series
 
     def append(self, row):
         """Append one row of len(columns) numbers (NaN allowed)."""
@@ -104,6 +129,12 @@ class Series(_Handle):
             self.columns, self.rows))
 
 
+def _csv_header(path):
+    """The column titles "name [unit]" of a series CSV file's first line."""
+    with open(path, encoding="utf-8", errors="replace", newline="") as lines:
+        return next(csv.reader(lines), [])
+
+
 def write_vtu(particles, path, extra=None):
     """One ParaView frame (.vtu) of a particle set; `extra` maps names to per-particle arrays
     (count values, or count x 3)."""
@@ -145,6 +176,9 @@ def write_pvd(context, path, times, files):
 def plot_run(context, out_dir, title=None):
     """Draw out_dir/series.svg from out_dir/series.csv, as a run does at its end (any run,
     finished or not)."""
-    check(lib.sinter_plot_run(context._ptr, os.fsencode(out_dir),
-                              None if title is None else title.encode("utf-8")),
-          context._handle, "sinter_plot_run")
+    status = lib.sinter_plot_run(context._ptr, os.fsencode(out_dir),
+                                 None if title is None else title.encode("utf-8"))
+    if status != 0 and os.path.isdir(out_dir):
+        check_path(status, context._handle, "sinter_plot_run",
+                   os.path.join(os.fsdecode(out_dir), "series.csv"))
+    check_path(status, context._handle, "sinter_plot_run", out_dir, directory=True)
