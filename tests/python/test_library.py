@@ -87,6 +87,89 @@ class DeclarationTest(unittest.TestCase):
                 " ".join(_lib.missing_functions)))
 
 
+#: Header functions no module of the sinter package calls, each with the reason.
+UNUSED_BY_DESIGN = {
+    # (none at present: every function of sinter.h and sinter_submodel.h has a Python path)
+}
+
+PACKAGE_DIR = os.path.dirname(os.path.abspath(sinter.__file__))
+
+
+def package_sources():
+    """{file name: text} of the package's modules other than the declaration table."""
+    sources = {}
+    for name in sorted(os.listdir(PACKAGE_DIR)):
+        if name.endswith(".py") and name != "_lib.py":
+            with open(os.path.join(PACKAGE_DIR, name)) as source:
+                sources[name] = source.read()
+    return sources
+
+
+class CoverageTest(unittest.TestCase):
+    """Every header function is reachable from Python, through ctypes and through cffi."""
+
+    def test_every_header_function_is_used_by_a_module(self):
+        # A use is `lib.<name>` or the name as a string the module looks up on lib
+        # (destroy functions by _destroy_function, the models' create/get/set by role).
+        text = "\n".join(package_sources().values())
+        unused = []
+        for name in header_functions():
+            if re.search(r"\blib\.%s\b|[\"']%s[\"']" % (name, name), text) is None:
+                unused.append(name)
+        self.assertEqual(sorted(set(unused) - set(UNUSED_BY_DESIGN)), [],
+                         "header functions no Python module uses: wrap them, or list them in "
+                         "UNUSED_BY_DESIGN with the reason")
+        self.assertEqual(sorted(set(UNUSED_BY_DESIGN) - set(unused)), [],
+                         "used now: remove them from UNUSED_BY_DESIGN")
+
+    def test_every_header_function_is_in_the_cffi_lib(self):
+        try:
+            import cffi  # noqa: F401
+        except ImportError:
+            self.skipTest("cffi is not installed for this interpreter")
+        from sinter import cffi_backend
+
+        ffi, cffi_lib = cffi_backend.load()
+        missing = []
+        for name in header_functions():
+            try:
+                function = getattr(cffi_lib, name)
+            except (AttributeError, NotImplementedError) as error:
+                missing.append("%s (%s)" % (name, error))
+                continue
+            self.assertTrue(callable(function), name)
+            self.assertEqual(ffi.typeof(function).kind, "function", name)
+        self.assertEqual(missing, [], "the cffi backend cannot reach these")
+
+    def test_enums_of_the_header_are_python_enums(self):
+        """Every enumerated C argument has a Python enum with the header's values."""
+        with open(_cdef.find_header("sinter.h")) as header:
+            code = re.sub(r"/\*.*?\*/", " ", header.read(), flags=re.S)
+        pairs = {
+            "sinter_log_level": (sinter.LogLevel, "SINTER_LOG_"),
+            "sinter_stepper_kind": (sinter.StepperKind, "SINTER_STEPPER_"),
+            "sinter_thermal_scheme": (sinter.ThermalScheme, "SINTER_THERMAL_"),
+            "sinter_wall_motion": (sinter.WallMotion, "SINTER_WALL_"),
+            "sinter_wall_electric_mode": (sinter.WallElectric, "SINTER_WALL_"),
+            "sinter_radius_distribution": (sinter.RadiusDistribution, "SINTER_RADII_"),
+        }
+        for c_name, (python_enum, prefix) in pairs.items():
+            body = re.search(r"typedef enum %s \{(.*?)\}" % c_name, code, re.S).group(1)
+            values = {name[len(prefix):]: int(value)
+                      for name, value in re.findall(r"(\w+) = (-?\d+)", body)}
+            self.assertEqual({m.name: int(m) for m in python_enum}, values, c_name)
+
+
+class TypingTest(unittest.TestCase):
+    def test_py_typed_marker_is_package_data(self):
+        self.assertTrue(os.path.exists(os.path.join(PACKAGE_DIR, "py.typed")))
+        if not os.path.exists(PYPROJECT):
+            self.skipTest("not running from the source tree")
+        with open(PYPROJECT) as project:
+            self.assertRegex(project.read(), r'package-data\s*=\s*\{[^}]*"sinter"\s*=\s*\[[^]]*'
+                                             r'"py\.typed"')
+
+
 class DiscoveryTest(unittest.TestCase):
     def test_sinter_library_is_the_only_candidate(self):
         self.assertEqual(_lib.library_candidates({"SINTER_LIBRARY": "/x/libsinter.so"}),
