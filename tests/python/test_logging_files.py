@@ -162,7 +162,7 @@ class UnknownKeyTest(unittest.TestCase):
             self.assertIn(key, str(caught.exception))
 
     def test_every_kind_of_key(self):
-        self.assert_lists(lambda: sinter.Material(self.ctx, "m", densty=1.0), "density",
+        self.assert_lists(lambda: sinter.Material(self.ctx, "m", {"densty": 1.0}), "density",
                           "youngs_modulus")
         self.assert_lists(lambda: sinter.ForceModel(self.ctx, "gravity", gq=1.0), "gx", "gz")
         self.assert_lists(lambda: sinter.ForceModel(self.ctx, "gravty"), "gravity",
@@ -171,7 +171,7 @@ class UnknownKeyTest(unittest.TestCase):
                           "intensity", "attenuation")
         self.assert_lists(lambda: sinter.ElectricModel(self.ctx, "network", tol=1.0),
                           "tolerance", "max_iterations")
-        self.assert_lists(lambda: sinter.NeckModel(self.ctx, rtl=1.0), "rtol", "epsilon")
+        self.assert_lists(lambda: sinter.NeckModel(self.ctx, {"rtl": 1.0}), "rtol", "epsilon")
         particles = sinter.Particles(self.ctx)
         particles.set_material(0, sinter.Material(self.ctx, "m"))
         with sinter.Stepper(self.ctx, particles, kind="staggered") as stepper:

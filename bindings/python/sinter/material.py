@@ -3,13 +3,19 @@
 import collections
 import ctypes
 import itertools
+from typing import Any, Dict, List, Mapping, Optional
 
 from ._errors import NotFound, Status, check
 from ._lib import MaterialPtr, c_enum, lib, text
-from .context import _Handle
+from .context import Context, _Handle
 
 #: What Material.describe() returns; values in the parameter's SI unit.
 ParamInfo = collections.namedtuple("ParamInfo", "unit meaning default min max")
+
+
+def _given(arguments: Dict[str, Any]) -> Dict[str, float]:
+    """The parameter keywords of a call (its locals()) that were given (not None)."""
+    return {key: arguments[key] for key in Material.KEYWORDS if arguments.get(key) is not None}
 
 
 def _param_id(key):
@@ -48,14 +54,154 @@ class Material(_Handle):
 
     _destroy_function = "sinter_material_destroy"
 
-    def __init__(self, context, name=None, **params):
+    #: The keyword parameters of __init__ and update: every key of the library (checked by
+    #: the tests against Material.keys()).
+    KEYWORDS = (
+        "density", "youngs_modulus", "poisson_ratio", "damping_ratio", "friction_static",
+        "friction_dynamic", "friction_damping_ratio", "rolling_friction",
+        "rolling_damping_ratio", "contact_stiffness", "contact_exponent", "wall_stiffness",
+        "wall_exponent", "bond_stiffness", "bond_exponent", "bond_critical_strain",
+        "drag_coefficient", "thermal_conductivity", "heat_capacity", "emissivity",
+        "absorptance", "softening_law", "softening_temperature", "softening_rate",
+        "softening_floor", "electric_conductivity", "atomic_volume", "surface_energy",
+        "grain_boundary_energy", "surface_thickness", "grain_boundary_thickness",
+        "lattice_diffusion_prefactor", "lattice_activation_energy",
+        "surface_diffusion_prefactor", "surface_activation_energy",
+        "grain_boundary_diffusion_prefactor", "grain_boundary_activation_energy",
+        "surface_mobile_fraction", "grain_boundary_mobile_fraction", "atomic_volume_hot",
+        "surface_energy_hot", "grain_boundary_energy_hot", "surface_thickness_hot",
+        "grain_boundary_thickness_hot", "lattice_diffusion_prefactor_hot",
+        "lattice_activation_energy_hot", "surface_diffusion_prefactor_hot",
+        "surface_activation_energy_hot", "grain_boundary_diffusion_prefactor_hot",
+        "grain_boundary_activation_energy_hot", "surface_mobile_fraction_hot",
+        "grain_boundary_mobile_fraction_hot", "phase_transition_temperature"
+    )
+
+    def __init__(self, context: Context, name: Optional[str] = None,
+                 params: Optional[Mapping[str, float]] = None, *,
+                 density: Optional[float] = None,
+                 youngs_modulus: Optional[float] = None,
+                 poisson_ratio: Optional[float] = None,
+                 damping_ratio: Optional[float] = None,
+                 friction_static: Optional[float] = None,
+                 friction_dynamic: Optional[float] = None,
+                 friction_damping_ratio: Optional[float] = None,
+                 rolling_friction: Optional[float] = None,
+                 rolling_damping_ratio: Optional[float] = None,
+                 contact_stiffness: Optional[float] = None,
+                 contact_exponent: Optional[float] = None,
+                 wall_stiffness: Optional[float] = None,
+                 wall_exponent: Optional[float] = None,
+                 bond_stiffness: Optional[float] = None,
+                 bond_exponent: Optional[float] = None,
+                 bond_critical_strain: Optional[float] = None,
+                 drag_coefficient: Optional[float] = None,
+                 thermal_conductivity: Optional[float] = None,
+                 heat_capacity: Optional[float] = None,
+                 emissivity: Optional[float] = None,
+                 absorptance: Optional[float] = None,
+                 softening_law: Optional[float] = None,
+                 softening_temperature: Optional[float] = None,
+                 softening_rate: Optional[float] = None,
+                 softening_floor: Optional[float] = None,
+                 electric_conductivity: Optional[float] = None,
+                 atomic_volume: Optional[float] = None,
+                 surface_energy: Optional[float] = None,
+                 grain_boundary_energy: Optional[float] = None,
+                 surface_thickness: Optional[float] = None,
+                 grain_boundary_thickness: Optional[float] = None,
+                 lattice_diffusion_prefactor: Optional[float] = None,
+                 lattice_activation_energy: Optional[float] = None,
+                 surface_diffusion_prefactor: Optional[float] = None,
+                 surface_activation_energy: Optional[float] = None,
+                 grain_boundary_diffusion_prefactor: Optional[float] = None,
+                 grain_boundary_activation_energy: Optional[float] = None,
+                 surface_mobile_fraction: Optional[float] = None,
+                 grain_boundary_mobile_fraction: Optional[float] = None,
+                 atomic_volume_hot: Optional[float] = None,
+                 surface_energy_hot: Optional[float] = None,
+                 grain_boundary_energy_hot: Optional[float] = None,
+                 surface_thickness_hot: Optional[float] = None,
+                 grain_boundary_thickness_hot: Optional[float] = None,
+                 lattice_diffusion_prefactor_hot: Optional[float] = None,
+                 lattice_activation_energy_hot: Optional[float] = None,
+                 surface_diffusion_prefactor_hot: Optional[float] = None,
+                 surface_activation_energy_hot: Optional[float] = None,
+                 grain_boundary_diffusion_prefactor_hot: Optional[float] = None,
+                 grain_boundary_activation_energy_hot: Optional[float] = None,
+                 surface_mobile_fraction_hot: Optional[float] = None,
+                 grain_boundary_mobile_fraction_hot: Optional[float] = None,
+                 phase_transition_temperature: Optional[float] = None) -> None:
+        """Create a material with every parameter at its default, then set `params` (a
+        mapping {key: value}) and the keywords given (None: left at the default).
+
+        Parameters by key, SI units, the library's defaults and valid closed ranges
+        (Material.describe(key) gives them with their meaning; the neck model's *_hot set
+        is used at and above phase_transition_temperature):
+
+        density [kg/m^3]: default 2500, range [0, 1e+06]
+        youngs_modulus [Pa]: default 1e+07, range [0, 1e+13]
+        poisson_ratio [1]: default 0.3, range [-0.999, 0.4999]
+        damping_ratio [1]: default 0, range [0, 10]
+        friction_static [1]: default 0.3, range [0, 100]
+        friction_dynamic [1]: default 0.3, range [0, 100]
+        friction_damping_ratio [1]: default 0, range [0, 10]
+        rolling_friction [1]: default 0, range [0, 100]
+        rolling_damping_ratio [1]: default 0, range [0, 10]
+        contact_stiffness [Pa]: default 1e+07, range [0, 1e+15]
+        contact_exponent [1]: default 1, range [0, 20]
+        wall_stiffness [Pa]: default 1e+07, range [0, 1e+15]
+        wall_exponent [1]: default 1, range [0, 20]
+        bond_stiffness [Pa]: default 0, range [0, 1e+15]
+        bond_exponent [1]: default 1, range [0, 20]
+        bond_critical_strain [1]: default 0.1, range [0, 1]
+        drag_coefficient [kg/s]: default 0, range [0, 1e+12]
+        thermal_conductivity [W/(m K)]: default 1, range [0, 100000]
+        heat_capacity [J/(kg K)]: default 1000, range [0, 1e+07]
+        emissivity [1]: default 0, range [0, 1]
+        absorptance [1]: default 1, range [0, 1]
+        softening_law [1]: default 0, range [0, 4]
+        softening_temperature [K]: default 400, range [0, 100000]
+        softening_rate [1/K or 1]: default 1, range [0, 1e+06]
+        softening_floor [1]: default 0, range [0, 1]
+        electric_conductivity [S/m]: default 0, range [0, 1e+12]
+        atomic_volume [m^3]: default 1.18e-29, range [0, 1e-26]
+        surface_energy [J/m^2]: default 1.78, range [0, 100]
+        grain_boundary_energy [J/m^2]: default 0.55, range [0, 100]
+        surface_thickness [m]: default 2.3e-10, range [0, 1e-06]
+        grain_boundary_thickness [m]: default 6.9e-10, range [0, 1e-06]
+        lattice_diffusion_prefactor [m^2/s]: default 6.2e-05, range [0, 1e+30]
+        lattice_activation_energy [J/mol]: default 207000, range [0, 1e+07]
+        surface_diffusion_prefactor [m^2/s]: default 7e+06, range [0, 1e+30]
+        surface_activation_energy [J/mol]: default 370000, range [0, 1e+07]
+        grain_boundary_diffusion_prefactor [m^2/s]: default 2.7e+11, range [0, 1e+30]
+        grain_boundary_activation_energy [J/mol]: default 500000, range [0, 1e+07]
+        surface_mobile_fraction [1]: default 0.2, range [0, 1]
+        grain_boundary_mobile_fraction [1]: default 0.1, range [0, 1]
+        atomic_volume_hot [m^3]: default 1.18e-29, range [0, 1e-26]
+        surface_energy_hot [J/m^2]: default 1.78, range [0, 100]
+        grain_boundary_energy_hot [J/m^2]: default 0.55, range [0, 100]
+        surface_thickness_hot [m]: default 2.3e-10, range [0, 1e-06]
+        grain_boundary_thickness_hot [m]: default 6.9e-10, range [0, 1e-06]
+        lattice_diffusion_prefactor_hot [m^2/s]: default 6.2e-05, range [0, 1e+30]
+        lattice_activation_energy_hot [J/mol]: default 207000, range [0, 1e+07]
+        surface_diffusion_prefactor_hot [m^2/s]: default 7e+06, range [0, 1e+30]
+        surface_activation_energy_hot [J/mol]: default 370000, range [0, 1e+07]
+        grain_boundary_diffusion_prefactor_hot [m^2/s]: default 2.7e+11, range [0, 1e+30]
+        grain_boundary_activation_energy_hot [J/mol]: default 500000, range [0, 1e+07]
+        surface_mobile_fraction_hot [1]: default 0.2, range [0, 1]
+        grain_boundary_mobile_fraction_hot [1]: default 0.1, range [0, 1]
+        phase_transition_temperature [K]: default 0, range [0, 100000]
+        """
         handle = MaterialPtr()
         encoded = None if name is None else name.encode("utf-8")
         check(lib.sinter_material_create(ctypes.byref(handle), context._ptr, encoded),
               context._handle, "sinter_material_create")
         super().__init__(context, handle)
+        values = _given(locals())
         try:
             self.update(params)
+            self.update(values)
         except Exception:
             self.close()
             raise
@@ -95,9 +241,66 @@ class Material(_Handle):
         self._check(lib.sinter_material_set(self._ptr, _param_id(key), float(value)),
                     "sinter_material_set")
 
-    def update(self, params=(), **more):
-        """Set several parameters from a mapping and/or keywords."""
-        for key, value in itertools.chain(dict(params).items(), more.items()):
+    def update(self, params: Optional[Mapping[str, float]] = None, *,
+               density: Optional[float] = None,
+               youngs_modulus: Optional[float] = None,
+               poisson_ratio: Optional[float] = None,
+               damping_ratio: Optional[float] = None,
+               friction_static: Optional[float] = None,
+               friction_dynamic: Optional[float] = None,
+               friction_damping_ratio: Optional[float] = None,
+               rolling_friction: Optional[float] = None,
+               rolling_damping_ratio: Optional[float] = None,
+               contact_stiffness: Optional[float] = None,
+               contact_exponent: Optional[float] = None,
+               wall_stiffness: Optional[float] = None,
+               wall_exponent: Optional[float] = None,
+               bond_stiffness: Optional[float] = None,
+               bond_exponent: Optional[float] = None,
+               bond_critical_strain: Optional[float] = None,
+               drag_coefficient: Optional[float] = None,
+               thermal_conductivity: Optional[float] = None,
+               heat_capacity: Optional[float] = None,
+               emissivity: Optional[float] = None,
+               absorptance: Optional[float] = None,
+               softening_law: Optional[float] = None,
+               softening_temperature: Optional[float] = None,
+               softening_rate: Optional[float] = None,
+               softening_floor: Optional[float] = None,
+               electric_conductivity: Optional[float] = None,
+               atomic_volume: Optional[float] = None,
+               surface_energy: Optional[float] = None,
+               grain_boundary_energy: Optional[float] = None,
+               surface_thickness: Optional[float] = None,
+               grain_boundary_thickness: Optional[float] = None,
+               lattice_diffusion_prefactor: Optional[float] = None,
+               lattice_activation_energy: Optional[float] = None,
+               surface_diffusion_prefactor: Optional[float] = None,
+               surface_activation_energy: Optional[float] = None,
+               grain_boundary_diffusion_prefactor: Optional[float] = None,
+               grain_boundary_activation_energy: Optional[float] = None,
+               surface_mobile_fraction: Optional[float] = None,
+               grain_boundary_mobile_fraction: Optional[float] = None,
+               atomic_volume_hot: Optional[float] = None,
+               surface_energy_hot: Optional[float] = None,
+               grain_boundary_energy_hot: Optional[float] = None,
+               surface_thickness_hot: Optional[float] = None,
+               grain_boundary_thickness_hot: Optional[float] = None,
+               lattice_diffusion_prefactor_hot: Optional[float] = None,
+               lattice_activation_energy_hot: Optional[float] = None,
+               surface_diffusion_prefactor_hot: Optional[float] = None,
+               surface_activation_energy_hot: Optional[float] = None,
+               grain_boundary_diffusion_prefactor_hot: Optional[float] = None,
+               grain_boundary_activation_energy_hot: Optional[float] = None,
+               surface_mobile_fraction_hot: Optional[float] = None,
+               grain_boundary_mobile_fraction_hot: Optional[float] = None,
+               phase_transition_temperature: Optional[float] = None) -> None:
+        """Set several parameters from a mapping {key: value} and/or the keywords (None:
+        unchanged); see __init__ for the keys, units and ranges. An unknown key of the
+        mapping raises NotFound listing the known ones."""
+        for key, value in dict(params or {}).items():
+            self[key] = value
+        for key, value in _given(locals()).items():
             self[key] = value
 
     def params(self):

@@ -205,7 +205,8 @@ class ElectricModel(_KeyedModel):
     """
 
     _ptr_type = ElectricModelPtr
-    _functions = {"create": "sinter_electric_model_create", "destroy": "sinter_electric_model_destroy",
+    _functions = {"create": "sinter_electric_model_create",
+                  "destroy": "sinter_electric_model_destroy",
                   "name": "sinter_electric_model_name", "get": "sinter_electric_model_get",
                   "set": "sinter_electric_model_set"}
 

@@ -145,7 +145,9 @@ class Scene(_Handle):
         asked_to_stop = []
         if progress is True:
             bar = _progress_function(True, 0.0, self.end_time)
-            progress = lambda time, end_time: bar(time, end_time, final=time >= end_time)  # noqa: E731
+
+            def progress(time: float, end_time: float) -> None:
+                bar(time, end_time, final=time >= end_time)
         if progress is None or progress is False:
             function = ProgressFn()
         else:
