@@ -170,6 +170,80 @@ class TypingTest(unittest.TestCase):
                                              r'"py\.typed"')
 
 
+#: Public signatures allowed a **kwargs, with the reason.
+VAR_KEYWORDS_BY_DESIGN = {
+    "_KeyedModel.__init__": "a built-in model's parameters depend on its name (sinter.h lists "
+                            "them; an unknown one raises NotFound listing the model's keys)",
+    "_KeyedModel.update": "as __init__",
+}
+
+
+def public_callables():
+    """(qualified name, function) of every public function, method, property accessor and
+    __init__ of the names sinter exports, base classes of the package included."""
+    import inspect
+
+    seen = set()
+    for name in sinter.__all__:
+        obj = getattr(sinter, name)
+        if inspect.isclass(obj):
+            if issubclass(obj, BaseException) or not obj.__module__.startswith("sinter"):
+                continue
+            for cls in obj.__mro__:
+                if not cls.__module__.startswith("sinter") or cls in seen:
+                    continue
+                seen.add(cls)
+                for attr, member in vars(cls).items():
+                    if attr.startswith("_") and attr != "__init__":
+                        continue
+                    qualified = "%s.%s" % (cls.__name__, attr)
+                    if isinstance(member, property):
+                        for accessor in (member.fget, member.fset):
+                            if accessor is not None:
+                                yield qualified, accessor
+                    elif isinstance(member, (staticmethod, classmethod)):
+                        yield qualified, member.__func__
+                    elif inspect.isfunction(member):
+                        yield qualified, member
+        elif inspect.isfunction(obj):
+            yield name, obj
+
+
+class AnnotationTest(unittest.TestCase):
+    def test_public_signatures_are_typed_and_named(self):
+        import inspect
+
+        problems = []
+        for name, function in public_callables():
+            if issubclass(getattr(function, "__class__", object), type):
+                continue
+            signature = inspect.signature(function)
+            for parameter in signature.parameters.values():
+                if parameter.name in ("self", "cls"):
+                    continue
+                if parameter.annotation is inspect.Parameter.empty:
+                    problems.append("%s: parameter %s has no type" % (name, parameter.name))
+                if (parameter.kind is parameter.VAR_KEYWORD
+                        and name not in VAR_KEYWORDS_BY_DESIGN):
+                    problems.append("%s: **%s (name the keywords)" % (name, parameter.name))
+            if (signature.return_annotation is inspect.Signature.empty
+                    and not name.endswith("__init__")):
+                problems.append("%s: no return type" % name)
+        self.assertEqual(problems, [])
+        self.assertGreater(len(list(public_callables())), 100)
+
+    def test_material_keywords_are_the_library_keys(self):
+        import inspect
+
+        self.assertEqual(list(sinter.Material.KEYWORDS), sinter.Material.keys())
+        for function in (sinter.Material.__init__, sinter.Material.update):
+            keywords = [p.name for p in inspect.signature(function).parameters.values()
+                        if p.kind is p.KEYWORD_ONLY]
+            self.assertEqual(keywords, sinter.Material.keys())
+            for key in keywords:  # the docstring gives each key's unit and range
+                self.assertIn(key, sinter.Material.__init__.__doc__)
+
+
 class DiscoveryTest(unittest.TestCase):
     def test_sinter_library_is_the_only_candidate(self):
         self.assertEqual(_lib.library_candidates({"SINTER_LIBRARY": "/x/libsinter.so"}),

@@ -196,7 +196,7 @@ class _StructArrays:
     _ARRAYS = {}
     _SCALARS = ()
 
-    def __init__(self, struct):
+    def __init__(self, struct: ctypes.Structure) -> None:
         self._struct = struct
         self._valid = True
         self._made = []
@@ -226,7 +226,7 @@ class _StructArrays:
             raise ValueError("%s used after its callback returned: its arrays belonged to the "
                              "library for the duration of the call only" % type(self).__name__)
 
-    def invalidate(self):
+    def invalidate(self) -> None:
         """Drop the arrays (memoryviews are released, so later use raises ValueError)."""
         self._valid = False
         for name in self._made:
@@ -298,7 +298,7 @@ class ContactBatch(_StructArrays):
     _SCALARS = ("count", "history_size")
 
     @property
-    def kind(self):
+    def kind(self) -> str:
         self._require_valid()
         return "wall" if self._struct.kind == 1 else "particle"
 

@@ -3,7 +3,7 @@
 import enum
 import errno
 import os
-from typing import Optional, Union
+from typing import Union
 
 from ._lib import lib, text
 
@@ -14,7 +14,7 @@ _UNKNOWN_STATUS_TEXT = "unknown status"  # sinter_status_string() of an unknown 
 
 class _StatusBase(enum.IntEnum):
     @property
-    def message(self):
+    def message(self) -> str:
         """The library's static English text for this status."""
         return text(lib.sinter_status_string(self.value))
 

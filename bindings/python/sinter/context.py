@@ -11,12 +11,12 @@ from ._errors import Status, check
 from ._lib import CtxPtr, LogFn, lib, text
 
 
-def version_string():
+def version_string() -> str:
     """Runtime version of libsinter, "major.minor.patch"."""
     return text(lib.sinter_version_string())
 
 
-def version_number():
+def version_number() -> int:
     """Runtime version of libsinter as major*10000 + minor*100 + patch."""
     return lib.sinter_version_number()
 
@@ -89,7 +89,8 @@ class Context:
     # --- life cycle -----------------------------------------------------
 
     @property
-    def closed(self):
+    def closed(self) -> bool:
+        """True once close() was called."""
         return self._handle is None or self._close_pending
 
     @property
@@ -98,7 +99,7 @@ class Context:
             raise ValueError("the sinter Context is closed")
         return self._handle
 
-    def close(self):
+    def close(self) -> None:
         """Close every object made from this context, then the context itself."""
         for child in list(self._children):
             child.close()
@@ -148,7 +149,7 @@ class Context:
         check(status, self._handle, function)
 
     @property
-    def threads(self):
+    def threads(self) -> int:
         """Threads the library may use internally (1 by default, 0 = all available)."""
         threads = ctypes.c_int()
         self._check(lib.sinter_ctx_get_threads(self._ptr, ctypes.byref(threads)),
@@ -156,20 +157,20 @@ class Context:
         return threads.value
 
     @threads.setter
-    def threads(self, threads):
+    def threads(self, threads: int) -> None:
         self._check(lib.sinter_ctx_set_threads(self._ptr, threads), "sinter_ctx_set_threads")
 
     @property
-    def last_error(self):
+    def last_error(self) -> str:
         """Detail of the last error reported on this context ("" if none)."""
         return text(lib.sinter_last_error(self._ptr))
 
     @property
-    def last_status(self):
+    def last_status(self) -> Status:
         """Status of the last error reported on this context (Status.OK if none)."""
         return Status(lib.sinter_last_status(self._ptr))
 
-    def request_stop(self):
+    def request_stop(self) -> None:
         """Ask the running step loop of this context to stop after its current step.
 
         Safe from a signal handler or another thread; the run then fails with the status
@@ -177,7 +178,7 @@ class Context:
         """
         self._check(lib.sinter_ctx_request_stop(self._ptr), "sinter_ctx_request_stop")
 
-    def clear_error(self):
+    def clear_error(self) -> None:
         """Forget the last error."""
         self._check(lib.sinter_clear_error(self._ptr), "sinter_clear_error")
 
@@ -254,7 +255,7 @@ class _Handle:
     _owned = True
     _borrowed = ()
 
-    def __init__(self, context, handle, owned=True):
+    def __init__(self, context: Context, handle: ctypes.c_void_p, owned: bool = True) -> None:
         self._context = context
         self._handle = handle
         self._owned = owned
@@ -264,11 +265,13 @@ class _Handle:
         context._register(self)
 
     @property
-    def context(self):
+    def context(self) -> Context:
+        """The Context this object was made from."""
         return self._context
 
     @property
-    def closed(self):
+    def closed(self) -> bool:
+        """True once close() was called (its C object may wait for its users)."""
         return self._handle is None or self._close_pending
 
     @property
@@ -321,7 +324,7 @@ class _Handle:
     def _forget(self):
         """Hook: drop Python objects the C object needed (callbacks), after it is destroyed."""
 
-    def close(self):
+    def close(self) -> None:
         """Destroy the C object (once nothing uses it any more). Safe to call twice."""
         if self._handle is None or self._close_pending:
             return

@@ -213,7 +213,7 @@ class Material(_Handle):
         return material
 
     @staticmethod
-    def keys():
+    def keys() -> List[str]:
         """Every parameter key, in the library's order."""
         keys = []
         for param in itertools.count():
@@ -223,21 +223,22 @@ class Material(_Handle):
             keys.append(info[0])
 
     @staticmethod
-    def describe(key):
+    def describe(key: str) -> ParamInfo:
         """ParamInfo(unit, meaning, default, min, max) of a parameter key."""
         return _param_info(_param_id(key))[1]
 
     @property
-    def name(self):
+    def name(self) -> str:
+        """The material's name (\"\" if none)."""
         return text(lib.sinter_material_name(self._ptr))
 
-    def __getitem__(self, key):
+    def __getitem__(self, key: str) -> float:
         value = ctypes.c_double()
         self._check(lib.sinter_material_get(self._ptr, _param_id(key), ctypes.byref(value)),
                     "sinter_material_get")
         return value.value
 
-    def __setitem__(self, key, value):
+    def __setitem__(self, key: str, value: float) -> None:
         self._check(lib.sinter_material_set(self._ptr, _param_id(key), float(value)),
                     "sinter_material_set")
 
@@ -303,16 +304,16 @@ class Material(_Handle):
         for key, value in _given(locals()).items():
             self[key] = value
 
-    def params(self):
+    def params(self) -> Dict[str, float]:
         """{key: value} of every parameter."""
         return {key: self[key] for key in self.keys()}
 
-    def clone(self):
+    def clone(self) -> "Material":
         """An independent copy (name and every parameter)."""
         handle = MaterialPtr()
         self._check(lib.sinter_material_clone(ctypes.byref(handle), self._ptr),
                     "sinter_material_clone")
         return Material._from_handle(self._context, handle)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.Material %s>" % ("closed" if self.closed else repr(self.name))

@@ -14,7 +14,7 @@ Host models run Python functions once per evaluation over whole batches
 
 import ctypes
 import itertools
-from typing import Callable, Dict, Mapping, Optional
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence
 
 from . import _callbacks
 from ._callbacks import ContactBatch, StateView
@@ -75,7 +75,7 @@ class _KeyedModel(_Handle):
         function = getattr(lib, self._functions["set"])
         self._check(function(self._ptr, key.encode("utf-8"), float(value)), function.__name__)
 
-    def get(self, key, default=None):
+    def get(self, key: str, default: Optional[float] = None) -> Optional[float]:
         """The parameter's value, or `default` for a key the model does not have."""
         try:
             return self[key]
@@ -87,7 +87,7 @@ class _KeyedModel(_Handle):
         for key, value in itertools.chain(dict(params or {}).items(), more.items()):
             self[key] = value
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.%s %s>" % (type(self).__name__,
                                    "closed" if self.closed else repr(self.name))
 
@@ -105,7 +105,10 @@ class ForceModel(_KeyedModel):
                   "set": "sinter_force_model_set"}
 
     @classmethod
-    def from_callbacks(cls, context, name, contacts=None, particles=None, history_size=0):
+    def from_callbacks(cls, context: Context, name: str,
+                       contacts: Optional[Callable[[StateView, ContactBatch], Any]] = None,
+                       particles: Optional[Callable[[StateView, Any, Any], Any]] = None,
+                       history_size: int = 0) -> "ForceModel":
         """A host force model running Python functions on whole batches.
 
         contacts(state, batch) is called once per evaluation for the
@@ -160,7 +163,7 @@ class HeatModel(_KeyedModel):
                   "name": "sinter_heat_model_name", "get": "sinter_heat_model_get",
                   "set": "sinter_heat_model_set"}
 
-    def set_schedule(self, key, times, values):
+    def set_schedule(self, key: str, times: Sequence[float], values: Sequence[float]) -> None:
         """Make parameter `key` follow a piecewise-linear schedule (times [s], increasing)."""
         c_times, n = _doubles(times)
         c_values, n_values = _doubles(values)
@@ -171,7 +174,9 @@ class HeatModel(_KeyedModel):
                     "sinter_heat_model_set_schedule")
 
     @classmethod
-    def from_callback(cls, context, name, power):
+    def from_callback(cls, context: Context, name: str,
+                      power: Callable[[StateView, ContactBatch, ContactBatch, Any], Any]
+                      ) -> "HeatModel":
         """A host heat model: power(state, particle_contacts, wall_contacts, heat).
 
         heat is a (count,) array [W], zeroed before the call, that the

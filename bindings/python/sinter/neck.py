@@ -78,7 +78,8 @@ class NeckModel(_Handle):
     _destroy_function = "sinter_neck_model_destroy"
 
     #: The options of the neck model (sinter_neck_model_set), in the library's order.
-    OPTIONS = ("epsilon", "h0_ratio", "rtol", "atol", "initial_step", "max_steps", "integrator", "rk4_steps", "rk4_time_scale", "error_scale")
+    OPTIONS = ("epsilon", "h0_ratio", "rtol", "atol", "initial_step", "max_steps", "integrator",
+               "rk4_steps", "rk4_time_scale", "error_scale")
 
     def __init__(self, context: Context, options: Optional[Mapping[str, float]] = None, *,
                  epsilon: Optional[float] = None,

@@ -6,7 +6,7 @@ import weakref
 from typing import TYPE_CHECKING
 
 from . import _callbacks
-from ._errors import check, check_path
+from ._errors import check_path
 from ._lib import ParticlesPtr, ProgressFn, ScenePtr, StepperPtr, WallsPtr, lib
 from .context import _Handle
 from .particles import Particles
@@ -63,7 +63,7 @@ class Scene(_Handle):
         return view
 
     @property
-    def particles(self):
+    def particles(self) -> Particles:
         """The scene's Particles (borrowed)."""
         def make():
             handle = ParticlesPtr()
@@ -74,7 +74,7 @@ class Scene(_Handle):
         return self._view("particles", make)
 
     @property
-    def walls(self):
+    def walls(self) -> Walls:
         """The scene's Walls (borrowed)."""
         def make():
             handle = WallsPtr()
@@ -85,7 +85,7 @@ class Scene(_Handle):
         return self._view("walls", make)
 
     @property
-    def stepper(self):
+    def stepper(self) -> Stepper:
         """The scene's Stepper (borrowed); its .particles and .walls are the scene's."""
         def make():
             handle = StepperPtr()
@@ -96,7 +96,7 @@ class Scene(_Handle):
         return self._view("stepper", make)
 
     @property
-    def end_time(self):
+    def end_time(self) -> float:
         """The scene's end time [s]."""
         end_time = ctypes.c_double()
         self._check(lib.sinter_scene_end_time(self._ptr, ctypes.byref(end_time)),
@@ -104,7 +104,7 @@ class Scene(_Handle):
         return end_time.value
 
     @end_time.setter
-    def end_time(self, end_time):
+    def end_time(self, end_time: float) -> None:
         """Change the end time [s] (after a pour, counted from its end), also after a restart."""
         self._check(lib.sinter_scene_set_end_time(self._ptr, float(end_time)),
                     "sinter_scene_set_end_time")
@@ -118,12 +118,12 @@ class Scene(_Handle):
         check_path(lib.sinter_scene_restart(self._ptr, os.fsencode(checkpoint)),
                    self._context._handle, "sinter_scene_restart", checkpoint)
 
-    def write_checkpoint(self, path):
+    def write_checkpoint(self, path: PathLike) -> None:
         """Write the scene's checkpoint (the stepper's state and where the run stands)."""
         self._check(lib.sinter_scene_checkpoint_write(self._ptr, os.fsencode(path)),
                     "sinter_scene_checkpoint_write")
 
-    def check(self):
+    def check(self) -> None:
         """Make the checks a run makes before its first step, without stepping
         (sinter_scene_check): the output plan, the particles' values, no particle behind a wall
         or outside the domain, no two with the same centre. Raises InvalidArgument (or
@@ -168,5 +168,5 @@ class Scene(_Handle):
                                  stopped=lambda: bool(asked_to_stop), interruptible=True)
         return status == 0
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.Scene %s>" % ("closed" if self.closed else repr(self.path))

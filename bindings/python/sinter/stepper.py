@@ -267,17 +267,17 @@ class Stepper(_Handle):
             self._state.observer_function = None
 
     @property
-    def kind(self):
+    def kind(self) -> Optional[StepperKind]:
         """StepperKind of a stepper made here (None for a scene's)."""
         return self._state.kind
 
     @property
-    def forces(self):
+    def forces(self) -> List["ForceModel"]:
         """The ForceModels added from Python (a scene's own models are not listed)."""
         return list(self._state.forces)
 
     @property
-    def heat_models(self):
+    def heat_models(self) -> List["HeatModel"]:
         """The HeatModels added from Python, in order (the index of heat_energy)."""
         return list(self._state.heat_models)
 
@@ -286,14 +286,14 @@ class Stepper(_Handle):
 
     # --- submodels ---------------------------------------------------------
 
-    def add_force(self, model):
+    def add_force(self, model: "ForceModel") -> "ForceModel":
         """Add a ForceModel (the stepper keeps it alive; it may be shared)."""
         self._call(lib.sinter_stepper_add_force, self._ptr, model._ptr)
         self._keeper._borrow(model)
         self._state.forces.append(model)
         return model
 
-    def add_heat(self, model):
+    def add_heat(self, model: "HeatModel") -> "HeatModel":
         """Add a HeatModel; a stepper without one does no thermal work."""
         self._call(lib.sinter_stepper_add_heat, self._ptr, model._ptr)
         self._keeper._borrow(model)
@@ -301,15 +301,16 @@ class Stepper(_Handle):
         return model
 
     @property
-    def electric(self):
+    def electric(self) -> Optional["ElectricModel"]:
         """The ElectricModel solved on every evaluation (None: none)."""
         return self._state.electric
 
     @electric.setter
-    def electric(self, model):
+    def electric(self, model: Optional["ElectricModel"]) -> None:
         self.set_electric(model)
 
-    def set_electric(self, model):
+    def set_electric(self, model: Optional["ElectricModel"]) -> None:
+        """Give the stepper an ElectricModel, solved on every evaluation (None removes it)."""
         self._call(lib.sinter_stepper_set_electric, self._ptr,
                                                     model._ptr if model is not None else None)
         previous, self._state.electric = self._state.electric, model
@@ -321,32 +322,32 @@ class Stepper(_Handle):
     # --- settings ----------------------------------------------------------
 
     @property
-    def dt(self):
+    def dt(self) -> float:
         """Time step [s]."""
         return self.stats.dt
 
     @dt.setter
-    def dt(self, dt):
+    def dt(self, dt: float) -> None:
         self._call(lib.sinter_stepper_set_dt, self._ptr, float(dt))
 
     @property
-    def skin(self):
+    def skin(self) -> Optional[float]:
         """Verlet skin [m] as last set here (None: the library's automatic choice, or the
         scene's)."""
         return self._state.skin
 
     @skin.setter
-    def skin(self, skin):
+    def skin(self, skin: float) -> None:
         self._call(lib.sinter_stepper_set_skin, self._ptr, float(skin))
         self._state.skin = float(skin)
 
     @property
-    def domain(self):
+    def domain(self) -> Optional[Tuple[Tuple[float, ...], Tuple[float, ...]]]:
         """(lo, hi) corners [m] of the simulation domain as last set here (None: no domain)."""
         return self._state.domain
 
     @domain.setter
-    def domain(self, corners):
+    def domain(self, corners: Tuple[Sequence[float], Sequence[float]]) -> None:
         lo, hi = corners
         lo, hi = [float(x) for x in lo], [float(x) for x in hi]
         if len(lo) != 3 or len(hi) != 3:
@@ -356,14 +357,14 @@ class Stepper(_Handle):
         self._state.domain = (tuple(lo), tuple(hi))
 
     @property
-    def thermal_scheme(self):
+    def thermal_scheme(self) -> Optional[ThermalScheme]:
         """ThermalScheme.EXPLICIT or IMPLICIT (set with the enum, its value or "implicit").
 
         None for a scene's stepper until set here."""
         return self._state.thermal
 
     @thermal_scheme.setter
-    def thermal_scheme(self, scheme):
+    def thermal_scheme(self, scheme: Union[ThermalScheme, str, int]) -> None:
         scheme = _enum(ThermalScheme, scheme)
         self._call(lib.sinter_stepper_set_thermal_scheme, self._ptr, int(scheme))
         self._state.thermal = scheme
@@ -404,15 +405,17 @@ class Stepper(_Handle):
         return value.value
 
     @property
-    def observer(self):
+    def observer(self) -> Optional[Callable[["Stepper", float], Any]]:
         """observer(stepper, time) after every accepted step; a true result stops advance."""
         return self._state.observer
 
     @observer.setter
-    def observer(self, function):
+    def observer(self, function: Optional[Callable[["Stepper", float], Any]]) -> None:
         self.set_observer(function)
 
-    def set_observer(self, function):
+    def set_observer(self, function: Optional[Callable[["Stepper", float], Any]]) -> None:
+        """observer(stepper, time [s]) after every accepted step; a true result stops the run
+        (None removes it)."""
         if function is None:
             c_function = ObserverFn()
         else:
@@ -504,12 +507,12 @@ class Stepper(_Handle):
 
         return _Reporting()
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         """Evaluate forces (and heat) on the current state without stepping."""
         self._guarded(lib.sinter_stepper_evaluate)
 
     @property
-    def time(self):
+    def time(self) -> float:
         """Current simulated time [s]."""
         time = ctypes.c_double()
         self._call(lib.sinter_stepper_time, self._ptr, ctypes.byref(time))
@@ -530,7 +533,7 @@ class Stepper(_Handle):
             coordination=stats.coordination, pcg_iterations=stats.pcg_iterations)
 
     @property
-    def stats(self):
+    def stats(self) -> StepperStats:
         """StepperStats (a frozen dataclass; .as_dict() for a dict)."""
         stats = _CStats()
         stats.struct_size = ctypes.sizeof(_CStats)
@@ -539,17 +542,17 @@ class Stepper(_Handle):
         return StepperStats(**{name: getattr(stats, name) for name in names
                                if hasattr(_CStats, name)})
 
-    def stable_dt_thermal(self):
+    def stable_dt_thermal(self) -> float:
         """Largest stable explicit thermal step in the current contact state [s] (inf if none)."""
         dt = ctypes.c_double()
         self._guarded(lib.sinter_stepper_stable_dt_thermal, ctypes.byref(dt))
         return dt.value
 
-    def stable_dt_hertz(self, v_rel=1.0):
+    def stable_dt_hertz(self, v_rel: float = 1.0) -> float:
         """Stable explicit step [s] for Hertz contacts at relative speed v_rel [m/s] (eq. 47)."""
         return stable_dt_hertz(self.particles, self.walls, v_rel)
 
-    def heat_energy(self, index=None):
+    def heat_energy(self, index: Optional[int] = None) -> Union[float, List[float]]:
         """Energy [J] put in by heat model `index` so far; all of them as a list if None."""
         if index is None:
             return [self.heat_energy(k) for k in range(len(self.heat_models))]
@@ -558,13 +561,13 @@ class Stepper(_Handle):
         return energy.value
 
     @property
-    def electric_iterations(self):
+    def electric_iterations(self) -> int:
         """Total iterations of the electric solves so far."""
         iterations = ctypes.c_uint64()
         self._call(lib.sinter_stepper_electric_iterations, self._ptr, ctypes.byref(iterations))
         return iterations.value
 
-    def pour(self, ke_per_particle, t_min=0.0, t_max=1.0):
+    def pour(self, ke_per_particle: float, t_min: float = 0.0, t_max: float = 1.0) -> float:
         """Advance until the kinetic energy per particle [J] falls below the threshold
         (after t_min [s]); NotConverged-style SinterError after t_max [s]."""
         self._guarded_run(lib.sinter_pack_pour, float(ke_per_particle), float(t_min),
@@ -584,14 +587,15 @@ class Stepper(_Handle):
         status = lib.sinter_checkpoint_read(self._ptr, _path(path))
         check_path(status, self._context._handle, "sinter_checkpoint_read", path)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         if self.closed:
             return "<sinter.Stepper closed>"
         return "<sinter.Stepper t=%g s, %d force, %d heat model(s)>" % (
             self.time, len(self.forces), len(self.heat_models))
 
 
-def stable_dt_hertz(particles, walls=None, v_rel=1.0):
+def stable_dt_hertz(particles: "Particles", walls: Optional["Walls"] = None,
+                    v_rel: float = 1.0) -> float:
     """Stable explicit step [s] for Hertz contacts (seed 003 eq. 47) at relative speed v_rel."""
     dt = ctypes.c_double()
     particles._check(lib.sinter_stable_dt_hertz(particles._ptr,
@@ -601,7 +605,7 @@ def stable_dt_hertz(particles, walls=None, v_rel=1.0):
     return dt.value
 
 
-def damping_ratio_from_restitution(e):
+def damping_ratio_from_restitution(e: float) -> float:
     """Damping ratio xi of seed 003 eq. 6 giving restitution e (0 < e <= 1) in a Hertz collision."""
     xi = ctypes.c_double()
     check(lib.sinter_damping_ratio_from_restitution(float(e), ctypes.byref(xi)), None,
