@@ -150,6 +150,30 @@ class SeriesReadTest(unittest.TestCase):
                 self.assertEqual(back["temperature"], [300.0, 310.5])
 
 
+class EnumArgumentTest(unittest.TestCase):
+    def test_enums_stand_for_names(self):
+        with sinter.Context() as ctx:
+            material = sinter.Material(ctx, "m", density=3000.0)
+            self.assertEqual(material[sinter.MaterialParam.DENSITY], 3000.0)
+            material[sinter.MaterialParam.EMISSIVITY] = 0.5
+            self.assertEqual(material["emissivity"], 0.5)
+            particles = sinter.Particles(ctx)
+            particles.set_material(0, material)
+            particles.add([(0.0, 0.0, 0.0)], [1e-3])
+            self.assertEqual(list(particles.get(sinter.Field.RADIUS)), [1e-3])
+            particles.set(sinter.Field.FLAGS, [sinter.ParticleFlag.FIXED
+                                               | sinter.ParticleFlag.NO_ROTATION])
+            self.assertEqual(sinter.ParticleFlag(list(particles.get("flags"))[0]),
+                             sinter.ParticleFlag.FIXED | sinter.ParticleFlag.NO_ROTATION)
+            walls = sinter.Walls(ctx)
+            walls.add_plane((0, 0, 0), (0, 0, 1), material)
+            walls.set_electric(0, sinter.WallElectric.CURRENT, 2.0)
+            walls.set_electric(0, "potential", 1.0)
+            with sinter.Stepper(ctx, particles, walls, kind=sinter.StepperKind.EXPLICIT,
+                                thermal=sinter.ThermalScheme.IMPLICIT) as stepper:
+                self.assertIs(stepper.thermal_scheme, sinter.ThermalScheme.IMPLICIT)
+
+
 class UnknownKeyTest(unittest.TestCase):
     def setUp(self):
         self.ctx = sinter.Context()

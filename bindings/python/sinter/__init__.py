@@ -25,15 +25,16 @@ lib/libsinter.so, or the system's libsinter.so.0 (see sinter._lib).
 from ._errors import (BusyError, FileNotFound, Interrupted, InvalidArgument, NotFound,
                       RangeError, SinterError, Status)
 from ._lib import LibraryNotFound, library_path
-from ._callbacks import ContactBatch, StateView
+from ._callbacks import CallbackResult, ContactBatch, ContactKind, StateView
 from .context import LOGGER_NAME, Context, LogLevel, version_number, version_string
-from .material import Material, ParamInfo
+from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
 from .neck import NeckModel, NeckResult, NeckStats
 from .output import Series, plot_run, write_pvd, write_vtu
 from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
-from .particles import FIELDS, FieldInfo, FieldView, Particles
+from .particles import (FIELDS, DType, Field, FieldInfo, FieldView, ParticleFlag,
+                        Particles)
 from .scene import Scene
 from .stepper import (OPTIONS, SinteringStats, Stepper, StepperKind, StepperStats,
                       ThermalScheme, damping_ratio_from_restitution, stable_dt_hertz)
@@ -42,7 +43,8 @@ from .walls import WallElectric, WallMotion, Walls
 __version__ = version_string()
 
 __all__ = [
-    "BusyError", "ContactBatch", "Context", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
+    "BusyError", "CallbackResult", "ContactBatch", "ContactKind", "Context", "DType", "Field",
+    "MaterialParam", "ParticleFlag", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
     "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
     "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult", "NeckStats",
     "NotFound", "OPTIONS", "ParamInfo", "Particles", "RadiusDistribution", "RangeError",

@@ -13,6 +13,7 @@ without NumPy) and are valid only while the callback runs.
 """
 
 import ctypes
+import enum
 import signal
 import threading
 
@@ -38,6 +39,21 @@ def take():
     exception = getattr(_pending, "exception", None)
     _pending.exception = None
     return exception
+
+
+class CallbackResult(enum.IntEnum):
+    """sinter_callback_result: what a host submodel's function may return (None means OK)."""
+
+    OK = 0
+    RETRY = 1  #: ask the stepper to retry the step with a smaller one
+    FATAL = -1  #: stop the stepper (SINTER_ERR_CALLBACK)
+
+
+class ContactKind(enum.IntEnum):
+    """sinter_contact_kind: the kind of the contacts of a ContactBatch (.contact_kind)."""
+
+    PARTICLE = 0  #: particle i with particle j
+    WALL = 1  #: particle i with wall j
 
 
 def result_code(value):
@@ -299,8 +315,15 @@ class ContactBatch(_StructArrays):
 
     @property
     def kind(self) -> str:
+        """"particle" or "wall" (the name of contact_kind in lower case)."""
         self._require_valid()
         return "wall" if self._struct.kind == 1 else "particle"
+
+    @property
+    def contact_kind(self) -> ContactKind:
+        """ContactKind.PARTICLE or ContactKind.WALL."""
+        self._require_valid()
+        return ContactKind(self._struct.kind)
 
     def __len__(self):
         self._require_valid()

@@ -2,8 +2,9 @@
 
 import collections
 import ctypes
+import enum
 import itertools
-from typing import Any, Dict, List, Mapping, Optional
+from typing import Any, Dict, List, Mapping, Optional, Union
 
 from ._errors import NotFound, Status, check
 from ._lib import MaterialPtr, c_enum, lib, text
@@ -13,13 +14,25 @@ from .context import Context, _Handle
 ParamInfo = collections.namedtuple("ParamInfo", "unit meaning default min max")
 
 
+def _material_params() -> List[Any]:
+    """[(KEY, id)] of every parameter of the library, in order."""
+    members = []
+    for param in itertools.count():
+        info = _param_info(param)
+        if info is None:
+            return members
+        members.append((info[0].upper(), param))
+
+
 def _given(arguments: Dict[str, Any]) -> Dict[str, float]:
     """The parameter keywords of a call (its locals()) that were given (not None)."""
     return {key: arguments[key] for key in Material.KEYWORDS if arguments.get(key) is not None}
 
 
 def _param_id(key):
-    """The sinter_material_param of a key such as "youngs_modulus"."""
+    """The sinter_material_param of a key such as "youngs_modulus" (or a MaterialParam)."""
+    if isinstance(key, MaterialParam):
+        return int(key)
     param = c_enum()
     status = lib.sinter_material_param_find(key.encode("utf-8"), ctypes.byref(param))
     if status == Status.ERR_NOT_FOUND:
@@ -42,6 +55,11 @@ def _param_info(param):
     check(status, None, "sinter_material_param_info")
     return text(key.value), ParamInfo(text(unit.value), text(meaning.value),
                                       default.value, low.value, high.value)
+
+
+#: sinter_material_param as an IntEnum, read from the library: MaterialParam.DENSITY, ...
+#: (a member's name is its key in upper case; Material accepts either).
+MaterialParam = enum.IntEnum("MaterialParam", _material_params(), module=__name__)
 
 
 class Material(_Handle):
@@ -223,7 +241,7 @@ class Material(_Handle):
             keys.append(info[0])
 
     @staticmethod
-    def describe(key: str) -> ParamInfo:
+    def describe(key: Union[str, "MaterialParam"]) -> ParamInfo:
         """ParamInfo(unit, meaning, default, min, max) of a parameter key."""
         return _param_info(_param_id(key))[1]
 
@@ -232,13 +250,13 @@ class Material(_Handle):
         """The material's name (\"\" if none)."""
         return text(lib.sinter_material_name(self._ptr))
 
-    def __getitem__(self, key: str) -> float:
+    def __getitem__(self, key: Union[str, "MaterialParam"]) -> float:
         value = ctypes.c_double()
         self._check(lib.sinter_material_get(self._ptr, _param_id(key), ctypes.byref(value)),
                     "sinter_material_get")
         return value.value
 
-    def __setitem__(self, key: str, value: float) -> None:
+    def __setitem__(self, key: Union[str, "MaterialParam"], value: float) -> None:
         self._check(lib.sinter_material_set(self._ptr, _param_id(key), float(value)),
                     "sinter_material_set")
 

@@ -7,7 +7,8 @@ import, or sinter.particles.USE_NUMPY = False at run time, to get memoryviews.
 
 import collections
 import ctypes
-from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional, Sequence
+import enum
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional, Sequence, Union
 import itertools
 import numbers
 import os
@@ -67,7 +68,33 @@ def _load_fields():
 FIELDS = _load_fields()
 
 
+#: sinter_field as an IntEnum, read from the library: Field.POSITION, ... (Particles accepts
+#: a Field or its name in lower case).
+Field = enum.IntEnum("Field", [(name.upper(), info.id) for name, info in FIELDS.items()],
+                     module=__name__)
+
+
+class DType(enum.IntEnum):
+    """sinter_dtype: element type of a field (FieldInfo.format is its struct character)."""
+
+    DOUBLE = 0  #: "d"
+    INT32 = 1  #: "i"
+    UINT32 = 2  #: "I"
+    UINT64 = 3  #: "Q"
+
+
+class ParticleFlag(enum.IntFlag):
+    """sinter_particle_flag: bits of the "flags" field."""
+
+    FIXED = 1  #: position and velocity are prescribed (not integrated)
+    NO_ROTATION = 2  #: spin is not integrated
+    FIXED_TEMPERATURE = 4  #: temperature is not integrated
+    ELECTRIFIED = 8  #: set by the electric submodel: touches an electrified wall
+
+
 def _field(name):
+    if isinstance(name, Field):
+        name = name.name.lower()
     try:
         return FIELDS[name]
     except KeyError:
@@ -362,7 +389,7 @@ class Particles(_Handle):
         fastest); ids move with them, indices change (sinter_particles_sort_spatial)."""
         self._check(lib.sinter_particles_sort_spatial(self._ptr), "sinter_particles_sort_spatial")
 
-    def view(self, field: str, writable: Optional[bool] = None) -> "FieldView":
+    def view(self, field: Union[str, "Field"], writable: Optional[bool] = None) -> "FieldView":
         """Zero-copy access to a field: ``with ps.view("position") as x: x[0, 2] = 1e-3``.
 
         Inside the block x is an array of shape (count, components) or (count,)
@@ -376,12 +403,12 @@ class Particles(_Handle):
         info = _field(field)
         return FieldView(self, info, info.writable if writable is None else writable)
 
-    def get(self, field: str) -> Any:
+    def get(self, field: Union[str, "Field"]) -> Any:
         """A copy of a field: a NumPy array, or a list (of lists) without NumPy."""
         with self.view(field, writable=False) as array:
             return array.tolist() if isinstance(array, memoryview) else array.copy()
 
-    def set(self, field: str, values: Any) -> None:
+    def set(self, field: Union[str, "Field"], values: Any) -> None:
         """Overwrite a field with `values` (same shape as get(), or one value for all)."""
         with self.view(field) as array:
             if not isinstance(array, memoryview):
