@@ -1,5 +1,4 @@
 /* Force models: creation by name, model-level parameters, destruction. */
-#include <stdio.h>
 #include <string.h>
 
 #include "force_model.h"
@@ -109,19 +108,6 @@ static int find_key(const sinter_force_model *fm, const char *key)
     return sinter_find_key(fm->ops->keys, SINTER_FORCE_MAX_PARAMS, key);
 }
 
-/* SINTER_ERR_NOT_FOUND for an unknown parameter, naming the model's parameters. */
-static sinter_status unknown_param(const sinter_force_model *fm, const char *key)
-{
-    char known[256] = "";
-    size_t len = 0;
-    for (int k = 0; k < SINTER_FORCE_MAX_PARAMS && fm->ops->keys[k] != NULL && len < sizeof(known); ++k)
-        len += (size_t)snprintf(known + len, sizeof(known) - len, "%s%s", k > 0 ? ", " : "",
-                                fm->ops->keys[k]);
-    return sinter_fail(fm->ctx, SINTER_ERR_NOT_FOUND,
-                       "force model '%s' has no parameter '%s' (%s%s)", fm->name, key,
-                       len > 0 ? "known: " : "it has no parameters", known);
-}
-
 sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key, double value)
 {
     if (fm == NULL)
@@ -129,7 +115,8 @@ sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key, do
     SINTER_CHECK_NULL(fm->ctx, key);
     const int k = find_key(fm, key);
     if (k < 0)
-        return unknown_param(fm, key);
+        return sinter_unknown_key(fm->ctx, "force model", fm->name, key, fm->ops->keys,
+                                 SINTER_FORCE_MAX_PARAMS);
     if (value != value || value - value != 0.0)
         return sinter_fail(fm->ctx, SINTER_ERR_INVALID,
                            "force model '%s': parameter '%s' = %g must be finite", fm->name, key,
@@ -146,7 +133,8 @@ sinter_status sinter_force_model_get(const sinter_force_model *fm, const char *k
     SINTER_CHECK_NULL(fm->ctx, value);
     const int k = find_key(fm, key);
     if (k < 0)
-        return unknown_param(fm, key);
+        return sinter_unknown_key(fm->ctx, "force model", fm->name, key, fm->ops->keys,
+                                 SINTER_FORCE_MAX_PARAMS);
     *value = fm->param[k];
     return SINTER_OK;
 }

@@ -1,6 +1,5 @@
 /* Heat models: creation by name, parameters and their schedules, host callbacks. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 
 #include "heat_model.h"
@@ -105,25 +104,13 @@ static int find_key(const sinter_heat_model *hm, const char *key)
     return sinter_find_key(hm->ops->keys, SINTER_HEAT_MAX_PARAMS, key);
 }
 
-/* SINTER_ERR_NOT_FOUND for an unknown parameter, naming the model's parameters. */
-static sinter_status unknown_param(const sinter_heat_model *hm, const char *key)
-{
-    char known[256] = "";
-    size_t len = 0;
-    for (int k = 0; k < SINTER_HEAT_MAX_PARAMS && hm->ops->keys[k] != NULL && len < sizeof(known); ++k)
-        len += (size_t)snprintf(known + len, sizeof(known) - len, "%s%s", k > 0 ? ", " : "",
-                                hm->ops->keys[k]);
-    return sinter_fail(hm->ctx, SINTER_ERR_NOT_FOUND,
-                       "heat model '%s' has no parameter '%s' (%s%s)", hm->name, key,
-                       len > 0 ? "known: " : "it has no parameters", known);
-}
-
 static sinter_status key_index(const sinter_heat_model *hm, const char *key, int *k)
 {
     SINTER_CHECK_NULL(hm->ctx, key);
     *k = find_key(hm, key);
     if (*k < 0)
-        return unknown_param(hm, key);
+        return sinter_unknown_key(hm->ctx, "heat model", hm->name, key, hm->ops->keys,
+                                 SINTER_HEAT_MAX_PARAMS);
     return SINTER_OK;
 }
 
