@@ -45,6 +45,28 @@ except KeyboardInterrupt:
 print("returned normally at t = %r" % stepper.time, flush=True)
 """
 
+QUASISTATIC_CHILD = """\
+import sinter
+ctx = sinter.Context()
+copper = sinter.Material(ctx, "copper", density=8960.0, youngs_modulus=72e9)
+ps = sinter.Particles(ctx)
+ps.set_material(0, copper)
+r = 25e-6
+ps.add([(2 * r * (k % 3), 2 * r * (k // 3 % 3), 2 * r * (k // 9)) for k in range(27)],
+       [r] * 27, temperature=1293.0)
+stepper = sinter.Stepper(ctx, ps, kind="quasistatic", dt=1e-6)
+print("advancing", flush=True)
+try:
+    stepper.advance(1e12)
+except KeyboardInterrupt:
+    stats = stepper.sintering_stats()
+    assert stats.links == 54 and stats.shrinkage[0] > 0.0, stats
+    print("interrupted at t = %r s, shrinkage %r" % (stepper.time, stats.shrinkage[0]),
+          flush=True)
+    raise
+print("returned normally at t = %r" % stepper.time, flush=True)
+"""
+
 SCENE_CHILD = """\
 import os, sys
 import sinter
@@ -111,6 +133,9 @@ class CtrlCTest(unittest.TestCase):
         self.check_interrupted(seconds, returncode, out, err)
         self.assertIn("sinter: t = ", err)
         self.assertIn("of 1000 s", err)
+
+    def test_quasistatic_advance(self):
+        self.check_interrupted(*self.interrupt(QUASISTATIC_CHILD))
 
     def test_scene_run_writes_its_checkpoint(self):
         with tempfile.TemporaryDirectory() as directory:
