@@ -57,6 +57,11 @@ uint64_t sinter_unique_id(void);
 /* Index of `key` in a NULL-terminated list of at most `max` keys, or -1. */
 int sinter_find_key(const char *const *keys, int max, const char *key);
 
+/* SINTER_ERR_NOT_FOUND: "<what> '<name>' has no parameter '<key>' (known: <keys>)", the
+ * keys from a NULL-terminated list of at most `max`. */
+sinter_status sinter_unknown_key(sinter_ctx *ctx, const char *what, const char *name,
+                                const char *key, const char *const *keys, int max);
+
 /* The names name_at(0) .. name_at(count - 1) joined with ", " into buf (cut to fit). */
 void sinter_join_names(char *buf, size_t size, size_t count, const char *(*name_at)(size_t k));
 

@@ -115,8 +115,8 @@ sinter_status sinter_force_model_set(sinter_force_model *fm, const char *key, do
     SINTER_CHECK_NULL(fm->ctx, key);
     const int k = find_key(fm, key);
     if (k < 0)
-        return sinter_fail(fm->ctx, SINTER_ERR_NOT_FOUND,
-                           "force model '%s' has no parameter '%s'", fm->name, key);
+        return sinter_unknown_key(fm->ctx, "force model", fm->name, key, fm->ops->keys,
+                                 SINTER_FORCE_MAX_PARAMS);
     if (value != value || value - value != 0.0)
         return sinter_fail(fm->ctx, SINTER_ERR_INVALID,
                            "force model '%s': parameter '%s' = %g must be finite", fm->name, key,
@@ -133,8 +133,8 @@ sinter_status sinter_force_model_get(const sinter_force_model *fm, const char *k
     SINTER_CHECK_NULL(fm->ctx, value);
     const int k = find_key(fm, key);
     if (k < 0)
-        return sinter_fail(fm->ctx, SINTER_ERR_NOT_FOUND,
-                           "force model '%s' has no parameter '%s'", fm->name, key);
+        return sinter_unknown_key(fm->ctx, "force model", fm->name, key, fm->ops->keys,
+                                 SINTER_FORCE_MAX_PARAMS);
     *value = fm->param[k];
     return SINTER_OK;
 }

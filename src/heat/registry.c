@@ -109,8 +109,8 @@ static sinter_status key_index(const sinter_heat_model *hm, const char *key, int
     SINTER_CHECK_NULL(hm->ctx, key);
     *k = find_key(hm, key);
     if (*k < 0)
-        return sinter_fail(hm->ctx, SINTER_ERR_NOT_FOUND, "heat model '%s' has no parameter '%s'",
-                           hm->name, key);
+        return sinter_unknown_key(hm->ctx, "heat model", hm->name, key, hm->ops->keys,
+                                 SINTER_HEAT_MAX_PARAMS);
     return SINTER_OK;
 }
 

@@ -137,6 +137,11 @@ static int find_option(const char *key)
     return -1;
 }
 
+int sinter_staggered_is_option(const char *key)
+{
+    return find_option(key) >= 0;
+}
+
 static sinter_status option_target(const sinter_stepper *st, const char *func, const char *key,
                                    int *which)
 {

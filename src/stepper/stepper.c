@@ -203,7 +203,9 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_check(st, key, &st->dt_check, value);
     if (strcmp(key, "energy_check") == 0)
         return set_check(st, key, &st->energy_check, value);
-    if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
+    /* an unknown key of a quasi-static stepper is refused with the list of its qs_* keys */
+    if (st->kind == SINTER_STEPPER_QUASISTATIC &&
+        (strncmp(key, "qs_", 3) == 0 || !sinter_staggered_is_option(key)))
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
 }
@@ -234,7 +236,8 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
         *value = key[0] == 'd' ? st->dt_check : st->energy_check;
         return SINTER_OK;
     }
-    if (st->kind == SINTER_STEPPER_QUASISTATIC && strncmp(key, "qs_", 3) == 0)
+    if (st->kind == SINTER_STEPPER_QUASISTATIC &&
+        (strncmp(key, "qs_", 3) == 0 || !sinter_staggered_is_option(key)))
         return sinter_qs_option_get(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_get(st, key, value);
 }

@@ -187,6 +187,8 @@ void sinter_staggered_init(sinter_staggered *sg);
 void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg);
 
 /* Option keys of the staggered stepper (sinter_stepper_set_option). */
+/* 1 if `key` is an option of the staggered stepper (phi, tolerance, ...), else 0. */
+int sinter_staggered_is_option(const char *key);
 sinter_status sinter_staggered_set(sinter_stepper *st, const char *key, double value);
 sinter_status sinter_staggered_get(const sinter_stepper *st, const char *key, double *value);
 

@@ -57,7 +57,7 @@ class MaterialTest(unittest.TestCase):
 
     def test_unknown_key(self):
         material = sinter.Material(self.ctx)
-        for action in (lambda: material["stiffness"], lambda: material.update(stiffness=1.0),
+        for action in (lambda: material["stiffness"], lambda: material.update({"stiffness": 1.0}),
                        lambda: sinter.Material.describe("stiffness")):
             with self.assertRaises(sinter.NotFound) as caught:
                 action()

@@ -14,36 +14,43 @@ Units are SI throughout: m, kg, s, K, N, Pa, W, A, V.
                             forces=[sinter.ForceModel(ctx, "hertz_mindlin")]) as st:
             st.advance(1e-3)
 
+Library messages go to the "sinter" logger of Python's logging module (Context(logger=...)).
+Ctrl-C during Stepper.advance or Scene.run raises KeyboardInterrupt with the last accepted
+state kept. A missing input file raises FileNotFoundError.
+
 The shared library is found through SINTER_LIBRARY, the source tree's
 lib/libsinter.so, or the system's libsinter.so.0 (see sinter._lib).
 """
 
-from ._errors import (BusyError, InvalidArgument, NotFound, RangeError, SinterError,
-                      Status)
+from ._errors import (BusyError, FileNotFound, Interrupted, InvalidArgument, NotFound,
+                      RangeError, SinterError, Status)
 from ._lib import LibraryNotFound, library_path
-from ._callbacks import ContactBatch, StateView
-from .context import Context, LogLevel, version_number, version_string
-from .material import Material, ParamInfo
+from ._callbacks import CallbackResult, ContactBatch, ContactKind, StateView
+from .context import LOGGER_NAME, Context, LogLevel, version_number, version_string
+from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
 from .neck import NeckModel, NeckResult, NeckStats
 from .output import Series, plot_run, write_pvd, write_vtu
 from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
-from .particles import FIELDS, FieldInfo, FieldView, Particles
+from .particles import (FIELDS, DType, Field, FieldInfo, FieldView, ParticleFlag,
+                        Particles)
 from .scene import Scene
-from .stepper import (Stepper, StepperKind, StepperStats, ThermalScheme,
-                      damping_ratio_from_restitution, stable_dt_hertz)
+from .stepper import (OPTIONS, SinteringStats, Stepper, StepperKind, StepperStats,
+                      ThermalScheme, damping_ratio_from_restitution, stable_dt_hertz)
 from .walls import WallElectric, WallMotion, Walls
 
 __version__ = version_string()
 
 __all__ = [
-    "BusyError", "ContactBatch", "Context", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
-    "ForceModel", "HeatModel", "InvalidArgument", "LibraryNotFound", "LogLevel", "Material",
-    "NeckModel", "NeckResult", "NeckStats", "NotFound", "ParamInfo", "Particles",
-    "RadiusDistribution", "RangeError", "Scene", "Series", "SinterError", "StateView", "Status",
-    "Stepper", "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion",
-    "Walls", "compaction_options", "damping_ratio_from_restitution", "library_path",
-    "pack_compact", "pack_lattice", "pack_random", "packing_options", "plot_run", "pour", "stable_dt_hertz", "version_number", "version_string",
-    "write_pvd", "write_vtu",
+    "BusyError", "CallbackResult", "ContactBatch", "ContactKind", "Context", "DType", "Field",
+    "MaterialParam", "ParticleFlag", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
+    "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
+    "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult", "NeckStats",
+    "NotFound", "OPTIONS", "ParamInfo", "Particles", "RadiusDistribution", "RangeError",
+    "Scene", "Series", "SinterError", "SinteringStats", "StateView", "Status", "Stepper",
+    "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion", "Walls",
+    "compaction_options", "damping_ratio_from_restitution", "library_path", "pack_compact",
+    "pack_lattice", "pack_random", "packing_options", "plot_run", "pour", "stable_dt_hertz",
+    "version_number", "version_string", "write_pvd", "write_vtu",
 ]

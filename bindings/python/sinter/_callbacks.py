@@ -13,6 +13,8 @@ without NumPy) and are valid only while the callback runs.
 """
 
 import ctypes
+import enum
+import signal
 import threading
 
 from ._errors import check
@@ -39,6 +41,21 @@ def take():
     return exception
 
 
+class CallbackResult(enum.IntEnum):
+    """sinter_callback_result: what a host submodel's function may return (None means OK)."""
+
+    OK = 0
+    RETRY = 1  #: ask the stepper to retry the step with a smaller one
+    FATAL = -1  #: stop the stepper (SINTER_ERR_CALLBACK)
+
+
+class ContactKind(enum.IntEnum):
+    """sinter_contact_kind: the kind of the contacts of a ContactBatch (.contact_kind)."""
+
+    PARTICLE = 0  #: particle i with particle j
+    WALL = 1  #: particle i with wall j
+
+
 def result_code(value):
     """A callback's return value as the library's int: None/0 -> 0, > 0 -> 1 (retry), < 0 -> -1."""
     if value is None or value is False:
@@ -47,29 +64,108 @@ def result_code(value):
     return (value > 0) - (value < 0)
 
 
-def call(ctx_handle, function, c_function, *args, stopped=None):
+def call(ctx_handle, function, c_function, *args, stopped=None, interruptible=False):
     # function: the C function's name for messages (c_function may be a test's wrapper)
     """Call c_function(*args), which may run Python callbacks, and check the status.
 
     If a callback raised, that exception is raised here (the library's error
     text is added as a note where Python supports notes). `stopped`, when
     given, is a callable returning true when a callback asked to stop: a
-    SINTER_ERR_CALLBACK status is then not an error.
+    SINTER_ERR_CALLBACK or SINTER_ERR_INTERRUPTED status is then not an error.
+
+    interruptible: a run (advance, step, scene run) that Ctrl-C must stop. Called from the
+    main thread, the C function then runs in a worker thread (ctypes releases the GIL) while
+    the main thread waits, so that SIGINT is handled at once: it asks the library to stop
+    (sinter_ctx_request_stop), which ends the run after its current step with the last
+    accepted state kept, and KeyboardInterrupt is raised here.
     Returns the status.
     """
-    clear()
-    status = c_function(*args)
-    exception = take()
+    interrupted = False
+    if interruptible and ctx_handle and threading.current_thread() is threading.main_thread():
+        status, exception, interrupted = _run_interruptible(ctx_handle, c_function, args)
+    else:
+        clear()
+        try:
+            status = c_function(*args)
+        finally:
+            exception = take()
     if exception is not None:
         if status != 0 and ctx_handle and hasattr(exception, "add_note"):
             message = _last_error(ctx_handle)
             if message:
                 exception.add_note("libsinter: %s" % message)
         raise exception
+    if interrupted:
+        raise KeyboardInterrupt
     if stopped is not None and status != 0 and stopped():
         return status
     check(status, ctx_handle, function)
     return status
+
+
+#: How often [s] the main thread wakes while a run goes on in the worker thread.
+_POLL_SECONDS = 0.05
+
+
+def _run_interruptible(ctx_handle, c_function, args):
+    """(status, exception raised by a callback or None, True if SIGINT stopped the run)."""
+    outcome = {}
+
+    def work():
+        clear()
+        try:
+            outcome["status"] = c_function(*args)
+        except BaseException as exception:  # an argument ctypes refused
+            outcome["error"] = exception
+        finally:
+            outcome["exception"] = take()
+
+    interrupted = []
+
+    def on_sigint(signum, frame):
+        interrupted.append(signum)
+        lib.sinter_ctx_request_stop(ctx_handle)
+
+    previous = _install_sigint(on_sigint)
+    worker = threading.Thread(target=work, name="sinter-run", daemon=True)
+    try:
+        worker.start()
+        try:
+            while worker.is_alive():
+                worker.join(_POLL_SECONDS)
+        except BaseException:
+            # A Python-level SIGINT handler of the host (or another signal's handler) raised:
+            # stop the run at its current step, wait for it, and let the exception go on.
+            lib.sinter_ctx_request_stop(ctx_handle)
+            _join(worker, ctx_handle)
+            raise
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["status"], outcome["exception"], bool(interrupted)
+
+
+def _install_sigint(handler):
+    """Install `handler` for SIGINT while Python's default handler (KeyboardInterrupt) is in
+    place; return the handler to restore, or None when nothing was installed (SIGINT ignored,
+    or a host's own handler, which then runs as usual)."""
+    try:
+        if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+            return None
+        return signal.signal(signal.SIGINT, handler)
+    except (ValueError, OSError, AttributeError):  # not the main interpreter, no signals
+        return None
+
+
+def _join(worker, ctx_handle):
+    """Wait for the worker; a further Ctrl-C asks the library to stop again."""
+    while worker.is_alive():
+        try:
+            worker.join(_POLL_SECONDS)
+        except BaseException:
+            lib.sinter_ctx_request_stop(ctx_handle)
 
 
 def _last_error(ctx_handle):
@@ -116,7 +212,7 @@ class _StructArrays:
     _ARRAYS = {}
     _SCALARS = ()
 
-    def __init__(self, struct):
+    def __init__(self, struct: ctypes.Structure) -> None:
         self._struct = struct
         self._valid = True
         self._made = []
@@ -146,7 +242,7 @@ class _StructArrays:
             raise ValueError("%s used after its callback returned: its arrays belonged to the "
                              "library for the duration of the call only" % type(self).__name__)
 
-    def invalidate(self):
+    def invalidate(self) -> None:
         """Drop the arrays (memoryviews are released, so later use raises ValueError)."""
         self._valid = False
         for name in self._made:
@@ -218,9 +314,16 @@ class ContactBatch(_StructArrays):
     _SCALARS = ("count", "history_size")
 
     @property
-    def kind(self):
+    def kind(self) -> str:
+        """"particle" or "wall" (the name of contact_kind in lower case)."""
         self._require_valid()
         return "wall" if self._struct.kind == 1 else "particle"
+
+    @property
+    def contact_kind(self) -> ContactKind:
+        """ContactKind.PARTICLE or ContactKind.WALL."""
+        self._require_valid()
+        return ContactKind(self._struct.kind)
 
     def __len__(self):
         self._require_valid()

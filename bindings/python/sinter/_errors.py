@@ -1,6 +1,9 @@
 """Status codes (read from the library at import time) and the exceptions."""
 
 import enum
+import errno
+import os
+from typing import Union
 
 from ._lib import lib, text
 
@@ -11,7 +14,7 @@ _UNKNOWN_STATUS_TEXT = "unknown status"  # sinter_status_string() of an unknown 
 
 class _StatusBase(enum.IntEnum):
     @property
-    def message(self):
+    def message(self) -> str:
         """The library's static English text for this status."""
         return text(lib.sinter_status_string(self.value))
 
@@ -64,11 +67,32 @@ class NotFound(SinterError, KeyError):
     """SINTER_ERR_NOT_FOUND: no such name or id."""
 
 
+class Interrupted(SinterError):
+    """SINTER_ERR_INTERRUPTED: a run stopped on request (Context.request_stop) after its
+    current step; the last accepted state is kept, readable and checkpointable.
+
+    Ctrl-C during Stepper.advance or Scene.run raises KeyboardInterrupt instead."""
+
+
+class FileNotFound(SinterError, FileNotFoundError):
+    """A file (or directory) a call reads does not exist: a FileNotFoundError that is also a
+    SinterError. .filename is the path, .status the library's status (usually ERR_IO)."""
+
+    def __init__(self, status, message, filename=None):
+        FileNotFoundError.__init__(self, errno.ENOENT, message, filename)
+        self.status = status
+        self.message = message
+
+    def __str__(self):
+        return SinterError.__str__(self)
+
+
 _ERROR_CLASSES = {
     "ERR_INVALID": InvalidArgument,
     "ERR_BUSY": BusyError,
     "ERR_RANGE": RangeError,
     "ERR_NOT_FOUND": NotFound,
+    "ERR_INTERRUPTED": Interrupted,
 }
 
 
@@ -95,3 +119,25 @@ def check(status, ctx, function):
     if not message:
         message = "%s: %s" % (function, text(lib.sinter_status_string(status)))
     raise error(status, message)
+
+
+def check_path(status: int, ctx, function: str, path: Union[str, bytes, "os.PathLike[str]"],
+               directory: bool = False) -> None:
+    """check() for a call that reads `path`: when the call failed and the path does not exist
+    (or is not a directory, for `directory`), raise FileNotFound, a FileNotFoundError."""
+    if status == 0:
+        return
+    exists = os.path.isdir(path) if directory else os.path.exists(path)
+    if not exists:
+        message = ""
+        if ctx and lib.sinter_last_status(ctx) == status:
+            message = text(lib.sinter_last_error(ctx))
+        if not message:
+            message = "%s: no such %s: %s" % (function, "directory" if directory else "file",
+                                               os.fsdecode(path))
+        try:
+            code: Union[Status, int] = Status(status)
+        except ValueError:
+            code = status
+        raise FileNotFound(code, message, os.fsdecode(path))
+    check(status, ctx, function)

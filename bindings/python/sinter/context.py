@@ -2,19 +2,21 @@
 
 import ctypes
 import enum
+import logging
 import weakref
+from typing import Callable, Optional, Union
 
 from . import _callbacks
 from ._errors import Status, check
 from ._lib import CtxPtr, LogFn, lib, text
 
 
-def version_string():
+def version_string() -> str:
     """Runtime version of libsinter, "major.minor.patch"."""
     return text(lib.sinter_version_string())
 
 
-def version_number():
+def version_number() -> int:
     """Runtime version of libsinter as major*10000 + minor*100 + patch."""
     return lib.sinter_version_number()
 
@@ -27,19 +29,49 @@ class LogLevel(enum.IntEnum):
     INFO = 2
     DEBUG = 3
 
+    @property
+    def logging_level(self) -> int:
+        """The matching level of Python's logging module (logging.ERROR, ...)."""
+        return _LOGGING_LEVELS[self]
+
+    @classmethod
+    def from_logging(cls, level: int) -> "LogLevel":
+        """The most verbose LogLevel a logger of effective level `level` lets through."""
+        if level <= logging.DEBUG:
+            return cls.DEBUG
+        if level <= logging.INFO:
+            return cls.INFO
+        if level <= logging.WARNING:
+            return cls.WARNING
+        return cls.ERROR
+
+
+_LOGGING_LEVELS = {LogLevel.ERROR: logging.ERROR, LogLevel.WARNING: logging.WARNING,
+                   LogLevel.INFO: logging.INFO, LogLevel.DEBUG: logging.DEBUG}
+
+#: The logger that receives the library's messages by default.
+LOGGER_NAME = "sinter"
+
 
 class Context:
     """A sinter_ctx: owns the last error text, the log callback and the thread count.
 
     Every Material and Particles keeps a reference to its Context. close()
     (or leaving a ``with`` block) closes those objects first, then the context.
+
+    threads: threads the library may use (None: the library's default, 1; 0: all).
+    logger: where the library's messages go: a logging.Logger or a logger name (default
+    "sinter"), at the logger's effective level (read again before each run, so that
+    logging.getLogger("sinter").setLevel(logging.INFO) takes effect), or None for no
+    messages at all. set_log installs a callback instead.
     """
 
     _handle = None
     _open_children = 0
     _close_pending = False
 
-    def __init__(self, threads=None):
+    def __init__(self, threads: Optional[int] = None,
+                 logger: Union[logging.Logger, str, None] = LOGGER_NAME) -> None:
         handle = CtxPtr()
         check(lib.sinter_ctx_create(ctypes.byref(handle), None), None, "sinter_ctx_create")
         self._handle = handle
@@ -47,13 +79,18 @@ class Context:
         self._open_children = 0
         self._close_pending = False
         self._log_function = None  # the installed CFUNCTYPE, kept alive here
+        self._logger = None  # the logging.Logger messages go to, if any
+        self._log_level = None  # the LogLevel installed for it
         if threads is not None:
             self.threads = threads
+        if logger is not None:
+            self.log_to(logger)
 
     # --- life cycle -----------------------------------------------------
 
     @property
-    def closed(self):
+    def closed(self) -> bool:
+        """True once close() was called."""
         return self._handle is None or self._close_pending
 
     @property
@@ -62,7 +99,7 @@ class Context:
             raise ValueError("the sinter Context is closed")
         return self._handle
 
-    def close(self):
+    def close(self) -> None:
         """Close every object made from this context, then the context itself."""
         for child in list(self._children):
             child.close()
@@ -112,7 +149,7 @@ class Context:
         check(status, self._handle, function)
 
     @property
-    def threads(self):
+    def threads(self) -> int:
         """Threads the library may use internally (1 by default, 0 = all available)."""
         threads = ctypes.c_int()
         self._check(lib.sinter_ctx_get_threads(self._ptr, ctypes.byref(threads)),
@@ -120,20 +157,20 @@ class Context:
         return threads.value
 
     @threads.setter
-    def threads(self, threads):
+    def threads(self, threads: int) -> None:
         self._check(lib.sinter_ctx_set_threads(self._ptr, threads), "sinter_ctx_set_threads")
 
     @property
-    def last_error(self):
+    def last_error(self) -> str:
         """Detail of the last error reported on this context ("" if none)."""
         return text(lib.sinter_last_error(self._ptr))
 
     @property
-    def last_status(self):
+    def last_status(self) -> Status:
         """Status of the last error reported on this context (Status.OK if none)."""
         return Status(lib.sinter_last_status(self._ptr))
 
-    def request_stop(self):
+    def request_stop(self) -> None:
         """Ask the running step loop of this context to stop after its current step.
 
         Safe from a signal handler or another thread; the run then fails with the status
@@ -141,11 +178,44 @@ class Context:
         """
         self._check(lib.sinter_ctx_request_stop(self._ptr), "sinter_ctx_request_stop")
 
-    def clear_error(self):
+    def clear_error(self) -> None:
         """Forget the last error."""
         self._check(lib.sinter_clear_error(self._ptr), "sinter_clear_error")
 
-    def set_log(self, callback, level=LogLevel.WARNING):
+    def log_to(self, logger: Union[logging.Logger, str] = LOGGER_NAME) -> None:
+        """Send the library's messages to a logging.Logger (or the logger of that name), at
+        the logger's effective level: ERROR, WARNING, INFO and DEBUG messages become records
+        of those levels."""
+        if isinstance(logger, str):
+            logger = logging.getLogger(logger)
+        python_level = {level: level.logging_level for level in LogLevel}
+
+        def forward(c_level, message, user):
+            try:
+                level = python_level.get(c_level, logging.DEBUG)
+                logger.log(level, "%s", text(message))
+            except BaseException:  # noqa: never unwind through C; logging reports its own
+                pass
+
+        function = LogFn(forward)
+        level = LogLevel.from_logging(logger.getEffectiveLevel())
+        self._check(lib.sinter_ctx_set_log(self._ptr, function, int(level), None),
+                    "sinter_ctx_set_log")
+        self._log_function, self._logger, self._log_level = function, logger, level
+
+    def _sync_log_level(self) -> None:
+        """Follow a change of the logger's level (called before each run)."""
+        logger = self._logger
+        if logger is None or self._handle is None:
+            return
+        level = LogLevel.from_logging(logger.getEffectiveLevel())
+        if level != self._log_level:
+            self._check(lib.sinter_ctx_set_log(self._handle, self._log_function, int(level),
+                                               None), "sinter_ctx_set_log")
+            self._log_level = level
+
+    def set_log(self, callback: Optional[Callable[[LogLevel, str], None]],
+                level: Union[LogLevel, int] = LogLevel.WARNING) -> None:
         """Install callback(level: LogLevel, message: str), or None to remove it.
 
         Messages up to `level` (most verbose level passed) reach the callback,
@@ -161,7 +231,7 @@ class Context:
             function = LogFn(trampoline)
         self._check(lib.sinter_ctx_set_log(self._ptr, function, int(level), None),
                     "sinter_ctx_set_log")
-        self._log_function = function
+        self._log_function, self._logger, self._log_level = function, None, None
 
 
 class _Handle:
@@ -185,7 +255,7 @@ class _Handle:
     _owned = True
     _borrowed = ()
 
-    def __init__(self, context, handle, owned=True):
+    def __init__(self, context: Context, handle: ctypes.c_void_p, owned: bool = True) -> None:
         self._context = context
         self._handle = handle
         self._owned = owned
@@ -195,11 +265,13 @@ class _Handle:
         context._register(self)
 
     @property
-    def context(self):
+    def context(self) -> Context:
+        """The Context this object was made from."""
         return self._context
 
     @property
-    def closed(self):
+    def closed(self) -> bool:
+        """True once close() was called (its C object may wait for its users)."""
         return self._handle is None or self._close_pending
 
     @property
@@ -211,11 +283,12 @@ class _Handle:
     def _check(self, status, function):
         check(status, self._context._handle, function)
 
-    def _call(self, c_function, *args, stopped=None):
+    def _call(self, c_function, *args, stopped=None, interruptible=False):
         """c_function(*args) for a call that may run Python callbacks: an exception one of
-        them raised is raised here; otherwise the status is checked. Returns the status."""
+        them raised is raised here; otherwise the status is checked. Returns the status.
+        interruptible: a run that Ctrl-C stops (KeyboardInterrupt; see _callbacks.call)."""
         return _callbacks.call(self._context._handle, c_function.__name__, c_function, *args,
-                               stopped=stopped)
+                               stopped=stopped, interruptible=interruptible)
 
     # --- borrowing ------------------------------------------------------
 
@@ -251,7 +324,7 @@ class _Handle:
     def _forget(self):
         """Hook: drop Python objects the C object needed (callbacks), after it is destroyed."""
 
-    def close(self):
+    def close(self) -> None:
         """Destroy the C object (once nothing uses it any more). Safe to call twice."""
         if self._handle is None or self._close_pending:
             return

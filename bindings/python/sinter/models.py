@@ -14,6 +14,7 @@ Host models run Python functions once per evaluation over whole batches
 
 import ctypes
 import itertools
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple
 
 from . import _callbacks
 from ._callbacks import ContactBatch, StateView
@@ -21,7 +22,7 @@ from ._errors import NotFound, check
 from ._integers import to_c
 from ._lib import (BodyFn, ContactsFn, ElectricModelPtr, ForceCallbacks,
                    ForceModelPtr, HeatCallbacks, HeatModelPtr, PowerFn, lib, text)
-from .context import _Handle
+from .context import Context, _Handle
 
 
 def _doubles(values):
@@ -34,11 +35,17 @@ class _KeyedModel(_Handle):
     """A submodel with a name and parameters by key (model-level, SI units)."""
 
     _ptr_type = None
-    _prefix = None  # "sinter_force_model", ...
+    # The C functions of the kind, by role: {"create": "sinter_force_model_create", ...}
+    _functions: Dict[str, str] = {}
 
-    def __init__(self, context, name, **params):
+    def __init__(self, context: Context, name: str, **params: float) -> None:
+        """Create the built-in model `name` (NotFound lists the known ones) and set its
+        parameters, SI units (an unknown key raises NotFound listing the model's keys).
+
+        The parameters are keywords of the model, not of this class: which keys exist depends
+        on `name` (sinter.h lists them), hence **params here."""
         handle = self._ptr_type()
-        create = getattr(lib, self._prefix + "_create")
+        create = getattr(lib, self._functions["create"])
         check(create(ctypes.byref(handle), context._ptr, name.encode("utf-8")),
               context._handle, create.__name__)
         super().__init__(context, handle)
@@ -50,36 +57,37 @@ class _KeyedModel(_Handle):
 
     @property
     def _destroy_function(self):
-        return self._prefix + "_destroy"
+        return self._functions["destroy"]
 
     @property
-    def name(self):
-        return text(getattr(lib, self._prefix + "_name")(self._ptr))
+    def name(self) -> str:
+        """The model's name ("gravity", or a host model's)."""
+        return text(getattr(lib, self._functions["name"])(self._ptr))
 
-    def __getitem__(self, key):
+    def __getitem__(self, key: str) -> float:
         value = ctypes.c_double()
-        function = getattr(lib, self._prefix + "_get")
+        function = getattr(lib, self._functions["get"])
         self._check(function(self._ptr, key.encode("utf-8"), ctypes.byref(value)),
                     function.__name__)
         return value.value
 
-    def __setitem__(self, key, value):
-        function = getattr(lib, self._prefix + "_set")
+    def __setitem__(self, key: str, value: float) -> None:
+        function = getattr(lib, self._functions["set"])
         self._check(function(self._ptr, key.encode("utf-8"), float(value)), function.__name__)
 
-    def get(self, key, default=None):
+    def get(self, key: str, default: Optional[float] = None) -> Optional[float]:
         """The parameter's value, or `default` for a key the model does not have."""
         try:
             return self[key]
         except NotFound:
             return default
 
-    def update(self, params=(), **more):
-        """Set several parameters from a mapping and/or keywords."""
-        for key, value in itertools.chain(dict(params).items(), more.items()):
+    def update(self, params: Optional[Mapping[str, float]] = None, **more: float) -> None:
+        """Set several parameters from a mapping {key: value} and/or keywords."""
+        for key, value in itertools.chain(dict(params or {}).items(), more.items()):
             self[key] = value
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.%s %s>" % (type(self).__name__,
                                    "closed" if self.closed else repr(self.name))
 
@@ -92,10 +100,15 @@ class ForceModel(_KeyedModel):
     """
 
     _ptr_type = ForceModelPtr
-    _prefix = "sinter_force_model"
+    _functions = {"create": "sinter_force_model_create", "destroy": "sinter_force_model_destroy",
+                  "name": "sinter_force_model_name", "get": "sinter_force_model_get",
+                  "set": "sinter_force_model_set"}
 
     @classmethod
-    def from_callbacks(cls, context, name, contacts=None, particles=None, history_size=0):
+    def from_callbacks(cls, context: Context, name: str,
+                       contacts: Optional[Callable[[StateView, ContactBatch], Any]] = None,
+                       particles: Optional[Callable[[StateView, Any, Any], Any]] = None,
+                       history_size: int = 0) -> "ForceModel":
         """A host force model running Python functions on whole batches.
 
         contacts(state, batch) is called once per evaluation for the
@@ -146,9 +159,11 @@ class HeatModel(_KeyedModel):
     """
 
     _ptr_type = HeatModelPtr
-    _prefix = "sinter_heat_model"
+    _functions = {"create": "sinter_heat_model_create", "destroy": "sinter_heat_model_destroy",
+                  "name": "sinter_heat_model_name", "get": "sinter_heat_model_get",
+                  "set": "sinter_heat_model_set"}
 
-    def set_schedule(self, key, times, values):
+    def set_schedule(self, key: str, times: Sequence[float], values: Sequence[float]) -> None:
         """Make parameter `key` follow a piecewise-linear schedule (times [s], increasing)."""
         c_times, n = _doubles(times)
         c_values, n_values = _doubles(values)
@@ -159,7 +174,9 @@ class HeatModel(_KeyedModel):
                     "sinter_heat_model_set_schedule")
 
     @classmethod
-    def from_callback(cls, context, name, power):
+    def from_callback(cls, context: Context, name: str,
+                      power: Callable[[StateView, ContactBatch, ContactBatch, Any], Any]
+                      ) -> "HeatModel":
         """A host heat model: power(state, particle_contacts, wall_contacts, heat).
 
         heat is a (count,) array [W], zeroed before the call, that the
@@ -194,9 +211,12 @@ class ElectricModel(_KeyedModel):
     """
 
     _ptr_type = ElectricModelPtr
-    _prefix = "sinter_electric_model"
+    _functions = {"create": "sinter_electric_model_create",
+                  "destroy": "sinter_electric_model_destroy",
+                  "name": "sinter_electric_model_name", "get": "sinter_electric_model_get",
+                  "set": "sinter_electric_model_set"}
 
-    def power(self):
+    def power(self) -> Tuple[float, float]:
         """(supplied, dissipated) [W] of the network model's last solve: the walls' electrical
         power and the contacts' Joule power, equal to the solve's accuracy."""
         supplied, dissipated = ctypes.c_double(), ctypes.c_double()

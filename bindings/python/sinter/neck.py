@@ -2,12 +2,13 @@
 
 import ctypes
 import dataclasses
-import itertools
 import numbers
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from ._errors import SinterError, check
 from ._lib import NeckModelPtr, NeckStats as _CNeckStats, lib
-from .context import _Handle
+from .context import Context, _Handle
+from .material import Material
 from . import particles as _particles
 
 
@@ -24,7 +25,7 @@ class NeckStats:
     segments: int
     seconds: float
 
-    def as_dict(self):
+    def as_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)
 
 
@@ -44,7 +45,7 @@ class NeckResult:
     radius: float
 
     @property
-    def neck_ratio(self):
+    def neck_ratio(self) -> Any:
         """x / min(R_A, R_B) [-]."""
         if hasattr(self.neck_radius, "dtype"):
             return self.neck_radius / self.radius
@@ -76,34 +77,69 @@ class NeckModel(_Handle):
 
     _destroy_function = "sinter_neck_model_destroy"
 
-    def __init__(self, context, **options):
+    #: The options of the neck model (sinter_neck_model_set), in the library's order.
+    OPTIONS = ("epsilon", "h0_ratio", "rtol", "atol", "initial_step", "max_steps", "integrator",
+               "rk4_steps", "rk4_time_scale", "error_scale")
+
+    def __init__(self, context: Context, options: Optional[Mapping[str, float]] = None, *,
+                 epsilon: Optional[float] = None,
+                 h0_ratio: Optional[float] = None,
+                 rtol: Optional[float] = None,
+                 atol: Optional[float] = None,
+                 initial_step: Optional[float] = None,
+                 max_steps: Optional[float] = None,
+                 integrator: Optional[float] = None,
+                 rk4_steps: Optional[float] = None,
+                 rk4_time_scale: Optional[float] = None,
+                 error_scale: Optional[float] = None) -> None:
+        """A neck model with the library's default options, then `options` (a mapping) and
+        the keywords given (None: the default):
+
+        epsilon: seeded neck radius x0 / min(R_A, R_B) [-]; 0.01, (0, 0.1]
+        h0_ratio: junction radius of the seeded neck h0 / x0 [-]; 1.5, (1, 2)
+        rtol: relative tolerance of every state component [-]; 1e-8, [1e-14, 1e-2]
+        atol: absolute tolerance of the state lengths [m]; 0 = 1e-14 min(R_A, R_B); [0, 1]
+        initial_step: first step [s]; 1e-12, 0 lets CVODE estimate; [0, 1e6]
+        max_steps: most accepted steps of one run; 1e6, [1, 1e12], whole number
+        integrator: 0 = CVODE BDF (default); 1 = the seed's classical RK4 on a fixed grid
+        rk4_steps: number of RK4 steps of a run; 20000, [1, 1e10], whole number
+        rk4_time_scale: tau [s] of the RK4 grid, uniform in ln(1 + (t - t0)/tau); 1e-6, (0, 1e6]
+        error_scale: what rtol is relative to: 1 (default) the geometry, 0 each component
+        """
         handle = NeckModelPtr()
         check(lib.sinter_neck_model_create(ctypes.byref(handle), context._ptr), context._handle,
               "sinter_neck_model_create")
         super().__init__(context, handle)
+        given = {key: value for key, value in locals().items()
+                 if key in NeckModel.OPTIONS and value is not None}
         try:
             self.update(options)
+            self.update(given)
         except BaseException:
             self.close()
             raise
 
-    def __getitem__(self, key):
+    def __getitem__(self, key: str) -> float:
         value = ctypes.c_double()
         self._check(lib.sinter_neck_model_get(self._ptr, key.encode("utf-8"),
                                               ctypes.byref(value)),
                     "sinter_neck_model_get")
         return value.value
 
-    def __setitem__(self, key, value):
+    def __setitem__(self, key: str, value: float) -> None:
         self._check(lib.sinter_neck_model_set(self._ptr, key.encode("utf-8"), float(value)),
                     "sinter_neck_model_set")
 
-    def update(self, options=(), **more):
-        for key, value in itertools.chain(dict(options).items(), more.items()):
+    def update(self, options: Optional[Mapping[str, float]] = None) -> None:
+        """Set several options from a mapping {key: value} (keys: NeckModel.OPTIONS)."""
+        for key, value in dict(options or {}).items():
             self[key] = value
 
-    def two_particles(self, material, radius_a, radius_b, times, temperatures, out_times,
-                      state=False):
+    def two_particles(self, material: Material, radius_a: float, radius_b: float,
+                      times: Union[float, Sequence[float]],
+                      temperatures: Union[float, Sequence[float]],
+                      out_times: Union[float, Sequence[float]],
+                      state: bool = False) -> NeckResult:
         """Sinter two spheres of radii radius_a, radius_b [m] touching at times[0].
 
         The temperature follows the piecewise-linear schedule (times [s],
@@ -137,7 +173,7 @@ class NeckModel(_Handle):
         return result
 
     @property
-    def stats(self):
+    def stats(self) -> NeckStats:
         """NeckStats of the last two_particles call."""
         stats = _CNeckStats()
         stats.struct_size = ctypes.sizeof(_CNeckStats)
@@ -145,5 +181,5 @@ class NeckModel(_Handle):
                     "sinter_neck_get_stats")
         return NeckStats(*(getattr(stats, name) for name, _ in _CNeckStats._fields_[1:]))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.NeckModel%s>" % (" closed" if self.closed else "")

@@ -1,11 +1,19 @@
 """Output: time series (CSV and SVG plots drawn by the library) and ParaView files."""
 
+import csv
 import ctypes
 import os
+from typing import TYPE_CHECKING, Any, List, Mapping, Optional, Sequence, Tuple, Union
 
-from ._errors import check
+from ._errors import check, check_path
 from ._lib import SeriesPtr, VtuArray, lib
 from .context import _Handle
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .context import Context
+    from .particles import Particles
+
+PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
 
 
 class Series(_Handle):
@@ -19,7 +27,9 @@ class Series(_Handle):
 
     _destroy_function = "sinter_series_destroy"
 
-    def __init__(self, context, columns):
+    def __init__(self, context: "Context",
+                 columns: Sequence[Union[str, Tuple[str, str]]]) -> None:
+        """A series of `columns`: names, or (name, unit) pairs (unit \"1\" by default)."""
         columns = [(c, "1") if isinstance(c, str) else tuple(c) for c in columns]
         if not columns:
             raise ValueError("a series needs at least one column")
@@ -33,7 +43,31 @@ class Series(_Handle):
         self.columns = [name for name, _ in columns]
         self.units = [unit for _, unit in columns]
 
-    def append(self, row):
+    @classmethod
+    def read_csv(cls, context: "Context", path: PathLike) -> "Series":
+        """Read a series back from a CSV file written by write_csv or by a run (names and
+        units from the header, every complete row). FileNotFoundError when `path` does not
+        exist; SinterError ERR_PARSE naming the line for a malformed file."""
+        handle = SeriesPtr()
+        check_path(lib.sinter_series_read_csv(ctypes.byref(handle), context._ptr,
+                                              os.fsencode(path)),
+                   context._handle, "sinter_series_read_csv", path)
+        series = cls.__new__(cls)
+        _Handle.__init__(series, context, handle)
+        names, units = [], []
+        header = _csv_header(path)
+        for column in header:
+            name, bracket, unit = column.rpartition(" [")
+            if bracket and unit.endswith("]"):
+                names.append(name)
+                units.append(unit[:-1])
+            else:
+                names.append(column)
+                units.append("")
+        series.columns, series.units = names, units
+        return series
+
+    def append(self, row: Sequence[float]) -> None:
         """Append one row of len(columns) numbers (NaN allowed)."""
         row = [float(x) for x in row]
         if len(row) != len(self.columns):
@@ -43,12 +77,13 @@ class Series(_Handle):
                     "sinter_series_append")
 
     @property
-    def rows(self):
+    def rows(self) -> int:
+        """Number of rows."""
         rows = ctypes.c_size_t()
         self._check(lib.sinter_series_rows(self._ptr, ctypes.byref(rows)), "sinter_series_rows")
         return rows.value
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.rows
 
     def _column_index(self, column):
@@ -59,30 +94,33 @@ class Series(_Handle):
                 raise KeyError("no column %r; columns: %s" % (column, self.columns)) from None
         return int(column)
 
-    def get(self, row, column):
+    def get(self, row: int, column: Union[int, str]) -> float:
+        """Value at (row, column), the column by index or name."""
         value = ctypes.c_double()
         self._check(lib.sinter_series_get(self._ptr, int(row), self._column_index(column),
                                           ctypes.byref(value)),
                     "sinter_series_get")
         return value.value
 
-    def __getitem__(self, index):
+    def __getitem__(self, index: Any) -> Any:
         """series[row, column] (column by index or name), or series["name"] for a whole column."""
         if isinstance(index, tuple):
             return self.get(*index)
         return self.column(index)
 
-    def column(self, column):
+    def column(self, column: Union[int, str]) -> List[float]:
         """All values of a column (by index or name), as a list."""
         k = self._column_index(column)
         return [self.get(row, k) for row in range(self.rows)]
 
-    def write_csv(self, path):
+    def write_csv(self, path: PathLike) -> None:
         """CSV: a header "name [unit],..." then one line per row, full precision."""
         self._check(lib.sinter_series_write_csv(self._ptr, os.fsencode(path)),
                     "sinter_series_write_csv")
 
-    def write_svg(self, path, panels=None, x_column=0, title=None):
+    def write_svg(self, path: PathLike,
+                  panels: Optional[Sequence[Sequence[Union[int, str]]]] = None,
+                  x_column: Union[int, str] = 0, title: Optional[str] = None) -> None:
         """SVG plot: one panel per entry of `panels` (lists of columns, by index or name)
         against x_column; by default one panel with every other column."""
         x = self._column_index(x_column)
@@ -99,12 +137,19 @@ class Series(_Handle):
                                                 x, len(panels), c_start, c_flat),
                     "sinter_series_write_svg")
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.Series %s>" % ("closed" if self.closed else "%s, %d rows" % (
             self.columns, self.rows))
 
 
-def write_vtu(particles, path, extra=None):
+def _csv_header(path):
+    """The column titles "name [unit]" of a series CSV file's first line."""
+    with open(path, encoding="utf-8", errors="replace", newline="") as lines:
+        return next(csv.reader(lines), [])
+
+
+def write_vtu(particles: "Particles", path: PathLike,
+              extra: Optional[Mapping[str, Any]] = None) -> None:
     """One ParaView frame (.vtu) of a particle set; `extra` maps names to per-particle arrays
     (count values, or count x 3)."""
     extra = dict(extra or {})
@@ -131,7 +176,8 @@ def write_vtu(particles, path, extra=None):
                      "sinter_write_vtu")
 
 
-def write_pvd(context, path, times, files):
+def write_pvd(context: "Context", path: PathLike, times: Sequence[float],
+              files: Sequence[PathLike]) -> None:
     """A ParaView collection (.pvd) of `files` (as they should appear in it) at `times` [s]."""
     times, files = [float(t) for t in times], [os.fsencode(f) for f in files]
     if len(times) != len(files):
@@ -142,9 +188,12 @@ def write_pvd(context, path, times, files):
           context._handle, "sinter_write_pvd")
 
 
-def plot_run(context, out_dir, title=None):
+def plot_run(context: "Context", out_dir: PathLike, title: Optional[str] = None) -> None:
     """Draw out_dir/series.svg from out_dir/series.csv, as a run does at its end (any run,
     finished or not)."""
-    check(lib.sinter_plot_run(context._ptr, os.fsencode(out_dir),
-                              None if title is None else title.encode("utf-8")),
-          context._handle, "sinter_plot_run")
+    status = lib.sinter_plot_run(context._ptr, os.fsencode(out_dir),
+                                 None if title is None else title.encode("utf-8"))
+    if status != 0 and os.path.isdir(out_dir):
+        check_path(status, context._handle, "sinter_plot_run",
+                   os.path.join(os.fsdecode(out_dir), "series.csv"))
+    check_path(status, context._handle, "sinter_plot_run", out_dir, directory=True)

@@ -2,6 +2,13 @@
 
 import ctypes
 import enum
+from typing import TYPE_CHECKING, Any, Dict, Optional, Sequence, Union
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .particles import Particles
+    from .stepper import Stepper
+
+Vec3 = Sequence[float]
 
 from ._errors import check
 from ._integers import to_c
@@ -16,14 +23,36 @@ class RadiusDistribution(enum.IntEnum):
     NORMAL = 2
 
 
-def packing_options(**options):
-    """A sinter_packing_options filled with the library's defaults, then `options`.
+def _given(arguments: Dict[str, Any], exclude: Sequence[str] = ()) -> Dict[str, Any]:
+    """The keyword arguments of a call (its locals()) that were given (not None)."""
+    return {key: value for key, value in arguments.items()
+            if value is not None and key not in exclude}
 
-    Keys: box_min, box_max (3 each) [m], distribution ("monodisperse",
-    "uniform", "normal" or RadiusDistribution), radius (alias of radius_mean),
-    radius_mean, radius_spread (alias spread), radius_min, radius_max, gap [m],
-    seed, max_attempts, material (id), temperature [K].
+
+def packing_options(*, box_min: Optional[Vec3] = None, box_max: Optional[Vec3] = None,
+                    distribution: Union[RadiusDistribution, str, int, None] = None,
+                    radius: Optional[float] = None, radius_mean: Optional[float] = None,
+                    radius_spread: Optional[float] = None, spread: Optional[float] = None,
+                    radius_min: Optional[float] = None, radius_max: Optional[float] = None,
+                    gap: Optional[float] = None, seed: Optional[int] = None,
+                    max_attempts: Optional[int] = None, material: Optional[int] = None,
+                    temperature: Optional[float] = None) -> PackingOptions:
+    """A sinter_packing_options filled with the library's defaults, then the keywords given
+    (None: the default).
+
+    box_min, box_max: corners of the box the spheres lie in [m] (default the unit box);
+    distribution: "monodisperse" (default), "uniform" or "normal" (RadiusDistribution);
+    radius (alias of radius_mean): mean radius [m] (0.05); radius_spread (alias spread):
+    half-width (uniform) or standard deviation (normal) [m]; radius_min, radius_max:
+    truncation of the normal distribution [m] (0: mean -/+ 3 spread); gap: smallest surface
+    gap [m] (>= 0); seed: random seed (same seed, same packing); max_attempts: attempts per
+    sphere before giving up (100000); material: material id (0..255); temperature [K] (> 0,
+    293.15).
     """
+    return _packing_options(_given(locals()))
+
+
+def _packing_options(options: Dict[str, Any]) -> PackingOptions:
     c = PackingOptions()
     check(lib.sinter_packing_options_init(ctypes.byref(c), ctypes.sizeof(PackingOptions)), None,
           "sinter_packing_options_init")
@@ -48,13 +77,19 @@ def packing_options(**options):
     return c
 
 
-def pack_random(particles, n, box_min, box_max, **options):
+def pack_random(particles: "Particles", n: int, box_min: Vec3, box_max: Vec3, *,
+                distribution: Union[RadiusDistribution, str, int, None] = None,
+                radius: Optional[float] = None, radius_mean: Optional[float] = None,
+                radius_spread: Optional[float] = None, spread: Optional[float] = None,
+                radius_min: Optional[float] = None, radius_max: Optional[float] = None,
+                gap: Optional[float] = None, seed: Optional[int] = None,
+                max_attempts: Optional[int] = None, material: Optional[int] = None,
+                temperature: Optional[float] = None) -> int:
     """Random sequential addition of up to n non-overlapping spheres inside the box
-    (seed 000 sec. 7.1); returns the number placed (fewer if max_attempts fail in a row).
-
-    Options: see packing_options (radius, distribution, spread, gap, seed, material, ...).
+    box_min..box_max [m] (seed 000 sec. 7.1); returns the number placed (fewer if
+    max_attempts fail in a row). The keywords are those of packing_options.
     """
-    c = packing_options(box_min=box_min, box_max=box_max, **options)
+    c = _packing_options(_given(locals(), exclude=("particles", "n")))
     placed = ctypes.c_size_t()
     particles._check(lib.sinter_pack_random(particles._ptr, ctypes.byref(c), int(n),
                                             ctypes.byref(placed)),
@@ -62,8 +97,9 @@ def pack_random(particles, n, box_min, box_max, **options):
     return placed.value
 
 
-def pack_lattice(particles, box_min, box_max, radius, spacing=None, material=0,
-                 temperature=293.15):
+def pack_lattice(particles: "Particles", box_min: Vec3, box_max: Vec3, radius: float,
+                 spacing: Optional[float] = None, material: int = 0,
+                 temperature: float = 293.15) -> int:
     """Simple-cubic lattice of spheres of `radius` with centre `spacing` (default 2 r) filling
     the box from its lower corner; returns the number placed."""
     lo = (ctypes.c_double * 3)(*[float(v) for v in box_min])
@@ -77,20 +113,37 @@ def pack_lattice(particles, box_min, box_max, radius, spacing=None, material=0,
     return placed.value
 
 
-def pour(stepper, ke_per_particle, t_min=0.0, t_max=1.0):
+def pour(stepper: "Stepper", ke_per_particle: float, t_min: float = 0.0,
+         t_max: float = 1.0) -> float:
     """Advance `stepper` (with gravity) until the kinetic energy per particle [J] falls below
     ke_per_particle after at least t_min [s]; a SinterError (ERR_NOT_CONVERGED) after t_max.
     Returns the time reached."""
     return stepper.pour(ke_per_particle, t_min, t_max)
 
 
-def compaction_options(**options):
-    """A sinter_compaction_options filled with the library's defaults, then `options`.
+def compaction_options(*, box_min: Optional[Vec3] = None, box_max: Optional[Vec3] = None,
+                       volume_fraction: Optional[float] = None,
+                       friction: Optional[float] = None, restitution: Optional[float] = None,
+                       velocity: Optional[float] = None, max_pressure: Optional[float] = None,
+                       stop_at_jamming: Optional[bool] = None,
+                       ke_per_particle: Optional[float] = None,
+                       relax_time_max: Optional[float] = None,
+                       dt: Optional[float] = None) -> CompactionOptions:
+    """A sinter_compaction_options filled with the library's defaults, then the keywords
+    given (None: the default).
 
-    Keys: box_min, box_max (3 each) [m], volume_fraction, friction, restitution,
-    velocity [m/s], max_pressure [Pa], stop_at_jamming (bool), ke_per_particle [J],
-    relax_time_max [s], dt [s].
+    box_min, box_max: the final box [m] (default [0, 1]^3); volume_fraction: 0 (default) or
+    in (0, 0.7405], the box scaled about box_min so that the spheres fill this fraction;
+    friction: particle-particle friction during the compaction (0.1); restitution: (0, 1]
+    (0.5); velocity: largest wall speed [m/s] (0.5); max_pressure: mean wall stress at which
+    the walls stop [Pa] (0: automatic); stop_at_jamming: end at jamming instead of failing;
+    ke_per_particle: rest threshold [J] (0: automatic); relax_time_max: longest relaxation
+    [s] (0: automatic); dt: time step [s] (0: seed 003 eq. 47).
     """
+    return _compaction_options(_given(locals()))
+
+
+def _compaction_options(options: Dict[str, Any]) -> CompactionOptions:
     c = CompactionOptions()
     check(lib.sinter_compaction_options_init(ctypes.byref(c), ctypes.sizeof(CompactionOptions)),
           None, "sinter_compaction_options_init")
@@ -109,7 +162,13 @@ def compaction_options(**options):
     return c
 
 
-def pack_compact(particles, box_min, box_max, **options):
+def pack_compact(particles: "Particles", box_min: Vec3, box_max: Vec3, *,
+                 volume_fraction: Optional[float] = None, friction: Optional[float] = None,
+                 restitution: Optional[float] = None, velocity: Optional[float] = None,
+                 max_pressure: Optional[float] = None, stop_at_jamming: Optional[bool] = None,
+                 ke_per_particle: Optional[float] = None,
+                 relax_time_max: Optional[float] = None,
+                 dt: Optional[float] = None) -> Dict[str, Any]:
     """Triaxial compaction of `particles` (seed 001 sec. 3.2) onto the box box_min..box_max [m]
     (scaled to `volume_fraction` if given), or until the packing jams with
     stop_at_jamming=True; see sinter_pack_compact. Returns a dict of the result: box_min,
@@ -117,7 +176,7 @@ def pack_compact(particles, box_min, box_max, **options):
     max_overlap_ratio, max_wall_overlap_ratio, pressure [Pa], kinetic_energy [J], time,
     relax_time, dt [s], steps. Errors raise SinterError subclasses; the set is then unchanged.
     """
-    c = compaction_options(box_min=box_min, box_max=box_max, **options)
+    c = _compaction_options(_given(locals(), exclude=("particles",)))
     r = CompactionResult()
     r.struct_size = ctypes.sizeof(CompactionResult)
     particles._check(lib.sinter_pack_compact(particles._ptr, ctypes.byref(c), ctypes.byref(r)),

@@ -7,6 +7,8 @@ import, or sinter.particles.USE_NUMPY = False at run time, to get memoryviews.
 
 import collections
 import ctypes
+import enum
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional, Sequence, Union
 import itertools
 import numbers
 import os
@@ -15,6 +17,9 @@ from ._errors import NotFound, SinterError, Status, check
 from ._lib import MaterialPtr, ParticlesPtr, c_enum, lib, text
 from .context import _Handle
 from .material import Material
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .context import Context
 
 
 def _import_numpy():
@@ -63,7 +68,33 @@ def _load_fields():
 FIELDS = _load_fields()
 
 
+#: sinter_field as an IntEnum, read from the library: Field.POSITION, ... (Particles accepts
+#: a Field or its name in lower case).
+Field = enum.IntEnum("Field", [(name.upper(), info.id) for name, info in FIELDS.items()],
+                     module=__name__)
+
+
+class DType(enum.IntEnum):
+    """sinter_dtype: element type of a field (FieldInfo.format is its struct character)."""
+
+    DOUBLE = 0  #: "d"
+    INT32 = 1  #: "i"
+    UINT32 = 2  #: "I"
+    UINT64 = 3  #: "Q"
+
+
+class ParticleFlag(enum.IntFlag):
+    """sinter_particle_flag: bits of the "flags" field."""
+
+    FIXED = 1  #: position and velocity are prescribed (not integrated)
+    NO_ROTATION = 2  #: spin is not integrated
+    FIXED_TEMPERATURE = 4  #: temperature is not integrated
+    ELECTRIFIED = 8  #: set by the electric submodel: touches an electrified wall
+
+
 def _field(name):
+    if isinstance(name, Field):
+        name = name.name.lower()
     try:
         return FIELDS[name]
     except KeyError:
@@ -114,7 +145,7 @@ def _wrap(address, count, components, fmt, writable, owner=None):
 class FieldView:
     """Borrows one field of a Particles while inside ``with``; see Particles.view."""
 
-    def __init__(self, particles, field, writable):
+    def __init__(self, particles: "Particles", field: FieldInfo, writable: bool) -> None:
         self.particles = particles
         self.field = field
         self.writable = writable
@@ -145,7 +176,7 @@ class FieldView:
     def __exit__(self, *exc_info):
         self.release()
 
-    def release(self):
+    def release(self) -> None:
         """Give the field back to the library; the array must not be used afterwards."""
         if not self._borrowed:
             return
@@ -211,7 +242,7 @@ class Particles(_Handle):
 
     _destroy_function = "sinter_particles_destroy"
 
-    def __init__(self, context):
+    def __init__(self, context: "Context") -> None:
         handle = ParticlesPtr()
         check(lib.sinter_particles_create(ctypes.byref(handle), context._ptr),
               context._handle, "sinter_particles_create")
@@ -231,28 +262,28 @@ class Particles(_Handle):
         return value.value
 
     @property
-    def count(self):
+    def count(self) -> int:
         """Number of particles."""
         return self._size(lib.sinter_particles_count)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.count
 
     @property
-    def capacity(self):
+    def capacity(self) -> int:
         """Particles that fit without reallocation."""
         return self._size(lib.sinter_particles_capacity)
 
     @property
-    def views_out(self):
+    def views_out(self) -> int:
         """Number of field views currently borrowed."""
         return self._size(lib.sinter_particles_views_out)
 
-    def reserve(self, capacity):
+    def reserve(self, capacity: int) -> None:
         """Reserve room for `capacity` particles (BusyError while a view is out)."""
         self._check(lib.sinter_particles_reserve(self._ptr, capacity), "sinter_particles_reserve")
 
-    def set_material(self, material_id, material):
+    def set_material(self, material_id: int, material: Material) -> None:
         """Register (or replace) material `material_id` (0..255) with a copy of `material`.
 
         Replacing a material recomputes mass and inertia of its particles.
@@ -260,7 +291,8 @@ class Particles(_Handle):
         self._check(lib.sinter_particles_set_material(self._ptr, material_id, material._ptr),
                     "sinter_particles_set_material")
 
-    def set_softening_curve(self, material_id, temperatures, factors):
+    def set_softening_curve(self, material_id: int, temperatures: Sequence[float],
+                            factors: Sequence[float]) -> None:
         """Tabulated softening of material `material_id`: E(theta)/E_0 through the points
         (temperatures [K], increasing; factors > 0), held constant outside (softening_law 3)."""
         temperatures = [float(t) for t in temperatures]
@@ -272,7 +304,8 @@ class Particles(_Handle):
             self._ptr, material_id, n, (ctypes.c_double * max(n, 1))(*temperatures),
             (ctypes.c_double * max(n, 1))(*factors)), "sinter_particles_set_softening_curve")
 
-    def set_softening_callback(self, material_id, function):
+    def set_softening_callback(self, material_id: int,
+                               function: Callable[[float], float]) -> None:
         """Host softening law of material `material_id`: function(theta [K]) -> E/E_0 (> 0).
 
         Called for every particle of the material at each force evaluation. An
@@ -294,7 +327,7 @@ class Particles(_Handle):
         self._call(lib.sinter_particles_set_softening_callback, self._ptr, material_id,
                    c_function, None)
 
-    def get_material(self, material_id):
+    def get_material(self, material_id: int) -> Material:
         """A copy (new Material) of the set's material `material_id`."""
         borrowed = MaterialPtr()
         self._check(lib.sinter_particles_get_material(self._ptr, material_id,
@@ -305,7 +338,8 @@ class Particles(_Handle):
                     "sinter_material_clone")
         return Material._from_handle(self._context, copy)
 
-    def add(self, positions, radii, material_id=0, temperature=293.15):
+    def add(self, positions: Any, radii: Any, material_id: int = 0,
+            temperature: float = 293.15) -> int:
         """Append particles; return the range of their indices.
 
         positions: n points (x, y, z) [m], as an (n, 3) or flat sequence/array.
@@ -321,7 +355,7 @@ class Particles(_Handle):
                     "sinter_particles_add")
         return range(first.value, first.value + n)
 
-    def remove(self, indices):
+    def remove(self, indices: Iterable[int]) -> None:
         """Remove the particles at `indices` (an int or an iterable); the rest keep their order."""
         indices = [indices] if isinstance(indices, numbers.Integral) else [int(i) for i in indices]
         if any(i < 0 for i in indices):
@@ -330,7 +364,7 @@ class Particles(_Handle):
         self._check(lib.sinter_particles_remove(self._ptr, len(indices), array),
                     "sinter_particles_remove")
 
-    def validate(self):
+    def validate(self) -> None:
         """Check every value; raise InvalidArgument naming the first bad particle and field.
 
         The error's .index attribute is the bad particle's index.
@@ -343,19 +377,19 @@ class Particles(_Handle):
             error.index = bad_index.value
             raise
 
-    def find_id(self, particle_id):
+    def find_id(self, particle_id: int) -> int:
         """Index of the particle with persistent id `particle_id` (NotFound if none)."""
         index = ctypes.c_size_t()
         self._check(lib.sinter_particles_find_id(self._ptr, particle_id, ctypes.byref(index)),
                     "sinter_particles_find_id")
         return index.value
 
-    def sort_spatial(self):
+    def sort_spatial(self) -> None:
         """Reorder the particles in memory by position (cells of the largest diameter, x
         fastest); ids move with them, indices change (sinter_particles_sort_spatial)."""
         self._check(lib.sinter_particles_sort_spatial(self._ptr), "sinter_particles_sort_spatial")
 
-    def view(self, field, writable=None):
+    def view(self, field: Union[str, "Field"], writable: Optional[bool] = None) -> "FieldView":
         """Zero-copy access to a field: ``with ps.view("position") as x: x[0, 2] = 1e-3``.
 
         Inside the block x is an array of shape (count, components) or (count,)
@@ -369,12 +403,12 @@ class Particles(_Handle):
         info = _field(field)
         return FieldView(self, info, info.writable if writable is None else writable)
 
-    def get(self, field):
+    def get(self, field: Union[str, "Field"]) -> Any:
         """A copy of a field: a NumPy array, or a list (of lists) without NumPy."""
         with self.view(field, writable=False) as array:
             return array.tolist() if isinstance(array, memoryview) else array.copy()
 
-    def set(self, field, values):
+    def set(self, field: Union[str, "Field"], values: Any) -> None:
         """Overwrite a field with `values` (same shape as get(), or one value for all)."""
         with self.view(field) as array:
             if not isinstance(array, memoryview):
@@ -393,5 +427,5 @@ class Particles(_Handle):
             for i, value in enumerate(items):
                 flat[i] = convert(value)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.Particles %s>" % ("closed" if self.closed else "n=%d" % self.count)

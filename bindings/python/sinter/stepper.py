@@ -4,12 +4,26 @@ import ctypes
 import dataclasses
 import enum
 import os
+import sys
+import time as _time
 import weakref
+from typing import (TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Mapping, Optional,
+                    Sequence, Tuple, Union)
 
 from . import _callbacks
-from ._errors import check
-from ._lib import ObserverFn, StepperPtr, StepperStats as _CStats, lib
-from .context import _Handle
+from ._errors import check, check_path
+from ._lib import (ObserverFn, SinteringStats as _CSinteringStats, StepperPtr,
+                   StepperStats as _CStats, lib)
+from .context import Context, _Handle
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .models import ElectricModel, ForceModel, HeatModel
+    from .particles import Particles
+    from .walls import Walls
+
+PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
+#: progress(time [s], t_end [s]) -> None, or True for a progress bar
+Progress = Union[None, bool, Callable[[float, float], Any]]
 
 
 class StepperKind(enum.IntEnum):
@@ -17,13 +31,63 @@ class StepperKind(enum.IntEnum):
 
     EXPLICIT = 0  #: velocity Verlet, fixed step (seed 003 sec. 4)
     STAGGERED = 1  #: implicit staggered, adaptive step (seed 000 sec. 3, 6); see set_option
+    QUASISTATIC = 2  #: bonded links driven by 7DOF necks, K u = f each step (seed 001 sec. 3.3)
 
 
 class ThermalScheme(enum.IntEnum):
-    """sinter_thermal_scheme."""
+    """sinter_thermal_scheme: thermal time integration of the explicit stepper."""
 
-    EXPLICIT = 0
-    IMPLICIT = 1
+    EXPLICIT = 0  #: forward Euler, seed 003 eq. 46 (stable for dt < m C / sum G)
+    IMPLICIT = 1  #: backward Euler for conduction (PCG solve), other powers explicit
+
+
+#: The options of Stepper.set_option by stepper kind: key -> (unit, default, range/meaning).
+#: Keys are checked by the library, whose message for an unknown key lists the valid ones.
+OPTIONS: Dict[str, Dict[str, str]] = {
+    "any": {
+        "stream_stores": "[-] -1 (default): time both kinds of stores and keep the faster; "
+                         "1 always streaming stores, 0 never (explicit stepper only)",
+        "thread_choice": "[-] -1 (default): time steps on the context's threads and on one "
+                         "and take the faster; 0 always the context's threads (explicit only)",
+    },
+    "explicit_staggered": {
+        "sort_interval": "[steps] sort the particles spatially every so many steps; 0 "
+                         "(default) never; whole number >= 0",
+        "rotation": "[-] 1 (default) integrates the rotation vector, 0 leaves it",
+    },
+    "staggered": {
+        "phi": "[-] trapezoidal parameter; 0.5 (default, second order), 1 backward Euler; "
+               "(0, 1]",
+        "target_iterations": "[-] K_d of seed 000 eq. 49; 10; whole number in [2, 1000]",
+        "tolerance": "[-] TOL_r = TOL_theta of eq. 48; 5e-4; (0, 1)",
+        "exponent": "[-] p of eq. 49; 2; (0, 10]",
+        "dt_max": "[s] largest step; +inf; > 0",
+        "dt_min": "[s] smallest step before SINTER_ERR_NOT_CONVERGED; 1e-12; (0, dt_max]",
+        "adaptive": "[-] 1 (default) adapts the step, 0 keeps it",
+        "position_tolerance": "[m] absolute floor of the position test; 0; >= 0",
+        "temperature_tolerance": "[K] absolute floor of the temperature test; 0; >= 0",
+    },
+    "quasistatic": {
+        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7; default 2), 3: CVODE batch",
+        "qs_dt_min": "[s] a global step below it fails; 1e-12",
+        "qs_dt_max": "[s] largest global step; 10",
+        "qs_alpha": "[-] step factor of seed 001 eq. 45, 47; 1.5",
+        "qs_error_limit": "[-] eps_lim of eq. 46, weighted RK4 local error per step; 1",
+        "qs_grow_fraction": "[-] strategy 2: grow when fewer pairs than this sub-stepped; 0.05",
+        "qs_shrink_fraction": "[-] strategy 2: shrink when more than this did; 0.15",
+        "qs_contact_tolerance": "[-] new contact if distance < (r_a + r_b)(1 + this); 1e-9",
+        "qs_plane_tolerance": "[-] on a principal plane if x_d - r < this r; 1e-6",
+        "qs_solve_rtol": "[-] K u = f solved to |f - K u| <= this |f|; 1e-10",
+        "qs_rtol": "[-] relative accuracy of the necks; 1e-6",
+        "qs_epsilon": "[-] seeded neck radius x0 / min(R_A, R_B); 0.01",
+        "qs_h0_ratio": "[-] junction radius of the seeded neck h0 / x0; 1.5",
+        "qs_max_strain": "[-] strategy 3: largest approach per step / L0; 1e-4",
+        "qs_strain_fraction": "[-] strategy 3: fraction of links allowed to reach it; 0; [0, 1]",
+        "qs_grown_rk4": "[-] strategy 3: 1 advances grown necks by RK4; 0",
+        "qs_new_contacts": "[-] 1 (default): contacts made during the run become links; 0: "
+                           "only those of the first step",
+    },
+}
 
 
 def _enum(enum_type, value):
@@ -54,7 +118,37 @@ class StepperStats:
     iterations: int = 0  #: fixed-point iterations (staggered stepper)
     evaluations: int = 0  #: evaluations of the force/electric/heat pipeline
 
-    def as_dict(self):
+    def as_dict(self) -> Dict[str, Any]:
+        return dataclasses.asdict(self)
+
+
+@dataclasses.dataclass(frozen=True)
+class SinteringStats:
+    """What a quasi-static stepper reports (sinter_sintering_stats).
+
+    links: bonded links (necks); neck_mean, neck_min, neck_max: neck radii [m];
+    neck_ratio_mean: mean neck radius / smaller particle radius [-]; shrinkage: homogeneous
+    strain along x, y, z (positive: shrinking) [-]; relative_density: green density over
+    (1 - s_x)(1 - s_y)(1 - s_z) [-]; coordination: 2 links / particles [-]; pcg_iterations:
+    linear-solver iterations so far.
+    """
+
+    links: int
+    neck_mean: float
+    neck_min: float
+    neck_max: float
+    neck_ratio_mean: float
+    shrinkage: Tuple[float, float, float]
+    relative_density: float
+    coordination: float
+    pcg_iterations: int
+
+    @property
+    def linear_shrinkage(self) -> float:
+        """Mean of the three shrinkage components [-]."""
+        return sum(self.shrinkage) / 3.0
+
+    def as_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)
 
 
@@ -87,9 +181,27 @@ class Stepper(_Handle):
 
     _destroy_function = "sinter_stepper_destroy"
 
-    def __init__(self, context, particles, walls=None, kind="explicit", dt=None, skin=None,
-                 domain=None, thermal=None, forces=(), heat=(), electric=None, observer=None,
-                 options=None):
+    def __init__(self, context: Context, particles: "Particles",
+                 walls: Optional["Walls"] = None,
+                 kind: Union[StepperKind, str, int] = StepperKind.EXPLICIT,
+                 dt: Optional[float] = None, skin: Optional[float] = None,
+                 domain: Optional[Tuple[Sequence[float], Sequence[float]]] = None,
+                 thermal: Union[ThermalScheme, str, int, None] = None,
+                 forces: Iterable["ForceModel"] = (), heat: Iterable["HeatModel"] = (),
+                 electric: Optional["ElectricModel"] = None,
+                 observer: Optional[Callable[["Stepper", float], Any]] = None,
+                 options: Optional[Mapping[str, float]] = None,
+                 furnace: Optional[Tuple[Sequence[float], Sequence[float]]] = None) -> None:
+        """Create a stepper of `kind` ("explicit", "staggered" or "quasistatic", or a
+        StepperKind) over `particles` and `walls` (may be None).
+
+        dt: time step [s] (> 0; the first step of the adaptive kinds); skin: Verlet skin [m]
+        (>= 0); domain: (lo, hi) corners [m]; thermal: ThermalScheme of the explicit kind;
+        forces, heat: submodels added in order; electric: an ElectricModel; observer:
+        observer(stepper, time) after every accepted step; options: {key: value} of
+        set_option (OPTIONS lists the keys by kind: "qs_*" for the quasi-static stepper);
+        furnace: (times [s], temperatures [K]) of set_furnace.
+        """
         handle = StepperPtr()
         check(lib.sinter_stepper_create(ctypes.byref(handle), context._ptr,
                                         int(_enum(StepperKind, kind)), particles._ptr,
@@ -109,6 +221,8 @@ class Stepper(_Handle):
                 self.thermal_scheme = thermal
             for key, value in dict(options or {}).items():
                 self.set_option(key, value)
+            if furnace is not None:
+                self.set_furnace(*furnace)
             for model in forces:
                 self.add_force(model)
             for model in heat:
@@ -153,17 +267,17 @@ class Stepper(_Handle):
             self._state.observer_function = None
 
     @property
-    def kind(self):
+    def kind(self) -> Optional[StepperKind]:
         """StepperKind of a stepper made here (None for a scene's)."""
         return self._state.kind
 
     @property
-    def forces(self):
+    def forces(self) -> List["ForceModel"]:
         """The ForceModels added from Python (a scene's own models are not listed)."""
         return list(self._state.forces)
 
     @property
-    def heat_models(self):
+    def heat_models(self) -> List["HeatModel"]:
         """The HeatModels added from Python, in order (the index of heat_energy)."""
         return list(self._state.heat_models)
 
@@ -172,14 +286,14 @@ class Stepper(_Handle):
 
     # --- submodels ---------------------------------------------------------
 
-    def add_force(self, model):
+    def add_force(self, model: "ForceModel") -> "ForceModel":
         """Add a ForceModel (the stepper keeps it alive; it may be shared)."""
         self._call(lib.sinter_stepper_add_force, self._ptr, model._ptr)
         self._keeper._borrow(model)
         self._state.forces.append(model)
         return model
 
-    def add_heat(self, model):
+    def add_heat(self, model: "HeatModel") -> "HeatModel":
         """Add a HeatModel; a stepper without one does no thermal work."""
         self._call(lib.sinter_stepper_add_heat, self._ptr, model._ptr)
         self._keeper._borrow(model)
@@ -187,15 +301,16 @@ class Stepper(_Handle):
         return model
 
     @property
-    def electric(self):
+    def electric(self) -> Optional["ElectricModel"]:
         """The ElectricModel solved on every evaluation (None: none)."""
         return self._state.electric
 
     @electric.setter
-    def electric(self, model):
+    def electric(self, model: Optional["ElectricModel"]) -> None:
         self.set_electric(model)
 
-    def set_electric(self, model):
+    def set_electric(self, model: Optional["ElectricModel"]) -> None:
+        """Give the stepper an ElectricModel, solved on every evaluation (None removes it)."""
         self._call(lib.sinter_stepper_set_electric, self._ptr,
                                                     model._ptr if model is not None else None)
         previous, self._state.electric = self._state.electric, model
@@ -207,32 +322,32 @@ class Stepper(_Handle):
     # --- settings ----------------------------------------------------------
 
     @property
-    def dt(self):
+    def dt(self) -> float:
         """Time step [s]."""
         return self.stats.dt
 
     @dt.setter
-    def dt(self, dt):
+    def dt(self, dt: float) -> None:
         self._call(lib.sinter_stepper_set_dt, self._ptr, float(dt))
 
     @property
-    def skin(self):
+    def skin(self) -> Optional[float]:
         """Verlet skin [m] as last set here (None: the library's automatic choice, or the
         scene's)."""
         return self._state.skin
 
     @skin.setter
-    def skin(self, skin):
+    def skin(self, skin: float) -> None:
         self._call(lib.sinter_stepper_set_skin, self._ptr, float(skin))
         self._state.skin = float(skin)
 
     @property
-    def domain(self):
+    def domain(self) -> Optional[Tuple[Tuple[float, ...], Tuple[float, ...]]]:
         """(lo, hi) corners [m] of the simulation domain as last set here (None: no domain)."""
         return self._state.domain
 
     @domain.setter
-    def domain(self, corners):
+    def domain(self, corners: Tuple[Sequence[float], Sequence[float]]) -> None:
         lo, hi = corners
         lo, hi = [float(x) for x in lo], [float(x) for x in hi]
         if len(lo) != 3 or len(hi) != 3:
@@ -242,26 +357,35 @@ class Stepper(_Handle):
         self._state.domain = (tuple(lo), tuple(hi))
 
     @property
-    def thermal_scheme(self):
+    def thermal_scheme(self) -> Optional[ThermalScheme]:
         """ThermalScheme.EXPLICIT or IMPLICIT (set with the enum, its value or "implicit").
 
         None for a scene's stepper until set here."""
         return self._state.thermal
 
     @thermal_scheme.setter
-    def thermal_scheme(self, scheme):
+    def thermal_scheme(self, scheme: Union[ThermalScheme, str, int]) -> None:
         scheme = _enum(ThermalScheme, scheme)
         self._call(lib.sinter_stepper_set_thermal_scheme, self._ptr, int(scheme))
         self._state.thermal = scheme
 
-    def set_option(self, key, value):
-        """Set an option of the staggered stepper ("phi", "tolerance", "dt_max", ...; sinter.h)."""
+    def set_option(self, key: str, value: float) -> None:
+        """Set an option by key (sinter_stepper_set_option); see OPTIONS for the keys of each
+        kind with their units, defaults and ranges ("phi", "dt_max", ... of the staggered
+        stepper; "qs_strategy", "qs_rtol", ... of the quasi-static one, which take effect when
+        set before its first step). An unknown key raises NotFound listing the valid keys, a
+        value out of range InvalidArgument."""
         self._call(lib.sinter_stepper_set_option, self._ptr, key.encode("utf-8"), float(value))
 
-    def set_furnace(self, times, temperatures):
-        """Every particle's temperature follows T(t) through the points (times [s], K).
+    def set_furnace(self, times: Sequence[float], temperatures: Sequence[float]) -> None:
+        """Furnace: every particle's temperature follows the piecewise-linear T(t) through
+        the points (times [s] strictly increasing, on the stepper's clock; temperatures [K]
+        finite and > 0), held constant outside them.
 
-        The quasi-static stepper integrates the necks along it; an empty schedule removes it.
+        The quasi-static stepper integrates the necks along T(t); every kind sets the
+        particle temperatures to T(t) before its first step and after each accepted step.
+        Empty sequences remove the furnace. A stepper with heat models refuses a furnace
+        (SinterError ERR_STATE).
         """
         times = [float(t) for t in times]
         temperatures = [float(v) for v in temperatures]
@@ -273,22 +397,25 @@ class Stepper(_Handle):
         self._call(lib.sinter_stepper_set_furnace, self._ptr, n, array(*times),
                    array(*temperatures))
 
-    def get_option(self, key):
+    def get_option(self, key: str) -> float:
+        """Read an option of set_option."""
         value = ctypes.c_double()
         self._call(lib.sinter_stepper_get_option, self._ptr, key.encode("utf-8"),
                                                   ctypes.byref(value))
         return value.value
 
     @property
-    def observer(self):
+    def observer(self) -> Optional[Callable[["Stepper", float], Any]]:
         """observer(stepper, time) after every accepted step; a true result stops advance."""
         return self._state.observer
 
     @observer.setter
-    def observer(self, function):
+    def observer(self, function: Optional[Callable[["Stepper", float], Any]]) -> None:
         self.set_observer(function)
 
-    def set_observer(self, function):
+    def set_observer(self, function: Optional[Callable[["Stepper", float], Any]]) -> None:
+        """observer(stepper, time [s]) after every accepted step; a true result stops the run
+        (None removes it)."""
         if function is None:
             c_function = ObserverFn()
         else:
@@ -310,35 +437,103 @@ class Stepper(_Handle):
 
     # --- running -----------------------------------------------------------
 
-    def advance(self, t_end):
-        """Advance to t_end [s] (the last step lands on it); return the time reached.
+    def advance(self, t_end: float, progress: Progress = None) -> float:
+        """Advance to t_end [s] (>= the current time; the last step lands on it); return
+        the time reached.
 
-        An observer may stop earlier. On an error the particles hold the last
-        accepted state.
+        progress: a callable progress(time, t_end) [s] called as the run goes (at most ten
+        times a second, and at the end), or True for a progress bar (tqdm when it is
+        installed, else a line on stderr). An observer may stop earlier.
+
+        Ctrl-C stops the run after its current step and raises KeyboardInterrupt within a
+        fraction of a second; the particles then hold the last accepted state (readable,
+        checkpointable, and a later advance continues from it). On an error they hold the
+        last accepted state too. An exception raised by a Python callback (observer,
+        progress, host submodel, wall motion) is raised here.
         """
-        self._guarded(lib.sinter_stepper_advance, float(t_end))
+        t_end = float(t_end)
+        if progress is None or progress is False:
+            self._guarded_run(lib.sinter_stepper_advance, t_end)
+            return self.time
+        report = _progress_function(progress, self.time, t_end)
+        with self._reporting(report, t_end):
+            self._guarded_run(lib.sinter_stepper_advance, t_end)
+        report(self.time, t_end, final=True)
         return self.time
 
-    def step(self, n=1):
-        """Take exactly n steps (fewer if the observer stops); return the time reached."""
+    def step(self, n: int = 1) -> float:
+        """Take exactly n steps (fewer if the observer stops); return the time reached.
+
+        Ctrl-C raises KeyboardInterrupt as in advance()."""
         if n < 0:
             raise ValueError("cannot take %d steps" % n)
-        self._guarded(lib.sinter_stepper_step, int(n))
+        self._guarded_run(lib.sinter_stepper_step, int(n))
         return self.time
 
-    def evaluate(self):
+    def _guarded_run(self, c_function, *args):
+        self._context._sync_log_level()
+        return self._call(c_function, self._ptr, *args, interruptible=True)
+
+    def _reporting(self, report, t_end):
+        """A context manager: the C observer also calls report(time, t_end) during a run,
+        then the stepper's own observer is put back."""
+        stepper = self
+
+        class _Reporting:
+            def __enter__(self):
+                user = stepper._state.observer
+                this = weakref.ref(stepper)
+
+                def trampoline(handle, time, _):
+                    try:
+                        report(time, t_end)
+                        if user is not None:
+                            return 1 if user(this(), time) else 0
+                        return 0
+                    except BaseException as exception:
+                        _callbacks.store(exception)
+                        return 1
+
+                self.function = ObserverFn(trampoline)
+                stepper._call(lib.sinter_stepper_set_observer, stepper._ptr, self.function,
+                              None)
+                return self
+
+            def __exit__(self, *exc_info):
+                previous = stepper._state.observer_function
+                stepper._call(lib.sinter_stepper_set_observer, stepper._ptr,
+                              previous if previous is not None else ObserverFn(), None)
+                self.function = None
+
+        return _Reporting()
+
+    def evaluate(self) -> None:
         """Evaluate forces (and heat) on the current state without stepping."""
         self._guarded(lib.sinter_stepper_evaluate)
 
     @property
-    def time(self):
+    def time(self) -> float:
         """Current simulated time [s]."""
         time = ctypes.c_double()
         self._call(lib.sinter_stepper_time, self._ptr, ctypes.byref(time))
         return time.value
 
+    def sintering_stats(self) -> SinteringStats:
+        """SinteringStats of a quasi-static stepper that has taken a step (links, necks [m],
+        neck ratio, shrinkage along x, y, z, relative density, coordination).
+
+        SinterError ERR_STATE for another kind or before the first step."""
+        stats = _CSinteringStats()
+        stats.struct_size = ctypes.sizeof(_CSinteringStats)
+        self._call(lib.sinter_stepper_sintering_stats, self._ptr, ctypes.byref(stats))
+        return SinteringStats(
+            links=stats.links, neck_mean=stats.neck_mean, neck_min=stats.neck_min,
+            neck_max=stats.neck_max, neck_ratio_mean=stats.neck_ratio_mean,
+            shrinkage=tuple(stats.shrinkage), relative_density=stats.relative_density,
+            coordination=stats.coordination, pcg_iterations=stats.pcg_iterations)
+
     @property
-    def stats(self):
+    def stats(self) -> StepperStats:
         """StepperStats (a frozen dataclass; .as_dict() for a dict)."""
         stats = _CStats()
         stats.struct_size = ctypes.sizeof(_CStats)
@@ -347,24 +542,24 @@ class Stepper(_Handle):
         return StepperStats(**{name: getattr(stats, name) for name in names
                                if hasattr(_CStats, name)})
 
-    def stable_dt_thermal(self):
+    def stable_dt_thermal(self) -> float:
         """Largest stable explicit thermal step in the current contact state [s] (inf if none)."""
         dt = ctypes.c_double()
         self._guarded(lib.sinter_stepper_stable_dt_thermal, ctypes.byref(dt))
         return dt.value
 
-    def stable_step(self):
+    def stable_step(self) -> float:
         """Stable step estimate of the explicit stepper [s] (issue 35; inf without a contact
         model): a fixed step above twice it is refused unless option "dt_check" is 0."""
         dt = ctypes.c_double()
         self._guarded(lib.sinter_stepper_stable_step, ctypes.byref(dt))
         return dt.value
 
-    def stable_dt_hertz(self, v_rel=1.0):
+    def stable_dt_hertz(self, v_rel: float = 1.0) -> float:
         """Stable explicit step [s] for Hertz contacts at relative speed v_rel [m/s] (eq. 47)."""
         return stable_dt_hertz(self.particles, self.walls, v_rel)
 
-    def heat_energy(self, index=None):
+    def heat_energy(self, index: Optional[int] = None) -> Union[float, List[float]]:
         """Energy [J] put in by heat model `index` so far; all of them as a list if None."""
         if index is None:
             return [self.heat_energy(k) for k in range(len(self.heat_models))]
@@ -373,36 +568,41 @@ class Stepper(_Handle):
         return energy.value
 
     @property
-    def electric_iterations(self):
+    def electric_iterations(self) -> int:
         """Total iterations of the electric solves so far."""
         iterations = ctypes.c_uint64()
         self._call(lib.sinter_stepper_electric_iterations, self._ptr, ctypes.byref(iterations))
         return iterations.value
 
-    def pour(self, ke_per_particle, t_min=0.0, t_max=1.0):
+    def pour(self, ke_per_particle: float, t_min: float = 0.0, t_max: float = 1.0) -> float:
         """Advance until the kinetic energy per particle [J] falls below the threshold
         (after t_min [s]); NotConverged-style SinterError after t_max [s]."""
-        self._guarded(lib.sinter_pack_pour, float(ke_per_particle), float(t_min), float(t_max))
+        self._guarded_run(lib.sinter_pack_pour, float(ke_per_particle), float(t_min),
+                          float(t_max))
         return self.time
 
     # --- checkpoints -------------------------------------------------------
 
-    def write_checkpoint(self, path):
-        """Write the complete state to a versioned, checksummed binary file."""
+    def write_checkpoint(self, path: PathLike) -> None:
+        """Write the complete state to a versioned, checksummed binary file (written to a
+        temporary name and renamed: an existing checkpoint is never left half-written)."""
         self._call(lib.sinter_checkpoint_write, self._ptr, _path(path))
 
-    def read_checkpoint(self, path):
-        """Restore the state from a checkpoint of a stepper with the same submodels and walls."""
-        self._call(lib.sinter_checkpoint_read, self._ptr, _path(path))
+    def read_checkpoint(self, path: PathLike) -> None:
+        """Restore the state from a checkpoint of a stepper with the same submodels and walls
+        (FileNotFoundError when `path` does not exist; nothing changes on any error)."""
+        status = lib.sinter_checkpoint_read(self._ptr, _path(path))
+        check_path(status, self._context._handle, "sinter_checkpoint_read", path)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         if self.closed:
             return "<sinter.Stepper closed>"
         return "<sinter.Stepper t=%g s, %d force, %d heat model(s)>" % (
             self.time, len(self.forces), len(self.heat_models))
 
 
-def stable_dt_hertz(particles, walls=None, v_rel=1.0):
+def stable_dt_hertz(particles: "Particles", walls: Optional["Walls"] = None,
+                    v_rel: float = 1.0) -> float:
     """Stable explicit step [s] for Hertz contacts (seed 003 eq. 47) at relative speed v_rel."""
     dt = ctypes.c_double()
     particles._check(lib.sinter_stable_dt_hertz(particles._ptr,
@@ -412,9 +612,67 @@ def stable_dt_hertz(particles, walls=None, v_rel=1.0):
     return dt.value
 
 
-def damping_ratio_from_restitution(e):
+def damping_ratio_from_restitution(e: float) -> float:
     """Damping ratio xi of seed 003 eq. 6 giving restitution e (0 < e <= 1) in a Hertz collision."""
     xi = ctypes.c_double()
     check(lib.sinter_damping_ratio_from_restitution(float(e), ctypes.byref(xi)), None,
           "sinter_damping_ratio_from_restitution")
     return xi.value
+
+
+# --- progress reports ---------------------------------------------------------------------
+
+#: Least wall-clock time [s] between two progress reports.
+PROGRESS_INTERVAL = 0.1
+
+
+def _progress_function(progress, t_start, t_end):
+    """report(time, t_end, final=False): `progress` (a callable, or True for a bar)
+    throttled to one call per PROGRESS_INTERVAL, the final one always made."""
+    if progress is True:
+        show = _progress_bar(t_start, t_end)
+    elif callable(progress):
+        show = progress
+    else:
+        raise TypeError("progress must be None, True or a callable(time, t_end), not %r"
+                        % (progress,))
+    last = [float("-inf")]
+
+    def report(time, t_end, final=False):
+        now = _time.monotonic()
+        if final or now - last[0] >= PROGRESS_INTERVAL:
+            last[0] = now
+            show(time, t_end)
+
+    return report
+
+
+def _progress_bar(t_start, t_end):
+    """show(time, t_end): a tqdm bar when tqdm is importable, else a line on stderr."""
+    span = max(t_end - t_start, 0.0)
+    try:
+        import tqdm  # type: ignore[import-not-found]
+    except ImportError:
+        tqdm = None
+    if tqdm is not None:
+        bar = tqdm.tqdm(total=span, unit="s", desc="sinter", leave=True)
+        done = [0.0]
+
+        def show(time, t_end):
+            position = min(max(time - t_start, 0.0), span)
+            bar.update(position - done[0])
+            done[0] = position
+            if time >= t_end:
+                bar.close()
+
+        return show
+
+    def line(time, t_end):
+        fraction = 1.0 if span <= 0.0 else min(max((time - t_start) / span, 0.0), 1.0)
+        sys.stderr.write("\rsinter: t = %.6g s of %.6g s (%3.0f %%)" % (time, t_end,
+                                                                        100.0 * fraction))
+        if time >= t_end:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+    return line

@@ -2,11 +2,18 @@
 
 import ctypes
 import enum
+from typing import TYPE_CHECKING, Callable, Optional, Sequence, Tuple, Union
 
 from . import _callbacks
 from ._errors import check
 from ._lib import WallMotionFn, WallsPtr, lib
 from .context import _Handle
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .context import Context
+    from .material import Material
+
+Vec3 = Sequence[float]
 
 
 class WallMotion(enum.IntEnum):
@@ -51,7 +58,7 @@ class Walls(_Handle):
 
     _destroy_function = "sinter_walls_destroy"
 
-    def __init__(self, context):
+    def __init__(self, context: "Context") -> None:
         handle = WallsPtr()
         check(lib.sinter_walls_create(ctypes.byref(handle), context._ptr), context._handle,
               "sinter_walls_create")
@@ -65,12 +72,12 @@ class Walls(_Handle):
         return walls
 
     @property
-    def count(self):
+    def count(self) -> int:
         count = ctypes.c_size_t()
         self._call(lib.sinter_walls_count, self._ptr, ctypes.byref(count))
         return count.value
 
-    def __len__(self):
+    def __len__(self) -> int:
         return self.count
 
     def _index(self, k):
@@ -81,7 +88,8 @@ class Walls(_Handle):
             raise IndexError("wall index out of range")
         return k
 
-    def add_plane(self, point, normal, material, temperature=None):
+    def add_plane(self, point: Vec3, normal: Vec3, material: "Material",
+                  temperature: Optional[float] = None) -> int:
         """Add a fixed plane through `point` with `normal` (normalised; into the particle region).
 
         The material is copied. Returns the wall's index.
@@ -94,15 +102,17 @@ class Walls(_Handle):
             self.set_temperature(index.value, temperature)
         return index.value
 
-    def set_material(self, k, material):
+    def set_material(self, k: int, material: "Material") -> None:
+        """Replace wall k's material with a copy of `material`."""
         self._call(lib.sinter_walls_set_material, self._ptr, self._index(k), material._ptr)
 
-    def set_velocity(self, k, velocity):
+    def set_velocity(self, k: int, velocity: Vec3) -> None:
         """Constant velocity u [m/s]: p(t) = p0 + u t."""
         self._call(lib.sinter_walls_set_velocity, self._ptr, self._index(k),
                                                   _vec3(velocity, "velocity"))
 
-    def set_schedule(self, k, times, displacements):
+    def set_schedule(self, k: int, times: Sequence[float],
+                     displacements: Sequence[Vec3]) -> None:
         """Piecewise-linear displacement through (times[i] [s], displacements[i] (3,) [m])."""
         flat = []
         for d in displacements:
@@ -113,12 +123,13 @@ class Walls(_Handle):
         c_disp, _ = _doubles(flat)
         self._call(lib.sinter_walls_set_schedule, self._ptr, self._index(k), n, c_times, c_disp)
 
-    def set_sine(self, k, amplitude, omega):
+    def set_sine(self, k: int, amplitude: Vec3, omega: float) -> None:
         """p0 + amplitude sin(omega t): amplitude vector [m], omega [rad/s]."""
         self._call(lib.sinter_walls_set_sine, self._ptr, self._index(k),
                                               _vec3(amplitude, "amplitude"), float(omega))
 
-    def set_callback(self, k, motion):
+    def set_callback(self, k: int,
+                     motion: Callable[[float], Tuple[Vec3, Vec3]]) -> None:
         """Host motion: motion(t) returns (displacement (3,) [m], velocity (3,) [m/s]).
 
         An exception stops the stepper (last accepted state kept) and is raised
@@ -145,15 +156,19 @@ class Walls(_Handle):
         self._keep(("wall motion", k), function)
         self._call(lib.sinter_walls_set_callback, self._ptr, k, function, None)
 
-    def set_motion_start(self, k, start):
+    def set_motion_start(self, k: int, start: float) -> None:
         """Time [s] at which wall k's motion starts (float('inf') holds it)."""
         self._call(lib.sinter_walls_set_motion_start, self._ptr, self._index(k), float(start))
 
-    def set_temperature(self, k, temperature):
+    def set_temperature(self, k: int, temperature: float) -> None:
+        """Wall temperature [K] (> 0), used by heat submodels."""
         self._call(lib.sinter_walls_set_temperature, self._ptr, self._index(k),
                                                      float(temperature))
 
-    def set_temperature_schedule(self, k, times, temperatures):
+    def set_temperature_schedule(self, k: int, times: Sequence[float],
+                                 temperatures: Sequence[float]) -> None:
+        """Wall temperature following a piecewise-linear schedule (times [s] strictly
+        increasing, temperatures [K]), held constant outside."""
         c_times, n = _doubles(times)
         c_temps, n_temps = _doubles(temperatures)
         if n != n_temps:
@@ -161,14 +176,16 @@ class Walls(_Handle):
         self._call(lib.sinter_walls_set_temperature_schedule, self._ptr, self._index(k), n,
                                                               c_times, c_temps)
 
-    def set_electric(self, k, mode, value=0.0):
+    def set_electric(self, k: int, mode: Union["WallElectric", str, int],
+                     value: float = 0.0) -> None:
         """Electric boundary: mode "neutral", "current" (J_ext [A]) or "potential" ([V])."""
         if isinstance(mode, str):
             mode = WallElectric[mode.upper()]
         self._call(lib.sinter_walls_set_electric, self._ptr, self._index(k), int(mode),
                                                   float(value))
 
-    def set_electric_schedule(self, k, times, values):
+    def set_electric_schedule(self, k: int, times: Sequence[float],
+                              values: Sequence[float]) -> None:
         """The electric value of wall k follows (times [s], values [A or V]) piecewise linearly;
         empty lists remove the schedule."""
         times, values = [float(t) for t in times], [float(v) for v in values]
@@ -178,32 +195,33 @@ class Walls(_Handle):
         self._call(lib.sinter_walls_set_electric_schedule, self._ptr, self._index(k), n,
                    (ctypes.c_double * max(n, 1))(*times), (ctypes.c_double * max(n, 1))(*values))
 
-    def set_electric_pulse(self, k, on, off):
+    def set_electric_pulse(self, k: int, on: float, off: float) -> None:
         """Pulse wall k's drive: on for `on` s, off for `off` s, from t = 0 (off = 0: continuous)."""
         self._call(lib.sinter_walls_set_electric_pulse, self._ptr, self._index(k), float(on),
                    float(off))
 
-    def set_electric_limit(self, k, limit):
+    def set_electric_limit(self, k: int, limit: float) -> None:
         """Compliance limit of wall k's supply: |V| of a current electrode, |I| of a potential
         one (network model); 0: none."""
         self._call(lib.sinter_walls_set_electric_limit, self._ptr, self._index(k), float(limit))
 
-    def state(self, k):
+    def state(self, k: int) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]:
         """(point, velocity) of wall k at the stepper's current time, as tuples."""
         point, velocity = (ctypes.c_double * 3)(), (ctypes.c_double * 3)()
         self._call(lib.sinter_walls_get_state, self._ptr, self._index(k), point, velocity)
         return tuple(point), tuple(velocity)
 
-    def normal(self, k):
+    def normal(self, k: int) -> Tuple[float, float, float]:
+        """Unit normal of wall k (into the particle region)."""
         normal = (ctypes.c_double * 3)()
         self._call(lib.sinter_walls_get_normal, self._ptr, self._index(k), normal)
         return tuple(normal)
 
-    def force(self, k):
+    def force(self, k: int) -> Tuple[float, float, float]:
         """Force the particles exerted on wall k in the last accepted step [N]."""
         force = (ctypes.c_double * 3)()
         self._call(lib.sinter_walls_get_force, self._ptr, self._index(k), force)
         return tuple(force)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<sinter.Walls %s>" % ("closed" if self.closed else "n=%d" % self.count)
