@@ -49,6 +49,10 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                          "1 always streaming stores, 0 never (explicit stepper only)",
         "thread_choice": "[-] -1 (default): time steps on the context's threads and on one "
                          "and take the faster; 0 always the context's threads (explicit only)",
+        "dt_check": "[-] 1 (default) refuses a fixed step above twice stable_step() "
+                    "(explicit only); 0 runs it knowingly",
+        "energy_check": "[-] 1 (default) stops a step that creates energy in contacts, the "
+                        "last accepted state kept (explicit only); 0 off",
     },
     "explicit_staggered": {
         "sort_interval": "[steps] sort the particles spatially every so many steps; 0 "
