@@ -8,7 +8,7 @@ import weakref
 
 from . import _callbacks
 from ._errors import check
-from ._lib import ObserverFn, StepperPtr, StepperStats as _CStats, lib
+from ._lib import ObserverFn, SinteringStats as _CSintering, StepperPtr, StepperStats as _CStats, lib
 from .context import _Handle
 
 
@@ -17,6 +17,7 @@ class StepperKind(enum.IntEnum):
 
     EXPLICIT = 0  #: velocity Verlet, fixed step (seed 003 sec. 4)
     STAGGERED = 1  #: implicit staggered, adaptive step (seed 000 sec. 3, 6); see set_option
+    QUASISTATIC = 2  #: bonded links driven by 7DOF necks (seed 001 sec. 3.3); sintering_stats
 
 
 class ThermalScheme(enum.IntEnum):
@@ -346,6 +347,26 @@ class Stepper(_Handle):
         names = [field.name for field in dataclasses.fields(StepperStats)]
         return StepperStats(**{name: getattr(stats, name) for name in names
                                if hasattr(_CStats, name)})
+
+    def sintering_stats(self):
+        """The quasi-static stepper's statistics (sinter_stepper_sintering_stats) as a dict:
+        links, neck_mean/min/max [m], neck_ratio_mean, shrinkage (3), relative_density,
+        coordination, pcg_iterations."""
+        stats = _CSintering()
+        stats.struct_size = ctypes.sizeof(_CSintering)
+        self._guarded(lib.sinter_stepper_sintering_stats, ctypes.byref(stats))
+        out = {name: getattr(stats, name) for name, _ in _CSintering._fields_
+               if name != "struct_size"}
+        out["shrinkage"] = list(stats.shrinkage)
+        return out
+
+    def snapshot(self):
+        """The contacts (and quasi-static links) of the current state with their forces, heat
+        flows and currents: a sinter.snapshot.Snapshot of copied arrays. Valid after a step or
+        an advance until the particles are written, added, removed or sorted; otherwise a
+        SinterError with status ERR_STATE (step(0) evaluates the state again)."""
+        from . import snapshot
+        return snapshot.take(self)
 
     def stable_dt_thermal(self):
         """Largest stable explicit thermal step in the current contact state [s] (inf if none)."""
