@@ -21,6 +21,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contact/snapshot.h"
 #include "contact/contacts.h"
 #include "electric/electric.h"
 #include "force/force_model.h"
@@ -528,6 +529,20 @@ static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
     }
 }
 
+/* The contact lists are those of the state (no write, addition, removal or reordering since
+ * their evaluation); the links those of a quasi-static stepper that has stepped (they follow
+ * the particles by index: not after an addition, removal or reordering). */
+static int evaluated(const sinter_stepper *st)
+{
+    const sinter_particles *ps = st->ps;
+    if (st->kind == SINTER_STEPPER_QUASISTATIC)
+        return st->quasistatic != NULL && st->population_generation == ps->population_generation &&
+               st->quasistatic->layout_generation == ps->layout_generation;
+    return st->forces_current && st->write_generation == ps->write_generation &&
+           st->population_generation == ps->population_generation && st->nb.built &&
+           st->nb.layout_generation == ps->layout_generation;
+}
+
 sinter_status sinter_snapshot_create(sinter_snapshot **out, const sinter_stepper *st)
 {
     if (out == NULL || st == NULL)
@@ -535,18 +550,8 @@ sinter_status sinter_snapshot_create(sinter_snapshot **out, const sinter_stepper
                    ? sinter_fail(st->ctx, SINTER_ERR_NULL, "sinter_snapshot_create: out is NULL")
                    : SINTER_ERR_NULL;
     sinter_ctx *ctx = st->ctx;
-    const sinter_particles *ps = st->ps;
     const int qs = st->kind == SINTER_STEPPER_QUASISTATIC;
-    /* the contact lists of the state (no write, addition, removal or reordering since their
-     * evaluation); the links of a quasi-static stepper that has stepped (its links follow the
-     * particles by index: not after an addition, removal or reordering) */
-    const int current = qs ? st->quasistatic != NULL &&
-                                 st->population_generation == ps->population_generation &&
-                                 st->quasistatic->layout_generation == ps->layout_generation
-                           : st->forces_current && st->write_generation == ps->write_generation &&
-                                 st->population_generation == ps->population_generation &&
-                                 st->nb.built && st->nb.layout_generation == ps->layout_generation;
-    if (!current)
+    if (!evaluated(st))
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_snapshot_create: the stepper has not evaluated the current "
                            "state (no step yet, or the particles were written, added, removed "
@@ -686,4 +691,75 @@ sinter_status sinter_snapshot_links(const sinter_snapshot *s, sinter_link_data q
                            "(0 .. %d)",
                            (int)q, SINTER_LINK_DATA_COUNT_ - 1);
     }
+}
+
+int sinter_snapshot_conducts_heat(const sinter_stepper *st)
+{
+    for (size_t k = 0; st != NULL && k < st->thermal.count; ++k)
+        if (st->thermal.slots[k].model->ops->conduction)
+            return 1;
+    return 0;
+}
+
+int sinter_snapshot_conducts_current(const sinter_stepper *st)
+{
+    return st != NULL && st->electric != NULL && st->electric->kind == SINTER_ELECTRIC_NETWORK;
+}
+
+sinter_status sinter_snapshot_wall_flows(const sinter_stepper *st, double *heat, double *current)
+{
+    sinter_ctx *ctx = st->ctx;
+    const size_t nw = st->walls ? st->walls->count : 0;
+    for (size_t k = 0; k < nw; ++k) {
+        if (heat != NULL)
+            heat[k] = 0.0;
+        if (current != NULL)
+            current[k] = 0.0;
+    }
+    if (nw == 0 || st->kind == SINTER_STEPPER_QUASISTATIC)
+        return SINTER_OK;
+    if (!evaluated(st)) {
+        for (size_t k = 0; k < nw; ++k) {
+            if (heat != NULL)
+                heat[k] = NAN;
+            if (current != NULL)
+                current[k] = NAN;
+        }
+        return SINTER_OK;
+    }
+    if (st->pw.count == 0)
+        return SINTER_OK;
+    /* the wall contacts alone (an empty pair list): the records of a snapshot's wall part */
+    lists L;
+    memset(&L, 0, sizeof(L));
+    sinter_status s = list_alloc(ctx, &L.pw, st->pw.count);
+    if (s == SINTER_OK)
+        s = list_alloc(ctx, &L.pp, 0);
+    sinter_snapshot snap;
+    memset(&snap, 0, sizeof(snap));
+    snap.heat = s == SINTER_OK ? sinter_calloc(ctx, st->pw.count, sizeof(double)) : NULL;
+    snap.current = s == SINTER_OK ? sinter_calloc(ctx, st->pw.count, sizeof(double)) : NULL;
+    if (s == SINTER_OK && (snap.heat == NULL || snap.current == NULL))
+        s = sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_snapshot_wall_flows: out of memory");
+    if (s == SINTER_OK) {
+        for (size_t k = 0; k < st->pw.count; ++k)
+            list_put(&L.pw, k, &st->pw, k);
+        L.pw.count = L.pw.pair_count = st->pw.count;
+        if (heat != NULL)
+            s = contact_heat(st, &snap, &L);
+        if (current != NULL)
+            contact_current(st, &snap, &L);
+    }
+    for (size_t q = 0; s == SINTER_OK && q < L.pw.count; ++q) {
+        const uint32_t w = L.pw.j[q];
+        if (heat != NULL)
+            heat[w] += snap.heat[q]; /* into the particle, from the wall */
+        if (current != NULL)
+            current[w] -= snap.current[q]; /* from the particle to the wall */
+    }
+    sinter_free(ctx, snap.heat);
+    sinter_free(ctx, snap.current);
+    list_free(ctx, &L.pw);
+    list_free(ctx, &L.pp);
+    return s;
 }

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "contact/snapshot.h"
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
 #include "io/scene.h"
@@ -116,6 +117,52 @@ static size_t electric_column(const sinter_scene *sc)
            (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? SINTERING_COLUMNS : 0);
 }
 
+/*
+ * Columns after those (issue 37): with a conduction model, the heat flow from each wall into
+ * the particles; with the "network" electric model, the current from each wall into them;
+ * then the stepper's time step (the next one it proposes) and its counts so far (those a
+ * checkpoint carries).
+ */
+enum { STEPPER_COLUMNS = 3 };
+static const char *const STEPPER_NAMES[STEPPER_COLUMNS] = {"time step", "rejected steps",
+                                                           "neighbour rebuilds"};
+static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1"};
+
+static size_t wall_heat_column(const sinter_scene *sc)
+{
+    return electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
+}
+
+static size_t wall_current_column(const sinter_scene *sc)
+{
+    return wall_heat_column(sc) + (sinter_snapshot_conducts_heat(sc->st) ? sc->walls->count : 0);
+}
+
+static size_t stepper_column(const sinter_scene *sc)
+{
+    return wall_current_column(sc) +
+           (sinter_snapshot_conducts_current(sc->st) ? sc->walls->count : 0);
+}
+
+/* The wall flows and the stepper's columns of the row. */
+static void observe_flows(const sinter_scene *sc, double *row)
+{
+    const int heat = sinter_snapshot_conducts_heat(sc->st);
+    const int current = sinter_snapshot_conducts_current(sc->st);
+    if ((heat || current) &&
+        sinter_snapshot_wall_flows(sc->st, heat ? row + wall_heat_column(sc) : NULL,
+                                   current ? row + wall_current_column(sc) : NULL) != SINTER_OK)
+        for (size_t k = wall_heat_column(sc); k < stepper_column(sc); ++k)
+            row[k] = NAN; /* out of memory: the sample says so */
+    const sinter_stepper_stats *s = &sc->st->stats;
+    double *q = row + stepper_column(sc);
+    /* (not the staggered stepper's iterations: a checkpoint does not carry them, and a
+     * restarted run's series must be the straight run's) */
+    q[0] = sc->st->dt;
+    q[1] = (double)s->rejected;
+    q[2] = (double)s->neighbor_builds;
+}
+
 static void observe(const sinter_scene *sc, double *row)
 {
     const sinter_particles *ps = sc->ps;
@@ -172,6 +219,7 @@ static void observe(const sinter_scene *sc, double *row)
             s.shrinkage[0],  s.shrinkage[1], s.shrinkage[2], s.relative_density};
         memcpy(q, v, sizeof(v));
     }
+    observe_flows(sc, row);
 }
 
 /*
@@ -443,7 +491,23 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[electric_column(sc) + 1] = "max particle current";
         units[electric_column(sc)] = units[electric_column(sc) + 1] = "A";
     }
-    return electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
+    for (size_t k = 0; sinter_snapshot_conducts_heat(sc->st) && k < nw; ++k) {
+        snprintf(wall_labels[nw + k], sizeof(wall_labels[nw + k]), "%s heat flow",
+                 sc->wall_names[k]);
+        names[wall_heat_column(sc) + k] = wall_labels[nw + k];
+        units[wall_heat_column(sc) + k] = "W";
+    }
+    for (size_t k = 0; sinter_snapshot_conducts_current(sc->st) && k < nw; ++k) {
+        snprintf(wall_labels[2 * nw + k], sizeof(wall_labels[2 * nw + k]), "%s current",
+                 sc->wall_names[k]);
+        names[wall_current_column(sc) + k] = wall_labels[2 * nw + k];
+        units[wall_current_column(sc) + k] = "A";
+    }
+    for (size_t k = 0; k < STEPPER_COLUMNS; ++k) {
+        names[stepper_column(sc) + k] = STEPPER_NAMES[k];
+        units[stepper_column(sc) + k] = STEPPER_UNITS[k];
+    }
+    return stepper_column(sc) + STEPPER_COLUMNS;
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -480,9 +544,11 @@ static sinter_status open_output(run_state *r)
         st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, rel);
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
-    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
-    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
-    char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
+    enum { MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
+                  STEPPER_COLUMNS };
+    const char *names[MOST];
+    const char *units[MOST];
+    char wall_labels[3 * SCENE_MAX_WALLS][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

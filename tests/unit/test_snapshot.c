@@ -12,10 +12,15 @@
  *    the other;
  *  - the quasi-static stepper: one link record per link of the sintering statistics, with
  *    their neck ratio mean;
+ *  - a scene run: the last sample of series.csv has, for each wall, the force and the heat
+ *    flow that the snapshot's wall contacts sum to;
  *  - taking snapshots does not change the run (bit for bit), a stale state and bad arguments
  *    are refused, and an allocation failure at any point leaks nothing.
  */
+#define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 #include "scene_support.h"
 
@@ -451,6 +456,108 @@ static void test_links_match_statistics(void **state)
     scene_close(&s);
 }
 
+/* A lattice of glass spheres dropped into a box on a 500 K floor, with conduction. */
+static const char *SCENE =
+    "[scene]\nname = snapshot_box\nunits = SI\n"
+    "[material glass]\ndensity = 2500\nyoungs_modulus = 1e7\npoisson_ratio = 0.3\n"
+    "damping_ratio = 0.2\nfriction_static = 0.3\nfriction_dynamic = 0.3\n"
+    "thermal_conductivity = 100\nheat_capacity = 100\n"
+    "[particles]\nmethod = lattice\nmaterial = glass\nbox_min = 0 0 0.0002\n"
+    "box_max = 0.0035 0.0035 0.003\nradius = 0.0005\nspacing = 0.00105\ntemperature = 300\n"
+    "[wall floor]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\ntemperature = 500\n"
+    "[wall x_low]\npoint = -0.0001 0 0\nnormal = 1 0 0\nmaterial = glass\ntemperature = 300\n"
+    "[wall x_high]\npoint = 0.0036 0 0\nnormal = -1 0 0\nmaterial = glass\n"
+    "temperature = 300\n"
+    "[force hertz_mindlin]\n[force gravity]\n[heat conduction]\n"
+    "[stepper]\ndt = 1e-5\nskin = 1e-4\nend_time = 0.03\n[output]\ninterval = 0.01\n";
+
+/* Column `name` of the last row of the CSV file at `path`. */
+static double last_value(const char *path, const char *name)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    char header[4096], line[4096], last[4096] = "";
+    assert_non_null(fgets(header, sizeof(header), f));
+    while (fgets(line, sizeof(line), f) != NULL)
+        memcpy(last, line, sizeof(line));
+    fclose(f);
+    int column = -1, k = 0;
+    for (char *save = NULL, *tok = strtok_r(header, ",\n", &save); tok != NULL;
+         tok = strtok_r(NULL, ",\n", &save), ++k)
+        if (strcmp(tok, name) == 0)
+            column = k;
+    assert_true(column >= 0);
+    char *p = last;
+    for (k = 0; k < column; ++k)
+        p = strchr(p, ',') + 1;
+    return strtod(p, NULL);
+}
+
+static void test_series_walls_match_contacts(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sinter_snapshot_XXXXXX", path[600], out[64];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof(path), "%s/box.scene", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(SCENE, f);
+    fclose(f);
+    snprintf(out, sizeof(out), "%s/out", dir);
+    sinter_ctx *ctx = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    sinter_scene *sc = NULL;
+    OK(sinter_scene_load(&sc, ctx, path));
+    OK(sinter_scene_run(sc, out, NULL, NULL));
+    sinter_stepper *st = NULL;
+    sinter_walls *walls = NULL;
+    OK(sinter_scene_get_stepper(sc, &st));
+    OK(sinter_scene_get_walls(sc, &walls));
+    sinter_snapshot *snap = NULL;
+    OK(sinter_snapshot_create(&snap, st));
+    size_t np = 0, nw = 0;
+    OK(sinter_snapshot_counts(snap, &np, &nw, NULL, NULL));
+    assert_true(nw > 0);
+    const void *pw = NULL;
+    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, &pw, NULL, NULL, NULL));
+    const int32_t *wall = pw;
+    const double *normal = contact_doubles(snap, SINTER_CONTACT_DATA_NORMAL, 3);
+    const double *fn = contact_doubles(snap, SINTER_CONTACT_DATA_NORMAL_FORCE, 1);
+    const double *ft = contact_doubles(snap, SINTER_CONTACT_DATA_TANGENTIAL_FORCE, 3);
+    const double *heat = contact_doubles(snap, SINTER_CONTACT_DATA_HEAT_FLOW, 1);
+    double push[3] = {0}, flow[3] = {0};
+    for (size_t q = np; q < np + nw; ++q) {
+        double n_wall[3], f_on_wall[3];
+        OK(sinter_walls_get_normal(walls, (size_t)wall[q], n_wall));
+        for (int d = 0; d < 3; ++d)
+            f_on_wall[d] = -(ft[3 * q + d] - fn[q] * normal[3 * q + d]);
+        /* the series' wall force: pushing the wall outwards, against its normal */
+        push[wall[q]] -=
+            f_on_wall[0] * n_wall[0] + f_on_wall[1] * n_wall[1] + f_on_wall[2] * n_wall[2];
+        flow[wall[q]] += heat[q];
+    }
+    snprintf(path, sizeof(path), "%s/series.csv", out);
+    const char *names[3] = {"floor", "x_low", "x_high"};
+    const double weight = last_value(path, "floor force [N]");
+    assert_true(weight > 0.0);
+    assert_true(flow[0] > 0.0); /* the hot floor heats the spheres */
+    for (int w = 0; w < 3; ++w) {
+        char column[64];
+        snprintf(column, sizeof(column), "%s force [N]", names[w]);
+        assert_close(push[w], last_value(path, column), 1e-9 * weight);
+        snprintf(column, sizeof(column), "%s heat flow [W]", names[w]);
+        assert_close(flow[w], last_value(path, column), 1e-12 * fabs(flow[0]) + 1e-300);
+    }
+    assert_close(last_value(path, "time step [s]"), 1e-5, 0.0);
+    assert_true(last_value(path, "neighbour rebuilds [1]") >= 1.0);
+    sinter_snapshot_destroy(snap);
+    sinter_scene_destroy(sc);
+    sinter_ctx_destroy(ctx);
+    char cmd[600];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -461,6 +568,7 @@ int main(void)
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_links_match_statistics),
+        cmocka_unit_test(test_series_walls_match_contacts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
