@@ -532,7 +532,7 @@ static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
 /* The contact lists are those of the state (no write, addition, removal or reordering since
  * their evaluation); the links those of a quasi-static stepper that has stepped (they follow
  * the particles by index: not after an addition, removal or reordering). */
-static int evaluated(const sinter_stepper *st)
+int sinter_snapshot_possible(const sinter_stepper *st)
 {
     const sinter_particles *ps = st->ps;
     if (st->kind == SINTER_STEPPER_QUASISTATIC)
@@ -551,7 +551,7 @@ sinter_status sinter_snapshot_create(sinter_snapshot **out, const sinter_stepper
                    : SINTER_ERR_NULL;
     sinter_ctx *ctx = st->ctx;
     const int qs = st->kind == SINTER_STEPPER_QUASISTATIC;
-    if (!evaluated(st))
+    if (!sinter_snapshot_possible(st))
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_snapshot_create: the stepper has not evaluated the current "
                            "state (no step yet, or the particles were written, added, removed "
@@ -718,7 +718,7 @@ sinter_status sinter_snapshot_wall_flows(const sinter_stepper *st, double *heat,
     }
     if (nw == 0 || st->kind == SINTER_STEPPER_QUASISTATIC)
         return SINTER_OK;
-    if (!evaluated(st)) {
+    if (!sinter_snapshot_possible(st)) {
         for (size_t k = 0; k < nw; ++k) {
             if (heat != NULL)
                 heat[k] = NAN;

@@ -4,6 +4,10 @@
 
 #include "stepper/stepper.h"
 
+/* 1 when sinter_snapshot_create would take a snapshot of the stepper: its state is evaluated
+ * (0: SINTER_ERR_STATE). */
+int sinter_snapshot_possible(const sinter_stepper *st);
+
 /* 1 when the stepper's heat models conduct (a conduction model), 1 when its electric model
  * gives contact currents (the "network" model): whether the sums below mean anything. */
 int sinter_snapshot_conducts_heat(const sinter_stepper *st);

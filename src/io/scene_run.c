@@ -15,6 +15,7 @@
 #include "contact/snapshot.h"
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
+#include "io/scene_frames.h"
 #include "io/scene.h"
 #include "io/vtu.h"
 
@@ -262,30 +263,40 @@ static sinter_status write_collection(run_state *r)
     sinter_scene *sc = r->sc;
     sinter_ctx *ctx = sc->ctx;
     const scene_program *p = &sc->program;
-    char **files = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(char *));
-    double *times = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(double));
+    /* each frame: its particles, then its contacts and walls where written (parts 1, 2) */
+    const size_t most = (size_t)p->frames * (1 + SCENE_FRAME_EXTRAS) + 1;
+    char **files = sinter_calloc(ctx, most, sizeof(char *));
+    double *times = sinter_calloc(ctx, most, sizeof(double));
+    unsigned *parts = sinter_calloc(ctx, most, sizeof(unsigned));
     char rel[64], path[SINTER_PATH_SIZE];
-    sinter_status st = files && times ? SINTER_OK : sinter_last_status(ctx);
+    sinter_status st = files && times && parts ? SINTER_OK : sinter_last_status(ctx);
     size_t listed = 0;
     for (uint64_t k = 0; k < p->frames && st == SINTER_OK; ++k) {
         if (k < r->earlier && !r->present[k])
             continue;
-        snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
-        files[listed] = sinter_strdup(ctx, rel);
-        times[listed] = p->frame_times[k];
-        st = files[listed] != NULL ? SINTER_OK : sinter_last_status(ctx);
-        listed += st == SINTER_OK;
+        char extra[SCENE_FRAME_EXTRAS][64];
+        unsigned extra_parts[SCENE_FRAME_EXTRAS];
+        const size_t extras = scene_frame_extras_list(sc, r->out_dir, k, extra, extra_parts);
+        for (size_t e = 0; e <= extras && st == SINTER_OK; ++e) {
+            snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
+            files[listed] = sinter_strdup(ctx, e == 0 ? rel : extra[e - 1]);
+            times[listed] = p->frame_times[k];
+            parts[listed] = e == 0 ? 0u : extra_parts[e - 1];
+            st = files[listed] != NULL ? SINTER_OK : sinter_last_status(ctx);
+            listed += st == SINTER_OK;
+        }
     }
     char name[SCENE_NAME + 8];
     snprintf(name, sizeof(name), "%s.pvd", sc->name);
     if (st == SINTER_OK)
         st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, name);
     if (st == SINTER_OK)
-        st = sinter_write_pvd(ctx, path, listed, times, (const char *const *)files);
+        st = sinter_write_pvd_parts(ctx, path, listed, times, (const char *const *)files, parts);
     for (size_t k = 0; files != NULL && k < listed; ++k)
         sinter_free(ctx, files[k]);
     sinter_free(ctx, files);
     sinter_free(ctx, times);
+    sinter_free(ctx, parts);
     return st;
 }
 
@@ -326,6 +337,8 @@ static sinter_status write_frame(run_state *r)
     st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
+    if (st == SINTER_OK)
+        st = scene_frame_extras_write(sc, r->out_dir, sc->program.frames);
     if (st == SINTER_OK)
         st = scene_program_add_frame(ctx, &sc->program, sc->st->time);
     return st == SINTER_OK ? write_collection(r) : st;
@@ -544,8 +557,10 @@ static sinter_status open_output(run_state *r)
         st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, rel);
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
-    enum { MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-                  STEPPER_COLUMNS };
+    enum {
+        MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
+               STEPPER_COLUMNS
+    };
     const char *names[MOST];
     const char *units[MOST];
     char wall_labels[3 * SCENE_MAX_WALLS][SCENE_NAME + 16];

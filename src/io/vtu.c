@@ -241,6 +241,13 @@ sinter_status sinter_write_vtu_as(const sinter_particles *ps, const char *path,
 sinter_status sinter_write_pvd(sinter_ctx *ctx, const char *path, size_t count, const double *times,
                                const char *const *files)
 {
+    return sinter_write_pvd_parts(ctx, path, count, times, files, NULL);
+}
+
+sinter_status sinter_write_pvd_parts(sinter_ctx *ctx, const char *path, size_t count,
+                                     const double *times, const char *const *files,
+                                     const unsigned *parts)
+{
     static const char *const fn = "sinter_write_pvd";
     if (ctx == NULL)
         return SINTER_ERR_NULL;
@@ -272,7 +279,7 @@ sinter_status sinter_write_pvd(sinter_ctx *ctx, const char *path, size_t count, 
     for (size_t k = 0; k < count; ++k) {
         fputs("    <DataSet timestep=\"", out.fp);
         sinter_out_double(out.fp, times[k]);
-        fputs("\" group=\"\" part=\"0\" file=\"", out.fp);
+        fprintf(out.fp, "\" group=\"\" part=\"%u\" file=\"", parts != NULL ? parts[k] : 0u);
         sinter_out_xml(out.fp, files[k]);
         fputs("\"/>\n", out.fp);
     }

@@ -1,11 +1,14 @@
 """Snapshots of contacts and links from Python: NumPy arrays or memoryviews, copied."""
 
+import os
+import tempfile
 import unittest
+import xml.etree.ElementTree as ET
 
 import sinter
 from sinter import snapshot as snapshot_module
 
-from _support import ArrayBackend, as_lists
+from _support import DROP_SCENE, ArrayBackend, as_lists, write_scene
 
 G = 9.81
 
@@ -130,6 +133,72 @@ class SnapshotCases(ArrayBackend):
                                delta=1e-12)
         self.assertAlmostEqual(links["neck_radius"][0], links["neck_ratio"][0] * r, delta=1e-15)
         self.assertEqual(len(flat(links["beam_force"])[0]), 3)
+
+
+class FrameFilesTest(unittest.TestCase):
+    """[output] contacts = yes, walls = yes: beside each frame a .vtp of lines (one per contact)
+    and one of polygons (one per wall), well-formed, listed in the .pvd as parts 1 and 2."""
+
+    def test_contacts_and_walls_files(self):
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        text = DROP_SCENE.replace("vtu = no", "vtu = yes\ncontacts = yes\nwalls = yes").replace(
+            "end_time = 0.01", "end_time = 0.03")  # landed on the floor
+        self.assertIn("contacts = yes", text)
+        path = write_scene(tmp.name, text)
+        out = os.path.join(tmp.name, "out")
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        with sinter.Scene.load(ctx, path) as scene:
+            scene.run(out)
+            snap = scene.stepper.snapshot()
+        frames = sorted(os.listdir(os.path.join(out, "frames")))
+        contacts = [f for f in frames if f.startswith("contacts_")]
+        walls = [f for f in frames if f.startswith("walls_")]
+        particles = [f for f in frames if f.startswith("frame_")]
+        self.assertEqual(len(contacts), len(particles))
+        self.assertEqual(len(walls), len(particles))
+        # the last frame is the state the snapshot was taken of
+        tree = ET.parse(os.path.join(out, "frames", contacts[-1]))
+        self.assertEqual(tree.getroot().get("type"), "PolyData")
+        piece = tree.find("PolyData/Piece")
+        lines = int(piece.get("NumberOfLines"))
+        self.assertEqual(lines, snap.pair_contacts + snap.wall_contacts)
+        self.assertGreater(snap.wall_contacts, 0)
+        self.assertEqual(int(piece.get("NumberOfPoints")), 2 * lines)
+
+        def values(array):
+            return (array.text or "").split()
+
+        points = piece.find("Points/DataArray")
+        self.assertEqual(len(values(points)), 3 * 2 * lines)
+        connectivity = piece.find("Lines/DataArray[@Name='connectivity']")
+        offsets = piece.find("Lines/DataArray[@Name='offsets']")
+        self.assertEqual([int(v) for v in values(connectivity)], list(range(2 * lines)))
+        self.assertEqual([int(v) for v in values(offsets)], [2 * (k + 1) for k in range(lines)])
+        arrays = {a.get("Name"): a for a in piece.find("CellData")}
+        self.assertEqual(set(arrays), set(snapshot_module.CONTACT_DATA))
+        for name, array in arrays.items():
+            components = int(array.get("NumberOfComponents", "1"))
+            self.assertEqual(len(values(array)), lines * components, name)
+        force = [float(v) for v in values(arrays["normal_force"])]
+        self.assertEqual(force, [float(v) for v in as_lists(snap.contacts["normal_force"])])
+        # the walls: one polygon (the floor) clipped to the particles' box, in its plane
+        tree = ET.parse(os.path.join(out, "frames", walls[-1]))
+        piece = tree.find("PolyData/Piece")
+        self.assertEqual(int(piece.get("NumberOfPolys")), 1)
+        corners = [float(v) for v in values(piece.find("Points/DataArray"))]
+        self.assertEqual(len(corners), 3 * int(piece.get("NumberOfPoints")))
+        self.assertEqual(int(piece.get("NumberOfPoints")), 4)
+        self.assertEqual(corners[2::3], [0.0] * 4)  # z = 0: the floor's plane
+        # the collection: each time three parts
+        pvd = [d.attrib for d in ET.parse(os.path.join(out, "drop.pvd")).iter("DataSet")]
+        self.assertEqual(len(pvd), 3 * len(particles))
+        for k in range(len(particles)):
+            group = pvd[3 * k:3 * k + 3]
+            self.assertEqual([d["part"] for d in group], ["0", "1", "2"])
+            self.assertEqual(len({d["timestep"] for d in group}), 1)
+            self.assertEqual(group[1]["file"], "frames/" + contacts[k])
 
 
 class SnapshotNumpy(SnapshotCases, unittest.TestCase):
