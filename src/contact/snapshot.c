@@ -36,7 +36,10 @@ struct sinter_snapshot {
     sinter_ctx *ctx;
     double time;
     size_t pairs, walls, links;
-    /* contacts: pairs then walls */
+    /* every array, by its sinter_contact_data and sinter_link_data (owned) */
+    void *contact[SINTER_CONTACT_DATA_COUNT_];
+    void *link[SINTER_LINK_DATA_COUNT_];
+    /* the same arrays by name: contacts (pairs then walls) */
     uint64_t *id_a, *id_b;
     int32_t *wall;
     double *normal, *overlap, *radius, *area, *fn, *ft, *heat, *current;
@@ -46,51 +49,92 @@ struct sinter_snapshot {
     double *neck, *ratio, *approach, *age, *fsint, *beam_force, *beam_moment;
 };
 
+/* Components and element type of each array. */
+typedef struct layout {
+    size_t components;
+    sinter_dtype dtype;
+} layout;
+
+#define D1_                                                                                        \
+    {                                                                                              \
+        1, SINTER_DTYPE_DOUBLE                                                                     \
+    }
+#define D3_                                                                                        \
+    {                                                                                              \
+        3, SINTER_DTYPE_DOUBLE                                                                     \
+    }
+#define U64_                                                                                       \
+    {                                                                                              \
+        1, SINTER_DTYPE_UINT64                                                                     \
+    }
+#define I32_                                                                                       \
+    {                                                                                              \
+        1, SINTER_DTYPE_INT32                                                                      \
+    }
+static const layout CONTACT_LAYOUT[SINTER_CONTACT_DATA_COUNT_] = {U64_, U64_, I32_, D3_, D1_, D1_,
+                                                                  D1_,  D1_,  D3_,  D1_, D1_};
+static const layout LINK_LAYOUT[SINTER_LINK_DATA_COUNT_] = {U64_, U64_, D1_, D1_, D1_,
+                                                            D1_,  I32_, D1_, D3_, D3_};
+#undef D1_
+#undef D3_
+#undef U64_
+#undef I32_
+
+static size_t dtype_size(sinter_dtype dtype)
+{
+    return dtype == SINTER_DTYPE_DOUBLE || dtype == SINTER_DTYPE_UINT64 ? 8 : 4;
+}
+
 void sinter_snapshot_destroy(sinter_snapshot *s)
 {
     if (s == NULL)
         return;
-    sinter_ctx *ctx = s->ctx;
-    void *arrays[] = {s->id_a,   s->id_b,       s->wall,       s->normal, s->overlap,  s->radius,
-                      s->area,   s->fn,         s->ft,         s->heat,   s->current,  s->link_a,
-                      s->link_b, s->phase,      s->neck,       s->ratio,  s->approach, s->age,
-                      s->fsint,  s->beam_force, s->beam_moment};
-    for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
-        sinter_free(ctx, arrays[k]);
-    sinter_free(ctx, s);
+    for (int q = 0; q < SINTER_CONTACT_DATA_COUNT_; ++q)
+        sinter_free(s->ctx, s->contact[q]);
+    for (int q = 0; q < SINTER_LINK_DATA_COUNT_; ++q)
+        sinter_free(s->ctx, s->link[q]);
+    sinter_free(s->ctx, s);
 }
 
 /* Room for the records of s (count contacts, links links); every array or none. */
 static sinter_status snapshot_alloc(sinter_snapshot *s, size_t count, size_t links)
 {
-    sinter_ctx *ctx = s->ctx;
-    const size_t c = count + 1, l = links + 1;
-    s->id_a = sinter_calloc(ctx, c, sizeof(uint64_t));
-    s->id_b = sinter_calloc(ctx, c, sizeof(uint64_t));
-    s->wall = sinter_calloc(ctx, c, sizeof(int32_t));
-    s->normal = sinter_calloc(ctx, 3 * c, sizeof(double));
-    s->overlap = sinter_calloc(ctx, c, sizeof(double));
-    s->radius = sinter_calloc(ctx, c, sizeof(double));
-    s->area = sinter_calloc(ctx, c, sizeof(double));
-    s->fn = sinter_calloc(ctx, c, sizeof(double));
-    s->ft = sinter_calloc(ctx, 3 * c, sizeof(double));
-    s->heat = sinter_calloc(ctx, c, sizeof(double));
-    s->current = sinter_calloc(ctx, c, sizeof(double));
-    s->link_a = sinter_calloc(ctx, l, sizeof(uint64_t));
-    s->link_b = sinter_calloc(ctx, l, sizeof(uint64_t));
-    s->phase = sinter_calloc(ctx, l, sizeof(int32_t));
-    s->neck = sinter_calloc(ctx, l, sizeof(double));
-    s->ratio = sinter_calloc(ctx, l, sizeof(double));
-    s->approach = sinter_calloc(ctx, l, sizeof(double));
-    s->age = sinter_calloc(ctx, l, sizeof(double));
-    s->fsint = sinter_calloc(ctx, l, sizeof(double));
-    s->beam_force = sinter_calloc(ctx, 3 * l, sizeof(double));
-    s->beam_moment = sinter_calloc(ctx, 3 * l, sizeof(double));
-    const int ok = s->id_a && s->id_b && s->wall && s->normal && s->overlap && s->radius &&
-                   s->area && s->fn && s->ft && s->heat && s->current && s->link_a && s->link_b &&
-                   s->phase && s->neck && s->ratio && s->approach && s->age && s->fsint &&
-                   s->beam_force && s->beam_moment;
-    return ok ? SINTER_OK : SINTER_ERR_NOMEM;
+    int ok = 1;
+    for (int q = 0; q < SINTER_CONTACT_DATA_COUNT_; ++q) {
+        const layout *l = &CONTACT_LAYOUT[q];
+        s->contact[q] = sinter_calloc(s->ctx, (count + 1) * l->components, dtype_size(l->dtype));
+        ok = ok && s->contact[q] != NULL;
+    }
+    for (int q = 0; q < SINTER_LINK_DATA_COUNT_; ++q) {
+        const layout *l = &LINK_LAYOUT[q];
+        s->link[q] = sinter_calloc(s->ctx, (links + 1) * l->components, dtype_size(l->dtype));
+        ok = ok && s->link[q] != NULL;
+    }
+    if (!ok)
+        return SINTER_ERR_NOMEM;
+    void *const *c = s->contact, *const *k = s->link;
+    s->id_a = c[SINTER_CONTACT_DATA_ID_A];
+    s->id_b = c[SINTER_CONTACT_DATA_ID_B];
+    s->wall = c[SINTER_CONTACT_DATA_WALL];
+    s->normal = c[SINTER_CONTACT_DATA_NORMAL];
+    s->overlap = c[SINTER_CONTACT_DATA_OVERLAP];
+    s->radius = c[SINTER_CONTACT_DATA_RADIUS];
+    s->area = c[SINTER_CONTACT_DATA_AREA];
+    s->fn = c[SINTER_CONTACT_DATA_NORMAL_FORCE];
+    s->ft = c[SINTER_CONTACT_DATA_TANGENTIAL_FORCE];
+    s->heat = c[SINTER_CONTACT_DATA_HEAT_FLOW];
+    s->current = c[SINTER_CONTACT_DATA_CURRENT];
+    s->link_a = k[SINTER_LINK_DATA_ID_A];
+    s->link_b = k[SINTER_LINK_DATA_ID_B];
+    s->neck = k[SINTER_LINK_DATA_NECK_RADIUS];
+    s->ratio = k[SINTER_LINK_DATA_NECK_RATIO];
+    s->approach = k[SINTER_LINK_DATA_APPROACH];
+    s->age = k[SINTER_LINK_DATA_AGE];
+    s->phase = k[SINTER_LINK_DATA_PHASE];
+    s->fsint = k[SINTER_LINK_DATA_SINTERING_FORCE];
+    s->beam_force = k[SINTER_LINK_DATA_BEAM_FORCE];
+    s->beam_moment = k[SINTER_LINK_DATA_BEAM_MOMENT];
+    return SINTER_OK;
 }
 
 /* The lists the re-evaluations run on: a copy of the stepper's pair list with its geometry,
@@ -601,18 +645,24 @@ sinter_status sinter_snapshot_counts(const sinter_snapshot *s, size_t *pair_cont
     return SINTER_OK;
 }
 
-/* Lend one array: its data, records, components and type. */
-static sinter_status lend(const void *data, size_t count, size_t components, sinter_dtype dtype,
-                          const void **out, size_t *count_out, size_t *components_out,
-                          sinter_dtype *dtype_out)
+/* Lend array q of `arrays` (count records each, of layouts[q]); `max` arrays; `fn` names the
+ * public function in the message. */
+static sinter_status lend(const sinter_snapshot *s, void *const *arrays, const layout *layouts,
+                          int max, int q, size_t count, const char *fn, const char *type,
+                          const void **data, size_t *count_out, size_t *components,
+                          sinter_dtype *dtype)
 {
-    *out = count > 0 ? data : NULL;
+    SINTER_CHECK_NULL(s->ctx, data);
+    if (q < 0 || q >= max)
+        return sinter_fail(s->ctx, SINTER_ERR_RANGE, "%s: quantity %d is not a %s (0 .. %d)", fn, q,
+                           type, max - 1);
+    *data = count > 0 ? arrays[q] : NULL;
     if (count_out != NULL)
         *count_out = count;
-    if (components_out != NULL)
-        *components_out = components;
-    if (dtype_out != NULL)
-        *dtype_out = dtype;
+    if (components != NULL)
+        *components = layouts[q].components;
+    if (dtype != NULL)
+        *dtype = layouts[q].dtype;
     return SINTER_OK;
 }
 
@@ -622,38 +672,9 @@ sinter_status sinter_snapshot_contacts(const sinter_snapshot *s, sinter_contact_
 {
     if (s == NULL)
         return SINTER_ERR_NULL;
-    SINTER_CHECK_NULL(s->ctx, data);
-    const size_t n = s->pairs + s->walls;
-    const sinter_dtype D = SINTER_DTYPE_DOUBLE;
-    switch (q) {
-    case SINTER_CONTACT_DATA_ID_A:
-        return lend(s->id_a, n, 1, SINTER_DTYPE_UINT64, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_ID_B:
-        return lend(s->id_b, n, 1, SINTER_DTYPE_UINT64, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_WALL:
-        return lend(s->wall, n, 1, SINTER_DTYPE_INT32, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_NORMAL:
-        return lend(s->normal, n, 3, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_OVERLAP:
-        return lend(s->overlap, n, 1, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_RADIUS:
-        return lend(s->radius, n, 1, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_AREA:
-        return lend(s->area, n, 1, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_NORMAL_FORCE:
-        return lend(s->fn, n, 1, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_TANGENTIAL_FORCE:
-        return lend(s->ft, n, 3, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_HEAT_FLOW:
-        return lend(s->heat, n, 1, D, data, count, components, dtype);
-    case SINTER_CONTACT_DATA_CURRENT:
-        return lend(s->current, n, 1, D, data, count, components, dtype);
-    default:
-        return sinter_fail(s->ctx, SINTER_ERR_RANGE,
-                           "sinter_snapshot_contacts: quantity %d is not a "
-                           "sinter_contact_data (0 .. %d)",
-                           (int)q, SINTER_CONTACT_DATA_COUNT_ - 1);
-    }
+    return lend(s, s->contact, CONTACT_LAYOUT, SINTER_CONTACT_DATA_COUNT_, (int)q,
+                s->pairs + s->walls, "sinter_snapshot_contacts", "sinter_contact_data", data, count,
+                components, dtype);
 }
 
 sinter_status sinter_snapshot_links(const sinter_snapshot *s, sinter_link_data q, const void **data,
@@ -661,36 +682,8 @@ sinter_status sinter_snapshot_links(const sinter_snapshot *s, sinter_link_data q
 {
     if (s == NULL)
         return SINTER_ERR_NULL;
-    SINTER_CHECK_NULL(s->ctx, data);
-    const size_t n = s->links;
-    const sinter_dtype D = SINTER_DTYPE_DOUBLE;
-    switch (q) {
-    case SINTER_LINK_DATA_ID_A:
-        return lend(s->link_a, n, 1, SINTER_DTYPE_UINT64, data, count, components, dtype);
-    case SINTER_LINK_DATA_ID_B:
-        return lend(s->link_b, n, 1, SINTER_DTYPE_UINT64, data, count, components, dtype);
-    case SINTER_LINK_DATA_NECK_RADIUS:
-        return lend(s->neck, n, 1, D, data, count, components, dtype);
-    case SINTER_LINK_DATA_NECK_RATIO:
-        return lend(s->ratio, n, 1, D, data, count, components, dtype);
-    case SINTER_LINK_DATA_APPROACH:
-        return lend(s->approach, n, 1, D, data, count, components, dtype);
-    case SINTER_LINK_DATA_AGE:
-        return lend(s->age, n, 1, D, data, count, components, dtype);
-    case SINTER_LINK_DATA_PHASE:
-        return lend(s->phase, n, 1, SINTER_DTYPE_INT32, data, count, components, dtype);
-    case SINTER_LINK_DATA_SINTERING_FORCE:
-        return lend(s->fsint, n, 1, D, data, count, components, dtype);
-    case SINTER_LINK_DATA_BEAM_FORCE:
-        return lend(s->beam_force, n, 3, D, data, count, components, dtype);
-    case SINTER_LINK_DATA_BEAM_MOMENT:
-        return lend(s->beam_moment, n, 3, D, data, count, components, dtype);
-    default:
-        return sinter_fail(s->ctx, SINTER_ERR_RANGE,
-                           "sinter_snapshot_links: quantity %d is not a sinter_link_data "
-                           "(0 .. %d)",
-                           (int)q, SINTER_LINK_DATA_COUNT_ - 1);
-    }
+    return lend(s, s->link, LINK_LAYOUT, SINTER_LINK_DATA_COUNT_, (int)q, s->links,
+                "sinter_snapshot_links", "sinter_link_data", data, count, components, dtype);
 }
 
 int sinter_snapshot_conducts_heat(const sinter_stepper *st)

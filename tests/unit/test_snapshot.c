@@ -80,6 +80,19 @@ static const double *contact_doubles(const sinter_snapshot *snap, sinter_contact
     return data;
 }
 
+/* The snapshot's particle ids (a, b) and wall indices. */
+static void contact_ids(const sinter_snapshot *snap, const uint64_t **ida, const uint64_t **idb,
+                        const int32_t **wall)
+{
+    const void *pa = NULL, *pb = NULL, *pw = NULL;
+    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, &pa, NULL, NULL, NULL));
+    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, &pb, NULL, NULL, NULL));
+    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, &pw, NULL, NULL, NULL));
+    *ida = pa;
+    *idb = pb;
+    *wall = pw;
+}
+
 /* Index of particle id `id` in the set. */
 static size_t index_of(const sinter_particles *ps, uint64_t id)
 {
@@ -104,12 +117,9 @@ static void test_forces_sum_to_walls_and_particles(void **state)
     assert_true(nw > 20);
     assert_int_equal(nl, 0);
     assert_close(t, 0.04, 1e-12);
-    const void *pa = NULL, *pb = NULL, *pw = NULL;
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, &pa, NULL, NULL, NULL));
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, &pb, NULL, NULL, NULL));
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, &pw, NULL, NULL, NULL));
-    const uint64_t *ida = pa, *idb = pb;
-    const int32_t *wall = pw;
+    const uint64_t *ida = NULL, *idb = NULL;
+    const int32_t *wall = NULL;
+    contact_ids(snap, &ida, &idb, &wall);
     const double *normal = contact_doubles(snap, SINTER_CONTACT_DATA_NORMAL, 3);
     const double *fn = contact_doubles(snap, SINTER_CONTACT_DATA_NORMAL_FORCE, 1);
     const double *ft = contact_doubles(snap, SINTER_CONTACT_DATA_TANGENTIAL_FORCE, 3);
@@ -186,22 +196,36 @@ static void test_forces_sum_to_walls_and_particles(void **state)
     scene_close(&s);
 }
 
+/* What the tests read of a pile advanced to time t: its snapshot, contacts and particles. */
+typedef struct taken {
+    sinter_snapshot *snap;
+    size_t np, nw, n; /* pair contacts, wall contacts, particles */
+    const uint64_t *ida, *idb;
+    const int32_t *wall;
+} taken;
+
+static taken take(scene *s, double t)
+{
+    taken k;
+    memset(&k, 0, sizeof(k));
+    OK(sinter_stepper_advance(s->st, t));
+    OK(sinter_snapshot_create(&k.snap, s->st));
+    OK(sinter_snapshot_counts(k.snap, &k.np, &k.nw, NULL, NULL));
+    OK(sinter_particles_count(s->ps, &k.n));
+    contact_ids(k.snap, &k.ida, &k.idb, &k.wall);
+    return k;
+}
+
 static void test_heat_flows_balance(void **state)
 {
     (void)state;
     scene s;
     sinter_heat_model *cond = NULL;
     pile(&s, 1, 0, &cond, NULL);
-    OK(sinter_stepper_advance(s.st, 0.02));
-    sinter_snapshot *snap = NULL;
-    OK(sinter_snapshot_create(&snap, s.st));
-    size_t np = 0, nw = 0, n = 0;
-    OK(sinter_snapshot_counts(snap, &np, &nw, NULL, NULL));
-    OK(sinter_particles_count(s.ps, &n));
-    const void *pa = NULL, *pb = NULL;
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, &pa, NULL, NULL, NULL));
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, &pb, NULL, NULL, NULL));
-    const uint64_t *ida = pa, *idb = pb;
+    const taken k = take(&s, 0.02);
+    sinter_snapshot *snap = k.snap;
+    const size_t np = k.np, nw = k.nw, n = k.n;
+    const uint64_t *ida = k.ida, *idb = k.idb;
     const double *q_flow = contact_doubles(snap, SINTER_CONTACT_DATA_HEAT_FLOW, 1);
     double *sum = calloc(n, sizeof(double)), pair_total = 0.0, wall_total = 0.0, scale = 0.0;
     for (size_t q = 0; q < np + nw; ++q) {
@@ -238,18 +262,11 @@ static void test_currents_balance(void **state)
     scene s;
     sinter_electric_model *em = NULL;
     pile(&s, 0, 1, NULL, &em);
-    OK(sinter_stepper_advance(s.st, 0.04));
-    sinter_snapshot *snap = NULL;
-    OK(sinter_snapshot_create(&snap, s.st));
-    size_t np = 0, nw = 0, n = 0;
-    OK(sinter_snapshot_counts(snap, &np, &nw, NULL, NULL));
-    OK(sinter_particles_count(s.ps, &n));
-    const void *pa = NULL, *pb = NULL, *pw = NULL;
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, &pa, NULL, NULL, NULL));
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, &pb, NULL, NULL, NULL));
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, &pw, NULL, NULL, NULL));
-    const uint64_t *ida = pa, *idb = pb;
-    const int32_t *wall = pw;
+    const taken k = take(&s, 0.04);
+    sinter_snapshot *snap = k.snap;
+    const size_t np = k.np, nw = k.nw, n = k.n;
+    const uint64_t *ida = k.ida, *idb = k.idb;
+    const int32_t *wall = k.wall;
     const double *current = contact_doubles(snap, SINTER_CONTACT_DATA_CURRENT, 1);
     double *net = calloc(n, sizeof(double)), into[6] = {0}, scale = 0.0;
     for (size_t q = 0; q < np + nw; ++q) {
@@ -518,9 +535,9 @@ static void test_series_walls_match_contacts(void **state)
     size_t np = 0, nw = 0;
     OK(sinter_snapshot_counts(snap, &np, &nw, NULL, NULL));
     assert_true(nw > 0);
-    const void *pw = NULL;
-    OK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, &pw, NULL, NULL, NULL));
-    const int32_t *wall = pw;
+    const uint64_t *ida = NULL, *idb = NULL;
+    const int32_t *wall = NULL;
+    contact_ids(snap, &ida, &idb, &wall);
     const double *normal = contact_doubles(snap, SINTER_CONTACT_DATA_NORMAL, 3);
     const double *fn = contact_doubles(snap, SINTER_CONTACT_DATA_NORMAL_FORCE, 1);
     const double *ft = contact_doubles(snap, SINTER_CONTACT_DATA_TANGENTIAL_FORCE, 3);
