@@ -673,6 +673,7 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     }
     OPTIONAL(scene_get_bool(t, s, "contacts", &sc->write_contacts));
     OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
+    OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));

@@ -145,6 +145,76 @@ static size_t stepper_column(const sinter_scene *sc)
            (sinter_snapshot_conducts_current(sc->st) ? sc->walls->count : 0);
 }
 
+static size_t distribution_column(const sinter_scene *sc)
+{
+    return stepper_column(sc) + STEPPER_COLUMNS;
+}
+
+/*
+ * With [output] distributions = yes, after those (issue 37): how many particles have k contacts
+ * (k = 0 .. COORDINATION_MAX - 1, then COORDINATION_MAX or more; the quasi-static stepper's
+ * links), and for the quasi-static stepper how many links have a neck ratio in each bin of
+ * NECK_BIN (the last bin: NECK_BINS NECK_BIN or more). Each histogram sums to the particles or
+ * the links.
+ */
+enum { COORDINATION_MAX = 13, NECK_BINS = 10 };
+static const double NECK_BIN = 0.05;
+
+static size_t distribution_columns(const sinter_scene *sc)
+{
+    if (!sc->write_distributions)
+        return 0;
+    return COORDINATION_MAX + 1 + (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? NECK_BINS + 1 : 0);
+}
+
+static size_t distribution_column(const sinter_scene *sc);
+
+/* The histograms of the row (NaN where the contacts of the state are not known yet). */
+static void observe_distributions(const sinter_scene *sc, double *row)
+{
+    const size_t columns = distribution_columns(sc);
+    if (columns == 0)
+        return;
+    double *q = row + distribution_column(sc);
+    const sinter_particles *ps = sc->ps;
+    const int qs = sc->st->kind == SINTER_STEPPER_QUASISTATIC;
+    size_t links = 0;
+    const sinter_qs_link *link =
+        qs && sc->st->quasistatic ? sinter_qs_links(sc->st->quasistatic, &links) : NULL;
+    if (!qs && !sinter_snapshot_possible(sc->st)) {
+        for (size_t k = 0; k < columns; ++k)
+            q[k] = NAN;
+        return;
+    }
+    for (size_t k = 0; k < columns; ++k)
+        q[k] = 0.0;
+    uint32_t *count = sinter_calloc(sc->ctx, ps->count + 1, sizeof(uint32_t));
+    if (count == NULL) {
+        for (size_t k = 0; k < columns; ++k)
+            q[k] = NAN; /* out of memory: the sample says so */
+        return;
+    }
+    const sinter_contact_list *c = &sc->st->pp;
+    for (size_t k = 0; !qs && k < c->count; ++k) {
+        count[c->i[k]]++;
+        count[c->j[k]]++;
+    }
+    for (size_t k = 0; k < links; ++k) {
+        const uint32_t a = link[k].beam.a, b = link[k].beam.b;
+        if (a >= ps->count || b >= ps->count)
+            continue;
+        count[a]++;
+        count[b]++;
+        /* the neck ratio as the sintering statistics form it */
+        const double ratio = link[k].neck.y[SINTER_NECK_X] / fmin(ps->radius[a], ps->radius[b]);
+        const double bin = floor(ratio / NECK_BIN);
+        q[COORDINATION_MAX + 1 + (bin >= 0 && bin < NECK_BINS ? (size_t)bin : NECK_BINS)] += 1.0;
+    }
+    for (size_t i = 0; i < ps->count; ++i)
+        q[count[i] < COORDINATION_MAX ? count[i] : COORDINATION_MAX] += 1.0;
+    sinter_free(sc->ctx, count);
+}
+
 /* The wall flows and the stepper's columns of the row. */
 static void observe_flows(const sinter_scene *sc, double *row)
 {
@@ -162,6 +232,7 @@ static void observe_flows(const sinter_scene *sc, double *row)
     q[0] = sc->st->dt;
     q[1] = (double)s->rejected;
     q[2] = (double)s->neighbor_builds;
+    observe_distributions(sc, row);
 }
 
 static void observe(const sinter_scene *sc, double *row)
@@ -520,7 +591,23 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[stepper_column(sc) + k] = STEPPER_NAMES[k];
         units[stepper_column(sc) + k] = STEPPER_UNITS[k];
     }
-    return stepper_column(sc) + STEPPER_COLUMNS;
+    for (size_t k = 0; k < distribution_columns(sc); ++k) {
+        char *label = wall_labels[3 * nw + k];
+        const size_t size = sizeof(wall_labels[0]);
+        if (k < COORDINATION_MAX)
+            snprintf(label, size, "coordination %zu", k);
+        else if (k == COORDINATION_MAX)
+            snprintf(label, size, "coordination %d or more", COORDINATION_MAX);
+        else if (k - COORDINATION_MAX - 1 < NECK_BINS)
+            snprintf(label, size, "neck ratio %.2f-%.2f",
+                     NECK_BIN * (double)(k - COORDINATION_MAX - 1),
+                     NECK_BIN * (double)(k - COORDINATION_MAX));
+        else
+            snprintf(label, size, "neck ratio %.2f or more", NECK_BIN * NECK_BINS);
+        names[distribution_column(sc) + k] = label;
+        units[distribution_column(sc) + k] = "1";
+    }
+    return distribution_column(sc) + distribution_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -558,12 +645,14 @@ static sinter_status open_output(run_state *r)
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
     enum {
+        HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS
+               STEPPER_COLUMNS + HISTOGRAMS
     };
     const char *names[MOST];
     const char *units[MOST];
-    char wall_labels[3 * SCENE_MAX_WALLS][SCENE_NAME + 16];
+    /* the walls' labels, then the histograms' */
+    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

@@ -13,7 +13,9 @@
  *  - the quasi-static stepper: one link record per link of the sintering statistics, with
  *    their neck ratio mean;
  *  - a scene run: the last sample of series.csv has, for each wall, the force and the heat
- *    flow that the snapshot's wall contacts sum to;
+ *    flow that the snapshot's wall contacts sum to, and the coordination histogram of the
+ *    snapshot's pair contacts; a quasi-static run's neck ratio histogram counts the snapshot's
+ *    links in their bins;
  *  - taking snapshots does not change the run (bit for bit), a stale state and bad arguments
  *    are refused, and an allocation failure at any point leaks nothing.
  */
@@ -492,7 +494,8 @@ static const char *SCENE =
     "[wall x_high]\npoint = 0.0036 0 0\nnormal = -1 0 0\nmaterial = glass\n"
     "temperature = 300\n"
     "[force hertz_mindlin]\n[force gravity]\n[heat conduction]\n"
-    "[stepper]\ndt = 1e-5\nskin = 1e-4\nend_time = 0.03\n[output]\ninterval = 0.01\n";
+    "[stepper]\ndt = 1e-5\nskin = 1e-4\nend_time = 0.03\n[output]\ninterval = 0.01\n"
+    "distributions = yes\n";
 
 /* Column `name` of the last row of the CSV file at `path`. */
 static double last_value(const char *path, const char *name)
@@ -571,8 +574,102 @@ static void test_series_walls_match_contacts(void **state)
         snprintf(column, sizeof(column), "%s heat flow [W]", names[w]);
         assert_close(flow[w], last_value(path, column), 1e-12 * fabs(flow[0]) + 1e-300);
     }
+    /* the coordination histogram: particles by their number of pair contacts */
+    size_t n = 0;
+    sinter_particles *ps = NULL;
+    OK(sinter_scene_get_particles(sc, &ps));
+    OK(sinter_particles_count(ps, &n));
+    size_t *per = calloc(n, sizeof(size_t)), hist[14] = {0};
+    for (size_t q = 0; q < np; ++q) {
+        per[index_of(ps, ida[q])]++;
+        per[index_of(ps, idb[q])]++;
+    }
+    for (size_t i = 0; i < n; ++i)
+        hist[per[i] < 13 ? per[i] : 13]++;
+    double particles = 0.0, ends = 0.0;
+    for (size_t k = 0; k < 14; ++k) {
+        char column[64];
+        if (k < 13)
+            snprintf(column, sizeof(column), "coordination %zu [1]", k);
+        else
+            snprintf(column, sizeof(column), "coordination 13 or more [1]");
+        const double count = last_value(path, column);
+        assert_close(count, (double)hist[k], 0.0);
+        particles += count;
+        ends += (double)k * count;
+    }
+    assert_close(particles, (double)n, 0.0);
+    assert_close(ends, 2.0 * last_value(path, "contacts [1]"), 0.0);
+    assert_true(ends > 0.0);
+    free(per);
     assert_close(last_value(path, "time step [s]"), 1e-5, 0.0);
     assert_true(last_value(path, "neighbour rebuilds [1]") >= 1.0);
+    sinter_snapshot_destroy(snap);
+    sinter_scene_destroy(sc);
+    sinter_ctx_destroy(ctx);
+    char cmd[600];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* 27 copper spheres on a lattice sintered by the quasi-static stepper, with the histograms. */
+static const char *QS_SCENE =
+    "[scene]\nname = qs_lattice\nunits = SI\n"
+    "[material copper]\ndensity = 8960\nyoungs_modulus = 72e9\npoisson_ratio = 0.3\n"
+    "[particles]\nmethod = lattice\nmaterial = copper\nbox_min = 0 0 0\n"
+    "box_max = 0.000151 0.000151 0.000151\nradius = 25e-6\nspacing = 50e-6\n"
+    "temperature = 1293\n"
+    "[stepper]\nkind = quasistatic\ndt = 1e-6\nend_time = 200\n"
+    "[output]\ninterval = 100\nvtu = no\ndistributions = yes\n";
+
+/* The neck ratio histogram of series.csv: one count per link of the snapshot, in its bin. */
+static void test_neck_histogram_counts_links(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sinter_snapshot_XXXXXX", path[600], out[64];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof(path), "%s/qs.scene", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(QS_SCENE, f);
+    fclose(f);
+    snprintf(out, sizeof(out), "%s/out", dir);
+    sinter_ctx *ctx = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    sinter_scene *sc = NULL;
+    OK(sinter_scene_load(&sc, ctx, path));
+    OK(sinter_scene_run(sc, out, NULL, NULL));
+    sinter_stepper *st = NULL;
+    OK(sinter_scene_get_stepper(sc, &st));
+    sinter_snapshot *snap = NULL;
+    OK(sinter_snapshot_create(&snap, st));
+    size_t links = 0;
+    OK(sinter_snapshot_counts(snap, NULL, NULL, &links, NULL));
+    const void *data = NULL;
+    OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_NECK_RATIO, &data, NULL, NULL, NULL));
+    const double *ratio = data;
+    double bins[11] = {0};
+    for (size_t k = 0; k < links; ++k) {
+        const double b = floor(ratio[k] / 0.05);
+        bins[b >= 0 && b < 10 ? (size_t)b : 10] += 1.0;
+    }
+    snprintf(path, sizeof(path), "%s/series.csv", out);
+    assert_close(last_value(path, "links [1]"), (double)links, 0.0);
+    assert_true(links == 54);
+    double total = 0.0;
+    for (int k = 0; k <= 10; ++k) {
+        char column[64];
+        if (k < 10)
+            snprintf(column, sizeof(column), "neck ratio %.2f-%.2f [1]", 0.05 * k, 0.05 * (k + 1));
+        else
+            snprintf(column, sizeof(column), "neck ratio 0.50 or more [1]");
+        assert_close(last_value(path, column), bins[k], 0.0);
+        total += bins[k];
+    }
+    assert_close(total, (double)links, 0.0);
+    /* every particle of the lattice: 3 to 6 links */
+    assert_close(last_value(path, "coordination 3 [1]"), 8.0, 0.0);
+    assert_close(last_value(path, "coordination 6 [1]"), 1.0, 0.0);
     sinter_snapshot_destroy(snap);
     sinter_scene_destroy(sc);
     sinter_ctx_destroy(ctx);
@@ -592,6 +689,7 @@ int main(void)
         cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_links_match_statistics),
         cmocka_unit_test(test_series_walls_match_contacts),
+        cmocka_unit_test(test_neck_histogram_counts_links),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
