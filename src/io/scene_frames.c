@@ -64,7 +64,7 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
         if (st == SINTER_OK && sinter_snapshot_possible(sc->st))
             st = sinter_snapshot_create(&snap, sc->st);
         if (st == SINTER_OK)
-            st = sinter_vtp_write_contacts(ctx, path, snap, sc->ps);
+            st = sinter_vtp_write_contacts(ctx, path, snap, sc->ps, sc->vtu_binary);
         sinter_snapshot_destroy(snap);
     }
     if (st == SINTER_OK && extra_name(sc, 1, frame, rel)) {
@@ -72,7 +72,7 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
         wall_box(sc, lo, hi);
         st = sinter_path_join(ctx, path, sizeof(path), out_dir, rel);
         if (st == SINTER_OK)
-            st = sinter_vtp_write_walls(ctx, path, sc->walls, lo, hi);
+            st = sinter_vtp_write_walls(ctx, path, sc->walls, lo, hi, sc->vtu_binary);
     }
     return st;
 }

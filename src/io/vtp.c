@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "io/series.h"
+#include "io/vtk_arrays.h"
 #include "io/vtp.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
@@ -30,15 +31,16 @@ static size_t find(const id_index *table, size_t n, uint64_t id)
     return hit != NULL ? hit->index : SIZE_MAX;
 }
 
-static void header(FILE *fp, size_t points, size_t lines, size_t polys)
+static void header(FILE *fp, size_t points, size_t lines, size_t polys, int binary)
 {
+    /* binary arrays need version 1.0 for their UInt64 byte counts (as the .vtu frames) */
     fprintf(fp,
             "<?xml version=\"1.0\"?>\n"
-            "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+            "<VTKFile type=\"PolyData\" version=\"%s\" byte_order=\"LittleEndian\"%s>\n"
             "  <PolyData>\n"
             "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"%zu\" "
             "NumberOfStrips=\"0\" NumberOfPolys=\"%zu\">\n",
-            points, lines, polys);
+            binary ? "1.0" : "0.1", binary ? " header_type=\"UInt64\"" : "", points, lines, polys);
 }
 
 static void footer(FILE *fp)
@@ -49,61 +51,28 @@ static void footer(FILE *fp)
           fp);
 }
 
-/* A DataArray of n * components doubles. */
-static void doubles(FILE *fp, const char *name, const double *v, size_t n, size_t components)
+/* Offsets of cells of two points (lines), and of cells ending at the size_t offsets given. */
+static uint64_t line_offset_bits(const void *data, size_t i)
 {
-    fprintf(fp,
-            "        <DataArray type=\"Float64\" Name=\"%s\" NumberOfComponents=\"%zu\" "
-            "format=\"ascii\">\n",
-            name, components);
-    for (size_t k = 0; k < n * components; ++k) {
-        fputs(k % components == 0 ? "          " : " ", fp);
-        sinter_out_double(fp, v[k]);
-        if ((k + 1) % components == 0)
-            fputc('\n', fp);
-    }
-    fputs("        </DataArray>\n", fp);
+    (void)data;
+    return 2 * ((uint64_t)i + 1);
 }
 
-/* A DataArray of n integers, given as int64 by at(data, k). */
-static void integers(FILE *fp, const char *type, const char *name, const void *data,
-                     sinter_dtype dtype, size_t n)
+static uint64_t size_bits(const void *data, size_t i)
 {
-    fprintf(fp, "        <DataArray type=\"%s\" Name=\"%s\" format=\"ascii\">\n", type, name);
-    for (size_t k = 0; k < n; ++k) {
-        if (dtype == SINTER_DTYPE_UINT64)
-            fprintf(fp, "%s%llu", k % 8 == 0 ? "          " : " ",
-                    (unsigned long long)((const uint64_t *)data)[k]);
-        else
-            fprintf(fp, "%s%ld", k % 8 == 0 ? "          " : " ", (long)((const int32_t *)data)[k]);
-        if (k % 8 == 7 || k + 1 == n)
-            fputc('\n', fp);
-    }
-    fputs("        </DataArray>\n", fp);
+    return (uint64_t)((const size_t *)data)[i];
 }
 
-/* Connectivity 0 .. points-1 with `per` points a cell (or the offsets `offsets`). */
+/* The cells' connectivity (0 .. points-1 in order) and offsets (`offsets`, or two points a
+ * cell when NULL). */
 static void cells(FILE *fp, const char *element, size_t points, size_t count, const size_t *offsets,
-                  size_t per)
+                  int binary)
 {
-    fprintf(fp,
-            "      <%s>\n"
-            "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n",
-            element);
-    for (size_t k = 0; k < points; ++k)
-        fprintf(fp, "%s%zu%s", k % 8 == 0 ? "          " : " ", k,
-                k % 8 == 7 || k + 1 == points ? "\n" : "");
-    fputs("        </DataArray>\n"
-          "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n",
-          fp);
-    for (size_t k = 0; k < count; ++k)
-        fprintf(fp, "%s%zu%s", k % 8 == 0 ? "          " : " ",
-                offsets != NULL ? offsets[k] : per * (k + 1),
-                k % 8 == 7 || k + 1 == count ? "\n" : "");
-    fprintf(fp,
-            "        </DataArray>\n"
-            "      </%s>\n",
-            element);
+    fprintf(fp, "      <%s>\n", element);
+    sinter_vtk_ints(fp, "Int64", "connectivity", NULL, points, 8, sinter_vtk_index_bits, 0, binary);
+    sinter_vtk_ints(fp, "Int64", "offsets", offsets, count, 8,
+                    offsets != NULL ? size_bits : line_offset_bits, 0, binary);
+    fprintf(fp, "      </%s>\n", element);
 }
 
 static const char *const CONTACT_NAMES[SINTER_CONTACT_DATA_COUNT_] = {
@@ -115,7 +84,8 @@ static const char *const LINK_NAMES[SINTER_LINK_DATA_COUNT_] = {
     "age",  "phase", "sintering_force", "beam_force", "beam_moment"};
 
 /* The cell data: every array of the snapshot (contacts, or links). */
-static sinter_status cell_data(FILE *fp, const sinter_snapshot *snap, int links, size_t count)
+static sinter_status cell_data(FILE *fp, const sinter_snapshot *snap, int links, size_t count,
+                               int binary)
 {
     fputs("      <CellData>\n", fp);
     const int arrays = links ? SINTER_LINK_DATA_COUNT_ : SINTER_CONTACT_DATA_COUNT_;
@@ -133,16 +103,19 @@ static sinter_status cell_data(FILE *fp, const sinter_snapshot *snap, int links,
         if (n != count)
             continue;
         if (dtype == SINTER_DTYPE_DOUBLE)
-            doubles(fp, name, data, n, components);
+            sinter_vtk_doubles(fp, name, data, n, components, binary);
+        else if (dtype == SINTER_DTYPE_UINT64)
+            sinter_vtk_ints(fp, "UInt64", name, data, n, 8, sinter_vtk_uint64_bits, 0, binary);
         else
-            integers(fp, dtype == SINTER_DTYPE_UINT64 ? "UInt64" : "Int32", name, data, dtype, n);
+            sinter_vtk_ints(fp, "Int32", name, data, n, 4, sinter_vtk_int32_bits, 1, binary);
     }
     fputs("      </CellData>\n", fp);
     return SINTER_OK;
 }
 
 sinter_status sinter_vtp_write_contacts(sinter_ctx *ctx, const char *path,
-                                        const sinter_snapshot *snap, const sinter_particles *ps)
+                                        const sinter_snapshot *snap, const sinter_particles *ps,
+                                        int binary)
 {
     static const char *const fn = "sinter_vtp_write_contacts";
     size_t pairs = 0, walls = 0, links = 0;
@@ -198,13 +171,13 @@ sinter_status sinter_vtp_write_contacts(sinter_ctx *ctx, const char *path,
         sinter_free(ctx, points);
         return st;
     }
-    header(out.fp, 2 * count, count, 0);
+    header(out.fp, 2 * count, count, 0, binary);
     fputs("      <Points>\n", out.fp);
-    doubles(out.fp, "points", points, 2 * count, 3);
+    sinter_vtk_doubles(out.fp, "points", points, 2 * count, 3, binary);
     fputs("      </Points>\n", out.fp);
     sinter_free(ctx, points);
-    cells(out.fp, "Lines", 2 * count, count, NULL, 2);
-    st = cell_data(out.fp, snap, as_links, count);
+    cells(out.fp, "Lines", 2 * count, count, NULL, binary);
+    st = cell_data(out.fp, snap, as_links, count, binary);
     footer(out.fp);
     return sinter_out_close(&out, st);
 }
@@ -281,7 +254,7 @@ static int clip_plane(const double p[3], const double n[3], const double lo[3], 
 }
 
 sinter_status sinter_vtp_write_walls(sinter_ctx *ctx, const char *path, const sinter_walls *walls,
-                                     const double lo[3], const double hi[3])
+                                     const double lo[3], const double hi[3], int binary)
 {
     static const char *const fn = "sinter_vtp_write_walls";
     const size_t nw = walls != NULL ? walls->count : 0;
@@ -314,16 +287,16 @@ sinter_status sinter_vtp_write_walls(sinter_ctx *ctx, const char *path, const si
     if (st == SINTER_OK)
         st = sinter_out_open(&out, ctx, fn, path);
     if (st == SINTER_OK) {
-        header(out.fp, npoints, 0, polys);
+        header(out.fp, npoints, 0, polys, binary);
         fputs("      <Points>\n", out.fp);
-        doubles(out.fp, "points", points, npoints, 3);
+        sinter_vtk_doubles(out.fp, "points", points, npoints, 3, binary);
         fputs("      </Points>\n", out.fp);
-        cells(out.fp, "Polys", npoints, polys, offsets, 0);
+        cells(out.fp, "Polys", npoints, polys, offsets, binary);
         fputs("      <CellData>\n", out.fp);
-        integers(out.fp, "Int32", "wall", index, SINTER_DTYPE_INT32, polys);
-        doubles(out.fp, "normal", normal, polys, 3);
-        doubles(out.fp, "force", force, polys, 3);
-        doubles(out.fp, "temperature", temperature, polys, 1);
+        sinter_vtk_ints(out.fp, "Int32", "wall", index, polys, 4, sinter_vtk_int32_bits, 1, binary);
+        sinter_vtk_doubles(out.fp, "normal", normal, polys, 3, binary);
+        sinter_vtk_doubles(out.fp, "force", force, polys, 3, binary);
+        sinter_vtk_doubles(out.fp, "temperature", temperature, polys, 1, binary);
         fputs("      </CellData>\n", out.fp);
         footer(out.fp);
         st = sinter_out_close(&out, SINTER_OK);

@@ -1,6 +1,8 @@
 """Snapshots of contacts and links from Python: NumPy arrays or memoryviews, copied."""
 
+import base64
 import os
+import struct
 import tempfile
 import unittest
 import xml.etree.ElementTree as ET
@@ -140,9 +142,28 @@ class FrameFilesTest(unittest.TestCase):
     and one of polygons (one per wall), well-formed, listed in the .pvd as parts 1 and 2."""
 
     def test_contacts_and_walls_files(self):
+        for vtu_format in ("binary", "ascii"):
+            with self.subTest(vtu_format=vtu_format):
+                self.check_files(vtu_format)
+
+    @staticmethod
+    def values(array):
+        """The numbers of a DataArray, ascii or inline binary (base64, UInt64 byte count)."""
+        if array.get("format") == "ascii":
+            kind = float if array.get("type").startswith("Float") else int
+            return [kind(v) for v in (array.text or "").split()]
+        text = "".join((array.text or "").split())
+        size = int.from_bytes(base64.b64decode(text[:12]), "little")
+        data = base64.b64decode(text[12:])
+        assert len(data) == size, (len(data), size)
+        code = {"Float64": "d", "Int64": "q", "UInt64": "Q", "Int32": "i"}[array.get("type")]
+        return list(struct.unpack("<%d%s" % (size // struct.calcsize(code), code), data))
+
+    def check_files(self, vtu_format):
         tmp = tempfile.TemporaryDirectory()
         self.addCleanup(tmp.cleanup)
-        text = DROP_SCENE.replace("vtu = no", "vtu = yes\ncontacts = yes\nwalls = yes").replace(
+        text = DROP_SCENE.replace("vtu = no", "vtu = yes\ncontacts = yes\nwalls = yes\n"
+                                  "vtu_format = " + vtu_format).replace(
             "end_time = 0.01", "end_time = 0.03")  # landed on the floor
         self.assertIn("contacts = yes", text)
         path = write_scene(tmp.name, text)
@@ -152,6 +173,7 @@ class FrameFilesTest(unittest.TestCase):
         with sinter.Scene.load(ctx, path) as scene:
             scene.run(out)
             snap = scene.stepper.snapshot()
+        values = self.values
         frames = sorted(os.listdir(os.path.join(out, "frames")))
         contacts = [f for f in frames if f.startswith("contacts_")]
         walls = [f for f in frames if f.startswith("walls_")]
@@ -166,31 +188,29 @@ class FrameFilesTest(unittest.TestCase):
         self.assertEqual(lines, snap.pair_contacts + snap.wall_contacts)
         self.assertGreater(snap.wall_contacts, 0)
         self.assertEqual(int(piece.get("NumberOfPoints")), 2 * lines)
-
-        def values(array):
-            return (array.text or "").split()
-
         points = piece.find("Points/DataArray")
         self.assertEqual(len(values(points)), 3 * 2 * lines)
         connectivity = piece.find("Lines/DataArray[@Name='connectivity']")
         offsets = piece.find("Lines/DataArray[@Name='offsets']")
-        self.assertEqual([int(v) for v in values(connectivity)], list(range(2 * lines)))
-        self.assertEqual([int(v) for v in values(offsets)], [2 * (k + 1) for k in range(lines)])
+        self.assertEqual(values(connectivity), list(range(2 * lines)))
+        self.assertEqual(values(offsets), [2 * (k + 1) for k in range(lines)])
         arrays = {a.get("Name"): a for a in piece.find("CellData")}
         self.assertEqual(set(arrays), set(snapshot_module.CONTACT_DATA))
         for name, array in arrays.items():
             components = int(array.get("NumberOfComponents", "1"))
             self.assertEqual(len(values(array)), lines * components, name)
-        force = [float(v) for v in values(arrays["normal_force"])]
-        self.assertEqual(force, [float(v) for v in as_lists(snap.contacts["normal_force"])])
+        self.assertEqual(values(arrays["normal_force"]),
+                         [float(v) for v in as_lists(snap.contacts["normal_force"])])
+        self.assertEqual(values(arrays["id_a"]), [int(v) for v in as_lists(snap.contacts["id_a"])])
         # the walls: one polygon (the floor) clipped to the particles' box, in its plane
         tree = ET.parse(os.path.join(out, "frames", walls[-1]))
         piece = tree.find("PolyData/Piece")
         self.assertEqual(int(piece.get("NumberOfPolys")), 1)
-        corners = [float(v) for v in values(piece.find("Points/DataArray"))]
-        self.assertEqual(len(corners), 3 * int(piece.get("NumberOfPoints")))
+        corners = values(piece.find("Points/DataArray"))
         self.assertEqual(int(piece.get("NumberOfPoints")), 4)
+        self.assertEqual(len(corners), 3 * 4)
         self.assertEqual(corners[2::3], [0.0] * 4)  # z = 0: the floor's plane
+        self.assertEqual(values(piece.find("Polys/DataArray[@Name='offsets']")), [4])
         # the collection: each time three parts
         pvd = [d.attrib for d in ET.parse(os.path.join(out, "drop.pvd")).iter("DataSet")]
         self.assertEqual(len(pvd), 3 * len(particles))
