@@ -519,28 +519,55 @@ static double last_value(const char *path, const char *name)
     return strtod(p, NULL);
 }
 
+/* A scene file's text run in a fresh directory, and its snapshot at the end. */
+typedef struct ran {
+    char dir[32];
+    char csv[128]; /* its series.csv */
+    sinter_ctx *ctx;
+    sinter_scene *sc;
+    sinter_snapshot *snap;
+} ran;
+
+static void run_text(ran *r, const char *text)
+{
+    char path[96], out[64];
+    snprintf(r->dir, sizeof(r->dir), "/tmp/sinter_snapshot_XXXXXX");
+    assert_non_null(mkdtemp(r->dir));
+    snprintf(path, sizeof(path), "%s/run.scene", r->dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    snprintf(out, sizeof(out), "%s/out", r->dir);
+    snprintf(r->csv, sizeof(r->csv), "%s/series.csv", out);
+    OK(sinter_ctx_create(&r->ctx, NULL));
+    OK(sinter_scene_load(&r->sc, r->ctx, path));
+    OK(sinter_scene_run(r->sc, out, NULL, NULL));
+    sinter_stepper *st = NULL;
+    OK(sinter_scene_get_stepper(r->sc, &st));
+    OK(sinter_snapshot_create(&r->snap, st));
+}
+
+static void ran_close(ran *r)
+{
+    sinter_snapshot_destroy(r->snap);
+    sinter_scene_destroy(r->sc);
+    sinter_ctx_destroy(r->ctx);
+    char cmd[96];
+    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", r->dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 static void test_series_walls_match_contacts(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/sinter_snapshot_XXXXXX", path[600], out[64];
-    assert_non_null(mkdtemp(dir));
-    snprintf(path, sizeof(path), "%s/box.scene", dir);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(SCENE, f);
-    fclose(f);
-    snprintf(out, sizeof(out), "%s/out", dir);
-    sinter_ctx *ctx = NULL;
-    OK(sinter_ctx_create(&ctx, NULL));
-    sinter_scene *sc = NULL;
-    OK(sinter_scene_load(&sc, ctx, path));
-    OK(sinter_scene_run(sc, out, NULL, NULL));
-    sinter_stepper *st = NULL;
+    ran r;
+    run_text(&r, SCENE);
+    sinter_scene *sc = r.sc;
+    sinter_snapshot *snap = r.snap;
+    const char *path = r.csv;
     sinter_walls *walls = NULL;
-    OK(sinter_scene_get_stepper(sc, &st));
     OK(sinter_scene_get_walls(sc, &walls));
-    sinter_snapshot *snap = NULL;
-    OK(sinter_snapshot_create(&snap, st));
     size_t np = 0, nw = 0;
     OK(sinter_snapshot_counts(snap, &np, &nw, NULL, NULL));
     assert_true(nw > 0);
@@ -562,7 +589,6 @@ static void test_series_walls_match_contacts(void **state)
             f_on_wall[0] * n_wall[0] + f_on_wall[1] * n_wall[1] + f_on_wall[2] * n_wall[2];
         flow[wall[q]] += heat[q];
     }
-    snprintf(path, sizeof(path), "%s/series.csv", out);
     const char *names[3] = {"floor", "x_low", "x_high"};
     const double weight = last_value(path, "floor force [N]");
     assert_true(weight > 0.0);
@@ -604,12 +630,7 @@ static void test_series_walls_match_contacts(void **state)
     free(per);
     assert_close(last_value(path, "time step [s]"), 1e-5, 0.0);
     assert_true(last_value(path, "neighbour rebuilds [1]") >= 1.0);
-    sinter_snapshot_destroy(snap);
-    sinter_scene_destroy(sc);
-    sinter_ctx_destroy(ctx);
-    char cmd[600];
-    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    ran_close(&r);
 }
 
 /* 27 copper spheres on a lattice sintered by the quasi-static stepper, with the histograms. */
@@ -626,23 +647,10 @@ static const char *QS_SCENE =
 static void test_neck_histogram_counts_links(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/sinter_snapshot_XXXXXX", path[600], out[64];
-    assert_non_null(mkdtemp(dir));
-    snprintf(path, sizeof(path), "%s/qs.scene", dir);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(QS_SCENE, f);
-    fclose(f);
-    snprintf(out, sizeof(out), "%s/out", dir);
-    sinter_ctx *ctx = NULL;
-    OK(sinter_ctx_create(&ctx, NULL));
-    sinter_scene *sc = NULL;
-    OK(sinter_scene_load(&sc, ctx, path));
-    OK(sinter_scene_run(sc, out, NULL, NULL));
-    sinter_stepper *st = NULL;
-    OK(sinter_scene_get_stepper(sc, &st));
-    sinter_snapshot *snap = NULL;
-    OK(sinter_snapshot_create(&snap, st));
+    ran r;
+    run_text(&r, QS_SCENE);
+    sinter_snapshot *snap = r.snap;
+    const char *path = r.csv;
     size_t links = 0;
     OK(sinter_snapshot_counts(snap, NULL, NULL, &links, NULL));
     const void *data = NULL;
@@ -653,7 +661,6 @@ static void test_neck_histogram_counts_links(void **state)
         const double b = floor(ratio[k] / 0.05);
         bins[b >= 0 && b < 10 ? (size_t)b : 10] += 1.0;
     }
-    snprintf(path, sizeof(path), "%s/series.csv", out);
     assert_close(last_value(path, "links [1]"), (double)links, 0.0);
     assert_true(links == 54);
     double total = 0.0;
@@ -670,12 +677,7 @@ static void test_neck_histogram_counts_links(void **state)
     /* every particle of the lattice: 3 to 6 links */
     assert_close(last_value(path, "coordination 3 [1]"), 8.0, 0.0);
     assert_close(last_value(path, "coordination 6 [1]"), 1.0, 0.0);
-    sinter_snapshot_destroy(snap);
-    sinter_scene_destroy(sc);
-    sinter_ctx_destroy(ctx);
-    char cmd[600];
-    snprintf(cmd, sizeof(cmd), "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    ran_close(&r);
 }
 
 int main(void)
