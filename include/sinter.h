@@ -1204,6 +1204,105 @@ SINTER_API sinter_status sinter_stepper_sintering_stats(const sinter_stepper *st
                                                         sinter_sintering_stats *stats);
 
 /* ------------------------------------------------------------------------ */
+/* Snapshots: the contacts and links of a state                              */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * A copy of the contacts (particle-particle, then particle-wall) and of the quasi-static links
+ * of a stepper's current state, with what each carries, taken by sinter_snapshot_create. It
+ * owns its arrays and stays valid after the stepper moves on or is destroyed. Nothing is
+ * recorded while the stepper steps: the snapshot forms every quantity again from the state,
+ * the contact lists and the committed history when it is taken, so a run that takes none
+ * costs nothing and gives the same bits.
+ */
+typedef struct sinter_snapshot sinter_snapshot;
+
+/**
+ * Per-contact arrays of a snapshot: count = pair contacts + wall contacts, pair contacts
+ * first. Values are pinned; new ones are appended.
+ */
+typedef enum sinter_contact_data {
+    SINTER_CONTACT_DATA_ID_A = 0,   /**< persistent id of particle a, 1 uint64 */
+    SINTER_CONTACT_DATA_ID_B = 1,   /**< id of particle b; UINT64_MAX for a wall contact, 1 uint64 */
+    SINTER_CONTACT_DATA_WALL = 2,   /**< wall index, -1 for a particle pair, 1 int32 */
+    SINTER_CONTACT_DATA_NORMAL = 3, /**< unit normal from a towards b (towards the wall) [-], 3 doubles */
+    SINTER_CONTACT_DATA_OVERLAP = 4, /**< overlap delta = r_a + r_b - d, or r_a - distance to the plane [m] */
+    SINTER_CONTACT_DATA_RADIUS = 5, /**< contact radius a = sqrt(A / pi) [m] */
+    SINTER_CONTACT_DATA_AREA = 6,   /**< contact area A (seed 000 eq. 11, seed 003 eq. 34) [m^2] */
+    SINTER_CONTACT_DATA_NORMAL_FORCE = 7, /**< normal force, > 0 compressive: -F_a . n [N] */
+    SINTER_CONTACT_DATA_TANGENTIAL_FORCE = 8, /**< tangential part of F_a, the contact force on a [N], 3 doubles */
+    SINTER_CONTACT_DATA_HEAT_FLOW = 9, /**< conductive heat flow into a from b or the wall [W] (-Q for b) */
+    SINTER_CONTACT_DATA_CURRENT = 10, /**< electric current from a to b or the wall [A]; NaN where the
+                                      electric model defines no contact current ("averaged") */
+    SINTER_CONTACT_DATA_COUNT_ = 11 /**< number of quantities in this version (not one) */
+} sinter_contact_data;
+
+/** Per-link arrays of a snapshot (quasi-static stepper). Values are pinned; new ones are appended. */
+typedef enum sinter_link_data {
+    SINTER_LINK_DATA_ID_A = 0,        /**< persistent id of particle A, 1 uint64 */
+    SINTER_LINK_DATA_ID_B = 1,        /**< persistent id of particle B, 1 uint64 */
+    SINTER_LINK_DATA_NECK_RADIUS = 2, /**< neck radius x = y1 (docs/7dof.md) [m] */
+    SINTER_LINK_DATA_NECK_RATIO = 3,  /**< x / min(r_A, r_B), the smaller particle radius (as neck_ratio_mean) [-] */
+    SINTER_LINK_DATA_APPROACH = 4,    /**< centre approach L0 - (y4 + y7) (seed 001 eq. 11, 13) [m] */
+    SINTER_LINK_DATA_AGE = 5,         /**< time of the neck state minus its time of birth [s]; NaN
+                                      (links do not record their birth yet) */
+    SINTER_LINK_DATA_PHASE = 6,       /**< neck phase at the pair's mean temperature (0, 1 hot), 1 int32 */
+    SINTER_LINK_DATA_SINTERING_FORCE = 7, /**< sintering force of the last step, seed 001 eq. 17, > 0
+                                          pulls the pair together [N] */
+    SINTER_LINK_DATA_BEAM_FORCE = 8,  /**< link force K_F eps of the last step's solve (seed 001 eq. 32-34a,
+                                      the increment of that step, global components) [N], 3 doubles;
+                                      NaN before a step of this run (after a restart) */
+    SINTER_LINK_DATA_BEAM_MOMENT = 9, /**< link moment K_M gamma of that solve (eq. 34b) [N m], 3 doubles */
+    SINTER_LINK_DATA_COUNT_ = 10 /**< number of quantities in this version (not one) */
+} sinter_link_data;
+
+/**
+ * Take a snapshot of the stepper's current state. Valid from the moment a step or an advance
+ * returned (successfully or not: the state is then the last accepted one) until the particles
+ * are written, added, removed or sorted, or the stepper steps again; before the first step
+ * and after such a change it is refused with SINTER_ERR_STATE (call sinter_stepper_step with
+ * n = 0 or sinter_stepper_advance to the current time, which evaluate the state). The stepper
+ * is not changed.
+ *
+ * Contact forces are those of the stepper's force models with contacts, evaluated again on the
+ * state: the tangential springs are the committed ones, and for the explicit stepper the
+ * velocities those its last evaluation saw (half a step back, v - h F / 2 m), so that they sum
+ * to the wall reactions (sinter_walls_get_force) and the particles' forces to round-off. Heat
+ * flows are those of the conduction models, currents those of a "network" electric model. A
+ * quasi-static stepper has no contacts, only links.
+ * @param out      receives the snapshot (owned: sinter_snapshot_destroy).
+ * @param stepper  borrowed, not changed.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STATE, SINTER_ERR_NOMEM, and the errors of the models.
+ */
+SINTER_API sinter_status sinter_snapshot_create(sinter_snapshot **out,
+                                                const sinter_stepper *stepper);
+/** Destroy a snapshot (NULL is allowed); the arrays it lent become invalid. */
+SINTER_API void sinter_snapshot_destroy(sinter_snapshot *snapshot);
+/**
+ * Sizes of a snapshot: particle-particle contacts, particle-wall contacts and links (any
+ * pointer may be NULL), and the stepper's time when it was taken [s] (may be NULL).
+ * Errors: SINTER_ERR_NULL.
+ */
+SINTER_API sinter_status sinter_snapshot_counts(const sinter_snapshot *snapshot,
+                                                size_t *pair_contacts, size_t *wall_contacts,
+                                                size_t *links, double *time);
+/**
+ * Borrow one per-contact array (valid until the snapshot is destroyed; read-only): count
+ * records (pair contacts then wall contacts) of `components` elements of type `dtype`,
+ * record-major. Any of count, components, dtype may be NULL; *data is NULL when count is 0.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE (unknown quantity).
+ */
+SINTER_API sinter_status sinter_snapshot_contacts(const sinter_snapshot *snapshot,
+                                                  sinter_contact_data quantity,
+                                                  const void **data, size_t *count,
+                                                  size_t *components, sinter_dtype *dtype);
+/** Borrow one per-link array, as sinter_snapshot_contacts. Errors: as there. */
+SINTER_API sinter_status sinter_snapshot_links(const sinter_snapshot *snapshot,
+                                               sinter_link_data quantity, const void **data,
+                                               size_t *count, size_t *components,
+                                               sinter_dtype *dtype);
+
+/* ------------------------------------------------------------------------ */
 /* Packing helpers                                                           */
 /* ------------------------------------------------------------------------ */
 

@@ -196,6 +196,33 @@ enum class radius_distribution : int {
     uniform = SINTER_RADII_UNIFORM,
     normal = SINTER_RADII_NORMAL,
 };
+/// Mirrors sinter_contact_data (the per-contact arrays of a snapshot).
+enum class contact_data : int {
+    id_a = SINTER_CONTACT_DATA_ID_A,
+    id_b = SINTER_CONTACT_DATA_ID_B,
+    wall = SINTER_CONTACT_DATA_WALL,
+    normal = SINTER_CONTACT_DATA_NORMAL,
+    overlap = SINTER_CONTACT_DATA_OVERLAP,
+    radius = SINTER_CONTACT_DATA_RADIUS,
+    area = SINTER_CONTACT_DATA_AREA,
+    normal_force = SINTER_CONTACT_DATA_NORMAL_FORCE,
+    tangential_force = SINTER_CONTACT_DATA_TANGENTIAL_FORCE,
+    heat_flow = SINTER_CONTACT_DATA_HEAT_FLOW,
+    current = SINTER_CONTACT_DATA_CURRENT,
+};
+/// Mirrors sinter_link_data (the per-link arrays of a snapshot, quasi-static stepper).
+enum class link_data : int {
+    id_a = SINTER_LINK_DATA_ID_A,
+    id_b = SINTER_LINK_DATA_ID_B,
+    neck_radius = SINTER_LINK_DATA_NECK_RADIUS,
+    neck_ratio = SINTER_LINK_DATA_NECK_RATIO,
+    approach = SINTER_LINK_DATA_APPROACH,
+    age = SINTER_LINK_DATA_AGE,
+    phase = SINTER_LINK_DATA_PHASE,
+    sintering_force = SINTER_LINK_DATA_SINTERING_FORCE,
+    beam_force = SINTER_LINK_DATA_BEAM_FORCE,
+    beam_moment = SINTER_LINK_DATA_BEAM_MOMENT,
+};
 
 /// Combine particle flags (sinter_particle_flag bits).
 constexpr particle_flag operator|(particle_flag a, particle_flag b) noexcept

@@ -720,6 +720,9 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
             return section_error(t, s, "vtu_format must be binary or ascii");
         sc->vtu_binary = strcmp(format, "binary") == 0;
     }
+    OPTIONAL(scene_get_bool(t, s, "contacts", &sc->write_contacts));
+    OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
+    OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));

@@ -39,6 +39,10 @@ struct sinter_scene {
     double output_interval;
     int write_vtu, write_csv, write_plot;
     int vtu_binary; /* frames' arrays as inline base64 binary (1, the default) or ascii */
+    /* beside each frame: the contacts (links) and the walls as .vtp (io/scene_frames.h) */
+    int write_contacts, write_walls;
+    /* histograms of the coordination number and the neck ratio in series.csv (scene_run.c) */
+    int write_distributions;
     double checkpoint_interval;
     /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
     scene_program program;

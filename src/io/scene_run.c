@@ -12,8 +12,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "contact/snapshot.h"
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
+#include "io/scene_frames.h"
 #include "io/scene.h"
 #include "io/vtu.h"
 
@@ -116,6 +118,123 @@ static size_t electric_column(const sinter_scene *sc)
            (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? SINTERING_COLUMNS : 0);
 }
 
+/*
+ * Columns after those (issue 37): with a conduction model, the heat flow from each wall into
+ * the particles; with the "network" electric model, the current from each wall into them;
+ * then the stepper's time step (the next one it proposes) and its counts so far (those a
+ * checkpoint carries).
+ */
+enum { STEPPER_COLUMNS = 3 };
+static const char *const STEPPER_NAMES[STEPPER_COLUMNS] = {"time step", "rejected steps",
+                                                           "neighbour rebuilds"};
+static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1"};
+
+static size_t wall_heat_column(const sinter_scene *sc)
+{
+    return electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
+}
+
+static size_t wall_current_column(const sinter_scene *sc)
+{
+    return wall_heat_column(sc) + (sinter_snapshot_conducts_heat(sc->st) ? sc->walls->count : 0);
+}
+
+static size_t stepper_column(const sinter_scene *sc)
+{
+    return wall_current_column(sc) +
+           (sinter_snapshot_conducts_current(sc->st) ? sc->walls->count : 0);
+}
+
+static size_t distribution_column(const sinter_scene *sc)
+{
+    return stepper_column(sc) + STEPPER_COLUMNS;
+}
+
+/*
+ * With [output] distributions = yes, after those (issue 37): how many particles have k contacts
+ * (k = 0 .. COORDINATION_MAX - 1, then COORDINATION_MAX or more; the quasi-static stepper's
+ * links), and for the quasi-static stepper how many links have a neck ratio in each bin of
+ * NECK_BIN (the last bin: NECK_BINS NECK_BIN or more). Each histogram sums to the particles or
+ * the links.
+ */
+enum { COORDINATION_MAX = 13, NECK_BINS = 10 };
+static const double NECK_BIN = 0.05;
+
+static size_t distribution_columns(const sinter_scene *sc)
+{
+    if (!sc->write_distributions)
+        return 0;
+    return COORDINATION_MAX + 1 + (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? NECK_BINS + 1 : 0);
+}
+
+static size_t distribution_column(const sinter_scene *sc);
+
+/* The histograms of the row (NaN where the contacts of the state are not known yet). */
+static void observe_distributions(const sinter_scene *sc, double *row)
+{
+    const size_t columns = distribution_columns(sc);
+    if (columns == 0)
+        return;
+    double *q = row + distribution_column(sc);
+    const sinter_particles *ps = sc->ps;
+    const int qs = sc->st->kind == SINTER_STEPPER_QUASISTATIC;
+    size_t links = 0;
+    const sinter_qs_link *link =
+        qs && sc->st->quasistatic ? sinter_qs_links(sc->st->quasistatic, &links) : NULL;
+    if (!qs && !sinter_snapshot_possible(sc->st)) {
+        for (size_t k = 0; k < columns; ++k)
+            q[k] = NAN;
+        return;
+    }
+    for (size_t k = 0; k < columns; ++k)
+        q[k] = 0.0;
+    uint32_t *count = sinter_calloc(sc->ctx, ps->count + 1, sizeof(uint32_t));
+    if (count == NULL) {
+        for (size_t k = 0; k < columns; ++k)
+            q[k] = NAN; /* out of memory: the sample says so */
+        return;
+    }
+    const sinter_contact_list *c = &sc->st->pp;
+    for (size_t k = 0; !qs && k < c->count; ++k) {
+        count[c->i[k]]++;
+        count[c->j[k]]++;
+    }
+    for (size_t k = 0; k < links; ++k) {
+        const uint32_t a = link[k].beam.a, b = link[k].beam.b;
+        if (a >= ps->count || b >= ps->count)
+            continue;
+        count[a]++;
+        count[b]++;
+        /* the neck ratio as the sintering statistics form it */
+        const double ratio = link[k].neck.y[SINTER_NECK_X] / fmin(ps->radius[a], ps->radius[b]);
+        const double bin = floor(ratio / NECK_BIN);
+        q[COORDINATION_MAX + 1 + (bin >= 0 && bin < NECK_BINS ? (size_t)bin : NECK_BINS)] += 1.0;
+    }
+    for (size_t i = 0; i < ps->count; ++i)
+        q[count[i] < COORDINATION_MAX ? count[i] : COORDINATION_MAX] += 1.0;
+    sinter_free(sc->ctx, count);
+}
+
+/* The wall flows and the stepper's columns of the row. */
+static void observe_flows(const sinter_scene *sc, double *row)
+{
+    const int heat = sinter_snapshot_conducts_heat(sc->st);
+    const int current = sinter_snapshot_conducts_current(sc->st);
+    if ((heat || current) &&
+        sinter_snapshot_wall_flows(sc->st, heat ? row + wall_heat_column(sc) : NULL,
+                                   current ? row + wall_current_column(sc) : NULL) != SINTER_OK)
+        for (size_t k = wall_heat_column(sc); k < stepper_column(sc); ++k)
+            row[k] = NAN; /* out of memory: the sample says so */
+    const sinter_stepper_stats *s = &sc->st->stats;
+    double *q = row + stepper_column(sc);
+    /* (not the staggered stepper's iterations: a checkpoint does not carry them, and a
+     * restarted run's series must be the straight run's) */
+    q[0] = sc->st->dt;
+    q[1] = (double)s->rejected;
+    q[2] = (double)s->neighbor_builds;
+    observe_distributions(sc, row);
+}
+
 static void observe(const sinter_scene *sc, double *row)
 {
     const sinter_particles *ps = sc->ps;
@@ -172,6 +291,7 @@ static void observe(const sinter_scene *sc, double *row)
             s.shrinkage[0],  s.shrinkage[1], s.shrinkage[2], s.relative_density};
         memcpy(q, v, sizeof(v));
     }
+    observe_flows(sc, row);
 }
 
 /*
@@ -214,30 +334,40 @@ static sinter_status write_collection(run_state *r)
     sinter_scene *sc = r->sc;
     sinter_ctx *ctx = sc->ctx;
     const scene_program *p = &sc->program;
-    char **files = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(char *));
-    double *times = sinter_calloc(ctx, (size_t)p->frames + 1, sizeof(double));
+    /* each frame: its particles, then its contacts and walls where written (parts 1, 2) */
+    const size_t most = (size_t)p->frames * (1 + SCENE_FRAME_EXTRAS) + 1;
+    char **files = sinter_calloc(ctx, most, sizeof(char *));
+    double *times = sinter_calloc(ctx, most, sizeof(double));
+    unsigned *parts = sinter_calloc(ctx, most, sizeof(unsigned));
     char rel[64], path[SINTER_PATH_SIZE];
-    sinter_status st = files && times ? SINTER_OK : sinter_last_status(ctx);
+    sinter_status st = files && times && parts ? SINTER_OK : sinter_last_status(ctx);
     size_t listed = 0;
     for (uint64_t k = 0; k < p->frames && st == SINTER_OK; ++k) {
         if (k < r->earlier && !r->present[k])
             continue;
-        snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
-        files[listed] = sinter_strdup(ctx, rel);
-        times[listed] = p->frame_times[k];
-        st = files[listed] != NULL ? SINTER_OK : sinter_last_status(ctx);
-        listed += st == SINTER_OK;
+        char extra[SCENE_FRAME_EXTRAS][64];
+        unsigned extra_parts[SCENE_FRAME_EXTRAS];
+        const size_t extras = scene_frame_extras_list(sc, r->out_dir, k, extra, extra_parts);
+        for (size_t e = 0; e <= extras && st == SINTER_OK; ++e) {
+            snprintf(rel, sizeof(rel), "frames/frame_%05llu.vtu", (unsigned long long)k);
+            files[listed] = sinter_strdup(ctx, e == 0 ? rel : extra[e - 1]);
+            times[listed] = p->frame_times[k];
+            parts[listed] = e == 0 ? 0u : extra_parts[e - 1];
+            st = files[listed] != NULL ? SINTER_OK : sinter_last_status(ctx);
+            listed += st == SINTER_OK;
+        }
     }
     char name[SCENE_NAME + 8];
     snprintf(name, sizeof(name), "%s.pvd", sc->name);
     if (st == SINTER_OK)
         st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, name);
     if (st == SINTER_OK)
-        st = sinter_write_pvd(ctx, path, listed, times, (const char *const *)files);
+        st = sinter_write_pvd_parts(ctx, path, listed, times, (const char *const *)files, parts);
     for (size_t k = 0; files != NULL && k < listed; ++k)
         sinter_free(ctx, files[k]);
     sinter_free(ctx, files);
     sinter_free(ctx, times);
+    sinter_free(ctx, parts);
     return st;
 }
 
@@ -278,6 +408,8 @@ static sinter_status write_frame(run_state *r)
     st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
+    if (st == SINTER_OK)
+        st = scene_frame_extras_write(sc, r->out_dir, sc->program.frames);
     if (st == SINTER_OK)
         st = scene_program_add_frame(ctx, &sc->program, sc->st->time);
     return st == SINTER_OK ? write_collection(r) : st;
@@ -443,7 +575,39 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[electric_column(sc) + 1] = "max particle current";
         units[electric_column(sc)] = units[electric_column(sc) + 1] = "A";
     }
-    return electric_column(sc) + (sc->electric != NULL ? ELECTRIC_COLUMNS : 0);
+    for (size_t k = 0; sinter_snapshot_conducts_heat(sc->st) && k < nw; ++k) {
+        snprintf(wall_labels[nw + k], sizeof(wall_labels[nw + k]), "%s heat flow",
+                 sc->wall_names[k]);
+        names[wall_heat_column(sc) + k] = wall_labels[nw + k];
+        units[wall_heat_column(sc) + k] = "W";
+    }
+    for (size_t k = 0; sinter_snapshot_conducts_current(sc->st) && k < nw; ++k) {
+        snprintf(wall_labels[2 * nw + k], sizeof(wall_labels[2 * nw + k]), "%s current",
+                 sc->wall_names[k]);
+        names[wall_current_column(sc) + k] = wall_labels[2 * nw + k];
+        units[wall_current_column(sc) + k] = "A";
+    }
+    for (size_t k = 0; k < STEPPER_COLUMNS; ++k) {
+        names[stepper_column(sc) + k] = STEPPER_NAMES[k];
+        units[stepper_column(sc) + k] = STEPPER_UNITS[k];
+    }
+    for (size_t k = 0; k < distribution_columns(sc); ++k) {
+        char *label = wall_labels[3 * nw + k];
+        const size_t size = sizeof(wall_labels[0]);
+        if (k < COORDINATION_MAX)
+            snprintf(label, size, "coordination %zu", k);
+        else if (k == COORDINATION_MAX)
+            snprintf(label, size, "coordination %d or more", COORDINATION_MAX);
+        else if (k - COORDINATION_MAX - 1 < NECK_BINS)
+            snprintf(label, size, "neck ratio %.2f-%.2f",
+                     NECK_BIN * (double)(k - COORDINATION_MAX - 1),
+                     NECK_BIN * (double)(k - COORDINATION_MAX));
+        else
+            snprintf(label, size, "neck ratio %.2f or more", NECK_BIN * NECK_BINS);
+        names[distribution_column(sc) + k] = label;
+        units[distribution_column(sc) + k] = "1";
+    }
+    return distribution_column(sc) + distribution_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -480,9 +644,15 @@ static sinter_status open_output(run_state *r)
         st = sinter_path_join(ctx, path, sizeof(path), r->out_dir, rel);
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
-    const char *names[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
-    const char *units[COL_FIXED_ + SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS];
-    char wall_labels[SCENE_MAX_WALLS][SCENE_NAME + 16];
+    enum {
+        HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
+        MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
+               STEPPER_COLUMNS + HISTOGRAMS
+    };
+    const char *names[MOST];
+    const char *units[MOST];
+    /* the walls' labels, then the histograms' */
+    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

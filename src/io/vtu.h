@@ -10,4 +10,10 @@
 sinter_status sinter_write_vtu_as(const sinter_particles *ps, const char *path,
                                   const sinter_vtu_array *extra, size_t extra_count, int binary);
 
+/* sinter_write_pvd with the part of each entry (parts NULL: all 0): the files of one
+ * timestep's parts (particles 0, contacts 1, walls 2) are listed with the same time. */
+sinter_status sinter_write_pvd_parts(sinter_ctx *ctx, const char *path, size_t count,
+                                     const double *times, const char *const *files,
+                                     const unsigned *parts);
+
 #endif

@@ -534,6 +534,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         return s;
     const double t0 = sinter_clock();
     st->stats.evaluations++;
+    st->eval_lag = 0.0;
     /* a lean list whose only contact model tests its contacts itself: the search checks
      * only the pairs out of contact, the law the contacts (issue 9) */
     int deferred = 0;
@@ -928,6 +929,7 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
         s = sinter_explicit_step(st, h);
         sinter_thread_choice_end(st, sinter_clock() - clock_start, s == SINTER_OK);
         *taken = h;
+        st->eval_lag = s == SINTER_OK ? 0.5 * h : 0.0;
     }
     if (s != SINTER_OK) {
         settle_after_failure(st);

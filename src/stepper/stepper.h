@@ -122,6 +122,10 @@ struct sinter_stepper {
     sinter_staggered staggered;             /* SINTER_STEPPER_STAGGERED only */
     struct sinter_qs *quasistatic;         /* SINTER_STEPPER_QUASISTATIC: links and necks */
     sinter_qs_options quasistatic_options; /* copied into it on the first step */
+    /* how far the velocities the last evaluation saw lag behind the set's: h / 2 after an
+     * explicit step (its force read the half-step velocities), 0 after any other evaluation
+     * (read by sinter_snapshot_create only) [s] */
+    double eval_lag;
     double *furnace;      /* sinter_stepper_set_furnace: times, then temperatures */
     size_t furnace_count; /* points (0: no furnace) */
     /* issue 35 (stable_step.c, sanity.c criterion 4), explicit stepper only */

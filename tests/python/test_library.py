@@ -163,6 +163,8 @@ class CoverageTest(unittest.TestCase):
             "sinter_radius_distribution": (sinter.RadiusDistribution, "SINTER_RADII_"),
             "sinter_callback_result": (sinter.CallbackResult, "SINTER_CALLBACK_"),
             "sinter_contact_kind": (sinter.ContactKind, "SINTER_CONTACT_"),
+            "sinter_contact_data": (sinter.snapshot.ContactData, "SINTER_CONTACT_DATA_"),
+            "sinter_link_data": (sinter.snapshot.LinkData, "SINTER_LINK_DATA_"),
         }
         declared = set(re.findall(r"typedef enum (\w+) \{", code))
         self.assertEqual(declared - set(pairs), set(), "give these C enums a Python enum")

@@ -44,7 +44,11 @@ class SceneTest(unittest.TestCase):
             with open(os.path.join(self.out(), "series.csv")) as series:
                 rows = list(csv.reader(series))
             self.assertEqual(rows[0][0], "time [s]")
-            self.assertEqual(rows[0][-1], "floor force [N]")
+            self.assertEqual(rows[0][8], "floor force [N]")
+            # then the stepper's columns: its time step, rejected steps and neighbour rebuilds
+            self.assertEqual(rows[0][-3:], ["time step [s]", "rejected steps [1]",
+                                            "neighbour rebuilds [1]"])
+            self.assertGreater(float(rows[-1][-1]), 0)
             self.assertEqual(float(rows[-1][0]), 0.01)
             kinetic = [float(row[1]) for row in rows[1:]]
             self.assertLess(kinetic[-1], 0.1 * max(kinetic))  # landed, damped

@@ -34,6 +34,7 @@ SeriesPtr = _opaque("sinter_series")
 HeatModelPtr = _opaque("sinter_heat_model")
 NeckModelPtr = _opaque("sinter_neck_model")
 ElectricModelPtr = _opaque("sinter_electric_model")
+SnapshotPtr = _opaque("sinter_snapshot")
 
 _P = ctypes.POINTER
 _str = ctypes.c_char_p
@@ -343,6 +344,15 @@ SIGNATURES = {
     "sinter_neck_get_stats": (c_status, [NeckModelPtr, _P(NeckStats)]),
     # packing helpers
     "sinter_stepper_sintering_stats": (c_status, [StepperPtr, _P(SinteringStats)]),
+    # snapshots
+    "sinter_snapshot_create": (c_status, [_P(SnapshotPtr), StepperPtr]),
+    "sinter_snapshot_destroy": (None, [SnapshotPtr]),
+    "sinter_snapshot_counts": (
+        c_status, [SnapshotPtr, _P(_size), _P(_size), _P(_size), _P(_double)]),
+    "sinter_snapshot_contacts": (
+        c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
+    "sinter_snapshot_links": (
+        c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
     "sinter_pack_lattice": (

@@ -546,6 +546,14 @@ class Stepper(_Handle):
         return StepperStats(**{name: getattr(stats, name) for name in names
                                if hasattr(_CStats, name)})
 
+    def snapshot(self) -> "Any":
+        """The contacts (and quasi-static links) of the current state with their forces, heat
+        flows and currents: a sinter.snapshot.Snapshot of copied arrays. Valid after a step or
+        an advance until the particles are written, added, removed or sorted; otherwise a
+        SinterError with status ERR_STATE (step(0) evaluates the state again)."""
+        from . import snapshot
+        return snapshot.take(self)
+
     def stable_dt_thermal(self) -> float:
         """Largest stable explicit thermal step in the current contact state [s] (inf if none)."""
         dt = ctypes.c_double()
