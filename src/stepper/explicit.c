@@ -26,7 +26,7 @@ sinter_status sinter_explicit_reserve(sinter_stepper *st)
         double *grown = sinter_realloc_array(st->ctx, st->spare[k], 3 * cap + 1, sizeof(double));
         if (grown == NULL)
             return sinter_last_status(st->ctx); /* the ones grown so far are grown again */
-        if (k < 3 || st->rotation) /* the ones the steps write: touched here, once */
+        if (k < 3 || st->rotation)              /* the ones the steps write: touched here, once */
             memset(grown, 0, (3 * cap + 1) * sizeof(double));
         st->spare[k] = grown;
     }
@@ -148,10 +148,19 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
-    const sinter_verlet_arrays arrays = {
-        .x = ps->x, .v = ps->v, .w = ps->w, .rot = ps->rot, .f = ps->force, .tq = ps->torque,
-        .m = ps->mass, .j = ps->inertia, .x0 = st->nb.x_ref, .nx = st->spare[0],
-        .nv = st->spare[1], .nw = st->spare[2], .nrot = st->spare[3]};
+    const sinter_verlet_arrays arrays = {.x = ps->x,
+                                         .v = ps->v,
+                                         .w = ps->w,
+                                         .rot = ps->rot,
+                                         .f = ps->force,
+                                         .tq = ps->torque,
+                                         .m = ps->mass,
+                                         .j = ps->inertia,
+                                         .x0 = st->nb.x_ref,
+                                         .nx = st->spare[0],
+                                         .nv = st->spare[1],
+                                         .nw = st->spare[2],
+                                         .nrot = st->spare[3]};
     const sinter_particle_ranges r = particle_ranges(st, threads);
     /* the heat powers are summed again by this step's evaluation: zeroed here, by the ranges
      * whose threads sum them (thermal.h, heat_zeroed) */
@@ -465,8 +474,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     st->stores.stream_now = choose_stores(st);
     /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5):
      * the explicit scheme's in the kick and drift's pass, range by range (thermal.h) */
-    const int heat_update =
-        st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
+    const int heat_update = st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
     s = heat_update ? sinter_thermal_explicit_begin(st) : sinter_thermal_implicit_advance(st, h);
     if (s != SINTER_OK) {
         st->stats.rejected++;
@@ -525,7 +533,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_domain(st, "step", t_start, h);
-    if (s == SINTER_OK && bad == st->ps->count && st->energy_check)
+    if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 &&
+        st->stats.steps % (uint64_t)st->energy_check == 0)
         s = sinter_sanity_energy(st, t_start, h); /* energy created (sanity.c, 4) */
     if (s == SINTER_OK && bad < st->ps->count) {
         const char *what = first_bad_quantity(st->ps, bad);

@@ -44,7 +44,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->dt = 1e-5;
     st->rotation = 1;
     st->dt_check = 1;
-    st->energy_check = 1;
+    st->energy_check = SINTER_ENERGY_CHECK_INTERVAL;
     st->stores.option = -1; /* measured (explicit.c) */
     st->stores.decided = -1;
     sinter_thread_choice_init(&st->threads_choice);
@@ -201,8 +201,16 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_thread_choice(st, value);
     if (strcmp(key, "dt_check") == 0)
         return set_check(st, key, &st->dt_check, value);
-    if (strcmp(key, "energy_check") == 0)
-        return set_check(st, key, &st->energy_check, value);
+    if (strcmp(key, "energy_check") == 0) {
+        if (!(value >= 0.0 && value <= 1e6) || value != floor(value))
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_set_option: energy_check = %g must be a whole "
+                               "number: 0 (do not check) or N >= 1 (check every N-th step; "
+                               "default %d)",
+                               value, SINTER_ENERGY_CHECK_INTERVAL);
+        st->energy_check = (int)value;
+        return SINTER_OK;
+    }
     /* an unknown key of a quasi-static stepper is refused with the list of its qs_* keys */
     if (st->kind == SINTER_STEPPER_QUASISTATIC &&
         (strncmp(key, "qs_", 3) == 0 || !sinter_staggered_is_option(key)))
@@ -258,8 +266,8 @@ sinter_status sinter_stepper_sintering_stats(const sinter_stepper *st,
                            "has taken no step yet");
     const sinter_particles *ps = st->ps;
     /* the statistics read positions, radii and the links only */
-    const sinter_qs_particles p = {ps->count, ps->x, ps->rot, ps->radius, ps->material,
-                                   ps->id,    NULL};
+    const sinter_qs_particles p = {ps->count,    ps->x,  ps->rot, ps->radius,
+                                   ps->material, ps->id, NULL};
     sinter_qs_stats q;
     sinter_qs_stats_get(st->quasistatic, &p, &q);
     stats->links = q.links;
@@ -287,8 +295,7 @@ sinter_status sinter_stepper_add_force(sinter_stepper *st, sinter_force_model *f
     for (size_t k = 0; k < st->force_count; ++k)
         if (st->forces[k].model == fm)
             return sinter_fail(st->ctx, SINTER_ERR_INVALID,
-                               "sinter_stepper_add_force: model '%s' was already added",
-                               fm->name);
+                               "sinter_stepper_add_force: model '%s' was already added", fm->name);
     if (st->force_count == st->force_capacity) {
         size_t cap = st->force_capacity ? 2 * st->force_capacity : 4;
         sinter_force_slot *grown =
@@ -316,8 +323,7 @@ sinter_status sinter_stepper_set_dt(sinter_stepper *st, double dt)
         return SINTER_ERR_NULL;
     if (!isfinite(dt) || dt <= 0.0)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
-                           "sinter_stepper_set_dt: time step %g s must be positive and finite",
-                           dt);
+                           "sinter_stepper_set_dt: time step %g s must be positive and finite", dt);
     st->dt = dt;
     st->stats.dt = dt;
     return SINTER_OK;
@@ -336,8 +342,7 @@ sinter_status sinter_stepper_set_skin(sinter_stepper *st, double skin)
     return SINTER_OK;
 }
 
-sinter_status sinter_stepper_set_domain(sinter_stepper *st, const double lo[3],
-                                        const double hi[3])
+sinter_status sinter_stepper_set_domain(sinter_stepper *st, const double lo[3], const double hi[3])
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
@@ -745,9 +750,9 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
         double best = INFINITY;
         for (size_t i = 0; i < ps->count; ++i)
             if (g[i] > 0.0)
-                best = fmin(best, ps->mass[i] *
-                                      sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY) /
-                                      g[i]);
+                best =
+                    fmin(best, ps->mass[i] *
+                                   sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY) / g[i]);
         *dt = best;
     }
     sinter_free(st->ctx, g);
@@ -848,7 +853,7 @@ static void settle_after_failure(sinter_stepper *st)
 }
 
 sinter_status sinter_stepper_set_furnace(sinter_stepper *st, size_t count, const double *times,
-                                        const double *temperatures)
+                                         const double *temperatures)
 {
     if (st == NULL)
         return SINTER_ERR_NULL;

@@ -16,21 +16,21 @@ typedef struct sinter_force_slot {
 
 /* Options and work arrays of the implicit staggered stepper (staggered.c, seed 000 sec. 3, 6). */
 typedef struct sinter_staggered {
-    double phi;            /* trapezoidal parameter, eq. 24-25, 36 */
-    int target_iterations; /* K_d, eq. 49 */
-    double tolerance;      /* TOL_r = TOL_theta, eq. 48 */
-    double exponent;       /* p, eq. 49 */
-    double dt_max;         /* dt_lim */
-    double dt_min;         /* floor: below it a step fails */
-    int adaptive;          /* 0: keep dt */
+    double phi;                   /* trapezoidal parameter, eq. 24-25, 36 */
+    int target_iterations;        /* K_d, eq. 49 */
+    double tolerance;             /* TOL_r = TOL_theta, eq. 48 */
+    double exponent;              /* p, eq. 49 */
+    double dt_max;                /* dt_lim */
+    double dt_min;                /* floor: below it a step fails */
+    int adaptive;                 /* 0: keep dt */
     double position_tolerance;    /* absolute floor of eq. 47-48 for positions [m] */
     double temperature_tolerance; /* and for temperatures [K] */
     /* state at t (restored on a rejection), 28 doubles per particle; see staggered.c */
     double *saved;
     size_t saved_capacity;
-    uint32_t *flags;       /* particle flags at t (the electric solve sets ELECTRIFIED) */
+    uint32_t *flags; /* particle flags at t (the electric solve sets ELECTRIFIED) */
     size_t flags_capacity;
-    double *power;         /* per heat slot: power at t, then of the last iterate (2 per slot) */
+    double *power; /* per heat slot: power at t, then of the last iterate (2 per slot) */
     size_t power_capacity;
 } sinter_staggered;
 
@@ -47,9 +47,17 @@ typedef struct sinter_store_choice {
     int decided;     /* the kind chosen (0 or 1), or -1 while measuring, for: */
     uint64_t layout; /* the particles' layout_generation */
     int threads;
-    int trials;      /* steps timed so far */
-    double best[2];  /* the shortest step of each kind [s] */
+    int trials;     /* steps timed so far */
+    double best[2]; /* the shortest step of each kind [s] */
 } sinter_store_choice;
+
+/*
+ * The energy check (sanity.c, criterion 4) runs on every step by default: a damped contact can
+ * create energy in the few steps of one collision and the run then goes on looking sound, so a
+ * check of every N-th step ("energy_check" N, for large runs: its pass costs about 12 % of a
+ * step of the 64k packed bed, tests/bench/RESULTS.md, session 24) may miss it.
+ */
+#define SINTER_ENERGY_CHECK_INTERVAL 1
 
 struct sinter_stepper {
     sinter_ctx *ctx;
@@ -68,11 +76,11 @@ struct sinter_stepper {
     sinter_observer_fn observer;
     void *observer_user;
     sinter_stepper_stats stats;
-    int forces_current;           /* forces of the current state are evaluated and committed */
-    int forces_zeroed;            /* the integrator zeroed force and torque after its last read */
-    int gravity_seeded;           /* ... and wrote the first force model's m g into the force
-                                     (that model, gravity, is not evaluated again) */
-    int plain_particles;          /* the integrator found no fixed or non-rotating particle */
+    int forces_current;  /* forces of the current state are evaluated and committed */
+    int forces_zeroed;   /* the integrator zeroed force and torque after its last read */
+    int gravity_seeded;  /* ... and wrote the first force model's m g into the force
+                            (that model, gravity, is not evaluated again) */
+    int plain_particles; /* the integrator found no fixed or non-rotating particle */
     /* the explicit step's second half kick by ranges, handed to the last force model's law
      * during its evaluation (sinter_force_eval.range_final; NULL otherwise), and whether that
      * law called it for every range (ranges_final) */
@@ -85,12 +93,12 @@ struct sinter_stepper {
     /* evaluations whose contacts the force law confirmed (sinter_contacts_find_pp_deferred),
      * and those of them in which it dropped ended contacts */
     uint64_t law_confirmed, law_dropped;
-    uint64_t sort_interval;       /* option "sort_interval": steps between spatial sorts, 0 off */
+    uint64_t sort_interval; /* option "sort_interval": steps between spatial sorts, 0 off */
     uint64_t steps_since_sort;
-    int rotation;                 /* option "rotation": integrate the total rotation vector */
-    uint64_t write_generation;    /* particle write_generation when forces were evaluated */
+    int rotation;                   /* option "rotation": integrate the total rotation vector */
+    uint64_t write_generation;      /* particle write_generation when forces were evaluated */
     uint64_t population_generation; /* particle population_generation then */
-    double *wall_force;           /* 3 per wall, from the last evaluation */
+    double *wall_force;             /* 3 per wall, from the last evaluation */
     size_t wall_force_capacity;
     /* The other copy of x, v, w and rot (3 doubles per particle each, for ps->capacity
      * particles): the explicit step writes the new state into it and swaps it with the set's
@@ -107,21 +115,21 @@ struct sinter_stepper {
     int particles_known;
     uint64_t known_layout, known_write;
     sinter_state_view view;
-    double *wall_arrays;          /* point, normal, velocity: 9 per wall, for host views */
+    double *wall_arrays; /* point, normal, velocity: 9 per wall, for host views */
     size_t wall_arrays_capacity;
-    sinter_thermal thermal;       /* heat submodels and the temperature update */
-    double thermal_last_h;        /* step of the last temperature update [s] */
+    sinter_thermal thermal;            /* heat submodels and the temperature update */
+    double thermal_last_h;             /* step of the last temperature update [s] */
     uint64_t stats_thermal_iterations; /* PCG iterations of implicit conduction */
-    double stats_seconds_heat;    /* wall-clock time in heat evaluation [s] (conduction summed
-                                     in the law's region counts in stats.seconds_force) */
+    double stats_seconds_heat;         /* wall-clock time in heat evaluation [s] (conduction summed
+                                          in the law's region counts in stats.seconds_force) */
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];
     struct sinter_electric_model *electric; /* borrowed, NULL: no current solve */
     uint64_t electric_iterations;           /* sweeps / PCG iterations of its solves, total */
     sinter_staggered staggered;             /* SINTER_STEPPER_STAGGERED only */
-    struct sinter_qs *quasistatic;         /* SINTER_STEPPER_QUASISTATIC: links and necks */
-    sinter_qs_options quasistatic_options; /* copied into it on the first step */
+    struct sinter_qs *quasistatic;          /* SINTER_STEPPER_QUASISTATIC: links and necks */
+    sinter_qs_options quasistatic_options;  /* copied into it on the first step */
     /* how far the velocities the last evaluation saw lag behind the set's: h / 2 after an
      * explicit step (its force read the half-step velocities), 0 after any other evaluation
      * (read by sinter_snapshot_create only) [s] */
@@ -130,7 +138,8 @@ struct sinter_stepper {
     size_t furnace_count; /* points (0: no furnace) */
     /* issue 35 (stable_step.c, sanity.c criterion 4), explicit stepper only */
     int dt_check;         /* option "dt_check": 1 (the default) refuses a step beyond the limit */
-    int energy_check;     /* option "energy_check": 1 (the default) stops energy creation */
+    int energy_check;     /* option "energy_check": check every N-th step for energy
+                             creation (default SINTER_ENERGY_CHECK_INTERVAL), 0 never */
     double stable_logged; /* the last estimate logged at info level (0: none) */
     double energy_floor;  /* the energy check's resolution [J]: SINTER_SANITY_ENERGY_FLOOR of the
                              least elastic energy of a contact at the reference overlap */

@@ -57,7 +57,10 @@ static void usage(void)
             "    and rolling damping ratio 0.3 (default 0: the rolling model left out, as\n"
             "    the peer decks have none)\n"
             "  --alternate: blocks of K steps by turns on one thread and on --threads,\n"
-            "    the ALTERNATE line gives each side's time and the speed-up\n");
+            "    the ALTERNATE line gives each side's time and the speed-up\n"
+            "  --alternate-option KEY: with --alternate K, blocks by turns with the stepper\n"
+            "    option KEY at 0 and at 1 on --threads (e.g. energy_check: its cost, as the\n"
+            "    ratio of the time with it on to the time without)\n");
     exit(1);
 }
 
@@ -71,7 +74,7 @@ static int compare_doubles(const void *a, const void *b)
  * first, then `threads` first, ...); prints the ALTERNATE line: each side's steps and time,
  * the ratio of their times per step, and the median and range of the block pairs' ratios. */
 static void alternate_threads(sinter_stepper *st, unsigned long long steps,
-                              unsigned long long block, int threads)
+                              unsigned long long block, int threads, const char *option)
 {
     double side[2] = {0.0, 0.0};
     unsigned long long done[2] = {0, 0}, pairs = 0;
@@ -86,7 +89,10 @@ static void alternate_threads(sinter_stepper *st, unsigned long long steps,
         for (int turn = 0; turn < 2 && k < steps; ++turn) {
             const int which = (int)(pairs % 2) ^ turn; /* 0: one thread, 1: `threads` */
             const unsigned long long m = steps - k < block ? steps - k : block;
-            CHECK(sinter_ctx_set_threads(g_ctx, which ? threads : 1));
+            if (option != NULL) /* side 0: the option at 0, side 1: at 1 */
+                CHECK(sinter_stepper_set_option(st, option, which ? 1.0 : 0.0));
+            else
+                CHECK(sinter_ctx_set_threads(g_ctx, which ? threads : 1));
             const double t = now();
             CHECK(sinter_stepper_step(st, m));
             pair[which] = now() - t;
@@ -103,11 +109,11 @@ static void alternate_threads(sinter_stepper *st, unsigned long long steps,
                           : nratio % 2 ? ratios[nratio / 2]
                                        : 0.5 * (ratios[nratio / 2 - 1] + ratios[nratio / 2]);
     CHECK(sinter_ctx_set_threads(g_ctx, threads));
-    printf("ALTERNATE block=%llu threads=%d one=%.6g s/%llu steps many=%.6g s/%llu steps "
+    printf("ALTERNATE %s%s block=%llu threads=%d one=%.6g s/%llu steps many=%.6g s/%llu steps "
            "speedup=%.4f pairs=%zu pair_median=%.4f pair_range=%.3f-%.3f\n",
-           block, threads, side[0], done[0], side[1], done[1],
-           (side[0] / (double)done[0]) / (side[1] / (double)done[1]), nratio, median,
-           nratio ? ratios[0] : 0.0, nratio ? ratios[nratio - 1] : 0.0);
+           option != NULL ? "option=" : "", option != NULL ? option : "", block, threads, side[0],
+           done[0], side[1], done[1], (side[0] / (double)done[0]) / (side[1] / (double)done[1]),
+           nratio, median, nratio ? ratios[0] : 0.0, nratio ? ratios[nratio - 1] : 0.0);
     free(ratios);
 }
 
@@ -118,6 +124,7 @@ int main(int argc, char **argv)
     double dt = 0.0, rolling = 0.0;
     int heat = 0, stats = 0, threads = 1, rotation = 0, thread_choice = -1;
     unsigned long long shuffle = 0, sort_interval = 0, alternate = 0;
+    const char *alternate_option = NULL;
     for (int a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (strcmp(argv[a], "--stats") == 0) {
@@ -126,25 +133,40 @@ int main(int argc, char **argv)
         }
         if (v == NULL)
             usage();
-        if (strcmp(argv[a], "--scene") == 0) scene = v;
-        else if (strcmp(argv[a], "--xyz") == 0) xyz = v;
-        else if (strcmp(argv[a], "--box") == 0) boxf = v;
-        else if (strcmp(argv[a], "--steps") == 0) steps = strtoull(v, NULL, 10);
-        else if (strcmp(argv[a], "--dt") == 0) dt = strtod(v, NULL);
-        else if (strcmp(argv[a], "--heat") == 0) heat = atoi(v);
-        else if (strcmp(argv[a], "--threads") == 0) threads = atoi(v);
-        else if (strcmp(argv[a], "--shuffle") == 0) shuffle = strtoull(v, NULL, 10);
-        else if (strcmp(argv[a], "--sort-interval") == 0) sort_interval = strtoull(v, NULL, 10);
-        else if (strcmp(argv[a], "--rotation") == 0) rotation = atoi(v);
-        else if (strcmp(argv[a], "--rolling") == 0) rolling = strtod(v, NULL);
-        else if (strcmp(argv[a], "--thread-choice") == 0) thread_choice = atoi(v);
+        if (strcmp(argv[a], "--scene") == 0)
+            scene = v;
+        else if (strcmp(argv[a], "--xyz") == 0)
+            xyz = v;
+        else if (strcmp(argv[a], "--box") == 0)
+            boxf = v;
+        else if (strcmp(argv[a], "--steps") == 0)
+            steps = strtoull(v, NULL, 10);
+        else if (strcmp(argv[a], "--dt") == 0)
+            dt = strtod(v, NULL);
+        else if (strcmp(argv[a], "--heat") == 0)
+            heat = atoi(v);
+        else if (strcmp(argv[a], "--threads") == 0)
+            threads = atoi(v);
+        else if (strcmp(argv[a], "--shuffle") == 0)
+            shuffle = strtoull(v, NULL, 10);
+        else if (strcmp(argv[a], "--sort-interval") == 0)
+            sort_interval = strtoull(v, NULL, 10);
+        else if (strcmp(argv[a], "--rotation") == 0)
+            rotation = atoi(v);
+        else if (strcmp(argv[a], "--rolling") == 0)
+            rolling = strtod(v, NULL);
+        else if (strcmp(argv[a], "--thread-choice") == 0)
+            thread_choice = atoi(v);
         else if (strcmp(argv[a], "--alternate") == 0)
             alternate = strtoull(v, NULL, 10);
-        else usage();
+        else if (strcmp(argv[a], "--alternate-option") == 0)
+            alternate_option = v;
+        else
+            usage();
         ++a;
     }
     if (scene == NULL || xyz == NULL || boxf == NULL || steps == 0 || !(dt > 0.0) ||
-        (alternate > 0 && threads < 2))
+        (alternate > 0 && threads < 2 && alternate_option == NULL))
         usage();
 
     double box[6];
@@ -156,7 +178,8 @@ int main(int argc, char **argv)
         for (size_t k = n; k > 1; --k) {
             z = z * 6364136223846793005ULL + 1442695040888963407ULL;
             const size_t j = (size_t)((z >> 11) % k);
-            double t[4] = {pos[3 * (k - 1)], pos[3 * (k - 1) + 1], pos[3 * (k - 1) + 2], rad[k - 1]};
+            double t[4] = {pos[3 * (k - 1)], pos[3 * (k - 1) + 1], pos[3 * (k - 1) + 2],
+                           rad[k - 1]};
             for (int d = 0; d < 3; ++d)
                 pos[3 * (k - 1) + d] = pos[3 * j + d], pos[3 * j + d] = t[d];
             rad[k - 1] = rad[j], rad[j] = t[3];
@@ -191,9 +214,10 @@ int main(int argc, char **argv)
     CHECK(sinter_material_set(mat, SINTER_MAT_FRICTION_DAMPING_RATIO, xi));
     CHECK(sinter_material_set(mat, SINTER_MAT_ROLLING_FRICTION, rolling)); /* none by default */
     CHECK(sinter_material_set(mat, SINTER_MAT_ROLLING_DAMPING_RATIO, rolling > 0.0 ? 0.3 : 0.0));
-    CHECK(sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0)); /* thermalConductivity */
-    CHECK(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, 100.0)); /* thermalCapacity */
-    sinter_material *adiabatic;                                       /* side walls */
+    CHECK(
+        sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 100.0)); /* thermalConductivity */
+    CHECK(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, 100.0));      /* thermalCapacity */
+    sinter_material *adiabatic;                                            /* side walls */
     CHECK(sinter_material_clone(&adiabatic, mat));
     CHECK(sinter_material_set(adiabatic, SINTER_MAT_THERMAL_CONDUCTIVITY, 0.0));
 
@@ -232,7 +256,7 @@ int main(int argc, char **argv)
      * its own; the force sums start from m g instead of ending with it) */
     CHECK(sinter_stepper_add_force(st, grav));
     CHECK(sinter_stepper_add_force(st, hm));
-    CHECK(sinter_stepper_set_dt(st, dt));      /* timestep ${dt} */
+    CHECK(sinter_stepper_set_dt(st, dt));     /* timestep ${dt} */
     CHECK(sinter_stepper_set_skin(st, 1e-4)); /* neighbor 1.0e-4 bin, check every step */
     if (sort_interval > 0)
         CHECK(sinter_stepper_set_option(st, "sort_interval", (double)sort_interval));
@@ -253,7 +277,7 @@ int main(int argc, char **argv)
     CHECK(sinter_stepper_get_stats(st, &s0));
     const double t0 = now();
     if (alternate > 0)
-        alternate_threads(st, steps, alternate, threads);
+        alternate_threads(st, steps, alternate, threads, alternate_option);
     else
         CHECK(sinter_stepper_step(st, steps)); /* the timed stepping loop */
     const double loop = now() - t0;
@@ -273,7 +297,7 @@ int main(int argc, char **argv)
         const double *vi = v + 3 * i, *wi = w + 3 * i;
         if (x[3 * i + 2] + r[i] > zmax)
             zmax = x[3 * i + 2] + r[i]; /* bound(all,zmax) + 0.5e-3 */
-        mz += m[i] * x[3 * i + 2];     /* xcm(all,z) */
+        mz += m[i] * x[3 * i + 2];      /* xcm(all,z) */
         mtot += m[i];
         ket += 0.5 * m[i] * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]); /* compute ke */
         ker += 0.5 * j[i] * (wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]); /* erotate/sphere */
@@ -286,8 +310,8 @@ int main(int argc, char **argv)
     if (heat) {
         /* as the LIGGGHTS deck: Tbot over particles with z < 1 mm */
         const double *temp;
-        CHECK(sinter_particles_view_read(ps, SINTER_FIELD_TEMPERATURE, (const void **)&temp,
-                                         NULL, NULL));
+        CHECK(sinter_particles_view_read(ps, SINTER_FIELD_TEMPERATURE, (const void **)&temp, NULL,
+                                         NULL));
         double tsum = 0, tmax = 0, tbot = 0;
         size_t nbot = 0;
         for (size_t i = 0; i < n; ++i) {

@@ -209,7 +209,7 @@ static void test_override_then_energy_check_stops(void **state)
     OK(sinter_stepper_get_option(s.st, "dt_check", &value));
     assert_true(value == 1.0);
     OK(sinter_stepper_get_option(s.st, "energy_check", &value));
-    assert_true(value == 1.0);
+    assert_true(value == 1.0); /* every step */
     OK(sinter_stepper_set_option(s.st, "dt_check", 0));
     assert_int_equal(sinter_stepper_advance(s.st, 0.1), SINTER_ERR_UNSTABLE);
     const char *message = sinter_last_error(s.ctx);
@@ -238,7 +238,32 @@ static void test_override_then_energy_check_stops(void **state)
     scene_close(&s);
 }
 
-/* The options take 0 and 1 only. */
+/*
+ * A sampled check ("energy_check" 8: every 8th step) still checks a stepper's first step: the
+ * issue's resting sphere is stopped there. Checked every 8th step from then on, a step between
+ * two checks is not examined: the sphere's first 3 steps taken with the check off and a
+ * sampled check afterwards let it go (the energy was created in those steps), which is why
+ * the default checks every step.
+ */
+static void test_sampled_check(void **state)
+{
+    (void)state;
+    scene s;
+    hot_floor(&s, 2e-3);
+    OK(sinter_stepper_set_option(s.st, "dt_check", 0));
+    OK(sinter_stepper_set_option(s.st, "energy_check", 8));
+    assert_int_equal(sinter_stepper_step(s.st, 1), SINTER_ERR_UNSTABLE);
+    scene_close(&s);
+    hot_floor(&s, 2e-3);
+    OK(sinter_stepper_set_option(s.st, "dt_check", 0));
+    OK(sinter_stepper_set_option(s.st, "energy_check", 0));
+    OK(sinter_stepper_step(s.st, 3));
+    OK(sinter_stepper_set_option(s.st, "energy_check", 8));
+    OK(sinter_stepper_step(s.st, 20));
+    scene_close(&s);
+}
+
+/* dt_check takes 0 and 1; energy_check 0 or a whole number of steps between checks. */
 static void test_check_options(void **state)
 {
     (void)state;
@@ -246,6 +271,8 @@ static void test_check_options(void **state)
     hot_floor(&s, 2e-5);
     assert_int_equal(sinter_stepper_set_option(s.st, "dt_check", 2), SINTER_ERR_INVALID);
     assert_int_equal(sinter_stepper_set_option(s.st, "energy_check", -1), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_set_option(s.st, "energy_check", 2.5), SINTER_ERR_INVALID);
+    OK(sinter_stepper_set_option(s.st, "energy_check", 3));
     OK(sinter_stepper_set_option(s.st, "energy_check", 0));
     double value = -1.0;
     OK(sinter_stepper_get_option(s.st, "energy_check", &value));
@@ -328,6 +355,7 @@ int main(void)
         cmocka_unit_test(test_estimate_of_two_hertz_spheres),
         cmocka_unit_test(test_resting_sphere_large_step_is_refused),
         cmocka_unit_test(test_override_then_energy_check_stops),
+        cmocka_unit_test(test_sampled_check),
         cmocka_unit_test(test_check_options),
         cmocka_unit_test(test_sound_runs_are_not_stopped),
         cmocka_unit_test(test_energy_passed_on_is_not_created),

@@ -51,8 +51,9 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                          "and take the faster; 0 always the context's threads (explicit only)",
         "dt_check": "[-] 1 (default) refuses a fixed step above twice stable_step() "
                     "(explicit only); 0 runs it knowingly",
-        "energy_check": "[-] 1 (default) stops a step that creates energy in contacts, the "
-                        "last accepted state kept (explicit only); 0 off",
+        "energy_check": "[steps] 1 (default): every step is checked for energy created in "
+                        "contacts, stopped with the last accepted state kept (explicit only); "
+                        "N: every N-th step; 0 off",
     },
     "explicit_staggered": {
         "sort_interval": "[steps] sort the particles spatially every so many steps; 0 "
