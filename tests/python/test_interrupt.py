@@ -115,7 +115,11 @@ class CtrlCTest(unittest.TestCase):
         self.assertNotIn("returned normally", out)
         self.assertIn("interrupted at t = ", out, err)
         self.assertIn(returncode, (-signal.SIGINT, 130, 1))  # Python re-raises SIGINT: -2
-        self.assertLess(seconds, 1.0, "Ctrl-C took %.3f s to end the child" % seconds)
+        # Under a second on an idle machine (issue 36's figure; the runs would take far longer
+        # than the test waits); CI runs this beside other tests on two cores, where a child's
+        # exit (the checkpoint, the plot, the interpreter's shutdown) can take a second more:
+        # the bound is set for that, a time, not the physics, is what is loose here.
+        self.assertLess(seconds, 5.0, "Ctrl-C took %.3f s to end the child" % seconds)
 
     def test_advance(self):
         code = CHILD.replace("OBSERVER", "None").replace("PROGRESS", "None")
