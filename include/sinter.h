@@ -803,12 +803,20 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  * Built-in models, chosen by name, with their parameters (SI):
  *  - "conduction": through contacts, Q_ij = k_ij A_ij (theta_j - theta_i) / d_ij
  *    with (r_i + r_j)/k_ij = r_i/k_i + r_j/k_j (seed 003 eq. 32-35, seed 000
- *    eq. 33-34); particle-wall contacts conduct to the wall's temperature over
- *    the centre-to-plane distance with k_iw = 2 k_i k_w / (k_i + k_w) (k_w of
- *    the wall's material: equal to the particle's, k_i; zero: adiabatic).
+ *    eq. 33-34); particle-wall contacts conduct to the wall's temperature with
+ *    G = k_iw A / d, k_iw = 2 k_i k_w / (k_i + k_w) (k_w of the wall's
+ *    material: equal to the particle's, k_i; zero: adiabatic), and the
+ *    area and distance of "wall_reading": 0 eq. 34's circle over the
+ *    centre-plane distance s; 1 (default) Hertz's pi r delta over s; 2 eq. 34's
+ *    circle over the mirror particle's 2 s; then each wall's thermal mode
+ *    (sinter_walls_set_thermal).
  *    "area" = 0: contact area of eq. 34; 1: LIGGGHTS' "projection",
  *    conductance 4 k_i k_j/(k_i + k_j) sqrt(pi r_max^2) (walls: with the wall
- *    material's k, so k = 0 makes a wall adiabatic). "walls" = 1/0.
+ *    material's k, so k = 0 makes a wall adiabatic); 2: constriction
+ *    conductance 4 a k_i k_j / (k_i + k_j) (Batchelor-O'Brien, 2 k a for
+ *    equal k). "radius" = 0: eq. 34's contact radius, 1: Hertz's a^2 = r*
+ *    delta (areas 0 and 2). "resistance" R'' [m^2 K/W]: an interface
+ *    resistance in series, 1/G = 1/G_law + R''/A. "walls" = 1/0.
  *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
  *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
@@ -897,6 +905,33 @@ SINTER_API sinter_status sinter_stepper_heat_energy(const sinter_stepper *steppe
 SINTER_API sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k,
                                                                size_t n, const double *times,
                                                                const double *temperatures);
+
+/**
+ * Thermal boundary condition of a wall for the "conduction" heat model (the
+ * wall's temperature is sinter_walls_set_temperature's; its conductivity k_w
+ * that of the wall's material).
+ */
+typedef enum sinter_wall_thermal_mode {
+    SINTER_WALL_RESERVOIR = 0,  /**< conducts by the model's wall law to its temperature (default) */
+    SINTER_WALL_ADIABATIC = 1,  /**< exchanges no heat */
+    SINTER_WALL_RESISTANCE = 2, /**< the wall law in series with a specific contact resistance
+                                     R'' [m^2 K/W]: 1/G = 1/G_law + R''/A */
+    SINTER_WALL_TRANSFER = 3,   /**< a heat transfer coefficient h [W/(m^2 K)] over the contact
+                                     area alone: G = h A */
+    SINTER_WALL_IMPOSED = 4     /**< a touching particle takes the wall's temperature after each
+                                     thermal update (seed 000 Fig. 5, remark 2) */
+} sinter_wall_thermal_mode;
+
+/**
+ * Thermal boundary condition of wall k: `mode` is a sinter_wall_thermal_mode
+ * and `value` R'' [m^2 K/W] for SINTER_WALL_RESISTANCE, h [W/(m^2 K)] for
+ * SINTER_WALL_TRANSFER, ignored (stored as 0) otherwise. A is the contact area
+ * of the conduction model's wall reading ("wall_reading").
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE (no wall k), SINTER_ERR_INVALID
+ * (unknown mode, value negative or not finite).
+ */
+SINTER_API sinter_status sinter_walls_set_thermal(sinter_walls *walls, size_t k, int mode,
+                                                  double value);
 
 /* ------------------------------------------------------------------------ */
 /* Electric submodels                                                        */

@@ -30,6 +30,8 @@ typedef struct sinter_wall {
     sinter_material material;
     int electric_mode;     /* sinter_wall_electric_mode (0 = neutral: add_plane zeroes a wall) */
     double electric_value; /* CURRENT: J_ext [A]; POTENTIAL: [V]; NEUTRAL: 0 */
+    int thermal_mode;      /* sinter_wall_thermal_mode (0 = reservoir: add_plane zeroes a wall) */
+    double thermal_value;  /* RESISTANCE: R'' [m^2 K/W]; TRANSFER: h [W/(m^2 K)]; others 0 */
     /* Written at every step's commit: last, and a cache line away from the next wall's first
      * fields (the array of walls is not line-aligned). */
     double force[3]; /* reaction: force the particles exert on the wall [N] */

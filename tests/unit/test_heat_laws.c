@@ -139,6 +139,9 @@ static void test_conduction(void **state)
     double v;
     OK(sinter_heat_model_get(hm, "area", &v));
     assert_true(v == 0.0);
+    OK(sinter_heat_model_get(hm, "wall_reading", &v));
+    assert_true(v == 1.0); /* Hertz's area at walls (docs/validation.md, seed 003 sec. 5.1) */
+    OK(sinter_heat_model_set(hm, "wall_reading", 0.0)); /* the centre-plane reading, by hand */
     OK(sinter_heat_model_get(hm, "walls", &v));
     assert_true(v == 1.0);
     OK(eval(&f, hm, 0.0, 0));
@@ -176,7 +179,150 @@ static void test_conduction(void **state)
     assert_true(f.heat[0] + f.heat[1] == 0.0);
 
     /* Any other area mode is refused at evaluation. */
+    OK(sinter_heat_model_set(hm, "area", 3.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * The particle-wall readings and each wall's thermal mode: sphere 0 (r = 1 mm, k = 50, 300 K)
+ * 0.1 mm into a 500 K floor of conductivity k_w = 50 (so k_iw = k = 50), sphere 1 far away.
+ */
+static void test_wall_laws(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r = 1e-3, k = 50.0, tw = 500.0, s = 0.9e-3, delta = r - s;
+    add(&f, 0.0, 0.0, s, r, 0, 300.0);
+    add(&f, 5e-3, 0.0, 3e-3, r, 0, 300.0);
+    const double p0[3] = {0, 0, 0}, n0[3] = {0, 0, 1};
+    sinter_material *wm;
+    OK(sinter_material_create(&wm, f.ctx, NULL));
+    OK(sinter_material_set(wm, SINTER_MAT_THERMAL_CONDUCTIVITY, k));
+    OK(sinter_walls_add_plane(f.walls, p0, n0, wm, NULL));
+    sinter_material_destroy(wm);
+    OK(sinter_walls_set_temperature(f.walls, 0, tw));
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 0);
+    assert_int_equal(f.pw.count, 1);
+
+    /* the three readings of G = k_iw A / d: eq. 34's circle over s, Hertz's pi r delta over s,
+     * eq. 34's circle over the mirror distance 2 s */
+    const double a_geo = PI * (r * r - s * s), a_hertz = PI * r * delta;
+    const double g[3] = {k * a_geo / s, k * a_hertz / s, k * a_geo / (2.0 * s)};
+    sinter_heat_model *hm = model(&f, "conduction");
+    for (int reading = 0; reading < 3; ++reading) {
+        OK(sinter_heat_model_set(hm, "wall_reading", reading));
+        OK(eval(&f, hm, 0.0, 0));
+        assert_rel(f.heat[0], g[reading] * (tw - 300.0));
+        assert_true(f.heat[1] == 0.0);
+        OK(eval(&f, hm, 0.0, 1));
+        assert_rel(f.g_pw[0], g[reading]);
+    }
+    /* the Hertz and mirror readings halve eq. 34's to first order in delta / r */
+    assert_close(g[1] / g[0], 0.5, delta / r);
+    /* constriction (area 2) at a wall of the particle's conductivity: 2 k a (Batchelor &
+     * O'Brien), a from the reading's area; the mirror reading reads no distance */
     OK(sinter_heat_model_set(hm, "area", 2.0));
+    const double gc[3] = {2.0 * k * sqrt(r * r - s * s), 2.0 * k * sqrt(r * delta),
+                          2.0 * k * sqrt(r * r - s * s)};
+    for (int reading = 0; reading < 3; ++reading) {
+        OK(sinter_heat_model_set(hm, "wall_reading", reading));
+        OK(eval(&f, hm, 0.0, 1));
+        assert_rel(f.g_pw[0], gc[reading]);
+    }
+    OK(sinter_heat_model_set(hm, "area", 0.0));
+    OK(sinter_heat_model_set(hm, "wall_reading", 1.0));
+
+    /* the wall's own modes (Hertz reading: A = pi r delta) */
+    const double rc = 2e-5, h = 3000.0;
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_ADIABATIC, 7.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_true(f.heat[0] == 0.0);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESISTANCE, rc));
+    const double g_series = 1.0 / (1.0 / g[1] + rc / a_hertz);
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], g_series * (tw - 300.0));
+    assert_true(g_series < g[1]);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESISTANCE, 0.0)); /* the law alone */
+    OK(eval(&f, hm, 0.0, 1));
+    assert_rel(f.g_pw[0], g[1]);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_TRANSFER, h));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], h * a_hertz * (tw - 300.0));
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_IMPOSED, 0.0)); /* set by the stepper */
+    OK(eval(&f, hm, 0.0, 1));
+    assert_true(f.g_pw[0] == 0.0);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESERVOIR, 0.0));
+    OK(eval(&f, hm, 0.0, 1));
+    assert_rel(f.g_pw[0], g[1]);
+
+    /* refusals */
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 0, 5, 0.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_TRANSFER, -1.0),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESISTANCE, INFINITY),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 1, SINTER_WALL_ADIABATIC, 0.0),
+                     SINTER_ERR_RANGE);
+    OK(sinter_heat_model_set(hm, "wall_reading", 3.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * Pair laws beyond eq. 32-35 on the conduction fixture's pair (r1 = 1 mm, k1 = 50; r2 = 0.6 mm,
+ * k2 = 20), walls off: the constriction conductance 4 a k1 k2 / (k1 + k2) (Batchelor &
+ * O'Brien 1977, 2 k a for equal conductivities) with eq. 34's or Hertz's radius, eq. 32 with
+ * Hertz's area, and an interface resistance in series; every one antisymmetric to the bit.
+ */
+static void test_pair_laws(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r1 = 1e-3, r2 = 0.6e-3, k1 = 50.0, k2 = 20.0;
+    add(&f, 0.0, 0.0, 0.0, r1, 0, 300.0);
+    add(&f, 1.2e-3, 0.0, 0.6e-3, r2, 1, 400.0);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    const double d = sqrt(1.2e-3 * 1.2e-3 + 0.6e-3 * 0.6e-3), delta = r1 + r2 - d;
+    const double l1 = 0.5 * (d - (r2 * r2 - r1 * r1) / d);
+    const double a2_geo = r1 * r1 - l1 * l1, a2_hertz = r1 * r2 / (r1 + r2) * delta;
+    const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2), kh = 2.0 * k1 * k2 / (k1 + k2);
+    sinter_heat_model *hm = model(&f, "conduction");
+    OK(sinter_heat_model_set(hm, "walls", 0.0));
+    struct {
+        double area, radius, resistance, g;
+    } cases[] = {
+        {2.0, 0.0, 0.0, 2.0 * kh * sqrt(a2_geo)},
+        {2.0, 1.0, 0.0, 2.0 * kh * sqrt(a2_hertz)},
+        {0.0, 1.0, 0.0, k12 * PI * a2_hertz / d},
+        {0.0, 0.0, 1e-5, 1.0 / (d / (k12 * PI * a2_geo) + 1e-5 / (PI * a2_geo))},
+        {2.0, 1.0, 3e-6, 1.0 / (1.0 / (2.0 * kh * sqrt(a2_hertz)) + 3e-6 / (PI * a2_hertz))},
+        {1.0, 0.0, 1e-5,
+         1.0 / (1.0 / (4.0 * k1 * k2 / (k1 + k2) * sqrt(PI) * r1) + 1e-5 / (PI * r1 * r1))},
+    };
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); ++c) {
+        OK(sinter_heat_model_set(hm, "area", cases[c].area));
+        OK(sinter_heat_model_set(hm, "radius", cases[c].radius));
+        OK(sinter_heat_model_set(hm, "resistance", cases[c].resistance));
+        OK(eval(&f, hm, 0.0, 0));
+        print_message("pair law %zu: G = %.12g W/K\n", c, cases[c].g);
+        assert_rel(f.heat[0], cases[c].g * 100.0);
+        assert_true(f.heat[0] + f.heat[1] == 0.0);
+        OK(eval(&f, hm, 0.0, 1));
+        assert_rel(f.g_pp[0], cases[c].g);
+    }
+    /* the geometric radius is Hertz's times sqrt(2) to first order: eq. 34 vs Hertz */
+    assert_close(a2_geo / a2_hertz, 2.0, 2.0 * delta / r2);
+    OK(sinter_heat_model_set(hm, "radius", 2.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set(hm, "radius", 0.0));
+    OK(sinter_heat_model_set(hm, "resistance", -1.0));
     assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
     sinter_heat_model_destroy(hm);
     close_fixture(&f);
@@ -379,7 +525,8 @@ static void test_names_and_schedules(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_conduction), cmocka_unit_test(test_convection),
+        cmocka_unit_test(test_conduction), cmocka_unit_test(test_wall_laws),
+        cmocka_unit_test(test_pair_laws),  cmocka_unit_test(test_convection),
         cmocka_unit_test(test_radiation),  cmocka_unit_test(test_laser),
         cmocka_unit_test(test_nozzle),     cmocka_unit_test(test_names_and_schedules),
     };

@@ -33,7 +33,7 @@ from .particles import FIELDS, FieldInfo, FieldView, Particles
 from .scene import Scene
 from .stepper import (Stepper, StepperKind, StepperStats, ThermalScheme,
                       damping_ratio_from_restitution, stable_dt_hertz)
-from .walls import WallElectric, WallMotion, Walls
+from .walls import WallElectric, WallMotion, WallThermal, Walls
 
 __version__ = version_string()
 
@@ -42,7 +42,7 @@ __all__ = [
     "ForceModel", "HeatModel", "InvalidArgument", "LibraryNotFound", "LogLevel", "Material",
     "NeckModel", "NeckResult", "NeckStats", "NotFound", "ParamInfo", "Particles",
     "RadiusDistribution", "RangeError", "Scene", "Series", "SinterError", "StateView", "Status",
-    "Stepper", "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion",
+    "Stepper", "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion", "WallThermal",
     "Walls", "compaction_options", "damping_ratio_from_restitution", "library_path",
     "pack_compact", "pack_lattice", "pack_random", "packing_options", "plot_run", "pour", "stable_dt_hertz", "version_number", "version_string",
     "write_pvd", "write_vtu",

@@ -296,6 +296,7 @@ SIGNATURES = {
     "sinter_stepper_heat_energy": (c_status, [StepperPtr, _size, _P(_double)]),
     # electric submodels
     "sinter_walls_set_electric": (c_status, [WallsPtr, _size, _int, _double]),
+    "sinter_walls_set_thermal": (c_status, [WallsPtr, _size, _int, _double]),
     "sinter_electric_model_create": (c_status, [_P(ElectricModelPtr), CtxPtr, _str]),
     "sinter_electric_model_destroy": (None, [ElectricModelPtr]),
     "sinter_electric_model_name": (_str, [ElectricModelPtr]),

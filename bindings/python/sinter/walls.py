@@ -19,6 +19,16 @@ class WallMotion(enum.IntEnum):
     CALLBACK = 4
 
 
+class WallThermal(enum.IntEnum):
+    """sinter_wall_thermal_mode."""
+
+    RESERVOIR = 0
+    ADIABATIC = 1
+    RESISTANCE = 2
+    TRANSFER = 3
+    IMPOSED = 4
+
+
 class WallElectric(enum.IntEnum):
     """sinter_wall_electric_mode."""
 
@@ -167,6 +177,15 @@ class Walls(_Handle):
             mode = WallElectric[mode.upper()]
         self._call(lib.sinter_walls_set_electric, self._ptr, self._index(k), int(mode),
                                                   float(value))
+
+    def set_thermal(self, k, mode, value=0.0):
+        """Thermal boundary: mode "reservoir", "adiabatic", "resistance" (R'' [m^2 K/W]),
+        "transfer" (h [W/(m^2 K)]) or "imposed" (touching particles take the wall's
+        temperature)."""
+        if isinstance(mode, str):
+            mode = WallThermal[mode.upper()]
+        self._call(lib.sinter_walls_set_thermal, self._ptr, self._index(k), int(mode),
+                   float(value))
 
     def state(self, k):
         """(point, velocity) of wall k at the stepper's current time, as tuples."""
