@@ -328,6 +328,62 @@ static void test_pair_laws(void **state)
     close_fixture(&f);
 }
 
+/*
+ * The gas lens around a contact (Cheng, Yu & Zulli 1999) in parallel with eq. 32-35, for a
+ * pair barely overlapping (r1 = 1 mm, k 50; r2 = 0.6 mm, k 20; delta = 2 um), against a
+ * quadrature of int 2 pi k_g rho / max(h + rho^2 / (2 r*), g_min) d rho over [a, gas_radius
+ * r2] (in u = rho^2: pi k_g / max(h + u / (2 r*), g_min) du, 2e6 midpoints).
+ */
+static void test_gas_lens(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r1 = 1e-3, r2 = 0.6e-3, k1 = 50.0, k2 = 20.0, delta = 2e-6;
+    const double d = r1 + r2 - delta;
+    add(&f, 0.0, 0.0, 0.0, r1, 0, 300.0);
+    add(&f, d, 0.0, 0.0, r2, 1, 400.0);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    const double l1 = 0.5 * (d - (r2 * r2 - r1 * r1) / d), a2_geo = r1 * r1 - l1 * l1;
+    const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2);
+    sinter_heat_model *hm = model(&f, "conduction");
+    OK(sinter_heat_model_set(hm, "walls", 0.0));
+    const double kg = 0.026, gaps[3] = {1e-7, 2e-5, 1e-7}, fractions[3] = {0.5, 1.0, 0.2};
+    const double g_eq34 = k12 * PI * a2_geo / d, rstar = r1 * r2 / (r1 + r2);
+    double g_gas[3];
+    for (int c = 0; c < 3; ++c) {
+        OK(sinter_heat_model_set(hm, "gas_conductivity", kg));
+        OK(sinter_heat_model_set(hm, "gas_gap", gaps[c]));
+        OK(sinter_heat_model_set(hm, "gas_radius", fractions[c]));
+        const double u0 = a2_geo, u1 = fractions[c] * fractions[c] * r2 * r2;
+        assert_true(u1 > u0);
+        const int nq = 2000000;
+        double sum = 0.0;
+        for (int q = 0; q < nq; ++q) {
+            const double u = u0 + (q + 0.5) * (u1 - u0) / nq, gap = -delta + u / (2.0 * rstar);
+            sum += PI * kg / (gap > gaps[c] ? gap : gaps[c]);
+        }
+        g_gas[c] = sum * (u1 - u0) / nq;
+        OK(eval(&f, hm, 0.0, 0));
+        print_message("gas lens (g_min %g m, rho_out %g r2): G_gas = %.9g W/K, solid %.9g W/K\n",
+                      gaps[c], fractions[c], g_gas[c], g_eq34);
+        assert_close(f.heat[0], (g_eq34 + g_gas[c]) * 100.0, 1e-6 * (g_eq34 + g_gas[c]) * 100.0);
+        assert_true(f.heat[0] + f.heat[1] == 0.0);
+        OK(eval(&f, hm, 0.0, 1));
+        assert_close(f.g_pp[0], g_eq34 + g_gas[c], 1e-6 * (g_eq34 + g_gas[c]));
+    }
+    /* a wider lens conducts more, a larger cut-off less */
+    assert_true(g_gas[0] > g_gas[2] && g_gas[0] > 0.0);
+    OK(sinter_heat_model_set(hm, "gas_gap", 0.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set(hm, "gas_gap", 1e-7));
+    OK(sinter_heat_model_set(hm, "gas_radius", 1.5));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
 /* Two spheres (1 mm and 0.5 mm) at 400 K in air at 293.15 K. */
 static void test_convection(void **state)
 {
@@ -525,10 +581,15 @@ static void test_names_and_schedules(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_conduction), cmocka_unit_test(test_wall_laws),
-        cmocka_unit_test(test_pair_laws),  cmocka_unit_test(test_convection),
-        cmocka_unit_test(test_radiation),  cmocka_unit_test(test_laser),
-        cmocka_unit_test(test_nozzle),     cmocka_unit_test(test_names_and_schedules),
+        cmocka_unit_test(test_conduction),
+        cmocka_unit_test(test_wall_laws),
+        cmocka_unit_test(test_pair_laws),
+        cmocka_unit_test(test_gas_lens),
+        cmocka_unit_test(test_convection),
+        cmocka_unit_test(test_radiation),
+        cmocka_unit_test(test_laser),
+        cmocka_unit_test(test_nozzle),
+        cmocka_unit_test(test_names_and_schedules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
