@@ -573,7 +573,9 @@ SINTER_API sinter_status sinter_walls_get_force(const sinter_walls *walls, size_
  *    rolling model out (3 history values per contact instead of 6). While no
  *    material in use has a rolling coefficient > 0, the rolling moment is 0
  *    and costs nothing: the law without rolling runs, the rolling spring held
- *    at zero.
+ *    at zero. Parameter "no_tension" (default 0: eq. 2 as printed, the
+ *    damper may pull while a contact opens): 1 clamps the normal force at
+ *    zero, f_n = max(f_n, 0).
  *  - "power_law": the contact-area-scaled power law of seed 000 (eq. 2-4),
  *    its sliding friction (eq. 5-6), wall contact (eq. 13-17) and adhesive
  *    bonds (eq. 18-19).

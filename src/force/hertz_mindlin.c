@@ -31,7 +31,7 @@
 #include "force_model.h"
 #include "vec3.h"
 
-enum { PARAM_ROLLING = 0 };
+enum { PARAM_ROLLING = 0, PARAM_NO_TENSION = 1 };
 
 /* Material data of one side of a contact. */
 typedef struct side {
@@ -120,12 +120,13 @@ HM_INLINE void roots(double rstar, double mstar, double delta, double *sqrt_rd, 
 HM_INLINE void contact_law(const pair_props *p, const double n[3], double delta,
                            double sqrt_rd, double sm, const double u[3], const double w_rel[3],
                            double dt, const double *hist, double *trial, int rolling,
-                           double f[3], double m_roll[3])
+                           int no_tension, double f[3], double m_roll[3])
 {
     const pair_consts *c = p->c;
     /* Normal: eq. 2 and 6. delta_dot = -(u_j - u_i).n = u.n with u = u_i - u_j. */
     const double un = v3_dot(u, n);
-    const double fn = c->kn_pre * sqrt_rd * delta + c->dn_pre * sm * un; /* repulsive > 0 */
+    const double fn0 = c->kn_pre * sqrt_rd * delta + c->dn_pre * sm * un; /* repulsive > 0 */
+    const double fn = no_tension && !(fn0 > 0.0) ? 0.0 : fn0; /* "no_tension": f_n >= 0 */
     const double fabs_n = fabs(fn);
 
     /* Tangential: eq. 7-13. */
@@ -207,6 +208,7 @@ typedef struct constants {
     /* 1 if a material in use has a rolling coefficient mu_r > 0: without one, every pair's
      * and wall's mu_r (a geometric mean) is 0 and the rolling moment is 0 (eq. 17) */
     int any_rolling;
+    int no_tension; /* the model's "no_tension": the normal force never pulls (f_n >= 0) */
     int index[SINTER_MAX_MATERIALS]; /* material id -> row of the table, or -1 */
     int rows;
     side sides[MAX_TABLE];
@@ -218,6 +220,7 @@ static void build_constants(const sinter_force_eval *e, constants *k)
     const sinter_particles *ps = e->ps;
     k->softening = e->modulus_scale != NULL;
     k->any_rolling = 0;
+    k->no_tension = 0;
     k->rows = 0;
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
         k->index[m] = -1;
@@ -387,7 +390,8 @@ HM_INLINE void slider_return(int slipping, double scale, double k, double d, dou
  * so their loops run only for a block where some lane needs them; a lane that does not keeps
  * its values, as in contact_law.
  */
-HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, int rolling)
+HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, int rolling,
+                       int no_tension)
 {
     /* one pair of materials: the constants are the same in every lane */
 #define HM_C(field, lane) (single != NULL ? single->field : b->lane[a])
@@ -410,6 +414,8 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
         const double uz = b->dvz[a] + (wsx * ny - wsy * nx);
         const double un = ux * nx + uy * ny + uz * nz;
         fn[a] = HM_C(kn_pre, kn) * sqrt_rd * b->delta[a] + HM_C(dn_pre, dn) * sm * un;
+        if (no_tension) /* a constant of each body: the default's has no such line */
+            fn[a] = fn[a] > 0.0 ? fn[a] : 0.0;
         fabs_n[a] = fabs(fn[a]);
         utx[a] = ux - un * nx, uty[a] = uy - un * ny, utz[a] = uz - un * nz;
         kt[a] = HM_C(kt_pre, kt) * sqrt_rd;
@@ -549,35 +555,41 @@ static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
     for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
         const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
         /* eight specialised bodies: one pair of materials or a table, geometry formed here
-         * or read from the list, rolling resistance or not */
-        if (rolling && single != NULL && lean) {
+         * or read from the list, rolling resistance or not; and one general body for the
+         * option "no_tension" (the constants gathered, the switches read) */
+        if (k->no_tension) {
+            blk_gather(e, k, NULL, q0, nb, lean, rolling, &b);
+            if (lean)
+                blk_geometry(&b);
+            blk_law(&b, e->dt, NULL, rolling, 1);
+        } else if (rolling && single != NULL && lean) {
             blk_gather(e, k, single, q0, nb, 1, 1, &b);
             blk_geometry(&b);
-            blk_law(&b, e->dt, single, 1);
+            blk_law(&b, e->dt, single, 1, 0);
         } else if (rolling && single != NULL) {
             blk_gather(e, k, single, q0, nb, 0, 1, &b);
-            blk_law(&b, e->dt, single, 1);
+            blk_law(&b, e->dt, single, 1, 0);
         } else if (rolling && lean) {
             blk_gather(e, k, NULL, q0, nb, 1, 1, &b);
             blk_geometry(&b);
-            blk_law(&b, e->dt, NULL, 1);
+            blk_law(&b, e->dt, NULL, 1, 0);
         } else if (rolling) {
             blk_gather(e, k, NULL, q0, nb, 0, 1, &b);
-            blk_law(&b, e->dt, NULL, 1);
+            blk_law(&b, e->dt, NULL, 1, 0);
         } else if (single != NULL && lean) {
             blk_gather(e, k, single, q0, nb, 1, 0, &b);
             blk_geometry(&b);
-            blk_law(&b, e->dt, single, 0);
+            blk_law(&b, e->dt, single, 0, 0);
         } else if (single != NULL) {
             blk_gather(e, k, single, q0, nb, 0, 0, &b);
-            blk_law(&b, e->dt, single, 0);
+            blk_law(&b, e->dt, single, 0, 0);
         } else if (lean) {
             blk_gather(e, k, NULL, q0, nb, 1, 0, &b);
             blk_geometry(&b);
-            blk_law(&b, e->dt, NULL, 0);
+            blk_law(&b, e->dt, NULL, 0, 0);
         } else {
             blk_gather(e, k, NULL, q0, nb, 0, 0, &b);
-            blk_law(&b, e->dt, NULL, 0);
+            blk_law(&b, e->dt, NULL, 0, 0);
         }
         for (size_t a = 0; a < nb; ++a) {
             const size_t q = q0 + a;
@@ -908,8 +920,8 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
         roots(p.rstar, p.mstar, c->delta[q], &sqrt_rd, &sm);
         contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
                     hist + width * (size_t)c->pair[q],
-                    trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling, f,
-                    mr);
+                    trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling,
+                    k->no_tension, f, mr);
         if (!rolling && width == 6) /* a rolling spring no material uses: held at zero */
             for (int d = 3; d < 6; ++d)
                 trial[width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q) + (size_t)d] = 0.0;
@@ -973,6 +985,7 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
      * is then held at zero, as in a new contact) */
     constants k;
     build_constants(e, &k);
+    k.no_tension = fm->param[PARAM_NO_TENSION] != 0.0;
     const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6 && k.any_rolling;
     e->pp_ended = SIZE_MAX;
     /* the wall contacts with the pair contacts, in one parallel region, when their runs are
@@ -1021,8 +1034,8 @@ const sinter_force_ops sinter_force_hertz_mindlin = {
     .history_pp = 6,
     .history_pw = 6,
     .uses_contacts = 1,
-    .keys = {"rolling", NULL},
-    .defaults = {1.0},
+    .keys = {"rolling", "no_tension", NULL},
+    .defaults = {1.0, 0.0},
     .eval = hertz_mindlin_eval,
     .history_width = hertz_mindlin_history,
     .reads_geometry = hertz_mindlin_reads_geometry,
