@@ -839,6 +839,14 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    particle's top below
  *    the highest particle top inside the beam. "x", "y" and "intensity" may
  *    follow schedules (sinter_heat_model_set_schedule).
+ *  - "beam": a ray-traced beam in any direction with shadowing: the axis through
+ *    ("x", "y", "z") along ("dx", "dy", "dz") (default -z), total power "power"
+ *    [W] (default 0), "radius" [m] (top hat; Gaussian: the 1/e^2 radius),
+ *    "profile" 0 top hat / 1 Gaussian, "attenuation" mu [1/m] inside particles
+ *    (default 1e9: opaque), "rays" across the diameter (default 32). Each ray
+ *    gives a particle it crosses along a chord L the fraction a (1 - exp(-mu L))
+ *    of the power reaching it (a: absorptance), the rest goes on; absorbed plus
+ *    transmitted is the beam's power. Outputs: sinter_heat_model_output.
  *  - "joule": Joule heating H = a J^2 / sigma V (seed 000 eq. 35) with J the
  *    particle's current field (written by an electric model or the host),
  *    a the absorptance, sigma the electric conductivity of its material and
@@ -867,6 +875,13 @@ SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
 /** Set a parameter by key (list above). Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
                                                double value);
+/**
+ * An output of the model's last evaluation by name ("beam": "absorbed" and
+ * "transmitted" [W], "lit" [1], "lit_temperature" [K]; other models have none).
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (no such output).
+ */
+SINTER_API sinter_status sinter_heat_model_output(const sinter_heat_model *hm, const char *name,
+                                                  double *value);
 /** Read a parameter by key (its constant value, not a schedule's). Errors: SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key,
                                                double *value);

@@ -65,6 +65,9 @@ enum {
 /* "area": the pair law; "wall_reading": the particle-wall conductance's reading. */
 enum { AREA_EQ34 = 0, AREA_PROJECTION = 1, AREA_CONSTRICTION = 2 };
 enum { READING_PLANE = 0, READING_HERTZ = 1, READING_MIRROR = 2 };
+/* For pw_run: every wall a reservoir under the projection or the plane reading (walls_plain),
+ * so conductance_pw alone, with no wall's mode read. */
+enum { READING_PLAIN = -1 };
 
 static const double SQRT_PI = 1.77245385090551602730;
 static const double PI = 3.14159265358979323846;
@@ -172,8 +175,9 @@ static inline double conductance_wall(int area_law, int reading, const sinter_wa
                                       double kw, double ri, double area, double dist, double delta)
 {
     const int mode = w->thermal_mode;
-    if (mode == SINTER_WALL_RESERVOIR && reading == READING_PLANE && area_law != AREA_CONSTRICTION)
-        return conductance_pw(area_law == AREA_PROJECTION, ki, kw, ri, area, dist); /* default */
+    if (mode == SINTER_WALL_RESERVOIR &&
+        (area_law == AREA_PROJECTION || (area_law == AREA_EQ34 && reading == READING_PLANE)))
+        return conductance_pw(area_law == AREA_PROJECTION, ki, kw, ri, area, dist); /* 0.x */
     if (mode == SINTER_WALL_ADIABATIC || mode == SINTER_WALL_IMPOSED)
         return 0.0;
     double contact = area, d = dist;
@@ -287,8 +291,11 @@ static inline __attribute__((always_inline)) void pw_run(const sinter_heat_eval 
         const uint32_t i = c->i[k];
         const sinter_wall *wall = &e->walls->wall[c->j[k]];
         const double kw = wall->material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
-        const double g = conductance_wall(area_law, reading, wall, kmat[ps->material[i]], kw, r[i],
-                                          c->area[k], c->dist[k], c->delta[k]);
+        const double g = reading == READING_PLAIN
+                             ? conductance_pw(area_law == AREA_PROJECTION, kmat[ps->material[i]],
+                                              kw, r[i], c->area[k], c->dist[k])
+                             : conductance_wall(area_law, reading, wall, kmat[ps->material[i]], kw,
+                                                r[i], c->area[k], c->dist[k], c->delta[k]);
         if (implicit)
             e->g_pw[k] += g;
         else
@@ -316,13 +323,29 @@ range_rest(const sinter_heat_eval *e, const double *kmat, int projection, const 
                 heat[j] -= bpower[b];
         }
     }
-    if (wq != NULL)
-        pw_run(e, kmat, projection ? AREA_PROJECTION : AREA_EQ34, reading, 0, wq[r], wq[r + 1]);
+    const int law = projection ? AREA_PROJECTION : AREA_EQ34;
+    if (wq != NULL && reading == READING_PLAIN)
+        pw_run(e, kmat, law, READING_PLAIN, 0, wq[r], wq[r + 1]);
+    else if (wq != NULL)
+        pw_run(e, kmat, law, reading, 0, wq[r], wq[r + 1]);
 }
 
 /* The conductance laws of a partitioned evaluation, each its own loop (constants inlined, so
  * that none tests them): eq. 34's area, the projection, the projection with one material. */
 enum law { LAW_AREA = 0, LAW_PROJECTION = 1, LAW_FACTOR = 2 };
+
+/* READING_PLAIN when every wall is a reservoir and the law reads the walls as before the
+ * readings existed (the projection, or eq. 34's circle over s), else `reading`. */
+static int walls_plain(const sinter_heat_eval *e, int area_law, int reading)
+{
+    if (e->walls == NULL ||
+        !(area_law == AREA_PROJECTION || (area_law == AREA_EQ34 && reading == READING_PLANE)))
+        return reading;
+    for (size_t w = 0; w < e->walls->count; ++w)
+        if (e->walls->wall[w].thermal_mode != SINTER_WALL_RESERVOIR)
+            return reading;
+    return READING_PLAIN;
+}
 
 int sinter_conduction_ranges_begin(const sinter_heat_model *hm, const sinter_heat_eval *e,
                                    void *scratch, sinter_conduction_ranges *j)
@@ -344,7 +367,7 @@ int sinter_conduction_ranges_begin(const sinter_heat_model *hm, const sinter_hea
     const double reading = sinter_heat_param(hm, PARAM_WALL_READING, e->time);
     if (reading != READING_PLANE && reading != READING_HERTZ && reading != READING_MIRROR)
         return 0;
-    j->reading = (int)reading;
+    j->reading = walls_plain(e, projection ? AREA_PROJECTION : AREA_EQ34, (int)reading);
     const int walls =
         sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;
     j->walls = walls && sinter_chunks_wall_runs(&c->chunks, e->pw, j->wq) > 0;
@@ -475,7 +498,10 @@ static inline void loop_pw(const sinter_heat_eval *e, const double *kmat, int ar
     const int threads = ranges > 1 ? sinter_threads(e->ctx) : 1;
     if (threads == 1) { /* (a region of one thread costs a team's allocation: ranges_run.h) */
         for (int s = 0; s < ranges; ++s)
-            pw_run(e, kmat, area_law, reading, implicit, qlo[s], qlo[s + 1]);
+            if (reading == READING_PLAIN)
+                pw_run(e, kmat, area_law, READING_PLAIN, implicit, qlo[s], qlo[s + 1]);
+            else
+                pw_run(e, kmat, area_law, reading, implicit, qlo[s], qlo[s + 1]);
         return;
     }
 #pragma omp parallel for num_threads(threads < ranges ? threads : ranges) schedule(static)
@@ -516,7 +542,8 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
                            "heat model '%s': 'gas_conductivity' = %g W/(m K) must be finite and "
                            ">= 0, 'gas_gap' = %g m finite and > 0, 'gas_radius' = %g in (0, 1]",
                            hm->name, gas_k, gas_gap, gas_radius);
-    const int law = (int)area, wr = (int)reading, proj = law == AREA_PROJECTION;
+    const int law = (int)area, proj = law == AREA_PROJECTION;
+    const int wr = walls_plain(e, law, (int)reading);
     const int implicit = e->g_pp != NULL;
     const int walls =
         sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;

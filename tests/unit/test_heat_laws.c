@@ -384,6 +384,119 @@ static void test_gas_lens(void **state)
     close_fixture(&f);
 }
 
+/*
+ * The ray-traced "beam": the power absorbed plus the power transmitted is the beam's power
+ * (to round-off, every case); a sphere in a wide top-hat beam absorbs a P (pi r^2 / pi R^2)
+ * (to the rays' sampling of its disc); a sphere behind an equal one on the axis gets the
+ * fraction (1 - a) of what the first absorbed, ray by ray (shadowing); a beam along +x gives
+ * what a beam along -z gives (any direction); a small sphere on a Gaussian beam's axis absorbs
+ * a I(0) pi r^2 with I(0) = 2 P / (pi w^2); a semi-transparent sphere absorbs a (1 -
+ * exp(-mu L)) of each ray, L its chord.
+ */
+static double beam_output(sinter_heat_model *hm, const char *name)
+{
+    double v = -1.0;
+    OK(sinter_heat_model_output(hm, name, &v));
+    return v;
+}
+
+static void test_beam_rays(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f); /* material 0: absorptance 0.6, material 1: 0.9 */
+    const double r = 1e-3, a0 = 0.6, power = 10.0, rb = 5e-3;
+    add(&f, 0.0, 0.0, 0.0, r, 0, 300.0);
+    find_contacts(&f);
+    sinter_heat_model *hm = model(&f, "beam");
+    OK(sinter_heat_model_set(hm, "z", 0.01));
+    OK(sinter_heat_model_set(hm, "power", power));
+    OK(sinter_heat_model_set(hm, "radius", rb));
+    OK(sinter_heat_model_set(hm, "rays", 400.0));
+    OK(eval(&f, hm, 0.0, 0));
+    const double expected = a0 * power * r * r / (rb * rb);
+    print_message("beam, one sphere: absorbed %.9g W (closed form %.9g W), transmitted %.9g W\n",
+                  f.heat[0], expected, beam_output(hm, "transmitted"));
+    assert_close(f.heat[0], expected, 2e-3 * expected); /* the rays' sampling of the disc */
+    assert_rel(beam_output(hm, "absorbed"), f.heat[0]);
+    assert_close(beam_output(hm, "absorbed") + beam_output(hm, "transmitted"), power,
+                 1e-12 * power);
+    assert_true(beam_output(hm, "lit") == 1.0 && beam_output(hm, "lit_temperature") == 300.0);
+
+    /* any direction: the same sphere lit along +x from x = -0.01 */
+    const double q_down = f.heat[0];
+    OK(sinter_heat_model_set(hm, "x", -0.01));
+    OK(sinter_heat_model_set(hm, "z", 0.0));
+    OK(sinter_heat_model_set(hm, "dx", 2.0)); /* normalised by the model */
+    OK(sinter_heat_model_set(hm, "dz", 0.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_close(f.heat[0], q_down, 2e-3 * q_down);
+    /* the beam pointing away lights nothing: all transmitted */
+    OK(sinter_heat_model_set(hm, "dx", -1.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_true(f.heat[0] == 0.0);
+    assert_close(beam_output(hm, "transmitted"), power, 1e-12 * power);
+    assert_true(beam_output(hm, "lit") == 0.0);
+
+    /* shadowing: an equal sphere of material 1 (a = 0.9) right below, then another beside */
+    add(&f, 0.0, 0.0, -3e-3, r, 1, 400.0);
+    add(&f, 3e-3, 0.0, -3e-3, r, 1, 500.0);
+    OK(sinter_heat_model_set(hm, "x", 0.0));
+    OK(sinter_heat_model_set(hm, "z", 0.01));
+    OK(sinter_heat_model_set(hm, "dx", 0.0));
+    OK(sinter_heat_model_set(hm, "dz", -1.0));
+    OK(eval(&f, hm, 0.0, 0));
+    print_message("beam, shadowing: %.9g W above, %.9g W below, %.9g W beside\n", f.heat[0],
+                  f.heat[1], f.heat[2]);
+    assert_rel(f.heat[1], 0.9 * (1.0 - a0) / a0 * f.heat[0]); /* every ray through both */
+    assert_close(f.heat[2], 0.9 * power * r * r / (rb * rb), 2e-3 * f.heat[2]); /* unshaded */
+    assert_close(beam_output(hm, "absorbed") + beam_output(hm, "transmitted"), power,
+                 1e-12 * power);
+    assert_true(beam_output(hm, "lit") == 3.0);
+    assert_rel(beam_output(hm, "lit_temperature"), 400.0);
+
+    /* Gaussian (w = 5 mm, sampled to 2 w): a 0.5 mm sphere on the axis, alone in the beam:
+     * a I(0) (pi w^2 / 2) (1 - exp(-2 r^2 / w^2)) */
+    sinter_heat_model *g = model(&f, "beam");
+    OK(sinter_heat_model_set(g, "z", 0.01));
+    OK(sinter_heat_model_set(g, "x", 0.02)); /* away from the three spheres above */
+    add(&f, 0.02, 0.0, 0.0, 5e-4, 0, 300.0);
+    OK(sinter_heat_model_set(g, "power", power));
+    OK(sinter_heat_model_set(g, "profile", 1.0));
+    OK(sinter_heat_model_set(g, "rays", 2000.0));
+    OK(eval(&f, g, 0.0, 0));
+    const double i0 = 2.0 * power / (PI * rb * rb) / (1.0 - exp(-8.0)); /* truncated at 2 w */
+    const double gexp = a0 * i0 * 0.5 * PI * rb * rb * -expm1(-2.0 * 2.5e-7 / (rb * rb));
+    print_message("beam, Gaussian: %.9g W on the axis (closed form %.9g W)\n", f.heat[3], gexp);
+    assert_close(f.heat[3], gexp, 2e-3 * gexp); /* the rays' sampling of the disc */
+    assert_close(beam_output(g, "absorbed") + beam_output(g, "transmitted"), power,
+                 1e-12 * power);
+
+    /* semi-transparent: mu = 1000 1/m; one ray down the axis of sphere 3 crosses 2 r = 1 mm */
+    OK(sinter_heat_model_set(g, "profile", 0.0));
+    OK(sinter_heat_model_set(g, "radius", 1e-6));
+    OK(sinter_heat_model_set(g, "rays", 1.0));
+    OK(sinter_heat_model_set(g, "attenuation", 1000.0));
+    OK(eval(&f, g, 0.0, 0));
+    assert_rel(f.heat[3], power * a0 * (1.0 - exp(-1000.0 * 1e-3)));
+    assert_rel(beam_output(g, "transmitted"), power - f.heat[3]);
+
+    /* refusals */
+    double v;
+    assert_int_equal(sinter_heat_model_output(hm, "power", &v), SINTER_ERR_NOT_FOUND);
+    sinter_heat_model *cond = model(&f, "conduction");
+    assert_int_equal(sinter_heat_model_output(cond, "absorbed", &v), SINTER_ERR_NOT_FOUND);
+    sinter_heat_model_destroy(cond);
+    OK(sinter_heat_model_set(g, "rays", 0.5));
+    assert_int_equal(eval(&f, g, 0.0, 0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set(g, "rays", 8.0));
+    OK(sinter_heat_model_set(g, "dz", 0.0));
+    assert_int_equal(eval(&f, g, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(g);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
 /* Two spheres (1 mm and 0.5 mm) at 400 K in air at 293.15 K. */
 static void test_convection(void **state)
 {
@@ -584,7 +697,7 @@ int main(void)
         cmocka_unit_test(test_conduction),
         cmocka_unit_test(test_wall_laws),
         cmocka_unit_test(test_pair_laws),
-        cmocka_unit_test(test_gas_lens),
+        cmocka_unit_test(test_gas_lens), cmocka_unit_test(test_beam_rays),
         cmocka_unit_test(test_convection),
         cmocka_unit_test(test_radiation),
         cmocka_unit_test(test_laser),

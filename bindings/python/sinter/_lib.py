@@ -289,6 +289,7 @@ SIGNATURES = {
     "sinter_heat_model_name": (_str, [HeatModelPtr]),
     "sinter_heat_model_set": (c_status, [HeatModelPtr, _str, _double]),
     "sinter_heat_model_get": (c_status, [HeatModelPtr, _str, _P(_double)]),
+    "sinter_heat_model_output": (c_status, [HeatModelPtr, _str, _P(_double)]),
     "sinter_heat_model_set_schedule": (c_status, [HeatModelPtr, _str, _size, _P(_double), _P(_double)]),
     "sinter_stepper_add_heat": (c_status, [StepperPtr, HeatModelPtr]),
     "sinter_stepper_set_thermal_scheme": (c_status, [StepperPtr, _int]),
