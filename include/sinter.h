@@ -283,7 +283,10 @@ typedef enum sinter_material_param {
     /** temperature at which the neck model switches to the HOT set, both ways, no hysteresis
      *  (titanium alpha/beta: 1156 K, seed 001 sec. 4.2) [K], 0 = single phase, [0, 1e5] */
     SINTER_MAT_PHASE_TRANSITION_TEMPERATURE = 52,
-    SINTER_MAT_PARAM_COUNT_ = 53         /**< number of parameters in this version (not a parameter) */
+    /** melting point [K], 0 = none (the default): a step that takes a particle of the material
+     *  above it is refused with SINTER_ERR_DOMAIN (no melting model), [0, 1e5] */
+    SINTER_MAT_MELTING_TEMPERATURE = 53,
+    SINTER_MAT_PARAM_COUNT_ = 54         /**< number of parameters in this version (not a parameter) */
 } sinter_material_param;
 
 /** Create a material with every parameter at its default. `name` is copied (may be NULL). */

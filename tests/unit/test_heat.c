@@ -145,6 +145,47 @@ static void test_imposed_wall(void **state)
     }
 }
 
+/*
+ * A material's melting point (melting_temperature): a sphere heated by a 2000 K surrounding
+ * (h = 1000 W/(m^2 K)) is stopped with SINTER_ERR_DOMAIN at the step that would take it past
+ * 600 K, the message naming the particle, the time and the temperature; the last accepted
+ * state (at or below 600 K) is kept. With no melting point (0, the default) it heats on.
+ */
+static void test_melting_point_stops(void **state)
+{
+    (void)state;
+    for (int melting = 1; melting >= 0; --melting) {
+        scene s;
+        open_heat_only(&s, SINTER_MAT_MELTING_TEMPERATURE, melting ? 600.0 : 0.0, 200.0);
+        scene_add(&s, 0, 0, 0, 1e-3);
+        set_temperature(&s, 0, 300.0);
+        sinter_heat_model *hm = NULL;
+        add_heat(&s, "convection", &hm);
+        OK(sinter_heat_model_set(hm, "temperature", 2000.0));
+        OK(sinter_heat_model_set(hm, "h", 1000.0));
+        OK(sinter_stepper_set_dt(s.st, 1e-3));
+        const sinter_status st = sinter_stepper_advance(s.st, 10.0);
+        const double theta = get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+        double t = 0.0;
+        OK(sinter_stepper_time(s.st, &t));
+        if (melting) {
+            assert_int_equal(st, SINTER_ERR_DOMAIN);
+            const char *msg = sinter_last_error(s.ctx);
+            print_message("%s\n", msg);
+            assert_non_null(strstr(msg, "particle 0"));
+            assert_non_null(strstr(msg, "melting point 600 K"));
+            assert_true(theta <= 600.0 && theta > 590.0 && t > 0.0 && t < 10.0);
+        } else {
+            OK(st);
+            assert_true(theta > 1000.0);
+        }
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_heat_model_destroy(hm);
+        scene_close(&s);
+    }
+}
+
 static void test_two_spheres_approach_mean(void **state)
 {
     (void)state;
@@ -622,6 +663,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_two_spheres_approach_mean),
         cmocka_unit_test(test_imposed_wall),
+        cmocka_unit_test(test_melting_point_stops),
         cmocka_unit_test(test_convective_and_radiative_cooling),
         cmocka_unit_test(test_laser_energy_is_absorbed_power_integral),
         cmocka_unit_test(test_explicit_limit_and_implicit_stability),
