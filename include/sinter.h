@@ -283,7 +283,10 @@ typedef enum sinter_material_param {
     /** temperature at which the neck model switches to the HOT set, both ways, no hysteresis
      *  (titanium alpha/beta: 1156 K, seed 001 sec. 4.2) [K], 0 = single phase, [0, 1e5] */
     SINTER_MAT_PHASE_TRANSITION_TEMPERATURE = 52,
-    SINTER_MAT_PARAM_COUNT_ = 53         /**< number of parameters in this version (not a parameter) */
+    /** melting point [K], 0 = none (the default): a step that takes a particle of the material
+     *  above it is refused with SINTER_ERR_DOMAIN (no melting model), [0, 1e5] */
+    SINTER_MAT_MELTING_TEMPERATURE = 53,
+    SINTER_MAT_PARAM_COUNT_ = 54         /**< number of parameters in this version (not a parameter) */
 } sinter_material_param;
 
 /** Create a material with every parameter at its default. `name` is copied (may be NULL). */
@@ -573,7 +576,9 @@ SINTER_API sinter_status sinter_walls_get_force(const sinter_walls *walls, size_
  *    rolling model out (3 history values per contact instead of 6). While no
  *    material in use has a rolling coefficient > 0, the rolling moment is 0
  *    and costs nothing: the law without rolling runs, the rolling spring held
- *    at zero.
+ *    at zero. Parameter "no_tension" (default 0: eq. 2 as printed, the
+ *    damper may pull while a contact opens): 1 clamps the normal force at
+ *    zero, f_n = max(f_n, 0).
  *  - "power_law": the contact-area-scaled power law of seed 000 (eq. 2-4),
  *    its sliding friction (eq. 5-6), wall contact (eq. 13-17) and adhesive
  *    bonds (eq. 18-19).
@@ -844,12 +849,23 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  * Built-in models, chosen by name, with their parameters (SI):
  *  - "conduction": through contacts, Q_ij = k_ij A_ij (theta_j - theta_i) / d_ij
  *    with (r_i + r_j)/k_ij = r_i/k_i + r_j/k_j (seed 003 eq. 32-35, seed 000
- *    eq. 33-34); particle-wall contacts conduct to the wall's temperature over
- *    the centre-to-plane distance with k_iw = 2 k_i k_w / (k_i + k_w) (k_w of
- *    the wall's material: equal to the particle's, k_i; zero: adiabatic).
+ *    eq. 33-34); particle-wall contacts conduct to the wall's temperature with
+ *    G = k_iw A / d, k_iw = 2 k_i k_w / (k_i + k_w) (k_w of the wall's
+ *    material: equal to the particle's, k_i; zero: adiabatic), and the
+ *    area and distance of "wall_reading": 0 eq. 34's circle over the
+ *    centre-plane distance s; 1 (default) Hertz's pi r delta over s; 2 eq. 34's
+ *    circle over the mirror particle's 2 s; then each wall's thermal mode
+ *    (sinter_walls_set_thermal).
  *    "area" = 0: contact area of eq. 34; 1: LIGGGHTS' "projection",
  *    conductance 4 k_i k_j/(k_i + k_j) sqrt(pi r_max^2) (walls: with the wall
- *    material's k, so k = 0 makes a wall adiabatic). "walls" = 1/0.
+ *    material's k, so k = 0 makes a wall adiabatic); 2: constriction
+ *    conductance 4 a k_i k_j / (k_i + k_j) (Batchelor-O'Brien, 2 k a for
+ *    equal k). "radius" = 0: eq. 34's contact radius, 1: Hertz's a^2 = r*
+ *    delta (areas 0 and 2). "resistance" R'' [m^2 K/W]: an interface
+ *    resistance in series, 1/G = 1/G_law + R''/A. "gas_conductivity" k_g
+ *    [W/(m K)] > 0: conduction through the gas lens around each contact
+ *    (Cheng et al. 1999), cut off at the gap "gas_gap" [m] (default 1e-7) and
+ *    out to "gas_radius" (default 0.5) times the smaller radius. "walls" = 1/0.
  *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
  *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
@@ -867,6 +883,14 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    particle's top below
  *    the highest particle top inside the beam. "x", "y" and "intensity" may
  *    follow schedules (sinter_heat_model_set_schedule).
+ *  - "beam": a ray-traced beam in any direction with shadowing: the axis through
+ *    ("x", "y", "z") along ("dx", "dy", "dz") (default -z), total power "power"
+ *    [W] (default 0), "radius" [m] (top hat; Gaussian: the 1/e^2 radius),
+ *    "profile" 0 top hat / 1 Gaussian, "attenuation" mu [1/m] inside particles
+ *    (default 1e9: opaque), "rays" across the diameter (default 32). Each ray
+ *    gives a particle it crosses along a chord L the fraction a (1 - exp(-mu L))
+ *    of the power reaching it (a: absorptance), the rest goes on; absorbed plus
+ *    transmitted is the beam's power. Outputs: sinter_heat_model_output.
  *  - "joule": Joule heating. With a "network" electric model (by default,
  *    "source" = 0): the power the network dissipates in its contacts,
  *    G (phi_a - phi_b)^2 per contact, half to each particle of a pair and all
@@ -901,6 +925,13 @@ SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
 /** Set a parameter by key (list above). Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
                                                double value);
+/**
+ * An output of the model's last evaluation by name ("beam": "absorbed" and
+ * "transmitted" [W], "lit" [1], "lit_temperature" [K]; other models have none).
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (no such output).
+ */
+SINTER_API sinter_status sinter_heat_model_output(const sinter_heat_model *hm, const char *name,
+                                                  double *value);
 /** Read a parameter by key (its constant value, not a schedule's). Errors: SINTER_ERR_NOT_FOUND. */
 SINTER_API sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key,
                                                double *value);
@@ -944,6 +975,33 @@ SINTER_API sinter_status sinter_stepper_heat_energy(const sinter_stepper *steppe
 SINTER_API sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k,
                                                                size_t n, const double *times,
                                                                const double *temperatures);
+
+/**
+ * Thermal boundary condition of a wall for the "conduction" heat model (the
+ * wall's temperature is sinter_walls_set_temperature's; its conductivity k_w
+ * that of the wall's material).
+ */
+typedef enum sinter_wall_thermal_mode {
+    SINTER_WALL_RESERVOIR = 0,  /**< conducts by the model's wall law to its temperature (default) */
+    SINTER_WALL_ADIABATIC = 1,  /**< exchanges no heat */
+    SINTER_WALL_RESISTANCE = 2, /**< the wall law in series with a specific contact resistance
+                                     R'' [m^2 K/W]: 1/G = 1/G_law + R''/A */
+    SINTER_WALL_TRANSFER = 3,   /**< a heat transfer coefficient h [W/(m^2 K)] over the contact
+                                     area alone: G = h A */
+    SINTER_WALL_IMPOSED = 4     /**< a touching particle takes the wall's temperature after each
+                                     thermal update (seed 000 Fig. 5, remark 2) */
+} sinter_wall_thermal_mode;
+
+/**
+ * Thermal boundary condition of wall k: `mode` is a sinter_wall_thermal_mode
+ * and `value` R'' [m^2 K/W] for SINTER_WALL_RESISTANCE, h [W/(m^2 K)] for
+ * SINTER_WALL_TRANSFER, ignored (stored as 0) otherwise. A is the contact area
+ * of the conduction model's wall reading ("wall_reading").
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE (no wall k), SINTER_ERR_INVALID
+ * (unknown mode, value negative or not finite).
+ */
+SINTER_API sinter_status sinter_walls_set_thermal(sinter_walls *walls, size_t k, int mode,
+                                                  double value);
 
 /* ------------------------------------------------------------------------ */
 /* Electric submodels                                                        */

@@ -131,6 +131,7 @@ enum class material_param : int {
     grain_boundary_activation_energy_hot = SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY_HOT,
     surface_mobile_fraction_hot = SINTER_MAT_SURFACE_MOBILE_FRACTION_HOT,
     grain_boundary_mobile_fraction_hot = SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION_HOT,
+    melting_temperature = SINTER_MAT_MELTING_TEMPERATURE,
     phase_transition_temperature = SINTER_MAT_PHASE_TRANSITION_TEMPERATURE,
 };
 /// Mirrors sinter_field.
@@ -189,6 +190,14 @@ enum class wall_electric_mode : int {
     neutral = SINTER_WALL_NEUTRAL,
     current = SINTER_WALL_CURRENT,
     potential = SINTER_WALL_POTENTIAL,
+};
+/// Mirrors sinter_wall_thermal_mode.
+enum class wall_thermal_mode : int {
+    reservoir = SINTER_WALL_RESERVOIR,
+    adiabatic = SINTER_WALL_ADIABATIC,
+    resistance = SINTER_WALL_RESISTANCE,
+    transfer = SINTER_WALL_TRANSFER,
+    imposed = SINTER_WALL_IMPOSED,
 };
 /// Mirrors sinter_radius_distribution.
 enum class radius_distribution : int {

@@ -17,6 +17,11 @@
  *
  * History per contact: Delta x (3 doubles), and Delta theta (3 doubles) when the
  * model's "rolling" parameter is non-zero at the time it is added to a stepper.
+ *
+ * "no_tension" (default 0, eq. 2 as printed): 1 clamps the normal force at zero, f_n =
+ * max(f_n, 0), before the friction and rolling limits read it. The pair blocks of each
+ * setting are a function of their own (hertz_blocks.inc, included twice), so the default's
+ * is the same machine code as before the option existed.
  */
 #include <math.h>
 
@@ -31,7 +36,7 @@
 #include "force_model.h"
 #include "vec3.h"
 
-enum { PARAM_ROLLING = 0 };
+enum { PARAM_ROLLING = 0, PARAM_NO_TENSION = 1 };
 
 /* Material data of one side of a contact. */
 typedef struct side {
@@ -120,12 +125,13 @@ HM_INLINE void roots(double rstar, double mstar, double delta, double *sqrt_rd, 
 HM_INLINE void contact_law(const pair_props *p, const double n[3], double delta,
                            double sqrt_rd, double sm, const double u[3], const double w_rel[3],
                            double dt, const double *hist, double *trial, int rolling,
-                           double f[3], double m_roll[3])
+                           int no_tension, double f[3], double m_roll[3])
 {
     const pair_consts *c = p->c;
     /* Normal: eq. 2 and 6. delta_dot = -(u_j - u_i).n = u.n with u = u_i - u_j. */
     const double un = v3_dot(u, n);
-    const double fn = c->kn_pre * sqrt_rd * delta + c->dn_pre * sm * un; /* repulsive > 0 */
+    const double fn0 = c->kn_pre * sqrt_rd * delta + c->dn_pre * sm * un; /* repulsive > 0 */
+    const double fn = no_tension && !(fn0 > 0.0) ? 0.0 : fn0; /* "no_tension": f_n >= 0 */
     const double fabs_n = fabs(fn);
 
     /* Tangential: eq. 7-13. */
@@ -211,6 +217,7 @@ typedef struct constants {
     int rows;
     side sides[MAX_TABLE];
     pair_consts table[MAX_TABLE * MAX_TABLE];
+    int no_tension; /* the model's "no_tension": the normal force never pulls (f_n >= 0) */
 } constants;
 
 static void build_constants(const sinter_force_eval *e, constants *k)
@@ -218,6 +225,7 @@ static void build_constants(const sinter_force_eval *e, constants *k)
     const sinter_particles *ps = e->ps;
     k->softening = e->modulus_scale != NULL;
     k->any_rolling = 0;
+    k->no_tension = 0;
     k->rows = 0;
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m)
         k->index[m] = -1;
@@ -387,7 +395,8 @@ HM_INLINE void slider_return(int slipping, double scale, double k, double d, dou
  * so their loops run only for a block where some lane needs them; a lane that does not keeps
  * its values, as in contact_law.
  */
-HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, int rolling)
+HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, int rolling,
+                       int no_tension)
 {
     /* one pair of materials: the constants are the same in every lane */
 #define HM_C(field, lane) (single != NULL ? single->field : b->lane[a])
@@ -410,6 +419,8 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
         const double uz = b->dvz[a] + (wsx * ny - wsy * nx);
         const double un = ux * nx + uy * ny + uz * nz;
         fn[a] = HM_C(kn_pre, kn) * sqrt_rd * b->delta[a] + HM_C(dn_pre, dn) * sm * un;
+        if (no_tension) /* a constant of each body: the default's has no such line */
+            fn[a] = fn[a] > 0.0 ? fn[a] : 0.0;
         fabs_n[a] = fabs(fn[a]);
         utx[a] = ux - un * nx, uty[a] = uy - un * ny, utz[a] = uz - un * nz;
         kt[a] = HM_C(kt_pre, kt) * sqrt_rd;
@@ -511,135 +522,27 @@ HM_INLINE void blk_law(blk *restrict b, double dt, const pair_consts *single, in
 #undef HM_C
 }
 
-/*
- * Contacts [lo, hi) by blocks, added into force/torque in contact order; on a lean list the
- * contacts that no longer touch are skipped, the first one's index into *ended (which must be
- * SIZE_MAX or above hi on entry). With `ch`, the
- * contacts of range s of a chunked list (contact/chunks.h): interior contacts are added, the
- * boundary contacts' forces are stored in order into bq (contact) and bout (3 per contact),
- * and *reach is 1 + the largest particle index among them (0: none); returns their number.
- * Compiled for the baseline and, where the compiler supports it, for AVX2 and AVX-512
- * (core/clones.h: picked at load time by the CPU).
- */
-SINTER_CLONES
-static size_t pp_blocks(const sinter_force_eval *e, const constants *k,
-                        const pair_consts *single, int rolling, size_t lo, size_t hi,
-                        const sinter_chunks *ch, int s, uint32_t *bq, double *bout,
-                        double *bmr, uint32_t *reach, size_t *ended)
+#define PP_BLOCKS pp_blocks_printed
+#define PP_NO_TENSION 0
+#include "hertz_blocks.inc"
+#undef PP_BLOCKS
+#undef PP_NO_TENSION
+#define PP_BLOCKS pp_blocks_clamped
+#define PP_NO_TENSION 1
+#include "hertz_blocks.inc"
+#undef PP_BLOCKS
+#undef PP_NO_TENSION
+
+/* The default's blocks (the law as printed) or the clamped law's ("no_tension"). */
+HM_INLINE size_t pp_blocks(const sinter_force_eval *e, const constants *k,
+                           const pair_consts *single, int rolling, size_t lo, size_t hi,
+                           const sinter_chunks *ch, int s, uint32_t *bq, double *bout,
+                           double *bmr, uint32_t *reach, size_t *ended)
 {
-    const uint32_t *bq0 = bq;
-    uint32_t top = 0; /* 1 + the largest particle index of a boundary contact */
-    const sinter_contact_list *c = e->pp;
-    const int lean = !c->geometry;
-    double *trial = e->hist_pp->trial;
-    const size_t width = e->hist_pp->width;
-    const int by_pair = e->hist_pp->by_pair;
-    const int stream = e->stream;
-    double *restrict force = e->force, *restrict torque = e->torque;
-    /* Runs of contacts of one particle i (the list is in pair order, pairs grouped by their
-     * first particle) add into i's force and moment in registers, stored when the run ends:
-     * the same additions in the same order as adding into the arrays contact by contact, as
-     * no other contact of the run touches i (j != i). */
-    uint32_t cur = UINT32_MAX;
-    double fi[3] = {0.0, 0.0, 0.0}, ti[3] = {0.0, 0.0, 0.0};
-    /* the particle range of chunk s (interior contacts have both particles in it) */
-    const size_t range_lo = ch != NULL ? ch->plo[s] : 0;
-    const size_t range_hi = ch != NULL ? ch->plo[s + 1] : SIZE_MAX;
-    blk b;
-    for (size_t q0 = lo; q0 < hi; q0 += BLOCK) {
-        const size_t nb = hi - q0 < BLOCK ? hi - q0 : BLOCK;
-        /* eight specialised bodies: one pair of materials or a table, geometry formed here
-         * or read from the list, rolling resistance or not */
-        if (rolling && single != NULL && lean) {
-            blk_gather(e, k, single, q0, nb, 1, 1, &b);
-            blk_geometry(&b);
-            blk_law(&b, e->dt, single, 1);
-        } else if (rolling && single != NULL) {
-            blk_gather(e, k, single, q0, nb, 0, 1, &b);
-            blk_law(&b, e->dt, single, 1);
-        } else if (rolling && lean) {
-            blk_gather(e, k, NULL, q0, nb, 1, 1, &b);
-            blk_geometry(&b);
-            blk_law(&b, e->dt, NULL, 1);
-        } else if (rolling) {
-            blk_gather(e, k, NULL, q0, nb, 0, 1, &b);
-            blk_law(&b, e->dt, NULL, 1);
-        } else if (single != NULL && lean) {
-            blk_gather(e, k, single, q0, nb, 1, 0, &b);
-            blk_geometry(&b);
-            blk_law(&b, e->dt, single, 0);
-        } else if (single != NULL) {
-            blk_gather(e, k, single, q0, nb, 0, 0, &b);
-            blk_law(&b, e->dt, single, 0);
-        } else if (lean) {
-            blk_gather(e, k, NULL, q0, nb, 1, 0, &b);
-            blk_geometry(&b);
-            blk_law(&b, e->dt, NULL, 0);
-        } else {
-            blk_gather(e, k, NULL, q0, nb, 0, 0, &b);
-            blk_law(&b, e->dt, NULL, 0);
-        }
-        for (size_t a = 0; a < nb; ++a) {
-            const size_t q = q0 + a;
-            if (lean && b.apart[a] != 0.0) { /* an unconfirmed list's ended contact */
-                if (c->unconfirmed)
-                    c->ended[q] = 1;
-                *ended = q < *ended ? q : *ended;
-                continue;
-            }
-            double *t = trial + width * (by_pair ? c->pair[q] : q); /* by pair: swapped */
-            sinter_put(t, b.sx[a], stream);
-            sinter_put(t + 1, b.sy[a], stream);
-            sinter_put(t + 2, b.sz[a], stream);
-            if (rolling) {
-                sinter_put(t + 3, b.thx[a], stream);
-                sinter_put(t + 4, b.thy[a], stream);
-                sinter_put(t + 5, b.thz[a], stream);
-            } else if (width == 6) { /* a rolling spring no material uses: held at zero */
-                for (int d = 3; d < 6; ++d)
-                    sinter_put(t + d, 0.0, stream);
-            }
-            const uint32_t i = c->i[q], j = c->j[q];
-            if (j < range_lo || j >= range_hi || i < range_lo || i >= range_hi) { /* boundary */
-                /* the force only: the caller forms the moments again */
-                *bq++ = (uint32_t)q;
-                top = sinter_chunks_reach(top, i, j);
-                bout[0] = b.fx[a], bout[1] = b.fy[a], bout[2] = b.fz[a];
-                bout += 3;
-                if (rolling) {
-                    bmr[0] = b.mrx[a], bmr[1] = b.mry[a], bmr[2] = b.mrz[a];
-                    bmr += 3;
-                }
-                continue;
-            }
-            if (i != cur) {
-                if (cur != UINT32_MAX)
-                    for (int d = 0; d < 3; ++d) {
-                        force[3 * (size_t)cur + d] = fi[d];
-                        torque[3 * (size_t)cur + d] = ti[d];
-                    }
-                cur = i;
-                for (int d = 0; d < 3; ++d) {
-                    fi[d] = force[3 * (size_t)i + d];
-                    ti[d] = torque[3 * (size_t)i + d];
-                }
-            }
-            fi[0] += b.fx[a], fi[1] += b.fy[a], fi[2] += b.fz[a];
-            ti[0] += b.tix[a], ti[1] += b.tiy[a], ti[2] += b.tiz[a];
-            force[3 * j] -= b.fx[a], force[3 * j + 1] -= b.fy[a], force[3 * j + 2] -= b.fz[a];
-            torque[3 * j] += b.tjx[a], torque[3 * j + 1] += b.tjy[a];
-            torque[3 * j + 2] += b.tjz[a];
-        }
-    }
-    if (cur != UINT32_MAX)
-        for (int d = 0; d < 3; ++d) {
-            force[3 * (size_t)cur + d] = fi[d];
-            torque[3 * (size_t)cur + d] = ti[d];
-        }
-    sinter_put_fence(stream);
-    if (reach != NULL)
-        *reach = top;
-    return (size_t)(bq - bq0);
+    if (k->no_tension)
+        return pp_blocks_clamped(e, k, single, rolling, lo, hi, ch, s, bq, bout, bmr, reach,
+                                 ended);
+    return pp_blocks_printed(e, k, single, rolling, lo, hi, ch, s, bq, bout, bmr, reach, ended);
 }
 
 /* Wall contacts: constants per (wall, material row) built once when they fit here. */
@@ -871,7 +774,8 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
 /* Wall contacts [lo, hi) in list order: forces and moments into the particles, reactions into
  * wall_force (3 per wall). */
 HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pair_consts *table,
-                        int cached, int rolling, size_t lo, size_t hi, double *wall_force)
+                        int cached, int rolling, size_t lo, size_t hi, double *wall_force,
+                        int no_tension)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
@@ -908,8 +812,8 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
         roots(p.rstar, p.mstar, c->delta[q], &sqrt_rd, &sm);
         contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
                     hist + width * (size_t)c->pair[q],
-                    trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling, f,
-                    mr);
+                    trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling,
+                    no_tension, f, mr);
         if (!rolling && width == 6) /* a rolling spring no material uses: held at zero */
             for (int d = 3; d < 6; ++d)
                 trial[width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q) + (size_t)d] = 0.0;
@@ -928,10 +832,13 @@ static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job
 {
     for (size_t d = 0; d < 3 * job->nw; ++d)
         job->partial[s][d] = 0.0;
-    if (rolling)
-        pw_range(e, k, job->table, job->cached, 1, job->qlo[s], job->qlo[s + 1], job->partial[s]);
+    const size_t lo = job->qlo[s], hi = job->qlo[s + 1];
+    if (k->no_tension)
+        pw_range(e, k, job->table, job->cached, rolling, lo, hi, job->partial[s], 1);
+    else if (rolling)
+        pw_range(e, k, job->table, job->cached, 1, lo, hi, job->partial[s], 0);
     else
-        pw_range(e, k, job->table, job->cached, 0, job->qlo[s], job->qlo[s + 1], job->partial[s]);
+        pw_range(e, k, job->table, job->cached, 0, lo, hi, job->partial[s], 0);
 }
 
 /* The wall contacts by the job's plan (plan_walls); `done`: its runs were evaluated already
@@ -942,10 +849,12 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
     const sinter_contact_list *c = e->pw;
     const int runs = job->runs;
     if (runs == 0) {
-        if (rolling)
-            pw_range(e, k, job->table, job->cached, 1, 0, c->count, e->wall_force);
+        if (k->no_tension)
+            pw_range(e, k, job->table, job->cached, rolling, 0, c->count, e->wall_force, 1);
+        else if (rolling)
+            pw_range(e, k, job->table, job->cached, 1, 0, c->count, e->wall_force, 0);
         else
-            pw_range(e, k, job->table, job->cached, 0, 0, c->count, e->wall_force);
+            pw_range(e, k, job->table, job->cached, 0, 0, c->count, e->wall_force, 0);
         return;
     }
     if (!done) {
@@ -973,6 +882,7 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
      * is then held at zero, as in a new contact) */
     constants k;
     build_constants(e, &k);
+    k.no_tension = fm->param[PARAM_NO_TENSION] != 0.0;
     const int rolling = fm->param[PARAM_ROLLING] != 0.0 && e->hist_pp->width == 6 && k.any_rolling;
     e->pp_ended = SIZE_MAX;
     /* the wall contacts with the pair contacts, in one parallel region, when their runs are
@@ -1021,8 +931,8 @@ const sinter_force_ops sinter_force_hertz_mindlin = {
     .history_pp = 6,
     .history_pw = 6,
     .uses_contacts = 1,
-    .keys = {"rolling", NULL},
-    .defaults = {1.0},
+    .keys = {"rolling", "no_tension", NULL},
+    .defaults = {1.0, 0.0},
     .eval = hertz_mindlin_eval,
     .history_width = hertz_mindlin_history,
     .reads_geometry = hertz_mindlin_reads_geometry,

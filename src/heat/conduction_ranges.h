@@ -26,6 +26,7 @@ typedef struct sinter_conduction_ranges {
     sinter_heat_eval e;
     double kmat[SINTER_MAX_MATERIALS]; /* conductivity of each material [W/(m K)] */
     int law;                           /* which conductance (conduction.c, enum law) */
+    int reading;                       /* the wall reading ("wall_reading") */
     double factor;                     /* the projection's factor with one material */
     sinter_chunks ch;
     int skip_ended;                    /* an unconfirmed list: leave out c->ended's contacts */

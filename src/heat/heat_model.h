@@ -6,6 +6,7 @@
 #include "contact/contacts.h"
 
 #define SINTER_HEAT_MAX_PARAMS 12
+#define SINTER_HEAT_MAX_OUTPUTS 4
 
 /* Everything one evaluation of one heat model reads and writes. */
 typedef struct sinter_heat_eval {
@@ -51,6 +52,7 @@ struct sinter_heat_model {
     sinter_heat_callbacks host;
     void *user;
     sinter_heat_ops host_ops;
+    double output[SINTER_HEAT_MAX_OUTPUTS]; /* written by each evaluation (ops->outputs) */
 };
 
 /* Value of parameter k at time t (its schedule if it has one). */
@@ -63,6 +65,9 @@ extern const sinter_heat_ops sinter_heat_radiation;
 extern const sinter_heat_ops sinter_heat_nozzle;
 extern const sinter_heat_ops sinter_heat_laser;
 extern const sinter_heat_ops sinter_heat_joule;
+extern const sinter_heat_ops sinter_heat_beam;
+/* Names of "beam"'s outputs (sinter_heat_model.output, sinter_heat_model_output), NULL-ended. */
+extern const char *const sinter_heat_beam_outputs[SINTER_HEAT_MAX_OUTPUTS + 1];
 
 /* Host model evaluation (host.c). */
 sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e);

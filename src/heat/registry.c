@@ -5,8 +5,8 @@
 #include "heat_model.h"
 
 static const sinter_heat_ops *const BUILTIN[] = {
-    &sinter_heat_conduction, &sinter_heat_convection, &sinter_heat_radiation,
-    &sinter_heat_nozzle,     &sinter_heat_laser,      &sinter_heat_joule,
+    &sinter_heat_conduction, &sinter_heat_convection, &sinter_heat_radiation, &sinter_heat_nozzle,
+    &sinter_heat_laser,      &sinter_heat_joule,      &sinter_heat_beam,
 };
 
 static const char *builtin_name(size_t k)
@@ -140,6 +140,22 @@ sinter_status sinter_heat_model_get(const sinter_heat_model *hm, const char *key
     if (st == SINTER_OK)
         *value = hm->param[k];
     return st;
+}
+
+sinter_status sinter_heat_model_output(const sinter_heat_model *hm, const char *name, double *value)
+{
+    if (hm == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(hm->ctx, name);
+    SINTER_CHECK_NULL(hm->ctx, value);
+    const char *const *names = hm->ops == &sinter_heat_beam ? sinter_heat_beam_outputs : NULL;
+    for (int k = 0; names != NULL && k < SINTER_HEAT_MAX_OUTPUTS && names[k] != NULL; ++k)
+        if (strcmp(names[k], name) == 0) {
+            *value = hm->output[k];
+            return SINTER_OK;
+        }
+    return sinter_fail(hm->ctx, SINTER_ERR_NOT_FOUND, "heat model '%s' has no output '%s'",
+                       hm->name, name);
 }
 
 sinter_status sinter_heat_model_set_schedule(sinter_heat_model *hm, const char *key, size_t n,

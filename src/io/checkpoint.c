@@ -23,7 +23,8 @@
 #include "io/path.h"
 #include "stepper/stepper.h"
 
-/* 2: material parameter count recorded (53 parameters since the neck data)
+/* 2: material parameter count recorded (53 parameters since the neck data; 54 with
+ *    melting_temperature: files with 53 are still read, the melting point then off)
  * 3: a quasi-static section at the end (links, necks, plane conditions: stepper/qs_state.c);
  *    version 2 files are still read (they hold no quasi-static state)
  * 4: then the electric network's warm start (the potentials its next solve starts from:
@@ -504,16 +505,38 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         field_data[f] = take(&r, field_bytes[f]);
     }
     const uint64_t param_count = take_u64(&r);
-    if (s == SINTER_OK && !r.bad && param_count != SINTER_MAT_PARAM_COUNT_)
+    /* a file from before parameters were appended (53 since the neck data): the appended ones
+     * take their defaults */
+    const int older = param_count >= 53 && param_count < SINTER_MAT_PARAM_COUNT_;
+    if (s == SINTER_OK && !r.bad && param_count != SINTER_MAT_PARAM_COUNT_ && !older)
         s = sinter_fail(ctx, SINTER_ERR_INVALID,
                         "checkpoint '%s' stores %llu material parameters, this library %d; "
                         "nothing was changed",
                         path, (unsigned long long)param_count, SINTER_MAT_PARAM_COUNT_);
     const unsigned char *used = take(&r, SINTER_MAX_MATERIALS);
     const void *material_values[SINTER_MAX_MATERIALS] = {0};
-    for (int m = 0; m < SINTER_MAX_MATERIALS && used && !r.bad; ++m)
-        if (used[m])
+    double *padded = NULL; /* an older file's values with the appended parameters' defaults */
+    for (int m = 0; m < SINTER_MAX_MATERIALS && used && !r.bad && s == SINTER_OK; ++m) {
+        if (!used[m])
+            continue;
+        if (!older) {
             material_values[m] = take(&r, sizeof(ps->materials[m].value));
+            continue;
+        }
+        const void *old_values = take(&r, (size_t)param_count * sizeof(double));
+        if (padded == NULL)
+            padded = sinter_calloc(ctx, (size_t)SINTER_MAX_MATERIALS * SINTER_MAT_PARAM_COUNT_,
+                                   sizeof(double));
+        if (padded == NULL) {
+            s = sinter_last_status(ctx);
+            break;
+        }
+        double *v = padded + (size_t)m * SINTER_MAT_PARAM_COUNT_;
+        sinter_material_defaults(v);
+        if (old_values != NULL)
+            memcpy(v, old_values, (size_t)param_count * sizeof(double));
+        material_values[m] = v;
+    }
     const size_t nw = (size_t)take_u64(&r);
     const size_t have_walls = st->walls ? st->walls->count : 0;
     if (s == SINTER_OK && !r.bad && nw != have_walls)
@@ -669,6 +692,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
                                                 warm != NULL ? (size_t)warm_nodes : 0);
     if (s != SINTER_OK) {
         sinter_qs_destroy(qs_new);
+        sinter_free(ctx, padded);
         sinter_free(ctx, data);
         return s;
     }
@@ -752,6 +776,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->forces_current = (int)forces_current || st->kind != SINTER_STEPPER_QUASISTATIC;
     st->write_generation = ps->write_generation;
     st->population_generation = ps->population_generation;
+    sinter_free(ctx, padded);
     sinter_free(ctx, data);
     return SINTER_OK;
 }

@@ -422,6 +422,27 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
                     sinter_walls_set_electric(sc->walls, index, mode, value)));
     }
     TRY(build_wall_drive(t, sc, s, index));
+    const char *thermal = NULL;
+    st = scene_get_word(t, s, "thermal", &thermal);
+    OPTIONAL(st);
+    if (st == SINTER_OK) {
+        const int mode = strcmp(thermal, "reservoir") == 0    ? SINTER_WALL_RESERVOIR
+                         : strcmp(thermal, "adiabatic") == 0  ? SINTER_WALL_ADIABATIC
+                         : strcmp(thermal, "resistance") == 0 ? SINTER_WALL_RESISTANCE
+                         : strcmp(thermal, "transfer") == 0   ? SINTER_WALL_TRANSFER
+                         : strcmp(thermal, "imposed") == 0    ? SINTER_WALL_IMPOSED
+                                                              : -1;
+        if (mode < 0)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: thermal: expected reservoir, adiabatic, resistance, "
+                               "transfer or imposed, got '%s'",
+                               t->path, scene_find(s, "thermal")->line, thermal);
+        double value = 0.0;
+        if (mode == SINTER_WALL_RESISTANCE || mode == SINTER_WALL_TRANSFER)
+            TRY(required(t, s, scene_get_double(t, s, "thermal_value", &value), "thermal_value"));
+        TRY(at_line(t, scene_find(s, "thermal")->line,
+                    sinter_walls_set_thermal(sc->walls, index, mode, value)));
+    }
     const char *motion = "fixed";
     OPTIONAL(scene_get_word(t, s, "motion", &motion));
     if (strcmp(motion, "fixed") == 0)

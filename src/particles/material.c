@@ -152,6 +152,9 @@ static const param_spec PARAMS[SINTER_MAT_PARAM_COUNT_] = {
     {"phase_transition_temperature", "K",
      "neck model uses the _hot set at T >= this, 0 = single phase (seed 001 sec. 4.2: Ti 1156 K)",
      0.0, 0.0, 1e5, RANGE_CLOSED},
+    {"melting_temperature", "K",
+     "melting point: a step taking a particle above it is refused, 0 = none (no melting model)",
+     0.0, 0.0, 1e5, RANGE_CLOSED},
 };
 
 void sinter_material_defaults(double values[SINTER_MAT_PARAM_COUNT_])

@@ -280,6 +280,25 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
                            t, t + h, i, (unsigned long long)ps->id[i], theta,
                            SINTER_SANITY_MAX_TEMPERATURE);
     }
+    /* 4. melting: only when a material in use has a melting point (no melting model) */
+    int melts = 0;
+    for (int id = 0; id < ps->material_top; ++id)
+        melts |=
+            ps->material_used[id] && ps->materials[id].value[SINTER_MAT_MELTING_TEMPERATURE] > 0.0;
+    for (size_t i = 0; melts && i < n; ++i) {
+        const sinter_material *mat = &ps->materials[ps->material[i]];
+        const double melt = mat->value[SINTER_MAT_MELTING_TEMPERATURE];
+        if (!(melt > 0.0 && ps->temperature[i] > melt) ||
+            (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE))
+            continue;
+        return sinter_fail(st->ctx, SINTER_ERR_DOMAIN,
+                           "step from t = %.9g s to %.9g s rejected: particle %zu (id %llu) "
+                           "reached %g K, above the melting point %g K of its material %d "
+                           "('%s', melting_temperature); libsinter has no melting model (no "
+                           "latent heat, no liquid). The last accepted state is kept.",
+                           t, t + h, i, (unsigned long long)ps->id[i], ps->temperature[i], melt,
+                           (int)ps->material[i], mat->name);
+    }
     return SINTER_OK;
 }
 

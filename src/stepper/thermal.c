@@ -379,6 +379,40 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
 
 static sinter_status thermal_booked(sinter_stepper *st, double h);
 
+/*
+ * Walls with SINTER_WALL_IMPOSED (seed 000 Fig. 5, remark 2): after a thermal update each
+ * particle touching one (in the contact list the update's powers came from) takes its
+ * temperature, fixed-temperature particles aside; the heat this takes, sum m C (theta_w -
+ * theta), is booked to the first "conduction" model (its power over the step h), else to none.
+ */
+static void impose_wall_temperatures(sinter_stepper *st, double h)
+{
+    const sinter_walls *walls = st->walls;
+    if (walls == NULL || st->pw.count == 0)
+        return;
+    int any = 0;
+    for (size_t w = 0; w < walls->count; ++w)
+        any |= walls->wall[w].thermal_mode == SINTER_WALL_IMPOSED;
+    if (!any)
+        return;
+    sinter_particles *ps = st->ps;
+    double energy = 0.0;
+    for (size_t k = 0; k < st->pw.count; ++k) {
+        const uint32_t i = st->pw.i[k];
+        const sinter_wall *wall = &walls->wall[st->pw.j[k]];
+        if (wall->thermal_mode != SINTER_WALL_IMPOSED || fixed(ps, i))
+            continue;
+        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        energy += mc * (wall->temperature - ps->temperature[i]);
+        ps->temperature[i] = wall->temperature;
+    }
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        if (st->thermal.slots[k].model->ops == &sinter_heat_conduction) {
+            st->thermal.slots[k].power += energy / h;
+            break;
+        }
+}
+
 /* The saved temperatures' room, for the explicit update. */
 sinter_status sinter_thermal_explicit_begin(sinter_stepper *st)
 {
@@ -429,6 +463,7 @@ sinter_status sinter_thermal_explicit_end(sinter_stepper *st, double h, size_t b
                            "scheme or a smaller step)",
                            st->time, bad, (unsigned long long)ps->id[bad], theta, h, dt_stable);
     }
+    impose_wall_temperatures(st, h);
     return thermal_booked(st, h);
 }
 
@@ -441,6 +476,8 @@ sinter_status sinter_thermal_implicit_advance(sinter_stepper *st, double h)
     sinter_status s = backup(st);
     if (s == SINTER_OK)
         s = implicit_update(st, h);
+    if (s == SINTER_OK)
+        impose_wall_temperatures(st, h);
     return s == SINTER_OK ? thermal_booked(st, h) : s;
 }
 

@@ -279,6 +279,29 @@ sinter_status sinter_walls_set_electric(sinter_walls *walls, size_t k, int mode,
     return SINTER_OK;
 }
 
+sinter_status sinter_walls_set_thermal(sinter_walls *walls, size_t k, int mode, double value)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (mode < SINTER_WALL_RESERVOIR || mode > SINTER_WALL_IMPOSED)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_thermal: mode %d of wall %zu is not one of "
+                           "SINTER_WALL_RESERVOIR (0), SINTER_WALL_ADIABATIC (1), "
+                           "SINTER_WALL_RESISTANCE (2), SINTER_WALL_TRANSFER (3), "
+                           "SINTER_WALL_IMPOSED (4)",
+                           mode, k);
+    const int valued = mode == SINTER_WALL_RESISTANCE || mode == SINTER_WALL_TRANSFER;
+    if (valued && !(value >= 0.0 && value < INFINITY))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_thermal: value %g of wall %zu must be finite and "
+                           ">= 0 (a specific contact resistance [m^2 K/W] or a heat transfer "
+                           "coefficient [W/(m^2 K)])",
+                           value, k);
+    w->thermal_mode = mode;
+    w->thermal_value = valued ? value : 0.0;
+    return SINTER_OK;
+}
+
 sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t k, size_t n,
                                                     const double *times, const double *temperatures)
 {

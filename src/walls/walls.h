@@ -38,6 +38,8 @@ typedef struct sinter_wall {
     double pulse_on, pulse_off; /* pulsed drive: on for pulse_on, off for pulse_off [s] */
     double electric_limit;      /* compliance: the largest |V| of a current electrode or |I| of
                                    a potential one (network model); 0: none */
+    int thermal_mode;      /* sinter_wall_thermal_mode (0 = reservoir: add_plane zeroes a wall) */
+    double thermal_value;  /* RESISTANCE: R'' [m^2 K/W]; TRANSFER: h [W/(m^2 K)]; others 0 */
     /* Written at every step's commit: last, and a cache line away from the next wall's first
      * fields (the array of walls is not line-aligned). */
     double force[3]; /* reaction: force the particles exert on the wall [N] */

@@ -160,6 +160,7 @@ class CoverageTest(unittest.TestCase):
             "sinter_stepper_kind": (sinter.StepperKind, "SINTER_STEPPER_"),
             "sinter_thermal_scheme": (sinter.ThermalScheme, "SINTER_THERMAL_"),
             "sinter_wall_electric_mode": (sinter.WallElectric, "SINTER_WALL_"),
+            "sinter_wall_thermal_mode": (sinter.WallThermal, "SINTER_WALL_"),
             "sinter_radius_distribution": (sinter.RadiusDistribution, "SINTER_RADII_"),
             "sinter_callback_result": (sinter.CallbackResult, "SINTER_CALLBACK_"),
             "sinter_contact_kind": (sinter.ContactKind, "SINTER_CONTACT_"),

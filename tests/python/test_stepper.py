@@ -588,6 +588,40 @@ class WallsTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             w.set_velocity(0, (1, 2))
 
+    def test_thermal_modes(self):
+        # a particle resting on an imposed 600 K floor takes its temperature at the first step
+        ps = sinter.Particles(self.ctx)
+        ps.set_material(0, self.material)
+        ps.add([(0, 0, 0.99e-3)], 1e-3, temperature=300.0)
+        walls = sinter.Walls(self.ctx)
+        walls.add_plane((0, 0, 0), (0, 0, 1), self.material, temperature=600.0)
+        walls.set_thermal(0, "imposed")
+        st = sinter.Stepper(self.ctx, ps, walls, dt=1e-4,
+                            heat=[sinter.HeatModel(self.ctx, "conduction")])
+        st.step(1)
+        self.assertEqual(as_lists(ps.get("temperature"))[0], 600.0)
+        walls.set_thermal(0, sinter.WallThermal.TRANSFER, 100.0)
+        walls.set_thermal(0, "resistance", 1e-4)
+        walls.set_thermal(0, "adiabatic")
+        with self.assertRaises(sinter.InvalidArgument):
+            walls.set_thermal(0, "transfer", -1.0)
+        with self.assertRaises(KeyError):
+            walls.set_thermal(0, "hot")
+
+    def test_beam_energy(self):
+        ps = sinter.Particles(self.ctx)
+        ps.set_material(0, self.material)
+        ps.add([(0, 0, 0), (0, 0, -3e-3)], 1e-3, temperature=300.0)
+        beam = sinter.HeatModel(self.ctx, "beam", z=0.01, power=5.0, radius=2e-3, rays=64)
+        st = sinter.Stepper(self.ctx, ps, None, dt=1e-4, heat=[beam])
+        st.step(1)
+        self.assertAlmostEqual(beam.output("absorbed") + beam.output("transmitted"), 5.0,
+                               delta=1e-12)
+        # absorptance 1: the lower sphere lies in the upper one's full shadow
+        self.assertEqual(beam.output("lit"), 1.0)
+        with self.assertRaises(sinter.NotFound):
+            beam.output("power")
+
     def test_bad_motion_result_is_reported(self):
         with self.assertRaises(TypeError):  # the library moves the wall at once
             self.walls.set_callback(0, lambda t: (0.0, 0.0))

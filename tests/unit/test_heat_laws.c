@@ -140,6 +140,9 @@ static void test_conduction(void **state)
     double v;
     OK(sinter_heat_model_get(hm, "area", &v));
     assert_true(v == 0.0);
+    OK(sinter_heat_model_get(hm, "wall_reading", &v));
+    assert_true(v == 1.0); /* Hertz's area at walls (docs/validation.md, seed 003 sec. 5.1) */
+    OK(sinter_heat_model_set(hm, "wall_reading", 0.0)); /* the centre-plane reading, by hand */
     OK(sinter_heat_model_get(hm, "walls", &v));
     assert_true(v == 1.0);
     OK(eval(&f, hm, 0.0, 0));
@@ -177,8 +180,320 @@ static void test_conduction(void **state)
     assert_true(f.heat[0] + f.heat[1] == 0.0);
 
     /* Any other area mode is refused at evaluation. */
-    OK(sinter_heat_model_set(hm, "area", 2.0));
+    OK(sinter_heat_model_set(hm, "area", 3.0));
     assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * The particle-wall readings and each wall's thermal mode: sphere 0 (r = 1 mm, k = 50, 300 K)
+ * 0.1 mm into a 500 K floor of conductivity k_w = 50 (so k_iw = k = 50), sphere 1 far away.
+ */
+static void test_wall_laws(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r = 1e-3, k = 50.0, tw = 500.0, s = 0.9e-3, delta = r - s;
+    add(&f, 0.0, 0.0, s, r, 0, 300.0);
+    add(&f, 5e-3, 0.0, 3e-3, r, 0, 300.0);
+    const double p0[3] = {0, 0, 0}, n0[3] = {0, 0, 1};
+    sinter_material *wm;
+    OK(sinter_material_create(&wm, f.ctx, NULL));
+    OK(sinter_material_set(wm, SINTER_MAT_THERMAL_CONDUCTIVITY, k));
+    OK(sinter_walls_add_plane(f.walls, p0, n0, wm, NULL));
+    sinter_material_destroy(wm);
+    OK(sinter_walls_set_temperature(f.walls, 0, tw));
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 0);
+    assert_int_equal(f.pw.count, 1);
+
+    /* the three readings of G = k_iw A / d: eq. 34's circle over s, Hertz's pi r delta over s,
+     * eq. 34's circle over the mirror distance 2 s */
+    const double a_geo = PI * (r * r - s * s), a_hertz = PI * r * delta;
+    const double g[3] = {k * a_geo / s, k * a_hertz / s, k * a_geo / (2.0 * s)};
+    sinter_heat_model *hm = model(&f, "conduction");
+    for (int reading = 0; reading < 3; ++reading) {
+        OK(sinter_heat_model_set(hm, "wall_reading", reading));
+        OK(eval(&f, hm, 0.0, 0));
+        assert_rel(f.heat[0], g[reading] * (tw - 300.0));
+        assert_true(f.heat[1] == 0.0);
+        OK(eval(&f, hm, 0.0, 1));
+        assert_rel(f.g_pw[0], g[reading]);
+    }
+    /* the Hertz and mirror readings halve eq. 34's to first order in delta / r */
+    assert_close(g[1] / g[0], 0.5, delta / r);
+    /* constriction (area 2) at a wall of the particle's conductivity: 2 k a (Batchelor &
+     * O'Brien), a from the reading's area; the mirror reading reads no distance */
+    OK(sinter_heat_model_set(hm, "area", 2.0));
+    const double gc[3] = {2.0 * k * sqrt(r * r - s * s), 2.0 * k * sqrt(r * delta),
+                          2.0 * k * sqrt(r * r - s * s)};
+    for (int reading = 0; reading < 3; ++reading) {
+        OK(sinter_heat_model_set(hm, "wall_reading", reading));
+        OK(eval(&f, hm, 0.0, 1));
+        assert_rel(f.g_pw[0], gc[reading]);
+    }
+    OK(sinter_heat_model_set(hm, "area", 0.0));
+    OK(sinter_heat_model_set(hm, "wall_reading", 1.0));
+
+    /* the wall's own modes (Hertz reading: A = pi r delta) */
+    const double rc = 2e-5, h = 3000.0;
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_ADIABATIC, 7.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_true(f.heat[0] == 0.0);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESISTANCE, rc));
+    const double g_series = 1.0 / (1.0 / g[1] + rc / a_hertz);
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], g_series * (tw - 300.0));
+    assert_true(g_series < g[1]);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESISTANCE, 0.0)); /* the law alone */
+    OK(eval(&f, hm, 0.0, 1));
+    assert_rel(f.g_pw[0], g[1]);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_TRANSFER, h));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_rel(f.heat[0], h * a_hertz * (tw - 300.0));
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_IMPOSED, 0.0)); /* set by the stepper */
+    OK(eval(&f, hm, 0.0, 1));
+    assert_true(f.g_pw[0] == 0.0);
+    OK(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESERVOIR, 0.0));
+    OK(eval(&f, hm, 0.0, 1));
+    assert_rel(f.g_pw[0], g[1]);
+
+    /* refusals */
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 0, 5, 0.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_TRANSFER, -1.0),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 0, SINTER_WALL_RESISTANCE, INFINITY),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_walls_set_thermal(f.walls, 1, SINTER_WALL_ADIABATIC, 0.0),
+                     SINTER_ERR_RANGE);
+    OK(sinter_heat_model_set(hm, "wall_reading", 3.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * Pair laws beyond eq. 32-35 on the conduction fixture's pair (r1 = 1 mm, k1 = 50; r2 = 0.6 mm,
+ * k2 = 20), walls off: the constriction conductance 4 a k1 k2 / (k1 + k2) (Batchelor &
+ * O'Brien 1977, 2 k a for equal conductivities) with eq. 34's or Hertz's radius, eq. 32 with
+ * Hertz's area, and an interface resistance in series; every one antisymmetric to the bit.
+ */
+static void test_pair_laws(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r1 = 1e-3, r2 = 0.6e-3, k1 = 50.0, k2 = 20.0;
+    add(&f, 0.0, 0.0, 0.0, r1, 0, 300.0);
+    add(&f, 1.2e-3, 0.0, 0.6e-3, r2, 1, 400.0);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    const double d = sqrt(1.2e-3 * 1.2e-3 + 0.6e-3 * 0.6e-3), delta = r1 + r2 - d;
+    const double l1 = 0.5 * (d - (r2 * r2 - r1 * r1) / d);
+    const double a2_geo = r1 * r1 - l1 * l1, a2_hertz = r1 * r2 / (r1 + r2) * delta;
+    const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2), kh = 2.0 * k1 * k2 / (k1 + k2);
+    sinter_heat_model *hm = model(&f, "conduction");
+    OK(sinter_heat_model_set(hm, "walls", 0.0));
+    struct {
+        double area, radius, resistance, g;
+    } cases[] = {
+        {2.0, 0.0, 0.0, 2.0 * kh * sqrt(a2_geo)},
+        {2.0, 1.0, 0.0, 2.0 * kh * sqrt(a2_hertz)},
+        {0.0, 1.0, 0.0, k12 * PI * a2_hertz / d},
+        {0.0, 0.0, 1e-5, 1.0 / (d / (k12 * PI * a2_geo) + 1e-5 / (PI * a2_geo))},
+        {2.0, 1.0, 3e-6, 1.0 / (1.0 / (2.0 * kh * sqrt(a2_hertz)) + 3e-6 / (PI * a2_hertz))},
+        {1.0, 0.0, 1e-5,
+         1.0 / (1.0 / (4.0 * k1 * k2 / (k1 + k2) * sqrt(PI) * r1) + 1e-5 / (PI * r1 * r1))},
+    };
+    for (size_t c = 0; c < sizeof(cases) / sizeof(cases[0]); ++c) {
+        OK(sinter_heat_model_set(hm, "area", cases[c].area));
+        OK(sinter_heat_model_set(hm, "radius", cases[c].radius));
+        OK(sinter_heat_model_set(hm, "resistance", cases[c].resistance));
+        OK(eval(&f, hm, 0.0, 0));
+        print_message("pair law %zu: G = %.12g W/K\n", c, cases[c].g);
+        assert_rel(f.heat[0], cases[c].g * 100.0);
+        assert_true(f.heat[0] + f.heat[1] == 0.0);
+        OK(eval(&f, hm, 0.0, 1));
+        assert_rel(f.g_pp[0], cases[c].g);
+    }
+    /* the geometric radius is Hertz's times sqrt(2) to first order: eq. 34 vs Hertz */
+    assert_close(a2_geo / a2_hertz, 2.0, 2.0 * delta / r2);
+    OK(sinter_heat_model_set(hm, "radius", 2.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set(hm, "radius", 0.0));
+    OK(sinter_heat_model_set(hm, "resistance", -1.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * The gas lens around a contact (Cheng, Yu & Zulli 1999) in parallel with eq. 32-35, for a
+ * pair barely overlapping (r1 = 1 mm, k 50; r2 = 0.6 mm, k 20; delta = 2 um), against a
+ * quadrature of int 2 pi k_g rho / max(h + rho^2 / (2 r*), g_min) d rho over [a, gas_radius
+ * r2] (in u = rho^2: pi k_g / max(h + u / (2 r*), g_min) du, 2e6 midpoints).
+ */
+static void test_gas_lens(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r1 = 1e-3, r2 = 0.6e-3, k1 = 50.0, k2 = 20.0, delta = 2e-6;
+    const double d = r1 + r2 - delta;
+    add(&f, 0.0, 0.0, 0.0, r1, 0, 300.0);
+    add(&f, d, 0.0, 0.0, r2, 1, 400.0);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    const double l1 = 0.5 * (d - (r2 * r2 - r1 * r1) / d), a2_geo = r1 * r1 - l1 * l1;
+    const double k12 = (r1 + r2) / (r1 / k1 + r2 / k2);
+    sinter_heat_model *hm = model(&f, "conduction");
+    OK(sinter_heat_model_set(hm, "walls", 0.0));
+    const double kg = 0.026, gaps[3] = {1e-7, 2e-5, 1e-7}, fractions[3] = {0.5, 1.0, 0.2};
+    const double g_eq34 = k12 * PI * a2_geo / d, rstar = r1 * r2 / (r1 + r2);
+    double g_gas[3];
+    for (int c = 0; c < 3; ++c) {
+        OK(sinter_heat_model_set(hm, "gas_conductivity", kg));
+        OK(sinter_heat_model_set(hm, "gas_gap", gaps[c]));
+        OK(sinter_heat_model_set(hm, "gas_radius", fractions[c]));
+        const double u0 = a2_geo, u1 = fractions[c] * fractions[c] * r2 * r2;
+        assert_true(u1 > u0);
+        const int nq = 2000000;
+        double sum = 0.0;
+        for (int q = 0; q < nq; ++q) {
+            const double u = u0 + (q + 0.5) * (u1 - u0) / nq, gap = -delta + u / (2.0 * rstar);
+            sum += PI * kg / (gap > gaps[c] ? gap : gaps[c]);
+        }
+        g_gas[c] = sum * (u1 - u0) / nq;
+        OK(eval(&f, hm, 0.0, 0));
+        print_message("gas lens (g_min %g m, rho_out %g r2): G_gas = %.9g W/K, solid %.9g W/K\n",
+                      gaps[c], fractions[c], g_gas[c], g_eq34);
+        assert_close(f.heat[0], (g_eq34 + g_gas[c]) * 100.0, 1e-6 * (g_eq34 + g_gas[c]) * 100.0);
+        assert_true(f.heat[0] + f.heat[1] == 0.0);
+        OK(eval(&f, hm, 0.0, 1));
+        assert_close(f.g_pp[0], g_eq34 + g_gas[c], 1e-6 * (g_eq34 + g_gas[c]));
+    }
+    /* a wider lens conducts more, a larger cut-off less */
+    assert_true(g_gas[0] > g_gas[2] && g_gas[0] > 0.0);
+    OK(sinter_heat_model_set(hm, "gas_gap", 0.0));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set(hm, "gas_gap", 1e-7));
+    OK(sinter_heat_model_set(hm, "gas_radius", 1.5));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
+/*
+ * The ray-traced "beam": the power absorbed plus the power transmitted is the beam's power
+ * (to round-off, every case); a sphere in a wide top-hat beam absorbs a P (pi r^2 / pi R^2)
+ * (to the rays' sampling of its disc); a sphere behind an equal one on the axis gets the
+ * fraction (1 - a) of what the first absorbed, ray by ray (shadowing); a beam along +x gives
+ * what a beam along -z gives (any direction); a small sphere on a Gaussian beam's axis absorbs
+ * a I(0) pi r^2 with I(0) = 2 P / (pi w^2); a semi-transparent sphere absorbs a (1 -
+ * exp(-mu L)) of each ray, L its chord.
+ */
+static double beam_output(sinter_heat_model *hm, const char *name)
+{
+    double v = -1.0;
+    OK(sinter_heat_model_output(hm, name, &v));
+    return v;
+}
+
+static void test_beam_rays(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f); /* material 0: absorptance 0.6, material 1: 0.9 */
+    const double r = 1e-3, a0 = 0.6, power = 10.0, rb = 5e-3;
+    add(&f, 0.0, 0.0, 0.0, r, 0, 300.0);
+    find_contacts(&f);
+    sinter_heat_model *hm = model(&f, "beam");
+    OK(sinter_heat_model_set(hm, "z", 0.01));
+    OK(sinter_heat_model_set(hm, "power", power));
+    OK(sinter_heat_model_set(hm, "radius", rb));
+    OK(sinter_heat_model_set(hm, "rays", 400.0));
+    OK(eval(&f, hm, 0.0, 0));
+    const double expected = a0 * power * r * r / (rb * rb);
+    print_message("beam, one sphere: absorbed %.9g W (closed form %.9g W), transmitted %.9g W\n",
+                  f.heat[0], expected, beam_output(hm, "transmitted"));
+    assert_close(f.heat[0], expected, 2e-3 * expected); /* the rays' sampling of the disc */
+    assert_rel(beam_output(hm, "absorbed"), f.heat[0]);
+    assert_close(beam_output(hm, "absorbed") + beam_output(hm, "transmitted"), power,
+                 1e-12 * power);
+    assert_true(beam_output(hm, "lit") == 1.0 && beam_output(hm, "lit_temperature") == 300.0);
+
+    /* any direction: the same sphere lit along +x from x = -0.01 */
+    const double q_down = f.heat[0];
+    OK(sinter_heat_model_set(hm, "x", -0.01));
+    OK(sinter_heat_model_set(hm, "z", 0.0));
+    OK(sinter_heat_model_set(hm, "dx", 2.0)); /* normalised by the model */
+    OK(sinter_heat_model_set(hm, "dz", 0.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_close(f.heat[0], q_down, 2e-3 * q_down);
+    /* the beam pointing away lights nothing: all transmitted */
+    OK(sinter_heat_model_set(hm, "dx", -1.0));
+    OK(eval(&f, hm, 0.0, 0));
+    assert_true(f.heat[0] == 0.0);
+    assert_close(beam_output(hm, "transmitted"), power, 1e-12 * power);
+    assert_true(beam_output(hm, "lit") == 0.0);
+
+    /* shadowing: an equal sphere of material 1 (a = 0.9) right below, then another beside */
+    add(&f, 0.0, 0.0, -3e-3, r, 1, 400.0);
+    add(&f, 3e-3, 0.0, -3e-3, r, 1, 500.0);
+    OK(sinter_heat_model_set(hm, "x", 0.0));
+    OK(sinter_heat_model_set(hm, "z", 0.01));
+    OK(sinter_heat_model_set(hm, "dx", 0.0));
+    OK(sinter_heat_model_set(hm, "dz", -1.0));
+    OK(eval(&f, hm, 0.0, 0));
+    print_message("beam, shadowing: %.9g W above, %.9g W below, %.9g W beside\n", f.heat[0],
+                  f.heat[1], f.heat[2]);
+    assert_rel(f.heat[1], 0.9 * (1.0 - a0) / a0 * f.heat[0]); /* every ray through both */
+    assert_close(f.heat[2], 0.9 * power * r * r / (rb * rb), 2e-3 * f.heat[2]); /* unshaded */
+    assert_close(beam_output(hm, "absorbed") + beam_output(hm, "transmitted"), power,
+                 1e-12 * power);
+    assert_true(beam_output(hm, "lit") == 3.0);
+    assert_rel(beam_output(hm, "lit_temperature"), 400.0);
+
+    /* Gaussian (w = 5 mm, sampled to 2 w): a 0.5 mm sphere on the axis, alone in the beam:
+     * a I(0) (pi w^2 / 2) (1 - exp(-2 r^2 / w^2)) */
+    sinter_heat_model *g = model(&f, "beam");
+    OK(sinter_heat_model_set(g, "z", 0.01));
+    OK(sinter_heat_model_set(g, "x", 0.02)); /* away from the three spheres above */
+    add(&f, 0.02, 0.0, 0.0, 5e-4, 0, 300.0);
+    OK(sinter_heat_model_set(g, "power", power));
+    OK(sinter_heat_model_set(g, "profile", 1.0));
+    OK(sinter_heat_model_set(g, "rays", 2000.0));
+    OK(eval(&f, g, 0.0, 0));
+    const double i0 = 2.0 * power / (PI * rb * rb) / (1.0 - exp(-8.0)); /* truncated at 2 w */
+    const double gexp = a0 * i0 * 0.5 * PI * rb * rb * -expm1(-2.0 * 2.5e-7 / (rb * rb));
+    print_message("beam, Gaussian: %.9g W on the axis (closed form %.9g W)\n", f.heat[3], gexp);
+    assert_close(f.heat[3], gexp, 2e-3 * gexp); /* the rays' sampling of the disc */
+    assert_close(beam_output(g, "absorbed") + beam_output(g, "transmitted"), power,
+                 1e-12 * power);
+
+    /* semi-transparent: mu = 1000 1/m; one ray down the axis of sphere 3 crosses 2 r = 1 mm */
+    OK(sinter_heat_model_set(g, "profile", 0.0));
+    OK(sinter_heat_model_set(g, "radius", 1e-6));
+    OK(sinter_heat_model_set(g, "rays", 1.0));
+    OK(sinter_heat_model_set(g, "attenuation", 1000.0));
+    OK(eval(&f, g, 0.0, 0));
+    assert_rel(f.heat[3], power * a0 * (1.0 - exp(-1000.0 * 1e-3)));
+    assert_rel(beam_output(g, "transmitted"), power - f.heat[3]);
+
+    /* refusals */
+    double v;
+    assert_int_equal(sinter_heat_model_output(hm, "power", &v), SINTER_ERR_NOT_FOUND);
+    sinter_heat_model *cond = model(&f, "conduction");
+    assert_int_equal(sinter_heat_model_output(cond, "absorbed", &v), SINTER_ERR_NOT_FOUND);
+    sinter_heat_model_destroy(cond);
+    OK(sinter_heat_model_set(g, "rays", 0.5));
+    assert_int_equal(eval(&f, g, 0.0, 0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_set(g, "rays", 8.0));
+    OK(sinter_heat_model_set(g, "dz", 0.0));
+    assert_int_equal(eval(&f, g, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(g);
     sinter_heat_model_destroy(hm);
     close_fixture(&f);
 }
@@ -380,9 +695,15 @@ static void test_names_and_schedules(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_conduction), cmocka_unit_test(test_convection),
-        cmocka_unit_test(test_radiation),  cmocka_unit_test(test_laser),
-        cmocka_unit_test(test_nozzle),     cmocka_unit_test(test_names_and_schedules),
+        cmocka_unit_test(test_conduction),
+        cmocka_unit_test(test_wall_laws),
+        cmocka_unit_test(test_pair_laws),
+        cmocka_unit_test(test_gas_lens), cmocka_unit_test(test_beam_rays),
+        cmocka_unit_test(test_convection),
+        cmocka_unit_test(test_radiation),
+        cmocka_unit_test(test_laser),
+        cmocka_unit_test(test_nozzle),
+        cmocka_unit_test(test_names_and_schedules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -293,6 +293,70 @@ static void test_spin_decays_at_rolling_slider_limit(void **state)
     scene_close(&s);
 }
 
+/*
+ * The damped normal force of eq. 2 may pull while a contact opens fast (seed 003 eq. 2 as
+ * printed); "no_tension" = 1 clamps it at zero. Two equal spheres (overlap 2 um) and a
+ * sphere on a floor (overlap 1 um, the wall's E* and r* = r, m* = m), each separating or
+ * approaching at speed v: the force on particle 0 against f_n = 4/3 E* sqrt(r* delta) delta
+ * + 2 xi sqrt(2 E*) sqrt(m*) (r* delta)^(1/4) delta_dot (eq. 2, 6) by hand.
+ */
+static void normal_forces(double no_tension, double v, double f_pair[3], double f_wall[3])
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, E, NU, RHO, 1.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 0);
+    OK(sinter_force_model_set(s.contact, "no_tension", no_tension));
+    scene_floor(&s, 0.0);
+    scene_add(&s, 0.0, 0.0, 0.01, R); /* the pair, far above the floor */
+    scene_add(&s, 2.0 * R - 2e-6, 0.0, 0.01, R);
+    scene_add(&s, 0.01, 0.0, R - 1e-6, R); /* on the floor */
+    const double v0[3] = {-0.5 * v, 0, 0}, v1[3] = {0.5 * v, 0, 0}, v2[3] = {0, 0, v};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, v0);
+    set3(&s, SINTER_FIELD_VELOCITY, 1, v1);
+    set3(&s, SINTER_FIELD_VELOCITY, 2, v2);
+    OK(sinter_stepper_set_dt(s.st, 1e-7));
+    OK(sinter_stepper_evaluate(s.st));
+    get3(&s, SINTER_FIELD_FORCE, 0, f_pair);
+    get3(&s, SINTER_FIELD_FORCE, 2, f_wall);
+    scene_close(&s);
+}
+
+static void test_normal_force_never_pulls(void **state)
+{
+    (void)state;
+    const double m = RHO * 4.0 / 3.0 * PI * R * R * R, xi = 1.0;
+    /* pair: E* = E / (2 (1 - nu^2)), r* = R/2, m* = m/2, overlap 2 um */
+    const double es = E / (2.0 * (1.0 - NU * NU)), rs = 0.5 * R, ms = 0.5 * m, d = 2e-6;
+    /* wall of the same material: the same E*, r* = R, m* = m, overlap 1 um */
+    const double dw = 1e-6;
+    for (int c = 0; c < 2; ++c) {
+        const double v = c == 0 ? 0.5 : -0.5; /* separating, then approaching */
+        const double fn_pair = 4.0 / 3.0 * es * sqrt(rs * d) * d -
+                               2.0 * xi * sqrt(2.0 * es) * sqrt(ms * sqrt(rs * d)) * v;
+        const double fn_wall = 4.0 / 3.0 * es * sqrt(R * dw) * dw -
+                               2.0 * xi * sqrt(2.0 * es) * sqrt(m * sqrt(R * dw)) * v;
+        double fp[3], fw[3], gp[3], gw[3];
+        normal_forces(0.0, v, fp, fw);
+        normal_forces(1.0, v, gp, gw);
+        print_message("v = %+.1f m/s: f_n pair %.6e N (eq. 2), wall %.6e N; literal %.6e, "
+                      "%.6e; no_tension %.6e, %.6e\n",
+                      v, fn_pair, fn_wall, -fp[0], fw[2], -gp[0], gw[2]);
+        /* eq. 2 literally: the force on 0 is -f_n n with n = +x; on the floor +f_n z */
+        assert_close(-fp[0], fn_pair, 1e-9 * fabs(fn_pair));
+        assert_close(fw[2], fn_wall, 1e-9 * fabs(fn_wall));
+        if (c == 0) { /* opening fast: eq. 2 pulls, the option does not */
+            assert_true(fn_pair < 0.0 && fn_wall < 0.0);
+            assert_true(gp[0] == 0.0 && gp[1] == 0.0 && gp[2] == 0.0);
+            assert_true(gw[0] == 0.0 && gw[1] == 0.0 && gw[2] == 0.0);
+        } else { /* closing: the same bits */
+            assert_true(fn_pair > 0.0 && fn_wall > 0.0);
+            assert_memory_equal(fp, gp, sizeof(fp));
+            assert_memory_equal(fw, gw, sizeof(fw));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -303,6 +367,7 @@ int main(void)
         cmocka_unit_test(test_energy_error_is_second_order),
         cmocka_unit_test(test_momentum_conserved_in_collisions),
         cmocka_unit_test(test_spin_decays_at_rolling_slider_limit),
+        cmocka_unit_test(test_normal_force_never_pulls),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

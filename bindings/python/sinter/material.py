@@ -92,7 +92,8 @@ class Material(_Handle):
         "lattice_activation_energy_hot", "surface_diffusion_prefactor_hot",
         "surface_activation_energy_hot", "grain_boundary_diffusion_prefactor_hot",
         "grain_boundary_activation_energy_hot", "surface_mobile_fraction_hot",
-        "grain_boundary_mobile_fraction_hot", "phase_transition_temperature"
+        "grain_boundary_mobile_fraction_hot", "phase_transition_temperature",
+        "melting_temperature"
     )
 
     def __init__(self, context: Context, name: Optional[str] = None,
@@ -149,7 +150,8 @@ class Material(_Handle):
                  grain_boundary_activation_energy_hot: Optional[float] = None,
                  surface_mobile_fraction_hot: Optional[float] = None,
                  grain_boundary_mobile_fraction_hot: Optional[float] = None,
-                 phase_transition_temperature: Optional[float] = None) -> None:
+                 phase_transition_temperature: Optional[float] = None,
+                 melting_temperature: Optional[float] = None) -> None:
         """Create a material with every parameter at its default, then set `params` (a
         mapping {key: value}) and the keywords given (None: left at the default).
 
@@ -210,6 +212,8 @@ class Material(_Handle):
         surface_mobile_fraction_hot [1]: default 0.2, range [0, 1]
         grain_boundary_mobile_fraction_hot [1]: default 0.1, range [0, 1]
         phase_transition_temperature [K]: default 0, range [0, 100000]
+        melting_temperature [K]: default 0 (no check), range [0, 100000]; a step that takes a
+            particle past it stops with SINTER_ERR_DOMAIN
         """
         handle = MaterialPtr()
         encoded = None if name is None else name.encode("utf-8")
@@ -313,7 +317,8 @@ class Material(_Handle):
                grain_boundary_activation_energy_hot: Optional[float] = None,
                surface_mobile_fraction_hot: Optional[float] = None,
                grain_boundary_mobile_fraction_hot: Optional[float] = None,
-               phase_transition_temperature: Optional[float] = None) -> None:
+               phase_transition_temperature: Optional[float] = None,
+               melting_temperature: Optional[float] = None) -> None:
         """Set several parameters from a mapping {key: value} and/or the keywords (None:
         unchanged); see __init__ for the keys, units and ranges. An unknown key of the
         mapping raises NotFound listing the known ones."""

@@ -155,7 +155,7 @@ class HeatModel(_KeyedModel):
     """A heat-power submodel (sinter_heat_model).
 
     Built in, by name: "conduction", "convection", "radiation", "nozzle",
-    "laser", "joule"; see sinter.h for their parameters.
+    "laser", "joule", "beam"; see sinter.h for their parameters.
     """
 
     _ptr_type = HeatModelPtr
@@ -172,6 +172,15 @@ class HeatModel(_KeyedModel):
         self._check(lib.sinter_heat_model_set_schedule(self._ptr, key.encode("utf-8"), n,
                                                        c_times, c_values),
                     "sinter_heat_model_set_schedule")
+
+    def output(self, name: str) -> float:
+        """An output of the last evaluation ("beam": "absorbed", "transmitted" [W], "lit",
+        "lit_temperature" [K])."""
+        value = ctypes.c_double()
+        self._check(lib.sinter_heat_model_output(self._ptr, name.encode("utf-8"),
+                                                 ctypes.byref(value)),
+                    "sinter_heat_model_output")
+        return value.value
 
     @classmethod
     def from_callback(cls, context: Context, name: str,

@@ -26,6 +26,16 @@ class WallMotion(enum.IntEnum):
     CALLBACK = 4
 
 
+class WallThermal(enum.IntEnum):
+    """sinter_wall_thermal_mode."""
+
+    RESERVOIR = 0
+    ADIABATIC = 1
+    RESISTANCE = 2
+    TRANSFER = 3
+    IMPOSED = 4
+
+
 class WallElectric(enum.IntEnum):
     """sinter_wall_electric_mode."""
 
@@ -204,6 +214,15 @@ class Walls(_Handle):
         """Compliance limit of wall k's supply: |V| of a current electrode, |I| of a potential
         one (network model); 0: none."""
         self._call(lib.sinter_walls_set_electric_limit, self._ptr, self._index(k), float(limit))
+
+    def set_thermal(self, k: int, mode: Union[str, int], value: float = 0.0) -> None:
+        """Thermal boundary: mode "reservoir", "adiabatic", "resistance" (R'' [m^2 K/W]),
+        "transfer" (h [W/(m^2 K)]) or "imposed" (touching particles take the wall's
+        temperature)."""
+        if isinstance(mode, str):
+            mode = WallThermal[mode.upper()]
+        self._call(lib.sinter_walls_set_thermal, self._ptr, self._index(k), int(mode),
+                   float(value))
 
     def state(self, k: int) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]:
         """(point, velocity) of wall k at the stepper's current time, as tuples."""
