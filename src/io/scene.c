@@ -325,6 +325,34 @@ static void log_sizes(scene_text *t, const sinter_scene *sc, const scene_section
                t->path, s->line, placed, dn[0], dn[1], dn[2], dv[0], dv[1], dv[2]);
 }
 
+/* The --log info line of a mixture: the mass fraction each material reached. */
+static void log_mixture(scene_text *t, const sinter_scene *sc, const scene_section *s,
+                        const sinter_packing_options *o, size_t first, size_t placed)
+{
+    const double *mass = NULL;
+    const int32_t *mat = NULL;
+    if (placed == 0 || sinter_particles_view_read(sc->ps, SINTER_FIELD_MASS, (const void **)&mass,
+                                                  NULL, NULL) != SINTER_OK)
+        return;
+    if (sinter_particles_view_read(sc->ps, SINTER_FIELD_MATERIAL, (const void **)&mat, NULL,
+                                   NULL) == SINTER_OK) {
+        double total = 0.0;
+        for (size_t i = first; i < first + placed; ++i)
+            total += mass[i];
+        for (size_t k = 0; k < o->mixture_count; ++k) {
+            double m = 0.0;
+            for (size_t i = first; i < first + placed; ++i)
+                m += mat[i] == o->mixture_materials[k] ? mass[i] : 0.0;
+            sinter_log(t->ctx, SINTER_LOG_INFO,
+                       "%s:%d: [particles]: material %s: mass fraction %.5f (asked %.5f)", t->path,
+                       s->line, sc->material_names[o->mixture_materials[k]], m / total,
+                       o->mixture_mass_fractions[k]);
+        }
+        sinter_particles_release(sc->ps, SINTER_FIELD_MATERIAL);
+    }
+    sinter_particles_release(sc->ps, SINTER_FIELD_MASS);
+}
+
 /* [particles] method = random: sinter_pack_random with the section's distribution. */
 static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_section *s,
                                          sinter_packing_options *o, const char *dist, double radius)
@@ -380,6 +408,8 @@ static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_
         st = at_line(t, s->line, sinter_pack_random(sc->ps, o, (size_t)count, &placed));
     sinter_free(t->ctx, d);
     sinter_free(t->ctx, q);
+    if (st == SINTER_OK && o->mixture_count > 0)
+        log_mixture(t, sc, s, o, first, placed);
     sinter_free(t->ctx, fractions);
     if (st != SINTER_OK)
         return st;
