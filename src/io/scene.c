@@ -133,11 +133,22 @@ static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_secti
                    sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m));
 }
 
+/* A particle file being read: where its particles go. */
+typedef struct xyzr_file {
+    scene_text *t;
+    sinter_scene *sc;
+    scene_section *s;
+    const char *path;
+    int mat;
+    double temperature;
+} xyzr_file;
+
 /* One line "x y z r" [m] of a particle file (blank or a '#' comment: nothing). */
-static sinter_status particle_line(scene_text *t, sinter_scene *sc, scene_section *s,
-                                   const char *path, int line, char *text, int mat,
-                                   double temperature)
+static sinter_status particle_line(void *user, int line, char *text)
 {
+    const xyzr_file *x = user;
+    scene_text *t = x->t;
+    const char *path = x->path;
     char *hash = strchr(text, '#');
     if (hash)
         *hash = '\0';
@@ -156,8 +167,19 @@ static sinter_status particle_line(scene_text *t, sinter_scene *sc, scene_sectio
                            "%s:%d: expected 'x y z r' [m] and nothing after, got '%.40s' after "
                            "the radius",
                            path, line, rest);
-    return at_line(t, s->line,
-                   sinter_particles_add(sc->ps, 1, row, &row[3], mat, temperature, NULL));
+    return at_line(t, x->s->line,
+                   sinter_particles_add(x->sc->ps, 1, row, &row[3], x->mat, x->temperature, NULL));
+}
+
+/* The path of a file a scene names on line `line`: as given if absolute, else relative to the
+ * scene file's directory. */
+static sinter_status scene_file_path(scene_text *t, const sinter_scene *sc, const char *file,
+                                     int line, char path[SINTER_PATH_SIZE])
+{
+    return at_line(t, line,
+                   file[0] == '/'
+                       ? sinter_path_format(t->ctx, path, SINTER_PATH_SIZE, "%s", file)
+                       : sinter_path_join(t->ctx, path, SINTER_PATH_SIZE, sc->directory, file));
 }
 
 static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_section *s, int mat,
@@ -167,35 +189,15 @@ static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_secti
     TRY(required(t, s, scene_get_word(t, s, "file", &file), "file"));
     char path[SINTER_PATH_SIZE];
     const int line_of_file = scene_find(s, "file")->line;
-    TRY(at_line(t, line_of_file,
-                file[0] == '/'
-                    ? sinter_path_format(t->ctx, path, sizeof(path), "%s", file)
-                    : sinter_path_join(t->ctx, path, sizeof(path), sc->directory, file)));
+    TRY(scene_file_path(t, sc, file, line_of_file, path));
     char where[SINTER_PATH_SIZE + 32];
     snprintf(where, sizeof(where), "%s:%d: file: ", t->path, line_of_file); /* a message prefix */
     FILE *f = NULL;
     TRY(sinter_text_open(t->ctx, where, "particle file", path, &f));
-    int line = 0;
-    sinter_status st = SINTER_OK;
+    xyzr_file x = {t, sc, s, path, mat, temperature};
     char buf[512];
-    while (st == SINTER_OK) {
-        const sinter_line_result got = sinter_text_line(f, buf, sizeof(buf));
-        if (got == SINTER_LINE_END)
-            break;
-        ++line;
-        if (got == SINTER_LINE_OK)
-            st = particle_line(t, sc, s, path, line, buf, mat, temperature);
-        else if (got == SINTER_LINE_TOO_LONG) /* also ends an endless line (/dev/zero) */
-            st = sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters",
-                             path, line, sizeof(buf) - 1);
-        else if (got == SINTER_LINE_NUL)
-            st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                             "%s:%d: a NUL byte inside the line (a particle file is text)", path,
-                             line);
-        else
-            st = sinter_fail(t->ctx, SINTER_ERR_IO, "%s:%d: error reading the file: %s", path, line,
-                             strerror(errno));
-    }
+    const sinter_status st = sinter_text_each_line(t->ctx, f, path, "a particle file", buf,
+                                                   sizeof(buf), particle_line, &x);
     fclose(f);
     return st;
 }
@@ -242,10 +244,7 @@ static sinter_status read_psd_table(scene_text *t, sinter_scene *sc, scene_secti
                            scene_find(s, "table_basis")->line, basis);
     char path[SINTER_PATH_SIZE];
     const int line = scene_find(s, "table")->line;
-    TRY(at_line(t, line,
-                file[0] == '/'
-                    ? sinter_path_format(t->ctx, path, sizeof(path), "%s", file)
-                    : sinter_path_join(t->ctx, path, sizeof(path), sc->directory, file)));
+    TRY(scene_file_path(t, sc, file, line, path));
     size_t rows = 0;
     TRY(at_line(t, line, sinter_psd_read_csv(t->ctx, path, unit, percent, NULL, NULL, 0, &rows)));
     *d = sinter_calloc(t->ctx, rows, sizeof(double));

@@ -431,15 +431,17 @@ static sinter_status read_options(sinter_ctx *ctx, const char *func,
     return SINTER_OK;
 }
 
-static sinter_status check_options(const sinter_particles *ps, const sinter_packing_options *o,
-                                   size_t n, radius_range *range)
+static sinter_status check_fields(const sinter_particles *ps, const char *func,
+                                  const sinter_packing_options *in, size_t n,
+                                  sinter_packing_options *o, radius_range *range)
 {
-    static const char *func = "sinter_pack_random";
     sinter_ctx *ctx = ps->ctx;
-    sinter_status st =
-        o->mixture_count == 0
-            ? check_common(ps, func, o->box_min, o->box_max, o->material, o->temperature)
-            : check_set_and_box(ps, func, o->box_min, o->box_max, o->temperature);
+    sinter_status st = read_options(ctx, func, in, o);
+    if (st != SINTER_OK)
+        return st;
+    st = o->mixture_count == 0
+             ? check_common(ps, func, o->box_min, o->box_max, o->material, o->temperature)
+             : check_set_and_box(ps, func, o->box_min, o->box_max, o->temperature);
     if (st == SINTER_OK && o->mixture_count > 0)
         st = check_mixture(ps, func, o);
     if (st == SINTER_OK)
@@ -460,6 +462,21 @@ static sinter_status check_options(const sinter_particles *ps, const sinter_pack
                            "%s: %zu new particles on top of %zu overflow the position array", func,
                            n, ps->count);
     return SINTER_OK;
+}
+
+/*
+ * The caller's options `in` read into `o` and checked for n new spheres, and the sampler set up
+ * in `range` (range_free it after a success; on an error nothing is left to free).
+ */
+static sinter_status check_options(const sinter_particles *ps, const char *func,
+                                   const sinter_packing_options *in, size_t n,
+                                   sinter_packing_options *o, radius_range *range)
+{
+    memset(range, 0, sizeof(*range));
+    const sinter_status st = check_fields(ps, func, in, n, o, range);
+    if (st != SINTER_OK)
+        range_free(ps->ctx, range);
+    return st;
 }
 
 static double draw_table_radius(rng *g, const sinter_packing_options *o, const radius_range *range);
@@ -791,12 +808,8 @@ sinter_status sinter_pack_random(sinter_particles *particles, const sinter_packi
     if (placed)
         *placed = 0;
     sinter_packing_options o;
-    sinter_status st = read_options(ctx, "sinter_pack_random", options, &o);
-    if (st != SINTER_OK)
-        return st;
     radius_range range;
-    memset(&range, 0, sizeof(range));
-    st = check_options(particles, &o, n, &range);
+    sinter_status st = check_options(particles, "sinter_pack_random", options, n, &o, &range);
     if (st != SINTER_OK || n == 0) {
         range_free(ctx, &range);
         return st;
@@ -825,12 +838,9 @@ sinter_status sinter_packing_sample_radii(sinter_particles *particles,
 {
     sinter_ctx *ctx = particles->ctx;
     sinter_packing_options o;
-    sinter_status st = read_options(ctx, "sinter_packing_sample_radii", options, &o);
-    if (st != SINTER_OK)
-        return st;
     radius_range range;
-    memset(&range, 0, sizeof(range));
-    st = check_options(particles, &o, 0, &range);
+    const sinter_status st =
+        check_options(particles, "sinter_packing_sample_radii", options, 0, &o, &range);
     if (st == SINTER_OK) {
         rng gen;
         rng_seed(&gen, o.seed);

@@ -3,7 +3,6 @@
  * number or by volume, and the reader of a tabulated cumulative distribution from a CSV file.
  * The sampling lives with the packer (packing.c).
  */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,7 +88,6 @@ static int parse_row(char *text, double *a, double *b)
         if (*c == ',' || *c == ';' || *c == '\t' || *c == '\r')
             *c = ' ';
     char *end = NULL;
-    errno = 0;
     *a = strtod(text, &end);
     if (end == text)
         return 0;
@@ -102,8 +100,9 @@ static int parse_row(char *text, double *a, double *b)
     return *end == '\0';
 }
 
-static sinter_status psd_line(psd_reader *r, int line, char *text)
+static sinter_status psd_line(void *user, int line, char *text)
 {
+    psd_reader *r = user;
     char *hash = strchr(text, '#');
     if (hash)
         *hash = '\0';
@@ -193,26 +192,8 @@ sinter_status sinter_psd_read_csv(sinter_ctx *ctx, const char *path, double unit
     sinter_status st = sinter_text_open(ctx, "", "size distribution file", path, &f);
     if (st != SINTER_OK)
         return st;
-    int line = 0;
     char buf[512];
-    while (st == SINTER_OK) {
-        const sinter_line_result got = sinter_text_line(f, buf, sizeof(buf));
-        if (got == SINTER_LINE_END)
-            break;
-        ++line;
-        if (got == SINTER_LINE_OK)
-            st = psd_line(&r, line, buf);
-        else if (got == SINTER_LINE_TOO_LONG)
-            st = sinter_fail(ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters", path,
-                             line, sizeof(buf) - 1);
-        else if (got == SINTER_LINE_NUL)
-            st = sinter_fail(ctx, SINTER_ERR_PARSE,
-                             "%s:%d: a NUL byte inside the line (a size distribution is text)",
-                             path, line);
-        else
-            st = sinter_fail(ctx, SINTER_ERR_IO, "%s:%d: error reading the file: %s", path, line,
-                             strerror(errno));
-    }
+    st = sinter_text_each_line(ctx, f, path, "a size distribution", buf, sizeof(buf), psd_line, &r);
     fclose(f);
     if (st != SINTER_OK)
         return st;
