@@ -6,6 +6,7 @@ import tempfile
 import unittest
 
 import sinter
+import sinter.packing
 import sinter.particles
 from sinter.packing import pack_random, read_psd_csv, size_quantiles
 
@@ -44,6 +45,12 @@ class PsdCase(unittest.TestCase):
         self.assertTrue(10e-6 <= d10 <= d50 <= d90 <= 100e-6)
         n10, n50, n90 = size_quantiles(self.ps, basis="number")
         self.assertLess(n50, d50)
+
+    def test_sequences_must_pair(self):
+        with self.assertRaises(ValueError):
+            sinter.packing.packing_options(table_diameter=[1e-5, 2e-5], table_cumulative=[1.0])
+        with self.assertRaises(ValueError):
+            sinter.packing.packing_options(mixture_materials=[0, 1])
 
     def test_bad_csv_names_the_line(self):
         path = self.write("10,0\n20,0.5\n15,1\n")
