@@ -130,11 +130,6 @@ def _packing_options(options: Dict[str, Any]) -> PackingOptions:
             setattr(c, key, float(value))
         else:
             raise TypeError("unknown packing option %r" % key)
-    for a, b in (("table_diameter", "table_cumulative"),
-                 ("mixture_materials", "mixture_mass_fractions")):
-        if (a in options) != (b in options) or (a in options and
-                                                len(options[a]) != len(options[b])):
-            raise ValueError("%s and %s must be given together, of the same length" % (a, b))
     return c
 
 
