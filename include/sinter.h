@@ -1372,8 +1372,18 @@ SINTER_API sinter_status sinter_snapshot_links(const sinter_snapshot *snapshot,
 typedef enum sinter_radius_distribution {
     SINTER_RADII_MONODISPERSE = 0, /**< every radius = mean */
     SINTER_RADII_UNIFORM = 1,      /**< uniform in [mean - spread, mean + spread] */
-    SINTER_RADII_NORMAL = 2        /**< normal(mean, spread) truncated to [min, max] by rejection */
+    SINTER_RADII_NORMAL = 2,       /**< normal(mean, spread) truncated to [min, max] by rejection */
+    SINTER_RADII_LOGNORMAL = 3,    /**< ln r normal: number median radius_median, geometric
+                                        standard deviation radius_gsd, truncated to [min, max] */
+    SINTER_RADII_TABLE = 4         /**< a tabulated cumulative distribution of diameters
+                                        (table_*), by number or by volume; see sinter_pack_random */
 } sinter_radius_distribution;
+
+/** What the cumulative fraction of a size distribution counts. */
+typedef enum sinter_size_basis {
+    SINTER_SIZE_BY_NUMBER = 0, /**< the fraction of the particles (Q0) */
+    SINTER_SIZE_BY_VOLUME = 1  /**< the fraction of the particle volume (Q3; mass for one density) */
+} sinter_size_basis;
 
 /** Options of sinter_pack_random; fill with sinter_packing_options_init. */
 typedef struct sinter_packing_options {
@@ -1390,9 +1400,29 @@ typedef struct sinter_packing_options {
     uint64_t max_attempts;       /**< attempts per sphere before giving up (default 100000) */
     int32_t material;            /**< material id of the new particles */
     double temperature;          /**< initial temperature [K] */
+    /* Appended in 0.x (issue 38). A caller compiled with the layout that ended at temperature
+     * passes that struct_size and gets the defaults below for the rest. */
+    double radius_median;        /**< lognormal: number median radius [m] (default 0.05) */
+    double radius_gsd;           /**< lognormal: geometric standard deviation exp(sd of ln r),
+                                      >= 1 [1] (default 1); truncation as radius_min/max, 0:
+                                      median / gsd^3 and median gsd^3 */
+    const double *table_diameter;   /**< table: table_points diameters [m], positive and strictly
+                                         increasing (borrowed for the call) */
+    const double *table_cumulative; /**< table: cumulative fraction at each diameter, >= 0,
+                                         non-decreasing, the last 1 within 1 % (the values
+                                         are divided by it) */
+    size_t table_points;         /**< table: number of rows (>= 1) */
+    int table_basis;             /**< table: a sinter_size_basis (default by volume) */
+    size_t mixture_count;        /**< 0 (default): every particle is of `material`; else the
+                                      number of materials in the mixture */
+    const int32_t *mixture_materials;     /**< mixture: material ids (borrowed) */
+    const double *mixture_mass_fractions; /**< mixture: mass fractions, positive, sum 1 within
+                                               1e-6 (then divided by their sum) */
 } sinter_packing_options;
 
-/** Fill `options` with defaults: unit box, monodisperse r = 0.05 m, seed 1, 293.15 K. */
+/** Fill `options` with defaults: unit box, monodisperse r = 0.05 m, seed 1, 293.15 K.
+ * struct_size: sizeof(sinter_packing_options), or offsetof(sinter_packing_options,
+ * radius_median) for the layout before issue 38. */
 SINTER_API sinter_status sinter_packing_options_init(sinter_packing_options *options,
                                                      size_t struct_size);
 
@@ -1401,11 +1431,57 @@ SINTER_API sinter_status sinter_packing_options_init(sinter_packing_options *opt
  * spheres one by one at uniformly random positions inside the box, each
  * accepted only if it overlaps no sphere already in the set. Stops early when
  * max_attempts fail in a row; *placed (may be NULL) receives the number added.
- * Errors: SINTER_ERR_INVALID for an empty box or bad radii; the set is unchanged on error.
+ *
+ * Radii (docs/models.md, "Powder size distributions"): SINTER_RADII_LOGNORMAL draws
+ * r = radius_median exp(z ln radius_gsd), z standard normal, redrawn outside [radius_min,
+ * radius_max]. SINTER_RADII_TABLE reads the cumulative distribution Q(d) of diameters as
+ * piecewise linear between the rows; the first row's fraction is a point mass at the smallest
+ * diameter (nothing is smaller). A table by volume is converted to numbers before sampling:
+ * the number density is the volume density divided by d^3 (q0 ~ q3 / d^3, ISO 9276-2), exact
+ * for the piecewise-linear Q3; radius_min/max are ignored. A mixture chooses each placed
+ * particle's material greedily, the one furthest below its mass share, so that each
+ * material's mass exceeds its share of the total by at most one particle's mass (and, for two
+ * materials, falls short by at most one particle's mass). The random stream of the first three
+ * distributions is that of earlier versions (a mixture draws no random numbers).
+ * Errors: SINTER_ERR_INVALID for an empty box or bad radii, tables or fractions;
+ * SINTER_ERR_NOT_FOUND for an unregistered material; the set is unchanged on error.
  */
 SINTER_API sinter_status sinter_pack_random(sinter_particles *particles,
                                             const sinter_packing_options *options, size_t n,
                                             size_t *placed);
+
+/**
+ * Size quantiles of particles first .. first + count - 1: diameters[k] is the smallest
+ * particle diameter d (2 r) at which the cumulative fraction by `basis` (a sinter_size_basis:
+ * the count, or the volume d^3) of the particles with diameter <= d reaches fractions[k]
+ * (the inverse of the empirical distribution). With fractions 0.1, 0.5, 0.9 these are D10,
+ * D50 and D90 [m].
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (an empty or out-of-range particle range, a
+ * fraction outside [0, 1], a bad basis), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_particles_size_quantiles(const sinter_particles *particles,
+                                                         size_t first, size_t count, int basis,
+                                                         size_t nfractions,
+                                                         const double *fractions,
+                                                         double *diameters);
+
+/**
+ * Read a cumulative size distribution (sieve or laser-diffraction data) from a CSV file:
+ * one row "diameter, cumulative" a line (separated by a comma, semicolon, tab or spaces);
+ * blank lines and '#' comments skipped; a first line that is not two numbers is a header.
+ * Diameters are multiplied by `unit` (1e-6 for micrometres) to give metres; the cumulative
+ * values are fractions, or percent when `percent` is 1. The table is refused (SINTER_ERR_PARSE
+ * "path:line: ...") when a diameter is not positive or not larger than the one above, a
+ * cumulative value is negative or smaller than the one above, or the last one is not 1 (100 %)
+ * within 1 % of it; within that tolerance the values are divided by the last one, so the
+ * table ends at exactly 1. With capacity 0 only *count is set (the number of rows); otherwise
+ * the rows go to diameter[] [m] and cumulative[] (SINTER_ERR_INVALID when more rows than
+ * capacity). Other errors: SINTER_ERR_NULL, SINTER_ERR_IO, SINTER_ERR_INVALID (bad unit, an
+ * empty table).
+ */
+SINTER_API sinter_status sinter_psd_read_csv(sinter_ctx *ctx, const char *path, double unit,
+                                             int percent, double *diameter, double *cumulative,
+                                             size_t capacity, size_t *count);
 
 /**
  * Simple-cubic lattice of spheres of radius r with centre spacing `spacing`

@@ -204,6 +204,13 @@ enum class radius_distribution : int {
     monodisperse = SINTER_RADII_MONODISPERSE,
     uniform = SINTER_RADII_UNIFORM,
     normal = SINTER_RADII_NORMAL,
+    lognormal = SINTER_RADII_LOGNORMAL,
+    table = SINTER_RADII_TABLE,
+};
+/// Mirrors sinter_size_basis.
+enum class size_basis : int {
+    number = SINTER_SIZE_BY_NUMBER,
+    volume = SINTER_SIZE_BY_VOLUME,
 };
 /// Mirrors sinter_contact_data (the per-contact arrays of a snapshot).
 enum class contact_data : int {

@@ -133,11 +133,22 @@ static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_secti
                    sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m));
 }
 
+/* A particle file being read: where its particles go. */
+typedef struct xyzr_file {
+    scene_text *t;
+    sinter_scene *sc;
+    scene_section *s;
+    const char *path;
+    int mat;
+    double temperature;
+} xyzr_file;
+
 /* One line "x y z r" [m] of a particle file (blank or a '#' comment: nothing). */
-static sinter_status particle_line(scene_text *t, sinter_scene *sc, scene_section *s,
-                                   const char *path, int line, char *text, int mat,
-                                   double temperature)
+static sinter_status particle_line(void *user, int line, char *text)
 {
+    const xyzr_file *x = user;
+    scene_text *t = x->t;
+    const char *path = x->path;
     char *hash = strchr(text, '#');
     if (hash)
         *hash = '\0';
@@ -156,8 +167,19 @@ static sinter_status particle_line(scene_text *t, sinter_scene *sc, scene_sectio
                            "%s:%d: expected 'x y z r' [m] and nothing after, got '%.40s' after "
                            "the radius",
                            path, line, rest);
-    return at_line(t, s->line,
-                   sinter_particles_add(sc->ps, 1, row, &row[3], mat, temperature, NULL));
+    return at_line(t, x->s->line,
+                   sinter_particles_add(x->sc->ps, 1, row, &row[3], x->mat, x->temperature, NULL));
+}
+
+/* The path of a file a scene names on line `line`: as given if absolute, else relative to the
+ * scene file's directory. */
+static sinter_status scene_file_path(scene_text *t, const sinter_scene *sc, const char *file,
+                                     int line, char path[SINTER_PATH_SIZE])
+{
+    return at_line(t, line,
+                   file[0] == '/'
+                       ? sinter_path_format(t->ctx, path, SINTER_PATH_SIZE, "%s", file)
+                       : sinter_path_join(t->ctx, path, SINTER_PATH_SIZE, sc->directory, file));
 }
 
 static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_section *s, int mat,
@@ -167,47 +189,252 @@ static sinter_status read_xyzr_file(scene_text *t, sinter_scene *sc, scene_secti
     TRY(required(t, s, scene_get_word(t, s, "file", &file), "file"));
     char path[SINTER_PATH_SIZE];
     const int line_of_file = scene_find(s, "file")->line;
-    TRY(at_line(t, line_of_file,
-                file[0] == '/'
-                    ? sinter_path_format(t->ctx, path, sizeof(path), "%s", file)
-                    : sinter_path_join(t->ctx, path, sizeof(path), sc->directory, file)));
+    TRY(scene_file_path(t, sc, file, line_of_file, path));
     char where[SINTER_PATH_SIZE + 32];
     snprintf(where, sizeof(where), "%s:%d: file: ", t->path, line_of_file); /* a message prefix */
     FILE *f = NULL;
     TRY(sinter_text_open(t->ctx, where, "particle file", path, &f));
-    int line = 0;
-    sinter_status st = SINTER_OK;
+    xyzr_file x = {t, sc, s, path, mat, temperature};
     char buf[512];
-    while (st == SINTER_OK) {
-        const sinter_line_result got = sinter_text_line(f, buf, sizeof(buf));
-        if (got == SINTER_LINE_END)
-            break;
-        ++line;
-        if (got == SINTER_LINE_OK)
-            st = particle_line(t, sc, s, path, line, buf, mat, temperature);
-        else if (got == SINTER_LINE_TOO_LONG) /* also ends an endless line (/dev/zero) */
-            st = sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters",
-                             path, line, sizeof(buf) - 1);
-        else if (got == SINTER_LINE_NUL)
-            st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                             "%s:%d: a NUL byte inside the line (a particle file is text)", path,
-                             line);
-        else
-            st = sinter_fail(t->ctx, SINTER_ERR_IO, "%s:%d: error reading the file: %s", path, line,
-                             strerror(errno));
-    }
+    const sinter_status st = sinter_text_each_line(t->ctx, f, path, "a particle file", buf,
+                                                   sizeof(buf), particle_line, &x);
     fclose(f);
     return st;
+}
+
+/*
+ * [particles] distribution = table: the CSV file of `table` (relative to the scene's directory)
+ * read into new arrays (*d and *q, free both) with its units (table_units), scale
+ * (table_values) and basis (table_basis). A bad row is reported by the reader as
+ * "psdfile:line: ...".
+ */
+static sinter_status read_psd_table(scene_text *t, sinter_scene *sc, scene_section *s,
+                                    sinter_packing_options *o, double **d, double **q)
+{
+    *d = *q = NULL;
+    const char *file = NULL, *units = "m", *values = "fraction", *basis = "volume";
+    TRY(required(t, s, scene_get_word(t, s, "table", &file), "table"));
+    OPTIONAL(scene_get_word(t, s, "table_units", &units));
+    OPTIONAL(scene_get_word(t, s, "table_values", &values));
+    OPTIONAL(scene_get_word(t, s, "table_basis", &basis));
+    static const struct {
+        const char *name;
+        double metres;
+    } unit_names[] = {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}, {"nm", 1e-9}};
+    double unit = 0.0;
+    for (size_t k = 0; k < sizeof(unit_names) / sizeof(unit_names[0]); ++k)
+        if (strcmp(units, unit_names[k].name) == 0)
+            unit = unit_names[k].metres;
+    if (unit == 0.0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: table_units: expected m, mm, um or nm, got '%s'", t->path,
+                           scene_find(s, "table_units")->line, units);
+    const int percent = strcmp(values, "percent") == 0;
+    if (!percent && strcmp(values, "fraction") != 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: table_values: expected fraction or percent, got '%s'", t->path,
+                           scene_find(s, "table_values")->line, values);
+    if (strcmp(basis, "volume") == 0)
+        o->table_basis = SINTER_SIZE_BY_VOLUME;
+    else if (strcmp(basis, "number") == 0)
+        o->table_basis = SINTER_SIZE_BY_NUMBER;
+    else
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: table_basis: expected number or volume, got '%s'", t->path,
+                           scene_find(s, "table_basis")->line, basis);
+    char path[SINTER_PATH_SIZE];
+    const int line = scene_find(s, "table")->line;
+    TRY(scene_file_path(t, sc, file, line, path));
+    size_t rows = 0;
+    TRY(at_line(t, line, sinter_psd_read_csv(t->ctx, path, unit, percent, NULL, NULL, 0, &rows)));
+    *d = sinter_calloc(t->ctx, rows, sizeof(double));
+    *q = sinter_calloc(t->ctx, rows, sizeof(double));
+    if (*d == NULL || *q == NULL)
+        return SINTER_ERR_NOMEM;
+    TRY(at_line(t, line, sinter_psd_read_csv(t->ctx, path, unit, percent, *d, *q, rows, &rows)));
+    o->table_diameter = *d;
+    o->table_cumulative = *q;
+    o->table_points = rows;
+    return SINTER_OK;
+}
+
+/*
+ * [particles] materials = A B ... with mass_fractions = f_A f_B ...: the mixture of
+ * sinter_pack_random, the ids into mat[] and the fractions into a new array (*fractions).
+ */
+static sinter_status read_mixture(scene_text *t, sinter_scene *sc, scene_section *s,
+                                  int32_t mat[SCENE_MAX_MATERIALS], double **fractions,
+                                  size_t *count)
+{
+    *fractions = NULL;
+    *count = 0;
+    const scene_entry *e = scene_find(s, "materials");
+    char names[1024];
+    if (strlen(e->value) >= sizeof(names))
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: materials: the list is too long",
+                           t->path, e->line);
+    snprintf(names, sizeof(names), "%s", e->value);
+    size_t n = 0;
+    for (char *w = names; *w != '\0';) {
+        const size_t skip = strspn(w, " \t,;"), len = strcspn(w + skip, " \t,;");
+        w += skip;
+        if (len == 0)
+            break;
+        const int end = w[len] != '\0';
+        w[len] = '\0';
+        const int id = find_material(sc, w);
+        if (id < 0)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: materials: '%s' is not the name of a [material NAME] "
+                               "section above",
+                               t->path, e->line, w);
+        if (n == SCENE_MAX_MATERIALS)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: materials: too many", t->path,
+                               e->line);
+        mat[n++] = (int32_t)id;
+        w += len + (size_t)end;
+    }
+    size_t nf = 0;
+    TRY(required(t, s, scene_get_numbers(t, s, "mass_fractions", fractions, &nf),
+                 "mass_fractions"));
+    if (nf != n || n == 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: mass_fractions: expected one fraction for each of the %zu "
+                           "materials, got %zu",
+                           t->path, scene_find(s, "mass_fractions")->line, n, nf);
+    *count = n;
+    return SINTER_OK;
+}
+
+/* The --log info line of a random packing: what was generated, D10, D50, D90 both ways. */
+static void log_sizes(scene_text *t, const sinter_scene *sc, const scene_section *s, size_t first,
+                      size_t placed)
+{
+    static const double f[3] = {0.1, 0.5, 0.9};
+    double dn[3], dv[3];
+    if (placed == 0 ||
+        sinter_particles_size_quantiles(sc->ps, first, placed, SINTER_SIZE_BY_NUMBER, 3, f, dn) !=
+            SINTER_OK ||
+        sinter_particles_size_quantiles(sc->ps, first, placed, SINTER_SIZE_BY_VOLUME, 3, f, dv) !=
+            SINTER_OK)
+        return;
+    sinter_log(t->ctx, SINTER_LOG_INFO,
+               "%s:%d: [particles]: %zu spheres; diameters D10 D50 D90 by number %.4g %.4g %.4g "
+               "m, by volume %.4g %.4g %.4g m",
+               t->path, s->line, placed, dn[0], dn[1], dn[2], dv[0], dv[1], dv[2]);
+}
+
+/* The --log info line of a mixture: the mass fraction each material reached. */
+static void log_mixture(scene_text *t, const sinter_scene *sc, const scene_section *s,
+                        const sinter_packing_options *o, size_t first, size_t placed)
+{
+    const double *mass = NULL;
+    const int32_t *mat = NULL;
+    if (placed == 0 || sinter_particles_view_read(sc->ps, SINTER_FIELD_MASS, (const void **)&mass,
+                                                  NULL, NULL) != SINTER_OK)
+        return;
+    if (sinter_particles_view_read(sc->ps, SINTER_FIELD_MATERIAL, (const void **)&mat, NULL,
+                                   NULL) == SINTER_OK) {
+        double total = 0.0;
+        for (size_t i = first; i < first + placed; ++i)
+            total += mass[i];
+        for (size_t k = 0; k < o->mixture_count; ++k) {
+            double m = 0.0;
+            for (size_t i = first; i < first + placed; ++i)
+                m += mat[i] == o->mixture_materials[k] ? mass[i] : 0.0;
+            sinter_log(t->ctx, SINTER_LOG_INFO,
+                       "%s:%d: [particles]: material %s: mass fraction %.5f (asked %.5f)", t->path,
+                       s->line, sc->material_names[o->mixture_materials[k]], m / total,
+                       o->mixture_mass_fractions[k]);
+        }
+        sinter_particles_release(sc->ps, SINTER_FIELD_MATERIAL);
+    }
+    sinter_particles_release(sc->ps, SINTER_FIELD_MASS);
+}
+
+/* [particles] method = random: sinter_pack_random with the section's distribution. */
+static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_section *s,
+                                         sinter_packing_options *o, const char *dist, double radius)
+{
+    double count = 0, seed = 1;
+    TRY(required(t, s, scene_get_double(t, s, "count", &count), "count"));
+    OPTIONAL(scene_get_double(t, s, "seed", &seed));
+    OPTIONAL(scene_get_double(t, s, "spread", &o->radius_spread));
+    OPTIONAL(scene_get_double(t, s, "radius_min", &o->radius_min));
+    OPTIONAL(scene_get_double(t, s, "radius_max", &o->radius_max));
+    OPTIONAL(scene_get_double(t, s, "gap", &o->gap));
+    if (strcmp(dist, "table") != 0)
+        o->radius_mean = radius;
+    if (strcmp(dist, "monodisperse") == 0)
+        o->distribution = SINTER_RADII_MONODISPERSE;
+    else if (strcmp(dist, "uniform") == 0)
+        o->distribution = SINTER_RADII_UNIFORM;
+    else if (strcmp(dist, "normal") == 0)
+        o->distribution = SINTER_RADII_NORMAL;
+    else if (strcmp(dist, "lognormal") == 0) {
+        o->distribution = SINTER_RADII_LOGNORMAL;
+        o->radius_median = radius;
+        TRY(required(t, s, scene_get_double(t, s, "gsd", &o->radius_gsd), "gsd"));
+    } else if (strcmp(dist, "table") == 0)
+        o->distribution = SINTER_RADII_TABLE;
+    else
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: distribution: expected monodisperse, uniform, normal, "
+                           "lognormal or table, got '%s'",
+                           t->path, scene_find(s, "distribution")->line, dist);
+    /* Bounded before the conversions below (a double beyond the integer type is UB). */
+    if (!(count >= 0 && count <= 1e12) || count != floor(count) ||
+        !(seed >= 0 && seed < 18446744073709551616.0) || seed != floor(seed))
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: [particles]: count = %g and seed = %g must be whole numbers "
+                           "in [0, 1e12] and [0, 2^64)",
+                           t->path, s->line, count, seed);
+    o->seed = (uint64_t)seed;
+    double *d = NULL, *q = NULL, *fractions = NULL;
+    int32_t mat[SCENE_MAX_MATERIALS];
+    sinter_status st = SINTER_OK;
+    if (o->distribution == SINTER_RADII_TABLE)
+        st = read_psd_table(t, sc, s, o, &d, &q);
+    if (st == SINTER_OK && scene_find(s, "materials") != NULL) {
+        st = read_mixture(t, sc, s, mat, &fractions, &o->mixture_count);
+        o->mixture_materials = mat;
+        o->mixture_mass_fractions = fractions;
+    }
+    size_t first = 0, placed = 0;
+    if (st == SINTER_OK)
+        st = sinter_particles_count(sc->ps, &first);
+    if (st == SINTER_OK)
+        st = at_line(t, s->line, sinter_pack_random(sc->ps, o, (size_t)count, &placed));
+    sinter_free(t->ctx, d);
+    sinter_free(t->ctx, q);
+    if (st == SINTER_OK && o->mixture_count > 0)
+        log_mixture(t, sc, s, o, first, placed);
+    sinter_free(t->ctx, fractions);
+    if (st != SINTER_OK)
+        return st;
+    if (placed < (size_t)count)
+        return sinter_fail(t->ctx, SINTER_ERR_INVALID,
+                           "%s:%d: only %zu of %zu spheres fit in the box by random sequential "
+                           "addition; enlarge the box or lower the count",
+                           t->path, s->line, placed, (size_t)count);
+    log_sizes(t, sc, s, first, placed);
+    return SINTER_OK;
 }
 
 static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     int mat = 0;
-    TRY(material_ref(t, sc, s, &mat));
+    const int mixture = scene_find(s, "materials") != NULL;
+    if (!mixture || scene_find(s, "material") != NULL)
+        TRY(material_ref(t, sc, s, &mat));
     double temperature = 293.15;
     OPTIONAL(scene_get_double(t, s, "temperature", &temperature));
     const char *method = NULL;
     TRY(required(t, s, scene_get_word(t, s, "method", &method), "method"));
+    if (mixture && strcmp(method, "random") != 0)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: materials: a mixture needs method = random", t->path,
+                           scene_find(s, "materials")->line);
     if (strcmp(method, "file") == 0)
         return read_xyzr_file(t, sc, s, mat, temperature);
     if (strcmp(method, "list") == 0) {
@@ -228,7 +455,11 @@ static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_sect
     double lo[3], hi[3], radius = 0.0;
     TRY(required(t, s, scene_get_vec3(t, s, "box_min", lo), "box_min"));
     TRY(required(t, s, scene_get_vec3(t, s, "box_max", hi), "box_max"));
-    TRY(required(t, s, scene_get_double(t, s, "radius", &radius), "radius"));
+    const char *dist = "monodisperse";
+    if (strcmp(method, "random") == 0)
+        OPTIONAL(scene_get_word(t, s, "distribution", &dist));
+    if (strcmp(dist, "table") != 0) /* a table has its own sizes */
+        TRY(required(t, s, scene_get_double(t, s, "radius", &radius), "radius"));
     if (strcmp(method, "lattice") == 0) {
         double spacing = 2.0 * radius;
         OPTIONAL(scene_get_double(t, s, "spacing", &spacing));
@@ -244,45 +475,9 @@ static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_sect
     TRY(sinter_packing_options_init(&o, sizeof(o)));
     memcpy(o.box_min, lo, sizeof(lo));
     memcpy(o.box_max, hi, sizeof(hi));
-    o.radius_mean = radius;
     o.material = mat;
     o.temperature = temperature;
-    double count = 0, seed = 1;
-    TRY(required(t, s, scene_get_double(t, s, "count", &count), "count"));
-    OPTIONAL(scene_get_double(t, s, "seed", &seed));
-    OPTIONAL(scene_get_double(t, s, "spread", &o.radius_spread));
-    OPTIONAL(scene_get_double(t, s, "radius_min", &o.radius_min));
-    OPTIONAL(scene_get_double(t, s, "radius_max", &o.radius_max));
-    OPTIONAL(scene_get_double(t, s, "gap", &o.gap));
-    const char *dist = "monodisperse";
-    OPTIONAL(scene_get_word(t, s, "distribution", &dist));
-    if (strcmp(dist, "monodisperse") == 0)
-        o.distribution = SINTER_RADII_MONODISPERSE;
-    else if (strcmp(dist, "uniform") == 0)
-        o.distribution = SINTER_RADII_UNIFORM;
-    else if (strcmp(dist, "normal") == 0)
-        o.distribution = SINTER_RADII_NORMAL;
-    else
-        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                           "%s:%d: distribution: expected monodisperse, uniform or normal, got "
-                           "'%s'",
-                           t->path, scene_find(s, "distribution")->line, dist);
-    /* Bounded before the conversions below (a double beyond the integer type is UB). */
-    if (!(count >= 0 && count <= 1e12) || count != floor(count) ||
-        !(seed >= 0 && seed < 18446744073709551616.0) || seed != floor(seed))
-        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                           "%s:%d: [particles]: count = %g and seed = %g must be whole numbers "
-                           "in [0, 1e12] and [0, 2^64)",
-                           t->path, s->line, count, seed);
-    o.seed = (uint64_t)seed;
-    size_t placed = 0;
-    TRY(at_line(t, s->line, sinter_pack_random(sc->ps, &o, (size_t)count, &placed)));
-    if (placed < (size_t)count)
-        return sinter_fail(t->ctx, SINTER_ERR_INVALID,
-                           "%s:%d: only %zu of %zu spheres fit in the box by random sequential "
-                           "addition; enlarge the box or lower the count",
-                           t->path, s->line, placed, (size_t)count);
-    return SINTER_OK;
+    return pack_random_section(t, sc, s, &o, dist, radius);
 }
 
 /*

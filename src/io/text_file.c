@@ -47,3 +47,28 @@ sinter_line_result sinter_text_line(FILE *f, char *buf, size_t size)
         return SINTER_LINE_END;
     return SINTER_LINE_OK;
 }
+
+sinter_status sinter_text_each_line(sinter_ctx *ctx, FILE *f, const char *path, const char *what,
+                                    char *buf, size_t size, sinter_text_line_fn fn, void *user)
+{
+    sinter_status st = SINTER_OK;
+    int line = 0;
+    while (st == SINTER_OK) {
+        const sinter_line_result got = sinter_text_line(f, buf, size);
+        if (got == SINTER_LINE_END)
+            break;
+        ++line;
+        if (got == SINTER_LINE_OK)
+            st = fn(user, line, buf);
+        else if (got == SINTER_LINE_TOO_LONG) /* also ends an endless line (/dev/zero) */
+            st = sinter_fail(ctx, SINTER_ERR_PARSE, "%s:%d: line longer than %zu characters", path,
+                             line, size - 1);
+        else if (got == SINTER_LINE_NUL)
+            st = sinter_fail(ctx, SINTER_ERR_PARSE,
+                             "%s:%d: a NUL byte inside the line (%s is text)", path, line, what);
+        else
+            st = sinter_fail(ctx, SINTER_ERR_IO, "%s:%d: error reading the file: %s", path, line,
+                             strerror(errno));
+    }
+    return st;
+}

@@ -32,4 +32,16 @@ typedef enum sinter_line_result {
  */
 sinter_line_result sinter_text_line(FILE *f, char *buf, size_t size);
 
+/* What sinter_text_each_line calls for each line: its number (from 1) and text (writable). */
+typedef sinter_status (*sinter_text_line_fn)(void *user, int line, char *text);
+
+/*
+ * Read f line by line into buf (size >= 2 bytes), calling fn for each line until it returns an
+ * error or the file ends. A line too long, a NUL byte inside a line and a read error end the
+ * loop as SINTER_ERR_PARSE or SINTER_ERR_IO "path:line: ..." (`what`, such as "a particle
+ * file", names the kind of file in the NUL message). Does not close f.
+ */
+sinter_status sinter_text_each_line(sinter_ctx *ctx, FILE *f, const char *path, const char *what,
+                                    char *buf, size_t size, sinter_text_line_fn fn, void *user);
+
 #endif

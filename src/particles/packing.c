@@ -10,9 +10,11 @@
  * bit, on every IEEE 754 machine.
  */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "particles.h"
+#include "particles/packing.h"
 
 #if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF
@@ -94,6 +96,21 @@ static double det_log(double s)
     return (double)e * 0.69314718055994530942 + 2.0 * f * series;
 }
 
+/*
+ * exp(x) from + - * / and exact scalings only (as det_log): x = k ln 2 + f with |f| <= ln 2 / 2
+ * (ln 2 in two parts, Cody and Waite), exp f summed as its Taylor series to f^22 (next term
+ * < 1e-22), times 2^k. Within a few ulp of exp(x); |x| < 700.
+ */
+static double det_exp(double x)
+{
+    const double k = floor(x * 1.44269504088896340736 + 0.5);
+    const double f = (x - k * 0.693145751953125) - k * 1.42860682030941723212e-6;
+    double sum = 1.0;
+    for (int n = 22; n >= 1; --n)
+        sum = 1.0 + sum * f / (double)n;
+    return ldexp(sum, (int)k);
+}
+
 /* Standard normal deviate, Marsaglia polar method (the second deviate is dropped). */
 static double rng_normal(rng *g)
 {
@@ -108,12 +125,11 @@ static double rng_normal(rng *g)
 
 /* ---- options ----------------------------------------------------------------- */
 
-sinter_status sinter_packing_options_init(sinter_packing_options *options, size_t struct_size)
+/* The layout before issue 38 appended the log-normal, table and mixture fields. */
+#define PACKING_OPTIONS_OLD_SIZE offsetof(sinter_packing_options, radius_median)
+
+static void packing_defaults(sinter_packing_options *options)
 {
-    if (options == NULL)
-        return SINTER_ERR_NULL;
-    if (struct_size != sizeof(sinter_packing_options))
-        return SINTER_ERR_STRUCT_SIZE;
     memset(options, 0, sizeof(*options));
     options->struct_size = sizeof(*options);
     for (int d = 0; d < 3; ++d) {
@@ -130,13 +146,40 @@ sinter_status sinter_packing_options_init(sinter_packing_options *options, size_
     options->max_attempts = 100000;
     options->material = 0;
     options->temperature = 293.15;
+    options->radius_median = 0.05;
+    options->radius_gsd = 1.0;
+    options->table_basis = SINTER_SIZE_BY_VOLUME;
+}
+
+sinter_status sinter_packing_options_init(sinter_packing_options *options, size_t struct_size)
+{
+    if (options == NULL)
+        return SINTER_ERR_NULL;
+    if (struct_size != sizeof(sinter_packing_options) && struct_size != PACKING_OPTIONS_OLD_SIZE)
+        return SINTER_ERR_STRUCT_SIZE;
+    sinter_packing_options full;
+    packing_defaults(&full);
+    full.struct_size = struct_size;
+    memcpy(options, &full, struct_size);
     return SINTER_OK;
 }
 
-/* The radius range a validated distribution draws from ([lo, hi], both > 0). */
+/*
+ * The radius range a validated distribution draws from ([lo, hi], both > 0), and what the
+ * log-normal and table samplers need: ln gsd; the table's cumulative number weights
+ * (cum[0] the point mass at the first diameter, cum[i] adds the interval (d[i-1], d[i])).
+ */
 typedef struct radius_range {
     double lo, hi;
+    double log_gsd;
+    double *cum; /* table_points entries, owned */
 } radius_range;
+
+static void range_free(sinter_ctx *ctx, radius_range *range)
+{
+    sinter_free(ctx, range->cum);
+    range->cum = NULL;
+}
 
 static sinter_status invalid_option(sinter_ctx *ctx, const char *func, const char *name,
                                     double value, const char *rule)
@@ -144,10 +187,10 @@ static sinter_status invalid_option(sinter_ctx *ctx, const char *func, const cha
     return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: option %s = %g %s", func, name, value, rule);
 }
 
-/* Checks shared by both packers: lock, material, temperature, box. */
-static sinter_status check_common(const sinter_particles *ps, const char *func,
-                                  const double box_min[3], const double box_max[3],
-                                  int32_t material, double temperature)
+/* The lock, temperature and box checks shared by both packers. */
+static sinter_status check_set_and_box(const sinter_particles *ps, const char *func,
+                                       const double box_min[3], const double box_max[3],
+                                       double temperature)
 {
     sinter_ctx *ctx = ps->ctx;
     if (ps->views_out > 0)
@@ -155,11 +198,6 @@ static sinter_status check_common(const sinter_particles *ps, const char *func,
                            "%s: %zu field view(s) of the particle set are still out; release "
                            "them before adding particles",
                            func, ps->views_out);
-    if (material < 0 || material >= SINTER_MAX_MATERIALS || !ps->material_used[material])
-        return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
-                           "%s: material %d is not registered in the particle set; call "
-                           "sinter_particles_set_material first",
-                           func, (int)material);
     if (!isfinite(temperature) || temperature <= 0.0)
         return invalid_option(ctx, func, "temperature", temperature,
                               "K must be positive and finite");
@@ -173,19 +211,142 @@ static sinter_status check_common(const sinter_particles *ps, const char *func,
     return SINTER_OK;
 }
 
-static sinter_status check_options(const sinter_particles *ps, const sinter_packing_options *o,
-                                   size_t n, radius_range *range)
+static sinter_status check_material(const sinter_particles *ps, const char *func, int32_t material)
 {
-    static const char *func = "sinter_pack_random";
-    sinter_ctx *ctx = ps->ctx;
-    if (o->struct_size != sizeof(sinter_packing_options))
-        return sinter_fail(ctx, SINTER_ERR_STRUCT_SIZE,
-                           "%s: options.struct_size is %zu, expected %zu; fill the options "
-                           "with sinter_packing_options_init",
-                           func, o->struct_size, sizeof(sinter_packing_options));
-    sinter_status st = check_common(ps, func, o->box_min, o->box_max, o->material, o->temperature);
+    if (material < 0 || material >= SINTER_MAX_MATERIALS || !ps->material_used[material])
+        return sinter_fail(ps->ctx, SINTER_ERR_NOT_FOUND,
+                           "%s: material %d is not registered in the particle set; call "
+                           "sinter_particles_set_material first",
+                           func, (int)material);
+    return SINTER_OK;
+}
+
+/* Checks shared by both packers: lock, material, temperature, box. */
+static sinter_status check_common(const sinter_particles *ps, const char *func,
+                                  const double box_min[3], const double box_max[3],
+                                  int32_t material, double temperature)
+{
+    sinter_status st = check_material(ps, func, material);
     if (st != SINTER_OK)
         return st;
+    return check_set_and_box(ps, func, box_min, box_max, temperature);
+}
+
+/* SINTER_RADII_LOGNORMAL: median, gsd and the truncation (default 3 geometric deviations). */
+static sinter_status check_lognormal(sinter_ctx *ctx, const char *func,
+                                     const sinter_packing_options *o, radius_range *range)
+{
+    const double median = o->radius_median, gsd = o->radius_gsd;
+    if (!isfinite(median) || !(median > 0.0))
+        return invalid_option(ctx, func, "radius_median", median, "m must be positive and finite");
+    if (!isfinite(gsd) || !(gsd >= 1.0) || gsd > 1e3)
+        return invalid_option(ctx, func, "radius_gsd", gsd, "must be in [1, 1000]");
+    range->log_gsd = det_log(gsd);
+    const double g3 = det_exp(3.0 * range->log_gsd);
+    range->lo = o->radius_min > 0.0 ? o->radius_min : median / g3;
+    range->hi = o->radius_max > 0.0 ? o->radius_max : median * g3;
+    if (!(range->lo <= median) || !(median <= range->hi))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: options radius_min = %g m and radius_max = %g m must bracket "
+                           "radius_median = %g m",
+                           func, range->lo, range->hi, median);
+    if (range->log_gsd > 0.0) {
+        const double a = log(range->lo / median) / (range->log_gsd * sqrt(2.0));
+        const double b = log(range->hi / median) / (range->log_gsd * sqrt(2.0));
+        if (0.5 * (erf(b) - erf(a)) < 1e-4)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: options radius_min = %g m and radius_max = %g m keep less than "
+                               "1e-4 of the log-normal distribution; widen them",
+                               func, range->lo, range->hi);
+    }
+    return SINTER_OK;
+}
+
+/* SINTER_RADII_TABLE: the rows, and their number weights (a volume table converted). */
+static sinter_status check_table(sinter_ctx *ctx, const char *func, const sinter_packing_options *o,
+                                 radius_range *range)
+{
+    const size_t n = o->table_points;
+    const double *d = o->table_diameter, *q = o->table_cumulative;
+    if (n == 0 || d == NULL || q == NULL)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: the table distribution needs table_points >= 1 and the arrays "
+                           "table_diameter and table_cumulative",
+                           func);
+    if (o->table_basis != SINTER_SIZE_BY_NUMBER && o->table_basis != SINTER_SIZE_BY_VOLUME)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: option table_basis = %d is not a sinter_size_basis", func,
+                           o->table_basis);
+    for (size_t i = 0; i < n; ++i) {
+        if (!isfinite(d[i]) || !(d[i] > 0.0) || (i > 0 && !(d[i] > d[i - 1])))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: table_diameter[%zu] = %g m must be positive, finite and "
+                               "larger than the row before",
+                               func, i, d[i]);
+        if (!isfinite(q[i]) || !(q[i] >= 0.0) || (i > 0 && !(q[i] >= q[i - 1])))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: table_cumulative[%zu] = %g must be finite, >= 0 and not "
+                               "below the row before",
+                               func, i, q[i]);
+    }
+    if (!(fabs(q[n - 1] - 1.0) <= 0.01))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: table_cumulative[%zu] = %g, the last row, must be 1 within 1 %%",
+                           func, n - 1, q[n - 1]);
+    range->cum = sinter_realloc_array(ctx, NULL, n, sizeof(double));
+    if (range->cum == NULL)
+        return sinter_last_status(ctx);
+    /* By volume: q0(d) ~ q3(d) / d^3. On (a, b) q3 = dQ / (b - a), so the interval's number
+     * weight is dQ / (b - a) * (a^-2 - b^-2) / 2 = dQ (a + b) / (2 a^2 b^2); the first row's
+     * point mass weighs Q0 / d0^3 (the same factor pi / 6 dropped from both). */
+    const int by_volume = o->table_basis == SINTER_SIZE_BY_VOLUME;
+    range->cum[0] = by_volume ? q[0] / (d[0] * d[0] * d[0]) : q[0];
+    for (size_t i = 1; i < n; ++i) {
+        const double dq = q[i] - q[i - 1], a = d[i - 1], b = d[i];
+        range->cum[i] = range->cum[i - 1] + (by_volume ? dq * (a + b) / (2.0 * a * a * b * b) : dq);
+    }
+    /* the smallest and largest diameters that carry weight */
+    size_t first = 0, last = n - 1;
+    while (first + 1 < n && range->cum[first] == 0.0)
+        ++first;
+    while (last > 0 && range->cum[last] == range->cum[last - 1])
+        --last;
+    range->lo = 0.5 * (first == 0 ? d[0] : d[first - 1]);
+    range->hi = 0.5 * d[last];
+    return SINTER_OK;
+}
+
+static sinter_status check_mixture(const sinter_particles *ps, const char *func,
+                                   const sinter_packing_options *o)
+{
+    sinter_ctx *ctx = ps->ctx;
+    if (o->mixture_materials == NULL || o->mixture_mass_fractions == NULL)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: mixture_count = %zu needs mixture_materials and "
+                           "mixture_mass_fractions",
+                           func, o->mixture_count);
+    double sum = 0.0;
+    for (size_t k = 0; k < o->mixture_count; ++k) {
+        sinter_status st = check_material(ps, func, o->mixture_materials[k]);
+        if (st != SINTER_OK)
+            return st;
+        const double f = o->mixture_mass_fractions[k];
+        if (!isfinite(f) || !(f > 0.0))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: mixture_mass_fractions[%zu] = %g must be positive and finite",
+                               func, k, f);
+        sum += f;
+    }
+    if (!(fabs(sum - 1.0) <= 1e-6))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: the mixture's mass fractions sum to %.9g, not 1", func, sum);
+    return SINTER_OK;
+}
+
+/* Validate the radius options and set up the sampler (range_free it, also on error). */
+static sinter_status check_radii(sinter_ctx *ctx, const char *func, const sinter_packing_options *o,
+                                 radius_range *range)
+{
     const double mean = o->radius_mean, spread = o->radius_spread;
     if (!isfinite(mean) || !(mean > 0.0))
         return invalid_option(ctx, func, "radius_mean", mean, "m must be positive and finite");
@@ -241,11 +402,52 @@ static sinter_status check_options(const sinter_particles *ps, const sinter_pack
         }
         break;
     }
+    case SINTER_RADII_LOGNORMAL:
+        return check_lognormal(ctx, func, o, range);
+    case SINTER_RADII_TABLE:
+        return check_table(ctx, func, o, range);
     default:
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "%s: option distribution = %d is not a sinter_radius_distribution", func,
                            o->distribution);
     }
+    return SINTER_OK;
+}
+
+/* The caller's options over the defaults (an older, shorter layout gets the defaults). */
+static sinter_status read_options(sinter_ctx *ctx, const char *func,
+                                  const sinter_packing_options *in, sinter_packing_options *o)
+{
+    if (in->struct_size != sizeof(sinter_packing_options) &&
+        in->struct_size != PACKING_OPTIONS_OLD_SIZE)
+        return sinter_fail(ctx, SINTER_ERR_STRUCT_SIZE,
+                           "%s: options.struct_size is %zu, expected %zu (or %zu for the layout "
+                           "before the log-normal, table and mixture fields); fill the options "
+                           "with sinter_packing_options_init",
+                           func, in->struct_size, sizeof(sinter_packing_options),
+                           PACKING_OPTIONS_OLD_SIZE);
+    packing_defaults(o);
+    memcpy(o, in, in->struct_size);
+    return SINTER_OK;
+}
+
+static sinter_status check_fields(const sinter_particles *ps, const char *func,
+                                  const sinter_packing_options *in, size_t n,
+                                  sinter_packing_options *o, radius_range *range)
+{
+    sinter_ctx *ctx = ps->ctx;
+    sinter_status st = read_options(ctx, func, in, o);
+    if (st != SINTER_OK)
+        return st;
+    st = o->mixture_count == 0
+             ? check_common(ps, func, o->box_min, o->box_max, o->material, o->temperature)
+             : check_set_and_box(ps, func, o->box_min, o->box_max, o->temperature);
+    if (st == SINTER_OK && o->mixture_count > 0)
+        st = check_mixture(ps, func, o);
+    if (st == SINTER_OK)
+        st = check_radii(ctx, func, o, range);
+    if (st != SINTER_OK)
+        return st;
     for (int d = 0; d < 3; ++d) {
         const double need = 2.0 * (range->hi + o->gap);
         if (o->box_max[d] - o->box_min[d] < need)
@@ -262,6 +464,23 @@ static sinter_status check_options(const sinter_particles *ps, const sinter_pack
     return SINTER_OK;
 }
 
+/*
+ * The caller's options `in` read into `o` and checked for n new spheres, and the sampler set up
+ * in `range` (range_free it after a success; on an error nothing is left to free).
+ */
+static sinter_status check_options(const sinter_particles *ps, const char *func,
+                                   const sinter_packing_options *in, size_t n,
+                                   sinter_packing_options *o, radius_range *range)
+{
+    memset(range, 0, sizeof(*range));
+    const sinter_status st = check_fields(ps, func, in, n, o, range);
+    if (st != SINTER_OK)
+        range_free(ps->ctx, range);
+    return st;
+}
+
+static double draw_table_radius(rng *g, const sinter_packing_options *o, const radius_range *range);
+
 static double draw_radius(rng *g, const sinter_packing_options *o, const radius_range *range)
 {
     switch (o->distribution) {
@@ -275,9 +494,47 @@ static double draw_radius(rng *g, const sinter_packing_options *o, const radius_
             if (r >= range->lo && r <= range->hi)
                 return r;
         }
+    case SINTER_RADII_LOGNORMAL:
+        if (range->log_gsd == 0.0)
+            return o->radius_median;
+        for (;;) {
+            const double r = o->radius_median * det_exp(range->log_gsd * rng_normal(g));
+            if (r >= range->lo && r <= range->hi)
+                return r;
+        }
+    case SINTER_RADII_TABLE:
+        return draw_table_radius(g, o, range);
     default:
         return o->radius_mean;
     }
+}
+
+/* A radius from the table: a row's point mass or an interval by its number weight, then a
+ * diameter inside the interval: uniform (by number) or of density ~ d^-3 (by volume). */
+static double draw_table_radius(rng *g, const sinter_packing_options *o, const radius_range *range)
+{
+    const size_t n = o->table_points;
+    const double *d = o->table_diameter;
+    const double u = rng_uniform(g) * range->cum[n - 1];
+    size_t lo = 0, hi = n - 1; /* the first i with u < cum[i] */
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (u < range->cum[mid])
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    if (lo == 0)
+        return 0.5 * d[0];
+    const double a = d[lo - 1], b = d[lo], v = rng_uniform(g);
+    double x;
+    if (o->table_basis == SINTER_SIZE_BY_NUMBER) {
+        x = a + (b - a) * v;
+    } else { /* inverse of the CDF (a^-2 - x^-2) / (a^-2 - b^-2) */
+        const double ia = 1.0 / (a * a), ib = 1.0 / (b * b);
+        x = 1.0 / sqrt(ia - v * (ia - ib));
+    }
+    return 0.5 * fmin(fmax(x, a), b);
 }
 
 /* ---- cell grid ------------------------------------------------------------- */
@@ -491,6 +748,56 @@ static sinter_status pack_random(sinter_particles *ps, const sinter_packing_opti
     return SINTER_OK;
 }
 
+/*
+ * Add the placed spheres, each of the material the mixture chooses for it: in placement order,
+ * the material k furthest below its mass share, f_k M - M_k largest (M the mass so far, the
+ * lowest k on a tie). The chosen one is never above its share, so after the particle it is at
+ * most one particle's mass above; the others only fall further. Runs of one material go to
+ * the set in one call each, after a reserve (so that no call after the first can run out of
+ * memory and leave the set half filled).
+ */
+static sinter_status add_mixture(sinter_particles *ps, const sinter_packing_options *o,
+                                 const sphere_list *s)
+{
+    sinter_ctx *ctx = ps->ctx;
+    const size_t m = o->mixture_count;
+    double *mass = sinter_calloc(ctx, m + 1, sizeof(double));
+    int32_t *mat = sinter_realloc_array(ctx, NULL, s->count, sizeof(int32_t));
+    sinter_status st = mass != NULL && mat != NULL ? SINTER_OK : SINTER_ERR_NOMEM;
+    double sum = 0.0, total = 0.0;
+    for (size_t k = 0; k < m; ++k)
+        sum += o->mixture_mass_fractions[k];
+    for (size_t i = 0; i < s->count && st == SINTER_OK; ++i) {
+        size_t best = 0;
+        double best_deficit = -INFINITY;
+        for (size_t k = 0; k < m; ++k) {
+            const double deficit = o->mixture_mass_fractions[k] / sum * total - mass[k];
+            if (deficit > best_deficit) {
+                best = k;
+                best_deficit = deficit;
+            }
+        }
+        const double r = s->r[i];
+        const sinter_material *mt = &ps->materials[o->mixture_materials[best]];
+        const double particle = mt->value[SINTER_MAT_DENSITY] * (4.0 / 3.0) * PI * r * r * r;
+        mass[best] += particle;
+        total += particle;
+        mat[i] = o->mixture_materials[best];
+    }
+    if (st == SINTER_OK)
+        st = sinter_particles_reserve(ps, ps->count + s->count);
+    for (size_t i = 0; i < s->count && st == SINTER_OK;) {
+        size_t j = i + 1;
+        while (j < s->count && mat[j] == mat[i])
+            ++j;
+        st = sinter_particles_add(ps, j - i, s->x + 3 * i, s->r + i, mat[i], o->temperature, NULL);
+        i = j;
+    }
+    sinter_free(ctx, mass);
+    sinter_free(ctx, mat);
+    return st;
+}
+
 sinter_status sinter_pack_random(sinter_particles *particles, const sinter_packing_options *options,
                                  size_t n, size_t *placed)
 {
@@ -500,23 +807,47 @@ sinter_status sinter_pack_random(sinter_particles *particles, const sinter_packi
     SINTER_CHECK_NULL(ctx, options);
     if (placed)
         *placed = 0;
-    radius_range range = {0.0, 0.0};
-    sinter_status st = check_options(particles, options, n, &range);
-    if (st != SINTER_OK || n == 0)
+    sinter_packing_options o;
+    radius_range range;
+    sinter_status st = check_options(particles, "sinter_pack_random", options, n, &o, &range);
+    if (st != SINTER_OK || n == 0) {
+        range_free(ctx, &range);
         return st;
+    }
     sphere_list spheres = {NULL, NULL, 0, 0};
     cell_grid grid;
     memset(&grid, 0, sizeof(grid));
-    st = pack_random(particles, options, n, &range, &spheres, &grid);
+    st = pack_random(particles, &o, n, &range, &spheres, &grid);
     const size_t count = spheres.count;
     if (st == SINTER_OK && count > 0)
-        st = sinter_particles_add(particles, count, spheres.x, spheres.r, options->material,
-                                  options->temperature, NULL);
+        st = o.mixture_count > 0 ? add_mixture(particles, &o, &spheres)
+                                 : sinter_particles_add(particles, count, spheres.x, spheres.r,
+                                                        o.material, o.temperature, NULL);
     grid_destroy(&grid, ctx);
+    range_free(ctx, &range);
     sinter_free(ctx, spheres.x);
     sinter_free(ctx, spheres.r);
     if (st == SINTER_OK && placed)
         *placed = count;
+    return st;
+}
+
+sinter_status sinter_packing_sample_radii(sinter_particles *particles,
+                                          const sinter_packing_options *options, size_t n,
+                                          double *radii)
+{
+    sinter_ctx *ctx = particles->ctx;
+    sinter_packing_options o;
+    radius_range range;
+    const sinter_status st =
+        check_options(particles, "sinter_packing_sample_radii", options, 0, &o, &range);
+    if (st == SINTER_OK) {
+        rng gen;
+        rng_seed(&gen, o.seed);
+        for (size_t k = 0; k < n; ++k)
+            radii[k] = draw_radius(&gen, &o, &range);
+    }
+    range_free(ctx, &range);
     return st;
 }
 

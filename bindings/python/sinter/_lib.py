@@ -100,7 +100,13 @@ class PackingOptions(ctypes.Structure):
                 ("distribution", _int), ("radius_mean", _double), ("radius_spread", _double),
                 ("radius_min", _double), ("radius_max", _double), ("gap", _double),
                 ("seed", _u64), ("max_attempts", _u64), ("material", ctypes.c_int32),
-                ("temperature", _double)]
+                ("temperature", _double),
+                # appended in issue 38
+                ("radius_median", _double), ("radius_gsd", _double),
+                ("table_diameter", _P(_double)), ("table_cumulative", _P(_double)),
+                ("table_points", _size), ("table_basis", _int), ("mixture_count", _size),
+                ("mixture_materials", _P(ctypes.c_int32)),
+                ("mixture_mass_fractions", _P(_double))]
 
 
 class CompactionOptions(ctypes.Structure):
@@ -357,6 +363,10 @@ SIGNATURES = {
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
+    "sinter_particles_size_quantiles": (
+        c_status, [ParticlesPtr, _size, _size, _int, _size, _P(_double), _P(_double)]),
+    "sinter_psd_read_csv": (
+        c_status, [CtxPtr, _str, _double, _int, _P(_double), _P(_double), _size, _P(_size)]),
     "sinter_pack_lattice": (
         c_status, [ParticlesPtr, _P(_double), _P(_double), _double, _double, ctypes.c_int32,
                    _double, _P(_size)]),

@@ -2,9 +2,11 @@
 
 import ctypes
 import enum
-from typing import TYPE_CHECKING, Any, Dict, Optional, Sequence, Union
+import os
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .context import Context
     from .particles import Particles
     from .stepper import Stepper
 
@@ -21,6 +23,27 @@ class RadiusDistribution(enum.IntEnum):
     MONODISPERSE = 0
     UNIFORM = 1
     NORMAL = 2
+    LOGNORMAL = 3
+    TABLE = 4
+
+
+class SizeBasis(enum.IntEnum):
+    """sinter_size_basis: what a cumulative size distribution counts."""
+
+    NUMBER = 0
+    VOLUME = 1
+
+
+def _basis(value: Union[SizeBasis, str, int]) -> int:
+    if isinstance(value, str):
+        value = SizeBasis[value.upper()]
+    return to_c(int(value), ctypes.c_int, "basis")
+
+
+def _doubles(values: Sequence[float]) -> Any:
+    """A ctypes array of the values (at least one element) and their count."""
+    values = [float(v) for v in values]
+    return (ctypes.c_double * max(1, len(values)))(*values), len(values)
 
 
 def _given(arguments: Dict[str, Any], exclude: Sequence[str] = ()) -> Dict[str, Any]:
@@ -36,7 +59,15 @@ def packing_options(*, box_min: Optional[Vec3] = None, box_max: Optional[Vec3] =
                     radius_min: Optional[float] = None, radius_max: Optional[float] = None,
                     gap: Optional[float] = None, seed: Optional[int] = None,
                     max_attempts: Optional[int] = None, material: Optional[int] = None,
-                    temperature: Optional[float] = None) -> PackingOptions:
+                    temperature: Optional[float] = None,
+                    radius_median: Optional[float] = None, radius_gsd: Optional[float] = None,
+                    gsd: Optional[float] = None,
+                    table_diameter: Optional[Sequence[float]] = None,
+                    table_cumulative: Optional[Sequence[float]] = None,
+                    table_basis: Union[SizeBasis, str, int, None] = None,
+                    mixture_materials: Optional[Sequence[int]] = None,
+                    mixture_mass_fractions: Optional[Sequence[float]] = None
+                    ) -> PackingOptions:
     """A sinter_packing_options filled with the library's defaults, then the keywords given
     (None: the default).
 
@@ -47,7 +78,13 @@ def packing_options(*, box_min: Optional[Vec3] = None, box_max: Optional[Vec3] =
     truncation of the normal distribution [m] (0: mean -/+ 3 spread); gap: smallest surface
     gap [m] (>= 0); seed: random seed (same seed, same packing); max_attempts: attempts per
     sphere before giving up (100000); material: material id (0..255); temperature [K] (> 0,
-    293.15).
+    293.15). Issue 38: distribution "lognormal" with radius_median (the number median [m])
+    and radius_gsd (alias gsd, the geometric standard deviation, >= 1), radius_min and
+    radius_max its truncation (0: median / gsd^3, median gsd^3); distribution "table" with
+    table_diameter [m] and table_cumulative (sequences of one length, e.g. from
+    read_psd_csv) and table_basis ("volume" (default) or "number", SizeBasis); a mixture by
+    mass: mixture_materials (ids) and mixture_mass_fractions (one length, summing to 1). The
+    sequences are copied into arrays that the returned struct keeps alive.
     """
     return _packing_options(_given(locals()))
 
@@ -56,10 +93,28 @@ def _packing_options(options: Dict[str, Any]) -> PackingOptions:
     c = PackingOptions()
     check(lib.sinter_packing_options_init(ctypes.byref(c), ctypes.sizeof(PackingOptions)), None,
           "sinter_packing_options_init")
-    aliases = {"radius": "radius_mean", "spread": "radius_spread"}
+    aliases = {"radius": "radius_mean", "spread": "radius_spread", "gsd": "radius_gsd"}
+    for a, b in (("table_diameter", "table_cumulative"),
+                 ("mixture_materials", "mixture_mass_fractions")):
+        if (a in options) != (b in options) or (a in options and
+                                                len(options[a]) != len(options[b])):
+            raise ValueError("%s and %s must be given together, of the same length" % (a, b))
     for key, value in options.items():
         key = aliases.get(key, key)
-        if key in ("box_min", "box_max"):
+        if key in ("table_diameter", "table_cumulative", "mixture_mass_fractions"):
+            array, count = _doubles(value)
+            setattr(c, key, array)
+            if key == "mixture_mass_fractions":
+                c.mixture_count = count
+            elif key == "table_diameter":
+                c.table_points = count
+        elif key == "mixture_materials":
+            ids = [to_c(int(v), ctypes.c_int32, key) for v in value]
+            c.mixture_materials = (ctypes.c_int32 * max(1, len(ids)))(*ids)
+            c.mixture_count = len(ids)
+        elif key == "table_basis":
+            c.table_basis = _basis(value)
+        elif key in ("box_min", "box_max"):
             value = [float(v) for v in value]
             if len(value) != 3:
                 raise ValueError("%s needs 3 coordinates" % key)
@@ -70,7 +125,8 @@ def _packing_options(options: Dict[str, Any]) -> PackingOptions:
             c.distribution = to_c(int(value), ctypes.c_int, "distribution")
         elif key in ("seed", "max_attempts", "material"):
             setattr(c, key, to_c(int(value), dict(PackingOptions._fields_)[key], key))
-        elif key in {name for name, _ in PackingOptions._fields_} - {"struct_size"}:
+        elif key in {"radius_mean", "radius_spread", "radius_min", "radius_max", "gap",
+                     "temperature", "radius_median", "radius_gsd"}:
             setattr(c, key, float(value))
         else:
             raise TypeError("unknown packing option %r" % key)
@@ -84,7 +140,14 @@ def pack_random(particles: "Particles", n: int, box_min: Vec3, box_max: Vec3, *,
                 radius_min: Optional[float] = None, radius_max: Optional[float] = None,
                 gap: Optional[float] = None, seed: Optional[int] = None,
                 max_attempts: Optional[int] = None, material: Optional[int] = None,
-                temperature: Optional[float] = None) -> int:
+                temperature: Optional[float] = None,
+                radius_median: Optional[float] = None, radius_gsd: Optional[float] = None,
+                gsd: Optional[float] = None,
+                table_diameter: Optional[Sequence[float]] = None,
+                table_cumulative: Optional[Sequence[float]] = None,
+                table_basis: Union[SizeBasis, str, int, None] = None,
+                mixture_materials: Optional[Sequence[int]] = None,
+                mixture_mass_fractions: Optional[Sequence[float]] = None) -> int:
     """Random sequential addition of up to n non-overlapping spheres inside the box
     box_min..box_max [m] (seed 000 sec. 7.1); returns the number placed (fewer if
     max_attempts fail in a row). The keywords are those of packing_options.
@@ -95,6 +158,43 @@ def pack_random(particles: "Particles", n: int, box_min: Vec3, box_max: Vec3, *,
                                             ctypes.byref(placed)),
                      "sinter_pack_random")
     return placed.value
+
+
+def read_psd_csv(context: "Context", path: Union[str, "os.PathLike[str]"], unit: float = 1.0,
+                 percent: bool = False) -> Tuple[List[float], List[float]]:
+    """A cumulative size distribution from a CSV file (sinter_psd_read_csv): rows
+    "diameter, cumulative"; diameters times `unit` give metres (1e-6 for micrometres); the
+    cumulative values are fractions, or percent with percent=True. Returns (diameters [m],
+    cumulative fractions ending at 1); a bad row raises with "path:line:".
+    """
+    encoded = os.fsencode(path)
+    count = ctypes.c_size_t()
+    context._check(lib.sinter_psd_read_csv(context._ptr, encoded, float(unit), int(bool(percent)),
+                                           None, None, 0, ctypes.byref(count)),
+                   "sinter_psd_read_csv")
+    n = count.value
+    d = (ctypes.c_double * n)()
+    q = (ctypes.c_double * n)()
+    context._check(lib.sinter_psd_read_csv(context._ptr, encoded, float(unit), int(bool(percent)),
+                                           d, q, n, ctypes.byref(count)),
+                   "sinter_psd_read_csv")
+    return list(d), list(q)
+
+
+def size_quantiles(particles: "Particles", fractions: Sequence[float] = (0.1, 0.5, 0.9),
+                   basis: Union[SizeBasis, str, int] = "volume", first: int = 0,
+                   count: Optional[int] = None) -> List[float]:
+    """Diameters [m] at which the cumulative fraction by `basis` ("number" or "volume") of
+    particles first .. first + count - 1 (default: to the end) reaches each of `fractions`:
+    D10, D50, D90 by default (sinter_particles_size_quantiles)."""
+    if count is None:
+        count = particles.count - int(first)
+    wanted, n = _doubles(fractions)
+    out = (ctypes.c_double * max(1, n))()
+    particles._check(lib.sinter_particles_size_quantiles(particles._ptr, int(first), int(count),
+                                                         _basis(basis), n, wanted, out),
+                     "sinter_particles_size_quantiles")
+    return list(out)[:n]
 
 
 def pack_lattice(particles: "Particles", box_min: Vec3, box_max: Vec3, radius: float,
