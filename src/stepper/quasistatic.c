@@ -37,6 +37,7 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->strain_fraction = 0.0;
     opt->grown_rk4 = 0.0;
     opt->new_contacts = 1.0;
+    opt->validity = 1.0;
 }
 
 /* The option table: key, offset of the double (or -1 for strategy), lower and upper bound, and
@@ -69,6 +70,7 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_strain_fraction", strain_fraction, 0.0, 1.0, 0),
     QS_KEY("qs_grown_rk4", grown_rk4, 0.0, 1.0, 0),
     QS_KEY("qs_new_contacts", new_contacts, 0.0, 1.0, 0),
+    QS_KEY("qs_validity", validity, 0.0, 2.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
@@ -104,6 +106,9 @@ sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, cons
         if (!isfinite(value))
             return sinter_fail(ctx, SINTER_ERR_INVALID, "%s = %g: the value must be finite", key,
                                value);
+        if (q->offset == offsetof(sinter_qs_options, validity) && value != floor(value))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s = %g: expected 0 (off), 1 (warn) or 2 (error)", key, value);
         if ((q->offset == offsetof(sinter_qs_options, dt_min) && value > opt->dt_max) ||
             (q->offset == offsetof(sinter_qs_options, dt_max) && value < opt->dt_min))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -363,10 +368,9 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
     const size_t n = p->count;
     const size_t before = qs->count;
     size_t found = 0;
-    sinter_status found_status =
-        sinter_qs_touching_pairs_near(qs->ctx, &qs->near, n, p->x, p->radius,
-                                      qs->opt.contact_tolerance, &qs->candidates,
-                                      &qs->candidates_capacity, &found, NULL);
+    sinter_status found_status = sinter_qs_touching_pairs_near(
+        qs->ctx, &qs->near, n, p->x, p->radius, qs->opt.contact_tolerance, &qs->candidates,
+        &qs->candidates_capacity, &found, NULL);
     if (found_status != SINTER_OK)
         return found_status;
     for (size_t c = 0; c < found; ++c) {
@@ -832,7 +836,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     qs->dt_next = next;
     if (taken)
         *taken = h;
-    return SINTER_OK;
+    return sinter_qs_check_validity(qs, p, t + h);
 }
 
 sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
