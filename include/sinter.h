@@ -1141,6 +1141,26 @@ typedef struct sinter_neck_stats {
 SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
                                                sinter_neck_stats *stats);
 
+/**
+ * Run a pair file (`sinter pair`; docs/scene-reference.md, "Pair files"): the two-particle model
+ * (sinter_neck_two_particles) along the temperature schedule of the CSV file its [pair] section
+ * names (a header line, then "time [s], temperature [K]" rows, piecewise linear), for one pair
+ * of the given radius or a population of `pairs` pairs whose radii are drawn from a uniform or
+ * normal distribution, with the material of a [material NAME] section (in the file or in its
+ * `materials` file; [pair] lines naming a material parameter override it). Writes `csv_path`:
+ * time [s], temperature [K], the population's mean neck ratio x/min(R_A, R_B) and shrinkage
+ * Delta L / L0 with their minimum and maximum over the pairs, the relative density
+ * green_density / (1 - shrinkage)^3 of a packing shrinking as the pairs, and past_limit: 0
+ * inside the model's domain, +1 where the largest neck ratio passed the impingement limit of
+ * the [pair] coordination, +2 where the relative density passed 0.8 (docs/7dof.md §2.6; a
+ * warning is logged at the first such time, and with validity = 2 the run stops with
+ * SINTER_ERR_DOMAIN). `svg_path` (may be NULL) gets the plot. Errors: SINTER_ERR_NULL,
+ * SINTER_ERR_IO, SINTER_ERR_PARSE ("file:line: what was expected"), SINTER_ERR_INVALID, and
+ * those of sinter_neck_two_particles.
+ */
+SINTER_API sinter_status sinter_pair_run(sinter_ctx *ctx, const char *path, const char *csv_path,
+                                         const char *svg_path);
+
 /* ------------------------------------------------------------------------ */
 /* Solid-state sintering: the quasi-static stepper                           */
 /* ------------------------------------------------------------------------ */

@@ -4,6 +4,7 @@ import ctypes
 import dataclasses
 import itertools
 import numbers
+import os
 
 from ._errors import SinterError, check
 from ._lib import NeckModelPtr, NeckStats as _CNeckStats, lib
@@ -147,3 +148,12 @@ class NeckModel(_Handle):
 
     def __repr__(self):
         return "<sinter.NeckModel%s>" % (" closed" if self.closed else "")
+
+
+def run_pair(context, path, csv_path, svg_path=None):
+    """Run a pair file (sinter_pair_run, `sinter pair`): the two-particle model along the
+    schedule of its [pair] section, written to csv_path (neck ratio, shrinkage, past_limit)
+    and, when given, the plot svg_path (read the CSV with the csv module)."""
+    check(lib.sinter_pair_run(context._ptr, os.fsencode(path), os.fsencode(csv_path),
+                              None if svg_path is None else os.fsencode(svg_path)),
+          context._handle, "sinter_pair_run")
