@@ -1179,6 +1179,9 @@ SINTER_API sinter_status sinter_pair_run(sinter_ctx *ctx, const char *path, cons
  * 1 (default) a warning, 2 SINTER_ERR_DOMAIN naming the quantity and the time, when the necks
  * of a particle cover more than 0.8 of its surface (they impinge) or the relative density
  * passes 0.8 (seed 001 sec. 4.2); each is reported once per run.
+ * "qs_neck_stiffness" 1 gives each link the section of its neck, pi x^2, instead of the full
+ * pi R_m^2 of eq. 36 (stiffness and sintering force by (x/R_m)^2, bending and torsion by
+ * (x/R_m)^4; docs/models.md); 0, the default, keeps the seed's constant section.
  */
 typedef struct sinter_sintering_stats {
     size_t struct_size;      /**< sizeof(sinter_sintering_stats) */
