@@ -15,12 +15,7 @@
 #include "io/scene_text.h"
 #include "neck/neck.h"
 
-#define TRY(expr)                                                                                  \
-    do {                                                                                           \
-        sinter_status try_st_ = (expr);                                                            \
-        if (try_st_ != SINTER_OK)                                                                  \
-            return try_st_;                                                                        \
-    } while (0)
+#define TRY(expr) SCENE_TRY(expr)
 
 /* What a [pair] section asks for. */
 typedef struct pair_plan {
@@ -62,19 +57,29 @@ static sinter_status read_plan(scene_text *t, scene_section *s, pair_plan *p)
     p->green_density = 0.6;
     p->material = p->schedule = p->materials = NULL;
     p->radius = 0.0;
-    TRY(optional(scene_get_word(t, s, "material", &p->material)));
-    TRY(optional(scene_get_double(t, s, "radius", &p->radius)));
-    TRY(optional(scene_get_word(t, s, "schedule", &p->schedule)));
-    TRY(optional(scene_get_word(t, s, "materials", &p->materials)));
-    TRY(optional(scene_get_word(t, s, "distribution", &p->distribution)));
-    TRY(optional(scene_get_double(t, s, "spread", &p->spread)));
-    TRY(optional(scene_get_double(t, s, "pairs", &p->pairs)));
-    TRY(optional(scene_get_double(t, s, "seed", &p->seed)));
-    TRY(optional(scene_get_double(t, s, "end_time", &p->end_time)));
-    TRY(optional(scene_get_double(t, s, "output_interval", &p->interval)));
-    TRY(optional(scene_get_double(t, s, "validity", &p->validity)));
-    TRY(optional(scene_get_double(t, s, "coordination", &p->coordination)));
-    TRY(optional(scene_get_double(t, s, "green_density", &p->green_density)));
+    const struct {
+        const char *key;
+        const char **value;
+    } words[] = {{"material", &p->material},
+                 {"schedule", &p->schedule},
+                 {"materials", &p->materials},
+                 {"distribution", &p->distribution}};
+    const struct {
+        const char *key;
+        double *value;
+    } numbers[] = {{"radius", &p->radius},
+                   {"spread", &p->spread},
+                   {"pairs", &p->pairs},
+                   {"seed", &p->seed},
+                   {"end_time", &p->end_time},
+                   {"output_interval", &p->interval},
+                   {"validity", &p->validity},
+                   {"coordination", &p->coordination},
+                   {"green_density", &p->green_density}};
+    for (size_t k = 0; k < sizeof(words) / sizeof(words[0]); ++k)
+        TRY(optional(scene_get_word(t, s, words[k].key, words[k].value)));
+    for (size_t k = 0; k < sizeof(numbers) / sizeof(numbers[0]); ++k)
+        TRY(optional(scene_get_double(t, s, numbers[k].key, numbers[k].value)));
     if (p->material == NULL || p->schedule == NULL || !(p->radius > 0.0))
         return parse_error(t, s->line,
                            "[pair] needs 'material = NAME', 'schedule = FILE.csv' and "

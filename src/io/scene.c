@@ -13,12 +13,7 @@
 #include "io/text_file.h"
 #include "particles/compact.h"
 
-#define TRY(expr)                                                                                  \
-    do {                                                                                           \
-        sinter_status try_st_ = (expr);                                                            \
-        if (try_st_ != SINTER_OK)                                                                  \
-            return try_st_;                                                                        \
-    } while (0)
+#define TRY(expr) SCENE_TRY(expr)
 
 /* A getter whose key may be absent. */
 #define OPTIONAL(expr)                                                                             \

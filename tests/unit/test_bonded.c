@@ -266,6 +266,16 @@ static void packing_init(packing *pk, int strategy)
     assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, &opt), SINTER_OK);
 }
 
+/* Recreate the packing's stepper (strategy 2) with one option changed from its default. */
+static void packing_option(packing *pk, const char *key, double value)
+{
+    sinter_qs_destroy(pk->qs);
+    sinter_qs_options opt;
+    sinter_qs_options_default(&opt);
+    assert_int_equal(sinter_qs_option_set(&opt, pk->ctx, key, value), SINTER_OK);
+    assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, &opt), SINTER_OK);
+}
+
 static void packing_free(packing *pk)
 {
     sinter_qs_destroy(pk->qs);
@@ -600,11 +610,7 @@ static void test_qs_lattice(void **state)
     packing_init(&pk, 2);
     /* the symmetry checks below are at the level of the PCG residual: solve to 1e-10 |f| (the
      * default 1e-7 leaves the 54 necks equal to 5e-9) */
-    sinter_qs_destroy(pk.qs);
-    sinter_qs_options opt;
-    sinter_qs_options_default(&opt);
-    assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_solve_rtol", 1e-10), SINTER_OK);
-    assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
+    packing_option(&pk, "qs_solve_rtol", 1e-10);
     lattice(&pk, 3);
     const sinter_qs_stats st = run_packing(&pk, 1000.0);
     double ref[SINTER_NECK_DOF];
@@ -1000,11 +1006,7 @@ static void test_qs_neck_stiffness(void **state)
     (void)state;
     packing pk;
     packing_init(&pk, 2);
-    sinter_qs_destroy(pk.qs);
-    sinter_qs_options opt;
-    sinter_qs_options_default(&opt);
-    assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_neck_stiffness", 1.0), SINTER_OK);
-    assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
+    packing_option(&pk, "qs_neck_stiffness", 1.0);
     lattice(&pk, 1);
     pk.n = 2;
     pk.x[3] = 3 * R_CU;
