@@ -1175,6 +1175,16 @@ SINTER_API sinter_status sinter_stepper_electric_iterations(const sinter_stepper
  *    young neck's cone height ~1e-4 R goes unresolved at loose rtol, and at rtol 1e-4 the
  *    worst of 2400 copper necks was 11 % off in shrinkage (0.7 % with 1). Both cost about
  *    the same for the same error (tests/bench/RESULTS.md).
+ *  - "validity": the validity guard (docs/7dof.md §2.6), checked at the output times: 0 off,
+ *    1 (default) a warning (sinter_log, SINTER_LOG_WARNING) at the first output past each
+ *    limit, 2 SINTER_ERR_DOMAIN there (naming the quantity and the time; later outputs NaN).
+ *    Limits: the neck ratio x/min(R_A, R_B) past the impingement ratio of
+ *    "validity_coordination" equal necks (their caps cover 0.8 of the sphere), and the
+ *    relative density "validity_green_density" / (1 - shrinkage)^3 past 0.8 (seed 001 sec. 4.2)
+ *  - "validity_coordination": neighbours of a particle, Z [-]; 6, [0, 100]; 0: no neck check
+ *    (Z = 6: x/R = 0.68; 8: 0.60; 12: 0.50)
+ *  - "validity_green_density": green density of the packing the pair stands for [-]; 0.6,
+ *    [0, 1]; 0: no density check
  */
 typedef struct sinter_neck_model sinter_neck_model;
 
@@ -1230,6 +1240,26 @@ typedef struct sinter_neck_stats {
 SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
                                                sinter_neck_stats *stats);
 
+/**
+ * Run a pair file (`sinter pair`; docs/scene-reference.md, "Pair files"): the two-particle model
+ * (sinter_neck_two_particles) along the temperature schedule of the CSV file its [pair] section
+ * names (a header line, then "time [s], temperature [K]" rows, piecewise linear), for one pair
+ * of the given radius or a population of `pairs` pairs whose radii are drawn from a uniform or
+ * normal distribution, with the material of a [material NAME] section (in the file or in its
+ * `materials` file; [pair] lines naming a material parameter override it). Writes `csv_path`:
+ * time [s], temperature [K], the population's mean neck ratio x/min(R_A, R_B) and shrinkage
+ * Delta L / L0 with their minimum and maximum over the pairs, the relative density
+ * green_density / (1 - shrinkage)^3 of a packing shrinking as the pairs, and past_limit: 0
+ * inside the model's domain, +1 where the largest neck ratio passed the impingement limit of
+ * the [pair] coordination, +2 where the relative density passed 0.8 (docs/7dof.md §2.6; a
+ * warning is logged at the first such time, and with validity = 2 the run stops with
+ * SINTER_ERR_DOMAIN). `svg_path` (may be NULL) gets the plot. Errors: SINTER_ERR_NULL,
+ * SINTER_ERR_IO, SINTER_ERR_PARSE ("file:line: what was expected"), SINTER_ERR_INVALID, and
+ * those of sinter_neck_two_particles.
+ */
+SINTER_API sinter_status sinter_pair_run(sinter_ctx *ctx, const char *path, const char *csv_path,
+                                         const char *svg_path);
+
 /* ------------------------------------------------------------------------ */
 /* Solid-state sintering: the quasi-static stepper                           */
 /* ------------------------------------------------------------------------ */
@@ -1243,7 +1273,14 @@ SINTER_API sinter_status sinter_neck_get_stats(const sinter_neck_model *nm,
  * is solved with SUNDIALS PCG, with particles on the principal planes x, y or
  * z = 0 held on them (sec. 3.3); y4 and y7 are corrected as eq. 41-44.
  * Options ("qs_*" keys of sinter_stepper_set_option) are listed in
- * src/stepper/quasistatic.h and take effect if set before the first step.
+ * src/stepper/quasistatic.h and take effect if set before the first step. Among them
+ * "qs_validity", the validity guard (docs/7dof.md §2.6), checked after every step: 0 off,
+ * 1 (default) a warning, 2 SINTER_ERR_DOMAIN naming the quantity and the time, when the necks
+ * of a particle cover more than 0.8 of its surface (they impinge) or the relative density
+ * passes 0.8 (seed 001 sec. 4.2); each is reported once per run.
+ * "qs_neck_stiffness" 1 gives each link the section of its neck, pi x^2, instead of the full
+ * pi R_m^2 of eq. 36 (stiffness and sintering force by (x/R_m)^2, bending and torsion by
+ * (x/R_m)^4; docs/models.md); 0, the default, keeps the seed's constant section.
  */
 typedef struct sinter_sintering_stats {
     size_t struct_size;      /**< sizeof(sinter_sintering_stats) */

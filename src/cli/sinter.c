@@ -6,6 +6,7 @@
  *                    [--threads N] [--log LEVEL]
  *   sinter check SCENE
  *   sinter plot DIR [--title TEXT]
+ *   sinter pair FILE... [-o DIR] [--quiet]   (pair.c)
  *   sinter info | --help | --version
  *
  * On a terminal, `run` shows progress (simulated time, steps per second, time
@@ -33,6 +34,8 @@
 #include <unistd.h>
 
 #include <sinter.h>
+
+#include "cli.h"
 
 static double now(void)
 {
@@ -83,6 +86,7 @@ static const char USAGE[] =
     "                        [--threads N] [--log error|warning|info|debug]\n"
     "       sinter check SCENE\n"
     "       sinter plot DIR [--title TEXT]\n"
+    "       sinter pair FILE... [-o DIR] [--quiet]\n"
     "       sinter info | --help | --version\n";
 
 static int usage(void)
@@ -103,6 +107,9 @@ static int help(void)
           "         Ctrl-C stops after the current step, with a checkpoint (exit status 130)\n"
           "check    read and check a scene without running it\n"
           "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not)\n"
+          "pair     the two-particle 7DOF model of each pair file along its temperature\n"
+          "         schedule: DIR/STEM.csv (neck ratio, shrinkage, past_limit) and DIR/STEM.svg\n"
+          "         (default out/); --quiet leaves out the validity guard's warnings\n"
           "info     the library's version, models and units\n"
           "Units are SI throughout. Scene files: examples/scenes/README.md.\n",
           stdout);
@@ -118,7 +125,7 @@ static int fail(sinter_ctx *ctx, sinter_status st)
 static const char *const LOG_LEVELS[] = {"error", "warning", "info", "debug"};
 
 /* --log: the library's messages to stderr, one a line, after the level's name. */
-static void print_log(int level, const char *message, void *user)
+void cli_print_log(int level, const char *message, void *user)
 {
     (void)user;
     fprintf(stderr, "sinter [%s]: %s\n", level >= 0 && level <= 3 ? LOG_LEVELS[level] : "?",
@@ -213,7 +220,7 @@ static int run(int argc, char **argv)
         return 1;
     sinter_status st = sinter_ctx_set_threads(ctx, threads);
     if (st == SINTER_OK && log_level >= 0)
-        st = sinter_ctx_set_log(ctx, print_log, log_level, NULL);
+        st = sinter_ctx_set_log(ctx, cli_print_log, log_level, NULL);
     if (st != SINTER_OK) {
         const int rc = fail(ctx, st);
         sinter_ctx_destroy(ctx);
@@ -335,5 +342,9 @@ int main(int argc, char **argv)
         return check(argv[2]);
     if (strcmp(argv[1], "info") == 0)
         return info();
+    if (strcmp(argv[1], "pair") == 0) {
+        const int rc = cli_pair(argc, argv);
+        return rc == 2 ? usage() : rc;
+    }
     return usage();
 }

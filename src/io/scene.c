@@ -13,12 +13,7 @@
 #include "io/text_file.h"
 #include "particles/compact.h"
 
-#define TRY(expr)                                                                                  \
-    do {                                                                                           \
-        sinter_status try_st_ = (expr);                                                            \
-        if (try_st_ != SINTER_OK)                                                                  \
-            return try_st_;                                                                        \
-    } while (0)
+#define TRY(expr) SCENE_TRY(expr)
 
 /* A getter whose key may be absent. */
 #define OPTIONAL(expr)                                                                             \
@@ -100,6 +95,23 @@ static sinter_status build_scene_header(scene_text *t, sinter_scene *sc, scene_s
     return SINTER_OK;
 }
 
+sinter_status scene_material_read(scene_text *t, scene_section *s, sinter_material *m)
+{
+    for (size_t e = 0; e < s->count; ++e) {
+        scene_entry *en = &s->entries[e];
+        sinter_material_param p;
+        if (sinter_material_param_find(en->key, &p) != SINTER_OK)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: '%s' is not a material parameter (see "
+                               "sinter_material_param_info for the list)",
+                               t->path, en->line, en->key);
+        double v;
+        TRY(scene_get_double(t, s, en->key, &v));
+        TRY(at_line(t, en->line, sinter_material_set(m, p, v)));
+    }
+    return SINTER_OK;
+}
+
 static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     if (*s->name == '\0')
@@ -116,18 +128,7 @@ static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_secti
     snprintf(sc->material_names[sc->material_count], SCENE_NAME, "%s", s->name);
     TRY(at_line(t, s->line, sinter_particles_set_material(sc->ps, (int32_t)sc->material_count, m)));
     sc->material_count++;
-    for (size_t e = 0; e < s->count; ++e) {
-        scene_entry *en = &s->entries[e];
-        sinter_material_param p;
-        if (sinter_material_param_find(en->key, &p) != SINTER_OK)
-            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                               "%s:%d: '%s' is not a material parameter (see "
-                               "sinter_material_param_info for the list)",
-                               t->path, en->line, en->key);
-        double v;
-        TRY(scene_get_double(t, s, en->key, &v));
-        TRY(at_line(t, en->line, sinter_material_set(m, p, v)));
-    }
+    TRY(scene_material_read(t, s, m));
     /* Register the final values. */
     return at_line(t, s->line,
                    sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m));

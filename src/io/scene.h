@@ -47,8 +47,15 @@ struct sinter_scene {
     /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
     scene_program program;
     double furnace_shift; /* how far the stepper's furnace has been delayed (the origin) [s] */
-    double max_frames; /* most records (series rows, VTU frames) the run may write */
+    double max_frames;    /* most records (series rows, VTU frames) the run may write */
 };
+
+/* Set the parameters of a [material NAME] section's lines on `m` (each "key = value" a
+ * sinter_material_param key), labelling errors "file:line" (also used by io/pair.c). */
+struct scene_text;
+struct scene_section;
+sinter_status scene_material_read(struct scene_text *t, struct scene_section *s,
+                                  sinter_material *m);
 
 /* Default of [output] max_frames. */
 #define SCENE_MAX_FRAMES 1e6

@@ -34,6 +34,15 @@ typedef struct scene_text {
     size_t capacity;
 } scene_text;
 
+/* Return the status of `expr` from the calling function unless it is SINTER_OK (scene.c and
+ * pair.c, as TRY). */
+#define SCENE_TRY(expr)                                                                            \
+    do {                                                                                           \
+        sinter_status scene_try_st_ = (expr);                                                      \
+        if (scene_try_st_ != SINTER_OK)                                                            \
+            return scene_try_st_;                                                                  \
+    } while (0)
+
 /* Read and split a scene file. Errors name "path:line". */
 sinter_status scene_text_read(scene_text *t, sinter_ctx *ctx, const char *path);
 void scene_text_free(scene_text *t);

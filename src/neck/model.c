@@ -3,6 +3,7 @@
  * sinter_neck_two_particles (include/sinter.h, section "Neck (7DOF) submodel").
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "neck/neck.h"
@@ -19,6 +20,9 @@ enum {
     OPTION_RK4_STEPS,
     OPTION_RK4_TIME_SCALE,
     OPTION_ERROR_SCALE,
+    OPTION_VALIDITY,
+    OPTION_VALIDITY_COORDINATION,
+    OPTION_VALIDITY_GREEN_DENSITY,
     OPTION_COUNT
 };
 
@@ -44,6 +48,9 @@ static const option_spec OPTIONS[OPTION_COUNT] = {
     {"rk4_steps", 20000.0, 1.0, 1e10, WHOLE},
     {"rk4_time_scale", 1e-6, 0.0, 1e6, OPEN_MIN},
     {"error_scale", 1.0, 0.0, 1.0, WHOLE}, /* neck.h: sinter_neck_error_scale */
+    {"validity", 1.0, 0.0, 2.0, WHOLE},    /* 0 off, 1 warn, 2 error (docs/7dof.md §2.6) */
+    {"validity_coordination", 6.0, 0.0, 100.0, OPEN_NONE},
+    {"validity_green_density", 0.6, 0.0, 1.0, OPEN_NONE},
 };
 
 struct sinter_neck_model {
@@ -90,7 +97,8 @@ static sinter_status unknown_option(sinter_ctx *ctx, const char *who, const char
     return sinter_fail(
         ctx, SINTER_ERR_NOT_FOUND,
         "%s: unknown neck model option '%s'; known: epsilon, h0_ratio, rtol, atol, "
-        "initial_step, max_steps, integrator, rk4_steps, rk4_time_scale, error_scale",
+        "initial_step, max_steps, integrator, rk4_steps, rk4_time_scale, error_scale, "
+        "validity, validity_coordination, validity_green_density",
         who, key);
 }
 
@@ -169,6 +177,61 @@ static sinter_status check_arguments(sinter_ctx *ctx, double radius_a, double ra
                                "%s: output time %zu is %g s; output times must be finite, "
                                "nondecreasing and >= the schedule's start %g s",
                                WHO, k, out_times[k], times[0]);
+    return SINTER_OK;
+}
+
+/*
+ * The validity guard (docs/7dof.md §2.6) at the output times, in order: the neck ratio against
+ * the impingement limit of validity_coordination equal necks, and the relative density a packing
+ * of validity_green_density would reach shrinking as the pair does, against 0.8 (seed 001 sec.
+ * 4.2). A warning for the first output past each limit; with validity = 2 an error
+ * (SINTER_ERR_DOMAIN) there, the later outputs set to NaN.
+ */
+static sinter_status check_validity(const sinter_neck_model *nm, double radius, size_t n_out,
+                                    const double *out_times, double *neck_radius, double *shrinkage,
+                                    double *states)
+{
+    static const char *const WHO = "sinter_neck_two_particles";
+    const int mode = (int)nm->option[OPTION_VALIDITY];
+    const double coordination = nm->option[OPTION_VALIDITY_COORDINATION];
+    const double green = nm->option[OPTION_VALIDITY_GREEN_DENSITY];
+    const double ratio_limit = sinter_neck_impingement_ratio(coordination);
+    int warned_ratio = 0, warned_density = 0;
+    char what[256];
+    for (size_t k = 0; k < n_out && mode > 0; ++k) {
+        const double ratio = neck_radius[k] / radius;
+        const double density = sinter_neck_pair_density(green, shrinkage[k]);
+        what[0] = '\0';
+        if (!warned_ratio && ratio > ratio_limit) {
+            warned_ratio = 1;
+            snprintf(what, sizeof(what),
+                     "the neck ratio x/R = %.4g passed %.4g, where the necks of a particle "
+                     "with %g neighbours impinge (docs/7dof.md section 2.6), at t = %.6g s",
+                     ratio, ratio_limit, coordination, out_times[k]);
+        } else if (!warned_density && green > 0.0 && density > SINTER_NECK_DENSITY_LIMIT) {
+            warned_density = 1;
+            snprintf(what, sizeof(what),
+                     "the relative density %.4g of a packing of green density %g shrinking as "
+                     "the pair (shrinkage %.4g) passed the model's limit %g (seed 001 sec. 4.2), "
+                     "at t = %.6g s",
+                     density, green, shrinkage[k], SINTER_NECK_DENSITY_LIMIT, out_times[k]);
+        }
+        if (what[0] == '\0')
+            continue;
+        if (mode == 1) {
+            sinter_log(nm->ctx, SINTER_LOG_WARNING, "%s: %s", WHO, what);
+            --k; /* the same output may pass the other limit too */
+            continue;
+        }
+        for (size_t j = k + 1; j < n_out; ++j) {
+            neck_radius[j] = NAN;
+            shrinkage[j] = NAN;
+            if (states != NULL)
+                for (size_t d = 0; d < SINTER_NECK_DOF; ++d)
+                    states[SINTER_NECK_DOF * j + d] = NAN;
+        }
+        return sinter_fail(nm->ctx, SINTER_ERR_DOMAIN, "%s: %s", WHO, what);
+    }
     return SINTER_OK;
 }
 
@@ -251,6 +314,9 @@ sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const sinter_mate
         neck_radius[k] = y[SINTER_NECK_X];
         shrinkage[k] = (l0 - (y[SINTER_NECK_LA] + y[SINTER_NECK_LB])) / l0;
     }
+    if (status == SINTER_OK)
+        status = check_validity(nm, fmin(radius_a, radius_b), n_out, out_times, neck_radius,
+                                shrinkage, state);
     if (states != state)
         sinter_free(ctx, states);
     nm->seconds = sinter_clock() - started;

@@ -412,4 +412,26 @@ sinter_status sinter_neck_batch_advance(sinter_neck_batch *batch, size_t n,
 /* The index of the pair whose domain error stopped the last advance (SIZE_MAX: none). */
 size_t sinter_neck_batch_failed_pair(const sinter_neck_batch *batch);
 
+/* ---------------------------------------------------------------------------------------- */
+/* Validity guard: neck impingement and the density domain (docs/7dof.md §2.6, validity.c)   */
+/* ---------------------------------------------------------------------------------------- */
+
+/* Share of a particle's surface the necks may cover before neighbouring necks are taken to
+ * meet: Z equal necks on regular lattices meet at a covered share of 0.73 (bcc, Z = 8), 0.80
+ * (fcc, Z = 12) and 0.88 (simple cubic, Z = 6) (docs/7dof.md §2.6). */
+#define SINTER_NECK_COVERAGE_LIMIT 0.8
+/* Relative density past which the model's initial/intermediate-stage geometry no longer holds
+ * (seed 001 sec. 4.2: "hardly possible to advance significantly further than ... 0.8"). */
+#define SINTER_NECK_DENSITY_LIMIT 0.8
+
+/* Share of a sphere's surface cut off by a neck plane of radius x = ratio R: the cap
+ * (1 - cos theta) / 2 with sin theta = ratio (ratio clamped to [0, 1]). */
+double sinter_neck_cap_share(double ratio);
+/* x/R at which `coordination` equal necks cover SINTER_NECK_COVERAGE_LIMIT of the surface;
+ * INFINITY when they never do (coordination <= 2 * 0.8 / 2, or 0 = not checked). */
+double sinter_neck_impingement_ratio(double coordination);
+/* Relative density of a packing of green density `green` that shrinks isotropically as the
+ * pair does: green / (1 - shrinkage)^3. */
+double sinter_neck_pair_density(double green, double shrinkage);
+
 #endif /* SINTER_NECK_H */

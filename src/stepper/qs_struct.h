@@ -31,9 +31,9 @@ struct sinter_qs {
     size_t saved_hint_capacity;
     sinter_beam *beams; /* the links' beams, contiguous for the solver */
     size_t beams_capacity;
-    uint32_t *component;            /* qs_floating.c: the link graph's components */
-    unsigned char *component_held;  /* and the axes planes hold them on */
-    double *component_sums;         /* their centroids, mean rotations and displacements */
+    uint32_t *component;           /* qs_floating.c: the link graph's components */
+    unsigned char *component_held; /* and the axes planes hold them on */
+    double *component_sums;        /* their centroids, mean rotations and displacements */
     size_t component_capacity, component_held_capacity, component_sums_capacity;
     sinter_neck_batch *batch;       /* strategy 3: grown necks */
     sinter_neck_batch *batch_young; /* strategy 3: young necks (quasistatic.c) */
@@ -50,6 +50,7 @@ struct sinter_qs {
     size_t origin_count, origin_capacity;
     double density0; /* sphere volume / bounding box of the spheres at the first set-up */
     double dt_next;
+    int warned_coverage, warned_density; /* the validity guard warned (qs_validity.c) */
     double u_step; /* step of the displacements in u (0: none to start the next solve from) */
     uint64_t steps, rejected, pcg_iterations, substepped;
     sinter_neck_counters batch_counters[2]; /* strategy 3: CVODE work, young [0] and grown [1] */

@@ -37,6 +37,16 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->strain_fraction = 0.0;
     opt->grown_rk4 = 0.0;
     opt->new_contacts = 1.0;
+    opt->validity = 1.0;
+    opt->neck_stiffness = 0.0;
+}
+
+double sinter_qs_section_scale(const sinter_qs_options *opt, const sinter_qs_link *l)
+{
+    if (opt->neck_stiffness == 0.0)
+        return 1.0;
+    const double ratio = l->neck.y[SINTER_NECK_X] / l->rm;
+    return ratio * ratio;
 }
 
 /* The option table: key, offset of the double (or -1 for strategy), lower and upper bound, and
@@ -69,6 +79,8 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_strain_fraction", strain_fraction, 0.0, 1.0, 0),
     QS_KEY("qs_grown_rk4", grown_rk4, 0.0, 1.0, 0),
     QS_KEY("qs_new_contacts", new_contacts, 0.0, 1.0, 0),
+    QS_KEY("qs_validity", validity, 0.0, 2.0, 0),
+    QS_KEY("qs_neck_stiffness", neck_stiffness, 0.0, 1.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
@@ -104,6 +116,9 @@ sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, cons
         if (!isfinite(value))
             return sinter_fail(ctx, SINTER_ERR_INVALID, "%s = %g: the value must be finite", key,
                                value);
+        if (q->offset == offsetof(sinter_qs_options, validity) && value != floor(value))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s = %g: expected 0 (off), 1 (warn) or 2 (error)", key, value);
         if ((q->offset == offsetof(sinter_qs_options, dt_min) && value > opt->dt_max) ||
             (q->offset == offsetof(sinter_qs_options, dt_max) && value < opt->dt_min))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -363,10 +378,9 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
     const size_t n = p->count;
     const size_t before = qs->count;
     size_t found = 0;
-    sinter_status found_status =
-        sinter_qs_touching_pairs_near(qs->ctx, &qs->near, n, p->x, p->radius,
-                                      qs->opt.contact_tolerance, &qs->candidates,
-                                      &qs->candidates_capacity, &found, NULL);
+    sinter_status found_status = sinter_qs_touching_pairs_near(
+        qs->ctx, &qs->near, n, p->x, p->radius, qs->opt.contact_tolerance, &qs->candidates,
+        &qs->candidates_capacity, &found, NULL);
     if (found_status != SINTER_OK)
         return found_status;
     for (size_t c = 0; c < found; ++c) {
@@ -737,7 +751,9 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         const sinter_qs_link *l = &qs->links[k];
         const double dl = (qs->saved[k][SINTER_NECK_LA] - l->neck.y[SINTER_NECK_LA]) +
                           (qs->saved[k][SINTER_NECK_LB] - l->neck.y[SINTER_NECK_LB]);
-        const double fn = sinter_sintering_force(l->youngs, l->rm, dl);
+        /* the same section as the link's stiffness below: a free pair approaches by dl */
+        const double fn =
+            sinter_sintering_force(l->youngs, l->rm, dl) * sinter_qs_section_scale(&qs->opt, l);
         for (size_t d = 0; d < 3; ++d) {
             f[6 * l->beam.a + d] += fn * l->beam.axis[d];
             f[6 * l->beam.b + d] -= fn * l->beam.axis[d];
@@ -748,8 +764,15 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     int iterations = 0;
     st = sinter_grow(qs->ctx, (void **)&qs->beams, &qs->beams_capacity, m + 1, sizeof(sinter_beam));
     if (st == SINTER_OK) {
-        for (size_t k = 0; k < m; ++k)
+        for (size_t k = 0; k < m; ++k) {
             qs->beams[k] = qs->links[k].beam;
+            /* qs_neck_stiffness: A = pi x^2, I and J ~ x^4 instead of eq. 36's R_m */
+            const double a = sinter_qs_section_scale(&qs->opt, &qs->links[k]);
+            qs->beams[k].k_axial *= a;
+            qs->beams[k].k_shear *= a;
+            qs->beams[k].k_bend *= a * a;
+            qs->beams[k].k_torsion *= a * a;
+        }
         /* start from the last step's displacements scaled to this step (u ~ h) */
         double *guess = NULL;
         if (qs->u_step > 0.0) {
@@ -832,7 +855,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     qs->dt_next = next;
     if (taken)
         *taken = h;
-    return SINTER_OK;
+    return sinter_qs_check_validity(qs, p, t + h);
 }
 
 sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,

@@ -54,6 +54,12 @@ typedef struct sinter_qs_options {
     double new_contacts;      /* 1: contacts made during the run become links (sec. 3.3); 0:
                                  only the contacts of the first step (a diagnostic: the
                                  titanium packing's shrinkage, RESULTS.md, session 3) */
+    double neck_stiffness;    /* 0: the links' section is the full pi R_m^2 (eq. 36, constant);
+                                 1: the neck's own, pi x^2 (the seed's stated extension, sec.
+                                 2.4): axial and shear stiffness and the sintering force scale
+                                 by (x/R_m)^2, bending and torsion by (x/R_m)^4 */
+    double validity;          /* the validity guard (docs/7dof.md §2.6, qs_validity.c): 0 off,
+                                 1 a warning (default), 2 SINTER_ERR_DOMAIN */
 } sinter_qs_options;
 
 /* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (docs/7dof.md §5), alpha 1.5, eps_lim 1,
@@ -67,10 +73,12 @@ void sinter_qs_options_default(sinter_qs_options *opt);
  * "qs_shrink_fraction", "qs_contact_tolerance", "qs_plane_tolerance", "qs_solve_rtol",
  * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain", "qs_strain_fraction" (in [0, 1]),
  * "qs_grown_rk4" (0 or 1; any value above 0 means 1), "qs_new_contacts" (1, the default: links
- * for contacts made during the run; 0: none after the first step; any value above 0 means 1).
- * Set checks the value (the whole set is validated again when the stepper is created).
- * Errors: SINTER_ERR_NOT_FOUND (unknown key; the message lists the keys), SINTER_ERR_INVALID
- * (value out of range or not finite, or qs_dt_min above qs_dt_max).
+ * for contacts made during the run; 0: none after the first step; any value above 0 means 1),
+ * "qs_neck_stiffness" (0, the default: constant full-section links; 1: the section of the neck,
+ * pi x^2; any value above 0 means 1), "qs_validity" (0, 1 or 2: the validity guard off, a warning
+ * (the default) or an error, docs/7dof.md §2.6). Set checks the value (the whole set is validated
+ * again when the stepper is created). Errors: SINTER_ERR_NOT_FOUND (unknown key; the message lists
+ * the keys), SINTER_ERR_INVALID (value out of range or not finite, or qs_dt_min above qs_dt_max).
  */
 sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
                                    double value);
@@ -135,6 +143,18 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                              const sinter_neck_schedule *schedule, double t, double h,
                              double *taken);
 
+/*
+ * The validity guard after a step to time t (qs_validity.c, docs/7dof.md §2.6): the necks of a
+ * particle cover more than SINTER_NECK_COVERAGE_LIMIT of its surface (they impinge), or the
+ * relative density passes SINTER_NECK_DENSITY_LIMIT. Once per quantity a warning (validity 1)
+ * or SINTER_ERR_DOMAIN naming the quantity and the time (validity 2).
+ */
+sinter_status sinter_qs_check_validity(sinter_qs *qs, const sinter_qs_particles *p, double t);
+
+/* Scale of a link's section area against the full pi R_m^2 (eq. 36a): 1, or (x/R_m)^2 with
+ * qs_neck_stiffness. */
+double sinter_qs_section_scale(const sinter_qs_options *opt, const sinter_qs_link *l);
+
 /* March from t0 to t1 with the adaptive global step (convenience for tests and drivers). */
 sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
                             const sinter_neck_schedule *schedule, double t0, double t1);
@@ -181,9 +201,9 @@ void sinter_qs_near_free(sinter_ctx *ctx, sinter_qs_near *near);
 /* What sinter_qs_touching_pairs gives (the same keys), from near's pairs when they are valid
  * for the spheres; *searched (may be NULL) is 1 if the grid search ran. */
 sinter_status sinter_qs_touching_pairs_near(sinter_ctx *ctx, sinter_qs_near *near, size_t n,
-                                            const double *x, const double *radius,
-                                            double tolerance, uint64_t **keys, size_t *capacity,
-                                            size_t *count, int *searched);
+                                            const double *x, const double *radius, double tolerance,
+                                            uint64_t **keys, size_t *capacity, size_t *count,
+                                            int *searched);
 
 /*
  * Checkpoint state (qs_state.c): the bytes sinter_qs_state_save writes (links, plane

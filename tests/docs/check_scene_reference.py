@@ -9,7 +9,8 @@ The keys the parser accepts are read from the sources, so that the reference can
     sinter_material_param_info; with the library at hand, sinter.Material.keys() too);
   - [force NAME] / [heat NAME]: the built-in models' key tables (src/force, src/heat);
   - [electric NAME]: src/electric/electric.c;
-  - [stepper]: also the quasi-static options (src/stepper/quasistatic.c, "qs_*").
+  - [stepper]: also the quasi-static options (src/stepper/quasistatic.c, "qs_*");
+  - [pair] of pair files (`sinter pair`): the keys read_plan of src/io/pair.c reads.
 The reference documents a key as a table row "| `key` | ..." under a heading naming the section,
 "## `[stepper]`" or "### `[heat laser]`". The check fails when a key is accepted but not
 documented, or documented but not accepted. Run: python3 tests/docs/check_scene_reference.py
@@ -133,6 +134,13 @@ def quasistatic_keys():
     return set(re.findall(r'"(qs_\w+)"', src))
 
 
+def pair_keys():
+    funcs = functions(strip_comments(read("src/io/pair.c")))
+    if "read_plan" not in funcs:
+        sys.exit("check_scene_reference: no read_plan in src/io/pair.c")
+    return direct_keys(funcs["read_plan"])
+
+
 def documented():
     """{(section, model or ''): keys} from the reference's headings and table rows."""
     doc = {}
@@ -159,6 +167,7 @@ def main():
     accepted = {(s, ""): k for s, k in parser_keys().items()}
     accepted[("material", "")] = material_keys()
     accepted[("stepper", "")] |= quasistatic_keys()
+    accepted[("pair", "")] = pair_keys()
     for section, models in (("force", model_keys("src/force", "sinter_force_ops")),
                             ("heat", model_keys("src/heat", "sinter_heat_ops")),
                             ("electric", electric_keys())):
@@ -172,7 +181,7 @@ def main():
             accepted[(section, model)] = keys
     # guard against a silently broken extraction
     for must in [("scene", ""), ("particles", ""), ("wall", ""), ("stepper", ""),
-                 ("material", ""), ("output", ""), ("compact", ""), ("pour", "")]:
+                 ("material", ""), ("output", ""), ("compact", ""), ("pour", ""), ("pair", "")]:
         if not accepted.get(must):
             sys.exit("check_scene_reference: extracted no keys for [%s]" % must[0])
     doc = documented()

@@ -266,6 +266,16 @@ static void packing_init(packing *pk, int strategy)
     assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, &opt), SINTER_OK);
 }
 
+/* Recreate the packing's stepper (strategy 2) with one option changed from its default. */
+static void packing_option(packing *pk, const char *key, double value)
+{
+    sinter_qs_destroy(pk->qs);
+    sinter_qs_options opt;
+    sinter_qs_options_default(&opt);
+    assert_int_equal(sinter_qs_option_set(&opt, pk->ctx, key, value), SINTER_OK);
+    assert_int_equal(sinter_qs_create(&pk->qs, pk->ctx, &opt), SINTER_OK);
+}
+
 static void packing_free(packing *pk)
 {
     sinter_qs_destroy(pk->qs);
@@ -600,11 +610,7 @@ static void test_qs_lattice(void **state)
     packing_init(&pk, 2);
     /* the symmetry checks below are at the level of the PCG residual: solve to 1e-10 |f| (the
      * default 1e-7 leaves the 54 necks equal to 5e-9) */
-    sinter_qs_destroy(pk.qs);
-    sinter_qs_options opt;
-    sinter_qs_options_default(&opt);
-    assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_solve_rtol", 1e-10), SINTER_OK);
-    assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
+    packing_option(&pk, "qs_solve_rtol", 1e-10);
     lattice(&pk, 3);
     const sinter_qs_stats st = run_packing(&pk, 1000.0);
     double ref[SINTER_NECK_DOF];
@@ -991,6 +997,49 @@ static void test_qs_near_pairs_follow_drift(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/* qs_neck_stiffness (the seed's stated extension, sec. 2.4): the link's section is the neck's,
+ * pi x^2. Between two times the axial and shear stiffness grow as (x/x0)^2, bending and torsion
+ * as (x/x0)^4, against the full section pi R_m^2 by (x/R_m)^2; the sintering force scales with
+ * the same area, so a free pair still approaches exactly as its 7DOF neck. */
+static void test_qs_neck_stiffness(void **state)
+{
+    (void)state;
+    packing pk;
+    packing_init(&pk, 2);
+    packing_option(&pk, "qs_neck_stiffness", 1.0);
+    lattice(&pk, 1);
+    pk.n = 2;
+    pk.x[3] = 3 * R_CU;
+    pk.x[4] = pk.x[5] = R_CU;
+    pk.radius[1] = R_CU;
+    run_packing(&pk, 100.0);
+    size_t nl = 0;
+    const sinter_qs_link *l = sinter_qs_links(pk.qs, &nl);
+    assert_int_equal(nl, 1);
+    const double x0 = l->neck.y[0];
+    const sinter_beam b0 = pk.qs->beams[0];
+    assert_close(b0.k_axial / l->beam.k_axial, (x0 / R_CU) * (x0 / R_CU), 1e-14);
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    const sinter_qs_particles view = {pk.n, pk.x, pk.rot, pk.radius, NULL, NULL, &pk.mat};
+    assert_int_equal(sinter_qs_run(pk.qs, &view, &schedule, 100.0, 1000.0), SINTER_OK);
+    const double x1 = l->neck.y[0], a = (x1 / x0) * (x1 / x0);
+    const sinter_beam b1 = pk.qs->beams[0];
+    print_message("neck section: x/R %.4f -> %.4f, k_axial ratio %.6f ((x/x0)^2 = %.6f)\n",
+                  x0 / R_CU, x1 / R_CU, b1.k_axial / b0.k_axial, a);
+    assert_close(b1.k_axial / b0.k_axial, a, 1e-12 * a);
+    assert_close(b1.k_shear / b0.k_shear, a, 1e-12 * a);
+    assert_close(b1.k_bend / b0.k_bend, a * a, 1e-12 * a * a);
+    assert_close(b1.k_torsion / b0.k_torsion, a * a, 1e-12 * a * a);
+    /* the free pair follows its neck: the centres are y4 + y7 apart, and the 7DOF values */
+    const double dist = pk.x[3] - pk.x[0];
+    assert_close(l->neck.y[3] + l->neck.y[6], dist, 1e-9 * dist);
+    double ref[SINTER_NECK_DOF];
+    reference_pair(&pk, 1000.0, ref);
+    assert_close(1.0 - dist / (2 * R_CU), 1.0 - (ref[3] + ref[6]) / (2 * R_CU), 1e-6);
+    packing_free(&pk);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1014,6 +1063,7 @@ int main(void)
         cmocka_unit_test(test_qs_lattice),
         cmocka_unit_test(test_qs_floating_pair),
         cmocka_unit_test(test_qs_stepper_adapter),
+        cmocka_unit_test(test_qs_neck_stiffness),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -350,6 +350,7 @@ SIGNATURES = {
         c_status, [NeckModelPtr, MaterialPtr, _double, _double, _size, _P(_double), _P(_double),
                    _size, _P(_double), _P(_double), _P(_double), _P(_double)]),
     "sinter_neck_get_stats": (c_status, [NeckModelPtr, _P(NeckStats)]),
+    "sinter_pair_run": (c_status, [CtxPtr, _str, _str, _str]),
     # packing helpers
     "sinter_stepper_sintering_stats": (c_status, [StepperPtr, _P(SinteringStats)]),
     # snapshots

@@ -3,6 +3,7 @@
 import ctypes
 import dataclasses
 import numbers
+import os
 from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from ._errors import SinterError, check
@@ -183,3 +184,13 @@ class NeckModel(_Handle):
 
     def __repr__(self) -> str:
         return "<sinter.NeckModel%s>" % (" closed" if self.closed else "")
+
+
+def run_pair(context: Context, path: "os.PathLike[str] | str", csv_path: "os.PathLike[str] | str",
+             svg_path: "Optional[os.PathLike[str] | str]" = None) -> None:
+    """Run a pair file (sinter_pair_run, `sinter pair`): the two-particle model along the
+    schedule of its [pair] section, written to csv_path (neck ratio, shrinkage, past_limit)
+    and, when given, the plot svg_path (read the CSV with the csv module)."""
+    check(lib.sinter_pair_run(context._ptr, os.fsencode(path), os.fsencode(csv_path),
+                              None if svg_path is None else os.fsencode(svg_path)),
+          context._handle, "sinter_pair_run")
