@@ -38,12 +38,8 @@ void sinter_wall_drive_free(sinter_walls *walls, sinter_wall *w)
 sinter_status sinter_walls_set_electric_schedule(sinter_walls *walls, size_t k, size_t n,
                                                  const double *times, const double *values)
 {
-    if (walls == NULL)
-        return SINTER_ERR_NULL;
     sinter_wall *w = NULL;
-    sinter_status st = sinter_wall_get(walls, k, __func__, &w);
-    if (st != SINTER_OK)
-        return st;
+    GET_WALL(walls, k, w);
     if (n > 0) {
         SINTER_CHECK_NULL(walls->ctx, times);
         SINTER_CHECK_NULL(walls->ctx, values);
@@ -77,12 +73,8 @@ sinter_status sinter_walls_set_electric_schedule(sinter_walls *walls, size_t k, 
 
 sinter_status sinter_walls_set_electric_pulse(sinter_walls *walls, size_t k, double on, double off)
 {
-    if (walls == NULL)
-        return SINTER_ERR_NULL;
     sinter_wall *w = NULL;
-    sinter_status st = sinter_wall_get(walls, k, __func__, &w);
-    if (st != SINTER_OK)
-        return st;
+    GET_WALL(walls, k, w);
     if (!(on > 0.0) || !isfinite(on) || !(off >= 0.0) || !isfinite(off))
         return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
                            "sinter_walls_set_electric_pulse: wall %zu: on = %g s must be > 0 and "
@@ -96,12 +88,8 @@ sinter_status sinter_walls_set_electric_pulse(sinter_walls *walls, size_t k, dou
 
 sinter_status sinter_walls_set_electric_limit(sinter_walls *walls, size_t k, double limit)
 {
-    if (walls == NULL)
-        return SINTER_ERR_NULL;
     sinter_wall *w = NULL;
-    sinter_status st = sinter_wall_get(walls, k, __func__, &w);
-    if (st != SINTER_OK)
-        return st;
+    GET_WALL(walls, k, w);
     if (!(limit >= 0.0) || !isfinite(limit))
         return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
                            "sinter_walls_set_electric_limit: wall %zu: limit %g must be >= 0 "

@@ -128,15 +128,6 @@ sinter_status sinter_wall_get(const sinter_walls *walls, size_t k, const char *f
     return SINTER_OK;
 }
 
-#define GET_WALL(walls, k, w)                                                                      \
-    do {                                                                                           \
-        if ((walls) == NULL)                                                                       \
-            return SINTER_ERR_NULL;                                                                \
-        sinter_status st_ = sinter_wall_get((walls), (k), __func__, &(w));                         \
-        if (st_ != SINTER_OK)                                                                      \
-            return st_;                                                                            \
-    } while (0)
-
 sinter_status sinter_walls_set_material(sinter_walls *walls, size_t k,
                                         const sinter_material *material)
 {

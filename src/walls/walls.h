@@ -38,8 +38,8 @@ typedef struct sinter_wall {
     double pulse_on, pulse_off; /* pulsed drive: on for pulse_on, off for pulse_off [s] */
     double electric_limit;      /* compliance: the largest |V| of a current electrode or |I| of
                                    a potential one (network model); 0: none */
-    int thermal_mode;      /* sinter_wall_thermal_mode (0 = reservoir: add_plane zeroes a wall) */
-    double thermal_value;  /* RESISTANCE: R'' [m^2 K/W]; TRANSFER: h [W/(m^2 K)]; others 0 */
+    int thermal_mode;     /* sinter_wall_thermal_mode (0 = reservoir: add_plane zeroes a wall) */
+    double thermal_value; /* RESISTANCE: R'' [m^2 K/W]; TRANSFER: h [W/(m^2 K)]; others 0 */
     /* Written at every step's commit: last, and a cache line away from the next wall's first
      * fields (the array of walls is not line-aligned). */
     double force[3]; /* reaction: force the particles exert on the wall [N] */
@@ -70,6 +70,17 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t);
 /* Wall k, or SINTER_ERR_RANGE naming `func`. */
 sinter_status sinter_wall_get(const sinter_walls *walls, size_t k, const char *func,
                               sinter_wall **w);
+
+/* In a public function: NULL walls return SINTER_ERR_NULL, a wall k that does not exist
+ * SINTER_ERR_RANGE naming the function; otherwise w is wall k. */
+#define GET_WALL(walls, k, w)                                                                      \
+    do {                                                                                           \
+        if ((walls) == NULL)                                                                       \
+            return SINTER_ERR_NULL;                                                                \
+        sinter_status st_ = sinter_wall_get((walls), (k), __func__, &(w));                         \
+        if (st_ != SINTER_OK)                                                                      \
+            return st_;                                                                            \
+    } while (0)
 
 /* The electric drive (electric_drive.c): the wall's value at time t [s], and its schedule
  * freed. */
