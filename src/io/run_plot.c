@@ -68,11 +68,11 @@ static void choose(layout *l, const sinter_series *s)
         panel_of(l, s, temperature, 1);
         return;
     }
-    static const char *const fraction[] = {"volume fraction"};
+    static const char *const fraction[] = {"volume fraction", "solid fraction"};
     static const char *const temperatures[] = {"mean temperature", "max temperature"};
     static const char *const currents[] = {"mean particle current", "max particle current"};
     static const char *const energy[] = {"kinetic energy"};
-    panel_of(l, s, fraction, 1);
+    panel_of(l, s, fraction, 2);
     panel_of(l, s, temperatures, 2);
     const size_t before = l->count;
     for (size_t k = 0; k < s->columns; ++k)

@@ -17,6 +17,7 @@
 #include "io/run_plot.h"
 #include "io/scene_frames.h"
 #include "io/scene.h"
+#include "io/solid_fraction.h"
 #include "io/vtu.h"
 
 static const double PI = 3.14159265358979323846;
@@ -81,9 +82,9 @@ static double spheres_box(const sinter_particles *ps, double lo[3], double hi[3]
     return solid;
 }
 
-static double volume_fraction(const sinter_scene *sc, double bed_top)
+/* The box of the volume fraction (see there) into lo, hi; the spheres' summed volume. */
+static double fraction_box(const sinter_scene *sc, double bed_top, double lo[3], double hi[3])
 {
-    double lo[3], hi[3];
     const double solid = spheres_box(sc->ps, lo, hi);
     hi[2] = bed_top;
     for (size_t k = 0; k < sc->walls->count; ++k) {
@@ -97,8 +98,26 @@ static double volume_fraction(const sinter_scene *sc, double bed_top)
                 hi[d] = fmin(hi[d], w->p[d]);
         }
     }
+    return solid;
+}
+
+static double volume_fraction(const sinter_scene *sc, double bed_top)
+{
+    double lo[3], hi[3];
+    const double solid = fraction_box(sc, bed_top, lo, hi);
     const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
     return volume > 0 ? solid / volume : NAN;
+}
+
+/* The same box's solid fraction without overlaps counted twice nor parts beyond its faces
+ * (io/solid_fraction.c), over the overlapping pairs of the neighbour list. */
+static double solid_fraction(const sinter_scene *sc, double bed_top)
+{
+    double lo[3], hi[3];
+    fraction_box(sc, bed_top, lo, hi);
+    const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    const sinter_pair_list *pairs = sc->st->nb.built ? &sc->st->nb.pp : NULL;
+    return volume > 0 ? sinter_solid_volume_in_box(sc->ps, pairs, lo, hi) / volume : NAN;
 }
 
 /* Columns after the wall forces for the quasi-static stepper (seed 001 sec. 4). */
@@ -145,9 +164,15 @@ static size_t stepper_column(const sinter_scene *sc)
            (sinter_snapshot_conducts_current(sc->st) ? sc->walls->count : 0);
 }
 
-static size_t distribution_column(const sinter_scene *sc)
+/* After those, the solid fraction (solid_fraction), then the distributions. */
+static size_t solid_column(const sinter_scene *sc)
 {
     return stepper_column(sc) + STEPPER_COLUMNS;
+}
+
+static size_t distribution_column(const sinter_scene *sc)
+{
+    return solid_column(sc) + 1;
 }
 
 /*
@@ -254,6 +279,7 @@ static void observe(const sinter_scene *sc, double *row)
     row[COL_COORDINATION] = 2.0 * (double)sc->st->stats.contacts / n;
     row[COL_BED_TOP] = top;
     row[COL_FRACTION] = volume_fraction(sc, top);
+    row[solid_column(sc)] = solid_fraction(sc, top);
     row[COL_T_MEAN] = tsum / n;
     row[COL_T_MAX] = tmax;
     for (size_t k = 0; k < sc->walls->count; ++k) {
@@ -591,6 +617,8 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[stepper_column(sc) + k] = STEPPER_NAMES[k];
         units[stepper_column(sc) + k] = STEPPER_UNITS[k];
     }
+    names[solid_column(sc)] = "solid fraction";
+    units[solid_column(sc)] = "1";
     for (size_t k = 0; k < distribution_columns(sc); ++k) {
         char *label = wall_labels[3 * nw + k];
         const size_t size = sizeof(wall_labels[0]);
@@ -647,7 +675,7 @@ static sinter_status open_output(run_state *r)
     enum {
         HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + HISTOGRAMS
+               STEPPER_COLUMNS + 1 + HISTOGRAMS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];

@@ -45,10 +45,15 @@ class SceneTest(unittest.TestCase):
                 rows = list(csv.reader(series))
             self.assertEqual(rows[0][0], "time [s]")
             self.assertEqual(rows[0][8], "floor force [N]")
-            # then the stepper's columns: its time step, rejected steps and neighbour rebuilds
-            self.assertEqual(rows[0][-3:], ["time step [s]", "rejected steps [1]",
-                                            "neighbour rebuilds [1]"])
-            self.assertGreater(float(rows[-1][-1]), 0)
+            # then the stepper's columns: its time step, rejected steps and neighbour rebuilds,
+            # and the solid fraction
+            self.assertEqual(rows[0][-4:], ["time step [s]", "rejected steps [1]",
+                                            "neighbour rebuilds [1]", "solid fraction [1]"])
+            self.assertGreater(float(rows[-1][-2]), 0)
+            # the spheres do not overlap much: the solid fraction is close to the volume
+            # fraction, and not above it
+            volume, solid = float(rows[-1][5]), float(rows[-1][-1])
+            self.assertTrue(0.98 * volume < solid <= volume, (volume, solid))
             self.assertEqual(float(rows[-1][0]), 0.01)
             kinetic = [float(row[1]) for row in rows[1:]]
             self.assertLess(kinetic[-1], 0.1 * max(kinetic))  # landed, damped
