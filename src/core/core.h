@@ -60,10 +60,15 @@ int sinter_find_key(const char *const *keys, int max, const char *key);
 /* SINTER_ERR_NOT_FOUND: "<what> '<name>' has no parameter '<key>' (known: <keys>)", the
  * keys from a NULL-terminated list of at most `max`. */
 sinter_status sinter_unknown_key(sinter_ctx *ctx, const char *what, const char *name,
-                                const char *key, const char *const *keys, int max);
+                                 const char *key, const char *const *keys, int max);
 
 /* The names name_at(0) .. name_at(count - 1) joined with ", " into buf (cut to fit). */
 void sinter_join_names(char *buf, size_t size, size_t count, const char *(*name_at)(size_t k));
+
+/* New copies of the n points of a table (t[k], v[k]) in *t_out and *v_out (the caller frees
+ * both). Errors: SINTER_ERR_NOMEM (nothing allocated then). */
+sinter_status sinter_copy_table(sinter_ctx *ctx, size_t n, const double *t, const double *v,
+                                double **t_out, double **v_out);
 
 /* Piecewise-linear interpolation through (t[k], v[k]), k < n, held constant outside. */
 double sinter_interpolate(size_t n, const double *t, const double *v, double x);
@@ -76,11 +81,11 @@ static inline int sinter_mul_overflows(size_t count, size_t size)
 }
 
 /* Argument checks that record a named error and return from the caller. */
-#define SINTER_CHECK_NULL(ctx, ptr)                                                        \
-    do {                                                                                   \
-        if ((ptr) == NULL)                                                                 \
-            return sinter_fail((ctx), SINTER_ERR_NULL, "%s: argument '%s' is NULL",        \
-                               __func__, #ptr);                                            \
+#define SINTER_CHECK_NULL(ctx, ptr)                                                                \
+    do {                                                                                           \
+        if ((ptr) == NULL)                                                                         \
+            return sinter_fail((ctx), SINTER_ERR_NULL, "%s: argument '%s' is NULL", __func__,      \
+                               #ptr);                                                              \
     } while (0)
 
 #endif /* SINTER_CORE_H */

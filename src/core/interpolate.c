@@ -1,4 +1,7 @@
-/* Piecewise-linear interpolation of schedules (wall temperatures, heat-model parameters). */
+/* Schedules and tables (wall temperatures and drives, heat-model parameters, softening curves):
+ * their copies and their piecewise-linear interpolation. */
+#include <string.h>
+
 #include "core.h"
 
 double sinter_interpolate(size_t n, const double *t, const double *v, double x)
@@ -16,4 +19,23 @@ double sinter_interpolate(size_t n, const double *t, const double *v, double x)
             hi = mid;
     }
     return v[lo] + (v[hi] - v[lo]) * (x - t[lo]) / (t[hi] - t[lo]);
+}
+
+sinter_status sinter_copy_table(sinter_ctx *ctx, size_t n, const double *t, const double *v,
+                                double **t_out, double **v_out)
+{
+    double *a = sinter_calloc(ctx, n + 1, sizeof(double));
+    double *b = sinter_calloc(ctx, n + 1, sizeof(double));
+    if (a == NULL || b == NULL) {
+        sinter_free(ctx, a);
+        sinter_free(ctx, b);
+        return SINTER_ERR_NOMEM;
+    }
+    if (n > 0) {
+        memcpy(a, t, n * sizeof(double));
+        memcpy(b, v, n * sizeof(double));
+    }
+    *t_out = a;
+    *v_out = b;
+    return SINTER_OK;
 }

@@ -110,7 +110,7 @@ static sinter_status key_index(const sinter_heat_model *hm, const char *key, int
     *k = find_key(hm, key);
     if (*k < 0)
         return sinter_unknown_key(hm->ctx, "heat model", hm->name, key, hm->ops->keys,
-                                 SINTER_HEAT_MAX_PARAMS);
+                                  SINTER_HEAT_MAX_PARAMS);
     return SINTER_OK;
 }
 
@@ -178,15 +178,9 @@ sinter_status sinter_heat_model_set_schedule(sinter_heat_model *hm, const char *
                                "sinter_heat_model_set_schedule: point %zu of '%s' is not finite "
                                "or its time does not increase",
                                i, key);
-    double *t = sinter_calloc(hm->ctx, n, sizeof(double));
-    double *v = sinter_calloc(hm->ctx, n, sizeof(double));
-    if (t == NULL || v == NULL) {
-        sinter_free(hm->ctx, t);
-        sinter_free(hm->ctx, v);
+    double *t = NULL, *v = NULL;
+    if (sinter_copy_table(hm->ctx, n, times, values, &t, &v) != SINTER_OK)
         return SINTER_ERR_NOMEM;
-    }
-    memcpy(t, times, n * sizeof(double));
-    memcpy(v, values, n * sizeof(double));
     sinter_free(hm->ctx, hm->schedule_t[k]);
     sinter_free(hm->ctx, hm->schedule_v[k]);
     hm->schedule_t[k] = t;

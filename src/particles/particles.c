@@ -238,15 +238,9 @@ sinter_status sinter_particles_set_softening_curve(sinter_particles *ps, int32_t
                                "%s: point %zu (%g K, factor %g) is invalid: temperatures must "
                                "increase and factors be positive and finite",
                                __func__, k, temperatures[k], factors[k]);
-    double *t = sinter_calloc(ps->ctx, n, sizeof(double));
-    double *f = sinter_calloc(ps->ctx, n, sizeof(double));
-    if (t == NULL || f == NULL) {
-        sinter_free(ps->ctx, t);
-        sinter_free(ps->ctx, f);
+    double *t = NULL, *f = NULL;
+    if (sinter_copy_table(ps->ctx, n, temperatures, factors, &t, &f) != SINTER_OK)
         return SINTER_ERR_NOMEM;
-    }
-    memcpy(t, temperatures, n * sizeof(double));
-    memcpy(f, factors, n * sizeof(double));
     struct sinter_softening_curve *c = &ps->softening[id];
     sinter_free(ps->ctx, c->temperature);
     sinter_free(ps->ctx, c->factor);
@@ -528,9 +522,8 @@ static sinter_status bad_value(const sinter_particles *ps, size_t i, const char 
 {
     if (bad_index)
         *bad_index = i;
-    return sinter_fail(ps->ctx, SINTER_ERR_INVALID,
-                       "%s%s of particle %zu (id %llu) is %g; %s", field, component, i,
-                       (unsigned long long)ps->id[i], value, rule);
+    return sinter_fail(ps->ctx, SINTER_ERR_INVALID, "%s%s of particle %zu (id %llu) is %g; %s",
+                       field, component, i, (unsigned long long)ps->id[i], value, rule);
 }
 
 sinter_status sinter_particles_validate(const sinter_particles *ps, size_t *bad_index)
@@ -541,7 +534,8 @@ sinter_status sinter_particles_validate(const sinter_particles *ps, size_t *bad_
     const struct {
         const char *name;
         const double *data;
-    } vectors[4] = {{"position", ps->x}, {"velocity", ps->v}, {"spin", ps->w}, {"rotation", ps->rot}};
+    } vectors[4] = {
+        {"position", ps->x}, {"velocity", ps->v}, {"spin", ps->w}, {"rotation", ps->rot}};
     const struct {
         const char *name;
         const char *unit;

@@ -52,17 +52,8 @@ sinter_status sinter_walls_set_electric_schedule(sinter_walls *walls, size_t k, 
                                "finite",
                                i, k, times[i], values[i]);
     double *t = NULL, *v = NULL;
-    if (n > 0) {
-        t = sinter_calloc(walls->ctx, n, sizeof(double));
-        v = sinter_calloc(walls->ctx, n, sizeof(double));
-        if (t == NULL || v == NULL) {
-            sinter_free(walls->ctx, t);
-            sinter_free(walls->ctx, v);
-            return SINTER_ERR_NOMEM;
-        }
-        memcpy(t, times, n * sizeof(double));
-        memcpy(v, values, n * sizeof(double));
-    }
+    if (n > 0 && sinter_copy_table(walls->ctx, n, times, values, &t, &v) != SINTER_OK)
+        return SINTER_ERR_NOMEM;
     sinter_wall_drive_free(walls, w);
     w->electric_t = t;
     w->electric_v = v;

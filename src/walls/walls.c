@@ -311,15 +311,9 @@ sinter_status sinter_walls_set_temperature_schedule(sinter_walls *walls, size_t 
                                "(t = %g s, T = %g K) is invalid: times must increase and "
                                "temperatures be positive",
                                i, k, times[i], temperatures[i]);
-    double *t = sinter_calloc(walls->ctx, n, sizeof(double));
-    double *v = sinter_calloc(walls->ctx, n, sizeof(double));
-    if (t == NULL || v == NULL) {
-        sinter_free(walls->ctx, t);
-        sinter_free(walls->ctx, v);
+    double *t = NULL, *v = NULL;
+    if (sinter_copy_table(walls->ctx, n, times, temperatures, &t, &v) != SINTER_OK)
         return SINTER_ERR_NOMEM;
-    }
-    memcpy(t, times, n * sizeof(double));
-    memcpy(v, temperatures, n * sizeof(double));
     clear_temperature_schedule(walls, w);
     w->temperature_t = t;
     w->temperature_v = v;
