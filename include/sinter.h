@@ -427,6 +427,21 @@ SINTER_API sinter_status sinter_particles_add(sinter_particles *ps, size_t n,
                                               size_t *first_index);
 
 /**
+ * Add n particles as sinter_particles_add does, with ids chosen by the caller instead of the
+ * set's counter: a host that splits one body over several particle sets (subdomains of a
+ * decomposition) gives every particle an id unique across all of them. ids[k] (n values) must
+ * not repeat, must not be held by the set already and must not be 2^64 - 1 (SINTER_ERR_INVALID
+ * names the id and the particles); the set's counter moves above the largest, so later
+ * sinter_particles_add calls never reuse one. Contact histories, quasi-static links and
+ * checkpoints follow the particles by these ids. On error the set is unchanged.
+ */
+SINTER_API sinter_status sinter_particles_add_with_ids(sinter_particles *ps, size_t n,
+                                                       const uint64_t *ids,
+                                                       const double *positions,
+                                                       const double *radii, int32_t material_id,
+                                                       double temperature, size_t *first_index);
+
+/**
  * Remove the particles whose indices are listed (each once, in any order).
  * The order of the remaining particles is kept; their ids are unchanged.
  */
@@ -461,7 +476,12 @@ SINTER_API sinter_status sinter_particles_views_out(const sinter_particles *ps, 
  */
 SINTER_API sinter_status sinter_particles_validate(const sinter_particles *ps, size_t *bad_index);
 
-/** Find the index of the particle with persistent id `id` (SINTER_ERR_NOT_FOUND if none). */
+/**
+ * Find the index of the particle with persistent id `id` (SINTER_ERR_NOT_FOUND if none). The
+ * first lookup after particles were added, removed or reordered builds an index of the ids
+ * (O(N), 4 bytes per particle and a half-full table); later lookups take O(1). Like the views,
+ * this bookkeeping writes into the set: do not look up ids of one set from two threads at once.
+ */
 SINTER_API sinter_status sinter_particles_find_id(const sinter_particles *ps, uint64_t id,
                                                   size_t *index);
 

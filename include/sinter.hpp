@@ -651,6 +651,27 @@ class particles : public detail::handle<sinter_particles, sinter_particles_destr
               "sinter_particles_add");
         return first;
     }
+    /**
+     * add() with persistent ids chosen by the caller (ids.size() == radii.size(); unique in the
+     * set, not 2^64 - 1): sinter_particles_add_with_ids. Returns the index of the first.
+     */
+    std::size_t add_with_ids(span<const std::uint64_t> ids, span<const double> positions,
+                             span<const double> radii, std::int32_t material_id,
+                             double temperature)
+    {
+        if (positions.size() != 3 * radii.size() || ids.size() != radii.size())
+            throw error(status::invalid,
+                        std::to_string(ids.size()) + " ids and " +
+                            std::to_string(positions.size()) + " position values for " +
+                            std::to_string(radii.size()) + " radii (1 and 3 per particle expected)",
+                        "sinter_particles_add_with_ids");
+        std::size_t first = 0;
+        check(sinter_particles_add_with_ids(live("sinter_particles_add_with_ids"), radii.size(),
+                                            ids.data(), positions.data(), radii.data(),
+                                            material_id, temperature, &first),
+              "sinter_particles_add_with_ids");
+        return first;
+    }
     /// Remove the particles at these indices (each once, any order).
     void remove(span<const std::size_t> indices)
     {

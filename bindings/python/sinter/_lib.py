@@ -236,6 +236,9 @@ SIGNATURES = {
     "sinter_particles_add": (
         c_status, [ParticlesPtr, _size, _P(_double), _P(_double), ctypes.c_int32, _double,
                    _P(_size)]),
+    "sinter_particles_add_with_ids": (
+        c_status, [ParticlesPtr, _size, _P(_u64), _P(_double), _P(_double), ctypes.c_int32,
+                   _double, _P(_size)]),
     "sinter_particles_remove": (c_status, [ParticlesPtr, _size, _P(_size)]),
     "sinter_particles_view": (
         c_status, [ParticlesPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size)]),
