@@ -946,6 +946,36 @@ SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
 SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
                                                double value);
 /**
+ * Move the model's beam along a scan path (issue 40's scan strategies): `n` vertices of 4
+ * values each, x [m], y [m], speed [m/s] > 0 and level [-] in [0, 1]; vertex 0 is the start
+ * point (its speed and level are ignored), and the source moves from each vertex to the next
+ * in a straight line at that vertex's speed with its power times that vertex's level (0: off,
+ * a jump; 1: full power). The path starts at `start_time` [s]; before it the source stands at
+ * the first vertex and after its end at the last, off. It drives the axis point ("x", "y")
+ * and the power ("power" of "beam", "intensity" of "laser" and "nozzle": their values, or
+ * schedules, times the level) of the models that have a beam; others: SINTER_ERR_INVALID.
+ * n = 0 removes the path. Errors name the vertex (a non-finite value, a speed <= 0 on a
+ * segment of non-zero length, a level outside [0, 1]); on error the model is unchanged.
+ */
+SINTER_API sinter_status sinter_heat_model_set_scan_path(sinter_heat_model *hm, size_t n,
+                                                         const double *points, double start_time);
+/** The time [s] at which the model's scan path ends. Errors: SINTER_ERR_NOT_FOUND (no path). */
+SINTER_API sinter_status sinter_heat_model_scan_end(const sinter_heat_model *hm, double *end_time);
+/**
+ * The vertices of a hatch (parallel scan lines filling a rectangle, as powder-bed machines scan
+ * an area) for sinter_heat_model_set_scan_path: lines along the direction `angle` [rad] from
+ * the x axis, `spacing` [m] apart, centred across the rectangle lo..hi ([m], x and y), each
+ * clipped to it and scanned at `speed` [m/s] at level 1, the jumps between them at
+ * `jump_speed` [m/s] at level 0; `serpentine` = 1 scans every other line backwards. Writes at
+ * most `capacity` vertices (4 values each) into `points` and their number into *count;
+ * points == NULL only counts. Errors: SINTER_ERR_INVALID (an empty or non-finite rectangle,
+ * spacing, speeds), SINTER_ERR_RANGE (capacity too small).
+ */
+SINTER_API sinter_status sinter_scan_hatch(sinter_ctx *ctx, const double lo[2], const double hi[2],
+                                           double spacing, double angle, double speed,
+                                           double jump_speed, int serpentine, double *points,
+                                           size_t capacity, size_t *count);
+/**
  * An output of the model's last evaluation by name ("beam": "absorbed" and
  * "transmitted" [W], "lit" [1], "lit_temperature" [K]; other models have none).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (no such output).

@@ -9,6 +9,7 @@
 
 #include "io/file_name.h"
 #include "io/scene.h"
+#include "io/scene_scan.h"
 #include "io/scene_text.h"
 #include "io/text_file.h"
 #include "particles/compact.h"
@@ -756,6 +757,8 @@ static sinter_status build_heat(scene_text *t, sinter_scene *sc, scene_section *
     for (size_t e = 0; e < s->count; ++e) {
         scene_entry *en = &s->entries[e];
         const size_t len = strlen(en->key), suffix = strlen("_schedule");
+        if (scene_heat_scan_key(en->key))
+            continue; /* read by scene_heat_scan below */
         if (len > suffix && strcmp(en->key + len - suffix, "_schedule") == 0) {
             TRY(heat_schedule(t, s, en, hm));
             continue;
@@ -764,6 +767,7 @@ static sinter_status build_heat(scene_text *t, sinter_scene *sc, scene_section *
         TRY(scene_get_double(t, s, en->key, &v));
         TRY(at_line(t, en->line, sinter_heat_model_set(hm, en->key, v)));
     }
+    TRY(scene_heat_scan(t, sc->directory, s, hm));
     return at_line(t, s->line, sinter_stepper_add_heat(sc->st, hm));
 }
 

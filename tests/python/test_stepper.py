@@ -622,6 +622,32 @@ class WallsTest(unittest.TestCase):
         with self.assertRaises(sinter.NotFound):
             beam.output("power")
 
+    def test_beam_scan_path(self):
+        ps = sinter.Particles(self.ctx)
+        ps.set_material(0, self.material)
+        ps.add([(0, 0, 0)], 1e-3, temperature=300.0)
+        beam = sinter.HeatModel(self.ctx, "beam", z=0.01, power=5.0, radius=2e-3, rays=64)
+        # off until 1 ms, then over the sphere at half power, then a jump away (off)
+        beam.set_scan_path([(0, 0, 0, 0), (1e-3, 0, 1.0, 0.5), (0.1, 0, 10.0, 0)], 1e-3)
+        self.assertAlmostEqual(beam.scan_end(), 1e-3 + 1e-3 / 1.0 + (0.1 - 1e-3) / 10.0)
+        st = sinter.Stepper(self.ctx, ps, None, dt=1e-4, heat=[beam])
+        st.step(1)  # t = 0: off
+        self.assertEqual(beam.output("absorbed") + beam.output("transmitted"), 0.0)
+        st.step(14)  # t = 1.4 ms: on the first segment
+        self.assertAlmostEqual(beam.output("absorbed") + beam.output("transmitted"), 2.5,
+                               delta=1e-12)
+        hatch = sinter.HeatModel.hatch(self.ctx, (0, 0), (2e-3, 1e-3), 0.25e-3, 0.5)
+        self.assertEqual(len(hatch), 10)
+        self.assertEqual(hatch[1][3], 1.0)
+        beam.set_scan_path(hatch)
+        beam.set_scan_path([])
+        with self.assertRaises(sinter.NotFound):
+            beam.scan_end()
+        with self.assertRaises(sinter.InvalidArgument):
+            beam.set_scan_path([(0, 0, 0, 0), (1e-3, 0, -1.0, 1)])
+        with self.assertRaises(ValueError):
+            beam.set_scan_path([(0, 0, 0)])
+
     def test_bad_motion_result_is_reported(self):
         with self.assertRaises(TypeError):  # the library moves the wall at once
             self.walls.set_callback(0, lambda t: (0.0, 0.0))

@@ -75,15 +75,15 @@ static void test_broken_scene_files(void **state)
 {
     (void)state;
     char text[4096];
-    expect_parse_error("[scene\nunits = SI\n", SINTER_ERR_PARSE, "broken.scene:1:",
-                       "section header");
+    expect_parse_error("[scene\nunits = SI\n", SINTER_ERR_PARSE,
+                       "broken.scene:1:", "section header");
     expect_parse_error("units = SI\n", SINTER_ERR_PARSE, "broken.scene:1:", "before");
-    expect_parse_error("[scene]\nunits SI\n", SINTER_ERR_PARSE, "broken.scene:2:",
-                       "expected 'key = value'");
-    expect_parse_error("[scene]\nunits = imperial\n", SINTER_ERR_PARSE, "broken.scene:2:",
-                       "expected SI");
-    expect_parse_error("[scene]\nunits = SI\nunits = SI\n", SINTER_ERR_PARSE, "broken.scene:3:",
-                       "twice");
+    expect_parse_error("[scene]\nunits SI\n", SINTER_ERR_PARSE,
+                       "broken.scene:2:", "expected 'key = value'");
+    expect_parse_error("[scene]\nunits = imperial\n", SINTER_ERR_PARSE,
+                       "broken.scene:2:", "expected SI");
+    expect_parse_error("[scene]\nunits = SI\nunits = SI\n", SINTER_ERR_PARSE,
+                       "broken.scene:3:", "twice");
     expect_parse_error("", SINTER_ERR_PARSE, "no sections", NULL);
     /* unknown key, with its line */
     snprintf(text, sizeof(text), "%s[output]\n", GOOD);
@@ -153,12 +153,12 @@ static void state_of(sinter_scene *scene, double *out, size_t n)
     assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
     const double *x = NULL, *v = NULL;
     size_t count = 0;
-    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x,
-                                                &count, NULL),
-                     SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v,
-                                                NULL, NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, &count, NULL),
+        SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v, NULL, NULL),
+        SINTER_OK);
     assert_int_equal(count * 6, n);
     memcpy(out, x, 3 * count * sizeof(double));
     memcpy(out + 3 * count, v, 3 * count * sizeof(double));
@@ -324,10 +324,50 @@ static void test_run_writes_outputs(void **state)
     sinter_ctx_destroy(ctx);
 }
 
-
 /* The quasi-static stepper from a scene file; VTU frames carry the neck count per particle. */
 /* [stepper] temperature_schedule: the particles (given 300 K) follow the furnace, and the necks
  * grow, which at 300 K they would not measurably do. */
+/* Scan paths in a scene ([heat laser] scan_path / hatch, io/scene_scan.c): a file and a hatch
+ * load and run; a bad vertex is refused with the file's line, a hatch without its spacing, both
+ * at once and an unreadable file with the scene's line. */
+static void test_scan_path_keys(void **state)
+{
+    (void)state;
+    char text[4096];
+    write_file("path.txt", "# x y speed level\n0 0 0 0\n3e-3, 0, 0.5, 1\n3e-3 1e-3 1.0 0\n");
+    const char *laser = "[heat laser]\nradius = 1e-3\nintensity = 1e5\n";
+    snprintf(text, sizeof(text), "%s%sscan_path = path.txt\nscan_start = 0.001\n", GOOD, laser);
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("scan.scene", text)), SINTER_OK);
+    char out[512];
+    snprintf(out, sizeof(out), "%s/scan", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    sinter_scene_destroy(scene);
+    snprintf(text, sizeof(text),
+             "%s%shatch = 0 0 6e-3 6e-3\nhatch_spacing = 1e-3\nhatch_speed = 1\n"
+             "hatch_angle = 90\nhatch_serpentine = no\n",
+             GOOD, laser);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("hatch.scene", text)), SINTER_OK);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    write_file("bad_path.txt", "0 0 0 0\n1e-3 0 -2 1\n");
+    snprintf(text, sizeof(text), "%s%sscan_path = bad_path.txt\n", GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_PARSE, "bad_path.txt:2:", "speed > 0");
+    snprintf(text, sizeof(text), "%s%shatch = 0 0 6e-3 6e-3\nhatch_speed = 1\n", GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "hatch_spacing and hatch_speed");
+    snprintf(text, sizeof(text),
+             "%s%shatch = 0 0 6e-3 6e-3\nhatch_spacing = 1e-3\n"
+             "hatch_speed = 1\nscan_path = path.txt\n",
+             GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "not both");
+    snprintf(text, sizeof(text), "%s%sscan_path = missing.txt\n", GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_IO, "scan_path", "missing.txt");
+    snprintf(text, sizeof(text), "%s[heat radiation]\nscan_path = path.txt\n", GOOD);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "no beam to move");
+}
+
 static void test_furnace_scene(void **state)
 {
     (void)state;
@@ -484,19 +524,24 @@ static void test_compact_section(void **state)
     /* [compact] is line 28, its keys 29-33; a line added at the end is 34 */
     snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\n", head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:28:", "needs 'box_max");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0\nbox_max = 1 1 1\n", head,
-             COMPACT);
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0\nbox_max = 1 1 1\n", head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:29:", "box_min: expected three");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "friction = -0.5\n");
     expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:28:", "friction = -0.5");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
-             "velocity = fast\n", head, COMPACT);
+    snprintf(text, sizeof(text),
+             "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
+             "velocity = fast\n",
+             head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "velocity: expected");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
-             "stop_at_jamming = maybe\n", head, COMPACT);
+    snprintf(text, sizeof(text),
+             "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
+             "stop_at_jamming = maybe\n",
+             head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "yes or no");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\n"
-             "box_max = 0.0001 0.0001 0.0001\n", head, COMPACT);
+    snprintf(text, sizeof(text),
+             "%.*s[compact]\nbox_min = 0 0 0\n"
+             "box_max = 0.0001 0.0001 0.0001\n",
+             head, COMPACT);
     expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:28:", "densest sphere packing");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "wall_speed = 1\n");
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "unknown key 'wall_speed'");
@@ -508,8 +553,7 @@ static void test_compact_section(void **state)
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
     assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
-    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("green.scene", COMPACT)),
-                     SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("green.scene", COMPACT)), SINTER_OK);
     char out[512];
     snprintf(out, sizeof(out), "%s/green", dir);
     assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
@@ -591,9 +635,9 @@ static void test_quasistatic_restart_is_bit_for_bit(void **state)
             }
             assert_int_equal(sinter_stepper_advance(st, 40.0), SINTER_OK);
             const double *x = NULL;
-            assert_int_equal(
-                sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL),
-                SINTER_OK);
+            assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_POSITION,
+                                                        (const void **)&x, NULL, NULL),
+                             SINTER_OK);
             memcpy(pass == 0 ? straight : restarted, x, sizeof(straight));
             assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_POSITION), SINTER_OK);
             sinter_sintering_stats *out = pass == 0 ? &a : &b;
@@ -640,6 +684,7 @@ int main(void)
         cmocka_unit_test(test_run_writes_outputs),
         cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
         cmocka_unit_test(test_furnace_scene),
+        cmocka_unit_test(test_scan_path_keys),
         cmocka_unit_test(test_quasistatic_restart_is_bit_for_bit),
         cmocka_unit_test(test_compact_section),
     };

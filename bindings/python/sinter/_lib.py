@@ -301,6 +301,11 @@ SIGNATURES = {
     "sinter_heat_model_get": (c_status, [HeatModelPtr, _str, _P(_double)]),
     "sinter_heat_model_output": (c_status, [HeatModelPtr, _str, _P(_double)]),
     "sinter_heat_model_set_schedule": (c_status, [HeatModelPtr, _str, _size, _P(_double), _P(_double)]),
+    "sinter_heat_model_set_scan_path": (c_status, [HeatModelPtr, _size, _P(_double), _double]),
+    "sinter_heat_model_scan_end": (c_status, [HeatModelPtr, _P(_double)]),
+    "sinter_scan_hatch": (
+        c_status, [CtxPtr, _P(_double), _P(_double), _double, _double, _double, _double,
+                   ctypes.c_int, _P(_double), _size, _P(_size)]),
     "sinter_stepper_add_heat": (c_status, [StepperPtr, HeatModelPtr]),
     "sinter_stepper_set_thermal_scheme": (c_status, [StepperPtr, _int]),
     "sinter_stepper_stable_dt_thermal": (c_status, [StepperPtr, _P(_double)]),

@@ -173,6 +173,49 @@ class HeatModel(_KeyedModel):
                                                        c_times, c_values),
                     "sinter_heat_model_set_schedule")
 
+    def set_scan_path(self, vertices: Sequence[Sequence[float]], start_time: float = 0.0) -> None:
+        """Move the beam along a scan path (sinter_heat_model_set_scan_path).
+
+        vertices: (x [m], y [m], speed [m/s], level [0..1]) each; the first is the start point,
+        each later one a straight segment from the previous at its speed, the power times its
+        level (0: off, a jump). An empty sequence removes the path.
+        """
+        flat = [float(value) for vertex in vertices for value in vertex]
+        if len(flat) % 4:
+            raise ValueError("scan path vertices need 4 values each (x, y, speed, level)")
+        c_points, n = _doubles(flat)
+        self._check(lib.sinter_heat_model_set_scan_path(self._ptr, n // 4, c_points,
+                                                        float(start_time)),
+                    "sinter_heat_model_set_scan_path")
+
+    def scan_end(self) -> float:
+        """The time [s] at which the scan path ends (NotFound without one)."""
+        value = ctypes.c_double()
+        self._check(lib.sinter_heat_model_scan_end(self._ptr, ctypes.byref(value)),
+                    "sinter_heat_model_scan_end")
+        return value.value
+
+    @staticmethod
+    def hatch(context: Context, lo: Sequence[float], hi: Sequence[float], spacing: float,
+              speed: float, angle: float = 0.0, jump_speed: Optional[float] = None,
+              serpentine: bool = True) -> list:
+        """The vertices of a hatch filling the rectangle lo..hi (x, y [m]) for set_scan_path:
+        lines `spacing` [m] apart along `angle` [rad] at `speed` [m/s], jumps at `jump_speed`
+        (default: speed) with the power off (sinter_scan_hatch)."""
+        c_lo, _ = _doubles([float(lo[0]), float(lo[1])])
+        c_hi, _ = _doubles([float(hi[0]), float(hi[1])])
+        jump = float(speed if jump_speed is None else jump_speed)
+        count = ctypes.c_size_t()
+        args = (float(spacing), float(angle), float(speed), jump, 1 if serpentine else 0)
+        check(lib.sinter_scan_hatch(context._ptr, c_lo, c_hi, *args, None, 0,
+                                    ctypes.byref(count)),
+              context._handle, "sinter_scan_hatch")
+        points = (ctypes.c_double * (4 * max(count.value, 1)))()
+        check(lib.sinter_scan_hatch(context._ptr, c_lo, c_hi, *args, points, count.value,
+                                    ctypes.byref(count)),
+              context._handle, "sinter_scan_hatch")
+        return [tuple(points[4 * k:4 * k + 4]) for k in range(count.value)]
+
     def output(self, name: str) -> float:
         """An output of the last evaluation ("beam": "absorbed", "transmitted" [W], "lit",
         "lit_temperature" [K])."""
