@@ -891,9 +891,15 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
  *    correlation), "fluid_conductivity" [W/(m K)], "fluid_viscosity" [Pa s],
  *    "fluid_heat_capacity" [J/(kg K)], "fluid_density" [kg/m^3],
- *    "fluid_speed" [m/s] (0: stagnant, Nu = 2).
+ *    "fluid_speed" [m/s] (0: stagnant, Nu = 2). "exposed" = 1: only the
+ *    fraction of each surface that faces the surroundings (one minus the view
+ *    factors to touching particles, (1 - sqrt(1 - (r_j/d)^2))/2 each, and walls,
+ *    1/2 each). "fluid_law" = 1: conductivity and viscosity by Sutherland's law
+ *    ("sutherland_conductivity", "sutherland_viscosity" [K], air's 194 and 111)
+ *    and an ideal gas's density at the film temperature (theta + theta_E)/2, the
+ *    fluid_* values holding at "fluid_reference_temperature" [K] (293.15).
  *  - "radiation": Q = epsilon sigma 4 pi r^2 (theta_E^4 - theta^4) (eq. 41),
- *    "temperature" theta_E [K].
+ *    "temperature" theta_E [K]; "exposed" as for convection.
  *  - "nozzle": Q = a I0 pi r^2 (1 - z/d_max) for 0 <= z <= d_max (eq. 29-30);
  *  - "laser": Q = a I0 pi r^2 exp(-mu z) (eq. 31).
  *    Both: a beam along -z through ("x", "y") [m] of radius "radius" [m],

@@ -5,7 +5,7 @@
 #include "sinter_submodel.h"
 #include "contact/contacts.h"
 
-#define SINTER_HEAT_MAX_PARAMS 12
+#define SINTER_HEAT_MAX_PARAMS 16
 #define SINTER_HEAT_MAX_OUTPUTS 4
 
 /* Everything one evaluation of one heat model reads and writes. */

@@ -579,6 +579,87 @@ static void test_radiation(void **state)
 }
 
 /*
+ * Exposed surfaces (heat/exposure.c) and gas properties by temperature: sphere 0 rests on a
+ * floor and touches sphere 1 (r 0.6 mm) beside it; sphere 2 is alone. Radiation with
+ * exposed = 1 gives sphere 0 the fraction 1 - 1/2 - F01 of eq. 41, sphere 1 1 - F10, sphere 2
+ * all of it, F_ij = (1 - sqrt(1 - (r_j / d)^2)) / 2 (a sphere to a sphere); convection's
+ * Sutherland law at the film temperature matches the closed form, and at the reference
+ * temperature gives the constant law's power.
+ */
+static void test_exposed_and_gas_law(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r0 = 1e-3, r1 = 0.6e-3;
+    add(&f, 0.0, 0.0, 0.9e-3, r0, 0, 1000.0);
+    add(&f, 1.2e-3, 0.0, 1.5e-3, r1, 0, 1000.0);
+    add(&f, 1e-2, 0.0, 5e-3, r0, 0, 1000.0);
+    const double p0[3] = {0, 0, 0}, n0[3] = {0, 0, 1};
+    sinter_material *wm;
+    OK(sinter_material_create(&wm, f.ctx, NULL));
+    OK(sinter_walls_add_plane(f.walls, p0, n0, wm, NULL));
+    sinter_material_destroy(wm);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    assert_int_equal(f.pw.count, 1);
+    sinter_heat_model *hm = model(&f, "radiation");
+    OK(eval(&f, hm, 0.0, 0));
+    double whole[3];
+    memcpy(whole, f.heat, sizeof(whole));
+    OK(sinter_heat_model_set(hm, "exposed", 1.0));
+    OK(eval(&f, hm, 0.0, 0));
+    const double d = sqrt(1.2e-3 * 1.2e-3 + 0.6e-3 * 0.6e-3);
+    const double f01 = 0.5 * (1.0 - sqrt(1.0 - (r1 / d) * (r1 / d)));
+    const double f10 = 0.5 * (1.0 - sqrt(1.0 - (r0 / d) * (r0 / d)));
+    print_message("exposed fractions: %.6f %.6f %.6f (closed form %.6f %.6f 1)\n",
+                  f.heat[0] / whole[0], f.heat[1] / whole[1], f.heat[2] / whole[2], 0.5 - f01,
+                  1.0 - f10);
+    assert_rel(f.heat[0], (0.5 - f01) * whole[0]);
+    assert_rel(f.heat[1], (1.0 - f10) * whole[1]);
+    assert_true(f.heat[2] == whole[2]);
+    OK(sinter_heat_model_set(hm, "exposed", 0.5));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+
+    /* convection, stagnant, exposed: the same fractions */
+    sinter_heat_model *cm = model(&f, "convection");
+    OK(eval(&f, cm, 0.0, 0));
+    memcpy(whole, f.heat, sizeof(whole));
+    OK(sinter_heat_model_set(cm, "exposed", 1.0));
+    OK(eval(&f, cm, 0.0, 0));
+    assert_rel(f.heat[0], (0.5 - f01) * whole[0]);
+    assert_rel(f.heat[1], (1.0 - f10) * whole[1]);
+    assert_rel(f.heat[2], whole[2]);
+    /* the gas law at 2 m/s: particles at 1000 K in air at 300 K, film 650 K */
+    OK(sinter_heat_model_set(cm, "exposed", 0.0));
+    OK(sinter_heat_model_set(cm, "temperature", 300.0));
+    OK(sinter_heat_model_set(cm, "fluid_speed", 2.0));
+    OK(sinter_heat_model_set(cm, "fluid_law", 1.0));
+    OK(eval(&f, cm, 0.0, 0));
+    const double t0 = 293.15, tf = 650.0;
+    const double k = 0.026 * pow(tf / t0, 1.5) * (t0 + 194.0) / (tf + 194.0);
+    const double mu = 1.8e-5 * pow(tf / t0, 1.5) * (t0 + 111.0) / (tf + 111.0);
+    const double rho = 1.2 * t0 / tf;
+    const double re = rho * 2.0 * 2.0 * r0 / mu, pr = 1005.0 * mu / k;
+    const double nu = 2.0 + (0.4 * sqrt(re) + 0.06 * pow(re, 2.0 / 3.0)) * pow(pr, 0.4);
+    const double q = nu * k / (2.0 * r0) * (300.0 - 1000.0) * 4.0 * PI * r0 * r0;
+    print_message("gas law: %.9g W at a 650 K film\n", f.heat[2]);
+    assert_rel(f.heat[2], q);
+    /* at the reference temperature the law gives the constant properties' power */
+    OK(sinter_heat_model_set(cm, "fluid_reference_temperature", tf));
+    OK(eval(&f, cm, 0.0, 0));
+    const double law_at_ref = f.heat[2];
+    OK(sinter_heat_model_set(cm, "fluid_law", 0.0));
+    OK(eval(&f, cm, 0.0, 0));
+    assert_rel(law_at_ref, f.heat[2]);
+    OK(sinter_heat_model_set(cm, "fluid_law", 2.0));
+    assert_int_equal(eval(&f, cm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(cm);
+    close_fixture(&f);
+}
+
+/*
  * A column of three r = 0.5 mm spheres on the z axis (tops at 1, 2, 3 mm; material 0,
  * absorptance 0.6) and one sphere of material 1 (absorptance 0.9) at x = 3 mm whose top is
  * higher (5.5 mm) but outside a 1 mm beam on the axis.
@@ -821,17 +902,12 @@ static void test_names_and_schedules(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_conduction),
-        cmocka_unit_test(test_wall_laws),
-        cmocka_unit_test(test_pair_laws),
-        cmocka_unit_test(test_gas_lens),
-        cmocka_unit_test(test_beam_rays),
-        cmocka_unit_test(test_convection),
-        cmocka_unit_test(test_radiation),
-        cmocka_unit_test(test_laser),
-        cmocka_unit_test(test_nozzle),
-        cmocka_unit_test(test_scan_paths),
-        cmocka_unit_test(test_names_and_schedules),
+        cmocka_unit_test(test_conduction), cmocka_unit_test(test_wall_laws),
+        cmocka_unit_test(test_pair_laws),  cmocka_unit_test(test_gas_lens),
+        cmocka_unit_test(test_beam_rays),  cmocka_unit_test(test_convection),
+        cmocka_unit_test(test_radiation),  cmocka_unit_test(test_exposed_and_gas_law),
+        cmocka_unit_test(test_laser),      cmocka_unit_test(test_nozzle),
+        cmocka_unit_test(test_scan_paths), cmocka_unit_test(test_names_and_schedules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
