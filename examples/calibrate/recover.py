@@ -60,7 +60,8 @@ def schedule(name: str) -> Tuple[List[float], List[float]]:
     return times, temps
 
 
-def run(out_dir: str, seed: int = 2026) -> Tuple[Any, Dict[str, float]]:
+def run(out_dir: str, seed: int = 2026,
+        jacobian: str = "auto") -> Tuple[Any, Dict[str, float]]:
     """Make the synthetic records, fit them; returns (FitResult, true values)."""
     import numpy
 
@@ -92,7 +93,7 @@ def run(out_dir: str, seed: int = 2026) -> Tuple[Any, Dict[str, float]]:
             profile.neck_sigma = NECK_SIGMA
             profiles.append(profile)
         start = {k: truth[k] * START[k] for k in KEYS}
-        result = calibrate.fit(ctx, material, profiles, KEYS, start)
+        result = calibrate.fit(ctx, material, profiles, KEYS, start, jacobian=jacobian)
     return result, {k: truth[k] for k in KEYS}
 
 
@@ -100,12 +101,16 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="out/calibrate", help="folder for the records")
     parser.add_argument("--seed", type=int, default=2026, help="noise seed")
+    parser.add_argument("--jacobian", default="auto", choices=("auto", "sensitivity",
+                                                               "differences"),
+                        help="forward sensitivities (auto) or central differences")
     args = parser.parse_args()
-    result, truth = run(args.out, args.seed)
+    result, truth = run(args.out, args.seed, args.jacobian)
     print(result.table())
     print("residual variance s^2 = %.3f on %d degrees of freedom; %d evaluations of the "
-          "three profiles; %s" % (result.residual_variance, result.dof, result.evaluations,
-                           result.message))
+          "three profiles; Jacobian by %s; %s" % (result.residual_variance, result.dof,
+                                                  result.evaluations, result.jacobian_kind,
+                                                  result.message))
     inside = result.contains(truth)
     for key, value in truth.items():
         print("%-40s true %-10.6g %s" % (key, value, "inside" if inside[key] else "OUTSIDE"))

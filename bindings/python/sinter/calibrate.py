@@ -400,7 +400,8 @@ class FitResult:
     its standard error, and the confidence interval of the value (confidence level `level`;
     a prefactor's interval is exp(ln D0 -+ t sigma), not symmetric). covariance and correlation
     are those of the reported variables (s^2 (J^T J)^-1 mapped linearly); residual_variance is
-    s^2 = sum of squared weighted residuals / (m - p); dof = m - p."""
+    s^2 = sum of squared weighted residuals / (m - p); dof = m - p; evaluations counts runs of
+    every profile (residuals and Jacobians); jacobian_kind is "sensitivity" or "differences"."""
 
     keys: List[str]
     values: Dict[str, float]
@@ -418,6 +419,7 @@ class FitResult:
     evaluations: int
     success: bool
     message: str
+    jacobian_kind: str = "sensitivity"
 
     def contains(self, truth: Dict[str, float]) -> Dict[str, bool]:
         """Whether each interval holds the given value {key: value}."""
@@ -484,6 +486,24 @@ class _Model:
             parts.append(self.neck_weight * (ratio[i_n] - y_n) / sig_n)
         return numpy.concatenate(parts)
 
+    def jacobian(self, values: Dict[str, float], keys: Sequence[str]) -> Any:
+        """d(weighted residuals) / d(ln D0 or Q) of every key, from the forward sensitivities
+        (NeckModel.sensitivities, sinter_neck_sensitivities)."""
+        import numpy
+
+        self.evaluations += 1
+        self.material.update(values)
+        parts = []
+        for p, (out, i_s, i_n, _, sig_s, _, sig_n) in zip(self.profiles, self.plan):
+            sens = self.neck.sensitivities(self.material, p.radius, p.radius,
+                                           list(p.schedule_time),
+                                           list(p.schedule_temperature), list(keys), out)
+            d_shrink = numpy.asarray(sens.d_shrinkage, dtype=float).reshape(out.size, -1)
+            d_ratio = numpy.asarray(sens.d_neck_ratio, dtype=float).reshape(out.size, -1)
+            parts.append(d_shrink[i_s] / sig_s[:, None])
+            parts.append(self.neck_weight * d_ratio[i_n] / sig_n[:, None])
+        return numpy.concatenate(parts, axis=0)
+
     def close(self) -> None:
         self.neck.close()
         self.material.close()
@@ -518,7 +538,8 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         initial: Optional[Dict[str, float]] = None, *, level: float = 0.95,
         t_ref: Optional[float] = None, neck_options: Optional[Dict[str, float]] = None,
         neck_weight: float = 1.0, step: float = 1e-3, max_evaluations: int = 200,
-        xtol: float = 1e-10, search_factor: float = 1e3) -> FitResult:
+        xtol: float = 1e-10, search_factor: float = 1e3,
+        jacobian: str = "auto") -> FitResult:
     """Fit the material keys to every profile at once by weighted least squares.
 
     material: the starting material (not changed: a clone is fitted); initial {key: value}
@@ -526,9 +547,12 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
     fitted in ln D0, activation energies Q [J/mol] linearly, with D0 and Q of one mechanism and
     phase re-expressed around t_ref [K] (default: the reciprocal of the mean 1/T of the
     schedules) for conditioning. The residual of an observation is (model - data) / sigma
-    (neck ratios also times neck_weight). The Jacobian is by central differences of size step in
-    the internal variables (each a relative change of about step in D or Q), using the model
-    at neck_options (default rtol 1e-9, well below the effect of a step). The search stays within
+    (neck ratios also times neck_weight). The Jacobian: jacobian = "sensitivity" from the
+    forward sensitivities of the model (NeckModel.sensitivities; only diffusion prefactors and
+    activation energies), "differences" by central differences of size step in the internal
+    variables (each a relative change of about step in D or Q), "auto" (default) the first when
+    every key allows it. The model runs at neck_options (default rtol 1e-9, well below the
+    effect of a step). The search stays within
     a factor search_factor of each starting D (as the D(T_ref) where Q is fitted too) and a factor
     2 of each starting Q or other value. Confidence intervals
     at `level` from the Student t quantile with m - p degrees of freedom and covariance
@@ -555,6 +579,15 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         kind = _split_key(key)[0]
         if kind in ("prefactor", "linear") and not start[key] > 0.0:
             raise ValueError("%s must start positive, got %r" % (key, start[key]))
+    arrhenius = all(_split_key(k)[0] != "linear" for k in keys)
+    if jacobian == "auto":
+        jacobian = "sensitivity" if arrhenius else "differences"
+    if jacobian not in ("sensitivity", "differences"):
+        raise ValueError("jacobian must be 'auto', 'sensitivity' or 'differences', got %r"
+                         % (jacobian,))
+    if jacobian == "sensitivity" and not arrhenius:
+        raise ValueError("sensitivities exist for diffusion prefactors and activation "
+                         "energies only; use jacobian='differences'")
     if t_ref is None:
         inverse = [1.0 / t for p in profiles for t in p.schedule_temperature]
         t_ref = len(inverse) / sum(inverse)
@@ -564,7 +597,12 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         def residuals(theta: Any) -> Any:
             return model.residuals(par.values_of(theta))
 
-        def jacobian(theta: Any) -> Any:
+        a = numpy.array(par.matrix)
+        by_differences = jacobian == "differences"
+
+        def jacobian_of(theta: Any) -> Any:
+            if not by_differences:  # d r / d theta = d r / d(ln D0, Q) @ A
+                return model.jacobian(par.values_of(theta), keys) @ a
             columns = []
             for j in range(len(theta)):
                 up, down = numpy.array(theta, dtype=float), numpy.array(theta, dtype=float)
@@ -574,20 +612,19 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
             return numpy.column_stack(columns)
 
         theta0 = numpy.array(par.theta_of(par.reported0))
-        solution = optimize.least_squares(residuals, theta0, jac=jacobian, method="trf",
+        solution = optimize.least_squares(residuals, theta0, jac=jacobian_of, method="trf",
                                           bounds=par.bounds(theta0, search_factor),
                                           x_scale=1.0, xtol=xtol, ftol=1e-12, gtol=1e-12,
                                           max_nfev=max_evaluations)
         theta = solution.x
         r = residuals(theta)
-        jac = jacobian(theta)
+        jac = jacobian_of(theta)
         m, p = r.size, len(keys)
         dof = m - p
         if dof <= 0:
             raise ValueError("%d observations cannot fit %d parameters" % (m, p))
         s2 = float(r @ r) / dof
         cov_theta = s2 * numpy.linalg.inv(jac.T @ jac)
-        a = numpy.array(par.matrix)
         cov = a @ cov_theta @ a.T
         se = numpy.sqrt(numpy.diag(cov))
         corr = cov / numpy.outer(se, se)
@@ -602,7 +639,7 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
             interval[key] = (low, high)
         return FitResult(keys, values, list(reported), list(se), interval, cov, corr, s2, dof,
                          level, float(t_ref), r, jac, model.evaluations, bool(solution.success),
-                         str(solution.message))
+                         str(solution.message), jacobian)
     finally:
         model.close()
 
