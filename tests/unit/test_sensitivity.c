@@ -95,10 +95,11 @@ static void run_plain(fixture *f, double radius, size_t n, const double *times, 
 }
 
 /*
- * Each sensitivity against a central difference of 1e-3 in ln D0, or of 1e-3 R (1000 K) in Q
- * (ln D moves by about 1e-3 either way). The difference's truncation error is of order step^2 =
- * 1e-6 relative and the runs' own error at rtol 1e-10 of order 1e-10 / 1e-3 relative to the output:
- * agreement to 1e-4 of the largest derivative over the outputs, plus 1e-12 absolute.
+ * Each sensitivity against a central difference of 1e-2 in ln D0, or of 1e-2 R (1000 K) in Q
+ * (ln D moves by about 1e-2 either way). The difference's truncation error is of order
+ * h^2 = 1e-4 of the derivative; the runs' own error at rtol 1e-12, divided by 2h, stays below
+ * 1e-6 of it even for the smallest effect here (the alpha boundary data, whose outputs move by
+ * 2e-7 in x/R). Agreement to 5e-4 of the largest derivative over the outputs, plus 1e-12.
  */
 static void check_against_differences(fixture *f, double radius, size_t n, const double *times,
                                       const double *temps, const double *out,
@@ -116,7 +117,9 @@ static void check_against_differences(fixture *f, double radius, size_t n, const
         assert_close(ratio[k], r0[k], 1e-7 * fabs(r0[k]));
         assert_close(shrink[k], s0[k], 1e-7 * fabs(s0[k]) + 1e-14);
     }
-    const double h = 1e-3;
+    const double h = 1e-2;
+    /* the differences of much smaller effects need tighter runs than the sensitivities */
+    assert_int_equal(sinter_neck_model_set(f->nm, "rtol", 1e-12), SINTER_OK);
     for (size_t j = 0; j < n_params; ++j) {
         const double value = value_of(f->m, params[j]);
         const int prefactor = params[j] == SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR ||
@@ -126,7 +129,7 @@ static void check_against_differences(fixture *f, double radius, size_t n, const
                               params[j] == SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR_HOT ||
                               params[j] == SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR_HOT;
         /* Q moves by h R (1000 K): ln D changes by about h, as for a prefactor (a relative
-         * step in Q would change ln D by h Q / (R T), 0.05 for copper's boundary, far too much) */
+         * step in Q would change ln D by h Q / (R T), 0.5 for copper's boundary, far too much) */
         const double dq = h * GAS * 1000.0;
         const double up = prefactor ? value * exp(h) : value + dq;
         const double down = prefactor ? value * exp(-h) : value - dq;
@@ -142,9 +145,9 @@ static void check_against_differences(fixture *f, double radius, size_t n, const
         assert_true(largest_r > 0.0 && largest_s > 0.0); /* each parameter acts */
         for (int k = 0; k < N_OUT; ++k) {
             assert_close(d_ratio[k * n_params + j], (ru[k] - rd[k]) / span,
-                         1e-4 * largest_r + 1e-12);
+                         5e-4 * largest_r + 1e-12);
             assert_close(d_shrink[k * n_params + j], (su[k] - sd[k]) / span,
-                         1e-4 * largest_s + 1e-12);
+                         5e-4 * largest_s + 1e-12);
         }
     }
 }
@@ -162,7 +165,7 @@ static void test_titanium_schedule_against_differences(void **state)
         SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY_HOT,
         SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR_HOT,
         SINTER_MAT_SURFACE_ACTIVATION_ENERGY_HOT,
-        SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR,
+        SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR, /* alpha: acts while heating and cooling */
         SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR_HOT,
     };
     check_against_differences(&f, 33.3e-6, 4, times, temps, out, params,
