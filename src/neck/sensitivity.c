@@ -21,7 +21,7 @@
  * library that this file need not make. The equations integrated are CVODES's.
  *
  * An activation energy is integrated as q = Q / (R T_s), T_s = 1000 K, so that every
- * sensitivity is a length of the state's order and the state's error weights fit them all.
+ * sensitivity is a length of the state's order and weights made from the state fit them all.
  */
 #include <math.h>
 #include <stdio.h>
@@ -182,15 +182,21 @@ static int augmented_rhs(realtype t, N_Vector v, N_Vector vdot, void *user)
     return 0;
 }
 
-/* The state's weights (sinter_neck_error_weights) for y and for every sensitivity. */
+/* The state's weights (sinter_neck_error_weights, its error scale) for y; for every sensitivity
+ * the per-component weights 1 / (rtol |y_i| + atol) of the same state. The geometry scale's
+ * min(|y_i|, H_P) on the sensitivities too made the titanium alpha-surface case 3.7 times dearer
+ * (0.23 s against 0.06 s CPU for E14B at rtol 1e-9) for results that agree with differences
+ * equally well (1e-5). */
 static int augmented_weights(N_Vector v, N_Vector w, void *user)
 {
     const problem *pb = user;
     const double *y = N_VGetArrayPointer(v);
     double *out = N_VGetArrayPointer(w);
     sinter_neck_error_weights(y, pb->rtol, pb->atol, pb->error_scale, out);
+    double component[DOF];
+    sinter_neck_error_weights(y, pb->rtol, pb->atol, SINTER_NECK_SCALE_COMPONENT, component);
     for (size_t j = 1; j <= pb->count; ++j)
-        memcpy(out + DOF * j, out, DOF * sizeof(double));
+        memcpy(out + DOF * j, component, DOF * sizeof(double));
     return 0;
 }
 
