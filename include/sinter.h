@@ -1279,6 +1279,31 @@ SINTER_API sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const 
                                                    const double *out_times, double *neck_radius,
                                                    double *shrinkage, double *state);
 
+/**
+ * Forward sensitivities of the two-particle model (docs/calibration.md §3): the neck ratio
+ * x / min(R_A, R_B) [-] and the shrinkage Delta L / L0 [-] of sinter_neck_two_particles (same
+ * pair, schedule and seeded neck, the options of nm: epsilon, h0_ratio, rtol, atol,
+ * initial_step, max_steps, error_scale; integrator must be 0, CVODE), and their derivatives
+ * with respect to n_params (1-12, distinct) Arrhenius parameters of material m:
+ *  - a *_DIFFUSION_PREFACTOR or *_DIFFUSION_PREFACTOR_HOT key: the derivative with respect to
+ *    ln D0 [-] (per unit of ln D0, i.e. D0 dy/dD0),
+ *  - a *_ACTIVATION_ENERGY or *_ACTIVATION_ENERGY_HOT key: the derivative with respect to
+ *    Q [J/mol].
+ * The sensitivity equations ds/dt = J s + df/dp are integrated together with the state by
+ * CVODE, under the same error control. Outputs at the n_out out_times [s] (nondecreasing, each
+ * >= times[0]): neck_ratio[k], shrinkage[k], and d_neck_ratio[k * n_params + j],
+ * d_shrinkage[k * n_params + j] for parameter j; NaN for times a failed run did not reach.
+ * The validity guard (docs/7dof.md §2.6) is not applied. ctx receives the error messages.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments, a parameter that is not a diffusion
+ * prefactor or activation energy, a repeated one, integrator = 1), SINTER_ERR_DOMAIN,
+ * SINTER_ERR_NOT_CONVERGED, SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_neck_sensitivities(
+    sinter_ctx *ctx, const sinter_neck_model *nm, const sinter_material *m, double radius_a,
+    double radius_b, size_t n_times, const double *times, const double *temperatures,
+    size_t n_params, const sinter_material_param *params, size_t n_out, const double *out_times,
+    double *neck_ratio, double *shrinkage, double *d_neck_ratio, double *d_shrinkage);
+
 /** Work of the last sinter_neck_two_particles call (also after a failure). */
 typedef struct sinter_neck_stats {
     size_t struct_size;            /**< set to sizeof(sinter_neck_stats) by the caller */

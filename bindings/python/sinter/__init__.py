@@ -29,7 +29,7 @@ from ._callbacks import CallbackResult, ContactBatch, ContactKind, StateView
 from .context import LOGGER_NAME, Context, LogLevel, version_number, version_string
 from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
-from .neck import NeckModel, NeckResult, NeckStats
+from .neck import NeckModel, NeckResult, NeckSensitivities, NeckStats
 from .output import Series, plot_run, write_pvd, write_vtu
 from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
@@ -46,7 +46,8 @@ __all__ = [
     "BusyError", "CallbackResult", "ContactBatch", "ContactKind", "Context", "DType", "Field",
     "MaterialParam", "ParticleFlag", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
     "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
-    "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult", "NeckStats",
+    "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult",
+    "NeckSensitivities", "NeckStats",
     "NotFound", "OPTIONS", "ParamInfo", "Particles", "RadiusDistribution", "RangeError",
     "Scene", "Series", "SinterError", "SinteringStats", "StateView", "Status", "Stepper",
     "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion", "WallThermal", "Walls",

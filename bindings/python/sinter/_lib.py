@@ -358,6 +358,10 @@ SIGNATURES = {
         c_status, [NeckModelPtr, MaterialPtr, _double, _double, _size, _P(_double), _P(_double),
                    _size, _P(_double), _P(_double), _P(_double), _P(_double)]),
     "sinter_neck_get_stats": (c_status, [NeckModelPtr, _P(NeckStats)]),
+    "sinter_neck_sensitivities": (
+        c_status, [CtxPtr, NeckModelPtr, MaterialPtr, _double, _double, _size, _P(_double),
+                   _P(_double), _size, _P(c_enum), _size, _P(_double), _P(_double), _P(_double),
+                   _P(_double), _P(_double)]),
     "sinter_pair_run": (c_status, [CtxPtr, _str, _str, _str]),
     # packing helpers
     "sinter_stepper_sintering_stats": (c_status, [StepperPtr, _P(SinteringStats)]),
