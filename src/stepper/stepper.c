@@ -923,6 +923,7 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
         if (s != SINTER_OK)
             return s;
         st->steps_since_sort = 0;
+        st->staggered.history_valid = 0; /* the predictor's history is indexed by particle */
     }
     if (st->kind == SINTER_STEPPER_STAGGERED) {
         s = sinter_staggered_step(st, h, taken);
