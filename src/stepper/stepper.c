@@ -383,14 +383,18 @@ sinter_status sinter_stepper_get_stats(const sinter_stepper *st, sinter_stepper_
     if (st == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, stats);
-    /* The layout before iterations and evaluations were appended is still served. */
-    const size_t size = stats->struct_size, old = offsetof(sinter_stepper_stats, iterations);
-    if (size != sizeof(sinter_stepper_stats) && size != old)
+    /* The layouts before iterations and evaluations, and before contraction, were appended
+     * are still served. */
+    const size_t size = stats->struct_size, old = offsetof(sinter_stepper_stats, iterations),
+                 mid = offsetof(sinter_stepper_stats, contraction);
+    if (size != sizeof(sinter_stepper_stats) && size != old && size != mid)
         return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
                            "sinter_stepper_get_stats: struct_size is %zu, expected %zu (or %zu "
-                           "for the layout without iterations and evaluations)",
-                           size, sizeof(sinter_stepper_stats), old);
+                           "for the layout without iterations and evaluations, %zu without "
+                           "contraction)",
+                           size, sizeof(sinter_stepper_stats), old, mid);
     sinter_stepper_stats full = st->stats;
+    full.contraction = st->staggered.contraction;
     full.struct_size = size;
     full.time = st->time;
     memcpy(stats, &full, size);
