@@ -671,7 +671,8 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
  *  - Predictor: u_0 is the trapezoid with the forces, torques and heat powers extrapolated
  *    linearly from the two previous steps, F^L + (h / h_prev) (F^L - F^(L-1)); the first step
  *    (and the first after a change of particle order or count) uses F^L. Temperatures start
- *    from forward Euler instead of theta^L.
+ *    from forward Euler instead of theta^L. The start only costs iterations when it is poor:
+ *    the fixed point does not depend on it.
  *  - Step control: step_control.h, a PI controller on the measured contraction; an attempt is
  *    rejected when it diverges (E_k > E_0 from k = 3), when the measured rate cannot reach the
  *    tolerance within 2 K_d iterations, or at 2 K_d iterations.
@@ -730,8 +731,10 @@ static size_t aa_unpack(sinter_stepper *st, const saved_state *a, double h, cons
         rotate(st, a, h, i);
         const double *x = ps->x + 3 * i, *v = ps->v + 3 * i, *w = ps->w + 3 * i;
         const double check = x[0] + x[1] + x[2] + v[0] + v[1] + v[2] + w[0] + w[1] + w[2];
-        const double theta = ps->temperature[i];
-        if ((!isfinite(check) || !(theta > 0.0 && theta < INFINITY)) && bad == n)
+        const double theta = ps->temperature[i]; /* checked only where it is an unknown */
+        const int bad_theta = thermal && !(ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE) &&
+                              !(theta > 0.0 && theta < INFINITY);
+        if ((!isfinite(check) || bad_theta) && bad == n)
             bad = i;
     }
     return bad;
