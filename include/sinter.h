@@ -657,6 +657,9 @@ typedef struct sinter_stepper_stats {
     /* Appended in 0.x (struct_size tells the library which fields a caller has). */
     uint64_t iterations;      /**< fixed-point iterations, accepted and rejected (staggered) */
     uint64_t evaluations;     /**< evaluations of the force/electric/heat pipeline */
+    /* Appended later. */
+    double contraction;       /**< staggered scheme 1: contraction (E_K/E_0)^(1/K) of the fixed-point
+                                   iteration in the last accepted step (0: none measured) */
 } sinter_stepper_stats;
 
 /**
@@ -722,6 +725,17 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * Beyond eq. 49 the step control stops an attempt early when the iteration
  * stagnates (see src/stepper/staggered.c), grows the step at most twofold,
  * and not at all right after a restart.
+ *  - "scheme": 0 the seed's Algorithm 1 as above; 1 (default) the same
+ *    trapezoidal rule with Anderson acceleration of the fixed-point
+ *    iteration, a weighted RMS convergence test per quantity (relative
+ *    tolerance "tolerance", absolute "position_tolerance" [m] and
+ *    "temperature_tolerance" [K]), a PI step controller on the measured
+ *    contraction (growth in [1/2, 2]) and a predictor extrapolating the
+ *    forces and heat powers of the two previous steps; an attempt takes at
+ *    most 2 "target_iterations" (see src/stepper/staggered.c); 1 (chosen by
+ *    measurement: tests/bench/RESULTS.md); 0 or 1.
+ *  - "anderson_depth": m of Anderson(m) in scheme 1; 0 is the plain
+ *    iteration; 3; whole number in [0, 10].
  * The step starts at the value of sinter_stepper_set_dt, capped by dt_max.
  * Every kind but the quasi-static one also takes "sort_interval": the particles
  * are sorted in memory by position (sinter_particles_sort_spatial; indices

@@ -842,7 +842,9 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "dt_max",
                                           "adaptive",
                                           "position_tolerance",
-                                          "temperature_tolerance"};
+                                          "temperature_tolerance",
+                                          "scheme",
+                                          "anderson_depth"};
     for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
         double value;
         const sinter_status got = scene_get_double(t, s, options[k], &value);

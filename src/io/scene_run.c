@@ -143,10 +143,21 @@ static size_t electric_column(const sinter_scene *sc)
  * then the stepper's time step (the next one it proposes) and its counts so far (those a
  * checkpoint carries).
  */
-enum { STEPPER_COLUMNS = 3 };
-static const char *const STEPPER_NAMES[STEPPER_COLUMNS] = {"time step", "rejected steps",
-                                                           "neighbour rebuilds"};
-static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1"};
+enum { STEPPER_COLUMNS = 6 };
+static const char *const STEPPER_NAMES[STEPPER_COLUMNS] = {"time step",
+                                                           "rejected steps",
+                                                           "neighbour rebuilds",
+                                                           "fixed-point iterations",
+                                                           "pipeline evaluations",
+                                                           "contraction"};
+static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1", "1", "1", "1"};
+
+/* The last three only with the staggered stepper (its iterations so far, the evaluations of
+ * the pipeline so far and the contraction estimate of its last step; staggered.c). */
+static size_t stepper_columns(const sinter_scene *sc)
+{
+    return sc->st->kind == SINTER_STEPPER_STAGGERED ? 6 : 3;
+}
 
 static size_t wall_heat_column(const sinter_scene *sc)
 {
@@ -167,7 +178,7 @@ static size_t stepper_column(const sinter_scene *sc)
 /* After those, the solid fraction (solid_fraction), then the distributions. */
 static size_t solid_column(const sinter_scene *sc)
 {
-    return stepper_column(sc) + STEPPER_COLUMNS;
+    return stepper_column(sc) + stepper_columns(sc);
 }
 
 static size_t distribution_column(const sinter_scene *sc)
@@ -252,11 +263,14 @@ static void observe_flows(const sinter_scene *sc, double *row)
             row[k] = NAN; /* out of memory: the sample says so */
     const sinter_stepper_stats *s = &sc->st->stats;
     double *q = row + stepper_column(sc);
-    /* (not the staggered stepper's iterations: a checkpoint does not carry them, and a
-     * restarted run's series must be the straight run's) */
     q[0] = sc->st->dt;
     q[1] = (double)s->rejected;
     q[2] = (double)s->neighbor_builds;
+    if (stepper_columns(sc) > 3) { /* a checkpoint carries these too (version 7) */
+        q[3] = (double)s->iterations;
+        q[4] = (double)s->evaluations;
+        q[5] = sc->st->staggered.contraction;
+    }
     observe_distributions(sc, row);
 }
 
@@ -613,7 +627,7 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[wall_current_column(sc) + k] = wall_labels[2 * nw + k];
         units[wall_current_column(sc) + k] = "A";
     }
-    for (size_t k = 0; k < STEPPER_COLUMNS; ++k) {
+    for (size_t k = 0; k < stepper_columns(sc); ++k) {
         names[stepper_column(sc) + k] = STEPPER_NAMES[k];
         units[stepper_column(sc) + k] = STEPPER_UNITS[k];
     }

@@ -72,7 +72,8 @@ class StepperStats(ctypes.Structure):
                 ("neighbor_builds", _u64), ("contacts", _u64), ("wall_contacts", _u64),
                 ("time", _double), ("dt", _double), ("seconds_neighbor", _double),
                 ("seconds_force", _double), ("seconds_integrate", _double),
-                ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64)]
+                ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64),
+                ("contraction", _double)]
 
 
 class SinteringStats(ctypes.Structure):
