@@ -141,6 +141,14 @@ sinter_status sinter_electric_host_split(sinter_electric_model *em, const sinter
                                          const sinter_contact_list *pw, const double *power,
                                          double *share);
 
+/* The conductance [S] build_edges gives a contact (particle i with particle j, or with a
+ * non-neutral wall when `wall` is 1) of contact area `area` and centre (or centre-plane) distance
+ * `dist`, eq. 50's term included; NaN under a host conductance law, 0 for an insulating one. For
+ * reports of the last solve's contact currents (contact/snapshot.c). */
+double sinter_electric_contact_conductance(const sinter_electric_model *em,
+                                           const sinter_particles *ps, uint32_t i, uint32_t j,
+                                           int wall, double area, double dist);
+
 /* The network model's warm start (network.c): the potentials of its last solve, *nodes of
  * them (0 and NULL when the next solve starts from 0), for a checkpoint. */
 const double *sinter_electric_warm_potentials(const sinter_electric_model *em, size_t *nodes);

@@ -54,7 +54,8 @@ enum {
     CLUSTER_GROUND = 2,
     CLUSTER_CURRENT = 4,
     CLUSTER_PARTICLE = 8,
-    CLUSTER_SOLVED = 16
+    CLUSTER_SOLVED = 16,
+    CLUSTER_UNLIMITED = 32 /* holds a current wall without a compliance limit */
 };
 
 static const uint32_t NO_NODE = UINT32_MAX;
@@ -117,6 +118,25 @@ static double conductivity(const sinter_electric_model *em, const sinter_particl
     if (sigma0 > 0.0 && !(sigma > 0.0 && isfinite(sigma)))
         *bad = 1;
     return sigma;
+}
+
+double sinter_electric_contact_conductance(const sinter_electric_model *em,
+                                           const sinter_particles *ps, uint32_t i, uint32_t j,
+                                           int wall, double area, double dist)
+{
+    if (em->host.conductance != NULL)
+        return NAN;
+    int bad = 0;
+    const double si = conductivity(em, ps, i, &bad);
+    double g = 0.0;
+    if (wall) {
+        g = dist > 0.0 ? si * area / dist : 0.0;
+    } else {
+        const double *r = ps->radius, sj = conductivity(em, ps, j, &bad);
+        const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35, as build_edges */
+        g = den > 0.0 && dist > 0.0 ? si * sj * (r[i] + r[j]) / den * area / dist : 0.0;
+    }
+    return g > 0.0 && isfinite(g) ? g : 0.0;
 }
 
 /* Conducting edges of a host conductance law (host.c): the contacts with g > 0 (a contact with
@@ -293,7 +313,8 @@ static sinter_status account_power(sinter_electric_model *em, sinter_particles *
 }
 
 /* Clusters, their boundary conditions, and which nodes are free (state bits). */
-static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
+static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls, size_t n,
+                           size_t nw)
 {
     const size_t nodes = n + nw;
     uint32_t *parent = em->parent;
@@ -322,6 +343,8 @@ static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
             continue;
         const uint32_t root = find_root(parent, (uint32_t)(n + w));
         state[root] |= CLUSTER_CURRENT;
+        if (!(walls->wall[w].electric_limit > 0.0))
+            state[root] |= CLUSTER_UNLIMITED;
         em->net[root] += em->wall_value[w];
         em->scale[root] += fabs(em->wall_value[w]);
         if (em->pin[root] == NO_NODE)
@@ -335,8 +358,8 @@ static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
             state[p] |= CLUSTER_SOLVED; /* no pin: the potential walls fix the level */
         else if ((c & CLUSTER_CURRENT) && fabs(em->net[p]) <= 1e-9 * em->scale[p])
             state[p] |= CLUSTER_SOLVED; /* balanced electrodes: pin one at 0 V */
-        else if ((c & CLUSTER_CURRENT) && (c & CLUSTER_PARTICLE))
-            em->open_clusters++;
+        else if ((c & CLUSTER_CURRENT) && (c & CLUSTER_PARTICLE) && (c & CLUSTER_UNLIMITED))
+            em->open_clusters++; /* a supply with a limit sits at it: an expected state */
     }
     for (size_t p = 0; p < nodes; ++p) {
         const uint32_t root = find_root(parent, (uint32_t)p);
@@ -372,7 +395,7 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
     sinter_status s = build_edges(em, ps, walls, pp, pw);
     if (s != SINTER_OK)
         return s;
-    classify_nodes(em, n, nw);
+    classify_nodes(em, walls, n, nw);
 
     /* Right-hand side, diagonal and start: pinned rows are identities at their value. */
     double *phi = em->potential, *diag = em->diag, *rhs = em->net; /* net is no longer needed */
