@@ -314,6 +314,13 @@ static void test_network_series_chain(void **state)
     for (size_t k = 0; k < N; ++k)
         assert_true(f.ps->current[k] == 0.0);
     assert_true(electrified(&f, 0) && !electrified(&f, N - 1));
+    /* The same with a compliance limit on the electrode: a supply at its limit, no warning. */
+    OK(sinter_walls_set_electric_limit(f.walls, left, 10.0));
+    OK(solve(&f, &iterations));
+    assert_int_equal(f.em->open_clusters, 0);
+    assert_int_equal(f.warnings, 1);
+    for (size_t k = 0; k < N; ++k)
+        assert_true(f.ps->current[k] == 0.0);
     close_fixture(&f);
 }
 
