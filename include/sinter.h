@@ -1155,7 +1155,8 @@ SINTER_API sinter_status sinter_walls_set_electric_limit(sinter_walls *walls, si
  *    no potential wall is solved only if its current walls' net current is
  *    zero (its potential is then fixed up to a constant, irrelevant to
  *    currents); otherwise the circuit is open and the cluster carries no
- *    current (a warning is logged). The node potentials are found with
+ *    current (a warning is logged, unless each of its current walls has a
+ *    compliance limit: such a supply then simply sits at its limit). The node potentials are found with
  *    preconditioned conjugate gradients (SUNDIALS PCG, Jacobi) to a residual
  *    <= "tolerance" times the right-hand side. The particle's current is half
  *    the sum of |I| through its conducting contacts (what flows through it:

@@ -470,20 +470,17 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
     const int network = em != NULL && em->kind == SINTER_ELECTRIC_NETWORK &&
                         em->potential != NULL &&
                         em->node_count == n + (st->walls ? st->walls->count : 0);
-    const double *r = ps->radius, *phi = network ? em->potential : NULL;
+    const double *phi = network ? em->potential : NULL;
     for (size_t q = 0; q < np; ++q) {
         if (!network) {
             snap->current[q] = NAN;
             continue;
         }
+        /* the solve's own conductance, eq. 50's term included (NaN under a host law) */
         const uint32_t i = L->pp.i[q], j = L->pp.j[q];
-        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double sj = sinter_particle_param(ps, j, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double den = r[i] * sj + r[j] * si;
-        const double g = den > 0.0 && L->pp.dist[q] > 0.0
-                             ? si * sj * (r[i] + r[j]) / den * L->pp.area[q] / L->pp.dist[q]
-                             : 0.0;
-        snap->current[q] = g > 0.0 && isfinite(g) ? g * (phi[i] - phi[j]) : 0.0;
+        const double g =
+            sinter_electric_contact_conductance(em, ps, i, j, 0, L->pp.area[q], L->pp.dist[q]);
+        snap->current[q] = g * (phi[i] - phi[j]);
     }
     for (size_t q = 0; q < nwc; ++q) {
         if (!network) {
@@ -495,9 +492,9 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
             snap->current[np + q] = 0.0;
             continue;
         }
-        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double g = L->pw.dist[q] > 0.0 ? si * L->pw.area[q] / L->pw.dist[q] : 0.0;
-        snap->current[np + q] = g > 0.0 && isfinite(g) ? g * (phi[i] - phi[n + wi]) : 0.0;
+        const double g =
+            sinter_electric_contact_conductance(em, ps, i, wi, 1, L->pw.area[q], L->pw.dist[q]);
+        snap->current[np + q] = g * (phi[i] - phi[n + wi]);
     }
 }
 

@@ -179,6 +179,12 @@ BodyFn = ctypes.CFUNCTYPE(_int, _P(StateView), ctypes.c_void_p, ctypes.c_void_p,
 PowerFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), _P(ContactBatch),
                            ctypes.c_void_p, ctypes.c_void_p)
 DestroyUserFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p)
+# The electric model's conductance law and Joule split: (state, batch, const double * in,
+# double * out, user), the arrays as addresses.
+ConductanceFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), ctypes.c_void_p,
+                                 ctypes.c_void_p, ctypes.c_void_p)
+JouleSplitFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), ctypes.c_void_p,
+                                ctypes.c_void_p, ctypes.c_void_p)
 
 
 class ForceCallbacks(ctypes.Structure):
@@ -194,6 +200,14 @@ class HeatCallbacks(ctypes.Structure):
 
     _cname = "sinter_heat_callbacks"
     _fields_ = [("struct_size", _size), ("power", PowerFn), ("destroy_user", DestroyUserFn)]
+
+
+class ElectricCallbacks(ctypes.Structure):
+    """struct sinter_electric_callbacks (struct_size = ctypes.sizeof(ElectricCallbacks))."""
+
+    _cname = "sinter_electric_callbacks"
+    _fields_ = [("struct_size", _size), ("conductance", ConductanceFn),
+                ("joule_split", JouleSplitFn), ("destroy_user", DestroyUserFn)]
 
 
 # name: (restype, argtypes), in the order of sinter.h. `const T x[3]` is a T pointer.
@@ -393,6 +407,9 @@ SIGNATURES = {
         c_status, [_P(ForceModelPtr), CtxPtr, _str, _P(ForceCallbacks), ctypes.c_void_p]),
     "sinter_heat_model_create_host": (
         c_status, [_P(HeatModelPtr), CtxPtr, _str, _P(HeatCallbacks), ctypes.c_void_p]),
+    "sinter_electric_model_set_host": (
+        c_status, [ElectricModelPtr, _P(ElectricCallbacks), ctypes.c_void_p]),
+    "sinter_electric_model_electrode_heat": (c_status, [ElectricModelPtr, _P(_double)]),
 }
 
 

@@ -20,8 +20,9 @@ from . import _callbacks
 from ._callbacks import ContactBatch, StateView
 from ._errors import NotFound, check
 from ._integers import to_c
-from ._lib import (BodyFn, ContactsFn, ElectricModelPtr, ForceCallbacks,
-                   ForceModelPtr, HeatCallbacks, HeatModelPtr, PowerFn, lib, text)
+from ._lib import (BodyFn, ConductanceFn, ContactsFn, ElectricCallbacks, ElectricModelPtr,
+                   ForceCallbacks, ForceModelPtr, HeatCallbacks, HeatModelPtr, JouleSplitFn,
+                   PowerFn, lib, text)
 from .context import Context, _Handle
 
 
@@ -277,6 +278,50 @@ class ElectricModel(_KeyedModel):
                     "sinter_electric_model_power")
         return supplied.value, dissipated.value
 
+    def electrode_heat(self) -> float:
+        """The Joule heat [W] of the network model's last solve that a host split gave to the
+        electrodes (0 with the built-in split): the particles receive the dissipated power
+        less this."""
+        heat = ctypes.c_double()
+        self._check(lib.sinter_electric_model_electrode_heat(self._ptr, ctypes.byref(heat)),
+                    "sinter_electric_model_electrode_heat")
+        return heat.value
+
+    def set_host(self,
+                 conductance: Optional[Callable[[StateView, ContactBatch, Any, Any], Any]] = None,
+                 joule_split: Optional[Callable[[StateView, ContactBatch, Any, Any], Any]] = None
+                 ) -> None:
+        """Give the network model a host conductance law and/or Joule split (both None: back
+        to the built-in ones).
+
+        conductance(state, batch, sigma, g): fill g (count,) [S], zeroed, one per contact of
+        the batch (particle pairs, then wall contacts in a second call); sigma (state.count,)
+        holds the particles' conductivities [S/m] after eq. 50's term. 0 insulates.
+        joule_split(state, batch, power, share): fill share (count,), in [0, 1] and preset to
+        the built-in 1/2 (pairs) or 1 (walls), the fraction of each contact's Joule power
+        power [W] that heats particle i; the rest heats j or the electrode.
+        Same conventions as ForceModel.from_callbacks (return None or a CallbackResult).
+        """
+        functions = []
+        table = None
+        if conductance is not None or joule_split is not None:
+            table = ElectricCallbacks()
+            table.struct_size = ctypes.sizeof(ElectricCallbacks)
+            if conductance is not None:
+                table.conductance = _electric_trampoline(conductance, ConductanceFn, True)
+                functions.append(table.conductance)
+            if joule_split is not None:
+                table.joule_split = _electric_trampoline(joule_split, JouleSplitFn, False)
+                functions.append(table.joule_split)
+        self._check(lib.sinter_electric_model_set_host(
+            self._ptr, ctypes.byref(table) if table is not None else None, None),
+            "sinter_electric_model_set_host")
+        self._c_functions = functions
+        self.callbacks = {"conductance": conductance, "joule_split": joule_split}
+
+    def _forget(self):
+        self.__dict__.pop("_c_functions", None)
+
 
 # --- trampolines -----------------------------------------------------------
 
@@ -335,6 +380,30 @@ def _power_trampoline(function):
             return -1
 
     return PowerFn(trampoline)
+
+
+def _electric_trampoline(function, c_type, per_particle_input):
+    # the input array is per particle (conductivities) or per contact (powers); the output is
+    # per contact
+    def trampoline(state_pointer, batch_pointer, values, out, user):
+        try:
+            state = StateView(state_pointer.contents)
+            batch = ContactBatch(batch_pointer.contents)
+            count = batch_pointer.contents.count
+            rows = state_pointer.contents.count if per_particle_input else count
+            input_array = _callbacks.array(values, (rows,), "d", False)
+            output_array = _callbacks.array(out, (count,), "d", True)
+            try:
+                return _callbacks.result_code(function(state, batch, input_array, output_array))
+            finally:
+                state.invalidate()
+                batch.invalidate()
+                _release(input_array, output_array)
+        except BaseException as exception:
+            _callbacks.store(exception)
+            return -1
+
+    return c_type(trampoline)
 
 
 def _release(*arrays):
