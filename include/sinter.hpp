@@ -239,6 +239,14 @@ enum class link_data : int {
     beam_force = SINTER_LINK_DATA_BEAM_FORCE,
     beam_moment = SINTER_LINK_DATA_BEAM_MOMENT,
 };
+/// Mirrors sinter_coarse_quantity (the coarse-grained fields of sinter_coarse_grain).
+enum class coarse_quantity : int {
+    solid_fraction = SINTER_COARSE_SOLID_FRACTION,
+    density = SINTER_COARSE_DENSITY,
+    temperature = SINTER_COARSE_TEMPERATURE,
+    velocity = SINTER_COARSE_VELOCITY,
+    stress = SINTER_COARSE_STRESS,
+};
 
 /// Combine particle flags (sinter_particle_flag bits).
 constexpr particle_flag operator|(particle_flag a, particle_flag b) noexcept

@@ -1,8 +1,9 @@
 /*
  * Coarse graining (fields/coarse_grain.h): the particles' mass, volume, temperature and
  * momentum smeared by a kernel W onto a grid, and the stress of their contacts along the
- * contacts' branch lines (Goldhirsch 2010, eqs. 5, 13-15; Weinhart et al. 2012, eqs. 10-13
- * for the wall contacts, from the centre to the contact point).
+ * contacts' branch lines (Goldhirsch 2010, the density, momentum and stress fields of sec. 2;
+ * Weinhart et al. 2012 for the wall contacts, whose branch runs from the centre to the contact
+ * point; docs/models.md).
  *
  * W is a Gaussian of standard deviation w cut at c = cutoff * w and normalised over the ball
  * of radius c, so that its integral over space is exactly 1 and each particle's mass (each
@@ -159,7 +160,8 @@ static void scatter(const kernel *k, const double p[3], double weight, const dou
 /*
  * The stress of one contact: -f (x) b times the integral of W along the line from p0 (the
  * centre of the particle the force f acts on) to p1 = p0 - b (the other centre or the contact
- * point), Goldhirsch 2010 eq. 15 (Weinhart et al. 2012 eq. 12 with b = r_i - c_ik for a wall).
+ * point): Goldhirsch 2010's contact stress, with Weinhart et al. 2012's b = r_i - c_ik for a
+ * wall contact.
  * The line is cut into pieces no longer than w, each integrated by Gauss-Legendre.
  */
 static void scatter_contact(const kernel *k, const double p0[3], const double f[3],
@@ -308,7 +310,7 @@ sinter_status sinter_coarse_fields_compute(const sinter_particles *ps, const sin
         out->temperature[p] = rho > 0 ? q[2] / rho : NAN;
         for (int a = 0; a < 3; ++a)
             vel[a] = rho > 0 ? q[3 + a] / rho : 0.0;
-        /* kinetic stress -sum m v' v' W with v' = v - V (Goldhirsch 2010 eq. 14):
+        /* kinetic stress -sum m v' v' W with v' = v - V (Goldhirsch 2010):
          * -(sum m v v W - rho V V) */
         for (int a = 0; a < 3; ++a)
             for (int c = 0; c < 3; ++c)

@@ -954,6 +954,48 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
                                              sc->output_interval, sc->max_frames));
 }
 
+/* [fields]: the kernel, the grid and the profiles of io/scene_frames.h. */
+static sinter_status build_fields(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    sc->fields = sc->fields_grid = 1;
+    sc->fields_cutoff = 3.0;
+    sc->laminae = 20;
+    TRY(required(t, s, scene_get_double(t, s, "width", &sc->fields_width), "width"));
+    if (!(sc->fields_width > 0) || !isfinite(sc->fields_width))
+        return section_error(t, s, "width must be > 0 m");
+    sc->fields_spacing = sc->fields_width;
+    OPTIONAL(scene_get_double(t, s, "spacing", &sc->fields_spacing));
+    OPTIONAL(scene_get_double(t, s, "cutoff", &sc->fields_cutoff));
+    if (!(sc->fields_spacing > 0) || !isfinite(sc->fields_spacing))
+        return section_error(t, s, "spacing must be > 0 m");
+    if (!(sc->fields_cutoff >= 1 && sc->fields_cutoff <= 10))
+        return section_error(t, s, "cutoff must be in [1, 10] (kernel widths)");
+    const int has_lo = scene_find(s, "box_min") != NULL, has_hi = scene_find(s, "box_max") != NULL;
+    if (has_lo != has_hi)
+        return section_error(t, s, "give both box_min and box_max, or neither");
+    if (has_lo) {
+        TRY(scene_get_vec3(t, s, "box_min", sc->fields_lo));
+        TRY(scene_get_vec3(t, s, "box_max", sc->fields_hi));
+        sc->fields_box = 1;
+        for (int d = 0; d < 3; ++d)
+            if (!(sc->fields_lo[d] < sc->fields_hi[d]))
+                return section_error(t, s, "need box_min < box_max along every axis");
+    }
+    OPTIONAL(scene_get_bool(t, s, "grid", &sc->fields_grid));
+    const char *axes = NULL;
+    OPTIONAL(scene_get_word(t, s, "profiles", &axes));
+    if (axes != NULL && strcmp(axes, "none") != 0)
+        for (const char *c = axes; *c != '\0'; ++c) {
+            if (*c < 'x' || *c > 'z')
+                return section_error(t, s, "profiles: expected none or axes among x, y, z (xyz)");
+            sc->profile_axes |= 1u << (*c - 'x');
+        }
+    OPTIONAL(scene_get_double(t, s, "laminae", &sc->laminae));
+    if (!(sc->laminae >= 1 && sc->laminae <= 1e6) || sc->laminae != floor(sc->laminae))
+        return section_error(t, s, "laminae must be a whole number in [1, 1e6]");
+    return SINTER_OK;
+}
+
 typedef sinter_status (*section_builder)(scene_text *, sinter_scene *, scene_section *);
 
 /* Sections are built in this order of types, each type in file order. */
@@ -967,7 +1009,7 @@ static const struct {
     {"force", build_force, 0},         {"heat", build_heat, 0},
     {"electric", build_electric, 0},   {"stepper", build_stepper, 1},
     {"pour", build_pour, 0},           {"compact", build_compact, 0},
-    {"output", build_output, 0},
+    {"output", build_output, 0},       {"fields", build_fields, 0},
 };
 
 static sinter_status build(scene_text *t, sinter_scene *sc)
@@ -980,7 +1022,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
         if (b == nb)
             return section_error(t, &t->sections[k],
                                  "unknown section type; expected scene, material, particles, "
-                                 "wall, force, heat, electric, stepper, pour, compact or output");
+                                 "wall, force, heat, electric, stepper, pour, compact, output or "
+                                 "fields");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;
@@ -990,7 +1033,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
                 continue;
             const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
                                strcmp(s->type, "electric") == 0 || strcmp(s->type, "pour") == 0 ||
-                               strcmp(s->type, "compact") == 0 || strcmp(s->type, "output") == 0;
+                               strcmp(s->type, "compact") == 0 || strcmp(s->type, "output") == 0 ||
+                               strcmp(s->type, "fields") == 0;
             if (seen && single)
                 return section_error(t, s, "this section may appear only once");
             seen = 1;

@@ -43,6 +43,15 @@ struct sinter_scene {
     int write_contacts, write_walls;
     /* histograms of the coordination number and the neck ratio in series.csv (scene_run.c) */
     int write_distributions;
+    /* [fields]: coarse-grained fields (.vti) and lamina profiles (CSV) with each frame
+     * (io/scene_frames.h, issue 37) */
+    int fields;        /* a [fields] section */
+    int fields_grid;   /* write frames/fields_NNNNN.vti */
+    double fields_width, fields_cutoff, fields_spacing; /* [m], [1], [m] */
+    int fields_box;    /* box_min and box_max given (else the box of scene_frames.c) */
+    double fields_lo[3], fields_hi[3];
+    unsigned profile_axes; /* bit d: the laminae along axis d */
+    double laminae;        /* laminae per profile */
     double checkpoint_interval;
     /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
     scene_program program;

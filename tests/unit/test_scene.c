@@ -503,7 +503,7 @@ static void test_compact_section(void **state)
     snprintf(text, sizeof(text), "%s%s", COMPACT, "[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n");
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "only once");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "[compaction]\n");
-    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "pour, compact or output");
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "compact, output or fields");
 
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;

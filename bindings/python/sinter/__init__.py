@@ -26,6 +26,7 @@ from ._errors import (BusyError, FileNotFound, Interrupted, InvalidArgument, Not
                       RangeError, SinterError, Status)
 from ._lib import LibraryNotFound, library_path
 from ._callbacks import CallbackResult, ContactBatch, ContactKind, StateView
+from .fields import CoarseQuantity, coarse_grain, lamina_profile
 from .context import LOGGER_NAME, Context, LogLevel, version_number, version_string
 from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
@@ -43,7 +44,7 @@ from .walls import WallElectric, WallMotion, WallThermal, Walls
 __version__ = version_string()
 
 __all__ = [
-    "BusyError", "CallbackResult", "ContactBatch", "ContactKind", "Context", "DType", "Field",
+    "BusyError", "CallbackResult", "CoarseQuantity", "coarse_grain", "lamina_profile", "ContactBatch", "ContactKind", "Context", "DType", "Field",
     "MaterialParam", "ParticleFlag", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
     "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
     "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult", "NeckStats",

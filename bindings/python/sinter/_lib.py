@@ -119,6 +119,14 @@ class CompactionOptions(ctypes.Structure):
                 ("ke_per_particle", _double), ("relax_time_max", _double), ("dt", _double)]
 
 
+class CoarseOptions(ctypes.Structure):
+    """struct sinter_coarse_options: a regular grid and a Gaussian kernel (lengths in m)."""
+
+    _cname = "sinter_coarse_options"
+    _fields_ = [("struct_size", _size), ("origin", _double * 3), ("spacing", _double * 3),
+                ("points", _size * 3), ("width", _double), ("cutoff", _double)]
+
+
 class CompactionResult(ctypes.Structure):
     """struct sinter_compaction_result: what sinter_pack_compact achieved (SI units)."""
 
@@ -362,6 +370,14 @@ SIGNATURES = {
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
     "sinter_snapshot_links": (
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
+    # coarse-grained fields
+    "sinter_coarse_options_init": (c_status, [_P(CoarseOptions), _size]),
+    "sinter_coarse_quantity_info": (c_status, [c_enum, _P(_str), _P(_str), _P(_size)]),
+    "sinter_coarse_grain": (
+        c_status, [ParticlesPtr, SnapshotPtr, _P(CoarseOptions), c_enum, _P(_double), _size]),
+    "sinter_lamina_profile": (
+        c_status, [ParticlesPtr, _int, _P(_double), _P(_double), _size, _P(_double),
+                   _P(_double)]),
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
     "sinter_particles_size_quantiles": (
