@@ -97,20 +97,42 @@ typedef struct kernel {
     double reach;      /* c = cutoff w [m] */
     double inv_two_w2; /* 1 / (2 w^2) */
     double scale;      /* 1 / the Gaussian's integral over the ball of radius c */
+    /* per axis, for the grid lines in reach of a point: the squared distance and the factor
+     * exp(-d^2 / 2 w^2) of the separable Gaussian (owned; `span` entries each) */
+    double *d2[3], *factor[3];
+    size_t span[3];
 } kernel;
 
-static kernel kernel_make(const sinter_coarse_options *o)
+static void kernel_free(sinter_ctx *ctx, kernel *k)
 {
-    kernel k;
+    for (int d = 0; d < 3; ++d) {
+        sinter_free(ctx, k->d2[d]);
+        sinter_free(ctx, k->factor[d]);
+    }
+}
+
+static sinter_status kernel_make(sinter_ctx *ctx, const sinter_coarse_options *o, kernel *k)
+{
     const double c = o->cutoff, w = o->width;
-    k.o = o;
-    k.reach = c * w;
-    k.inv_two_w2 = 1.0 / (2.0 * w * w);
+    memset(k, 0, sizeof(*k));
+    k->o = o;
+    k->reach = c * w;
+    k->inv_two_w2 = 1.0 / (2.0 * w * w);
     /* integral of exp(-r^2 / 2 w^2) over |r| < c w:
      * (2 pi w^2)^(3/2) [erf(c / sqrt 2) - sqrt(2 / pi) c exp(-c^2 / 2)] */
     const double whole = pow(2.0 * PI * w * w, 1.5);
-    k.scale = 1.0 / (whole * (erf(c / SQRT2) - sqrt(2.0 / PI) * c * exp(-0.5 * c * c)));
-    return k;
+    k->scale = 1.0 / (whole * (erf(c / SQRT2) - sqrt(2.0 / PI) * c * exp(-0.5 * c * c)));
+    for (int d = 0; d < 3; ++d) {
+        const double lines = 2.0 * ceil(k->reach / o->spacing[d]) + 3.0;
+        k->span[d] = lines < (double)o->points[d] ? (size_t)lines : o->points[d];
+        k->d2[d] = sinter_calloc(ctx, k->span[d], sizeof(double));
+        k->factor[d] = sinter_calloc(ctx, k->span[d], sizeof(double));
+        if (k->d2[d] == NULL || k->factor[d] == NULL) {
+            kernel_free(ctx, k);
+            return sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_coarse_grain: out of memory");
+        }
+    }
+    return SINTER_OK;
 }
 
 /* The grid indices lo..hi (inclusive; lo > hi: none) within the kernel's reach of p along d. */
@@ -136,19 +158,28 @@ static void scatter(const kernel *k, const double p[3], double weight, const dou
         reach_range(k, p, d, &lo[d], &hi[d]);
         if (lo[d] > hi[d])
             return;
+        /* the Gaussian is separable: one exp per grid line, not per point */
+        for (long g = lo[d]; g <= hi[d] && (size_t)(g - lo[d]) < k->span[d]; ++g) {
+            const double delta = o->origin[d] + (double)g * o->spacing[d] - p[d];
+            k->d2[d][g - lo[d]] = delta * delta;
+            k->factor[d][g - lo[d]] = exp(-delta * delta * k->inv_two_w2);
+        }
+        if ((size_t)(hi[d] - lo[d]) >= k->span[d]) /* (not reached: span covers the reach) */
+            hi[d] = lo[d] + (long)k->span[d] - 1;
     }
-    const double r2max = k->reach * k->reach;
+    const double r2max = k->reach * k->reach, scaled = weight * k->scale;
     for (long kz = lo[2]; kz <= hi[2]; ++kz) {
-        const double dz = o->origin[2] + (double)kz * o->spacing[2] - p[2];
+        const double dz2 = k->d2[2][kz - lo[2]], fz = scaled * k->factor[2][kz - lo[2]];
         for (long ky = lo[1]; ky <= hi[1]; ++ky) {
-            const double dy = o->origin[1] + (double)ky * o->spacing[1] - p[1];
+            const double dyz2 = dz2 + k->d2[1][ky - lo[1]];
+            const double fyz = fz * k->factor[1][ky - lo[1]];
+            if (dyz2 > r2max)
+                continue;
             const size_t row = ((size_t)kz * o->points[1] + (size_t)ky) * o->points[0];
             for (long kx = lo[0]; kx <= hi[0]; ++kx) {
-                const double dx = o->origin[0] + (double)kx * o->spacing[0] - p[0];
-                const double r2 = dx * dx + dy * dy + dz * dz;
-                if (r2 > r2max)
+                if (dyz2 + k->d2[0][kx - lo[0]] > r2max)
                     continue;
-                const double wk = weight * k->scale * exp(-r2 * k->inv_two_w2);
+                const double wk = fyz * k->factor[0][kx - lo[0]];
                 double *q = acc + (row + (size_t)kx) * n;
                 for (size_t c = 0; c < n; ++c)
                     q[c] += wk * value[c];
@@ -291,7 +322,12 @@ sinter_status sinter_coarse_fields_compute(const sinter_particles *ps, const sin
         sinter_coarse_fields_free(ctx, out);
         return sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_coarse_grain: out of memory");
     }
-    const kernel k = kernel_make(o);
+    kernel k;
+    if (kernel_make(ctx, o, &k) != SINTER_OK) {
+        sinter_free(ctx, acc);
+        sinter_coarse_fields_free(ctx, out);
+        return sinter_last_status(ctx);
+    }
     for (size_t i = 0; i < ps->count; ++i) {
         const double r = ps->radius[i], m = ps->mass[i], *v = ps->v + 3 * i;
         double value[15] = {
@@ -302,6 +338,7 @@ sinter_status sinter_coarse_fields_compute(const sinter_particles *ps, const sin
         scatter(&k, ps->x + 3 * i, 1.0, value, 15, acc);
     }
     sinter_status st = snap != NULL ? contact_stress(ps, snap, &k, out->stress) : SINTER_OK;
+    kernel_free(ctx, &k);
     for (size_t p = 0; p < points; ++p) {
         const double *q = acc + 15 * p, rho = q[1];
         double *vel = out->velocity + 3 * p, *s = out->stress + 9 * p;
