@@ -1865,6 +1865,21 @@ SINTER_API sinter_status sinter_scene_set_end_time(sinter_scene *scene, double e
  */
 SINTER_API sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, const char *title);
 
+/**
+ * Draw chosen columns of any CSV file a run writes (series.csv, a lamina profile
+ * frames/profile_z_NNNNN.csv, ...) into the SVG file `svg_path`: panel k draws the columns
+ * named in panels[k], a comma-separated list ("max temperature,mean temperature"), against
+ * the column named `x` (NULL: the first column). A name is a column's name without its unit;
+ * a name that is no column's selects every column that starts with it ("coordination": the
+ * histogram's columns). panel_count 0: every column but x, one panel each. At most 8 panels.
+ * `title` may be NULL. Errors: SINTER_ERR_NULL, SINTER_ERR_IO, SINTER_ERR_PARSE,
+ * SINTER_ERR_STATE (no row), SINTER_ERR_INVALID (a name that selects no column; too many
+ * panels).
+ */
+SINTER_API sinter_status sinter_plot_csv(sinter_ctx *ctx, const char *csv_path,
+                                         const char *svg_path, const char *title, const char *x,
+                                         const char *const *panels, size_t panel_count);
+
 /** Borrow the scene's objects (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);
 /** Borrow the scene's particle set (valid until the scene is destroyed). */

@@ -924,6 +924,32 @@ static sinter_status build_compact(scene_text *t, sinter_scene *sc, scene_sectio
     return at_line(t, s->line, sinter_compaction_check(sc->ps, o));
 }
 
+/* [output] track: the persistent ids of particles whose histories series.csv carries. */
+static sinter_status build_track(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    double *ids = NULL;
+    size_t n = 0;
+    sinter_status st = scene_get_numbers(t, s, "track", &ids, &n);
+    if (st == SINTER_ERR_NOT_FOUND)
+        return SINTER_OK;
+    if (st != SINTER_OK)
+        return st;
+    if (n > SCENE_MAX_TRACKED)
+        st = section_error(t, s, "track: at most 8 particle ids");
+    for (size_t k = 0; st == SINTER_OK && k < n; ++k) {
+        const double id = ids[k];
+        size_t found = 0;
+        for (size_t i = 0; id >= 0 && id == floor(id) && i < sc->ps->count && !found; ++i)
+            found = (double)sc->ps->id[i] == id;
+        if (!found)
+            st = section_error(t, s, "track: a particle id the scene's particles do not have");
+        sc->track_ids[k] = found ? (uint64_t)id : 0;
+    }
+    sc->track_count = st == SINTER_OK ? n : 0;
+    sinter_free(t->ctx, ids);
+    return st;
+}
+
 static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     TRY(required(t, s, scene_get_double(t, s, "interval", &sc->output_interval), "interval"));
@@ -940,6 +966,7 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_bool(t, s, "contacts", &sc->write_contacts));
     OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
     OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));
+    TRY(build_track(t, sc, s));
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));

@@ -9,6 +9,7 @@
 #define SCENE_MAX_MATERIALS 32
 #define SCENE_MAX_WALLS 64
 #define SCENE_MAX_FORCES 16
+#define SCENE_MAX_TRACKED 8 /* [output] track: most particles followed in series.csv */
 #define SCENE_NAME 64        /* bytes of a name with its NUL; longer names are refused */
 #define SCENE_NAME_TEXT "63" /* SCENE_NAME - 1, for messages */
 
@@ -43,6 +44,9 @@ struct sinter_scene {
     int write_contacts, write_walls;
     /* histograms of the coordination number and the neck ratio in series.csv (scene_run.c) */
     int write_distributions;
+    /* particles followed in series.csv by their persistent ids (io/scene_track.h) */
+    uint64_t track_ids[SCENE_MAX_TRACKED];
+    size_t track_count;
     /* [fields]: coarse-grained fields (.vti) and lamina profiles (CSV) with each frame
      * (io/scene_frames.h, issue 37) */
     int fields;        /* a [fields] section */

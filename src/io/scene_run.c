@@ -16,6 +16,7 @@
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
 #include "io/scene_frames.h"
+#include "io/scene_track.h"
 #include "io/scene.h"
 #include "io/solid_fraction.h"
 #include "io/vtu.h"
@@ -194,6 +195,12 @@ static size_t distribution_columns(const sinter_scene *sc)
 
 static size_t distribution_column(const sinter_scene *sc);
 
+/* After those, the followed particles' columns (io/scene_track.h). */
+static size_t track_column(const sinter_scene *sc)
+{
+    return distribution_column(sc) + distribution_columns(sc);
+}
+
 /* The histograms of the row (NaN where the contacts of the state are not known yet). */
 static void observe_distributions(const sinter_scene *sc, double *row)
 {
@@ -258,6 +265,7 @@ static void observe_flows(const sinter_scene *sc, double *row)
     q[1] = (double)s->rejected;
     q[2] = (double)s->neighbor_builds;
     observe_distributions(sc, row);
+    scene_track_observe(sc, row + track_column(sc));
 }
 
 static void observe(const sinter_scene *sc, double *row)
@@ -635,7 +643,9 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[distribution_column(sc) + k] = label;
         units[distribution_column(sc) + k] = "1";
     }
-    return distribution_column(sc) + distribution_columns(sc);
+    return track_column(sc) + scene_track_labels(sc, names, units,
+                                                 wall_labels + 3 * nw + distribution_columns(sc),
+                                                 track_column(sc));
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -674,13 +684,14 @@ static sinter_status open_output(run_state *r)
     }
     enum {
         HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
+        TRACKED = SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + 1 + HISTOGRAMS /* 1: the solid fraction */
+               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];
-    /* the walls' labels, then the histograms' */
-    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS][SCENE_NAME + 16];
+    /* the walls' labels, then the histograms', then the followed particles' */
+    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS + TRACKED][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

@@ -9,6 +9,8 @@
 """
 
 import math
+import os
+import tempfile
 import unittest
 
 import sinter
@@ -103,6 +105,36 @@ class FieldCases(ArrayBackend):
         with self.assertRaises(ValueError):
             sinter.coarse_grain(particles, "pressure", 0, 1e-3, 2, 1e-3)
         self.assertEqual(sinter.fields.quantity_info("stress"), ("stress", "Pa", 9))
+
+
+class PlotCsvTest(unittest.TestCase):
+    """sinter.plot_csv (sinter_plot_csv, `sinter plot DIR --panel NAMES`): the chosen columns,
+    by name or prefix, and nothing else, against the chosen x column."""
+
+    def test_panels_by_name_and_prefix(self):
+        with tempfile.TemporaryDirectory() as tmp, sinter.Context() as ctx:
+            csv_path = os.path.join(tmp, "profile.csv")
+            with open(csv_path, "w") as f:
+                f.write("position [m],solid_fraction [1],temperature [K],coordination 0 [1],"
+                        "coordination 1 [1]\n0,0.5,300,1,2\n1,0.6,310,0,3\n")
+            svg = os.path.join(tmp, "p.svg")
+            sinter.plot_csv(ctx, csv_path, svg, ["solid_fraction", "coordination"])
+            with open(svg) as f:
+                text = f.read()
+            for name in ("solid_fraction", "coordination 0", "coordination 1", "position"):
+                self.assertIn(name, text)
+            self.assertNotIn("temperature", text)
+            sinter.plot_csv(ctx, csv_path, svg, ["position"], x="temperature")
+            with open(svg) as f:
+                text = f.read()
+            self.assertIn("temperature", text)
+            self.assertNotIn("solid_fraction", text)
+            with self.assertRaises(sinter.InvalidArgument):
+                sinter.plot_csv(ctx, csv_path, svg, ["pressure"])
+            with self.assertRaises(sinter.InvalidArgument):
+                sinter.plot_csv(ctx, csv_path, svg, ["a"] * 9)
+            with self.assertRaises(FileNotFoundError):
+                sinter.plot_csv(ctx, os.path.join(tmp, "none.csv"), svg)
 
 
 class FieldsNumpy(FieldCases, unittest.TestCase):

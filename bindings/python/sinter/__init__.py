@@ -31,7 +31,7 @@ from .context import LOGGER_NAME, Context, LogLevel, version_number, version_str
 from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
 from .neck import NeckModel, NeckResult, NeckStats
-from .output import Series, plot_run, write_pvd, write_vtu
+from .output import Series, plot_csv, plot_run, write_pvd, write_vtu
 from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
 from .particles import (FIELDS, DType, Field, FieldInfo, FieldView, ParticleFlag,
@@ -52,6 +52,6 @@ __all__ = [
     "Scene", "Series", "SinterError", "SinteringStats", "StateView", "Status", "Stepper",
     "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion", "WallThermal", "Walls",
     "compaction_options", "damping_ratio_from_restitution", "library_path", "pack_compact",
-    "pack_lattice", "pack_random", "packing_options", "plot_run", "pour", "stable_dt_hertz",
+    "pack_lattice", "pack_random", "packing_options", "plot_csv", "plot_run", "pour", "stable_dt_hertz",
     "version_number", "version_string", "write_pvd", "write_vtu",
 ]

@@ -337,6 +337,7 @@ SIGNATURES = {
     "sinter_scene_checkpoint_write": (c_status, [ScenePtr, _str]),
     "sinter_scene_restart": (c_status, [ScenePtr, _str]),
     "sinter_plot_run": (c_status, [CtxPtr, _str, _str]),
+    "sinter_plot_csv": (c_status, [CtxPtr, _str, _str, _str, _str, _P(_str), _size]),
     "sinter_scene_check": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
