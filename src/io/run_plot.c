@@ -63,12 +63,14 @@ static void choose(layout *l, const sinter_series *s)
     l->panels = l->count = 0;
     l->start[0] = 0;
     if (column_named(s, "shrinkage x") >= 0) {
-        static const char *const shrinkage[] = {"shrinkage x", "shrinkage y", "shrinkage z"};
-        static const char *const ratio[] = {"neck ratio mean"}, *const density[] = {
-                                                                    "relative density"};
+        /* with the two-particle reference where the run has it (seed 001 Figs. 11, 19) */
+        static const char *const shrinkage[] = {"shrinkage x", "shrinkage y", "shrinkage z",
+                                                "two-particle shrinkage"};
+        static const char *const ratio[] = {"neck ratio mean", "two-particle neck ratio"},
+                                 *const density[] = {"relative density"};
         static const char *const temperature[] = {"mean temperature"};
-        panel_of(l, s, shrinkage, 3);
-        panel_of(l, s, ratio, 1);
+        panel_of(l, s, shrinkage, 4);
+        panel_of(l, s, ratio, 2);
         panel_of(l, s, density, 1);
         panel_of(l, s, temperature, 1);
         return;

@@ -967,6 +967,9 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
     OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));
     TRY(build_track(t, sc, s));
+    OPTIONAL(scene_get_bool(t, s, "pair_reference", &sc->pair_reference));
+    if (sc->pair_reference && sc->st->kind != SINTER_STEPPER_QUASISTATIC)
+        return section_error(t, s, "pair_reference needs [stepper] kind = quasistatic");
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));

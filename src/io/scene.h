@@ -47,6 +47,8 @@ struct sinter_scene {
     /* particles followed in series.csv by their persistent ids (io/scene_track.h) */
     uint64_t track_ids[SCENE_MAX_TRACKED];
     size_t track_count;
+    /* the two-particle reference's columns (io/scene_pair_reference.h) */
+    int pair_reference;
     /* [fields]: coarse-grained fields (.vti) and lamina profiles (CSV) with each frame
      * (io/scene_frames.h, issue 37) */
     int fields;        /* a [fields] section */

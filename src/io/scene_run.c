@@ -16,6 +16,7 @@
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
 #include "io/scene_frames.h"
+#include "io/scene_pair_reference.h"
 #include "io/scene_track.h"
 #include "io/scene.h"
 #include "io/solid_fraction.h"
@@ -201,6 +202,12 @@ static size_t track_column(const sinter_scene *sc)
     return distribution_column(sc) + distribution_columns(sc);
 }
 
+/* After those, the two-particle reference (io/scene_pair_reference.h). */
+static size_t pair_column(const sinter_scene *sc)
+{
+    return track_column(sc) + SCENE_TRACK_COLUMNS * sc->track_count;
+}
+
 /* The histograms of the row (NaN where the contacts of the state are not known yet). */
 static void observe_distributions(const sinter_scene *sc, double *row)
 {
@@ -266,6 +273,8 @@ static void observe_flows(const sinter_scene *sc, double *row)
     q[2] = (double)s->neighbor_builds;
     observe_distributions(sc, row);
     scene_track_observe(sc, row + track_column(sc));
+    if (sc->pair_reference)
+        scene_pair_reference(sc, row + pair_column(sc));
 }
 
 static void observe(const sinter_scene *sc, double *row)
@@ -643,9 +652,14 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[distribution_column(sc) + k] = label;
         units[distribution_column(sc) + k] = "1";
     }
-    return track_column(sc) + scene_track_labels(sc, names, units,
-                                                 wall_labels + 3 * nw + distribution_columns(sc),
-                                                 track_column(sc));
+    (void)scene_track_labels(sc, names, units, wall_labels + 3 * nw + distribution_columns(sc),
+                             track_column(sc));
+    if (!sc->pair_reference)
+        return pair_column(sc);
+    names[pair_column(sc)] = "two-particle neck ratio";
+    names[pair_column(sc) + 1] = "two-particle shrinkage";
+    units[pair_column(sc)] = units[pair_column(sc) + 1] = "1";
+    return pair_column(sc) + SCENE_PAIR_COLUMNS;
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -686,7 +700,8 @@ static sinter_status open_output(run_state *r)
         HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
         TRACKED = SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED /* 1: the solid fraction */
+               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED +
+               SCENE_PAIR_COLUMNS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];

@@ -1,4 +1,11 @@
-"""Particles followed in series.csv ([output] track; seed 003 Fig. 5), from a scene run.
+"""Particles followed in series.csv ([output] track; seed 003 Fig. 5) and the two-particle
+reference of a quasi-static scene ([output] pair_reference; seed 001 Figs. 11, 19), from scene
+runs.
+
+examples/scenes/copper_lattice.scene with pair_reference: every link of a simple cubic lattice
+shrinks as a free pair (the lattice is symmetric and its principal planes only hold it), so
+the packing's mean neck ratio and its shrinkage along x, y, z are the two-particle model's, to
+the neck integrators' tolerance (relative 1e-8 per step: 1e-6 over the run's steps).
 
 examples/scenes/hot_floor.scene (seed 003 sec. 5.1: one sphere on a floor at 700 K) shortened
 to 4 s and sampled every 50 ms, following particle 0:
@@ -64,6 +71,35 @@ class HotFloorTrack(unittest.TestCase):
             self.assertLess(abs(stored - flowed), 2 * h ** 3 / 12 * curvature + 1.1 * euler,
                             (t[k], stored, flowed))
         self.assertGreater(area[-1], area[10])  # softening: a larger contact
+
+
+@unittest.skipUnless(os.path.isdir(EXAMPLES), "not running from the source tree")
+class CopperLatticeReference(unittest.TestCase):
+    def test_lattice_follows_the_pair(self):
+        with open(os.path.join(EXAMPLES, "copper_lattice.scene")) as f:
+            text = f.read().replace("vtu = yes", "vtu = no\npair_reference = yes")
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "copper_lattice.scene")
+            with open(path, "w") as f:
+                f.write(text)
+            with sinter.Context() as ctx, sinter.Scene.load(ctx, path) as scene:
+                scene.run(os.path.join(tmp, "out"))
+            with open(os.path.join(tmp, "out", "series.csv")) as f:
+                rows = list(csv.reader(f))
+            with open(os.path.join(tmp, "out", "series.svg")) as f:
+                plot = f.read()
+        header = rows[0]
+        self.assertEqual(header[-2:], ["two-particle neck ratio [1]", "two-particle shrinkage [1]"])
+        self.assertIn("two-particle neck ratio", plot)  # overlaid on the packing's
+        data = [[float(v) for v in row] for row in rows[2:]]  # after the first step
+        self.assertEqual(len(data), 20)
+        ratio, pair_ratio = header.index("neck ratio mean [1]"), len(header) - 2
+        for row in data:
+            self.assertAlmostEqual(row[ratio] / row[pair_ratio], 1.0, delta=1e-6)
+            for axis in "xyz":
+                value = row[header.index("shrinkage %s [1]" % axis)]
+                self.assertAlmostEqual(value / row[-1], 1.0, delta=1e-6)
+        self.assertAlmostEqual(data[-1][-1], 0.0103, delta=0.00005)  # the example's 1.03 %
 
 
 if __name__ == "__main__":
