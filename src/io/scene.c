@@ -963,6 +963,13 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
             return section_error(t, s, "vtu_format must be binary or ascii");
         sc->vtu_binary = strcmp(format, "binary") == 0;
     }
+    const char *precision = NULL;
+    OPTIONAL(scene_get_word(t, s, "vtu_precision", &precision));
+    if (precision != NULL) {
+        if (strcmp(precision, "double") != 0 && strcmp(precision, "single") != 0)
+            return section_error(t, s, "vtu_precision must be double or single");
+        sc->vtu_single = strcmp(precision, "single") == 0;
+    }
     OPTIONAL(scene_get_bool(t, s, "contacts", &sc->write_contacts));
     OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
     OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));

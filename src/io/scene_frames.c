@@ -151,7 +151,7 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
     if (st == SINTER_OK && extra_name(sc, 0, frame, rel)) {
         st = sinter_path_join(ctx, path, sizeof(path), out_dir, rel);
         if (st == SINTER_OK)
-            st = sinter_vtp_write_contacts(ctx, path, snap, sc->ps, sc->vtu_binary);
+            st = sinter_vtp_write_contacts(ctx, path, snap, sc->ps, scene_vtk_format(sc));
     }
     if (st == SINTER_OK && extra_name(sc, 2, frame, rel)) {
         sinter_coarse_options grid;
@@ -163,7 +163,7 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
         if (st == SINTER_OK)
             st = sinter_coarse_fields_compute(sc->ps, snap, &grid, &fields);
         if (st == SINTER_OK) {
-            st = sinter_vti_write_fields(ctx, path, &grid, &fields, sc->vtu_binary);
+            st = sinter_vti_write_fields(ctx, path, &grid, &fields, scene_vtk_format(sc));
             sinter_coarse_fields_free(ctx, &fields);
         }
     }
@@ -176,7 +176,7 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
         wall_box(sc, lo, hi);
         st = sinter_path_join(ctx, path, sizeof(path), out_dir, rel);
         if (st == SINTER_OK)
-            st = sinter_vtp_write_walls(ctx, path, sc->walls, lo, hi, sc->vtu_binary);
+            st = sinter_vtp_write_walls(ctx, path, sc->walls, lo, hi, scene_vtk_format(sc));
     }
     return st;
 }

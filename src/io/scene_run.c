@@ -448,7 +448,7 @@ static sinter_status write_frame(run_state *r)
         }
     }
     const sinter_vtu_array extra[2] = {{"contacts", contacts, 1}, {"necks", necks, 1}};
-    st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
+    st = sinter_write_vtu_as(sc->ps, path, extra, 2, scene_vtk_format(sc));
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
     if (st == SINTER_OK)

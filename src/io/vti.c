@@ -19,7 +19,8 @@ sinter_status sinter_vti_write_fields(sinter_ctx *ctx, const char *path,
             "<?xml version=\"1.0\"?>\n"
             "<VTKFile type=\"ImageData\" version=\"%s\" byte_order=\"LittleEndian\"%s>\n"
             "  <ImageData WholeExtent=\"%s\" Origin=\"",
-            binary ? "1.0" : "0.1", binary ? " header_type=\"UInt64\"" : "", extent);
+            (binary & SINTER_VTK_BINARY) ? "1.0" : "0.1",
+            (binary & SINTER_VTK_BINARY) ? " header_type=\"UInt64\"" : "", extent);
     for (int d = 0; d < 3; ++d) {
         sinter_out_double(fp, grid->origin[d]);
         fputs(d < 2 ? " " : "\" Spacing=\"", fp);

@@ -40,7 +40,8 @@ static void header(FILE *fp, size_t points, size_t lines, size_t polys, int bina
             "  <PolyData>\n"
             "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"%zu\" "
             "NumberOfStrips=\"0\" NumberOfPolys=\"%zu\">\n",
-            binary ? "1.0" : "0.1", binary ? " header_type=\"UInt64\"" : "", points, lines, polys);
+            (binary & SINTER_VTK_BINARY) ? "1.0" : "0.1",
+            (binary & SINTER_VTK_BINARY) ? " header_type=\"UInt64\"" : "", points, lines, polys);
 }
 
 static void footer(FILE *fp)

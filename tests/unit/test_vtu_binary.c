@@ -4,7 +4,9 @@
  * elements) equals, bit for bit, the same array of the ascii frame ("%.17g", which reads back
  * exactly) and the particles' own values; byte counts that leave 0, 1 and 2 bytes over a
  * triplet, and arrays longer than the writer's 3072-byte chunks. Arrays of zeros (spin, force
- * and current here) stay ascii in a binary file, and only they.
+ * and current here) stay ascii in a binary file, and only they. In single precision
+ * (SINTER_VTK_FLOAT32, [output] vtu_precision = single) every floating-point array is Float32
+ * holding the float nearest to each value, in binary and in ascii ("%.9g" reads back to it).
  */
 #define _XOPEN_SOURCE 700 /* mkdtemp */
 #include <float.h>
@@ -15,6 +17,7 @@
 
 #include "test_support.h"
 
+#include "io/vtk_arrays.h"
 #include "io/vtu.h"
 
 static char *slurp(const char *path)
@@ -117,7 +120,9 @@ static size_t binary_values(const char *doc, const char *name, uint64_t *out, si
     assert_int_equal(decode(text, 12, header), 8);
     assert_true(text[11] == '=' && text[10] != '=');
     const uint64_t bytes = little_endian(header, 8);
-    const size_t width = strcmp(type, "UInt8") == 0 ? 1 : strcmp(type, "Int32") == 0 ? 4 : 8;
+    const size_t width = strcmp(type, "UInt8") == 0                                   ? 1
+                         : strcmp(type, "Int32") == 0 || strcmp(type, "Float32") == 0 ? 4
+                                                                                      : 8;
     unsigned char *data = malloc(length);
     assert_non_null(data);
     assert_int_equal(decode(text + 12, length - 12, data), bytes);
@@ -147,6 +152,12 @@ static size_t ascii_values(const char *doc, const char *name, uint64_t *out, siz
             const double d = strtod(p, &next);
             if (next != p)
                 memcpy(&out[n], &d, sizeof(d));
+        } else if (strcmp(type, "Float32") == 0) {
+            const float f = strtof(p, &next);
+            uint32_t bits = 0;
+            memcpy(&bits, &f, sizeof(bits));
+            if (next != p)
+                out[n] = bits;
         } else {
             const long long v = strtoll(p, &next, 10);
             if (next != p)
@@ -270,10 +281,74 @@ static void test_binary_frames_match_ascii(void **state)
     rmdir(dir);
 }
 
+/* Single precision, binary and ascii: the positions and radii are the floats nearest to the
+ * particles' values; the integer arrays are unchanged. */
+static void test_single_precision(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sinter_vtu_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_material_create(&mat, ctx, "copper"), SINTER_OK);
+    assert_int_equal(sinter_particles_create(&ps, ctx), SINTER_OK);
+    assert_int_equal(sinter_particles_set_material(ps, 0, mat), SINTER_OK);
+    enum { M = 700 };
+    double *x = malloc(3 * M * sizeof(double)), *r = malloc(M * sizeof(double));
+    assert_true(x != NULL && r != NULL);
+    for (size_t i = 0; i < M; ++i) {
+        for (int d = 0; d < 3; ++d)
+            x[3 * i + (size_t)d] = 0.01 * (double)((i * (size_t)(d + 3)) % 97) / 7.0 + 1e-9;
+        r[i] = 1e-4 * (1.0 + (double)(i % 11) / 13.0);
+    }
+    assert_int_equal(sinter_particles_add(ps, M, x, r, 0, 500.0, NULL), SINTER_OK);
+    uint64_t *v = malloc(3 * M * sizeof(uint64_t));
+    assert_non_null(v);
+    for (int binary = 0; binary <= 1; ++binary) {
+        char path[128];
+        snprintf(path, sizeof(path), "%s/s%d.vtu", dir, binary);
+        assert_int_equal(sinter_write_vtu_as(ps, path, NULL, 0, binary | SINTER_VTK_FLOAT32),
+                         SINTER_OK);
+        char *doc = slurp(path);
+        assert_null(strstr(doc, "Float64"));
+        const struct {
+            const char *name;
+            const double *values;
+            size_t count;
+        } arrays[2] = {{"position", x, 3 * M}, {"radius", r, M}};
+        for (int k = 0; k < 2; ++k) {
+            const size_t n = binary ? binary_values(doc, arrays[k].name, v, 3 * M)
+                                    : ascii_values(doc, arrays[k].name, v, 3 * M);
+            assert_int_equal(n, arrays[k].count);
+            for (size_t i = 0; i < n; ++i) {
+                const float f = (float)arrays[k].values[i];
+                uint32_t bits;
+                memcpy(&bits, &f, sizeof(bits));
+                assert_int_equal(v[i], bits);
+            }
+        }
+        assert_int_equal(binary ? binary_values(doc, "id", v, M) : ascii_values(doc, "id", v, M),
+                         M);
+        assert_int_equal(v[M - 1], M - 1);
+        free(doc);
+        remove(path);
+    }
+    free(v);
+    free(x);
+    free(r);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_binary_frames_match_ascii),
+        cmocka_unit_test(test_single_precision),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
