@@ -1352,7 +1352,10 @@ typedef enum sinter_link_data {
                                       the increment of that step, global components) [N], 3 doubles;
                                       NaN before a step of this run (after a restart) */
     SINTER_LINK_DATA_BEAM_MOMENT = 9, /**< link moment K_M gamma of that solve (eq. 34b) [N m], 3 doubles */
-    SINTER_LINK_DATA_COUNT_ = 10 /**< number of quantities in this version (not one) */
+    SINTER_LINK_DATA_CORRECTION = 10, /**< seed 001 eq. 44 of the last step: the corrected minus the
+                                      7DOF model's change of the centre distance, dy4 + dy7 - xi
+                                      (eq. 41, 43) [m]; NaN before a step of this run */
+    SINTER_LINK_DATA_COUNT_ = 11 /**< number of quantities in this version (not one) */
 } sinter_link_data;
 
 /**

@@ -181,17 +181,54 @@ static size_t distribution_column(const sinter_scene *sc)
  * With [output] distributions = yes, after those (issue 37): how many particles have k contacts
  * (k = 0 .. COORDINATION_MAX - 1, then COORDINATION_MAX or more; the quasi-static stepper's
  * links), and for the quasi-static stepper how many links have a neck ratio in each bin of
- * NECK_BIN (the last bin: NECK_BINS NECK_BIN or more). Each histogram sums to the particles or
- * the links.
+ * NECK_BIN (the last bin: NECK_BINS NECK_BIN or more), then how many links had a relative
+ * correction of their approach (seed 001 eq. 44 over the 7DOF model's own change dy4 + dy7 of
+ * the step, Fig. 20) below CORRECTION_LOW, in each bin of CORRECTION_BIN from it, and above.
+ * Each histogram sums to the particles or the links.
  */
-enum { COORDINATION_MAX = 13, NECK_BINS = 10 };
-static const double NECK_BIN = 0.05;
+enum { COORDINATION_MAX = 13, NECK_BINS = 10, CORRECTION_BINS = 10 };
+static const double NECK_BIN = 0.05, CORRECTION_BIN = 0.25, CORRECTION_LOW = -1.25;
 
 static size_t distribution_columns(const sinter_scene *sc)
 {
     if (!sc->write_distributions)
         return 0;
-    return COORDINATION_MAX + 1 + (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? NECK_BINS + 1 : 0);
+    return COORDINATION_MAX + 1 +
+           (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? NECK_BINS + 1 + CORRECTION_BINS + 2 : 0);
+}
+
+/* The relative corrections' histogram (q: CORRECTION_BINS + 2 counts) from a snapshot of the
+ * links; NaN before a step of this run (no correction known). */
+static void observe_corrections(const sinter_scene *sc, const sinter_qs_link *link, size_t links,
+                                double *q)
+{
+    sinter_snapshot *snap = NULL;
+    const void *data = NULL;
+    size_t count = 0;
+    if (sinter_snapshot_create(&snap, sc->st) != SINTER_OK ||
+        sinter_snapshot_links(snap, SINTER_LINK_DATA_CORRECTION, &data, &count, NULL, NULL) !=
+            SINTER_OK ||
+        count != links) {
+        for (size_t k = 0; k < CORRECTION_BINS + 2; ++k)
+            q[k] = NAN;
+        sinter_snapshot_destroy(snap);
+        return;
+    }
+    const double *correction = data;
+    for (size_t k = 0; k < links; ++k) {
+        const double r = correction[k] / (link[k].neck.last_dy4 + link[k].neck.last_dy7);
+        const double bin = floor((r - CORRECTION_LOW) / CORRECTION_BIN);
+        if (isnan(correction[k])) {
+            for (size_t j = 0; j < CORRECTION_BINS + 2; ++j)
+                q[j] = NAN;
+            break;
+        }
+        /* (a link without an approach of its own this step, r infinite: a tail) */
+        q[bin < 0 || isnan(r)     ? 0
+          : bin < CORRECTION_BINS ? 1 + (size_t)bin
+                                  : CORRECTION_BINS + 1] += 1.0;
+    }
+    sinter_snapshot_destroy(snap);
 }
 
 static size_t distribution_column(const sinter_scene *sc);
@@ -252,6 +289,8 @@ static void observe_distributions(const sinter_scene *sc, double *row)
     for (size_t i = 0; i < ps->count; ++i)
         q[count[i] < COORDINATION_MAX ? count[i] : COORDINATION_MAX] += 1.0;
     sinter_free(sc->ctx, count);
+    if (qs)
+        observe_corrections(sc, link, links, q + COORDINATION_MAX + 1 + NECK_BINS + 1);
 }
 
 /* The wall flows and the stepper's columns of the row. */
@@ -647,8 +686,17 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
             snprintf(label, size, "neck ratio %.2f-%.2f",
                      NECK_BIN * (double)(k - COORDINATION_MAX - 1),
                      NECK_BIN * (double)(k - COORDINATION_MAX));
-        else
+        else if (k - COORDINATION_MAX - 1 == NECK_BINS)
             snprintf(label, size, "neck ratio %.2f or more", NECK_BIN * NECK_BINS);
+        else if (k - COORDINATION_MAX - 1 == NECK_BINS + 1)
+            snprintf(label, size, "correction below %.2f", CORRECTION_LOW);
+        else if (k - COORDINATION_MAX - 1 < NECK_BINS + 2 + CORRECTION_BINS) {
+            const double b = (double)(k - COORDINATION_MAX - 1 - NECK_BINS - 2);
+            snprintf(label, size, "correction %.2f to %.2f", CORRECTION_LOW + CORRECTION_BIN * b,
+                     CORRECTION_LOW + CORRECTION_BIN * (b + 1));
+        } else
+            snprintf(label, size, "correction %.2f or more",
+                     CORRECTION_LOW + CORRECTION_BIN * CORRECTION_BINS);
         names[distribution_column(sc) + k] = label;
         units[distribution_column(sc) + k] = "1";
     }
@@ -697,7 +745,7 @@ static sinter_status open_output(run_state *r)
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
     enum {
-        HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
+        HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1 + CORRECTION_BINS + 2,
         TRACKED = SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
                STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED +

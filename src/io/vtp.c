@@ -81,8 +81,9 @@ static const char *const CONTACT_NAMES[SINTER_CONTACT_DATA_COUNT_] = {
     "radius", "area", "normal_force", "tangential_force", "heat_flow",
     "current"};
 static const char *const LINK_NAMES[SINTER_LINK_DATA_COUNT_] = {
-    "id_a", "id_b",  "neck_radius",     "neck_ratio", "approach",
-    "age",  "phase", "sintering_force", "beam_force", "beam_moment"};
+    "id_a",       "id_b",        "neck_radius", "neck_ratio",
+    "approach",   "age",         "phase",       "sintering_force",
+    "beam_force", "beam_moment", "correction"};
 
 /* The cell data: every array of the snapshot (contacts, or links). */
 static sinter_status cell_data(FILE *fp, const sinter_snapshot *snap, int links, size_t count,
