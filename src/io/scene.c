@@ -959,9 +959,11 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     const char *format = NULL;
     OPTIONAL(scene_get_word(t, s, "vtu_format", &format));
     if (format != NULL) {
-        if (strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0)
-            return section_error(t, s, "vtu_format must be binary or ascii");
-        sc->vtu_binary = strcmp(format, "binary") == 0;
+        if (strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0 &&
+            strcmp(format, "appended") != 0)
+            return section_error(t, s, "vtu_format must be binary, ascii or appended");
+        sc->vtu_binary = strcmp(format, "ascii") != 0;
+        sc->vtu_appended = strcmp(format, "appended") == 0;
     }
     const char *precision = NULL;
     OPTIONAL(scene_get_word(t, s, "vtu_precision", &precision));

@@ -40,8 +40,9 @@ struct sinter_scene {
     /* output */
     double output_interval;
     int write_vtu, write_csv, write_plot;
-    int vtu_binary; /* frames' arrays as inline base64 binary (1, the default) or ascii */
-    int vtu_single; /* [output] vtu_precision = single: floating-point arrays as Float32 */
+    int vtu_binary;   /* frames' arrays as inline base64 binary (1, the default) or ascii */
+    int vtu_single;   /* [output] vtu_precision = single: floating-point arrays as Float32 */
+    int vtu_appended; /* vtu_format = appended: binary arrays as raw appended data */
     /* beside each frame: the contacts (links) and the walls as .vtp (io/scene_frames.h) */
     int write_contacts, write_walls;
     /* histograms of the coordination number and the neck ratio in series.csv (scene_run.c) */

@@ -9,6 +9,7 @@
 #include "io/scene_frames.h"
 #include "io/series.h"
 #include "io/vti.h"
+#include "io/vtk_appended.h"
 #include "io/vtp.h"
 #include "particles/particles.h"
 #include "stepper/stepper.h"
@@ -152,6 +153,8 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
         st = sinter_path_join(ctx, path, sizeof(path), out_dir, rel);
         if (st == SINTER_OK)
             st = sinter_vtp_write_contacts(ctx, path, snap, sc->ps, scene_vtk_format(sc));
+        if (st == SINTER_OK && sc->vtu_appended)
+            st = sinter_vtk_make_appended(ctx, path);
     }
     if (st == SINTER_OK && extra_name(sc, 2, frame, rel)) {
         sinter_coarse_options grid;
@@ -164,6 +167,8 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
             st = sinter_coarse_fields_compute(sc->ps, snap, &grid, &fields);
         if (st == SINTER_OK) {
             st = sinter_vti_write_fields(ctx, path, &grid, &fields, scene_vtk_format(sc));
+            if (st == SINTER_OK && sc->vtu_appended)
+                st = sinter_vtk_make_appended(ctx, path);
             sinter_coarse_fields_free(ctx, &fields);
         }
     }
@@ -177,6 +182,8 @@ sinter_status scene_frame_extras_write(const sinter_scene *sc, const char *out_d
         st = sinter_path_join(ctx, path, sizeof(path), out_dir, rel);
         if (st == SINTER_OK)
             st = sinter_vtp_write_walls(ctx, path, sc->walls, lo, hi, scene_vtk_format(sc));
+        if (st == SINTER_OK && sc->vtu_appended)
+            st = sinter_vtk_make_appended(ctx, path);
     }
     return st;
 }

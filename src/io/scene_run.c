@@ -20,6 +20,7 @@
 #include "io/scene_track.h"
 #include "io/scene.h"
 #include "io/solid_fraction.h"
+#include "io/vtk_appended.h"
 #include "io/vtu.h"
 
 static const double PI = 3.14159265358979323846;
@@ -488,6 +489,8 @@ static sinter_status write_frame(run_state *r)
     }
     const sinter_vtu_array extra[2] = {{"contacts", contacts, 1}, {"necks", necks, 1}};
     st = sinter_write_vtu_as(sc->ps, path, extra, 2, scene_vtk_format(sc));
+    if (st == SINTER_OK && sc->vtu_appended)
+        st = sinter_vtk_make_appended(ctx, path);
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
     if (st == SINTER_OK)

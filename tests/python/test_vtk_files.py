@@ -9,7 +9,8 @@ examples/scenes/copper_lattice.scene, shortened to 100 s, with `[output] contact
     docs/models.md (a grid of spacing w / 2, a kernel cut at 5 w, all inside the grid);
   - frames/profile_z_NNNNN.csv: the laminae hold the spheres' volume (seed 001 eq. 48).
 Written in double precision, then again with `[output] vtu_precision = single` (Float32
-arrays: the values agree to a float's rounding, 2^-24 relative). Skipped where VTK's Python
+arrays: the values agree to a float's rounding, 2^-24 relative) and with `vtu_format =
+appended` (raw appended data, the same values). Skipped where VTK's Python
 module (Debian's python3-vtk9) is absent.
 """
 
@@ -32,6 +33,7 @@ EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", 
 FIELDS = """
 contacts = yes
 vtu_precision = %s
+vtu_format = %s
 
 [fields]
 width = 25e-6
@@ -56,6 +58,7 @@ def bound(cutoff, ratio):
 @unittest.skipUnless(os.path.isdir(EXAMPLES), "not running from the source tree")
 class CopperLatticeFiles(unittest.TestCase):
     precision = "double"
+    format = "binary"
     rounding = 1e-12  # relative, of a value read back
 
     @classmethod
@@ -65,7 +68,7 @@ class CopperLatticeFiles(unittest.TestCase):
             text = f.read().replace("end_time = 1000", "end_time = 100")
         path = os.path.join(cls.tmp.name, "copper_lattice.scene")
         with open(path, "w") as f:
-            f.write(text + FIELDS % cls.precision)
+            f.write(text + FIELDS % (cls.precision, cls.format))
         cls.out = os.path.join(cls.tmp.name, "out")
         with sinter.Context() as ctx, sinter.Scene.load(ctx, path) as scene:
             scene.run(cls.out)
@@ -126,6 +129,26 @@ class CopperLatticeFiles(unittest.TestCase):
 class CopperLatticeFilesSingle(CopperLatticeFiles):
     precision = "single"
     rounding = 2.0 ** -24 * 2  # one float rounding of each value, and of their mean
+
+
+class CopperLatticeFilesAppended(CopperLatticeFiles):
+    """The same arrays as raw appended data (`vtu_format = appended`), read by VTK to the bit."""
+    format = "appended"
+
+    def test_files_are_appended(self):
+        for name in ("links_00002.vtp", "fields_00002.vti", "frame_00002.vtu"):
+            with open(self.frame(name), "rb") as f:
+                data = f.read()
+            self.assertIn(b'<AppendedData encoding="raw">', data, name)
+            self.assertIn(b'format="appended"', data, name)
+            self.assertNotIn(b'format="binary"', data, name)
+        reader = vtk.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(self.frame("frame_00002.vtu"))
+        reader.Update()
+        grid = reader.GetOutput()
+        self.assertEqual(grid.GetNumberOfPoints(), 27)
+        radius = vtk_to_numpy(grid.GetPointData().GetArray("radius"))
+        self.assertTrue((radius == 25e-6).all())
 
 
 if __name__ == "__main__":
