@@ -453,7 +453,8 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
     sinter_ctx_destroy(ctx);
     snprintf(text2, sizeof(text2), "%.*svtu_format = text\n",
              (int)(strstr(text, "vtu_format") - text), text);
-    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary, ascii or appended", NULL);
+    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary, ascii or appended",
+                       NULL);
 }
 
 /*
