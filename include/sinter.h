@@ -1448,7 +1448,10 @@ typedef enum sinter_link_data {
                                       the increment of that step, global components) [N], 3 doubles;
                                       NaN before a step of this run (after a restart) */
     SINTER_LINK_DATA_BEAM_MOMENT = 9, /**< link moment K_M gamma of that solve (eq. 34b) [N m], 3 doubles */
-    SINTER_LINK_DATA_COUNT_ = 10 /**< number of quantities in this version (not one) */
+    SINTER_LINK_DATA_CORRECTION = 10, /**< seed 001 eq. 44 of the last step: the corrected minus the
+                                      7DOF model's change of the centre distance, dy4 + dy7 - xi
+                                      (eq. 41, 43) [m]; NaN before a step of this run */
+    SINTER_LINK_DATA_COUNT_ = 11 /**< number of quantities in this version (not one) */
 } sinter_link_data;
 
 /**
@@ -1496,6 +1499,83 @@ SINTER_API sinter_status sinter_snapshot_links(const sinter_snapshot *snapshot,
                                                sinter_link_data quantity, const void **data,
                                                size_t *count, size_t *components,
                                                sinter_dtype *dtype);
+
+/* ------------------------------------------------------------------------ */
+/* Coarse-grained fields: density, temperature, velocity and stress on a grid */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * Quantities of sinter_coarse_grain (Goldhirsch 2010; Weinhart et al. 2012, docs/models.md).
+ * Values are pinned; new ones are appended.
+ */
+typedef enum sinter_coarse_quantity {
+    SINTER_COARSE_SOLID_FRACTION = 0, /**< sum of V_i W(r - r_i), V_i = 4/3 pi r_i^3 (overlaps
+                                           counted in both spheres) [1], 1 double */
+    SINTER_COARSE_DENSITY = 1,        /**< mass density rho = sum m_i W(r - r_i) [kg/m^3] */
+    SINTER_COARSE_TEMPERATURE = 2,    /**< mass-weighted temperature sum m_i T_i W / rho [K]; NaN
+                                           where rho = 0 */
+    SINTER_COARSE_VELOCITY = 3,       /**< momentum density over rho [m/s], 3 doubles; 0 where
+                                           rho = 0 */
+    SINTER_COARSE_STRESS = 4,         /**< Cauchy stress, tension positive [Pa], 9 doubles (xx xy
+                                           xz yx ... zz): kinetic part plus the contacts of the
+                                           snapshot, pairs along their branch line and wall
+                                           contacts from the centre to the contact point */
+    SINTER_COARSE_COUNT_ = 5          /**< number of quantities in this version (not one) */
+} sinter_coarse_quantity;
+
+/** A regular grid and a kernel; fill with sinter_coarse_options_init. */
+typedef struct sinter_coarse_options {
+    size_t struct_size; /**< sizeof(sinter_coarse_options) */
+    double origin[3];   /**< the first grid point [m] */
+    double spacing[3];  /**< distance between grid points along x, y, z [m], > 0 */
+    size_t points[3];   /**< grid points along x, y, z, >= 1 (x runs fastest in the output) */
+    double width;       /**< kernel width w: the Gaussian's standard deviation [m], > 0 */
+    double cutoff;      /**< the kernel is cut at cutoff * w and normalised over its support
+                             (1 to 10, default 3) [1] */
+} sinter_coarse_options;
+
+/** Defaults: origin 0, spacing 1 mm, 1 x 1 x 1 points, width 1 mm, cutoff 3.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
+SINTER_API sinter_status sinter_coarse_options_init(sinter_coarse_options *options,
+                                                    size_t struct_size);
+
+/** Components of a quantity (1, 3 or 9), its name ("solid_fraction") and unit; any may be NULL.
+ * Errors: SINTER_ERR_RANGE. */
+SINTER_API sinter_status sinter_coarse_quantity_info(sinter_coarse_quantity quantity,
+                                                     const char **name, const char **unit,
+                                                     size_t *components);
+
+/**
+ * One coarse-grained quantity at every grid point: out[(i + nx (j + ny k)) * components + c]
+ * for the point origin + (i, j, k) * spacing. Each particle is smeared by a Gaussian kernel of
+ * width w cut at cutoff * w; so the integral of the density over space is the particles' mass,
+ * and on a grid finer than w its sum times the cell volume is too, away from the grid's edges.
+ * @param snapshot  contacts for the stress (sinter_snapshot_create on a stepper of `ps`); NULL:
+ *                  the kinetic stress only. Ignored by the other quantities. Links carry no
+ *                  total force and add nothing.
+ * @param out_count  number of doubles at out: points * components.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (options, out_count, a snapshot of other
+ * particles), SINTER_ERR_RANGE (quantity), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_coarse_grain(const sinter_particles *ps,
+                                             const sinter_snapshot *snapshot,
+                                             const sinter_coarse_options *options,
+                                             sinter_coarse_quantity quantity, double *out,
+                                             size_t out_count);
+
+/**
+ * The relative density of laminae (seed 001 eq. 48, Fig. 10): the box lo..hi cut along `axis`
+ * (0 x, 1 y, 2 z) into `count` equal laminae; lamina s has fraction[s] = the volume of the
+ * spheres' slices between its two planes over its volume, and temperature[s] the
+ * slice-volume-weighted mean temperature (NaN where no sphere reaches it). Slices are whole
+ * across the other two axes (the box should hold the packing's cross-section) and overlaps
+ * count in both spheres, as the paper's measure. Either output may be NULL.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (axis, count 0, lo >= hi).
+ */
+SINTER_API sinter_status sinter_lamina_profile(const sinter_particles *ps, int axis,
+                                               const double lo[3], const double hi[3],
+                                               size_t count, double *fraction,
+                                               double *temperature);
 
 /* ------------------------------------------------------------------------ */
 /* Packing helpers                                                           */
@@ -1883,6 +1963,21 @@ SINTER_API sinter_status sinter_scene_set_end_time(sinter_scene *scene, double e
  * SINTER_ERR_PARSE (naming the line), SINTER_ERR_STATE (no sample yet).
  */
 SINTER_API sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, const char *title);
+
+/**
+ * Draw chosen columns of any CSV file a run writes (series.csv, a lamina profile
+ * frames/profile_z_NNNNN.csv, ...) into the SVG file `svg_path`: panel k draws the columns
+ * named in panels[k], a comma-separated list ("max temperature,mean temperature"), against
+ * the column named `x` (NULL: the first column). A name is a column's name without its unit;
+ * a name that is no column's selects every column that starts with it ("coordination": the
+ * histogram's columns). panel_count 0: every column but x, one panel each. At most 8 panels.
+ * `title` may be NULL. Errors: SINTER_ERR_NULL, SINTER_ERR_IO, SINTER_ERR_PARSE,
+ * SINTER_ERR_STATE (no row), SINTER_ERR_INVALID (a name that selects no column; too many
+ * panels).
+ */
+SINTER_API sinter_status sinter_plot_csv(sinter_ctx *ctx, const char *csv_path,
+                                         const char *svg_path, const char *title, const char *x,
+                                         const char *const *panels, size_t panel_count);
 
 /** Borrow the scene's objects (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);

@@ -238,6 +238,15 @@ enum class link_data : int {
     sintering_force = SINTER_LINK_DATA_SINTERING_FORCE,
     beam_force = SINTER_LINK_DATA_BEAM_FORCE,
     beam_moment = SINTER_LINK_DATA_BEAM_MOMENT,
+    correction = SINTER_LINK_DATA_CORRECTION,
+};
+/// Mirrors sinter_coarse_quantity (the coarse-grained fields of sinter_coarse_grain).
+enum class coarse_quantity : int {
+    solid_fraction = SINTER_COARSE_SOLID_FRACTION,
+    density = SINTER_COARSE_DENSITY,
+    temperature = SINTER_COARSE_TEMPERATURE,
+    velocity = SINTER_COARSE_VELOCITY,
+    stress = SINTER_COARSE_STRESS,
 };
 
 /// Combine particle flags (sinter_particle_flag bits).

@@ -494,7 +494,8 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
     sinter_ctx_destroy(ctx);
     snprintf(text2, sizeof(text2), "%.*svtu_format = text\n",
              (int)(strstr(text, "vtu_format") - text), text);
-    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary or ascii", NULL);
+    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary, ascii or appended",
+                       NULL);
 }
 
 /*
@@ -548,7 +549,7 @@ static void test_compact_section(void **state)
     snprintf(text, sizeof(text), "%s%s", COMPACT, "[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n");
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "only once");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "[compaction]\n");
-    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "pour, compact or output");
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "compact, output or fields");
 
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
@@ -591,6 +592,48 @@ static void test_compact_section(void **state)
     }
     sinter_particles_release(ps, SINTER_FIELD_POSITION);
     sinter_particles_release(ps, SINTER_FIELD_RADIUS);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
+/* The keys of issue 37's outputs: [output] track, pair_reference, vtu_precision and a [fields]
+ * section refuse what they cannot do, naming the line; a good [fields] section loads. */
+static void test_output_and_fields_keys(void **state)
+{
+    (void)state;
+    char text[4096];
+    static const struct {
+        const char *added, *status_text;
+        sinter_status status;
+    } bad[] = {
+        {"track = 99\n", "track: a particle id", SINTER_ERR_PARSE},
+        {"track = 1.5\n", "track: a particle id", SINTER_ERR_PARSE},
+        {"track = 0 1 2 3 4 5 6 7 8\n", "at most 8", SINTER_ERR_PARSE},
+        {"pair_reference = yes\n", "needs [stepper] kind = quasistatic", SINTER_ERR_PARSE},
+        {"vtu_precision = half\n", "double or single", SINTER_ERR_PARSE},
+        {"[fields]\ncutoff = 3\n", "needs 'width", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = -1\n", "width must be > 0", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\ncutoff = 20\n", "cutoff must be in [1, 10]", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nbox_min = 0 0 0\n", "both box_min and box_max", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nbox_min = 0 0 0\nbox_max = 1 0 1\n", "box_min < box_max",
+         SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nprofiles = xw\n", "profiles: expected", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nlaminae = 2.5\n", "laminae must be a whole", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\n[fields]\nwidth = 1e-3\n", "only once", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nkernel = lucy\n", "unknown key 'kernel'", SINTER_ERR_PARSE},
+    };
+    for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
+        snprintf(text, sizeof(text), "%s%s", GOOD, bad[k].added);
+        expect_parse_error(text, bad[k].status, "broken.scene:", bad[k].status_text);
+    }
+    snprintf(text, sizeof(text), "%s%s", GOOD,
+             "track = 0 5\nvtu_precision = single\n[fields]\nwidth = 1e-3\ncutoff = 4\n"
+             "spacing = 5e-4\nbox_min = 0 0 0\nbox_max = 0.006 0.006 0.004\ngrid = no\n"
+             "profiles = zx\nlaminae = 8\n");
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("fields.scene", text)), SINTER_OK);
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
 }
@@ -687,6 +730,7 @@ int main(void)
         cmocka_unit_test(test_scan_path_keys),
         cmocka_unit_test(test_quasistatic_restart_is_bit_for_bit),
         cmocka_unit_test(test_compact_section),
+        cmocka_unit_test(test_output_and_fields_keys),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

@@ -704,6 +704,31 @@ static void test_neck_histogram_counts_links(void **state)
         total += bins[k];
     }
     assert_close(total, (double)links, 0.0);
+    /* eq. 44's corrections: one count per link; the lattice shrinks as free pairs, so every
+     * link's correction is round-off against its own approach (|r| < 1e-6: the two middle
+     * bins), and the snapshot's corrections are so against the links' approach */
+    const void *corr = NULL;
+    OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_CORRECTION, &corr, NULL, NULL, NULL));
+    const void *approach = NULL;
+    OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_APPROACH, &approach, NULL, NULL, NULL));
+    for (size_t k = 0; k < links; ++k)
+        assert_true(fabs(((const double *)corr)[k]) < 1e-9 * ((const double *)approach)[k]);
+    double middle = 0.0, all = 0.0;
+    for (int k = -1; k <= 10; ++k) {
+        char column[64];
+        if (k < 0)
+            snprintf(column, sizeof(column), "correction below -1.25 [1]");
+        else if (k < 10)
+            snprintf(column, sizeof(column), "correction %.2f to %.2f [1]", -1.25 + 0.25 * k,
+                     -1.25 + 0.25 * (k + 1));
+        else
+            snprintf(column, sizeof(column), "correction 1.25 or more [1]");
+        const double v = last_value(path, column);
+        all += v;
+        middle += k == 4 || k == 5 ? v : 0.0;
+    }
+    assert_close(all, (double)links, 0.0);
+    assert_close(middle, (double)links, 0.0);
     /* every particle of the lattice: 3 to 6 links */
     assert_close(last_value(path, "coordination 3 [1]"), 8.0, 0.0);
     assert_close(last_value(path, "coordination 6 [1]"), 1.0, 0.0);

@@ -120,6 +120,14 @@ class CompactionOptions(ctypes.Structure):
                 ("ke_per_particle", _double), ("relax_time_max", _double), ("dt", _double)]
 
 
+class CoarseOptions(ctypes.Structure):
+    """struct sinter_coarse_options: a regular grid and a Gaussian kernel (lengths in m)."""
+
+    _cname = "sinter_coarse_options"
+    _fields_ = [("struct_size", _size), ("origin", _double * 3), ("spacing", _double * 3),
+                ("points", _size * 3), ("width", _double), ("cutoff", _double)]
+
+
 class CompactionResult(ctypes.Structure):
     """struct sinter_compaction_result: what sinter_pack_compact achieved (SI units)."""
 
@@ -352,6 +360,7 @@ SIGNATURES = {
     "sinter_scene_checkpoint_write": (c_status, [ScenePtr, _str]),
     "sinter_scene_restart": (c_status, [ScenePtr, _str]),
     "sinter_plot_run": (c_status, [CtxPtr, _str, _str]),
+    "sinter_plot_csv": (c_status, [CtxPtr, _str, _str, _str, _str, _P(_str), _size]),
     "sinter_scene_check": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
@@ -389,6 +398,14 @@ SIGNATURES = {
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
     "sinter_snapshot_links": (
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
+    # coarse-grained fields
+    "sinter_coarse_options_init": (c_status, [_P(CoarseOptions), _size]),
+    "sinter_coarse_quantity_info": (c_status, [c_enum, _P(_str), _P(_str), _P(_size)]),
+    "sinter_coarse_grain": (
+        c_status, [ParticlesPtr, SnapshotPtr, _P(CoarseOptions), c_enum, _P(_double), _size]),
+    "sinter_lamina_profile": (
+        c_status, [ParticlesPtr, _int, _P(_double), _P(_double), _size, _P(_double),
+                   _P(_double)]),
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
     "sinter_particles_size_quantiles": (
