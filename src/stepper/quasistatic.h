@@ -51,6 +51,8 @@ typedef struct sinter_qs_options {
     double strain_fraction;   /* strategy 3: fraction of the links allowed to reach max_strain
                                  while dt grows (0: none) */
     double grown_rk4;         /* strategy 3: 1 advances the grown necks by strategy 2's RK4 */
+    double young_pairs;       /* strategy 3: 1 advances each young neck in CVODE on its own
+                                 steps instead of one batch with shared steps */
     double new_contacts;      /* 1: contacts made during the run become links (sec. 3.3); 0:
                                  only the contacts of the first step (a diagnostic: the
                                  titanium packing's shrinkage, RESULTS.md, session 3) */

@@ -89,6 +89,7 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "qs_max_strain": "[-] strategy 3: largest approach per step / L0; 1e-4",
         "qs_strain_fraction": "[-] strategy 3: fraction of links allowed to reach it; 0; [0, 1]",
         "qs_grown_rk4": "[-] strategy 3: 1 advances grown necks by RK4; 0",
+        "qs_young_pairs": "[-] strategy 3: 1 advances each young neck on its own CVODE steps; 0",
         "qs_new_contacts": "[-] 1 (default): contacts made during the run become links; 0: "
                            "only those of the first step",
     },
