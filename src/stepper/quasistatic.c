@@ -342,18 +342,19 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
     return 0;
 }
 
-/* Strategy 2 over every link, on the context's threads (pairs of uneven cost: dynamic
- * chunks). Returns UINT64_MAX, or for the failed pair of lowest index k, 2 k + 1 if it left the
- * model's domain and 2 k if it could not meet the tolerance. */
-static uint64_t advance_pairs(sinter_qs *qs, const sinter_neck_schedule *s, double t, double h)
+/* Strategy 2 over the links order[0..m) (order NULL: every link, m = count), on the context's
+ * threads (pairs of uneven cost: dynamic chunks). Returns UINT64_MAX, or for the failed pair of
+ * lowest position k, 2 k + 1 if it left the model's domain and 2 k if it could not meet the
+ * tolerance. */
+static uint64_t advance_pairs(sinter_qs *qs, const size_t *order, size_t m,
+                              const sinter_neck_schedule *s, double t, double h)
 {
-    const size_t m = qs->count;
     const int threads = m < 64 ? 1 : sinter_threads(qs->ctx);
     uint64_t first = UINT64_MAX;
     (void)threads; /* without OpenMP */
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 16) reduction(min : first)
     for (size_t k = 0; k < m; ++k) {
-        const int failed = pair_advance(qs, &qs->links[k], s, t, h);
+        const int failed = pair_advance(qs, &qs->links[order != NULL ? order[k] : k], s, t, h);
         if (failed != 0) {
             const uint64_t key = 2 * (uint64_t)k + (failed == -2 ? 1u : 0u);
             first = key < first ? key : first;
@@ -651,16 +652,14 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
         st = advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h,
                            &qs->batch_counters[0]);
     if (st == SINTER_OK && qs->opt.grown_rk4 != 0.0) {
-        for (size_t j = young; j < m && st == SINTER_OK; ++j) {
-            sinter_qs_link *l = &qs->links[qs->batch_order[j]];
-            const int failed = pair_advance(qs, l, s, t, h);
-            if (failed != 0)
-                st = sinter_fail(qs->ctx,
-                                 failed == -2 ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
-                                 "quasi-static stepper (strategy 3, grown necks by RK4): the neck "
-                                 "of particles id %llu and id %llu failed from t = %.9g s; the "
-                                 "state at t is kept",
-                                 (unsigned long long)l->id_a, (unsigned long long)l->id_b, t);
+        const uint64_t failed = advance_pairs(qs, qs->batch_order + young, m - young, s, t, h);
+        if (failed != UINT64_MAX) {
+            const sinter_qs_link *l = &qs->links[qs->batch_order[young + (size_t)(failed >> 1)]];
+            st = sinter_fail(qs->ctx, (failed & 1u) ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
+                             "quasi-static stepper (strategy 3, grown necks by RK4): the neck "
+                             "of particles id %llu and id %llu failed from t = %.9g s; the "
+                             "state at t is kept",
+                             (unsigned long long)l->id_a, (unsigned long long)l->id_b, t);
         }
     } else if (st == SINTER_OK)
         st = advance_group(qs, qs->batch, qs->batch_order + young, m - young, s, t, h,
@@ -756,7 +755,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
             return st;
         for (size_t k = 0; k < m; ++k)
             qs->saved_hint[k] = qs->links[k].neck.step_hint;
-        const uint64_t first_failed = advance_pairs(qs, schedule, t, h);
+        const uint64_t first_failed = advance_pairs(qs, NULL, m, schedule, t, h);
         if (first_failed != UINT64_MAX) {
             const size_t k = (size_t)(first_failed >> 1);
             const int outside = (int)(first_failed & 1u);

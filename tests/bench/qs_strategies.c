@@ -431,6 +431,39 @@ static run load_reference(const char *path, double end)
     return ref;
 }
 
+/* --compare REF "RUN ...": runs saved with --save-runs against a saved reference. */
+static int compare_files(const char *ref_path, const char *list, double end, const char *svg,
+                         const char *title)
+{
+    run ref = load_reference(ref_path, end);
+    static run runs[64];
+    size_t nr = 0;
+    printf("reference %s: strategy %d, rtol %g, max strain %g, %zu links, %llu global steps, "
+           "%.1f s CPU, shrinkage %.6e %.6e %.6e\n\n",
+           ref_path, ref.strategy, ref.rtol, ref.max_strain, ref.links,
+           (unsigned long long)ref.steps, ref.seconds, ref.shrink[0], ref.shrink[1], ref.shrink[2]);
+    printf("| run | strategy | rtol | max strain | CPU [s] | global steps | PCG iterations | links "
+           "(unmatched) | neck error median / 99 %% / max | shrinkage error |\n"
+           "|---|---|---|---|---|---|---|---|---|---|\n");
+    char buffer[8192];
+    snprintf(buffer, sizeof(buffer), "%s", list);
+    for (char *save = NULL, *file = strtok_r(buffer, " ", &save); file != NULL && nr < 64;
+         file = strtok_r(NULL, " ", &save)) {
+        runs[nr] = load_reference(file, end);
+        compare(&runs[nr], &ref);
+        const run *r = &runs[nr];
+        printf("| %s | %d | %.0e | %.1e | %.2f | %llu | %llu | %zu (%zu) | %.1e / %.1e / %.1e | "
+               "%.2e |\n",
+               file, r->strategy, r->rtol, r->max_strain, r->seconds, (unsigned long long)r->steps,
+               (unsigned long long)r->pcg, r->links, r->unmatched, r->neck_median, r->neck_p99,
+               r->neck_err, r->shrink_err);
+        nr++;
+    }
+    if (svg != NULL)
+        write_svg(svg, runs, nr, title != NULL ? title : ref_path);
+    return 0;
+}
+
 static void add_set(option_set *set, const char *key, const char *value)
 {
     if (set->count == MAX_SETS) {
@@ -447,8 +480,8 @@ int main(int argc, char **argv)
     const char *rtols = "1e-3 1e-4 1e-5 1e-6 1e-7", *strategies = "1 2 3", *strains = "0";
     size_t count = 805;
     double fraction = 0.0, friction = 0.1, ref_rtol = 1e-9;
-    int ref_strategy = 2, repeat = 1;
-    const char *scene = NULL;
+    int ref_strategy = 2, repeat = 1, no_reference = 0;
+    const char *scene = NULL, *save_runs = NULL, *compare_ref = NULL, *run_files = NULL;
     option_set sets = {0, {NULL}, {0}}, ref_sets = {0, {NULL}, {0}};
     double box[3] = {0.5e-3, 0.5e-3, 0.4e-3}, end = 5000.0;
     for (int k = 1; k < argc; ++k) {
@@ -460,7 +493,14 @@ int main(int argc, char **argv)
             scene = argv[++k];
         else if (strcmp(argv[k], "--repeat") == 0 && k + 1 < argc)
             repeat = atoi(argv[++k]);
-        else if (strcmp(argv[k], "--fraction") == 0 && k + 1 < argc)
+        else if (strcmp(argv[k], "--no-reference") == 0)
+            no_reference = 1;
+        else if (strcmp(argv[k], "--save-runs") == 0 && k + 1 < argc)
+            save_runs = argv[++k];
+        else if (strcmp(argv[k], "--compare") == 0 && k + 2 < argc) {
+            compare_ref = argv[++k];
+            run_files = argv[++k];
+        } else if (strcmp(argv[k], "--fraction") == 0 && k + 1 < argc)
             fraction = strtod(argv[++k], NULL);
         else if (strcmp(argv[k], "--friction") == 0 && k + 1 < argc)
             friction = strtod(argv[++k], NULL);
@@ -510,8 +550,10 @@ int main(int argc, char **argv)
         sinter_ctx_destroy(g_ctx);
         return 0;
     }
+    if (compare_ref != NULL)
+        return compare_files(compare_ref, run_files, end, svg, scene);
     if (pack == NULL) {
-        fprintf(stderr, "qs_strategies: give --make-packing or --packing\n");
+        fprintf(stderr, "qs_strategies: give --make-packing, --packing or --compare\n");
         return 2;
     }
     if (scene != NULL)
@@ -521,7 +563,10 @@ int main(int argc, char **argv)
             end = strtod(argv[k + 1], NULL);
     const spheres pk = read_spheres(pack);
     run ref;
-    if (load_ref != NULL) {
+    memset(&ref, 0, sizeof(ref));
+    if (no_reference) {
+        ref.shrink[0] = ref.shrink[1] = ref.shrink[2] = 1.0; /* no errors: compare with --compare */
+    } else if (load_ref != NULL) {
         ref = load_reference(load_ref, end);
     } else {
         fprintf(stderr, "reference: strategy %d at rtol %g ...\n", ref_strategy, ref_rtol);
@@ -538,7 +583,7 @@ int main(int argc, char **argv)
     size_t nstrain = parse_numbers(strains, strain_list, 16);
     if (nstrain == 0)
         strain_list[nstrain++] = 0.0;
-    run runs[64];
+    static run runs[64];
     size_t nr = 0;
     printf("| strategy | rtol | max strain | CPU [s] | global steps | steps (CPU s) ending <1 / "
            "<10 / <100 / "
@@ -562,6 +607,12 @@ int main(int argc, char **argv)
                     rp = re;
                     runs[nr] = sinter_run(&pk, s, rt, s == 3 ? strain_list[ms] : 0.0, &sets, end);
                     compare(&runs[nr], &ref);
+                    if (save_runs != NULL) {
+                        char path[512];
+                        snprintf(path, sizeof(path), "%s-s%d-r%.0e-m%.1e-%d.txt", save_runs, s, rt,
+                                 runs[nr].max_strain, rep);
+                        save_reference(path, &runs[nr], end);
+                    }
                     char strain_text[32] = "-";
                     char cvode_text[96] = "-";
                     if (s == 3) {
