@@ -443,7 +443,7 @@ static int compare_files(const char *ref_path, const char *list, double end, con
            ref_path, ref.strategy, ref.rtol, ref.max_strain, ref.links,
            (unsigned long long)ref.steps, ref.seconds, ref.shrink[0], ref.shrink[1], ref.shrink[2]);
     printf("| run | strategy | rtol | max strain | CPU [s] | global steps | PCG iterations | links "
-           "(unmatched) | neck error median / 99 %% / max | shrinkage error |\n"
+           "(unmatched) | neck error median / 99 %% / max (link key) | shrinkage error |\n"
            "|---|---|---|---|---|---|---|---|---|---|\n");
     char buffer[8192];
     snprintf(buffer, sizeof(buffer), "%s", list);
@@ -452,11 +452,11 @@ static int compare_files(const char *ref_path, const char *list, double end, con
         runs[nr] = load_reference(file, end);
         compare(&runs[nr], &ref);
         const run *r = &runs[nr];
-        printf("| %s | %d | %.0e | %.1e | %.2f | %llu | %llu | %zu (%zu) | %.1e / %.1e / %.1e | "
-               "%.2e |\n",
+        printf("| %s | %d | %.0e | %.1e | %.2f | %llu | %llu | %zu (%zu) | %.1e / %.1e / %.1e "
+               "(key %llu) | %.2e |\n",
                file, r->strategy, r->rtol, r->max_strain, r->seconds, (unsigned long long)r->steps,
                (unsigned long long)r->pcg, r->links, r->unmatched, r->neck_median, r->neck_p99,
-               r->neck_err, r->shrink_err);
+               r->neck_err, (unsigned long long)r->worst_key, r->shrink_err);
         nr++;
     }
     if (svg != NULL)

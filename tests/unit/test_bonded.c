@@ -521,7 +521,7 @@ static void test_qs_strain_fraction(void **state)
                   fabs(ab_loose - ab_strict) / ab_strict);
     assert_true(s1.steps < s0.steps);
     /* 66 against 76 steps; the A-B shrinkages differ by 2e-5 relative (measured), the
-     * mechanical error of two step sequences at max_strain 1e-4. 2e-4 is the bound of the
+     * mechanical error of two step sequences at max_strain 7e-5. 2e-4 is the bound of the
      * two-particle strategy-3 test and the level this error reaches on the 805-sphere packing
      * (tests/bench/RESULTS.md, whole run, session 3). */
     assert_close(ab_loose, ab_strict, 2e-4 * ab_strict);
@@ -529,7 +529,7 @@ static void test_qs_strain_fraction(void **state)
     sinter_qs_options o;
     sinter_qs_options_default(&o);
     assert_int_equal(sinter_qs_option_get(&o, strict.ctx, "qs_strain_fraction", &v), SINTER_OK);
-    assert_close(v, 0.0, 0.0); /* the default keeps the rule "no link above max_strain" */
+    assert_close(v, 0.01, 0.0); /* the default: 1 % of the links may reach max_strain */
     assert_int_equal(sinter_qs_option_set(&o, strict.ctx, "qs_strain_fraction", 1.5),
                      SINTER_ERR_INVALID);
     assert_int_equal(sinter_qs_option_set(&o, strict.ctx, "qs_strain_fraction", -0.1),
