@@ -35,9 +35,10 @@ struct sinter_qs {
     unsigned char *component_held; /* and the axes planes hold them on */
     double *component_sums;        /* their centroids, mean rotations and displacements */
     size_t component_capacity, component_held_capacity, component_sums_capacity;
-    sinter_neck_batch *batch;       /* strategy 3: grown necks */
-    sinter_neck_batch *batch_young; /* strategy 3: young necks (quasistatic.c) */
-    size_t *batch_order;            /* young link indices first, then the grown ones */
+    sinter_neck_batch *batch;        /* strategy 3: grown necks */
+    sinter_neck_batch *batch_young;  /* strategy 3: young necks (quasistatic.c) */
+    sinter_neck_solver *pair_solver; /* strategy 3 with young_pairs: one neck at a time */
+    size_t *batch_order;             /* young link indices first, then the grown ones */
     size_t batch_order_capacity;
     sinter_neck_state *batch_states;
     const sinter_neck_material **batch_materials;

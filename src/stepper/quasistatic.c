@@ -16,7 +16,10 @@
 
 void sinter_qs_options_default(sinter_qs_options *opt)
 {
-    opt->strategy = 2;
+    /* Strategy 3 with its whole-run setting (issue 45, tests/bench/RESULTS.md): young necks
+     * each on their own CVODE steps, grown ones by strategy 2's RK4, the global step by the
+     * links' strain with 1 % of them allowed above max_strain */
+    opt->strategy = 3;
     opt->dt_initial = 1e-6;
     opt->dt_min = 1e-12;
     opt->dt_max = 10.0; /* docs/7dof.md §5: the seed's maximum global step */
@@ -33,9 +36,10 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->rtol = 1e-6;
     opt->epsilon = 0.01;
     opt->h0_ratio = 1.5;
-    opt->max_strain = 1e-4;
-    opt->strain_fraction = 0.0;
-    opt->grown_rk4 = 0.0;
+    opt->max_strain = 7e-5;
+    opt->strain_fraction = 0.01;
+    opt->grown_rk4 = 1.0;
+    opt->young_pairs = 1.0;
     opt->new_contacts = 1.0;
     opt->validity = 1.0;
     opt->neck_stiffness = 0.0;
@@ -78,6 +82,7 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_max_strain", max_strain, 0.0, 1.0, 1),
     QS_KEY("qs_strain_fraction", strain_fraction, 0.0, 1.0, 0),
     QS_KEY("qs_grown_rk4", grown_rk4, 0.0, 1.0, 0),
+    QS_KEY("qs_young_pairs", young_pairs, 0.0, 1.0, 0),
     QS_KEY("qs_new_contacts", new_contacts, 0.0, 1.0, 0),
     QS_KEY("qs_validity", validity, 0.0, 2.0, 0),
     QS_KEY("qs_neck_stiffness", neck_stiffness, 0.0, 1.0, 0),
@@ -202,6 +207,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->component_sums);
     sinter_neck_batch_destroy(qs->batch);
     sinter_neck_batch_destroy(qs->batch_young);
+    sinter_neck_solver_destroy(qs->pair_solver);
     sinter_free(ctx, qs->batch_order);
     sinter_free(ctx, qs->batch_states);
     sinter_free(ctx, qs->batch_materials);
@@ -339,18 +345,19 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
     return 0;
 }
 
-/* Strategy 2 over every link, on the context's threads (pairs of uneven cost: dynamic
- * chunks). Returns UINT64_MAX, or for the failed pair of lowest index k, 2 k + 1 if it left the
- * model's domain and 2 k if it could not meet the tolerance. */
-static uint64_t advance_pairs(sinter_qs *qs, const sinter_neck_schedule *s, double t, double h)
+/* Strategy 2 over the links order[0..m) (order NULL: every link, m = count), on the context's
+ * threads (pairs of uneven cost: dynamic chunks). Returns UINT64_MAX, or for the failed pair of
+ * lowest position k, 2 k + 1 if it left the model's domain and 2 k if it could not meet the
+ * tolerance. */
+static uint64_t advance_pairs(sinter_qs *qs, const size_t *order, size_t m,
+                              const sinter_neck_schedule *s, double t, double h)
 {
-    const size_t m = qs->count;
     const int threads = m < 64 ? 1 : sinter_threads(qs->ctx);
     uint64_t first = UINT64_MAX;
     (void)threads; /* without OpenMP */
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 16) reduction(min : first)
     for (size_t k = 0; k < m; ++k) {
-        const int failed = pair_advance(qs, &qs->links[k], s, t, h);
+        const int failed = pair_advance(qs, &qs->links[order != NULL ? order[k] : k], s, t, h);
         if (failed != 0) {
             const uint64_t key = 2 * (uint64_t)k + (failed == -2 ? 1u : 0u);
             first = key < first ? key : first;
@@ -566,6 +573,46 @@ static sinter_status advance_group(sinter_qs *qs, sinter_neck_batch *batch, cons
 }
 
 /*
+ * Strategy 3 with young_pairs: each young neck in CVODE on its own steps (cvode_driver.c, dense
+ * 7x7 Newton matrix). In one batch the shared step follows whichever neck is in its stiffest
+ * transient at each moment; necks of different radii pass their transients at different
+ * times, so the shared step stays short for all (the titanium packing at 793 K: about 6000
+ * batch steps over the first 1e-4 s, tests/bench/RESULTS.md, issue 45).
+ */
+static sinter_status advance_young_pairs(sinter_qs *qs, const size_t *order, size_t count,
+                                         const sinter_neck_schedule *s, double t, double h)
+{
+    if (count == 0)
+        return SINTER_OK;
+    sinter_status st = SINTER_OK;
+    if (qs->pair_solver == NULL &&
+        (st = sinter_neck_solver_create(&qs->pair_solver, qs->ctx)) != SINTER_OK)
+        return st;
+    sinter_neck_tolerances tol;
+    sinter_neck_tolerances_default(&tol);
+    tol.rtol = qs->opt.rtol;
+    for (size_t k = 0; k < count; ++k) {
+        sinter_qs_link *l = &qs->links[order[k]];
+        sinter_neck_state state = l->neck;
+        state.time = t;
+        st = sinter_neck_advance_pair(qs->pair_solver, &state, &l->material, s, t + h, &tol, NULL,
+                                      &qs->batch_counters[0]);
+        if (st != SINTER_OK) {
+            char detail[SINTER_ERROR_TEXT_SIZE];
+            snprintf(detail, sizeof(detail), "%s", sinter_last_error(qs->ctx));
+            return sinter_fail(qs->ctx, st,
+                               "quasi-static stepper (strategy 3), step from t = %.9g s: the neck "
+                               "of particles id %llu and id %llu failed; the state at t is kept: "
+                               "%s",
+                               t, (unsigned long long)l->id_a, (unsigned long long)l->id_b, detail);
+        }
+        memcpy(l->neck.y, state.y, sizeof(l->neck.y));
+        l->neck.step_hint = state.step_hint;
+    }
+    return SINTER_OK;
+}
+
+/*
  * Strategy 3: the pairs in CVODE batches over [t, t + h] (neck/batch.c), grouped by age: a
  * batch shares one step, which follows its most demanding neck, and a neck seeded at
  * x = 0.01 R starts on steps of about 1e-12 s (docs/7dof.md §4). In one batch every new contact
@@ -602,19 +649,20 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
         else
             qs->batch_order[--mature] = k;
     }
-    st =
-        advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h, &qs->batch_counters[0]);
+    if (qs->opt.young_pairs != 0.0)
+        st = advance_young_pairs(qs, qs->batch_order, young, s, t, h);
+    else
+        st = advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h,
+                           &qs->batch_counters[0]);
     if (st == SINTER_OK && qs->opt.grown_rk4 != 0.0) {
-        for (size_t j = young; j < m && st == SINTER_OK; ++j) {
-            sinter_qs_link *l = &qs->links[qs->batch_order[j]];
-            const int failed = pair_advance(qs, l, s, t, h);
-            if (failed != 0)
-                st = sinter_fail(qs->ctx,
-                                 failed == -2 ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
-                                 "quasi-static stepper (strategy 3, grown necks by RK4): the neck "
-                                 "of particles id %llu and id %llu failed from t = %.9g s; the "
-                                 "state at t is kept",
-                                 (unsigned long long)l->id_a, (unsigned long long)l->id_b, t);
+        const uint64_t failed = advance_pairs(qs, qs->batch_order + young, m - young, s, t, h);
+        if (failed != UINT64_MAX) {
+            const sinter_qs_link *l = &qs->links[qs->batch_order[young + (size_t)(failed >> 1)]];
+            st = sinter_fail(qs->ctx, (failed & 1u) ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
+                             "quasi-static stepper (strategy 3, grown necks by RK4): the neck "
+                             "of particles id %llu and id %llu failed from t = %.9g s; the "
+                             "state at t is kept",
+                             (unsigned long long)l->id_a, (unsigned long long)l->id_b, t);
         }
     } else if (st == SINTER_OK)
         st = advance_group(qs, qs->batch, qs->batch_order + young, m - young, s, t, h,
@@ -710,7 +758,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
             return st;
         for (size_t k = 0; k < m; ++k)
             qs->saved_hint[k] = qs->links[k].neck.step_hint;
-        const uint64_t first_failed = advance_pairs(qs, schedule, t, h);
+        const uint64_t first_failed = advance_pairs(qs, NULL, m, schedule, t, h);
         if (first_failed != UINT64_MAX) {
             const size_t k = (size_t)(first_failed >> 1);
             const int outside = (int)(first_failed & 1u);

@@ -7,8 +7,10 @@
  *          dt / alpha when any pair misses the tolerance, dt alpha when all are within 0.1 of it;
  *        strategy 2: dt is kept and each pair sub-steps on its own; the next dt grows by alpha
  *          when fewer than 5 % of the pairs needed sub-steps and shrinks when more than 15 % did;
- *        strategy 3 (not in the seed): all pairs in one CVODE system (neck/batch.c, shared
- *          adaptive steps, every pair within the tolerance); the global dt then only limits the
+ *        strategy 3 (not in the seed; the default): the necks in CVODE; with young_pairs = 0
+ *          all pairs in one CVODE system (neck/batch.c, shared adaptive steps, every pair
+ *          within the tolerance), with young_pairs = 1 (the default) each young neck (x/R <
+ *          0.05) on its own CVODE steps (neck/cvode_driver.c); the global dt then only limits the
  *          mechanical increment: it grows by alpha while the largest link approach of a step
  *          stays below max_strain L0 and shrinks by alpha above it (the small-increment
  *          assumption of sec. 2.4); with strain_fraction > 0 it grows while at most that
@@ -16,10 +18,11 @@
  *          faster than their neck no longer hold the step back; 0.01 gives strategy 2's
  *          shrinkage error and cost over a whole copper run, with twice its neck error at the
  *          99th percentile, tests/bench/RESULTS.md); with
- *          grown_rk4 = 1 only the young necks (x/R < 0.05) stay in CVODE and the grown ones
+ *          grown_rk4 = 1 (the default) only the young necks stay in CVODE and the grown ones
  *          take strategy 2's per-pair RK4 sub-steps, which cost less than restarting CVODE
  *          every global step once the global step is shorter than a neck's own step (about
- *          30 % less over a whole copper run at the same error, RESULTS.md session 3);
+ *          half over a whole run, RESULTS.md, issue 45); the defaults (strain_fraction 0.01,
+ *          grown_rk4 1, young_pairs 1) are the whole-run setting of RESULTS.md, issue 45;
  *   2. turn the approach of each neck into a sintering force (eq. 13, 17);
  *   3. solve K u = f (eq. 40) with PCG under the principal-plane conditions of sec. 3.3;
  *   4. move and turn the particles, and share the axial compression of each link between y4 and
@@ -51,6 +54,8 @@ typedef struct sinter_qs_options {
     double strain_fraction;   /* strategy 3: fraction of the links allowed to reach max_strain
                                  while dt grows (0: none) */
     double grown_rk4;         /* strategy 3: 1 advances the grown necks by strategy 2's RK4 */
+    double young_pairs;       /* strategy 3: 1 advances each young neck in CVODE on its own
+                                 steps instead of one batch with shared steps */
     double new_contacts;      /* 1: contacts made during the run become links (sec. 3.3); 0:
                                  only the contacts of the first step (a diagnostic: the
                                  titanium packing's shrinkage, RESULTS.md, session 3) */
@@ -62,9 +67,9 @@ typedef struct sinter_qs_options {
                                  1 a warning (default), 2 SINTER_ERR_DOMAIN */
 } sinter_qs_options;
 
-/* strategy 2, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (docs/7dof.md §5), alpha 1.5, eps_lim 1,
- * 5 % / 15 %, contact 1e-9, plane 1e-6, solve 1e-10, rtol 1e-6, epsilon 0.01, h0 1.5 x0,
- * max_strain 1e-4, strain_fraction 0, grown_rk4 0. */
+/* strategy 3, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (docs/7dof.md §5), alpha 1.5, eps_lim 1,
+ * 5 % / 15 %, contact 1e-9, plane 1e-6, solve 1e-7, rtol 1e-6, epsilon 0.01, h0 1.5 x0,
+ * max_strain 7e-5, strain_fraction 0.01, grown_rk4 1, young_pairs 1. */
 void sinter_qs_options_default(sinter_qs_options *opt);
 
 /*
@@ -72,13 +77,14 @@ void sinter_qs_options_default(sinter_qs_options *opt);
  * "qs_dt_min", "qs_dt_max", "qs_alpha", "qs_error_limit", "qs_grow_fraction",
  * "qs_shrink_fraction", "qs_contact_tolerance", "qs_plane_tolerance", "qs_solve_rtol",
  * "qs_rtol", "qs_epsilon", "qs_h0_ratio", "qs_max_strain", "qs_strain_fraction" (in [0, 1]),
- * "qs_grown_rk4" (0 or 1; any value above 0 means 1), "qs_new_contacts" (1, the default: links
- * for contacts made during the run; 0: none after the first step; any value above 0 means 1),
- * "qs_neck_stiffness" (0, the default: constant full-section links; 1: the section of the neck,
- * pi x^2; any value above 0 means 1), "qs_validity" (0, 1 or 2: the validity guard off, a warning
- * (the default) or an error, docs/7dof.md §2.6). Set checks the value (the whole set is validated
- * again when the stepper is created). Errors: SINTER_ERR_NOT_FOUND (unknown key; the message lists
- * the keys), SINTER_ERR_INVALID (value out of range or not finite, or qs_dt_min above qs_dt_max).
+ * "qs_grown_rk4" and "qs_young_pairs" (0 or 1; any value above 0 means 1), "qs_new_contacts" (1,
+ * the default: links for contacts made during the run; 0: none after the first step; any value
+ * above 0 means 1), "qs_neck_stiffness" (0, the default: constant full-section links; 1: the
+ * section of the neck, pi x^2; any value above 0 means 1), "qs_validity" (0, 1 or 2: the validity
+ * guard off, a warning (the default) or an error, docs/7dof.md §2.6). Set checks the value (the
+ * whole set is validated again when the stepper is created). Errors: SINTER_ERR_NOT_FOUND (unknown
+ * key; the message lists the keys), SINTER_ERR_INVALID (value out of range or not finite, or
+ * qs_dt_min above qs_dt_max).
  */
 sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, const char *key,
                                    double value);

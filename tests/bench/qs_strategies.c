@@ -46,9 +46,30 @@
 #define BENCH_NAME "qs_strategies"
 #include "bench_support.h"
 #include "sinter.h"
+#include "io/scene.h"          /* --scene: the material and the furnace of a scene file */
 #include "stepper/qs_struct.h" /* the CVODE work counters of strategy 3 */
 #include "stepper/quasistatic.h"
 #include "stepper/stepper.h"
+
+/* --scene: the scene's first material and its furnace (NULL / 0: copper at 1293 K). */
+static sinter_material *g_scene_material;
+static double *g_furnace; /* times, then temperatures */
+static size_t g_furnace_count;
+
+static void load_scene(const char *path, double *end)
+{
+    sinter_scene *sc = NULL;
+    CHECK(sinter_scene_load(&sc, g_ctx, path));
+    CHECK(sinter_material_clone(&g_scene_material, sc->materials[0]));
+    g_furnace_count = sc->st->furnace_count;
+    if (g_furnace_count > 0) {
+        g_furnace = calloc(2 * g_furnace_count, sizeof(double));
+        memcpy(g_furnace, sc->st->furnace, 2 * g_furnace_count * sizeof(double));
+    }
+    if (sc->end_time > 0.0)
+        *end = sc->end_time;
+    sinter_scene_destroy(sc);
+}
 
 static sinter_material *copper(void)
 {
@@ -150,13 +171,23 @@ static run sinter_run(const spheres *pk, int strategy, double rtol, double max_s
     memset(&out, 0, sizeof(out));
     out.strategy = strategy;
     out.rtol = rtol;
-    sinter_material *cu = copper();
+    sinter_material *cu = NULL;
+    if (g_scene_material != NULL)
+        CHECK(sinter_material_clone(&cu, g_scene_material));
+    else
+        cu = copper();
     sinter_particles *ps = NULL;
     CHECK(sinter_particles_create(&ps, g_ctx));
     CHECK(sinter_particles_set_material(ps, 0, cu));
-    CHECK(sinter_particles_add(ps, pk->n, pk->x, pk->r, 0, 1293.0, NULL));
+    const double temperature0 = g_furnace_count > 0 ? g_furnace[g_furnace_count] : 1293.0;
+    CHECK(sinter_particles_add(ps, pk->n, pk->x, pk->r, 0, temperature0, NULL));
     sinter_stepper *st = NULL;
     CHECK(sinter_stepper_create(&st, g_ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
+    if (g_furnace_count > 0) { /* as the scene: the first global step 1 us */
+        CHECK(sinter_stepper_set_dt(st, 1e-6));
+        CHECK(sinter_stepper_set_furnace(st, g_furnace_count, g_furnace,
+                                         g_furnace + g_furnace_count));
+    }
     CHECK(sinter_stepper_set_option(st, "qs_strategy", strategy));
     CHECK(sinter_stepper_set_option(st, "qs_rtol", rtol));
     for (int k = 0; k < extra->count; ++k)
@@ -258,24 +289,31 @@ static void compare(run *r, const run *ref)
     r->shrink_err = s;
 }
 
-static void write_svg(const char *path, const run *runs, size_t count)
+/* The error a chart shows: 0 the shrinkage's, 1 the 99th percentile of the neck radius'. */
+static double chart_error(const run *r, int metric)
+{
+    return metric == 0 ? r->shrink_err : r->neck_p99;
+}
+
+static void write_svg(const char *path, const run *runs, size_t count, const char *title)
 {
     FILE *f = fopen(path, "w");
     if (f == NULL) {
         perror(path);
         return;
     }
-    const double W = 640, H = 420, L = 70, R = 20, T = 30, B = 50;
+    const double W = 680, H = 440, L = 70, R = 20, T = 30, B = 50;
     double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-    for (size_t k = 0; k < count; ++k) {
-        const double e = fmax(runs[k].neck_err, runs[k].shrink_err);
-        if (!(e > 0.0))
-            continue;
-        xmin = fmin(xmin, floor(log10(runs[k].seconds)));
-        xmax = fmax(xmax, ceil(log10(runs[k].seconds)));
-        ymin = fmin(ymin, floor(log10(e)));
-        ymax = fmax(ymax, ceil(log10(e)));
-    }
+    for (size_t k = 0; k < count; ++k)
+        for (int m = 0; m < 2; ++m) {
+            const double e = chart_error(&runs[k], m);
+            if (!(e > 0.0))
+                continue;
+            xmin = fmin(xmin, floor(log10(runs[k].seconds)));
+            xmax = fmax(xmax, ceil(log10(runs[k].seconds)));
+            ymin = fmin(ymin, floor(log10(e)));
+            ymax = fmax(ymax, ceil(log10(e)));
+        }
     if (!(xmax > xmin))
         xmax = xmin + 1;
     if (!(ymax > ymin))
@@ -285,10 +323,8 @@ static void write_svg(const char *path, const run *runs, size_t count)
             "width=\"%g\" height=\"%g\" font-family=\"DejaVu Sans, Arial, sans-serif\" "
             "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"#fff\"/>\n",
             W, H);
-    fprintf(f,
-            "<text x=\"%g\" y=\"18\" text-anchor=\"middle\">Quasi-static strategies, 805 copper "
-            "spheres at 1293 K: error against CPU time</text>\n",
-            W / 2);
+    fprintf(f, "<text x=\"%g\" y=\"18\" text-anchor=\"middle\">Work-precision, %s</text>\n", W / 2,
+            title);
     fprintf(f,
             "<rect x=\"%g\" y=\"%g\" width=\"%g\" height=\"%g\" fill=\"none\" stroke=\"#000\"/>\n",
             L, T, W - L - R, H - T - B);
@@ -302,23 +338,35 @@ static void write_svg(const char *path, const run *runs, size_t count)
             L + (W - L - R) / 2, H - 12);
     fprintf(f,
             "<text x=\"16\" y=\"%g\" text-anchor=\"middle\" transform=\"rotate(-90 16 %g)\">error "
-            "(neck radius, shrinkage) [1]</text>\n",
+            "against the reference [1]</text>\n",
             T + (H - T - B) / 2, T + (H - T - B) / 2);
     static const char *colors[4] = {"#000", "#1f77b4", "#ff7f0e", "#2ca02c"};
-    for (int s = 1; s <= 3; ++s) {
-        fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" points=\"",
-                colors[s]);
-        for (size_t k = 0; k < count; ++k) {
-            const double e = fmax(runs[k].neck_err, runs[k].shrink_err);
-            if (runs[k].strategy != s || !(e > 0.0))
-                continue;
-            fprintf(f, "%.1f,%.1f ",
-                    L + (log10(runs[k].seconds) - xmin) / (xmax - xmin) * (W - L - R),
-                    H - B - (log10(e) - ymin) / (ymax - ymin) * (H - T - B));
+    static const char *metric_name[2] = {"shrinkage", "neck 99 %"};
+    int legend = 0;
+    for (int s = 1; s <= 3; ++s)
+        for (int m = 0; m < 2; ++m) {
+            int any = 0;
+            for (size_t k = 0; k < count; ++k) {
+                const double e = chart_error(&runs[k], m);
+                if (runs[k].strategy != s || !(e > 0.0))
+                    continue;
+                const double x = L + (log10(runs[k].seconds) - xmin) / (xmax - xmin) * (W - L - R);
+                const double y = H - B - (log10(e) - ymin) / (ymax - ymin) * (H - T - B);
+                if (m == 0)
+                    fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"%s\"/>\n", x, y,
+                            colors[s]);
+                else
+                    fprintf(f,
+                            "<rect x=\"%.1f\" y=\"%.1f\" width=\"7\" height=\"7\" fill=\"none\" "
+                            "stroke=\"%s\"/>\n",
+                            x - 3.5, y - 3.5, colors[s]);
+                any = 1;
+            }
+            if (any)
+                fprintf(f, "<text x=\"%g\" y=\"%g\" fill=\"%s\">%s strategy %d: %s</text>\n",
+                        W - R - 210, T + 16.0 * ++legend, colors[s], m == 0 ? "o" : "[]", s,
+                        metric_name[m]);
         }
-        fprintf(f, "\"/>\n<text x=\"%g\" y=\"%g\" fill=\"%s\">strategy %d</text>\n", W - R - 90,
-                T + 16.0 * s, colors[s], s);
-    }
     fprintf(f, "</svg>\n");
     fclose(f);
 }
@@ -383,6 +431,38 @@ static run load_reference(const char *path, double end)
     return ref;
 }
 
+/* --compare REF "RUN ...": runs saved with --save-runs against a saved reference. */
+static int compare_files(const char *ref_path, const char *list, double end, const char *svg,
+                         const char *title)
+{
+    run ref = load_reference(ref_path, end);
+    static run runs[64];
+    size_t nr = 0;
+    printf("reference %s: strategy %d, rtol %g, max strain %g, %zu links, %llu global steps, "
+           "%.1f s CPU, shrinkage %.6e %.6e %.6e\n\n",
+           ref_path, ref.strategy, ref.rtol, ref.max_strain, ref.links,
+           (unsigned long long)ref.steps, ref.seconds, ref.shrink[0], ref.shrink[1], ref.shrink[2]);
+    printf("| run | strategy | rtol | max strain | CPU [s] | global steps | PCG iterations | links "
+           "(unmatched) | neck error median / 99 %% / max (link key) | shrinkage error |\n"
+           "|---|---|---|---|---|---|---|---|---|---|\n");
+    char buffer[8192];
+    snprintf(buffer, sizeof(buffer), "%s", list);
+    for (char *save = NULL, *file = strtok_r(buffer, " ", &save); file != NULL && nr < 64;
+         file = strtok_r(NULL, " ", &save)) {
+        runs[nr] = load_reference(file, end);
+        compare(&runs[nr], &ref);
+        const run *r = &runs[nr];
+        printf("| %s | %d | %.0e | %.1e | %.2f | %llu | %llu | %zu (%zu) | %.1e / %.1e / %.1e "
+               "(key %llu) | %.2e |\n",
+               file, r->strategy, r->rtol, r->max_strain, r->seconds, (unsigned long long)r->steps,
+               (unsigned long long)r->pcg, r->links, r->unmatched, r->neck_median, r->neck_p99,
+               r->neck_err, (unsigned long long)r->worst_key, r->shrink_err);
+        nr++;
+    }
+    if (svg != NULL)
+        write_svg(svg, runs, nr, title != NULL ? title : ref_path);
+    return 0;
+}
 
 static void add_set(option_set *set, const char *key, const char *value)
 {
@@ -400,7 +480,8 @@ int main(int argc, char **argv)
     const char *rtols = "1e-3 1e-4 1e-5 1e-6 1e-7", *strategies = "1 2 3", *strains = "0";
     size_t count = 805;
     double fraction = 0.0, friction = 0.1, ref_rtol = 1e-9;
-    int ref_strategy = 2;
+    int ref_strategy = 2, repeat = 1, no_reference = 0;
+    const char *scene = NULL, *save_runs = NULL, *compare_ref = NULL, *run_files = NULL;
     option_set sets = {0, {NULL}, {0}}, ref_sets = {0, {NULL}, {0}};
     double box[3] = {0.5e-3, 0.5e-3, 0.4e-3}, end = 5000.0;
     for (int k = 1; k < argc; ++k) {
@@ -408,7 +489,18 @@ int main(int argc, char **argv)
             make = argv[++k];
         else if (strcmp(argv[k], "--packing") == 0 && k + 1 < argc)
             pack = argv[++k];
-        else if (strcmp(argv[k], "--fraction") == 0 && k + 1 < argc)
+        else if (strcmp(argv[k], "--scene") == 0 && k + 1 < argc)
+            scene = argv[++k];
+        else if (strcmp(argv[k], "--repeat") == 0 && k + 1 < argc)
+            repeat = atoi(argv[++k]);
+        else if (strcmp(argv[k], "--no-reference") == 0)
+            no_reference = 1;
+        else if (strcmp(argv[k], "--save-runs") == 0 && k + 1 < argc)
+            save_runs = argv[++k];
+        else if (strcmp(argv[k], "--compare") == 0 && k + 2 < argc) {
+            compare_ref = argv[++k];
+            run_files = argv[++k];
+        } else if (strcmp(argv[k], "--fraction") == 0 && k + 1 < argc)
             fraction = strtod(argv[++k], NULL);
         else if (strcmp(argv[k], "--friction") == 0 && k + 1 < argc)
             friction = strtod(argv[++k], NULL);
@@ -443,7 +535,8 @@ int main(int argc, char **argv)
         else {
             fprintf(stderr, "usage: qs_strategies --make-packing FILE [--count N] [--box LX LY LZ] "
                             "[--fraction F] [--friction MU]\n"
-                            "       qs_strategies --packing FILE [--end T] [--rtols LIST] "
+                            "       qs_strategies --packing FILE [--scene SCENE] [--repeat N] "
+                            "[--end T] [--rtols LIST] "
                             "[--strategies LIST] [--max-strains LIST] [--set KEY VALUE]...\n"
                             "                     [--reference S RTOL] [--reference-set KEY "
                             "VALUE]... [--save-reference PATH | --load-reference PATH] "
@@ -457,13 +550,23 @@ int main(int argc, char **argv)
         sinter_ctx_destroy(g_ctx);
         return 0;
     }
+    if (compare_ref != NULL)
+        return compare_files(compare_ref, run_files, end, svg, scene);
     if (pack == NULL) {
-        fprintf(stderr, "qs_strategies: give --make-packing or --packing\n");
+        fprintf(stderr, "qs_strategies: give --make-packing, --packing or --compare\n");
         return 2;
     }
+    if (scene != NULL)
+        load_scene(scene, &end); /* its end_time unless --end follows */
+    for (int k = 1; k + 1 < argc; ++k)
+        if (strcmp(argv[k], "--end") == 0)
+            end = strtod(argv[k + 1], NULL);
     const spheres pk = read_spheres(pack);
     run ref;
-    if (load_ref != NULL) {
+    memset(&ref, 0, sizeof(ref));
+    if (no_reference) {
+        ref.shrink[0] = ref.shrink[1] = ref.shrink[2] = 1.0; /* no errors: compare with --compare */
+    } else if (load_ref != NULL) {
         ref = load_reference(load_ref, end);
     } else {
         fprintf(stderr, "reference: strategy %d at rtol %g ...\n", ref_strategy, ref_rtol);
@@ -480,7 +583,7 @@ int main(int argc, char **argv)
     size_t nstrain = parse_numbers(strains, strain_list, 16);
     if (nstrain == 0)
         strain_list[nstrain++] = 0.0;
-    run runs[64];
+    static run runs[64];
     size_t nr = 0;
     printf("| strategy | rtol | max strain | CPU [s] | global steps | steps (CPU s) ending <1 / "
            "<10 / <100 / "
@@ -488,52 +591,60 @@ int main(int argc, char **argv)
            "in the "
            "reference) | neck error median / 99 %% / "
            "max (link) | shrinkage error |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
-    for (const char *sp = strategies; *sp && nr < 64;) {
-        char *se = NULL;
-        const int s = (int)strtol(sp, &se, 10);
-        if (se == sp)
-            break;
-        sp = se;
-        for (size_t ms = 0; ms < (s == 3 ? nstrain : 1) && nr < 64; ++ms) {
-            for (const char *rp = rtols; *rp && nr < 64;) {
-                char *re = NULL;
-                const double rt = strtod(rp, &re);
-                if (re == rp)
-                    break;
-                rp = re;
-                runs[nr] = sinter_run(&pk, s, rt, s == 3 ? strain_list[ms] : 0.0, &sets, end);
-                compare(&runs[nr], &ref);
-                char strain_text[32] = "-";
-                char cvode_text[96] = "-";
-                if (s == 3) {
-                    snprintf(strain_text, sizeof(strain_text), "%.1e", runs[nr].max_strain);
-                    snprintf(cvode_text, sizeof(cvode_text), "%llu (%llu) / %llu (%llu)",
-                             (unsigned long long)runs[nr].cvode_steps[0],
-                             (unsigned long long)runs[nr].cvode_jacobians[0],
-                             (unsigned long long)runs[nr].cvode_steps[1],
-                             (unsigned long long)runs[nr].cvode_jacobians[1]);
+    for (int rep = 0; rep < repeat; ++rep)
+        for (const char *sp = strategies; *sp && nr < 64;) {
+            char *se = NULL;
+            const int s = (int)strtol(sp, &se, 10);
+            if (se == sp)
+                break;
+            sp = se;
+            for (size_t ms = 0; ms < (s == 3 ? nstrain : 1) && nr < 64; ++ms) {
+                for (const char *rp = rtols; *rp && nr < 64;) {
+                    char *re = NULL;
+                    const double rt = strtod(rp, &re);
+                    if (re == rp)
+                        break;
+                    rp = re;
+                    runs[nr] = sinter_run(&pk, s, rt, s == 3 ? strain_list[ms] : 0.0, &sets, end);
+                    compare(&runs[nr], &ref);
+                    if (save_runs != NULL) {
+                        char path[512];
+                        snprintf(path, sizeof(path), "%s-s%d-r%.0e-m%.1e-%d.txt", save_runs, s, rt,
+                                 runs[nr].max_strain, rep);
+                        save_reference(path, &runs[nr], end);
+                    }
+                    char strain_text[32] = "-";
+                    char cvode_text[96] = "-";
+                    if (s == 3) {
+                        snprintf(strain_text, sizeof(strain_text), "%.1e", runs[nr].max_strain);
+                        snprintf(cvode_text, sizeof(cvode_text), "%llu (%llu) / %llu (%llu)",
+                                 (unsigned long long)runs[nr].cvode_steps[0],
+                                 (unsigned long long)runs[nr].cvode_jacobians[0],
+                                 (unsigned long long)runs[nr].cvode_steps[1],
+                                 (unsigned long long)runs[nr].cvode_jacobians[1]);
+                    }
+                    char decade_text[160] = "";
+                    for (int d = 0; d < 5; ++d) {
+                        const size_t len = strlen(decade_text);
+                        snprintf(decade_text + len, sizeof(decade_text) - len, "%s%llu (%.1f)",
+                                 d > 0 ? " / " : "", (unsigned long long)runs[nr].by_decade[d],
+                                 runs[nr].cpu_by_decade[d]);
+                    }
+                    printf(
+                        "| %d | %.0e | %s | %.3f | %llu | %s | %llu | %s | %zu (%zu) | %.1e / %.1e "
+                        "/ %.1e (%llu-%llu) | %.2e |\n",
+                        s, rt, strain_text, runs[nr].seconds, (unsigned long long)runs[nr].steps,
+                        decade_text, (unsigned long long)runs[nr].pcg, cvode_text, runs[nr].links,
+                        runs[nr].unmatched, runs[nr].neck_median, runs[nr].neck_p99,
+                        runs[nr].neck_err, (unsigned long long)(runs[nr].worst_key / pk.n),
+                        (unsigned long long)(runs[nr].worst_key % pk.n), runs[nr].shrink_err);
+                    fflush(stdout);
+                    nr++;
                 }
-                char decade_text[160] = "";
-                for (int d = 0; d < 5; ++d) {
-                    const size_t len = strlen(decade_text);
-                    snprintf(decade_text + len, sizeof(decade_text) - len, "%s%llu (%.1f)",
-                             d > 0 ? " / " : "", (unsigned long long)runs[nr].by_decade[d],
-                             runs[nr].cpu_by_decade[d]);
-                }
-                printf("| %d | %.0e | %s | %.3f | %llu | %s | %llu | %s | %zu (%zu) | %.1e / %.1e "
-                       "/ %.1e (%llu-%llu) | %.2e |\n",
-                       s, rt, strain_text, runs[nr].seconds, (unsigned long long)runs[nr].steps,
-                       decade_text, (unsigned long long)runs[nr].pcg, cvode_text, runs[nr].links,
-                       runs[nr].unmatched, runs[nr].neck_median, runs[nr].neck_p99,
-                       runs[nr].neck_err, (unsigned long long)(runs[nr].worst_key / pk.n),
-                       (unsigned long long)(runs[nr].worst_key % pk.n), runs[nr].shrink_err);
-                fflush(stdout);
-                nr++;
             }
         }
-    }
     if (svg != NULL)
-        write_svg(svg, runs, nr);
+        write_svg(svg, runs, nr, scene != NULL ? scene : "805 copper spheres at 1293 K");
     for (size_t k = 0; k < nr; ++k) {
         free(runs[k].keys);
         free(runs[k].necks);

@@ -327,16 +327,18 @@ static void reference_pair(packing *pk, double t_end, double y[SINTER_NECK_DOF])
     memcpy(y, pair.y, sizeof(pair.y));
 }
 
-static void two_particles_with(int strategy, double grown_rk4)
+static void two_particles_with(int strategy, double grown_rk4, double young_pairs)
 {
     packing pk;
     packing_init(&pk, strategy);
-    if (grown_rk4 != 0.0) { /* strategy 3 with its grown necks on strategy 2's RK4 */
+    if (strategy == 3) { /* grown necks by CVODE or strategy 2's RK4, young ones batched or not */
         sinter_qs_destroy(pk.qs);
         sinter_qs_options opt;
         sinter_qs_options_default(&opt);
         opt.strategy = strategy;
         assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_grown_rk4", grown_rk4), SINTER_OK);
+        assert_int_equal(sinter_qs_option_set(&opt, pk.ctx, "qs_young_pairs", young_pairs),
+                         SINTER_OK);
         assert_int_equal(sinter_qs_create(&pk.qs, pk.ctx, &opt), SINTER_OK);
     }
     lattice(&pk, 1);
@@ -354,10 +356,11 @@ static void two_particles_with(int strategy, double grown_rk4)
     const double dist = pk.x[3] - pk.x[0];
     const double shrink = 1.0 - dist / (2 * R_CU),
                  shrink_ref = 1.0 - (ref[3] + ref[6]) / (2 * R_CU);
-    print_message("strategy %d%s, 2 particles, 1000 s: %llu steps (%llu rejected, %llu sub-stepped "
-                  "pairs), x/R = %.6f (7DOF %.6f), shrinkage %.6e (7DOF %.6e; docs/7dof.md 6.2: "
-                  "1.029e-2), along x %.6e\n",
+    print_message("strategy %d%s%s, 2 particles, 1000 s: %llu steps (%llu rejected, %llu "
+                  "sub-stepped pairs), x/R = %.6f (7DOF %.6f), shrinkage %.6e (7DOF %.6e; "
+                  "docs/7dof.md 6.2: 1.029e-2), along x %.6e\n",
                   strategy, grown_rk4 != 0.0 ? " (grown necks by RK4)" : "",
+                  young_pairs != 0.0 ? " (young necks one at a time)" : "",
                   (unsigned long long)st.steps, (unsigned long long)st.rejected,
                   (unsigned long long)st.substepped_pairs, l->neck.y[0] / R_CU, ref[0] / R_CU,
                   shrink, shrink_ref, st.shrinkage[0]);
@@ -367,7 +370,9 @@ static void two_particles_with(int strategy, double grown_rk4)
     /* RK4 at rtol 1e-6 vs CVODE 1e-9: 1e-5. Strategy 3 is CVODE at rtol 1e-6 restarted at
      * each of ~160 global steps from its last step size: its global error is 10-30 rtol per
      * run (sinter.h, "error_scale"), ~50 rtol over the restarts: 1e-4. With qs_grown_rk4 the
-     * neck is integrated by CVODE until x/R = 0.05 and by RK4 after: strategy 3's bounds. */
+     * neck is integrated by CVODE until x/R = 0.05 and by RK4 after: strategy 3's bounds;
+     * with qs_young_pairs the young neck's CVODE is the same integration as in a batch of one
+     * (its own steps, the same error test), so the same bounds. */
     const double neck_tol = strategy == 3 ? 1e-4 : 1e-5;
     assert_close(l->neck.y[0], ref[0], neck_tol * ref[0]);
     assert_close(shrink, shrink_ref, (strategy == 3 ? 2e-4 : 1e-4) * shrink_ref);
@@ -383,13 +388,20 @@ static void two_particles_with(int strategy, double grown_rk4)
 
 static void two_particles(int strategy)
 {
-    two_particles_with(strategy, 0.0);
+    two_particles_with(strategy, 0.0, 0.0);
 }
 
 static void test_qs_two_particles_strategy3_grown_rk4(void **state)
 {
     (void)state;
-    two_particles_with(3, 1.0);
+    two_particles_with(3, 1.0, 0.0);
+}
+
+static void test_qs_two_particles_strategy3_young_pairs(void **state)
+{
+    (void)state;
+    two_particles_with(3, 1.0, 1.0); /* the whole-run setting (tests/bench/RESULTS.md) */
+    two_particles_with(3, 0.0, 1.0); /* every neck in CVODE */
 }
 
 static void test_qs_two_particles_strategy2(void **state)
@@ -480,8 +492,7 @@ static sinter_qs_stats triangle_strategy3(packing *pk, double fraction, double *
     sinter_qs_options opt;
     sinter_qs_options_default(&opt);
     assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_strategy", 3.0), SINTER_OK);
-    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_strain_fraction", fraction),
-                     SINTER_OK);
+    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_strain_fraction", fraction), SINTER_OK);
     triangle_init(pk, &opt, 0.0);
     const sinter_qs_stats st = run_packing(pk, 100.0);
     size_t nl = 0;
@@ -510,7 +521,7 @@ static void test_qs_strain_fraction(void **state)
                   fabs(ab_loose - ab_strict) / ab_strict);
     assert_true(s1.steps < s0.steps);
     /* 66 against 76 steps; the A-B shrinkages differ by 2e-5 relative (measured), the
-     * mechanical error of two step sequences at max_strain 1e-4. 2e-4 is the bound of the
+     * mechanical error of two step sequences at max_strain 7e-5. 2e-4 is the bound of the
      * two-particle strategy-3 test and the level this error reaches on the 805-sphere packing
      * (tests/bench/RESULTS.md, whole run, session 3). */
     assert_close(ab_loose, ab_strict, 2e-4 * ab_strict);
@@ -518,7 +529,7 @@ static void test_qs_strain_fraction(void **state)
     sinter_qs_options o;
     sinter_qs_options_default(&o);
     assert_int_equal(sinter_qs_option_get(&o, strict.ctx, "qs_strain_fraction", &v), SINTER_OK);
-    assert_close(v, 0.0, 0.0); /* the default keeps the rule "no link above max_strain" */
+    assert_close(v, 0.01, 0.0); /* the default: 1 % of the links may reach max_strain */
     assert_int_equal(sinter_qs_option_set(&o, strict.ctx, "qs_strain_fraction", 1.5),
                      SINTER_ERR_INVALID);
     assert_int_equal(sinter_qs_option_set(&o, strict.ctx, "qs_strain_fraction", -0.1),
@@ -537,8 +548,7 @@ static size_t links_after_gap_closes(double new_contacts, double *c_height)
 {
     sinter_qs_options opt;
     sinter_qs_options_default(&opt);
-    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_new_contacts", new_contacts),
-                     SINTER_OK);
+    assert_int_equal(sinter_qs_option_set(&opt, NULL, "qs_new_contacts", new_contacts), SINTER_OK);
     packing pk;
     triangle_init(&pk, &opt, 1e-4);
     (void)run_packing(&pk, 100.0);
@@ -557,7 +567,7 @@ static void test_qs_new_contacts(void **state)
     assert_int_equal(links_after_gap_closes(1.0, &c_on), 3);
     assert_int_equal(links_after_gap_closes(0.0, &c_off), 1);
     assert_close(c_off, h0, 1e-15); /* never linked: C does not move */
-    assert_true(c_on < h0);          /* linked: pulled towards A and B */
+    assert_true(c_on < h0);         /* linked: pulled towards A and B */
     sinter_qs_options o;
     sinter_qs_options_default(&o);
     double v = 0.0;
@@ -692,8 +702,8 @@ static void test_qs_floating_pair(void **state)
         for (size_t d = 0; d < 3; ++d) {
             dist += (b[d] - a[d]) * (b[d] - a[d]);
             drift = fmax(drift, fabs(0.5 * (a[d] + b[d]) - mid0[q][d]));
-            turn = fmax(turn, fmax(fabs(pk.rot[3 * first[q] + d]),
-                                   fabs(pk.rot[3 * first[q] + 3 + d])));
+            turn = fmax(turn,
+                        fmax(fabs(pk.rot[3 * first[q] + d]), fabs(pk.rot[3 * first[q] + 3 + d])));
             along += (b[d] - a[d]) * dirs[q][d];
         }
         dist = sqrt(dist);
@@ -847,7 +857,8 @@ static void test_qs_stepper_adapter(void **state)
         assert_true(taken > 0.0 && taken <= h);
     }
     const double shrink = 1.0 - (ps->x[3] - ps->x[0]) / (2 * R_CU);
-    print_message("adapter: 2 particles, 100 s: shrinkage %.6e (docs/7dof.md 6.2: 3.47e-3)\n", shrink);
+    print_message("adapter: 2 particles, 100 s: shrinkage %.6e (docs/7dof.md 6.2: 3.47e-3)\n",
+                  shrink);
     assert_close(shrink, 3.47e-3, 0.01 * 3.47e-3);
     sinter_qs_destroy(qs);
     sinter_stepper_destroy(st);
@@ -966,12 +977,12 @@ static void test_qs_near_pairs_follow_drift(void **state)
         if (step == STEPS / 2)
             r[3] *= 1.01; /* a radius changes: the kept pairs no longer hold */
         int searched = 0;
-        assert_int_equal(sinter_qs_touching_pairs_near(ctx, &near, N, x, r, tol, &keys, &cap,
-                                                       &count, &searched),
-                         SINTER_OK);
-        assert_int_equal(sinter_qs_touching_pairs(ctx, N, x, r, tol, 0.0, &expect, &expect_cap,
-                                                  &expect_count),
-                         SINTER_OK);
+        assert_int_equal(
+            sinter_qs_touching_pairs_near(ctx, &near, N, x, r, tol, &keys, &cap, &count, &searched),
+            SINTER_OK);
+        assert_int_equal(
+            sinter_qs_touching_pairs(ctx, N, x, r, tol, 0.0, &expect, &expect_cap, &expect_count),
+            SINTER_OK);
         assert_int_equal(count, expect_count);
         assert_memory_equal(keys, expect, count * sizeof(uint64_t));
         searches += searched;
@@ -985,12 +996,12 @@ static void test_qs_near_pairs_follow_drift(void **state)
     print_message("%d steps: %d grid searches, the pair count changed %d times (%zu pairs at "
                   "the end)\n",
                   STEPS, searches, changes, count);
-    assert_true(changes >= 10);                   /* pairs came and went */
+    assert_true(changes >= 10);                          /* pairs came and went */
     assert_true(searches >= 3 && searches <= STEPS / 4); /* and the grid ran seldom */
     x[7] = NAN;
-    assert_int_equal(sinter_qs_touching_pairs_near(ctx, &near, N, x, r, tol, &keys, &cap, &count,
-                                                   NULL),
-                     SINTER_ERR_INVALID);
+    assert_int_equal(
+        sinter_qs_touching_pairs_near(ctx, &near, N, x, r, tol, &keys, &cap, &count, NULL),
+        SINTER_ERR_INVALID);
     sinter_qs_near_free(ctx, &near);
     sinter_free(ctx, keys);
     sinter_free(ctx, expect);
@@ -1053,6 +1064,7 @@ int main(void)
         cmocka_unit_test(test_qs_two_particles_strategy1),
         cmocka_unit_test(test_qs_two_particles_strategy3),
         cmocka_unit_test(test_qs_two_particles_strategy3_grown_rk4),
+        cmocka_unit_test(test_qs_two_particles_strategy3_young_pairs),
         cmocka_unit_test(test_qs_triangle),
         cmocka_unit_test(test_qs_strain_fraction),
         cmocka_unit_test(test_qs_new_contacts),

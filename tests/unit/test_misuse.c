@@ -400,16 +400,33 @@ static sinter_status get_option(const void *o, const char *k, double *v)
     return sinter_stepper_get_option(o, k, v);
 }
 
-static const char *const STAGGERED_KEYS[] = {"phi",       "target_iterations", "tolerance",
-                                             "exponent",  "dt_max",            "dt_min",
-                                             "adaptive",  "position_tolerance",
+static const char *const STAGGERED_KEYS[] = {"phi",
+                                             "target_iterations",
+                                             "tolerance",
+                                             "exponent",
+                                             "dt_max",
+                                             "dt_min",
+                                             "adaptive",
+                                             "position_tolerance",
                                              "temperature_tolerance"};
-static const char *const QS_KEYS[] = {
-    "qs_strategy",        "qs_dt_min",          "qs_dt_max",         "qs_alpha",
-    "qs_error_limit",     "qs_grow_fraction",   "qs_shrink_fraction", "qs_contact_tolerance",
-    "qs_plane_tolerance", "qs_solve_rtol",      "qs_rtol",           "qs_epsilon",
-    "qs_h0_ratio",        "qs_max_strain",      "qs_strain_fraction", "qs_grown_rk4",
-    "qs_new_contacts"};
+static const char *const QS_KEYS[] = {"qs_strategy",
+                                      "qs_dt_min",
+                                      "qs_dt_max",
+                                      "qs_alpha",
+                                      "qs_error_limit",
+                                      "qs_grow_fraction",
+                                      "qs_shrink_fraction",
+                                      "qs_contact_tolerance",
+                                      "qs_plane_tolerance",
+                                      "qs_solve_rtol",
+                                      "qs_rtol",
+                                      "qs_epsilon",
+                                      "qs_h0_ratio",
+                                      "qs_max_strain",
+                                      "qs_strain_fraction",
+                                      "qs_grown_rk4",
+                                      "qs_new_contacts",
+                                      "qs_young_pairs"};
 
 static uint64_t fingerprint(fixture *f)
 {
@@ -1591,8 +1608,8 @@ static void expect_reported(rig *r, sinter_status st)
 static uint64_t fingerprint_rig(rig *r)
 {
     hasher z = {0xcbf29ce484222325ull};
-    static const sinter_field FIELDS[] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY,
-                                          SINTER_FIELD_SPIN, SINTER_FIELD_ROTATION,
+    static const sinter_field FIELDS[] = {SINTER_FIELD_POSITION,    SINTER_FIELD_VELOCITY,
+                                          SINTER_FIELD_SPIN,        SINTER_FIELD_ROTATION,
                                           SINTER_FIELD_TEMPERATURE, SINTER_FIELD_RADIUS};
     for (size_t f = 0; f < sizeof(FIELDS) / sizeof(FIELDS[0]); ++f) {
         const double *a = NULL;

@@ -76,7 +76,7 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "anderson_depth": "[-] m of Anderson(m) in scheme 1; 3; whole number in [0, 10]",
     },
     "quasistatic": {
-        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7; default 2), 3: CVODE batch",
+        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7), 3 (default): CVODE necks",
         "qs_dt_min": "[s] a global step below it fails; 1e-12",
         "qs_dt_max": "[s] largest global step; 10",
         "qs_alpha": "[-] step factor of seed 001 eq. 45, 47; 1.5",
@@ -89,9 +89,11 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "qs_rtol": "[-] relative accuracy of the necks; 1e-6",
         "qs_epsilon": "[-] seeded neck radius x0 / min(R_A, R_B); 0.01",
         "qs_h0_ratio": "[-] junction radius of the seeded neck h0 / x0; 1.5",
-        "qs_max_strain": "[-] strategy 3: largest approach per step / L0; 1e-4",
-        "qs_strain_fraction": "[-] strategy 3: fraction of links allowed to reach it; 0; [0, 1]",
-        "qs_grown_rk4": "[-] strategy 3: 1 advances grown necks by RK4; 0",
+        "qs_max_strain": "[-] strategy 3: largest approach per step / L0; 7e-5",
+        "qs_strain_fraction": "[-] strategy 3: fraction of links allowed to reach it; 0.01",
+        "qs_grown_rk4": "[-] strategy 3: 1 (default) advances grown necks by RK4; 0: CVODE",
+        "qs_young_pairs": "[-] strategy 3: 1 (default): each young neck on its own CVODE "
+                          "steps; 0: one batch",
         "qs_new_contacts": "[-] 1 (default): contacts made during the run become links; 0: "
                            "only those of the first step",
     },
