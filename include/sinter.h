@@ -1439,8 +1439,8 @@ typedef enum sinter_link_data {
     SINTER_LINK_DATA_NECK_RADIUS = 2, /**< neck radius x = y1 (docs/7dof.md) [m] */
     SINTER_LINK_DATA_NECK_RATIO = 3,  /**< x / min(r_A, r_B), the smaller particle radius (as neck_ratio_mean) [-] */
     SINTER_LINK_DATA_APPROACH = 4,    /**< centre approach L0 - (y4 + y7) (seed 001 eq. 11, 13) [m] */
-    SINTER_LINK_DATA_AGE = 5,         /**< time of the neck state minus its time of birth [s]; NaN
-                                      (links do not record their birth yet) */
+    SINTER_LINK_DATA_AGE = 5,         /**< time of the neck state minus the time the link was
+                                      made [s] (0 for the links of the first step) */
     SINTER_LINK_DATA_PHASE = 6,       /**< neck phase at the pair's mean temperature (0, 1 hot), 1 int32 */
     SINTER_LINK_DATA_SINTERING_FORCE = 7, /**< sintering force of the last step, seed 001 eq. 17, > 0
                                           pulls the pair together [N] */

@@ -550,7 +550,7 @@ static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
         /* over the smaller particle radius, as the sintering statistics */
         snap->ratio[k] = y[SINTER_NECK_X] / fmin(ps->radius[l->beam.a], ps->radius[l->beam.b]);
         snap->approach[k] = l->neck.center_distance0 - (y[SINTER_NECK_LA] + y[SINTER_NECK_LB]);
-        snap->age[k] = NAN;
+        snap->age[k] = l->neck.time - l->born;
         const uint32_t a = l->beam.a, b = l->beam.b;
         const double theta = 0.5 * (ps->temperature[a] + ps->temperature[b]);
         snap->phase[k] = (int32_t)sinter_neck_phase_at(&l->material, theta);

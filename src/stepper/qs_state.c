@@ -64,6 +64,7 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
         l.substepped = qs->links[k].substepped;
         l.id_a = qs->links[k].id_a;
         l.id_b = qs->links[k].id_b;
+        l.born = qs->links[k].born;
         p = put(p, &l, sizeof(l));
     }
     p = put_u64(p, qs->particles == SIZE_MAX ? UINT64_MAX : (uint64_t)qs->particles);
@@ -126,18 +127,28 @@ static int link_ok(const sinter_qs_link *l, size_t n, const void *ids)
     for (int k = 0; k < SINTER_NECK_DOF; ++k)
         if (!isfinite(l->neck.y[k]) || !(l->neck.y[k] > 0.0))
             return 0;
-    const double v[] = {l->neck.time,      l->neck.center_distance0,
-                        l->neck.last_dy4,  l->neck.last_dy7,
-                        l->neck.step_hint, l->rm,
-                        l->youngs,         l->beam.arm_a,
-                        l->beam.arm_b,     l->beam.k_axial,
-                        l->beam.k_shear,   l->beam.k_bend,
-                        l->beam.k_torsion, l->beam.axis[0],
-                        l->beam.axis[1],   l->beam.axis[2]};
+    const double v[] = {l->neck.time,
+                        l->neck.center_distance0,
+                        l->neck.last_dy4,
+                        l->neck.last_dy7,
+                        l->neck.step_hint,
+                        l->rm,
+                        l->youngs,
+                        l->beam.arm_a,
+                        l->beam.arm_b,
+                        l->beam.k_axial,
+                        l->beam.k_shear,
+                        l->beam.k_bend,
+                        l->beam.k_torsion,
+                        l->beam.axis[0],
+                        l->beam.axis[1],
+                        l->beam.axis[2],
+                        l->born};
     for (size_t k = 0; k < sizeof(v) / sizeof(v[0]); ++k)
         if (!isfinite(v[k]))
             return 0;
-    return l->rm > 0.0 && l->youngs > 0.0 && l->neck.center_distance0 > 0.0;
+    return l->rm > 0.0 && l->youngs > 0.0 && l->neck.center_distance0 > 0.0 &&
+           l->born <= l->neck.time;
 }
 
 sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,

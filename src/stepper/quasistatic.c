@@ -422,6 +422,7 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
                                a, b, ra, rb, sqrt(dist2));
         l->id_a = p->id != NULL ? p->id[a] : (uint64_t)a;
         l->id_b = p->id != NULL ? p->id[b] : (uint64_t)b;
+        l->born = t;
         qs->keys[qs->count] = key;
         qs->count++;
     }

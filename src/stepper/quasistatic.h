@@ -117,6 +117,7 @@ typedef struct sinter_qs_link {
     sinter_neck_material material; /* the neck data (of particle A), copied */
     int substepped;                /* strategy 2: the last advance needed sub-steps */
     uint64_t id_a, id_b;           /* particle ids of a and b, to follow a reordering */
+    double born;                   /* time the link was made [s] (its age: neck.time - born) */
 } sinter_qs_link;
 
 /* Outputs (seed 001 sec. 4; docs/7dof.md §5). */

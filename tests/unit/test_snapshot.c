@@ -491,6 +491,12 @@ static void test_links_match_statistics(void **state)
     OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_APPROACH, &data, NULL, NULL, NULL));
     const double *approach = data;
     assert_true(approach[0] > 0.0 && approach[0] < 0.1 * r);
+    /* both links were made at t = 0 and their necks are at the stepper's time */
+    double now = 0.0;
+    OK(sinter_stepper_time(s.st, &now));
+    OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_AGE, &data, NULL, NULL, NULL));
+    for (size_t k = 0; k < 2; ++k)
+        assert_close(((const double *)data)[k], now, 1e-12 * now);
     OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_A, &data, NULL, NULL, &dtype));
     assert_int_equal(dtype, SINTER_DTYPE_UINT64);
     const uint64_t *ida = data;
