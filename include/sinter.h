@@ -563,6 +563,99 @@ SINTER_API sinter_status sinter_walls_get_normal(const sinter_walls *walls, size
 SINTER_API sinter_status sinter_walls_get_force(const sinter_walls *walls, size_t k,
                                                 double force[3]);
 
+/**
+ * Wall kinds. Every kind is one-sided: particles live on the side its normal
+ * points to (a cylinder: inside or outside, as chosen). A sphere touches a
+ * wall when its centre is closer than its radius to the wall's closest point;
+ * the contact normal runs from that point to the centre, and every contact
+ * law treats the wall locally as a plane there.
+ */
+typedef enum sinter_wall_kind {
+    SINTER_WALL_PLANE = 0,     /**< infinite plane (sinter_walls_add_plane) */
+    SINTER_WALL_RECTANGLE = 1, /**< finite plane: a rectangle; beyond its edges a sphere meets the edge, behind it nothing */
+    SINTER_WALL_DISC = 2,      /**< finite plane: a disc, edges as the rectangle's */
+    SINTER_WALL_CYLINDER = 3   /**< lateral surface of a circular cylinder, open ends */
+} sinter_wall_kind;
+
+/**
+ * Add a fixed rectangle centred at `center` [m] with normal `normal` into the
+ * particle region, its first edge along `edge` (its part normal to `normal`;
+ * it must not be parallel to it) with half length `half_1` [m], the second
+ * along normal x edge with half length `half_2` [m]. Errors: SINTER_ERR_INVALID
+ * for a zero or non-finite vector, a half length that is not positive.
+ */
+SINTER_API sinter_status sinter_walls_add_rectangle(sinter_walls *walls, const double center[3],
+                                                    const double normal[3], const double edge[3],
+                                                    double half_1, double half_2,
+                                                    const sinter_material *material,
+                                                    size_t *index);
+/** Add a fixed disc of radius `radius` [m] centred at `center` [m], normal into the particles. */
+SINTER_API sinter_status sinter_walls_add_disc(sinter_walls *walls, const double center[3],
+                                               const double normal[3], double radius,
+                                               const sinter_material *material, size_t *index);
+/**
+ * Add a fixed cylinder: axis through `point` [m] along `axis` (normalised
+ * here), radius `radius` [m]; contacts where the axial offset from `point` is
+ * at most `half_length` [m] (HUGE_VAL: infinite). `inside` = 1: particles
+ * inside the cylinder (a die), 0: outside (a pin). The wall's normal
+ * (sinter_walls_get_normal) is its axis.
+ */
+SINTER_API sinter_status sinter_walls_add_cylinder(sinter_walls *walls, const double point[3],
+                                                   const double axis[3], double radius,
+                                                   double half_length, int inside,
+                                                   const sinter_material *material,
+                                                   size_t *index);
+/** Kind of wall k (sinter_wall_kind). */
+SINTER_API sinter_status sinter_walls_get_kind(const sinter_walls *walls, size_t k, int *kind);
+/**
+ * Shape of wall k at the current time: its axis (the normal of a planar
+ * kind), its first edge direction (rectangle), and size: rectangle (half_1,
+ * half_2, 0) [m]; disc (radius, 0, 0); cylinder (radius, half_length, inside).
+ * Any pointer may be NULL.
+ */
+SINTER_API sinter_status sinter_walls_get_shape(const sinter_walls *walls, size_t k,
+                                                double axis[3], double edge[3], double size[3]);
+/**
+ * Spin of wall k about its axis through its point at angular velocity omega
+ * [rad/s] (right-handed about the axis), from its motion's start on, added to
+ * its translation: the surface velocity at a contact point c is
+ * u + omega a x (c - p), which the contact laws take as the wall's velocity
+ * (friction, tangential history). A rectangle turns with it; the other kinds
+ * are unchanged by a spin about their axis.
+ */
+SINTER_API sinter_status sinter_walls_set_spin(sinter_walls *walls, size_t k, double omega);
+/**
+ * Reaction moment on wall k about its point p [N m] in the last accepted step:
+ * the sum over its contacts of -(c - p) x f - m_r, f the force and m_r the
+ * rolling moment each particle got at its contact point c.
+ */
+SINTER_API sinter_status sinter_walls_get_moment(const sinter_walls *walls, size_t k,
+                                                 double moment[3]);
+/**
+ * Drive wall k (a plane, rectangle or disc) along its normal a by a force
+ * servo: a PI controller on e = F_target(t) - F, F = -force . a the force the
+ * particles push against the wall, sets its velocity along a to
+ * v = clamp(kp e + ki int e dt, -vmax, vmax) at each accepted step (the
+ * integral held while v is at its limit: anti-windup). F_target(t) is the
+ * piecewise-linear schedule (times [s] increasing, forces [N]; held outside);
+ * a pressure P on area A is the force P A. Gains kp [m/(s N)], ki
+ * [m/(s^2 N)] (>= 0, not both 0), vmax [m/s] > 0. Replaces the wall's
+ * prescribed motion (the wall starts where it is); a later motion replaces
+ * the servo. Guidance: kp ~ vmax / F_target makes the wall approach at its
+ * limit and slow within the target's magnitude; ki adds a creep that removes
+ * the steady error.
+ */
+SINTER_API sinter_status sinter_walls_set_servo(sinter_walls *walls, size_t k, size_t n,
+                                                const double *times, const double *forces,
+                                                double kp, double ki, double vmax);
+/**
+ * State of wall k's servo: target force [N] at the current time, the force
+ * the particles push against it [N], its velocity along its normal [m/s]
+ * (any pointer may be NULL). SINTER_ERR_INVALID when the wall has no servo.
+ */
+SINTER_API sinter_status sinter_walls_get_servo(const sinter_walls *walls, size_t k,
+                                                double *target, double *pushed, double *velocity);
+
 /* ------------------------------------------------------------------------ */
 /* Force submodels                                                           */
 /* ------------------------------------------------------------------------ */

@@ -859,16 +859,17 @@ static inline void put_wall_distances(sinter_contact_list *c, size_t m, double r
     c->branch[m] = s;
 }
 
-/* Wall contact m: pair p of particle i with wall k (w), and its geometry. */
+/* Wall contact m: pair p of particle i with wall k, and its geometry (wn: the wall's normal
+ * at the contact, towards the particle). */
 static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t p, uint32_t i,
-                                     uint32_t k, const sinter_wall *w, double r, double s)
+                                     uint32_t k, const double *wn, double r, double s)
 {
     c->i[m] = i;
     c->j[m] = k;
     c->pair[m] = p;
-    c->n[3 * m] = -w->n[0];
-    c->n[3 * m + 1] = -w->n[1];
-    c->n[3 * m + 2] = -w->n[2];
+    c->n[3 * m] = -wn[0];
+    c->n[3 * m + 1] = -wn[1];
+    c->n[3 * m + 2] = -wn[2];
     put_wall_distances(c, m, r, s);
 }
 
@@ -877,10 +878,10 @@ static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t 
  * never; the normal when the wall turned). A store to a cache line another core has read
  * costs a round trip to it even when the value is the same (issue 9: 40 % of a 1k bed's wall
  * search on two threads). */
-static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const sinter_wall *w,
+static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const double *wn,
                                        double r, double s)
 {
-    const double n[3] = {-w->n[0], -w->n[1], -w->n[2]};
+    const double n[3] = {-wn[0], -wn[1], -wn[2]};
     sinter_put_changed(c->n + 3 * m, n, sizeof(n));
     put_wall_distances(c, m, r, s);
 }
@@ -914,7 +915,8 @@ static void wall_test_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         ascending &= p == 0 || i >= pi[p - 1];
         const sinter_wall *w = &job->walls->wall[k];
-        const double sd = sinter_wall_distance(w, x + 3 * i);
+        double wn[3];
+        const double sd = sinter_wall_contact(w, x + 3 * i, wn);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
@@ -922,7 +924,7 @@ static void wall_test_range(void *data, int t)
         if (touches != (was != SINTER_NO_PAIR))
             same = 0;
         else if (job->compare && touches)
-            renew_wall_geometry(c, was, w, r[i], sd);
+            renew_wall_geometry(c, was, wn, r[i], sd);
     }
     job->same[t] = same;
     job->ascending[t] = ascending;
@@ -948,7 +950,9 @@ static void wall_put_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         const sinter_wall *w = &job->walls->wall[k];
         to_contact[p] = (uint32_t)m;
-        put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i], sinter_wall_distance(w, x + 3 * i));
+        double wn[3];
+        const double sd = sinter_wall_contact(w, x + 3 * i, wn);
+        put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }
 }

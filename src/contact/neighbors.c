@@ -125,9 +125,7 @@ int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *p
     const double half = 0.5 * nb->skin;
     double max_wall = 0.0;
     for (size_t k = 0; k < nw; ++k) {
-        const sinter_wall *w = &walls->wall[k];
-        const double s = w->n[0] * w->p[0] + w->n[1] * w->p[1] + w->n[2] * w->p[2];
-        const double moved = fabs(s - nb->wall_ref[k]);
+        const double moved = sinter_wall_moved(&walls->wall[k], nb->wall_ref + 4 * k);
         if (moved > max_wall)
             max_wall = moved;
     }
@@ -627,17 +625,15 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = sinter_grow(ctx, (void **)&nb->x_ref, &nb->ref_capacity, 3 * ps->count + 3,
                          sizeof(double));
     if (st == SINTER_OK)
-        st = sinter_grow(ctx, (void **)&nb->wall_ref, &nb->wall_ref_capacity, nw + 1,
+        st = sinter_grow(ctx, (void **)&nb->wall_ref, &nb->wall_ref_capacity, 4 * nw + 4,
                          sizeof(double));
     if (st != SINTER_OK) {
         nb->built = 0;
         return st;
     }
     memcpy(nb->x_ref, ps->x, 3 * ps->count * sizeof(double));
-    for (size_t k = 0; k < nw; ++k) {
-        const sinter_wall *w = &walls->wall[k];
-        nb->wall_ref[k] = w->n[0] * w->p[0] + w->n[1] * w->p[1] + w->n[2] * w->p[2];
-    }
+    for (size_t k = 0; k < nw; ++k)
+        sinter_wall_reference(&walls->wall[k], nb->wall_ref + 4 * k);
     nb->wall_count = nw;
     nb->layout_generation = ps->layout_generation;
     set_bound(nb, ps, 0.0); /* nothing moved since */

@@ -1,0 +1,336 @@
+/* Wall kinds other than the infinite plane: closest point, signed distance and contact normal
+ * of a particle centre, and their construction (sinter_walls_add_rectangle, _disc,
+ * _cylinder). A kind is one case of sinter_wall_shape_contact; a later kind (a triangle mesh)
+ * adds its case and its constructor here or in its own folder.
+ *
+ * The contact of a sphere with any kind is the contact with the closest point of the surface
+ * treated locally as a plane (the wall as a particle of infinite radius, as for planes): the
+ * overlap is r - s, the normal the direction from the closest point to the centre. */
+#include <math.h>
+#include <string.h>
+
+#include "walls.h"
+
+static inline double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* A point at lateral offset t (in the wall's plane) beyond the edge of a planar kind, and
+ * height h above it: distance and normal from the closest edge point (t - q: the offset from
+ * the edge's closest point, in the plane). Behind the plane (h < 0) beyond the edge, a finite
+ * plane is not met: its back is not a wall (one-sided, as the infinite plane). */
+static double edge_contact(const sinter_wall *w, const double *lateral, double h, double *n)
+{
+    if (h < 0.0)
+        return INFINITY;
+    double v[3];
+    for (int d = 0; d < 3; ++d)
+        v[d] = lateral[d] + h * w->n[d];
+    const double s = sqrt(dot3(v, v));
+    if (n != NULL) {
+        if (s > 0.0)
+            for (int d = 0; d < 3; ++d)
+                n[d] = v[d] / s;
+        else
+            memcpy(n, w->n, 3 * sizeof(double));
+    }
+    return s;
+}
+
+static double rectangle_contact(const sinter_wall *w, const double *x, double *n)
+{
+    const double d[3] = {x[0] - w->p[0], x[1] - w->p[1], x[2] - w->p[2]};
+    const double h = dot3(d, w->n), a = dot3(d, w->e1), b = dot3(d, w->e2);
+    const double ca = fmin(fmax(a, -w->half[0]), w->half[0]);
+    const double cb = fmin(fmax(b, -w->half[1]), w->half[1]);
+    if (ca == a && cb == b) { /* over the face: the plane's distance */
+        if (n != NULL)
+            memcpy(n, w->n, 3 * sizeof(double));
+        return h;
+    }
+    double lateral[3];
+    for (int k = 0; k < 3; ++k)
+        lateral[k] = (a - ca) * w->e1[k] + (b - cb) * w->e2[k];
+    return edge_contact(w, lateral, h, n);
+}
+
+static double disc_contact(const sinter_wall *w, const double *x, double *n)
+{
+    const double d[3] = {x[0] - w->p[0], x[1] - w->p[1], x[2] - w->p[2]};
+    const double h = dot3(d, w->n);
+    double t[3];
+    for (int k = 0; k < 3; ++k)
+        t[k] = d[k] - h * w->n[k];
+    const double rho = sqrt(dot3(t, t));
+    if (rho <= w->radius) {
+        if (n != NULL)
+            memcpy(n, w->n, 3 * sizeof(double));
+        return h;
+    }
+    const double f = (rho - w->radius) / rho;
+    for (int k = 0; k < 3; ++k)
+        t[k] *= f;
+    return edge_contact(w, t, h, n);
+}
+
+/* A cylinder's lateral surface: the radial distance from the axis against the radius; beyond
+ * its ends (|axial offset| > half_length) no contact (an open tube; rims are not walls). */
+static double cylinder_contact(const sinter_wall *w, const double *x, double *n)
+{
+    const double d[3] = {x[0] - w->p[0], x[1] - w->p[1], x[2] - w->p[2]};
+    const double h = dot3(d, w->axis);
+    if (fabs(h) > w->half_length)
+        return INFINITY;
+    double t[3];
+    for (int k = 0; k < 3; ++k)
+        t[k] = d[k] - h * w->axis[k];
+    const double rho = sqrt(dot3(t, t));
+    if (n != NULL) {
+        if (rho > 0.0) {
+            const double sign = w->inside ? -1.0 : 1.0; /* inside: towards the axis */
+            for (int k = 0; k < 3; ++k)
+                n[k] = sign * t[k] / rho;
+        } else { /* on the axis: any radial direction (e1 is one) */
+            memcpy(n, w->e1, 3 * sizeof(double));
+        }
+    }
+    return w->inside ? w->radius - rho : rho - w->radius;
+}
+
+double sinter_wall_shape_contact(const sinter_wall *w, const double *x, double *n)
+{
+    switch (w->kind) {
+    case SINTER_WALL_RECTANGLE:
+        return rectangle_contact(w, x, n);
+    case SINTER_WALL_DISC:
+        return disc_contact(w, x, n);
+    case SINTER_WALL_CYLINDER:
+        return cylinder_contact(w, x, n);
+    default: {
+        const double s = sinter_plane_distance(w, x);
+        if (n != NULL)
+            memcpy(n, w->n, 3 * sizeof(double));
+        return s;
+    }
+    }
+}
+
+static int finite3(const double v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+/* v / |v| into unit, scaled first (as add_plane's); 0 for the zero vector. */
+static int unit_of(const double v[3], double unit[3])
+{
+    const double scale = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+    if (!(scale > 0.0))
+        return 0;
+    const double s[3] = {v[0] / scale, v[1] / scale, v[2] / scale};
+    const double len = sqrt(dot3(s, s));
+    for (int d = 0; d < 3; ++d)
+        unit[d] = s[d] / len;
+    return 1;
+}
+
+/* A unit vector normal to unit a: a x (the axis a is least along). */
+static void any_normal(const double *a, double *e)
+{
+    int m = 0;
+    for (int d = 1; d < 3; ++d)
+        if (fabs(a[d]) < fabs(a[m]))
+            m = d;
+    double z[3] = {0, 0, 0}, c[3];
+    z[m] = 1.0;
+    c[0] = a[1] * z[2] - a[2] * z[1];
+    c[1] = a[2] * z[0] - a[0] * z[2];
+    c[2] = a[0] * z[1] - a[1] * z[0];
+    unit_of(c, e);
+}
+
+/* a x b into out */
+static void cross3(const double *a, const double *b, double *out)
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* A plane wall added by add_plane (the common set-up), then given its kind. */
+static sinter_status add_kind(sinter_walls *walls, const char *func, const double point[3],
+                              const double axis[3], const sinter_material *material,
+                              size_t *index, sinter_wall **out)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(walls->ctx, point);
+    SINTER_CHECK_NULL(walls->ctx, axis);
+    SINTER_CHECK_NULL(walls->ctx, material);
+    double unit[3];
+    if (!finite3(point) || !finite3(axis))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "%s: point (%g, %g, %g) and axis (%g, %g, %g) must be finite", func,
+                           point[0], point[1], point[2], axis[0], axis[1], axis[2]);
+    if (!unit_of(axis, unit))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "%s: the normal (or axis) is the zero vector", func);
+    size_t k = 0;
+    const sinter_status st = sinter_walls_add_plane(walls, point, unit, material, &k);
+    if (st != SINTER_OK)
+        return st;
+    sinter_wall *w = &walls->wall[k];
+    memcpy(w->axis, w->n, sizeof(w->axis));
+    any_normal(w->axis, w->e1);
+    memcpy(w->e1_0, w->e1, sizeof(w->e1));
+    cross3(w->axis, w->e1, w->e2);
+    if (index)
+        *index = k;
+    *out = w;
+    return SINTER_OK;
+}
+
+static int positive(double v)
+{
+    return v > 0.0 && v < INFINITY;
+}
+
+sinter_status sinter_walls_add_rectangle(sinter_walls *walls, const double center[3],
+                                         const double normal[3], const double edge[3],
+                                         double half_1, double half_2,
+                                         const sinter_material *material, size_t *index)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(walls->ctx, edge);
+    if (!positive(half_1) || !positive(half_2))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_rectangle: half lengths %g m and %g m must be "
+                           "positive and finite",
+                           half_1, half_2);
+    SINTER_CHECK_NULL(walls->ctx, normal);
+    double n[3], e[3] = {0, 0, 0};
+    if (finite3(normal) && unit_of(normal, n)) { /* else add_kind names the normal */
+        const double en = finite3(edge) ? dot3(edge, n) : 0.0;
+        for (int d = 0; d < 3; ++d) /* the edge's part in the plane */
+            e[d] = edge[d] - en * n[d];
+        if (!finite3(edge) || !unit_of(e, e))
+            return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                               "sinter_walls_add_rectangle: the edge direction (%g, %g, %g) "
+                               "must be finite and not parallel to the normal",
+                               edge[0], edge[1], edge[2]);
+    }
+    sinter_wall *w = NULL;
+    const sinter_status st =
+        add_kind(walls, "sinter_walls_add_rectangle", center, normal, material, index, &w);
+    if (st != SINTER_OK)
+        return st;
+    w->kind = SINTER_WALL_RECTANGLE;
+    memcpy(w->e1, e, sizeof(e));
+    memcpy(w->e1_0, e, sizeof(e));
+    cross3(w->axis, w->e1, w->e2);
+    w->half[0] = half_1;
+    w->half[1] = half_2;
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_add_disc(sinter_walls *walls, const double center[3],
+                                    const double normal[3], double radius,
+                                    const sinter_material *material, size_t *index)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    if (!positive(radius))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_disc: radius %g m must be positive and finite",
+                           radius);
+    sinter_wall *w = NULL;
+    const sinter_status st =
+        add_kind(walls, "sinter_walls_add_disc", center, normal, material, index, &w);
+    if (st != SINTER_OK)
+        return st;
+    w->kind = SINTER_WALL_DISC;
+    w->radius = radius;
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_add_cylinder(sinter_walls *walls, const double point[3],
+                                        const double axis[3], double radius,
+                                        double half_length, int inside,
+                                        const sinter_material *material, size_t *index)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    if (!positive(radius))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_cylinder: radius %g m must be positive and finite",
+                           radius);
+    if (!(half_length > 0.0)) /* INFINITY: an infinite cylinder */
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_cylinder: half length %g m must be positive "
+                           "(HUGE_VAL: infinite)",
+                           half_length);
+    if (inside != 0 && inside != 1)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_cylinder: inside = %d must be 1 (particles inside) "
+                           "or 0 (outside)",
+                           inside);
+    sinter_wall *w = NULL;
+    const sinter_status st =
+        add_kind(walls, "sinter_walls_add_cylinder", point, axis, material, index, &w);
+    if (st != SINTER_OK)
+        return st;
+    w->kind = SINTER_WALL_CYLINDER;
+    w->radius = radius;
+    w->half_length = half_length;
+    w->inside = inside;
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_get_kind(const sinter_walls *walls, size_t k, int *kind)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, kind);
+    *kind = w->kind;
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_get_shape(const sinter_walls *walls, size_t k, double axis[3],
+                                     double edge[3], double size[3])
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (axis)
+        memcpy(axis, w->axis, 3 * sizeof(double));
+    if (edge)
+        memcpy(edge, w->e1, 3 * sizeof(double));
+    if (size) {
+        size[0] = w->kind == SINTER_WALL_RECTANGLE ? w->half[0] : w->radius;
+        size[1] = w->kind == SINTER_WALL_RECTANGLE ? w->half[1] : w->half_length;
+        size[2] = w->inside;
+    }
+    return SINTER_OK;
+}
+
+sinter_status sinter_walls_set_spin(sinter_walls *walls, size_t k, double omega)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (!isfinite(omega))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_spin: angular velocity %g rad/s of wall %zu must "
+                           "be finite",
+                           omega, k);
+    w->spin = omega;
+    return sinter_walls_move(walls, walls->time);
+}
+
+sinter_status sinter_walls_get_moment(const sinter_walls *walls, size_t k, double moment[3])
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    SINTER_CHECK_NULL(walls->ctx, moment);
+    memcpy(moment, w->moment, sizeof(w->moment));
+    return SINTER_OK;
+}
