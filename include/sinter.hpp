@@ -869,8 +869,8 @@ class walls : public detail::handle<sinter_walls, sinter_walls_destroy> {
         if (times.size() != forces.size())
             throw error(status::invalid, "as many forces as times expected",
                         "sinter_walls_set_servo");
-        check(sinter_walls_set_servo(live("sinter_walls_set_servo"), k, times.size(),
-                                     times.data(), forces.data(), kp, ki, vmax),
+        check(sinter_walls_set_servo(live("sinter_walls_set_servo"), k, times.size(), times.data(),
+                                     forces.data(), kp, ki, vmax),
               "sinter_walls_set_servo");
     }
     /// Reaction moment on wall k about its point in the last accepted step [N m].

@@ -878,8 +878,8 @@ static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t 
  * never; the normal when the wall turned). A store to a cache line another core has read
  * costs a round trip to it even when the value is the same (issue 9: 40 % of a 1k bed's wall
  * search on two threads). */
-static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const double *wn,
-                                       double r, double s)
+static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const double *wn, double r,
+                                       double s)
 {
     const double n[3] = {-wn[0], -wn[1], -wn[2]};
     sinter_put_changed(c->n + 3 * m, n, sizeof(n));

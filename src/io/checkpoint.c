@@ -214,11 +214,16 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     /* the walls' kinds' state (version 7) */
     for (size_t k = 0; k < nw; ++k) {
         const sinter_wall *wall = &st->walls->wall[k];
-        const double v[WALL_STATE_DOUBLES] = {
-            wall->moment[0],   wall->moment[1],        wall->moment[2],
-            wall->servo_time,  wall->servo_disp,       wall->servo_v,
-            wall->servo_int,   st->nb.wall_ref[4 * k + 1], st->nb.wall_ref[4 * k + 2],
-            st->nb.wall_ref[4 * k + 3]};
+        const double v[WALL_STATE_DOUBLES] = {wall->moment[0],
+                                              wall->moment[1],
+                                              wall->moment[2],
+                                              wall->servo_time,
+                                              wall->servo_disp,
+                                              wall->servo_v,
+                                              wall->servo_int,
+                                              st->nb.wall_ref[4 * k + 1],
+                                              st->nb.wall_ref[4 * k + 2],
+                                              st->nb.wall_ref[4 * k + 3]};
         put(&w, v, sizeof(v));
     }
     const uint64_t sum = w.hash;

@@ -61,9 +61,8 @@ void sinter_wall_servo_free(sinter_walls *walls, sinter_wall *w)
     w->servo_count = 0;
 }
 
-sinter_status sinter_walls_set_servo(sinter_walls *walls, size_t k, size_t n,
-                                     const double *times, const double *forces, double kp,
-                                     double ki, double vmax)
+sinter_status sinter_walls_set_servo(sinter_walls *walls, size_t k, size_t n, const double *times,
+                                     const double *forces, double kp, double ki, double vmax)
 {
     sinter_wall *w = NULL;
     GET_WALL(walls, k, w);
@@ -123,8 +122,7 @@ sinter_status sinter_walls_get_servo(const sinter_walls *walls, size_t k, double
     if (target)
         *target = sinter_interpolate(w->servo_count, w->servo_t, w->servo_f, walls->time);
     if (pushed)
-        *pushed = -(w->force[0] * w->axis[0] + w->force[1] * w->axis[1] +
-                    w->force[2] * w->axis[2]);
+        *pushed = -(w->force[0] * w->axis[0] + w->force[1] * w->axis[1] + w->force[2] * w->axis[2]);
     if (velocity)
         *velocity = w->servo_v;
     return SINTER_OK;

@@ -159,8 +159,8 @@ static void cross3(const double *a, const double *b, double *out)
 
 /* A plane wall added by add_plane (the common set-up), then given its kind. */
 static sinter_status add_kind(sinter_walls *walls, const char *func, const double point[3],
-                              const double axis[3], const sinter_material *material,
-                              size_t *index, sinter_wall **out)
+                              const double axis[3], const sinter_material *material, size_t *index,
+                              sinter_wall **out)
 {
     if (walls == NULL)
         return SINTER_ERR_NULL;
@@ -255,9 +255,8 @@ sinter_status sinter_walls_add_disc(sinter_walls *walls, const double center[3],
 }
 
 sinter_status sinter_walls_add_cylinder(sinter_walls *walls, const double point[3],
-                                        const double axis[3], double radius,
-                                        double half_length, int inside,
-                                        const sinter_material *material, size_t *index)
+                                        const double axis[3], double radius, double half_length,
+                                        int inside, const sinter_material *material, size_t *index)
 {
     if (walls == NULL)
         return SINTER_ERR_NULL;
@@ -333,4 +332,70 @@ sinter_status sinter_walls_get_moment(const sinter_walls *walls, size_t k, doubl
     SINTER_CHECK_NULL(walls->ctx, moment);
     memcpy(moment, w->moment, sizeof(w->moment));
     return SINTER_OK;
+}
+
+/* The axial range [m] of a box's corners about point p along unit a (an infinite cylinder
+ * drawn over the domain). */
+static void axial_range(const double *p, const double *a, const double lo[3], const double hi[3],
+                        double *amin, double *amax)
+{
+    *amin = INFINITY;
+    *amax = -INFINITY;
+    for (int c = 0; c < 8; ++c) {
+        const double x[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1],
+                             (c & 4) ? hi[2] : lo[2]};
+        const double h = (x[0] - p[0]) * a[0] + (x[1] - p[1]) * a[1] + (x[2] - p[2]) * a[2];
+        *amin = fmin(*amin, h);
+        *amax = fmax(*amax, h);
+    }
+}
+
+int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double hi[3],
+                        double (*points)[3], int *sizes, double (*normals)[3])
+{
+    const double *p = w->p;
+    if (w->kind == SINTER_WALL_RECTANGLE) {
+        static const double sign[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+        for (int c = 0; c < 4; ++c)
+            for (int d = 0; d < 3; ++d)
+                points[c][d] =
+                    p[d] + sign[c][0] * w->half[0] * w->e1[d] + sign[c][1] * w->half[1] * w->e2[d];
+        sizes[0] = 4;
+        memcpy(normals[0], w->n, 3 * sizeof(double));
+        return 1;
+    }
+    const int segments = SINTER_WALL_OUTLINE_SEGMENTS;
+    if (w->kind == SINTER_WALL_DISC) {
+        for (int c = 0; c < segments; ++c) {
+            const double phi = 2.0 * 3.14159265358979323846 * c / segments;
+            for (int d = 0; d < 3; ++d)
+                points[c][d] = p[d] + w->radius * (cos(phi) * w->e1[d] + sin(phi) * w->e2[d]);
+        }
+        sizes[0] = segments;
+        memcpy(normals[0], w->n, 3 * sizeof(double));
+        return 1;
+    }
+    /* a cylinder: quads around it, over its length or the domain's */
+    double amin = -w->half_length, amax = w->half_length;
+    if (!isfinite(w->half_length))
+        axial_range(p, w->axis, lo, hi, &amin, &amax);
+    for (int c = 0; c < segments; ++c) {
+        double radial[2][3];
+        for (int e = 0; e < 2; ++e) {
+            const double phi = 2.0 * 3.14159265358979323846 * (c + e) / segments;
+            for (int d = 0; d < 3; ++d)
+                radial[e][d] = cos(phi) * w->e1[d] + sin(phi) * w->e2[d];
+        }
+        const double along[4] = {amin, amin, amax, amax};
+        const int side[4] = {0, 1, 1, 0};
+        for (int v = 0; v < 4; ++v)
+            for (int d = 0; d < 3; ++d)
+                points[4 * c + v][d] =
+                    p[d] + w->radius * radial[side[v]][d] + along[v] * w->axis[d];
+        const double mid = 2.0 * 3.14159265358979323846 * (c + 0.5) / segments;
+        for (int d = 0; d < 3; ++d) /* into the particles: inwards for a die */
+            normals[c][d] = (w->inside ? -1.0 : 1.0) * (cos(mid) * w->e1[d] + sin(mid) * w->e2[d]);
+        sizes[c] = 4;
+    }
+    return segments;
 }

@@ -58,16 +58,16 @@ typedef struct sinter_wall {
     double force[3];  /* reaction: force the particles exert on the wall [N] */
     double moment[3]; /* reaction moment about p [N m] */
     /* force servo (servo.c): state changed at each commit */
-    int servo;             /* 1: the wall's motion along its axis is the servo's */
-    size_t servo_count;    /* target force schedule (servo_t [s], servo_f [N]) */
+    int servo;          /* 1: the wall's motion along its axis is the servo's */
+    size_t servo_count; /* target force schedule (servo_t [s], servo_f [N]) */
     double *servo_t, *servo_f;
-    double servo_kp;       /* [m/(s N)] */
-    double servo_ki;       /* [m/(s^2 N)] */
-    double servo_vmax;     /* [m/s] */
-    double servo_time;     /* time of the committed state [s] */
-    double servo_disp;     /* displacement along the axis at servo_time [m] */
-    double servo_v;        /* velocity along the axis from servo_time on [m/s] */
-    double servo_int;      /* integral of the force error [N s] */
+    double servo_kp;   /* [m/(s N)] */
+    double servo_ki;   /* [m/(s^2 N)] */
+    double servo_vmax; /* [m/s] */
+    double servo_time; /* time of the committed state [s] */
+    double servo_disp; /* displacement along the axis at servo_time [m] */
+    double servo_v;    /* velocity along the axis from servo_time on [m/s] */
+    double servo_int;  /* integral of the force error [N s] */
     char line_gap[64];
 } sinter_wall;
 
@@ -182,6 +182,13 @@ sinter_status sinter_wall_get(const sinter_walls *walls, size_t k, const char *f
         if (st_ != SINTER_OK)                                                                      \
             return st_;                                                                            \
     } while (0)
+
+/* A drawing of a wall that is not a plane (wall_shapes.c): its polygons' points (at most
+ * 4 * SINTER_WALL_OUTLINE_SEGMENTS), each polygon's point count in sizes and its normal into
+ * the particles; an infinite cylinder over the box [lo, hi]. Returns the polygon count. */
+#define SINTER_WALL_OUTLINE_SEGMENTS 32
+int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double hi[3],
+                        double (*points)[3], int *sizes, double (*normals)[3]);
 
 /* The force servo (servo.c): its displacement and velocity along the axis at time t, its
  * controller advanced to the committed reaction at time t, its schedule freed. */

@@ -44,8 +44,7 @@ static void test_sphere_rests_in_cylinder_and_on_disc(void **state)
         const double rc = 5.0 * R, origin[3] = {0, 0, 0};
         if (kind == 0) {
             const double axis[3] = {1, 0, 0};
-            OK(sinter_walls_add_cylinder(s.walls, origin, axis, rc, HUGE_VAL, 1, s.wall_mat,
-                                         NULL));
+            OK(sinter_walls_add_cylinder(s.walls, origin, axis, rc, HUGE_VAL, 1, s.wall_mat, NULL));
             scene_add(&s, 0, 0, -(rc - R) + 1e-6, R);
         } else {
             const double up[3] = {0, 0, 1};
@@ -84,7 +83,7 @@ static void test_beyond_the_edge(void **state)
     const double c[3] = {0, 0, 0}, up[3] = {0, 0, 1}, ex[3] = {1, 0, 0}, a = 2.0 * R;
     OK(sinter_walls_add_rectangle(s.walls, c, up, ex, a, a, s.wall_mat, NULL));
     const double z0 = 0.5 * R;
-    scene_add(&s, a + 1.001 * R, 0, z0, R); /* beyond the edge in x */
+    scene_add(&s, a + 1.001 * R, 0, z0, R);  /* beyond the edge in x */
     scene_add(&s, 0, -a - 1.001 * R, z0, R); /* beyond the edge in y */
     OK(sinter_stepper_set_dt(s.st, 1e-6));
     const double t = 2e-3;
@@ -272,7 +271,7 @@ static void test_force_and_moment_balance(void **state)
             get3(&s, SINTER_FIELD_POSITION, i, xi);
             const double r[3] = {xi[0] - wp[0], xi[1] - wp[1], xi[2] - wp[2]};
             const double rf[3] = {r[1] * fi[2] - r[2] * fi[1], r[2] * fi[0] - r[0] * fi[2],
-                                   r[0] * fi[1] - r[1] * fi[0]};
+                                  r[0] * fi[1] - r[1] * fi[0]};
             for (int d = 0; d < 3; ++d) {
                 sum_f[d] += fi[d];
                 sum_m[d] += rf[d] + ti[d];
@@ -282,8 +281,8 @@ static void test_force_and_moment_balance(void **state)
         }
         print_message("kind %d: %llu contacts; reaction (%.6e, %.6e, %.6e) N, moment (%.6e, "
                       "%.6e, %.6e) N m\n",
-                      kind, (unsigned long long)stats.wall_contacts, f[0], f[1], f[2], m[0],
-                      m[1], m[2]);
+                      kind, (unsigned long long)stats.wall_contacts, f[0], f[1], f[2], m[0], m[1],
+                      m[2]);
         assert_int_equal(stats.wall_contacts, 4);
         for (int d = 0; d < 3; ++d) {
             assert_close(f[d], -sum_f[d], 1e-12 * fmax);
@@ -320,8 +319,7 @@ static void open_column(scene *s, double target, double kp, double ki, double vm
     const int n = 6;
     const double top[3] = {0, 0, 2 * R * n + 1e-5};
     OK(sinter_walls_add_disc(s->walls, top, down, 2 * R, s->wall_mat, NULL));
-    OK(sinter_walls_add_cylinder(s->walls, origin, up, 1.05 * R, HUGE_VAL, 1, s->wall_mat,
-                                 NULL));
+    OK(sinter_walls_add_cylinder(s->walls, origin, up, 1.05 * R, HUGE_VAL, 1, s->wall_mat, NULL));
     for (int i = 0; i < n; ++i)
         scene_add(s, 0.01 * R * (i % 2), 0, R + 2 * R * i, R);
     const double times[2] = {0.0, 1.0}, forces[2] = {target, target};
