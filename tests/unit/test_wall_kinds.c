@@ -293,6 +293,105 @@ static void test_force_and_moment_balance(void **state)
     }
 }
 
+/* One evaluation of a sphere between a wall of `kind` below it (its closest point straight
+ * below the centre, 0.99 R away) and a plane above (0.99 R away), with Hertz-Mindlin with
+ * rolling, conduction (walls at 400 K and 500 K, the sphere at 300 K), the electric network
+ * (the lower wall at 1 V, the upper at 0 V) and Joule heating: the sphere's force, heat power
+ * and current into out (7 values). */
+static void between_walls(int kind, double out[7])
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, E, NU, RHO, 0.3, 0.4);
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 60.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, 1e6));
+    sinter_material_destroy(s.wall_mat);
+    OK(sinter_material_clone(&s.wall_mat, s.mat));
+    scene_open(&s, "hertz_mindlin", 0);
+    const double below[3] = {0, 0, -0.99 * R}, up[3] = {0, 0, 1}, ex[3] = {1, 0, 0};
+    if (kind == SINTER_WALL_PLANE)
+        OK(sinter_walls_add_plane(s.walls, below, up, s.wall_mat, NULL));
+    else if (kind == SINTER_WALL_RECTANGLE)
+        OK(sinter_walls_add_rectangle(s.walls, below, up, ex, 3 * R, 2 * R, s.wall_mat, NULL));
+    else if (kind == SINTER_WALL_DISC)
+        OK(sinter_walls_add_disc(s.walls, below, up, 3 * R, s.wall_mat, NULL));
+    else {
+        const double axis_point[3] = {0, 0, 4.01 * R};
+        OK(sinter_walls_add_cylinder(s.walls, axis_point, ex, 5 * R, HUGE_VAL, 1, s.wall_mat,
+                                     NULL));
+    }
+    const double above[3] = {0, 0, 0.99 * R}, down[3] = {0, 0, -1};
+    OK(sinter_walls_add_plane(s.walls, above, down, s.wall_mat, NULL));
+    OK(sinter_walls_set_temperature(s.walls, 0, 400.0));
+    OK(sinter_walls_set_temperature(s.walls, 1, 500.0));
+    OK(sinter_walls_set_electric(s.walls, 0, SINTER_WALL_POTENTIAL, 1.0));
+    OK(sinter_walls_set_electric(s.walls, 1, SINTER_WALL_POTENTIAL, 0.0));
+    scene_add(&s, 0, 0, 0, R);
+    const double v[3] = {0.02, 0.0, 0.0}, w[3] = {5.0, -3.0, 1.0}; /* along the axis */
+    set3(&s, SINTER_FIELD_VELOCITY, 0, v);
+    set3(&s, SINTER_FIELD_SPIN, 0, w);
+    double *theta = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_TEMPERATURE, (void **)&theta, NULL, NULL));
+    theta[0] = 300.0;
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_TEMPERATURE));
+    sinter_heat_model *cond = NULL, *joule = NULL;
+    sinter_electric_model *net = NULL;
+    OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+    OK(sinter_heat_model_create(&joule, s.ctx, "joule"));
+    OK(sinter_electric_model_create(&net, s.ctx, "network"));
+    OK(sinter_stepper_add_heat(s.st, cond));
+    OK(sinter_stepper_add_heat(s.st, joule));
+    OK(sinter_stepper_set_electric(s.st, net));
+    OK(sinter_stepper_set_dt(s.st, 1e-7));
+    OK(sinter_stepper_step(s.st, 3)); /* the tangential and rolling springs loaded */
+    OK(sinter_stepper_evaluate(s.st));
+    get3(&s, SINTER_FIELD_FORCE, 0, out);
+    get3(&s, SINTER_FIELD_TORQUE, 0, out + 3);
+    out[6] = get1(&s, SINTER_FIELD_HEAT, 0);
+    const double current = get1(&s, SINTER_FIELD_CURRENT, 0);
+    print_message("kind %d: force (%.9e, %.9e, %.9e) N, heat %.9e W, current %.9e A\n", kind,
+                  out[0], out[1], out[2], out[6], current);
+    assert_true(current > 0.0 && out[6] != 0.0 && out[0] != 0.0);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_heat_model_destroy(cond);
+    sinter_heat_model_destroy(joule);
+    sinter_electric_model_destroy(net);
+    scene_close(&s);
+}
+
+/*
+ * Every submodel that meets walls reads a wall contact's geometry (overlap, distance, normal,
+ * area) from the contact list, which every kind fills the same way: a sphere whose closest
+ * wall point lies at the same distance and direction gets the same force and torque
+ * (Hertz-Mindlin with friction history and rolling resistance), heat power (conduction from
+ * both walls, Joule heating of the network's current) from a rectangle's face, a disc's face
+ * and a cylinder's inside as from a plane, to round-off (1e-12 of the normal force, whose two
+ * walls' parts cancel: the distances come out of different arithmetic, R_c - rho against a
+ * dot product). The sphere moves along the cylinder's axis only, so that its curvature does
+ * not turn the contact within the three steps.
+ */
+static void test_submodels_alike_on_every_kind(void **state)
+{
+    (void)state;
+    double plane[7];
+    between_walls(SINTER_WALL_PLANE, plane);
+    for (int kind = SINTER_WALL_RECTANGLE; kind <= SINTER_WALL_CYLINDER; ++kind) {
+        double got[7];
+        between_walls(kind, got);
+        /* the scale: each wall's normal force (they cancel in the sum), Hertz at 0.01 R */
+        const double estar = E / (2.0 * (1.0 - NU * NU)), delta = 0.01 * R;
+        const double fn = 4.0 / 3.0 * estar * sqrt(R * delta) * delta;
+        for (int d = 0; d < 3; ++d) {
+            assert_close(got[d], plane[d], 1e-12 * fn);
+            assert_close(got[3 + d], plane[3 + d], 1e-12 * fn * R);
+        }
+        assert_close(got[6], plane[6], 1e-12 * fabs(plane[6]));
+    }
+}
+
 typedef struct servo_watch {
     scene *s;
     double target, peak;
@@ -452,6 +551,7 @@ int main(void)
         cmocka_unit_test(test_beyond_the_edge),
         cmocka_unit_test(test_spinning_walls_drive_by_friction),
         cmocka_unit_test(test_force_and_moment_balance),
+        cmocka_unit_test(test_submodels_alike_on_every_kind),
         cmocka_unit_test(test_servo_reaches_target),
         cmocka_unit_test(test_servo_restarts_bit_for_bit),
         cmocka_unit_test(test_bad_wall_input),
