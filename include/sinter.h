@@ -565,16 +565,19 @@ SINTER_API sinter_status sinter_walls_get_force(const sinter_walls *walls, size_
 
 /**
  * Wall kinds. Every kind is one-sided: particles live on the side its normal
- * points to (a cylinder: inside or outside, as chosen). A sphere touches a
+ * points to (a cylinder: inside or outside, as chosen); behind a face the
+ * plane's signed distance holds, as for an infinite plane. A sphere touches a
  * wall when its centre is closer than its radius to the wall's closest point;
  * the contact normal runs from that point to the centre, and every contact
  * law treats the wall locally as a plane there.
  */
 typedef enum sinter_wall_kind {
     SINTER_WALL_PLANE = 0,     /**< infinite plane (sinter_walls_add_plane) */
-    SINTER_WALL_RECTANGLE = 1, /**< finite plane: a rectangle; beyond its edges a sphere meets the edge, behind it nothing */
+    SINTER_WALL_RECTANGLE = 1, /**< finite plane: a rectangle; beyond its edges a sphere meets the
+                                  edge (a rim, from either side) */
     SINTER_WALL_DISC = 2,      /**< finite plane: a disc, edges as the rectangle's */
-    SINTER_WALL_CYLINDER = 3   /**< lateral surface of a circular cylinder, open ends */
+    SINTER_WALL_CYLINDER = 3 /**< lateral surface of a circular cylinder; beyond a finite one's ends
+                                a sphere meets the rim circle */
 } sinter_wall_kind;
 
 /**
@@ -595,8 +598,9 @@ SINTER_API sinter_status sinter_walls_add_disc(sinter_walls *walls, const double
                                                const sinter_material *material, size_t *index);
 /**
  * Add a fixed cylinder: axis through `point` [m] along `axis` (normalised
- * here), radius `radius` [m]; contacts where the axial offset from `point` is
- * at most `half_length` [m] (HUGE_VAL: infinite). `inside` = 1: particles
+ * here), radius `radius` [m]; its lateral surface reaches `half_length` [m]
+ * along the axis from `point` either way (HUGE_VAL: infinite), and beyond it
+ * a sphere meets its rim circles (open ends). `inside` = 1: particles
  * inside the cylinder (a die), 0: outside (a pin). The wall's normal
  * (sinter_walls_get_normal) is its axis.
  */

@@ -1,5 +1,5 @@
 /* Wall kinds other than the infinite plane: closest point, signed distance and contact normal
- * of a particle centre, and their construction (sinter_walls_add_rectangle, _disc,
+ * of a particle centre, their drawing, and their construction (sinter_walls_add_rectangle, _disc,
  * _cylinder). A kind is one case of sinter_wall_shape_contact; a later kind (a triangle mesh)
  * adds its case and its constructor here or in its own folder.
  *
@@ -16,14 +16,14 @@ static inline double dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* A point at lateral offset t (in the wall's plane) beyond the edge of a planar kind, and
- * height h above it: distance and normal from the closest edge point (t - q: the offset from
- * the edge's closest point, in the plane). Behind the plane (h < 0) beyond the edge, a finite
- * plane is not met: its back is not a wall (one-sided, as the infinite plane). */
+/* A point at lateral offset `lateral` (in the wall's plane, from the closest edge point) beyond
+ * the edge of a planar kind, at height h above the plane: distance and normal from the closest
+ * edge point. The edge is a rim met from either side, so that the distance is continuous
+ * beyond the edge (the neighbour list's skin bounds how far a contact can come between two
+ * searches); behind the face itself the plane's signed distance holds (one-sided, as the
+ * infinite plane: particles belong in front). */
 static double edge_contact(const sinter_wall *w, const double *lateral, double h, double *n)
 {
-    if (h < 0.0)
-        return INFINITY;
     double v[3];
     for (int d = 0; d < 3; ++d)
         v[d] = lateral[d] + h * w->n[d];
@@ -74,18 +74,33 @@ static double disc_contact(const sinter_wall *w, const double *x, double *n)
     return edge_contact(w, t, h, n);
 }
 
-/* A cylinder's lateral surface: the radial distance from the axis against the radius; beyond
- * its ends (|axial offset| > half_length) no contact (an open tube; rims are not walls). */
+/* A cylinder's lateral surface: the radial distance from the axis against the radius. Beyond
+ * its ends (|axial offset| > half_length) an open tube's rim circle, met from either side (the
+ * distance continuous there, as a finite plane's edge). */
 static double cylinder_contact(const sinter_wall *w, const double *x, double *n)
 {
     const double d[3] = {x[0] - w->p[0], x[1] - w->p[1], x[2] - w->p[2]};
     const double h = dot3(d, w->axis);
-    if (fabs(h) > w->half_length)
-        return INFINITY;
     double t[3];
     for (int k = 0; k < 3; ++k)
         t[k] = d[k] - h * w->axis[k];
     const double rho = sqrt(dot3(t, t));
+    if (fabs(h) > w->half_length) { /* from the rim's closest point */
+        const double beyond = h > 0.0 ? h - w->half_length : h + w->half_length;
+        const double f = rho > 0.0 ? (rho - w->radius) / rho : 0.0;
+        double v[3];
+        for (int k = 0; k < 3; ++k)
+            v[k] = (rho > 0.0 ? f * t[k] : -w->radius * w->e1[k]) + beyond * w->axis[k];
+        const double s = sqrt(dot3(v, v));
+        if (n != NULL) {
+            if (s > 0.0)
+                for (int k = 0; k < 3; ++k)
+                    n[k] = v[k] / s;
+            else
+                memcpy(n, w->axis, 3 * sizeof(double));
+        }
+        return s;
+    }
     if (n != NULL) {
         if (rho > 0.0) {
             const double sign = w->inside ? -1.0 : 1.0; /* inside: towards the axis */

@@ -73,7 +73,8 @@ static void test_sphere_rests_in_cylinder_and_on_disc(void **state)
  * Beyond a finite plane's edge: a sphere whose centre is more than its radius beyond a
  * rectangle's edge falls freely past it (z = z0 - g t^2 / 2, no force on the wall); one that
  * overhangs the edge touches the edge, along the line from the edge to its centre, with the
- * overlap R - distance (the force's direction at 45 degrees to round-off).
+ * overlap R - distance (the force's direction at 45 degrees to round-off); so does one beyond
+ * a finite cylinder's end with its rim circle.
  */
 static void test_beyond_the_edge(void **state)
 {
@@ -113,6 +114,20 @@ static void test_beyond_the_edge(void **state)
                   fp[1], fp[2], fn);
     assert_close(fp[0], fn / sqrt(2.0), 1e-12 * fn);
     assert_close(fp[2], fn / sqrt(2.0), 1e-12 * fn);
+    assert_close(fp[1], 0.0, 1e-15);
+    scene_close(&s);
+
+    /* a finite cylinder's rim: inside a die of radius 5 R and half length 2 R along z, a sphere
+     * 0.6 R inside the wall and 0.6 R beyond the end meets the rim circle at 45 degrees */
+    open_rigid(&s, 0.0, 0.3, 0);
+    const double axis[3] = {0, 0, 1};
+    OK(sinter_walls_add_cylinder(s.walls, c, axis, 5 * R, 2 * R, 1, s.wall_mat, NULL));
+    scene_add(&s, 5 * R - off, 0, 2 * R + off, R);
+    OK(sinter_stepper_evaluate(s.st));
+    get3(&s, SINTER_FIELD_FORCE, 0, fp);
+    print_message("rim contact: force (%.6e, %.6e, %.6e) N\n", fp[0], fp[1], fp[2]);
+    assert_close(fp[0], -fn / sqrt(2.0), 1e-12 * fn); /* towards the axis */
+    assert_close(fp[2], fn / sqrt(2.0), 1e-12 * fn);  /* out of the end */
     assert_close(fp[1], 0.0, 1e-15);
     scene_close(&s);
 }
