@@ -641,7 +641,8 @@ SINTER_API sinter_status sinter_walls_get_moment(const sinter_walls *walls, size
  * particles push against the wall, sets its velocity along a to
  * v = clamp(kp e + ki int e dt, -vmax, vmax) at each accepted step (the
  * integral held while v is at its limit: anti-windup). F_target(t) is the
- * piecewise-linear schedule (times [s] increasing, forces [N]; held outside);
+ * piecewise-linear schedule (times [s] increasing, forces [N]; held outside),
+ * timed from the wall's motion start, before which the wall is held;
  * a pressure P on area A is the force P A. Gains kp [m/(s N)], ki
  * [m/(s^2 N)] (>= 0, not both 0), vmax [m/s] > 0. Replaces the wall's
  * prescribed motion (the wall starts where it is); a later motion replaces

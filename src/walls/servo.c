@@ -7,7 +7,9 @@
  *   v     = clamp(kp e + ki I, -vmax, vmax)  (along +a: towards the particles)
  *   dI/dt = e, held while v is at its limit and e would drive it further (anti-windup)
  *
- * The controller acts at each committed step (sinter_walls_servo_commit): between commits the
+ * The target schedule is timed from the wall's motion start (sinter_walls_set_motion_start),
+ * before which the wall is held. The controller acts at each committed step
+ * (sinter_walls_servo_commit): between commits the
  * wall moves at the velocity set at the last one, so that a rejected or repeated trial step
  * moves it the same way (the wall's position is a function of the committed state and t).
  * This is the discrete analogue of LIGGGHTS' servo walls (fix mesh/surface/stress/servo, a
@@ -24,6 +26,12 @@ void sinter_wall_servo_at(const sinter_wall *w, double t, double *disp, double *
     *vel = w->servo_v;
 }
 
+/* The target force [N] at time t: its schedule timed from the motion's start, as motions are. */
+static double servo_target(const sinter_wall *w, double t)
+{
+    return sinter_interpolate(w->servo_count, w->servo_t, w->servo_f, t - w->motion_start);
+}
+
 static double clamp(double v, double limit)
 {
     return v > limit ? limit : v < -limit ? -limit : v;
@@ -36,11 +44,16 @@ void sinter_walls_servo_commit(sinter_walls *walls, double t)
         if (!w->servo)
             continue;
         const double dt = t > w->servo_time ? t - w->servo_time : 0.0;
-        const double target = sinter_interpolate(w->servo_count, w->servo_t, w->servo_f, t);
+        w->servo_disp += w->servo_v * dt;
+        w->servo_time = t;
+        if (t < w->motion_start) { /* held until its motion starts (a scene: after a pour) */
+            w->servo_v = 0.0;
+            continue;
+        }
+        const double target = servo_target(w, t);
         const double pushed =
             -(w->force[0] * w->axis[0] + w->force[1] * w->axis[1] + w->force[2] * w->axis[2]);
         const double e = target - pushed;
-        w->servo_disp += w->servo_v * dt;
         const double integral = w->servo_int + e * dt;
         const double raw = w->servo_kp * e + w->servo_ki * integral;
         const double v = clamp(raw, w->servo_vmax);
@@ -49,7 +62,6 @@ void sinter_walls_servo_commit(sinter_walls *walls, double t)
         if (raw == v || (raw > v) != (e > 0.0))
             w->servo_int = integral;
         w->servo_v = v;
-        w->servo_time = t;
     }
 }
 
@@ -120,7 +132,7 @@ sinter_status sinter_walls_get_servo(const sinter_walls *walls, size_t k, double
         return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
                            "sinter_walls_get_servo: wall %zu has no servo", k);
     if (target)
-        *target = sinter_interpolate(w->servo_count, w->servo_t, w->servo_f, walls->time);
+        *target = servo_target(w, walls->time);
     if (pushed)
         *pushed = -(w->force[0] * w->axis[0] + w->force[1] * w->axis[1] + w->force[2] * w->axis[2]);
     if (velocity)
