@@ -873,6 +873,12 @@ class walls : public detail::handle<sinter_walls, sinter_walls_destroy> {
                                      forces.data(), kp, ki, vmax),
               "sinter_walls_set_servo");
     }
+    /// Whether wall k's reaction moment is summed (sinter_walls_set_moment).
+    void set_moment(std::size_t k, bool on)
+    {
+        check(sinter_walls_set_moment(live("sinter_walls_set_moment"), k, on ? 1 : 0),
+              "sinter_walls_set_moment");
+    }
     /// Reaction moment on wall k about its point in the last accepted step [N m].
     vec3 moment(std::size_t k) const
     {

@@ -886,6 +886,16 @@ static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const d
     put_wall_distances(c, m, r, s);
 }
 
+/* Wall w's normal at the contact with centre x (towards it): a plane's own, else the kind's
+ * (into buf). */
+static inline const double *wall_normal(const sinter_wall *w, const double *x, double *buf)
+{
+    if (w->kind == SINTER_WALL_PLANE)
+        return w->n;
+    sinter_wall_shape_contact(w, x, buf);
+    return buf;
+}
+
 /* The wall search's ranges of pairs (sinter_contacts_find_pw), run by sinter_ranges_run. */
 typedef struct wall_search {
     sinter_contact_list *c;
@@ -915,16 +925,17 @@ static void wall_test_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         ascending &= p == 0 || i >= pi[p - 1];
         const sinter_wall *w = &job->walls->wall[k];
-        double wn[3];
-        const double sd = sinter_wall_contact(w, x + 3 * i, wn);
+        const double sd = sinter_wall_distance(w, x + 3 * i);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
         const uint32_t was = job->compare ? to_contact[p] : SINTER_NO_PAIR;
-        if (touches != (was != SINTER_NO_PAIR))
+        if (touches != (was != SINTER_NO_PAIR)) {
             same = 0;
-        else if (job->compare && touches)
-            renew_wall_geometry(c, was, wn, r[i], sd);
+        } else if (job->compare && touches) {
+            double buf[3];
+            renew_wall_geometry(c, was, wall_normal(w, x + 3 * i, buf), r[i], sd);
+        }
     }
     job->same[t] = same;
     job->ascending[t] = ascending;
@@ -950,9 +961,9 @@ static void wall_put_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         const sinter_wall *w = &job->walls->wall[k];
         to_contact[p] = (uint32_t)m;
-        double wn[3];
-        const double sd = sinter_wall_contact(w, x + 3 * i, wn);
-        put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
+        double buf[3];
+        const double *wn = wall_normal(w, x + 3 * i, buf);
+        put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sinter_wall_distance(w, x + 3 * i));
         ++m;
     }
 }

@@ -528,6 +528,9 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     enum { RANGES_MAX = 64 };
     const size_t n = ps->count, nw = walls->count;
     const double *x = ps->x, *r = ps->radius, skin = nb->skin;
+    int planes = 1; /* only planes: their distance inline, without the kind's test */
+    for (size_t k = 0; k < nw; ++k)
+        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
     const int threads = n * nw < 16384 ? 1 : sinter_threads(nb->ctx);
     const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
     size_t offset[RANGES_MAX + 1] = {0};
@@ -537,7 +540,8 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
         size_t count = 0;
         for (size_t i = a; i < b; ++i)
             for (size_t k = 0; k < nw; ++k)
-                count += sinter_wall_distance(&walls->wall[k], x + 3 * i) < r[i] + skin;
+                count += (planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
+                                 : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin;
         offset[t + 1] = count;
     }
     for (int t = 0; t < ranges; ++t)
@@ -552,7 +556,8 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
         size_t m = offset[t];
         for (size_t i = a; i < b; ++i)
             for (size_t k = 0; k < nw; ++k)
-                if (sinter_wall_distance(&walls->wall[k], x + 3 * i) < r[i] + skin) {
+                if ((planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
+                            : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin) {
                     l->i[m] = (uint32_t)i;
                     l->j[m] = (uint32_t)k;
                     l->key_i[m] = ps->id[i];

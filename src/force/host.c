@@ -47,7 +47,8 @@ static sinter_status run_batch(const sinter_force_model *fm, sinter_force_eval *
                     e->wall_force[3 * j + d] -= out[3 * k + d];
                 }
             }
-            if (kind == SINTER_CONTACT_WALL && e->wall_moment != NULL) {
+            if (kind == SINTER_CONTACT_WALL && e->wall_moment != NULL &&
+                e->walls->wall[j].moment_wanted) {
                 /* the torque the host gave the particle about its centre, less the force's
                  * moment, is its contact moment (its rolling moment) */
                 const double *nrm = c->n + 3 * k, li = c->branch[k], *f = out + 3 * k;

@@ -48,7 +48,7 @@ static sinter_status linear_spring_eval(const sinter_force_model *fm, sinter_for
             e->force[3 * i + d] += f[d];
             e->wall_force[3 * wk + d] -= f[d];
         }
-        if (e->wall_moment != NULL)
+        if (e->wall_moment != NULL && wall->moment_wanted)
             sinter_wall_add_moment(wall, at, f, NULL, e->wall_moment + 3 * wk);
     }
     return SINTER_OK;

@@ -220,7 +220,7 @@ static void eval_pw(const sinter_force_eval *e)
             e->torque[3 * i + d] += ti[d];
             e->wall_force[3 * wall_index + d] -= f[d]; /* reaction on the wall */
         }
-        if (e->wall_moment != NULL)
+        if (e->wall_moment != NULL && wall->moment_wanted)
             sinter_wall_add_moment(wall, at, f, NULL, e->wall_moment + 3 * wall_index);
     }
 }

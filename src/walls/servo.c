@@ -120,6 +120,7 @@ sinter_status sinter_walls_set_servo(sinter_walls *walls, size_t k, size_t n, co
     w->servo_time = walls->time;
     w->servo_disp = w->servo_v = w->servo_int = 0.0;
     w->servo = 1;
+    w->moment_wanted = 1;
     return sinter_walls_move(walls, walls->time);
 }
 

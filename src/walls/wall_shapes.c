@@ -172,6 +172,14 @@ static void cross3(const double *a, const double *b, double *out)
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+void sinter_wall_frame(sinter_wall *w)
+{
+    memcpy(w->axis, w->n, sizeof(w->axis));
+    any_normal(w->axis, w->e1);
+    memcpy(w->e1_0, w->e1, sizeof(w->e1));
+    cross3(w->axis, w->e1, w->e2);
+}
+
 /* A plane wall added by add_plane (the common set-up), then given its kind. */
 static sinter_status add_kind(sinter_walls *walls, const char *func, const double point[3],
                               const double axis[3], const sinter_material *material, size_t *index,
@@ -195,10 +203,7 @@ static sinter_status add_kind(sinter_walls *walls, const char *func, const doubl
     if (st != SINTER_OK)
         return st;
     sinter_wall *w = &walls->wall[k];
-    memcpy(w->axis, w->n, sizeof(w->axis));
-    any_normal(w->axis, w->e1);
-    memcpy(w->e1_0, w->e1, sizeof(w->e1));
-    cross3(w->axis, w->e1, w->e2);
+    w->moment_wanted = 1;
     if (index)
         *index = k;
     *out = w;
@@ -337,7 +342,21 @@ sinter_status sinter_walls_set_spin(sinter_walls *walls, size_t k, double omega)
                            "be finite",
                            omega, k);
     w->spin = omega;
+    w->moment_wanted = 1;
     return sinter_walls_move(walls, walls->time);
+}
+
+sinter_status sinter_walls_set_moment(sinter_walls *walls, size_t k, int on)
+{
+    sinter_wall *w = NULL;
+    GET_WALL(walls, k, w);
+    if (on != 0 && on != 1)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_set_moment: on = %d of wall %zu must be 0 or 1", on, k);
+    w->moment_wanted = on;
+    if (!on)
+        memset(w->moment, 0, sizeof(w->moment));
+    return SINTER_OK;
 }
 
 sinter_status sinter_walls_get_moment(const sinter_walls *walls, size_t k, double moment[3])

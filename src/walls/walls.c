@@ -107,8 +107,9 @@ sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
     memset(w, 0, sizeof(*w));
     for (int d = 0; d < 3; ++d) {
         w->p0[d] = w->p[d] = point[d];
-        w->n[d] = w->axis[d] = unit[d];
+        w->n[d] = unit[d];
     }
+    sinter_wall_frame(w); /* axis and edges: a spin's axis, a drawing's frame */
     w->temperature = 293.15;
     w->motion = SINTER_WALL_FIXED;
     w->material = *material;

@@ -18,6 +18,7 @@ typedef struct sinter_wall {
     double temperature;       /* [K], at the current time */
     int kind;                 /* sinter_wall_kind (0 = plane: add_plane zeroes a wall) */
     int inside;               /* cylinder: 1 particles inside, 0 outside */
+    int moment_wanted;        /* 1: the laws sum its reaction moment (sinter_walls_set_moment) */
     double axis[3];           /* unit axis: the normal of a planar kind, a cylinder's axis */
     double e1[3], e2[3];      /* rectangle: unit edge directions at the current time */
     double half[2];           /* rectangle: half lengths along e1, e2 [m] */
@@ -182,6 +183,9 @@ sinter_status sinter_wall_get(const sinter_walls *walls, size_t k, const char *f
         if (st_ != SINTER_OK)                                                                      \
             return st_;                                                                            \
     } while (0)
+
+/* Wall w's axis (its normal) and a frame of unit edges e1, e2 normal to it (wall_shapes.c). */
+void sinter_wall_frame(sinter_wall *w);
 
 /* A drawing of a wall that is not a plane (wall_shapes.c): its polygons' points (at most
  * 4 * SINTER_WALL_OUTLINE_SEGMENTS), each polygon's point count in sizes and its normal into

@@ -396,6 +396,7 @@ class WallKindsTest(unittest.TestCase):
         self.assertEqual(walls.kind(die), sinter.WallKind.CYLINDER)
         self.assertEqual(walls.shape(die)[2], (rc, float("inf"), 1.0))
         walls.set_spin(die, 0.0)
+        walls.set_moment(die, True)
         st = sinter.Stepper(ctx, ps, walls, dt=2e-5, forces=[
             sinter.ForceModel(ctx, "hertz_mindlin"), sinter.ForceModel(ctx, "gravity")])
         st.advance(0.05)

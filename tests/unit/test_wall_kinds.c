@@ -217,12 +217,12 @@ static void test_spinning_walls_drive_by_friction(void **state)
  * on the particles, and its moment about its point p minus the sum of (x_i - p) x F_i + T_i
  * (each contact's moment about p is the particle's force's moment plus the torque it got
  * about its centre), to round-off; for a rectangle (face and edge contacts), a cylinder and a
- * disc, each spinning.
+ * disc, each spinning, and a plane (its moment asked for: sinter_walls_set_moment).
  */
 static void test_force_and_moment_balance(void **state)
 {
     (void)state;
-    for (int kind = 0; kind < 3; ++kind) {
+    for (int kind = 0; kind < 4; ++kind) {
         scene s;
         open_rigid(&s, 0.3, 0.4, 0);
         OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
@@ -234,8 +234,12 @@ static void test_force_and_moment_balance(void **state)
             OK(sinter_walls_add_rectangle(s.walls, p, up, ex, 3 * R, 2 * R, s.wall_mat, NULL));
         else if (kind == 1)
             OK(sinter_walls_add_cylinder(s.walls, p, tilt, 6 * R, 20 * R, 1, s.wall_mat, NULL));
-        else
+        else if (kind == 2)
             OK(sinter_walls_add_disc(s.walls, p, tilt, 4 * R, s.wall_mat, NULL));
+        else /* a plane: its moment asked for (off by default) */
+            OK(sinter_walls_add_plane(s.walls, p, tilt, s.wall_mat, NULL));
+        if (kind == 3)
+            OK(sinter_walls_set_moment(s.walls, 0, 1));
         double a[3], e1[3], e2[3];
         OK(sinter_walls_get_shape(s.walls, 0, a, e1, NULL));
         e2[0] = a[1] * e1[2] - a[2] * e1[1];
@@ -244,10 +248,11 @@ static void test_force_and_moment_balance(void **state)
         /* (along e1, along e2, along a) of each centre: planar kinds three on the face at
          * 0.5 % to 1 % overlap and one 0.7 R beyond an edge and above the face (distance
          * 0.99 R); the cylinder four at 0.2 % to 0.5 % overlap around and along it */
-        const double planar[4][3] = {{0, 0, 0.995 * R},
-                                     {R, -R, 0.99 * R},
-                                     {(kind == 0 ? 3.7 : 4.7) * R, 0, 0.7 * R},
-                                     {-R, 0.5 * R, 0.993 * R}};
+        const double planar[4][3] = {
+            {0, 0, 0.995 * R},
+            {R, -R, 0.99 * R},
+            {(kind == 0 ? 3.7 : 4.7) * R, 0, (kind == 3 ? 0.996 : 0.7) * R},
+            {-R, 0.5 * R, 0.993 * R}};
         const double c = cos(1.0), sn = sin(1.0);
         const double tube[4][3] = {{5.002 * R, 0, 0},
                                    {-5.003 * R, 0, 3 * R},
@@ -259,7 +264,8 @@ static void test_force_and_moment_balance(void **state)
                 const double *o = kind == 1 ? tube[i] : planar[i];
                 x[i][d] = p[d] + o[0] * e1[d] + o[1] * e2[d] + o[2] * a[d];
             }
-        OK(sinter_walls_set_spin(s.walls, 0, 30.0));
+        if (kind < 3)
+            OK(sinter_walls_set_spin(s.walls, 0, 30.0));
         const double vel[3] = {0.01, -0.02, 0.0};
         for (int i = 0; i < 4; ++i) {
             scene_add(&s, x[i][0], x[i][1], x[i][2], R);
@@ -552,6 +558,7 @@ static void test_bad_wall_input(void **state)
     REFUSED(sinter_walls_set_servo(w, k, 2, t, f, 1.0, 0.0, 0.0), "velocity limit");
     REFUSED(sinter_walls_set_servo(w, k, 2, tb, f, 1.0, 0.0, 1.0), "times must increase");
     REFUSED(sinter_walls_get_servo(w, k, NULL, NULL, NULL), "no servo");
+    REFUSED(sinter_walls_set_moment(w, k, 2), "must be 0 or 1");
     int kind = -1;
     OK(sinter_walls_get_kind(w, k, &kind));
     assert_int_equal(kind, SINTER_WALL_DISC);

@@ -190,8 +190,14 @@ class Walls(_Handle):
                    ctypes.byref(pushed), ctypes.byref(velocity))
         return target.value, pushed.value, velocity.value
 
+    def set_moment(self, k: int, on: bool) -> None:
+        """Whether wall k's reaction moment is summed (default: yes for rectangles, discs,
+        cylinders, spinning and servo walls; no for other planes)."""
+        self._call(lib.sinter_walls_set_moment, self._ptr, self._index(k), int(bool(on)))
+
     def moment(self, k: int) -> Tuple[float, float, float]:
-        """Reaction moment on wall k about its point in the last accepted step [N m]."""
+        """Reaction moment on wall k about its point in the last accepted step [N m] (0 when
+        not summed: set_moment)."""
         moment = (ctypes.c_double * 3)()
         self._call(lib.sinter_walls_get_moment, self._ptr, self._index(k), moment)
         return tuple(moment)
