@@ -904,15 +904,16 @@ typedef struct wall_search {
     const sinter_walls *walls;
     const size_t *bound; /* range t: pairs [bound[t], bound[t + 1]) */
     int compare;         /* the list holds these pairs' contacts: compared, geometry renewed */
+    int planes;          /* every wall is a plane */
     int same[SINTER_CHUNKS_MAX], ascending[SINTER_CHUNKS_MAX];
     size_t offset[SINTER_CHUNKS_MAX + 1]; /* range t's contacts at offset[t + 1], then summed */
 } wall_search;
 
 /* Range t's verdicts: which pairs touch, whether they are the contacts the list holds (their
- * geometry renewed in place), whether the particles ascend, how many contacts. */
-static void wall_test_range(void *data, int t)
+ * geometry renewed in place), whether the particles ascend, how many contacts (planes: every
+ * wall is a plane, a constant where called, so that the planes' loop has no kind's test). */
+static inline void wall_test_pairs(wall_search *job, int t, int planes)
 {
-    wall_search *job = data;
     sinter_contact_list *c = job->c;
     const double *x = job->ps->x, *r = job->ps->radius;
     const uint32_t *pi = job->pairs->i, *pk = job->pairs->j;
@@ -925,7 +926,8 @@ static void wall_test_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         ascending &= p == 0 || i >= pi[p - 1];
         const sinter_wall *w = &job->walls->wall[k];
-        const double sd = sinter_wall_distance(w, x + 3 * i);
+        const double sd =
+            planes ? sinter_plane_distance(w, x + 3 * i) : sinter_wall_distance(w, x + 3 * i);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
@@ -934,7 +936,8 @@ static void wall_test_range(void *data, int t)
             same = 0;
         } else if (job->compare && touches) {
             double buf[3];
-            renew_wall_geometry(c, was, wall_normal(w, x + 3 * i, buf), r[i], sd);
+            const double *wn = planes ? w->n : wall_normal(w, x + 3 * i, buf);
+            renew_wall_geometry(c, was, wn, r[i], sd);
         }
     }
     job->same[t] = same;
@@ -942,10 +945,19 @@ static void wall_test_range(void *data, int t)
     job->offset[t + 1] = count;
 }
 
-/* Range t's contacts written from offset[t] on, their pairs pointed at them. */
-static void wall_put_range(void *data, int t)
+static void wall_test_range(void *data, int t)
 {
     wall_search *job = data;
+    if (job->planes)
+        wall_test_pairs(job, t, 1);
+    else
+        wall_test_pairs(job, t, 0);
+}
+
+/* Range t's contacts written from offset[t] on, their pairs pointed at them (planes: as in
+ * wall_test_pairs). */
+static inline void wall_put_pairs(wall_search *job, int t, int planes)
+{
     sinter_contact_list *c = job->c;
     const double *x = job->ps->x, *r = job->ps->radius;
     const uint32_t *pi = job->pairs->i, *pk = job->pairs->j;
@@ -962,10 +974,21 @@ static void wall_put_range(void *data, int t)
         const sinter_wall *w = &job->walls->wall[k];
         to_contact[p] = (uint32_t)m;
         double buf[3];
-        const double *wn = wall_normal(w, x + 3 * i, buf);
-        put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sinter_wall_distance(w, x + 3 * i));
+        const double *wn = planes ? w->n : wall_normal(w, x + 3 * i, buf);
+        const double sd =
+            planes ? sinter_plane_distance(w, x + 3 * i) : sinter_wall_distance(w, x + 3 * i);
+        put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }
+}
+
+static void wall_put_range(void *data, int t)
+{
+    wall_search *job = data;
+    if (job->planes)
+        wall_put_pairs(job, t, 1);
+    else
+        wall_put_pairs(job, t, 0);
 }
 
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
@@ -1011,7 +1034,10 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     bound[ranges] = n;
     const int team = threads < ranges ? threads : ranges;
-    wall_search job = {c, pairs, ps, walls, bound, compare, {0}, {0}, {0}};
+    int planes = 1;
+    for (size_t k = 0; k < walls->count; ++k)
+        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
+    wall_search job = {c, pairs, ps, walls, bound, compare, planes, {0}, {0}, {0}};
     sinter_ranges_run(team, ranges, wall_test_range, &job);
     int ascending = 1;
     for (int t = 0; t < ranges; ++t) {

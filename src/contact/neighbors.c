@@ -517,6 +517,37 @@ static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
     }
 }
 
+/* The particle-wall candidates of particles [a, b): the walls closer than r + skin, counted
+ * (planes: every wall is a plane, whose distance is inline: a constant where called). */
+static inline size_t count_pw(const sinter_walls *walls, const double *x, const double *r,
+                              double skin, size_t a, size_t b, int planes)
+{
+    size_t count = 0;
+    for (size_t i = a; i < b; ++i)
+        for (size_t k = 0; k < walls->count; ++k)
+            count += (planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
+                             : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin;
+    return count;
+}
+
+/* The candidates of particles [a, b) written from m on (planes: as in count_pw). */
+static inline void put_pw(sinter_pair_list *l, const sinter_walls *walls,
+                          const sinter_particles *ps, double skin, size_t a, size_t b, size_t m,
+                          int planes)
+{
+    const double *x = ps->x, *r = ps->radius;
+    for (size_t i = a; i < b; ++i)
+        for (size_t k = 0; k < walls->count; ++k)
+            if ((planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
+                        : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin) {
+                l->i[m] = (uint32_t)i;
+                l->j[m] = (uint32_t)k;
+                l->key_i[m] = ps->id[i];
+                l->key_j[m] = k;
+                ++m;
+            }
+}
+
 /* Particle-wall candidates, by particle and then wall: counted in ranges of particles on the
  * threads, then written from each range's offset (the order of one thread). */
 static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
@@ -537,12 +568,8 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
     for (int t = 0; t < ranges; ++t) {
         const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        size_t count = 0;
-        for (size_t i = a; i < b; ++i)
-            for (size_t k = 0; k < nw; ++k)
-                count += (planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
-                                 : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin;
-        offset[t + 1] = count;
+        offset[t + 1] =
+            planes ? count_pw(walls, x, r, skin, a, b, 1) : count_pw(walls, x, r, skin, a, b, 0);
     }
     for (int t = 0; t < ranges; ++t)
         offset[t + 1] += offset[t];
@@ -553,17 +580,10 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
     for (int t = 0; t < ranges; ++t) {
         const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        size_t m = offset[t];
-        for (size_t i = a; i < b; ++i)
-            for (size_t k = 0; k < nw; ++k)
-                if ((planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
-                            : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin) {
-                    l->i[m] = (uint32_t)i;
-                    l->j[m] = (uint32_t)k;
-                    l->key_i[m] = ps->id[i];
-                    l->key_j[m] = k;
-                    ++m;
-                }
+        if (planes)
+            put_pw(l, walls, ps, skin, a, b, offset[t], 1);
+        else
+            put_pw(l, walls, ps, skin, a, b, offset[t], 0);
     }
     l->count = offset[ranges];
     return SINTER_OK;

@@ -560,6 +560,7 @@ typedef struct wall_job {
     size_t nw;
     int cached;
     pair_consts table[MAX_WALL_TABLE];
+    int plain;   /* no wall spins or wants its moment (pw_range: wall_moment NULL) */
     int runs;    /* 0: one pass over the list, on one thread */
     int aligned; /* the runs are the pair partition's ranges */
     size_t qlo[SINTER_CHUNKS_MAX + 1];
@@ -579,6 +580,10 @@ static void plan_walls(const sinter_force_eval *e, const constants *k, wall_job 
             for (int a = 0; a < k->rows; ++a)
                 mix(&k->sides[a], &sw, &job->table[wall_index * (size_t)k->rows + (size_t)a]);
         }
+    job->plain = 1;
+    for (size_t wall_index = 0; wall_index < nw; ++wall_index)
+        job->plain &=
+            e->walls->wall[wall_index].spin == 0.0 && !e->walls->wall[wall_index].moment_wanted;
     job->runs = sinter_chunks_wall_plan(&e->pp->chunks, c, job->qlo, &job->aligned);
     if (nw > MAX_THREADED_WALLS)
         job->runs = job->aligned = 0;
@@ -777,6 +782,8 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
 HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pair_consts *table,
                         int cached, int rolling, size_t lo, size_t hi, double *wall_force,
                         double *wall_moment, int no_tension)
+/* (wall_moment NULL where called: no wall spins or wants its moment, and the loop tests
+ * neither) */
 {
     const sinter_particles *ps = e->ps;
     const double *x = ps->x;
@@ -809,7 +816,7 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
         v3_cross(w + 3 * i, bi, wi_b);
         const double *uw = wall->u;
         double spun[3];
-        if (wall->spin != 0.0) {
+        if (wall_moment != NULL && wall->spin != 0.0) {
             const double at[3] = {x[3 * i] + bi[0], x[3 * i + 1] + bi[1], x[3 * i + 2] + bi[2]};
             sinter_wall_velocity_at(wall, at, spun);
             uw = spun;
@@ -839,6 +846,18 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
     }
 }
 
+/* pw_range with no moments (NULL, a constant: no wall spins or wants its moment). */
+static void pw_plain(const sinter_force_eval *e, const constants *k, const wall_job *job,
+                     int rolling, size_t lo, size_t hi, double *wall_force)
+{
+    if (k->no_tension)
+        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wall_force, NULL, 1);
+    else if (rolling)
+        pw_range(e, k, job->table, job->cached, 1, lo, hi, wall_force, NULL, 0);
+    else
+        pw_range(e, k, job->table, job->cached, 0, lo, hi, wall_force, NULL, 0);
+}
+
 /* Run s of a wall job, its reactions into the run's partial sums. */
 static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job, int s,
                    int rolling)
@@ -847,7 +866,9 @@ static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job
         job->partial[s][d] = 0.0;
     const size_t lo = job->qlo[s], hi = job->qlo[s + 1];
     double *wf = job->partial[s], *wm = e->wall_moment ? wf + 3 * job->nw : NULL;
-    if (k->no_tension)
+    if (job->plain) /* the planes' loop without a spin's or a moment's test */
+        pw_plain(e, k, job, rolling, lo, hi, wf);
+    else if (k->no_tension)
         pw_range(e, k, job->table, job->cached, rolling, lo, hi, wf, wm, 1);
     else if (rolling)
         pw_range(e, k, job->table, job->cached, 1, lo, hi, wf, wm, 0);
@@ -864,7 +885,9 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
     const int runs = job->runs;
     if (runs == 0) {
         double *wf = e->wall_force, *wm = e->wall_moment;
-        if (k->no_tension)
+        if (job->plain)
+            pw_plain(e, k, job, rolling, 0, c->count, wf);
+        else if (k->no_tension)
             pw_range(e, k, job->table, job->cached, rolling, 0, c->count, wf, wm, 1);
         else if (rolling)
             pw_range(e, k, job->table, job->cached, 1, 0, c->count, wf, wm, 0);
