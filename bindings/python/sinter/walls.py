@@ -161,7 +161,8 @@ class Walls(_Handle):
     def shape(self, k: int) -> Tuple[Tuple[float, ...], Tuple[float, ...], Tuple[float, ...]]:
         """(axis, edge, size) of wall k: size is (half_1, half_2, 0) for a rectangle, (radius,
         0, 0) for a disc, (radius, half_length, inside) for a cylinder."""
-        axis, edge, size = (ctypes.c_double * 3)(), (ctypes.c_double * 3)(), (ctypes.c_double * 3)()
+        axis, edge = (ctypes.c_double * 3)(), (ctypes.c_double * 3)()
+        size = (ctypes.c_double * 3)()
         self._call(lib.sinter_walls_get_shape, self._ptr, self._index(k), axis, edge, size)
         return tuple(axis), tuple(edge), tuple(size)
 
