@@ -484,10 +484,12 @@ SINTER_API sinter_status sinter_particles_sort_spatial(sinter_particles *ps);
 /* ------------------------------------------------------------------------ */
 
 /**
- * A set of rigid planar walls. Wall k is the plane through point p_k(t) with
- * unit normal n_k pointing into the region where particles live; a particle
- * touches it when its centre is closer to the plane than its radius. Walls
- * translate with a prescribed motion; their normals are fixed.
+ * A set of rigid walls. Wall k is the plane through point p_k(t) with unit
+ * normal n_k pointing into the region where particles live (or a rectangle,
+ * disc or cylinder: sinter_wall_kind); a particle touches it when its centre
+ * is closer to the wall than its radius. Walls translate with a prescribed
+ * motion or a force servo and may spin about their axis; their normals are
+ * fixed.
  */
 typedef struct sinter_walls sinter_walls;
 
@@ -553,7 +555,7 @@ SINTER_API sinter_status sinter_walls_set_temperature(sinter_walls *walls, size_
 /** Position of the wall's point [m] and its velocity [m/s] at the stepper's current time. */
 SINTER_API sinter_status sinter_walls_get_state(const sinter_walls *walls, size_t k,
                                                 double point[3], double velocity[3]);
-/** Unit normal of wall k. */
+/** Unit normal of wall k (a cylinder: its axis). */
 SINTER_API sinter_status sinter_walls_get_normal(const sinter_walls *walls, size_t k,
                                                  double normal[3]);
 /**
