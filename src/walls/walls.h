@@ -1,4 +1,4 @@
-/* Private layout of a wall set: walls of several kinds (wall_shapes.h) with prescribed
+/* Private layout of a wall set: walls of several kinds (wall_shapes.c) with prescribed
  * translation, a spin about their axis, or a force servo (servo.c). */
 #ifndef SINTER_WALLS_H
 #define SINTER_WALLS_H
@@ -23,7 +23,7 @@ typedef struct sinter_wall {
     double e1[3], e2[3];      /* rectangle: unit edge directions at the current time */
     double half[2];           /* rectangle: half lengths along e1, e2 [m] */
     double radius;            /* disc, cylinder: radius [m] */
-    double half_length;       /* cylinder: contacts where |axial offset| <= half_length [m] */
+    double half_length;       /* cylinder: its surface's reach from p along the axis [m] */
     double spin;              /* angular velocity about axis through p [rad/s] */
     double angle;             /* spin angle at the current time [rad] */
     double e1_0[3];           /* rectangle: e1 at angle 0 */
@@ -78,9 +78,9 @@ static inline double sinter_plane_distance(const sinter_wall *w, const double *x
     return (x[0] - w->p[0]) * w->n[0] + (x[1] - w->p[1]) * w->n[1] + (x[2] - w->p[2]) * w->n[2];
 }
 
-/* The other kinds (wall_shapes.c): distance s [m] of centre x from the wall's surface,
- * positive on the particles' side (INFINITY: no contact possible), and the unit normal n from
- * the surface towards x (may be NULL). */
+/* The other kinds (wall_shapes.c): distance s [m] of centre x from the wall's closest point,
+ * positive on the particles' side, and the unit normal n from that point towards x (may be
+ * NULL). */
 double sinter_wall_shape_contact(const sinter_wall *w, const double *x, double *n);
 
 /* Signed distance [m] of centre x from wall w, positive on the particles' side (the one
@@ -91,16 +91,6 @@ static inline double sinter_wall_distance(const sinter_wall *w, const double *x)
     if (w->kind == 0)
         return sinter_plane_distance(w, x);
     return sinter_wall_shape_contact(w, x, NULL);
-}
-
-/* sinter_wall_distance and the unit normal n [3] from the wall towards x. */
-static inline double sinter_wall_contact(const sinter_wall *w, const double *x, double *n)
-{
-    if (w->kind == 0) {
-        n[0] = w->n[0], n[1] = w->n[1], n[2] = w->n[2];
-        return sinter_plane_distance(w, x);
-    }
-    return sinter_wall_shape_contact(w, x, n);
 }
 
 /* Velocity [m/s] of wall w's surface at point c: its translation, plus its spin about the
@@ -145,6 +135,8 @@ static inline double sinter_wall_moved(const sinter_wall *w, const double *ref)
     return moved;
 }
 
+/* The reference (4 doubles) sinter_wall_moved measures from: a plane's n . p, else the point
+ * and the spin angle. */
 static inline void sinter_wall_reference(const sinter_wall *w, double *ref)
 {
     if (w->kind == 0) {
