@@ -427,6 +427,21 @@ SINTER_API sinter_status sinter_particles_add(sinter_particles *ps, size_t n,
                                               size_t *first_index);
 
 /**
+ * Add n particles as sinter_particles_add does, with ids chosen by the caller instead of the
+ * set's counter: a host that splits one body over several particle sets (subdomains of a
+ * decomposition) gives every particle an id unique across all of them. ids[k] (n values) must
+ * not repeat, must not be held by the set already and must not be 2^64 - 1 (SINTER_ERR_INVALID
+ * names the id and the particles); the set's counter moves above the largest, so later
+ * sinter_particles_add calls never reuse one. Contact histories, quasi-static links and
+ * checkpoints follow the particles by these ids. On error the set is unchanged.
+ */
+SINTER_API sinter_status sinter_particles_add_with_ids(sinter_particles *ps, size_t n,
+                                                       const uint64_t *ids,
+                                                       const double *positions,
+                                                       const double *radii, int32_t material_id,
+                                                       double temperature, size_t *first_index);
+
+/**
  * Remove the particles whose indices are listed (each once, in any order).
  * The order of the remaining particles is kept; their ids are unchanged.
  */
@@ -461,7 +476,12 @@ SINTER_API sinter_status sinter_particles_views_out(const sinter_particles *ps, 
  */
 SINTER_API sinter_status sinter_particles_validate(const sinter_particles *ps, size_t *bad_index);
 
-/** Find the index of the particle with persistent id `id` (SINTER_ERR_NOT_FOUND if none). */
+/**
+ * Find the index of the particle with persistent id `id` (SINTER_ERR_NOT_FOUND if none). The
+ * first lookup after particles were added, removed or reordered builds an index of the ids
+ * (O(N), 4 bytes per particle and a half-full table); later lookups take O(1). Like the views,
+ * this bookkeeping writes into the set: do not look up ids of one set from two threads at once.
+ */
 SINTER_API sinter_status sinter_particles_find_id(const sinter_particles *ps, uint64_t id,
                                                   size_t *index);
 
@@ -746,6 +766,9 @@ typedef struct sinter_stepper_stats {
     /* Appended in 0.x (struct_size tells the library which fields a caller has). */
     uint64_t iterations;      /**< fixed-point iterations, accepted and rejected (staggered) */
     uint64_t evaluations;     /**< evaluations of the force/electric/heat pipeline */
+    /* Appended later. */
+    double contraction;       /**< staggered scheme 1: contraction (E_K/E_0)^(1/K) of the fixed-point
+                                   iteration in the last accepted step (0: none measured) */
 } sinter_stepper_stats;
 
 /**
@@ -811,6 +834,17 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * Beyond eq. 49 the step control stops an attempt early when the iteration
  * stagnates (see src/stepper/staggered.c), grows the step at most twofold,
  * and not at all right after a restart.
+ *  - "scheme": 0 the seed's Algorithm 1 as above; 1 (default) the same
+ *    trapezoidal rule with Anderson acceleration of the fixed-point
+ *    iteration, a weighted RMS convergence test per quantity (relative
+ *    tolerance "tolerance", absolute "position_tolerance" [m] and
+ *    "temperature_tolerance" [K]), a PI step controller on the measured
+ *    contraction (growth in [1/2, 2]) and a predictor extrapolating the
+ *    forces and heat powers of the two previous steps; an attempt takes at
+ *    most 2 "target_iterations" (see src/stepper/staggered.c); 1 (chosen by
+ *    measurement: tests/bench/RESULTS.md); 0 or 1.
+ *  - "anderson_depth": m of Anderson(m) in scheme 1; 0 is the plain
+ *    iteration; 3; whole number in [0, 10].
  * The step starts at the value of sinter_stepper_set_dt, capped by dt_max.
  * Every kind but the quasi-static one also takes "sort_interval": the particles
  * are sorted in memory by position (sinter_particles_sort_spatial; indices
@@ -980,9 +1014,15 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
  *    correlation), "fluid_conductivity" [W/(m K)], "fluid_viscosity" [Pa s],
  *    "fluid_heat_capacity" [J/(kg K)], "fluid_density" [kg/m^3],
- *    "fluid_speed" [m/s] (0: stagnant, Nu = 2).
+ *    "fluid_speed" [m/s] (0: stagnant, Nu = 2). "exposed" = 1: only the
+ *    fraction of each surface that faces the surroundings (one minus the view
+ *    factors to touching particles, (1 - sqrt(1 - (r_j/d)^2))/2 each, and walls,
+ *    1/2 each). "fluid_law" = 1: conductivity and viscosity by Sutherland's law
+ *    ("sutherland_conductivity", "sutherland_viscosity" [K], air's 194 and 111)
+ *    and an ideal gas's density at the film temperature (theta + theta_E)/2, the
+ *    fluid_* values holding at "fluid_reference_temperature" [K] (293.15).
  *  - "radiation": Q = epsilon sigma 4 pi r^2 (theta_E^4 - theta^4) (eq. 41),
- *    "temperature" theta_E [K].
+ *    "temperature" theta_E [K]; "exposed" as for convection.
  *  - "nozzle": Q = a I0 pi r^2 (1 - z/d_max) for 0 <= z <= d_max (eq. 29-30);
  *  - "laser": Q = a I0 pi r^2 exp(-mu z) (eq. 31).
  *    Both: a beam along -z through ("x", "y") [m] of radius "radius" [m],
@@ -1034,6 +1074,36 @@ SINTER_API const char *sinter_heat_model_name(const sinter_heat_model *hm);
 /** Set a parameter by key (list above). Errors: SINTER_ERR_NOT_FOUND (unknown key), SINTER_ERR_INVALID. */
 SINTER_API sinter_status sinter_heat_model_set(sinter_heat_model *hm, const char *key,
                                                double value);
+/**
+ * Move the model's beam along a scan path (issue 40's scan strategies): `n` vertices of 4
+ * values each, x [m], y [m], speed [m/s] > 0 and level [-] in [0, 1]; vertex 0 is the start
+ * point (its speed and level are ignored), and the source moves from each vertex to the next
+ * in a straight line at that vertex's speed with its power times that vertex's level (0: off,
+ * a jump; 1: full power). The path starts at `start_time` [s]; before it the source stands at
+ * the first vertex and after its end at the last, off. It drives the axis point ("x", "y")
+ * and the power ("power" of "beam", "intensity" of "laser" and "nozzle": their values, or
+ * schedules, times the level) of the models that have a beam; others: SINTER_ERR_INVALID.
+ * n = 0 removes the path. Errors name the vertex (a non-finite value, a speed <= 0 on a
+ * segment of non-zero length, a level outside [0, 1]); on error the model is unchanged.
+ */
+SINTER_API sinter_status sinter_heat_model_set_scan_path(sinter_heat_model *hm, size_t n,
+                                                         const double *points, double start_time);
+/** The time [s] at which the model's scan path ends. Errors: SINTER_ERR_NOT_FOUND (no path). */
+SINTER_API sinter_status sinter_heat_model_scan_end(const sinter_heat_model *hm, double *end_time);
+/**
+ * The vertices of a hatch (parallel scan lines filling a rectangle, as powder-bed machines scan
+ * an area) for sinter_heat_model_set_scan_path: lines along the direction `angle` [rad] from
+ * the x axis, `spacing` [m] apart, centred across the rectangle lo..hi ([m], x and y), each
+ * clipped to it and scanned at `speed` [m/s] at level 1, the jumps between them at
+ * `jump_speed` [m/s] at level 0; `serpentine` = 1 scans every other line backwards. Writes at
+ * most `capacity` vertices (4 values each) into `points` and their number into *count;
+ * points == NULL only counts. Errors: SINTER_ERR_INVALID (an empty or non-finite rectangle,
+ * spacing, speeds), SINTER_ERR_RANGE (capacity too small).
+ */
+SINTER_API sinter_status sinter_scan_hatch(sinter_ctx *ctx, const double lo[2], const double hi[2],
+                                           double spacing, double angle, double speed,
+                                           double jump_speed, int serpentine, double *points,
+                                           size_t capacity, size_t *count);
 /**
  * An output of the model's last evaluation by name ("beam": "absorbed" and
  * "transmitted" [W], "lit" [1], "lit_temperature" [K]; other models have none).
@@ -1194,7 +1264,8 @@ SINTER_API sinter_status sinter_walls_set_electric_limit(sinter_walls *walls, si
  *    no potential wall is solved only if its current walls' net current is
  *    zero (its potential is then fixed up to a constant, irrelevant to
  *    currents); otherwise the circuit is open and the cluster carries no
- *    current (a warning is logged). The node potentials are found with
+ *    current (a warning is logged, unless each of its current walls has a
+ *    compliance limit: such a supply then simply sits at its limit). The node potentials are found with
  *    preconditioned conjugate gradients (SUNDIALS PCG, Jacobi) to a residual
  *    <= "tolerance" times the right-hand side. The particle's current is half
  *    the sum of |I| through its conducting contacts (what flows through it:
@@ -1332,6 +1403,31 @@ SINTER_API sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const 
                                                    const double *out_times, double *neck_radius,
                                                    double *shrinkage, double *state);
 
+/**
+ * Forward sensitivities of the two-particle model (docs/calibration.md §3): the neck ratio
+ * x / min(R_A, R_B) [-] and the shrinkage Delta L / L0 [-] of sinter_neck_two_particles (same
+ * pair, schedule and seeded neck, the options of nm: epsilon, h0_ratio, rtol, atol,
+ * initial_step, max_steps, error_scale; integrator must be 0, CVODE), and their derivatives
+ * with respect to n_params (1-12, distinct) Arrhenius parameters of material m:
+ *  - a *_DIFFUSION_PREFACTOR or *_DIFFUSION_PREFACTOR_HOT key: the derivative with respect to
+ *    ln D0 [-] (per unit of ln D0, i.e. D0 dy/dD0),
+ *  - a *_ACTIVATION_ENERGY or *_ACTIVATION_ENERGY_HOT key: the derivative with respect to
+ *    Q [J/mol].
+ * The sensitivity equations ds/dt = J s + df/dp are integrated together with the state by
+ * CVODE, under the same error control. Outputs at the n_out out_times [s] (nondecreasing, each
+ * >= times[0]): neck_ratio[k], shrinkage[k], and d_neck_ratio[k * n_params + j],
+ * d_shrinkage[k * n_params + j] for parameter j; NaN for times a failed run did not reach.
+ * The validity guard (docs/7dof.md §2.6) is not applied. ctx receives the error messages.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments, a parameter that is not a diffusion
+ * prefactor or activation energy, a repeated one, integrator = 1), SINTER_ERR_DOMAIN,
+ * SINTER_ERR_NOT_CONVERGED, SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_neck_sensitivities(
+    sinter_ctx *ctx, const sinter_neck_model *nm, const sinter_material *m, double radius_a,
+    double radius_b, size_t n_times, const double *times, const double *temperatures,
+    size_t n_params, const sinter_material_param *params, size_t n_out, const double *out_times,
+    double *neck_ratio, double *shrinkage, double *d_neck_ratio, double *d_shrinkage);
+
 /** Work of the last sinter_neck_two_particles call (also after a failure). */
 typedef struct sinter_neck_stats {
     size_t struct_size;            /**< set to sizeof(sinter_neck_stats) by the caller */
@@ -1461,7 +1557,10 @@ typedef enum sinter_link_data {
                                       the increment of that step, global components) [N], 3 doubles;
                                       NaN before a step of this run (after a restart) */
     SINTER_LINK_DATA_BEAM_MOMENT = 9, /**< link moment K_M gamma of that solve (eq. 34b) [N m], 3 doubles */
-    SINTER_LINK_DATA_COUNT_ = 10 /**< number of quantities in this version (not one) */
+    SINTER_LINK_DATA_CORRECTION = 10, /**< seed 001 eq. 44 of the last step: the corrected minus the
+                                      7DOF model's change of the centre distance, dy4 + dy7 - xi
+                                      (eq. 41, 43) [m]; NaN before a step of this run */
+    SINTER_LINK_DATA_COUNT_ = 11 /**< number of quantities in this version (not one) */
 } sinter_link_data;
 
 /**
@@ -1509,6 +1608,83 @@ SINTER_API sinter_status sinter_snapshot_links(const sinter_snapshot *snapshot,
                                                sinter_link_data quantity, const void **data,
                                                size_t *count, size_t *components,
                                                sinter_dtype *dtype);
+
+/* ------------------------------------------------------------------------ */
+/* Coarse-grained fields: density, temperature, velocity and stress on a grid */
+/* ------------------------------------------------------------------------ */
+
+/**
+ * Quantities of sinter_coarse_grain (Goldhirsch 2010; Weinhart et al. 2012, docs/models.md).
+ * Values are pinned; new ones are appended.
+ */
+typedef enum sinter_coarse_quantity {
+    SINTER_COARSE_SOLID_FRACTION = 0, /**< sum of V_i W(r - r_i), V_i = 4/3 pi r_i^3 (overlaps
+                                           counted in both spheres) [1], 1 double */
+    SINTER_COARSE_DENSITY = 1,        /**< mass density rho = sum m_i W(r - r_i) [kg/m^3] */
+    SINTER_COARSE_TEMPERATURE = 2,    /**< mass-weighted temperature sum m_i T_i W / rho [K]; NaN
+                                           where rho = 0 */
+    SINTER_COARSE_VELOCITY = 3,       /**< momentum density over rho [m/s], 3 doubles; 0 where
+                                           rho = 0 */
+    SINTER_COARSE_STRESS = 4,         /**< Cauchy stress, tension positive [Pa], 9 doubles (xx xy
+                                           xz yx ... zz): kinetic part plus the contacts of the
+                                           snapshot, pairs along their branch line and wall
+                                           contacts from the centre to the contact point */
+    SINTER_COARSE_COUNT_ = 5          /**< number of quantities in this version (not one) */
+} sinter_coarse_quantity;
+
+/** A regular grid and a kernel; fill with sinter_coarse_options_init. */
+typedef struct sinter_coarse_options {
+    size_t struct_size; /**< sizeof(sinter_coarse_options) */
+    double origin[3];   /**< the first grid point [m] */
+    double spacing[3];  /**< distance between grid points along x, y, z [m], > 0 */
+    size_t points[3];   /**< grid points along x, y, z, >= 1 (x runs fastest in the output) */
+    double width;       /**< kernel width w: the Gaussian's standard deviation [m], > 0 */
+    double cutoff;      /**< the kernel is cut at cutoff * w and normalised over its support
+                             (1 to 10, default 3) [1] */
+} sinter_coarse_options;
+
+/** Defaults: origin 0, spacing 1 mm, 1 x 1 x 1 points, width 1 mm, cutoff 3.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
+SINTER_API sinter_status sinter_coarse_options_init(sinter_coarse_options *options,
+                                                    size_t struct_size);
+
+/** Components of a quantity (1, 3 or 9), its name ("solid_fraction") and unit; any may be NULL.
+ * Errors: SINTER_ERR_RANGE. */
+SINTER_API sinter_status sinter_coarse_quantity_info(sinter_coarse_quantity quantity,
+                                                     const char **name, const char **unit,
+                                                     size_t *components);
+
+/**
+ * One coarse-grained quantity at every grid point: out[(i + nx (j + ny k)) * components + c]
+ * for the point origin + (i, j, k) * spacing. Each particle is smeared by a Gaussian kernel of
+ * width w cut at cutoff * w; so the integral of the density over space is the particles' mass,
+ * and on a grid finer than w its sum times the cell volume is too, away from the grid's edges.
+ * @param snapshot  contacts for the stress (sinter_snapshot_create on a stepper of `ps`); NULL:
+ *                  the kinetic stress only. Ignored by the other quantities. Links carry no
+ *                  total force and add nothing.
+ * @param out_count  number of doubles at out: points * components.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (options, out_count, a snapshot of other
+ * particles), SINTER_ERR_RANGE (quantity), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_coarse_grain(const sinter_particles *ps,
+                                             const sinter_snapshot *snapshot,
+                                             const sinter_coarse_options *options,
+                                             sinter_coarse_quantity quantity, double *out,
+                                             size_t out_count);
+
+/**
+ * The relative density of laminae (seed 001 eq. 48, Fig. 10): the box lo..hi cut along `axis`
+ * (0 x, 1 y, 2 z) into `count` equal laminae; lamina s has fraction[s] = the volume of the
+ * spheres' slices between its two planes over its volume, and temperature[s] the
+ * slice-volume-weighted mean temperature (NaN where no sphere reaches it). Slices are whole
+ * across the other two axes (the box should hold the packing's cross-section) and overlaps
+ * count in both spheres, as the paper's measure. Either output may be NULL.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (axis, count 0, lo >= hi).
+ */
+SINTER_API sinter_status sinter_lamina_profile(const sinter_particles *ps, int axis,
+                                               const double lo[3], const double hi[3],
+                                               size_t count, double *fraction,
+                                               double *temperature);
 
 /* ------------------------------------------------------------------------ */
 /* Packing helpers                                                           */
@@ -1896,6 +2072,21 @@ SINTER_API sinter_status sinter_scene_set_end_time(sinter_scene *scene, double e
  * SINTER_ERR_PARSE (naming the line), SINTER_ERR_STATE (no sample yet).
  */
 SINTER_API sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, const char *title);
+
+/**
+ * Draw chosen columns of any CSV file a run writes (series.csv, a lamina profile
+ * frames/profile_z_NNNNN.csv, ...) into the SVG file `svg_path`: panel k draws the columns
+ * named in panels[k], a comma-separated list ("max temperature,mean temperature"), against
+ * the column named `x` (NULL: the first column). A name is a column's name without its unit;
+ * a name that is no column's selects every column that starts with it ("coordination": the
+ * histogram's columns). panel_count 0: every column but x, one panel each. At most 8 panels.
+ * `title` may be NULL. Errors: SINTER_ERR_NULL, SINTER_ERR_IO, SINTER_ERR_PARSE,
+ * SINTER_ERR_STATE (no row), SINTER_ERR_INVALID (a name that selects no column; too many
+ * panels).
+ */
+SINTER_API sinter_status sinter_plot_csv(sinter_ctx *ctx, const char *csv_path,
+                                         const char *svg_path, const char *title, const char *x,
+                                         const char *const *panels, size_t panel_count);
 
 /** Borrow the scene's objects (valid until the scene is destroyed). */
 SINTER_API sinter_status sinter_scene_get_stepper(sinter_scene *scene, sinter_stepper **stepper);

@@ -245,6 +245,15 @@ enum class link_data : int {
     sintering_force = SINTER_LINK_DATA_SINTERING_FORCE,
     beam_force = SINTER_LINK_DATA_BEAM_FORCE,
     beam_moment = SINTER_LINK_DATA_BEAM_MOMENT,
+    correction = SINTER_LINK_DATA_CORRECTION,
+};
+/// Mirrors sinter_coarse_quantity (the coarse-grained fields of sinter_coarse_grain).
+enum class coarse_quantity : int {
+    solid_fraction = SINTER_COARSE_SOLID_FRACTION,
+    density = SINTER_COARSE_DENSITY,
+    temperature = SINTER_COARSE_TEMPERATURE,
+    velocity = SINTER_COARSE_VELOCITY,
+    stress = SINTER_COARSE_STRESS,
 };
 
 /// Combine particle flags (sinter_particle_flag bits).
@@ -656,6 +665,27 @@ class particles : public detail::handle<sinter_particles, sinter_particles_destr
         check(sinter_particles_add(live("sinter_particles_add"), radii.size(), positions.data(),
                                    radii.data(), material_id, temperature, &first),
               "sinter_particles_add");
+        return first;
+    }
+    /**
+     * add() with persistent ids chosen by the caller (ids.size() == radii.size(); unique in the
+     * set, not 2^64 - 1): sinter_particles_add_with_ids. Returns the index of the first.
+     */
+    std::size_t add_with_ids(span<const std::uint64_t> ids, span<const double> positions,
+                             span<const double> radii, std::int32_t material_id,
+                             double temperature)
+    {
+        if (positions.size() != 3 * radii.size() || ids.size() != radii.size())
+            throw error(status::invalid,
+                        std::to_string(ids.size()) + " ids and " +
+                            std::to_string(positions.size()) + " position values for " +
+                            std::to_string(radii.size()) + " radii (1 and 3 per particle expected)",
+                        "sinter_particles_add_with_ids");
+        std::size_t first = 0;
+        check(sinter_particles_add_with_ids(live("sinter_particles_add_with_ids"), radii.size(),
+                                            ids.data(), positions.data(), radii.data(),
+                                            material_id, temperature, &first),
+              "sinter_particles_add_with_ids");
         return first;
     }
     /// Remove the particles at these indices (each once, any order).

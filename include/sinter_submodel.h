@@ -142,6 +142,63 @@ SINTER_API sinter_status sinter_heat_model_create_host(sinter_heat_model **out, 
                                                        const sinter_heat_callbacks *callbacks,
                                                        void *user);
 
+/**
+ * Host submodels of the "network" electric model (sinter.h): the contact
+ * conductance law and the Joule split. Either callback may be NULL (the
+ * built-in rule then applies). Each is called once per solve for the
+ * particle-particle batch and once for the particle-wall batch (when not
+ * empty); the batches carry the geometry only (force/torque/history NULL).
+ * In the state view given to them, time and dt are NaN (the electric solve
+ * does not know the stepper's clock).
+ *  - conductance: fills conductance[k] [S], one per contact (zeroed before
+ *    the call). `sigma` holds
+ *    each particle's conductivity [S/m] after seed 000 eq. 50's temperature
+ *    term when the model's "sigmoid" is 1 (state->count values). A value of 0
+ *    makes the contact an insulator; a negative or non-finite value is
+ *    SINTER_ERR_DOMAIN. Entries of contacts with neutral walls are ignored.
+ *    The built-in law is G = sigma_ij A / d with the harmonic rule
+ *    (r_i + r_j) / sigma_ij = r_i / sigma_i + r_j / sigma_j (pairs) and
+ *    G = sigma_i A / d (walls).
+ *  - joule_split: fills share[k], in [0, 1], the fraction of contact k's
+ *    Joule power power[k] = G (phi_a - phi_b)^2 [W] that heats particle i
+ *    (filled with the built-in split before the call; 0 power: no edge);
+ *    the rest heats j (a particle) or the wall (an electrode: that heat
+ *    leaves the powder, see sinter_electric_model_electrode_heat). The
+ *    built-in split is 1/2 for pairs and 1 for wall contacts. A value
+ *    outside [0, 1] is SINTER_ERR_DOMAIN.
+ */
+typedef struct sinter_electric_callbacks {
+    size_t struct_size; /**< sizeof(sinter_electric_callbacks) */
+    /** Contact conductances [S] of a batch (may be NULL). */
+    int (*conductance)(const sinter_state_view *state, const sinter_contact_batch *contacts,
+                       const double *sigma, double *conductance, void *user);
+    /** Share of each contact's Joule power that goes to particle i (may be NULL). */
+    int (*joule_split)(const sinter_state_view *state, const sinter_contact_batch *contacts,
+                       const double *power, double *share, void *user);
+    void (*destroy_user)(void *user); /**< called once when replaced or destroyed (may be NULL) */
+} sinter_electric_callbacks;
+
+/**
+ * Give a "network" electric model host callbacks (copied; NULL removes them
+ * and restores the built-in law and split). The previous callbacks' destroy_user
+ * is called. On error destroy_user is not called: the caller still owns `user`.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED (the
+ * "averaged" model, which has no conductances), SINTER_ERR_INVALID (a table
+ * with neither callback).
+ */
+SINTER_API sinter_status sinter_electric_model_set_host(sinter_electric_model *em,
+                                                        const sinter_electric_callbacks *callbacks,
+                                                        void *user);
+
+/**
+ * The Joule heat of the network model's last solve that a host split gave to
+ * the electrodes [W] (0 with the built-in split): the particles receive the
+ * dissipated power (sinter_electric_model_power) less this. Errors:
+ * SINTER_ERR_NULL, SINTER_ERR_UNSUPPORTED (the "averaged" model).
+ */
+SINTER_API sinter_status sinter_electric_model_electrode_heat(const sinter_electric_model *em,
+                                                              double *heat);
+
 #ifdef __cplusplus
 }
 #endif

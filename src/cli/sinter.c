@@ -5,7 +5,7 @@
  *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--end-time T] [--stop-at T]
  *                    [--threads N] [--log LEVEL]
  *   sinter check SCENE
- *   sinter plot DIR [--title TEXT]
+ *   sinter plot DIR [--title TEXT] [--file CSV] [--x NAME] [--panel NAMES]... [-o SVG]
  *   sinter pair FILE... [-o DIR] [--quiet]   (pair.c)
  *   sinter info | --help | --version
  *
@@ -85,7 +85,7 @@ static const char USAGE[] =
     "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--end-time T] [--stop-at T]\n"
     "                        [--threads N] [--log error|warning|info|debug]\n"
     "       sinter check SCENE\n"
-    "       sinter plot DIR [--title TEXT]\n"
+    "       sinter plot DIR [--title TEXT] [--file CSV] [--x NAME] [--panel NAMES]... [-o SVG]\n"
     "       sinter pair FILE... [-o DIR] [--quiet]\n"
     "       sinter info | --help | --version\n";
 
@@ -106,7 +106,11 @@ static int help(void)
           "         --stop-at T   stop at the first sample at or after T [s], with a checkpoint\n"
           "         Ctrl-C stops after the current step, with a checkpoint (exit status 130)\n"
           "check    read and check a scene without running it\n"
-          "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not)\n"
+          "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not);\n"
+          "         with --panel NAMES (comma-separated column names or their prefixes, one\n"
+          "         panel each, up to 8) those columns of DIR/series.csv or of --file CSV\n"
+          "         (relative to DIR, e.g. frames/profile_z_00010.csv) against --x NAME\n"
+          "         (default: the first column), into -o SVG (default: the CSV's name .svg)\n"
           "pair     the two-particle 7DOF model of each pair file along its temperature\n"
           "         schedule: DIR/STEM.csv (neck ratio, shrinkage, past_limit) and DIR/STEM.svg\n"
           "         (default out/); --quiet leaves out the validity guard's warnings\n"
@@ -298,13 +302,29 @@ static int info(void)
     return 0;
 }
 
-/* plot DIR [--title TEXT]: series.svg from series.csv, for any run, finished or not. */
+/*
+ * plot DIR [--title TEXT]: series.svg from series.csv, for any run, finished or not;
+ * plot DIR [--file CSV] [--x NAME] [--panel NAMES]... [-o SVG] [--title TEXT]: chosen columns
+ * of any CSV of the run (sinter_plot_csv), into the CSV's name with .svg unless -o.
+ */
 static int plot(int argc, char **argv)
 {
-    const char *dir = NULL, *title = NULL;
+    enum { MAX_PANELS = 8 };
+    const char *dir = NULL, *title = NULL, *file = NULL, *x = NULL, *svg = NULL;
+    const char *panels[MAX_PANELS];
+    size_t panel_count = 0;
     for (int k = 2; k < argc; ++k) {
-        if (strcmp(argv[k], "--title") == 0 && k + 1 < argc)
+        const int more = k + 1 < argc;
+        if (strcmp(argv[k], "--title") == 0 && more)
             title = argv[++k];
+        else if (strcmp(argv[k], "--file") == 0 && more)
+            file = argv[++k];
+        else if (strcmp(argv[k], "--x") == 0 && more)
+            x = argv[++k];
+        else if (strcmp(argv[k], "-o") == 0 && more)
+            svg = argv[++k];
+        else if (strcmp(argv[k], "--panel") == 0 && more && panel_count < MAX_PANELS)
+            panels[panel_count++] = argv[++k];
         else if (argv[k][0] != '-' && dir == NULL)
             dir = argv[k];
         else
@@ -315,10 +335,31 @@ static int plot(int argc, char **argv)
     sinter_ctx *ctx = NULL;
     if (sinter_ctx_create(&ctx, NULL) != SINTER_OK)
         return 1;
-    const sinter_status st = sinter_plot_run(ctx, dir, title);
+    sinter_status st = SINTER_OK;
+    char csv_path[4096], svg_path[4096 + 8];
+    if (file == NULL && x == NULL && svg == NULL && panel_count == 0) {
+        st = sinter_plot_run(ctx, dir, title);
+        snprintf(svg_path, sizeof(svg_path), "%s/series.svg", dir);
+    } else {
+        const int n =
+            snprintf(csv_path, sizeof(csv_path), "%s/%s", dir, file != NULL ? file : "series.csv");
+        const size_t len = strlen(csv_path);
+        if (svg != NULL)
+            snprintf(svg_path, sizeof(svg_path), "%s", svg);
+        else if (len > 4 && strcmp(csv_path + len - 4, ".csv") == 0)
+            snprintf(svg_path, sizeof(svg_path), "%.*s.svg", (int)(len - 4), csv_path);
+        else
+            snprintf(svg_path, sizeof(svg_path), "%s.svg", csv_path);
+        if (n < 0 || (size_t)n >= sizeof(csv_path) - 4) {
+            fprintf(stderr, "sinter: path too long\n");
+            sinter_ctx_destroy(ctx);
+            return 2;
+        }
+        st = sinter_plot_csv(ctx, csv_path, svg_path, title, x, panels, panel_count);
+    }
     const int rc = st == SINTER_OK ? 0 : fail(ctx, st);
     if (st == SINTER_OK)
-        printf("sinter: drew %s/series.svg\n", dir);
+        printf("sinter: drew %s\n", svg_path);
     sinter_ctx_destroy(ctx);
     return rc;
 }

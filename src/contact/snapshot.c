@@ -46,7 +46,7 @@ struct sinter_snapshot {
     /* links */
     uint64_t *link_a, *link_b;
     int32_t *phase;
-    double *neck, *ratio, *approach, *age, *fsint, *beam_force, *beam_moment;
+    double *neck, *ratio, *approach, *age, *fsint, *beam_force, *beam_moment, *correction;
 };
 
 /* Components and element type of each array. */
@@ -73,8 +73,8 @@ typedef struct layout {
     }
 static const layout CONTACT_LAYOUT[SINTER_CONTACT_DATA_COUNT_] = {U64_, U64_, I32_, D3_, D1_, D1_,
                                                                   D1_,  D1_,  D3_,  D1_, D1_};
-static const layout LINK_LAYOUT[SINTER_LINK_DATA_COUNT_] = {U64_, U64_, D1_, D1_, D1_,
-                                                            D1_,  I32_, D1_, D3_, D3_};
+static const layout LINK_LAYOUT[SINTER_LINK_DATA_COUNT_] = {U64_, U64_, D1_, D1_, D1_, D1_,
+                                                            I32_, D1_,  D3_, D3_, D1_};
 #undef D1_
 #undef D3_
 #undef U64_
@@ -134,6 +134,7 @@ static sinter_status snapshot_alloc(sinter_snapshot *s, size_t count, size_t lin
     s->fsint = k[SINTER_LINK_DATA_SINTERING_FORCE];
     s->beam_force = k[SINTER_LINK_DATA_BEAM_FORCE];
     s->beam_moment = k[SINTER_LINK_DATA_BEAM_MOMENT];
+    s->correction = k[SINTER_LINK_DATA_CORRECTION];
     return SINTER_OK;
 }
 
@@ -471,20 +472,17 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
     const int network = em != NULL && em->kind == SINTER_ELECTRIC_NETWORK &&
                         em->potential != NULL &&
                         em->node_count == n + (st->walls ? st->walls->count : 0);
-    const double *r = ps->radius, *phi = network ? em->potential : NULL;
+    const double *phi = network ? em->potential : NULL;
     for (size_t q = 0; q < np; ++q) {
         if (!network) {
             snap->current[q] = NAN;
             continue;
         }
+        /* the solve's own conductance, eq. 50's term included (NaN under a host law) */
         const uint32_t i = L->pp.i[q], j = L->pp.j[q];
-        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double sj = sinter_particle_param(ps, j, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double den = r[i] * sj + r[j] * si;
-        const double g = den > 0.0 && L->pp.dist[q] > 0.0
-                             ? si * sj * (r[i] + r[j]) / den * L->pp.area[q] / L->pp.dist[q]
-                             : 0.0;
-        snap->current[q] = g > 0.0 && isfinite(g) ? g * (phi[i] - phi[j]) : 0.0;
+        const double g =
+            sinter_electric_contact_conductance(em, ps, i, j, 0, L->pp.area[q], L->pp.dist[q]);
+        snap->current[q] = g * (phi[i] - phi[j]);
     }
     for (size_t q = 0; q < nwc; ++q) {
         if (!network) {
@@ -496,9 +494,9 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
             snap->current[np + q] = 0.0;
             continue;
         }
-        const double si = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
-        const double g = L->pw.dist[q] > 0.0 ? si * L->pw.area[q] / L->pw.dist[q] : 0.0;
-        snap->current[np + q] = g > 0.0 && isfinite(g) ? g * (phi[i] - phi[n + wi]) : 0.0;
+        const double g =
+            sinter_electric_contact_conductance(em, ps, i, wi, 1, L->pw.area[q], L->pw.dist[q]);
+        snap->current[np + q] = g * (phi[i] - phi[n + wi]);
     }
 }
 
@@ -535,7 +533,11 @@ static sinter_status take_contacts(const sinter_stepper *st, sinter_snapshot *sn
 
 /* The quasi-static links: the neck states, the sintering force of the last step from its
  * approach (eq. 17 with y4, y7 decrements of eq. 43), the beam's force and moment from the
- * last solve's displacements (eq. 32-34; u is kept until the next step scales it). */
+ * last solve's displacements (eq. 32-34; u is kept until the next step scales it), and eq.
+ * 44's correction from them: the step moved the centres together by xi = (u_A - u_B) . e3
+ * (eq. 41; e3 the axis after the step, the same to second order), the model alone by
+ * dy4 + dy7 (eq. 43), and eq. 42's shares make the corrected y4 + y7 fall by xi, so
+ * eq. 44 = (y4' + y7') - (y4 + y7) = dy4 + dy7 - xi. */
 static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
 {
     const struct sinter_qs *qs = st->quasistatic;
@@ -563,13 +565,18 @@ static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
             double f[3], m[3];
             sinter_beam_axial_split(l->beam.axis, l->beam.k_shear, l->beam.k_axial, eps, f);
             sinter_beam_axial_split(l->beam.axis, l->beam.k_bend, l->beam.k_torsion, gamma, m);
+            double xi = 0.0;
             for (int d = 0; d < 3; ++d) {
                 snap->beam_force[3 * k + (size_t)d] = f[d];
                 snap->beam_moment[3 * k + (size_t)d] = m[d];
+                xi += (qs->u[6 * (size_t)a + (size_t)d] - qs->u[6 * (size_t)b + (size_t)d]) *
+                      l->beam.axis[d];
             }
+            snap->correction[k] = l->neck.last_dy4 + l->neck.last_dy7 - xi;
         } else {
             for (int d = 0; d < 3; ++d)
                 snap->beam_force[3 * k + (size_t)d] = snap->beam_moment[3 * k + (size_t)d] = NAN;
+            snap->correction[k] = NAN;
         }
     }
 }

@@ -61,6 +61,15 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     if (em == NULL)
         return;
     sinter_ctx *ctx = em->ctx;
+    if (em->host.struct_size != 0 && em->host.destroy_user != NULL)
+        em->host.destroy_user(em->host_user);
+    sinter_free(ctx, em->host_g);
+    sinter_free(ctx, em->host_power);
+    sinter_free(ctx, em->host_share);
+    sinter_free(ctx, em->host_sigma);
+    sinter_free(ctx, em->host_radius);
+    sinter_free(ctx, em->host_walls);
+    sinter_free(ctx, em->edge_contact);
     sinter_pcg_free(em->pcg);
     sinter_free(ctx, em->potential);
     sinter_free(ctx, em->adj_start);

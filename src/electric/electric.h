@@ -16,6 +16,7 @@
 #ifndef SINTER_ELECTRIC_H
 #define SINTER_ELECTRIC_H
 
+#include "sinter_submodel.h"
 #include "contact/contacts.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
@@ -53,6 +54,18 @@ struct sinter_electric_model {
     size_t wall_mode_capacity, wall_value_capacity;
     /* network: the conductivities follow seed 000 eq. 50's temperature term (network.c) */
     double sigmoid, theta_ref, k1, gamma1;
+    /* network: host conductance law and Joule split (host.c; struct_size 0: none), the heat a
+     * host split gave the electrodes in the last solve [W], and their scratch: per contact
+     * (particle-particle first, then particle-wall) the conductance, power and share, per
+     * particle the conductivity, the contact radii, the view's wall arrays */
+    sinter_electric_callbacks host;
+    void *host_user;
+    double electrode_heat;
+    double *host_g, *host_power, *host_share, *host_sigma, *host_radius, *host_walls;
+    size_t host_g_capacity, host_power_capacity, host_share_capacity, host_sigma_capacity;
+    size_t host_radius_capacity, host_walls_capacity;
+    uint32_t *edge_contact; /* network: the contact of each edge (pp index, or pp count + pw) */
+    size_t edge_contact_capacity;
 
     /* Scratch reused across solves (grown on demand, never shrunk). */
     size_t potential_capacity;
@@ -114,6 +127,27 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
                                             const sinter_walls *walls,
                                             const sinter_contact_list *pp,
                                             const sinter_contact_list *pw);
+
+/* Host callbacks (host.c), for the network model's solve: the conductances g of the contacts
+ * of pp then pw from the particles' conductivities sigma, and the share of each contact's power
+ * (power, same order) that goes to its particle i. Errors: SINTER_ERR_CALLBACK (a callback
+ * returned non-zero), SINTER_ERR_DOMAIN (a value out of range), SINTER_ERR_NOMEM. */
+sinter_status
+sinter_electric_host_conductance(sinter_electric_model *em, const sinter_particles *ps,
+                                 const sinter_walls *walls, const sinter_contact_list *pp,
+                                 const sinter_contact_list *pw, const double *sigma, double *g);
+sinter_status sinter_electric_host_split(sinter_electric_model *em, const sinter_particles *ps,
+                                         const sinter_walls *walls, const sinter_contact_list *pp,
+                                         const sinter_contact_list *pw, const double *power,
+                                         double *share);
+
+/* The conductance [S] build_edges gives a contact (particle i with particle j, or with a
+ * non-neutral wall when `wall` is 1) of contact area `area` and centre (or centre-plane) distance
+ * `dist`, eq. 50's term included; NaN under a host conductance law, 0 for an insulating one. For
+ * reports of the last solve's contact currents (contact/snapshot.c). */
+double sinter_electric_contact_conductance(const sinter_electric_model *em,
+                                           const sinter_particles *ps, uint32_t i, uint32_t j,
+                                           int wall, double area, double dist);
 
 /* The network model's warm start (network.c): the potentials of its last solve, *nodes of
  * them (0 and NULL when the next solve starts from 0), for a checkpoint. */

@@ -54,7 +54,8 @@ enum {
     CLUSTER_GROUND = 2,
     CLUSTER_CURRENT = 4,
     CLUSTER_PARTICLE = 8,
-    CLUSTER_SOLVED = 16
+    CLUSTER_SOLVED = 16,
+    CLUSTER_UNLIMITED = 32 /* holds a current wall without a compliance limit */
 };
 
 static const uint32_t NO_NODE = UINT32_MAX;
@@ -119,6 +120,58 @@ static double conductivity(const sinter_electric_model *em, const sinter_particl
     return sigma;
 }
 
+double sinter_electric_contact_conductance(const sinter_electric_model *em,
+                                           const sinter_particles *ps, uint32_t i, uint32_t j,
+                                           int wall, double area, double dist)
+{
+    if (em->host.conductance != NULL)
+        return NAN;
+    int bad = 0;
+    const double si = conductivity(em, ps, i, &bad);
+    double g = 0.0;
+    if (wall) {
+        g = dist > 0.0 ? si * area / dist : 0.0;
+    } else {
+        const double *r = ps->radius, sj = conductivity(em, ps, j, &bad);
+        const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35, as build_edges */
+        g = den > 0.0 && dist > 0.0 ? si * sj * (r[i] + r[j]) / den * area / dist : 0.0;
+    }
+    return g > 0.0 && isfinite(g) ? g : 0.0;
+}
+
+/* Conducting edges of a host conductance law (host.c): the contacts with g > 0 (a contact with
+ * a neutral wall is none), in contact order. */
+static sinter_status host_edges(sinter_electric_model *em, sinter_particles *ps,
+                                const sinter_walls *walls, const sinter_contact_list *pp,
+                                const sinter_contact_list *pw, int *bad)
+{
+    const size_t n = ps->count;
+    SINTER_ELECTRIC_RESERVE(em, host_sigma, n + 1);
+    SINTER_ELECTRIC_RESERVE(em, host_g, pp->count + pw->count + 1);
+    for (size_t i = 0; i < n; ++i)
+        em->host_sigma[i] = conductivity(em, ps, i, bad);
+    if (*bad)
+        return SINTER_OK; /* reported by the caller */
+    sinter_status s =
+        sinter_electric_host_conductance(em, ps, walls, pp, pw, em->host_sigma, em->host_g);
+    if (s != SINTER_OK)
+        return s;
+    size_t count = 0;
+    for (size_t k = 0; k < pp->count + pw->count; ++k) {
+        const int wall = k >= pp->count;
+        const size_t q = wall ? k - pp->count : k;
+        const uint32_t b = wall ? (uint32_t)(n + pw->j[q]) : pp->j[q];
+        if ((wall && em->wall_mode[pw->j[q]] == SINTER_WALL_NEUTRAL) || !(em->host_g[k] > 0.0))
+            continue;
+        em->edge_a[count] = wall ? pw->i[q] : pp->i[q];
+        em->edge_b[count] = b;
+        em->edge_g[count] = em->host_g[k];
+        em->edge_contact[count++] = (uint32_t)k;
+    }
+    em->edge_count = count;
+    return SINTER_OK;
+}
+
 /* Conducting edges of the contact lists (G > 0), and the ELECTRIFIED flags. */
 static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps,
                                  const sinter_walls *walls, const sinter_contact_list *pp,
@@ -128,10 +181,11 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
     SINTER_ELECTRIC_RESERVE(em, edge_a, m + 1);
     SINTER_ELECTRIC_RESERVE(em, edge_b, m + 1);
     SINTER_ELECTRIC_RESERVE(em, edge_g, m + 1);
+    SINTER_ELECTRIC_RESERVE(em, edge_contact, m + 1);
     size_t count = 0;
     const double *r = ps->radius;
     int bad = 0;
-    for (size_t k = 0; k < pp->count; ++k) {
+    for (size_t k = 0; k < pp->count && em->host.conductance == NULL; ++k) {
         const uint32_t i = pp->i[k], j = pp->j[k];
         const double si = conductivity(em, ps, i, &bad), sj = conductivity(em, ps, j, &bad);
         const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35 */
@@ -141,6 +195,7 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
         if (g > 0.0 && isfinite(g)) {
             em->edge_a[count] = i;
             em->edge_b[count] = j;
+            em->edge_contact[count] = (uint32_t)k;
             em->edge_g[count++] = g;
         }
     }
@@ -151,15 +206,23 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
         if (em->wall_mode[w] == SINTER_WALL_NEUTRAL)
             continue;
         ps->flags[i] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+        if (em->host.conductance != NULL)
+            continue;
         const double si = conductivity(em, ps, i, &bad);
         const double g = pw->dist[k] > 0.0 ? si * pw->area[k] / pw->dist[k] : 0.0;
         if (g > 0.0 && isfinite(g)) {
             em->edge_a[count] = i;
             em->edge_b[count] = (uint32_t)(n + w);
+            em->edge_contact[count] = (uint32_t)(pp->count + k);
             em->edge_g[count++] = g;
         }
     }
     em->edge_count = count;
+    if (em->host.conductance != NULL) {
+        const sinter_status s = host_edges(em, ps, walls, pp, pw, &bad);
+        if (s != SINTER_OK)
+            return s;
+    }
     if (bad)
         return sinter_fail(em->ctx, SINTER_ERR_DOMAIN,
                            "electric model '%s': seed 000 eq. 50 (k1 = %g, gamma1 = %g 1/K, "
@@ -170,15 +233,64 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
 }
 
 /*
+ * The power of the solution with a host Joule split (host.c): each edge's G (phi_a - phi_b)^2
+ * goes as share to particle a and the rest to b, a particle or an electrode (whose part leaves
+ * the powder: em->electrode_heat). Supplied power as in account_power.
+ */
+static sinter_status host_split_power(sinter_electric_model *em, sinter_particles *ps,
+                                      const sinter_walls *walls, const sinter_contact_list *pp,
+                                      const sinter_contact_list *pw)
+{
+    const size_t n = ps->count, m = pp->count + pw->count;
+    SINTER_ELECTRIC_RESERVE(em, host_power, m + 1);
+    SINTER_ELECTRIC_RESERVE(em, host_share, m + 1);
+    const double *phi = em->potential;
+    memset(em->host_power, 0, m * sizeof(double));
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const double drop = phi[em->edge_a[e]] - phi[em->edge_b[e]];
+        em->host_power[em->edge_contact[e]] = em->edge_g[e] * drop * drop;
+    }
+    sinter_status s =
+        sinter_electric_host_split(em, ps, walls, pp, pw, em->host_power, em->host_share);
+    if (s != SINTER_OK)
+        return s;
+    double *p = em->dissipation, dissipated = 0.0, supplied = 0.0, electrodes = 0.0;
+    memset(p, 0, n * sizeof(double));
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t a = em->edge_a[e], b = em->edge_b[e], k = em->edge_contact[e];
+        const double power = em->host_power[k], share = em->host_share[k];
+        dissipated += power;
+        p[a] += share * power;
+        if (b < n) {
+            p[b] += (1.0 - share) * power;
+        } else {
+            electrodes += (1.0 - share) * power;
+            supplied += phi[b] * em->edge_g[e] * (phi[b] - phi[a]);
+        }
+    }
+    em->dissipation_count = n;
+    em->dissipated_power = dissipated;
+    em->supplied_power = supplied;
+    em->electrode_heat = electrodes;
+    return SINTER_OK;
+}
+
+/*
  * The power of the solution (Joule's law on each resistor, P = G (phi_a - phi_b)^2): a
  * particle-particle contact gives half its power to each particle, a particle-wall contact all
  * of it to the particle (the electrode is a reservoir that takes no heat from the powder). The
  * driven walls deliver sum_w phi_w I_w, I_w the current from wall w into the powder; by
  * Tellegen's theorem the two are equal to the accuracy of the solve.
  */
-static sinter_status account_power(sinter_electric_model *em, size_t n)
+static sinter_status account_power(sinter_electric_model *em, sinter_particles *ps,
+                                   const sinter_walls *walls, const sinter_contact_list *pp,
+                                   const sinter_contact_list *pw)
 {
+    const size_t n = ps->count;
     SINTER_ELECTRIC_RESERVE(em, dissipation, n + 1);
+    em->electrode_heat = 0.0;
+    if (em->host.joule_split != NULL)
+        return host_split_power(em, ps, walls, pp, pw);
     const double *phi = em->potential;
     double *p = em->dissipation, dissipated = 0.0, supplied = 0.0;
     memset(p, 0, n * sizeof(double));
@@ -201,7 +313,8 @@ static sinter_status account_power(sinter_electric_model *em, size_t n)
 }
 
 /* Clusters, their boundary conditions, and which nodes are free (state bits). */
-static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
+static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls, size_t n,
+                           size_t nw)
 {
     const size_t nodes = n + nw;
     uint32_t *parent = em->parent;
@@ -230,6 +343,8 @@ static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
             continue;
         const uint32_t root = find_root(parent, (uint32_t)(n + w));
         state[root] |= CLUSTER_CURRENT;
+        if (!(walls->wall[w].electric_limit > 0.0))
+            state[root] |= CLUSTER_UNLIMITED;
         em->net[root] += em->wall_value[w];
         em->scale[root] += fabs(em->wall_value[w]);
         if (em->pin[root] == NO_NODE)
@@ -243,8 +358,8 @@ static void classify_nodes(sinter_electric_model *em, size_t n, size_t nw)
             state[p] |= CLUSTER_SOLVED; /* no pin: the potential walls fix the level */
         else if ((c & CLUSTER_CURRENT) && fabs(em->net[p]) <= 1e-9 * em->scale[p])
             state[p] |= CLUSTER_SOLVED; /* balanced electrodes: pin one at 0 V */
-        else if ((c & CLUSTER_CURRENT) && (c & CLUSTER_PARTICLE))
-            em->open_clusters++;
+        else if ((c & CLUSTER_CURRENT) && (c & CLUSTER_PARTICLE) && (c & CLUSTER_UNLIMITED))
+            em->open_clusters++; /* a supply with a limit sits at it: an expected state */
     }
     for (size_t p = 0; p < nodes; ++p) {
         const uint32_t root = find_root(parent, (uint32_t)p);
@@ -280,7 +395,7 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
     sinter_status s = build_edges(em, ps, walls, pp, pw);
     if (s != SINTER_OK)
         return s;
-    classify_nodes(em, n, nw);
+    classify_nodes(em, walls, n, nw);
 
     /* Right-hand side, diagonal and start: pinned rows are identities at their value. */
     double *phi = em->potential, *diag = em->diag, *rhs = em->net; /* net is no longer needed */
@@ -372,7 +487,7 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
         if (b < n)
             J[b] += half;
     }
-    return account_power(em, n);
+    return account_power(em, ps, walls, pp, pw);
 }
 
 /*

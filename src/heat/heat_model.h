@@ -5,7 +5,7 @@
 #include "sinter_submodel.h"
 #include "contact/contacts.h"
 
-#define SINTER_HEAT_MAX_PARAMS 12
+#define SINTER_HEAT_MAX_PARAMS 16
 #define SINTER_HEAT_MAX_OUTPUTS 4
 
 /* Everything one evaluation of one heat model reads and writes. */
@@ -53,9 +53,13 @@ struct sinter_heat_model {
     void *user;
     sinter_heat_ops host_ops;
     double output[SINTER_HEAT_MAX_OUTPUTS]; /* written by each evaluation (ops->outputs) */
+    /* a scan path (scan_path.h) driving the parameters path_key[0..2] (x, y, the power), or NULL */
+    struct sinter_scan_path *path;
+    int path_key[3];
 };
 
-/* Value of parameter k at time t (its schedule if it has one). */
+/* Value of parameter k at time t (its schedule if it has one; a scan path's position for the
+ * axis point, and the power times the path's level). */
 double sinter_heat_param(const sinter_heat_model *hm, int k, double t);
 
 /* Built-in models, one file each. */

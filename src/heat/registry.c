@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "heat/scan_path.h"
 #include "heat_model.h"
 
 static const sinter_heat_ops *const BUILTIN[] = {
@@ -16,9 +17,81 @@ static const char *builtin_name(size_t k)
 
 double sinter_heat_param(const sinter_heat_model *hm, int k, double t)
 {
-    if (hm->schedule_count[k] == 0)
-        return hm->param[k];
-    return sinter_interpolate(hm->schedule_count[k], hm->schedule_t[k], hm->schedule_v[k], t);
+    const double v =
+        hm->schedule_count[k] == 0
+            ? hm->param[k]
+            : sinter_interpolate(hm->schedule_count[k], hm->schedule_t[k], hm->schedule_v[k], t);
+    if (hm->path == NULL || (k != hm->path_key[0] && k != hm->path_key[1] && k != hm->path_key[2]))
+        return v;
+    double xy[2], level;
+    sinter_scan_path_at(hm->path, t, xy, &level);
+    return k == hm->path_key[0] ? xy[0] : k == hm->path_key[1] ? xy[1] : v * level;
+}
+
+/* The index of parameter `key` of hm's model, or -1. */
+static int param_index(const sinter_heat_model *hm, const char *key)
+{
+    for (int p = 0; p < SINTER_HEAT_MAX_PARAMS && hm->ops->keys[p] != NULL; ++p)
+        if (strcmp(hm->ops->keys[p], key) == 0)
+            return p;
+    return -1;
+}
+
+sinter_status sinter_heat_model_set_scan_path(sinter_heat_model *hm, size_t n, const double *points,
+                                              double start_time)
+{
+    if (hm == NULL)
+        return SINTER_ERR_NULL;
+    const char *func = "sinter_heat_model_set_scan_path";
+    const int x = param_index(hm, "x"), y = param_index(hm, "y");
+    int power = param_index(hm, "power");
+    if (power < 0)
+        power = param_index(hm, "intensity");
+    if (x < 0 || y < 0 || power < 0)
+        return sinter_fail(hm->ctx, SINTER_ERR_INVALID,
+                           "%s: heat model '%s' has no beam to move (a scan path drives the "
+                           "\"x\", \"y\" and \"power\" or \"intensity\" of \"beam\", \"laser\" and "
+                           "\"nozzle\")",
+                           func, hm->name);
+    sinter_scan_path *path = NULL;
+    if (n > 0) {
+        SINTER_CHECK_NULL(hm->ctx, points);
+        sinter_status st = sinter_scan_path_create(hm->ctx, n, points, start_time, &path, func);
+        if (st != SINTER_OK)
+            return st;
+    }
+    sinter_scan_path_destroy(hm->ctx, hm->path);
+    hm->path = path;
+    hm->path_key[0] = x;
+    hm->path_key[1] = y;
+    hm->path_key[2] = power;
+    return SINTER_OK;
+}
+
+sinter_status sinter_heat_model_scan_end(const sinter_heat_model *hm, double *end_time)
+{
+    if (hm == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(hm->ctx, end_time);
+    if (hm->path == NULL)
+        return sinter_fail(hm->ctx, SINTER_ERR_NOT_FOUND,
+                           "sinter_heat_model_scan_end: heat model '%s' has no scan path",
+                           hm->name);
+    *end_time = hm->path->t[hm->path->vertices - 1];
+    return SINTER_OK;
+}
+
+sinter_status sinter_scan_hatch(sinter_ctx *ctx, const double lo[2], const double hi[2],
+                                double spacing, double angle, double speed, double jump_speed,
+                                int serpentine, double *points, size_t capacity, size_t *count)
+{
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, lo);
+    SINTER_CHECK_NULL(ctx, hi);
+    SINTER_CHECK_NULL(ctx, count);
+    return sinter_scan_hatch_build(ctx, lo, hi, spacing, angle, speed, jump_speed, serpentine,
+                                   points, points != NULL ? capacity : 0, count);
 }
 
 sinter_status sinter_heat_model_create(sinter_heat_model **out, sinter_ctx *ctx, const char *name)
@@ -91,6 +164,7 @@ void sinter_heat_model_destroy(sinter_heat_model *hm)
         sinter_free(hm->ctx, hm->schedule_t[k]);
         sinter_free(hm->ctx, hm->schedule_v[k]);
     }
+    sinter_scan_path_destroy(hm->ctx, hm->path);
     sinter_free(hm->ctx, hm);
 }
 

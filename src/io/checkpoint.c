@@ -39,12 +39,14 @@
  *    (u64 bytes, then the bytes: a scene's program, io/scene_program.c; 0 bytes from
  *    sinter_checkpoint_write); earlier versions are still read (no host section, the sort
  *    counter as it was)
- * 7: then the walls' kinds' state (walls/wall_shapes.c, walls/servo.c): per wall its reaction
+ * 7: then the iteration counts, and the staggered stepper's step controller and predictor
+ *    history (scheme 1; staggered.c)
+ * 8: then the walls' kinds' state (walls/wall_shapes.c, walls/servo.c): per wall its reaction
  *    moment (3), its servo's committed time, displacement, velocity and error integral (4),
  *    and the rest of its neighbour-list reference (3: a non-planar kind's point and angle);
  *    earlier versions are still read (they hold planes only: no moment, no servo) */
-#define CHECKPOINT_VERSION 7u
-/* doubles per wall in the version 7 section */
+#define CHECKPOINT_VERSION 8u
+/* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
@@ -173,7 +175,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     put_pairs(&w, &st->nb.pp);
     put_pairs(&w, &st->nb.pw);
     put(&w, st->nb.x_ref, 3 * n * sizeof(double));
-    for (size_t k = 0; k < nw; ++k) /* the first of each wall's 4 (version 7: the rest) */
+    for (size_t k = 0; k < nw; ++k) /* the first of each wall's 4 (version 8: the rest) */
         put_f64(&w, st->nb.wall_ref[4 * k]);
     for (size_t k = 0; k < st->force_count; ++k) {
         put_history(&w, &st->forces[k].pp, st->nb.pp.count);
@@ -211,7 +213,20 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     put_u64(&w, (uint64_t)st->forces_current);
     put_u64(&w, host_bytes);
     put(&w, host, host_bytes);
-    /* the walls' kinds' state (version 7) */
+    /* version 7: the iteration counts, and the staggered stepper's step controller and
+     * predictor history (scheme 1; staggered.c), so that a restart continues bit for bit */
+    const sinter_staggered *sg = &st->staggered;
+    const int history = sg->history_valid && sg->history_count == n && sg->hist != NULL;
+    put_u64(&w, st->stats.iterations);
+    put_u64(&w, st->stats.evaluations);
+    put_f64(&w, sg->h_prev);
+    put_f64(&w, sg->contraction);
+    put_f64(&w, sg->control.x_prev);
+    put_u64(&w, (uint64_t)sg->control.after_reject);
+    put_u64(&w, (uint64_t)history);
+    if (history)
+        put(&w, sg->hist, 7 * n * sizeof(double));
+    /* the walls' kinds' state (version 8) */
     for (size_t k = 0; k < nw; ++k) {
         const sinter_wall *wall = &st->walls->wall[k];
         const double v[WALL_STATE_DOUBLES] = {wall->moment[0],
@@ -493,7 +508,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "to 6) or byte order");
+                       "to 7) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -612,8 +627,20 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     const void *host = host_bytes <= size ? take(&r, (size_t)host_bytes) : NULL;
     if (host_bytes > 0 && host == NULL)
         r.bad = 1;
+    const int v7 = version >= 7u;
+    const uint64_t iterations = v7 ? take_u64(&r) : st->stats.iterations;
+    const uint64_t evaluations = v7 ? take_u64(&r) : st->stats.evaluations;
+    const double h_prev = v7 ? take_f64(&r) : 0.0, contraction = v7 ? take_f64(&r) : 0.0;
+    const double x_prev = v7 ? take_f64(&r) : 0.0;
+    const uint64_t after_reject = v7 ? take_u64(&r) : 0, history = v7 ? take_u64(&r) : 0;
+    if (after_reject > 1 || history > 1 || !(x_prev >= 0.0) || !(h_prev >= 0.0))
+        r.bad = 1;
+    const void *hist_data =
+        history && n <= size / 56 ? take(&r, 7 * (size_t)n * sizeof(double)) : NULL;
+    if (history && hist_data == NULL)
+        r.bad = 1;
     const void *wall_state =
-        version >= 7u ? take(&r, nw * WALL_STATE_DOUBLES * sizeof(double)) : NULL;
+        version >= 8u ? take(&r, nw * WALL_STATE_DOUBLES * sizeof(double)) : NULL;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -645,6 +672,16 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     /* Apply: grow everything first so that nothing can fail half-way. */
     if (s == SINTER_OK)
         s = sinter_particles_reserve(ps, n);
+    sinter_staggered *sg = &st->staggered;
+    if (s == SINTER_OK && history && 7 * n + 1 > sg->hist_capacity) {
+        double *q = sinter_realloc_array(ctx, sg->hist, 7 * n + 1, sizeof(double));
+        if (q == NULL)
+            s = sinter_last_status(ctx);
+        else {
+            sg->hist = q;
+            sg->hist_capacity = 7 * n + 1;
+        }
+    }
     sinter_neighbors *nb = &st->nb;
     sinter_pair_list *lists[2] = {&nb->pp, &nb->pw};
     const staged_pairs *staged[2] = {&pp, &pw};
@@ -809,6 +846,16 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->stats.steps = steps;
     st->stats.rejected = rejected;
     st->stats.neighbor_builds = builds;
+    st->stats.iterations = iterations;
+    st->stats.evaluations = evaluations;
+    sg->h_prev = h_prev;
+    sg->contraction = contraction;
+    sg->control.x_prev = x_prev;
+    sg->control.after_reject = (int)after_reject;
+    sg->history_valid = (int)history;
+    sg->history_count = (size_t)n;
+    if (history)
+        memcpy(sg->hist, hist_data, 7 * n * sizeof(double));
     st->forces_current = (int)forces_current || st->kind != SINTER_STEPPER_QUASISTATIC;
     st->write_generation = ps->write_generation;
     st->population_generation = ps->population_generation;

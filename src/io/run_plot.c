@@ -8,8 +8,13 @@
  * density, mean temperature. Otherwise: volume fraction; mean and max temperature; the wall
  * forces (columns "<wall> force" in N); the particle currents; kinetic energy. A series with
  * none of these names: one panel per column, eight at most.
+ *
+ * Any CSV a run writes, its columns chosen by name (sinter_plot_csv, `sinter plot DIR --panel
+ * NAMES`): the seed's diagnostics such as the time step's history (seed 001 Fig. 12) or a
+ * lamina profile (Fig. 10).
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "io/path.h"
@@ -58,12 +63,14 @@ static void choose(layout *l, const sinter_series *s)
     l->panels = l->count = 0;
     l->start[0] = 0;
     if (column_named(s, "shrinkage x") >= 0) {
-        static const char *const shrinkage[] = {"shrinkage x", "shrinkage y", "shrinkage z"};
-        static const char *const ratio[] = {"neck ratio mean"}, *const density[] = {
-                                                                    "relative density"};
+        /* with the two-particle reference where the run has it (seed 001 Figs. 11, 19) */
+        static const char *const shrinkage[] = {"shrinkage x", "shrinkage y", "shrinkage z",
+                                                "two-particle shrinkage"};
+        static const char *const ratio[] = {"neck ratio mean", "two-particle neck ratio"},
+                                 *const density[] = {"relative density"};
         static const char *const temperature[] = {"mean temperature"};
-        panel_of(l, s, shrinkage, 3);
-        panel_of(l, s, ratio, 1);
+        panel_of(l, s, shrinkage, 4);
+        panel_of(l, s, ratio, 2);
         panel_of(l, s, density, 1);
         panel_of(l, s, temperature, 1);
         return;
@@ -123,6 +130,101 @@ sinter_status sinter_plot_run(sinter_ctx *ctx, const char *out_dir, const char *
         st = sinter_fail(ctx, SINTER_ERR_STATE, "sinter_plot_run: '%s' has no sample yet", csv);
     if (st == SINTER_OK)
         st = sinter_plot_series(s, svg, title);
+    sinter_series_destroy(s);
+    return st;
+}
+
+/* The columns named in `names` (comma-separated) into l's next panel: each name exactly, or
+ * else every column that starts with it. SINTER_ERR_INVALID when a name selects none. */
+static sinter_status panel_named(sinter_ctx *ctx, layout *l, const sinter_series *s, size_t x,
+                                 const char *names)
+{
+    static const char *const fn = "sinter_plot_csv";
+    const size_t before = l->count;
+    const char *p = names;
+    for (;;) {
+        const char *end = strchr(p, ',');
+        size_t n = end != NULL ? (size_t)(end - p) : strlen(p);
+        while (n > 0 && p[0] == ' ') /* spaces around a name are not part of it */
+            ++p, --n;
+        while (n > 0 && p[n - 1] == ' ')
+            --n;
+        /* the column of that name, else those that start with it */
+        ptrdiff_t exact = -1;
+        for (size_t k = 0; k < s->columns && exact < 0; ++k)
+            if (k != x && strlen(s->names[k]) == n && strncmp(s->names[k], p, n) == 0)
+                exact = (ptrdiff_t)k;
+        size_t found = 0;
+        for (size_t k = 0; k < s->columns && n > 0; ++k) {
+            const int take =
+                exact >= 0 ? k == (size_t)exact : k != x && strncmp(s->names[k], p, n) == 0;
+            if (take && l->count < l->capacity) {
+                l->columns[l->count++] = k;
+                found++;
+            }
+        }
+        if (!found)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: no column is named or starts with '%.*s'", fn, (int)n, p);
+        if (end == NULL)
+            break;
+        p = end + 1;
+    }
+    if (l->count > before)
+        l->start[++l->panels] = l->count;
+    return SINTER_OK;
+}
+
+sinter_status sinter_plot_csv(sinter_ctx *ctx, const char *csv_path, const char *svg_path,
+                              const char *title, const char *x, const char *const *panels,
+                              size_t panel_count)
+{
+    static const char *const fn = "sinter_plot_csv";
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, csv_path);
+    SINTER_CHECK_NULL(ctx, svg_path);
+    if (panel_count > 0)
+        SINTER_CHECK_NULL(ctx, panels);
+    if (panel_count > MAX_PANELS)
+        return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: %zu panels, at most %d", fn, panel_count,
+                           MAX_PANELS);
+    for (size_t k = 0; k < panel_count; ++k)
+        if (panels[k] == NULL)
+            return sinter_fail(ctx, SINTER_ERR_NULL, "%s: panels[%zu] is NULL", fn, k);
+    sinter_series *s = NULL;
+    sinter_status st = sinter_series_read_csv(&s, ctx, csv_path);
+    if (st != SINTER_OK)
+        return st;
+    size_t xc = 0;
+    if (x != NULL) {
+        const ptrdiff_t c = column_named(s, x);
+        if (c < 0)
+            st = sinter_fail(ctx, SINTER_ERR_INVALID, "%s: '%s' has no column named '%s'", fn,
+                             csv_path, x);
+        xc = c < 0 ? 0 : (size_t)c;
+    }
+    if (st == SINTER_OK && s->rows == 0)
+        st = sinter_fail(ctx, SINTER_ERR_STATE, "%s: '%s' has no row", fn, csv_path);
+    layout l;
+    memset(&l, 0, sizeof(l));
+    l.capacity = st == SINTER_OK ? 4 * s->columns * MAX_PANELS + 1 : 0;
+    l.columns = st == SINTER_OK ? sinter_calloc(ctx, l.capacity, sizeof(size_t)) : NULL;
+    if (st == SINTER_OK && l.columns == NULL)
+        st = sinter_last_status(ctx);
+    for (size_t k = 0; st == SINTER_OK && k < panel_count; ++k)
+        st = panel_named(ctx, &l, s, xc, panels[k]);
+    for (size_t k = 0; st == SINTER_OK && panel_count == 0 && k < s->columns; ++k)
+        if (k != xc && l.panels < MAX_PANELS) {
+            l.columns[l.count++] = k;
+            l.start[++l.panels] = l.count;
+        }
+    if (st == SINTER_OK && l.panels == 0)
+        st = sinter_fail(ctx, SINTER_ERR_INVALID, "%s: '%s' has no column besides '%s'", fn,
+                         csv_path, s->names[xc]);
+    if (st == SINTER_OK)
+        st = sinter_series_write_svg(s, svg_path, title, xc, l.panels, l.start, l.columns);
+    sinter_free(ctx, l.columns);
     sinter_series_destroy(s);
     return st;
 }

@@ -9,6 +9,7 @@
 
 #include "io/file_name.h"
 #include "io/scene.h"
+#include "io/scene_scan.h"
 #include "io/scene_text.h"
 #include "io/scene_walls.h"
 #include "io/text_file.h"
@@ -757,6 +758,8 @@ static sinter_status build_heat(scene_text *t, sinter_scene *sc, scene_section *
     for (size_t e = 0; e < s->count; ++e) {
         scene_entry *en = &s->entries[e];
         const size_t len = strlen(en->key), suffix = strlen("_schedule");
+        if (scene_heat_scan_key(en->key))
+            continue; /* read by scene_heat_scan below */
         if (len > suffix && strcmp(en->key + len - suffix, "_schedule") == 0) {
             TRY(heat_schedule(t, s, en, hm));
             continue;
@@ -765,6 +768,7 @@ static sinter_status build_heat(scene_text *t, sinter_scene *sc, scene_section *
         TRY(scene_get_double(t, s, en->key, &v));
         TRY(at_line(t, en->line, sinter_heat_model_set(hm, en->key, v)));
     }
+    TRY(scene_heat_scan(t, sc->directory, s, hm));
     return at_line(t, s->line, sinter_stepper_add_heat(sc->st, hm));
 }
 
@@ -839,7 +843,9 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "dt_max",
                                           "adaptive",
                                           "position_tolerance",
-                                          "temperature_tolerance"};
+                                          "temperature_tolerance",
+                                          "scheme",
+                                          "anderson_depth"};
     for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
         double value;
         const sinter_status got = scene_get_double(t, s, options[k], &value);
@@ -925,6 +931,32 @@ static sinter_status build_compact(scene_text *t, sinter_scene *sc, scene_sectio
     return at_line(t, s->line, sinter_compaction_check(sc->ps, o));
 }
 
+/* [output] track: the persistent ids of particles whose histories series.csv carries. */
+static sinter_status build_track(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    double *ids = NULL;
+    size_t n = 0;
+    sinter_status st = scene_get_numbers(t, s, "track", &ids, &n);
+    if (st == SINTER_ERR_NOT_FOUND)
+        return SINTER_OK;
+    if (st != SINTER_OK)
+        return st;
+    if (n > SCENE_MAX_TRACKED)
+        st = section_error(t, s, "track: at most 8 particle ids");
+    for (size_t k = 0; st == SINTER_OK && k < n; ++k) {
+        const double id = ids[k];
+        size_t found = 0;
+        for (size_t i = 0; id >= 0 && id == floor(id) && i < sc->ps->count && !found; ++i)
+            found = (double)sc->ps->id[i] == id;
+        if (!found)
+            st = section_error(t, s, "track: a particle id the scene's particles do not have");
+        sc->track_ids[k] = found ? (uint64_t)id : 0;
+    }
+    sc->track_count = st == SINTER_OK ? n : 0;
+    sinter_free(t->ctx, ids);
+    return st;
+}
+
 static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     TRY(required(t, s, scene_get_double(t, s, "interval", &sc->output_interval), "interval"));
@@ -934,13 +966,26 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     const char *format = NULL;
     OPTIONAL(scene_get_word(t, s, "vtu_format", &format));
     if (format != NULL) {
-        if (strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0)
-            return section_error(t, s, "vtu_format must be binary or ascii");
-        sc->vtu_binary = strcmp(format, "binary") == 0;
+        if (strcmp(format, "binary") != 0 && strcmp(format, "ascii") != 0 &&
+            strcmp(format, "appended") != 0)
+            return section_error(t, s, "vtu_format must be binary, ascii or appended");
+        sc->vtu_binary = strcmp(format, "ascii") != 0;
+        sc->vtu_appended = strcmp(format, "appended") == 0;
+    }
+    const char *precision = NULL;
+    OPTIONAL(scene_get_word(t, s, "vtu_precision", &precision));
+    if (precision != NULL) {
+        if (strcmp(precision, "double") != 0 && strcmp(precision, "single") != 0)
+            return section_error(t, s, "vtu_precision must be double or single");
+        sc->vtu_single = strcmp(precision, "single") == 0;
     }
     OPTIONAL(scene_get_bool(t, s, "contacts", &sc->write_contacts));
     OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
     OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));
+    TRY(build_track(t, sc, s));
+    OPTIONAL(scene_get_bool(t, s, "pair_reference", &sc->pair_reference));
+    if (sc->pair_reference && sc->st->kind != SINTER_STEPPER_QUASISTATIC)
+        return section_error(t, s, "pair_reference needs [stepper] kind = quasistatic");
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));
@@ -953,6 +998,48 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     return at_line(t, scene_find(s, "interval")->line,
                    sinter_scene_check_output(t->ctx, sc->end_time, sc->pour ? sc->pour_t_max : 0.0,
                                              sc->output_interval, sc->max_frames));
+}
+
+/* [fields]: the kernel, the grid and the profiles of io/scene_frames.h. */
+static sinter_status build_fields(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    sc->fields = sc->fields_grid = 1;
+    sc->fields_cutoff = 3.0;
+    sc->laminae = 20;
+    TRY(required(t, s, scene_get_double(t, s, "width", &sc->fields_width), "width"));
+    if (!(sc->fields_width > 0) || !isfinite(sc->fields_width))
+        return section_error(t, s, "width must be > 0 m");
+    sc->fields_spacing = sc->fields_width;
+    OPTIONAL(scene_get_double(t, s, "spacing", &sc->fields_spacing));
+    OPTIONAL(scene_get_double(t, s, "cutoff", &sc->fields_cutoff));
+    if (!(sc->fields_spacing > 0) || !isfinite(sc->fields_spacing))
+        return section_error(t, s, "spacing must be > 0 m");
+    if (!(sc->fields_cutoff >= 1 && sc->fields_cutoff <= 10))
+        return section_error(t, s, "cutoff must be in [1, 10] (kernel widths)");
+    const int has_lo = scene_find(s, "box_min") != NULL, has_hi = scene_find(s, "box_max") != NULL;
+    if (has_lo != has_hi)
+        return section_error(t, s, "give both box_min and box_max, or neither");
+    if (has_lo) {
+        TRY(scene_get_vec3(t, s, "box_min", sc->fields_lo));
+        TRY(scene_get_vec3(t, s, "box_max", sc->fields_hi));
+        sc->fields_box = 1;
+        for (int d = 0; d < 3; ++d)
+            if (!(sc->fields_lo[d] < sc->fields_hi[d]))
+                return section_error(t, s, "need box_min < box_max along every axis");
+    }
+    OPTIONAL(scene_get_bool(t, s, "grid", &sc->fields_grid));
+    const char *axes = NULL;
+    OPTIONAL(scene_get_word(t, s, "profiles", &axes));
+    if (axes != NULL && strcmp(axes, "none") != 0)
+        for (const char *c = axes; *c != '\0'; ++c) {
+            if (*c < 'x' || *c > 'z')
+                return section_error(t, s, "profiles: expected none or axes among x, y, z (xyz)");
+            sc->profile_axes |= 1u << (*c - 'x');
+        }
+    OPTIONAL(scene_get_double(t, s, "laminae", &sc->laminae));
+    if (!(sc->laminae >= 1 && sc->laminae <= 1e6) || sc->laminae != floor(sc->laminae))
+        return section_error(t, s, "laminae must be a whole number in [1, 1e6]");
+    return SINTER_OK;
 }
 
 typedef sinter_status (*section_builder)(scene_text *, sinter_scene *, scene_section *);
@@ -968,7 +1055,7 @@ static const struct {
     {"force", build_force, 0},         {"heat", build_heat, 0},
     {"electric", build_electric, 0},   {"stepper", build_stepper, 1},
     {"pour", build_pour, 0},           {"compact", build_compact, 0},
-    {"output", build_output, 0},
+    {"output", build_output, 0},       {"fields", build_fields, 0},
 };
 
 static sinter_status build(scene_text *t, sinter_scene *sc)
@@ -981,7 +1068,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
         if (b == nb)
             return section_error(t, &t->sections[k],
                                  "unknown section type; expected scene, material, particles, "
-                                 "wall, force, heat, electric, stepper, pour, compact or output");
+                                 "wall, force, heat, electric, stepper, pour, compact, output or "
+                                 "fields");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;
@@ -991,7 +1079,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
                 continue;
             const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
                                strcmp(s->type, "electric") == 0 || strcmp(s->type, "pour") == 0 ||
-                               strcmp(s->type, "compact") == 0 || strcmp(s->type, "output") == 0;
+                               strcmp(s->type, "compact") == 0 || strcmp(s->type, "output") == 0 ||
+                               strcmp(s->type, "fields") == 0;
             if (seen && single)
                 return section_error(t, s, "this section may appear only once");
             seen = 1;

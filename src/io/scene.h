@@ -4,11 +4,13 @@
 
 #include "io/scene_program.h"
 #include "io/path.h"
+#include "io/vtk_arrays.h"
 #include "stepper/stepper.h"
 
 #define SCENE_MAX_MATERIALS 32
 #define SCENE_MAX_WALLS 64
 #define SCENE_MAX_FORCES 16
+#define SCENE_MAX_TRACKED 8  /* [output] track: most particles followed in series.csv */
 #define SCENE_NAME 64        /* bytes of a name with its NUL; longer names are refused */
 #define SCENE_NAME_TEXT "63" /* SCENE_NAME - 1, for messages */
 
@@ -38,11 +40,27 @@ struct sinter_scene {
     /* output */
     double output_interval;
     int write_vtu, write_csv, write_plot;
-    int vtu_binary; /* frames' arrays as inline base64 binary (1, the default) or ascii */
+    int vtu_binary;   /* frames' arrays as inline base64 binary (1, the default) or ascii */
+    int vtu_single;   /* [output] vtu_precision = single: floating-point arrays as Float32 */
+    int vtu_appended; /* vtu_format = appended: binary arrays as raw appended data */
     /* beside each frame: the contacts (links) and the walls as .vtp (io/scene_frames.h) */
     int write_contacts, write_walls;
     /* histograms of the coordination number and the neck ratio in series.csv (scene_run.c) */
     int write_distributions;
+    /* particles followed in series.csv by their persistent ids (io/scene_track.h) */
+    uint64_t track_ids[SCENE_MAX_TRACKED];
+    size_t track_count;
+    /* the two-particle reference's columns (io/scene_pair_reference.h) */
+    int pair_reference;
+    /* [fields]: coarse-grained fields (.vti) and lamina profiles (CSV) with each frame
+     * (io/scene_frames.h, issue 37) */
+    int fields;                                         /* a [fields] section */
+    int fields_grid;                                    /* write frames/fields_NNNNN.vti */
+    double fields_width, fields_cutoff, fields_spacing; /* [m], [1], [m] */
+    int fields_box; /* box_min and box_max given (else the box of scene_frames.c) */
+    double fields_lo[3], fields_hi[3];
+    unsigned profile_axes; /* bit d: the laminae along axis d */
+    double laminae;        /* laminae per profile */
     double checkpoint_interval;
     /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
     scene_program program;
@@ -56,6 +74,12 @@ struct scene_text;
 struct scene_section;
 sinter_status scene_material_read(struct scene_text *t, struct scene_section *s,
                                   sinter_material *m);
+
+/* The format bits of the frames' writers (io/vtk_arrays.h) the scene asks for. */
+static inline int scene_vtk_format(const sinter_scene *sc)
+{
+    return (sc->vtu_binary ? SINTER_VTK_BINARY : 0) | (sc->vtu_single ? SINTER_VTK_FLOAT32 : 0);
+}
 
 /* Default of [output] max_frames. */
 #define SCENE_MAX_FRAMES 1e6

@@ -16,8 +16,11 @@
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
 #include "io/scene_frames.h"
+#include "io/scene_pair_reference.h"
+#include "io/scene_track.h"
 #include "io/scene.h"
 #include "io/solid_fraction.h"
+#include "io/vtk_appended.h"
 #include "io/vtu.h"
 
 static const double PI = 3.14159265358979323846;
@@ -154,10 +157,21 @@ static size_t electric_column(const sinter_scene *sc)
  * then the stepper's time step (the next one it proposes) and its counts so far (those a
  * checkpoint carries).
  */
-enum { STEPPER_COLUMNS = 3 };
-static const char *const STEPPER_NAMES[STEPPER_COLUMNS] = {"time step", "rejected steps",
-                                                           "neighbour rebuilds"};
-static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1"};
+enum { STEPPER_COLUMNS = 6 };
+static const char *const STEPPER_NAMES[STEPPER_COLUMNS] = {"time step",
+                                                           "rejected steps",
+                                                           "neighbour rebuilds",
+                                                           "fixed-point iterations",
+                                                           "pipeline evaluations",
+                                                           "contraction"};
+static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1", "1", "1", "1"};
+
+/* The last three only with the staggered stepper (its iterations so far, the evaluations of
+ * the pipeline so far and the contraction estimate of its last step; staggered.c). */
+static size_t stepper_columns(const sinter_scene *sc)
+{
+    return sc->st->kind == SINTER_STEPPER_STAGGERED ? 6 : 3;
+}
 
 static size_t wall_heat_column(const sinter_scene *sc)
 {
@@ -178,7 +192,7 @@ static size_t stepper_column(const sinter_scene *sc)
 /* After those, the solid fraction (solid_fraction), then the distributions. */
 static size_t solid_column(const sinter_scene *sc)
 {
-    return stepper_column(sc) + STEPPER_COLUMNS;
+    return stepper_column(sc) + stepper_columns(sc);
 }
 
 static size_t distribution_column(const sinter_scene *sc)
@@ -190,20 +204,69 @@ static size_t distribution_column(const sinter_scene *sc)
  * With [output] distributions = yes, after those (issue 37): how many particles have k contacts
  * (k = 0 .. COORDINATION_MAX - 1, then COORDINATION_MAX or more; the quasi-static stepper's
  * links), and for the quasi-static stepper how many links have a neck ratio in each bin of
- * NECK_BIN (the last bin: NECK_BINS NECK_BIN or more). Each histogram sums to the particles or
- * the links.
+ * NECK_BIN (the last bin: NECK_BINS NECK_BIN or more), then how many links had a relative
+ * correction of their approach (seed 001 eq. 44 over the 7DOF model's own change dy4 + dy7 of
+ * the step, Fig. 20) below CORRECTION_LOW, in each bin of CORRECTION_BIN from it, and above.
+ * Each histogram sums to the particles or the links.
  */
-enum { COORDINATION_MAX = 13, NECK_BINS = 10 };
-static const double NECK_BIN = 0.05;
+enum { COORDINATION_MAX = 13, NECK_BINS = 10, CORRECTION_BINS = 10 };
+static const double NECK_BIN = 0.05, CORRECTION_BIN = 0.25, CORRECTION_LOW = -1.25;
 
 static size_t distribution_columns(const sinter_scene *sc)
 {
     if (!sc->write_distributions)
         return 0;
-    return COORDINATION_MAX + 1 + (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? NECK_BINS + 1 : 0);
+    return COORDINATION_MAX + 1 +
+           (sc->st->kind == SINTER_STEPPER_QUASISTATIC ? NECK_BINS + 1 + CORRECTION_BINS + 2 : 0);
+}
+
+/* The relative corrections' histogram (q: CORRECTION_BINS + 2 counts) from a snapshot of the
+ * links; NaN before a step of this run (no correction known). */
+static void observe_corrections(const sinter_scene *sc, const sinter_qs_link *link, size_t links,
+                                double *q)
+{
+    sinter_snapshot *snap = NULL;
+    const void *data = NULL;
+    size_t count = 0;
+    if (sinter_snapshot_create(&snap, sc->st) != SINTER_OK ||
+        sinter_snapshot_links(snap, SINTER_LINK_DATA_CORRECTION, &data, &count, NULL, NULL) !=
+            SINTER_OK ||
+        count != links) {
+        for (size_t k = 0; k < CORRECTION_BINS + 2; ++k)
+            q[k] = NAN;
+        sinter_snapshot_destroy(snap);
+        return;
+    }
+    const double *correction = data;
+    for (size_t k = 0; k < links; ++k) {
+        const double r = correction[k] / (link[k].neck.last_dy4 + link[k].neck.last_dy7);
+        const double bin = floor((r - CORRECTION_LOW) / CORRECTION_BIN);
+        if (isnan(correction[k])) {
+            for (size_t j = 0; j < CORRECTION_BINS + 2; ++j)
+                q[j] = NAN;
+            break;
+        }
+        /* (a link without an approach of its own this step, r infinite: a tail) */
+        q[bin < 0 || isnan(r)     ? 0
+          : bin < CORRECTION_BINS ? 1 + (size_t)bin
+                                  : CORRECTION_BINS + 1] += 1.0;
+    }
+    sinter_snapshot_destroy(snap);
 }
 
 static size_t distribution_column(const sinter_scene *sc);
+
+/* After those, the followed particles' columns (io/scene_track.h). */
+static size_t track_column(const sinter_scene *sc)
+{
+    return distribution_column(sc) + distribution_columns(sc);
+}
+
+/* After those, the two-particle reference (io/scene_pair_reference.h). */
+static size_t pair_column(const sinter_scene *sc)
+{
+    return track_column(sc) + SCENE_TRACK_COLUMNS * sc->track_count;
+}
 
 /* The histograms of the row (NaN where the contacts of the state are not known yet). */
 static void observe_distributions(const sinter_scene *sc, double *row)
@@ -249,6 +312,8 @@ static void observe_distributions(const sinter_scene *sc, double *row)
     for (size_t i = 0; i < ps->count; ++i)
         q[count[i] < COORDINATION_MAX ? count[i] : COORDINATION_MAX] += 1.0;
     sinter_free(sc->ctx, count);
+    if (qs)
+        observe_corrections(sc, link, links, q + COORDINATION_MAX + 1 + NECK_BINS + 1);
 }
 
 /* The wall flows and the stepper's columns of the row. */
@@ -263,12 +328,18 @@ static void observe_flows(const sinter_scene *sc, double *row)
             row[k] = NAN; /* out of memory: the sample says so */
     const sinter_stepper_stats *s = &sc->st->stats;
     double *q = row + stepper_column(sc);
-    /* (not the staggered stepper's iterations: a checkpoint does not carry them, and a
-     * restarted run's series must be the straight run's) */
     q[0] = sc->st->dt;
     q[1] = (double)s->rejected;
     q[2] = (double)s->neighbor_builds;
+    if (stepper_columns(sc) > 3) { /* a checkpoint carries these too (version 7) */
+        q[3] = (double)s->iterations;
+        q[4] = (double)s->evaluations;
+        q[5] = sc->st->staggered.contraction;
+    }
     observe_distributions(sc, row);
+    scene_track_observe(sc, row + track_column(sc));
+    if (sc->pair_reference)
+        scene_pair_reference(sc, row + pair_column(sc));
 }
 
 static void observe(const sinter_scene *sc, double *row)
@@ -442,7 +513,9 @@ static sinter_status write_frame(run_state *r)
         }
     }
     const sinter_vtu_array extra[2] = {{"contacts", contacts, 1}, {"necks", necks, 1}};
-    st = sinter_write_vtu_as(sc->ps, path, extra, 2, sc->vtu_binary);
+    st = sinter_write_vtu_as(sc->ps, path, extra, 2, scene_vtk_format(sc));
+    if (st == SINTER_OK && sc->vtu_appended)
+        st = sinter_vtk_make_appended(ctx, path);
     sinter_free(ctx, contacts);
     sinter_free(ctx, necks);
     if (st == SINTER_OK)
@@ -624,7 +697,7 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[wall_current_column(sc) + k] = wall_labels[2 * nw + k];
         units[wall_current_column(sc) + k] = "A";
     }
-    for (size_t k = 0; k < STEPPER_COLUMNS; ++k) {
+    for (size_t k = 0; k < stepper_columns(sc); ++k) {
         names[stepper_column(sc) + k] = STEPPER_NAMES[k];
         units[stepper_column(sc) + k] = STEPPER_UNITS[k];
     }
@@ -641,12 +714,28 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
             snprintf(label, size, "neck ratio %.2f-%.2f",
                      NECK_BIN * (double)(k - COORDINATION_MAX - 1),
                      NECK_BIN * (double)(k - COORDINATION_MAX));
-        else
+        else if (k - COORDINATION_MAX - 1 == NECK_BINS)
             snprintf(label, size, "neck ratio %.2f or more", NECK_BIN * NECK_BINS);
+        else if (k - COORDINATION_MAX - 1 == NECK_BINS + 1)
+            snprintf(label, size, "correction below %.2f", CORRECTION_LOW);
+        else if (k - COORDINATION_MAX - 1 < NECK_BINS + 2 + CORRECTION_BINS) {
+            const double b = (double)(k - COORDINATION_MAX - 1 - NECK_BINS - 2);
+            snprintf(label, size, "correction %.2f to %.2f", CORRECTION_LOW + CORRECTION_BIN * b,
+                     CORRECTION_LOW + CORRECTION_BIN * (b + 1));
+        } else
+            snprintf(label, size, "correction %.2f or more",
+                     CORRECTION_LOW + CORRECTION_BIN * CORRECTION_BINS);
         names[distribution_column(sc) + k] = label;
         units[distribution_column(sc) + k] = "1";
     }
-    return distribution_column(sc) + distribution_columns(sc);
+    (void)scene_track_labels(sc, names, units, wall_labels + 3 * nw + distribution_columns(sc),
+                             track_column(sc));
+    if (!sc->pair_reference)
+        return pair_column(sc);
+    names[pair_column(sc)] = "two-particle neck ratio";
+    names[pair_column(sc) + 1] = "two-particle shrinkage";
+    units[pair_column(sc)] = units[pair_column(sc) + 1] = "1";
+    return pair_column(sc) + SCENE_PAIR_COLUMNS;
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -684,14 +773,16 @@ static sinter_status open_output(run_state *r)
         r->present[k] = st == SINTER_OK && stat(path, &info) == 0;
     }
     enum {
-        HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
+        HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1 + CORRECTION_BINS + 2,
+        TRACKED = SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + 1 + HISTOGRAMS /* 1: the solid fraction */
+               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED +
+               SCENE_PAIR_COLUMNS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];
-    /* the walls' labels, then the histograms' */
-    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS][SCENE_NAME + 16];
+    /* the walls' labels, then the histograms', then the followed particles' */
+    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS + TRACKED][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

@@ -1,6 +1,7 @@
 /* VTK XML data arrays, ascii or inline base64 binary: the writers of the particles' frames
  * (io/vtu.c) and of the contacts' and walls' files (io/vtp.c), see io/vtk_arrays.h. */
 #include <inttypes.h>
+#include <math.h>
 #include <string.h>
 
 #include "io/base64.h"
@@ -21,6 +22,14 @@ uint64_t sinter_vtk_double_bits(const void *data, size_t i)
 {
     uint64_t bits;
     memcpy(&bits, (const double *)data + i, sizeof(bits));
+    return bits;
+}
+/* The float nearest to element i of an array of doubles. */
+static uint64_t float_bits(const void *data, size_t i)
+{
+    const float f = (float)((const double *)data)[i];
+    uint32_t bits;
+    memcpy(&bits, &f, sizeof(bits));
     return bits;
 }
 uint64_t sinter_vtk_int32_bits(const void *data, size_t i)
@@ -94,17 +103,25 @@ static int all_zero(const double *data, size_t n)
 void sinter_vtk_doubles(FILE *fp, const char *name, const double *data, size_t count,
                         size_t components, int binary)
 {
+    const int single = (binary & SINTER_VTK_FLOAT32) != 0;
+    binary &= SINTER_VTK_BINARY;
     if (binary && all_zero(data, count * components))
         binary = 0;
-    begin_array(fp, "Float64", name, components, binary);
+    begin_array(fp, single ? "Float32" : "Float64", name, components, binary);
     if (binary)
-        write_binary(fp, data, count * components, 8, sinter_vtk_double_bits);
+        write_binary(fp, data, count * components, single ? 4 : 8,
+                     single ? float_bits : sinter_vtk_double_bits);
     else
         for (size_t i = 0; i < count; ++i) {
             for (size_t c = 0; c < components; ++c) {
                 if (c > 0)
                     fputc(' ', fp);
-                sinter_out_double(fp, data[i * components + c]);
+                const double v =
+                    single ? (double)(float)data[i * components + c] : data[i * components + c];
+                if (single && isfinite(v))
+                    fprintf(fp, "%.9g", v);
+                else
+                    sinter_out_double(fp, v); /* (nan and inf spelled as in every file) */
             }
             fputc('\n', fp);
         }
@@ -115,6 +132,7 @@ void sinter_vtk_doubles(FILE *fp, const char *name, const double *data, size_t c
 void sinter_vtk_ints(FILE *fp, const char *type, const char *name, const void *data, size_t count,
                      size_t width, sinter_vtk_bits bits, int is_signed, int binary)
 {
+    binary &= SINTER_VTK_BINARY;
     begin_array(fp, type, name, 1, binary);
     if (binary)
         write_binary(fp, data, count, width, bits);

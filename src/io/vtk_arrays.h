@@ -9,6 +9,13 @@
 #include <stdint.h>
 #include <stdio.h>
 
+/* The `binary` argument of the writers below and of the frame writers (vtu.h, vtp.h, vti.h):
+ * these bits. 0: ascii doubles. */
+enum {
+    SINTER_VTK_BINARY = 1, /* inline base64 binary */
+    SINTER_VTK_FLOAT32 = 2 /* floating-point arrays in single precision (Float32) */
+};
+
 /* The bit pattern of element i of an array, as an unsigned integer of the element's width. */
 typedef uint64_t (*sinter_vtk_bits)(const void *data, size_t i);
 
@@ -20,7 +27,8 @@ uint64_t sinter_vtk_index_plus_one_bits(const void *data, size_t i); /* i + 1 */
 uint64_t sinter_vtk_vertex_type_bits(const void *data, size_t i);    /* 1: VTK_VERTEX */
 
 /* count * components doubles named `name`: one record per line (%.17g), or binary; an array of
- * zeros stays ascii (shorter than its base64). */
+ * zeros stays ascii (shorter than its base64). With SINTER_VTK_FLOAT32 as Float32 (each value
+ * rounded to the nearest float; ascii %.9g, which reads back to that float). */
 void sinter_vtk_doubles(FILE *fp, const char *name, const double *data, size_t count,
                         size_t components, int binary);
 

@@ -40,7 +40,8 @@ static void header(FILE *fp, size_t points, size_t lines, size_t polys, int bina
             "  <PolyData>\n"
             "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"%zu\" "
             "NumberOfStrips=\"0\" NumberOfPolys=\"%zu\">\n",
-            binary ? "1.0" : "0.1", binary ? " header_type=\"UInt64\"" : "", points, lines, polys);
+            (binary & SINTER_VTK_BINARY) ? "1.0" : "0.1",
+            (binary & SINTER_VTK_BINARY) ? " header_type=\"UInt64\"" : "", points, lines, polys);
 }
 
 static void footer(FILE *fp)
@@ -80,8 +81,9 @@ static const char *const CONTACT_NAMES[SINTER_CONTACT_DATA_COUNT_] = {
     "radius", "area", "normal_force", "tangential_force", "heat_flow",
     "current"};
 static const char *const LINK_NAMES[SINTER_LINK_DATA_COUNT_] = {
-    "id_a", "id_b",  "neck_radius",     "neck_ratio", "approach",
-    "age",  "phase", "sintering_force", "beam_force", "beam_moment"};
+    "id_a",       "id_b",        "neck_radius", "neck_ratio",
+    "approach",   "age",         "phase",       "sintering_force",
+    "beam_force", "beam_moment", "correction"};
 
 /* The cell data: every array of the snapshot (contacts, or links). */
 static sinter_status cell_data(FILE *fp, const sinter_snapshot *snap, int links, size_t count,

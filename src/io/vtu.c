@@ -81,7 +81,8 @@ sinter_status sinter_write_vtu_as(const sinter_particles *ps, const char *path,
             "<?xml version=\"1.0\"?>\n"
             "<VTKFile type=\"UnstructuredGrid\" version=\"%s\" byte_order=\"LittleEndian\"%s>\n"
             "  <UnstructuredGrid>\n",
-            binary ? "1.0" : "0.1", binary ? " header_type=\"UInt64\"" : "");
+            (binary & SINTER_VTK_BINARY) ? "1.0" : "0.1",
+            (binary & SINTER_VTK_BINARY) ? " header_type=\"UInt64\"" : "");
     fprintf(fp, "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n", n, n);
     fputs("      <PointData Scalars=\"radius\">\n", fp);
     sinter_vtk_doubles(fp, "radius", ps->radius, n, 1, binary);

@@ -1,5 +1,6 @@
 /* Particle sets: struct-of-arrays storage, materials, views and validation. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "particles.h"
@@ -118,6 +119,7 @@ void sinter_particles_destroy(sinter_particles *ps)
         sinter_free(ps->ctx, ps->softening[m].temperature);
         sinter_free(ps->ctx, ps->softening[m].factor);
     }
+    sinter_id_index_free(ps->ctx, &ps->id_index);
     sinter_free(ps->ctx, ps);
 }
 
@@ -280,14 +282,59 @@ sinter_status sinter_particles_get_material(const sinter_particles *ps, int32_t 
     return SINTER_OK;
 }
 
-sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double *positions,
-                                   const double *radii, int32_t material_id, double temperature,
-                                   size_t *first_index)
+static int id_compare(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Caller-chosen ids: none repeated among themselves or held by the set, none UINT64_MAX (kept
+ * free so that next_id can pass every id). */
+static sinter_status check_new_ids(sinter_particles *ps, size_t n, const uint64_t *ids,
+                                   const char *func)
+{
+    sinter_ctx *ctx = ps->ctx;
+    for (size_t k = 0; k < n; ++k)
+        if (ids[k] == UINT64_MAX)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: the id of new particle %zu is 2^64 - 1, which is reserved",
+                               func, k);
+    sinter_status st = sinter_id_index_update(&ps->id_index, ps);
+    if (st != SINTER_OK)
+        return st;
+    for (size_t k = 0; k < n; ++k) {
+        const size_t held = sinter_id_index_find(&ps->id_index, ps, ids[k]);
+        if (held != SIZE_MAX)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: id %llu of new particle %zu is held by particle %zu", func,
+                               (unsigned long long)ids[k], k, held);
+    }
+    uint64_t *sorted = sinter_alloc(ctx, n * sizeof(uint64_t));
+    if (sorted == NULL)
+        return sinter_last_status(ctx);
+    memcpy(sorted, ids, n * sizeof(uint64_t));
+    qsort(sorted, n, sizeof(uint64_t), id_compare);
+    for (size_t k = 1; k < n; ++k)
+        if (sorted[k] == sorted[k - 1]) {
+            const unsigned long long twice = (unsigned long long)sorted[k];
+            sinter_free(ctx, sorted);
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: id %llu is given twice", func, twice);
+        }
+    sinter_free(ctx, sorted);
+    return SINTER_OK;
+}
+
+/* sinter_particles_add and _add_with_ids (ids NULL: the set's own ids from next_id; otherwise
+ * checked by check_new_ids before anything changes). */
+static sinter_status add_particles(sinter_particles *ps, size_t n, const uint64_t *ids,
+                                   const double *positions, const double *radii,
+                                   int32_t material_id, double temperature, size_t *first_index,
+                                   const char *func)
 {
     if (ps == NULL)
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = ps->ctx;
-    sinter_status st = check_unlocked(ps, "sinter_particles_add");
+    sinter_status st = check_unlocked(ps, func);
     if (st != SINTER_OK)
         return st;
     if (n == 0) {
@@ -297,41 +344,45 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
     }
     SINTER_CHECK_NULL(ctx, positions);
     SINTER_CHECK_NULL(ctx, radii);
+    if (ids != NULL && (st = check_new_ids(ps, n, ids, func)) != SINTER_OK)
+        return st;
     if (material_id < 0 || material_id >= SINTER_MAX_MATERIALS || !ps->material_used[material_id])
         return sinter_fail(ctx, SINTER_ERR_NOT_FOUND,
-                           "sinter_particles_add: material id %d is not registered; call "
+                           "%s: material id %d is not registered; call "
                            "sinter_particles_set_material first",
-                           (int)material_id);
+                           func, (int)material_id);
     if (!isfinite(temperature) || temperature <= 0.0)
         return sinter_fail(ctx, SINTER_ERR_INVALID,
-                           "sinter_particles_add: temperature %g K must be positive and finite",
-                           temperature);
+                           "%s: temperature %g K must be positive and finite", func, temperature);
     if (n > SIZE_MAX - ps->count || sinter_mul_overflows(n, 3))
+        return sinter_fail(ctx, SINTER_ERR_OVERFLOW, "%s: adding %zu particles to %zu overflows",
+                           func, n, ps->count);
+    if (ids == NULL && ps->next_id > UINT64_MAX - 1 - n)
         return sinter_fail(ctx, SINTER_ERR_OVERFLOW,
-                           "sinter_particles_add: adding %zu particles to %zu overflows", n,
-                           ps->count);
+                           "%s: the set's next id %llu leaves no room for %zu more ids", func,
+                           (unsigned long long)ps->next_id, n);
     static const char *axis[3] = {"x", "y", "z"};
     const double rho = ps->materials[material_id].value[SINTER_MAT_DENSITY];
     for (size_t k = 0; k < n; ++k) {
         for (int d = 0; d < 3; ++d)
             if (!isfinite(positions[3 * k + d]))
                 return sinter_fail(ctx, SINTER_ERR_INVALID,
-                                   "sinter_particles_add: position.%s of new particle %zu is %g; "
+                                   "%s: position.%s of new particle %zu is %g; "
                                    "positions must be finite",
-                                   axis[d], k, positions[3 * k + d]);
+                                   func, axis[d], k, positions[3 * k + d]);
         if (!isfinite(radii[k]) || radii[k] <= 0.0)
             return sinter_fail(ctx, SINTER_ERR_INVALID,
-                               "sinter_particles_add: radius of new particle %zu is %g m; radii "
+                               "%s: radius of new particle %zu is %g m; radii "
                                "must be positive and finite",
-                               k, radii[k]);
+                               func, k, radii[k]);
         /* The mass and inertia follow from the radius: they must be representable too. */
         const double r = radii[k], mass = rho * 4.0 / 3.0 * PI * r * r * r;
         if (!isfinite(0.4 * mass * r * r) || !(0.4 * mass * r * r > 0.0))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
-                               "sinter_particles_add: radius of new particle %zu is %g m; its "
+                               "%s: radius of new particle %zu is %g m; its "
                                "mass %g kg or moment of inertia %g kg m^2 is not a positive "
                                "finite number",
-                               k, r, mass, 0.4 * mass * r * r);
+                               func, k, r, mass, 0.4 * mass * r * r);
     }
     size_t need = ps->count + n;
     if (need > ps->capacity) {
@@ -359,7 +410,9 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
         ps->current[i] = 0.0;
         ps->heat[i] = 0.0;
         ps->flags[i] = 0;
-        ps->id[i] = ps->next_id++;
+        ps->id[i] = ids != NULL ? ids[k] : ps->next_id++;
+        if (ids != NULL && ids[k] >= ps->next_id)
+            ps->next_id = ids[k] + 1; /* ids[k] < UINT64_MAX: check_new_ids */
         update_mass(ps, i);
     }
     ps->count = need;
@@ -368,6 +421,27 @@ sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double 
     if (first_index)
         *first_index = first;
     return SINTER_OK;
+}
+
+sinter_status sinter_particles_add(sinter_particles *ps, size_t n, const double *positions,
+                                   const double *radii, int32_t material_id, double temperature,
+                                   size_t *first_index)
+{
+    return add_particles(ps, n, NULL, positions, radii, material_id, temperature, first_index,
+                         "sinter_particles_add");
+}
+
+sinter_status sinter_particles_add_with_ids(sinter_particles *ps, size_t n, const uint64_t *ids,
+                                            const double *positions, const double *radii,
+                                            int32_t material_id, double temperature,
+                                            size_t *first_index)
+{
+    if (ps == NULL)
+        return SINTER_ERR_NULL;
+    if (n > 0)
+        SINTER_CHECK_NULL(ps->ctx, ids);
+    return add_particles(ps, n, ids, positions, radii, material_id, temperature, first_index,
+                         "sinter_particles_add_with_ids");
 }
 
 /* Move particle `from` to slot `to` in every field. */
@@ -576,12 +650,15 @@ sinter_status sinter_particles_find_id(const sinter_particles *ps, uint64_t id, 
     if (ps == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(ps->ctx, index);
-    for (size_t i = 0; i < ps->count; ++i) {
-        if (ps->id[i] == id) {
-            *index = i;
-            return SINTER_OK;
-        }
-    }
-    return sinter_fail(ps->ctx, SINTER_ERR_NOT_FOUND, "no particle has id %llu",
-                       (unsigned long long)id);
+    /* The index is bookkeeping on a logically const set (as the views are). */
+    sinter_particles *mut = (sinter_particles *)ps;
+    sinter_status st = sinter_id_index_update(&mut->id_index, ps);
+    if (st != SINTER_OK)
+        return st;
+    const size_t i = sinter_id_index_find(&ps->id_index, ps, id);
+    if (i == SIZE_MAX)
+        return sinter_fail(ps->ctx, SINTER_ERR_NOT_FOUND, "no particle has id %llu",
+                           (unsigned long long)id);
+    *index = i;
+    return SINTER_OK;
 }

@@ -3,6 +3,7 @@
 #define SINTER_PARTICLES_H
 
 #include "core/core.h"
+#include "particles/id_index.h"
 #include "particles/material.h"
 
 #define SINTER_MAX_MATERIALS 256
@@ -28,7 +29,8 @@ struct sinter_particles {
     int32_t *material;
     uint32_t *flags;
     uint64_t *id;
-    uint64_t next_id;
+    uint64_t next_id; /* sinter_particles_add's next id: above every id in the set */
+    sinter_id_index id_index; /* id -> index, built on the first lookup after a change */
     /* borrowed views */
     size_t views_out;
     unsigned field_views[SINTER_FIELD_COUNT_];

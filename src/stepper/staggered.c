@@ -1,5 +1,10 @@
 /*
- * Implicit staggered stepper: seed 000 sec. 3.1 (trapezoidal rule with phi solved by fixed-point
+ * Implicit staggered stepper, two schemes (option "scheme"): 0 is the seed's Algorithm 1,
+ * described here; 1 (the default) solves the same trapezoidal rule with Anderson acceleration,
+ * a weighted RMS test, a PI step controller and a predictor, described above
+ * attempt_anderson below (anderson.c, step_control.c).
+ *
+ * Scheme 0: seed 000 sec. 3.1 (trapezoidal rule with phi solved by fixed-point
  * iterations, eq. 24-30), sec. 4.2 (the same rule for temperatures, eq. 36-37) and sec. 6
  * (multiphysical staggering, eq. 45-49, Algorithm 1).
  *
@@ -89,6 +94,8 @@ enum {
     OPT_ADAPTIVE,
     OPT_POSITION_TOL,
     OPT_TEMPERATURE_TOL,
+    OPT_SCHEME,
+    OPT_ANDERSON_DEPTH,
     OPT_COUNT
 };
 
@@ -100,11 +107,13 @@ static const char *const OPTION_KEYS[OPT_COUNT] = {"phi",
                                                    "dt_min",
                                                    "adaptive",
                                                    "position_tolerance",
-                                                   "temperature_tolerance"};
+                                                   "temperature_tolerance",
+                                                   "scheme",
+                                                   "anderson_depth"};
 
 #define OPTION_LIST                                                                                \
     "phi, target_iterations, tolerance, exponent, dt_max, dt_min, adaptive, position_tolerance, "  \
-    "temperature_tolerance"
+    "temperature_tolerance, scheme, anderson_depth"
 
 void sinter_staggered_init(sinter_staggered *sg)
 {
@@ -116,6 +125,9 @@ void sinter_staggered_init(sinter_staggered *sg)
     sg->dt_max = HUGE_VAL;
     sg->dt_min = 1e-12;
     sg->adaptive = 1;
+    sg->scheme = 1; /* by measurement: tests/bench/RESULTS.md, press work-precision */
+    sg->anderson_depth = 3;
+    sinter_anderson_init(&sg->aa);
 }
 
 void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg)
@@ -127,6 +139,12 @@ void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg)
     sg->flags = NULL;
     sg->power = NULL;
     sg->saved_capacity = sg->flags_capacity = sg->power_capacity = 0;
+    sinter_free(ctx, sg->hist);
+    sinter_free(ctx, sg->work);
+    sg->hist = sg->work = NULL;
+    sg->hist_capacity = sg->work_capacity = 0;
+    sg->history_valid = 0;
+    sinter_anderson_free(ctx, &sg->aa);
 }
 
 static int find_option(const char *key)
@@ -232,6 +250,25 @@ sinter_status sinter_staggered_set(sinter_stepper *st, const char *key, double v
                                value);
         sg->adaptive = value == 1.0;
         break;
+    case OPT_SCHEME:
+        if (value != 0.0 && value != 1.0)
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: scheme = %g must be 0 (the seed's Algorithm 1) or 1 (Anderson "
+                               "acceleration, WRMS test, PI step control, predictor)",
+                               func, value);
+        sg->scheme = (int)value;
+        sg->history_valid = 0;
+        sg->control.x_prev = 0.0;
+        sg->control.after_reject = 0;
+        break;
+    case OPT_ANDERSON_DEPTH:
+        if (!(value >= 0.0 && value <= 10.0 && value == floor(value)))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: anderson_depth = %g must be a whole number in [0, 10] (0: "
+                               "plain fixed-point iteration)",
+                               func, value);
+        sg->anderson_depth = (int)value;
+        break;
     default: /* OPT_POSITION_TOL, OPT_TEMPERATURE_TOL */
         if (!(value >= 0.0 && isfinite(value)))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -262,7 +299,9 @@ sinter_status sinter_staggered_get(const sinter_stepper *st, const char *key, do
                                       sg->dt_min,
                                       (double)sg->adaptive,
                                       sg->position_tolerance,
-                                      sg->temperature_tolerance};
+                                      sg->temperature_tolerance,
+                                      (double)sg->scheme,
+                                      (double)sg->anderson_depth};
     *value = values[which];
     return SINTER_OK;
 }
@@ -369,6 +408,19 @@ static void restore_state(sinter_stepper *st, const saved_state *a, double t)
 
 /* ---- the two field updates ------------------------------------------------------------ */
 
+/* Rotation vector of particle i from its spin by the trapezoidal rule (seed 003 eq. 45). */
+static void rotate(sinter_stepper *st, const saved_state *a, double h, size_t i)
+{
+    const double phi = st->staggered.phi, psi = 1.0 - phi;
+    const double *w = st->ps->w + 3 * i, *w0 = a->w + 3 * i;
+    double *alpha = st->ps->rot + 3 * i;
+    memcpy(alpha, a->rot + 3 * i, 3 * sizeof(double));
+    const double da[3] = {h * (phi * w[0] + psi * w0[0]), h * (phi * w[1] + psi * w0[1]),
+                          h * (phi * w[2] + psi * w0[2])};
+    if (st->rotation)
+        sinter_compose_rotation(alpha, da); /* seed 003 eq. 45 */
+}
+
 /*
  * s = s^L + trapezoid with the forces f, torques tq of the current iterate (eq. 24-26).
  * Returns the first particle whose new state is not finite, or n.
@@ -403,12 +455,7 @@ static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double 
         } else {
             memcpy(w, w0, 3 * sizeof(double));
         }
-        double *alpha = ps->rot + 3 * i;
-        memcpy(alpha, a->rot + 3 * i, 3 * sizeof(double));
-        const double da[3] = {h * (phi * w[0] + psi * w0[0]), h * (phi * w[1] + psi * w0[1]),
-                              h * (phi * w[2] + psi * w0[2])};
-        if (st->rotation)
-            sinter_compose_rotation(alpha, da); /* seed 003 eq. 45 */
+        rotate(st, a, h, i);
         const double check = x[0] + x[1] + x[2] + v[0] + v[1] + v[2] + w[0] + w[1] + w[2];
         if (!isfinite(check) && bad == n)
             bad = i;
@@ -418,7 +465,8 @@ static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double 
 
 /* theta = theta^L + h/(m C) (phi Q + (1 - phi) Q^L), eq. 36. Returns the first bad particle or n.
  */
-static size_t update_temperatures(sinter_stepper *st, const saved_state *a, double h)
+static size_t update_temperatures(sinter_stepper *st, const saved_state *a, double h,
+                                  const double *q)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -428,7 +476,7 @@ static size_t update_temperatures(sinter_stepper *st, const saved_state *a, doub
         if (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE)
             continue;
         const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
-        const double theta = a->theta[i] + h / mc * (phi * ps->heat[i] + psi * a->q[i]);
+        const double theta = a->theta[i] + h / mc * (phi * q[i] + psi * a->q[i]);
         ps->temperature[i] = theta;
         if (!(theta > 0.0 && theta < INFINITY) && bad == n)
             bad = i;
@@ -507,7 +555,8 @@ typedef struct attempt_result {
     int converged;
     int iterations;
     double eps_r, eps_theta; /* eq. 47 at the last iteration */
-    double lambda;           /* eq. 49 */
+    double lambda;           /* eq. 49; scheme 1: the controller's ratio x (step_control.h) */
+    double rho;              /* scheme 1: measured contraction (E_K / E_0)^(1/K), 0 if K = 0 */
     size_t bad;              /* particle with a non-finite state, or the count */
     const char *bad_field;
 } attempt_result;
@@ -548,7 +597,7 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
         if (thermal) {
             for (size_t j = 0; j < st->thermal.count; ++j)
                 sg->power[st->thermal.count + j] = st->thermal.slots[j].power;
-            bad = update_temperatures(st, a, h);
+            bad = update_temperatures(st, a, h, ps->heat);
             if (bad < n) {
                 st->stats.seconds_integrate += sinter_clock() - t0;
                 res->bad = bad;
@@ -589,6 +638,254 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
         if (thermal)
             memcpy(a->theta_prev, ps->temperature, n * sizeof(double));
         bad = update_mechanics(st, a, h, ps->force, ps->torque); /* s^(K+1) from F^K */
+        st->stats.seconds_integrate += sinter_clock() - t0;
+    }
+    return SINTER_OK;
+}
+
+/* ---- scheme 1: Anderson acceleration, WRMS test, PI step control, predictor -------------- */
+
+/*
+ * Scheme 1 ("scheme" = 1) keeps the trapezoidal rule and its fixed point, and changes how the
+ * fixed point is found and how the step is chosen:
+ *
+ *  - The unknowns u = (x, v, w, theta) (10 per particle) and the map u -> G(u): evaluate the
+ *    pipeline at u (positions and temperatures of the same iterate: no staggering lag, so the
+ *    evaluation at the accepted iterate gives F^(L+1) and Q^(L+1) and no extra evaluation is
+ *    needed) and apply the trapezoid (eq. 24-26, 36) with its forces and heat. G is the
+ *    staggered iteration of Algorithm 1 made a Jacobi sweep; its fixed point is the same.
+ *  - Anderson(m) acceleration of u_(k+1) = G(u_k) (anderson.h; option anderson_depth, 3;
+ *    0 is the plain iteration). Anderson combinations are affine (weights summing to 1), so
+ *    every iterate keeps x = x^L + h (phi v + (1 - phi) v^L); rotations follow the spins.
+ *  - Convergence: the correction G(u_k) - u_k in a weighted RMS norm per quantity, as SUNDIALS'
+ *    integrators weigh errors: weight 1/(rtol |d_i| + atol) with rtol = "tolerance" and
+ *    - positions: d_i the predicted displacement of the particle over the step (the seed's
+ *      eq. 47 relates the change to the step's motion, not to the coordinate, whose size
+ *      depends on the origin); atol = position_tolerance, or 1e-6 rtol R_i where that is 0
+ *      (a contact's overlap can be ~1e-6 R: a steel sphere resting on a steel floor,
+ *      test_hard_cases.c; 1e-3 rtol R left it 12 % off Hertz's overlap);
+ *    - temperatures: d_i = theta^L_i; atol = temperature_tolerance;
+ *    - velocities and spins carry weight 0: the trapezoid ties a velocity correction dv to
+ *      the position correction phi h dv, so the position test bounds them.
+ *    u_k is accepted when both norms are <= 1 (u_k itself, whose evaluation is at hand).
+ *  - Predictor: u_0 is the trapezoid with the forces, torques and heat powers extrapolated
+ *    linearly from the two previous steps, F^L + (h / h_prev) (F^L - F^(L-1)); the first step
+ *    (and the first after a change of particle order or count) uses F^L. Temperatures start
+ *    from forward Euler instead of theta^L. The start only costs iterations when it is poor:
+ *    the fixed point does not depend on it.
+ *  - Step control: step_control.h, a PI controller on the measured contraction; an attempt is
+ *    rejected when it diverges (E_k > E_0 from k = 3), when the measured rate cannot reach the
+ *    tolerance within 2 K_d iterations, or at 2 K_d iterations.
+ */
+
+typedef struct aa_vectors {
+    double *u, *g, *w; /* 10 n each: x, v, w (3n each), theta (n) */
+} aa_vectors;
+
+static sinter_status aa_reserve(sinter_stepper *st, aa_vectors *vec)
+{
+    sinter_staggered *sg = &st->staggered;
+    const size_t n = st->ps->count;
+    if (30 * n + 1 > sg->work_capacity) {
+        double *p = sinter_realloc_array(st->ctx, sg->work, 30 * n + 1, sizeof(double));
+        if (p == NULL)
+            return sinter_last_status(st->ctx);
+        sg->work = p;
+        sg->work_capacity = 30 * n + 1;
+    }
+    if (7 * n + 1 > sg->hist_capacity) {
+        double *p = sinter_realloc_array(st->ctx, sg->hist, 7 * n + 1, sizeof(double));
+        if (p == NULL)
+            return sinter_last_status(st->ctx);
+        sg->hist = p;
+        sg->hist_capacity = 7 * n + 1;
+    }
+    vec->u = sg->work;
+    vec->g = sg->work + 10 * n;
+    vec->w = sg->work + 20 * n;
+    return sinter_anderson_reset(st->ctx, &sg->aa, 10 * n, sg->anderson_depth);
+}
+
+static void aa_pack(const sinter_particles *ps, double *u)
+{
+    const size_t n = ps->count;
+    memcpy(u, ps->x, 3 * n * sizeof(double));
+    memcpy(u + 3 * n, ps->v, 3 * n * sizeof(double));
+    memcpy(u + 6 * n, ps->w, 3 * n * sizeof(double));
+    memcpy(u + 9 * n, ps->temperature, n * sizeof(double));
+}
+
+/* ps <- u, rotations from the spins; returns the first particle with a bad state, or n. */
+static size_t aa_unpack(sinter_stepper *st, const saved_state *a, double h, const double *u,
+                        int thermal)
+{
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    memcpy(ps->x, u, 3 * n * sizeof(double));
+    memcpy(ps->v, u + 3 * n, 3 * n * sizeof(double));
+    memcpy(ps->w, u + 6 * n, 3 * n * sizeof(double));
+    if (thermal)
+        memcpy(ps->temperature, u + 9 * n, n * sizeof(double));
+    size_t bad = n;
+    for (size_t i = 0; i < n; ++i) {
+        rotate(st, a, h, i);
+        const double *x = ps->x + 3 * i, *v = ps->v + 3 * i, *w = ps->w + 3 * i;
+        const double check = x[0] + x[1] + x[2] + v[0] + v[1] + v[2] + w[0] + w[1] + w[2];
+        const double theta = ps->temperature[i]; /* checked only where it is an unknown */
+        const int bad_theta = thermal && !(ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE) &&
+                              !(theta > 0.0 && theta < INFINITY);
+        if ((!isfinite(check) || bad_theta) && bad == n)
+            bad = i;
+    }
+    return bad;
+}
+
+/* WRMS weights (see above), scaled by 1/sqrt(count) per field so that ||W f||_2 is the
+ * field's WRMS norm. Made once per attempt, at the predictor. */
+static void aa_weights(const sinter_stepper *st, const saved_state *a, double *w, int thermal)
+{
+    const sinter_particles *ps = st->ps;
+    const sinter_staggered *sg = &st->staggered;
+    const size_t n = ps->count;
+    size_t nx = 0, nt = 0;
+    for (size_t i = 0; i < n; ++i) {
+        nx += !(ps->flags[i] & SINTER_PARTICLE_FIXED);
+        nt += thermal && !(ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE);
+    }
+    const double rtol = sg->tolerance;
+    const double sx = nx > 0 ? 1.0 / sqrt(3.0 * (double)nx) : 0.0;
+    const double st_ = nt > 0 ? 1.0 / sqrt((double)nt) : 0.0;
+    memset(w, 0, 10 * n * sizeof(double));
+    for (size_t i = 0; i < n; ++i) {
+        if (!(ps->flags[i] & SINTER_PARTICLE_FIXED)) {
+            const double *x = ps->x + 3 * i, *x0 = a->x + 3 * i;
+            const double d[3] = {x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]};
+            const double atol =
+                sg->position_tolerance > 0.0 ? sg->position_tolerance : 1e-6 * rtol * ps->radius[i];
+            const double wi = sx / (rtol * sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + atol);
+            for (int c = 0; c < 3; ++c)
+                w[3 * i + c] = wi;
+        }
+        if (thermal && !(ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE))
+            w[9 * n + i] = st_ / (rtol * fabs(a->theta[i]) + sg->temperature_tolerance);
+    }
+}
+
+/* WRMS norms of g - u for positions and temperatures (W already holds 1/sqrt(count)). */
+static void aa_norms(size_t n, const double *u, const double *g, const double *w, double *ex,
+                     double *et)
+{
+    double sx = 0.0, st_ = 0.0;
+    for (size_t i = 0; i < 3 * n; ++i) {
+        const double e = w[i] * (g[i] - u[i]);
+        sx += e * e;
+    }
+    for (size_t i = 9 * n; i < 10 * n; ++i) {
+        const double e = w[i] * (g[i] - u[i]);
+        st_ += e * e;
+    }
+    *ex = sqrt(sx);
+    *et = sqrt(st_);
+}
+
+/* The predictor's forces, torques and heat into f (3n), tq (3n), q (n). */
+static void aa_predict(const sinter_stepper *st, const saved_state *a, double h, double *f,
+                       double *tq, double *q)
+{
+    const sinter_staggered *sg = &st->staggered;
+    const size_t n = st->ps->count;
+    const int history = sg->history_valid && sg->history_count == n && sg->h_prev > 0.0;
+    const double r = history ? h / sg->h_prev : 0.0;
+    const double *fp = sg->hist, *tp = sg->hist + 3 * n, *qp = sg->hist + 6 * n;
+    for (size_t i = 0; i < 3 * n; ++i) {
+        f[i] = history ? a->f[i] + r * (a->f[i] - fp[i]) : a->f[i];
+        tq[i] = history ? a->tq[i] + r * (a->tq[i] - tp[i]) : a->tq[i];
+    }
+    for (size_t i = 0; i < n; ++i)
+        q[i] = history ? a->q[i] + r * (a->q[i] - qp[i]) : a->q[i];
+}
+
+static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, double t, double h,
+                                      attempt_result *res)
+{
+    sinter_staggered *sg = &st->staggered;
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count;
+    const int thermal = st->thermal.count > 0;
+    const int k_max = 2 * sg->target_iterations;
+    memset(res, 0, sizeof(*res));
+    res->bad = n;
+    aa_vectors vec = {NULL, NULL, NULL};
+    sinter_status s = aa_reserve(st, &vec);
+    if (s != SINTER_OK)
+        return s;
+    st->time = t + h;
+    s = st->walls != NULL ? sinter_walls_move(st->walls, t + h) : SINTER_OK;
+    if (s != SINTER_OK)
+        return s;
+    /* Predictor u_0 (the image buffer is scratch until the first evaluation). */
+    double t0 = sinter_clock();
+    aa_predict(st, a, h, vec.g, vec.g + 3 * n, vec.g + 6 * n);
+    size_t bad = update_mechanics(st, a, h, vec.g, vec.g + 3 * n);
+    if (thermal && bad == n)
+        bad = update_temperatures(st, a, h, vec.g + 6 * n);
+    aa_weights(st, a, vec.w, thermal);
+    aa_pack(ps, vec.u);
+    st->stats.seconds_integrate += sinter_clock() - t0;
+    double e0 = 0.0;
+    for (int k = 0; k <= k_max; ++k) {
+        res->iterations = k;
+        if (bad < n) {
+            res->bad = bad;
+            res->bad_field = "position, velocity, spin or temperature not finite (or <= 0 K)";
+            res->lambda = INFINITY;
+            return SINTER_OK;
+        }
+        st->stats.iterations++;
+        s = sinter_stepper_eval_forces(st, h); /* at u_k */
+        if (s != SINTER_OK)
+            return s;
+        t0 = sinter_clock();
+        for (size_t j = 0; j < st->thermal.count; ++j)
+            sg->power[st->thermal.count + j] = st->thermal.slots[j].power;
+        /* G(u_k) */
+        bad = update_mechanics(st, a, h, ps->force, ps->torque);
+        if (thermal && bad == n)
+            bad = update_temperatures(st, a, h, ps->heat);
+        aa_pack(ps, vec.g);
+        double ex, et;
+        aa_norms(n, vec.u, vec.g, vec.w, &ex, &et);
+        const double e = fmax(ex, et);
+        res->eps_r = ex;
+        res->eps_theta = et;
+        if (k == 0)
+            e0 = e;
+        if (e <= 1.0) { /* accept u_k: back into the particles */
+            bad = aa_unpack(st, a, h, vec.u, thermal);
+            st->stats.seconds_integrate += sinter_clock() - t0;
+            res->converged = 1;
+            res->lambda = sinter_step_control_ratio(e0, e, k, sg->target_iterations);
+            res->rho = k > 0 ? pow(e / e0, 1.0 / k) : 0.0;
+            return SINTER_OK;
+        }
+        /* Rejection tests from k = 3: the first plain iteration may grow the error (beyond
+         * the plain iteration's contraction limit, phi omega h > 1) before Anderson's first
+         * two extrapolations bring it down. */
+        const double x = sinter_step_control_ratio(e0, e, k, sg->target_iterations);
+        res->lambda = isfinite(e) ? x : INFINITY;
+        if (!isfinite(e) || k == k_max) {
+            st->stats.seconds_integrate += sinter_clock() - t0;
+            return SINTER_OK;
+        }
+        if (k >= 3) {
+            const double rho = pow(e / e0, 1.0 / k);
+            if (e > e0 || e * pow(rho, k_max - k) > 1.0) {
+                st->stats.seconds_integrate += sinter_clock() - t0;
+                return SINTER_OK;
+            }
+        }
+        sinter_anderson_update(&sg->aa, vec.u, vec.g, vec.w); /* u_(k+1) */
+        bad = aa_unpack(st, a, h, vec.u, thermal);
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
     return SINTER_OK;
@@ -653,7 +950,7 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     attempt_result r;
     int restarted = 0;
     for (;;) {
-        s = attempt(st, &a, t, h, &r);
+        s = sg->scheme == 1 ? attempt_anderson(st, &a, t, h, &r) : attempt(st, &a, t, h, &r);
         if (s != SINTER_OK) {
             restore_state(st, &a, t);
             st->forces_current = 0;
@@ -664,7 +961,9 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
             break;
         /* Algorithm 1 step 7: restart at t with Lambda_K h. */
         st->stats.rejected++;
-        const double h_next = fmin(fmax(r.lambda, 0.1), 0.9) * h;
+        const double h_next =
+            sg->scheme == 1 ? sinter_step_control_reject(&sg->control, r.lambda, sg->exponent) * h
+                            : fmin(fmax(r.lambda, 0.1), 0.9) * h;
         if (!sg->adaptive || h_next < sg->dt_min)
             return give_up(st, &a, t, h, h_next, &r);
         restore_state(st, &a, t);
@@ -680,7 +979,8 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
         for (size_t j = 0; j < st->thermal.count; ++j)
             st->thermal.slots[j].applied =
                 h * (sg->phi * sg->power[st->thermal.count + j] + (1.0 - sg->phi) * sg->power[j]);
-        s = sinter_stepper_eval_forces(st, h); /* currents, F, Q of the accepted state */
+        if (sg->scheme == 0) /* scheme 1 evaluated the accepted state itself */
+            s = sinter_stepper_eval_forces(st, h); /* currents, F, Q of the accepted state */
     }
     if (s == SINTER_OK)
         s = sinter_stepper_commit(st);
@@ -693,6 +993,23 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     for (size_t j = 0; j < st->thermal.count; ++j)
         st->thermal.slots[j].energy += st->thermal.slots[j].applied;
     st->thermal_last_h = h;
+    if (sg->scheme == 1) {
+        /* The predictor's history: F, torques and Q at t become F^(L-1) for the next step. */
+        const size_t n = st->ps->count;
+        memcpy(sg->hist, a.f, 3 * n * sizeof(double));
+        memcpy(sg->hist + 3 * n, a.tq, 3 * n * sizeof(double));
+        memcpy(sg->hist + 6 * n, a.q, n * sizeof(double));
+        sg->history_valid = 1;
+        sg->history_count = n;
+        sg->h_prev = h;
+        sg->contraction = r.rho;
+        if (sg->adaptive)
+            st->dt = fmin(sg->dt_max,
+                          sinter_step_control_accept(&sg->control, r.lambda, sg->exponent) * h);
+        st->stats.dt = st->dt;
+        *taken = h;
+        return SINTER_OK;
+    }
     /* Eq. 49, Algorithm 1 step 6b-c; after a restart the step does not grow at once (the
      * usual safeguard of step controllers, e.g. Hairer, Norsett and Wanner, sec. II.4). */
     if (sg->adaptive)

@@ -383,14 +383,18 @@ sinter_status sinter_stepper_get_stats(const sinter_stepper *st, sinter_stepper_
     if (st == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(st->ctx, stats);
-    /* The layout before iterations and evaluations were appended is still served. */
-    const size_t size = stats->struct_size, old = offsetof(sinter_stepper_stats, iterations);
-    if (size != sizeof(sinter_stepper_stats) && size != old)
+    /* The layouts before iterations and evaluations, and before contraction, were appended
+     * are still served. */
+    const size_t size = stats->struct_size, old = offsetof(sinter_stepper_stats, iterations),
+                 mid = offsetof(sinter_stepper_stats, contraction);
+    if (size != sizeof(sinter_stepper_stats) && size != old && size != mid)
         return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
                            "sinter_stepper_get_stats: struct_size is %zu, expected %zu (or %zu "
-                           "for the layout without iterations and evaluations)",
-                           size, sizeof(sinter_stepper_stats), old);
+                           "for the layout without iterations and evaluations, %zu without "
+                           "contraction)",
+                           size, sizeof(sinter_stepper_stats), old, mid);
     sinter_stepper_stats full = st->stats;
+    full.contraction = st->staggered.contraction;
     full.struct_size = size;
     full.time = st->time;
     memcpy(stats, &full, size);
@@ -934,6 +938,7 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
         if (s != SINTER_OK)
             return s;
         st->steps_since_sort = 0;
+        st->staggered.history_valid = 0; /* the predictor's history is indexed by particle */
     }
     if (st->kind == SINTER_STEPPER_STAGGERED) {
         s = sinter_staggered_step(st, h, taken);

@@ -3,6 +3,8 @@
 #define SINTER_STEPPER_H
 
 #include "contact/history.h"
+#include "stepper/anderson.h"
+#include "stepper/step_control.h"
 #include "force/force_model.h"
 #include "stepper/thermal.h"
 #include "stepper/quasistatic.h"
@@ -25,6 +27,19 @@ typedef struct sinter_staggered {
     int adaptive;                 /* 0: keep dt */
     double position_tolerance;    /* absolute floor of eq. 47-48 for positions [m] */
     double temperature_tolerance; /* and for temperatures [K] */
+    int scheme;                   /* 0: seed's Algorithm 1, 1: Anderson + WRMS + PI (staggered.c) */
+    int anderson_depth;           /* m of Anderson(m), scheme 1 (anderson.h) */
+    /* scheme 1: the controller's and the predictor's history (checkpointed) */
+    sinter_step_control control;
+    double h_prev;        /* the last accepted step [s] */
+    double contraction;   /* contraction estimate of the last accepted step (0: none measured) */
+    int history_valid;    /* hist holds F, torques, Q at the start of the last accepted step */
+    size_t history_count; /* particles the history was made with */
+    double *hist;         /* 7 doubles per particle: F^(L-1), torque^(L-1), Q^(L-1) */
+    size_t hist_capacity;
+    double *work; /* scheme 1: iterate, image and weights, 10 doubles per particle each */
+    size_t work_capacity;
+    sinter_anderson aa;
     /* state at t (restored on a rejection), 28 doubles per particle; see staggered.c */
     double *saved;
     size_t saved_capacity;

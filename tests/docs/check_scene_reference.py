@@ -130,6 +130,22 @@ def electric_keys():
     return {n: keys if n == "network" else keys - network_only for n in names}
 
 
+def scan_keys():
+    """The scan path keys of beam models (src/io/scene_scan.c): those it reads, checked against
+    the list with which build_heat sets them aside (scene_heat_scan_key)."""
+    src = strip_comments(read("src/io/scene_scan.c"))
+    funcs = functions(src)
+    read_keys = set()
+    for body in funcs.values():
+        read_keys |= direct_keys(body)
+    listed = re.search(r"keys\[\]\s*=\s*\{(.*?)\};", funcs.get("scene_heat_scan_key", ""), re.S)
+    listed = set(re.findall(r'"(\w+)"', listed.group(1))) if listed else set()
+    if not read_keys or read_keys != listed:
+        sys.exit("check_scene_reference: scene_scan.c reads %s but sets aside %s"
+                 % (sorted(read_keys), sorted(listed)))
+    return read_keys
+
+
 def quasistatic_keys():
     src = strip_comments(read("src/stepper/quasistatic.c"))
     return set(re.findall(r'"(qs_\w+)"', src))
@@ -180,6 +196,8 @@ def main():
             sys.exit("check_scene_reference: found no %s models in the sources" % section)
         for model, keys in models.items():
             accepted[(section, model)] = keys
+            if section == "heat" and {"x", "y"} <= keys and keys & {"power", "intensity"}:
+                accepted[(section, model)] = keys | scan_keys()  # a beam: it can follow a path
     # guard against a silently broken extraction
     for must in [("scene", ""), ("particles", ""), ("wall", ""), ("stepper", ""),
                  ("material", ""), ("output", ""), ("compact", ""), ("pour", ""), ("pair", "")]:

@@ -168,6 +168,7 @@ class CoverageTest(unittest.TestCase):
             "sinter_contact_kind": (sinter.ContactKind, "SINTER_CONTACT_"),
             "sinter_contact_data": (sinter.snapshot.ContactData, "SINTER_CONTACT_DATA_"),
             "sinter_link_data": (sinter.snapshot.LinkData, "SINTER_LINK_DATA_"),
+            "sinter_coarse_quantity": (sinter.CoarseQuantity, "SINTER_COARSE_"),
         }
         declared = set(re.findall(r"typedef enum (\w+) \{", code))
         self.assertEqual(declared - set(pairs), set(), "give these C enums a Python enum")

@@ -144,6 +144,19 @@ class ParticlesCases:
         self.ps.remove(0)
         self.assertEqual(rows(self.ps.get("id")), [2, 4])
 
+    def test_add_with_ids(self):
+        added = self.ps.add([(9e-3, 0.0, 0.0), (12e-3, 0.0, 0.0)], 1e-3, ids=[70, 40])
+        self.assertEqual(list(added), [5, 6])
+        self.assertEqual(rows(self.ps.get("id"))[5:], [70, 40])
+        self.assertEqual(self.ps.find_id(40), 6)
+        with self.assertRaises(sinter.InvalidArgument) as caught:
+            self.ps.add([(0.0, 9e-3, 0.0)], 1e-3, ids=[70])
+        self.assertIn("id 70 of new particle 0 is held by particle 5", caught.exception.message)
+        with self.assertRaises(ValueError):
+            self.ps.add([(0.0, 9e-3, 0.0)], 1e-3, ids=[1, 2])
+        self.ps.add([(0.0, 12e-3, 0.0)], 1e-3)  # the set's counter continues above 70
+        self.assertEqual(rows(self.ps.get("id"))[-1], 71)
+
     def test_set_whole_field(self):
         self.ps.set("temperature", [400.0, 401.0, 402.0, 403.0, 404.0])
         self.assertEqual(rows(self.ps.get("temperature")), [400.0, 401.0, 402.0, 403.0, 404.0])

@@ -590,6 +590,61 @@ class ModelTest(unittest.TestCase):
         st.electric = None
         self.assertIsNone(st.electric)
 
+    def test_electric_host_conductance_and_split(self):
+        """A host conductance law that is the built-in one gives the built-in's bits; a host
+        split that gives the electrodes a quarter of their contacts' power keeps particles
+        plus electrodes equal to the walls' work (sinter_electric_model_set_host)."""
+        copper = sinter.Material(self.ctx, "cu", electric_conductivity=1e6, youngs_modulus=1e7)
+        ps = sinter.Particles(self.ctx)
+        ps.set_material(0, copper)
+        r = 1e-3
+        ps.add([(0, 0, r * 0.99 + 1.98 * r * k) for k in range(3)], r)
+        walls = sinter.Walls(self.ctx)
+        bottom = walls.add_plane((0, 0, 0), (0, 0, 1), copper)
+        top = walls.add_plane((0, 0, 1.98 * r * 2 + 2 * r * 0.99), (0, 0, -1), copper)
+        walls.set_electric(bottom, "potential", 1.0)
+        walls.set_electric(top, "potential", 0.0)
+
+        def builtin(state, batch, sigma, g):
+            radius = state.radius
+            for k in range(len(batch)):
+                i, j = int(batch.i[k]), int(batch.j[k])
+                if batch.kind == "wall":
+                    g[k] = sigma[i] * batch.area[k] / batch.distance[k]
+                else:
+                    den = radius[i] * sigma[j] + radius[j] * sigma[i]
+                    g[k] = (sigma[i] * sigma[j] * (radius[i] + radius[j]) / den *
+                            batch.area[k] / batch.distance[k])
+
+        wall_power = []
+
+        def quarter_to_electrodes(state, batch, power, share):
+            if batch.kind == "wall":
+                for k in range(len(batch)):
+                    share[k] = 0.75
+                    wall_power.append(power[k])
+
+        currents = []
+        for host in (False, True):
+            network = sinter.ElectricModel(self.ctx, "network")
+            if host:
+                network.set_host(conductance=builtin, joule_split=quarter_to_electrodes)
+            st = sinter.Stepper(self.ctx, ps, walls, electric=network)
+            st.evaluate()
+            currents.append(as_lists(ps.get("current")))
+        self.assertGreater(currents[0][0], 0.0)
+        self.assertEqual(currents[0], currents[1])
+        supplied, dissipated = network.power()
+        self.assertEqual(len(wall_power), 2)
+        self.assertAlmostEqual(network.electrode_heat(), 0.25 * sum(wall_power),
+                               delta=1e-12 * supplied)
+        self.assertAlmostEqual(supplied, dissipated, delta=1e-9 * supplied)
+        network.set_host()  # the built-in law and split again
+        st.evaluate()
+        self.assertEqual(network.electrode_heat(), 0.0)
+        with self.assertRaises(sinter.SinterError):
+            sinter.ElectricModel(self.ctx, "averaged").set_host(conductance=builtin)
+
 
 class WallsTest(unittest.TestCase):
     def setUp(self):
@@ -662,6 +717,32 @@ class WallsTest(unittest.TestCase):
         self.assertEqual(beam.output("lit"), 1.0)
         with self.assertRaises(sinter.NotFound):
             beam.output("power")
+
+    def test_beam_scan_path(self):
+        ps = sinter.Particles(self.ctx)
+        ps.set_material(0, self.material)
+        ps.add([(0, 0, 0)], 1e-3, temperature=300.0)
+        beam = sinter.HeatModel(self.ctx, "beam", z=0.01, power=5.0, radius=2e-3, rays=64)
+        # off until 1 ms, then over the sphere at half power, then a jump away (off)
+        beam.set_scan_path([(0, 0, 0, 0), (1e-3, 0, 1.0, 0.5), (0.1, 0, 10.0, 0)], 1e-3)
+        self.assertAlmostEqual(beam.scan_end(), 1e-3 + 1e-3 / 1.0 + (0.1 - 1e-3) / 10.0)
+        st = sinter.Stepper(self.ctx, ps, None, dt=1e-4, heat=[beam])
+        st.step(1)  # t = 0: off
+        self.assertEqual(beam.output("absorbed") + beam.output("transmitted"), 0.0)
+        st.step(14)  # t = 1.4 ms: on the first segment
+        self.assertAlmostEqual(beam.output("absorbed") + beam.output("transmitted"), 2.5,
+                               delta=1e-12)
+        hatch = sinter.HeatModel.hatch(self.ctx, (0, 0), (2e-3, 1e-3), 0.25e-3, 0.5)
+        self.assertEqual(len(hatch), 10)
+        self.assertEqual(hatch[1][3], 1.0)
+        beam.set_scan_path(hatch)
+        beam.set_scan_path([])
+        with self.assertRaises(sinter.NotFound):
+            beam.scan_end()
+        with self.assertRaises(sinter.InvalidArgument):
+            beam.set_scan_path([(0, 0, 0, 0), (1e-3, 0, -1.0, 1)])
+        with self.assertRaises(ValueError):
+            beam.set_scan_path([(0, 0, 0)])
 
     def test_bad_motion_result_is_reported(self):
         with self.assertRaises(TypeError):  # the library moves the wall at once

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "test_support.h"
+#include "sinter_submodel.h"
 #include "contact/contacts.h"
 #include "electric/electric.h"
 #include "heat/heat_model.h"
@@ -313,6 +314,13 @@ static void test_network_series_chain(void **state)
     for (size_t k = 0; k < N; ++k)
         assert_true(f.ps->current[k] == 0.0);
     assert_true(electrified(&f, 0) && !electrified(&f, N - 1));
+    /* The same with a compliance limit on the electrode: a supply at its limit, no warning. */
+    OK(sinter_walls_set_electric_limit(f.walls, left, 10.0));
+    OK(solve(&f, &iterations));
+    assert_int_equal(f.em->open_clusters, 0);
+    assert_int_equal(f.warnings, 1);
+    for (size_t k = 0; k < N; ++k)
+        assert_true(f.ps->current[k] == 0.0);
     close_fixture(&f);
 }
 
@@ -868,6 +876,72 @@ static void test_network_conductivity_follows_temperature(void **state)
     close_fixture(&f);
 }
 
+/* ---- host conductance law and Joule split (issue 39) ---------------------------------------- */
+
+/* The built-in law of network.c written as a host callback: the same operations in the same
+ * order, so the same bits. */
+static int builtin_conductance(const sinter_state_view *v, const sinter_contact_batch *b,
+                               const double *sigma, double *g, void *user)
+{
+    ++*(int *)user;
+    const double *r = v->radius;
+    for (size_t k = 0; k < b->count; ++k) {
+        const uint32_t i = b->i[k], j = b->j[k];
+        if (b->kind == SINTER_CONTACT_WALL) {
+            g[k] = b->distance[k] > 0.0 ? sigma[i] * b->area[k] / b->distance[k] : 0.0;
+            continue;
+        }
+        const double den = r[i] * sigma[j] + r[j] * sigma[i];
+        g[k] = den > 0.0 && b->distance[k] > 0.0
+                   ? sigma[i] * sigma[j] * (r[i] + r[j]) / den * b->area[k] / b->distance[k]
+                   : 0.0;
+    }
+    return 0;
+}
+
+static int builtin_split(const sinter_state_view *v, const sinter_contact_batch *b,
+                         const double *power, double *share, void *user)
+{
+    (void)v;
+    (void)power;
+    (void)user;
+    for (size_t k = 0; k < b->count; ++k)
+        share[k] = b->kind == SINTER_CONTACT_WALL ? 1.0 : 0.5;
+    return 0;
+}
+
+/* A constant share *user for pairs (a wall contact's power all to its particle). */
+static int fixed_split(const sinter_state_view *v, const sinter_contact_batch *b,
+                       const double *power, double *share, void *user)
+{
+    (void)v;
+    (void)power;
+    for (size_t k = 0; k < b->count; ++k)
+        share[k] = b->kind == SINTER_CONTACT_WALL ? 1.0 : *(const double *)user;
+    return 0;
+}
+
+/* The series split: a contact resistor is the two bodies' halves r / sigma in series (seed 003
+ * eq. 35's harmonic rule), and a current I through them dissipates I^2 R in each, so body i
+ * takes R_i / (R_i + R_j); an electrode contact gives *user of its power to the particle. */
+static int series_split(const sinter_state_view *v, const sinter_contact_batch *b,
+                        const double *power, double *share, void *user)
+{
+    (void)power;
+    const double *sigma = SIGMA;
+    for (size_t k = 0; k < b->count; ++k) {
+        if (b->kind == SINTER_CONTACT_WALL) {
+            share[k] = *(const double *)user;
+            continue;
+        }
+        const uint32_t i = b->i[k], j = b->j[k];
+        const double ri = v->radius[i] / sigma[v->material[i]];
+        const double rj = v->radius[j] / sigma[v->material[j]];
+        share[k] = ri / (ri + rj);
+    }
+    return 0;
+}
+
 typedef struct energy_log {
     sinter_electric_model *em;
     double power[400];
@@ -891,9 +965,16 @@ static int log_power(const sinter_stepper *st, double time, void *user)
  * work, sum over steps of h times the power delivered at the state each temperature update
  * used (the update of step n uses the powers of the evaluation before it), to round-off.
  */
+static void energy_balance_over_a_run(int host_split);
+
 static void test_joule_energy_balance_over_a_run(void **state)
 {
     (void)state;
+    energy_balance_over_a_run(0);
+}
+
+static void energy_balance_over_a_run(int host_split)
+{
     fixture f;
     open_fixture(&f);
     const double heat_capacity = 500.0, h = 2e-6;
@@ -912,6 +993,11 @@ static void test_joule_energy_balance_over_a_run(void **state)
     add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 0.5);
     add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, -0.5);
     model(&f, "network", 1e-14);
+    double pair_share = 0.8;
+    if (host_split) {
+        const sinter_electric_callbacks cb = {sizeof(cb), NULL, fixed_split, NULL};
+        OK(sinter_electric_model_set_host(f.em, &cb, &pair_share));
+    }
     sinter_stepper *st;
     sinter_force_model *contact;
     sinter_heat_model *joule;
@@ -1014,6 +1100,202 @@ static void test_supply_limits_pulses_and_schedules(void **state)
     close_fixture(&f);
 }
 
+static int bad_conductance(const sinter_state_view *v, const sinter_contact_batch *b,
+                           const double *sigma, double *g, void *user)
+{
+    (void)v;
+    (void)sigma;
+    if (b->count > 0)
+        g[0] = *(const double *)user;
+    return 0;
+}
+
+static int failing_split(const sinter_state_view *v, const sinter_contact_batch *b,
+                         const double *power, double *share, void *user)
+{
+    (void)v;
+    (void)b;
+    (void)power;
+    (void)share;
+    (void)user;
+    return -1;
+}
+
+static int destroyed;
+static void count_destroy(void *user)
+{
+    (void)user;
+    ++destroyed;
+}
+
+/* Two parallel chains of the two materials at different temperatures with eq. 50's term on, a
+ * current drive: solved by the built-in law and split, then by a fresh model given the same law
+ * and split as host callbacks; currents, potentials and per-particle powers agree bit for bit. */
+static void test_host_callbacks_reproduce_builtin(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double dp = 1.5e-4, dw = 1e-4;
+    const double delta[2] = {dp, 0.5 * dp};
+    const double x_right = add_chain(&f, 3, delta, dw, 0.0, 0);
+    add_chain(&f, 3, delta, dw, 3.0 * R, 1);
+    for (size_t i = 0; i < 6; ++i)
+        f.ps->temperature[i] = 300.0 + 100.0 * (double)i;
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_CURRENT, 0.7);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    double runs[2][3 * 8];
+    int calls = 0;
+    for (int host = 0; host < 2; ++host) {
+        sinter_electric_model_destroy(f.em);
+        f.em = NULL;
+        model(&f, "network", 1e-13);
+        OK(sinter_electric_model_set(f.em, "sigmoid", 1));
+        OK(sinter_electric_model_set(f.em, "k1", -0.4));
+        OK(sinter_electric_model_set(f.em, "gamma1", 0.01));
+        OK(sinter_electric_model_set(f.em, "theta_ref", 500.0));
+        if (host) {
+            const sinter_electric_callbacks cb = {sizeof(cb), builtin_conductance, builtin_split,
+                                                  NULL};
+            OK(sinter_electric_model_set_host(f.em, &cb, &calls));
+        }
+        OK(solve(&f, NULL));
+        const double *p = sinter_electric_dissipation(f.em, 6);
+        assert_non_null(p);
+        memcpy(runs[host], f.ps->current, 6 * sizeof(double));
+        memcpy(runs[host] + 6, p, 6 * sizeof(double));
+        memcpy(runs[host] + 12, f.em->potential, 8 * sizeof(double));
+        double heat = -1.0;
+        OK(sinter_electric_model_electrode_heat(f.em, &heat));
+        assert_true(heat == 0.0);
+    }
+    assert_int_equal(calls, 2); /* one call per batch */
+    assert_true(runs[0][0] > 0.0);
+    assert_memory_equal(runs[0], runs[1], 20 * sizeof(double));
+    close_fixture(&f);
+}
+
+/*
+ * A host split conserves energy: a chain of alternating materials between walls at v0 and 0,
+ * split by the series rule. Closed form (equal radii): pair (i, j) gives i the fraction
+ * sigma_j / (sigma_i + sigma_j) of I^2 / G_ij, G_ij = sigma_ij A / d; an end particle also
+ * takes its electrode contact's I^2 / G_w. The particles' powers sum to the walls' work v0 I;
+ * with an electrode share of 3/4 a quarter of the electrode contacts' power goes to the
+ * electrodes, and particles plus electrodes still sum to v0 I (round-off: 1e-12).
+ */
+static void test_host_split_energy_balance(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 5 };
+    const double dp = 1e-4, dw = 2e-4, v0 = 2.0;
+    const double delta[N - 1] = {dp, dp, dp, dp};
+    const double x_right = add_chain(&f, N, delta, dw, 0.0, 0);
+    for (size_t i = 1; i < N; i += 2)
+        f.ps->material[i] = 1;
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, v0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    const double s_pair = 2.0 * SIGMA[0] * SIGMA[1] / (SIGMA[0] + SIGMA[1]);
+    const double g_pp = s_pair * pair_area(dp) / (2.0 * R - dp);
+    const double g_w = SIGMA[0] * wall_area(dw) / (R - dw);
+    const double current = v0 / (2.0 / g_w + (N - 1) / g_pp);
+    model(&f, "network", 1e-14);
+    double wall_share = 1.0;
+    const sinter_electric_callbacks cb = {sizeof(cb), NULL, series_split, NULL};
+    OK(sinter_electric_model_set_host(f.em, &cb, &wall_share));
+    for (int pass = 0; pass < 2; ++pass) {
+        wall_share = pass == 0 ? 1.0 : 0.75;
+        OK(solve(&f, NULL));
+        double supplied = 0, dissipated = 0, electrodes = 0;
+        OK(sinter_electric_model_power(f.em, &supplied, &dissipated));
+        OK(sinter_electric_model_electrode_heat(f.em, &electrodes));
+        const double *p = sinter_electric_dissipation(f.em, N);
+        assert_non_null(p);
+        const double pair = current * current / g_pp, wall = current * current / g_w;
+        double sum = 0.0;
+        for (size_t k = 0; k < N; ++k) {
+            const int m = f.ps->material[k];
+            const double own = SIGMA[1 - m] / (SIGMA[0] + SIGMA[1]); /* of each of its pairs */
+            const double expected =
+                (k == 0 || k == N - 1) ? wall_share * wall + own * pair : 2.0 * own * pair;
+            assert_rel(p[k], expected, 1e-12);
+            sum += p[k];
+        }
+        print_message("series split, electrode share %.2f: particles %.12g W + electrodes %.12g W "
+                      "= %.12g W, supplied %.12g W\n",
+                      wall_share, sum, electrodes, sum + electrodes, supplied);
+        assert_rel(supplied, v0 * current, 1e-12);
+        assert_rel(electrodes, 2.0 * (1.0 - wall_share) * wall, 1e-12);
+        assert_rel(sum + electrodes, supplied, 1e-12);
+    }
+    close_fixture(&f);
+}
+
+/* The Joule energy balance of a run (test_joule_energy_balance_over_a_run) with a host split
+ * that gives particle i 0.8 of each pair's power. */
+static void test_host_split_energy_balance_over_a_run(void **state)
+{
+    (void)state;
+    energy_balance_over_a_run(1);
+}
+
+/* Misuse: the averaged model, a wrong struct_size, an empty table, a negative conductance, a
+ * share above 1, a failing callback; destroy_user runs once when replaced and once at the end. */
+static void test_host_callbacks_misuse(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double dp = 1e-4, dw = 2e-4;
+    const double delta[1] = {dp};
+    const double x_right = add_chain(&f, 2, delta, dw, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 1.0);
+    add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    double value = -1.0;
+    sinter_electric_callbacks cb = {sizeof(cb), bad_conductance, NULL, count_destroy};
+    model(&f, "averaged", 0.0);
+    assert_int_equal(sinter_electric_model_set_host(f.em, &cb, &value), SINTER_ERR_UNSUPPORTED);
+    assert_int_equal(sinter_electric_model_electrode_heat(f.em, &value), SINTER_ERR_UNSUPPORTED);
+    sinter_electric_model_destroy(f.em);
+    f.em = NULL;
+    model(&f, "network", 0.0);
+    assert_int_equal(sinter_electric_model_set_host(NULL, &cb, &value), SINTER_ERR_NULL);
+    assert_int_equal(sinter_electric_model_electrode_heat(f.em, NULL), SINTER_ERR_NULL);
+    cb.struct_size = 8;
+    assert_int_equal(sinter_electric_model_set_host(f.em, &cb, &value), SINTER_ERR_STRUCT_SIZE);
+    const sinter_electric_callbacks empty = {sizeof(empty), NULL, NULL, count_destroy};
+    assert_int_equal(sinter_electric_model_set_host(f.em, &empty, &value), SINTER_ERR_INVALID);
+    cb.struct_size = sizeof(cb);
+    destroyed = 0;
+    OK(sinter_electric_model_set_host(f.em, &cb, &value));
+    value = -1.0;
+    assert_int_equal(solve(&f, NULL), SINTER_ERR_DOMAIN);
+    value = NAN;
+    assert_int_equal(solve(&f, NULL), SINTER_ERR_DOMAIN);
+    value = 0.0; /* an insulating first contact: the chain carries nothing */
+    OK(solve(&f, NULL));
+    assert_true(f.ps->current[1] == 0.0);
+    double share = 1.5;
+    const sinter_electric_callbacks split = {sizeof(split), NULL, fixed_split, count_destroy};
+    OK(sinter_electric_model_set_host(f.em, &split, &share));
+    assert_int_equal(destroyed, 1);
+    assert_int_equal(solve(&f, NULL), SINTER_ERR_DOMAIN);
+    const sinter_electric_callbacks fail = {sizeof(fail), NULL, failing_split, count_destroy};
+    OK(sinter_electric_model_set_host(f.em, &fail, NULL));
+    assert_int_equal(solve(&f, NULL), SINTER_ERR_CALLBACK);
+    OK(sinter_electric_model_set_host(f.em, NULL, NULL)); /* the built-in again */
+    assert_int_equal(destroyed, 3);
+    OK(solve(&f, NULL));
+    assert_true(f.ps->current[1] > 0.0);
+    OK(sinter_electric_model_set_host(f.em, &split, &share));
+    close_fixture(&f);
+    assert_int_equal(destroyed, 4);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1031,6 +1313,10 @@ int main(void)
         cmocka_unit_test(test_network_conductivity_follows_temperature),
         cmocka_unit_test(test_joule_energy_balance_over_a_run),
         cmocka_unit_test(test_supply_limits_pulses_and_schedules),
+        cmocka_unit_test(test_host_callbacks_reproduce_builtin),
+        cmocka_unit_test(test_host_split_energy_balance),
+        cmocka_unit_test(test_host_split_energy_balance_over_a_run),
+        cmocka_unit_test(test_host_callbacks_misuse),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

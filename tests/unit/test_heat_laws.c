@@ -470,8 +470,7 @@ static void test_beam_rays(void **state)
     const double gexp = a0 * i0 * 0.5 * PI * rb * rb * -expm1(-2.0 * 2.5e-7 / (rb * rb));
     print_message("beam, Gaussian: %.9g W on the axis (closed form %.9g W)\n", f.heat[3], gexp);
     assert_close(f.heat[3], gexp, 2e-3 * gexp); /* the rays' sampling of the disc */
-    assert_close(beam_output(g, "absorbed") + beam_output(g, "transmitted"), power,
-                 1e-12 * power);
+    assert_close(beam_output(g, "absorbed") + beam_output(g, "transmitted"), power, 1e-12 * power);
 
     /* semi-transparent: mu = 1000 1/m; one ray down the axis of sphere 3 crosses 2 r = 1 mm */
     OK(sinter_heat_model_set(g, "profile", 0.0));
@@ -580,6 +579,87 @@ static void test_radiation(void **state)
 }
 
 /*
+ * Exposed surfaces (heat/exposure.c) and gas properties by temperature: sphere 0 rests on a
+ * floor and touches sphere 1 (r 0.6 mm) beside it; sphere 2 is alone. Radiation with
+ * exposed = 1 gives sphere 0 the fraction 1 - 1/2 - F01 of eq. 41, sphere 1 1 - F10, sphere 2
+ * all of it, F_ij = (1 - sqrt(1 - (r_j / d)^2)) / 2 (a sphere to a sphere); convection's
+ * Sutherland law at the film temperature matches the closed form, and at the reference
+ * temperature gives the constant law's power.
+ */
+static void test_exposed_and_gas_law(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r0 = 1e-3, r1 = 0.6e-3;
+    add(&f, 0.0, 0.0, 0.9e-3, r0, 0, 1000.0);
+    add(&f, 1.2e-3, 0.0, 1.5e-3, r1, 0, 1000.0);
+    add(&f, 1e-2, 0.0, 5e-3, r0, 0, 1000.0);
+    const double p0[3] = {0, 0, 0}, n0[3] = {0, 0, 1};
+    sinter_material *wm;
+    OK(sinter_material_create(&wm, f.ctx, NULL));
+    OK(sinter_walls_add_plane(f.walls, p0, n0, wm, NULL));
+    sinter_material_destroy(wm);
+    find_contacts(&f);
+    assert_int_equal(f.pp.count, 1);
+    assert_int_equal(f.pw.count, 1);
+    sinter_heat_model *hm = model(&f, "radiation");
+    OK(eval(&f, hm, 0.0, 0));
+    double whole[3];
+    memcpy(whole, f.heat, sizeof(whole));
+    OK(sinter_heat_model_set(hm, "exposed", 1.0));
+    OK(eval(&f, hm, 0.0, 0));
+    const double d = sqrt(1.2e-3 * 1.2e-3 + 0.6e-3 * 0.6e-3);
+    const double f01 = 0.5 * (1.0 - sqrt(1.0 - (r1 / d) * (r1 / d)));
+    const double f10 = 0.5 * (1.0 - sqrt(1.0 - (r0 / d) * (r0 / d)));
+    print_message("exposed fractions: %.6f %.6f %.6f (closed form %.6f %.6f 1)\n",
+                  f.heat[0] / whole[0], f.heat[1] / whole[1], f.heat[2] / whole[2], 0.5 - f01,
+                  1.0 - f10);
+    assert_rel(f.heat[0], (0.5 - f01) * whole[0]);
+    assert_rel(f.heat[1], (1.0 - f10) * whole[1]);
+    assert_true(f.heat[2] == whole[2]);
+    OK(sinter_heat_model_set(hm, "exposed", 0.5));
+    assert_int_equal(eval(&f, hm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+
+    /* convection, stagnant, exposed: the same fractions */
+    sinter_heat_model *cm = model(&f, "convection");
+    OK(eval(&f, cm, 0.0, 0));
+    memcpy(whole, f.heat, sizeof(whole));
+    OK(sinter_heat_model_set(cm, "exposed", 1.0));
+    OK(eval(&f, cm, 0.0, 0));
+    assert_rel(f.heat[0], (0.5 - f01) * whole[0]);
+    assert_rel(f.heat[1], (1.0 - f10) * whole[1]);
+    assert_rel(f.heat[2], whole[2]);
+    /* the gas law at 2 m/s: particles at 1000 K in air at 300 K, film 650 K */
+    OK(sinter_heat_model_set(cm, "exposed", 0.0));
+    OK(sinter_heat_model_set(cm, "temperature", 300.0));
+    OK(sinter_heat_model_set(cm, "fluid_speed", 2.0));
+    OK(sinter_heat_model_set(cm, "fluid_law", 1.0));
+    OK(eval(&f, cm, 0.0, 0));
+    const double t0 = 293.15, tf = 650.0;
+    const double k = 0.026 * pow(tf / t0, 1.5) * (t0 + 194.0) / (tf + 194.0);
+    const double mu = 1.8e-5 * pow(tf / t0, 1.5) * (t0 + 111.0) / (tf + 111.0);
+    const double rho = 1.2 * t0 / tf;
+    const double re = rho * 2.0 * 2.0 * r0 / mu, pr = 1005.0 * mu / k;
+    const double nu = 2.0 + (0.4 * sqrt(re) + 0.06 * pow(re, 2.0 / 3.0)) * pow(pr, 0.4);
+    const double q = nu * k / (2.0 * r0) * (300.0 - 1000.0) * 4.0 * PI * r0 * r0;
+    print_message("gas law: %.9g W at a 650 K film\n", f.heat[2]);
+    assert_rel(f.heat[2], q);
+    /* at the reference temperature the law gives the constant properties' power */
+    OK(sinter_heat_model_set(cm, "fluid_reference_temperature", tf));
+    OK(eval(&f, cm, 0.0, 0));
+    const double law_at_ref = f.heat[2];
+    OK(sinter_heat_model_set(cm, "fluid_law", 0.0));
+    OK(eval(&f, cm, 0.0, 0));
+    assert_rel(law_at_ref, f.heat[2]);
+    OK(sinter_heat_model_set(cm, "fluid_law", 2.0));
+    assert_int_equal(eval(&f, cm, 0.0, 0), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(cm);
+    close_fixture(&f);
+}
+
+/*
  * A column of three r = 0.5 mm spheres on the z axis (tops at 1, 2, 3 mm; material 0,
  * absorptance 0.6) and one sphere of material 1 (absorptance 0.9) at x = 3 mm whose top is
  * higher (5.5 mm) but outside a 1 mm beam on the axis.
@@ -656,6 +736,133 @@ static void test_nozzle(void **state)
     close_fixture(&f);
 }
 
+/*
+ * Scan paths (heat/scan_path.c): positions and levels along a path at chosen times (exact:
+ * straight segments at constant speed); a laser crossing one sphere on a line at distance dy
+ * from its centre delivers the closed-form energy a I0 pi r^2 * 2 sqrt(R^2 - dy^2) / v (the
+ * time its centre is inside the top hat), to the sampling step; the ray-traced beam's absorbed
+ * plus transmitted power is the power times the path's level at every time; hatches fill a
+ * rectangle with the stated lines; bad paths are refused naming the vertex.
+ */
+static void test_scan_paths(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    const double r = 0.5e-3, i0 = 1e6, a0 = 0.6, rb = 1e-3, v = 0.1, dy = 0.6e-3;
+    add(&f, 0.0, 0.0, 0.5e-3, r, 0, 300.0);
+    sinter_heat_model *hm = model(&f, "laser");
+    OK(sinter_heat_model_set(hm, "radius", rb));
+    OK(sinter_heat_model_set(hm, "intensity", i0));
+    /* start 0.5 ms; 4 mm along x at 0.1 m/s (level 1), a jump up 1 mm (level 0, 1 m/s), back
+     * 2 mm at 0.2 m/s at half power */
+    const double path[16] = {-2e-3, dy,        0.0, 0.0, 2e-3, dy,        v,   1.0,
+                             2e-3,  dy + 1e-3, 1.0, 0.0, 0.0,  dy + 1e-3, 0.2, 0.5};
+    OK(sinter_heat_model_set_scan_path(hm, 4, path, 0.5e-3));
+    double end = 0.0;
+    OK(sinter_heat_model_scan_end(hm, &end));
+    const double t1 = 0.5e-3 + 4e-3 / v, t2 = t1 + 1e-3 / 1.0, t3 = t2 + 2e-3 / 0.2;
+    assert_rel(end, t3);
+    const sinter_heat_model *cm = hm;
+    /* positions and the power level: x, y and intensity read through sinter_heat_param */
+    const int kx = 0, ky = 1;
+    int ki = -1;
+    for (int p = 0; cm->ops->keys[p] != NULL; ++p)
+        if (strcmp(cm->ops->keys[p], "intensity") == 0)
+            ki = p;
+    assert_true(ki >= 0 && strcmp(cm->ops->keys[kx], "x") == 0 &&
+                strcmp(cm->ops->keys[ky], "y") == 0);
+    const double probe[6] = {0.0, 0.5e-3 + 1e-2, t1 + 0.25e-3, t2 + 5e-3, t3, t3 + 1.0};
+    const double want_x[6] = {-2e-3, -2e-3 + v * 1e-2, 2e-3, 2e-3 - 0.2 * 5e-3, 0.0, 0.0};
+    const double want_y[6] = {dy, dy, dy + 0.25e-3, dy + 1e-3, dy + 1e-3, dy + 1e-3};
+    const double want_level[6] = {0.0, 1.0, 0.0, 0.5, 0.0, 0.0};
+    for (int k = 0; k < 6; ++k) {
+        assert_close(sinter_heat_param(cm, kx, probe[k]), want_x[k], 1e-15);
+        assert_close(sinter_heat_param(cm, ky, probe[k]), want_y[k], 1e-15);
+        assert_close(sinter_heat_param(cm, ki, probe[k]), i0 * want_level[k], 1e-9 * i0);
+    }
+    /* the energy the sphere receives during the first segment, sampled at the midpoints of
+     * 4000 steps: the closed form to within one step's power at each edge */
+    const int steps = 4000;
+    const double h = (t1 - 0.5e-3) / steps;
+    double energy = 0.0;
+    for (int k = 0; k < steps; ++k) {
+        OK(eval(&f, hm, 0.5e-3 + (k + 0.5) * h, 0));
+        energy += f.heat[0] * h;
+    }
+    const double q = a0 * i0 * PI * r * r, lit = 2.0 * sqrt(rb * rb - dy * dy) / v;
+    print_message("scan path: %.9g J delivered, closed form %.9g J\n", energy, q * lit);
+    assert_close(energy, q * lit, 2.0 * q * h);
+    /* the ray-traced beam on the same path: absorbed + transmitted = P level(t) */
+    sinter_heat_model *bm = model(&f, "beam");
+    OK(sinter_heat_model_set(bm, "power", 50.0));
+    OK(sinter_heat_model_set(bm, "radius", rb));
+    OK(sinter_heat_model_set(bm, "z", 5e-3));
+    OK(sinter_heat_model_set_scan_path(bm, 4, path, 0.5e-3));
+    for (int k = 0; k < 6; ++k) {
+        OK(eval(&f, bm, probe[k], 0));
+        double absorbed = 0.0, transmitted = 0.0;
+        OK(sinter_heat_model_output(bm, "absorbed", &absorbed));
+        OK(sinter_heat_model_output(bm, "transmitted", &transmitted));
+        assert_close(absorbed + transmitted, 50.0 * want_level[k], 1e-12 * 50.0);
+    }
+    /* bad paths: the model is unchanged */
+    double bad[8] = {0.0, 0.0, 0.0, 0.0, 1e-3, 0.0, -1.0, 1.0};
+    assert_int_equal(sinter_heat_model_set_scan_path(hm, 2, bad, 0.0), SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(f.ctx), "vertex 1"));
+    bad[6] = 0.1;
+    bad[7] = 1.5;
+    assert_int_equal(sinter_heat_model_set_scan_path(hm, 2, bad, 0.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_heat_model_set_scan_path(hm, 1, bad, 0.0), SINTER_ERR_INVALID);
+    bad[4] = NAN;
+    bad[7] = 1.0;
+    assert_int_equal(sinter_heat_model_set_scan_path(hm, 2, bad, 0.0), SINTER_ERR_INVALID);
+    OK(sinter_heat_model_scan_end(hm, &end));
+    assert_rel(end, t3);
+    sinter_heat_model *cond = model(&f, "conduction");
+    assert_int_equal(sinter_heat_model_set_scan_path(cond, 4, path, 0.0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_heat_model_scan_end(cond, &end), SINTER_ERR_NOT_FOUND);
+    /* n = 0 removes the path: the intensity is the parameter's again */
+    OK(sinter_heat_model_set_scan_path(hm, 0, NULL, 0.0));
+    assert_true(sinter_heat_param(cm, ki, 100.0) == i0);
+
+    /* a hatch of a 2 x 1 mm rectangle, lines along x 0.25 mm apart: 5 lines at y = 0 .. 1 mm,
+     * 10 vertices, serpentine; at 90 degrees: 9 lines along y */
+    const double lo[2] = {0.0, 0.0}, hi[2] = {2e-3, 1e-3};
+    size_t count = 0;
+    OK(sinter_scan_hatch(f.ctx, lo, hi, 0.25e-3, 0.0, 0.5, 2.0, 1, NULL, 0, &count));
+    assert_int_equal(count, 10);
+    double pts[4 * 18];
+    OK(sinter_scan_hatch(f.ctx, lo, hi, 0.25e-3, 0.0, 0.5, 2.0, 1, pts, 10, &count));
+    for (size_t k = 0; k < 5; ++k) {
+        const double *a = pts + 8 * k, *b = a + 4;
+        assert_close(a[1], 0.25e-3 * (double)k, 1e-15);
+        assert_close(b[1], a[1], 1e-18);
+        assert_close(fabs(b[0] - a[0]), 2e-3, 1e-15);
+        assert_true((b[0] > a[0]) == (k % 2 == 0)); /* serpentine */
+        assert_true(a[3] == 0.0 && b[3] == 1.0 && b[2] == 0.5 && (k == 0 || a[2] == 2.0));
+    }
+    OK(sinter_scan_hatch(f.ctx, lo, hi, 0.25e-3, PI / 2, 0.5, 2.0, 0, pts, 18, &count));
+    assert_int_equal(count, 18);
+    for (size_t k = 0; k < 9; ++k)
+        assert_true(pts[8 * k + 5] > pts[8 * k + 1]); /* unidirectional: every line upwards */
+    assert_int_equal(sinter_scan_hatch(f.ctx, lo, hi, 0.25e-3, 0.0, 0.5, 2.0, 1, pts, 9, &count),
+                     SINTER_ERR_RANGE);
+    assert_int_equal(sinter_scan_hatch(f.ctx, hi, lo, 0.25e-3, 0.0, 0.5, 2.0, 1, pts, 18, &count),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_scan_hatch(f.ctx, lo, hi, 0.0, 0.0, 0.5, 2.0, 1, pts, 18, &count),
+                     SINTER_ERR_INVALID);
+    /* a hatched path over the rectangle at 0.5 m/s lasts 5 x 4 ms of scanning plus the jumps */
+    OK(sinter_scan_hatch(f.ctx, lo, hi, 0.25e-3, 0.0, 0.5, 2.0, 1, pts, 10, &count));
+    OK(sinter_heat_model_set_scan_path(hm, count, pts, 0.0));
+    OK(sinter_heat_model_scan_end(hm, &end));
+    assert_rel(end, 5 * 2e-3 / 0.5 + 4 * 0.25e-3 / 2.0);
+    sinter_heat_model_destroy(cond);
+    sinter_heat_model_destroy(bm);
+    sinter_heat_model_destroy(hm);
+    close_fixture(&f);
+}
+
 static void test_names_and_schedules(void **state)
 {
     (void)state;
@@ -695,15 +902,12 @@ static void test_names_and_schedules(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_conduction),
-        cmocka_unit_test(test_wall_laws),
-        cmocka_unit_test(test_pair_laws),
-        cmocka_unit_test(test_gas_lens), cmocka_unit_test(test_beam_rays),
-        cmocka_unit_test(test_convection),
-        cmocka_unit_test(test_radiation),
-        cmocka_unit_test(test_laser),
-        cmocka_unit_test(test_nozzle),
-        cmocka_unit_test(test_names_and_schedules),
+        cmocka_unit_test(test_conduction), cmocka_unit_test(test_wall_laws),
+        cmocka_unit_test(test_pair_laws),  cmocka_unit_test(test_gas_lens),
+        cmocka_unit_test(test_beam_rays),  cmocka_unit_test(test_convection),
+        cmocka_unit_test(test_radiation),  cmocka_unit_test(test_exposed_and_gas_law),
+        cmocka_unit_test(test_laser),      cmocka_unit_test(test_nozzle),
+        cmocka_unit_test(test_scan_paths), cmocka_unit_test(test_names_and_schedules),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

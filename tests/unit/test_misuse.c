@@ -594,6 +594,18 @@ static const sinter_force_callbacks FORCE_WIDE = {sizeof(sinter_force_callbacks)
 static const sinter_force_callbacks FORCE_SIZE5 = {5, 0, NULL, dummy_particles, NULL};
 static const sinter_heat_callbacks HEAT_NONE = {sizeof(sinter_heat_callbacks), NULL, NULL};
 static const sinter_heat_callbacks HEAT_SIZE1 = {1, dummy_power, NULL};
+static int dummy_split(const sinter_state_view *v, const sinter_contact_batch *b,
+                       const double *power, double *share, void *user)
+{
+    (void)v;
+    (void)b;
+    (void)power;
+    (void)share;
+    (void)user;
+    return 0;
+}
+static const sinter_electric_callbacks ELECTRIC_SPLIT = {sizeof(sinter_electric_callbacks), NULL,
+                                                         dummy_split, NULL};
 
 static sinter_allocator allocator(size_t size, int complete)
 {
@@ -1147,6 +1159,12 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_electric_model_set(f->electric, "tol", 1e-3))                                         \
     X(electric_get_null_out, SINTER_ERR_NULL, "'value'",                                           \
       sinter_electric_model_get(f->electric, "tolerance", NULL))                                   \
+    X(electric_host_averaged, SINTER_ERR_UNSUPPORTED, "host callbacks need 'network'",             \
+      sinter_electric_model_set_host(f->electric, &ELECTRIC_SPLIT, NULL))                          \
+    X(electric_electrode_heat_averaged, SINTER_ERR_UNSUPPORTED, "has no power",                    \
+      sinter_electric_model_electrode_heat(f->electric, &f->out.value))                            \
+    X(electric_electrode_heat_null_out, SINTER_ERR_NULL, "'heat'",                                 \
+      sinter_electric_model_electrode_heat(f->electric, NULL))                                     \
     X(stepper_set_electric_null, SINTER_ERR_NULL, NULL,                                            \
       sinter_stepper_set_electric(NULL, f->electric))                                              \
     X(stepper_set_electric_other_context, SINTER_ERR_INVALID, "context",                           \

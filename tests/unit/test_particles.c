@@ -1,5 +1,6 @@
 /* Particle sets: add/remove/reserve, mass from density, views and locks, validation. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "test_support.h"
@@ -38,12 +39,12 @@ static int teardown(void **state)
 /* Read views of the ids and positions (released by release_ids_positions). */
 static void view_ids_positions(fixture *f, const uint64_t **id, const double **x)
 {
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)id, NULL,
-                                                NULL),
-                     SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)x,
-                                                NULL, NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)id, NULL, NULL),
+        SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)x, NULL, NULL),
+        SINTER_OK);
 }
 
 static void release_ids_positions(fixture *f)
@@ -73,9 +74,9 @@ static void test_add_sets_mass_and_inertia(void **state)
     assert_int_equal(sinter_particles_count(f->ps, &count), SINTER_OK);
     assert_int_equal(count, 3);
     const double *mass = NULL, *inertia = NULL, *temp = NULL;
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_MASS, (const void **)&mass,
-                                                NULL, NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_MASS, (const void **)&mass, NULL, NULL),
+        SINTER_OK);
     assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_INERTIA,
                                                 (const void **)&inertia, NULL, NULL),
                      SINTER_OK);
@@ -95,9 +96,9 @@ static void test_add_sets_mass_and_inertia(void **state)
     /* Replacing the material recomputes the mass. */
     assert_int_equal(sinter_material_set(f->mat, SINTER_MAT_DENSITY, 5000.0), SINTER_OK);
     assert_int_equal(sinter_particles_set_material(f->ps, 0, f->mat), SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_MASS, (const void **)&mass,
-                                                NULL, NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_MASS, (const void **)&mass, NULL, NULL),
+        SINTER_OK);
     assert_close(mass[2], 2.0 * m, 1e-15 * m);
     assert_int_equal(sinter_particles_release(f->ps, SINTER_FIELD_MASS), SINTER_OK);
 }
@@ -134,9 +135,9 @@ static void test_views_lock_resizing(void **state)
     add_line(f, 4, 1e-3);
     double *x = NULL;
     size_t count = 0, comps = 0;
-    assert_int_equal(sinter_particles_view(f->ps, SINTER_FIELD_POSITION, (void **)&x, &count,
-                                           &comps),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view(f->ps, SINTER_FIELD_POSITION, (void **)&x, &count, &comps),
+        SINTER_OK);
     assert_int_equal(count, 4);
     assert_int_equal(comps, 3);
     x[3 * 3 + 2] = 0.5; /* writes go straight into the set */
@@ -155,9 +156,9 @@ static void test_views_lock_resizing(void **state)
     assert_int_equal(sinter_particles_capacity(f->ps, &cap), SINTER_OK);
     assert_true(cap >= 1000);
     const double *xr = NULL;
-    assert_int_equal(sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)&xr,
-                                                NULL, NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_POSITION, (const void **)&xr, NULL, NULL),
+        SINTER_OK);
     assert_close(xr[11], 0.5, 0.0); /* survives reallocation */
     assert_int_equal(sinter_particles_release(f->ps, SINTER_FIELD_POSITION), SINTER_OK);
     /* The id field is read-only. */
@@ -246,6 +247,102 @@ static void test_sort_spatial(void **state)
     assert_int_equal(sinter_particles_sort_spatial(NULL), SINTER_ERR_NULL);
 }
 
+/* Caller-chosen ids (issue 43): kept, found in O(1) after adds, sorts and removals; repeats,
+ * ids the set holds and the reserved 2^64 - 1 are refused with nothing added; the set's own
+ * counter continues above the largest. */
+static void test_add_with_ids(void **state)
+{
+    fixture *f = *state;
+    const double pos[9] = {0.0, 0.0, 0.0, 3e-3, 0.0, 0.0, 6e-3, 0.0, 0.0};
+    const double rad[3] = {1e-3, 1e-3, 1e-3};
+    const uint64_t ids[3] = {10, 3, 7};
+    size_t first = 99, index = 0, count = 0;
+    assert_int_equal(sinter_particles_add_with_ids(f->ps, 3, ids, pos, rad, 0, 300.0, &first),
+                     SINTER_OK);
+    assert_int_equal(first, 0);
+    assert_int_equal(sinter_particles_find_id(f->ps, 3, &index), SINTER_OK);
+    assert_int_equal(index, 1);
+    const uint64_t twice[2] = {20, 20}, held[2] = {21, 7}, reserved[1] = {UINT64_MAX};
+    assert_int_equal(sinter_particles_add_with_ids(f->ps, 2, twice, pos, rad, 0, 300.0, NULL),
+                     SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(f->ctx), "id 20 is given twice"));
+    assert_int_equal(sinter_particles_add_with_ids(f->ps, 2, held, pos, rad, 0, 300.0, NULL),
+                     SINTER_ERR_INVALID);
+    assert_non_null(
+        strstr(sinter_last_error(f->ctx), "id 7 of new particle 1 is held by particle 2"));
+    assert_int_equal(sinter_particles_add_with_ids(f->ps, 1, reserved, pos, rad, 0, 300.0, NULL),
+                     SINTER_ERR_INVALID);
+    assert_int_equal(sinter_particles_add_with_ids(f->ps, 1, NULL, pos, rad, 0, 300.0, NULL),
+                     SINTER_ERR_NULL);
+    sinter_particles_count(f->ps, &count);
+    assert_int_equal(count, 3);
+    /* the counter continues above 10 */
+    assert_int_equal(sinter_particles_add(f->ps, 1, pos, rad, 0, 300.0, NULL), SINTER_OK);
+    assert_int_equal(sinter_particles_find_id(f->ps, 11, &index), SINTER_OK);
+    assert_int_equal(index, 3);
+
+    /* Many ids in a scrambled order, far apart (multiples of 2^40: a poor hash would pile
+     * them into a few slots), found after adding, after a sort and after removing half. */
+    enum { N = 5000 };
+    double *xyz = malloc(3 * N * sizeof(double)), *r = malloc(N * sizeof(double));
+    uint64_t *many = malloc(N * sizeof(uint64_t));
+    assert_non_null(xyz);
+    assert_non_null(r);
+    assert_non_null(many);
+    for (size_t k = 0; k < N; ++k) {
+        const size_t c = (k * 2749) % N; /* 2749 is prime to 5000 */
+        xyz[3 * k] = 3e-3 * (double)(c % 20);
+        xyz[3 * k + 1] = 3e-3 * (double)((c / 20) % 25);
+        xyz[3 * k + 2] = 3e-3 * (double)(c / 500) + 1.0;
+        r[k] = 1e-3;
+        many[k] = ((uint64_t)c + 100) << 40;
+    }
+    assert_int_equal(sinter_particles_add_with_ids(f->ps, N, many, xyz, r, 0, 300.0, &first),
+                     SINTER_OK);
+    assert_int_equal(first, 4);
+    for (size_t k = 0; k < N; ++k) {
+        assert_int_equal(sinter_particles_find_id(f->ps, many[k], &index), SINTER_OK);
+        assert_int_equal(index, first + k);
+    }
+    assert_int_equal(sinter_particles_sort_spatial(f->ps), SINTER_OK);
+    const uint64_t *id = NULL;
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)&id, &count, NULL),
+        SINTER_OK);
+    for (size_t i = 0; i < count; ++i) {
+        assert_int_equal(sinter_particles_find_id(f->ps, id[i], &index), SINTER_OK);
+        assert_int_equal(index, i);
+    }
+    sinter_particles_release(f->ps, SINTER_FIELD_ID);
+    size_t *doomed = malloc(N / 2 * sizeof(size_t));
+    assert_non_null(doomed);
+    for (size_t k = 0; k < N / 2; ++k)
+        doomed[k] = 2 * k;
+    assert_int_equal(sinter_particles_remove(f->ps, N / 2, doomed), SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(f->ps, SINTER_FIELD_ID, (const void **)&id, &count, NULL),
+        SINTER_OK);
+    assert_int_equal(count, N + 4 - N / 2);
+    for (size_t i = 0; i < count; ++i) {
+        assert_int_equal(sinter_particles_find_id(f->ps, id[i], &index), SINTER_OK);
+        assert_int_equal(index, i);
+    }
+    sinter_particles_release(f->ps, SINTER_FIELD_ID);
+    /* every id ever given is found exactly when its particle remains; one never given is not */
+    size_t found = 0;
+    const uint64_t small[4] = {10, 3, 7, 11};
+    for (size_t k = 0; k < N + 4; ++k) {
+        size_t at = 0;
+        found += sinter_particles_find_id(f->ps, k < N ? many[k] : small[k - N], &at) == SINTER_OK;
+    }
+    assert_int_equal(found, count);
+    assert_int_equal(sinter_particles_find_id(f->ps, 12, &index), SINTER_ERR_NOT_FOUND);
+    free(doomed);
+    free(many);
+    free(r);
+    free(xyz);
+}
+
 static void test_validate_names_particle_and_field(void **state)
 {
     fixture *f = *state;
@@ -265,8 +362,7 @@ static void test_validate_names_particle_and_field(void **state)
     v[3 * 2 + 2] = 0.0;
     sinter_particles_release(f->ps, SINTER_FIELD_VELOCITY);
     int32_t *mat = NULL;
-    assert_int_equal(sinter_particles_view(f->ps, SINTER_FIELD_MATERIAL, (void **)&mat, NULL,
-                                           NULL),
+    assert_int_equal(sinter_particles_view(f->ps, SINTER_FIELD_MATERIAL, (void **)&mat, NULL, NULL),
                      SINTER_OK);
     mat[3] = 42;
     sinter_particles_release(f->ps, SINTER_FIELD_MATERIAL);
@@ -360,6 +456,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_views_lock_resizing, setup, teardown),
         cmocka_unit_test_setup_teardown(test_remove_keeps_order_and_ids, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sort_spatial, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_add_with_ids, setup, teardown),
         cmocka_unit_test_setup_teardown(test_validate_names_particle_and_field, setup, teardown),
         cmocka_unit_test(test_null_handles),
         cmocka_unit_test(test_allocation_failure_injection),

@@ -1,9 +1,12 @@
 #define _POSIX_C_SOURCE 200809L
 /*
  * The press scene of seed 000 sec. 7 (issue 6), small: its three phases with the network
- * current model (examples/scenes/press_network.scene, 200 instead of 1000 spheres on a
- * 0.9 x 0.9 m floor instead of 2 x 2 m, so that the heights -- poured bed, z* = -0.56 m for
- * near-full density, springback -- are the same). Asserted, from the run's series.csv:
+ * current model (examples/scenes/press_network.scene as it was before issue 39 re-derived it:
+ * the electrodes at a fitted -+3e6 V and eq. 35 Joule heating, which give the seed's hot phase
+ * 2 and cooling phase 3 and so test the mechanism of the three phases; 200 instead of 1000
+ * spheres on a 0.9 x 0.9 m floor instead of 2 x 2 m, so that the heights -- poured bed,
+ * z* = -0.56 m for near-full density, springback -- are the same). Asserted, from the run's
+ * series.csv:
  *  - phase 1 (poured, at rest, top electrode not yet touching): volume fraction in
  *    [0.55, 0.70] (the seed's 50-60 %; our dense pour gives ~0.65, see RESULTS.md), mean
  *    temperature above its start (conduction from the 1000 K floor and side walls);
@@ -41,7 +44,8 @@ static int remove_dir(void **state)
     return system(cmd) == 0 ? 0 : -1;
 }
 
-/* press_network.scene with 200 spheres in a 0.9 x 0.9 x 2 m box (comments stripped). */
+/* press_network.scene before issue 39 with 200 spheres in a 0.9 x 0.9 x 2 m box (comments
+ * stripped). */
 static const char *SCENE =
     "[scene]\n"
     "name = press_small\n"

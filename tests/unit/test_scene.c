@@ -75,15 +75,15 @@ static void test_broken_scene_files(void **state)
 {
     (void)state;
     char text[4096];
-    expect_parse_error("[scene\nunits = SI\n", SINTER_ERR_PARSE, "broken.scene:1:",
-                       "section header");
+    expect_parse_error("[scene\nunits = SI\n", SINTER_ERR_PARSE,
+                       "broken.scene:1:", "section header");
     expect_parse_error("units = SI\n", SINTER_ERR_PARSE, "broken.scene:1:", "before");
-    expect_parse_error("[scene]\nunits SI\n", SINTER_ERR_PARSE, "broken.scene:2:",
-                       "expected 'key = value'");
-    expect_parse_error("[scene]\nunits = imperial\n", SINTER_ERR_PARSE, "broken.scene:2:",
-                       "expected SI");
-    expect_parse_error("[scene]\nunits = SI\nunits = SI\n", SINTER_ERR_PARSE, "broken.scene:3:",
-                       "twice");
+    expect_parse_error("[scene]\nunits SI\n", SINTER_ERR_PARSE,
+                       "broken.scene:2:", "expected 'key = value'");
+    expect_parse_error("[scene]\nunits = imperial\n", SINTER_ERR_PARSE,
+                       "broken.scene:2:", "expected SI");
+    expect_parse_error("[scene]\nunits = SI\nunits = SI\n", SINTER_ERR_PARSE,
+                       "broken.scene:3:", "twice");
     expect_parse_error("", SINTER_ERR_PARSE, "no sections", NULL);
     /* unknown key, with its line */
     snprintf(text, sizeof(text), "%s[output]\n", GOOD);
@@ -153,12 +153,12 @@ static void state_of(sinter_scene *scene, double *out, size_t n)
     assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
     const double *x = NULL, *v = NULL;
     size_t count = 0;
-    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x,
-                                                &count, NULL),
-                     SINTER_OK);
-    assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v,
-                                                NULL, NULL),
-                     SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, &count, NULL),
+        SINTER_OK);
+    assert_int_equal(
+        sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v, NULL, NULL),
+        SINTER_OK);
     assert_int_equal(count * 6, n);
     memcpy(out, x, 3 * count * sizeof(double));
     memcpy(out + 3 * count, v, 3 * count * sizeof(double));
@@ -324,10 +324,50 @@ static void test_run_writes_outputs(void **state)
     sinter_ctx_destroy(ctx);
 }
 
-
 /* The quasi-static stepper from a scene file; VTU frames carry the neck count per particle. */
 /* [stepper] temperature_schedule: the particles (given 300 K) follow the furnace, and the necks
  * grow, which at 300 K they would not measurably do. */
+/* Scan paths in a scene ([heat laser] scan_path / hatch, io/scene_scan.c): a file and a hatch
+ * load and run; a bad vertex is refused with the file's line, a hatch without its spacing, both
+ * at once and an unreadable file with the scene's line. */
+static void test_scan_path_keys(void **state)
+{
+    (void)state;
+    char text[4096];
+    write_file("path.txt", "# x y speed level\n0 0 0 0\n3e-3, 0, 0.5, 1\n3e-3 1e-3 1.0 0\n");
+    const char *laser = "[heat laser]\nradius = 1e-3\nintensity = 1e5\n";
+    snprintf(text, sizeof(text), "%s%sscan_path = path.txt\nscan_start = 0.001\n", GOOD, laser);
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("scan.scene", text)), SINTER_OK);
+    char out[512];
+    snprintf(out, sizeof(out), "%s/scan", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    sinter_scene_destroy(scene);
+    snprintf(text, sizeof(text),
+             "%s%shatch = 0 0 6e-3 6e-3\nhatch_spacing = 1e-3\nhatch_speed = 1\n"
+             "hatch_angle = 90\nhatch_serpentine = no\n",
+             GOOD, laser);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("hatch.scene", text)), SINTER_OK);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    write_file("bad_path.txt", "0 0 0 0\n1e-3 0 -2 1\n");
+    snprintf(text, sizeof(text), "%s%sscan_path = bad_path.txt\n", GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_PARSE, "bad_path.txt:2:", "speed > 0");
+    snprintf(text, sizeof(text), "%s%shatch = 0 0 6e-3 6e-3\nhatch_speed = 1\n", GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "hatch_spacing and hatch_speed");
+    snprintf(text, sizeof(text),
+             "%s%shatch = 0 0 6e-3 6e-3\nhatch_spacing = 1e-3\n"
+             "hatch_speed = 1\nscan_path = path.txt\n",
+             GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "not both");
+    snprintf(text, sizeof(text), "%s%sscan_path = missing.txt\n", GOOD, laser);
+    expect_parse_error(text, SINTER_ERR_IO, "scan_path", "missing.txt");
+    snprintf(text, sizeof(text), "%s[heat radiation]\nscan_path = path.txt\n", GOOD);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "no beam to move");
+}
+
 static void test_furnace_scene(void **state)
 {
     (void)state;
@@ -454,7 +494,8 @@ static void test_quasistatic_scene_writes_neck_counts(void **state)
     sinter_ctx_destroy(ctx);
     snprintf(text2, sizeof(text2), "%.*svtu_format = text\n",
              (int)(strstr(text, "vtu_format") - text), text);
-    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary or ascii", NULL);
+    expect_parse_error(text2, SINTER_ERR_PARSE, "vtu_format must be binary, ascii or appended",
+                       NULL);
 }
 
 /*
@@ -484,32 +525,36 @@ static void test_compact_section(void **state)
     /* [compact] is line 28, its keys 29-33; a line added at the end is 34 */
     snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\n", head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:28:", "needs 'box_max");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0\nbox_max = 1 1 1\n", head,
-             COMPACT);
+    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0\nbox_max = 1 1 1\n", head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:29:", "box_min: expected three");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "friction = -0.5\n");
     expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:28:", "friction = -0.5");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
-             "velocity = fast\n", head, COMPACT);
+    snprintf(text, sizeof(text),
+             "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
+             "velocity = fast\n",
+             head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "velocity: expected");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
-             "stop_at_jamming = maybe\n", head, COMPACT);
+    snprintf(text, sizeof(text),
+             "%.*s[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n"
+             "stop_at_jamming = maybe\n",
+             head, COMPACT);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:31:", "yes or no");
-    snprintf(text, sizeof(text), "%.*s[compact]\nbox_min = 0 0 0\n"
-             "box_max = 0.0001 0.0001 0.0001\n", head, COMPACT);
+    snprintf(text, sizeof(text),
+             "%.*s[compact]\nbox_min = 0 0 0\n"
+             "box_max = 0.0001 0.0001 0.0001\n",
+             head, COMPACT);
     expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:28:", "densest sphere packing");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "wall_speed = 1\n");
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "unknown key 'wall_speed'");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "[compact]\nbox_min = 0 0 0\nbox_max = 1 1 1\n");
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "only once");
     snprintf(text, sizeof(text), "%s%s", COMPACT, "[compaction]\n");
-    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "pour, compact or output");
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:34:", "compact, output or fields");
 
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
     assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
-    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("green.scene", COMPACT)),
-                     SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("green.scene", COMPACT)), SINTER_OK);
     char out[512];
     snprintf(out, sizeof(out), "%s/green", dir);
     assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
@@ -547,6 +592,48 @@ static void test_compact_section(void **state)
     }
     sinter_particles_release(ps, SINTER_FIELD_POSITION);
     sinter_particles_release(ps, SINTER_FIELD_RADIUS);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+}
+
+/* The keys of issue 37's outputs: [output] track, pair_reference, vtu_precision and a [fields]
+ * section refuse what they cannot do, naming the line; a good [fields] section loads. */
+static void test_output_and_fields_keys(void **state)
+{
+    (void)state;
+    char text[4096];
+    static const struct {
+        const char *added, *status_text;
+        sinter_status status;
+    } bad[] = {
+        {"track = 99\n", "track: a particle id", SINTER_ERR_PARSE},
+        {"track = 1.5\n", "track: a particle id", SINTER_ERR_PARSE},
+        {"track = 0 1 2 3 4 5 6 7 8\n", "at most 8", SINTER_ERR_PARSE},
+        {"pair_reference = yes\n", "needs [stepper] kind = quasistatic", SINTER_ERR_PARSE},
+        {"vtu_precision = half\n", "double or single", SINTER_ERR_PARSE},
+        {"[fields]\ncutoff = 3\n", "needs 'width", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = -1\n", "width must be > 0", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\ncutoff = 20\n", "cutoff must be in [1, 10]", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nbox_min = 0 0 0\n", "both box_min and box_max", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nbox_min = 0 0 0\nbox_max = 1 0 1\n", "box_min < box_max",
+         SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nprofiles = xw\n", "profiles: expected", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nlaminae = 2.5\n", "laminae must be a whole", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\n[fields]\nwidth = 1e-3\n", "only once", SINTER_ERR_PARSE},
+        {"[fields]\nwidth = 1e-3\nkernel = lucy\n", "unknown key 'kernel'", SINTER_ERR_PARSE},
+    };
+    for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
+        snprintf(text, sizeof(text), "%s%s", GOOD, bad[k].added);
+        expect_parse_error(text, bad[k].status, "broken.scene:", bad[k].status_text);
+    }
+    snprintf(text, sizeof(text), "%s%s", GOOD,
+             "track = 0 5\nvtu_precision = single\n[fields]\nwidth = 1e-3\ncutoff = 4\n"
+             "spacing = 5e-4\nbox_min = 0 0 0\nbox_max = 0.006 0.006 0.004\ngrid = no\n"
+             "profiles = zx\nlaminae = 8\n");
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("fields.scene", text)), SINTER_OK);
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
 }
@@ -591,9 +678,9 @@ static void test_quasistatic_restart_is_bit_for_bit(void **state)
             }
             assert_int_equal(sinter_stepper_advance(st, 40.0), SINTER_OK);
             const double *x = NULL;
-            assert_int_equal(
-                sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL),
-                SINTER_OK);
+            assert_int_equal(sinter_particles_view_read(ps, SINTER_FIELD_POSITION,
+                                                        (const void **)&x, NULL, NULL),
+                             SINTER_OK);
             memcpy(pass == 0 ? straight : restarted, x, sizeof(straight));
             assert_int_equal(sinter_particles_release(ps, SINTER_FIELD_POSITION), SINTER_OK);
             sinter_sintering_stats *out = pass == 0 ? &a : &b;
@@ -711,8 +798,10 @@ int main(void)
         cmocka_unit_test(test_run_writes_outputs),
         cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
         cmocka_unit_test(test_furnace_scene),
+        cmocka_unit_test(test_scan_path_keys),
         cmocka_unit_test(test_quasistatic_restart_is_bit_for_bit),
         cmocka_unit_test(test_compact_section),
+        cmocka_unit_test(test_output_and_fields_keys),
     };
     return cmocka_run_group_tests(tests, make_dir, remove_dir);
 }

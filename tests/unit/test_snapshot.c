@@ -267,12 +267,27 @@ static void test_heat_flows_balance(void **state)
     close_with(&s, cond, NULL);
 }
 
-static void test_currents_balance(void **state)
+/* Kirchhoff at every particle from the snapshot's contact currents, and the lid's current equal
+ * to the power the model reports over the lid's 1 V. With eq50, the conductivities follow seed
+ * 000 eq. 50's temperature term over particles at different temperatures: the snapshot must use
+ * the solve's conductances (it once used sigma_0, which broke both checks). */
+static void currents_balance(int eq50)
 {
-    (void)state;
     scene s;
     sinter_electric_model *em = NULL;
     pile(&s, 0, 1, NULL, &em);
+    if (eq50) {
+        OK(sinter_electric_model_set(em, "sigmoid", 1));
+        OK(sinter_electric_model_set(em, "k1", -0.8));
+        OK(sinter_electric_model_set(em, "gamma1", 0.02));
+        OK(sinter_electric_model_set(em, "theta_ref", 350));
+        double *theta = NULL;
+        size_t n = 0;
+        OK(sinter_particles_view(s.ps, SINTER_FIELD_TEMPERATURE, (void **)&theta, &n, NULL));
+        for (size_t i = 0; i < n; ++i)
+            theta[i] = 300.0 + 10.0 * (double)i;
+        OK(sinter_particles_release(s.ps, SINTER_FIELD_TEMPERATURE));
+    }
     const taken k = take(&s, 0.04);
     sinter_snapshot *snap = k.snap;
     const size_t np = k.np, nw = k.nw, n = k.n;
@@ -294,9 +309,24 @@ static void test_currents_balance(void **state)
         assert_close(net[i], 0.0, 1e-6 * scale); /* Kirchhoff, to the solver's tolerance */
     assert_true(into[0] > 0.0);                  /* from the 1 V lid to the 0 V floor */
     assert_close(into[0], -into[1], 1e-6 * scale);
+    double supplied = 0.0, dissipated = 0.0;
+    OK(sinter_electric_model_power(em, &supplied, &dissipated));
+    assert_close(-into[1], supplied / 1.0, 1e-6 * supplied); /* P = V I at the 1 V lid */
     free(net);
     sinter_snapshot_destroy(snap);
     close_with(&s, NULL, em);
+}
+
+static void test_currents_balance(void **state)
+{
+    (void)state;
+    currents_balance(0);
+}
+
+static void test_currents_balance_eq50(void **state)
+{
+    (void)state;
+    currents_balance(1);
 }
 
 /* Two identical runs, one taking a snapshot after every few steps: the same bits. */
@@ -674,6 +704,31 @@ static void test_neck_histogram_counts_links(void **state)
         total += bins[k];
     }
     assert_close(total, (double)links, 0.0);
+    /* eq. 44's corrections: one count per link; the lattice shrinks as free pairs, so every
+     * link's correction is round-off against its own approach (|r| < 1e-6: the two middle
+     * bins), and the snapshot's corrections are so against the links' approach */
+    const void *corr = NULL;
+    OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_CORRECTION, &corr, NULL, NULL, NULL));
+    const void *approach = NULL;
+    OK(sinter_snapshot_links(snap, SINTER_LINK_DATA_APPROACH, &approach, NULL, NULL, NULL));
+    for (size_t k = 0; k < links; ++k)
+        assert_true(fabs(((const double *)corr)[k]) < 1e-9 * ((const double *)approach)[k]);
+    double middle = 0.0, all = 0.0;
+    for (int k = -1; k <= 10; ++k) {
+        char column[64];
+        if (k < 0)
+            snprintf(column, sizeof(column), "correction below -1.25 [1]");
+        else if (k < 10)
+            snprintf(column, sizeof(column), "correction %.2f to %.2f [1]", -1.25 + 0.25 * k,
+                     -1.25 + 0.25 * (k + 1));
+        else
+            snprintf(column, sizeof(column), "correction 1.25 or more [1]");
+        const double v = last_value(path, column);
+        all += v;
+        middle += k == 4 || k == 5 ? v : 0.0;
+    }
+    assert_close(all, (double)links, 0.0);
+    assert_close(middle, (double)links, 0.0);
     /* every particle of the lattice: 3 to 6 links */
     assert_close(last_value(path, "coordination 3 [1]"), 8.0, 0.0);
     assert_close(last_value(path, "coordination 6 [1]"), 1.0, 0.0);
@@ -686,6 +741,7 @@ int main(void)
         cmocka_unit_test(test_forces_sum_to_walls_and_particles),
         cmocka_unit_test(test_heat_flows_balance),
         cmocka_unit_test(test_currents_balance),
+        cmocka_unit_test(test_currents_balance_eq50),
         cmocka_unit_test(test_snapshots_change_nothing),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_allocation_failures),

@@ -27,6 +27,9 @@ static void open_staggered(scene *s)
     OK(sinter_particles_set_material(s->ps, 0, s->mat));
     OK(sinter_walls_create(&s->walls, s->ctx));
     OK(sinter_stepper_create(&s->st, s->ctx, SINTER_STEPPER_STAGGERED, s->ps, s->walls));
+    /* These tests are about the seed's Algorithm 1 (scheme 0); scheme 1 has its own,
+     * test_staggered_anderson.c. */
+    OK(sinter_stepper_set_option(s->st, "scheme", 0));
 }
 
 static void set_option(scene *s, const char *key, double value)
@@ -737,7 +740,7 @@ static void test_scene_file_kind_and_options(void **state)
                   "[stepper]\nkind = staggered\ndt = 1e-3\nend_time = 0.01\nphi = 0.6\n"
                   "target_iterations = 8\ntolerance = 1e-4\nexponent = 1.5\ndt_max = 2e-3\n"
                   "dt_min = 1e-9\nadaptive = 1\nposition_tolerance = 1e-9\n"
-                  "temperature_tolerance = 1e-6\n",
+                  "temperature_tolerance = 1e-6\nscheme = 0\n",
                   &sc));
     sinter_stepper *st = NULL;
     OK(sinter_scene_get_stepper(sc, &st));

@@ -4,7 +4,12 @@
  * elements) equals, bit for bit, the same array of the ascii frame ("%.17g", which reads back
  * exactly) and the particles' own values; byte counts that leave 0, 1 and 2 bytes over a
  * triplet, and arrays longer than the writer's 3072-byte chunks. Arrays of zeros (spin, force
- * and current here) stay ascii in a binary file, and only they.
+ * and current here) stay ascii in a binary file, and only they. In single precision
+ * (SINTER_VTK_FLOAT32, [output] vtu_precision = single) every floating-point array is Float32
+ * holding the float nearest to each value, in binary and in ascii ("%.9g" reads back to it).
+ * Made raw appended data (sinter_vtk_make_appended, vtu_format = appended), every binary
+ * array's bytes at its offset in the <AppendedData> section are the inline array's, and the
+ * ascii arrays stay as they were.
  */
 #define _XOPEN_SOURCE 700 /* mkdtemp */
 #include <float.h>
@@ -15,6 +20,8 @@
 
 #include "test_support.h"
 
+#include "io/vtk_appended.h"
+#include "io/vtk_arrays.h"
 #include "io/vtu.h"
 
 static char *slurp(const char *path)
@@ -117,7 +124,9 @@ static size_t binary_values(const char *doc, const char *name, uint64_t *out, si
     assert_int_equal(decode(text, 12, header), 8);
     assert_true(text[11] == '=' && text[10] != '=');
     const uint64_t bytes = little_endian(header, 8);
-    const size_t width = strcmp(type, "UInt8") == 0 ? 1 : strcmp(type, "Int32") == 0 ? 4 : 8;
+    const size_t width = strcmp(type, "UInt8") == 0                                   ? 1
+                         : strcmp(type, "Int32") == 0 || strcmp(type, "Float32") == 0 ? 4
+                                                                                      : 8;
     unsigned char *data = malloc(length);
     assert_non_null(data);
     assert_int_equal(decode(text + 12, length - 12, data), bytes);
@@ -147,6 +156,12 @@ static size_t ascii_values(const char *doc, const char *name, uint64_t *out, siz
             const double d = strtod(p, &next);
             if (next != p)
                 memcpy(&out[n], &d, sizeof(d));
+        } else if (strcmp(type, "Float32") == 0) {
+            const float f = strtof(p, &next);
+            uint32_t bits = 0;
+            memcpy(&bits, &f, sizeof(bits));
+            if (next != p)
+                out[n] = bits;
         } else {
             const long long v = strtoll(p, &next, 10);
             if (next != p)
@@ -270,10 +285,174 @@ static void test_binary_frames_match_ascii(void **state)
     rmdir(dir);
 }
 
+/* Single precision, binary and ascii: the positions and radii are the floats nearest to the
+ * particles' values; the integer arrays are unchanged. */
+static void test_single_precision(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sinter_vtu_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_material_create(&mat, ctx, "copper"), SINTER_OK);
+    assert_int_equal(sinter_particles_create(&ps, ctx), SINTER_OK);
+    assert_int_equal(sinter_particles_set_material(ps, 0, mat), SINTER_OK);
+    enum { M = 700 };
+    double *x = malloc(3 * M * sizeof(double)), *r = malloc(M * sizeof(double));
+    assert_true(x != NULL && r != NULL);
+    for (size_t i = 0; i < M; ++i) {
+        for (int d = 0; d < 3; ++d)
+            x[3 * i + (size_t)d] = 0.01 * (double)((i * (size_t)(d + 3)) % 97) / 7.0 + 1e-9;
+        r[i] = 1e-4 * (1.0 + (double)(i % 11) / 13.0);
+    }
+    assert_int_equal(sinter_particles_add(ps, M, x, r, 0, 500.0, NULL), SINTER_OK);
+    uint64_t *v = malloc(3 * M * sizeof(uint64_t));
+    assert_non_null(v);
+    for (int binary = 0; binary <= 1; ++binary) {
+        char path[128];
+        snprintf(path, sizeof(path), "%s/s%d.vtu", dir, binary);
+        assert_int_equal(sinter_write_vtu_as(ps, path, NULL, 0, binary | SINTER_VTK_FLOAT32),
+                         SINTER_OK);
+        char *doc = slurp(path);
+        assert_null(strstr(doc, "Float64"));
+        const struct {
+            const char *name;
+            const double *values;
+            size_t count;
+        } arrays[2] = {{"position", x, 3 * M}, {"radius", r, M}};
+        for (int k = 0; k < 2; ++k) {
+            const size_t n = binary ? binary_values(doc, arrays[k].name, v, 3 * M)
+                                    : ascii_values(doc, arrays[k].name, v, 3 * M);
+            assert_int_equal(n, arrays[k].count);
+            for (size_t i = 0; i < n; ++i) {
+                const float f = (float)arrays[k].values[i];
+                uint32_t bits;
+                memcpy(&bits, &f, sizeof(bits));
+                assert_int_equal(v[i], bits);
+            }
+        }
+        assert_int_equal(binary ? binary_values(doc, "id", v, M) : ascii_values(doc, "id", v, M),
+                         M);
+        assert_int_equal(v[M - 1], M - 1);
+        free(doc);
+        remove(path);
+    }
+    free(v);
+    free(x);
+    free(r);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    rmdir(dir);
+}
+
+/* The file's bytes and their count (the appended section holds NUL bytes). */
+static unsigned char *slurp_bytes(const char *path, size_t *size)
+{
+    FILE *fp = fopen(path, "rb");
+    assert_non_null(fp);
+    fseek(fp, 0, SEEK_END);
+    *size = (size_t)ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    unsigned char *doc = malloc(*size + 1);
+    assert_non_null(doc);
+    assert_int_equal(fread(doc, 1, *size, fp), *size);
+    doc[*size] = 0;
+    fclose(fp);
+    return doc;
+}
+
+static void test_appended_matches_inline(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/sinter_vtu_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_material_create(&mat, ctx, "copper"), SINTER_OK);
+    assert_int_equal(sinter_particles_create(&ps, ctx), SINTER_OK);
+    assert_int_equal(sinter_particles_set_material(ps, 0, mat), SINTER_OK);
+    enum { M = 1500 };
+    double *x = malloc(3 * M * sizeof(double)), *r = malloc(M * sizeof(double));
+    assert_true(x != NULL && r != NULL);
+    for (size_t i = 0; i < M; ++i) {
+        for (int d = 0; d < 3; ++d)
+            x[3 * i + (size_t)d] = 0.01 * (double)((i * (size_t)(d + 5)) % 89) / 3.0;
+        r[i] = 1e-4 * (1.0 + (double)(i % 7) / 9.0);
+    }
+    assert_int_equal(sinter_particles_add(ps, M, x, r, 0, 400.0, NULL), SINTER_OK);
+    char inline_path[128], appended_path[128];
+    snprintf(inline_path, sizeof(inline_path), "%s/i.vtu", dir);
+    snprintf(appended_path, sizeof(appended_path), "%s/a.vtu", dir);
+    assert_int_equal(sinter_write_vtu_as(ps, inline_path, NULL, 0, SINTER_VTK_BINARY), SINTER_OK);
+    assert_int_equal(sinter_write_vtu_as(ps, appended_path, NULL, 0, SINTER_VTK_BINARY), SINTER_OK);
+    assert_int_equal(sinter_vtk_make_appended(ctx, appended_path), SINTER_OK);
+    char *in = slurp(inline_path);
+    size_t size = 0;
+    unsigned char *ap = slurp_bytes(appended_path, &size);
+    const char *doc = (const char *)ap;
+    const char *start = strstr(doc, "<AppendedData encoding=\"raw\">");
+    assert_non_null(start);
+    const unsigned char *raw = (const unsigned char *)strchr(start, '_') + 1;
+    uint64_t *v = malloc(3 * M * sizeof(uint64_t));
+    assert_non_null(v);
+    size_t arrays = 0;
+    for (size_t k = 0; k < sizeof(ARRAYS) / sizeof(ARRAYS[0]); ++k) {
+        if (strcmp(ARRAYS[k], "contacts") == 0)
+            continue; /* (no extra array here) */
+        char key[96];
+        snprintf(key, sizeof(key), " Name=\"%s\"", ARRAYS[k]);
+        const char *tag = strstr(doc, key);
+        assert_non_null(tag);
+        const char *offset = strstr(tag, "offset=\"");
+        if (!is_binary(in, ARRAYS[k])) { /* zeros: ascii in both */
+            assert_true(offset == NULL || offset > strchr(tag, '>'));
+            continue;
+        }
+        assert_true(offset != NULL && offset < strchr(tag, '>'));
+        const size_t at = (size_t)strtoull(offset + 8, NULL, 10);
+        const size_t n = binary_values(in, ARRAYS[k], v, 3 * M);
+        char type[16];
+        size_t length;
+        (void)array_text(in, ARRAYS[k], type, &length);
+        const size_t width = strcmp(type, "UInt8") == 0 ? 1 : strcmp(type, "Int32") == 0 ? 4 : 8;
+        assert_int_equal(little_endian(raw + at, 8), n * width);
+        for (size_t i = 0; i < n; ++i) {
+            uint64_t got = little_endian(raw + at + 8 + width * i, width);
+            if (width == 4) /* sign-extended as binary_values gives it */
+                got = (uint64_t)(int64_t)(int32_t)(uint32_t)got;
+            assert_int_equal(got, v[i]);
+        }
+        ++arrays;
+    }
+    assert_true(arrays >= 8);
+    assert_memory_equal(ap + size - strlen("</VTKFile>\n"), "</VTKFile>\n", strlen("</VTKFile>\n"));
+    /* a file without binary arrays is refused, and left as it was */
+    assert_int_equal(sinter_write_vtu_as(ps, inline_path, NULL, 0, 0), SINTER_OK);
+    assert_int_equal(sinter_vtk_make_appended(ctx, inline_path), SINTER_ERR_CORRUPT);
+    free(v);
+    free(in);
+    free(ap);
+    free(x);
+    free(r);
+    remove(inline_path);
+    remove(appended_path);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_binary_frames_match_ascii),
+        cmocka_unit_test(test_single_precision),
+        cmocka_unit_test(test_appended_matches_inline),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

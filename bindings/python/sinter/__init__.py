@@ -26,11 +26,12 @@ from ._errors import (BusyError, FileNotFound, Interrupted, InvalidArgument, Not
                       RangeError, SinterError, Status)
 from ._lib import LibraryNotFound, library_path
 from ._callbacks import CallbackResult, ContactBatch, ContactKind, StateView
+from .fields import CoarseQuantity, coarse_grain, lamina_profile
 from .context import LOGGER_NAME, Context, LogLevel, version_number, version_string
 from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
-from .neck import NeckModel, NeckResult, NeckStats
-from .output import Series, plot_run, write_pvd, write_vtu
+from .neck import NeckModel, NeckResult, NeckSensitivities, NeckStats
+from .output import Series, plot_csv, plot_run, write_pvd, write_vtu
 from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
 from .particles import (FIELDS, DType, Field, FieldInfo, FieldView, ParticleFlag,
@@ -43,14 +44,15 @@ from .walls import WallElectric, WallKind, WallMotion, WallThermal, Walls
 __version__ = version_string()
 
 __all__ = [
-    "BusyError", "CallbackResult", "ContactBatch", "ContactKind", "Context", "DType", "Field",
+    "BusyError", "CallbackResult", "CoarseQuantity", "coarse_grain", "lamina_profile", "ContactBatch", "ContactKind", "Context", "DType", "Field",
     "MaterialParam", "ParticleFlag", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
     "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
-    "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult", "NeckStats",
+    "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult",
+    "NeckSensitivities", "NeckStats",
     "NotFound", "OPTIONS", "ParamInfo", "Particles", "RadiusDistribution", "RangeError",
     "Scene", "Series", "SinterError", "SinteringStats", "StateView", "Status", "Stepper",
     "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallKind", "WallMotion", "WallThermal", "Walls",
     "compaction_options", "damping_ratio_from_restitution", "library_path", "pack_compact",
-    "pack_lattice", "pack_random", "packing_options", "plot_run", "pour", "stable_dt_hertz",
+    "pack_lattice", "pack_random", "packing_options", "plot_csv", "plot_run", "pour", "stable_dt_hertz",
     "version_number", "version_string", "write_pvd", "write_vtu",
 ]

@@ -72,7 +72,8 @@ class StepperStats(ctypes.Structure):
                 ("neighbor_builds", _u64), ("contacts", _u64), ("wall_contacts", _u64),
                 ("time", _double), ("dt", _double), ("seconds_neighbor", _double),
                 ("seconds_force", _double), ("seconds_integrate", _double),
-                ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64)]
+                ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64),
+                ("contraction", _double)]
 
 
 class SinteringStats(ctypes.Structure):
@@ -117,6 +118,14 @@ class CompactionOptions(ctypes.Structure):
                 ("volume_fraction", _double), ("friction", _double), ("restitution", _double),
                 ("velocity", _double), ("max_pressure", _double), ("stop_at_jamming", _int),
                 ("ke_per_particle", _double), ("relax_time_max", _double), ("dt", _double)]
+
+
+class CoarseOptions(ctypes.Structure):
+    """struct sinter_coarse_options: a regular grid and a Gaussian kernel (lengths in m)."""
+
+    _cname = "sinter_coarse_options"
+    _fields_ = [("struct_size", _size), ("origin", _double * 3), ("spacing", _double * 3),
+                ("points", _size * 3), ("width", _double), ("cutoff", _double)]
 
 
 class CompactionResult(ctypes.Structure):
@@ -178,6 +187,12 @@ BodyFn = ctypes.CFUNCTYPE(_int, _P(StateView), ctypes.c_void_p, ctypes.c_void_p,
 PowerFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), _P(ContactBatch),
                            ctypes.c_void_p, ctypes.c_void_p)
 DestroyUserFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p)
+# The electric model's conductance law and Joule split: (state, batch, const double * in,
+# double * out, user), the arrays as addresses.
+ConductanceFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), ctypes.c_void_p,
+                                 ctypes.c_void_p, ctypes.c_void_p)
+JouleSplitFn = ctypes.CFUNCTYPE(_int, _P(StateView), _P(ContactBatch), ctypes.c_void_p,
+                                ctypes.c_void_p, ctypes.c_void_p)
 
 
 class ForceCallbacks(ctypes.Structure):
@@ -193,6 +208,14 @@ class HeatCallbacks(ctypes.Structure):
 
     _cname = "sinter_heat_callbacks"
     _fields_ = [("struct_size", _size), ("power", PowerFn), ("destroy_user", DestroyUserFn)]
+
+
+class ElectricCallbacks(ctypes.Structure):
+    """struct sinter_electric_callbacks (struct_size = ctypes.sizeof(ElectricCallbacks))."""
+
+    _cname = "sinter_electric_callbacks"
+    _fields_ = [("struct_size", _size), ("conductance", ConductanceFn),
+                ("joule_split", JouleSplitFn), ("destroy_user", DestroyUserFn)]
 
 
 # name: (restype, argtypes), in the order of sinter.h. `const T x[3]` is a T pointer.
@@ -236,6 +259,9 @@ SIGNATURES = {
     "sinter_particles_add": (
         c_status, [ParticlesPtr, _size, _P(_double), _P(_double), ctypes.c_int32, _double,
                    _P(_size)]),
+    "sinter_particles_add_with_ids": (
+        c_status, [ParticlesPtr, _size, _P(_u64), _P(_double), _P(_double), ctypes.c_int32,
+                   _double, _P(_size)]),
     "sinter_particles_remove": (c_status, [ParticlesPtr, _size, _P(_size)]),
     "sinter_particles_view": (
         c_status, [ParticlesPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size)]),
@@ -314,6 +340,11 @@ SIGNATURES = {
     "sinter_heat_model_get": (c_status, [HeatModelPtr, _str, _P(_double)]),
     "sinter_heat_model_output": (c_status, [HeatModelPtr, _str, _P(_double)]),
     "sinter_heat_model_set_schedule": (c_status, [HeatModelPtr, _str, _size, _P(_double), _P(_double)]),
+    "sinter_heat_model_set_scan_path": (c_status, [HeatModelPtr, _size, _P(_double), _double]),
+    "sinter_heat_model_scan_end": (c_status, [HeatModelPtr, _P(_double)]),
+    "sinter_scan_hatch": (
+        c_status, [CtxPtr, _P(_double), _P(_double), _double, _double, _double, _double,
+                   ctypes.c_int, _P(_double), _size, _P(_size)]),
     "sinter_stepper_add_heat": (c_status, [StepperPtr, HeatModelPtr]),
     "sinter_stepper_set_thermal_scheme": (c_status, [StepperPtr, _int]),
     "sinter_stepper_stable_dt_thermal": (c_status, [StepperPtr, _P(_double)]),
@@ -345,6 +376,7 @@ SIGNATURES = {
     "sinter_scene_checkpoint_write": (c_status, [ScenePtr, _str]),
     "sinter_scene_restart": (c_status, [ScenePtr, _str]),
     "sinter_plot_run": (c_status, [CtxPtr, _str, _str]),
+    "sinter_plot_csv": (c_status, [CtxPtr, _str, _str, _str, _str, _P(_str), _size]),
     "sinter_scene_check": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
@@ -366,6 +398,10 @@ SIGNATURES = {
         c_status, [NeckModelPtr, MaterialPtr, _double, _double, _size, _P(_double), _P(_double),
                    _size, _P(_double), _P(_double), _P(_double), _P(_double)]),
     "sinter_neck_get_stats": (c_status, [NeckModelPtr, _P(NeckStats)]),
+    "sinter_neck_sensitivities": (
+        c_status, [CtxPtr, NeckModelPtr, MaterialPtr, _double, _double, _size, _P(_double),
+                   _P(_double), _size, _P(c_enum), _size, _P(_double), _P(_double), _P(_double),
+                   _P(_double), _P(_double)]),
     "sinter_pair_run": (c_status, [CtxPtr, _str, _str, _str]),
     # packing helpers
     "sinter_stepper_sintering_stats": (c_status, [StepperPtr, _P(SinteringStats)]),
@@ -378,6 +414,14 @@ SIGNATURES = {
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
     "sinter_snapshot_links": (
         c_status, [SnapshotPtr, c_enum, _P(ctypes.c_void_p), _P(_size), _P(_size), _P(c_enum)]),
+    # coarse-grained fields
+    "sinter_coarse_options_init": (c_status, [_P(CoarseOptions), _size]),
+    "sinter_coarse_quantity_info": (c_status, [c_enum, _P(_str), _P(_str), _P(_size)]),
+    "sinter_coarse_grain": (
+        c_status, [ParticlesPtr, SnapshotPtr, _P(CoarseOptions), c_enum, _P(_double), _size]),
+    "sinter_lamina_profile": (
+        c_status, [ParticlesPtr, _int, _P(_double), _P(_double), _size, _P(_double),
+                   _P(_double)]),
     "sinter_packing_options_init": (c_status, [_P(PackingOptions), _size]),
     "sinter_pack_random": (c_status, [ParticlesPtr, _P(PackingOptions), _size, _P(_size)]),
     "sinter_particles_size_quantiles": (
@@ -396,6 +440,9 @@ SIGNATURES = {
         c_status, [_P(ForceModelPtr), CtxPtr, _str, _P(ForceCallbacks), ctypes.c_void_p]),
     "sinter_heat_model_create_host": (
         c_status, [_P(HeatModelPtr), CtxPtr, _str, _P(HeatCallbacks), ctypes.c_void_p]),
+    "sinter_electric_model_set_host": (
+        c_status, [ElectricModelPtr, _P(ElectricCallbacks), ctypes.c_void_p]),
+    "sinter_electric_model_electrode_heat": (c_status, [ElectricModelPtr, _P(_double)]),
 }
 
 

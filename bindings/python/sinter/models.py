@@ -20,8 +20,9 @@ from . import _callbacks
 from ._callbacks import ContactBatch, StateView
 from ._errors import NotFound, check
 from ._integers import to_c
-from ._lib import (BodyFn, ContactsFn, ElectricModelPtr, ForceCallbacks,
-                   ForceModelPtr, HeatCallbacks, HeatModelPtr, PowerFn, lib, text)
+from ._lib import (BodyFn, ConductanceFn, ContactsFn, ElectricCallbacks, ElectricModelPtr,
+                   ForceCallbacks, ForceModelPtr, HeatCallbacks, HeatModelPtr, JouleSplitFn,
+                   PowerFn, lib, text)
 from .context import Context, _Handle
 
 
@@ -173,6 +174,49 @@ class HeatModel(_KeyedModel):
                                                        c_times, c_values),
                     "sinter_heat_model_set_schedule")
 
+    def set_scan_path(self, vertices: Sequence[Sequence[float]], start_time: float = 0.0) -> None:
+        """Move the beam along a scan path (sinter_heat_model_set_scan_path).
+
+        vertices: (x [m], y [m], speed [m/s], level [0..1]) each; the first is the start point,
+        each later one a straight segment from the previous at its speed, the power times its
+        level (0: off, a jump). An empty sequence removes the path.
+        """
+        flat = [float(value) for vertex in vertices for value in vertex]
+        if len(flat) % 4:
+            raise ValueError("scan path vertices need 4 values each (x, y, speed, level)")
+        c_points, n = _doubles(flat)
+        self._check(lib.sinter_heat_model_set_scan_path(self._ptr, n // 4, c_points,
+                                                        float(start_time)),
+                    "sinter_heat_model_set_scan_path")
+
+    def scan_end(self) -> float:
+        """The time [s] at which the scan path ends (NotFound without one)."""
+        value = ctypes.c_double()
+        self._check(lib.sinter_heat_model_scan_end(self._ptr, ctypes.byref(value)),
+                    "sinter_heat_model_scan_end")
+        return value.value
+
+    @staticmethod
+    def hatch(context: Context, lo: Sequence[float], hi: Sequence[float], spacing: float,
+              speed: float, angle: float = 0.0, jump_speed: Optional[float] = None,
+              serpentine: bool = True) -> list:
+        """The vertices of a hatch filling the rectangle lo..hi (x, y [m]) for set_scan_path:
+        lines `spacing` [m] apart along `angle` [rad] at `speed` [m/s], jumps at `jump_speed`
+        (default: speed) with the power off (sinter_scan_hatch)."""
+        c_lo, _ = _doubles([float(lo[0]), float(lo[1])])
+        c_hi, _ = _doubles([float(hi[0]), float(hi[1])])
+        jump = float(speed if jump_speed is None else jump_speed)
+        count = ctypes.c_size_t()
+        args = (float(spacing), float(angle), float(speed), jump, 1 if serpentine else 0)
+        check(lib.sinter_scan_hatch(context._ptr, c_lo, c_hi, *args, None, 0,
+                                    ctypes.byref(count)),
+              context._handle, "sinter_scan_hatch")
+        points = (ctypes.c_double * (4 * max(count.value, 1)))()
+        check(lib.sinter_scan_hatch(context._ptr, c_lo, c_hi, *args, points, count.value,
+                                    ctypes.byref(count)),
+              context._handle, "sinter_scan_hatch")
+        return [tuple(points[4 * k:4 * k + 4]) for k in range(count.value)]
+
     def output(self, name: str) -> float:
         """An output of the last evaluation ("beam": "absorbed", "transmitted" [W], "lit",
         "lit_temperature" [K])."""
@@ -234,6 +278,50 @@ class ElectricModel(_KeyedModel):
                     "sinter_electric_model_power")
         return supplied.value, dissipated.value
 
+    def electrode_heat(self) -> float:
+        """The Joule heat [W] of the network model's last solve that a host split gave to the
+        electrodes (0 with the built-in split): the particles receive the dissipated power
+        less this."""
+        heat = ctypes.c_double()
+        self._check(lib.sinter_electric_model_electrode_heat(self._ptr, ctypes.byref(heat)),
+                    "sinter_electric_model_electrode_heat")
+        return heat.value
+
+    def set_host(self,
+                 conductance: Optional[Callable[[StateView, ContactBatch, Any, Any], Any]] = None,
+                 joule_split: Optional[Callable[[StateView, ContactBatch, Any, Any], Any]] = None
+                 ) -> None:
+        """Give the network model a host conductance law and/or Joule split (both None: back
+        to the built-in ones).
+
+        conductance(state, batch, sigma, g): fill g (count,) [S], zeroed, one per contact of
+        the batch (particle pairs, then wall contacts in a second call); sigma (state.count,)
+        holds the particles' conductivities [S/m] after eq. 50's term. 0 insulates.
+        joule_split(state, batch, power, share): fill share (count,), in [0, 1] and preset to
+        the built-in 1/2 (pairs) or 1 (walls), the fraction of each contact's Joule power
+        power [W] that heats particle i; the rest heats j or the electrode.
+        Same conventions as ForceModel.from_callbacks (return None or a CallbackResult).
+        """
+        functions = []
+        table = None
+        if conductance is not None or joule_split is not None:
+            table = ElectricCallbacks()
+            table.struct_size = ctypes.sizeof(ElectricCallbacks)
+            if conductance is not None:
+                table.conductance = _electric_trampoline(conductance, ConductanceFn, True)
+                functions.append(table.conductance)
+            if joule_split is not None:
+                table.joule_split = _electric_trampoline(joule_split, JouleSplitFn, False)
+                functions.append(table.joule_split)
+        self._check(lib.sinter_electric_model_set_host(
+            self._ptr, ctypes.byref(table) if table is not None else None, None),
+            "sinter_electric_model_set_host")
+        self._c_functions = functions
+        self.callbacks = {"conductance": conductance, "joule_split": joule_split}
+
+    def _forget(self):
+        self.__dict__.pop("_c_functions", None)
+
 
 # --- trampolines -----------------------------------------------------------
 
@@ -292,6 +380,30 @@ def _power_trampoline(function):
             return -1
 
     return PowerFn(trampoline)
+
+
+def _electric_trampoline(function, c_type, per_particle_input):
+    # the input array is per particle (conductivities) or per contact (powers); the output is
+    # per contact
+    def trampoline(state_pointer, batch_pointer, values, out, user):
+        try:
+            state = StateView(state_pointer.contents)
+            batch = ContactBatch(batch_pointer.contents)
+            count = batch_pointer.contents.count
+            rows = state_pointer.contents.count if per_particle_input else count
+            input_array = _callbacks.array(values, (rows,), "d", False)
+            output_array = _callbacks.array(out, (count,), "d", True)
+            try:
+                return _callbacks.result_code(function(state, batch, input_array, output_array))
+            finally:
+                state.invalidate()
+                batch.invalidate()
+                _release(input_array, output_array)
+        except BaseException as exception:
+            _callbacks.store(exception)
+            return -1
+
+    return c_type(trampoline)
 
 
 def _release(*arrays):

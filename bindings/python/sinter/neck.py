@@ -4,12 +4,12 @@ import ctypes
 import dataclasses
 import numbers
 import os
-from typing import Any, Dict, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 from ._errors import SinterError, check
 from ._lib import NeckModelPtr, NeckStats as _CNeckStats, lib
 from .context import Context, _Handle
-from .material import Material
+from .material import Material, MaterialParam, _param_id
 from . import particles as _particles
 
 
@@ -51,6 +51,23 @@ class NeckResult:
         if hasattr(self.neck_radius, "dtype"):
             return self.neck_radius / self.radius
         return [x / self.radius for x in self.neck_radius]
+
+
+@dataclasses.dataclass
+class NeckSensitivities:
+    """Outputs of NeckModel.sensitivities at the requested times (NumPy arrays, or lists).
+
+    time [s]; neck_ratio x / min(R_A, R_B) [-]; shrinkage Delta L / L0 [-];
+    d_neck_ratio and d_shrinkage (n_out, n_params): derivatives with respect to ln D0 [-] for a
+    diffusion prefactor key, Q [J/mol] for an activation energy key; params: the keys.
+    """
+
+    time: object
+    neck_ratio: object
+    shrinkage: object
+    d_neck_ratio: object
+    d_shrinkage: object
+    params: Tuple[str, ...]
 
 
 def _as_list(values):
@@ -168,6 +185,47 @@ class NeckModel(_Handle):
                             min(float(radius_a), float(radius_b)))
         try:
             self._check(status, "sinter_neck_two_particles")
+        except SinterError as error:
+            error.result = result
+            raise
+        return result
+
+    def sensitivities(self, material: Material, radius_a: float, radius_b: float,
+                      times: Union[float, Sequence[float]],
+                      temperatures: Union[float, Sequence[float]],
+                      params: Sequence[Union[str, MaterialParam]],
+                      out_times: Union[float, Sequence[float]]) -> NeckSensitivities:
+        """Neck ratio and shrinkage along the schedule, as two_particles, with their forward
+        sensitivities (sinter_neck_sensitivities; docs/calibration.md) with respect to the
+        Arrhenius parameters `params` (material keys: a *_diffusion_prefactor[_hot] key means
+        ln D0, an *_activation_energy[_hot] key Q [J/mol]). Needs integrator 0 (CVODE).
+        On a failure the SinterError carries the partial NeckSensitivities as .result.
+        """
+        times, temperatures = _as_list(times), _as_list(temperatures)
+        if len(times) != len(temperatures):
+            raise ValueError("%d schedule times but %d temperatures"
+                             % (len(times), len(temperatures)))
+        out_times = _as_list(out_times)
+        ids = [_param_id(p) for p in params]
+        keys = tuple(MaterialParam(i).name.lower() for i in ids)
+        n, n_out, n_par = len(times), len(out_times), len(ids)
+        doubles = ctypes.c_double
+        c_times, c_temps = (doubles * max(n, 1))(*times), (doubles * max(n, 1))(*temperatures)
+        c_params = (ctypes.c_int * max(n_par, 1))(*ids)
+        c_out = (doubles * max(n_out, 1))(*out_times)
+        ratio, shrinkage = (doubles * max(n_out, 1))(), (doubles * max(n_out, 1))()
+        d_ratio = (doubles * max(n_out * n_par, 1))()
+        d_shrinkage = (doubles * max(n_out * n_par, 1))()
+        status = lib.sinter_neck_sensitivities(
+            self._context._ptr, self._ptr, material._ptr, float(radius_a), float(radius_b), n,
+            c_times, c_temps, n_par, c_params, n_out, c_out, ratio, shrinkage, d_ratio,
+            d_shrinkage)
+        result = NeckSensitivities(_out(c_out[:n_out], (n_out,)), _out(ratio[:n_out], (n_out,)),
+                                   _out(shrinkage[:n_out], (n_out,)),
+                                   _out(d_ratio[:n_out * n_par], (n_out, n_par)),
+                                   _out(d_shrinkage[:n_out * n_par], (n_out, n_par)), keys)
+        try:
+            self._check(status, "sinter_neck_sensitivities")
         except SinterError as error:
             error.result = result
             raise

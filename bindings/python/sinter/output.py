@@ -197,3 +197,18 @@ def plot_run(context: "Context", out_dir: PathLike, title: Optional[str] = None)
         check_path(status, context._handle, "sinter_plot_run",
                    os.path.join(os.fsdecode(out_dir), "series.csv"))
     check_path(status, context._handle, "sinter_plot_run", out_dir, directory=True)
+
+
+def plot_csv(context: "Context", csv_path: PathLike, svg_path: PathLike,
+             panels: Sequence[str] = (), x: Optional[str] = None,
+             title: Optional[str] = None) -> None:
+    """Draw chosen columns of any CSV a run writes (series.csv, frames/profile_z_NNNNN.csv)
+    into svg_path: one panel per entry of `panels`, each a comma-separated list of column
+    names (without units) or prefixes ("coordination"), against the column `x` (None: the
+    first). No panels: every column, one panel each (8 at most)."""
+    names = [p.encode("utf-8") for p in panels]
+    array = (ctypes.c_char_p * max(len(names), 1))(*names)
+    status = lib.sinter_plot_csv(context._ptr, os.fsencode(csv_path), os.fsencode(svg_path),
+                                 None if title is None else title.encode("utf-8"),
+                                 None if x is None else x.encode("utf-8"), array, len(names))
+    check_path(status, context._handle, "sinter_plot_csv", csv_path)

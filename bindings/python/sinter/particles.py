@@ -339,20 +339,34 @@ class Particles(_Handle):
         return Material._from_handle(self._context, copy)
 
     def add(self, positions: Any, radii: Any, material_id: int = 0,
-            temperature: float = 293.15) -> int:
+            temperature: float = 293.15, ids: Optional[Iterable[int]] = None) -> range:
         """Append particles; return the range of their indices.
 
         positions: n points (x, y, z) [m], as an (n, 3) or flat sequence/array.
         radii: n radii [m] (or one for all), each > 0.
         temperature: initial temperature of every new particle [K].
+        ids: n persistent ids chosen by the caller (sinter_particles_add_with_ids:
+        unique in the set, not 2**64 - 1); None numbers them from the set's counter.
         Mass = density * 4/3 pi r^3 and inertia = 2/5 m r^2 follow from the
         material. On error nothing is added.
         """
         n, xyz, r, _keep_alive = _double_arrays(positions, radii)
         first = ctypes.c_size_t()
-        self._check(lib.sinter_particles_add(self._ptr, n, xyz, r, material_id,
-                                             float(temperature), ctypes.byref(first)),
-                    "sinter_particles_add")
+        if ids is None:
+            self._check(lib.sinter_particles_add(self._ptr, n, xyz, r, material_id,
+                                                 float(temperature), ctypes.byref(first)),
+                        "sinter_particles_add")
+            return range(first.value, first.value + n)
+        id_list = [int(i) for i in ids]
+        if len(id_list) != n:
+            raise ValueError("%d positions but %d ids" % (n, len(id_list)))
+        if any(i < 0 or i >= 1 << 64 for i in id_list):
+            raise ValueError("particle ids must lie in [0, 2**64): %r" % (id_list,))
+        id_array = (ctypes.c_uint64 * max(n, 1))(*id_list)
+        self._check(lib.sinter_particles_add_with_ids(self._ptr, n, id_array, xyz, r,
+                                                      material_id, float(temperature),
+                                                      ctypes.byref(first)),
+                    "sinter_particles_add_with_ids")
         return range(first.value, first.value + n)
 
     def remove(self, indices: Iterable[int]) -> None:

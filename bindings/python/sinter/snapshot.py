@@ -23,7 +23,7 @@ CONTACT_DATA = ("id_a", "id_b", "wall", "normal", "overlap", "radius", "area", "
                 "tangential_force", "heat_flow", "current")
 #: Per-link arrays, in the order of sinter_link_data (SINTER_LINK_DATA_*).
 LINK_DATA = ("id_a", "id_b", "neck_radius", "neck_ratio", "approach", "age", "phase",
-             "sintering_force", "beam_force", "beam_moment")
+             "sintering_force", "beam_force", "beam_moment", "correction")
 
 class ContactData(enum.IntEnum):
     """sinter_contact_data: the per-contact arrays of a snapshot."""
@@ -52,6 +52,7 @@ class LinkData(enum.IntEnum):
     SINTERING_FORCE = 7
     BEAM_FORCE = 8
     BEAM_MOMENT = 9
+    CORRECTION = 10
 
 
 _FORMATS = {0: "d", 1: "i", 2: "I", 3: "Q"}  # sinter_dtype

@@ -71,6 +71,9 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "adaptive": "[-] 1 (default) adapts the step, 0 keeps it",
         "position_tolerance": "[m] absolute floor of the position test; 0; >= 0",
         "temperature_tolerance": "[K] absolute floor of the temperature test; 0; >= 0",
+        "scheme": "[-] 0 the seed's Algorithm 1, 1 (default) Anderson acceleration with a "
+                  "weighted RMS test, PI step control and a predictor",
+        "anderson_depth": "[-] m of Anderson(m) in scheme 1; 3; whole number in [0, 10]",
     },
     "quasistatic": {
         "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7; default 2), 3: CVODE batch",
@@ -122,6 +125,7 @@ class StepperStats:
     seconds_total: float
     iterations: int = 0  #: fixed-point iterations (staggered stepper)
     evaluations: int = 0  #: evaluations of the force/electric/heat pipeline
+    contraction: float = 0.0  #: staggered scheme 1: contraction of the last step (0: none)
 
     def as_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)

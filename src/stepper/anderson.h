@@ -1,0 +1,45 @@
+#ifndef SINTER_ANDERSON_H
+#define SINTER_ANDERSON_H
+
+#include <stddef.h>
+
+#include "sinter.h"
+
+/*
+ * Anderson(m) acceleration of a fixed-point iteration u = G(u) (Walker and Ni, SIAM J. Numer.
+ * Anal. 49 (2011) 1715, "Algorithm AA" with the least-squares form; the same scheme as SUNDIALS
+ * KINSOL's fixed-point solver with KINSetMAA). With the residual f_k = G(u_k) - u_k and the
+ * differences of the last m residuals and images, dF_j = f_(j+1) - f_j, dG_j = G(u_(j+1)) -
+ * G(u_j), the next iterate is
+ *
+ *   u_(k+1) = G(u_k) - sum_j gamma_j dG_j,  gamma = argmin || W (f_k - sum_j gamma_j dF_j) ||_2
+ *
+ * with a diagonal weight W (the WRMS weights of the convergence test, so that the least-squares
+ * problem measures what the test measures). m = 0 is the plain iteration u_(k+1) = G(u_k).
+ * The least-squares problem is solved by modified Gram-Schmidt QR of W dF, rebuilt at every
+ * iteration (m <= 10 columns); a column whose norm falls below 1e-10 of the largest drops the
+ * oldest differences (the usual safeguard against a rank-deficient history).
+ */
+typedef struct sinter_anderson {
+    size_t length;   /* N, unknowns */
+    int depth;       /* m */
+    int stored;      /* differences held, <= depth */
+    int head;        /* ring index of the oldest difference */
+    int have_prev;   /* f_prev, g_prev valid */
+    double *df, *dg; /* depth x N each, ring */
+    double *f_prev, *g_prev;
+    double *q;       /* depth x N: Q of the QR */
+    size_t capacity; /* doubles allocated per array group */
+} sinter_anderson;
+
+void sinter_anderson_init(sinter_anderson *aa);
+void sinter_anderson_free(sinter_ctx *ctx, sinter_anderson *aa);
+/* Size for N unknowns and depth m (allocates; keeps nothing of a previous solve). */
+sinter_status sinter_anderson_reset(sinter_ctx *ctx, sinter_anderson *aa, size_t length, int depth);
+/*
+ * One update: u holds u_k on entry and u_(k+1) on return; g holds G(u_k) (kept as is); w the
+ * weights (length N, >= 0). Returns the number of differences used.
+ */
+int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, const double *w);
+
+#endif

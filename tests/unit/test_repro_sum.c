@@ -1,0 +1,185 @@
+/* Order-independent sums (core/repro_sum.c, issue 43): the same bits for any order and any split
+ * into parts, exact where the exact sum is representable, and within the stated truncation of a
+ * compensated reference otherwise. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_support.h"
+
+#include "core/repro_sum.h"
+
+static uint64_t next_random(uint64_t *s)
+{
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    return *s;
+}
+
+/* Sum of x in parts [cut[k], cut[k + 1]): the parts' exponents MAX-ed, their limbs merged. */
+static double sum_in_parts(const double *x, const size_t *cut, int parts)
+{
+    int e = INT32_MIN;
+    for (int k = 0; k < parts; ++k) {
+        const int ek = sinter_repro_exponent(x + cut[k], cut[k + 1] - cut[k], 1, NULL);
+        e = ek > e ? ek : e;
+    }
+    sinter_repro_sum total;
+    memset(&total, 0, sizeof(total));
+    for (int k = parts - 1; k >= 0; --k) { /* parts merged in reverse: merging is an integer sum */
+        sinter_repro_sum part;
+        memset(&part, 0, sizeof(part));
+        sinter_repro_add(&part, e, x + cut[k], cut[k + 1] - cut[k], 1);
+        sinter_repro_merge(&total, &part);
+    }
+    return sinter_repro_value(&total, e);
+}
+
+static double sum_once(const double *x, size_t n)
+{
+    const size_t cut[2] = {0, n};
+    return sum_in_parts(x, cut, 1);
+}
+
+/* Neumaier's compensated sum: the reference (error about 2 ulp of the result + n eps^2 sum|x|). */
+static double compensated(const double *x, size_t n)
+{
+    double s = 0.0, c = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+        const double t = s + x[k];
+        c += fabs(s) >= fabs(x[k]) ? (s - t) + x[k] : (x[k] - t) + s;
+        s = t;
+    }
+    return s + c;
+}
+
+/* Terms over 40 decades with both signs: every order and every split gives the same bits. */
+static void test_order_and_split_independent(void **state)
+{
+    (void)state;
+    enum { N = 100003 };
+    double *x = malloc(N * sizeof(double)), *y = malloc(N * sizeof(double));
+    assert_non_null(x);
+    assert_non_null(y);
+    uint64_t seed = 0x9e3779b97f4a7c15ULL;
+    for (size_t k = 0; k < N; ++k) {
+        const double mantissa = 1.0 + (double)(next_random(&seed) >> 11) * 0x1p-53;
+        const int decade = (int)(next_random(&seed) % 41) - 20;
+        x[k] = (next_random(&seed) & 1 ? -1.0 : 1.0) * mantissa * pow(10.0, decade);
+    }
+    const double reference = sum_once(x, N);
+    /* against the compensated sum: truncation below 2^(e - 97) per term, plus the final roundings
+     */
+    int e = sinter_repro_exponent(x, N, 1, NULL);
+    const double bound = (double)N * ldexp(1.0, e - 97) + 4.0 * 0x1p-52 * fabs(reference);
+    assert_true(fabs(reference - compensated(x, N)) <= bound);
+    /* reversed, shuffled five times, and split into 2, 3 and 4 parts */
+    for (size_t k = 0; k < N; ++k)
+        y[k] = x[N - 1 - k];
+    double got = sum_once(y, N);
+    assert_memory_equal(&got, &reference, sizeof(double));
+    for (int round = 0; round < 5; ++round) {
+        for (size_t k = N - 1; k > 0; --k) {
+            const size_t j = (size_t)(next_random(&seed) % (k + 1));
+            const double t = y[k];
+            y[k] = y[j];
+            y[j] = t;
+        }
+        got = sum_once(y, N);
+        assert_memory_equal(&got, &reference, sizeof(double));
+        for (int parts = 2; parts <= 4; ++parts) {
+            size_t cut[5] = {0};
+            for (int p = 1; p < parts; ++p)
+                cut[p] = (size_t)(next_random(&seed) % N);
+            cut[parts] = N;
+            for (int p = 1; p < parts; ++p) /* sort the inner cuts */
+                for (int q = p + 1; q < parts; ++q)
+                    if (cut[q] < cut[p]) {
+                        const size_t t = cut[p];
+                        cut[p] = cut[q];
+                        cut[q] = t;
+                    }
+            got = sum_in_parts(y, cut, parts);
+            assert_memory_equal(&got, &reference, sizeof(double));
+        }
+    }
+    /* a naive sum of the same terms depends on the order (so the test can tell the difference) */
+    double forward = 0.0, backward = 0.0;
+    for (size_t k = 0; k < N; ++k) {
+        forward += x[k];
+        backward += x[N - 1 - k];
+    }
+    assert_true(forward != backward);
+    free(y);
+    free(x);
+}
+
+/* Exact where the exact sum is a double: 2^53 + 1 - 2^53 repeated, x and -x cancelling. */
+static void test_exact_cancellation(void **state)
+{
+    (void)state;
+    enum { N = 3000 };
+    double x[N];
+    for (size_t k = 0; k < N; k += 3) {
+        x[k] = 0x1p53;
+        x[k + 1] = 1.0;
+        x[k + 2] = -0x1p53;
+    }
+    assert_true(sum_once(x, N) == (double)(N / 3));
+    uint64_t seed = 12345;
+    for (size_t k = 0; k < N; k += 2) {
+        x[k] = ldexp((double)(next_random(&seed) >> 11), (int)(next_random(&seed) % 200) - 100);
+        x[k + 1] = -x[k];
+    }
+    assert_true(sum_once(x, N) == 0.0);
+    double zeros[4] = {0.0, -0.0, 0.0, 0.0};
+    assert_int_equal(sinter_repro_exponent(zeros, 4, 1, NULL), INT32_MIN);
+    assert_true(sum_once(zeros, 4) == 0.0);
+}
+
+/* More terms than one carry interval: 2^23 + 4321 terms of 1 - 2^-52 put nearly 2^40 into the
+ * second limb each, which would overflow 64 bits without the carries; the sum is the correctly
+ * rounded n (1 - 2^-52) to an ulp. */
+static void test_carry_over_many_terms(void **state)
+{
+    (void)state;
+    const size_t n = ((size_t)1 << 23) + 4321;
+    double *x = malloc(n * sizeof(double));
+    assert_non_null(x);
+    for (size_t k = 0; k < n; ++k)
+        x[k] = 1.0 - 0x1p-52;
+    const double expected = (double)n * (1.0 - 0x1p-52);
+    const double got = sum_once(x, n);
+    assert_true(fabs(got - expected) <= 0x1p-52 * expected);
+    free(x);
+}
+
+/* Non-finite terms are reported and skipped; strides read every stride-th value. */
+static void test_non_finite_and_stride(void **state)
+{
+    (void)state;
+    double x[6] = {1.0, 100.0, NAN, 200.0, 2.0, 300.0};
+    int finite = 1;
+    (void)sinter_repro_exponent(x, 6, 1, &finite);
+    assert_int_equal(finite, 0);
+    const int e = sinter_repro_exponent(x + 1, 3, 2, &finite); /* 100, 200, 300 */
+    assert_int_equal(finite, 1);
+    assert_int_equal(e, 9); /* 300 < 2^9 */
+    sinter_repro_sum s;
+    memset(&s, 0, sizeof(s));
+    sinter_repro_add(&s, e, x + 1, 3, 2);
+    assert_true(sinter_repro_value(&s, e) == 600.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_order_and_split_independent),
+        cmocka_unit_test(test_exact_cancellation),
+        cmocka_unit_test(test_carry_over_many_terms),
+        cmocka_unit_test(test_non_finite_and_stride),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
