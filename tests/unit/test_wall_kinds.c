@@ -212,6 +212,45 @@ static void test_spinning_walls_drive_by_friction(void **state)
 }
 
 /*
+ * The planes' motions move the other kinds: a disc floor rising at a constant 10 mm/s carries
+ * a sphere resting on it (in the floor's frame the same rest: after 0.2 s, 2 mm and twenty
+ * neighbour-list skins, the overlap is Hertz's under the weight and the force the weight, to
+ * 1e-6 as at rest), and a rectangle spinning at 5 pi rad/s has turned its edge by three
+ * quarters of a turn about its normal at 0.3 s (to round-off).
+ */
+static void test_kinds_move_and_turn(void **state)
+{
+    (void)state;
+    scene s;
+    open_rigid(&s, 1.0, 0.3, 1);
+    const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1}, ex[3] = {1, 0, 0};
+    OK(sinter_walls_add_disc(s.walls, o, up, 2 * R, s.wall_mat, NULL));
+    const double far[3] = {0, 0, -0.1};
+    OK(sinter_walls_add_rectangle(s.walls, far, up, ex, R, 2 * R, s.wall_mat, NULL));
+    const double u[3] = {0, 0, 0.01};
+    OK(sinter_walls_set_velocity(s.walls, 0, u));
+    OK(sinter_walls_set_spin(s.walls, 1, 5.0 * PI));
+    const double w = 4.0 / 3.0 * PI * R * R * R * RHO * G, delta = resting_overlap(w);
+    scene_add(&s, 0, 0, R - delta, R);
+    OK(sinter_stepper_set_dt(s.st, 1e-6));
+    OK(sinter_stepper_set_skin(s.st, 1e-4));
+    OK(sinter_stepper_advance(s.st, 0.2));
+    double x[3], f[3], edge[3];
+    get3(&s, SINTER_FIELD_POSITION, 0, x);
+    OK(sinter_walls_get_force(s.walls, 0, f));
+    print_message("rising disc: overlap %.9e m (Hertz %.9e m), force %.9e N (weight %.9e N)\n",
+                  0.002 + R - x[2], delta, -f[2], w);
+    assert_close(0.002 + R - x[2], delta, 1e-6 * delta);
+    assert_close(-f[2], w, 1e-6 * w);
+    OK(sinter_stepper_advance(s.st, 0.3)); /* the spin from t = 0: 1.5 pi rad at 0.3 s */
+    OK(sinter_walls_get_shape(s.walls, 1, NULL, edge, NULL));
+    assert_close(edge[0], 0.0, 1e-12); /* (1, 0, 0) turned by 3/4 of a turn about z */
+    assert_close(edge[1], -1.0, 1e-12);
+    assert_close(edge[2], 0.0, 1e-12);
+    scene_close(&s);
+}
+
+/*
  * Force and moment balance: spheres touching one wall only (no pair contacts), moving and
  * spinning, with rolling resistance: the wall's reaction equals minus the sum of the forces
  * on the particles, and its moment about its point p minus the sum of (x_i - p) x F_i + T_i
@@ -642,6 +681,7 @@ int main(void)
         cmocka_unit_test(test_sphere_rests_in_cylinder_and_on_disc),
         cmocka_unit_test(test_beyond_the_edge),
         cmocka_unit_test(test_spinning_walls_drive_by_friction),
+        cmocka_unit_test(test_kinds_move_and_turn),
         cmocka_unit_test(test_force_and_moment_balance),
         cmocka_unit_test(test_submodels_alike_on_every_kind),
         cmocka_unit_test(test_moments_independent_of_threads),
