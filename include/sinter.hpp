@@ -174,6 +174,13 @@ enum class wall_motion : int {
     sine = SINTER_WALL_SINE,
     callback = SINTER_WALL_CALLBACK,
 };
+/// Mirrors sinter_wall_kind.
+enum class wall_kind : int {
+    plane = SINTER_WALL_PLANE,
+    rectangle = SINTER_WALL_RECTANGLE,
+    disc = SINTER_WALL_DISC,
+    cylinder = SINTER_WALL_CYLINDER,
+};
 /// Mirrors sinter_stepper_kind.
 enum class stepper_kind : int {
     explicit_ = SINTER_STEPPER_EXPLICIT, ///< (trailing _: explicit is a keyword)
@@ -838,6 +845,77 @@ class walls : public detail::handle<sinter_walls, sinter_walls_destroy> {
         check(sinter_walls_set_electric(live("sinter_walls_set_electric"), k,
                                         static_cast<int>(mode), value),
               "sinter_walls_set_electric");
+    }
+    /// A fixed rectangle centred at `c` [m], normal `n` into the particles, first edge along
+    /// `edge` (half length h1), second along n x edge (half length h2) [m].
+    std::size_t add_rectangle(const vec3 &c, const vec3 &n, const vec3 &edge, double h1, double h2,
+                              const material &m)
+    {
+        std::size_t k = 0;
+        check(sinter_walls_add_rectangle(live("sinter_walls_add_rectangle"), c.data(), n.data(),
+                                         edge.data(), h1, h2, m.get(), &k),
+              "sinter_walls_add_rectangle");
+        return k;
+    }
+    /// A fixed disc of radius r [m] centred at `c`, normal `n` into the particles.
+    std::size_t add_disc(const vec3 &c, const vec3 &n, double r, const material &m)
+    {
+        std::size_t k = 0;
+        check(sinter_walls_add_disc(live("sinter_walls_add_disc"), c.data(), n.data(), r, m.get(),
+                                    &k),
+              "sinter_walls_add_disc");
+        return k;
+    }
+    /// A fixed cylinder: axis through `p` along `a`, radius r [m], contacts within half_length
+    /// [m] of p along the axis (HUGE_VAL: infinite), particles inside or outside.
+    std::size_t add_cylinder(const vec3 &p, const vec3 &a, double r, double half_length,
+                             bool inside, const material &m)
+    {
+        std::size_t k = 0;
+        check(sinter_walls_add_cylinder(live("sinter_walls_add_cylinder"), p.data(), a.data(), r,
+                                        half_length, inside ? 1 : 0, m.get(), &k),
+              "sinter_walls_add_cylinder");
+        return k;
+    }
+    /// Kind of wall k.
+    wall_kind kind(std::size_t k) const
+    {
+        int kind = 0;
+        check(sinter_walls_get_kind(live("sinter_walls_get_kind"), k, &kind),
+              "sinter_walls_get_kind");
+        return static_cast<wall_kind>(kind);
+    }
+    /// Spin of wall k about its axis [rad/s].
+    void set_spin(std::size_t k, double omega)
+    {
+        check(sinter_walls_set_spin(live("sinter_walls_set_spin"), k, omega),
+              "sinter_walls_set_spin");
+    }
+    /// Force servo along wall k's normal: targets (times [s], forces [N]), gains kp [m/(s N)],
+    /// ki [m/(s^2 N)], velocity limit vmax [m/s] (sinter_walls_set_servo).
+    void set_servo(std::size_t k, span<const double> times, span<const double> forces, double kp,
+                   double ki, double vmax)
+    {
+        if (times.size() != forces.size())
+            throw error(status::invalid, "as many forces as times expected",
+                        "sinter_walls_set_servo");
+        check(sinter_walls_set_servo(live("sinter_walls_set_servo"), k, times.size(), times.data(),
+                                     forces.data(), kp, ki, vmax),
+              "sinter_walls_set_servo");
+    }
+    /// Whether wall k's reaction moment is summed (sinter_walls_set_moment).
+    void set_moment(std::size_t k, bool on)
+    {
+        check(sinter_walls_set_moment(live("sinter_walls_set_moment"), k, on ? 1 : 0),
+              "sinter_walls_set_moment");
+    }
+    /// Reaction moment on wall k about its point in the last accepted step [N m].
+    vec3 moment(std::size_t k) const
+    {
+        vec3 m{};
+        check(sinter_walls_get_moment(live("sinter_walls_get_moment"), k, m.data()),
+              "sinter_walls_get_moment");
+        return m;
     }
     /// Reaction force on wall k in the last accepted step [N].
     vec3 force(std::size_t k) const

@@ -859,16 +859,17 @@ static inline void put_wall_distances(sinter_contact_list *c, size_t m, double r
     c->branch[m] = s;
 }
 
-/* Wall contact m: pair p of particle i with wall k (w), and its geometry. */
+/* Wall contact m: pair p of particle i with wall k, and its geometry (wn: the wall's normal
+ * at the contact, towards the particle). */
 static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t p, uint32_t i,
-                                     uint32_t k, const sinter_wall *w, double r, double s)
+                                     uint32_t k, const double *wn, double r, double s)
 {
     c->i[m] = i;
     c->j[m] = k;
     c->pair[m] = p;
-    c->n[3 * m] = -w->n[0];
-    c->n[3 * m + 1] = -w->n[1];
-    c->n[3 * m + 2] = -w->n[2];
+    c->n[3 * m] = -wn[0];
+    c->n[3 * m + 1] = -wn[1];
+    c->n[3 * m + 2] = -wn[2];
     put_wall_distances(c, m, r, s);
 }
 
@@ -877,12 +878,22 @@ static inline void put_wall_geometry(sinter_contact_list *c, size_t m, uint32_t 
  * never; the normal when the wall turned). A store to a cache line another core has read
  * costs a round trip to it even when the value is the same (issue 9: 40 % of a 1k bed's wall
  * search on two threads). */
-static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const sinter_wall *w,
-                                       double r, double s)
+static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const double *wn, double r,
+                                       double s)
 {
-    const double n[3] = {-w->n[0], -w->n[1], -w->n[2]};
+    const double n[3] = {-wn[0], -wn[1], -wn[2]};
     sinter_put_changed(c->n + 3 * m, n, sizeof(n));
     put_wall_distances(c, m, r, s);
+}
+
+/* Wall w's normal at the contact with centre x (towards it): a plane's own, else the kind's
+ * (into buf). */
+static inline const double *wall_normal(const sinter_wall *w, const double *x, double *buf)
+{
+    if (w->kind == SINTER_WALL_PLANE)
+        return w->n;
+    sinter_wall_shape_contact(w, x, buf);
+    return buf;
 }
 
 /* The wall search's ranges of pairs (sinter_contacts_find_pw), run by sinter_ranges_run. */
@@ -893,15 +904,16 @@ typedef struct wall_search {
     const sinter_walls *walls;
     const size_t *bound; /* range t: pairs [bound[t], bound[t + 1]) */
     int compare;         /* the list holds these pairs' contacts: compared, geometry renewed */
+    int planes;          /* every wall is a plane */
     int same[SINTER_CHUNKS_MAX], ascending[SINTER_CHUNKS_MAX];
     size_t offset[SINTER_CHUNKS_MAX + 1]; /* range t's contacts at offset[t + 1], then summed */
 } wall_search;
 
 /* Range t's verdicts: which pairs touch, whether they are the contacts the list holds (their
- * geometry renewed in place), whether the particles ascend, how many contacts. */
-static void wall_test_range(void *data, int t)
+ * geometry renewed in place), whether the particles ascend, how many contacts (planes: every
+ * wall is a plane, a constant where called, so that the planes' loop has no kind's test). */
+static inline void wall_test_pairs(wall_search *job, int t, int planes)
 {
-    wall_search *job = data;
     sinter_contact_list *c = job->c;
     const double *x = job->ps->x, *r = job->ps->radius;
     const uint32_t *pi = job->pairs->i, *pk = job->pairs->j;
@@ -914,25 +926,38 @@ static void wall_test_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         ascending &= p == 0 || i >= pi[p - 1];
         const sinter_wall *w = &job->walls->wall[k];
-        const double sd = sinter_wall_distance(w, x + 3 * i);
+        const double sd =
+            planes ? sinter_plane_distance(w, x + 3 * i) : sinter_wall_distance(w, x + 3 * i);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
         const uint32_t was = job->compare ? to_contact[p] : SINTER_NO_PAIR;
-        if (touches != (was != SINTER_NO_PAIR))
+        if (touches != (was != SINTER_NO_PAIR)) {
             same = 0;
-        else if (job->compare && touches)
-            renew_wall_geometry(c, was, w, r[i], sd);
+        } else if (job->compare && touches) {
+            double buf[3];
+            const double *wn = planes ? w->n : wall_normal(w, x + 3 * i, buf);
+            renew_wall_geometry(c, was, wn, r[i], sd);
+        }
     }
     job->same[t] = same;
     job->ascending[t] = ascending;
     job->offset[t + 1] = count;
 }
 
-/* Range t's contacts written from offset[t] on, their pairs pointed at them. */
-static void wall_put_range(void *data, int t)
+static void wall_test_range(void *data, int t)
 {
     wall_search *job = data;
+    if (job->planes)
+        wall_test_pairs(job, t, 1);
+    else
+        wall_test_pairs(job, t, 0);
+}
+
+/* Range t's contacts written from offset[t] on, their pairs pointed at them (planes: as in
+ * wall_test_pairs). */
+static inline void wall_put_pairs(wall_search *job, int t, int planes)
+{
     sinter_contact_list *c = job->c;
     const double *x = job->ps->x, *r = job->ps->radius;
     const uint32_t *pi = job->pairs->i, *pk = job->pairs->j;
@@ -948,9 +973,22 @@ static void wall_put_range(void *data, int t)
         const uint32_t i = pi[p], k = pk[p];
         const sinter_wall *w = &job->walls->wall[k];
         to_contact[p] = (uint32_t)m;
-        put_wall_geometry(c, m, (uint32_t)p, i, k, w, r[i], sinter_wall_distance(w, x + 3 * i));
+        double buf[3];
+        const double *wn = planes ? w->n : wall_normal(w, x + 3 * i, buf);
+        const double sd =
+            planes ? sinter_plane_distance(w, x + 3 * i) : sinter_wall_distance(w, x + 3 * i);
+        put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }
+}
+
+static void wall_put_range(void *data, int t)
+{
+    wall_search *job = data;
+    if (job->planes)
+        wall_put_pairs(job, t, 1);
+    else
+        wall_put_pairs(job, t, 0);
 }
 
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
@@ -996,7 +1034,10 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     bound[ranges] = n;
     const int team = threads < ranges ? threads : ranges;
-    wall_search job = {c, pairs, ps, walls, bound, compare, {0}, {0}, {0}};
+    int planes = 1;
+    for (size_t k = 0; k < walls->count; ++k)
+        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
+    wall_search job = {c, pairs, ps, walls, bound, compare, planes, {0}, {0}, {0}};
     sinter_ranges_run(team, ranges, wall_test_range, &job);
     int ascending = 1;
     for (int t = 0; t < ranges; ++t) {

@@ -125,9 +125,7 @@ int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *p
     const double half = 0.5 * nb->skin;
     double max_wall = 0.0;
     for (size_t k = 0; k < nw; ++k) {
-        const sinter_wall *w = &walls->wall[k];
-        const double s = w->n[0] * w->p[0] + w->n[1] * w->p[1] + w->n[2] * w->p[2];
-        const double moved = fabs(s - nb->wall_ref[k]);
+        const double moved = sinter_wall_moved(&walls->wall[k], nb->wall_ref + 4 * k);
         if (moved > max_wall)
             max_wall = moved;
     }
@@ -519,6 +517,37 @@ static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
     }
 }
 
+/* The particle-wall candidates of particles [a, b): the walls closer than r + skin, counted
+ * (planes: every wall is a plane, whose distance is inline: a constant where called). */
+static inline size_t count_pw(const sinter_walls *walls, const double *x, const double *r,
+                              double skin, size_t a, size_t b, int planes)
+{
+    size_t count = 0;
+    for (size_t i = a; i < b; ++i)
+        for (size_t k = 0; k < walls->count; ++k)
+            count += (planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
+                             : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin;
+    return count;
+}
+
+/* The candidates of particles [a, b) written from m on (planes: as in count_pw). */
+static inline void put_pw(sinter_pair_list *l, const sinter_walls *walls,
+                          const sinter_particles *ps, double skin, size_t a, size_t b, size_t m,
+                          int planes)
+{
+    const double *x = ps->x, *r = ps->radius;
+    for (size_t i = a; i < b; ++i)
+        for (size_t k = 0; k < walls->count; ++k)
+            if ((planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
+                        : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin) {
+                l->i[m] = (uint32_t)i;
+                l->j[m] = (uint32_t)k;
+                l->key_i[m] = ps->id[i];
+                l->key_j[m] = k;
+                ++m;
+            }
+}
+
 /* Particle-wall candidates, by particle and then wall: counted in ranges of particles on the
  * threads, then written from each range's offset (the order of one thread). */
 static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
@@ -530,17 +559,17 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     enum { RANGES_MAX = 64 };
     const size_t n = ps->count, nw = walls->count;
     const double *x = ps->x, *r = ps->radius, skin = nb->skin;
+    int planes = 1; /* only planes: their distance inline, without the kind's test */
+    for (size_t k = 0; k < nw; ++k)
+        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
     const int threads = n * nw < 16384 ? 1 : sinter_threads(nb->ctx);
     const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
     size_t offset[RANGES_MAX + 1] = {0};
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
     for (int t = 0; t < ranges; ++t) {
         const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        size_t count = 0;
-        for (size_t i = a; i < b; ++i)
-            for (size_t k = 0; k < nw; ++k)
-                count += sinter_wall_distance(&walls->wall[k], x + 3 * i) < r[i] + skin;
-        offset[t + 1] = count;
+        offset[t + 1] =
+            planes ? count_pw(walls, x, r, skin, a, b, 1) : count_pw(walls, x, r, skin, a, b, 0);
     }
     for (int t = 0; t < ranges; ++t)
         offset[t + 1] += offset[t];
@@ -551,16 +580,10 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
     for (int t = 0; t < ranges; ++t) {
         const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        size_t m = offset[t];
-        for (size_t i = a; i < b; ++i)
-            for (size_t k = 0; k < nw; ++k)
-                if (sinter_wall_distance(&walls->wall[k], x + 3 * i) < r[i] + skin) {
-                    l->i[m] = (uint32_t)i;
-                    l->j[m] = (uint32_t)k;
-                    l->key_i[m] = ps->id[i];
-                    l->key_j[m] = k;
-                    ++m;
-                }
+        if (planes)
+            put_pw(l, walls, ps, skin, a, b, offset[t], 1);
+        else
+            put_pw(l, walls, ps, skin, a, b, offset[t], 0);
     }
     l->count = offset[ranges];
     return SINTER_OK;
@@ -627,17 +650,15 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = sinter_grow(ctx, (void **)&nb->x_ref, &nb->ref_capacity, 3 * ps->count + 3,
                          sizeof(double));
     if (st == SINTER_OK)
-        st = sinter_grow(ctx, (void **)&nb->wall_ref, &nb->wall_ref_capacity, nw + 1,
+        st = sinter_grow(ctx, (void **)&nb->wall_ref, &nb->wall_ref_capacity, 4 * nw + 4,
                          sizeof(double));
     if (st != SINTER_OK) {
         nb->built = 0;
         return st;
     }
     memcpy(nb->x_ref, ps->x, 3 * ps->count * sizeof(double));
-    for (size_t k = 0; k < nw; ++k) {
-        const sinter_wall *w = &walls->wall[k];
-        nb->wall_ref[k] = w->n[0] * w->p[0] + w->n[1] * w->p[1] + w->n[2] * w->p[2];
-    }
+    for (size_t k = 0; k < nw; ++k)
+        sinter_wall_reference(&walls->wall[k], nb->wall_ref + 4 * k);
     nb->wall_count = nw;
     nb->layout_generation = ps->layout_generation;
     set_bound(nb, ps, 0.0); /* nothing moved since */

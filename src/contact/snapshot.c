@@ -250,7 +250,7 @@ typedef struct force_work {
     sinter_particles *view; /* a shallow copy of the set with the velocities the law saw */
     double *v, *w;          /* those velocities */
     double *force, *torque; /* 3 per particle */
-    double *wall_force;     /* 3 per wall */
+    double *wall_force;     /* 3 per wall, then 3 per wall of moments */
     uint32_t *round;        /* per particle: the last round that took it */
     int32_t *done;          /* per contact: 1 once evaluated */
 } force_work;
@@ -365,7 +365,7 @@ static sinter_status contact_forces(const sinter_stepper *st, sinter_snapshot *s
     w.w = sinter_calloc(ctx, 3 * n + 3, sizeof(double));
     w.force = sinter_calloc(ctx, 3 * n + 3, sizeof(double));
     w.torque = sinter_calloc(ctx, 3 * n + 3, sizeof(double));
-    w.wall_force = sinter_calloc(ctx, 3 * nw + 3, sizeof(double));
+    w.wall_force = sinter_calloc(ctx, 6 * nw + 3, sizeof(double)); /* forces, moments */
     w.round = sinter_calloc(ctx, n + 1, sizeof(uint32_t));
     const size_t most = L->pp.count > L->pw.count ? L->pp.count : L->pw.count;
     w.done = sinter_calloc(ctx, most + 1, sizeof(int32_t));
@@ -399,6 +399,7 @@ static sinter_status contact_forces(const sinter_stepper *st, sinter_snapshot *s
         e.force = w.force;
         e.torque = w.torque;
         e.wall_force = w.wall_force;
+        e.wall_moment = w.wall_force + 3 * nw;
         e.view = &st->view;
         s = sinter_thermal_softening((sinter_stepper *)st, &e.modulus_scale);
         if (s == SINTER_OK)

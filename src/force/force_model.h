@@ -21,6 +21,8 @@ typedef struct sinter_force_eval {
     double *force;                  /* 3 per particle, accumulated */
     double *torque;                 /* 3 per particle, accumulated */
     double *wall_force;             /* 3 per wall, accumulated (force on the wall) */
+    double *wall_moment;            /* 3 per wall, accumulated (moment about its point) for
+                                       the walls that want it (sinter_wall.moment_wanted) */
     const double *modulus_scale;    /* per particle E(theta)/E_0, or NULL for 1 */
     const sinter_state_view *view;  /* for host callbacks */
     /* pp->unconfirmed (sinter_contacts_find_pp_deferred): a model that confirms contacts

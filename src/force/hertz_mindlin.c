@@ -560,10 +560,11 @@ typedef struct wall_job {
     size_t nw;
     int cached;
     pair_consts table[MAX_WALL_TABLE];
+    int plain;   /* no wall spins or wants its moment (pw_range: wall_moment NULL) */
     int runs;    /* 0: one pass over the list, on one thread */
     int aligned; /* the runs are the pair partition's ranges */
     size_t qlo[SINTER_CHUNKS_MAX + 1];
-    double partial[SINTER_CHUNKS_MAX][3 * MAX_THREADED_WALLS];
+    double partial[SINTER_CHUNKS_MAX][6 * MAX_THREADED_WALLS]; /* forces, then moments */
 } wall_job;
 
 static void plan_walls(const sinter_force_eval *e, const constants *k, wall_job *job)
@@ -579,6 +580,10 @@ static void plan_walls(const sinter_force_eval *e, const constants *k, wall_job 
             for (int a = 0; a < k->rows; ++a)
                 mix(&k->sides[a], &sw, &job->table[wall_index * (size_t)k->rows + (size_t)a]);
         }
+    job->plain = 1;
+    for (size_t wall_index = 0; wall_index < nw; ++wall_index)
+        job->plain &=
+            e->walls->wall[wall_index].spin == 0.0 && !e->walls->wall[wall_index].moment_wanted;
     job->runs = sinter_chunks_wall_plan(&e->pp->chunks, c, job->qlo, &job->aligned);
     if (nw > MAX_THREADED_WALLS)
         job->runs = job->aligned = 0;
@@ -772,12 +777,16 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
 }
 
 /* Wall contacts [lo, hi) in list order: forces and moments into the particles, reactions into
- * wall_force (3 per wall). */
+ * wall_force and wall_moment (3 per wall; moments NULL: not wanted). The wall's velocity is
+ * its surface's at the contact point (its spin: sinter_wall_velocity_at). */
 HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pair_consts *table,
                         int cached, int rolling, size_t lo, size_t hi, double *wall_force,
-                        int no_tension)
+                        double *wall_moment, int no_tension)
+/* (wall_moment NULL where called: no wall spins or wants its moment, and the loop tests
+ * neither) */
 {
     const sinter_particles *ps = e->ps;
+    const double *x = ps->x;
     const sinter_contact_list *c = e->pw;
     const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass,
                  *inertia = ps->inertia;
@@ -805,9 +814,16 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
         const double bi[3] = {li * n[0], li * n[1], li * n[2]};
         double wi_b[3];
         v3_cross(w + 3 * i, bi, wi_b);
+        const double *uw = wall->u;
+        double spun[3];
+        if (wall_moment != NULL && wall->spin != 0.0) {
+            const double at[3] = {x[3 * i] + bi[0], x[3 * i + 1] + bi[1], x[3 * i + 2] + bi[2]};
+            sinter_wall_velocity_at(wall, at, spun);
+            uw = spun;
+        }
         double u[3];
         for (int d = 0; d < 3; ++d)
-            u[d] = v[3 * i + d] + wi_b[d] - wall->u[d];
+            u[d] = v[3 * i + d] + wi_b[d] - uw[d];
         double f[3], mr[3], ti[3], sqrt_rd, sm;
         roots(p.rstar, p.mstar, c->delta[q], &sqrt_rd, &sm);
         contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
@@ -823,22 +839,41 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
             e->torque[3 * i + d] += ti[d] + mr[d];
             wall_force[3 * wall_index + d] -= f[d];
         }
+        if (wall_moment != NULL && wall->moment_wanted) {
+            const double at[3] = {x[3 * i] + bi[0], x[3 * i + 1] + bi[1], x[3 * i + 2] + bi[2]};
+            sinter_wall_add_moment(wall, at, f, mr, wall_moment + 3 * wall_index);
+        }
     }
+}
+
+/* pw_range with no moments (NULL, a constant: no wall spins or wants its moment). */
+static void pw_plain(const sinter_force_eval *e, const constants *k, const wall_job *job,
+                     int rolling, size_t lo, size_t hi, double *wall_force)
+{
+    if (k->no_tension)
+        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wall_force, NULL, 1);
+    else if (rolling)
+        pw_range(e, k, job->table, job->cached, 1, lo, hi, wall_force, NULL, 0);
+    else
+        pw_range(e, k, job->table, job->cached, 0, lo, hi, wall_force, NULL, 0);
 }
 
 /* Run s of a wall job, its reactions into the run's partial sums. */
 static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job, int s,
                    int rolling)
 {
-    for (size_t d = 0; d < 3 * job->nw; ++d)
+    for (size_t d = 0; d < 6 * job->nw; ++d)
         job->partial[s][d] = 0.0;
     const size_t lo = job->qlo[s], hi = job->qlo[s + 1];
-    if (k->no_tension)
-        pw_range(e, k, job->table, job->cached, rolling, lo, hi, job->partial[s], 1);
+    double *wf = job->partial[s], *wm = e->wall_moment ? wf + 3 * job->nw : NULL;
+    if (job->plain) /* the planes' loop without a spin's or a moment's test */
+        pw_plain(e, k, job, rolling, lo, hi, wf);
+    else if (k->no_tension)
+        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wf, wm, 1);
     else if (rolling)
-        pw_range(e, k, job->table, job->cached, 1, lo, hi, job->partial[s], 0);
+        pw_range(e, k, job->table, job->cached, 1, lo, hi, wf, wm, 0);
     else
-        pw_range(e, k, job->table, job->cached, 0, lo, hi, job->partial[s], 0);
+        pw_range(e, k, job->table, job->cached, 0, lo, hi, wf, wm, 0);
 }
 
 /* The wall contacts by the job's plan (plan_walls); `done`: its runs were evaluated already
@@ -849,12 +884,15 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
     const sinter_contact_list *c = e->pw;
     const int runs = job->runs;
     if (runs == 0) {
-        if (k->no_tension)
-            pw_range(e, k, job->table, job->cached, rolling, 0, c->count, e->wall_force, 1);
+        double *wf = e->wall_force, *wm = e->wall_moment;
+        if (job->plain)
+            pw_plain(e, k, job, rolling, 0, c->count, wf);
+        else if (k->no_tension)
+            pw_range(e, k, job->table, job->cached, rolling, 0, c->count, wf, wm, 1);
         else if (rolling)
-            pw_range(e, k, job->table, job->cached, 1, 0, c->count, e->wall_force, 0);
+            pw_range(e, k, job->table, job->cached, 1, 0, c->count, wf, wm, 0);
         else
-            pw_range(e, k, job->table, job->cached, 0, 0, c->count, e->wall_force, 0);
+            pw_range(e, k, job->table, job->cached, 0, 0, c->count, wf, wm, 0);
         return;
     }
     if (!done) {
@@ -863,9 +901,12 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
         for (int s = 0; s < runs; ++s)
             pw_run(e, k, job, s, rolling);
     }
-    for (int s = 0; s < runs; ++s)
+    for (int s = 0; s < runs; ++s) {
         for (size_t d = 0; d < 3 * job->nw; ++d)
             e->wall_force[d] += job->partial[s][d];
+        for (size_t d = 0; e->wall_moment != NULL && d < 3 * job->nw; ++d)
+            e->wall_moment[d] += job->partial[s][3 * job->nw + d];
+    }
 }
 
 static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_force_eval *e)

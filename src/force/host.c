@@ -47,6 +47,20 @@ static sinter_status run_batch(const sinter_force_model *fm, sinter_force_eval *
                     e->wall_force[3 * j + d] -= out[3 * k + d];
                 }
             }
+            if (kind == SINTER_CONTACT_WALL && e->wall_moment != NULL &&
+                e->walls->wall[j].moment_wanted) {
+                /* the torque the host gave the particle about its centre, less the force's
+                 * moment, is its contact moment (its rolling moment) */
+                const double *nrm = c->n + 3 * k, li = c->branch[k], *f = out + 3 * k;
+                const double *x = e->ps->x + 3 * i;
+                const double arm[3] = {li * nrm[0], li * nrm[1], li * nrm[2]};
+                const double at[3] = {x[0] + arm[0], x[1] + arm[1], x[2] + arm[2]};
+                double mr[3];
+                mr[0] = out[3 * n + 3 * k] - (arm[1] * f[2] - arm[2] * f[1]);
+                mr[1] = out[3 * n + 3 * k + 1] - (arm[2] * f[0] - arm[0] * f[2]);
+                mr[2] = out[3 * n + 3 * k + 2] - (arm[0] * f[1] - arm[1] * f[0]);
+                sinter_wall_add_moment(&e->walls->wall[j], at, f, mr, e->wall_moment + 3 * j);
+            }
         }
     }
     sinter_free(ctx, out);

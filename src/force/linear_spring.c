@@ -35,14 +35,21 @@ static sinter_status linear_spring_eval(const sinter_force_model *fm, sinter_for
     c = e->pw;
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], wk = c->j[k];
-        const double *uw = e->walls->wall[wk].u;
+        const sinter_wall *wall = &e->walls->wall[wk];
+        const double *n = c->n + 3 * k, li = c->branch[k];
+        const double at[3] = {e->ps->x[3 * i] + li * n[0], e->ps->x[3 * i + 1] + li * n[1],
+                              e->ps->x[3 * i + 2] + li * n[2]};
+        double uw[3];
+        sinter_wall_velocity_at(wall, at, uw); /* the surface's velocity at the contact */
         const double u[3] = {v[3 * i] - uw[0], v[3 * i + 1] - uw[1], v[3 * i + 2] - uw[2]};
         double f[3];
-        spring(fm, c->n + 3 * k, c->delta[k], u, f);
+        spring(fm, n, c->delta[k], u, f);
         for (int d = 0; d < 3; ++d) {
             e->force[3 * i + d] += f[d];
             e->wall_force[3 * wk + d] -= f[d];
         }
+        if (e->wall_moment != NULL && wall->moment_wanted)
+            sinter_wall_add_moment(wall, at, f, NULL, e->wall_moment + 3 * wk);
     }
     return SINTER_OK;
 }

@@ -182,7 +182,7 @@ static void eval_pw(const sinter_force_eval *e)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pw;
-    const double *v = ps->v, *w = ps->w, *r = ps->radius;
+    const double *v = ps->v, *w = ps->w, *r = ps->radius, *x = ps->x;
     pair_params q = {NULL, NULL, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], wall_index = c->j[k];
@@ -199,13 +199,20 @@ static void eval_pw(const sinter_force_eval *e)
         /* Continuous sliding friction against the wall's velocity, eq. 16-17. */
         const double li = c->branch[k];
         const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+        const double at[3] = {x[3 * i] + bi[0], x[3 * i + 1] + bi[1], x[3 * i + 2] + bi[2]};
+        const double *uw = wall->u;
+        double spun[3];
+        if (wall->spin != 0.0) { /* the surface's velocity at the contact point */
+            sinter_wall_velocity_at(wall, at, spun);
+            uw = spun;
+        }
         double ui[3], u[3];
         v3_cross(w + 3 * i, bi, ui);
         for (int d = 0; d < 3; ++d) {
             ui[d] += v[3 * i + d];
-            u[d] = ui[d] - wall->u[d];
+            u[d] = ui[d] - uw[d];
         }
-        add_friction(n, u, v3_dot(ui, ui), v3_dot(wall->u, wall->u), q.friction, f_con, f);
+        add_friction(n, u, v3_dot(ui, ui), v3_dot(uw, uw), q.friction, f_con, f);
         double ti[3];
         v3_cross(bi, f, ti);
         for (int d = 0; d < 3; ++d) {
@@ -213,6 +220,8 @@ static void eval_pw(const sinter_force_eval *e)
             e->torque[3 * i + d] += ti[d];
             e->wall_force[3 * wall_index + d] -= f[d]; /* reaction on the wall */
         }
+        if (e->wall_moment != NULL && wall->moment_wanted)
+            sinter_wall_add_moment(wall, at, f, NULL, e->wall_moment + 3 * wall_index);
     }
 }
 

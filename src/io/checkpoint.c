@@ -38,8 +38,16 @@
  *    evaluates them at its start: a restored run must do the same), and a host section
  *    (u64 bytes, then the bytes: a scene's program, io/scene_program.c; 0 bytes from
  *    sinter_checkpoint_write); earlier versions are still read (no host section, the sort
- *    counter as it was) */
-#define CHECKPOINT_VERSION 7u
+ *    counter as it was)
+ * 7: then the iteration counts, and the staggered stepper's step controller and predictor
+ *    history (scheme 1; staggered.c)
+ * 8: then the walls' kinds' state (walls/wall_shapes.c, walls/servo.c): per wall its reaction
+ *    moment (3), its servo's committed time, displacement, velocity and error integral (4),
+ *    and the rest of its neighbour-list reference (3: a non-planar kind's point and angle);
+ *    earlier versions are still read (they hold planes only: no moment, no servo) */
+#define CHECKPOINT_VERSION 8u
+/* doubles per wall in the version 8 section */
+#define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -167,7 +175,8 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     put_pairs(&w, &st->nb.pp);
     put_pairs(&w, &st->nb.pw);
     put(&w, st->nb.x_ref, 3 * n * sizeof(double));
-    put(&w, st->nb.wall_ref, nw * sizeof(double));
+    for (size_t k = 0; k < nw; ++k) /* the first of each wall's 4 (version 8: the rest) */
+        put_f64(&w, st->nb.wall_ref[4 * k]);
     for (size_t k = 0; k < st->force_count; ++k) {
         put_history(&w, &st->forces[k].pp, st->nb.pp.count);
         put_history(&w, &st->forces[k].pw, st->nb.pw.count);
@@ -217,6 +226,21 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     put_u64(&w, (uint64_t)history);
     if (history)
         put(&w, sg->hist, 7 * n * sizeof(double));
+    /* the walls' kinds' state (version 8) */
+    for (size_t k = 0; k < nw; ++k) {
+        const sinter_wall *wall = &st->walls->wall[k];
+        const double v[WALL_STATE_DOUBLES] = {wall->moment[0],
+                                              wall->moment[1],
+                                              wall->moment[2],
+                                              wall->servo_time,
+                                              wall->servo_disp,
+                                              wall->servo_v,
+                                              wall->servo_int,
+                                              st->nb.wall_ref[4 * k + 1],
+                                              st->nb.wall_ref[4 * k + 2],
+                                              st->nb.wall_ref[4 * k + 3]};
+        put(&w, v, sizeof(v));
+    }
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -615,6 +639,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         history && n <= size / 56 ? take(&r, 7 * (size_t)n * sizeof(double)) : NULL;
     if (history && hist_data == NULL)
         r.bad = 1;
+    const void *wall_state =
+        version >= 8u ? take(&r, nw * WALL_STATE_DOUBLES * sizeof(double)) : NULL;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -688,12 +714,12 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         else
             nb->x_ref = q, nb->ref_capacity = 3 * n + 3;
     }
-    if (s == SINTER_OK && nw + 1 > nb->wall_ref_capacity) {
-        void *q = sinter_realloc_array(ctx, nb->wall_ref, nw + 1, sizeof(double));
+    if (s == SINTER_OK && 4 * nw + 4 > nb->wall_ref_capacity) {
+        void *q = sinter_realloc_array(ctx, nb->wall_ref, 4 * nw + 4, sizeof(double));
         if (q == NULL)
             s = sinter_last_status(ctx);
         else
-            nb->wall_ref = q, nb->wall_ref_capacity = nw + 1;
+            nb->wall_ref = q, nb->wall_ref_capacity = 4 * nw + 4;
     }
     (void)wref_cap;
     for (size_t k = 0; k < nforces && s == SINTER_OK; ++k) {
@@ -762,6 +788,17 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         wall->motion_start = v[0];
         wall->temperature = v[1];
         memcpy(wall->force, v + 2, 3 * sizeof(double));
+        double u[WALL_STATE_DOUBLES] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+        if (wall_state != NULL)
+            memcpy(u, (const char *)wall_state + sizeof(u) * k, sizeof(u));
+        memcpy(wall->moment, u, 3 * sizeof(double));
+        if (wall_state != NULL) {
+            wall->servo_time = u[3];
+            wall->servo_disp = u[4];
+            wall->servo_v = u[5];
+            wall->servo_int = u[6];
+        }
+        memcpy(nb->wall_ref + 4 * k + 1, u + 7, 3 * sizeof(double));
     }
     if (st->walls)
         sinter_walls_move(st->walls, time); /* motions come from the set-up: no callback error here
@@ -782,7 +819,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     for (uint64_t k = 0; k <= ranges && ranges > 0; ++k)
         st->pp.chunks.plo[k] = plo[k];
     memcpy(nb->x_ref, x_ref, 3 * n * sizeof(double));
-    memcpy(nb->wall_ref, wall_ref, nw * sizeof(double));
+    for (size_t k = 0; k < nw; ++k)
+        memcpy(nb->wall_ref + 4 * k, (const char *)wall_ref + sizeof(double) * k, sizeof(double));
     nb->skin = skin;
     nb->built = 1;
     nb->wall_count = nw;

@@ -11,6 +11,7 @@
 #include "io/scene.h"
 #include "io/scene_scan.h"
 #include "io/scene_text.h"
+#include "io/scene_walls.h"
 #include "io/text_file.h"
 #include "particles/compact.h"
 
@@ -575,13 +576,9 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
         return section_error(t, s, "too many walls");
     if (strlen(s->name) >= SCENE_NAME)
         return section_error(t, s, "the name is longer than " SCENE_NAME_TEXT " bytes");
-    double point[3], normal[3];
     int mat = 0;
-    TRY(required(t, s, scene_get_vec3(t, s, "point", point), "point"));
-    TRY(required(t, s, scene_get_vec3(t, s, "normal", normal), "normal"));
     TRY(material_ref(t, sc, s, &mat));
-    TRY(at_line(t, s->line,
-                sinter_walls_add_plane(sc->walls, point, normal, sc->materials[mat], &index)));
+    TRY(scene_wall_add(t, sc, s, sc->materials[mat], &index)); /* its kind (scene_walls.c) */
     snprintf(sc->wall_names[index], SCENE_NAME, "%s", *s->name ? s->name : "wall");
     double temperature;
     sinter_status st = scene_get_double(t, s, "temperature", &temperature);
@@ -640,10 +637,13 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
         TRY(at_line(t, scene_find(s, "thermal")->line,
                     sinter_walls_set_thermal(sc->walls, index, mode, value)));
     }
+    TRY(scene_wall_spin(t, sc, s, index));
     const char *motion = "fixed";
     OPTIONAL(scene_get_word(t, s, "motion", &motion));
     if (strcmp(motion, "fixed") == 0)
         return SINTER_OK;
+    if (strcmp(motion, "servo") == 0)
+        return scene_wall_servo(t, sc, s, index);
     if (strcmp(motion, "velocity") == 0) {
         double u[3];
         TRY(required(t, s, scene_get_vec3(t, s, "velocity", u), "velocity"));
@@ -685,7 +685,8 @@ static sinter_status build_wall(scene_text *t, sinter_scene *sc, scene_section *
         return st2;
     }
     return sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                       "%s:%d: motion: expected fixed, velocity, schedule or sine, got '%s'",
+                       "%s:%d: motion: expected fixed, velocity, schedule, sine or servo, got "
+                       "'%s'",
                        t->path, scene_find(s, "motion")->line, motion);
 }
 

@@ -92,6 +92,17 @@ static double fraction_box(const sinter_scene *sc, double bed_top, double lo[3],
     hi[2] = bed_top;
     for (size_t k = 0; k < sc->walls->count; ++k) {
         const sinter_wall *w = &sc->walls->wall[k];
+        if (w->kind == SINTER_WALL_CYLINDER) { /* a die along an axis bounds the other two */
+            for (int d = 0; d < 3 && w->inside; ++d)
+                if (fabs(w->axis[d]) >= 1.0 - 1e-12)
+                    for (int e = 1; e < 3; ++e) {
+                        const int o = (d + e) % 3;
+                        lo[o] = fmax(lo[o] == INFINITY ? w->p[o] - w->radius : lo[o],
+                                     w->p[o] - w->radius);
+                        hi[o] = fmin(hi[o], w->p[o] + w->radius);
+                    }
+            continue;
+        }
         for (int d = 0; d < 3; ++d) {
             if (fabs(w->n[d]) < 1.0 - 1e-12)
                 continue;

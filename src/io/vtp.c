@@ -260,18 +260,37 @@ sinter_status sinter_vtp_write_walls(sinter_ctx *ctx, const char *path, const si
 {
     static const char *const fn = "sinter_vtp_write_walls";
     const size_t nw = walls != NULL ? walls->count : 0;
-    double *points = sinter_calloc(ctx, 36 * nw + 3, sizeof(double));
-    size_t *offsets = sinter_calloc(ctx, nw + 1, sizeof(size_t));
-    int32_t *index = sinter_calloc(ctx, nw + 1, sizeof(int32_t));
-    double *normal = sinter_calloc(ctx, 3 * nw + 3, sizeof(double));
-    double *force = sinter_calloc(ctx, 3 * nw + 3, sizeof(double));
-    double *temperature = sinter_calloc(ctx, nw + 1, sizeof(double));
+    /* a plane: one polygon of at most 12 points; the other kinds (sinter_wall_outline) up to
+     * SEGMENTS polygons of 4 points */
+    enum { SEGMENTS = SINTER_WALL_OUTLINE_SEGMENTS, POINTS = 4 * SEGMENTS };
+    double *points = sinter_calloc(ctx, 3 * POINTS * nw + 3, sizeof(double));
+    size_t *offsets = sinter_calloc(ctx, SEGMENTS * nw + 1, sizeof(size_t));
+    int32_t *index = sinter_calloc(ctx, SEGMENTS * nw + 1, sizeof(int32_t));
+    double *normal = sinter_calloc(ctx, 3 * SEGMENTS * nw + 3, sizeof(double));
+    double *force = sinter_calloc(ctx, 3 * SEGMENTS * nw + 3, sizeof(double));
+    double *temperature = sinter_calloc(ctx, SEGMENTS * nw + 1, sizeof(double));
     sinter_status st = SINTER_OK;
     if (!points || !offsets || !index || !normal || !force || !temperature)
         st = sinter_fail(ctx, SINTER_ERR_NOMEM, "%s: out of memory", fn);
     size_t npoints = 0, polys = 0;
     for (size_t k = 0; k < nw && st == SINTER_OK; ++k) {
         const sinter_wall *w = &walls->wall[k];
+        if (w->kind != SINTER_WALL_PLANE) { /* its own outline, unclipped */
+            double corner[POINTS][3], normals[SEGMENTS][3];
+            int sizes[SEGMENTS];
+            const int count = sinter_wall_outline(w, lo, hi, corner, sizes, normals);
+            for (int c = 0, at = 0; c < count; at += sizes[c], ++c) {
+                memcpy(points + 3 * npoints, corner[at], 3 * (size_t)sizes[c] * sizeof(double));
+                npoints += (size_t)sizes[c];
+                offsets[polys] = npoints;
+                index[polys] = (int32_t)k;
+                memcpy(normal + 3 * polys, normals[c], 3 * sizeof(double));
+                memcpy(force + 3 * polys, w->force, 3 * sizeof(double));
+                temperature[polys] = w->temperature;
+                ++polys;
+            }
+            continue;
+        }
         double corner[12][3];
         const int m = clip_plane(w->p, w->n, lo, hi, corner);
         if (m == 0)

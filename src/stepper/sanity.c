@@ -173,8 +173,14 @@ static sinter_status check_approach(struct sinter_stepper *st, const double *x_o
         /* the wall at t, from its velocity (exact for a constant velocity) */
         const sinter_wall *w = &st->walls->wall[pw->j[k]];
         double s_old = 0.0;
-        for (int d = 0; d < 3; ++d)
-            s_old += (x_old[3 * i + d] - (w->p[d] - h * w->u[d])) * w->n[d];
+        if (w->kind == SINTER_WALL_PLANE) {
+            for (int d = 0; d < 3; ++d)
+                s_old += (x_old[3 * i + d] - (w->p[d] - h * w->u[d])) * w->n[d];
+        } else { /* the old centre against the wall moved back, as the new against it */
+            const double xs[3] = {x_old[3 * i] + h * w->u[0], x_old[3 * i + 1] + h * w->u[1],
+                                  x_old[3 * i + 2] + h * w->u[2]};
+            s_old = sinter_wall_distance(w, xs);
+        }
         const double before = fmax(r[i] - s_old, 0.0);
         const double ratio = (pw->delta[k] - before) / r[i];
         if (ratio > worst) {
@@ -250,8 +256,12 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
     const double moved2 = m.moved2, rmin = m.rmin;
     double wall_moved = 0.0;
     for (size_t k = 0; st->walls != NULL && k < st->walls->count; ++k) {
-        const double *u = st->walls->wall[k].u;
-        wall_moved = fmax(wall_moved, h * sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+        const sinter_wall *w = &st->walls->wall[k];
+        const double *u = w->u;
+        double turn = 0.0; /* a turning rectangle's corners move too */
+        if (w->kind == SINTER_WALL_RECTANGLE)
+            turn = fabs(w->spin) * sqrt(w->half[0] * w->half[0] + w->half[1] * w->half[1]);
+        wall_moved = fmax(wall_moved, h * (sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) + turn));
     }
     const double moved = sqrt(moved2), gap = SINTER_SANITY_APPROACH_LIMIT * rmin;
     if (n > 0 && (2.0 * moved > gap || moved + wall_moved > gap)) {
@@ -672,7 +682,7 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
         const double d1 = r[i] - sinter_wall_distance(w, x + 3 * i);
         if (!(d0 > 0.0 || d1 > 0.0))
             continue;
-        if (w->u[0] != 0.0 || w->u[1] != 0.0 || w->u[2] != 0.0) {
+        if (w->u[0] != 0.0 || w->u[1] != 0.0 || w->u[2] != 0.0 || w->spin != 0.0) {
             flag[i] |= E_MOVING; /* the wall's work is not known here */
             continue;
         }

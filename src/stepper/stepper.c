@@ -576,13 +576,13 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     }
     const size_t nw = st->walls ? st->walls->count : 0;
     if (nw + 1 > st->wall_force_capacity) {
-        double *grown = sinter_realloc_array(ctx, st->wall_force, 3 * (nw + 1), sizeof(double));
+        double *grown = sinter_realloc_array(ctx, st->wall_force, 6 * (nw + 1), sizeof(double));
         if (grown == NULL)
             return stop_before_law(st, deferred, sinter_last_status(ctx));
         st->wall_force = grown;
         st->wall_force_capacity = nw + 1;
     }
-    memset(st->wall_force, 0, 3 * nw * sizeof(double));
+    memset(st->wall_force, 0, 6 * nw * sizeof(double)); /* forces, then moments */
     /* the integrator zeroed force and torque after their last read, and may have written m g
      * (gravity as the first model: 0 + m g, the same bits as its evaluation) into the force */
     const size_t first_model = st->forces_zeroed && st->gravity_seeded ? 1 : 0;
@@ -607,6 +607,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.force = ps->force;
     e.torque = ps->torque;
     e.wall_force = st->wall_force;
+    e.wall_moment = st->wall_force + 3 * nw;
     e.view = &st->view;
     e.stream = st->stores.stream_now;
     s = sinter_thermal_softening(st, &e.modulus_scale);
@@ -764,6 +765,16 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
     return s;
 }
 
+/* The last evaluation's wall forces and moments into the walls. */
+static void copy_wall_reactions(sinter_stepper *st)
+{
+    const size_t nw = st->walls->count;
+    for (size_t k = 0; k < nw; ++k) {
+        memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+        memcpy(st->walls->wall[k].moment, st->wall_force + 3 * (nw + k), 3 * sizeof(double));
+    }
+}
+
 sinter_status sinter_stepper_commit(sinter_stepper *st)
 {
     sinter_status s = SINTER_OK;
@@ -772,9 +783,10 @@ sinter_status sinter_stepper_commit(sinter_stepper *st)
         if (s == SINTER_OK)
             s = sinter_history_commit(st->ctx, &st->forces[k].pw, &st->pw);
     }
-    if (st->walls != NULL)
-        for (size_t k = 0; k < st->walls->count; ++k)
-            memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+    if (st->walls != NULL) {
+        copy_wall_reactions(st);
+        sinter_walls_servo_commit(st->walls, st->time); /* servos act on the accepted step */
+    }
     return s;
 }
 
@@ -830,8 +842,7 @@ sinter_status sinter_stepper_evaluate(sinter_stepper *st)
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
     if (s == SINTER_OK && st->walls != NULL)
-        for (size_t k = 0; k < st->walls->count; ++k)
-            memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+        copy_wall_reactions(st);
     return s;
 }
 

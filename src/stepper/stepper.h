@@ -113,7 +113,8 @@ struct sinter_stepper {
     int rotation;                   /* option "rotation": integrate the total rotation vector */
     uint64_t write_generation;      /* particle write_generation when forces were evaluated */
     uint64_t population_generation; /* particle population_generation then */
-    double *wall_force;             /* 3 per wall, from the last evaluation */
+    double *wall_force;             /* 3 per wall, then 3 per wall of moments [N m], from the
+                                       last evaluation (capacity: walls) */
     size_t wall_force_capacity;
     /* The other copy of x, v, w and rot (3 doubles per particle each, for ps->capacity
      * particles): the explicit step writes the new state into it and swaps it with the set's

@@ -42,6 +42,7 @@ void sinter_walls_destroy(sinter_walls *walls)
         clear_schedule(walls, &walls->wall[k]);
         clear_temperature_schedule(walls, &walls->wall[k]);
         sinter_wall_drive_free(walls, &walls->wall[k]);
+        sinter_wall_servo_free(walls, &walls->wall[k]);
     }
     sinter_free(walls->ctx, walls->wall);
     sinter_free(walls->ctx, walls);
@@ -108,6 +109,7 @@ sinter_status sinter_walls_add_plane(sinter_walls *walls, const double point[3],
         w->p0[d] = w->p[d] = point[d];
         w->n[d] = unit[d];
     }
+    sinter_wall_frame(w); /* axis and edges: a spin's axis, a drawing's frame */
     w->temperature = 293.15;
     w->motion = SINTER_WALL_FIXED;
     w->material = *material;
@@ -150,6 +152,7 @@ sinter_status sinter_walls_set_velocity(sinter_walls *walls, size_t k, const dou
     clear_schedule(walls, w);
     memcpy(w->velocity, velocity, sizeof(w->velocity));
     w->motion = SINTER_WALL_VELOCITY;
+    w->servo = 0;
     return sinter_walls_move(walls, walls->time);
 }
 
@@ -188,6 +191,7 @@ sinter_status sinter_walls_set_schedule(sinter_walls *walls, size_t k, size_t n,
     w->schedule_d = d;
     w->schedule_count = n;
     w->motion = SINTER_WALL_SCHEDULE;
+    w->servo = 0;
     return sinter_walls_move(walls, walls->time);
 }
 
@@ -206,6 +210,7 @@ sinter_status sinter_walls_set_sine(sinter_walls *walls, size_t k, const double 
     memcpy(w->amplitude, amplitude, sizeof(w->amplitude));
     w->omega = omega;
     w->motion = SINTER_WALL_SINE;
+    w->servo = 0;
     return sinter_walls_move(walls, walls->time);
 }
 
@@ -219,6 +224,7 @@ sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k, sinter_wa
     w->callback = fn;
     w->callback_user = user;
     w->motion = SINTER_WALL_CALLBACK;
+    w->servo = 0;
     return sinter_walls_move(walls, walls->time);
 }
 
@@ -423,8 +429,33 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
         double p[3];
         for (int d = 0; d < 3; ++d)
             p[d] = w->p0[d] + disp[d];
+        if (w->servo) { /* along the axis, by the controller's committed state (servo.c) */
+            double sd = 0.0, sv = 0.0;
+            sinter_wall_servo_at(w, t, &sd, &sv);
+            for (int d = 0; d < 3; ++d) {
+                p[d] += sd * w->axis[d];
+                vel[d] += sv * w->axis[d];
+            }
+        }
         sinter_put_changed(w->p, p, sizeof(p));
         sinter_put_changed(w->u, vel, sizeof(vel));
+        if (w->spin != 0.0) { /* the spin's angle since the motion's start; a rectangle turns */
+            const double angle = t_wall > 0.0 ? w->spin * t_wall : 0.0;
+            sinter_put_changed(&w->angle, &angle, sizeof(angle));
+            if (w->kind == SINTER_WALL_RECTANGLE) {
+                const double c = cos(angle), s = sin(angle), *a = w->axis, *e = w->e1_0;
+                const double ax_e[3] = {a[1] * e[2] - a[2] * e[1], a[2] * e[0] - a[0] * e[2],
+                                        a[0] * e[1] - a[1] * e[0]};
+                double e1[3], e2[3];
+                for (int d = 0; d < 3; ++d)
+                    e1[d] = c * e[d] + s * ax_e[d];
+                e2[0] = a[1] * e1[2] - a[2] * e1[1];
+                e2[1] = a[2] * e1[0] - a[0] * e1[2];
+                e2[2] = a[0] * e1[1] - a[1] * e1[0];
+                sinter_put_changed(w->e1, e1, sizeof(e1));
+                sinter_put_changed(w->e2, e2, sizeof(e2));
+            }
+        }
         if (w->temperature_count > 0) {
             const double temperature =
                 sinter_interpolate(w->temperature_count, w->temperature_t, w->temperature_v, t);

@@ -4,7 +4,7 @@
 The keys the parser accepts are read from the sources, so that the reference cannot drift:
   - src/io/scene.c: the section types (BUILDERS) and, per section, every literal key its builder
     reads (scene_get_*(t, s, "key"), the option and number tables), following the calls between
-    the file's static functions;
+    the file's static functions and those of src/io/scene_walls.c;
   - [material]: the parameter table of src/particles/material.c (the keys of
     sinter_material_param_info; with the library at hand, sinter.Material.keys() too);
   - [force NAME] / [heat NAME]: the built-in models' key tables (src/force, src/heat);
@@ -65,7 +65,8 @@ def direct_keys(body):
 
 def parser_keys():
     src = strip_comments(read("src/io/scene.c"))
-    funcs = functions(src)
+    # the [wall] section's kinds, spin and servo are read in their own file
+    funcs = functions(src + "\n" + strip_comments(read("src/io/scene_walls.c")))
     builders = re.search(r"BUILDERS\[\]\s*=\s*\{(.*?)\};", src, re.S)
     if not builders:
         sys.exit("check_scene_reference: no BUILDERS table in src/io/scene.c")

@@ -157,6 +157,7 @@ class CoverageTest(unittest.TestCase):
             "sinter_dtype": (sinter.DType, "SINTER_DTYPE_"),
             "sinter_particle_flag": (sinter.ParticleFlag, "SINTER_PARTICLE_"),
             "sinter_wall_motion": (sinter.WallMotion, "SINTER_WALL_"),
+            "sinter_wall_kind": (sinter.WallKind, "SINTER_WALL_"),
             "sinter_stepper_kind": (sinter.StepperKind, "SINTER_STEPPER_"),
             "sinter_thermal_scheme": (sinter.ThermalScheme, "SINTER_THERMAL_"),
             "sinter_wall_electric_mode": (sinter.WallElectric, "SINTER_WALL_"),

@@ -1,6 +1,7 @@
 """Snapshots of contacts and links from Python: NumPy arrays or memoryviews, copied."""
 
 import base64
+import math
 import os
 import struct
 import tempfile
@@ -158,6 +159,39 @@ class FrameFilesTest(unittest.TestCase):
         assert len(data) == size, (len(data), size)
         code = {"Float64": "d", "Int64": "q", "UInt64": "Q", "Int32": "i"}[array.get("type")]
         return list(struct.unpack("<%d%s" % (size // struct.calcsize(code), code), data))
+
+    def test_wall_kinds_drawn(self):
+        """A disc floor, a rectangle and a finite cylinder around the drop: the walls' .vtp has
+        one polygon for the disc (32 points on its rim), one for the rectangle (its 4 corners)
+        and 32 quads for the cylinder, each cell naming its wall."""
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        text = DROP_SCENE.replace("vtu = no", "vtu = yes\nwalls = yes\nvtu_format = ascii").replace(
+            "[wall floor]\npoint = 0 0 0\nnormal = 0 0 1\n",
+            "[wall floor]\nkind = disc\npoint = 0.00175 0.00175 0\nnormal = 0 0 1\n"
+            "radius = 0.004\nmaterial = glass\n"
+            "[wall shelf]\nkind = rectangle\npoint = 0.00175 0.00175 -0.001\nnormal = 0 0 1\n"
+            "edge = 1 0 0\nhalf_lengths = 0.003 0.002\nmaterial = glass\n"
+            "[wall die]\nkind = cylinder\npoint = 0.00175 0.00175 0\naxis = 0 0 1\n"
+            "radius = 0.004\nhalf_length = 0.004\n")
+        path = write_scene(tmp.name, text)
+        out = os.path.join(tmp.name, "out")
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        with sinter.Scene.load(ctx, path) as scene:
+            scene.run(out)
+        walls = sorted(f for f in os.listdir(os.path.join(out, "frames")) if f.startswith("walls_"))
+        piece = ET.parse(os.path.join(out, "frames", walls[-1])).find("PolyData/Piece")
+        self.assertEqual(int(piece.get("NumberOfPolys")), 1 + 1 + 32)
+        self.assertEqual(int(piece.get("NumberOfPoints")), 32 + 4 + 4 * 32)
+        index = self.values(piece.find("CellData/DataArray[@Name='wall']"))
+        self.assertEqual(index, [0, 1] + [2] * 32)
+        offsets = self.values(piece.find("Polys/DataArray[@Name='offsets']"))
+        self.assertEqual(offsets[:3], [32, 36, 40])
+        points = self.values(piece.find("Points/DataArray"))
+        rim = [math.hypot(points[3 * k] - 0.00175, points[3 * k + 1] - 0.00175) for k in range(32)]
+        self.assertAlmostEqual(min(rim), 0.004, delta=1e-15)
+        self.assertAlmostEqual(max(rim), 0.004, delta=1e-15)
 
     def check_files(self, vtu_format):
         tmp = tempfile.TemporaryDirectory()

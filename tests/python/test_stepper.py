@@ -379,6 +379,47 @@ class SofteningTest(unittest.TestCase):
             self.settle(lambda ps: ps.set_softening_callback(0, law))
 
 
+class WallKindsTest(unittest.TestCase):
+    """Rectangles, discs and cylinders, spin and the force servo through the bindings."""
+
+    def test_sphere_in_a_cylinder_and_a_punch_servo(self):
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        material = sinter.Material(ctx, youngs_modulus=1e6, damping_ratio=1.0, density=3000.0)
+        rigid = sinter.Material(ctx, youngs_modulus=1e13)
+        ps = sinter.Particles(ctx)
+        ps.set_material(0, material)
+        r, rc = 1e-3, 5e-3
+        ps.add([(0.0, 0.0, -(rc - r))], r)
+        walls = sinter.Walls(ctx)
+        die = walls.add_cylinder((0, 0, 0), (1, 0, 0), rc, rigid)
+        self.assertEqual(walls.kind(die), sinter.WallKind.CYLINDER)
+        self.assertEqual(walls.shape(die)[2], (rc, float("inf"), 1.0))
+        walls.set_spin(die, 0.0)
+        walls.set_moment(die, True)
+        st = sinter.Stepper(ctx, ps, walls, dt=2e-5, forces=[
+            sinter.ForceModel(ctx, "hertz_mindlin"), sinter.ForceModel(ctx, "gravity")])
+        st.advance(0.05)
+        weight = 4.0 / 3.0 * math.pi * r ** 3 * 3000.0 * 9.81
+        self.assertAlmostEqual(-walls.force(die)[2], weight, delta=1e-6 * weight)
+        # the moment about the axis point: the weight's line passes through it
+        self.assertLess(max(abs(m) for m in walls.moment(die)), 1e-9 * weight * rc)
+        # a punch above the sphere pressing it with 10 weights
+        punch = walls.add_disc((0, 0, -(rc - 2 * r) + 1e-5), (0, 0, -1), 2 * r, rigid)
+        walls.set_servo(punch, [0.0], [10 * weight], kp=2 * 0.01 / (10 * weight), ki=0.0,
+                        vmax=0.01)
+        st.advance(0.3)
+        target, pushed, velocity = walls.servo(punch)
+        self.assertEqual(target, 10 * weight)
+        self.assertAlmostEqual(pushed, target, delta=1e-3 * target)
+        with self.assertRaises(sinter.InvalidArgument):
+            walls.add_disc((0, 0, 0), (0, 0, 1), 0.0, rigid)
+        with self.assertRaises(sinter.InvalidArgument):
+            walls.set_servo(die, [0.0], [1.0], 1.0, 0.0, 1.0)  # a cylinder has no servo
+        self.assertEqual(walls.add_rectangle((0, 0, 0), (0, 0, 1), (1, 0, 0), 1.0, 2.0, rigid),
+                         2)
+
+
 class StepperApiTest(unittest.TestCase):
     def setUp(self):
         self.drop = Drop(lambda ctx: sinter.ForceModel(ctx, "hertz_mindlin"))

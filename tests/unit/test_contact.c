@@ -389,9 +389,11 @@ static void test_partitioned_law_matches_hertz(void **state)
 
 /* The checkpoint at `path` rewritten as format 4 (before the partition's section, version 5):
  * the section (its count, then count + 1 bounds), version 6's tail (the sort counter, the
- * forces' flag and an empty host section, 24 bytes) and version 7's (56 bytes) dropped from before the checksum, the version and the checksum
+ * forces' flag and an empty host section, 24 bytes), version 7's (56 bytes) and version 8's
+ * walls' state (10 doubles per wall) dropped from before the checksum, the version and the
+ * checksum
  * (FNV-1a 64 of everything before it) rewritten; `ranges` is the partition's count. */
-static void checkpoint_as_format_4(const char *path, int ranges)
+static void checkpoint_as_format_4(const char *path, int ranges, size_t walls)
 {
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
@@ -399,8 +401,9 @@ static void checkpoint_as_format_4(const char *path, int ranges)
     assert_non_null(data);
     const size_t size = fread(data, 1, 1 << 24, f);
     fclose(f);
-    /* + version 7's tail without a staggered history: 2 counts, 3 doubles, 2 flags (56 bytes) */
-    const size_t section = 8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 56;
+    /* + version 7's tail without a staggered history: 2 counts, 3 doubles, 2 flags (56 bytes),
+     * and version 8's walls */
+    const size_t section = 8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 56 + 80 * walls;
     assert_true(size > 16 + 8 + section);
     uint64_t count;
     memcpy(&count, data + size - 8 - section, 8);
@@ -447,8 +450,10 @@ static void test_rolling_restart_on_threads(void **state)
             OK(sinter_checkpoint_write(s.st, path));
             ranges = s.st->pp.chunks.count;
         } else {
+            size_t walls = 0;
+            OK(sinter_walls_count(s.walls, &walls));
             if (run == 2)
-                checkpoint_as_format_4(path, ranges);
+                checkpoint_as_format_4(path, ranges, walls);
             OK(sinter_checkpoint_read(s.st, path));
         }
         OK(sinter_stepper_step(s.st, 30));

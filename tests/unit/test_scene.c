@@ -717,10 +717,81 @@ static void test_quasistatic_restart_is_bit_for_bit(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/* The [wall] kinds, spin and servo keys: a die of a cylinder with disc punches loads with each
+ * wall of its kind and shape, a servo_pressure on a disc becomes the force P pi r^2 (checked
+ * once the servo runs: the target at t = 0); bad kinds and missing keys are refused with the
+ * file and line. */
+static void test_wall_kinds_in_scenes(void **state)
+{
+    (void)state;
+    const char *head =
+        "[scene]\nname = die\nunits = SI\n"
+        "[material glass]\ndensity = 2500\nyoungs_modulus = 1e7\n"
+        "[particles]\nmethod = lattice\nmaterial = glass\nbox_min = -0.001 -0.001 0.0005\n"
+        "box_max = 0.001 0.001 0.002\nradius = 0.0005\nspacing = 0.00105\n";
+    const char *walls =
+        "[wall floor]\nkind = disc\npoint = 0 0 0\nnormal = 0 0 1\nradius = 0.003\nmaterial = "
+        "glass\n"
+        "[wall die]\nkind = cylinder\npoint = 0 0 0\naxis = 0 0 1\nradius = 0.003\n"
+        "half_length = 0.01\ninside = yes\nspin = 2\nmaterial = glass\n"
+        "[wall plate]\nkind = rectangle\npoint = 0 0 -0.001\nnormal = 0 0 1\nedge = 1 0 0\n"
+        "half_lengths = 0.004 0.005\nmaterial = glass\n"
+        "[wall punch]\nkind = disc\npoint = 0 0 0.0026\nnormal = 0 0 -1\nradius = 0.003\n"
+        "material = glass\nmotion = servo\nservo_pressure = 1e3\nservo_kp = 0.1\n"
+        "servo_vmax = 0.01\n";
+    const char *tail = "[force hertz_mindlin]\n[stepper]\ndt = 1e-6\nend_time = 1e-5\n"
+                       "[output]\ninterval = 1e-5\nvtu = yes\n";
+    char text[4096];
+    snprintf(text, sizeof(text), "%s%s%s", head, walls, tail);
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("die.scene", text)), SINTER_OK);
+    sinter_walls *w = NULL;
+    assert_int_equal(sinter_scene_get_walls(scene, &w), SINTER_OK);
+    const int kinds[4] = {SINTER_WALL_DISC, SINTER_WALL_CYLINDER, SINTER_WALL_RECTANGLE,
+                          SINTER_WALL_DISC};
+    for (size_t k = 0; k < 4; ++k) {
+        int kind = -1;
+        assert_int_equal(sinter_walls_get_kind(w, k, &kind), SINTER_OK);
+        assert_int_equal(kind, kinds[k]);
+    }
+    double size[3];
+    assert_int_equal(sinter_walls_get_shape(w, 1, NULL, NULL, size), SINTER_OK);
+    assert_true(size[0] == 0.003 && size[1] == 0.01 && size[2] == 1.0);
+    assert_int_equal(sinter_walls_get_shape(w, 2, NULL, NULL, size), SINTER_OK);
+    assert_true(size[0] == 0.004 && size[1] == 0.005);
+    double target = 0.0;
+    assert_int_equal(sinter_walls_get_servo(w, 3, &target, NULL, NULL), SINTER_OK);
+    assert_true(fabs(target - 1e3 * 3.14159265358979323846 * 0.003 * 0.003) < 1e-15);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+
+    snprintf(text, sizeof(text), "%s[wall w]\nkind = cone\npoint = 0 0 0\nmaterial = glass\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "expected plane, rectangle, disc");
+    snprintf(text, sizeof(text),
+             "%s[wall w]\nkind = cylinder\npoint = 0 0 0\naxis = 0 0 1\n"
+             "material = glass\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "needs 'radius = ...'");
+    snprintf(text, sizeof(text),
+             "%s[wall w]\nkind = disc\npoint = 0 0 0\nnormal = 0 0 1\n"
+             "radius = 0\nmaterial = glass\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:", "radius 0 m");
+    snprintf(text, sizeof(text),
+             "%s[wall w]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\n"
+             "motion = servo\nservo_pressure = 1e3\nservo_kp = 1\nservo_vmax = 1\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "give servo_area");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_broken_scene_files),
+        cmocka_unit_test(test_wall_kinds_in_scenes),
         cmocka_unit_test(test_stream_stores_key),
         cmocka_unit_test(test_restart_is_bit_for_bit),
         cmocka_unit_test(test_bad_checkpoints_are_refused),

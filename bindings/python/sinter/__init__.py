@@ -39,7 +39,7 @@ from .particles import (FIELDS, DType, Field, FieldInfo, FieldView, ParticleFlag
 from .scene import Scene
 from .stepper import (OPTIONS, SinteringStats, Stepper, StepperKind, StepperStats,
                       ThermalScheme, damping_ratio_from_restitution, stable_dt_hertz)
-from .walls import WallElectric, WallMotion, WallThermal, Walls
+from .walls import WallElectric, WallKind, WallMotion, WallThermal, Walls
 
 __version__ = version_string()
 
@@ -51,7 +51,7 @@ __all__ = [
     "NeckSensitivities", "NeckStats",
     "NotFound", "OPTIONS", "ParamInfo", "Particles", "RadiusDistribution", "RangeError",
     "Scene", "Series", "SinterError", "SinteringStats", "StateView", "Status", "Stepper",
-    "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallMotion", "WallThermal", "Walls",
+    "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallKind", "WallMotion", "WallThermal", "Walls",
     "compaction_options", "damping_ratio_from_restitution", "library_path", "pack_compact",
     "pack_lattice", "pack_random", "packing_options", "plot_csv", "plot_run", "pour", "stable_dt_hertz",
     "version_number", "version_string", "write_pvd", "write_vtu",

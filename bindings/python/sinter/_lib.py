@@ -289,6 +289,22 @@ SIGNATURES = {
     "sinter_walls_get_state": (c_status, [WallsPtr, _size, _P(_double), _P(_double)]),
     "sinter_walls_get_normal": (c_status, [WallsPtr, _size, _P(_double)]),
     "sinter_walls_get_force": (c_status, [WallsPtr, _size, _P(_double)]),
+    "sinter_walls_add_rectangle": (
+        c_status, [WallsPtr, _P(_double), _P(_double), _P(_double), _double, _double, MaterialPtr,
+                   _P(_size)]),
+    "sinter_walls_add_disc": (
+        c_status, [WallsPtr, _P(_double), _P(_double), _double, MaterialPtr, _P(_size)]),
+    "sinter_walls_add_cylinder": (
+        c_status, [WallsPtr, _P(_double), _P(_double), _double, _double, _int, MaterialPtr,
+                   _P(_size)]),
+    "sinter_walls_get_kind": (c_status, [WallsPtr, _size, _P(_int)]),
+    "sinter_walls_get_shape": (c_status, [WallsPtr, _size, _P(_double), _P(_double), _P(_double)]),
+    "sinter_walls_set_spin": (c_status, [WallsPtr, _size, _double]),
+    "sinter_walls_get_moment": (c_status, [WallsPtr, _size, _P(_double)]),
+    "sinter_walls_set_moment": (c_status, [WallsPtr, _size, _int]),
+    "sinter_walls_set_servo": (
+        c_status, [WallsPtr, _size, _size, _P(_double), _P(_double), _double, _double, _double]),
+    "sinter_walls_get_servo": (c_status, [WallsPtr, _size, _P(_double), _P(_double), _P(_double)]),
     # force submodels
     "sinter_force_model_create": (c_status, [_P(ForceModelPtr), CtxPtr, _str]),
     "sinter_force_model_destroy": (None, [ForceModelPtr]),

@@ -1,4 +1,5 @@
-"""Rigid planar walls with prescribed motions, temperatures and electric data."""
+"""Rigid walls (planes, rectangles, discs, cylinders) with prescribed motions, a spin, a force
+servo, temperatures and electric data."""
 
 import ctypes
 import enum
@@ -24,6 +25,15 @@ class WallMotion(enum.IntEnum):
     SCHEDULE = 2
     SINE = 3
     CALLBACK = 4
+
+
+class WallKind(enum.IntEnum):
+    """sinter_wall_kind."""
+
+    PLANE = 0
+    RECTANGLE = 1
+    DISC = 2
+    CYLINDER = 3
 
 
 class WallThermal(enum.IntEnum):
@@ -57,8 +67,9 @@ def _doubles(values):
 
 
 class Walls(_Handle):
-    """A set of planes (sinter_walls). Wall k: point p_k(t), fixed unit normal n_k into the
-    particle region. Lengths in m, velocities in m/s, temperatures in K.
+    """A set of walls (sinter_walls). Wall k: point p_k(t), fixed unit normal (a cylinder: axis)
+    n_k; particles on the side the normal points to (a cylinder: inside or outside). Lengths
+    in m, velocities in m/s, temperatures in K.
 
         walls = sinter.Walls(ctx)
         floor = walls.add_plane((0, 0, 0), (0, 0, 1), steel, temperature=700.0)
@@ -111,6 +122,86 @@ class Walls(_Handle):
         if temperature is not None:
             self.set_temperature(index.value, temperature)
         return index.value
+
+    def add_rectangle(self, center: Vec3, normal: Vec3, edge: Vec3, half_1: float,
+                      half_2: float, material: "Material") -> int:
+        """Add a fixed rectangle centred at `center`, normal into the particle region, first
+        edge along `edge` (half length half_1), second along normal x edge (half_2) [m]."""
+        index = ctypes.c_size_t()
+        self._call(lib.sinter_walls_add_rectangle, self._ptr, _vec3(center, "center"),
+                   _vec3(normal, "normal"), _vec3(edge, "edge"), float(half_1), float(half_2),
+                   material._ptr, ctypes.byref(index))
+        return index.value
+
+    def add_disc(self, center: Vec3, normal: Vec3, radius: float,
+                 material: "Material") -> int:
+        """Add a fixed disc of `radius` [m] centred at `center`, normal into the particles."""
+        index = ctypes.c_size_t()
+        self._call(lib.sinter_walls_add_disc, self._ptr, _vec3(center, "center"),
+                   _vec3(normal, "normal"), float(radius), material._ptr, ctypes.byref(index))
+        return index.value
+
+    def add_cylinder(self, point: Vec3, axis: Vec3, radius: float, material: "Material",
+                     half_length: float = float("inf"), inside: bool = True) -> int:
+        """Add a fixed cylinder (axis through `point` along `axis`, `radius` [m]), touching
+        where the axial offset from `point` is at most half_length [m]; particles inside (a
+        die) or outside (a pin)."""
+        index = ctypes.c_size_t()
+        self._call(lib.sinter_walls_add_cylinder, self._ptr, _vec3(point, "point"),
+                   _vec3(axis, "axis"), float(radius), float(half_length), int(bool(inside)),
+                   material._ptr, ctypes.byref(index))
+        return index.value
+
+    def kind(self, k: int) -> WallKind:
+        """Kind of wall k."""
+        kind = ctypes.c_int()
+        self._call(lib.sinter_walls_get_kind, self._ptr, self._index(k), ctypes.byref(kind))
+        return WallKind(kind.value)
+
+    def shape(self, k: int) -> Tuple[Tuple[float, ...], Tuple[float, ...], Tuple[float, ...]]:
+        """(axis, edge, size) of wall k: size is (half_1, half_2, 0) for a rectangle, (radius,
+        0, 0) for a disc, (radius, half_length, inside) for a cylinder."""
+        axis, edge = (ctypes.c_double * 3)(), (ctypes.c_double * 3)()
+        size = (ctypes.c_double * 3)()
+        self._call(lib.sinter_walls_get_shape, self._ptr, self._index(k), axis, edge, size)
+        return tuple(axis), tuple(edge), tuple(size)
+
+    def set_spin(self, k: int, omega: float) -> None:
+        """Spin of wall k about its axis through its point [rad/s]: the surface velocity at a
+        contact, u + omega a x (c - p), enters the friction laws."""
+        self._call(lib.sinter_walls_set_spin, self._ptr, self._index(k), float(omega))
+
+    def set_servo(self, k: int, times: Sequence[float], forces: Sequence[float], kp: float,
+                  ki: float, vmax: float) -> None:
+        """Drive wall k along its normal to a target force schedule (times [s], forces [N]) by a
+        PI controller: v = clamp(kp e + ki int e, +-vmax), e = target - pushing force; gains kp
+        [m/(s N)], ki [m/(s^2 N)], vmax [m/s]. A pressure P on area A is the force P A."""
+        c_times, n = _doubles(times)
+        c_forces, n_forces = _doubles(forces)
+        if n != n_forces:
+            raise ValueError("%d times but %d forces" % (n, n_forces))
+        self._call(lib.sinter_walls_set_servo, self._ptr, self._index(k), n, c_times, c_forces,
+                   float(kp), float(ki), float(vmax))
+
+    def servo(self, k: int) -> Tuple[float, float, float]:
+        """(target force [N], the particles' pushing force [N], velocity along the normal
+        [m/s]) of wall k's servo."""
+        target, pushed, velocity = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
+        self._call(lib.sinter_walls_get_servo, self._ptr, self._index(k), ctypes.byref(target),
+                   ctypes.byref(pushed), ctypes.byref(velocity))
+        return target.value, pushed.value, velocity.value
+
+    def set_moment(self, k: int, on: bool) -> None:
+        """Whether wall k's reaction moment is summed (default: yes for rectangles, discs,
+        cylinders, spinning and servo walls; no for other planes)."""
+        self._call(lib.sinter_walls_set_moment, self._ptr, self._index(k), int(bool(on)))
+
+    def moment(self, k: int) -> Tuple[float, float, float]:
+        """Reaction moment on wall k about its point in the last accepted step [N m] (0 when
+        not summed: set_moment)."""
+        moment = (ctypes.c_double * 3)()
+        self._call(lib.sinter_walls_get_moment, self._ptr, self._index(k), moment)
+        return tuple(moment)
 
     def set_material(self, k: int, material: "Material") -> None:
         """Replace wall k's material with a copy of `material`."""
