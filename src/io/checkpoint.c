@@ -38,8 +38,13 @@
  *    evaluates them at its start: a restored run must do the same), and a host section
  *    (u64 bytes, then the bytes: a scene's program, io/scene_program.c; 0 bytes from
  *    sinter_checkpoint_write); earlier versions are still read (no host section, the sort
- *    counter as it was) */
-#define CHECKPOINT_VERSION 6u
+ *    counter as it was)
+ * 7: then, before the host section, the frozen heat stage (stepper/frozen_heat.h): whether the
+ *    mechanics are frozen, the heat step's proposal, the mechanical steps since the last
+ *    wake-up, its statistics, and while frozen the rates of the last heat step and the
+ *    modulus factors of the freeze (per particle); earlier versions are still read (not
+ *    frozen, the statistics at 0) */
+#define CHECKPOINT_VERSION 7u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
 
 /* ---- writing ---------------------------------------------------------- */
@@ -202,6 +207,22 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     /* the sort counter and the host's section (version 6) */
     put_u64(&w, st->steps_since_sort);
     put_u64(&w, (uint64_t)st->forces_current);
+    /* the frozen heat stage (version 7) */
+    const sinter_frozen *fz = &st->frozen;
+    put_u64(&w, (uint64_t)fz->active);
+    put_f64(&w, fz->h);
+    put_u64(&w, fz->mech_steps);
+    put_f64(&w, fz->time);
+    put_u64(&w, fz->steps);
+    put_u64(&w, fz->rejected);
+    put_u64(&w, fz->wakeups);
+    put_u64(&w, fz->freezes);
+    put_u64(&w, (uint64_t)(fz->active && fz->has_scale));
+    if (fz->active) {
+        put(&w, fz->rate, n * sizeof(double));
+        if (fz->has_scale)
+            put(&w, fz->scale0, n * sizeof(double));
+    }
     put_u64(&w, host_bytes);
     put(&w, host, host_bytes);
     const uint64_t sum = w.hash;
@@ -586,6 +607,28 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     const uint64_t forces_current = version >= 6u ? take_u64(&r) : 1;
     if (forces_current > 1)
         r.bad = 1;
+    /* the frozen heat stage (version 7): staged, applied below */
+    uint64_t fz_active = 0, fz_mech = 0, fz_steps = 0, fz_rejected = 0, fz_wakeups = 0,
+             fz_freezes = 0, fz_scaled = 0;
+    double fz_h = 0.0, fz_time = 0.0;
+    const void *fz_rate = NULL, *fz_scale = NULL; /* n doubles each, unaligned in the file */
+    if (version >= 7u) {
+        fz_active = take_u64(&r);
+        fz_h = take_f64(&r);
+        fz_mech = take_u64(&r);
+        fz_time = take_f64(&r);
+        fz_steps = take_u64(&r);
+        fz_rejected = take_u64(&r);
+        fz_wakeups = take_u64(&r);
+        fz_freezes = take_u64(&r);
+        fz_scaled = take_u64(&r);
+        if (fz_active > 1 || fz_scaled > fz_active || !(fz_h >= 0.0) || !isfinite(fz_h))
+            r.bad = 1;
+        if (fz_active && !r.bad)
+            fz_rate = take(&r, n * sizeof(double));
+        if (fz_scaled && !r.bad)
+            fz_scale = take(&r, n * sizeof(double));
+    }
     const uint64_t host_bytes = version >= 6u ? take_u64(&r) : 0;
     const void *host = host_bytes <= size ? take(&r, (size_t)host_bytes) : NULL;
     if (host_bytes > 0 && host == NULL)
@@ -687,6 +730,19 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     }
     /* the electric model's warm start: the checkpoint's, or none (the last step that can fail;
      * it touches nothing but the model's starting potentials) */
+    sinter_frozen *fz = &st->frozen;
+    if (s == SINTER_OK && fz_active && n + 1 > fz->capacity) {
+        double *q[2] = {sinter_realloc_array(ctx, fz->rate, n + 1, sizeof(double)), NULL};
+        if (q[0] != NULL)
+            fz->rate = q[0];
+        q[1] = q[0] != NULL ? sinter_realloc_array(ctx, fz->scale0, n + 1, sizeof(double)) : NULL;
+        if (q[1] != NULL) {
+            fz->scale0 = q[1];
+            fz->capacity = n + 1;
+        } else {
+            s = sinter_last_status(ctx);
+        }
+    }
     if (s == SINTER_OK && st->electric != NULL)
         s = sinter_electric_set_warm_potentials(st->electric, warm,
                                                 warm != NULL ? (size_t)warm_nodes : 0);
@@ -774,6 +830,19 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->stats.rejected = rejected;
     st->stats.neighbor_builds = builds;
     st->forces_current = (int)forces_current || st->kind != SINTER_STEPPER_QUASISTATIC;
+    fz->active = (int)fz_active;
+    fz->h = fz_h;
+    fz->mech_steps = fz_mech;
+    fz->time = fz_time;
+    fz->steps = fz_steps;
+    fz->rejected = fz_rejected;
+    fz->wakeups = fz_wakeups;
+    fz->freezes = fz_freezes;
+    fz->has_scale = (int)fz_scaled;
+    if (fz_rate != NULL)
+        memcpy(fz->rate, fz_rate, n * sizeof(double));
+    if (fz_scale != NULL)
+        memcpy(fz->scale0, fz_scale, n * sizeof(double));
     st->write_generation = ps->write_generation;
     st->population_generation = ps->population_generation;
     sinter_free(ctx, padded);

@@ -194,6 +194,37 @@ static size_t distribution_columns(const sinter_scene *sc)
 
 static size_t distribution_column(const sinter_scene *sc);
 
+/* Last, with the frozen heat stage (option frozen_heat, issue 41): whether the mechanics are
+ * frozen, the simulated time spent frozen, the heat steps, the wake-ups and the heat step's
+ * proposal. Absent otherwise, so that the series of other scenes keep their bytes. */
+enum { FROZEN_COLUMNS = 5 };
+static const char *const FROZEN_NAMES[FROZEN_COLUMNS] = {"frozen", "frozen time", "heat steps",
+                                                         "wake-ups", "heat step"};
+static const char *const FROZEN_UNITS[FROZEN_COLUMNS] = {"1", "s", "1", "1", "s"};
+static const char *const FROZEN_KEYS[FROZEN_COLUMNS] = {
+    "frozen_active", "frozen_time", "frozen_steps", "frozen_wakeups", "frozen_dt"};
+
+static size_t frozen_columns(const sinter_scene *sc)
+{
+    double on = 0.0;
+    return sinter_stepper_get_option(sc->st, "frozen_heat", &on) == SINTER_OK && on != 0.0
+               ? FROZEN_COLUMNS
+               : 0;
+}
+
+static size_t frozen_column(const sinter_scene *sc)
+{
+    return distribution_column(sc) + distribution_columns(sc);
+}
+
+static void observe_frozen(const sinter_scene *sc, double *row)
+{
+    for (size_t k = 0; k < frozen_columns(sc); ++k)
+        if (sinter_stepper_get_option(sc->st, FROZEN_KEYS[k], row + frozen_column(sc) + k) !=
+            SINTER_OK)
+            row[frozen_column(sc) + k] = NAN;
+}
+
 /* The histograms of the row (NaN where the contacts of the state are not known yet). */
 static void observe_distributions(const sinter_scene *sc, double *row)
 {
@@ -318,6 +349,7 @@ static void observe(const sinter_scene *sc, double *row)
         memcpy(q, v, sizeof(v));
     }
     observe_flows(sc, row);
+    observe_frozen(sc, row);
 }
 
 /*
@@ -635,7 +667,11 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[distribution_column(sc) + k] = label;
         units[distribution_column(sc) + k] = "1";
     }
-    return distribution_column(sc) + distribution_columns(sc);
+    for (size_t k = 0; k < frozen_columns(sc); ++k) {
+        names[frozen_column(sc) + k] = FROZEN_NAMES[k];
+        units[frozen_column(sc) + k] = FROZEN_UNITS[k];
+    }
+    return frozen_column(sc) + frozen_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -675,7 +711,7 @@ static sinter_status open_output(run_state *r)
     enum {
         HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + 1 + HISTOGRAMS /* 1: the solid fraction */
+               STEPPER_COLUMNS + 1 + HISTOGRAMS + FROZEN_COLUMNS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];
