@@ -79,8 +79,8 @@ static int show_progress(double time, double end_time, void *user)
     const double rate = elapsed > 0 ? (double)stats.steps / elapsed : 0.0;
     const double left = time > 0 ? elapsed * (end_time - time) / time : 0.0;
     const double share = end_time > 0 ? 100.0 * time / end_time : 0.0;
-    fprintf(stderr, "%s  t = %.4g / %.4g s (%.1f %%)   %.3g steps/s   %.0f s left%s",
-            p->tty ? "\r" : "sinter: ", time, end_time, share, rate, left > 0 ? left : 0.0,
+    fprintf(stderr, "%st = %.4g / %.4g s (%.1f %%)   %.3g steps/s   %.0f s left%s",
+            p->tty ? "\r  " : "sinter: ", time, end_time, share, rate, left > 0 ? left : 0.0,
             p->tty ? "      " : "\n");
     fflush(stderr);
     return 0;
