@@ -41,7 +41,7 @@
  *    counter as it was)
  * 7: then, before the host section, the frozen heat stage (stepper/frozen_heat.h): whether the
  *    mechanics are frozen, the heat step's proposal, the mechanical steps since the last
- *    wake-up, its statistics, and while frozen the rates of the last heat step and the
+ *    wake-up, the last kinetic energy of its rest test, its statistics, and while frozen the rates of the last heat step and the
  *    modulus factors of the freeze (per particle); earlier versions are still read (not
  *    frozen, the statistics at 0) */
 #define CHECKPOINT_VERSION 7u
@@ -212,6 +212,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     put_u64(&w, (uint64_t)fz->active);
     put_f64(&w, fz->h);
     put_u64(&w, fz->mech_steps);
+    put_f64(&w, fz->ke_last);
     put_f64(&w, fz->time);
     put_u64(&w, fz->steps);
     put_u64(&w, fz->rejected);
@@ -610,12 +611,13 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     /* the frozen heat stage (version 7): staged, applied below */
     uint64_t fz_active = 0, fz_mech = 0, fz_steps = 0, fz_rejected = 0, fz_wakeups = 0,
              fz_freezes = 0, fz_scaled = 0;
-    double fz_h = 0.0, fz_time = 0.0;
+    double fz_h = 0.0, fz_time = 0.0, fz_ke = INFINITY;
     const void *fz_rate = NULL, *fz_scale = NULL; /* n doubles each, unaligned in the file */
     if (version >= 7u) {
         fz_active = take_u64(&r);
         fz_h = take_f64(&r);
         fz_mech = take_u64(&r);
+        fz_ke = take_f64(&r);
         fz_time = take_f64(&r);
         fz_steps = take_u64(&r);
         fz_rejected = take_u64(&r);
@@ -833,6 +835,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     fz->active = (int)fz_active;
     fz->h = fz_h;
     fz->mech_steps = fz_mech;
+    fz->ke_last = fz_ke;
     fz->time = fz_time;
     fz->steps = fz_steps;
     fz->rejected = fz_rejected;

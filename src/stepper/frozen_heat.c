@@ -24,6 +24,7 @@ void sinter_frozen_init(sinter_frozen *fz)
     fz->dt_max = 0.0;
     fz->wake = 0.01;
     fz->settle_steps = 1000;
+    fz->ke_last = INFINITY;
 }
 
 void sinter_frozen_free(sinter_ctx *ctx, sinter_frozen *fz)
@@ -215,7 +216,12 @@ sinter_status sinter_frozen_consider(sinter_stepper *st)
     if (!fz->enabled || fz->active || st->kind != SINTER_STEPPER_EXPLICIT ||
         st->thermal.count == 0 || st->electric != NULL)
         return SINTER_OK;
-    if (++fz->mech_steps < fz->settle_steps || kinetic_energy_per_particle(st->ps) >= fz->ke)
+    if (++fz->mech_steps < fz->settle_steps)
+        return SINTER_OK;
+    /* below the threshold and not growing: a bed released from rest is not at rest */
+    const double ke = kinetic_energy_per_particle(st->ps), last = fz->ke_last;
+    fz->ke_last = ke;
+    if (ke >= fz->ke || !(last < INFINITY) || ke > last)
         return SINTER_OK;
     sinter_status s;
     if (walls_move_within(st, st->dt, &s) || s != SINTER_OK) {
@@ -232,6 +238,7 @@ static void wake(sinter_stepper *st, const char *why)
     sinter_frozen *fz = &st->frozen;
     fz->active = 0;
     fz->mech_steps = 0;
+    fz->ke_last = INFINITY;
     fz->wakeups++;
     st->forces_current = 0; /* the caller evaluates the forces of the new temperatures */
     sinter_log(st->ctx, SINTER_LOG_DEBUG, "frozen heat: mechanics woken at t = %.9g s (%s)",

@@ -4,9 +4,11 @@
  * (backward Euler for conduction, thermal.c) at a step of its own accuracy control; the
  * mechanics wake when the forces would change. Off by default (option "frozen_heat").
  *
- * At rest: the kinetic energy per particle below "frozen_ke" [J] after at least
- * "frozen_settle" mechanical steps since the start or the last wake-up, no wall moving over
- * the next heat step, no electric model (its currents follow the contacts' forces).
+ * At rest: the kinetic energy per particle below "frozen_ke" [J] and not above the last step's
+ * (a bed released from rest under gravity starts with a kinetic energy below any threshold,
+ * growing), after at least "frozen_settle" mechanical steps since the start or the last
+ * wake-up, no wall moving over the next heat step, no electric model (its currents follow the
+ * contacts' forces).
  * Heat step control: backward Euler's local error is h^2/2 theta''; with the rates of the
  * step's start (r0) and end (r1 = (theta1 - theta0) / h) it is estimated as
  * e = h / 2 |r1 - r0|, and a step is accepted when max_i e_i / (atol + rtol |theta_i|) <= 1
@@ -37,6 +39,7 @@ typedef struct sinter_frozen {
     int active;          /* the mechanics are frozen */
     double h;            /* the next heat step's proposal [s] (0: start from the rates) */
     uint64_t mech_steps; /* mechanical steps since the start or the last wake-up */
+    double ke_last;      /* kinetic energy per particle after the last explicit step [J] */
     double *rate;        /* per particle: d theta / dt of the last accepted heat step [K/s] */
     double *scale0;      /* per particle: the modulus factor at the freeze (softening only) */
     size_t capacity;     /* particles of both arrays */

@@ -400,8 +400,8 @@ static void checkpoint_as_format_4(const char *path, int ranges)
     assert_non_null(data);
     const size_t size = fread(data, 1, 1 << 24, f);
     fclose(f);
-    /* + version 7's frozen heat section (not frozen: 9 words, no per-particle arrays) */
-    const size_t section = 8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 72;
+    /* + version 7's frozen heat section (not frozen: 10 words, no per-particle arrays) */
+    const size_t section = 8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 80;
     assert_true(size > 16 + 8 + section);
     uint64_t count;
     memcpy(&count, data + size - 8 - section, 8);
