@@ -3,20 +3,22 @@
  * sinter: run libsinter scene files from the command line.
  *
  *   sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--end-time T] [--stop-at T]
- *                    [--threads N] [--log LEVEL]
+ *                    [--threads N] [--log LEVEL] [--progress S]
  *   sinter check SCENE
  *   sinter plot DIR [--title TEXT] [--file CSV] [--x NAME] [--panel NAMES]... [-o SVG]
  *   sinter pair FILE... [-o DIR] [--quiet]   (pair.c)
  *   sinter info | --help | --version
  *
- * On a terminal, `run` shows progress (simulated time, steps per second, time
- * left); otherwise it is quiet apart from a one-line summary. --threads N runs the library on N
- * threads (sinter_ctx_set_threads; 0: as many as OpenMP offers, OMP_NUM_THREADS or the cores;
- * default 1): the results are the same for every N. --log LEVEL (error, warning, info or debug)
- * prints the library's messages up to that level to stderr, one per line (sinter_ctx_set_log):
- * info tells what the set-up did (the compaction's steps, its green body, what a restart took
- * from its checkpoint), debug also the steppers' choices (the explicit stepper's thread count
- * and stores, by timing).
+ * `run` reports its progress (simulated time, share done, steps per second, time left) on
+ * stderr at a bounded rate, whatever the output files (issue 41): on a terminal one line
+ * updated in place (\r) at most once a second, otherwise a line at most every 5 s;
+ * --progress S sets that interval [s] (0: no progress), and a one-line summary ends the run.
+ * --threads N runs the library on N threads (sinter_ctx_set_threads; 0: as many as OpenMP offers,
+ * OMP_NUM_THREADS or the cores; default 1): the results are the same for every N. --log LEVEL
+ * (error, warning, info or debug) prints the library's messages up to that level to stderr, one per
+ * line (sinter_ctx_set_log): info tells what the set-up did (the compaction's steps, its green
+ * body, what a restart took from its checkpoint), debug also the steppers' choices (the explicit
+ * stepper's thread count and stores, by timing).
  *
  * --restart continues the run of DIR/checkpoint.bin (sinter_scene_restart): the series and
  * frames of -o DIR are continued where they hold the run's earlier samples. --end-time T
@@ -48,7 +50,8 @@ typedef struct progress_state {
     sinter_scene *scene;
     double started;
     double last_print;
-    int tty;        /* show progress */
+    int tty;        /* stderr is a terminal: \r updates */
+    double every;   /* the least interval between two reports [s] (0: none) */
     double stop_at; /* --stop-at [s], or infinity */
     int stopped_at; /* the run was stopped by --stop-at */
 } progress_state;
@@ -60,10 +63,10 @@ static int show_progress(double time, double end_time, void *user)
         p->stopped_at = 1;
         return 1;
     }
-    if (!p->tty)
+    if (!(p->every > 0.0))
         return 0;
     const double t = now();
-    if (t - p->last_print < 0.2)
+    if (t - p->last_print < p->every)
         return 0;
     p->last_print = t;
     sinter_stepper *st = NULL;
@@ -75,15 +78,17 @@ static int show_progress(double time, double end_time, void *user)
     const double elapsed = t - p->started;
     const double rate = elapsed > 0 ? (double)stats.steps / elapsed : 0.0;
     const double left = time > 0 ? elapsed * (end_time - time) / time : 0.0;
-    fprintf(stderr, "\r  t = %.4g / %.4g s   %.3g steps/s   %.0f s left      ", time, end_time,
-            rate, left > 0 ? left : 0.0);
+    const double share = end_time > 0 ? 100.0 * time / end_time : 0.0;
+    fprintf(stderr, "%st = %.4g / %.4g s (%.1f %%)   %.3g steps/s   %.0f s left%s",
+            p->tty ? "\r  " : "sinter: ", time, end_time, share, rate, left > 0 ? left : 0.0,
+            p->tty ? "      " : "\n");
     fflush(stderr);
     return 0;
 }
 
 static const char USAGE[] =
     "usage: sinter run SCENE [-o DIR] [--restart CHECKPOINT] [--end-time T] [--stop-at T]\n"
-    "                        [--threads N] [--log error|warning|info|debug]\n"
+    "                        [--threads N] [--log error|warning|info|debug] [--progress S]\n"
     "       sinter check SCENE\n"
     "       sinter plot DIR [--title TEXT] [--file CSV] [--x NAME] [--panel NAMES]... [-o SVG]\n"
     "       sinter pair FILE... [-o DIR] [--quiet]\n"
@@ -104,6 +109,8 @@ static int help(void)
           "         --restart F   continue the run that wrote checkpoint F\n"
           "         --end-time T  the scene's end time [s] instead of the file's\n"
           "         --stop-at T   stop at the first sample at or after T [s], with a checkpoint\n"
+          "         --progress S  progress on stderr at most every S seconds (0: none; default\n"
+          "                       1 on a terminal, updated in place, else 5, one line each)\n"
           "         Ctrl-C stops after the current step, with a checkpoint (exit status 130)\n"
           "check    read and check a scene without running it\n"
           "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not);\n"
@@ -177,7 +184,7 @@ static int run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
     int threads = 1, log_level = -1;
-    double end_time = -1.0, stop_at = HUGE_VAL;
+    double end_time = -1.0, stop_at = HUGE_VAL, every = -1.0;
     for (int k = 2; k < argc; ++k) {
         if (strcmp(argv[k], "-o") == 0 && k + 1 < argc)
             out_dir = argv[++k];
@@ -189,6 +196,10 @@ static int run(int argc, char **argv)
             ++k;
         } else if (strcmp(argv[k], "--stop-at") == 0 && k + 1 < argc) {
             if (!time_value(argv[k], argv[k + 1], &stop_at))
+                return 2;
+            ++k;
+        } else if (strcmp(argv[k], "--progress") == 0 && k + 1 < argc) {
+            if (!time_value(argv[k], argv[k + 1], &every))
                 return 2;
             ++k;
         } else if (strcmp(argv[k], "--threads") == 0 && k + 1 < argc) {
@@ -237,11 +248,13 @@ static int run(int argc, char **argv)
     if (st == SINTER_OK && restart != NULL)
         st = sinter_scene_restart(scene, restart);
     int rc = 0;
-    progress_state p = {scene, now(), 0.0, isatty(fileno(stderr)), stop_at, 0};
+    const int tty = isatty(fileno(stderr));
+    progress_state p = {scene,   now(), now(), tty, every >= 0.0 ? every : tty ? 1.0 : 5.0,
+                        stop_at, 0};
     if (st == SINTER_OK) {
         catch_signals(ctx);
         st = sinter_scene_run(scene, out_dir, show_progress, &p);
-        if (p.tty)
+        if (p.tty && p.every > 0.0 && p.last_print > p.started)
             fprintf(stderr, "\n");
     }
     double t = 0.0;

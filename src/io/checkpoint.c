@@ -44,8 +44,13 @@
  * 8: then the walls' kinds' state (walls/wall_shapes.c, walls/servo.c): per wall its reaction
  *    moment (3), its servo's committed time, displacement, velocity and error integral (4),
  *    and the rest of its neighbour-list reference (3: a non-planar kind's point and angle);
- *    earlier versions are still read (they hold planes only: no moment, no servo) */
-#define CHECKPOINT_VERSION 8u
+ *    earlier versions are still read (they hold planes only: no moment, no servo)
+/* 9: then the frozen heat stage (stepper/frozen_heat.h): whether the mechanics are frozen,
+ *    the heat step's proposal, the mechanical steps since the last wake-up, the last kinetic
+ *    energy of its rest test, its statistics, and while frozen the rates of the last heat step
+ *    and the modulus factors of the freeze (per particle); earlier versions are still read (not
+ *    frozen, the statistics at 0) */
+#define CHECKPOINT_VERSION 9u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -240,6 +245,23 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
                                               st->nb.wall_ref[4 * k + 2],
                                               st->nb.wall_ref[4 * k + 3]};
         put(&w, v, sizeof(v));
+    }
+    /* the frozen heat stage (version 9) */
+    const sinter_frozen *fz = &st->frozen;
+    put_u64(&w, (uint64_t)fz->active);
+    put_f64(&w, fz->h);
+    put_u64(&w, fz->mech_steps);
+    put_f64(&w, fz->ke_last);
+    put_f64(&w, fz->time);
+    put_u64(&w, fz->steps);
+    put_u64(&w, fz->rejected);
+    put_u64(&w, fz->wakeups);
+    put_u64(&w, fz->freezes);
+    put_u64(&w, (uint64_t)(fz->active && fz->has_scale));
+    if (fz->active) {
+        put(&w, fz->rate, n * sizeof(double));
+        if (fz->has_scale)
+            put(&w, fz->scale0, n * sizeof(double));
     }
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
@@ -508,7 +530,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "to 7) or byte order");
+                       "to 9) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -623,6 +645,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     const uint64_t forces_current = version >= 6u ? take_u64(&r) : 1;
     if (forces_current > 1)
         r.bad = 1;
+    /* the frozen heat stage (version 7): staged, applied below */
     const uint64_t host_bytes = version >= 6u ? take_u64(&r) : 0;
     const void *host = host_bytes <= size ? take(&r, (size_t)host_bytes) : NULL;
     if (host_bytes > 0 && host == NULL)
@@ -641,6 +664,28 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         r.bad = 1;
     const void *wall_state =
         version >= 8u ? take(&r, nw * WALL_STATE_DOUBLES * sizeof(double)) : NULL;
+    uint64_t fz_active = 0, fz_mech = 0, fz_steps = 0, fz_rejected = 0, fz_wakeups = 0,
+             fz_freezes = 0, fz_scaled = 0;
+    double fz_h = 0.0, fz_time = 0.0, fz_ke = INFINITY;
+    const void *fz_rate = NULL, *fz_scale = NULL; /* n doubles each, unaligned in the file */
+    if (version >= 9u) {
+        fz_active = take_u64(&r);
+        fz_h = take_f64(&r);
+        fz_mech = take_u64(&r);
+        fz_ke = take_f64(&r);
+        fz_time = take_f64(&r);
+        fz_steps = take_u64(&r);
+        fz_rejected = take_u64(&r);
+        fz_wakeups = take_u64(&r);
+        fz_freezes = take_u64(&r);
+        fz_scaled = take_u64(&r);
+        if (fz_active > 1 || fz_scaled > fz_active || !(fz_h >= 0.0) || !isfinite(fz_h))
+            r.bad = 1;
+        if (fz_active && !r.bad)
+            fz_rate = take(&r, n * sizeof(double));
+        if (fz_scaled && !r.bad)
+            fz_scale = take(&r, n * sizeof(double));
+    }
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -748,6 +793,19 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     }
     /* the electric model's warm start: the checkpoint's, or none (the last step that can fail;
      * it touches nothing but the model's starting potentials) */
+    sinter_frozen *fz = &st->frozen;
+    if (s == SINTER_OK && fz_active && n + 1 > fz->capacity) {
+        double *q[2] = {sinter_realloc_array(ctx, fz->rate, n + 1, sizeof(double)), NULL};
+        if (q[0] != NULL)
+            fz->rate = q[0];
+        q[1] = q[0] != NULL ? sinter_realloc_array(ctx, fz->scale0, n + 1, sizeof(double)) : NULL;
+        if (q[1] != NULL) {
+            fz->scale0 = q[1];
+            fz->capacity = n + 1;
+        } else {
+            s = sinter_last_status(ctx);
+        }
+    }
     if (s == SINTER_OK && st->electric != NULL)
         s = sinter_electric_set_warm_potentials(st->electric, warm,
                                                 warm != NULL ? (size_t)warm_nodes : 0);
@@ -857,6 +915,20 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     if (history)
         memcpy(sg->hist, hist_data, 7 * n * sizeof(double));
     st->forces_current = (int)forces_current || st->kind != SINTER_STEPPER_QUASISTATIC;
+    fz->active = (int)fz_active;
+    fz->h = fz_h;
+    fz->mech_steps = fz_mech;
+    fz->ke_last = fz_ke;
+    fz->time = fz_time;
+    fz->steps = fz_steps;
+    fz->rejected = fz_rejected;
+    fz->wakeups = fz_wakeups;
+    fz->freezes = fz_freezes;
+    fz->has_scale = (int)fz_scaled;
+    if (fz_rate != NULL)
+        memcpy(fz->rate, fz_rate, n * sizeof(double));
+    if (fz_scale != NULL)
+        memcpy(fz->scale0, fz_scale, n * sizeof(double));
     st->write_generation = ps->write_generation;
     st->population_generation = ps->population_generation;
     sinter_free(ctx, padded);

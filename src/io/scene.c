@@ -845,7 +845,14 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "position_tolerance",
                                           "temperature_tolerance",
                                           "scheme",
-                                          "anderson_depth"};
+                                          "anderson_depth",
+                                          "frozen_heat",
+                                          "frozen_ke",
+                                          "frozen_rtol",
+                                          "frozen_atol",
+                                          "frozen_dt_max",
+                                          "frozen_wake",
+                                          "frozen_settle"};
     for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
         double value;
         const sinter_status got = scene_get_double(t, s, options[k], &value);

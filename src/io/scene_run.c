@@ -268,6 +268,37 @@ static size_t pair_column(const sinter_scene *sc)
     return track_column(sc) + SCENE_TRACK_COLUMNS * sc->track_count;
 }
 
+/* Last, with the frozen heat stage (option frozen_heat, issue 41): whether the mechanics are
+ * frozen, the simulated time spent frozen, the heat steps, the wake-ups and the heat step's
+ * proposal. Absent otherwise, so that the series of other scenes keep their bytes. */
+enum { FROZEN_COLUMNS = 5 };
+static const char *const FROZEN_NAMES[FROZEN_COLUMNS] = {"frozen", "frozen time", "heat steps",
+                                                         "wake-ups", "heat step"};
+static const char *const FROZEN_UNITS[FROZEN_COLUMNS] = {"1", "s", "1", "1", "s"};
+static const char *const FROZEN_KEYS[FROZEN_COLUMNS] = {
+    "frozen_active", "frozen_time", "frozen_steps", "frozen_wakeups", "frozen_dt"};
+
+static size_t frozen_columns(const sinter_scene *sc)
+{
+    double on = 0.0;
+    return sinter_stepper_get_option(sc->st, "frozen_heat", &on) == SINTER_OK && on != 0.0
+               ? FROZEN_COLUMNS
+               : 0;
+}
+
+static size_t frozen_column(const sinter_scene *sc)
+{
+    return pair_column(sc) + (sc->pair_reference ? SCENE_PAIR_COLUMNS : 0);
+}
+
+static void observe_frozen(const sinter_scene *sc, double *row)
+{
+    for (size_t k = 0; k < frozen_columns(sc); ++k)
+        if (sinter_stepper_get_option(sc->st, FROZEN_KEYS[k], row + frozen_column(sc) + k) !=
+            SINTER_OK)
+            row[frozen_column(sc) + k] = NAN;
+}
+
 /* The histograms of the row (NaN where the contacts of the state are not known yet). */
 static void observe_distributions(const sinter_scene *sc, double *row)
 {
@@ -400,6 +431,7 @@ static void observe(const sinter_scene *sc, double *row)
         memcpy(q, v, sizeof(v));
     }
     observe_flows(sc, row);
+    observe_frozen(sc, row);
 }
 
 /*
@@ -730,12 +762,16 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
     }
     (void)scene_track_labels(sc, names, units, wall_labels + 3 * nw + distribution_columns(sc),
                              track_column(sc));
-    if (!sc->pair_reference)
-        return pair_column(sc);
-    names[pair_column(sc)] = "two-particle neck ratio";
-    names[pair_column(sc) + 1] = "two-particle shrinkage";
-    units[pair_column(sc)] = units[pair_column(sc) + 1] = "1";
-    return pair_column(sc) + SCENE_PAIR_COLUMNS;
+    if (sc->pair_reference) {
+        names[pair_column(sc)] = "two-particle neck ratio";
+        names[pair_column(sc) + 1] = "two-particle shrinkage";
+        units[pair_column(sc)] = units[pair_column(sc) + 1] = "1";
+    }
+    for (size_t k = 0; k < frozen_columns(sc); ++k) {
+        names[frozen_column(sc) + k] = FROZEN_NAMES[k];
+        units[frozen_column(sc) + k] = FROZEN_UNITS[k];
+    }
+    return frozen_column(sc) + frozen_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -776,8 +812,8 @@ static sinter_status open_output(run_state *r)
         HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1 + CORRECTION_BINS + 2,
         TRACKED = SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED +
-               SCENE_PAIR_COLUMNS /* 1: the solid fraction */
+               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED + SCENE_PAIR_COLUMNS +
+               FROZEN_COLUMNS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];

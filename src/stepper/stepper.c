@@ -52,6 +52,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
     sinter_staggered_init(&st->staggered);
+    sinter_frozen_init(&st->frozen);
     sinter_qs_options_default(&st->quasistatic_options);
     *out = st;
     return SINTER_OK;
@@ -76,6 +77,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_free(ctx, st->wall_arrays);
     sinter_thermal_free(ctx, &st->thermal);
     sinter_staggered_free(ctx, &st->staggered);
+    sinter_frozen_free(ctx, &st->frozen);
     sinter_qs_destroy(st->quasistatic);
     sinter_free(ctx, st->furnace);
     sinter_free(ctx, st->energy_flag);
@@ -211,6 +213,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         st->energy_check = (int)value;
         return SINTER_OK;
     }
+    if (sinter_frozen_is_key(key))
+        return sinter_frozen_set(st, key, value);
     /* an unknown key of a quasi-static stepper is refused with the list of its qs_* keys */
     if (st->kind == SINTER_STEPPER_QUASISTATIC &&
         (strncmp(key, "qs_", 3) == 0 || !sinter_staggered_is_option(key)))
@@ -244,6 +248,8 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
         *value = key[0] == 'd' ? st->dt_check : st->energy_check;
         return SINTER_OK;
     }
+    if (sinter_frozen_is_key(key))
+        return sinter_frozen_get(st, key, value);
     if (st->kind == SINTER_STEPPER_QUASISTATIC &&
         (strncmp(key, "qs_", 3) == 0 || !sinter_staggered_is_option(key)))
         return sinter_qs_option_get(&st->quasistatic_options, st->ctx, key, value);
@@ -927,9 +933,20 @@ void sinter_stepper_shift_furnace(sinter_stepper *st, double delay)
         st->furnace[k] += delay;
 }
 
-static sinter_status take_step(sinter_stepper *st, double h, double *taken, int *stop)
+static sinter_status take_step(sinter_stepper *st, double h, double t_end, double *taken, int *stop)
 {
     sinter_status s;
+    if (st->frozen.active) {
+        /* the frozen heat stage: one heat step over the frozen bed, or a wake-up */
+        int woke = 0;
+        s = sinter_frozen_step(st, t_end, taken, &woke);
+        if (s == SINTER_OK && !st->forces_current) /* woken: the forces of the new state */
+            s = prepare(st);
+        if (s == SINTER_OK && *taken > 0.0 && st->observer != NULL &&
+            st->observer(st, st->time, st->observer_user) != 0)
+            *stop = 1;
+        return s;
+    }
     if (st->sort_interval > 0 && st->kind != SINTER_STEPPER_QUASISTATIC &&
         st->steps_since_sort >= st->sort_interval) {
         /* option sort_interval: forces and history move with the particles, and the step
@@ -951,6 +968,8 @@ static sinter_status take_step(sinter_stepper *st, double h, double *taken, int 
         sinter_thread_choice_end(st, sinter_clock() - clock_start, s == SINTER_OK);
         *taken = h;
         st->eval_lag = s == SINTER_OK ? 0.5 * h : 0.0;
+        if (s == SINTER_OK) /* at rest: the next steps are heat steps (frozen_heat.h) */
+            s = sinter_frozen_consider(st);
     }
     if (s != SINTER_OK) {
         settle_after_failure(st);
@@ -1003,7 +1022,7 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
             st->time = t_end;
             break;
         }
-        s = take_step(st, h, &taken, &stop);
+        s = take_step(st, h, t_end, &taken, &stop);
         if (s == SINTER_OK && taken == remaining) {
             st->time = t_end;
             /* A step shortened to land on t_end says nothing against the longer proposal. */
@@ -1030,7 +1049,7 @@ sinter_status sinter_stepper_step(sinter_stepper *st, uint64_t n)
     for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k) {
         s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_step", st->time);
         if (s == SINTER_OK)
-            s = take_step(st, next_step(st), &taken, &stop);
+            s = take_step(st, next_step(st), INFINITY, &taken, &stop);
     }
     st->stats.seconds_total += sinter_clock() - t0;
     return s;

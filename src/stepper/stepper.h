@@ -6,6 +6,7 @@
 #include "stepper/anderson.h"
 #include "stepper/step_control.h"
 #include "force/force_model.h"
+#include "stepper/frozen_heat.h"
 #include "stepper/thermal.h"
 #include "stepper/quasistatic.h"
 #include "stepper/thread_choice.h"
@@ -169,6 +170,7 @@ struct sinter_stepper {
     size_t energy_adj_capacity;
     double *energy_force; /* beside energy_adj: a bound of that contact's force in the step */
     size_t energy_force_capacity;
+    sinter_frozen frozen; /* heat at its own pace over a frozen bed (frozen_heat.h, issue 41) */
 };
 
 /* Set every particle's temperature to the furnace's T(st->time) (no-op without a furnace). */

@@ -60,6 +60,17 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                          "(default) never; whole number >= 0",
         "rotation": "[-] 1 (default) integrates the rotation vector, 0 leaves it",
     },
+    "explicit": {
+        "frozen_heat": "[-] 1: freeze the mechanics at rest and step the heat alone at its own "
+                       "accuracy control (docs/steppers.md); 0 (default) off",
+        "frozen_ke": "[J] at rest below this kinetic energy per particle; 1e-12; > 0",
+        "frozen_settle": "[steps] explicit steps before the rest test; 1000; whole number >= 0",
+        "frozen_rtol": "[-] relative temperature tolerance of a heat step; 1e-4; > 0",
+        "frozen_atol": "[K] absolute temperature tolerance of a heat step; 0.01; > 0",
+        "frozen_dt_max": "[s] largest heat step; 0 (default: none); >= 0",
+        "frozen_wake": "[-] relative change of a softening factor that wakes the mechanics; "
+                       "0.01; > 0",
+    },
     "staggered": {
         "phi": "[-] trapezoidal parameter; 0.5 (default, second order), 1 backward Euler; "
                "(0, 1]",

@@ -1,0 +1,276 @@
+/*
+ * Heat at its own pace over a frozen bed (issue 41, stepper/frozen_heat.c): the heat step
+ * control's convergence on two spheres with a closed-form solution, the frozen run against the
+ * fully coupled one on seed 003 sec. 5.1 (a particle settling on a 700 K floor, with thermal
+ * softening: the mechanics wake up), and a restart through a frozen phase, bit for bit.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "scene_support.h"
+
+static const double PI = 3.14159265358979323846;
+
+static void set_temperature(scene *s, size_t i, double t)
+{
+    double *a = NULL;
+    OK(sinter_particles_view(s->ps, SINTER_FIELD_TEMPERATURE, (void **)&a, NULL, NULL));
+    a[i] = t;
+    OK(sinter_particles_release(s->ps, SINTER_FIELD_TEMPERATURE));
+}
+
+static double option(const sinter_stepper *st, const char *key)
+{
+    double v = NAN;
+    OK(sinter_stepper_get_option(st, key, &v));
+    return v;
+}
+
+/* Two overlapping spheres held in place (no force model: at rest from the first step), the
+ * frozen heat stage at rtol; the error of the temperature gap at t = 3 / rate against the
+ * closed form 100 K exp(-3) [K], the heat steps and sum m C theta's relative drift. */
+typedef struct two_result {
+    double error, drift;
+    double steps;
+} two_result;
+
+static two_result two_spheres(double rtol)
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 3000, 0.0, 0.0);
+    const double k = 50.0, c = 500.0;
+    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, k));
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, c));
+    OK(sinter_particles_create(&s.ps, s.ctx));
+    OK(sinter_particles_set_material(s.ps, 0, s.mat));
+    OK(sinter_walls_create(&s.walls, s.ctx));
+    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, s.walls));
+    const double r1 = 1e-3, r2 = 0.6e-3, d = 1.5e-3;
+    const double x[2][3] = {{0, 0, 0}, {d, 0, 0}}, rad[2] = {r1, r2};
+    OK(sinter_particles_add(s.ps, 2, x[0], rad, 0, 300.0, NULL));
+    set_temperature(&s, 0, 400.0);
+    sinter_heat_model *cond = NULL;
+    OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+    OK(sinter_stepper_add_heat(s.st, cond));
+    /* closed form (seed 003 eq. 33-34): G = k A / d, the gap decays as exp(-rate t) */
+    const double li = 0.5 * (d - (r2 * r2 - r1 * r1) / d), area = PI * (r1 * r1 - li * li);
+    const double g = k * area / d;
+    const double m1 = get1(&s, SINTER_FIELD_MASS, 0), m2 = get1(&s, SINTER_FIELD_MASS, 1);
+    const double rate = g * (1.0 / (m1 * c) + 1.0 / (m2 * c));
+    OK(sinter_stepper_set_dt(s.st, 1e-4 / rate));
+    OK(sinter_stepper_set_option(s.st, "frozen_heat", 1));
+    OK(sinter_stepper_set_option(s.st, "frozen_settle", 1));
+    OK(sinter_stepper_set_option(s.st, "frozen_rtol", rtol));
+    OK(sinter_stepper_set_option(s.st, "frozen_atol", 1e-12));
+    const double e0 = m1 * c * 400.0 + m2 * c * 300.0;
+    OK(sinter_stepper_advance(s.st, 3.0 / rate));
+    const double t0 = get1(&s, SINTER_FIELD_TEMPERATURE, 0),
+                 t1 = get1(&s, SINTER_FIELD_TEMPERATURE, 1);
+    two_result out;
+    out.error = fabs((t0 - t1) - 100.0 * exp(-3.0)); /* [K] */
+    out.drift = fabs(m1 * c * t0 + m2 * c * t1 - e0) / e0;
+    out.steps = option(s.st, "frozen_steps");
+    assert_true(option(s.st, "frozen_active") == 1.0);
+    assert_true(option(s.st, "frozen_freezes") == 1.0);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+    return out;
+}
+
+static void test_heat_step_control_converges(void **state)
+{
+    (void)state;
+    /* Backward Euler is of order 1: its local error h^2 / 2 theta'' held to the tolerance
+     * (error per step) gives steps h ~ rtol^(1/2) and a global error ~ h ~ rtol^(1/2). Held:
+     * the observed order in the step, log(e1 / e2) / log(N2 / N1), within 0.8-1.2 on each
+     * decade of rtol, and the error within a factor 2 of sqrt(10) smaller per decade. */
+    const double tols[3] = {1e-3, 1e-4, 1e-5};
+    two_result r[3];
+    for (int k = 0; k < 3; ++k) {
+        r[k] = two_spheres(tols[k]);
+        print_message("rtol %.0e: error %.3e K, %g heat steps, energy drift %.1e\n", tols[k],
+                      r[k].error, r[k].steps, r[k].drift);
+        /* conduction between two particles conserves sum m C theta (to the PCG's solve) */
+        assert_true(r[k].drift < 1e-12);
+    }
+    for (int k = 0; k < 2; ++k) {
+        const double gain = r[k].error / r[k + 1].error;
+        const double order = log(gain) / log(r[k + 1].steps / r[k].steps);
+        print_message("decade %d: error / %.2f, order %.3f in the step\n", k, gain, order);
+        assert_true(order > 0.8 && order < 1.2);
+        assert_true(gain > sqrt(10.0) / 2.0 && gain < 2.0 * sqrt(10.0));
+    }
+}
+
+/* Seed 003 sec. 5.1 (test_heat.c's hot floor): r = 1 mm settling on a 700 K floor, softening
+ * theta* = 400 K; the temperature every 0.1 s to 16 s; frozen heat at rtol (0: coupled). The
+ * stepper is left open for the caller when keep != NULL. */
+typedef struct floor_run {
+    double theta[161];
+    double force;
+    double wakeups, heat_steps, frozen_time;
+} floor_run;
+
+static void open_floor(scene *s, double rtol)
+{
+    scene_init(s);
+    scene_material(s, 1e6, 0.3, 3000, 1.0, 0.0);
+    OK(sinter_material_set(s->mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 60.0));
+    OK(sinter_material_set(s->mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
+    OK(sinter_material_set(s->mat, SINTER_MAT_SOFTENING_LAW, 2));
+    OK(sinter_material_set(s->mat, SINTER_MAT_SOFTENING_TEMPERATURE, 400.0));
+    OK(sinter_material_set(s->wall_mat, SINTER_MAT_YOUNGS_MODULUS, 1e13));
+    OK(sinter_material_set(s->wall_mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 60.0));
+    scene_open(s, "hertz_mindlin", 1);
+    scene_floor(s, 0.0);
+    OK(sinter_walls_set_temperature(s->walls, 0, 700.0));
+    scene_add(s, 0, 0, 1e-3, 1e-3);
+    set_temperature(s, 0, 300.0);
+    OK(sinter_stepper_set_dt(s->st, 2e-5));
+    if (rtol > 0.0) {
+        OK(sinter_stepper_set_option(s->st, "frozen_heat", 1));
+        OK(sinter_stepper_set_option(s->st, "frozen_ke", 1e-15));
+        OK(sinter_stepper_set_option(s->st, "frozen_rtol", rtol));
+        OK(sinter_stepper_set_option(s->st, "frozen_atol", 1e-9));
+        OK(sinter_stepper_set_option(s->st, "frozen_wake", 1e-3));
+    }
+}
+
+static floor_run run_floor(double rtol)
+{
+    scene s;
+    open_floor(&s, rtol);
+    sinter_heat_model *cond = NULL;
+    OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+    OK(sinter_stepper_add_heat(s.st, cond));
+    floor_run out;
+    memset(&out, 0, sizeof(out));
+    out.theta[0] = 300.0;
+    for (int k = 1; k <= 160; ++k) {
+        OK(sinter_stepper_advance(s.st, 0.1 * k));
+        out.theta[k] = get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+    }
+    double f[3];
+    OK(sinter_walls_get_force(s.walls, 0, f));
+    out.force = -f[2];
+    out.wakeups = option(s.st, "frozen_wakeups");
+    out.heat_steps = option(s.st, "frozen_steps");
+    out.frozen_time = option(s.st, "frozen_time");
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+    return out;
+}
+
+static void test_frozen_equals_coupled_hot_floor(void **state)
+{
+    (void)state;
+    const floor_run coupled = run_floor(0.0), frozen = run_floor(1e-6);
+    double worst = 0.0;
+    for (int k = 0; k <= 160; ++k)
+        worst = fmax(worst, fabs(frozen.theta[k] - coupled.theta[k]));
+    print_message("hot floor, 16 s: frozen %.2f s of it in %g heat steps, %g wake-ups; largest "
+                  "temperature difference %.3f K; static force %.5e / %.5e N\n",
+                  frozen.frozen_time, frozen.heat_steps, frozen.wakeups, worst, frozen.force,
+                  coupled.force);
+    /* Most of the run frozen, the softening waking the mechanics on the way (E falls to
+     * 0.47 E_0 over the heating, a 0.1 % change wakes them). */
+    assert_true(frozen.frozen_time > 10.0);
+    assert_true(frozen.wakeups > 10.0);
+    /* The stated error (RESULTS.md, issue 41): within 0.2 K of the coupled run over the 400 K
+     * rise (0.05 %), the same static force to 0.1 %. */
+    assert_true(worst < 0.2);
+    assert_close(frozen.force, coupled.force, 1e-3 * coupled.force);
+}
+
+/* Run to t1 (frozen by then), checkpoint, run to t2; a second stepper reads the checkpoint and
+ * runs to t2: the same bits (temperature, position, velocity and the frozen statistics). */
+static void test_restart_through_frozen_phase(void **state)
+{
+    (void)state;
+    const char *path = "test_frozen_heat.ck";
+    const double t1 = 3.0, t2 = 9.0; /* from t1: a frozen phase; t2 after wake-ups */
+    double a[7], b[7];
+    for (int pass = 0; pass < 2; ++pass) {
+        scene s;
+        open_floor(&s, 1e-5);
+        sinter_heat_model *cond = NULL;
+        OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+        OK(sinter_stepper_add_heat(s.st, cond));
+        if (pass == 0) {
+            /* on to the first sample from t1 on, every 0.05 s, that finds the bed frozen */
+            double t = t1;
+            OK(sinter_stepper_advance(s.st, t));
+            while (option(s.st, "frozen_active") != 1.0 && t < 6.0)
+                OK(sinter_stepper_advance(s.st, t += 0.05));
+            assert_true(option(s.st, "frozen_active") == 1.0);
+            const sinter_status w = sinter_checkpoint_write(s.st, path);
+            if (w != SINTER_OK)
+                print_message("%s\n", sinter_last_error(s.ctx));
+            OK(w);
+        } else {
+            OK(sinter_checkpoint_read(s.st, path));
+            assert_true(option(s.st, "frozen_active") == 1.0);
+        }
+        OK(sinter_stepper_advance(s.st, t2));
+        double *out = pass == 0 ? a : b, x[3], v[3];
+        get3(&s, SINTER_FIELD_POSITION, 0, x);
+        get3(&s, SINTER_FIELD_VELOCITY, 0, v);
+        out[0] = get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+        out[1] = x[2];
+        out[2] = v[2];
+        out[3] = option(s.st, "frozen_steps");
+        out[4] = option(s.st, "frozen_wakeups");
+        out[5] = option(s.st, "frozen_time");
+        out[6] = option(s.st, "frozen_dt");
+        assert_true(out[4] > 0.0); /* the continued run woke the mechanics */
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_heat_model_destroy(cond);
+        scene_close(&s);
+    }
+    remove(path);
+    assert_memory_equal(a, b, sizeof(a));
+}
+
+static void test_options_checked(void **state)
+{
+    (void)state;
+    scene s;
+    open_floor(&s, 0.0);
+    assert_int_equal(sinter_stepper_set_option(s.st, "frozen_heat", 2), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_set_option(s.st, "frozen_rtol", 0), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_set_option(s.st, "frozen_atol", NAN), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_set_option(s.st, "frozen_settle", 1.5), SINTER_ERR_INVALID);
+    assert_int_equal(sinter_stepper_set_option(s.st, "frozen_steps", 1), SINTER_ERR_INVALID);
+    OK(sinter_stepper_set_option(s.st, "frozen_dt_max", 0.5));
+    assert_true(option(s.st, "frozen_dt_max") == 0.5);
+    assert_true(option(s.st, "frozen_heat") == 0.0);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    scene_close(&s);
+    scene_init(&s);
+    scene_material(&s, 1e6, 0.3, 3000, 1.0, 0.0);
+    OK(sinter_particles_create(&s.ps, s.ctx));
+    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_STAGGERED, s.ps, NULL));
+    assert_int_equal(sinter_stepper_set_option(s.st, "frozen_heat", 1), SINTER_ERR_UNSUPPORTED);
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    scene_close(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_heat_step_control_converges),
+        cmocka_unit_test(test_frozen_equals_coupled_hot_floor),
+        cmocka_unit_test(test_restart_through_frozen_phase),
+        cmocka_unit_test(test_options_checked),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
