@@ -45,7 +45,7 @@
  *    moment (3), its servo's committed time, displacement, velocity and error integral (4),
  *    and the rest of its neighbour-list reference (3: a non-planar kind's point and angle);
  *    earlier versions are still read (they hold planes only: no moment, no servo)
-/* 9: then the frozen heat stage (stepper/frozen_heat.h): whether the mechanics are frozen,
+ * 9: then the frozen heat stage (stepper/frozen_heat.h): whether the mechanics are frozen,
  *    the heat step's proposal, the mechanical steps since the last wake-up, the last kinetic
  *    energy of its rest test, its statistics, and while frozen the rates of the last heat step
  *    and the modulus factors of the freeze (per particle); earlier versions are still read (not
