@@ -939,6 +939,33 @@ static sinter_status build_compact(scene_text *t, sinter_scene *sc, scene_sectio
 }
 
 /* [output] track: the persistent ids of particles whose histories series.csv carries. */
+/* [output] temperature_bins = lo hi n: n bins of (hi - lo) / n between lo and hi [K]. */
+static sinter_status build_temperature_bins(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    double *v = NULL;
+    size_t n = 0;
+    const sinter_status got = scene_get_numbers(t, s, "temperature_bins", &v, &n);
+    if (got == SINTER_ERR_NOT_FOUND)
+        return SINTER_OK;
+    if (got != SINTER_OK)
+        return got;
+    const int ok = n == 3 && isfinite(v[0]) && isfinite(v[1]) && v[0] < v[1] && v[2] >= 1.0 &&
+                   v[2] <= SCENE_MAX_TEMPERATURE_BINS && v[2] == floor(v[2]);
+    if (ok) {
+        sc->temperature_low = v[0];
+        sc->temperature_high = v[1];
+        sc->temperature_bins = (size_t)v[2];
+    }
+    sinter_free(t->ctx, v);
+    if (!ok)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: temperature_bins: expected 'low high n' (K, K, a whole number "
+                           "of bins in [1, %d]) with low < high",
+                           t->path, scene_find(s, "temperature_bins")->line,
+                           SCENE_MAX_TEMPERATURE_BINS);
+    return SINTER_OK;
+}
+
 static sinter_status build_track(scene_text *t, sinter_scene *sc, scene_section *s)
 {
     double *ids = NULL;
@@ -989,6 +1016,7 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_bool(t, s, "contacts", &sc->write_contacts));
     OPTIONAL(scene_get_bool(t, s, "walls", &sc->write_walls));
     OPTIONAL(scene_get_bool(t, s, "distributions", &sc->write_distributions));
+    TRY(build_temperature_bins(t, sc, s));
     TRY(build_track(t, sc, s));
     OPTIONAL(scene_get_bool(t, s, "pair_reference", &sc->pair_reference));
     if (sc->pair_reference && sc->st->kind != SINTER_STEPPER_QUASISTATIC)

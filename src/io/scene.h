@@ -10,9 +10,10 @@
 #define SCENE_MAX_MATERIALS 32
 #define SCENE_MAX_WALLS 64
 #define SCENE_MAX_FORCES 16
-#define SCENE_MAX_TRACKED 8  /* [output] track: most particles followed in series.csv */
-#define SCENE_NAME 64        /* bytes of a name with its NUL; longer names are refused */
-#define SCENE_NAME_TEXT "63" /* SCENE_NAME - 1, for messages */
+#define SCENE_MAX_TEMPERATURE_BINS 100 /* [output] temperature_bins: most bins */
+#define SCENE_MAX_TRACKED 8            /* [output] track: most particles followed in series.csv */
+#define SCENE_NAME 64                  /* bytes of a name with its NUL; longer names are refused */
+#define SCENE_NAME_TEXT "63"           /* SCENE_NAME - 1, for messages */
 
 struct sinter_scene {
     sinter_ctx *ctx;
@@ -50,6 +51,10 @@ struct sinter_scene {
     /* particles followed in series.csv by their persistent ids (io/scene_track.h) */
     uint64_t track_ids[SCENE_MAX_TRACKED];
     size_t track_count;
+    /* [output] temperature_bins = lo hi n: a histogram of the particles' temperatures in
+     * series.csv (scene_run.c); n = 0: none */
+    double temperature_low, temperature_high;
+    size_t temperature_bins;
     /* the two-particle reference's columns (io/scene_pair_reference.h) */
     int pair_reference;
     /* [fields]: coarse-grained fields (.vti) and lamina profiles (CSV) with each frame

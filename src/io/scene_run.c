@@ -291,6 +291,44 @@ static size_t frozen_column(const sinter_scene *sc)
     return pair_column(sc) + (sc->pair_reference ? SCENE_PAIR_COLUMNS : 0);
 }
 
+/* Very last, with [output] temperature_bins = lo hi n: how many particles have a temperature
+ * below lo, in each of the n bins of (hi - lo) / n from lo, and at hi or above; they sum to
+ * the particles (issue 37: the distribution of the particles' temperatures). */
+static size_t temperature_columns(const sinter_scene *sc)
+{
+    return sc->temperature_bins > 0 ? sc->temperature_bins + 2 : 0;
+}
+
+static size_t temperature_column(const sinter_scene *sc)
+{
+    return frozen_column(sc) + frozen_columns(sc);
+}
+
+static void observe_temperatures(const sinter_scene *sc, double *row)
+{
+    const size_t columns = temperature_columns(sc);
+    if (columns == 0)
+        return;
+    double *q = row + temperature_column(sc);
+    for (size_t k = 0; k < columns; ++k)
+        q[k] = 0.0;
+    const double lo = sc->temperature_low, hi = sc->temperature_high;
+    const double width = (hi - lo) / (double)sc->temperature_bins;
+    for (size_t i = 0; i < sc->ps->count; ++i) {
+        const double theta = sc->ps->temperature[i];
+        size_t k;
+        if (theta < lo)
+            k = 0;
+        else if (!(theta < hi)) /* at hi or above */
+            k = columns - 1;
+        else {
+            const double b = floor((theta - lo) / width);
+            k = 1 + (b < (double)sc->temperature_bins ? (size_t)b : sc->temperature_bins - 1);
+        }
+        q[k] += 1.0;
+    }
+}
+
 static void observe_frozen(const sinter_scene *sc, double *row)
 {
     for (size_t k = 0; k < frozen_columns(sc); ++k)
@@ -432,6 +470,7 @@ static void observe(const sinter_scene *sc, double *row)
     }
     observe_flows(sc, row);
     observe_frozen(sc, row);
+    observe_temperatures(sc, row);
 }
 
 /*
@@ -771,7 +810,24 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[frozen_column(sc) + k] = FROZEN_NAMES[k];
         units[frozen_column(sc) + k] = FROZEN_UNITS[k];
     }
-    return frozen_column(sc) + frozen_columns(sc);
+    /* the temperature histogram's labels after the walls', histograms' and tracked ones */
+    char(*tl)[SCENE_NAME + 16] =
+        wall_labels + 3 * nw + distribution_columns(sc) + SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS;
+    const size_t size = sizeof(wall_labels[0]);
+    const double lo = sc->temperature_low, hi = sc->temperature_high;
+    const double width = (hi - lo) / (double)(sc->temperature_bins ? sc->temperature_bins : 1);
+    for (size_t k = 0; k < temperature_columns(sc); ++k) {
+        if (k == 0)
+            snprintf(tl[k], size, "temperature below %g", lo);
+        else if (k == temperature_columns(sc) - 1)
+            snprintf(tl[k], size, "temperature %g or more", hi);
+        else
+            snprintf(tl[k], size, "temperature %g-%g", lo + width * (double)(k - 1),
+                     lo + width * (double)k);
+        names[temperature_column(sc) + k] = tl[k];
+        units[temperature_column(sc) + k] = "1";
+    }
+    return temperature_column(sc) + temperature_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -811,14 +867,15 @@ static sinter_status open_output(run_state *r)
     enum {
         HISTOGRAMS = COORDINATION_MAX + 1 + NECK_BINS + 1 + CORRECTION_BINS + 2,
         TRACKED = SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS,
+        TEMPERATURES = SCENE_MAX_TEMPERATURE_BINS + 2,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
-               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED + SCENE_PAIR_COLUMNS +
-               FROZEN_COLUMNS /* 1: the solid fraction */
+               STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED + SCENE_PAIR_COLUMNS + FROZEN_COLUMNS +
+               TEMPERATURES /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];
     /* the walls' labels, then the histograms', then the followed particles' */
-    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS + TRACKED][SCENE_NAME + 16];
+    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS + TRACKED + TEMPERATURES][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

@@ -368,6 +368,64 @@ static void test_scan_path_keys(void **state)
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "no beam to move");
 }
 
+/* [output] temperature_bins: the histogram's columns are named by their bins and sum to the
+ * particles at every sample; bad specifications are refused with the line. */
+static void test_temperature_bins(void **state)
+{
+    (void)state;
+    char text[4096];
+    const char *output = strstr(GOOD, "[output]");
+    snprintf(text, sizeof(text), "%.*s[heat conduction]\n%stemperature_bins = 290 300 2\n",
+             (int)(output - GOOD), GOOD, output);
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("tbins.scene", text)), SINTER_OK);
+    char out[512];
+    snprintf(out, sizeof(out), "%s/tbins", dir);
+    assert_int_equal(sinter_scene_run(scene, out, NULL, NULL), SINTER_OK);
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
+    size_t n = 0;
+    assert_int_equal(sinter_particles_count(ps, &n), SINTER_OK);
+    char csv[600];
+    snprintf(csv, sizeof(csv), "%s/series.csv", out);
+    FILE *f = fopen(csv, "r");
+    assert_non_null(f);
+    static char line[8192];
+    assert_non_null(fgets(line, sizeof(line), f));
+    const char *first = strstr(line, "temperature below 290 [1],temperature 290-295 [1],"
+                                     "temperature 295-300 [1],temperature 300 or more [1]");
+    assert_non_null(first);
+    size_t column = 0; /* the first histogram column's index */
+    for (const char *c = line; c < first; ++c)
+        column += *c == ',';
+    int rows = 0;
+    while (fgets(line, sizeof(line), f) != NULL) {
+        char *p = line;
+        for (size_t k = 0; k < column; ++k)
+            p = strchr(p, ',') + 1;
+        double sum = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            sum += strtod(p, &p);
+            if (*p == ',')
+                ++p;
+        }
+        assert_true(sum == (double)n);
+        ++rows;
+    }
+    fclose(f);
+    assert_true(rows > 1);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    snprintf(text, sizeof(text), "%.*s%stemperature_bins = 300 290 2\n", (int)(output - GOOD), GOOD,
+             output);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "temperature_bins");
+    snprintf(text, sizeof(text), "%.*s%stemperature_bins = 290 300 2.5\n", (int)(output - GOOD),
+             GOOD, output);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "whole number");
+}
+
 static void test_furnace_scene(void **state)
 {
     (void)state;
@@ -799,6 +857,7 @@ int main(void)
         cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
         cmocka_unit_test(test_furnace_scene),
         cmocka_unit_test(test_scan_path_keys),
+        cmocka_unit_test(test_temperature_bins),
         cmocka_unit_test(test_quasistatic_restart_is_bit_for_bit),
         cmocka_unit_test(test_compact_section),
         cmocka_unit_test(test_output_and_fields_keys),
