@@ -97,6 +97,10 @@ static void try_cell(const sinter_mesh *m, const double *x, size_t cell, best_po
     for (uint32_t k = m->start[cell]; k < m->start[cell + 1]; ++k) {
         const size_t t = m->item[k];
         const uint32_t *v = m->tri + 3 * t;
+        const double *a = m->v + 3 * v[0], *fn = m->fn + 3 * t;
+        const double h = (x[0] - a[0]) * fn[0] + (x[1] - a[1]) * fn[1] + (x[2] - a[2]) * fn[2];
+        if (h * h > best->d2) /* its plane is farther than the best point */
+            continue;
         double c[3];
         const int f = closest_on_triangle(x, m->v + 3 * v[0], m->v + 3 * v[1], m->v + 3 * v[2], c);
         const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
@@ -129,6 +133,19 @@ static void try_ring(const sinter_mesh *m, const double *x, const int *at, int k
                 }
                 const size_t c =
                     ((size_t)z * (size_t)m->dim[1] + (size_t)y) * (size_t)m->dim[0] + (size_t)xx;
+                if (m->start[c] == m->start[c + 1])
+                    continue;
+                /* a cell whose box is farther than the best point cannot hold a closer one */
+                const int idx[3] = {xx, y, z};
+                double gap2 = 0.0;
+                for (int d = 0; d < 3; ++d) {
+                    const double lo_d = m->lo[d] + idx[d] * m->h;
+                    const double g = x[d] < lo_d ? lo_d - x[d] : x[d] - (lo_d + m->h);
+                    if (g > 0.0)
+                        gap2 += g * g;
+                }
+                if (gap2 > best->d2)
+                    continue;
                 try_cell(m, x, c, best);
             }
         }
@@ -156,7 +173,14 @@ double sinter_mesh_closest(const sinter_mesh *m, const double *x, double *n)
     best_point best = {INFINITY, 0, 0, {0, 0, 0}};
     for (int k = first; k <= kmax; ++k) {
         try_ring(m, x, at, k, &best);
-        const double bound = k * m->h; /* of every cell farther out */
+        /* the distance from x to the cells beyond the block searched: at least k h */
+        double bound = INFINITY;
+        for (int d = 0; d < 3; ++d) {
+            if (at[d] - k > 0)
+                bound = fmin(bound, x[d] - (m->lo[d] + (at[d] - k) * m->h));
+            if (at[d] + k < m->dim[d] - 1)
+                bound = fmin(bound, m->lo[d] + (at[d] + k + 1) * m->h - x[d]);
+        }
         if (best.d2 <= bound * bound)
             break;
         if (bound >= m->reach) { /* beyond the reach: a lower bound */
