@@ -29,6 +29,8 @@ typedef struct sinter_mesh {
     double *fn;        /* 3 per triangle: unit normal (right-hand rule) into the particles */
     double *en;        /* 9 per triangle: for edges (v0 v1), (v1 v2), (v2 v0) the sum of the two
                           faces' normals (its sign's pseudo-normal); zero on an open edge */
+    double *disc;      /* 4 per triangle: its centroid [m] and the largest distance from it to
+                          a vertex [m] (the triangle lies in that disc of its plane) */
     double *vn;        /* 3 per vertex: angle-weighted sum of its faces' normals; zero on an
                           open edge's vertex */
     size_t open_edges; /* edges of one triangle only: rims met from either side */

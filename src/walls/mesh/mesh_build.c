@@ -31,6 +31,7 @@ void sinter_mesh_destroy(sinter_ctx *ctx, sinter_mesh *m)
     sinter_free(ctx, m->fn);
     sinter_free(ctx, m->en);
     sinter_free(ctx, m->vn);
+    sinter_free(ctx, m->disc);
     sinter_free(ctx, m->start);
     sinter_free(ctx, m->item);
     sinter_free(ctx, m->layer);
@@ -102,7 +103,8 @@ static sinter_status make_triangles(sinter_ctx *ctx, const sinter_stl *stl, cons
     m->tri = sinter_alloc(ctx, ns * sizeof(uint32_t));
     m->v = sinter_alloc(ctx, 3 * ns * sizeof(double));
     m->fn = sinter_alloc(ctx, 3 * stl->count * sizeof(double));
-    if (!order || !m->tri || !m->v || !m->fn) {
+    m->disc = sinter_alloc(ctx, 4 * stl->count * sizeof(double));
+    if (!order || !m->tri || !m->v || !m->fn || !m->disc) {
         sinter_free(ctx, order);
         return sinter_fail(ctx, SINTER_ERR_NOMEM, "STL file '%s': out of memory", path);
     }
@@ -148,6 +150,16 @@ static sinter_status make_triangles(sinter_ctx *ctx, const sinter_stl *stl, cons
                                path, t + 1);
         for (int i = 0; i < 3; ++i)
             m->fn[3 * t + i] = n[i] / area2;
+        double *disc = m->disc + 4 * t;
+        for (int i = 0; i < 3; ++i)
+            disc[i] = (a[i] + b[i] + d[i]) / 3.0;
+        disc[3] = 0.0;
+        for (int p = 0; p < 3; ++p) {
+            const double *q = m->v + 3 * c[p];
+            const double g[3] = {q[0] - disc[0], q[1] - disc[1], q[2] - disc[2]};
+            disc[3] = fmax(disc[3], sqrt(dot3(g, g)));
+        }
+        disc[3] *= 1.0 + 1e-12; /* round-off: the bound stays a bound */
         const double *sn = stl->normal + 3 * t;
         double stored[3];
         for (int i = 0; i < 3; ++i) /* the stored normal placed as the points (no scale) */

@@ -101,6 +101,13 @@ static void try_cell(const sinter_mesh *m, const double *x, size_t cell, best_po
         const double h = (x[0] - a[0]) * fn[0] + (x[1] - a[1]) * fn[1] + (x[2] - a[2]) * fn[2];
         if (h * h > best->d2) /* its plane is farther than the best point */
             continue;
+        /* in its plane the triangle lies within its disc: |x - q|^2 >= h^2 + (lateral - rho)^2
+         * for every point q of it */
+        const double *disc = m->disc + 4 * t;
+        const double g[3] = {x[0] - disc[0], x[1] - disc[1], x[2] - disc[2]};
+        const double lateral = sqrt(fmax(dot3(g, g) - h * h, 0.0)) - disc[3];
+        if (lateral > 0.0 && h * h + lateral * lateral > best->d2)
+            continue;
         double c[3];
         const int f = closest_on_triangle(x, m->v + 3 * v[0], m->v + 3 * v[1], m->v + 3 * v[2], c);
         const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
