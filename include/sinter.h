@@ -666,7 +666,8 @@ SINTER_API sinter_status sinter_walls_get_kind(const sinter_walls *walls, size_t
 /**
  * Shape of wall k at the current time: its axis (the normal of a planar
  * kind), its first edge direction (rectangle), and size: rectangle (half_1,
- * half_2, 0) [m]; disc (radius, 0, 0); cylinder (radius, half_length, inside).
+ * half_2, 0) [m]; disc (radius, 0, 0); cylinder (radius, half_length, inside); mesh
+ * (0, 0, 0).
  * Any pointer may be NULL.
  */
 SINTER_API sinter_status sinter_walls_get_shape(const sinter_walls *walls, size_t k,
