@@ -2,8 +2,8 @@
  * Triangle-mesh walls read from STL against the analytic kinds they approximate: a
  * triangulated plane against the plane (rolling and sliding, the tangential history carried
  * across triangles), a triangulated die against the cylinder (the offset of its facets), a
- * triangulated square's edges and corners against the rectangle's; ASCII and binary files
- * alike; bad files refused (docs/validation.md: walls).
+ * triangulated square's edges and corners against the rectangle's; force and moment balance;
+ * ASCII and binary files alike; bad files refused (docs/validation.md: walls).
  */
 #define _POSIX_C_SOURCE 200809L /* mkstemp */
 #include <math.h>
@@ -284,6 +284,80 @@ static void test_edges_and_corners_as_rectangle(void **state)
     free(v);
 }
 
+/*
+ * Force and moment balance on a mesh: four spheres inside a triangulated die (64 facets, moved
+ * off the origin), moving and spinning, with rolling resistance, touching its faces (one at a
+ * facet's edge line): the wall's reaction equals minus the sum of the particles' forces, its
+ * moment about its point minus the sum of (x_i - p) x F_i + T_i, to round-off (1e-12), as for
+ * the analytic kinds (test_wall_kinds.c).
+ */
+static void test_mesh_force_and_moment_balance(void **state)
+{
+    (void)state;
+    const int nf = 64;
+    double *v = malloc(9 * 2 * (size_t)nf * sizeof(double));
+    const size_t n = tube(nf, 1.0, 20.0, v);
+    char path[64];
+    write_stl(path, v, n, 1);
+    scene s;
+    open_rigid(&s, 0.3, 0.4, 0);
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+    OK(sinter_material_set(s.wall_mat, SINTER_MAT_YOUNGS_MODULUS, E));
+    const double p[3] = {1e-4, -2e-4, 3e-4}, o[3] = {0, 0, 0};
+    OK(sinter_walls_add_mesh(s.walls, path, 6 * R, o, p, 1, 0.0, s.wall_mat, NULL));
+    unlink(path);
+    /* (axial, radial, angle from -z towards +y): the first on a facet's edge line */
+    const double at[4][3] = {{0, 5.002 * R, PI / nf},
+                             {3 * R, 5.003 * R, PI},
+                             {-4 * R, 5.005 * R, 1.0},
+                             {8 * R, 5.004 * R, -PI / 2}};
+    const double vel[3] = {0.01, -0.02, 0.0};
+    for (int i = 0; i < 4; ++i) {
+        const double phi = -PI / 2 + at[i][2];
+        scene_add(&s, p[0] + at[i][0], p[1] + at[i][1] * cos(phi), p[2] + at[i][1] * sin(phi), R);
+        const double w[3] = {10.0 * i, -5.0, 3.0};
+        set3(&s, SINTER_FIELD_SPIN, (size_t)i, w);
+        set3(&s, SINTER_FIELD_VELOCITY, (size_t)i, vel);
+    }
+    OK(sinter_stepper_set_dt(s.st, 1e-7));
+    OK(sinter_stepper_advance(s.st, 2e-6)); /* tangential springs loaded */
+    OK(sinter_stepper_evaluate(s.st));
+    double f[3], m[3], wp[3], sum_f[3] = {0, 0, 0}, sum_m[3] = {0, 0, 0}, fmax = 0.0;
+    OK(sinter_walls_get_force(s.walls, 0, f));
+    OK(sinter_walls_get_moment(s.walls, 0, m));
+    OK(sinter_walls_get_state(s.walls, 0, wp, NULL));
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    for (size_t i = 0; i < 4; ++i) {
+        double fi[3], ti[3], xi[3];
+        get3(&s, SINTER_FIELD_FORCE, i, fi);
+        get3(&s, SINTER_FIELD_TORQUE, i, ti);
+        get3(&s, SINTER_FIELD_POSITION, i, xi);
+        const double r[3] = {xi[0] - wp[0], xi[1] - wp[1], xi[2] - wp[2]};
+        const double rf[3] = {r[1] * fi[2] - r[2] * fi[1], r[2] * fi[0] - r[0] * fi[2],
+                              r[0] * fi[1] - r[1] * fi[0]};
+        for (int d = 0; d < 3; ++d) {
+            sum_f[d] += fi[d];
+            sum_m[d] += rf[d] + ti[d];
+            fmax = fmax > fabs(fi[d]) ? fmax : fabs(fi[d]);
+        }
+    }
+    print_message("mesh: %llu contacts; reaction (%.6e, %.6e, %.6e) N, moment (%.6e, %.6e, "
+                  "%.6e) N m\n",
+                  (unsigned long long)stats.wall_contacts, f[0], f[1], f[2], m[0], m[1], m[2]);
+    assert_int_equal(stats.wall_contacts, 4);
+    assert_true(fmax > 0.0);
+    for (int d = 0; d < 3; ++d) {
+        assert_close(f[d], -sum_f[d], 1e-12 * fmax);
+        assert_close(m[d], -sum_m[d], 1e-12 * fmax * 10 * R);
+    }
+    scene_close(&s);
+    free(v);
+}
+
 static void write_text(char *path, const char *text)
 {
     snprintf(path, 64, "/tmp/sinter_meshXXXXXX");
@@ -373,6 +447,7 @@ int main(void)
         cmocka_unit_test(test_triangulated_plane_as_plane),
         cmocka_unit_test(test_sphere_rests_in_triangulated_die),
         cmocka_unit_test(test_edges_and_corners_as_rectangle),
+        cmocka_unit_test(test_mesh_force_and_moment_balance),
         cmocka_unit_test(test_bad_meshes_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
