@@ -36,7 +36,7 @@ static void write_stl(char *path, const double *v, size_t n, int binary)
     FILE *f = fdopen(fd, binary ? "wb" : "w");
     assert_non_null(f);
     if (!binary)
-        fprintf(f, "solid test\n");
+        fprintf(f, "solid\n"); /* no name: the first facet on the next line */
     else {
         char header[80] = "binary test mesh";
         fwrite(header, 1, 80, f);

@@ -149,8 +149,8 @@ static sinter_status read_ascii(sinter_ctx *ctx, const char *path, char *text, s
     if (st != SINTER_OK)
         return st;
     cursor c = {text, 1};
-    word(&c);                                  /* "solid" */
-    while (c.at[0] != '\0' && c.at[0] != '\n') /* its name: the rest of the line */
+    word(&c); /* "solid", then its name: the rest of its line (none if the word ended it) */
+    while (c.line == 1 && c.at[0] != '\0' && c.at[0] != '\n')
         ++c.at;
     size_t k = 0;
     for (;;) {
