@@ -598,8 +598,9 @@ typedef enum sinter_wall_kind {
     SINTER_WALL_RECTANGLE = 1, /**< finite plane: a rectangle; beyond its edges a sphere meets the
                                   edge (a rim, from either side) */
     SINTER_WALL_DISC = 2,      /**< finite plane: a disc, edges as the rectangle's */
-    SINTER_WALL_CYLINDER = 3 /**< lateral surface of a circular cylinder; beyond a finite one's ends
-                                a sphere meets the rim circle */
+    SINTER_WALL_CYLINDER = 3, /**< lateral surface of a circular cylinder; beyond a finite one's
+                                 ends a sphere meets the rim circle */
+    SINTER_WALL_MESH = 4      /**< triangle mesh read from STL (sinter_walls_add_mesh) */
 } sinter_wall_kind;
 
 /**
@@ -631,12 +632,42 @@ SINTER_API sinter_status sinter_walls_add_cylinder(sinter_walls *walls, const do
                                                    double half_length, int inside,
                                                    const sinter_material *material,
                                                    size_t *index);
+/**
+ * Add a fixed triangle mesh read from the STL file `path` (ASCII or binary):
+ * each file point x placed at translate + R (scale x) [m], R turning by
+ * rotate[0] about x, then rotate[1] about y, then rotate[2] about z [rad].
+ * The particles are on the side the facets' normals point to, given by the
+ * vertices' winding (right-hand rule); flip = 1 reverses them (a closed
+ * surface's outward normals turned inwards: a die). The wall's point is
+ * `translate` (its moment's origin; its motions move the mesh), its normal
+ * the file's z axis as placed. A sphere touches the mesh once, at the closest
+ * point of all its triangles (face, edge or vertex), the normal from that
+ * point to its centre, so that a smooth surface made of many triangles acts
+ * as one surface (one contact, its tangential history kept across
+ * triangles); in a concave corner of one mesh only the closer face touches.
+ * Open edges (of one triangle only) are rims met from either side, as a
+ * rectangle's edge. Distances from the mesh come from a cell grid over its
+ * triangles; beyond `reach` [m] (0: everywhere exact) one may come out as a
+ * lower bound, so reach must exceed the largest particle radius plus the
+ * neighbour list's skin. A spin does not turn the mesh (it gives its surface
+ * velocity, as for a cylinder); the mesh is not drawn in .vtp files.
+ * Errors: SINTER_ERR_IO (unreadable), SINTER_ERR_PARSE (not STL, with the
+ * line), SINTER_ERR_INVALID (a scale not positive, a non-finite placement, a
+ * degenerate facet, an edge of more than two facets, neighbouring facets
+ * wound opposite ways or a stored normal against the winding: inconsistent
+ * normals; each names the facet).
+ */
+SINTER_API sinter_status sinter_walls_add_mesh(sinter_walls *walls, const char *path, double scale,
+                                               const double rotate[3], const double translate[3],
+                                               int flip, double reach,
+                                               const sinter_material *material, size_t *index);
 /** Kind of wall k (sinter_wall_kind). */
 SINTER_API sinter_status sinter_walls_get_kind(const sinter_walls *walls, size_t k, int *kind);
 /**
  * Shape of wall k at the current time: its axis (the normal of a planar
  * kind), its first edge direction (rectangle), and size: rectangle (half_1,
- * half_2, 0) [m]; disc (radius, 0, 0); cylinder (radius, half_length, inside).
+ * half_2, 0) [m]; disc (radius, 0, 0); cylinder (radius, half_length, inside); mesh
+ * (0, 0, 0).
  * Any pointer may be NULL.
  */
 SINTER_API sinter_status sinter_walls_get_shape(const sinter_walls *walls, size_t k,

@@ -180,6 +180,7 @@ enum class wall_kind : int {
     rectangle = SINTER_WALL_RECTANGLE,
     disc = SINTER_WALL_DISC,
     cylinder = SINTER_WALL_CYLINDER,
+    mesh = SINTER_WALL_MESH,
 };
 /// Mirrors sinter_stepper_kind.
 enum class stepper_kind : int {
@@ -875,6 +876,17 @@ class walls : public detail::handle<sinter_walls, sinter_walls_destroy> {
         check(sinter_walls_add_cylinder(live("sinter_walls_add_cylinder"), p.data(), a.data(), r,
                                         half_length, inside ? 1 : 0, m.get(), &k),
               "sinter_walls_add_cylinder");
+        return k;
+    }
+    /// A fixed triangle mesh from the STL file `path`, placed at t + R (scale x) (R: rotate
+    /// [rad] about x, then y, then z); flip reverses its normals; reach [m] as in the C API.
+    std::size_t add_mesh(const char *path, double scale, const vec3 &rotate, const vec3 &t,
+                         bool flip, double reach, const material &m)
+    {
+        std::size_t k = 0;
+        check(sinter_walls_add_mesh(live("sinter_walls_add_mesh"), path, scale, rotate.data(),
+                                    t.data(), flip ? 1 : 0, reach, m.get(), &k),
+              "sinter_walls_add_mesh");
         return k;
     }
     /// Kind of wall k.

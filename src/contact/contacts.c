@@ -886,14 +886,16 @@ static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const d
     put_wall_distances(c, m, r, s);
 }
 
-/* Wall w's normal at the contact with centre x (towards it): a plane's own, else the kind's
- * (into buf). */
-static inline const double *wall_normal(const sinter_wall *w, const double *x, double *buf)
+/* Wall w's signed distance from centre x and its normal there (*wn: a plane's own, else the
+ * kind's, into buf) from one evaluation of the kind's closest point (a mesh's search is not
+ * repeated; the arithmetic of sinter_wall_distance and of the kind's normal). */
+static inline double wall_distance_normal(const sinter_wall *w, const double *x, int planes,
+                                          double *buf, const double **wn)
 {
-    if (w->kind == SINTER_WALL_PLANE)
-        return w->n;
-    sinter_wall_shape_contact(w, x, buf);
-    return buf;
+    if (planes || w->kind == SINTER_WALL_PLANE)
+        return sinter_plane_distance(w, x);
+    *wn = buf;
+    return sinter_wall_shape_contact(w, x, buf);
 }
 
 /* The wall search's ranges of pairs (sinter_contacts_find_pw), run by sinter_ranges_run. */
@@ -926,8 +928,9 @@ static inline void wall_test_pairs(wall_search *job, int t, int planes)
         const uint32_t i = pi[p], k = pk[p];
         ascending &= p == 0 || i >= pi[p - 1];
         const sinter_wall *w = &job->walls->wall[k];
-        const double sd =
-            planes ? sinter_plane_distance(w, x + 3 * i) : sinter_wall_distance(w, x + 3 * i);
+        double buf[3];
+        const double *wn = w->n;
+        const double sd = wall_distance_normal(w, x + 3 * i, planes, buf, &wn);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
@@ -935,8 +938,6 @@ static inline void wall_test_pairs(wall_search *job, int t, int planes)
         if (touches != (was != SINTER_NO_PAIR)) {
             same = 0;
         } else if (job->compare && touches) {
-            double buf[3];
-            const double *wn = planes ? w->n : wall_normal(w, x + 3 * i, buf);
             renew_wall_geometry(c, was, wn, r[i], sd);
         }
     }
@@ -974,9 +975,8 @@ static inline void wall_put_pairs(wall_search *job, int t, int planes)
         const sinter_wall *w = &job->walls->wall[k];
         to_contact[p] = (uint32_t)m;
         double buf[3];
-        const double *wn = planes ? w->n : wall_normal(w, x + 3 * i, buf);
-        const double sd =
-            planes ? sinter_plane_distance(w, x + 3 * i) : sinter_wall_distance(w, x + 3 * i);
+        const double *wn = w->n;
+        const double sd = wall_distance_normal(w, x + 3 * i, planes, buf, &wn);
         put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }

@@ -1,5 +1,5 @@
 /*
- * The [wall] section's wall kinds (plane, rectangle, disc, cylinder), spin and force servo:
+ * The [wall] section's wall kinds (plane, rectangle, disc, cylinder, mesh), spin and force servo:
  * scene keys to sinter_walls_add_* and sinter_walls_set_spin / _set_servo. The keys are in
  * docs/scene-reference.md.
  */
@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "io/path.h"
 #include "io/scene_walls.h"
 
 #define TRY(expr) SCENE_TRY(expr)
@@ -48,6 +49,39 @@ static sinter_status get_half_lengths(scene_text *t, scene_section *s, double ou
     return result;
 }
 
+/* An optional key: SINTER_OK when absent (out keeps its default). */
+static sinter_status optional(sinter_status st)
+{
+    return st == SINTER_ERR_NOT_FOUND ? SINTER_OK : st;
+}
+
+/* kind = mesh: an STL file (relative to the scene's directory), placed by scale, rotate
+ * [degrees, about x, then y, then z] and translate [m]. */
+static sinter_status add_mesh(scene_text *t, sinter_scene *sc, scene_section *s,
+                              const sinter_material *material, size_t *index)
+{
+    const char *file = NULL;
+    TRY(needs(t, s, scene_get_word(t, s, "file", &file), "file"));
+    char path[SINTER_PATH_SIZE];
+    const int line = scene_find(s, "file")->line;
+    TRY(labelled(t, line,
+                 file[0] == '/'
+                     ? sinter_path_format(t->ctx, path, sizeof(path), "%s", file)
+                     : sinter_path_join(t->ctx, path, sizeof(path), sc->directory, file)));
+    double scale = 1.0, rotate[3] = {0, 0, 0}, translate[3] = {0, 0, 0}, reach = 0.0;
+    int flip = 0;
+    TRY(optional(scene_get_double(t, s, "scale", &scale)));
+    TRY(optional(scene_get_vec3(t, s, "rotate", rotate)));
+    TRY(optional(scene_get_vec3(t, s, "translate", translate)));
+    TRY(optional(scene_get_bool(t, s, "flip", &flip)));
+    TRY(optional(scene_get_double(t, s, "reach", &reach)));
+    for (int d = 0; d < 3; ++d)
+        rotate[d] *= 3.14159265358979323846 / 180.0;
+    return labelled(t, line,
+                    sinter_walls_add_mesh(sc->walls, path, scale, rotate, translate, flip, reach,
+                                          material, index));
+}
+
 sinter_status scene_wall_add(scene_text *t, sinter_scene *sc, scene_section *s,
                              const sinter_material *material, size_t *index)
 {
@@ -55,6 +89,8 @@ sinter_status scene_wall_add(scene_text *t, sinter_scene *sc, scene_section *s,
     sinter_status st = scene_get_word(t, s, "kind", &kind);
     if (st != SINTER_OK && st != SINTER_ERR_NOT_FOUND)
         return st;
+    if (strcmp(kind, "mesh") == 0)
+        return add_mesh(t, sc, s, material, index);
     double point[3], normal[3];
     TRY(needs(t, s, scene_get_vec3(t, s, "point", point), "point"));
     if (strcmp(kind, "plane") == 0) {
@@ -94,7 +130,7 @@ sinter_status scene_wall_add(scene_text *t, sinter_scene *sc, scene_section *s,
                                                   inside, material, index));
     }
     return sinter_fail(t->ctx, SINTER_ERR_PARSE,
-                       "%s:%d: kind: expected plane, rectangle, disc or cylinder, got '%s'",
+                       "%s:%d: kind: expected plane, rectangle, disc, cylinder or mesh, got '%s'",
                        t->path, scene_find(s, "kind")->line, kind);
 }
 

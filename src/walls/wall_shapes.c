@@ -122,6 +122,8 @@ double sinter_wall_shape_contact(const sinter_wall *w, const double *x, double *
         return disc_contact(w, x, n);
     case SINTER_WALL_CYLINDER:
         return cylinder_contact(w, x, n);
+    case SINTER_WALL_MESH:
+        return sinter_wall_mesh_contact(w, x, n);
     default: {
         const double s = sinter_plane_distance(w, x);
         if (n != NULL)
@@ -388,6 +390,8 @@ int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double h
                         double (*points)[3], int *sizes, double (*normals)[3])
 {
     const double *p = w->p;
+    if (w->kind == SINTER_WALL_MESH) /* not drawn (its triangles may be many) */
+        return 0;
     if (w->kind == SINTER_WALL_RECTANGLE) {
         static const double sign[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
         for (int c = 0; c < 4; ++c)

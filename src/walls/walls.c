@@ -43,6 +43,7 @@ void sinter_walls_destroy(sinter_walls *walls)
         clear_temperature_schedule(walls, &walls->wall[k]);
         sinter_wall_drive_free(walls, &walls->wall[k]);
         sinter_wall_servo_free(walls, &walls->wall[k]);
+        sinter_wall_mesh_free(walls, &walls->wall[k]);
     }
     sinter_free(walls->ctx, walls->wall);
     sinter_free(walls->ctx, walls);

@@ -24,6 +24,7 @@ typedef struct sinter_wall {
     double half[2];           /* rectangle: half lengths along e1, e2 [m] */
     double radius;            /* disc, cylinder: radius [m] */
     double half_length;       /* cylinder: its surface's reach from p along the axis [m] */
+    struct sinter_mesh *mesh; /* triangle mesh (walls/mesh/): its triangles placed at p0 */
     double spin;              /* angular velocity about axis through p [rad/s] */
     double angle;             /* spin angle at the current time [rad] */
     double e1_0[3];           /* rectangle: e1 at angle 0 */
@@ -82,6 +83,11 @@ static inline double sinter_plane_distance(const sinter_wall *w, const double *x
  * positive on the particles' side, and the unit normal n from that point towards x (may be
  * NULL). */
 double sinter_wall_shape_contact(const sinter_wall *w, const double *x, double *n);
+
+/* The triangle-mesh kind (walls/mesh/mesh_wall.c): as sinter_wall_shape_contact, and its
+ * mesh released. */
+double sinter_wall_mesh_contact(const sinter_wall *w, const double *x, double *n);
+void sinter_wall_mesh_free(sinter_walls *walls, sinter_wall *w);
 
 /* Signed distance [m] of centre x from wall w, positive on the particles' side (the one
  * arithmetic every search and check uses, so that their verdicts agree); a plane's is the

@@ -382,6 +382,41 @@ class SofteningTest(unittest.TestCase):
 class WallKindsTest(unittest.TestCase):
     """Rectangles, discs and cylinders, spin and the force servo through the bindings."""
 
+    def test_sphere_on_a_mesh_floor(self):
+        """A square of two facets (an ASCII STL file, in mm) carries a resting sphere's
+        weight; a file with a degenerate facet is refused."""
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        material = sinter.Material(ctx, youngs_modulus=1e6, damping_ratio=1.0, density=3000.0)
+        rigid = sinter.Material(ctx, youngs_modulus=1e13)
+        facets = [((-5, -5, 0), (5, -5, 0), (5, 5, 0)), ((-5, -5, 0), (5, 5, 0), (-5, 5, 0))]
+        text = "solid floor\n" + "".join(
+            " facet normal 0 0 1\n  outer loop\n" +
+            "".join("   vertex %g %g %g\n" % p for p in f) + "  endloop\n endfacet\n"
+            for f in facets) + "endsolid floor\n"
+        folder = tempfile.mkdtemp()
+        path = os.path.join(folder, "floor.stl")
+        with open(path, "w") as f:
+            f.write(text)
+        ps = sinter.Particles(ctx)
+        ps.set_material(0, material)
+        r = 1e-3
+        ps.add([(0.0, 0.0, r)], r)
+        walls = sinter.Walls(ctx)
+        floor = walls.add_mesh(path, rigid, scale=1e-3)
+        self.assertEqual(walls.kind(floor), sinter.WallKind.MESH)
+        st = sinter.Stepper(ctx, ps, walls, dt=2e-5, forces=[
+            sinter.ForceModel(ctx, "hertz_mindlin"), sinter.ForceModel(ctx, "gravity")])
+        st.advance(0.05)
+        weight = 4.0 / 3.0 * math.pi * r ** 3 * 3000.0 * 9.81
+        self.assertAlmostEqual(-walls.force(floor)[2], weight, delta=1e-6 * weight)
+        with open(path, "w") as f:
+            f.write(text.replace("vertex 5 5 0", "vertex -5 -5 0", 1))
+        with self.assertRaises(sinter.InvalidArgument):
+            walls.add_mesh(path, rigid)
+        os.remove(path)
+        os.rmdir(folder)
+
     def test_sphere_in_a_cylinder_and_a_punch_servo(self):
         ctx = sinter.Context()
         self.addCleanup(ctx.close)

@@ -845,11 +845,71 @@ static void test_wall_kinds_in_scenes(void **state)
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "give servo_area");
 }
 
+/* kind = mesh: an STL file named relative to the scene, placed by scale, rotate [degrees] and
+ * translate (a square in mm, facing -z, turned half a turn about x to face +z: the wall's
+ * normal is the file's z axis turned, its point the translation); a missing file key and a
+ * file with neighbours wound opposite ways are refused with the scene's file and line. */
+static void test_mesh_wall_in_scenes(void **state)
+{
+    (void)state;
+    const char *facet = " facet normal 0 0 -1\n  outer loop\n   vertex %s\n   vertex %s\n"
+                        "   vertex %s\n  endloop\n endfacet\n";
+    char stl[1024], one[256];
+    snprintf(stl, sizeof(stl), "solid square\n");
+    snprintf(one, sizeof(one), facet, "-5 -5 0", "5 5 0", "5 -5 0");
+    strcat(stl, one);
+    snprintf(one, sizeof(one), facet, "-5 -5 0", "-5 5 0", "5 5 0");
+    strcat(stl, one);
+    strcat(stl, "endsolid square\n");
+    write_file("square.stl", stl);
+    const char *head =
+        "[scene]\nname = mesh\nunits = SI\n"
+        "[material glass]\ndensity = 2500\nyoungs_modulus = 1e7\n"
+        "[particles]\nmethod = lattice\nmaterial = glass\nbox_min = -0.001 -0.001 0.0005\n"
+        "box_max = 0.001 0.001 0.002\nradius = 0.0005\nspacing = 0.00105\n";
+    const char *tail = "[force hertz_mindlin]\n[stepper]\ndt = 1e-6\nend_time = 1e-5\n";
+    char text[4096];
+    snprintf(text, sizeof(text),
+             "%s[wall floor]\nkind = mesh\nfile = square.stl\nscale = 0.001\n"
+             "rotate = 180 0 0\ntranslate = 0 0 -0.0001\nreach = 0.002\nmaterial = glass\n%s",
+             head, tail);
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("mesh.scene", text)), SINTER_OK);
+    sinter_walls *w = NULL;
+    assert_int_equal(sinter_scene_get_walls(scene, &w), SINTER_OK);
+    int kind = -1;
+    assert_int_equal(sinter_walls_get_kind(w, 0, &kind), SINTER_OK);
+    assert_int_equal(kind, SINTER_WALL_MESH);
+    double n[3], p[3];
+    assert_int_equal(sinter_walls_get_normal(w, 0, n), SINTER_OK);
+    assert_int_equal(sinter_walls_get_state(w, 0, p, NULL), SINTER_OK);
+    assert_true(fabs(n[0]) < 1e-15 && fabs(n[1]) < 1e-15 && n[2] == -1.0);
+    assert_true(p[0] == 0.0 && p[1] == 0.0 && p[2] == -0.0001);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+
+    snprintf(text, sizeof(text), "%s[wall w]\nkind = mesh\nmaterial = glass\n%s", head, tail);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "needs 'file = ...'");
+    snprintf(one, sizeof(one), facet, "-5 -5 0", "5 5 0", "-5 5 0"); /* against its neighbour */
+    snprintf(stl, sizeof(stl), "solid bad\n");
+    strcat(stl, one);
+    snprintf(one, sizeof(one), facet, "-5 -5 0", "5 5 0", "5 -5 0");
+    strcat(stl, one);
+    strcat(stl, "endsolid bad\n");
+    write_file("bad.stl", stl);
+    snprintf(text, sizeof(text), "%s[wall w]\nkind = mesh\nfile = bad.stl\nmaterial = glass\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:", "inconsistent normals");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_broken_scene_files),
         cmocka_unit_test(test_wall_kinds_in_scenes),
+        cmocka_unit_test(test_mesh_wall_in_scenes),
         cmocka_unit_test(test_stream_stores_key),
         cmocka_unit_test(test_restart_is_bit_for_bit),
         cmocka_unit_test(test_bad_checkpoints_are_refused),

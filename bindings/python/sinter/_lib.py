@@ -297,6 +297,9 @@ SIGNATURES = {
     "sinter_walls_add_cylinder": (
         c_status, [WallsPtr, _P(_double), _P(_double), _double, _double, _int, MaterialPtr,
                    _P(_size)]),
+    "sinter_walls_add_mesh": (
+        c_status, [WallsPtr, _str, _double, _P(_double), _P(_double), _int, _double, MaterialPtr,
+                   _P(_size)]),
     "sinter_walls_get_kind": (c_status, [WallsPtr, _size, _P(_int)]),
     "sinter_walls_get_shape": (c_status, [WallsPtr, _size, _P(_double), _P(_double), _P(_double)]),
     "sinter_walls_set_spin": (c_status, [WallsPtr, _size, _double]),

@@ -2,6 +2,7 @@
 servo, temperatures and electric data."""
 
 import ctypes
+import os
 import enum
 from typing import TYPE_CHECKING, Callable, Optional, Sequence, Tuple, Union
 
@@ -34,6 +35,7 @@ class WallKind(enum.IntEnum):
     RECTANGLE = 1
     DISC = 2
     CYLINDER = 3
+    MESH = 4
 
 
 class WallThermal(enum.IntEnum):
@@ -150,6 +152,19 @@ class Walls(_Handle):
         self._call(lib.sinter_walls_add_cylinder, self._ptr, _vec3(point, "point"),
                    _vec3(axis, "axis"), float(radius), float(half_length), int(bool(inside)),
                    material._ptr, ctypes.byref(index))
+        return index.value
+
+    def add_mesh(self, path: str, material: "Material", scale: float = 1.0,
+                 rotate: Vec3 = (0.0, 0.0, 0.0), translate: Vec3 = (0.0, 0.0, 0.0),
+                 flip: bool = False, reach: float = 0.0) -> int:
+        """Add a fixed triangle mesh from the STL file `path` (ASCII or binary), each point
+        placed at translate + R (scale x), R turning by rotate [rad] about x, then y, then z;
+        particles on the side of the facets' normals (their winding), reversed by flip; beyond
+        `reach` [m] (0: nowhere) a distance may be a lower bound."""
+        index = ctypes.c_size_t()
+        self._call(lib.sinter_walls_add_mesh, self._ptr, os.fsencode(path), float(scale),
+                   _vec3(rotate, "rotate"), _vec3(translate, "translate"), int(bool(flip)),
+                   float(reach), material._ptr, ctypes.byref(index))
         return index.value
 
     def kind(self, k: int) -> WallKind:

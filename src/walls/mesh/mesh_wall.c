@@ -1,0 +1,75 @@
+/* The triangle-mesh wall kind: sinter_walls_add_mesh, its contact for
+ * sinter_wall_shape_contact (the mesh carried by the wall's motion) and its release. */
+#include <math.h>
+#include <string.h>
+
+#include "mesh.h"
+#include "walls/walls.h"
+
+double sinter_wall_mesh_contact(const sinter_wall *w, const double *x, double *n)
+{
+    /* the mesh was placed at p0: the centre in that frame */
+    const double local[3] = {x[0] - (w->p[0] - w->p0[0]), x[1] - (w->p[1] - w->p0[1]),
+                             x[2] - (w->p[2] - w->p0[2])};
+    return sinter_mesh_closest(w->mesh, local, n);
+}
+
+void sinter_wall_mesh_free(sinter_walls *walls, sinter_wall *w)
+{
+    sinter_mesh_destroy(walls->ctx, w->mesh);
+    w->mesh = NULL;
+}
+
+static int finite3(const double *v)
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
+sinter_status sinter_walls_add_mesh(sinter_walls *walls, const char *path, double scale,
+                                    const double rotate[3], const double translate[3], int flip,
+                                    double reach, const sinter_material *material, size_t *index)
+{
+    if (walls == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(walls->ctx, path);
+    SINTER_CHECK_NULL(walls->ctx, rotate);
+    SINTER_CHECK_NULL(walls->ctx, translate);
+    SINTER_CHECK_NULL(walls->ctx, material);
+    if (!(scale > 0.0 && scale < INFINITY) || !finite3(rotate) || !finite3(translate))
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_mesh: scale %g must be positive and finite, rotate "
+                           "and translate finite",
+                           scale);
+    if (flip != 0 && flip != 1)
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_mesh: flip = %d must be 0 or 1", flip);
+    if (!(reach >= 0.0)) /* INFINITY allowed: exact everywhere, as 0 */
+        return sinter_fail(walls->ctx, SINTER_ERR_INVALID,
+                           "sinter_walls_add_mesh: reach %g m must not be negative", reach);
+    sinter_stl stl;
+    sinter_status st = sinter_stl_read(walls->ctx, path, &stl);
+    if (st != SINTER_OK)
+        return st;
+    sinter_mesh *mesh = NULL;
+    st = sinter_mesh_build(walls->ctx, &stl, path, scale, rotate, translate, flip, reach, &mesh);
+    sinter_stl_free(walls->ctx, &stl);
+    if (st != SINTER_OK)
+        return st;
+    /* the wall's point: translate; its normal (and axis): the file's z axis as placed */
+    const double cx = cos(rotate[0]), sx = sin(rotate[0]), cy = cos(rotate[1]), sy = sin(rotate[1]),
+                 cz = cos(rotate[2]), sz = sin(rotate[2]);
+    const double z[3] = {cz * sy * cx + sz * sx, sz * sy * cx - cz * sx, cy * cx};
+    size_t k = 0;
+    st = sinter_walls_add_plane(walls, translate, z, material, &k);
+    if (st != SINTER_OK) {
+        sinter_mesh_destroy(walls->ctx, mesh);
+        return st;
+    }
+    sinter_wall *w = &walls->wall[k];
+    w->kind = SINTER_WALL_MESH;
+    w->mesh = mesh;
+    w->moment_wanted = 1;
+    if (index)
+        *index = k;
+    return SINTER_OK;
+}
