@@ -769,6 +769,8 @@ typedef struct sinter_stepper_stats {
     /* Appended later. */
     double contraction;       /**< staggered scheme 1: contraction (E_K/E_0)^(1/K) of the fixed-point
                                    iteration in the last accepted step (0: none measured) */
+    uint64_t bonds_broken;    /**< bonds that held in tension and broke (power law option
+                                   bond_strength), counted over the accepted steps */
 } sinter_stepper_stats;
 
 /**
