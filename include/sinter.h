@@ -2122,9 +2122,9 @@ SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
  * electric model the potentials its next solve starts from; the particle
  * ranges its contact sums follow, the steps since its last spatial sort) to
- * a versioned binary file (format 6; formats 2-5 are still read, and a run
- * restored from formats 2-4 may differ from the straight run in the last bits)
- * with a checksum.
+ * a versioned binary file (format 10, which also carries the stepper's counts;
+ * formats 2-9 are still read, and a run restored from formats 2-4 may differ from
+ * the straight run in the last bits) with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */

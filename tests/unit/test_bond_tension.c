@@ -11,8 +11,12 @@
  * ~1e-13 (displacement a dt^2 / 2 ~ 1e-18 m for a ~ 2 m/s^2, against |E| S ~ 1e-4 m); 1e-9
  * relative leaves a wide margin while catching any wrong factor.
  */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "scene_support.h"
 
@@ -208,12 +212,68 @@ static void test_springback_less_with_holding_bonds(void **state)
     assert_true(held_final < free_final);
 }
 
+/* Two particles meeting at +-0.3 m/s, with holding bonds that break at E_b = eb, skin `skin`. */
+static void impact(scene *s, double eb, double skin)
+{
+    open_pair(s, KB * pow(eb, PB), 2500.0, skin, 1e-6);
+    place(s, 0.0);
+    const double va[3] = {0.3, 0, 0}, vb[3] = {-0.3, 0, 0};
+    set3(s, SINTER_FIELD_VELOCITY, 0, va);
+    set3(s, SINTER_FIELD_VELOCITY, 1, vb);
+}
+
+static void state_of(scene *s, double out[12])
+{
+    get3(s, SINTER_FIELD_POSITION, 0, out);
+    get3(s, SINTER_FIELD_POSITION, 1, out + 3);
+    get3(s, SINTER_FIELD_VELOCITY, 0, out + 6);
+    get3(s, SINTER_FIELD_VELOCITY, 1, out + 9);
+}
+
+/* A restart continues bit for bit: the bond flag and area are contact history (the checkpoint
+ * keeps it and the pair list with the held pairs), the count is in the checkpoint (version 10).
+ * Two runs: a bond that breaks on the way out after the checkpoint (eb = 0.03: its tension well
+ * is far below the impact's energy) and one that holds, apart beyond a skin of 2 um, across
+ * rebuilds (eb = 0.2). */
+static void test_restart_bit_for_bit(void **state)
+{
+    (void)state;
+    const double ebs[2] = {0.03, 0.2};
+    const uint64_t expect_breaks[2] = {1, 0};
+    char dir[] = "/tmp/sinter_bonds_XXXXXX", path[64];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof(path), "%s/state.bin", dir);
+    for (int c = 0; c < 2; ++c) {
+        scene a, b;
+        impact(&a, ebs[c], 2e-6);
+        OK(sinter_stepper_step(a.st, 200)); /* bonded, in compression */
+        OK(sinter_checkpoint_write(a.st, path));
+        OK(sinter_stepper_step(a.st, 1800));
+        impact(&b, ebs[c], 2e-6);
+        OK(sinter_checkpoint_read(b.st, path));
+        OK(sinter_stepper_step(b.st, 1800));
+        double xa[12], xb[12];
+        state_of(&a, xa);
+        state_of(&b, xb);
+        print_message("E_b = %.2f: gap %.4e m, broken %llu\n", ebs[c], xa[3] - xa[0] - 2.0 * R,
+                      (unsigned long long)broken(&a));
+        assert_memory_equal(xa, xb, sizeof(xa));
+        assert_int_equal(broken(&a), expect_breaks[c]);
+        assert_int_equal(broken(&b), expect_breaks[c]);
+        scene_close(&a);
+        scene_close(&b);
+    }
+    remove(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pull_apart_until_strength),
         cmocka_unit_test(test_bond_kept_beyond_skin),
         cmocka_unit_test(test_springback_less_with_holding_bonds),
+        cmocka_unit_test(test_restart_bit_for_bit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
