@@ -26,10 +26,26 @@ static const double REL = 1e-9;
 
 /* Two spheres of radius R on the x axis with a power law of bond_strength `strength` [Pa]
  * (0: the seed's bonds only), density rho, Verlet skin `skin` [m], step dt [s]. */
+static void open_pair_soft(scene *s, double strength, double rho, double skin, double dt,
+                           int soften);
+
 static void open_pair(scene *s, double strength, double rho, double skin, double dt)
+{
+    open_pair_soft(s, strength, rho, skin, dt, 0);
+}
+
+/* soften: 0 no softening; 1 the material softens (linear law, E/E_0 = 1 - theta / 1600 K) and
+ * bond_softening is 1; 2 the material softens, bond_softening 0. */
+static void open_pair_soft(scene *s, double strength, double rho, double skin, double dt,
+                           int soften)
 {
     scene_init(s);
     scene_material(s, 1e7, 0.3, rho, 0.0, 0.0);
+    if (soften) {
+        OK(sinter_material_set(s->mat, SINTER_MAT_SOFTENING_LAW, 1.0));
+        OK(sinter_material_set(s->mat, SINTER_MAT_SOFTENING_TEMPERATURE, 1600.0));
+        OK(sinter_material_set(s->mat, SINTER_MAT_SOFTENING_FLOOR, 0.01));
+    }
     OK(sinter_material_set(s->mat, SINTER_MAT_CONTACT_STIFFNESS, KP));
     OK(sinter_material_set(s->mat, SINTER_MAT_CONTACT_EXPONENT, 2.0));
     OK(sinter_material_set(s->mat, SINTER_MAT_BOND_STIFFNESS, KB));
@@ -43,6 +59,7 @@ static void open_pair(scene *s, double strength, double rho, double skin, double
     OK(sinter_force_model_create(&s->contact, s->ctx, "power_law"));
     /* the history width follows the option: set it before the model joins the stepper */
     OK(sinter_force_model_set(s->contact, "bond_strength", strength));
+    OK(sinter_force_model_set(s->contact, "bond_softening", soften == 1 ? 1.0 : 0.0));
     OK(sinter_stepper_add_force(s->st, s->contact));
     OK(sinter_stepper_set_skin(s->st, skin));
     OK(sinter_stepper_set_dt(s->st, dt));
@@ -212,6 +229,37 @@ static void test_springback_less_with_holding_bonds(void **state)
     assert_true(held_final < free_final);
 }
 
+/* With bond_softening the stiffness in tension is K_b times the pair's softening factor: at
+ * 800 K the linear law gives E/E_0 = 1 - 800 / 1600 = 0.5, so at E = 0.012 the force is
+ * 0.5 K_b E^1.5 A_b and the bond holds (breaks at E_b = 0.01 * 2^(1/1.5) = 0.0159), while
+ * without it the stress K_b E^1.5 exceeds the strength (E_b = 0.01) and the bond breaks. */
+static void test_softened_bond_stiffness(void **state)
+{
+    (void)state;
+    const double e = 0.012, strength = KB * pow(0.01, PB);
+    for (int soften = 1; soften <= 2; ++soften) {
+        scene s;
+        open_pair_soft(&s, strength, 1e6, 2e-4, 1e-9, soften);
+        for (size_t i = 0; i < 2; ++i) {
+            double *t = NULL;
+            OK(sinter_particles_view(s.ps, SINTER_FIELD_TEMPERATURE, (void **)&t, NULL, NULL));
+            t[i] = 800.0;
+            OK(sinter_particles_release(s.ps, SINTER_FIELD_TEMPERATURE));
+        }
+        place(&s, -0.06);
+        OK(sinter_stepper_step(s.st, 1));
+        place(&s, e);
+        OK(sinter_stepper_evaluate(s.st));
+        const double expect = soften == 1 ? 0.5 * KB * pow(e, PB) * area_at(0.06) : 0.0;
+        print_message("bond_softening %d at 800 K, E = %.3f: f = %.9e N, closed form %.9e N\n",
+                      soften == 1, e, force_x(&s, 0), expect);
+        assert_close(force_x(&s, 0), expect, REL * KB * pow(e, PB) * area_at(0.06));
+        OK(sinter_stepper_step(s.st, 1));
+        assert_int_equal(broken(&s), soften == 1 ? 0 : 1);
+        scene_close(&s);
+    }
+}
+
 /* Two particles meeting at +-0.3 m/s, with holding bonds that break at E_b = eb, skin `skin`. */
 static void impact(scene *s, double eb, double skin)
 {
@@ -272,6 +320,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pull_apart_until_strength),
         cmocka_unit_test(test_bond_kept_beyond_skin),
+        cmocka_unit_test(test_softened_bond_stiffness),
         cmocka_unit_test(test_springback_less_with_holding_bonds),
         cmocka_unit_test(test_restart_bit_for_bit),
     };
