@@ -315,6 +315,77 @@ static void test_restart_bit_for_bit(void **state)
     rmdir(dir);
 }
 
+/* A 16^3 lattice at |E| = 0.06 (every neighbour bonds at the first step) thrown apart by
+ * velocities of up to 2 m/s per component (a fixed pseudo-random sequence), 100 steps on
+ * `threads` threads: the final state and the broken-bond count. Over 4096 pairs, so the contact
+ * search runs its threaded passes. */
+static uint64_t lattice_run(int threads, double *x, size_t *held)
+{
+    enum { M = 16, N = M * M * M };
+    scene s;
+    open_pair(&s, KB * pow(0.02, PB), 2500.0, 2e-4, 1e-6);
+    OK(sinter_ctx_set_threads(s.ctx, threads));
+    uint64_t lcg = 12345u;
+    const double a = 2.0 * R * (1.0 - 0.06);
+    for (size_t k = 2; k < N; ++k)
+        scene_add(&s, 0, 0, 0, R);
+    double *p = NULL, *v = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_POSITION, (void **)&p, NULL, NULL));
+    for (size_t k = 0; k < N; ++k) {
+        p[3 * k] = a * (double)(k % M);
+        p[3 * k + 1] = a * (double)((k / M) % M);
+        p[3 * k + 2] = a * (double)(k / (M * M));
+    }
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
+    for (size_t k = 0; k < 3 * N; ++k) {
+        lcg = lcg * 6364136223846793005ull + 1442695040888963407ull;
+        v[k] = 2.0 * ((double)(lcg >> 11) / 9007199254740992.0 * 2.0 - 1.0);
+    }
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_VELOCITY));
+    OK(sinter_stepper_step(s.st, 100));
+    const double *xr = NULL;
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_POSITION, (const void **)&xr, NULL, NULL));
+    memcpy(x, xr, 3 * N * sizeof(double));
+    /* bonded pairs apart: contacts whose centres are farther than 2 R */
+    *held = 0;
+    sinter_stepper_stats stats = {.struct_size = sizeof(sinter_stepper_stats)};
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    size_t overlapping = 0;
+    for (size_t i = 0; i < N; ++i)
+        for (size_t j = i + 1; j < N && j < i + M * M + 2; ++j) {
+            const double dx = xr[3 * j] - xr[3 * i], dy = xr[3 * j + 1] - xr[3 * i + 1],
+                         dz = xr[3 * j + 2] - xr[3 * i + 2];
+            overlapping += dx * dx + dy * dy + dz * dz < 4.0 * R * R;
+        }
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    *held = stats.contacts > overlapping ? stats.contacts - overlapping : 0;
+    const uint64_t breaks = broken(&s);
+    scene_close(&s);
+    return breaks;
+}
+
+/* The same bits on 1 and 2 threads (the determinism the library keeps for every contact law). */
+static void test_threads_same_bits(void **state)
+{
+    (void)state;
+    enum { N = 16 * 16 * 16 };
+    double *x1 = malloc(3 * N * sizeof(double)), *x2 = malloc(3 * N * sizeof(double));
+    assert_non_null(x1);
+    assert_non_null(x2);
+    size_t held1 = 0, held2 = 0;
+    const uint64_t b1 = lattice_run(1, x1, &held1), b2 = lattice_run(2, x2, &held2);
+    print_message("lattice: %llu bonds broken, %zu held apart (1 thread); %llu, %zu (2)\n",
+                  (unsigned long long)b1, held1, (unsigned long long)b2, held2);
+    assert_true(b1 > 0);
+    assert_true(held1 > 0);
+    assert_int_equal(b1, b2);
+    assert_int_equal(held1, held2);
+    assert_memory_equal(x1, x2, 3 * N * sizeof(double));
+    free(x1);
+    free(x2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -323,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_softened_bond_stiffness),
         cmocka_unit_test(test_springback_less_with_holding_bonds),
         cmocka_unit_test(test_restart_bit_for_bit),
+        cmocka_unit_test(test_threads_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
