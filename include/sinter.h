@@ -939,8 +939,9 @@ SINTER_API sinter_status sinter_stepper_time(const sinter_stepper *stepper, doub
 /**
  * Fill `stats`. Its struct_size must be set: sizeof(sinter_stepper_stats), or
  * the size of an older layout (up to seconds_total, before iterations and
- * evaluations were appended), in which case only the fields it covers are
- * written. Other sizes: SINTER_ERR_STRUCT_SIZE.
+ * evaluations were appended; up to evaluations, before contraction; up to
+ * contraction, before bonds_broken), in which case only the fields it covers
+ * are written. Other sizes: SINTER_ERR_STRUCT_SIZE.
  */
 SINTER_API sinter_status sinter_stepper_get_stats(const sinter_stepper *stepper,
                                                   sinter_stepper_stats *stats);

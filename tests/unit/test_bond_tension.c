@@ -13,6 +13,7 @@
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -130,6 +131,13 @@ static void test_pull_apart_until_strength(void **state)
         assert_int_equal(broken(&s), expect == 0.0 ? 1 : 0);
     }
     assert_int_equal(broke_at, 15); /* 0.0007 * 15 = 0.0105: the first past E_b = 0.01 */
+    /* a caller built before bonds_broken was appended gets the fields it knows only */
+    sinter_stepper_stats older;
+    memset(&older, 0xab, sizeof(older));
+    older.struct_size = offsetof(sinter_stepper_stats, bonds_broken);
+    OK(sinter_stepper_get_stats(s.st, &older));
+    assert_int_equal(older.steps, 26);
+    assert_int_equal(older.bonds_broken, 0xababababababababull);
     /* Back in contact below E*: no bond, the seed's contact force alone (eq. 2). */
     place(&s, -0.02);
     OK(sinter_stepper_evaluate(s.st));
