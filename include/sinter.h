@@ -800,6 +800,8 @@ typedef struct sinter_stepper_stats {
     /* Appended later. */
     double contraction;       /**< staggered scheme 1: contraction (E_K/E_0)^(1/K) of the fixed-point
                                    iteration in the last accepted step (0: none measured) */
+    uint64_t bonds_broken;    /**< bonds that held in tension and broke (power law option
+                                   bond_strength), counted over the accepted steps */
 } sinter_stepper_stats;
 
 /**
@@ -968,8 +970,9 @@ SINTER_API sinter_status sinter_stepper_time(const sinter_stepper *stepper, doub
 /**
  * Fill `stats`. Its struct_size must be set: sizeof(sinter_stepper_stats), or
  * the size of an older layout (up to seconds_total, before iterations and
- * evaluations were appended), in which case only the fields it covers are
- * written. Other sizes: SINTER_ERR_STRUCT_SIZE.
+ * evaluations were appended; up to evaluations, before contraction; up to
+ * contraction, before bonds_broken), in which case only the fields it covers
+ * are written. Other sizes: SINTER_ERR_STRUCT_SIZE.
  */
 SINTER_API sinter_status sinter_stepper_get_stats(const sinter_stepper *stepper,
                                                   sinter_stepper_stats *stats);
@@ -2151,9 +2154,9 @@ SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
  * electric model the potentials its next solve starts from; the particle
  * ranges its contact sums follow, the steps since its last spatial sort) to
- * a versioned binary file (format 6; formats 2-5 are still read, and a run
- * restored from formats 2-4 may differ from the straight run in the last bits)
- * with a checksum.
+ * a versioned binary file (format 10, which also carries the stepper's counts;
+ * formats 2-9 are still read, and a run restored from formats 2-4 may differ from
+ * the straight run in the last bits) with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */

@@ -66,15 +66,18 @@ int sinter_threads(const sinter_ctx *ctx)
     return ctx->step_threads > 0 ? ctx->step_threads : sinter_threads_allowed(ctx);
 }
 
-/* 1 if pair p is in contact (the test of the fill pass, without its arithmetic). */
-static inline int touching(const sinter_pair_list *pairs, const double *x, const double *r,
-                           size_t p)
+/* 1 if pair p is in contact (the test of the fill pass, without its arithmetic): overlapping,
+ * or held by c->held (a bond that holds in tension) at any distance but 0. */
+static inline int touching(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                           const double *x, const double *r, size_t p)
 {
     const uint32_t i = pairs->i[p], j = pairs->j[p];
     const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
                  ez = x[3 * j + 2] - x[3 * i + 2];
     const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
-    return d2 < rs * rs && d2 != 0.0;
+    if (d2 < rs * rs)
+        return d2 != 0.0;
+    return c->held != NULL && c->held[c->held_stride * p] != 0.0 && d2 != 0.0;
 }
 
 /* Most threads the threaded search splits its pairs for. */
@@ -121,7 +124,7 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
     int ascending = 1;
     for (size_t p = lo; p < hi; ++p) {
         const uint32_t i = pi[p], j = pj[p];
-        if (touch != NULL ? !touch[p] : !touching(pairs, x, r, p)) {
+        if (touch != NULL ? !touch[p] : !touching(c, pairs, x, r, p)) {
             to_contact[p] = SINTER_NO_PAIR;
             continue;
         }
@@ -190,7 +193,7 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
     int ascending = 1;
     for (; p < hi; ++p) {
         const uint32_t was = to_contact[p];
-        if (!touching(pairs, x, r, p)) {
+        if (!touching(c, pairs, x, r, p)) {
             if (was != SINTER_NO_PAIR)
                 break;
             continue;
@@ -577,7 +580,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
         const size_t lo = n * (size_t)t / (size_t)chunks, hi = n * (size_t)(t + 1) / (size_t)chunks;
         size_t count = 0;
         for (size_t p = lo; p < hi; ++p) {
-            const int in_contact = touching(pairs, ps->x, ps->radius, p);
+            const int in_contact = touching(c, pairs, ps->x, ps->radius, p);
             touch[p] = (uint8_t)in_contact;
             count += (size_t)in_contact;
         }
@@ -623,7 +626,7 @@ static size_t scan_range(const sinter_contact_list *c, const sinter_pair_list *p
     for (size_t p = lo; p < hi; ++p) {
         if (to_contact[p] != SINTER_NO_PAIR)
             continue;
-        if (touching(pairs, ps->x, ps->radius, p))
+        if (touching(c, pairs, ps->x, ps->radius, p))
             return p;
         if (k < cap)
             gaps[k] = (uint32_t)p;
@@ -646,7 +649,7 @@ static size_t first_new_contact(sinter_ctx *ctx, sinter_contact_list *c,
     const size_t n = pairs->count;
     if (c->gap_revision != 0 && c->gap_revision == c->revision) {
         for (size_t k = 0; k < c->gap_count; ++k)
-            if (touching(pairs, ps->x, ps->radius, c->gaps[k]))
+            if (touching(c, pairs, ps->x, ps->radius, c->gaps[k]))
                 return c->gaps[k];
         return n;
     }
@@ -776,7 +779,7 @@ static void drop_contacts(sinter_contact_list *c, size_t from, uint8_t *ended,
     size_t kept = from;
     for (size_t q = from; q < c->count; ++q) {
         const uint32_t p = c->pair[q];
-        const int touches = ended != NULL ? !ended[q] : touching(pairs, ps->x, ps->radius, p);
+        const int touches = ended != NULL ? !ended[q] : touching(c, pairs, ps->x, ps->radius, p);
         if (ended != NULL)
             ended[q] = 0;
         if (!touches) {

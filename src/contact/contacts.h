@@ -90,6 +90,12 @@ typedef struct sinter_contact_list {
     uint32_t *gaps;
     size_t gap_count, gap_capacity;
     uint64_t gap_revision;
+    /* set by the stepper before each search (NULL: none, the default): the committed history
+     * of a force model that holds pairs, held_stride doubles per candidate pair; a pair whose
+     * first value is non-zero is a contact at any distance (delta < 0, area 0: a bond in
+     * tension, force/power_law.c), so that the commit keeps its history */
+    const double *held;
+    size_t held_stride;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);

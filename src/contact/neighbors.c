@@ -37,6 +37,8 @@ void sinter_neighbors_free(sinter_neighbors *nb)
     sinter_free(nb->ctx, nb->cell_counts);
     sinter_free(nb->ctx, nb->hash);
     sinter_free(nb->ctx, nb->scan);
+    sinter_free(nb->ctx, nb->keep_start);
+    sinter_free(nb->ctx, nb->keep_j);
     memset(nb, 0, sizeof(*nb));
 }
 
@@ -279,6 +281,7 @@ static inline double max_num(double a, double b)
 typedef struct grid {
     size_t dims[3];
     const uint32_t *start, *items, *cell_of;
+    const uint32_t *keep_start, *keep_j; /* the pairs kept at any distance, or NULL */
 } grid;
 
 /*
@@ -313,8 +316,7 @@ static size_t scan(const grid *g, const sinter_particles *ps, double skin, size_
                     const uint32_t j = g->items[k];
                     if (j <= i)
                         continue;
-                    const double ex = x[3 * j] - xi, ey = x[3 * j + 1] - yi,
-                                 ez = x[3 * j + 2] - zi;
+                    const double ex = x[3 * j] - xi, ey = x[3 * j + 1] - yi, ez = x[3 * j + 2] - zi;
                     const double cut = rsi + r[j];
                     if (ex * ex + ey * ey + ez * ez < cut * cut) {
                         if (m == cap) {
@@ -328,6 +330,23 @@ static size_t scan(const grid *g, const sinter_particles *ps, double skin, size_
                     }
                 }
             }
+        /* kept pairs beyond the cutoff (the same test as above: those within were found) */
+        for (uint32_t k = g->keep_start ? g->keep_start[i] : 0;
+             g->keep_start && k < g->keep_start[i + 1]; ++k) {
+            const uint32_t j = g->keep_j[k];
+            const double ex = x[3 * j] - xi, ey = x[3 * j + 1] - yi, ez = x[3 * j + 2] - zi;
+            const double cut = rsi + r[j];
+            if (ex * ex + ey * ey + ez * ez < cut * cut)
+                continue;
+            if (m == cap) {
+                *stop = i;
+                return mark;
+            }
+            const int keep = id[i] < id[j];
+            pi[m] = keep ? (uint32_t)i : j;
+            pj[m] = keep ? j : (uint32_t)i;
+            ++m;
+        }
     }
     *stop = hi;
     return m;
@@ -463,7 +482,10 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
         for (size_t i = a; i < b; ++i)
             items[slot[cell_of[i]]++] = (uint32_t)i;
     }
-    const grid g = {{dims[0], dims[1], dims[2]}, start, items, cell_of};
+    const int kept = nb->keep_count > 0;
+    const grid g = {
+        {dims[0], dims[1], dims[2]}, start, items, cell_of, kept ? nb->keep_start : NULL,
+        kept ? nb->keep_j : NULL};
 
     const int scanners = n < 4096 ? 1 : sinter_threads(ctx);
     if (scanners <= 1)
@@ -595,8 +617,8 @@ sinter_status sinter_pairs_adjacency(sinter_ctx *ctx, sinter_pair_list *l, size_
     if (l->adj_build != 0 && l->adj_build == l->build_id)
         return SINTER_OK;
     l->adj_build = 0;
-    sinter_status st = sinter_grow(ctx, (void **)&l->adj_start, &l->adj_start_capacity, n + 2,
-                                   sizeof(uint32_t));
+    sinter_status st =
+        sinter_grow(ctx, (void **)&l->adj_start, &l->adj_start_capacity, n + 2, sizeof(uint32_t));
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&l->adj_pair, &l->adj_pair_capacity, 2 * l->count + 1,
                          sizeof(uint32_t));
@@ -616,6 +638,36 @@ sinter_status sinter_pairs_adjacency(sinter_ctx *ctx, sinter_pair_list *l, size_
         list[start[l->j[p] + 1]++] = (uint32_t)p;
     }
     l->adj_build = l->build_id;
+    return SINTER_OK;
+}
+
+sinter_status sinter_neighbors_keep(sinter_neighbors *nb, const sinter_particles *ps,
+                                    const uint32_t *ki, const uint32_t *kj, size_t count)
+{
+    nb->keep_count = 0;
+    if (count == 0)
+        return SINTER_OK;
+    const size_t n = ps->count;
+    sinter_status st = sinter_grow(nb->ctx, (void **)&nb->keep_start, &nb->keep_start_capacity,
+                                   n + 2, sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(nb->ctx, (void **)&nb->keep_j, &nb->keep_j_capacity, count + 1,
+                         sizeof(uint32_t));
+    if (st != SINTER_OK)
+        return st;
+    uint32_t *start = nb->keep_start;
+    memset(start, 0, (n + 2) * sizeof(uint32_t));
+    for (size_t k = 0; k < count; ++k) /* counts, shifted by 2: then starts shifted by 1 */
+        if (ki[k] < n && kj[k] < n && ki[k] != kj[k])
+            start[(ki[k] < kj[k] ? ki[k] : kj[k]) + 2]++;
+    for (size_t a = 2; a < n + 2; ++a)
+        start[a] += start[a - 1];
+    for (size_t k = 0; k < count; ++k) /* in the given order within a particle */
+        if (ki[k] < n && kj[k] < n && ki[k] != kj[k]) {
+            const uint32_t a = ki[k] < kj[k] ? ki[k] : kj[k], b = ki[k] < kj[k] ? kj[k] : ki[k];
+            nb->keep_j[start[a + 1]++] = b;
+        }
+    nb->keep_count = start[n];
     return SINTER_OK;
 }
 
@@ -640,8 +692,8 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         st = reserve_pairs(ctx, &nb->pw, 1);
     /* the last build's indices still name the same particles: match by runs */
     const int same_layout = nb->built && nb->layout_generation == ps->layout_generation;
-    if (st == SINTER_OK &&
-        !(same_layout && nb->old_pp.count > 0 && match_by_runs(nb, &nb->pp, &nb->old_pp, ps->count)))
+    if (st == SINTER_OK && !(same_layout && nb->old_pp.count > 0 &&
+                             match_by_runs(nb, &nb->pp, &nb->old_pp, ps->count)))
         st = match_pairs(nb, &nb->pp, &nb->old_pp);
     if (st == SINTER_OK)
         st = match_pairs(nb, &nb->pw, &nb->old_pw);

@@ -21,7 +21,8 @@ typedef struct sinter_pair_list {
     uint32_t *j;
     uint64_t *key_i; /* persistent particle id of i */
     uint64_t *key_j; /* persistent id of j, or the wall index */
-    uint32_t *from;  /* after a build: index of the same pair in the previous list, or SINTER_NO_PAIR */
+    uint32_t
+        *from; /* after a build: index of the same pair in the previous list, or SINTER_NO_PAIR */
     /* particle-particle lists only, made on demand (sinter_pairs_adjacency): for each
      * particle its pairs in ascending pair index (both roles), adj_pair[adj_start[p] ..
      * adj_start[p + 1]); lets threads sum forces per particle in exactly the serial order.
@@ -74,6 +75,14 @@ typedef struct sinter_neighbors {
     double moved_bound;
     int bound_valid;
     uint64_t bound_layout, bound_write;
+    /* pairs the next build keeps at any distance (bonds that hold in tension), by smaller
+     * particle index a: the larger ones keep_j[keep_start[a] .. keep_start[a + 1]); none while
+     * keep_count is 0 (sinter_neighbors_keep) */
+    uint32_t *keep_start;
+    size_t keep_start_capacity;
+    uint32_t *keep_j;
+    size_t keep_j_capacity;
+    size_t keep_count;
 } sinter_neighbors;
 
 /* Threads a context allows (its setting; 0 means all available); contacts.c. */
@@ -112,6 +121,12 @@ int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *p
  * is current (adj_build): only the laws that sum per particle on threads read it (rolling
  * resistance), so a build does not make it (issue 9: 20 % of a build). */
 sinter_status sinter_pairs_adjacency(sinter_ctx *ctx, sinter_pair_list *l, size_t n);
+
+/* Pairs (ki[k], kj[k]), k < count, of particles of ps's current layout that the next build
+ * lists as candidates whatever their distance (count 0: none); a pair the cell search finds
+ * anyway is listed once. */
+sinter_status sinter_neighbors_keep(sinter_neighbors *nb, const sinter_particles *ps,
+                                    const uint32_t *ki, const uint32_t *kj, size_t count);
 
 /* Rebuild both lists; pp.from and pw.from map each new pair to its old index. */
 sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particles *ps,

@@ -47,6 +47,9 @@ typedef struct sinter_force_eval {
     void (*range_interior_done)(void *range_user, int range);
     void *range_user;
     int ranges_final;
+    /* out: bonds this evaluation found broken (committed bonded, trial not): the stepper
+     * counts the last evaluation's at the commit of an accepted step */
+    uint64_t bonds_broken;
 } sinter_force_eval;
 
 typedef struct sinter_force_ops {
@@ -69,6 +72,10 @@ typedef struct sinter_force_ops {
      * the stepper may leave the search's check to it (sinter_contacts_find_pp_deferred);
      * NULL means it does not */
     int (*confirms_contacts)(const sinter_force_model *fm, size_t history_width);
+    /* optional: 1 when the model's particle-particle history marks pairs that stay contacts
+     * at any distance while their first history value is non-zero (bonds that hold in
+     * tension: sinter_contact_list.held); NULL means none */
+    int (*holds_pairs)(const sinter_force_model *fm);
 } sinter_force_ops;
 
 struct sinter_force_model {
@@ -101,6 +108,12 @@ static inline size_t sinter_force_history_pp(const sinter_force_model *fm)
 static inline size_t sinter_force_history_pw(const sinter_force_model *fm)
 {
     return fm->ops->history_width ? fm->ops->history_width(fm, 1) : fm->ops->history_pw;
+}
+
+/* 1 if fm's history marks held pairs (see holds_pairs). */
+static inline int sinter_force_holds_pairs(const sinter_force_model *fm)
+{
+    return fm->ops->holds_pairs ? fm->ops->holds_pairs(fm) : 0;
 }
 
 /* 1 if an evaluation of fm may be given an unconfirmed list (see confirms_contacts). */

@@ -7,8 +7,8 @@
 #include "force_model.h"
 #include "vec3.h"
 
-static void spring(const sinter_force_model *fm, const double n[3], double delta,
-                   const double u[3], double f[3])
+static void spring(const sinter_force_model *fm, const double n[3], double delta, const double u[3],
+                   double f[3])
 {
     const double fn = fm->param[0] * delta + fm->param[1] * v3_dot(u, n);
     for (int d = 0; d < 3; ++d)
@@ -54,5 +54,14 @@ static sinter_status linear_spring_eval(const sinter_force_model *fm, sinter_for
     return SINTER_OK;
 }
 
-const sinter_force_ops sinter_force_linear_spring = {
-    "linear_spring", 0, 0, 1, {"kn", "cn", NULL}, {1e3, 0.0}, linear_spring_eval, NULL, NULL, NULL};
+const sinter_force_ops sinter_force_linear_spring = {"linear_spring",
+                                                     0,
+                                                     0,
+                                                     1,
+                                                     {"kn", "cn", NULL},
+                                                     {1e3, 0.0},
+                                                     linear_spring_eval,
+                                                     NULL,
+                                                     NULL,
+                                                     NULL,
+                                                     NULL};

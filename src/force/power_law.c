@@ -36,6 +36,9 @@
 #include "force_model.h"
 #include "vec3.h"
 
+/* Model parameters (keys of sinter_force_power_law). */
+enum { PARAM_BOND_STRENGTH = 0, PARAM_BOND_SOFTENING = 1 };
+
 /* Relative tangential speed below which friction has no direction, relative to the speeds. */
 static const double SLIP_EPS = 1e-12;
 
@@ -125,18 +128,54 @@ static void pw_params(const sinter_material *mi, const sinter_material *mw, pair
     q->friction = geometric_mean(mi, mw, SINTER_MAT_FRICTION_DYNAMIC);
 }
 
+/* Contact k's normal force (f_bond - f_con) n on i (minus on j), the friction of eq. 5-6 at the
+ * contact points x_i + b_i and x_j + b_j, and their moments about the centres. */
+static inline void apply_pp(const sinter_force_eval *e, size_t k, uint32_t i, uint32_t j,
+                            double f_con, double f_bond, double friction)
+{
+    const sinter_contact_list *c = e->pp;
+    const double *v = e->ps->v, *w = e->ps->w;
+    const double *n = c->n + 3 * k;
+    double f[3];
+    for (int d = 0; d < 3; ++d)
+        f[d] = (f_bond - f_con) * n[d]; /* eq. 2 and 19, force on i */
+    const double li = c->branch[k], lj = c->dist[k] - li;
+    const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+    const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
+    double ui[3], uj[3], u[3];
+    v3_cross(w + 3 * i, bi, ui);
+    v3_cross(w + 3 * j, bj, uj);
+    for (int d = 0; d < 3; ++d) {
+        ui[d] += v[3 * i + d];
+        uj[d] += v[3 * j + d];
+        u[d] = ui[d] - uj[d];
+    }
+    add_friction(n, u, v3_dot(ui, ui), v3_dot(uj, uj), friction, f_con, f);
+    /* Moments about the centres: b_i x f on i, b_j x (-f) on j. */
+    const double fj[3] = {-f[0], -f[1], -f[2]};
+    double ti[3], tj[3];
+    v3_cross(bi, f, ti);
+    v3_cross(bj, fj, tj);
+    for (int d = 0; d < 3; ++d) {
+        e->force[3 * i + d] += f[d];
+        e->force[3 * j + d] -= f[d];
+        e->torque[3 * i + d] += ti[d];
+        e->torque[3 * j + d] += tj[d];
+    }
+}
+
+/* The seed's bonds (history width 1). */
 static void eval_pp(const sinter_force_eval *e)
 {
     const sinter_particles *ps = e->ps;
     const sinter_contact_list *c = e->pp;
-    const double *v = ps->v, *w = ps->w, *r = ps->radius;
+    const double *r = ps->radius;
     const double *hist = e->hist_pp->committed;
     double *trial = e->hist_pp->trial;
     pair_params q = {NULL, NULL, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (size_t k = 0; k < c->count; ++k) {
         const uint32_t i = c->i[k], j = c->j[k];
         pp_params(&ps->materials[ps->material[i]], &ps->materials[ps->material[j]], &q);
-        const double *n = c->n + 3 * k;
         const double strain = c->delta[k] / (r[i] + r[j]); /* |E_ij|, eq. 3 (E_ij = -strain) */
         const double area = c->area[k];                    /* A_ij, eq. 11-12 */
         /* Contact, eq. 2: magnitude K_p |E|^p_p A, repulsive (-n on i). */
@@ -148,34 +187,59 @@ static void eval_pp(const sinter_force_eval *e)
         const double f_bond = bonded && q.bond_stiffness > 0.0
                                   ? q.bond_stiffness * power_of(strain, q.bond_exponent) * area
                                   : 0.0;
-        double f[3];
-        for (int d = 0; d < 3; ++d)
-            f[d] = (f_bond - f_con) * n[d]; /* eq. 2 and 19, force on i */
-        /* Friction, eq. 5-6, at the contact points x_i + b_i and x_j + b_j. */
-        const double li = c->branch[k], lj = c->dist[k] - li;
-        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
-        const double bj[3] = {-lj * n[0], -lj * n[1], -lj * n[2]};
-        double ui[3], uj[3], u[3];
-        v3_cross(w + 3 * i, bi, ui);
-        v3_cross(w + 3 * j, bj, uj);
-        for (int d = 0; d < 3; ++d) {
-            ui[d] += v[3 * i + d];
-            uj[d] += v[3 * j + d];
-            u[d] = ui[d] - uj[d];
-        }
-        add_friction(n, u, v3_dot(ui, ui), v3_dot(uj, uj), q.friction, f_con, f);
-        /* Moments about the centres: b_i x f on i, b_j x (-f) on j. */
-        const double fj[3] = {-f[0], -f[1], -f[2]};
-        double ti[3], tj[3];
-        v3_cross(bi, f, ti);
-        v3_cross(bj, fj, tj);
-        for (int d = 0; d < 3; ++d) {
-            e->force[3 * i + d] += f[d];
-            e->force[3 * j + d] -= f[d];
-            e->torque[3 * i + d] += ti[d];
-            e->torque[3 * j + d] += tj[d];
-        }
+        apply_pp(e, k, i, j, f_con, f_bond, q.friction);
     }
+}
+
+/* Bonds that hold (bond_strength > 0; history width 2: the bond flag and the bond's area A_b,
+ * the largest contact area the bonded pair reached). Overlapping pairs: eq. 2, 5-6 and 18-19
+ * as in eval_pp. A bonded pair apart (E_ij > 0: the search keeps it, sinter_contact_list.held)
+ * carries the seed's bond law continued into tension, f_i = +k_b E_ij^p_b A_b n_ij towards j,
+ * k_b = K_b (times the pair's mean modulus scale with bond_softening), which is 0 at E_ij = 0
+ * as eq. 19 is; the bond breaks (for good) in the first evaluation where the tensile stress
+ * k_b E_ij^p_b exceeds bond_strength. */
+static void eval_pp_hold(const sinter_force_model *fm, sinter_force_eval *e)
+{
+    const sinter_particles *ps = e->ps;
+    const sinter_contact_list *c = e->pp;
+    const double *r = ps->radius;
+    const double *hist = e->hist_pp->committed;
+    double *trial = e->hist_pp->trial;
+    const double strength = fm->param[PARAM_BOND_STRENGTH];
+    const int soften = fm->param[PARAM_BOND_SOFTENING] != 0.0;
+    pair_params q = {NULL, NULL, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    uint64_t broken = 0;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        pp_params(&ps->materials[ps->material[i]], &ps->materials[ps->material[j]], &q);
+        const double *held = hist + 2 * (size_t)c->pair[k];
+        double *out = trial + 2 * k;
+        const double strain = c->delta[k] / (r[i] + r[j]); /* |E_ij| in compression */
+        const double s_ij = 0.5 * (scale_of(e, i) + scale_of(e, j));
+        if (strain <= 0.0) { /* apart or just touching: only a committed bond keeps it here */
+            const double kb = q.bond_stiffness * (soften ? s_ij : 1.0);
+            const double stress = kb * power_of(-strain, q.bond_exponent);
+            if (held[0] == 0.0 || stress > strength) {
+                broken += held[0] != 0.0;
+                out[0] = out[1] = 0.0;
+                continue;
+            }
+            out[0] = 1.0;
+            out[1] = held[1];
+            apply_pp(e, k, i, j, 0.0, stress * held[1], q.friction);
+            continue;
+        }
+        const double area = c->area[k];
+        const double f_con = q.stiffness * s_ij * power_of(strain, q.exponent) * area;
+        const int bonded = held[0] != 0.0 || strain >= q.critical_strain;
+        out[0] = bonded ? 1.0 : 0.0;
+        out[1] = bonded ? (area > held[1] ? area : held[1]) : 0.0;
+        const double f_bond = bonded && q.bond_stiffness > 0.0
+                                  ? q.bond_stiffness * power_of(strain, q.bond_exponent) * area
+                                  : 0.0;
+        apply_pp(e, k, i, j, f_con, f_bond, q.friction);
+    }
+    e->bonds_broken = broken;
 }
 
 static void eval_pw(const sinter_force_eval *e)
@@ -227,12 +291,30 @@ static void eval_pw(const sinter_force_eval *e)
 
 static sinter_status power_law_eval(const sinter_force_model *fm, sinter_force_eval *e)
 {
-    (void)fm;
-    eval_pp(e);
+    if (fm->param[PARAM_BOND_STRENGTH] > 0.0)
+        eval_pp_hold(fm, e);
+    else
+        eval_pp(e);
     if (e->walls != NULL)
         eval_pw(e);
     return SINTER_OK;
 }
 
-const sinter_force_ops sinter_force_power_law = {"power_law",    1,    0,    1,   {NULL}, {0.0},
-                                                 power_law_eval, NULL, NULL, NULL};
+static size_t power_law_history(const sinter_force_model *fm, int wall)
+{
+    return wall ? 0 : fm->param[PARAM_BOND_STRENGTH] > 0.0 ? 2 : 1;
+}
+
+static int power_law_holds(const sinter_force_model *fm)
+{
+    return fm->param[PARAM_BOND_STRENGTH] > 0.0;
+}
+
+const sinter_force_ops sinter_force_power_law = {.name = "power_law",
+                                                 .history_pp = 1,
+                                                 .uses_contacts = 1,
+                                                 .keys = {"bond_strength", "bond_softening", NULL},
+                                                 .defaults = {0.0, 0.0},
+                                                 .eval = power_law_eval,
+                                                 .history_width = power_law_history,
+                                                 .holds_pairs = power_law_holds};

@@ -49,8 +49,10 @@
  *    the heat step's proposal, the mechanical steps since the last wake-up, the last kinetic
  *    energy of its rest test, its statistics, and while frozen the rates of the last heat step
  *    and the modulus factors of the freeze (per particle); earlier versions are still read (not
- *    frozen, the statistics at 0) */
-#define CHECKPOINT_VERSION 9u
+ *    frozen, the statistics at 0)
+ * 10: then the count of bonds that held in tension and broke (sinter_stepper_stats.bonds_broken,
+ *    a series column: force/power_law.c); earlier versions are still read (the count at 0) */
+#define CHECKPOINT_VERSION 10u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -263,6 +265,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         if (fz->has_scale)
             put(&w, fz->scale0, n * sizeof(double));
     }
+    put_u64(&w, st->stats.bonds_broken); /* version 10 */
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -686,6 +689,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         if (fz_scaled && !r.bad)
             fz_scale = take(&r, n * sizeof(double));
     }
+    const uint64_t bonds_broken = version >= 10u && !r.bad ? take_u64(&r) : 0;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -906,6 +910,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->stats.neighbor_builds = builds;
     st->stats.iterations = iterations;
     st->stats.evaluations = evaluations;
+    st->stats.bonds_broken = bonds_broken;
     sg->h_prev = h_prev;
     sg->contraction = contraction;
     sg->control.x_prev = x_prev;

@@ -168,9 +168,25 @@ static const char *const STEPPER_UNITS[STEPPER_COLUMNS] = {"s", "1", "1", "1", "
 
 /* The last three only with the staggered stepper (its iterations so far, the evaluations of
  * the pipeline so far and the contraction estimate of its last step; staggered.c). */
-static size_t stepper_columns(const sinter_scene *sc)
+static size_t stepper_base_columns(const sinter_scene *sc)
 {
     return sc->st->kind == SINTER_STEPPER_STAGGERED ? 6 : 3;
+}
+
+/* 1 when a force model holds bonds in tension (power law bond_strength > 0): then one more
+ * column, the bonds broken so far (sinter_stepper_stats.bonds_broken; a checkpoint carries it,
+ * version 10). */
+static int holds_bonds(const sinter_scene *sc)
+{
+    for (size_t k = 0; k < sc->st->force_count; ++k)
+        if (sinter_force_holds_pairs(sc->st->forces[k].model))
+            return 1;
+    return 0;
+}
+
+static size_t stepper_columns(const sinter_scene *sc)
+{
+    return stepper_base_columns(sc) + (size_t)holds_bonds(sc);
 }
 
 static size_t wall_heat_column(const sinter_scene *sc)
@@ -400,11 +416,14 @@ static void observe_flows(const sinter_scene *sc, double *row)
     q[0] = sc->st->dt;
     q[1] = (double)s->rejected;
     q[2] = (double)s->neighbor_builds;
-    if (stepper_columns(sc) > 3) { /* a checkpoint carries these too (version 7) */
+    const size_t base = stepper_base_columns(sc);
+    if (base > 3) { /* a checkpoint carries these too (version 7) */
         q[3] = (double)s->iterations;
         q[4] = (double)s->evaluations;
         q[5] = sc->st->staggered.contraction;
     }
+    if (holds_bonds(sc))
+        q[base] = (double)s->bonds_broken;
     observe_distributions(sc, row);
     scene_track_observe(sc, row + track_column(sc));
     if (sc->pair_reference)
@@ -768,9 +787,13 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[wall_current_column(sc) + k] = wall_labels[2 * nw + k];
         units[wall_current_column(sc) + k] = "A";
     }
-    for (size_t k = 0; k < stepper_columns(sc); ++k) {
+    for (size_t k = 0; k < stepper_base_columns(sc); ++k) {
         names[stepper_column(sc) + k] = STEPPER_NAMES[k];
         units[stepper_column(sc) + k] = STEPPER_UNITS[k];
+    }
+    if (holds_bonds(sc)) {
+        names[stepper_column(sc) + stepper_base_columns(sc)] = "broken bonds";
+        units[stepper_column(sc) + stepper_base_columns(sc)] = "1";
     }
     names[solid_column(sc)] = "solid fraction";
     units[solid_column(sc)] = "1";

@@ -392,13 +392,14 @@ sinter_status sinter_stepper_get_stats(const sinter_stepper *st, sinter_stepper_
     /* The layouts before iterations and evaluations, and before contraction, were appended
      * are still served. */
     const size_t size = stats->struct_size, old = offsetof(sinter_stepper_stats, iterations),
-                 mid = offsetof(sinter_stepper_stats, contraction);
-    if (size != sizeof(sinter_stepper_stats) && size != old && size != mid)
+                 mid = offsetof(sinter_stepper_stats, contraction),
+                 late = offsetof(sinter_stepper_stats, bonds_broken);
+    if (size != sizeof(sinter_stepper_stats) && size != old && size != mid && size != late)
         return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
                            "sinter_stepper_get_stats: struct_size is %zu, expected %zu (or %zu "
                            "for the layout without iterations and evaluations, %zu without "
-                           "contraction)",
-                           size, sizeof(sinter_stepper_stats), old, mid);
+                           "contraction, %zu without bonds_broken)",
+                           size, sizeof(sinter_stepper_stats), old, mid, late);
     sinter_stepper_stats full = st->stats;
     full.contraction = st->staggered.contraction;
     full.struct_size = size;
@@ -419,6 +420,49 @@ static void choose_skin(sinter_stepper *st)
     st->skin_set = 1;
 }
 
+/* The bonded pairs of a model that holds pairs (set_held), in the current layout, for the
+ * next build to keep at any distance (sinter_neighbors_keep): the pairs it lists hold
+ * their history whatever their distance. */
+static sinter_status keep_held_pairs(sinter_stepper *st)
+{
+    sinter_neighbors *nb = &st->nb;
+    const sinter_history *h = NULL;
+    for (size_t k = 0; k < st->force_count && h == NULL; ++k)
+        if (sinter_force_holds_pairs(st->forces[k].model) && st->forces[k].pp.width > 0)
+            h = &st->forces[k].pp;
+    if (h == NULL || h->committed == NULL || h->active_count == 0 || !nb->built) {
+        nb->keep_count = 0;
+        return SINTER_OK;
+    }
+    const size_t w = h->width;
+    uint32_t *both = sinter_realloc_array(st->ctx, NULL, 2 * h->active_count + 1, sizeof(uint32_t));
+    if (both == NULL)
+        return sinter_last_status(st->ctx);
+    sinter_particles *ps = st->ps;
+    const int moved = nb->layout_generation != ps->layout_generation; /* indices changed */
+    sinter_status s = moved ? sinter_id_index_update(&ps->id_index, ps) : SINTER_OK;
+    size_t count = 0;
+    for (size_t a = 0; a < h->active_count && s == SINTER_OK; ++a) {
+        const uint32_t p = h->active[a];
+        if (p >= nb->pp.count || h->committed[w * p] == 0.0)
+            continue;
+        size_t i = nb->pp.i[p], j = nb->pp.j[p];
+        if (moved) {
+            i = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_i[p]);
+            j = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_j[p]);
+            if (i == SIZE_MAX || j == SIZE_MAX)
+                continue; /* a particle was removed: its bonds go with it */
+        }
+        both[count] = (uint32_t)i;
+        both[h->active_count + count] = (uint32_t)j;
+        ++count;
+    }
+    if (s == SINTER_OK)
+        s = sinter_neighbors_keep(nb, ps, both, both + h->active_count, count);
+    sinter_free(st->ctx, both);
+    return s;
+}
+
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
     if (!sinter_neighbors_stale(&st->nb, st->ps, st->walls))
@@ -427,7 +471,9 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
     choose_skin(st);
     /* A changed particle layout (add/remove/reorder) invalidates pair indices, but
      * the id-keyed matching carries history over all the same. */
-    sinter_status s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
+    sinter_status s = keep_held_pairs(st);
+    if (s == SINTER_OK)
+        s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
         s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
         if (s == SINTER_OK)
@@ -540,6 +586,23 @@ static void heat_then_final(void *user, int range, size_t lo, size_t hi)
         st->range_final(st->range_final_user, range, lo, hi);
 }
 
+/* Bonds that hold in tension (force/power_law.c): the first model whose history marks held
+ * pairs lets the contact search keep them (sinter_contact_list.held) while its committed
+ * history covers the current pairs. */
+static void set_held(sinter_stepper *st)
+{
+    st->pp.held = NULL;
+    for (size_t k = 0; k < st->force_count; ++k) {
+        const sinter_history *h = &st->forces[k].pp;
+        if (sinter_force_holds_pairs(st->forces[k].model) && h->width > 0 && h->committed != NULL &&
+            h->pair_capacity >= h->width * st->nb.pp.count) {
+            st->pp.held = h->committed;
+            st->pp.held_stride = h->width;
+            return;
+        }
+    }
+}
+
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
@@ -555,12 +618,14 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     int deferred = 0;
     const int geometry = geometry_needed(st);
     const long confirmer = geometry ? -1 : confirming_slot(st);
+    set_held(st);
     if (geometry)
         s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
     else if (confirmer >= 0)
         s = sinter_contacts_find_pp_deferred(ctx, &st->pp, &st->nb.pp, ps, &deferred);
     else
         s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
+    st->pp.held = NULL; /* the history moves at commits and rebuilds */
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks);
     if (s != SINTER_OK)
@@ -638,7 +703,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         e.range_interior_done = last && heat_ranges ? sinter_thermal_law_interior : NULL;
         e.range_user = !last ? NULL : heat_ranges ? (void *)st : st->range_final_user;
         e.ranges_final = 0;
+        e.bonds_broken = 0;
         s = slot->model->ops->eval(slot->model, &e);
+        slot->bonds_broken = e.bonds_broken;
         st->ranges_final = last && e.ranges_final;
         if (s == SINTER_OK && deferred && (long)k == confirmer) {
             confirm_contacts(st, slot, e.pp_ended);
@@ -785,6 +852,8 @@ sinter_status sinter_stepper_commit(sinter_stepper *st)
 {
     sinter_status s = SINTER_OK;
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        st->stats.bonds_broken += st->forces[k].bonds_broken;
+        st->forces[k].bonds_broken = 0;
         s = sinter_history_commit(st->ctx, &st->forces[k].pp, &st->pp);
         if (s == SINTER_OK)
             s = sinter_history_commit(st->ctx, &st->forces[k].pw, &st->pw);

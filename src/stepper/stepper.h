@@ -15,6 +15,7 @@ typedef struct sinter_force_slot {
     sinter_force_model *model;
     sinter_history pp;
     sinter_history pw;
+    uint64_t bonds_broken; /* bonds its last evaluation broke, counted at the next commit */
 } sinter_force_slot;
 
 /* Options and work arrays of the implicit staggered stepper (staggered.c, seed 000 sec. 3, 6). */

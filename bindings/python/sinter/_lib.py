@@ -73,7 +73,7 @@ class StepperStats(ctypes.Structure):
                 ("time", _double), ("dt", _double), ("seconds_neighbor", _double),
                 ("seconds_force", _double), ("seconds_integrate", _double),
                 ("seconds_total", _double), ("iterations", _u64), ("evaluations", _u64),
-                ("contraction", _double)]
+                ("contraction", _double), ("bonds_broken", _u64)]
 
 
 class SinteringStats(ctypes.Structure):

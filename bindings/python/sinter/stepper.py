@@ -139,6 +139,7 @@ class StepperStats:
     iterations: int = 0  #: fixed-point iterations (staggered stepper)
     evaluations: int = 0  #: evaluations of the force/electric/heat pipeline
     contraction: float = 0.0  #: staggered scheme 1: contraction of the last step (0: none)
+    bonds_broken: int = 0  #: bonds that held in tension and broke (power law bond_strength)
 
     def as_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)
