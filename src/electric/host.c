@@ -4,6 +4,7 @@
  * (force/host.c, heat/host.c). network.c calls them once per solve with the batches of the
  * particle-particle and particle-wall contacts; the values they return are checked here.
  */
+#include "contact/host_views.h"
 #include <math.h>
 #include <string.h>
 
@@ -57,28 +58,7 @@ static sinter_status fill_view(sinter_electric_model *em, const sinter_particles
 {
     const size_t nw = walls != NULL ? walls->count : 0;
     SINTER_ELECTRIC_RESERVE(em, host_walls, 9 * nw + 1);
-    for (size_t k = 0; k < nw; ++k) {
-        const sinter_wall *w = &walls->wall[k];
-        memcpy(em->host_walls + 3 * k, w->p, 3 * sizeof(double));
-        memcpy(em->host_walls + 3 * (nw + k), w->n, 3 * sizeof(double));
-        memcpy(em->host_walls + 3 * (2 * nw + k), w->u, 3 * sizeof(double));
-    }
-    memset(v, 0, sizeof(*v));
-    v->count = ps->count;
-    v->position = ps->x;
-    v->velocity = ps->v;
-    v->spin = ps->w;
-    v->radius = ps->radius;
-    v->mass = ps->mass;
-    v->inertia = ps->inertia;
-    v->temperature = ps->temperature;
-    v->material = ps->material;
-    v->wall_count = nw;
-    v->wall_point = em->host_walls;
-    v->wall_normal = em->host_walls + 3 * nw;
-    v->wall_velocity = em->host_walls + 6 * nw;
-    v->time = NAN;
-    v->dt = NAN;
+    sinter_host_state_view(v, ps, walls, em->host_walls, NAN, NAN);
     return SINTER_OK;
 }
 
@@ -87,17 +67,7 @@ static void batch_of(const sinter_contact_list *c, int kind, double *radius,
                      sinter_contact_batch *b)
 {
     sinter_contact_radii(c, radius);
-    memset(b, 0, sizeof(*b));
-    b->count = c->count;
-    b->kind = kind;
-    b->i = c->i;
-    b->j = c->j;
-    b->normal = c->n;
-    b->overlap = c->delta;
-    b->distance = c->dist;
-    b->contact_radius = radius;
-    b->area = c->area;
-    b->branch = c->branch;
+    sinter_host_contact_batch(c, kind, radius, b);
 }
 
 /* Both batches and the view; radii in em->host_radius. */

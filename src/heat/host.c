@@ -1,23 +1,8 @@
 /* Host heat submodels: one batched callback per evaluation. */
 #include <string.h>
 
+#include "contact/host_views.h"
 #include "heat_model.h"
-
-static void batch_of(const sinter_contact_list *c, int kind, const double *radius,
-                     sinter_contact_batch *b)
-{
-    memset(b, 0, sizeof(*b));
-    b->count = c->count;
-    b->kind = kind;
-    b->i = c->i;
-    b->j = c->j;
-    b->normal = c->n;
-    b->overlap = c->delta;
-    b->distance = c->dist;
-    b->contact_radius = radius;
-    b->area = c->area;
-    b->branch = c->branch;
-}
 
 sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eval *e)
 {
@@ -29,8 +14,8 @@ sinter_status sinter_heat_host_eval(const sinter_heat_model *hm, sinter_heat_eva
     sinter_contact_radii(e->pp, radius_pp);
     sinter_contact_radii(e->pw, radius_pw);
     sinter_contact_batch pp, pw;
-    batch_of(e->pp, SINTER_CONTACT_PARTICLE, radius_pp, &pp);
-    batch_of(e->pw, SINTER_CONTACT_WALL, radius_pw, &pw);
+    sinter_host_contact_batch(e->pp, SINTER_CONTACT_PARTICLE, radius_pp, &pp);
+    sinter_host_contact_batch(e->pw, SINTER_CONTACT_WALL, radius_pw, &pw);
     const int rc = hm->host.power(e->view, &pp, &pw, q, hm->user);
     sinter_status st = SINTER_OK;
     if (rc != 0)

@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 /* Steppers: creation, submodels, the evaluation pipeline, advance and statistics. */
+#include "contact/host_views.h"
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -495,28 +496,7 @@ static sinter_status fill_view(sinter_stepper *st, double dt)
         st->wall_arrays = grown;
         st->wall_arrays_capacity = 9 * nw + 1;
     }
-    for (size_t k = 0; k < nw; ++k) {
-        const sinter_wall *w = &st->walls->wall[k];
-        memcpy(st->wall_arrays + 3 * k, w->p, 3 * sizeof(double));
-        memcpy(st->wall_arrays + 3 * (nw + k), w->n, 3 * sizeof(double));
-        memcpy(st->wall_arrays + 3 * (2 * nw + k), w->u, 3 * sizeof(double));
-    }
-    const sinter_particles *ps = st->ps;
-    v->count = ps->count;
-    v->position = ps->x;
-    v->velocity = ps->v;
-    v->spin = ps->w;
-    v->radius = ps->radius;
-    v->mass = ps->mass;
-    v->inertia = ps->inertia;
-    v->temperature = ps->temperature;
-    v->material = ps->material;
-    v->wall_count = nw;
-    v->wall_point = st->wall_arrays;
-    v->wall_normal = st->wall_arrays + 3 * nw;
-    v->wall_velocity = st->wall_arrays + 6 * nw;
-    v->time = st->time;
-    v->dt = dt;
+    sinter_host_state_view(v, st->ps, st->walls, st->wall_arrays, st->time, dt);
     return SINTER_OK;
 }
 
