@@ -533,7 +533,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "to 9) or byte order");
+                       "to 10) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
