@@ -4,10 +4,10 @@
  * (force/host.c, heat/host.c). network.c calls them once per solve with the batches of the
  * particle-particle and particle-wall contacts; the values they return are checked here.
  */
-#include "contact/host_views.h"
 #include <math.h>
 #include <string.h>
 
+#include "contact/host_views.h"
 #include "electric.h"
 
 sinter_status sinter_electric_model_set_host(sinter_electric_model *em,

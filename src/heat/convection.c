@@ -67,23 +67,24 @@ static double sutherland(double t, double t0, double s)
 /* h A_s (theta_E - theta_i) of particle i by the general path (the same formulas). */
 static double convection_general(const convection_job *job, size_t i, double r, double theta)
 {
-    double k = job->k_e, mu = job->mu_e, rho = job->rho_e;
-    if (job->law) {
-        const double tf = 0.5 * (theta + job->theta_e); /* film temperature */
-        k *= sutherland(tf, job->t0, job->s_k);
-        mu *= sutherland(tf, job->t0, job->s_mu);
-        rho *= job->t0 / tf;
-    }
-    double h;
-    if (job->film == FILM_GIVEN) {
-        h = job->h4pi / (4.0 * PI);
-    } else if (job->film == FILM_STAGNANT) {
-        h = k / r; /* Nu = 2 */
-    } else {
-        const double re = rho * job->speed * 2.0 * r / mu;
-        const double pr04 = pow(job->c_e * mu / k, 0.4);
-        const double nu = 2.0 + (0.4 * sqrt(re) + 0.06 * cbrt(re * re)) * pr04; /* eq. 39 */
-        h = nu * k / (2.0 * r);                                                 /* eq. 38 */
+    double h = job->h4pi / (4.0 * PI); /* FILM_GIVEN: no fluid property is read */
+    if (job->film != FILM_GIVEN) {
+        double k = job->k_e, mu = job->mu_e, rho = job->rho_e, pr04 = job->pr04;
+        if (job->law) { /* the properties at the film temperature */
+            const double tf = 0.5 * (theta + job->theta_e);
+            k *= sutherland(tf, job->t0, job->s_k);
+            mu *= sutherland(tf, job->t0, job->s_mu);
+            rho *= job->t0 / tf;
+            if (job->film == FILM_WHITAKER)
+                pr04 = pow(job->c_e * mu / k, 0.4); /* eq. 40 */
+        }
+        if (job->film == FILM_STAGNANT) {
+            h = k / r; /* Nu = 2 */
+        } else {
+            const double re = rho * job->speed * 2.0 * r / mu;
+            const double nu = 2.0 + (0.4 * sqrt(re) + 0.06 * cbrt(re * re)) * pr04; /* eq. 39 */
+            h = nu * k / (2.0 * r);                                                 /* eq. 38 */
+        }
     }
     const double q = h * 4.0 * PI * r * r * (job->theta_e - theta); /* eq. 37 */
     return job->exposed != NULL ? job->exposed[i] * q : q;

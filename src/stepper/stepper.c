@@ -1,11 +1,11 @@
 #define _POSIX_C_SOURCE 200809L
 /* Steppers: creation, submodels, the evaluation pipeline, advance and statistics. */
-#include "contact/host_views.h"
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 #include <time.h>
 
+#include "contact/host_views.h"
 #include "sanity.h"
 #include "stepper.h"
 #include "electric/electric.h"
