@@ -35,6 +35,7 @@ SHORT = {
     "mech_heat": (0.02, 0.002, {}),
     "powder_psd": (2e-6, 5e-7, {}),
     "press": (1.6, 0.02, {}),
+    "press_bonded": (1.6, 0.02, {}),
     "press_copper": (0.1, 0.005, {"particles": {"count": "60", "box_max": "0.004 0.004 0.015"},
                                    "wall top": {"point": "0 0 0.016",
                                                 "schedule": "0 0 0 0,  0.01 0 0 -0.0075"}}),

@@ -21,6 +21,7 @@
 #include "test_support.h"
 #include "sinter_submodel.h"
 #include "contact/contacts.h"
+#include "contact/snapshot.h"
 #include "electric/electric.h"
 #include "heat/heat_model.h"
 #include "particles/particles.h"
@@ -942,20 +943,27 @@ static int series_split(const sinter_state_view *v, const sinter_contact_batch *
     return 0;
 }
 
+/* Per evaluation: the power the walls' supplies deliver [W] and, with wall_heat, the walls'
+ * conductive heat flow into the particles summed over the walls [W] (the series' columns). */
 typedef struct energy_log {
     sinter_electric_model *em;
-    double power[400];
-    int count;
+    double power[400], wall_heat[400];
+    int count, with_wall_heat;
 } energy_log;
 
 static int log_power(const sinter_stepper *st, double time, void *user)
 {
-    (void)st;
     (void)time;
     energy_log *l = user;
     double dissipated = 0;
-    if (l->count < 400)
-        OK(sinter_electric_model_power(l->em, &l->power[l->count++], &dissipated));
+    if (l->count >= 400)
+        return 0;
+    if (l->with_wall_heat) {
+        double flows[2] = {0.0, 0.0};
+        OK(sinter_snapshot_wall_flows(st, flows, NULL));
+        l->wall_heat[l->count] = flows[0] + flows[1];
+    }
+    OK(sinter_electric_model_power(l->em, &l->power[l->count++], &dissipated));
     return 0;
 }
 
@@ -964,16 +972,26 @@ static int log_power(const sinter_stepper *st, double time, void *user)
  * Joule heating, no other heat): sum_i m_i C (theta_i - theta_i0) equals the walls' electrical
  * work, sum over steps of h times the power delivered at the state each temperature update
  * used (the update of step n uses the powers of the evaluation before it), to round-off.
+ * With wall_heat the particles also conduct ("conduction", k = 50 W/(m K)) and the electrodes
+ * are thermal walls of two kinds: a 400 K reservoir and a 250 K wall of transfer coefficient
+ * h_w = 2e4 W/(m^2 K); then sum m C dtheta equals the electrical work plus the walls' heat flow
+ * into the particles, integrated the same way (issue 39).
  */
-static void energy_balance_over_a_run(int host_split);
+static void energy_balance_over_a_run(int host_split, int wall_heat);
 
 static void test_joule_energy_balance_over_a_run(void **state)
 {
     (void)state;
-    energy_balance_over_a_run(0);
+    energy_balance_over_a_run(0, 0);
 }
 
-static void energy_balance_over_a_run(int host_split)
+static void test_joule_and_wall_heat_balance_over_a_run(void **state)
+{
+    (void)state;
+    energy_balance_over_a_run(0, 1);
+}
+
+static void energy_balance_over_a_run(int host_split, int wall_heat)
 {
     fixture f;
     open_fixture(&f);
@@ -984,14 +1002,22 @@ static void energy_balance_over_a_run(int host_split)
     OK(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, heat_capacity));
     OK(sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 1e7));
     OK(sinter_material_set(mat, SINTER_MAT_DENSITY, 8000.0));
+    OK(sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 50.0));
     OK(sinter_particles_set_material(f.ps, 0, mat));
-    sinter_material_destroy(mat);
     const double dp = 1e-4, dw = 2e-4;
     const double delta[3] = {dp, 2 * dp, dp};
     const double x_right = add_chain(&f, 4, delta, dw, 0.0, 0);
     add_chain(&f, 4, delta, dw, 3.0 * R, 0); /* a second, parallel chain */
     add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 0.5);
     add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, -0.5);
+    if (wall_heat) {
+        for (size_t k = 0; k < 2; ++k)
+            OK(sinter_walls_set_material(f.walls, k, mat));
+        OK(sinter_walls_set_temperature(f.walls, 0, 400.0));
+        OK(sinter_walls_set_temperature(f.walls, 1, 250.0));
+        OK(sinter_walls_set_thermal(f.walls, 1, SINTER_WALL_TRANSFER, 2e4));
+    }
+    sinter_material_destroy(mat);
     model(&f, "network", 1e-14);
     double pair_share = 0.8;
     if (host_split) {
@@ -1000,37 +1026,59 @@ static void energy_balance_over_a_run(int host_split)
     }
     sinter_stepper *st;
     sinter_force_model *contact;
-    sinter_heat_model *joule;
+    sinter_heat_model *joule, *conduction = NULL;
     OK(sinter_stepper_create(&st, f.ctx, SINTER_STEPPER_EXPLICIT, f.ps, f.walls));
     OK(sinter_force_model_create(&contact, f.ctx, "hertz_mindlin"));
     OK(sinter_stepper_add_force(st, contact));
     OK(sinter_heat_model_create(&joule, f.ctx, "joule"));
     OK(sinter_stepper_add_heat(st, joule));
+    if (wall_heat) {
+        OK(sinter_heat_model_create(&conduction, f.ctx, "conduction"));
+        OK(sinter_stepper_add_heat(st, conduction));
+    }
     OK(sinter_stepper_set_electric(st, f.em));
     OK(sinter_stepper_set_dt(st, h));
     const size_t n = f.ps->count;
     double theta0[8];
     memcpy(theta0, f.ps->temperature, n * sizeof(double));
-    energy_log l = {f.em, {0}, 0};
+    energy_log l = {f.em, {0}, {0}, 0, wall_heat};
     OK(sinter_stepper_step(st, 0)); /* the first evaluation: the powers the first update uses */
     log_power(st, 0.0, &l);
     OK(sinter_stepper_set_observer(st, log_power, &l));
     enum { STEPS = 300 };
     OK(sinter_stepper_step(st, STEPS));
-    double work = 0, gained = 0;
-    for (int k = 0; k < STEPS; ++k)
+    double work = 0, walls = 0, gained = 0;
+    for (int k = 0; k < STEPS; ++k) {
         work += h * l.power[k];
+        walls += h * l.wall_heat[k];
+    }
     for (size_t i = 0; i < n; ++i)
         gained += f.ps->mass[i] * heat_capacity * (f.ps->temperature[i] - theta0[i]);
-    print_message("electrical work %.12g J, heat gained %.12g J (power %.6g -> %.6g W)\n", work,
-                  gained, l.power[0], l.power[STEPS - 1]);
+    print_message("electrical work %.12g J, walls' heat %.12g J, heat gained %.12g J (power %.6g "
+                  "-> %.6g W)\n",
+                  work, walls, gained, l.power[0], l.power[STEPS - 1]);
     assert_true(work > 0.0 && l.power[0] != l.power[STEPS - 1]); /* the contacts moved */
     /* round-off: 300 updates of theta ~ 300 K by ~2e-5 K each (ulp(300 K) / 2e-5 K ~ 3e-9 per
      * update at worst; solves to 1e-14) */
-    assert_rel(gained, work, 1e-9);
+    assert_rel(gained, work + walls, 1e-9);
+    if (wall_heat) {
+        /* both walls conduct: the reservoir gives, the colder transfer wall takes, and the
+         * models' books agree with the walls' flows and the supplies' work */
+        double booked_joule = 0, booked_conduction = 0;
+        OK(sinter_stepper_heat_energy(st, 0, &booked_joule));
+        OK(sinter_stepper_heat_energy(st, 1, &booked_conduction));
+        double flows[2];
+        OK(sinter_snapshot_wall_flows(st, flows, NULL));
+        print_message("wall flows at the end: reservoir %.6g W, transfer %.6g W\n", flows[0],
+                      flows[1]);
+        assert_true(flows[0] > 0.0 && flows[1] < 0.0 && fabs(walls) > 1e-3 * work);
+        assert_rel(booked_joule, work, 1e-9);
+        assert_rel(booked_conduction, walls, 1e-9);
+    }
     sinter_stepper_destroy(st);
     sinter_force_model_destroy(contact);
     sinter_heat_model_destroy(joule);
+    sinter_heat_model_destroy(conduction);
     close_fixture(&f);
 }
 
@@ -1239,7 +1287,7 @@ static void test_host_split_energy_balance(void **state)
 static void test_host_split_energy_balance_over_a_run(void **state)
 {
     (void)state;
-    energy_balance_over_a_run(1);
+    energy_balance_over_a_run(1, 0);
 }
 
 /* Misuse: the averaged model, a wrong struct_size, an empty table, a negative conductance, a
@@ -1312,6 +1360,7 @@ int main(void)
         cmocka_unit_test(test_network_power_and_joule_shares),
         cmocka_unit_test(test_network_conductivity_follows_temperature),
         cmocka_unit_test(test_joule_energy_balance_over_a_run),
+        cmocka_unit_test(test_joule_and_wall_heat_balance_over_a_run),
         cmocka_unit_test(test_supply_limits_pulses_and_schedules),
         cmocka_unit_test(test_host_callbacks_reproduce_builtin),
         cmocka_unit_test(test_host_split_energy_balance),
