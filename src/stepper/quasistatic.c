@@ -396,6 +396,15 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
         found_status = sinter_qs_touching_pairs_near(qs->ctx, &qs->near, n, slot_x, slot_r,
                                                      qs->opt.contact_tolerance, &qs->candidates,
                                                      &qs->candidates_capacity, &found, NULL);
+    for (size_t k = 0; found_status == SINTER_ERR_INVALID && k < n; ++k) {
+        const size_t i = qs->index_of_slot[k]; /* the search named a slot: name the particle */
+        if (!isfinite(p->x[3 * i]) || !isfinite(p->x[3 * i + 1]) || !isfinite(p->x[3 * i + 2]))
+            return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
+                               "quasi-static stepper: particle %zu (id %llu) has a non-finite "
+                               "position (%g, %g, %g) m",
+                               i, (unsigned long long)qs->slot_id[k], p->x[3 * i], p->x[3 * i + 1],
+                               p->x[3 * i + 2]);
+    }
     if (found_status != SINTER_OK)
         return found_status;
     for (size_t c = 0; c < found; ++c) {

@@ -689,6 +689,29 @@ static void test_qs_state_keyed_by_id(void **state)
     packing_free(&pk);
 }
 
+/* A non-finite position is refused naming the particle's index and id (the contact search runs
+ * in id order, qs_ids.c: the index it sees is not the caller's). */
+static void test_qs_nonfinite_position_names_the_particle(void **state)
+{
+    (void)state;
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    packing pk;
+    packing_init(&pk, 2);
+    const double x0[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, R_CU, 3 * R_CU, R_CU};
+    memcpy(pk.x, x0, sizeof(x0));
+    pk.x[4] = NAN; /* index 1, id 10: the first in id order */
+    pk.n = 3;
+    pk.radius[0] = pk.radius[1] = pk.radius[2] = R_CU;
+    const uint64_t ids[3] = {12, 10, 11};
+    sinter_qs_particles view = {3, pk.x, pk.rot, pk.radius, NULL, ids, &pk.mat};
+    double taken = 0.0;
+    assert_int_equal(sinter_qs_step(pk.qs, &view, &schedule, 0.0, 1e-6, &taken),
+                     SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(pk.ctx), "particle 1 (id 10) has a non-finite"));
+    packing_free(&pk);
+}
+
 static void test_qs_lattice(void **state)
 {
     (void)state;
@@ -1146,6 +1169,7 @@ int main(void)
         cmocka_unit_test(test_qs_new_contacts),
         cmocka_unit_test(test_qs_remap),
         cmocka_unit_test(test_qs_state_keyed_by_id),
+        cmocka_unit_test(test_qs_nonfinite_position_names_the_particle),
         cmocka_unit_test(test_qs_options),
         cmocka_unit_test(test_qs_touching_pairs_grid),
         cmocka_unit_test(test_qs_near_pairs_follow_drift),
