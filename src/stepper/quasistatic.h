@@ -29,7 +29,9 @@
  *      y7 (eq. 41-44);
  *   5. turn new touching pairs into links with a fresh neck (docs/7dof.md §4).
  * The core (sinter_qs_*) works on borrowed particle arrays; sinter_quasistatic_* adapt it to a
- * sinter_stepper.
+ * sinter_stepper. Links are keyed by the ids of their particles and every order of the step
+ * (links, sums, the solve) is an order of ids (qs_ids.c, issue 43), so a reordering of the
+ * particles in memory does not change a bit of the results.
  */
 #ifndef SINTER_STEPPER_QUASISTATIC_H
 #define SINTER_STEPPER_QUASISTATIC_H
