@@ -60,10 +60,12 @@ struct sinter_qs {
     sinter_neck_state *batch_states;
     const sinter_neck_material **batch_materials;
     size_t batch_states_capacity, batch_materials_capacity;
-    uint64_t layout_generation; /* of the stepper's particles the links' indices are for */
-    size_t particles;           /* count the conditions were detected for (0: not yet) */
-    double extent0[3];          /* initial extent of the centres */
-    sinter_qs_origin *origins;  /* every particle of the first set-up, sorted by id */
+    uint64_t layout_generation;     /* of the stepper's particles the links' indices are for */
+    uint64_t population_generation; /* of the particles of the last step (adapter) */
+    int population_known;           /* 0 for a new or restored stepper */
+    size_t particles;               /* count the conditions were detected for (0: not yet) */
+    double extent0[3];              /* initial extent of the centres */
+    sinter_qs_origin *origins;      /* every particle of the first set-up, sorted by id */
     size_t origin_count, origin_capacity;
     double density0; /* sphere volume / bounding box of the spheres at the first set-up */
     double dt_next;

@@ -1020,12 +1020,18 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
     if (*qs == NULL && (s = sinter_qs_create(qs, st->ctx, opt)) != SINTER_OK)
         return s;
     /* a reordering (option sort_interval), addition or removal of particles is followed through
-     * their ids (qs_ids.c) */
+     * their ids (qs_ids.c); after particles were added or removed the plane conditions are
+     * detected again even where the ids are those of the last step (an id removed and given
+     * again: the links of that id stay, as for a particle that leaves and comes back) */
+    if ((*qs)->population_known && (*qs)->population_generation != ps->population_generation)
+        (*qs)->slots_valid = 0;
     const sinter_qs_particles ids_view = {ps->count,    ps->x,  ps->rot, ps->radius,
                                           ps->material, ps->id, NULL};
     if ((s = sinter_qs_follow_ids(*qs, &ids_view)) != SINTER_OK)
         return s;
     (*qs)->layout_generation = ps->layout_generation;
+    (*qs)->population_generation = ps->population_generation;
+    (*qs)->population_known = 1;
     /* The materials in use (index = material id). */
     sinter_qs_material *mats = sinter_calloc(st->ctx, SINTER_MAX_MATERIALS, sizeof(*mats));
     if (mats == NULL)

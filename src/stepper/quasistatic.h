@@ -176,7 +176,9 @@ sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
  * each index (the links remember ids). A reordering of the same particles changes nothing but
  * the indices the links name: the stepper keeps everything else per particle in id order, and
  * continues with the same bits. With other particles, links to a removed particle are dropped
- * and the plane conditions are detected again at the next step (the initial extents are kept).
+ * and the plane conditions are detected again at the next step (the initial extents are kept);
+ * the links of an id removed and given again stay (links follow ids: a particle that leaves and
+ * comes back keeps them).
  * sinter_qs_step does this itself when p's ids are not those of the last step. Errors:
  * SINTER_ERR_NOMEM, SINTER_ERR_INVALID (a repeated id; the links are unchanged).
  */
