@@ -879,12 +879,13 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  *  - "anderson_depth": m of Anderson(m) in scheme 1; 0 is the plain
  *    iteration; 3; whole number in [0, 10].
  * The step starts at the value of sinter_stepper_set_dt, capped by dt_max.
- * Every kind but the quasi-static one also takes "sort_interval": the particles
- * are sorted in memory by position (sinter_particles_sort_spatial; indices
- * change, ids do not) before the first step after the option is set and then
- * before every step that follows so many accepted steps; 0, the default,
- * never (SINTER_ERR_UNSUPPORTED on a quasi-static stepper, whose links are
- * kept by index). They also take "rotation": 1, the default, integrates the
+ * Every kind also takes "sort_interval": the particles are sorted in memory by
+ * position (sinter_particles_sort_spatial; indices change, ids do not) before
+ * the first step after the option is set and then before every step that
+ * follows so many accepted steps; 0, the default, never. The quasi-static
+ * stepper keys its links and orders its work by particle id, so a sorted run
+ * gives the same bits as an unsorted one. The explicit and staggered steppers
+ * also take "rotation": 1, the default, integrates the
  * total rotation vector of each particle (seed 003 eq. 45,
  * SINTER_FIELD_ROTATION); 0 leaves it as it is, which saves a quarter of the
  * explicit integrator's memory traffic when nothing reads it (no force or

@@ -17,7 +17,10 @@
  * sweeps, as a spatial order would.
  *
  * The order depends on the links alone (their particles and their order), never on the number
- * of threads, so the sweeps and the solve give the same bits on any number of threads.
+ * of threads, so the sweeps and the solve give the same bits on any number of threads. It
+ * depends on how the particles are numbered (the roots and ties of the searches go by number):
+ * the quasi-static stepper numbers them by ascending id and lists its links in an order of ids
+ * (stepper/qs_ids.c), so the order follows the ids, whatever the particles' places in memory.
  */
 #ifndef SINTER_BONDED_DOMAIN_ORDER_H
 #define SINTER_BONDED_DOMAIN_ORDER_H

@@ -557,10 +557,13 @@ static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
         snap->phase[k] = (int32_t)sinter_neck_phase_at(&l->material, theta);
         snap->fsint[k] =
             sinter_sintering_force(l->youngs, l->rm, l->neck.last_dy4 + l->neck.last_dy7);
-        if (qs->u_step > 0.0 && qs->u != NULL && a < ps->count && b < ps->count) {
+        /* the displacements are per slot, in id order (stepper/qs_ids.c) */
+        const int slots = qs->slots_valid && qs->slots == ps->count;
+        const size_t sa = slots && a < ps->count ? qs->slot_of[a] : 0;
+        const size_t sb = slots && b < ps->count ? qs->slot_of[b] : 0;
+        if (qs->u_step > 0.0 && qs->u != NULL && slots && a < ps->count && b < ps->count) {
             double eps[3], gamma[3];
-            sinter_beam_deformation(&l->beam, qs->u + 6 * (size_t)a, qs->u + 6 * (size_t)b, eps,
-                                    gamma);
+            sinter_beam_deformation(&l->beam, qs->u + 6 * sa, qs->u + 6 * sb, eps, gamma);
             /* the link force and moment of eq. 32-34 (sinter_beam_apply adds them to A) */
             double f[3], m[3];
             sinter_beam_axial_split(l->beam.axis, l->beam.k_shear, l->beam.k_axial, eps, f);
@@ -569,8 +572,7 @@ static void take_links(const sinter_stepper *st, sinter_snapshot *snap)
             for (int d = 0; d < 3; ++d) {
                 snap->beam_force[3 * k + (size_t)d] = f[d];
                 snap->beam_moment[3 * k + (size_t)d] = m[d];
-                xi += (qs->u[6 * (size_t)a + (size_t)d] - qs->u[6 * (size_t)b + (size_t)d]) *
-                      l->beam.axis[d];
+                xi += (qs->u[6 * sa + (size_t)d] - qs->u[6 * sb + (size_t)d]) * l->beam.axis[d];
             }
             snap->correction[k] = l->neck.last_dy4 + l->neck.last_dy7 - xi;
         } else {

@@ -51,8 +51,12 @@
  *    and the modulus factors of the freeze (per particle); earlier versions are still read (not
  *    frozen, the statistics at 0)
  * 10: then the count of bonds that held in tension and broke (sinter_stepper_stats.bonds_broken,
- *    a series column: force/power_law.c); earlier versions are still read (the count at 0) */
-#define CHECKPOINT_VERSION 10u
+ *    a series column: force/power_law.c); earlier versions are still read (the count at 0)
+ * 11: the quasi-static section keyed by ids (issue 43, stepper/qs_state.c): its plane
+ *    conditions and displacements per particle in order of ascending id, and its links found by
+ *    their particles' ids, so that it fits the particles in any order; versions 3 to 10 are
+ *    still read (their records follow the particles' indices and are reordered) */
+#define CHECKPOINT_VERSION 11u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -533,7 +537,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "to 10) or byte order");
+                       "to 11) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -714,7 +718,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     if (s == SINTER_OK && has_qs) {
         const char *why = NULL;
         s = sinter_qs_state_restore(&qs_new, ctx, &st->quasistatic_options, qs_data,
-                                    (size_t)qs_bytes, n, field_data[SINTER_FIELD_ID], &why);
+                                    (size_t)qs_bytes, n, field_data[SINTER_FIELD_ID], version < 11u,
+                                    &why);
         if (s == SINTER_ERR_CORRUPT)
             s = corrupt(ctx, path, why);
     }

@@ -826,7 +826,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         TRY(scene_get_double(t, s, en->key, &value));
         TRY(at_line(t, en->line, sinter_stepper_set_option(sc->st, en->key, value)));
     }
-    /* The spatial sort and the rotation vector (any kind but quasi-static), the explicit
+    /* The spatial sort (any kind), the rotation vector (any kind but quasi-static), the explicit
      * stepper's streaming stores and the options of the staggered stepper (seed 000 sec. 3,
      * 6; the explicit one refuses those). */
     static const char *const options[] = {"sort_interval",

@@ -14,6 +14,9 @@
  * mean displacement along that axis is removed; about an axis whose two perpendicular
  * directions no plane holds, the mean rotation is removed with the displacement it gives about
  * the component's centroid. A component held on every axis (the main network) is not touched.
+ *
+ * Everything runs per slot (the id order of qs_ids.c) over the step's beams, which name slots:
+ * the components, their roots (the smallest slot) and the order of their sums follow the ids.
  */
 #include <string.h>
 
@@ -49,16 +52,18 @@ sinter_status sinter_qs_remove_free_motion(sinter_qs *qs, const sinter_qs_partic
     uint32_t *root = qs->component;
     unsigned char *held = qs->component_held; /* bits 0-2: a plane holds x, y, z; bit 7: linked */
     double *sums = qs->component_sums;
+    const uint32_t *index = qs->index_of_slot; /* the caller's index of a slot */
+    const sinter_beam *beams = qs->beams;      /* the step's beams, a and b their slots */
     for (size_t i = 0; i < n; ++i)
         root[i] = (uint32_t)i;
     memset(held, 0, n);
     for (size_t k = 0; k < m; ++k) {
-        const uint32_t a = find_root(root, qs->links[k].beam.a);
-        const uint32_t b = find_root(root, qs->links[k].beam.b);
-        if (a != b) /* the lower index is the root: the same components whatever the order */
+        const uint32_t a = find_root(root, beams[k].a);
+        const uint32_t b = find_root(root, beams[k].b);
+        if (a != b) /* the lower slot is the root: the same components whatever the order */
             root[a > b ? a : b] = a > b ? b : a;
-        held[qs->links[k].beam.a] |= 0x80;
-        held[qs->links[k].beam.b] |= 0x80;
+        held[beams[k].a] |= 0x80;
+        held[beams[k].b] |= 0x80;
     }
     int any_free = 0;
     for (size_t i = 0; i < n; ++i) { /* roots' held bits: their components' */
@@ -81,7 +86,7 @@ sinter_status sinter_qs_remove_free_motion(sinter_qs *qs, const sinter_qs_partic
         double *s = sums + SUMS * (size_t)root[i];
         s[0] += 1.0;
         for (size_t d = 0; d < 3; ++d) {
-            s[1 + d] += p->x[3 * i + d];
+            s[1 + d] += p->x[3 * (size_t)index[i] + d];
             s[4 + d] += u[6 * i + 3 + d];
         }
     }
@@ -96,7 +101,7 @@ sinter_status sinter_qs_remove_free_motion(sinter_qs *qs, const sinter_qs_partic
         for (int k = 0; k < 3; ++k) {
             const int free_about_k = !(h & (1u << ((k + 1) % 3))) && !(h & (1u << ((k + 2) % 3)));
             w[k] = free_about_k ? s[4 + k] / s[0] : 0.0;
-            arm[k] = p->x[3 * i + (size_t)k] - s[1 + k] / s[0];
+            arm[k] = p->x[3 * (size_t)index[i] + (size_t)k] - s[1 + k] / s[0];
         }
         const double turn[3] = {w[1] * arm[2] - w[2] * arm[1], w[2] * arm[0] - w[0] * arm[2],
                                 w[0] * arm[1] - w[1] * arm[0]};

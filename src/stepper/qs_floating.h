@@ -5,9 +5,10 @@
 #include "stepper/quasistatic.h"
 
 /*
- * In the displacements u[6 n] of a solve (particles p, links and plane conditions of qs),
- * remove the rigid motion of every component of the link graph the planes do not hold on all
- * three axes. SINTER_OK, or SINTER_ERR_NOMEM (u unchanged).
+ * In the displacements u[6 n] of a solve (per slot; particles p, the step's beams qs->beams
+ * numbered by slot, and the plane conditions of qs), remove the rigid motion of every component
+ * of the link graph the planes do not hold on all three axes. SINTER_OK, or SINTER_ERR_NOMEM
+ * (u unchanged).
  */
 sinter_status sinter_qs_remove_free_motion(sinter_qs *qs, const sinter_qs_particles *p, double *u);
 

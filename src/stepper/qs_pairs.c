@@ -2,7 +2,8 @@
  * Touching pairs for the quasi-static stepper: a cell grid of edge 2 r_max (1 + tolerance) over
  * the centres, so finding the pairs costs O(n) instead of the O(n^2) of testing every pair. The
  * pairs come back as sorted keys a n + b (a < b), the order the all-pairs loop produced, so links
- * are created in the same order and runs are unchanged by the search method. The stepper keeps
+ * are created in the same order and runs are unchanged by the search method (the stepper passes
+ * its particles in id order, qs_ids.c, so a and b are ids' ranks). The stepper keeps
  * the pairs within a skin and searches again only when a sphere has moved far enough
  * (sinter_qs_touching_pairs_near): the same pairs, without a search at every step.
  */
@@ -104,8 +105,7 @@ sinter_status sinter_qs_touching_pairs(sinter_ctx *ctx, size_t n, const double *
                             continue;
                         const double *xb = x + 3 * b;
                         const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
-                        const double reach =
-                            (radius[a] + radius[b]) * (1.0 + tolerance) + margin;
+                        const double reach = (radius[a] + radius[b]) * (1.0 + tolerance) + margin;
                         if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] >= reach * reach)
                             continue;
                         if ((s = sinter_grow(ctx, (void **)keys, capacity, *count + 1,
@@ -161,9 +161,9 @@ static int near_valid(const sinter_qs_near *near, size_t n, const double *x, con
 }
 
 sinter_status sinter_qs_touching_pairs_near(sinter_ctx *ctx, sinter_qs_near *near, size_t n,
-                                            const double *x, const double *radius,
-                                            double tolerance, uint64_t **keys, size_t *capacity,
-                                            size_t *count, int *searched)
+                                            const double *x, const double *radius, double tolerance,
+                                            uint64_t **keys, size_t *capacity, size_t *count,
+                                            int *searched)
 {
     *count = 0;
     if (searched)

@@ -10,6 +10,13 @@
  * > 0, the last displacements u (the next solve starts from them, so they are state too), then
  * u64 origin count and the origins (id, initial position: the reference of the shrinkage),
  * f64 green density.
+ *
+ * Keyed by ids (issue 43; checkpoint version 11): the plane conditions and displacements are per
+ * particle in order of ascending id (the stepper's slots, qs_ids.c), and a restore finds the two
+ * particles of each link by its ids (the indices stored in its beam are not read), so the section
+ * fits the particles in any order. Files of versions 3 to 10 hold the plane conditions and
+ * displacements in the order of the particles' indices (the same order when the ids ascend);
+ * sinter_qs_state_restore reorders them (by_index).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -109,21 +116,15 @@ static uint64_t take_u64(cursor *c)
     return v;
 }
 
-/* Particle id i of an id array that may sit unaligned in a file buffer. */
-static uint64_t id_at(const void *ids, size_t i)
+/* A link's particles (found by id in qs's map: their indices go into the beam) and its numbers
+ * are usable: two particles that exist, lengths finite and positive. */
+static int link_ok(const sinter_qs *qs, sinter_qs_link *l)
 {
-    uint64_t v;
-    memcpy(&v, (const unsigned char *)ids + 8 * i, 8);
-    return v;
-}
-
-/* A link's numbers are usable: indices in range, ids matching, lengths finite and positive. */
-static int link_ok(const sinter_qs_link *l, size_t n, const void *ids)
-{
-    if (l->beam.a >= n || l->beam.b >= n || l->beam.a == l->beam.b)
+    const size_t a = sinter_qs_slot_of_id(qs, l->id_a), b = sinter_qs_slot_of_id(qs, l->id_b);
+    if (a == SIZE_MAX || b == SIZE_MAX || a == b)
         return 0;
-    if (ids != NULL && (id_at(ids, l->beam.a) != l->id_a || id_at(ids, l->beam.b) != l->id_b))
-        return 0;
+    l->beam.a = qs->index_of_slot[a];
+    l->beam.b = qs->index_of_slot[b];
     for (int k = 0; k < SINTER_NECK_DOF; ++k)
         if (!isfinite(l->neck.y[k]) || !(l->neck.y[k] > 0.0))
             return 0;
@@ -153,7 +154,8 @@ static int link_ok(const sinter_qs_link *l, size_t n, const void *ids)
 
 sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
                                       const sinter_qs_options *opt, const unsigned char *data,
-                                      size_t bytes, size_t n, const void *ids, const char **why)
+                                      size_t bytes, size_t n, const void *ids, int by_index,
+                                      const char **why)
 {
     *out = NULL;
     *why = NULL;
@@ -222,12 +224,31 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     sinter_status s = sinter_qs_create(&qs, ctx, opt);
     if (s != SINTER_OK)
         return s;
-    if (count > 0) {
+    /* the particles' id order (the ids may sit unaligned in a file buffer) */
+    uint64_t *id_copy = sinter_alloc(ctx, (n + 1) * sizeof(uint64_t));
+    if (id_copy == NULL) {
+        sinter_qs_destroy(qs);
+        return SINTER_ERR_NOMEM;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        if (ids != NULL)
+            memcpy(&id_copy[i], (const unsigned char *)ids + 8 * i, 8);
+        else
+            id_copy[i] = i;
+    }
+    s = sinter_qs_slots_make(qs, n, id_copy);
+    sinter_free(ctx, id_copy);
+    if (s == SINTER_ERR_INVALID) {
+        sinter_qs_destroy(qs);
+        *why = "two of its particles have the same id";
+        return SINTER_ERR_CORRUPT;
+    }
+    if (s == SINTER_OK && count > 0) {
         s = sinter_grow(ctx, (void **)&qs->links, &qs->capacity, (size_t)count,
                         sizeof(sinter_qs_link));
         if (s == SINTER_OK)
             s = sinter_grow(ctx, (void **)&qs->keys, &qs->keys_capacity, (size_t)count,
-                            sizeof(uint64_t));
+                            sizeof(sinter_qs_pair));
     }
     if (s == SINTER_OK && nfixed > 0)
         s = sinter_grow(ctx, (void **)&qs->fixed, &qs->fixed_capacity, (size_t)nfixed, 1);
@@ -243,25 +264,25 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     for (uint64_t k = 0; k < count; ++k) {
         sinter_qs_link *l = &qs->links[k];
         memcpy(l, links + k * sizeof(sinter_qs_link), sizeof(*l));
-        if (!link_ok(l, n, ids)) {
+        if (!link_ok(qs, l)) {
             sinter_qs_destroy(qs);
             *why = "a quasi-static link names particles that do not exist or holds non-finite "
                    "or non-positive lengths";
             return SINTER_ERR_CORRUPT;
         }
-        const size_t a = l->beam.a, b = l->beam.b;
-        qs->keys[k] = a < b ? (uint64_t)a * n + b : (uint64_t)b * n + a;
+        qs->keys[k] = sinter_qs_pair_of(l->id_a, l->id_b);
     }
     qs->count = (size_t)count;
-    qsort(qs->keys, qs->count, sizeof(uint64_t), sinter_qs_key_compare);
+    qsort(qs->keys, qs->count, sizeof(sinter_qs_pair), sinter_qs_pair_compare);
     for (size_t k = 1; k < qs->count; ++k)
-        if (qs->keys[k] == qs->keys[k - 1]) {
+        if (sinter_qs_pair_compare(&qs->keys[k], &qs->keys[k - 1]) == 0) {
             sinter_qs_destroy(qs);
             *why = "two quasi-static links join the same pair of particles";
             return SINTER_ERR_CORRUPT;
         }
-    if (nfixed > 0)
-        memcpy(qs->fixed, fixed, (size_t)nfixed);
+    /* per slot; by_index: from the order of the particles' indices */
+    for (size_t sl = 0; sl < (size_t)nfixed / 6; ++sl)
+        memcpy(qs->fixed + 6 * sl, fixed + 6 * (by_index ? (size_t)qs->index_of_slot[sl] : sl), 6);
     if (norigins > 0) {
         if ((s = sinter_grow(ctx, (void **)&qs->origins, &qs->origin_capacity, (size_t)norigins,
                              sizeof(sinter_qs_origin))) != SINTER_OK) {
@@ -281,7 +302,9 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     }
     qs->density0 = density0;
     if (nu > 0) {
-        memcpy(qs->u, u, nu);
+        for (size_t sl = 0; sl < (size_t)nfixed / 6; ++sl)
+            memcpy(qs->u + 6 * sl, u + 6 * sizeof(double) * (by_index ? qs->index_of_slot[sl] : sl),
+                   6 * sizeof(double));
         for (size_t i = 0; i < (size_t)nfixed; ++i)
             if (!isfinite(qs->u[i])) {
                 sinter_qs_destroy(qs);

@@ -35,10 +35,14 @@ sinter_status sinter_qs_check_validity(sinter_qs *qs, const sinter_qs_particles 
             share[l->beam.a] += sinter_neck_cap_share(x / p->radius[l->beam.a]);
             share[l->beam.b] += sinter_neck_cap_share(x / p->radius[l->beam.b]);
         }
-        size_t worst = 0;
-        for (size_t i = 1; i < p->count; ++i)
+        /* the most covered particle, the smallest id on ties (the slots' order, qs_ids.c) */
+        const int by_slot = qs->slots_valid && qs->slots == p->count;
+        size_t worst = by_slot ? qs->index_of_slot[0] : 0;
+        for (size_t s = 1; s < p->count; ++s) {
+            const size_t i = by_slot ? qs->index_of_slot[s] : s;
             if (share[i] > share[worst])
                 worst = i;
+        }
         const double most = share[worst];
         sinter_free(qs->ctx, share);
         if (most > SINTER_NECK_COVERAGE_LIMIT) {

@@ -192,6 +192,11 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_bonded_solver_destroy(qs->solver);
     sinter_free(ctx, qs->links);
     sinter_free(ctx, qs->keys);
+    sinter_free(ctx, qs->slot_id);
+    sinter_free(ctx, qs->index_of_slot);
+    sinter_free(ctx, qs->slot_of);
+    sinter_free(ctx, qs->slot_x);
+    sinter_free(ctx, qs->slot_r);
     sinter_free(ctx, qs->candidates);
     sinter_qs_near_free(ctx, &qs->near);
     sinter_free(ctx, qs->origins);
@@ -374,35 +379,49 @@ int sinter_qs_key_compare(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static uint64_t pair_key(size_t a, size_t b, size_t n)
-{
-    return a < b ? (uint64_t)a * n + b : (uint64_t)b * n + a;
-}
-
-/* New touching pairs become links with a fresh neck at time t (sec. 3.3, docs/7dof.md §4). */
+/*
+ * New touching pairs become links with a fresh neck at time t (sec. 3.3, docs/7dof.md §4). The
+ * search runs over the particles in id order (qs_ids.c), so the pairs come in the order of
+ * their ids, A the particle of the smaller id: the links are made, and oriented, the same way
+ * whatever the caller's order.
+ */
 static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p, double t)
 {
     const size_t n = p->count;
     const size_t before = qs->count;
     size_t found = 0;
-    sinter_status found_status = sinter_qs_touching_pairs_near(
-        qs->ctx, &qs->near, n, p->x, p->radius, qs->opt.contact_tolerance, &qs->candidates,
-        &qs->candidates_capacity, &found, NULL);
+    const double *slot_x = NULL, *slot_r = NULL;
+    sinter_status found_status = sinter_qs_slot_geometry(qs, p, &slot_x, &slot_r);
+    if (found_status == SINTER_OK)
+        found_status = sinter_qs_touching_pairs_near(qs->ctx, &qs->near, n, slot_x, slot_r,
+                                                     qs->opt.contact_tolerance, &qs->candidates,
+                                                     &qs->candidates_capacity, &found, NULL);
+    for (size_t k = 0; found_status == SINTER_ERR_INVALID && k < n; ++k) {
+        const size_t i = qs->index_of_slot[k]; /* the search named a slot: name the particle */
+        if (!isfinite(p->x[3 * i]) || !isfinite(p->x[3 * i + 1]) || !isfinite(p->x[3 * i + 2]))
+            return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
+                               "quasi-static stepper: particle %zu (id %llu) has a non-finite "
+                               "position (%g, %g, %g) m",
+                               i, (unsigned long long)qs->slot_id[k], p->x[3 * i], p->x[3 * i + 1],
+                               p->x[3 * i + 2]);
+    }
     if (found_status != SINTER_OK)
         return found_status;
     for (size_t c = 0; c < found; ++c) {
-        const size_t a = (size_t)(qs->candidates[c] / n), b = (size_t)(qs->candidates[c] % n);
+        const size_t sa = (size_t)(qs->candidates[c] / n), sb = (size_t)(qs->candidates[c] % n);
+        const size_t a = qs->index_of_slot[sa], b = qs->index_of_slot[sb];
         const double *xa = p->x + 3 * a, *xb = p->x + 3 * b;
         const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
         const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        const uint64_t key = pair_key(a, b, n);
-        if (before > 0 && bsearch(&key, qs->keys, before, sizeof(uint64_t), sinter_qs_key_compare))
+        const sinter_qs_pair key = {qs->slot_id[sa], qs->slot_id[sb]};
+        if (before > 0 &&
+            bsearch(&key, qs->keys, before, sizeof(sinter_qs_pair), sinter_qs_pair_compare))
             continue;
         sinter_status s = sinter_grow(qs->ctx, (void **)&qs->links, &qs->capacity, qs->count + 1,
                                       sizeof(sinter_qs_link));
         if (s == SINTER_OK)
             s = sinter_grow(qs->ctx, (void **)&qs->keys, &qs->keys_capacity, qs->count + 1,
-                            sizeof(uint64_t));
+                            sizeof(sinter_qs_pair));
         if (s != SINTER_OK)
             return s;
         sinter_qs_link *l = &qs->links[qs->count];
@@ -417,17 +436,18 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
                              l->neck.y[SINTER_NECK_LB], l->rm, ra + rb, l->youngs,
                              0.5 * (ma->poisson + mb->poisson)) != 0)
             return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
-                               "quasi-static stepper: cannot bond particles %zu and %zu "
+                               "quasi-static stepper: cannot bond particles id %llu and id %llu "
                                "(radii %g, %g m, distance %g m)",
-                               a, b, ra, rb, sqrt(dist2));
-        l->id_a = p->id != NULL ? p->id[a] : (uint64_t)a;
-        l->id_b = p->id != NULL ? p->id[b] : (uint64_t)b;
+                               (unsigned long long)key.lo, (unsigned long long)key.hi, ra, rb,
+                               sqrt(dist2));
+        l->id_a = key.lo;
+        l->id_b = key.hi;
         l->born = t;
         qs->keys[qs->count] = key;
         qs->count++;
     }
     if (qs->count > before)
-        qsort(qs->keys, qs->count, sizeof(uint64_t), sinter_qs_key_compare);
+        qsort(qs->keys, qs->count, sizeof(sinter_qs_pair), sinter_qs_pair_compare);
     return SINTER_OK;
 }
 
@@ -443,12 +463,13 @@ static void extents(const sinter_qs_particles *p, double ext[3])
     }
 }
 
-/* Sphere volume over the volume of the spheres' bounding box. */
-static double box_density(const sinter_qs_particles *p)
+/* Sphere volume over the volume of the spheres' bounding box (the volumes summed in id order). */
+static double box_density(const sinter_qs *qs, const sinter_qs_particles *p)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double volume = 0.0;
-    for (size_t i = 0; i < p->count; ++i) {
+    for (size_t s = 0; s < p->count; ++s) {
+        const size_t i = qs->index_of_slot[s];
         const double r = p->radius[i];
         volume += 4.0 / 3.0 * QS_PI * r * r * r;
         for (size_t d = 0; d < 3; ++d) {
@@ -459,7 +480,7 @@ static double box_density(const sinter_qs_particles *p)
     return p->count > 0 ? volume / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])) : 0.0;
 }
 
-/* Particles touching a principal plane Oyz, Oxz, Oxy stay on it (sec. 3.3). */
+/* Particles touching a principal plane Oyz, Oxz, Oxy stay on it (sec. 3.3); per slot. */
 static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
 {
     const size_t n = p->count;
@@ -471,23 +492,24 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
     if (s != SINTER_OK)
         return s;
     memset(qs->fixed, 0, 6 * n);
-    for (size_t i = 0; i < n; ++i)
+    for (size_t k = 0; k < n; ++k) {
+        const size_t i = qs->index_of_slot[k];
         for (size_t d = 0; d < 3; ++d)
-            qs->fixed[6 * i + d] = (unsigned char)(p->x[3 * i + d] - p->radius[i] <
+            qs->fixed[6 * k + d] = (unsigned char)(p->x[3 * i + d] - p->radius[i] <
                                                    qs->opt.plane_tolerance * p->radius[i]);
+    }
     if (qs->particles == 0) { /* the first setup only (not after a remap) */
         extents(p, qs->extent0);
         if ((s = sinter_grow(qs->ctx, (void **)&qs->origins, &qs->origin_capacity, n + 1,
                              sizeof(sinter_qs_origin))) != SINTER_OK)
             return s;
-        for (size_t i = 0; i < n; ++i) {
-            qs->origins[i].id = p->id != NULL ? p->id[i] : (uint64_t)i;
-            memcpy(qs->origins[i].x, p->x + 3 * i, sizeof(qs->origins[i].x));
+        for (size_t k = 0; k < n; ++k) { /* in id order, as the slots */
+            qs->origins[k].id = qs->slot_id[k];
+            memcpy(qs->origins[k].x, p->x + 3 * (size_t)qs->index_of_slot[k],
+                   sizeof(qs->origins[k].x));
         }
-        qsort(qs->origins, n, sizeof(sinter_qs_origin),
-              sinter_qs_key_compare); /* by id, the first field */
         qs->origin_count = n;
-        qs->density0 = box_density(p);
+        qs->density0 = box_density(qs, p);
     }
     qs->particles = n;
     qs->u_step = 0.0; /* u no longer matches the particles */
@@ -674,37 +696,6 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
     return st;
 }
 
-sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
-{
-    /* index of each id by binary search over (id, index) pairs sorted by id */
-    uint64_t(*order)[2] = sinter_alloc(qs->ctx, (n + 1) * sizeof(*order));
-    if (order == NULL)
-        return SINTER_ERR_NOMEM;
-    for (size_t i = 0; i < n; ++i) {
-        order[i][0] = ids[i];
-        order[i][1] = i;
-    }
-    qsort(order, n, sizeof(*order), sinter_qs_key_compare); /* compares the first uint64 (the id) */
-    size_t kept = 0;
-    for (size_t k = 0; k < qs->count; ++k) {
-        sinter_qs_link *l = &qs->links[k];
-        const uint64_t(*fa)[2] = bsearch(&l->id_a, order, n, sizeof(*order), sinter_qs_key_compare);
-        const uint64_t(*fb)[2] = bsearch(&l->id_b, order, n, sizeof(*order), sinter_qs_key_compare);
-        if (fa == NULL || fb == NULL)
-            continue;
-        l->beam.a = (uint32_t)(*fa)[1];
-        l->beam.b = (uint32_t)(*fb)[1];
-        qs->keys[kept] = pair_key(l->beam.a, l->beam.b, n);
-        qs->links[kept++] = *l;
-    }
-    qs->count = kept;
-    qsort(qs->keys, kept, sizeof(uint64_t), sinter_qs_key_compare);
-    sinter_free(qs->ctx, order);
-    qs->particles = SIZE_MAX; /* detect the plane conditions again */
-    qs->near.valid = 0;       /* the kept pairs' indices are the old ones */
-    return SINTER_OK;
-}
-
 sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                              const sinter_neck_schedule *schedule, double t, double h,
                              double *taken)
@@ -715,7 +706,9 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     if (!(h > 0.0) || !isfinite(h))
         return sinter_fail(qs->ctx, SINTER_ERR_INVALID, "quasi-static stepper: step %g s", h);
     const size_t n = p->count;
-    sinter_status st = SINTER_OK;
+    sinter_status st = sinter_qs_follow_ids(qs, p); /* the slots of p's particles (qs_ids.c) */
+    if (st != SINTER_OK)
+        return st;
     if (qs->particles != n) {
         if ((st = setup(qs, p)) != SINTER_OK)
             return st;
@@ -793,8 +786,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     }
     next = fmin(fmax(next, qs->opt.dt_min), qs->opt.dt_max);
 
-    /* 2. sintering forces of the step's approach (eq. 13, 17), incremental form */
+    /* 2. sintering forces of the step's approach (eq. 13, 17), incremental form; f, u and the
+     * solve are per slot, each particle's loads summed in link order */
     double *f = qs->f, *u = qs->u;
+    const uint32_t *slot = qs->slot_of;
     memset(f, 0, 6 * n * sizeof(double));
     for (size_t k = 0; k < m; ++k) {
         const sinter_qs_link *l = &qs->links[k];
@@ -804,8 +799,8 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         const double fn =
             sinter_sintering_force(l->youngs, l->rm, dl) * sinter_qs_section_scale(&qs->opt, l);
         for (size_t d = 0; d < 3; ++d) {
-            f[6 * l->beam.a + d] += fn * l->beam.axis[d];
-            f[6 * l->beam.b + d] -= fn * l->beam.axis[d];
+            f[6 * (size_t)slot[l->beam.a] + d] += fn * l->beam.axis[d];
+            f[6 * (size_t)slot[l->beam.b] + d] -= fn * l->beam.axis[d];
         }
     }
 
@@ -815,6 +810,8 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     if (st == SINTER_OK) {
         for (size_t k = 0; k < m; ++k) {
             qs->beams[k] = qs->links[k].beam;
+            qs->beams[k].a = slot[qs->links[k].beam.a];
+            qs->beams[k].b = slot[qs->links[k].beam.b];
             /* qs_neck_stiffness: A = pi x^2, I and J ~ x^4 instead of eq. 36's R_m */
             const double a = sinter_qs_section_scale(&qs->opt, &qs->links[k]);
             qs->beams[k].k_axial *= a;
@@ -847,10 +844,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
      * so that a failure keeps the state at t. */
     for (size_t k = 0; k < m; ++k) {
         const sinter_qs_link *l = &qs->links[k];
-        const size_t a = l->beam.a, b = l->beam.b;
+        const size_t a = l->beam.a, b = l->beam.b, sa = slot[a], sb = slot[b];
         double d2 = 0.0;
         for (size_t d = 0; d < 3; ++d) {
-            const double dd = (p->x[3 * b + d] + u[6 * b + d]) - (p->x[3 * a + d] + u[6 * a + d]);
+            const double dd = (p->x[3 * b + d] + u[6 * sb + d]) - (p->x[3 * a + d] + u[6 * sa + d]);
             d2 += dd * dd;
         }
         if (!(d2 > 0.0) || !isfinite(d2)) {
@@ -868,17 +865,18 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
 
     /* 4. move and turn the particles; share the link compression between y4 and y7 */
     for (size_t i = 0; i < n; ++i) {
+        const double *ui = u + 6 * (size_t)slot[i];
         for (size_t d = 0; d < 3; ++d)
-            p->x[3 * i + d] += u[6 * i + d];
+            p->x[3 * i + d] += ui[d];
         if (p->rot != NULL)
-            sinter_compose_rotation(p->rot + 3 * i, u + 6 * i + 3);
+            sinter_compose_rotation(p->rot + 3 * i, ui + 3);
     }
     for (size_t k = 0; k < m; ++k) {
         sinter_qs_link *l = &qs->links[k];
-        const size_t a = l->beam.a, b = l->beam.b;
+        const size_t a = l->beam.a, b = l->beam.b, sa = slot[a], sb = slot[b];
         double xi = 0.0; /* eq. 41, positive when the centres approach */
         for (size_t d = 0; d < 3; ++d)
-            xi += (u[6 * a + d] - u[6 * b + d]) * l->beam.axis[d];
+            xi += (u[6 * sa + d] - u[6 * sb + d]) * l->beam.axis[d];
         const double y4p = qs->saved[k][SINTER_NECK_LA], y7p = qs->saved[k][SINTER_NECK_LB];
         const double d4 = y4p - l->neck.y[SINTER_NECK_LA]; /* eq. 43a */
         const double d7 = y7p - l->neck.y[SINTER_NECK_LB]; /* eq. 43b */
@@ -893,8 +891,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         if (sinter_beam_update(&l->beam, p->x + 3 * a, p->x + 3 * b, l->neck.y[SINTER_NECK_LA],
                                l->neck.y[SINTER_NECK_LB]) != 0)
             return sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
-                               "quasi-static stepper: particles %zu and %zu coincide at t = %g s",
-                               a, b, t + h); /* excluded by the check above */
+                               "quasi-static stepper: particles id %llu and id %llu coincide at "
+                               "t = %g s",
+                               (unsigned long long)l->id_a, (unsigned long long)l->id_b,
+                               t + h); /* excluded by the check above */
     }
 
     /* 5. new contacts */
@@ -929,7 +929,8 @@ sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
  * particles that carry at least one link (a rattler without links does not move with the
  * packing, and one at the edge would pin an extent-based measure). For two linked spheres it is
  * the pair's centre approach over its initial distance (seed 001 eq. 13). Falls back to the
- * extent of all centres when the link counts cannot be allocated.
+ * extent of all centres when the link counts cannot be allocated. The sums run in id order
+ * (qs_ids.c) when the stepper's map is that of p.
  */
 static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double out[3])
 {
@@ -947,7 +948,9 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
         linked[qs->links[k].beam.a] = linked[qs->links[k].beam.b] = 1;
     double sum0[3] = {0, 0, 0}, sumu[3] = {0, 0, 0}, s00[3] = {0, 0, 0}, s0u[3] = {0, 0, 0};
     double m = 0.0;
-    for (size_t i = 0; i < n; ++i) {
+    const int by_slot = qs->slots_valid && qs->slots == n;
+    for (size_t s = 0; s < n; ++s) {
+        const size_t i = by_slot ? qs->index_of_slot[s] : s;
         if (!linked[i])
             continue;
         const uint64_t id = p->id != NULL ? p->id[i] : (uint64_t)i;
@@ -1016,11 +1019,19 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
     sinter_status s = SINTER_OK;
     if (*qs == NULL && (s = sinter_qs_create(qs, st->ctx, opt)) != SINTER_OK)
         return s;
-    if ((*qs)->layout_known && (*qs)->layout_generation != ps->layout_generation &&
-        (s = sinter_qs_remap(*qs, ps->count, ps->id)) != SINTER_OK)
+    /* a reordering (option sort_interval), addition or removal of particles is followed through
+     * their ids (qs_ids.c); after particles were added or removed the plane conditions are
+     * detected again even where the ids are those of the last step (an id removed and given
+     * again: the links of that id stay, as for a particle that leaves and comes back) */
+    if ((*qs)->population_known && (*qs)->population_generation != ps->population_generation)
+        (*qs)->slots_valid = 0;
+    const sinter_qs_particles ids_view = {ps->count,    ps->x,  ps->rot, ps->radius,
+                                          ps->material, ps->id, NULL};
+    if ((s = sinter_qs_follow_ids(*qs, &ids_view)) != SINTER_OK)
         return s;
     (*qs)->layout_generation = ps->layout_generation;
-    (*qs)->layout_known = 1;
+    (*qs)->population_generation = ps->population_generation;
+    (*qs)->population_known = 1;
     /* The materials in use (index = material id). */
     sinter_qs_material *mats = sinter_calloc(st->ctx, SINTER_MAX_MATERIALS, sizeof(*mats));
     if (mats == NULL)
@@ -1032,10 +1043,11 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
         mats[id].youngs = ps->materials[id].value[SINTER_MAT_YOUNGS_MODULUS];
         mats[id].poisson = ps->materials[id].value[SINTER_MAT_POISSON_RATIO];
     }
-    /* The furnace's T(t), or the mean particle temperature held over the step. */
+    /* The furnace's T(t), or the mean particle temperature held over the step (summed in id
+     * order). */
     double mean_temperature = 0.0;
-    for (size_t i = 0; i < ps->count; ++i)
-        mean_temperature += ps->temperature[i];
+    for (size_t k = 0; k < ps->count; ++k)
+        mean_temperature += ps->temperature[(*qs)->index_of_slot[k]];
     mean_temperature = ps->count > 0 ? mean_temperature / (double)ps->count : 0.0;
     const double times[1] = {st->time}, temps[1] = {mean_temperature};
     sinter_neck_schedule schedule = {1, times, temps};

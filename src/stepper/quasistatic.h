@@ -29,7 +29,9 @@
  *      y7 (eq. 41-44);
  *   5. turn new touching pairs into links with a fresh neck (docs/7dof.md §4).
  * The core (sinter_qs_*) works on borrowed particle arrays; sinter_quasistatic_* adapt it to a
- * sinter_stepper.
+ * sinter_stepper. Links are keyed by the ids of their particles and every order of the step
+ * (links, sums, the solve) is an order of ids (qs_ids.c, issue 43), so a reordering of the
+ * particles in memory does not change a bit of the results.
  */
 #ifndef SINTER_STEPPER_QUASISTATIC_H
 #define SINTER_STEPPER_QUASISTATIC_H
@@ -116,7 +118,10 @@ typedef struct sinter_qs_link {
     double youngs;                 /* E of the link [Pa] */
     sinter_neck_material material; /* the neck data (of particle A), copied */
     int substepped;                /* strategy 2: the last advance needed sub-steps */
-    uint64_t id_a, id_b;           /* particle ids of a and b, to follow a reordering */
+    uint64_t id_a, id_b;           /* particle ids of a and b (id_a < id_b for the links made
+                                      since issue 43: A is the particle of the smaller id); the
+                                      beam's a and b are the caller's indices, set from these
+                                      after a reordering (sinter_qs_remap) */
     double born;                   /* time the link was made [s] (its age: neck.time - born) */
 } sinter_qs_link;
 
@@ -167,9 +172,15 @@ sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
                             const sinter_neck_schedule *schedule, double t0, double t1);
 
 /*
- * Follow a reordering or removal of particles: ids[0..n) are the ids now at each index (the
- * links remember ids). Links to a removed particle are dropped; the plane conditions are
- * detected again at the next step (the initial extents are kept).
+ * Follow a reordering, addition or removal of particles (qs_ids.c): ids[0..n) are the ids now at
+ * each index (the links remember ids). A reordering of the same particles changes nothing but
+ * the indices the links name: the stepper keeps everything else per particle in id order, and
+ * continues with the same bits. With other particles, links to a removed particle are dropped
+ * and the plane conditions are detected again at the next step (the initial extents are kept);
+ * the links of an id removed and given again stay (links follow ids: a particle that leaves and
+ * comes back keeps them).
+ * sinter_qs_step does this itself when p's ids are not those of the last step. Errors:
+ * SINTER_ERR_NOMEM, SINTER_ERR_INVALID (a repeated id; the links are unchanged).
  */
 sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids);
 
@@ -214,15 +225,19 @@ sinter_status sinter_qs_touching_pairs_near(sinter_ctx *ctx, sinter_qs_near *nea
 
 /*
  * Checkpoint state (qs_state.c): the bytes sinter_qs_state_save writes (links, plane
- * conditions, extents, next step, counters). sinter_qs_state_restore builds a new stepper
- * state from such bytes for n particles with ids (8 bytes each, may be unaligned; NULL: not
- * checked) and options opt; on SINTER_ERR_CORRUPT *why says what is wrong, and nothing is made.
+ * conditions, extents, next step, counters; per-particle records in order of ascending id).
+ * sinter_qs_state_restore builds a new stepper state from such bytes for n particles with ids
+ * (8 bytes each, may be unaligned; NULL: the index is the id), in any order: the links find
+ * their particles by id. by_index: the bytes come from a checkpoint of version 3 to 10, whose
+ * per-particle records follow the particles' indices. Options opt; on SINTER_ERR_CORRUPT *why
+ * says what is wrong, and nothing is made.
  */
 size_t sinter_qs_state_size(const sinter_qs *qs);
 void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out);
 sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
                                       const sinter_qs_options *opt, const unsigned char *data,
-                                      size_t bytes, size_t n, const void *ids, const char **why);
+                                      size_t bytes, size_t n, const void *ids, int by_index,
+                                      const char **why);
 
 /* The links (count in *n). */
 const sinter_qs_link *sinter_qs_links(const sinter_qs *qs, size_t *n);

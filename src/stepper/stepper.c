@@ -106,17 +106,12 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     return SINTER_OK;
 }
 
-/* Option "sort_interval" (every stepper kind but the quasi-static one, whose links are
- * indexed by particle): sort the particles by position (sinter_particles_sort_spatial) after
- * every so many accepted steps; 0 (the default) never. */
+/* Option "sort_interval" (every stepper kind; the quasi-static one keys its links and orders
+ * by particle id, qs_ids.c): sort the particles by position (sinter_particles_sort_spatial)
+ * after every so many accepted steps; 0 (the default) never. */
 static sinter_status set_sort_interval(sinter_stepper *st, double value)
 {
     static const char *func = "sinter_stepper_set_option";
-    if (st->kind == SINTER_STEPPER_QUASISTATIC)
-        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "%s: sort_interval: a quasi-static stepper keeps its links by "
-                           "particle index and cannot have its particles reordered",
-                           func);
     if (!(value >= 0.0 && value <= 1e15 && value == floor(value)))
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "%s: sort_interval = %g must be a whole number of steps >= 0 (0: "
@@ -996,10 +991,10 @@ static sinter_status take_step(sinter_stepper *st, double h, double t_end, doubl
             *stop = 1;
         return s;
     }
-    if (st->sort_interval > 0 && st->kind != SINTER_STEPPER_QUASISTATIC &&
-        st->steps_since_sort >= st->sort_interval) {
+    if (st->sort_interval > 0 && st->steps_since_sort >= st->sort_interval) {
         /* option sort_interval: forces and history move with the particles, and the step
-         * rebuilds the contact lists for the new order */
+         * rebuilds the contact lists for the new order (a quasi-static step sets its links'
+         * indices from their ids) */
         s = sinter_particles_sort_spatial(st->ps);
         if (s != SINTER_OK)
             return s;

@@ -7,6 +7,7 @@
 #include "test_support.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "bonded/beam.h"
@@ -577,7 +578,8 @@ static void test_qs_new_contacts(void **state)
 
 /* A reordering of the particles (sinter_qs_remap, as the stepper may permute them) changes
  * nothing: an L of 3 particles, run 10 s, reversed and remapped, run to 50 s, against a run
- * without the reordering. */
+ * without the reordering: the same bits, the stepper's orders and sums following the ids
+ * (qs_ids.c), not the indices. */
 static void test_qs_remap(void **state)
 {
     (void)state;
@@ -608,9 +610,106 @@ static void test_qs_remap(void **state)
             memcpy(end[variant] + 3 * (ids[i] - 10), pk.x + 3 * i, 3 * sizeof(double));
         packing_free(&pk);
     }
-    for (int k = 0; k < 9; ++k)
-        assert_close(end[1][k], end[0][k], 1e-12 * R_CU);
+    assert_memory_equal(end[1], end[0], sizeof(end[0]));
     assert_true(end[0][3] < 3 * R_CU - 1e-3 * R_CU); /* it did shrink */
+}
+
+/*
+ * The quasi-static section of a checkpoint (qs_state.c) is keyed by ids: the L of test_qs_remap
+ * with ids out of index order (12, 10, 11), run 10 s, saved, restores onto its particles in
+ * another order (the links find their particles by id; the plane conditions and the last
+ * displacements are per particle in id order), and a section of format 10, which held those
+ * per index, restores to the same state.
+ */
+static void test_qs_state_keyed_by_id(void **state)
+{
+    (void)state;
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    packing pk;
+    packing_init(&pk, 2);
+    const double x0[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, R_CU, 3 * R_CU, R_CU};
+    memcpy(pk.x, x0, sizeof(x0));
+    pk.n = 3;
+    pk.radius[0] = pk.radius[1] = pk.radius[2] = R_CU;
+    const uint64_t ids[3] = {12, 10, 11}; /* slots: index 1, 2, 0 */
+    sinter_qs_particles view = {3, pk.x, pk.rot, pk.radius, NULL, ids, &pk.mat};
+    assert_int_equal(sinter_qs_run(pk.qs, &view, &schedule, 0.0, 10.0), SINTER_OK);
+    assert_true(pk.qs->u_step > 0.0);
+    const size_t bytes = sinter_qs_state_size(pk.qs);
+    unsigned char *data = malloc(bytes), *v10 = malloc(bytes);
+    assert_non_null(data);
+    assert_non_null(v10);
+    sinter_qs_state_save(pk.qs, data);
+    /* format 10: the same bytes with the plane conditions and displacements in index order */
+    memcpy(v10, data, bytes);
+    const size_t fixed_at = 16 + pk.qs->count * sizeof(sinter_qs_link) + 16;
+    const size_t u_at = fixed_at + 18 + 4 * 8 + 4 * 8 + 8;
+    for (size_t slot = 0; slot < 3; ++slot) {
+        const size_t i = pk.qs->index_of_slot[slot];
+        memcpy(v10 + fixed_at + 6 * i, data + fixed_at + 6 * slot, 6);
+        memcpy(v10 + u_at + 48 * i, data + u_at + 48 * slot, 48);
+    }
+    assert_memory_not_equal(v10, data, bytes);
+    sinter_qs *restored[3] = {NULL, NULL, NULL};
+    const char *why = NULL;
+    const uint64_t reversed[3] = {11, 10, 12};
+    assert_int_equal(
+        sinter_qs_state_restore(&restored[0], pk.ctx, &pk.qs->opt, data, bytes, 3, ids, 0, &why),
+        SINTER_OK);
+    assert_int_equal(
+        sinter_qs_state_restore(&restored[1], pk.ctx, &pk.qs->opt, v10, bytes, 3, ids, 1, &why),
+        SINTER_OK);
+    assert_int_equal(sinter_qs_state_restore(&restored[2], pk.ctx, &pk.qs->opt, data, bytes, 3,
+                                             reversed, 0, &why),
+                     SINTER_OK);
+    for (int r = 0; r < 3; ++r) {
+        const sinter_qs *q = restored[r];
+        const uint64_t *at = r == 2 ? reversed : ids;
+        assert_int_equal(q->count, pk.qs->count);
+        assert_memory_equal(q->fixed, pk.qs->fixed, 18);
+        assert_memory_equal(q->u, pk.qs->u, 18 * sizeof(double));
+        for (size_t k = 0; k < q->count; ++k) { /* the links' indices name their ids' particles */
+            assert_true(at[q->links[k].beam.a] == q->links[k].id_a);
+            assert_true(at[q->links[k].beam.b] == q->links[k].id_b);
+            assert_memory_equal(q->links[k].neck.y, pk.qs->links[k].neck.y,
+                                sizeof(q->links[k].neck.y));
+        }
+        sinter_qs_destroy(restored[r]);
+    }
+    /* a link whose particle is gone is refused */
+    const uint64_t other[3] = {12, 10, 13};
+    assert_int_equal(
+        sinter_qs_state_restore(&restored[0], pk.ctx, &pk.qs->opt, data, bytes, 3, other, 0, &why),
+        SINTER_ERR_CORRUPT);
+    assert_null(restored[0]);
+    assert_non_null(strstr(why, "do not exist"));
+    free(data);
+    free(v10);
+    packing_free(&pk);
+}
+
+/* A non-finite position is refused naming the particle's index and id (the contact search runs
+ * in id order, qs_ids.c: the index it sees is not the caller's). */
+static void test_qs_nonfinite_position_names_the_particle(void **state)
+{
+    (void)state;
+    const double times[1] = {0.0}, temps[1] = {1293.0};
+    const sinter_neck_schedule schedule = {1, times, temps};
+    packing pk;
+    packing_init(&pk, 2);
+    const double x0[9] = {R_CU, R_CU, R_CU, 3 * R_CU, R_CU, R_CU, R_CU, 3 * R_CU, R_CU};
+    memcpy(pk.x, x0, sizeof(x0));
+    pk.x[4] = NAN; /* index 1, id 10: the first in id order */
+    pk.n = 3;
+    pk.radius[0] = pk.radius[1] = pk.radius[2] = R_CU;
+    const uint64_t ids[3] = {12, 10, 11};
+    sinter_qs_particles view = {3, pk.x, pk.rot, pk.radius, NULL, ids, &pk.mat};
+    double taken = 0.0;
+    assert_int_equal(sinter_qs_step(pk.qs, &view, &schedule, 0.0, 1e-6, &taken),
+                     SINTER_ERR_INVALID);
+    assert_non_null(strstr(sinter_last_error(pk.ctx), "particle 1 (id 10) has a non-finite"));
+    packing_free(&pk);
 }
 
 static void test_qs_lattice(void **state)
@@ -1069,6 +1168,8 @@ int main(void)
         cmocka_unit_test(test_qs_strain_fraction),
         cmocka_unit_test(test_qs_new_contacts),
         cmocka_unit_test(test_qs_remap),
+        cmocka_unit_test(test_qs_state_keyed_by_id),
+        cmocka_unit_test(test_qs_nonfinite_position_names_the_particle),
         cmocka_unit_test(test_qs_options),
         cmocka_unit_test(test_qs_touching_pairs_grid),
         cmocka_unit_test(test_qs_near_pairs_follow_drift),

@@ -1005,8 +1005,6 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_set_option(f->st, "sort_interval", 2.5))                                      \
     X(sort_interval_nan, SINTER_ERR_INVALID, "sort_interval = nan",                                \
       sinter_stepper_set_option(f->st, "sort_interval", NAN))                                      \
-    X(sort_interval_quasistatic, SINTER_ERR_UNSUPPORTED, "keeps its links by particle index",      \
-      sinter_stepper_set_option(f->qs, "sort_interval", 10.0))                                     \
     X(option_set_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_option(NULL, "phi", 0.5))         \
     X(option_set_null_key, SINTER_ERR_NULL, "'key'", sinter_stepper_set_option(f->stag, NULL, 1))  \
     X(rotation_two, SINTER_ERR_INVALID, "rotation = 2 must be 1",                                  \
