@@ -69,7 +69,7 @@ static double wrap(double x, double lo, double hi)
     return x;
 }
 
-static sinter_status reserve(sinter_ctx *ctx, sinter_ghosts *g, size_t need)
+sinter_status sinter_ghosts_reserve(sinter_ctx *ctx, sinter_ghosts *g, size_t need)
 {
     if (need <= g->capacity)
         return SINTER_OK;
@@ -131,7 +131,7 @@ sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, doub
                 ok &= !(mask & (1 << d)) || s[d] != 0;
             if (!ok)
                 continue;
-            sinter_status st = reserve(ctx, g, count + 1);
+            sinter_status st = sinter_ghosts_reserve(ctx, g, count + 1);
             if (st != SINTER_OK)
                 return st;
             g->owner[count] = (uint32_t)i;

@@ -34,6 +34,9 @@ typedef struct sinter_ghosts {
 
 void sinter_ghosts_free(sinter_ctx *ctx, sinter_ghosts *g);
 
+/* Room for `count` ghosts in the table (a checkpoint's restore grows it before it applies). */
+sinter_status sinter_ghosts_reserve(sinter_ctx *ctx, sinter_ghosts *g, size_t count);
+
 /* 1 when some axis is periodic. */
 int sinter_ghosts_on(const sinter_ghosts *g);
 

@@ -4,6 +4,7 @@
  * keeps its tangential spring, and a periodic box conserves momentum.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "scene_support.h"
@@ -20,37 +21,52 @@ static const double L = 12e-3;             /* the period along x [m] */
 
 /* A compressed 3x3x3 cluster with random velocities, spins and temperatures, Hertz-Mindlin
  * with friction and rolling resistance and conduction, its first corner at x = x0; periodic
- * along x on [0, L) or not; 100 steps (0.2 ms, while it is still compressed). Positions, forces and
- * temperatures out. */
-static void run_cluster(double x0, int periodic, double *x, double *f, double *temp)
+ * along x on [0, L) or not. */
+static void cluster_scene(scene *s, sinter_heat_model **cond, double x0, int periodic)
 {
-    scene s;
-    scene_init(&s);
-    scene_material(&s, 1e7, 0.3, 2500, 0.3, 0.5);
-    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 400.0));
-    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 400.0));
-    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.1));
-    scene_open(&s, "hertz_mindlin", 0);
-    sinter_heat_model *cond = NULL;
-    OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
-    OK(sinter_stepper_add_heat(s.st, cond));
+    scene_init(s);
+    scene_material(s, 1e7, 0.3, 2500, 0.3, 0.5);
+    OK(sinter_material_set(s->mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 400.0));
+    OK(sinter_material_set(s->mat, SINTER_MAT_HEAT_CAPACITY, 400.0));
+    OK(sinter_material_set(s->mat, SINTER_MAT_ROLLING_FRICTION, 0.1));
+    scene_open(s, "hertz_mindlin", 0);
+    OK(sinter_heat_model_create(cond, s->ctx, "conduction"));
+    OK(sinter_stepper_add_heat(s->st, *cond));
     if (periodic)
-        OK(sinter_stepper_set_periodic(s.st, 0, 0.0, L));
+        OK(sinter_stepper_set_periodic(s->st, 0, 0.0, L));
     uint64_t seed = 11;
     for (int k = 0; k < N; ++k) {
         const double p[3] = {x0 + A * (k % SIDE), A * ((k / SIDE) % SIDE), A * (k / (SIDE * SIDE))};
-        OK(sinter_particles_add(s.ps, 1, p, &R, 0, 300.0 + 100.0 * lcg(&seed), NULL));
+        OK(sinter_particles_add(s->ps, 1, p, &R, 0, 300.0 + 100.0 * lcg(&seed), NULL));
     }
     double *v = NULL, *w = NULL;
-    OK(sinter_particles_view(s.ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
-    OK(sinter_particles_view(s.ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
+    OK(sinter_particles_view(s->ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
+    OK(sinter_particles_view(s->ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
     for (int k = 0; k < 3 * N; ++k) {
         v[k] = 0.05 * (lcg(&seed) - 0.5);
         w[k] = 20.0 * (lcg(&seed) - 0.5);
     }
-    OK(sinter_particles_release(s.ps, SINTER_FIELD_VELOCITY));
-    OK(sinter_particles_release(s.ps, SINTER_FIELD_SPIN));
-    OK(sinter_stepper_set_dt(s.st, 2e-6));
+    OK(sinter_particles_release(s->ps, SINTER_FIELD_VELOCITY));
+    OK(sinter_particles_release(s->ps, SINTER_FIELD_SPIN));
+    OK(sinter_stepper_set_dt(s->st, 2e-6));
+}
+
+/* The owned particles' positions, forces and temperatures. */
+static void cluster_state(scene *s, double *x, double *f, double *temp)
+{
+    for (size_t i = 0; i < N; ++i) {
+        get3(s, SINTER_FIELD_POSITION, i, x + 3 * i);
+        get3(s, SINTER_FIELD_FORCE, i, f + 3 * i);
+        temp[i] = get1(s, SINTER_FIELD_TEMPERATURE, i);
+    }
+}
+
+/* The cluster after 100 steps (0.2 ms, while it is still compressed). */
+static void run_cluster(double x0, int periodic, double *x, double *f, double *temp)
+{
+    scene s;
+    sinter_heat_model *cond = NULL;
+    cluster_scene(&s, &cond, x0, periodic);
     OK(sinter_stepper_step(s.st, 100));
     size_t owned = 0, count = 0;
     OK(sinter_particles_owned_count(s.ps, &owned));
@@ -58,14 +74,7 @@ static void run_cluster(double x0, int periodic, double *x, double *f, double *t
     assert_int_equal(owned, N);
     if (periodic)
         assert_true(count > owned); /* images were made: the cluster straddles the face */
-    for (size_t i = 0; i < N; ++i) {
-        double xi[3], fi[3];
-        get3(&s, SINTER_FIELD_POSITION, i, xi);
-        get3(&s, SINTER_FIELD_FORCE, i, fi);
-        memcpy(x + 3 * i, xi, sizeof(xi));
-        memcpy(f + 3 * i, fi, sizeof(fi));
-        temp[i] = get1(&s, SINTER_FIELD_TEMPERATURE, i);
-    }
+    cluster_state(&s, x, f, temp);
     sinter_heat_model_destroy(cond);
     scene_close(&s);
 }
@@ -228,6 +237,37 @@ static void test_momentum_periodic_box(void **state)
     scene_close(&s);
 }
 
+/* A checkpoint carries the periodic cell and the ghosts: the straddling cluster restarted
+ * after 60 steps in a stepper set up without the periodic axis continues bit for bit. */
+static void test_periodic_restart(void **state)
+{
+    (void)state;
+    const char *path = "test_periodic.ckpt";
+    double xa[3 * N], fa[3 * N], ta[N], xb[3 * N], fb[3 * N], tb[N];
+    scene s;
+    sinter_heat_model *cond = NULL;
+    cluster_scene(&s, &cond, -A, 1);
+    OK(sinter_stepper_step(s.st, 60));
+    OK(sinter_checkpoint_write(s.st, path));
+    OK(sinter_stepper_step(s.st, 40));
+    cluster_state(&s, xa, fa, ta);
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+    cluster_scene(&s, &cond, -A, 0);
+    OK(sinter_checkpoint_read(s.st, path));
+    int on = 0;
+    OK(sinter_stepper_get_periodic(s.st, 0, &on, NULL, NULL));
+    assert_int_equal(on, 1);
+    OK(sinter_stepper_step(s.st, 40));
+    cluster_state(&s, xb, fb, tb);
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+    remove(path);
+    assert_memory_equal(xa, xb, sizeof(xa));
+    assert_memory_equal(fa, fb, sizeof(fa));
+    assert_memory_equal(ta, tb, sizeof(ta));
+}
+
 /* Misuse: periodic on a stepper that does not support it, a bad axis or cell, a period
  * shorter than twice the ghost cut-off. */
 static void test_periodic_refusals(void **state)
@@ -263,9 +303,8 @@ static void test_periodic_refusals(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_straddling_cluster),
-        cmocka_unit_test(test_sliding_across_face),
-        cmocka_unit_test(test_momentum_periodic_box),
+        cmocka_unit_test(test_straddling_cluster),    cmocka_unit_test(test_sliding_across_face),
+        cmocka_unit_test(test_momentum_periodic_box), cmocka_unit_test(test_periodic_restart),
         cmocka_unit_test(test_periodic_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
