@@ -268,6 +268,60 @@ static void test_periodic_restart(void **state)
     assert_memory_equal(ta, tb, sizeof(ta));
 }
 
+/* A lattice of 12^3 spheres in a box periodic along x, y and z with random velocities, 40
+ * steps on `threads` threads: positions and forces of the owned particles out. */
+static void run_box_threads(int threads, double *x, double *f)
+{
+    enum { M = 12 };
+    scene s;
+    sinter_heat_model *cond = NULL;
+    scene_init(&s);
+    OK(sinter_ctx_set_threads(s.ctx, threads));
+    scene_material(&s, 1e7, 0.3, 2500, 0.3, 0.5);
+    OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 400.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 400.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.1));
+    scene_open(&s, "hertz_mindlin", 0);
+    OK(sinter_heat_model_create(&cond, s.ctx, "conduction"));
+    OK(sinter_stepper_add_heat(s.st, cond));
+    for (int d = 0; d < 3; ++d)
+        OK(sinter_stepper_set_periodic(s.st, d, 0.0, M * A));
+    uint64_t seed = 7;
+    for (int k = 0; k < M * M * M; ++k) {
+        const double p[3] = {A * (0.5 + k % M), A * (0.5 + (k / M) % M), A * (0.5 + k / (M * M))};
+        OK(sinter_particles_add(s.ps, 1, p, &R, 0, 300.0 + 100.0 * lcg(&seed), NULL));
+    }
+    double *v = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
+    for (int k = 0; k < 3 * M * M * M; ++k)
+        v[k] = 0.2 * (lcg(&seed) - 0.5);
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_VELOCITY));
+    OK(sinter_stepper_set_dt(s.st, 2e-6));
+    OK(sinter_stepper_step(s.st, 40));
+    const double *xs = NULL, *fs = NULL;
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_POSITION, (const void **)&xs, NULL, NULL));
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_FORCE, (const void **)&fs, NULL, NULL));
+    memcpy(x, xs, 3 * M * M * M * sizeof(double));
+    memcpy(f, fs, 3 * M * M * M * sizeof(double));
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_FORCE));
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+}
+
+/* The library's promise holds across periodic faces too: the same bits on 1 and 2 threads
+ * (the ghost stages run serially in ghost order; the laws sum as without ghosts). */
+static void test_periodic_threads(void **state)
+{
+    (void)state;
+    enum { B = 3 * 12 * 12 * 12 };
+    static double x1[B], f1[B], x2[B], f2[B];
+    run_box_threads(1, x1, f1);
+    run_box_threads(2, x2, f2);
+    assert_memory_equal(x1, x2, sizeof(x1));
+    assert_memory_equal(f1, f2, sizeof(f1));
+}
+
 /* Misuse: periodic on a stepper that does not support it, a bad axis or cell, a period
  * shorter than twice the ghost cut-off. */
 static void test_periodic_refusals(void **state)
@@ -305,7 +359,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_straddling_cluster),    cmocka_unit_test(test_sliding_across_face),
         cmocka_unit_test(test_momentum_periodic_box), cmocka_unit_test(test_periodic_restart),
-        cmocka_unit_test(test_periodic_refusals),
+        cmocka_unit_test(test_periodic_threads),      cmocka_unit_test(test_periodic_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
