@@ -46,6 +46,10 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
         why = "implicit conduction";
     else if (st->has_domain)
         why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
+    for (size_t k = 0; why == NULL && k < st->force_count; ++k)
+        if (sinter_force_holds_pairs(st->forces[k].model))
+            why = "bonds that hold in tension (the power law's bonds: a bond across a face would "
+                  "be kept between the owners, a period apart)";
     for (size_t k = 0; why == NULL && k < st->thermal.count; ++k)
         if (st->thermal.slots[k].model->ops != &sinter_heat_conduction)
             why = "a heat model other than conduction (a source on an image would be counted "
