@@ -8,8 +8,11 @@ void sinter_ghosts_free(sinter_ctx *ctx, sinter_ghosts *g)
 {
     sinter_free(ctx, g->owner);
     sinter_free(ctx, g->shift);
+    sinter_free(ctx, g->saved);
     g->owner = NULL;
     g->shift = NULL;
+    g->saved = NULL;
+    g->saved_capacity = 0;
     g->count = g->capacity = 0;
     g->built = 0;
 }
@@ -190,4 +193,26 @@ void sinter_ghosts_reverse(const sinter_ghosts *g, sinter_particles *ps)
         ps->heat[o] += ps->heat[q];
         ps->heat[q] = 0.0;
     }
+}
+
+sinter_status sinter_ghosts_save_rows(sinter_ctx *ctx, sinter_ghosts *g, const sinter_particles *ps)
+{
+    const size_t n = ps->ghost_count, first = ps->count - n;
+    if (6 * n + 1 > g->saved_capacity) {
+        double *grown = sinter_realloc_array(ctx, g->saved, 6 * n + 1, sizeof(double));
+        if (grown == NULL)
+            return sinter_last_status(ctx);
+        g->saved = grown;
+        g->saved_capacity = 6 * n + 1;
+    }
+    memcpy(g->saved, ps->force + 3 * first, 3 * n * sizeof(double));
+    memcpy(g->saved + 3 * n, ps->torque + 3 * first, 3 * n * sizeof(double));
+    return SINTER_OK;
+}
+
+void sinter_ghosts_restore_rows(const sinter_ghosts *g, sinter_particles *ps)
+{
+    const size_t n = ps->ghost_count, first = ps->count - n;
+    memcpy(ps->force + 3 * first, g->saved, 3 * n * sizeof(double));
+    memcpy(ps->torque + 3 * first, g->saved + 3 * n, 3 * n * sizeof(double));
 }

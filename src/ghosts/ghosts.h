@@ -28,6 +28,8 @@ typedef struct sinter_ghosts {
     size_t capacity;
     uint32_t *owner; /* the owned particle each ghost copies */
     double *shift;   /* 3 per ghost: ghost position - owner position [m] */
+    double *saved;   /* 6 per ghost: force and moment kept across a body force's evaluation */
+    size_t saved_capacity;
     uint64_t layout; /* the set's layout_generation right after that rebuild */
     int built;
 } sinter_ghosts;
@@ -70,6 +72,13 @@ void sinter_ghosts_forward(const sinter_ghosts *g, sinter_particles *ps);
 /* The reverse halo: every ghost's force, moment and heat power added to its owner's, in ghost
  * order (the same order every run), then zeroed. */
 void sinter_ghosts_reverse(const sinter_ghosts *g, sinter_particles *ps);
+
+/* A body force model (one that does not use contacts) acts on the owners only: the ghost rows'
+ * force and moment are saved before its evaluation and put back after it, so that they keep
+ * what the pairs put there (sinter_ghosts_reverse). */
+sinter_status sinter_ghosts_save_rows(sinter_ctx *ctx, sinter_ghosts *g,
+                                      const sinter_particles *ps);
+void sinter_ghosts_restore_rows(const sinter_ghosts *g, sinter_particles *ps);
 
 /* The distance within which ghosts are needed: 2 r_max (over the owned particles) + skin. */
 double sinter_ghosts_cutoff(const sinter_particles *ps, double skin);

@@ -46,6 +46,14 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
         why = "implicit conduction";
     else if (st->has_domain)
         why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
+    for (size_t k = 0; why == NULL && k < st->force_count; ++k) {
+        const sinter_force_model *fm = st->forces[k].model;
+        if (fm->ops->eval == sinter_force_host_eval && fm->host.contacts != NULL &&
+            fm->host.particles != NULL)
+            why = "a host force model with both a contact and a body callback (its body forces "
+                  "on the images could not be told from its contact forces; make them two "
+                  "models)";
+    }
     for (size_t k = 0; why == NULL && k < st->force_count; ++k)
         if (sinter_force_holds_pairs(st->forces[k].model))
             why = "bonds that hold in tension (the power law's bonds: a bond across a face would "

@@ -717,9 +717,13 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         e.range_user = !last ? NULL : heat_ranges ? (void *)st : st->range_final_user;
         e.ranges_final = 0;
         e.bonds_broken = 0;
+        /* a body force acts on the owner, not on its image (ghosts.h) */
+        const int body = ghosts && !slot->model->ops->uses_contacts;
+        if (body && (s = sinter_ghosts_save_rows(ctx, &st->ghosts, ps)) != SINTER_OK)
+            break;
         s = slot->model->ops->eval(slot->model, &e);
-        if (ghosts && !slot->model->ops->uses_contacts)
-            clear_ghost_rows(ps); /* a body force acts on the owner, not on its image */
+        if (body)
+            sinter_ghosts_restore_rows(&st->ghosts, ps);
         slot->bonds_broken = e.bonds_broken;
         st->ranges_final = last && e.ranges_final;
         if (s == SINTER_OK && deferred && (long)k == confirmer) {

@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include <sinter_submodel.h>
+
 #include "scene_support.h"
 
 static double lcg(uint64_t *s)
@@ -268,6 +270,63 @@ static void test_periodic_restart(void **state)
     assert_memory_equal(ta, tb, sizeof(ta));
 }
 
+/* A host body force (none) that fails while *user is set: the step is rejected. */
+static int poisoned(const sinter_state_view *state, double *force, double *torque, void *user)
+{
+    (void)state;
+    (void)force;
+    (void)torque;
+    return *(const int *)user ? -1 : 0;
+}
+
+/* The straddling cluster (x0 = -A, periodic) or the open one, 60 steps with a host body force
+ * (after the contact law: it must not touch what the pairs put on the images), then a step in
+ * which that model fails (rejected: the last accepted state kept), then 40 more steps. */
+static void run_rollback(double x0, int periodic, double *x, double *f, double *temp)
+{
+    scene s;
+    sinter_heat_model *cond = NULL;
+    cluster_scene(&s, &cond, x0, periodic);
+    int poison = 0;
+    sinter_force_callbacks cb;
+    memset(&cb, 0, sizeof(cb));
+    cb.struct_size = sizeof(cb);
+    cb.particles = poisoned;
+    sinter_force_model *host = NULL;
+    OK(sinter_force_model_create_host(&host, s.ctx, "poisoned", &cb, &poison));
+    OK(sinter_stepper_add_force(s.st, host));
+    OK(sinter_stepper_step(s.st, 60));
+    poison = 1;
+    assert_int_not_equal(sinter_stepper_step(s.st, 1), SINTER_OK);
+    poison = 0;
+    OK(sinter_stepper_step(s.st, 40));
+    cluster_state(&s, x, f, temp);
+    sinter_heat_model_destroy(cond);
+    scene_close(&s);
+    sinter_force_model_destroy(host);
+}
+
+/* A rejected step across a periodic face is undone as one in open space: the two runs of
+ * run_rollback agree to round-off (the tolerances of the straddling test). */
+static void test_periodic_rollback(void **state)
+{
+    (void)state;
+    double xa[3 * N], fa[3 * N], ta[N], xb[3 * N], fb[3 * N], tb[N];
+    run_rollback(-A, 1, xa, fa, ta);
+    run_rollback(4e-3, 0, xb, fb, tb);
+    double fmax = 0.0;
+    for (int k = 0; k < 3 * N; ++k)
+        fmax = fmax > fabs(fb[k]) ? fmax : fabs(fb[k]);
+    for (int i = 0; i < N; ++i) {
+        assert_close(periodic_diff(xa[3 * i], xb[3 * i] - (4e-3 + A)), 0.0, 1e-13);
+        for (int d = 1; d < 3; ++d)
+            assert_close(xa[3 * i + d], xb[3 * i + d], 1e-13);
+        for (int d = 0; d < 3; ++d)
+            assert_close(fa[3 * i + d], fb[3 * i + d], 1e-9 * fmax);
+        assert_close(ta[i], tb[i], 1e-9);
+    }
+}
+
 /* A lattice of 12^3 spheres in a box periodic along x, y and z with random velocities, 40
  * steps on `threads` threads: positions and forces of the owned particles out. */
 static void run_box_threads(int threads, double *x, double *f)
@@ -371,7 +430,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_straddling_cluster),    cmocka_unit_test(test_sliding_across_face),
         cmocka_unit_test(test_momentum_periodic_box), cmocka_unit_test(test_periodic_restart),
-        cmocka_unit_test(test_periodic_threads),      cmocka_unit_test(test_periodic_refusals),
+        cmocka_unit_test(test_periodic_threads),      cmocka_unit_test(test_periodic_rollback),
+        cmocka_unit_test(test_periodic_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
