@@ -852,7 +852,8 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * moment and heat power reach both particles. The period must be at least twice 2 r_max + skin.
  * Not yet supported together with (SINTER_ERR_UNSUPPORTED at the step): electric models, heat
  * models other than conduction, implicit conduction, a domain check, bonds that hold in tension
- * (power law with bond_strength > 0); the energy check does not run while an axis is periodic.
+ * (power law with bond_strength > 0), a host force model with both a contact and a body
+ * callback; the energy check does not run while an axis is periodic.
  */
 SINTER_API sinter_status sinter_stepper_set_periodic(sinter_stepper *stepper, int axis, double lo,
                                                      double hi);

@@ -301,9 +301,11 @@ static void run_rollback(double x0, int periodic, double *x, double *f, double *
     poison = 0;
     OK(sinter_stepper_step(s.st, 40));
     cluster_state(&s, x, f, temp);
+    sinter_stepper_destroy(s.st); /* (it holds the model) */
+    s.st = NULL;
+    sinter_force_model_destroy(host);
     sinter_heat_model_destroy(cond);
     scene_close(&s);
-    sinter_force_model_destroy(host);
 }
 
 /* A rejected step across a periodic face is undone as one in open space: the two runs of
