@@ -728,7 +728,8 @@ static sinter_status run_program(run_state *r, sinter_progress_fn progress, void
                 return sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
                                    "the pour did not come to rest within t_max = %g s (kinetic "
                                    "energy %g J per particle, threshold %g J)",
-                                   sc->pour_t_max, r->row[COL_KE] / (double)sc->ps->count,
+                                   sc->pour_t_max,
+                                   r->row[COL_KE] / (double)(sc->ps->count - sc->ps->ghost_count),
                                    sc->pour_ke);
             return SINTER_OK;
         }
@@ -736,7 +737,7 @@ static sinter_status run_program(run_state *r, sinter_progress_fn progress, void
         if (st == SINTER_OK)
             st = record(r);
         if (st == SINTER_OK && pouring && sc->st->time - p->pour_start >= sc->pour_t_min &&
-            r->row[COL_KE] / (double)sc->ps->count < sc->pour_ke)
+            r->row[COL_KE] / (double)(sc->ps->count - sc->ps->ghost_count) < sc->pour_ke)
             st = end_pour(r);
         if (st == SINTER_OK)
             st = maybe_checkpoint(r);
