@@ -147,8 +147,7 @@ void sinter_particles_drop_ghosts(sinter_particles *ps)
         return;
     ps->count -= ps->ghost_count;
     ps->ghost_count = 0;
-    ps->layout_generation++;
-    ps->population_generation++;
+    ps->layout_generation++; /* (the owned particles, the population, did not change) */
 }
 
 sinter_status sinter_particles_capacity(const sinter_particles *ps, size_t *capacity)
@@ -494,8 +493,7 @@ sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, co
     }
     ps->count = owned + n;
     ps->ghost_count = n;
-    ps->layout_generation++;
-    ps->population_generation++;
+    ps->layout_generation++; /* (the owned particles, the population, did not change) */
     return SINTER_OK;
 }
 

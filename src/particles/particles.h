@@ -51,7 +51,8 @@ struct sinter_particles {
     } softening[SINTER_MAX_MATERIALS];
     /* bumped whenever particles are added, removed or reordered */
     uint64_t layout_generation;
-    /* bumped when particles are added or removed (not when they are only reordered) */
+    /* bumped when particles are added or removed (not when they are only reordered, nor when
+     * ghost rows come and go) */
     uint64_t population_generation;
     /* bumped whenever a writable view is lent (the host may have changed the state) */
     uint64_t write_generation;

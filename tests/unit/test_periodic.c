@@ -153,6 +153,12 @@ static double slide(int periodic, double x0, double *fx_out, int steps)
         get3(&s, SINTER_FIELD_FORCE, 0, f);
         fx_out[k] = f[0];
     }
+    /* one evaluation a step and the first: the images made at a build do not count as new
+     * particles (which would make each call evaluate the forces again) */
+    sinter_stepper_stats stats;
+    stats.struct_size = sizeof(stats);
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    assert_int_equal(stats.evaluations, (uint64_t)steps + 1);
     double xj[3];
     get3(&s, SINTER_FIELD_POSITION, 1, xj);
     scene_close(&s);
