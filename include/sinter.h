@@ -372,6 +372,9 @@ SINTER_API void sinter_particles_destroy(sinter_particles *ps);
 
 /** Number of particles. */
 SINTER_API sinter_status sinter_particles_count(const sinter_particles *ps, size_t *count);
+/** Owned particles: the first *owned of the set; the rest (count - owned) are ghost particles,
+ * images a periodic stepper made (sinter_stepper_set_periodic), which copy their owners. */
+SINTER_API sinter_status sinter_particles_owned_count(const sinter_particles *ps, size_t *owned);
 /** Capacity reserved (particles that fit without reallocation). */
 SINTER_API sinter_status sinter_particles_capacity(const sinter_particles *ps, size_t *capacity);
 /** Reserve room for `capacity` particles. Refused while a view is out (SINTER_ERR_BUSY). */
@@ -837,6 +840,27 @@ SINTER_API sinter_status sinter_stepper_set_skin(sinter_stepper *stepper, double
  */
 SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, const double lo[3],
                                                    const double hi[3]);
+/**
+ * Periodic boundary along `axis` (0 x, 1 y, 2 z) with the cell lo..hi [m] (hi > lo); lo = hi = 0
+ * makes the axis non-periodic again (the default). Explicit stepper only
+ * (SINTER_ERR_UNSUPPORTED on the others). At every neighbour build the particles are wrapped
+ * into the cell (between builds a centre may lie up to half the skin outside it) and each
+ * particle within 2 r_max + skin of a periodic face gets an image beyond the opposite face: a
+ * ghost particle, stored after the owned particles (sinter_particles_owned_count), refreshed
+ * from its owner every step and never integrated for itself. Contacts, their history and
+ * conduction act across the faces; a pair across a face is evaluated once and its force,
+ * moment and heat power reach both particles. The period must be at least twice 2 r_max + skin.
+ * Not yet supported together with (SINTER_ERR_UNSUPPORTED at the step): electric models, heat
+ * models other than conduction, implicit conduction, a domain check, bonds that hold in tension
+ * (power law with bond_strength > 0), a host force model with both a contact and a body
+ * callback; the energy check does not run while an axis is periodic.
+ */
+SINTER_API sinter_status sinter_stepper_set_periodic(sinter_stepper *stepper, int axis, double lo,
+                                                     double hi);
+/** Whether `axis` is periodic (*periodic 1 or 0) and its cell [m] (lo, hi may be NULL; 0 when
+ * not periodic). */
+SINTER_API sinter_status sinter_stepper_get_periodic(const sinter_stepper *stepper, int axis,
+                                                     int *periodic, double *lo, double *hi);
 /**
  * Options of the implicit staggered stepper (SINTER_STEPPER_STAGGERED, seed
  * 000 sec. 3 and 6, Algorithm 1). Keys, defaults and valid values:

@@ -631,6 +631,14 @@ class particles : public detail::handle<sinter_particles, sinter_particles_destr
         check(sinter_particles_count(live("sinter_particles_count"), &n), "sinter_particles_count");
         return n;
     }
+    /// The owned particles: the first owned(); the rest are images a periodic stepper made.
+    std::size_t owned() const
+    {
+        std::size_t n = 0;
+        check(sinter_particles_owned_count(live("sinter_particles_owned_count"), &n),
+              "sinter_particles_owned_count");
+        return n;
+    }
     std::size_t capacity() const
     {
         std::size_t n = 0;
@@ -1113,6 +1121,14 @@ class stepper : public detail::handle<sinter_stepper, sinter_stepper_destroy> {
     {
         check(sinter_stepper_set_domain(live("sinter_stepper_set_domain"), lo.data(), hi.data()),
               "sinter_stepper_set_domain");
+        return *this;
+    }
+    /// A periodic boundary along axis (0 x, 1 y, 2 z) with the cell lo..hi [m]; lo = hi = 0
+    /// makes the axis non-periodic again (explicit stepper only).
+    stepper &set_periodic(int axis, double lo, double hi)
+    {
+        check(sinter_stepper_set_periodic(live("sinter_stepper_set_periodic"), axis, lo, hi),
+              "sinter_stepper_set_periodic");
         return *this;
     }
     stepper &set_option(const char *key, double value)

@@ -230,7 +230,7 @@ static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
             return 0;
     if (sinter_grow(nb->ctx, (void **)&nb->hash, &nb->hash_capacity, n + 2, sizeof(uint32_t)) !=
         SINTER_OK)
-        return 0; /* the hash path reports the failure */
+        return 0;               /* the hash path reports the failure */
     uint32_t *start = nb->hash; /* old pairs of particle a: [start[a], start[a + 1]) */
     const long pairs = (long)old_count, count = (long)now->count;
     const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
@@ -528,6 +528,21 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     return st;
 }
 
+/* With ghosts (ghosts/ghosts.h): a pair is kept when its first end, the one of smaller id, is
+ * owned; ghost-ghost pairs go, and of the two copies of a pair across a periodic face (owned i
+ * with the image of j, the image of i with owned j) the one seen from the smaller id stays. */
+static void drop_ghost_pairs(sinter_pair_list *l, size_t owned)
+{
+    size_t m = 0;
+    for (size_t p = 0; p < l->count; ++p)
+        if (l->i[p] < owned) {
+            l->i[m] = l->i[p];
+            l->j[m] = l->j[p];
+            ++m;
+        }
+    l->count = m;
+}
+
 /* Persistent ids of both ends of every pair (the keys that carry history across builds). */
 static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
 {
@@ -579,7 +594,7 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     if (walls == NULL || walls->count == 0)
         return SINTER_OK;
     enum { RANGES_MAX = 64 };
-    const size_t n = ps->count, nw = walls->count;
+    const size_t n = ps->count - ps->ghost_count, nw = walls->count; /* no ghost wall contacts */
     const double *x = ps->x, *r = ps->radius, skin = nb->skin;
     int planes = 1; /* only planes: their distance inline, without the kind's test */
     for (size_t k = 0; k < nw; ++k)
@@ -682,6 +697,8 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     swap_lists(&nb->pw, &nb->old_pw);
     nb->pp.build_id = nb->pw.build_id = 0;
     sinter_status st = build_pp(nb, ps);
+    if (st == SINTER_OK && ps->ghost_count > 0)
+        drop_ghost_pairs(&nb->pp, ps->count - ps->ghost_count);
     if (st == SINTER_OK)
         fill_keys(&nb->pp, ps->id, nb->pp.count < 4096 ? 1 : sinter_threads(ctx));
     if (st == SINTER_OK)

@@ -55,8 +55,12 @@
  * 11: the quasi-static section keyed by ids (issue 43, stepper/qs_state.c): its plane
  *    conditions and displacements per particle in order of ascending id, and its links found by
  *    their particles' ids, so that it fits the particles in any order; versions 3 to 10 are
- *    still read (their records follow the particles' indices and are reordered) */
-#define CHECKPOINT_VERSION 11u
+ *    still read (their records follow the particles' indices and are reordered)
+ * 12: then the periodic boundaries (stepper/periodic.c, ghosts/ghosts.h): a mask of the
+ *    periodic axes, each one's cell (lo, hi), the count of ghost rows (the last rows of the
+ *    particles above) and for each its owner (u32) and shift (3 doubles); earlier versions are
+ *    still read (no axis periodic, no ghosts) */
+#define CHECKPOINT_VERSION 12u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -270,6 +274,19 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
             put(&w, fz->scale0, n * sizeof(double));
     }
     put_u64(&w, st->stats.bonds_broken); /* version 10 */
+    /* version 11: periodic axes and the ghost rows' owners and shifts */
+    const sinter_ghosts *g = &st->ghosts;
+    put_u64(&w, (uint64_t)(g->periodic[0] | g->periodic[1] << 1 | g->periodic[2] << 2));
+    for (int d = 0; d < 3; ++d)
+        if (g->periodic[d]) {
+            put_f64(&w, g->lo[d]);
+            put_f64(&w, g->hi[d]);
+        }
+    put_u64(&w, ps->ghost_count);
+    if (ps->ghost_count > 0) {
+        put(&w, g->owner, ps->ghost_count * sizeof(uint32_t));
+        put(&w, g->shift, 3 * ps->ghost_count * sizeof(double));
+    }
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -694,8 +711,38 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
             fz_scale = take(&r, n * sizeof(double));
     }
     const uint64_t bonds_broken = version >= 10u && !r.bad ? take_u64(&r) : 0;
+    /* version 12: periodic axes and ghosts */
+    const uint64_t periodic_mask = version >= 12u && !r.bad ? take_u64(&r) : 0;
+    double cell[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    for (int d = 0; d < 3 && !r.bad; ++d)
+        if (periodic_mask & (1u << d)) {
+            cell[d][0] = take_f64(&r);
+            cell[d][1] = take_f64(&r);
+            if (!(isfinite(cell[d][0]) && isfinite(cell[d][1]) && cell[d][1] > cell[d][0]))
+                r.bad = 1;
+        }
+    const uint64_t ghost_count = version >= 12u && !r.bad ? take_u64(&r) : 0;
+    if (periodic_mask > 7u || ghost_count > n || (ghost_count > 0 && periodic_mask == 0))
+        r.bad = 1;
+    const uint32_t *ghost_owner = NULL;
+    const void *ghost_shift = NULL;
+    if (ghost_count > 0 && !r.bad) {
+        ghost_owner = take(&r, (size_t)ghost_count * sizeof(uint32_t));
+        ghost_shift = take(&r, 3 * (size_t)ghost_count * sizeof(double));
+        for (uint64_t k = 0; k < ghost_count && ghost_owner != NULL; ++k) {
+            uint32_t o;
+            memcpy(&o, (const char *)ghost_owner + 4 * k, 4);
+            if ((uint64_t)o >= n - ghost_count)
+                r.bad = 1;
+        }
+    }
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
+    if (s == SINTER_OK && periodic_mask != 0 && st->kind != SINTER_STEPPER_EXPLICIT)
+        s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "checkpoint '%s' has periodic axes, which only the explicit stepper "
+                        "supports; nothing was changed",
+                        path);
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
         s = sinter_fail(ctx, SINTER_ERR_INVALID,
                         "checkpoint '%s' holds quasi-static links and necks, but the stepper is "
@@ -726,6 +773,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     /* Apply: grow everything first so that nothing can fail half-way. */
     if (s == SINTER_OK)
         s = sinter_particles_reserve(ps, n);
+    if (s == SINTER_OK)
+        s = sinter_ghosts_reserve(ctx, &st->ghosts, (size_t)ghost_count);
     sinter_staggered *sg = &st->staggered;
     if (s == SINTER_OK && history && 7 * n + 1 > sg->hist_capacity) {
         double *q = sinter_realloc_array(ctx, sg->hist, 7 * n + 1, sizeof(double));
@@ -846,8 +895,24 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
             ps->materials[m].ctx = ctx;
         }
     }
+    ps->ghost_count = (size_t)ghost_count;
     ps->layout_generation++;
     ps->population_generation++;
+    {
+        sinter_ghosts *g = &st->ghosts;
+        for (int d = 0; d < 3; ++d) {
+            g->periodic[d] = (periodic_mask >> d) & 1u;
+            g->lo[d] = cell[d][0];
+            g->hi[d] = cell[d][1];
+        }
+        g->count = (size_t)ghost_count;
+        if (ghost_count > 0) {
+            memcpy(g->owner, ghost_owner, (size_t)ghost_count * sizeof(uint32_t));
+            memcpy(g->shift, ghost_shift, 3 * (size_t)ghost_count * sizeof(double));
+        }
+        g->layout = ps->layout_generation;
+        g->built = periodic_mask != 0;
+    }
     for (size_t k = 0; k < nw; ++k) {
         sinter_wall *wall = &st->walls->wall[k];
         double v[5];

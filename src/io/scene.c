@@ -523,6 +523,31 @@ static sinter_status read_schedule(scene_text *t, scene_section *s, const char *
     return st;
 }
 
+/* Keys periodic_x, periodic_y, periodic_z: "lo hi" [m], the periodic cell along that axis
+ * (sinter_stepper_set_periodic). */
+static sinter_status read_periodic(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    static const char *const keys[3] = {"periodic_x", "periodic_y", "periodic_z"};
+    for (int d = 0; d < 3; ++d) {
+        double *v = NULL;
+        size_t n = 0;
+        sinter_status st = scene_get_numbers(t, s, keys[d], &v, &n);
+        OPTIONAL(st);
+        if (st != SINTER_OK)
+            continue;
+        const int line = scene_find(s, keys[d])->line;
+        if (n != 2)
+            st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                             "%s:%d: %s: expected the cell 'lo hi' [m], got %zu numbers", t->path,
+                             line, keys[d], n);
+        else
+            st = at_line(t, line, sinter_stepper_set_periodic(sc->st, d, v[0], v[1]));
+        sinter_free(t->ctx, v);
+        TRY(st);
+    }
+    return SINTER_OK;
+}
+
 static sinter_status read_temperature_schedule(scene_text *t, scene_section *s, double **times,
                                                double **temps, size_t *count, int *line)
 {
@@ -888,6 +913,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         TRY(required(t, s, scene_get_vec3(t, s, "domain_max", hi), "domain_max"));
         TRY(at_line(t, s->line, sinter_stepper_set_domain(sc->st, lo, hi)));
     }
+    TRY(read_periodic(t, sc, s));
     /* dt last: "auto" needs the particles and walls (seed 003 eq. 47). */
     scene_entry *e = scene_find(s, "dt");
     if (e == NULL)

@@ -74,7 +74,7 @@ static double spheres_box(const sinter_particles *ps, double lo[3], double hi[3]
         lo[d] = INFINITY;
         hi[d] = -INFINITY;
     }
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) { /* owned */
         const double r = ps->radius[i];
         solid += 4.0 / 3.0 * PI * r * r * r;
         for (int d = 0; d < 3; ++d) {
@@ -330,7 +330,7 @@ static void observe_temperatures(const sinter_scene *sc, double *row)
         q[k] = 0.0;
     const double lo = sc->temperature_low, hi = sc->temperature_high;
     const double width = (hi - lo) / (double)sc->temperature_bins;
-    for (size_t i = 0; i < sc->ps->count; ++i) {
+    for (size_t i = 0; i < sc->ps->count - sc->ps->ghost_count; ++i) { /* owned */
         const double theta = sc->ps->temperature[i];
         size_t k;
         if (theta < lo)
@@ -433,8 +433,9 @@ static void observe_flows(const sinter_scene *sc, double *row)
 static void observe(const sinter_scene *sc, double *row)
 {
     const sinter_particles *ps = sc->ps;
+    const size_t owned = ps->count - ps->ghost_count; /* ghosts are images of these */
     double ke = 0, top = -INFINITY, tsum = 0, tmax = -INFINITY;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < owned; ++i) {
         const double *v = ps->v + 3 * i, *w = ps->w + 3 * i;
         ke += 0.5 * ps->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
               0.5 * ps->inertia[i] * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
@@ -442,7 +443,7 @@ static void observe(const sinter_scene *sc, double *row)
         tsum += ps->temperature[i];
         tmax = fmax(tmax, ps->temperature[i]);
     }
-    const double n = (double)(ps->count ? ps->count : 1);
+    const double n = (double)(owned ? owned : 1);
     row[COL_TIME] = sc->st->time;
     row[COL_KE] = ke;
     row[COL_CONTACTS] = (double)sc->st->stats.contacts;
@@ -461,7 +462,7 @@ static void observe(const sinter_scene *sc, double *row)
     if (sc->electric != NULL) {
         /* seed 000 sec. 7: the current through the powder (the particles' current magnitudes) */
         double isum = 0.0, imax = 0.0;
-        for (size_t i = 0; i < ps->count; ++i) {
+        for (size_t i = 0; i < owned; ++i) {
             isum += fabs(ps->current[i]);
             imax = fmax(imax, fabs(ps->current[i]));
         }
@@ -727,7 +728,8 @@ static sinter_status run_program(run_state *r, sinter_progress_fn progress, void
                 return sinter_fail(ctx, SINTER_ERR_NOT_CONVERGED,
                                    "the pour did not come to rest within t_max = %g s (kinetic "
                                    "energy %g J per particle, threshold %g J)",
-                                   sc->pour_t_max, r->row[COL_KE] / (double)sc->ps->count,
+                                   sc->pour_t_max,
+                                   r->row[COL_KE] / (double)(sc->ps->count - sc->ps->ghost_count),
                                    sc->pour_ke);
             return SINTER_OK;
         }
@@ -735,7 +737,7 @@ static sinter_status run_program(run_state *r, sinter_progress_fn progress, void
         if (st == SINTER_OK)
             st = record(r);
         if (st == SINTER_OK && pouring && sc->st->time - p->pour_start >= sc->pour_t_min &&
-            r->row[COL_KE] / (double)sc->ps->count < sc->pour_ke)
+            r->row[COL_KE] / (double)(sc->ps->count - sc->ps->ghost_count) < sc->pour_ke)
             st = end_pour(r);
         if (st == SINTER_OK)
             st = maybe_checkpoint(r);

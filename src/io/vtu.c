@@ -75,7 +75,7 @@ sinter_status sinter_write_vtu_as(const sinter_particles *ps, const char *path,
     if (st != SINTER_OK)
         return st;
     FILE *fp = out.fp;
-    const size_t n = ps->count;
+    const size_t n = ps->count - ps->ghost_count; /* owned particles: ghosts are images */
     /* binary arrays need version 1.0 for their UInt64 byte counts */
     fprintf(fp,
             "<?xml version=\"1.0\"?>\n"

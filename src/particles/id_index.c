@@ -29,7 +29,7 @@ sinter_status sinter_id_index_update(sinter_id_index *ix, const sinter_particles
     if (ix->built && ix->generation == ps->layout_generation)
         return SINTER_OK;
     sinter_ctx *ctx = ps->ctx;
-    const size_t n = ps->count;
+    const size_t n = ps->count - ps->ghost_count; /* ghosts share their owners' ids */
     if (n >= (size_t)UINT32_MAX - 1)
         return sinter_fail(ctx, SINTER_ERR_OVERFLOW,
                            "particle id index: %zu particles exceed the index's 2^32 - 2", n);

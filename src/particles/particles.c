@@ -132,6 +132,24 @@ sinter_status sinter_particles_count(const sinter_particles *ps, size_t *count)
     return SINTER_OK;
 }
 
+sinter_status sinter_particles_owned_count(const sinter_particles *ps, size_t *owned)
+{
+    if (ps == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ps->ctx, owned);
+    *owned = ps->count - ps->ghost_count;
+    return SINTER_OK;
+}
+
+void sinter_particles_drop_ghosts(sinter_particles *ps)
+{
+    if (ps->ghost_count == 0)
+        return;
+    ps->count -= ps->ghost_count;
+    ps->ghost_count = 0;
+    ps->layout_generation++; /* (the owned particles, the population, did not change) */
+}
+
 sinter_status sinter_particles_capacity(const sinter_particles *ps, size_t *capacity)
 {
     if (ps == NULL)
@@ -337,6 +355,8 @@ static sinter_status add_particles(sinter_particles *ps, size_t n, const uint64_
     sinter_status st = check_unlocked(ps, func);
     if (st != SINTER_OK)
         return st;
+    sinter_particles_drop_ghosts(ps); /* owned particles stay first; ghosts come back at the
+                                       * next neighbour build */
     if (n == 0) {
         if (first_index)
             *first_index = ps->count;
@@ -444,6 +464,39 @@ sinter_status sinter_particles_add_with_ids(sinter_particles *ps, size_t n, cons
                          "sinter_particles_add_with_ids");
 }
 
+sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, const uint32_t *owner,
+                                              const double *shift)
+{
+    sinter_particles_drop_ghosts(ps);
+    const size_t owned = ps->count;
+    if (n == 0)
+        return SINTER_OK;
+    if (owned + n > ps->capacity) {
+        const sinter_status st = grow(ps, owned + n + (owned + n) / 4);
+        if (st != SINTER_OK)
+            return st;
+    }
+    for (int f = 0; f < SINTER_FIELD_COUNT_; ++f) {
+        const field_spec *s = &FIELDS[f];
+        char *base = *field_slot(ps, (sinter_field)f);
+        const size_t bytes = s->components * s->elem_size;
+        for (size_t k = 0; k < n; ++k)
+            memcpy(base + (owned + k) * bytes, base + (size_t)owner[k] * bytes, bytes);
+    }
+    for (size_t k = 0; k < n; ++k) {
+        const size_t g = owned + k;
+        for (int d = 0; d < 3; ++d) {
+            ps->x[3 * g + d] += shift[3 * k + d];
+            ps->force[3 * g + d] = ps->torque[3 * g + d] = 0.0;
+        }
+        ps->heat[g] = 0.0;
+    }
+    ps->count = owned + n;
+    ps->ghost_count = n;
+    ps->layout_generation++; /* (the owned particles, the population, did not change) */
+    return SINTER_OK;
+}
+
 /* Move particle `from` to slot `to` in every field. */
 static void move_particle(sinter_particles *ps, size_t to, size_t from)
 {
@@ -463,6 +516,7 @@ sinter_status sinter_particles_remove(sinter_particles *ps, size_t n, const size
     sinter_status st = check_unlocked(ps, "sinter_particles_remove");
     if (st != SINTER_OK || n == 0)
         return st;
+    sinter_particles_drop_ghosts(ps); /* indices name owned particles */
     SINTER_CHECK_NULL(ctx, indices);
     unsigned char *doomed = sinter_calloc(ctx, ps->count ? ps->count : 1, 1);
     if (doomed == NULL)

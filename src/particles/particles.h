@@ -12,6 +12,7 @@ struct sinter_particles {
     sinter_ctx *ctx;
     size_t count;
     size_t capacity;
+    size_t ghost_count; /* the last ghost_count rows are ghosts (ghosts/ghosts.h); 0 without */
     /* vector fields: 3 doubles per particle, particle-major */
     double *x;      /* position [m] */
     double *v;      /* velocity [m/s] */
@@ -29,7 +30,7 @@ struct sinter_particles {
     int32_t *material;
     uint32_t *flags;
     uint64_t *id;
-    uint64_t next_id; /* sinter_particles_add's next id: above every id in the set */
+    uint64_t next_id;         /* sinter_particles_add's next id: above every id in the set */
     sinter_id_index id_index; /* id -> index, built on the first lookup after a change */
     /* borrowed views */
     size_t views_out;
@@ -50,7 +51,8 @@ struct sinter_particles {
     } softening[SINTER_MAX_MATERIALS];
     /* bumped whenever particles are added, removed or reordered */
     uint64_t layout_generation;
-    /* bumped when particles are added or removed (not when they are only reordered) */
+    /* bumped when particles are added or removed (not when they are only reordered, nor when
+     * ghost rows come and go) */
     uint64_t population_generation;
     /* bumped whenever a writable view is lent (the host may have changed the state) */
     uint64_t write_generation;
@@ -62,6 +64,14 @@ static inline double sinter_particle_param(const sinter_particles *ps, size_t i,
 {
     return ps->materials[ps->material[i]].value[p];
 }
+
+/* Drop the ghost rows (ghosts/ghosts.h), if any: the set holds its owned particles only. */
+void sinter_particles_drop_ghosts(sinter_particles *ps);
+
+/* Replace the ghost rows by n copies of owned particles: ghost k copies every field of owned
+ * particle owner[k], its position shifted by shift[3k..3k+2], its force, moment and heat zero. */
+sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, const uint32_t *owner,
+                                              const double *shift);
 
 /* Reorder particles: new index k holds old particle order[k]. Refused while views are out. */
 sinter_status sinter_particles_permute(sinter_particles *ps, const size_t *order);

@@ -22,6 +22,7 @@ sinter_status sinter_particles_sort_spatial(sinter_particles *ps)
 {
     if (ps == NULL)
         return SINTER_ERR_NULL;
+    sinter_particles_drop_ghosts(ps); /* owned particles only: ghosts are made again */
     const size_t n = ps->count;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double rmax = 0.0;

@@ -34,6 +34,24 @@ sinter_status sinter_explicit_reserve(sinter_stepper *st)
     return SINTER_OK;
 }
 
+sinter_status sinter_explicit_keep_spare(sinter_stepper *st)
+{
+    const size_t cap = st->ps->capacity;
+    if (st->spare[0] == NULL || st->spare_capacity == cap)
+        return SINTER_OK;
+    for (int k = 0; k < 4; ++k) {
+        double *grown = sinter_realloc_array(st->ctx, st->spare[k], 3 * cap + 1, sizeof(double));
+        if (grown == NULL)
+            return sinter_last_status(st->ctx);
+        if (cap > st->spare_capacity)
+            memset(grown + 3 * st->spare_capacity, 0,
+                   (3 * (cap - st->spare_capacity) + 1) * sizeof(double));
+        st->spare[k] = grown;
+    }
+    st->spare_capacity = cap;
+    return SINTER_OK;
+}
+
 /* The acceleration of gravity when it is the stepper's first force model (kick_drift then
  * writes its force, m g, instead of zero), else NULL. */
 static const double *first_gravity(const sinter_stepper *st)
@@ -392,6 +410,8 @@ static size_t kick(sinter_stepper *st, double h)
  * state after the law (the half-kicked ones, as before). */
 static int kick_with_law(const sinter_stepper *st)
 {
+    if (st->ps->ghost_count > 0) /* the reverse halo comes after the law, before the kick */
+        return 0;
     if (!st->plain_particles || particle_ranges(st, pass_threads(st)).plo == NULL)
         return 0;
     for (size_t k = 0; k < st->thermal.count; ++k)
@@ -467,7 +487,10 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
 
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
-    sinter_status s = sinter_explicit_reserve(st);
+    const int periodic = sinter_ghosts_on(&st->ghosts);
+    sinter_status s = periodic ? sinter_periodic_check(st) : SINTER_OK;
+    if (s == SINTER_OK)
+        s = sinter_explicit_reserve(st);
     if (s != SINTER_OK)
         return s;
     const double t_start = st->time, clock_start = sinter_clock();
@@ -483,6 +506,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     double t0 = sinter_clock();
     sinter_sanity_scan scan;
     size_t heat_first[2];
+    const size_t n_drift = st->ps->count; /* (a neighbour build may make other ghosts) */
     const size_t bad_drift = kick_drift(st, h, heat_update, heat_first, &scan);
     st->stats.seconds_integrate += sinter_clock() - t0;
     if (heat_update) {
@@ -508,6 +532,10 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         st->range_final = kick_range;
         st->range_final_user = &job;
     }
+    /* halo: the ghosts take their owners' new state (ghosts/ghosts.h); a neighbour build in
+     * the evaluation makes them again from the owners */
+    if (s == SINTER_OK && st->ps->ghost_count > 0)
+        sinter_ghosts_forward(&st->ghosts, st->ps);
     st->heat_in_law = 1; /* conduction in the law's region when it can (thermal.h) */
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
@@ -526,14 +554,19 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
                 bad = job.bad[r] < bad ? job.bad[r] : bad;
         else
             bad = kick(st, h);
-        bad = bad_drift < bad ? bad_drift : bad;
+        if (bad_drift < n_drift)
+            bad = bad_drift < bad ? bad_drift : bad;
+        /* halo again: the accepted state's ghosts are exact images of their owners */
+        if (st->ps->ghost_count > 0)
+            sinter_ghosts_forward(&st->ghosts, st->ps);
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_domain(st, "step", t_start, h);
-    if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 &&
+    /* (the energy check's clusters do not follow pairs across a periodic face yet) */
+    if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 && !periodic &&
         st->stats.steps % (uint64_t)st->energy_check == 0)
         s = sinter_sanity_energy(st, t_start, h); /* energy created (sanity.c, 4) */
     if (s == SINTER_OK && bad < st->ps->count) {
@@ -555,6 +588,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         if (st->walls != NULL)
             sinter_walls_move(st->walls, t_start);
         st->forces_current = 0;
+        st->ghosts.built = 0; /* made again, from the restored owners, at the next build */
         st->stats.rejected++;
         return s;
     }

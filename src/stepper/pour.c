@@ -5,15 +5,16 @@
 
 static double kinetic_energy_per_particle(const sinter_particles *ps)
 {
-    if (ps->count == 0)
+    const size_t n = ps->count - ps->ghost_count; /* owned: ghosts are images of them */
+    if (n == 0)
         return 0.0;
     double ke = 0.0;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < n; ++i) {
         const double *v = ps->v + 3 * i, *w = ps->w + 3 * i;
         ke += 0.5 * ps->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
               0.5 * ps->inertia[i] * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     }
-    return ke / (double)ps->count;
+    return ke / (double)n;
 }
 
 sinter_status sinter_pack_pour(sinter_stepper *st, double ke_per_particle, double t_min,

@@ -70,6 +70,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     }
     sinter_free(ctx, st->forces);
     sinter_neighbors_free(&st->nb);
+    sinter_ghosts_free(ctx, &st->ghosts);
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
@@ -98,6 +99,10 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     if (st->stats.steps > 0 || st->stats.rejected > 0)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "the stepper has taken steps; its kind can no longer change");
+    if (kind != SINTER_STEPPER_EXPLICIT && sinter_ghosts_on(&st->ghosts))
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                           "periodic boundaries are supported by the explicit stepper only; make "
+                           "every axis non-periodic first (sinter_stepper_set_periodic)");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
@@ -461,13 +466,29 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
 
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
-    if (!sinter_neighbors_stale(&st->nb, st->ps, st->walls))
+    const int periodic = sinter_ghosts_on(&st->ghosts);
+    if (!sinter_neighbors_stale(&st->nb, st->ps, st->walls) &&
+        (!periodic || sinter_ghosts_current(&st->ghosts, st->ps)))
         return SINTER_OK;
     const double t0 = sinter_clock();
     choose_skin(st);
+    sinter_status s = SINTER_OK;
+    if (periodic) { /* owned particles wrapped into the cell, their images made (ghosts.h) */
+        /* the spare arrays (explicit.c: the state at t of the step under way) follow: wrapped
+         * the same, their ghost rows made alike */
+        s = sinter_ghosts_rebuild(
+            &st->ghosts, st->ps, sinter_ghosts_cutoff(st->ps, st->nb.skin),
+            st->spare[0] != NULL && st->spare_capacity >= st->ps->count ? st->spare[0] : NULL);
+        if (s == SINTER_OK)
+            s = sinter_explicit_keep_spare(st);
+        if (s != SINTER_OK)
+            return s;
+        for (int k = 0; k < 4 && st->spare[k] != NULL; ++k)
+            sinter_ghosts_copy_rows(&st->ghosts, st->ps, st->spare[k], k == 0);
+    }
     /* A changed particle layout (add/remove/reorder) invalidates pair indices, but
      * the id-keyed matching carries history over all the same. */
-    sinter_status s = keep_held_pairs(st);
+    s = keep_held_pairs(st);
     if (s == SINTER_OK)
         s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
@@ -578,6 +599,14 @@ static void set_held(sinter_stepper *st)
     }
 }
 
+/* Force and moment of the ghost rows zeroed (ghosts/ghosts.h). */
+static void clear_ghost_rows(sinter_particles *ps)
+{
+    const size_t first = ps->count - ps->ghost_count;
+    memset(ps->force + 3 * first, 0, 3 * ps->ghost_count * sizeof(double));
+    memset(ps->torque + 3 * first, 0, 3 * ps->ghost_count * sizeof(double));
+}
+
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
@@ -638,6 +667,10 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     }
     st->forces_zeroed = 0;
     st->gravity_seeded = 0;
+    /* ghosts: their rows gather only what pairs put there (the reverse halo below) */
+    const int ghosts = ps->ghost_count > 0;
+    if (ghosts)
+        clear_ghost_rows(ps);
     s = fill_view(st, dt_hist);
     if (s != SINTER_OK)
         return stop_before_law(st, deferred, s);
@@ -679,7 +712,13 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         e.range_user = !last ? NULL : heat_ranges ? (void *)st : st->range_final_user;
         e.ranges_final = 0;
         e.bonds_broken = 0;
+        /* a body force acts on the owner, not on its image (ghosts.h) */
+        const int body = ghosts && !slot->model->ops->uses_contacts;
+        if (body && (s = sinter_ghosts_save_rows(ctx, &st->ghosts, ps)) != SINTER_OK)
+            break;
         s = slot->model->ops->eval(slot->model, &e);
+        if (body)
+            sinter_ghosts_restore_rows(&st->ghosts, ps);
         slot->bonds_broken = e.bonds_broken;
         st->ranges_final = last && e.ranges_final;
         if (s == SINTER_OK && deferred && (long)k == confirmer) {
@@ -698,6 +737,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         s = sinter_thermal_eval(st);
         st->stats_seconds_heat += sinter_clock() - t1;
     }
+    /* reverse halo: what the pairs put on the images goes to their owners (ghosts.h) */
+    if (s == SINTER_OK && ghosts)
+        sinter_ghosts_reverse(&st->ghosts, ps);
     return s;
 }
 

@@ -3,6 +3,7 @@
 #define SINTER_STEPPER_H
 
 #include "contact/history.h"
+#include "ghosts/ghosts.h"
 #include "stepper/anderson.h"
 #include "stepper/step_control.h"
 #include "force/force_model.h"
@@ -140,6 +141,7 @@ struct sinter_stepper {
     uint64_t stats_thermal_iterations; /* PCG iterations of implicit conduction */
     double stats_seconds_heat;         /* wall-clock time in heat evaluation [s] (conduction summed
                                           in the law's region counts in stats.seconds_force) */
+    sinter_ghosts ghosts; /* periodic axes and their images (ghosts/ghosts.h); explicit only */
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];
@@ -209,6 +211,12 @@ int sinter_explicit_stores_measuring(const sinter_stepper *st);
 /* The explicit step's spare arrays at the set's capacity, their pages touched: done when the
  * forces are set up, so that the first step does not fault them in (explicit.c). */
 sinter_status sinter_explicit_reserve(sinter_stepper *st);
+/* The spare arrays grown, their content kept, after the set grew within a step (ghost rows
+ * made at a neighbour build: ghosts/ghosts.h); nothing to do when the capacity is unchanged. */
+sinter_status sinter_explicit_keep_spare(sinter_stepper *st);
+/* SINTER_OK when the stepper's submodels work across periodic faces (periodic.c), else
+ * SINTER_ERR_UNSUPPORTED naming the one that does not. */
+sinter_status sinter_periodic_check(sinter_stepper *st);
 
 /* Change the kind of a stepper that has not stepped yet (the scene reader creates its stepper
  * before it reads [stepper] kind). Errors: SINTER_ERR_UNSUPPORTED, SINTER_ERR_STATE. */

@@ -171,6 +171,47 @@ class HostSpringMemoryviewTest(HostSpringCases, unittest.TestCase):
     use_numpy = False
 
 
+class PeriodicTest(unittest.TestCase):
+    """Two equal spheres meet head-on across the face x = 0 of a periodic cell."""
+
+    def test_collision_across_the_face(self):
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        material = sinter.Material(ctx, "glass", youngs_modulus=1e7, poisson_ratio=0.3,
+                                   density=2500.0)
+        particles = sinter.Particles(ctx)
+        particles.set_material(0, material)
+        stepper = sinter.Stepper(ctx, particles, None, dt=1e-6,
+                                 forces=[sinter.ForceModel(ctx, "hertz_mindlin")])
+        cell = 10e-3
+        stepper.set_periodic(0, 0.0, cell)
+        self.assertEqual(stepper.periodic(0), (0.0, cell))
+        self.assertIsNone(stepper.periodic(1))
+        # a at x = 1.2 mm moving to -x, b at rest 2.5 mm from it across the face
+        particles.add([(1.2e-3, 0.0, 0.0), (cell - 1.3e-3, 0.0, 0.0)], 1e-3)
+        with particles.view("velocity", writable=True) as v:
+            v[0, 0] = -0.1
+        stepper.step(6000)  # 6 ms: 0.5 mm to the contact, then the collision
+        self.assertEqual(particles.owned_count, 2)
+        self.assertGreaterEqual(particles.count, 2)  # plus the images near the faces
+        v = as_lists(particles.get("velocity"))
+        x = as_lists(particles.get("position"))
+        # equal masses, no damping: the velocities are exchanged, the momentum kept
+        self.assertAlmostEqual(v[0][0] + v[1][0], -0.1, delta=1e-12)
+        self.assertAlmostEqual(v[1][0], -0.1, delta=1e-4)
+        self.assertLess(abs(v[0][0]), 1e-4)
+        for p in x[:2]:  # wrapped into the cell (up to half the skin)
+            self.assertTrue(-1e-3 < p[0] < cell + 1e-3)
+
+    def test_refused_by_the_staggered_stepper(self):
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        particles = sinter.Particles(ctx)
+        stepper = sinter.Stepper(ctx, particles, None, kind="staggered", dt=1e-6)
+        with self.assertRaises(sinter.SinterError):
+            stepper.set_periodic(2, 0.0, 1.0)
+
+
 class CallbackExceptionTest(unittest.TestCase):
     """A Python exception in a callback stops the run at the last accepted step."""
 

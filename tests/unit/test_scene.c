@@ -191,6 +191,36 @@ static void check_stepper_key(const char *key, double good, double bad)
     expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", expected);
 }
 
+/* [stepper] periodic_x = lo hi makes x periodic (sinter_stepper_set_periodic); a cell that is
+ * not two numbers, or not hi > lo, is refused at its line. */
+static void test_periodic_keys(void **state)
+{
+    (void)state;
+    char text[4096];
+    const char *end = strstr(GOOD, "end_time = 0.01\n");
+    assert_non_null(end);
+    const int head = (int)(end - GOOD);
+    snprintf(text, sizeof(text), "%.*speriodic_x = 0 0.006\n%s", head, GOOD, end);
+    sinter_ctx *ctx = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("periodic.scene", text)), SINTER_OK);
+    sinter_stepper *st = NULL;
+    assert_int_equal(sinter_scene_get_stepper(scene, &st), SINTER_OK);
+    int on = 0;
+    double lo = 1.0, hi = 0.0;
+    assert_int_equal(sinter_stepper_get_periodic(st, 0, &on, &lo, &hi), SINTER_OK);
+    assert_true(on == 1 && lo == 0.0 && hi == 0.006);
+    assert_int_equal(sinter_stepper_get_periodic(st, 1, &on, NULL, NULL), SINTER_OK);
+    assert_int_equal(on, 0);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    snprintf(text, sizeof(text), "%.*speriodic_y = 0.006\n%s", head, GOOD, end);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:30:", "periodic_y: expected the cell");
+    snprintf(text, sizeof(text), "%.*speriodic_z = 0.004 0.001\n%s", head, GOOD, end);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:30:", "periodic z");
+}
+
 /* The explicit stepper's streaming stores ([stepper] stream_stores: -1, 0 or 1) and its thread
  * choice by timing ([stepper] thread_choice: -1 or 0) from a scene file. */
 static void test_stream_stores_key(void **state)
@@ -911,6 +941,7 @@ int main(void)
         cmocka_unit_test(test_wall_kinds_in_scenes),
         cmocka_unit_test(test_mesh_wall_in_scenes),
         cmocka_unit_test(test_stream_stores_key),
+        cmocka_unit_test(test_periodic_keys),
         cmocka_unit_test(test_restart_is_bit_for_bit),
         cmocka_unit_test(test_bad_checkpoints_are_refused),
         cmocka_unit_test(test_run_writes_outputs),

@@ -250,6 +250,7 @@ SIGNATURES = {
     "sinter_particles_create": (c_status, [_P(ParticlesPtr), CtxPtr]),
     "sinter_particles_destroy": (None, [ParticlesPtr]),
     "sinter_particles_count": (c_status, [ParticlesPtr, _P(_size)]),
+    "sinter_particles_owned_count": (c_status, [ParticlesPtr, _P(_size)]),
     "sinter_particles_capacity": (c_status, [ParticlesPtr, _P(_size)]),
     "sinter_particles_reserve": (c_status, [ParticlesPtr, _size]),
     "sinter_particles_set_material": (c_status, [ParticlesPtr, ctypes.c_int32, MaterialPtr]),
@@ -322,6 +323,9 @@ SIGNATURES = {
     "sinter_stepper_set_dt": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_skin": (c_status, [StepperPtr, _double]),
     "sinter_stepper_set_domain": (c_status, [StepperPtr, _P(_double), _P(_double)]),
+    "sinter_stepper_set_periodic": (c_status, [StepperPtr, _int, _double, _double]),
+    "sinter_stepper_get_periodic": (c_status, [StepperPtr, _int, _P(_int), _P(_double),
+                                               _P(_double)]),
     "sinter_stepper_set_option": (c_status, [StepperPtr, _str, _double]),
     "sinter_stepper_get_option": (c_status, [StepperPtr, _str, _P(_double)]),
     # output (implemented in src/io)

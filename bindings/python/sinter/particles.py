@@ -270,6 +270,12 @@ class Particles(_Handle):
         return self.count
 
     @property
+    def owned_count(self) -> int:
+        """Owned particles: the first owned_count; the rest are ghost particles, the images a
+        periodic stepper made of them (Stepper.set_periodic)."""
+        return self._size(lib.sinter_particles_owned_count)
+
+    @property
     def capacity(self) -> int:
         """Particles that fit without reallocation."""
         return self._size(lib.sinter_particles_capacity)

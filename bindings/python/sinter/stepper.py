@@ -379,6 +379,19 @@ class Stepper(_Handle):
                                                   (ctypes.c_double * 3)(*hi))
         self._state.domain = (tuple(lo), tuple(hi))
 
+    def set_periodic(self, axis: int, lo: float = 0.0, hi: float = 0.0) -> None:
+        """Make `axis` (0 x, 1 y, 2 z) periodic with the cell lo..hi [m]; lo = hi = 0 makes it
+        non-periodic again. Explicit stepper only: particles wrap into the cell and their
+        images within 2 r_max + skin of a face are ghost particles after the owned ones."""
+        self._call(lib.sinter_stepper_set_periodic, self._ptr, int(axis), float(lo), float(hi))
+
+    def periodic(self, axis: int) -> Optional[Tuple[float, float]]:
+        """The periodic cell (lo, hi) [m] along `axis`, or None when it is not periodic."""
+        on, lo, hi = ctypes.c_int(), ctypes.c_double(), ctypes.c_double()
+        self._call(lib.sinter_stepper_get_periodic, self._ptr, int(axis), ctypes.byref(on),
+                   ctypes.byref(lo), ctypes.byref(hi))
+        return (lo.value, hi.value) if on.value else None
+
     @property
     def thermal_scheme(self) -> Optional[ThermalScheme]:
         """ThermalScheme.EXPLICIT or IMPLICIT (set with the enum, its value or "implicit").

@@ -1,0 +1,71 @@
+/*
+ * Periodic boundaries of the explicit stepper (issue 38): the settings, and the check that the
+ * submodels in use are right across a periodic face. Particles wrap into the cell and their
+ * images are ghost particles (ghosts/ghosts.h), made at every neighbour build.
+ */
+#include "heat/heat_model.h"
+#include "stepper.h"
+
+sinter_status sinter_stepper_set_periodic(sinter_stepper *st, int axis, double lo, double hi)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (st->kind != SINTER_STEPPER_EXPLICIT && !(lo == 0.0 && hi == 0.0))
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                           "sinter_stepper_set_periodic: periodic boundaries are supported by the "
+                           "explicit stepper only");
+    const sinter_status s = sinter_ghosts_set_periodic(st->ctx, &st->ghosts, axis, lo, hi);
+    if (s == SINTER_OK && !sinter_ghosts_on(&st->ghosts))
+        sinter_particles_drop_ghosts(st->ps); /* no axis left: no images */
+    return s;
+}
+
+sinter_status sinter_stepper_get_periodic(const sinter_stepper *st, int axis, int *periodic,
+                                          double *lo, double *hi)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(st->ctx, periodic);
+    if (axis < 0 || axis > 2)
+        return sinter_fail(st->ctx, SINTER_ERR_RANGE,
+                           "sinter_stepper_get_periodic: axis %d is not 0, 1 or 2", axis);
+    *periodic = st->ghosts.periodic[axis];
+    if (lo != NULL)
+        *lo = st->ghosts.periodic[axis] ? st->ghosts.lo[axis] : 0.0;
+    if (hi != NULL)
+        *hi = st->ghosts.periodic[axis] ? st->ghosts.hi[axis] : 0.0;
+    return SINTER_OK;
+}
+
+sinter_status sinter_periodic_check(sinter_stepper *st)
+{
+    const char *why = NULL;
+    if (st->electric != NULL)
+        why = "an electric model (its network would take an image for another node)";
+    else if (st->thermal.count > 0 && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
+        why = "implicit conduction";
+    else if (st->has_domain)
+        why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
+    for (size_t k = 0; why == NULL && k < st->force_count; ++k) {
+        const sinter_force_model *fm = st->forces[k].model;
+        if (fm->ops->eval == sinter_force_host_eval && fm->host.contacts != NULL &&
+            fm->host.particles != NULL)
+            why = "a host force model with both a contact and a body callback (its body forces "
+                  "on the images could not be told from its contact forces; make them two "
+                  "models)";
+    }
+    for (size_t k = 0; why == NULL && k < st->force_count; ++k)
+        if (sinter_force_holds_pairs(st->forces[k].model))
+            why = "bonds that hold in tension (the power law's bonds: a bond across a face would "
+                  "be kept between the owners, a period apart)";
+    for (size_t k = 0; why == NULL && k < st->thermal.count; ++k)
+        if (st->thermal.slots[k].model->ops != &sinter_heat_conduction)
+            why = "a heat model other than conduction (a source on an image would be counted "
+                  "twice)";
+    if (why == NULL)
+        return SINTER_OK;
+    return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                       "periodic boundaries do not support %s yet; remove it or make every axis "
+                       "non-periodic",
+                       why);
+}
