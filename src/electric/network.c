@@ -110,7 +110,9 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b)
 static double conductivity(const sinter_electric_model *em, const sinter_particles *ps, size_t i,
                            int *bad)
 {
-    const double sigma0 = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+    /* sigma(theta) from the material's table when it has one (its sigma_0 otherwise) */
+    const double sigma0 = sinter_particle_property(ps, i, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY,
+                                                   SINTER_MAT_ELECTRIC_CONDUCTIVITY);
     if (em->sigmoid == 0.0)
         return sigma0;
     const double x = em->gamma1 * (ps->temperature[i] - em->theta_ref);

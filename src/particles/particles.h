@@ -5,6 +5,7 @@
 #include "core/core.h"
 #include "particles/id_index.h"
 #include "particles/material.h"
+#include "particles/property_table.h"
 
 #define SINTER_MAX_MATERIALS 256
 
@@ -29,7 +30,7 @@ struct sinter_particles {
     int32_t *material;
     uint32_t *flags;
     uint64_t *id;
-    uint64_t next_id; /* sinter_particles_add's next id: above every id in the set */
+    uint64_t next_id;         /* sinter_particles_add's next id: above every id in the set */
     sinter_id_index id_index; /* id -> index, built on the first lookup after a change */
     /* borrowed views */
     size_t views_out;
@@ -48,6 +49,12 @@ struct sinter_particles {
         sinter_softening_fn fn;
         void *user;
     } softening[SINTER_MAX_MATERIALS];
+    /* temperature-dependent properties per material (property_table.h), NULL: all constant;
+     * tabulated[p]: a material in the set has a table of property p; enthalpy: a material
+     * advances its temperatures through a nonlinear enthalpy (a C table or latent heat) */
+    sinter_material_props *props[SINTER_MAX_MATERIALS];
+    int tabulated[SINTER_PROPERTY_COUNT_];
+    int enthalpy;
     /* bumped whenever particles are added, removed or reordered */
     uint64_t layout_generation;
     /* bumped when particles are added or removed (not when they are only reordered) */
@@ -61,6 +68,34 @@ static inline double sinter_particle_param(const sinter_particles *ps, size_t i,
                                            sinter_material_param p)
 {
     return ps->materials[ps->material[i]].value[p];
+}
+
+/* Property p of particle i at its temperature: its material's table, else the constant c. */
+static inline double sinter_particle_property(const sinter_particles *ps, size_t i,
+                                              sinter_property p, sinter_material_param c)
+{
+    const sinter_material_props *t = ps->props[ps->material[i]];
+    if (t == NULL || t->curve[p].count == 0)
+        return sinter_particle_param(ps, i, c);
+    return sinter_property_curve_at(&t->curve[p], ps->temperature[i]);
+}
+
+/* The enthalpy of particle i's material, NULL when its temperature advances by the constant
+ * heat capacity (theta += E / (m C)). */
+static inline const sinter_enthalpy *sinter_particle_enthalpy(const sinter_particles *ps, size_t i)
+{
+    const sinter_material_props *t = ps->props[ps->material[i]];
+    return t != NULL && t->enthalpy ? &t->H : NULL;
+}
+
+/* Apparent heat capacity of particle i at temperature theta [J/(kg K)] (the latent heat's
+ * share on the melting interval included). */
+static inline double sinter_particle_heat_capacity(const sinter_particles *ps, size_t i,
+                                                   double theta)
+{
+    const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+    return H == NULL ? sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY)
+                     : sinter_enthalpy_capacity(H, theta);
 }
 
 /* Reorder particles: new index k holds old particle order[k]. Refused while views are out. */
