@@ -70,20 +70,27 @@ static inline double sinter_particle_param(const sinter_particles *ps, size_t i,
     return ps->materials[ps->material[i]].value[p];
 }
 
+/* The tabulated branches of the accessors below, out of line (property_table.c) so that the
+ * constant path stays a flag test and the load it always was. */
+double sinter_particle_property_tabulated(const sinter_particles *ps, size_t i, sinter_property p,
+                                          sinter_material_param c);
+double sinter_particle_heat_capacity_tabulated(const sinter_particles *ps, size_t i, double theta);
+
 /* Property p of particle i at its temperature: its material's table, else the constant c. */
 static inline double sinter_particle_property(const sinter_particles *ps, size_t i,
                                               sinter_property p, sinter_material_param c)
 {
-    const sinter_material_props *t = ps->props[ps->material[i]];
-    if (t == NULL || t->curve[p].count == 0)
-        return sinter_particle_param(ps, i, c);
-    return sinter_property_curve_at(&t->curve[p], ps->temperature[i]);
+    if (__builtin_expect(ps->tabulated[p], 0))
+        return sinter_particle_property_tabulated(ps, i, p, c);
+    return sinter_particle_param(ps, i, c);
 }
 
 /* The enthalpy of particle i's material, NULL when its temperature advances by the constant
  * heat capacity (theta += E / (m C)). */
 static inline const sinter_enthalpy *sinter_particle_enthalpy(const sinter_particles *ps, size_t i)
 {
+    if (!ps->enthalpy)
+        return NULL;
     const sinter_material_props *t = ps->props[ps->material[i]];
     return t != NULL && t->enthalpy ? &t->H : NULL;
 }
@@ -93,9 +100,9 @@ static inline const sinter_enthalpy *sinter_particle_enthalpy(const sinter_parti
 static inline double sinter_particle_heat_capacity(const sinter_particles *ps, size_t i,
                                                    double theta)
 {
-    const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
-    return H == NULL ? sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY)
-                     : sinter_enthalpy_capacity(H, theta);
+    if (__builtin_expect(ps->enthalpy, 0))
+        return sinter_particle_heat_capacity_tabulated(ps, i, theta);
+    return sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
 }
 
 /* Reorder particles: new index k holds old particle order[k]. Refused while views are out. */

@@ -135,6 +135,24 @@ static sinter_status enthalpy_build(sinter_ctx *ctx, sinter_material_props *p,
     return SINTER_OK;
 }
 
+/* ---- per particle (the accessors' tabulated branches, particles.h) -------- */
+
+double sinter_particle_property_tabulated(const sinter_particles *ps, size_t i, sinter_property p,
+                                          sinter_material_param c)
+{
+    const sinter_material_props *t = ps->props[ps->material[i]];
+    if (t == NULL || t->curve[p].count == 0)
+        return sinter_particle_param(ps, i, c);
+    return sinter_property_curve_at(&t->curve[p], ps->temperature[i]);
+}
+
+double sinter_particle_heat_capacity_tabulated(const sinter_particles *ps, size_t i, double theta)
+{
+    const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+    return H == NULL ? sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY)
+                     : sinter_enthalpy_capacity(H, theta);
+}
+
 /* ---- per material --------------------------------------------------------- */
 
 void sinter_material_props_free(sinter_ctx *ctx, sinter_material_props *p)

@@ -460,32 +460,57 @@ sinter_status sinter_thermal_explicit_begin(sinter_stepper *st)
                        sizeof(double));
 }
 
+/* The explicit update of [lo, hi) when a material's temperature advances through its enthalpy:
+ * H(theta_1) = H(theta_0) + h Q / m (seed 003 eq. 46 written for H); the others as usual. */
+static void enthalpy_range(sinter_stepper *st, double h, size_t lo, size_t hi, size_t *bad,
+                           size_t *hot)
+{
+    sinter_particles *ps = st->ps;
+    double *restrict saved = st->thermal.theta_backup, *restrict temp = ps->temperature;
+    for (size_t i = lo; i < hi; ++i) {
+        const double t0 = temp[i];
+        saved[i] = t0;
+        if (fixed(ps, i))
+            continue;
+        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+        double t1;
+        if (H == NULL) {
+            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            t1 = t0 + h * ps->heat[i] / mc;
+        } else {
+            t1 = sinter_enthalpy_inverse(H,
+                                         sinter_enthalpy_at(H, t0) + h * ps->heat[i] / ps->mass[i]);
+        }
+        temp[i] = t1;
+        if (!(t1 > 0.0 && t1 < INFINITY) && i < *bad)
+            *bad = i;
+        if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < *hot)
+            *hot = i;
+    }
+}
+
 void sinter_thermal_explicit_range(sinter_stepper *st, double h, size_t lo, size_t hi, size_t *bad,
                                    size_t *hot)
 {
     sinter_particles *ps = st->ps;
     double *restrict saved = st->thermal.theta_backup, *restrict temp = ps->temperature;
     size_t first_bad = hi, first_hot = hi;
-    const int enthalpy = ps->enthalpy;
-    for (size_t i = lo; i < hi; ++i) {
-        const double t0 = temp[i];
-        saved[i] = t0;
-        if (fixed(ps, i))
-            continue;
-        const sinter_enthalpy *H = enthalpy ? sinter_particle_enthalpy(ps, i) : NULL;
-        double t1;
-        if (H == NULL) {
+    if (__builtin_expect(ps->enthalpy, 0)) { /* C(theta) or latent heat (property_table.h) */
+        enthalpy_range(st, h, lo, hi, &first_bad, &first_hot);
+    } else {
+        for (size_t i = lo; i < hi; ++i) {
+            const double t0 = temp[i];
+            saved[i] = t0;
+            if (fixed(ps, i))
+                continue;
             const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
-            t1 = t0 + h * ps->heat[i] / mc;
-        } else { /* H(theta_1) = H(theta_0) + h Q / m: eq. 46 for the enthalpy */
-            t1 = sinter_enthalpy_inverse(H,
-                                         sinter_enthalpy_at(H, t0) + h * ps->heat[i] / ps->mass[i]);
+            const double t1 = t0 + h * ps->heat[i] / mc;
+            temp[i] = t1;
+            if (!(t1 > 0.0 && t1 < INFINITY) && i < first_bad)
+                first_bad = i;
+            if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < first_hot)
+                first_hot = i;
         }
-        temp[i] = t1;
-        if (!(t1 > 0.0 && t1 < INFINITY) && i < first_bad)
-            first_bad = i;
-        if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < first_hot)
-            first_hot = i;
     }
     *bad = first_bad;
     *hot = first_hot;

@@ -600,6 +600,16 @@ static void test_joule_constant_conductivity(void **state)
     assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
     f.ps->current[0] = -current; /* J^2: the sign does not matter */
     assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
+    /* sigma(theta) from a table (issue 39): 4 S/m at 300 K to 1 S/m at 500 K, 2.5 S/m at the
+     * particle's 400 K; removed, the material's constant again */
+    const double tt[2] = {300.0, 500.0}, sv[2] = {4.0, 1.0};
+    OK(sinter_particles_set_property_table(f.ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 2, tt,
+                                           sv));
+    f.ps->temperature[0] = 400.0;
+    assert_rel(joule(&f, hm, SINTER_OK), ABSORPTANCE[0] * current * current / 2.5 * volume, 1e-12);
+    OK(sinter_particles_set_property_table(f.ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 0, NULL,
+                                           NULL));
+    assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
 
     f.ps->current[1] = 0.1; /* a current through a non-conductor */
     joule(&f, hm, SINTER_ERR_INVALID);
