@@ -283,10 +283,23 @@ typedef enum sinter_material_param {
     /** temperature at which the neck model switches to the HOT set, both ways, no hysteresis
      *  (titanium alpha/beta: 1156 K, seed 001 sec. 4.2) [K], 0 = single phase, [0, 1e5] */
     SINTER_MAT_PHASE_TRANSITION_TEMPERATURE = 52,
-    /** melting point [K], 0 = none (the default): a step that takes a particle of the material
-     *  above it is refused with SINTER_ERR_DOMAIN (no melting model), [0, 1e5] */
+    /** melting point theta_m [K], 0 = none (the default). Without latent heat and with
+     *  melting_stop = 1 a step that takes a particle of the material above it is refused with
+     *  SINTER_ERR_DOMAIN; with latent_heat > 0 the particle melts through the apparent heat
+     *  capacity (latent_heat), [0, 1e5] */
     SINTER_MAT_MELTING_TEMPERATURE = 53,
-    SINTER_MAT_PARAM_COUNT_ = 54         /**< number of parameters in this version (not a parameter) */
+    /** latent heat of melting L [J/kg], 0 = none (the default): released uniformly over
+     *  [theta_m, theta_m + melting_range] as an apparent heat capacity L / melting_range on top
+     *  of C(theta) (an enthalpy method: the temperature is the enthalpy's inverse); needs
+     *  melting_temperature > 0; the mechanics keep treating the particle as a solid, [0, 1e8] */
+    SINTER_MAT_LATENT_HEAT = 54,
+    /** width of the melting interval [K] over which latent_heat is absorbed, default 1,
+     *  (0, 1e4] */
+    SINTER_MAT_MELTING_RANGE = 55,
+    /** 1 (the default): a step that takes a particle above melting_temperature is refused when
+     *  the material has no latent heat; 0: it heats on (no melting modelled), [0, 1] whole */
+    SINTER_MAT_MELTING_STOP = 56,
+    SINTER_MAT_PARAM_COUNT_ = 57         /**< number of parameters in this version (not a parameter) */
 } sinter_material_param;
 
 /** Create a material with every parameter at its default. `name` is copied (may be NULL). */
@@ -407,6 +420,42 @@ SINTER_API sinter_status sinter_particles_set_softening_curve(sinter_particles *
 SINTER_API sinter_status sinter_particles_set_softening_callback(sinter_particles *ps, int32_t id,
                                                                  sinter_softening_fn fn,
                                                                  void *user);
+/** Material properties that may be given as functions of temperature by a table. */
+typedef enum sinter_property {
+    /** k(theta) [W/(m K)]: replaces thermal_conductivity in every conduction law */
+    SINTER_PROPERTY_THERMAL_CONDUCTIVITY = 0,
+    /** C(theta) [J/(kg K)]: replaces heat_capacity; temperatures advance through the specific
+     *  enthalpy H(theta) = int_0^theta C (sinter_particles_specific_enthalpy) */
+    SINTER_PROPERTY_HEAT_CAPACITY = 1,
+    /** sigma(theta) [S/m]: replaces electric_conductivity (sigma_0 of seed 000 eq. 50, whose
+     *  sigmoid, when on, multiplies it) in the electric network and the Joule model */
+    SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY = 2,
+    SINTER_PROPERTY_COUNT_ = 3 /**< number of properties (not a property) */
+} sinter_property;
+
+/**
+ * Tabulate `property` of material `id` as a function of temperature: n points (temperatures
+ * [K] strictly increasing, > 0 and finite; values finite and > 0, in the property's unit),
+ * interpolated linearly between points and held at the end values outside the table (clamped).
+ * The table replaces the material's constant value for particles of that material; n = 0 (the
+ * arrays may then be NULL) removes it. Copied. The material must be registered; replacing the
+ * material (sinter_particles_set_material) keeps its tables. Tables are materials' data, not
+ * state: a checkpoint does not store them (set them again before sinter_checkpoint_read).
+ */
+SINTER_API sinter_status sinter_particles_set_property_table(sinter_particles *ps, int32_t id,
+                                                             sinter_property property, size_t n,
+                                                             const double *temperatures,
+                                                             const double *values);
+/** Value of `property` of material `id` at temperature theta [K] > 0: the table's or the
+ *  material's constant (for the heat capacity without the latent heat). */
+SINTER_API sinter_status sinter_particles_property(const sinter_particles *ps, int32_t id,
+                                                   sinter_property property, double theta,
+                                                   double *value);
+/** Specific enthalpy of material `id` at theta [K] > 0: H = int_0^theta C(t) dt plus the part
+ *  of the latent heat absorbed below theta [J/kg] (C held at its first value below the table).
+ *  With constant C and no latent heat, H = C theta. */
+SINTER_API sinter_status sinter_particles_specific_enthalpy(const sinter_particles *ps, int32_t id,
+                                                            double theta, double *enthalpy);
 /** Borrow the set's copy of material `id` (read-only, valid until it is replaced). */
 SINTER_API sinter_status sinter_particles_get_material(const sinter_particles *ps, int32_t id,
                                                        const sinter_material **m);

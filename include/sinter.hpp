@@ -132,7 +132,16 @@ enum class material_param : int {
     surface_mobile_fraction_hot = SINTER_MAT_SURFACE_MOBILE_FRACTION_HOT,
     grain_boundary_mobile_fraction_hot = SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION_HOT,
     melting_temperature = SINTER_MAT_MELTING_TEMPERATURE,
+    latent_heat = SINTER_MAT_LATENT_HEAT,
+    melting_range = SINTER_MAT_MELTING_RANGE,
+    melting_stop = SINTER_MAT_MELTING_STOP,
     phase_transition_temperature = SINTER_MAT_PHASE_TRANSITION_TEMPERATURE,
+};
+/// Mirrors sinter_property.
+enum class property : int {
+    thermal_conductivity = SINTER_PROPERTY_THERMAL_CONDUCTIVITY,
+    heat_capacity = SINTER_PROPERTY_HEAT_CAPACITY,
+    electric_conductivity = SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY,
 };
 /// Mirrors sinter_field.
 enum class field : int {
@@ -656,6 +665,40 @@ class particles : public detail::handle<sinter_particles, sinter_particles_destr
     {
         check(sinter_particles_set_material(live("sinter_particles_set_material"), id, m.get()),
               "sinter_particles_set_material");
+    }
+    /**
+     * Tabulate property `p` of material `id` against temperature (sinter_particles_set_property_table):
+     * values at temperatures [K], linear between points, clamped outside; empty spans remove it.
+     * A size mismatch is refused (status::invalid) before the library is called.
+     */
+    void set_property_table(std::int32_t id, property p, span<const double> temperatures,
+                            span<const double> values)
+    {
+        if (temperatures.size() != values.size())
+            throw error(status::invalid, "temperatures and values differ in size",
+                        "sinter_particles_set_property_table");
+        check(sinter_particles_set_property_table(
+                  live("sinter_particles_set_property_table"), id, static_cast<sinter_property>(p),
+                  values.size(), temperatures.data(), values.data()),
+              "sinter_particles_set_property_table");
+    }
+    /// Value of property `p` of material `id` at temperature theta [K].
+    double property_at(std::int32_t id, property p, double theta) const
+    {
+        double v = 0.0;
+        check(sinter_particles_property(live("sinter_particles_property"), id,
+                                        static_cast<sinter_property>(p), theta, &v),
+              "sinter_particles_property");
+        return v;
+    }
+    /// Specific enthalpy [J/kg] of material `id` at theta [K] (latent heat included).
+    double specific_enthalpy(std::int32_t id, double theta) const
+    {
+        double h = 0.0;
+        check(sinter_particles_specific_enthalpy(live("sinter_particles_specific_enthalpy"), id,
+                                                 theta, &h),
+              "sinter_particles_specific_enthalpy");
+        return h;
     }
     /**
      * Append radii.size() particles of material `material_id` at `positions` (3 per particle,

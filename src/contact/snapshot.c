@@ -427,9 +427,15 @@ static sinter_status contact_heat(const sinter_stepper *st, sinter_snapshot *sna
     double *g_pp = sinter_calloc(ctx, np + 1, sizeof(double));
     double *g_pw = sinter_calloc(ctx, nwc + 1, sizeof(double));
     double *heat = sinter_calloc(ctx, ps->count + 1, sizeof(double));
+    /* k(theta) per particle when a material tabulates it (as sinter_thermal_eval) */
+    const int tabulated = ps->tabulated[SINTER_PROPERTY_THERMAL_CONDUCTIVITY];
+    double *kp = tabulated ? sinter_calloc(ctx, ps->count + 1, sizeof(double)) : NULL;
     sinter_status s = SINTER_OK;
-    if (!g_pp || !g_pw || !heat)
+    if (!g_pp || !g_pw || !heat || (tabulated && kp == NULL))
         s = sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_snapshot_create: out of memory");
+    for (size_t i = 0; kp != NULL && i < ps->count; ++i)
+        kp[i] = sinter_particle_property(ps, i, SINTER_PROPERTY_THERMAL_CONDUCTIVITY,
+                                         SINTER_MAT_THERMAL_CONDUCTIVITY);
     for (size_t k = 0; k < st->thermal.count && s == SINTER_OK; ++k) {
         const sinter_heat_model *hm = st->thermal.slots[k].model;
         if (!hm->ops->conduction)
@@ -446,6 +452,7 @@ static sinter_status contact_heat(const sinter_stepper *st, sinter_snapshot *sna
         e.g_pp = g_pp;
         e.g_pw = g_pw;
         e.view = &st->view;
+        e.conductivity = kp;
         s = hm->ops->eval(hm, &e);
     }
     if (s == SINTER_OK) {
@@ -459,6 +466,7 @@ static sinter_status contact_heat(const sinter_stepper *st, sinter_snapshot *sna
     sinter_free(ctx, g_pp);
     sinter_free(ctx, g_pw);
     sinter_free(ctx, heat);
+    sinter_free(ctx, kp);
     return s;
 }
 

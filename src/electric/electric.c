@@ -70,6 +70,7 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->host_radius);
     sinter_free(ctx, em->host_walls);
     sinter_free(ctx, em->edge_contact);
+    sinter_free(ctx, em->sigma_table);
     sinter_pcg_free(em->pcg);
     sinter_free(ctx, em->potential);
     sinter_free(ctx, em->adj_start);

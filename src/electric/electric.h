@@ -66,6 +66,9 @@ struct sinter_electric_model {
     size_t host_radius_capacity, host_walls_capacity;
     uint32_t *edge_contact; /* network: the contact of each edge (pp index, or pp count + pw) */
     size_t edge_contact_capacity;
+    /* network: sigma(theta) of each particle when a material tabulates it (issue 39) */
+    double *sigma_table;
+    size_t sigma_table_capacity;
 
     /* Scratch reused across solves (grown on demand, never shrunk). */
     size_t potential_capacity;

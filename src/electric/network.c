@@ -107,10 +107,10 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b)
  * field term of eq. 50 would make the network nonlinear in its own solution and is left to the
  * "joule" model's eq. 35 reading). 0 with *bad set when eq. 50 gives no positive value.
  */
-static double conductivity(const sinter_electric_model *em, const sinter_particles *ps, size_t i,
-                           int *bad)
+static inline __attribute__((always_inline)) double
+conductivity_from(const sinter_electric_model *em, const sinter_particles *ps, size_t i, int *bad,
+                  double sigma0)
 {
-    const double sigma0 = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
     if (em->sigmoid == 0.0)
         return sigma0;
     const double x = em->gamma1 * (ps->temperature[i] - em->theta_ref);
@@ -120,6 +120,33 @@ static double conductivity(const sinter_electric_model *em, const sinter_particl
     return sigma;
 }
 
+/* sigma_0 is the material's, or sigma(theta) from `table` (tabulated_sigma) when not NULL. */
+static inline __attribute__((always_inline)) double conductivity(const sinter_electric_model *em,
+                                                                 const sinter_particles *ps,
+                                                                 size_t i, int *bad,
+                                                                 const double *table)
+{
+    return conductivity_from(
+        em, ps, i, bad,
+        table != NULL ? table[i] : sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY));
+}
+
+/* sigma(theta) of every particle into em->sigma_table when a material tabulates it (issue 39),
+ * *table NULL otherwise (the materials' constants, read where they are needed). */
+static sinter_status tabulated_sigma(sinter_electric_model *em, const sinter_particles *ps,
+                                     const double **table)
+{
+    *table = NULL;
+    if (!ps->tabulated[SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY])
+        return SINTER_OK;
+    SINTER_ELECTRIC_RESERVE(em, sigma_table, ps->count + 1);
+    for (size_t i = 0; i < ps->count; ++i)
+        em->sigma_table[i] = sinter_particle_property_tabulated(
+            ps, i, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+    *table = em->sigma_table;
+    return SINTER_OK;
+}
+
 double sinter_electric_contact_conductance(const sinter_electric_model *em,
                                            const sinter_particles *ps, uint32_t i, uint32_t j,
                                            int wall, double area, double dist)
@@ -127,12 +154,19 @@ double sinter_electric_contact_conductance(const sinter_electric_model *em,
     if (em->host.conductance != NULL)
         return NAN;
     int bad = 0;
-    const double si = conductivity(em, ps, i, &bad);
+    const double si =
+        conductivity_from(em, ps, i, &bad,
+                          sinter_particle_property(ps, i, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY,
+                                                   SINTER_MAT_ELECTRIC_CONDUCTIVITY));
     double g = 0.0;
     if (wall) {
         g = dist > 0.0 ? si * area / dist : 0.0;
     } else {
-        const double *r = ps->radius, sj = conductivity(em, ps, j, &bad);
+        const double *r = ps->radius;
+        const double sj =
+            conductivity_from(em, ps, j, &bad,
+                              sinter_particle_property(ps, j, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY,
+                                                       SINTER_MAT_ELECTRIC_CONDUCTIVITY));
         const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35, as build_edges */
         g = den > 0.0 && dist > 0.0 ? si * sj * (r[i] + r[j]) / den * area / dist : 0.0;
     }
@@ -143,13 +177,13 @@ double sinter_electric_contact_conductance(const sinter_electric_model *em,
  * a neutral wall is none), in contact order. */
 static sinter_status host_edges(sinter_electric_model *em, sinter_particles *ps,
                                 const sinter_walls *walls, const sinter_contact_list *pp,
-                                const sinter_contact_list *pw, int *bad)
+                                const sinter_contact_list *pw, const double *tab, int *bad)
 {
     const size_t n = ps->count;
     SINTER_ELECTRIC_RESERVE(em, host_sigma, n + 1);
     SINTER_ELECTRIC_RESERVE(em, host_g, pp->count + pw->count + 1);
     for (size_t i = 0; i < n; ++i)
-        em->host_sigma[i] = conductivity(em, ps, i, bad);
+        em->host_sigma[i] = conductivity(em, ps, i, bad, tab);
     if (*bad)
         return SINTER_OK; /* reported by the caller */
     sinter_status s =
@@ -184,10 +218,15 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
     SINTER_ELECTRIC_RESERVE(em, edge_contact, m + 1);
     size_t count = 0;
     const double *r = ps->radius;
+    const double *tab = NULL;
+    const sinter_status ts = tabulated_sigma(em, ps, &tab);
+    if (ts != SINTER_OK)
+        return ts;
     int bad = 0;
     for (size_t k = 0; k < pp->count && em->host.conductance == NULL; ++k) {
         const uint32_t i = pp->i[k], j = pp->j[k];
-        const double si = conductivity(em, ps, i, &bad), sj = conductivity(em, ps, j, &bad);
+        const double si = conductivity(em, ps, i, &bad, tab),
+                     sj = conductivity(em, ps, j, &bad, tab);
         const double den = r[i] * sj + r[j] * si; /* seed 003 eq. 35 */
         const double g = den > 0.0 && pp->dist[k] > 0.0
                              ? si * sj * (r[i] + r[j]) / den * pp->area[k] / pp->dist[k]
@@ -208,7 +247,7 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
         ps->flags[i] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
         if (em->host.conductance != NULL)
             continue;
-        const double si = conductivity(em, ps, i, &bad);
+        const double si = conductivity(em, ps, i, &bad, tab);
         const double g = pw->dist[k] > 0.0 ? si * pw->area[k] / pw->dist[k] : 0.0;
         if (g > 0.0 && isfinite(g)) {
             em->edge_a[count] = i;
@@ -219,7 +258,7 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
     }
     em->edge_count = count;
     if (em->host.conductance != NULL) {
-        const sinter_status s = host_edges(em, ps, walls, pp, pw, &bad);
+        const sinter_status s = host_edges(em, ps, walls, pp, pw, tab, &bad);
         if (s != SINTER_OK)
             return s;
     }

@@ -291,11 +291,12 @@ static inline __attribute__((always_inline)) void pw_run(const sinter_heat_eval 
         const uint32_t i = c->i[k];
         const sinter_wall *wall = &e->walls->wall[c->j[k]];
         const double kw = wall->material.value[SINTER_MAT_THERMAL_CONDUCTIVITY];
-        const double g = reading == READING_PLAIN
-                             ? conductance_pw(area_law == AREA_PROJECTION, kmat[ps->material[i]],
-                                              kw, r[i], c->area[k], c->dist[k])
-                             : conductance_wall(area_law, reading, wall, kmat[ps->material[i]], kw,
-                                                r[i], c->area[k], c->dist[k], c->delta[k]);
+        const double ki = sinter_heat_conductivity(e, kmat, i);
+        const double g =
+            reading == READING_PLAIN
+                ? conductance_pw(area_law == AREA_PROJECTION, ki, kw, r[i], c->area[k], c->dist[k])
+                : conductance_wall(area_law, reading, wall, ki, kw, r[i], c->area[k], c->dist[k],
+                                   c->delta[k]);
         if (implicit)
             e->g_pw[k] += g;
         else
@@ -351,7 +352,8 @@ int sinter_conduction_ranges_begin(const sinter_heat_model *hm, const sinter_hea
                                    void *scratch, sinter_conduction_ranges *j)
 {
     const sinter_contact_list *c = e->pp;
-    if (hm->ops != &sinter_heat_conduction || e->g_pp != NULL || c->chunks.count == 0)
+    if (hm->ops != &sinter_heat_conduction || e->g_pp != NULL || c->chunks.count == 0 ||
+        e->conductivity != NULL) /* k(theta) tables: the general loops */
         return 0;
     const double area = sinter_heat_param(hm, PARAM_AREA, e->time);
     if (area != 0.0 && area != 1.0) /* conduction_eval reports it */
@@ -474,8 +476,9 @@ static void loop_pp_general(const sinter_heat_eval *e, const double *kmat, const
         if (c->unconfirmed && c->ended[k])
             continue;
         const double g = conductance_pp_general(
-            L, kmat[ps->material[i]], kmat[ps->material[j]], r[i], r[j],
-            geometry ? c->area[k] : 0.0, geometry ? c->dist[k] : 0.0, geometry ? c->delta[k] : 0.0);
+            L, sinter_heat_conductivity(e, kmat, i), sinter_heat_conductivity(e, kmat, j), r[i],
+            r[j], geometry ? c->area[k] : 0.0, geometry ? c->dist[k] : 0.0,
+            geometry ? c->delta[k] : 0.0);
         if (implicit) {
             e->g_pp[k] += g;
             continue;
@@ -548,7 +551,8 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     const int walls =
         sinter_heat_param(hm, PARAM_WALLS, e->time) != 0.0 && e->walls != NULL && e->pw != NULL;
     double kmat[SINTER_MAX_MATERIALS];
-    if (law == AREA_CONSTRICTION || radius != 0.0 || resistance != 0.0 || gas_k != 0.0) {
+    if (law == AREA_CONSTRICTION || radius != 0.0 || resistance != 0.0 || gas_k != 0.0 ||
+        e->conductivity != NULL) {
         conductivities(e->ps, kmat);
         const pp_law L = {law, radius != 0.0, resistance, gas_k, gas_gap, gas_radius};
         loop_pp_general(e, kmat, &L, implicit);

@@ -28,7 +28,18 @@ typedef struct sinter_heat_eval {
     /* the Joule power each particle received from the last network electric solve [W] (the
      * "joule" model's energy-consistent source), or NULL without a network model */
     const double *joule_dissipation;
+    /* k(theta) of each particle [W/(m K)] when a material has a conductivity table
+     * (particles/property_table.h), else NULL: the materials' constants */
+    const double *conductivity;
 } sinter_heat_eval;
+
+/* The conductivity of particle i in evaluation e: k(theta_i) when tabulated, else its
+ * material's entry of kmat. */
+static inline double sinter_heat_conductivity(const sinter_heat_eval *e, const double *kmat,
+                                              size_t i)
+{
+    return e->conductivity != NULL ? e->conductivity[i] : kmat[e->ps->material[i]];
+}
 
 typedef struct sinter_heat_ops {
     const char *name;

@@ -115,7 +115,9 @@ static sinter_status joule_eval(const sinter_heat_model *hm, sinter_heat_eval *e
         const double current = ps->current[i];
         if (current == 0.0)
             continue;
-        const double sigma0 = sinter_particle_param(ps, i, SINTER_MAT_ELECTRIC_CONDUCTIVITY);
+        /* sigma(theta) from the material's table when it has one (its sigma_0 otherwise) */
+        const double sigma0 = sinter_particle_property(ps, i, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY,
+                                                       SINTER_MAT_ELECTRIC_CONDUCTIVITY);
         if (!(sigma0 > 0.0))
             return sinter_fail(e->ctx, SINTER_ERR_INVALID,
                                "heat model '%s': particle %zu (id %llu) carries a current of %g "

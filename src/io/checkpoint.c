@@ -893,6 +893,10 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
             ps->material_top = m + 1;
             memcpy(ps->materials[m].value, material_values[m], sizeof(ps->materials[m].value));
             ps->materials[m].ctx = ctx;
+            /* the set's property tables stay (materials' data); the enthalpy follows the
+             * restored heat capacity and latent heat (the same values: the same bits) */
+            if (sinter_particles_props_update(ps, m) != SINTER_OK)
+                sinter_clear_error(ctx);
         }
     }
     ps->ghost_count = (size_t)ghost_count;

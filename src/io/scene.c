@@ -10,6 +10,7 @@
 #include "io/file_name.h"
 #include "io/scene.h"
 #include "io/scene_scan.h"
+#include "io/scene_tables.h"
 #include "io/scene_text.h"
 #include "io/scene_walls.h"
 #include "io/text_file.h"
@@ -101,6 +102,8 @@ sinter_status scene_material_read(scene_text *t, scene_section *s, sinter_materi
 {
     for (size_t e = 0; e < s->count; ++e) {
         scene_entry *en = &s->entries[e];
+        if (scene_table_key(en->key)) /* a property table: the scene's builder reads it */
+            continue;
         sinter_material_param p;
         if (sinter_material_param_find(en->key, &p) != SINTER_OK)
             return sinter_fail(t->ctx, SINTER_ERR_PARSE,
@@ -111,6 +114,64 @@ sinter_status scene_material_read(scene_text *t, scene_section *s, sinter_materi
         TRY(scene_get_double(t, s, en->key, &v));
         TRY(at_line(t, en->line, sinter_material_set(m, p, v)));
     }
+    return SINTER_OK;
+}
+
+static sinter_status scene_file_path(scene_text *t, const sinter_scene *sc, const char *file,
+                                     int line, char path[SINTER_PATH_SIZE]);
+
+/* One property table of material `id` (scene_tables.c): k, C or sigma (property >= 0) into the
+ * particle set, or E(theta) (property -1) as the softening curve E / E_0 (law 3). */
+static sinter_status material_table(scene_text *t, sinter_scene *sc, scene_section *s, int32_t id,
+                                    const char *key, int property)
+{
+    const scene_entry *e = scene_find(s, key);
+    char path[SINTER_PATH_SIZE];
+    if (!scene_table_inline(e))
+        TRY(scene_file_path(t, sc, e->value, e->line, path));
+    double *theta = NULL, *value = NULL;
+    size_t n = 0;
+    sinter_status st =
+        scene_table_read(t, s, key, scene_table_inline(e) ? NULL : path, &theta, &value, &n);
+    sinter_material *m = sc->materials[id];
+    if (st == SINTER_OK && property >= 0) {
+        st = at_line(t, e->line,
+                     sinter_particles_set_property_table(sc->ps, id, (sinter_property)property, n,
+                                                         theta, value));
+    } else if (st == SINTER_OK) {
+        const double law = m->value[SINTER_MAT_SOFTENING_LAW],
+                     e0 = m->value[SINTER_MAT_YOUNGS_MODULUS];
+        if (law != 0.0 && law != 3.0)
+            st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                             "%s:%d: %s: a Young's modulus table is softening law 3; the material "
+                             "also gives softening_law = %g",
+                             t->path, e->line, key, law);
+        for (size_t k = 0; st == SINTER_OK && k < n; ++k)
+            value[k] /= e0; /* E(theta) / E_0 with E_0 the material's youngs_modulus */
+        if (st == SINTER_OK)
+            st = at_line(t, e->line,
+                         sinter_particles_set_softening_curve(sc->ps, id, n, theta, value));
+        if (st == SINTER_OK) /* the scene's copy too, should it be registered again */
+            st = sinter_material_set(m, SINTER_MAT_SOFTENING_LAW, 3.0);
+    }
+    sinter_free(t->ctx, theta);
+    sinter_free(t->ctx, value);
+    return st;
+}
+
+/* [material NAME] keys that give a property against temperature (docs/scene-reference.md). */
+static sinter_status material_tables(scene_text *t, sinter_scene *sc, scene_section *s, int32_t id)
+{
+    if (scene_find(s, "conductivity_table") != NULL)
+        TRY(material_table(t, sc, s, id, "conductivity_table",
+                           SINTER_PROPERTY_THERMAL_CONDUCTIVITY));
+    if (scene_find(s, "heat_capacity_table") != NULL)
+        TRY(material_table(t, sc, s, id, "heat_capacity_table", SINTER_PROPERTY_HEAT_CAPACITY));
+    if (scene_find(s, "electric_conductivity_table") != NULL)
+        TRY(material_table(t, sc, s, id, "electric_conductivity_table",
+                           SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY));
+    if (scene_find(s, "youngs_modulus_table") != NULL)
+        TRY(material_table(t, sc, s, id, "youngs_modulus_table", -1));
     return SINTER_OK;
 }
 
@@ -131,9 +192,10 @@ static sinter_status build_material(scene_text *t, sinter_scene *sc, scene_secti
     TRY(at_line(t, s->line, sinter_particles_set_material(sc->ps, (int32_t)sc->material_count, m)));
     sc->material_count++;
     TRY(scene_material_read(t, s, m));
-    /* Register the final values. */
-    return at_line(t, s->line,
-                   sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m));
+    /* Register the final values, then the tables. */
+    TRY(at_line(t, s->line,
+                sinter_particles_set_material(sc->ps, (int32_t)sc->material_count - 1, m)));
+    return material_tables(t, sc, s, (int32_t)sc->material_count - 1);
 }
 
 /* A particle file being read: where its particles go. */

@@ -118,6 +118,7 @@ void sinter_particles_destroy(sinter_particles *ps)
     for (int m = 0; m < SINTER_MAX_MATERIALS; ++m) {
         sinter_free(ps->ctx, ps->softening[m].temperature);
         sinter_free(ps->ctx, ps->softening[m].factor);
+        sinter_material_props_free(ps->ctx, ps->props[m]);
     }
     sinter_id_index_free(ps->ctx, &ps->id_index);
     sinter_free(ps->ctx, ps);
@@ -218,6 +219,11 @@ sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
         return sinter_fail(ps->ctx, SINTER_ERR_RANGE,
                            "sinter_particles_set_material: material id %d is outside [0, %d]",
                            (int)id, SINTER_MAX_MATERIALS - 1);
+    if (m->value[SINTER_MAT_LATENT_HEAT] > 0.0 && !(m->value[SINTER_MAT_MELTING_TEMPERATURE] > 0.0))
+        return sinter_fail(ps->ctx, SINTER_ERR_INVALID,
+                           "sinter_particles_set_material: material '%s': latent_heat = %g J/kg "
+                           "needs a melting_temperature > 0",
+                           m->name, m->value[SINTER_MAT_LATENT_HEAT]);
     ps->materials[id] = *m;
     ps->materials[id].ctx = ps->ctx;
     ps->material_used[id] = 1;
@@ -226,7 +232,8 @@ sinter_status sinter_particles_set_material(sinter_particles *ps, int32_t id,
         if (ps->material[i] == id)
             update_mass(ps, i);
     ps->write_generation++; /* masses may have changed: steppers evaluate their forces again */
-    return SINTER_OK;
+    /* its tables stay; its enthalpy follows the new heat capacity and latent heat */
+    return sinter_particles_props_update(ps, id);
 }
 
 static sinter_status registered(const sinter_particles *ps, int32_t id, const char *func)

@@ -5,6 +5,7 @@
 #include "core/core.h"
 #include "particles/id_index.h"
 #include "particles/material.h"
+#include "particles/property_table.h"
 
 #define SINTER_MAX_MATERIALS 256
 
@@ -49,6 +50,12 @@ struct sinter_particles {
         sinter_softening_fn fn;
         void *user;
     } softening[SINTER_MAX_MATERIALS];
+    /* temperature-dependent properties per material (property_table.h), NULL: all constant;
+     * tabulated[p]: a material in the set has a table of property p; enthalpy: a material
+     * advances its temperatures through a nonlinear enthalpy (a C table or latent heat) */
+    sinter_material_props *props[SINTER_MAX_MATERIALS];
+    int tabulated[SINTER_PROPERTY_COUNT_];
+    int enthalpy;
     /* bumped whenever particles are added, removed or reordered */
     uint64_t layout_generation;
     /* bumped when particles are added or removed (not when they are only reordered, nor when
@@ -72,6 +79,40 @@ void sinter_particles_drop_ghosts(sinter_particles *ps);
  * particle owner[k], its position shifted by shift[3k..3k+2], its force, moment and heat zero. */
 sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, const uint32_t *owner,
                                               const double *shift);
+/* The tabulated branches of the accessors below, out of line (property_table.c) so that the
+ * constant path stays a flag test and the load it always was. */
+double sinter_particle_property_tabulated(const sinter_particles *ps, size_t i, sinter_property p,
+                                          sinter_material_param c);
+double sinter_particle_heat_capacity_tabulated(const sinter_particles *ps, size_t i, double theta);
+
+/* Property p of particle i at its temperature: its material's table, else the constant c. */
+static inline double sinter_particle_property(const sinter_particles *ps, size_t i,
+                                              sinter_property p, sinter_material_param c)
+{
+    if (__builtin_expect(ps->tabulated[p], 0))
+        return sinter_particle_property_tabulated(ps, i, p, c);
+    return sinter_particle_param(ps, i, c);
+}
+
+/* The enthalpy of particle i's material, NULL when its temperature advances by the constant
+ * heat capacity (theta += E / (m C)). */
+static inline const sinter_enthalpy *sinter_particle_enthalpy(const sinter_particles *ps, size_t i)
+{
+    if (!ps->enthalpy)
+        return NULL;
+    const sinter_material_props *t = ps->props[ps->material[i]];
+    return t != NULL && t->enthalpy ? &t->H : NULL;
+}
+
+/* Apparent heat capacity of particle i at temperature theta [J/(kg K)] (the latent heat's
+ * share on the melting interval included). */
+static inline double sinter_particle_heat_capacity(const sinter_particles *ps, size_t i,
+                                                   double theta)
+{
+    if (__builtin_expect(ps->enthalpy, 0))
+        return sinter_particle_heat_capacity_tabulated(ps, i, theta);
+    return sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+}
 
 /* Reorder particles: new index k holds old particle order[k]. Refused while views are out. */
 sinter_status sinter_particles_permute(sinter_particles *ps, const size_t *order);

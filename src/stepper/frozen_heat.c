@@ -190,7 +190,7 @@ static sinter_status begin_freeze(sinter_stepper *st)
         fz->capacity = n + 1;
     }
     for (size_t i = 0; i < n; ++i) {
-        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, ps->temperature[i]);
         fz->rate[i] = fixed_temperature(ps, i) || !(mc > 0.0) ? 0.0 : ps->heat[i] / mc;
     }
     const double *scale = NULL;

@@ -127,9 +127,8 @@ sinter_status sinter_sanity_start(struct sinter_stepper *st)
                                "particles %zu and %zu (ids %llu and %llu) have the same centre "
                                "(%g, %g, %g) m: their contact normal is undefined and the "
                                "overlap would be ignored; move one of them",
-                               i, j, (unsigned long long)ps->id[i],
-                               (unsigned long long)ps->id[j], x[3 * i], x[3 * i + 1],
-                               x[3 * i + 2]);
+                               i, j, (unsigned long long)ps->id[i], (unsigned long long)ps->id[j],
+                               x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     }
     return SINTER_OK;
 }
@@ -200,7 +199,8 @@ static sinter_status check_approach(struct sinter_stepper *st, const double *x_o
                            "step from t = %.9g s to %.9g s rejected: the overlap of particle %zu "
                            "(id %llu) with wall %zu grew by %g m in one step, %.3g of its radius "
                            "(limit %g), to %g m, the particle moving at %g m/s: the contact is "
-                           "not resolved; the time step %g s is too large for the contact stiffness or the impact speed "
+                           "not resolved; the time step %g s is too large for the contact "
+                           "stiffness or the impact speed "
                            "(see sinter_stable_dt_hertz). The last accepted state is kept.",
                            t, t + h, i, (unsigned long long)ps->id[i], j, growth, worst, limit,
                            c->delta[worst_k], vn, h);
@@ -230,8 +230,16 @@ static sinter_sanity_scan scan_step(const sinter_particles *ps, const double *x_
     return m;
 }
 
-sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t,
-                                 double h, const sinter_sanity_scan *scan)
+/* A material whose particles may not pass its melting point: a melting point, no latent
+ * heat to melt through, and melting_stop = 1. */
+static int melting_stops(const sinter_material *m)
+{
+    return m->value[SINTER_MAT_MELTING_TEMPERATURE] > 0.0 &&
+           !(m->value[SINTER_MAT_LATENT_HEAT] > 0.0) && m->value[SINTER_MAT_MELTING_STOP] != 0.0;
+}
+
+sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old, double t, double h,
+                                 const sinter_sanity_scan *scan)
 {
     const sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -290,22 +298,24 @@ sinter_status sinter_sanity_step(struct sinter_stepper *st, const double *x_old,
                            t, t + h, i, (unsigned long long)ps->id[i], theta,
                            SINTER_SANITY_MAX_TEMPERATURE);
     }
-    /* 4. melting: only when a material in use has a melting point (no melting model) */
+    /* 4. melting: only when a material in use has a melting point, no latent heat and asks
+     * for the stop (melting_stop = 1, the default) */
     int melts = 0;
     for (int id = 0; id < ps->material_top; ++id)
-        melts |=
-            ps->material_used[id] && ps->materials[id].value[SINTER_MAT_MELTING_TEMPERATURE] > 0.0;
+        melts |= ps->material_used[id] && melting_stops(&ps->materials[id]);
     for (size_t i = 0; melts && i < n; ++i) {
         const sinter_material *mat = &ps->materials[ps->material[i]];
         const double melt = mat->value[SINTER_MAT_MELTING_TEMPERATURE];
-        if (!(melt > 0.0 && ps->temperature[i] > melt) ||
+        if (!melting_stops(mat) || !(ps->temperature[i] > melt) ||
             (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE))
             continue;
         return sinter_fail(st->ctx, SINTER_ERR_DOMAIN,
                            "step from t = %.9g s to %.9g s rejected: particle %zu (id %llu) "
                            "reached %g K, above the melting point %g K of its material %d "
-                           "('%s', melting_temperature); libsinter has no melting model (no "
-                           "latent heat, no liquid). The last accepted state is kept.",
+                           "('%s', melting_temperature) which has no latent heat: give the "
+                           "material a latent_heat to melt it through (enthalpy method), or "
+                           "melting_stop = 0 to heat on without melting. The last accepted "
+                           "state is kept.",
                            t, t + h, i, (unsigned long long)ps->id[i], ps->temperature[i], melt,
                            (int)ps->material[i], mat->name);
     }
@@ -779,8 +789,7 @@ static void domain_range(void *data, int range, size_t lo, size_t hi)
 static size_t first_outside(const sinter_stepper *st)
 {
     domain_job job = {st, {0}};
-    const int ranges =
-        sinter_particle_pass(st->ctx, &st->pp, st->ps->count, domain_range, &job);
+    const int ranges = sinter_particle_pass(st->ctx, &st->pp, st->ps->count, domain_range, &job);
     for (int k = 0; k < ranges; ++k)
         if (job.first[k] != SIZE_MAX)
             return job.first[k];
@@ -804,5 +813,5 @@ sinter_status sinter_sanity_domain(sinter_stepper *st, const char *step, double 
                        "domain at %c = %g m (domain %g m to %g m); the last accepted state is "
                        "kept",
                        step, t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
-                       st->domain_lo[d], st->domain_hi[d]);
+                       st -> domain_lo[d], st -> domain_hi[d]);
 }

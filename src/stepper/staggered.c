@@ -475,8 +475,15 @@ static size_t update_temperatures(sinter_stepper *st, const saved_state *a, doub
     for (size_t i = 0; i < n; ++i) {
         if (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE)
             continue;
-        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
-        const double theta = a->theta[i] + h / mc * (phi * q[i] + psi * a->q[i]);
+        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+        double theta;
+        if (H == NULL) {
+            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            theta = a->theta[i] + h / mc * (phi * q[i] + psi * a->q[i]);
+        } else { /* eq. 36 for the enthalpy: C(theta) or latent heat */
+            theta = sinter_enthalpy_inverse(H, sinter_enthalpy_at(H, a->theta[i]) +
+                                                   h / ps->mass[i] * (phi * q[i] + psi * a->q[i]));
+        }
         ps->temperature[i] = theta;
         if (!(theta > 0.0 && theta < INFINITY) && bad == n)
             bad = i;

@@ -847,7 +847,7 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
             if (g[i] > 0.0)
                 best =
                     fmin(best, ps->mass[i] *
-                                   sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY) / g[i]);
+                                   sinter_particle_heat_capacity(ps, i, ps->temperature[i]) / g[i]);
         *dt = best;
     }
     sinter_free(st->ctx, g);

@@ -35,6 +35,7 @@ void sinter_thermal_free(sinter_ctx *ctx, sinter_thermal *th)
     sinter_free(ctx, th->modulus_scale);
     sinter_free(ctx, th->theta_backup);
     sinter_free(ctx, th->law_scratch);
+    sinter_free(ctx, th->conductivity);
     solver_free(ctx, th->solver);
     memset(th, 0, sizeof(*th));
 }
@@ -145,10 +146,31 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     return e;
 }
 
+sinter_status sinter_thermal_conductivities(sinter_stepper *st, const double **k)
+{
+    sinter_thermal *th = &st->thermal;
+    const sinter_particles *ps = st->ps;
+    *k = NULL;
+    if (!ps->tabulated[SINTER_PROPERTY_THERMAL_CONDUCTIVITY])
+        return SINTER_OK;
+    sinter_status s = sinter_grow(st->ctx, (void **)&th->conductivity, &th->conductivity_capacity,
+                                  ps->count + 1, sizeof(double));
+    if (s != SINTER_OK)
+        return s;
+    for (size_t i = 0; i < ps->count; ++i)
+        th->conductivity[i] = sinter_particle_property(ps, i, SINTER_PROPERTY_THERMAL_CONDUCTIVITY,
+                                                       SINTER_MAT_THERMAL_CONDUCTIVITY);
+    *k = th->conductivity;
+    return SINTER_OK;
+}
+
 int sinter_thermal_law_begin(sinter_stepper *st)
 {
     sinter_thermal *th = &st->thermal;
     th->first_in_law = 0;
+    /* k(theta) tables: conduction_eval's general loops, after the law */
+    if (st->ps->tabulated[SINTER_PROPERTY_THERMAL_CONDUCTIVITY])
+        return 0;
     /* on one thread there is no fork to save nor wait to fill, and the interleaved passes
      * measured 1-2 % slower (RESULTS.md, issue 9, session 20) */
     if (th->count == 0 || th->scheme != SINTER_THERMAL_EXPLICIT ||
@@ -202,6 +224,9 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
         if (sinter_heat_reads_geometry(th->slots[k].model, st->time))
             sinter_contacts_geometry(st->ctx, &st->pp, ps); /* a lean list gets it here */
     sinter_heat_eval e = explicit_eval(st);
+    sinter_status ks = sinter_thermal_conductivities(st, &e.conductivity);
+    if (ks != SINTER_OK)
+        return ks;
     if (th->scheme == SINTER_THERMAL_IMPLICIT) {
         sinter_status s = sinter_grow(st->ctx, (void **)&th->g_pp, &th->g_pp_capacity,
                                       st->pp.count + 1, sizeof(double));
@@ -323,7 +348,9 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
            *x = sinter_pcg_solution(sv->pcg);
     const double *theta = ps->temperature;
     for (size_t i = 0; i < n; ++i) {
-        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        /* C(theta) at the step's start (linearised backward Euler; the energy is kept exact
+         * below through the enthalpy) */
+        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
         diag[i] = fixed(ps, i) ? 1.0 : mc / h;
         b[i] = fixed(ps, i) ? theta[i] : mc / h * theta[i] + ps->heat[i];
         x[i] = theta[i];
@@ -370,9 +397,14 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     for (size_t i = 0; i < n; ++i) {
         if (fixed(ps, i))
             continue;
-        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
         ps->heat[i] = mc * (x[i] - theta[i]) / h; /* the power actually applied */
-        ps->temperature[i] = x[i];
+        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+        /* with C(theta) or latent heat the energy mc (x - theta) goes into the enthalpy */
+        ps->temperature[i] = H == NULL
+                                 ? x[i]
+                                 : sinter_enthalpy_inverse(H, sinter_enthalpy_at(H, theta[i]) +
+                                                                  ps->heat[i] * h / ps->mass[i]);
     }
     return SINTER_OK;
 }
@@ -402,8 +434,14 @@ static void impose_wall_temperatures(sinter_stepper *st, double h)
         const sinter_wall *wall = &walls->wall[st->pw.j[k]];
         if (wall->thermal_mode != SINTER_WALL_IMPOSED || fixed(ps, i))
             continue;
-        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
-        energy += mc * (wall->temperature - ps->temperature[i]);
+        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+        if (H != NULL) {
+            energy += ps->mass[i] * (sinter_enthalpy_at(H, wall->temperature) -
+                                     sinter_enthalpy_at(H, ps->temperature[i]));
+        } else {
+            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            energy += mc * (wall->temperature - ps->temperature[i]);
+        }
         ps->temperature[i] = wall->temperature;
     }
     for (size_t k = 0; k < st->thermal.count; ++k)
@@ -422,24 +460,57 @@ sinter_status sinter_thermal_explicit_begin(sinter_stepper *st)
                        sizeof(double));
 }
 
+/* The explicit update of [lo, hi) when a material's temperature advances through its enthalpy:
+ * H(theta_1) = H(theta_0) + h Q / m (seed 003 eq. 46 written for H); the others as usual. */
+static void enthalpy_range(sinter_stepper *st, double h, size_t lo, size_t hi, size_t *bad,
+                           size_t *hot)
+{
+    sinter_particles *ps = st->ps;
+    double *restrict saved = st->thermal.theta_backup, *restrict temp = ps->temperature;
+    for (size_t i = lo; i < hi; ++i) {
+        const double t0 = temp[i];
+        saved[i] = t0;
+        if (fixed(ps, i))
+            continue;
+        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+        double t1;
+        if (H == NULL) {
+            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            t1 = t0 + h * ps->heat[i] / mc;
+        } else {
+            t1 = sinter_enthalpy_inverse(H,
+                                         sinter_enthalpy_at(H, t0) + h * ps->heat[i] / ps->mass[i]);
+        }
+        temp[i] = t1;
+        if (!(t1 > 0.0 && t1 < INFINITY) && i < *bad)
+            *bad = i;
+        if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < *hot)
+            *hot = i;
+    }
+}
+
 void sinter_thermal_explicit_range(sinter_stepper *st, double h, size_t lo, size_t hi, size_t *bad,
                                    size_t *hot)
 {
     sinter_particles *ps = st->ps;
     double *restrict saved = st->thermal.theta_backup, *restrict temp = ps->temperature;
     size_t first_bad = hi, first_hot = hi;
-    for (size_t i = lo; i < hi; ++i) {
-        const double t0 = temp[i];
-        saved[i] = t0;
-        if (fixed(ps, i))
-            continue;
-        const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
-        const double t1 = t0 + h * ps->heat[i] / mc;
-        temp[i] = t1;
-        if (!(t1 > 0.0 && t1 < INFINITY) && i < first_bad)
-            first_bad = i;
-        if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < first_hot)
-            first_hot = i;
+    if (__builtin_expect(ps->enthalpy, 0)) { /* C(theta) or latent heat (property_table.h) */
+        enthalpy_range(st, h, lo, hi, &first_bad, &first_hot);
+    } else {
+        for (size_t i = lo; i < hi; ++i) {
+            const double t0 = temp[i];
+            saved[i] = t0;
+            if (fixed(ps, i))
+                continue;
+            const double mc = ps->mass[i] * sinter_particle_param(ps, i, SINTER_MAT_HEAT_CAPACITY);
+            const double t1 = t0 + h * ps->heat[i] / mc;
+            temp[i] = t1;
+            if (!(t1 > 0.0 && t1 < INFINITY) && i < first_bad)
+                first_bad = i;
+            if (!(t1 <= SINTER_SANITY_MAX_TEMPERATURE) && i < first_hot)
+                first_hot = i;
+        }
     }
     *bad = first_bad;
     *hot = first_hot;

@@ -14,8 +14,8 @@
 
 typedef struct sinter_heat_slot {
     sinter_heat_model *model;
-    double power;  /* total power of the last evaluation [W] */
-    double energy; /* time integral of the power applied so far [J] */
+    double power;   /* total power of the last evaluation [W] */
+    double energy;  /* time integral of the power applied so far [J] */
     double applied; /* energy added by the last update, taken back on a rollback [J] */
 } sinter_heat_slot;
 
@@ -32,8 +32,8 @@ typedef struct sinter_thermal {
     size_t g_pw_capacity;
     double *modulus_scale; /* E(theta)/E_0 per particle, when a material softens */
     size_t scale_capacity;
-    int softening;         /* 1 if the last evaluation computed modulus_scale */
-    double *theta_backup;  /* temperatures of the last accepted state */
+    int softening;        /* 1 if the last evaluation computed modulus_scale */
+    double *theta_backup; /* temperatures of the last accepted state */
     size_t backup_capacity;
     /* the explicit update of this step also took the sanity check's temperature test
      * (sanity.c, criterion 3): the first free particle above its limit, or the count */
@@ -53,6 +53,8 @@ typedef struct sinter_thermal {
     int first_in_law;
     uint64_t law_evaluations;
     sinter_thermal_solver *solver;
+    double *conductivity; /* k(theta) per particle, when a material tabulates it */
+    size_t conductivity_capacity;
 } sinter_thermal;
 
 struct sinter_stepper;
@@ -61,6 +63,10 @@ void sinter_thermal_free(sinter_ctx *ctx, sinter_thermal *th);
 
 /* Softening factors of the current temperatures; *scale is NULL when no material softens. */
 sinter_status sinter_thermal_softening(struct sinter_stepper *st, const double **scale);
+
+/* k(theta) of every particle at its temperature when a material has a conductivity table
+ * (into st->thermal.conductivity), else *k = NULL. */
+sinter_status sinter_thermal_conductivities(struct sinter_stepper *st, const double **k);
 
 /* Evaluate every heat submodel into ps->heat (and conductances when implicit). */
 sinter_status sinter_thermal_eval(struct sinter_stepper *st);

@@ -6,7 +6,8 @@ The keys the parser accepts are read from the sources, so that the reference can
     reads (scene_get_*(t, s, "key"), the option and number tables), following the calls between
     the file's static functions and those of src/io/scene_walls.c;
   - [material]: the parameter table of src/particles/material.c (the keys of
-    sinter_material_param_info; with the library at hand, sinter.Material.keys() too);
+    sinter_material_param_info; with the library at hand, sinter.Material.keys() too) and the
+    keys build_material reads itself (the property tables);
   - [force NAME] / [heat NAME]: the built-in models' key tables (src/force, src/heat);
   - [electric NAME]: src/electric/electric.c;
   - [stepper]: also the quasi-static options (src/stepper/quasistatic.c, "qs_*");
@@ -182,7 +183,8 @@ def documented():
 
 def main():
     accepted = {(s, ""): k for s, k in parser_keys().items()}
-    accepted[("material", "")] = material_keys()
+    # the parameters, and the keys the material's builder reads itself (property tables)
+    accepted[("material", "")] = material_keys() | accepted.get(("material", ""), set())
     accepted[("stepper", "")] |= quasistatic_keys()
     accepted[("pair", "")] = pair_keys()
     for section, models in (("force", model_keys("src/force", "sinter_force_ops")),

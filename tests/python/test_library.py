@@ -169,6 +169,7 @@ class CoverageTest(unittest.TestCase):
             "sinter_contact_data": (sinter.snapshot.ContactData, "SINTER_CONTACT_DATA_"),
             "sinter_link_data": (sinter.snapshot.LinkData, "SINTER_LINK_DATA_"),
             "sinter_coarse_quantity": (sinter.CoarseQuantity, "SINTER_COARSE_"),
+            "sinter_property": (sinter.Property, "SINTER_PROPERTY_"),
         }
         declared = set(re.findall(r"typedef enum (\w+) \{", code))
         self.assertEqual(declared - set(pairs), set(), "give these C enums a Python enum")

@@ -38,6 +38,25 @@ class ParticlesCases:
         self.ps.set_material(0, self.steel)
         self.assertEqual(self.ps.add(POSITIONS, RADII, temperature=300.0), range(0, 5))
 
+    def test_property_tables_and_enthalpy(self):
+        """C(theta) tabulated: the table read back (linear, clamped), the specific enthalpy its
+        integral (C0 theta below the table, then the trapezoid); a latent heat adds L above
+        the melting interval; a backwards table is refused with the library's message."""
+        if "sinter_particles_set_property_table" in sinter._lib.missing_functions:
+            self.skipTest("the library has no property tables")
+        self.ps.set_property_table(0, sinter.Property.HEAT_CAPACITY, [300, 1300], [400, 600])
+        self.assertEqual(self.ps.property_at(0, sinter.Property.HEAT_CAPACITY, 800.0), 500.0)
+        self.assertEqual(self.ps.property_at(0, sinter.Property.HEAT_CAPACITY, 2000.0), 600.0)
+        h = self.ps.specific_enthalpy(0, 1300.0)
+        self.assertAlmostEqual(h, 400.0 * 300.0 + 0.5 * (400.0 + 600.0) * 1000.0, delta=1e-6)
+        self.steel.update(melting_temperature=1000.0, latent_heat=2e5, melting_range=10.0)
+        self.ps.set_material(0, self.steel)
+        self.assertAlmostEqual(self.ps.specific_enthalpy(0, 1300.0) - h, 2e5, delta=1e-6)
+        with self.assertRaises(sinter.InvalidArgument) as caught:
+            self.ps.set_property_table(0, sinter.Property.THERMAL_CONDUCTIVITY, [400, 300],
+                                       [1, 1])
+        self.assertIn("strictly increasing", str(caught.exception))
+
     def test_array_type(self):
         with self.ps.view("radius") as radius:
             self.assertEqual(isinstance(radius, memoryview), not self.use_numpy)

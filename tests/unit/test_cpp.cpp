@@ -136,6 +136,16 @@ void test_errors()
     CHECK(ps.size() == 0);
     ps.add({0.0, 0.0, radius}, {radius}, 0, 300);
     CHECK(ps.size() == 1);
+    // property tables: read back linearly, the enthalpy C theta for a constant C
+    ps.set_property_table(0, sinter::property::thermal_conductivity, {300.0, 1300.0},
+                          {400.0, 300.0});
+    CHECK(ps.property_at(0, sinter::property::thermal_conductivity, 800.0) == 350.0);
+    message = EXPECT_ERROR(sinter::status::invalid,
+                           ps.set_property_table(0, sinter::property::heat_capacity, {300.0},
+                                                 {1.0, 2.0}));
+    CHECK(contains(message, "differ in size"));
+    CHECK(ps.specific_enthalpy(0, 500.0) ==
+          500.0 * grain.get(sinter::material_param::heat_capacity));
 
     {
         auto x = ps.view(sinter::field::position);

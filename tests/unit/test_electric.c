@@ -601,6 +601,16 @@ static void test_joule_constant_conductivity(void **state)
     assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
     f.ps->current[0] = -current; /* J^2: the sign does not matter */
     assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
+    /* sigma(theta) from a table (issue 39): 4 S/m at 300 K to 1 S/m at 500 K, 2.5 S/m at the
+     * particle's 400 K; removed, the material's constant again */
+    const double tt[2] = {300.0, 500.0}, sv[2] = {4.0, 1.0};
+    OK(sinter_particles_set_property_table(f.ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 2, tt,
+                                           sv));
+    f.ps->temperature[0] = 400.0;
+    assert_rel(joule(&f, hm, SINTER_OK), ABSORPTANCE[0] * current * current / 2.5 * volume, 1e-12);
+    OK(sinter_particles_set_property_table(f.ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 0, NULL,
+                                           NULL));
+    assert_rel(joule(&f, hm, SINTER_OK), expected, 1e-12);
 
     f.ps->current[1] = 0.1; /* a current through a non-conductor */
     joule(&f, hm, SINTER_ERR_INVALID);
@@ -875,6 +885,49 @@ static void test_network_conductivity_follows_temperature(void **state)
     OK(sinter_electric_model_set(f.em, "k1", -3.0));
     assert_int_equal(solve(&f, NULL), SINTER_ERR_DOMAIN);
     close_fixture(&f);
+}
+
+/*
+ * sigma(theta) from a material's table (issue 39): the same series chain with material 0's
+ * conductivity tabulated, 2 S/m at 300 K to 0.5 S/m at 1100 K, particles at 300 K and 700 K
+ * (1.25 S/m, interpolated): the current is V / (sum of the three resistances) with the table's
+ * values; with eq. 50's sigmoid on, its temperature term multiplies the table's value.
+ */
+static void test_network_conductivity_table(void **state)
+{
+    (void)state;
+    for (int sigmoid = 0; sigmoid < 2; ++sigmoid) {
+        fixture f;
+        open_fixture(&f);
+        const double dp = 1e-4, dw = 2e-4, v0 = 1.0, k1 = -0.6, gamma1 = 0.01, theta_ref = 600.0;
+        const double delta[1] = {dp}, tt[2] = {300.0, 1100.0}, sv[2] = {2.0, 0.5};
+        OK(sinter_particles_set_property_table(f.ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 2,
+                                               tt, sv));
+        const double x_right = add_chain(&f, 2, delta, dw, 0.0, 0);
+        f.ps->temperature[0] = 300.0;
+        f.ps->temperature[1] = 700.0;
+        add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, v0);
+        add_wall(&f, x_right, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+        find_contacts(&f);
+        model(&f, "network", 1e-14);
+        double sigma[2] = {2.0, 1.25};
+        if (sigmoid) {
+            OK(sinter_electric_model_set(f.em, "sigmoid", 1));
+            OK(sinter_electric_model_set(f.em, "k1", k1));
+            OK(sinter_electric_model_set(f.em, "gamma1", gamma1));
+            OK(sinter_electric_model_set(f.em, "theta_ref", theta_ref));
+            for (int k = 0; k < 2; ++k)
+                sigma[k] *= 1.0 + k1 / (1.0 + exp(-gamma1 * (f.ps->temperature[k] - theta_ref)));
+        }
+        const double s_pair = 2.0 * sigma[0] * sigma[1] / (sigma[0] + sigma[1]);
+        const double r_total = (R - dw) / (sigma[0] * wall_area(dw)) +
+                               (2.0 * R - dp) / (s_pair * pair_area(dp)) +
+                               (R - dw) / (sigma[1] * wall_area(dw));
+        OK(solve(&f, NULL));
+        assert_rel(f.ps->current[0], v0 / r_total, 1e-12);
+        assert_rel(f.ps->current[1], v0 / r_total, 1e-12);
+        close_fixture(&f);
+    }
 }
 
 /* ---- host conductance law and Joule split (issue 39) ---------------------------------------- */
@@ -1359,6 +1412,7 @@ int main(void)
         cmocka_unit_test(test_misuse),
         cmocka_unit_test(test_network_power_and_joule_shares),
         cmocka_unit_test(test_network_conductivity_follows_temperature),
+        cmocka_unit_test(test_network_conductivity_table),
         cmocka_unit_test(test_joule_energy_balance_over_a_run),
         cmocka_unit_test(test_joule_and_wall_heat_balance_over_a_run),
         cmocka_unit_test(test_supply_limits_pulses_and_schedules),

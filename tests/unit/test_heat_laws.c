@@ -90,6 +90,7 @@ static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int
                           implicit ? f->g_pp : NULL,
                           implicit ? f->g_pw : NULL,
                           NULL,
+                          NULL,
                           NULL};
     return hm->ops->eval(hm, &e);
 }

@@ -723,7 +723,7 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_material_set(f->mat, SINTER_MAT_SOFTENING_LAW, 1.5))                                  \
     X(material_get_null_out, SINTER_ERR_NULL, "'value'",                                           \
       sinter_material_get(f->mat, SINTER_MAT_DENSITY, NULL))                                       \
-    X(material_get_unknown_param, SINTER_ERR_RANGE, "parameter 54",                                \
+    X(material_get_unknown_param, SINTER_ERR_RANGE, "parameter 57",                                \
       sinter_material_get(f->mat, SINTER_MAT_PARAM_COUNT_, &f->out.value))                         \
     X(material_param_info_unknown, SINTER_ERR_RANGE, NULL,                                         \
       sinter_material_param_info((sinter_material_param)-5, NULL, NULL, NULL, NULL, NULL, NULL))   \
@@ -837,6 +837,39 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_particles_set_softening_curve(f->ps, 0, 2, CURVE_T2, FACTOR2_NAN))                    \
     X(softening_curve_id_range, SINTER_ERR_NOT_FOUND, "material id 300",                           \
       sinter_particles_set_softening_curve(f->ps, 300, 2, CURVE_T2, FACTOR2))                      \
+    X(property_table_null, SINTER_ERR_NULL, NULL,                                                  \
+      sinter_particles_set_property_table(NULL, 0, SINTER_PROPERTY_HEAT_CAPACITY, 2, CURVE_T2,     \
+                                          FACTOR2))                                                \
+    X(property_table_null_values, SINTER_ERR_NULL, "'values'",                                     \
+      sinter_particles_set_property_table(f->ps, 0, SINTER_PROPERTY_HEAT_CAPACITY, 2, CURVE_T2,    \
+                                          NULL))                                                   \
+    X(property_table_unregistered, SINTER_ERR_NOT_FOUND, "material id 5 is not registered",        \
+      sinter_particles_set_property_table(f->ps, 5, SINTER_PROPERTY_HEAT_CAPACITY, 2, CURVE_T2,    \
+                                          FACTOR2))                                                \
+    X(property_table_bad_property, SINTER_ERR_RANGE, "property 7 is not one of 0..2",              \
+      sinter_particles_set_property_table(f->ps, 0, (sinter_property)7, 2, CURVE_T2, FACTOR2))     \
+    X(property_table_backwards, SINTER_ERR_INVALID, "point 1 has temperature 0.5 K",               \
+      sinter_particles_set_property_table(f->ps, 0, SINTER_PROPERTY_THERMAL_CONDUCTIVITY, 2,       \
+                                          T2_BACK, FACTOR2))                                       \
+    X(property_table_zero_kelvin, SINTER_ERR_INVALID, "point 0 has temperature 0 K",               \
+      sinter_particles_set_property_table(f->ps, 0, SINTER_PROPERTY_THERMAL_CONDUCTIVITY, 2, T2,   \
+                                          FACTOR2))                                                \
+    X(property_table_zero_value, SINTER_ERR_INVALID, "point 1 (900 K) has value 0",                \
+      sinter_particles_set_property_table(f->ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 2,      \
+                                          CURVE_T2, FACTOR2_ZERO))                                 \
+    X(property_table_nan_value, SINTER_ERR_INVALID, "point 0 (300 K) has value nan",               \
+      sinter_particles_set_property_table(f->ps, 0, SINTER_PROPERTY_HEAT_CAPACITY, 2, CURVE_T2,    \
+                                          FACTOR2_NAN))                                            \
+    X(property_null_out, SINTER_ERR_NULL, "'value'",                                               \
+      sinter_particles_property(f->ps, 0, SINTER_PROPERTY_HEAT_CAPACITY, 300.0, NULL))             \
+    X(property_bad_temperature, SINTER_ERR_INVALID, "temperature -1 K",                            \
+      sinter_particles_property(f->ps, 0, SINTER_PROPERTY_HEAT_CAPACITY, -1.0, &f->out.value))     \
+    X(property_unregistered, SINTER_ERR_NOT_FOUND, "material id 9 is not registered",              \
+      sinter_particles_property(f->ps, 9, SINTER_PROPERTY_HEAT_CAPACITY, 300.0, &f->out.value))    \
+    X(enthalpy_null_out, SINTER_ERR_NULL, "'enthalpy'",                                            \
+      sinter_particles_specific_enthalpy(f->ps, 0, 300.0, NULL))                                   \
+    X(enthalpy_bad_temperature, SINTER_ERR_INVALID, "temperature nan K",                           \
+      sinter_particles_specific_enthalpy(f->ps, 0, NAN, &f->out.value))                            \
     X(softening_callback_null_fn, SINTER_ERR_NULL, "'fn'",                                         \
       sinter_particles_set_softening_callback(f->ps, 0, NULL, NULL))                               \
     X(softening_callback_unregistered, SINTER_ERR_NOT_FOUND, "material id 7 is not",               \

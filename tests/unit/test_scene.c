@@ -456,6 +456,59 @@ static void test_temperature_bins(void **state)
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "whole number");
 }
 
+/* [material NAME] property tables: inline pairs and a CSV file (a header, comments), read back
+ * through the particle set; E(theta) becomes the softening curve E / E_0; bad tables name the
+ * line. */
+static void test_property_tables(void **state)
+{
+    (void)state;
+    char text[4096];
+    const char *particles = strstr(GOOD, "[particles]");
+    write_file("k.csv", "temperature [K], k [W/(m K)]\n# copper, rounded\n300, 400\n1300;200\n");
+    snprintf(text, sizeof(text),
+             "%.*sheat_capacity_table = 300 400, 1300 500\nconductivity_table = k.csv\n"
+             "electric_conductivity_table = 300 6e7, 1300 1e7\n"
+             "youngs_modulus_table = 300 1e7, 1300 5e6\n%s",
+             (int)(particles - GOOD), GOOD, particles);
+    sinter_ctx *ctx = NULL;
+    sinter_scene *scene = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("tables.scene", text)), SINTER_OK);
+    sinter_particles *ps = NULL;
+    assert_int_equal(sinter_scene_get_particles(scene, &ps), SINTER_OK);
+    double v = 0.0;
+    assert_int_equal(sinter_particles_property(ps, 0, SINTER_PROPERTY_HEAT_CAPACITY, 800.0, &v),
+                     SINTER_OK);
+    assert_true(v == 450.0);
+    assert_int_equal(
+        sinter_particles_property(ps, 0, SINTER_PROPERTY_THERMAL_CONDUCTIVITY, 800.0, &v),
+        SINTER_OK);
+    assert_true(v == 300.0);
+    assert_int_equal(
+        sinter_particles_property(ps, 0, SINTER_PROPERTY_ELECTRIC_CONDUCTIVITY, 1300.0, &v),
+        SINTER_OK);
+    assert_true(v == 1e7);
+    const sinter_material *m = NULL;
+    assert_int_equal(sinter_particles_get_material(ps, 0, &m), SINTER_OK);
+    assert_int_equal(sinter_material_get(m, SINTER_MAT_SOFTENING_LAW, &v), SINTER_OK);
+    assert_true(v == 3.0);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    snprintf(text, sizeof(text), "%.*sheat_capacity_table = 300 400, 1300\n%s",
+             (int)(particles - GOOD), GOOD, particles);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "expected pairs");
+    snprintf(text, sizeof(text), "%.*sheat_capacity_table = 300 400, 200 500\n%s",
+             (int)(particles - GOOD), GOOD, particles);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:", "strictly increasing");
+    write_file("bad.csv", "theta,C\n300,400\nhot,500\n");
+    snprintf(text, sizeof(text), "%.*sheat_capacity_table = bad.csv\n%s", (int)(particles - GOOD),
+             GOOD, particles);
+    expect_parse_error(text, SINTER_ERR_PARSE, "bad.csv:3:", "two finite numbers");
+    snprintf(text, sizeof(text), "%.*slatent_heat = 1e5\n%s", (int)(particles - GOOD), GOOD,
+             particles);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:", "melting_temperature");
+}
+
 static void test_furnace_scene(void **state)
 {
     (void)state;
@@ -946,6 +999,7 @@ int main(void)
         cmocka_unit_test(test_bad_checkpoints_are_refused),
         cmocka_unit_test(test_run_writes_outputs),
         cmocka_unit_test(test_quasistatic_scene_writes_neck_counts),
+        cmocka_unit_test(test_property_tables),
         cmocka_unit_test(test_furnace_scene),
         cmocka_unit_test(test_scan_path_keys),
         cmocka_unit_test(test_temperature_bins),

@@ -256,6 +256,9 @@ SIGNATURES = {
     "sinter_particles_set_material": (c_status, [ParticlesPtr, ctypes.c_int32, MaterialPtr]),
     "sinter_particles_set_softening_curve": (c_status, [ParticlesPtr, ctypes.c_int32, _size, _P(_double), _P(_double)]),
     "sinter_particles_set_softening_callback": (c_status, [ParticlesPtr, ctypes.c_int32, SofteningFn, ctypes.c_void_p]),
+    "sinter_particles_set_property_table": (c_status, [ParticlesPtr, ctypes.c_int32, c_enum, _size, _P(_double), _P(_double)]),
+    "sinter_particles_property": (c_status, [ParticlesPtr, ctypes.c_int32, c_enum, _double, _P(_double)]),
+    "sinter_particles_specific_enthalpy": (c_status, [ParticlesPtr, ctypes.c_int32, _double, _P(_double)]),
     "sinter_particles_get_material": (c_status, [ParticlesPtr, ctypes.c_int32, _P(MaterialPtr)]),
     "sinter_particles_add": (
         c_status, [ParticlesPtr, _size, _P(_double), _P(_double), ctypes.c_int32, _double,

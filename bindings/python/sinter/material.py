@@ -93,7 +93,7 @@ class Material(_Handle):
         "surface_activation_energy_hot", "grain_boundary_diffusion_prefactor_hot",
         "grain_boundary_activation_energy_hot", "surface_mobile_fraction_hot",
         "grain_boundary_mobile_fraction_hot", "phase_transition_temperature",
-        "melting_temperature"
+        "melting_temperature", "latent_heat", "melting_range", "melting_stop"
     )
 
     def __init__(self, context: Context, name: Optional[str] = None,
@@ -151,7 +151,10 @@ class Material(_Handle):
                  surface_mobile_fraction_hot: Optional[float] = None,
                  grain_boundary_mobile_fraction_hot: Optional[float] = None,
                  phase_transition_temperature: Optional[float] = None,
-                 melting_temperature: Optional[float] = None) -> None:
+                 melting_temperature: Optional[float] = None,
+                 latent_heat: Optional[float] = None,
+                 melting_range: Optional[float] = None,
+                 melting_stop: Optional[float] = None) -> None:
         """Create a material with every parameter at its default, then set `params` (a
         mapping {key: value}) and the keywords given (None: left at the default).
 
@@ -212,8 +215,13 @@ class Material(_Handle):
         surface_mobile_fraction_hot [1]: default 0.2, range [0, 1]
         grain_boundary_mobile_fraction_hot [1]: default 0.1, range [0, 1]
         phase_transition_temperature [K]: default 0, range [0, 100000]
-        melting_temperature [K]: default 0 (no check), range [0, 100000]; a step that takes a
-            particle past it stops with SINTER_ERR_DOMAIN
+        melting_temperature [K]: default 0 (no check), range [0, 100000]; without latent heat
+            and with melting_stop 1 a step that takes a particle past it stops with
+            SINTER_ERR_DOMAIN
+        latent_heat [J/kg]: default 0, range [0, 1e8]; absorbed over [melting_temperature,
+            melting_temperature + melting_range] as an apparent heat capacity (enthalpy method)
+        melting_range [K]: default 1, range (0, 10000]
+        melting_stop [1]: default 1 (stop without latent heat), 0 heats on; whole number
         """
         handle = MaterialPtr()
         encoded = None if name is None else name.encode("utf-8")
@@ -318,7 +326,10 @@ class Material(_Handle):
                surface_mobile_fraction_hot: Optional[float] = None,
                grain_boundary_mobile_fraction_hot: Optional[float] = None,
                phase_transition_temperature: Optional[float] = None,
-               melting_temperature: Optional[float] = None) -> None:
+               melting_temperature: Optional[float] = None,
+               latent_heat: Optional[float] = None,
+               melting_range: Optional[float] = None,
+               melting_stop: Optional[float] = None) -> None:
         """Set several parameters from a mapping {key: value} and/or the keywords (None:
         unchanged); see __init__ for the keys, units and ranges. An unknown key of the
         mapping raises NotFound listing the known ones."""

@@ -92,6 +92,14 @@ class ParticleFlag(enum.IntFlag):
     ELECTRIFIED = 8  #: set by the electric submodel: touches an electrified wall
 
 
+class Property(enum.IntEnum):
+    """sinter_property: a material property that may be tabulated against temperature."""
+
+    THERMAL_CONDUCTIVITY = 0  #: k(theta) [W/(m K)]
+    HEAT_CAPACITY = 1  #: C(theta) [J/(kg K)]
+    ELECTRIC_CONDUCTIVITY = 2  #: sigma(theta) [S/m]
+
+
 def _field(name):
     if isinstance(name, Field):
         name = name.name.lower()
@@ -309,6 +317,40 @@ class Particles(_Handle):
         self._check(lib.sinter_particles_set_softening_curve(
             self._ptr, material_id, n, (ctypes.c_double * max(n, 1))(*temperatures),
             (ctypes.c_double * max(n, 1))(*factors)), "sinter_particles_set_softening_curve")
+
+    def set_property_table(self, material_id: int, prop: Property,
+                           temperatures: Sequence[float], values: Sequence[float]) -> None:
+        """Tabulate `prop` of material `material_id` against temperature: values (> 0, the
+        property's SI unit) at temperatures [K] (> 0, strictly increasing), linear between
+        points and clamped outside; replaces the material's constant. Empty lists remove it."""
+        temperatures = [float(t) for t in temperatures]
+        values = [float(v) for v in values]
+        if len(temperatures) != len(values):
+            raise ValueError("%d temperatures but %d values" % (len(temperatures), len(values)))
+        n = len(temperatures)
+        self._check(lib.sinter_particles_set_property_table(
+            self._ptr, material_id, int(Property(prop)), n,
+            (ctypes.c_double * max(n, 1))(*temperatures), (ctypes.c_double * max(n, 1))(*values)),
+            "sinter_particles_set_property_table")
+
+    def property_at(self, material_id: int, prop: Property, temperature: float) -> float:
+        """Value of `prop` of material `material_id` at `temperature` [K] (its table's or its
+        constant)."""
+        value = ctypes.c_double()
+        self._check(lib.sinter_particles_property(self._ptr, material_id, int(Property(prop)),
+                                                  float(temperature), ctypes.byref(value)),
+                    "sinter_particles_property")
+        return value.value
+
+    def specific_enthalpy(self, material_id: int, temperature: float) -> float:
+        """Specific enthalpy [J/kg] of material `material_id` at `temperature` [K]: the
+        integral of C from 0 K plus the latent heat absorbed below it."""
+        value = ctypes.c_double()
+        self._check(lib.sinter_particles_specific_enthalpy(self._ptr, material_id,
+                                                           float(temperature),
+                                                           ctypes.byref(value)),
+                    "sinter_particles_specific_enthalpy")
+        return value.value
 
     def set_softening_callback(self, material_id: int,
                                function: Callable[[float], float]) -> None:
