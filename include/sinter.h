@@ -1520,6 +1520,9 @@ SINTER_API sinter_status sinter_pair_run(sinter_ctx *ctx, const char *path, cons
  * "qs_neck_stiffness" 1 gives each link the section of its neck, pi x^2, instead of the full
  * pi R_m^2 of eq. 36 (stiffness and sintering force by (x/R_m)^2, bending and torsion by
  * (x/R_m)^4; docs/models.md); 0, the default, keeps the seed's constant section.
+ * "qs_neck_law" chooses the pair law that advances the necks: 0 (default) the 7DOF model,
+ * 1 the classic grain-boundary diffusion contact law of Bouvard and McMeeking (docs/7dof.md
+ * §7.4), 2 a host law (sinter_stepper_set_neck_law, sinter_submodel.h).
  */
 typedef struct sinter_sintering_stats {
     size_t struct_size;      /**< sizeof(sinter_sintering_stats) */
