@@ -286,7 +286,22 @@ typedef enum sinter_material_param {
     /** melting point [K], 0 = none (the default): a step that takes a particle of the material
      *  above it is refused with SINTER_ERR_DOMAIN (no melting model), [0, 1e5] */
     SINTER_MAT_MELTING_TEMPERATURE = 53,
-    SINTER_MAT_PARAM_COUNT_ = 54         /**< number of parameters in this version (not a parameter) */
+    /* --- the 7DOF reconstruction's path constants (docs/7dof.md §3), both phases -------------
+     * The defaults are the reconstruction's; they are options so that a calibration can reach
+     * them (docs/calibration.md). */
+    /** diffusion path of the grain-boundary fluxes I and II as a fraction of the neck radius,
+     *  Delta s = this x (docs/7dof.md §3) [-], default 0.25, (0, 100] */
+    SINTER_MAT_NECK_BOUNDARY_PATH = 54,
+    /** path of the cone-to-ring fluxes III and IV as a fraction of the cone's slant,
+     *  Delta s = this s [-], default 0.5, (0, 100] */
+    SINTER_MAT_NECK_CONE_PATH = 55,
+    /** path of the cap-to-cone fluxes V and VI as a fraction of the slant, Delta s = this s [-],
+     *  default 1, (0, 100] */
+    SINTER_MAT_NECK_CAP_PATH = 56,
+    /** concentration of mobile atoms of lattice diffusion n_v (seed 001 eq. 4; docs/7dof.md §3),
+     *  both phases [-], default 1, [0, 1] */
+    SINTER_MAT_LATTICE_MOBILE_FRACTION = 57,
+    SINTER_MAT_PARAM_COUNT_ = 58         /**< number of parameters in this version (not a parameter) */
 } sinter_material_param;
 
 /** Create a material with every parameter at its default. `name` is copied (may be NULL). */

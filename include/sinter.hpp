@@ -132,6 +132,10 @@ enum class material_param : int {
     surface_mobile_fraction_hot = SINTER_MAT_SURFACE_MOBILE_FRACTION_HOT,
     grain_boundary_mobile_fraction_hot = SINTER_MAT_GRAIN_BOUNDARY_MOBILE_FRACTION_HOT,
     melting_temperature = SINTER_MAT_MELTING_TEMPERATURE,
+    neck_boundary_path = SINTER_MAT_NECK_BOUNDARY_PATH,
+    neck_cone_path = SINTER_MAT_NECK_CONE_PATH,
+    neck_cap_path = SINTER_MAT_NECK_CAP_PATH,
+    lattice_mobile_fraction = SINTER_MAT_LATTICE_MOBILE_FRACTION,
     phase_transition_temperature = SINTER_MAT_PHASE_TRANSITION_TEMPERATURE,
 };
 /// Mirrors sinter_field.

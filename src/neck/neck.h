@@ -75,6 +75,9 @@ typedef struct sinter_neck_phase {
 typedef struct sinter_neck_material {
     sinter_neck_phase phase[2];    /* [0] below the transition (Ti alpha), [1] at/above (Ti beta) */
     double transition_temperature; /* [K] */
+    /* The reconstruction's path constants (docs/7dof.md §3), both phases: Delta s of fluxes
+     * I-II = boundary_path x, III-IV = cone_path s, V-VI = cap_path s; n_v of the lattice. */
+    double boundary_path, cone_path, cap_path, lattice_fraction;
 } sinter_neck_material;
 
 /* Read the neck parameters of a public material. */
@@ -97,6 +100,9 @@ typedef struct sinter_neck_coeffs {
     double mobility_lattice;
     double mobility_surface;
     double mobility_boundary;
+    /* 1 / Delta s = boundary_factor / x (fluxes I, II), cap_factor / s (V, VI) and
+     * cone_factor cap_factor / s (III, IV): 4, 1 and 2 with the default path constants. */
+    double boundary_factor, cap_factor, cone_factor;
 } sinter_neck_coeffs;
 
 /* Fill the coefficients of `phase` at temperature T (> 0). */

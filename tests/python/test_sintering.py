@@ -217,9 +217,9 @@ class HostNeckLawTest(unittest.TestCase):
         def advance(batch: sinter.NeckLawBatch) -> None:
             seen.append((len(batch), batch.dt, list(batch.schedule_temperature)))
             for k in range(len(batch)):
-                batch.state[k][3] -= 0.5 * rate * batch.dt
-                batch.state[k][6] -= 0.5 * rate * batch.dt
-                batch.state[k][0] = 0.2 * batch.radius_a[k]
+                batch.state[k, 3] -= 0.5 * rate * batch.dt
+                batch.state[k, 6] -= 0.5 * rate * batch.dt
+                batch.state[k, 0] = 0.2 * batch.radius_a[k]
 
         with sinter.Stepper(ctx, particles, kind="quasistatic", dt=1e-3) as stepper:
             stepper.set_neck_law(advance)

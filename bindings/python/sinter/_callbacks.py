@@ -342,7 +342,7 @@ class NeckLawBatch(_StructArrays):
     schedule_count. Read-only arrays: schedule_time [s], schedule_temperature [K]
     (schedule_count,): T(t) piecewise linear, constant outside; a, b (count,) uint32 particle
     indices; material (count,) int32 of particle a; radius_a, radius_b (count,) [m].
-    Written: state (count, 7), in at time, out at time + dt: [0] the neck radius x, [3] and [6]
+    Written: state (count, 7; index it as state[k, i]), in at time, out at time + dt: [0] the neck radius x, [3] and [6]
     L_A, L_B (centre to neck plane; their decrease is the free approach), [1] and [4] the
     radii, [2] and [5] the law's own; every value finite and > 0.
     """

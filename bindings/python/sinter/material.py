@@ -93,7 +93,8 @@ class Material(_Handle):
         "surface_activation_energy_hot", "grain_boundary_diffusion_prefactor_hot",
         "grain_boundary_activation_energy_hot", "surface_mobile_fraction_hot",
         "grain_boundary_mobile_fraction_hot", "phase_transition_temperature",
-        "melting_temperature"
+        "melting_temperature", "neck_boundary_path", "neck_cone_path", "neck_cap_path",
+        "lattice_mobile_fraction"
     )
 
     def __init__(self, context: Context, name: Optional[str] = None,
@@ -151,7 +152,11 @@ class Material(_Handle):
                  surface_mobile_fraction_hot: Optional[float] = None,
                  grain_boundary_mobile_fraction_hot: Optional[float] = None,
                  phase_transition_temperature: Optional[float] = None,
-                 melting_temperature: Optional[float] = None) -> None:
+                 melting_temperature: Optional[float] = None,
+               neck_boundary_path: Optional[float] = None,
+               neck_cone_path: Optional[float] = None,
+               neck_cap_path: Optional[float] = None,
+               lattice_mobile_fraction: Optional[float] = None) -> None:
         """Create a material with every parameter at its default, then set `params` (a
         mapping {key: value}) and the keywords given (None: left at the default).
 
@@ -214,6 +219,10 @@ class Material(_Handle):
         phase_transition_temperature [K]: default 0, range [0, 100000]
         melting_temperature [K]: default 0 (no check), range [0, 100000]; a step that takes a
             particle past it stops with SINTER_ERR_DOMAIN
+        neck_boundary_path, neck_cone_path, neck_cap_path [1]: defaults 0.25, 0.5, 1, range
+            (0, 100]: the 7DOF neck's diffusion paths (grain boundary: this times the neck
+            radius; cone and cap: this times the cone's slant; docs/7dof.md sec. 3)
+        lattice_mobile_fraction [1]: default 1, range [0, 1]: n_v of lattice diffusion
         """
         handle = MaterialPtr()
         encoded = None if name is None else name.encode("utf-8")
@@ -318,7 +327,11 @@ class Material(_Handle):
                surface_mobile_fraction_hot: Optional[float] = None,
                grain_boundary_mobile_fraction_hot: Optional[float] = None,
                phase_transition_temperature: Optional[float] = None,
-               melting_temperature: Optional[float] = None) -> None:
+               melting_temperature: Optional[float] = None,
+               neck_boundary_path: Optional[float] = None,
+               neck_cone_path: Optional[float] = None,
+               neck_cap_path: Optional[float] = None,
+               lattice_mobile_fraction: Optional[float] = None) -> None:
         """Set several parameters from a mapping {key: value} and/or the keywords (None:
         unchanged); see __init__ for the keys, units and ranges. An unknown key of the
         mapping raises NotFound listing the known ones."""
