@@ -87,7 +87,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "anderson_depth": "[-] m of Anderson(m) in scheme 1; 3; whole number in [0, 10]",
     },
     "quasistatic": {
-        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7), 3 (default): CVODE necks",
+        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7), 3 (default; the library's own "
+                       "addition, not in the seed): CVODE necks",
         "qs_dt_min": "[s] a global step below it fails; 1e-12",
         "qs_dt_max": "[s] largest global step; 10",
         "qs_alpha": "[-] step factor of seed 001 eq. 45, 47; 1.5",
@@ -107,6 +108,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                           "steps; 0: one batch",
         "qs_new_contacts": "[-] 1 (default): contacts made during the run become links; 0: "
                            "only those of the first step",
+        "qs_neck_law": "[-] 0 (default) the 7DOF model, 1 the grain-boundary diffusion law of "
+                       "Bouvard and McMeeking, 2 a host law (set_neck_law)",
     },
 }
 
