@@ -299,7 +299,22 @@ typedef enum sinter_material_param {
     /** 1 (the default): a step that takes a particle above melting_temperature is refused when
      *  the material has no latent heat; 0: it heats on (no melting modelled), [0, 1] whole */
     SINTER_MAT_MELTING_STOP = 56,
-    SINTER_MAT_PARAM_COUNT_ = 57         /**< number of parameters in this version (not a parameter) */
+    /* --- the 7DOF reconstruction's path constants (docs/7dof.md §3), both phases -------------
+     * The defaults are the reconstruction's; they are options so that a calibration can reach
+     * them (docs/calibration.md). */
+    /** diffusion path of the grain-boundary fluxes I and II as a fraction of the neck radius,
+     *  Delta s = this x (docs/7dof.md §3) [-], default 0.25, (0, 100] */
+    SINTER_MAT_NECK_BOUNDARY_PATH = 57,
+    /** path of the cone-to-ring fluxes III and IV as a fraction of the cone's slant,
+     *  Delta s = this s [-], default 0.5, (0, 100] */
+    SINTER_MAT_NECK_CONE_PATH = 58,
+    /** path of the cap-to-cone fluxes V and VI as a fraction of the slant, Delta s = this s [-],
+     *  default 1, (0, 100] */
+    SINTER_MAT_NECK_CAP_PATH = 59,
+    /** concentration of mobile atoms of lattice diffusion n_v (seed 001 eq. 4; docs/7dof.md §3),
+     *  both phases [-], default 1, [0, 1] */
+    SINTER_MAT_LATTICE_MOBILE_FRACTION = 60,
+    SINTER_MAT_PARAM_COUNT_ = 61         /**< number of parameters in this version (not a parameter) */
 } sinter_material_param;
 
 /** Create a material with every parameter at its default. `name` is copied (may be NULL). */
@@ -1594,6 +1609,9 @@ SINTER_API sinter_status sinter_pair_run(sinter_ctx *ctx, const char *path, cons
  * "qs_neck_stiffness" 1 gives each link the section of its neck, pi x^2, instead of the full
  * pi R_m^2 of eq. 36 (stiffness and sintering force by (x/R_m)^2, bending and torsion by
  * (x/R_m)^4; docs/models.md); 0, the default, keeps the seed's constant section.
+ * "qs_neck_law" chooses the pair law that advances the necks: 0 (default) the 7DOF model,
+ * 1 the classic grain-boundary diffusion contact law of Bouvard and McMeeking (docs/7dof.md
+ * §7.4), 2 a host law (sinter_stepper_set_neck_law, sinter_submodel.h).
  */
 typedef struct sinter_sintering_stats {
     size_t struct_size;      /**< sizeof(sinter_sintering_stats) */

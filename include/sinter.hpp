@@ -135,6 +135,10 @@ enum class material_param : int {
     latent_heat = SINTER_MAT_LATENT_HEAT,
     melting_range = SINTER_MAT_MELTING_RANGE,
     melting_stop = SINTER_MAT_MELTING_STOP,
+    neck_boundary_path = SINTER_MAT_NECK_BOUNDARY_PATH,
+    neck_cone_path = SINTER_MAT_NECK_CONE_PATH,
+    neck_cap_path = SINTER_MAT_NECK_CAP_PATH,
+    lattice_mobile_fraction = SINTER_MAT_LATTICE_MOBILE_FRACTION,
     phase_transition_temperature = SINTER_MAT_PHASE_TRANSITION_TEMPERATURE,
 };
 /// Mirrors sinter_property.

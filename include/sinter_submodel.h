@@ -199,6 +199,63 @@ SINTER_API sinter_status sinter_electric_model_set_host(sinter_electric_model *e
 SINTER_API sinter_status sinter_electric_model_electrode_heat(const sinter_electric_model *em,
                                                               double *heat);
 
+/** Doubles of state a neck law keeps per link (the 7DOF model's y1..y7). */
+#define SINTER_NECK_LAW_STATE 7
+
+/**
+ * A batch of the quasi-static stepper's links (sinter.h, "qs_neck_law") for a host neck law,
+ * all arrays of length `count` (state: SINTER_NECK_LAW_STATE per link). The law advances each
+ * link's pair as if it were free over [time, time + dt] at the schedule's temperatures.
+ * State of link k, s = state + 7 k (lengths in m):
+ *  - s[0]: the neck radius x (the validity guard, the statistics and qs_neck_stiffness read it);
+ *  - s[3], s[6]: L_A, L_B, the distances from the centres to the neck plane; the stepper takes
+ *    the decrease of L_A + L_B over the step as the pair's free approach (the sintering force,
+ *    seed 001 eq. 13, 17) and afterwards moves L_A, L_B by the network's actual approach,
+ *    shared in the same ratio;
+ *  - s[1], s[4]: the radii R_A, R_B; s[2], s[5]: the law's own.
+ * Every link starts from the 7DOF model's seed (x = qs_epsilon min(R_A, R_B), L_A = R_A,
+ * L_B = R_B, docs/7dof.md §4). Every value must stay finite and > 0 (a checkpoint stores it).
+ */
+typedef struct sinter_neck_law_batch {
+    size_t count;                       /**< links */
+    double time;                        /**< start of the step [s] */
+    double dt;                          /**< step [s]: the state goes from time to time + dt */
+    size_t schedule_count;              /**< points of the temperature schedule T(t) */
+    const double *schedule_time;        /**< [s], increasing */
+    const double *schedule_temperature; /**< [K]: T(t) is piecewise linear, constant outside */
+    const uint32_t *a;                  /**< particle index of side A */
+    const uint32_t *b;                  /**< particle index of side B */
+    const int32_t *material;            /**< material id of particle A (whose neck data a
+                                             built-in law uses) */
+    const double *radius_a;             /**< [m] */
+    const double *radius_b;             /**< [m] */
+    double *state;                      /**< in: at time; out: at time + dt */
+} sinter_neck_law_batch;
+
+/**
+ * Host neck law of the quasi-static stepper: `advance` is called once per global step with
+ * every link (in link order) and fills each state at time + dt; a non-zero return stops the
+ * step with SINTER_ERR_CALLBACK and the state at time is kept, as is every state when a value
+ * comes back not finite or <= 0 (SINTER_ERR_DOMAIN).
+ */
+typedef struct sinter_neck_law_callbacks {
+    size_t struct_size; /**< sizeof(sinter_neck_law_callbacks) */
+    /** Advance every link of the batch over the step (required). */
+    int (*advance)(sinter_neck_law_batch *batch, void *user);
+    void (*destroy_user)(void *user); /**< called once when replaced or destroyed (may be NULL) */
+} sinter_neck_law_callbacks;
+
+/**
+ * Give a quasi-static stepper a host neck law (copied) and select it ("qs_neck_law" = 2);
+ * NULL removes it and selects the 7DOF model again ("qs_neck_law" = 0). The previous law's
+ * destroy_user is called. On error destroy_user is not called: the caller still owns `user`.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (no advance callback),
+ * SINTER_ERR_UNSUPPORTED (not a quasi-static stepper).
+ */
+SINTER_API sinter_status sinter_stepper_set_neck_law(sinter_stepper *stepper,
+                                                     const sinter_neck_law_callbacks *callbacks,
+                                                     void *user);
+
 #ifdef __cplusplus
 }
 #endif

@@ -24,7 +24,10 @@
 #include "stepper/stepper.h"
 
 /* 2: material parameter count recorded (53 parameters since the neck data; 54 with
- *    melting_temperature: files with 53 are still read, the melting point then off)
+ *    melting_temperature: files with 53 are still read, the melting point then off; 58 with
+ *    the 7DOF path constants neck_*_path and lattice_mobile_fraction (issue 42): files with 53
+ *    to 57 are still read, those at their defaults, but their quasi-static links are not (the
+ *    links carry the neck data, whose layout grew by the four constants))
  * 3: a quasi-static section at the end (links, necks, plane conditions: stepper/qs_state.c);
  *    version 2 files are still read (they hold no quasi-static state)
  * 4: then the electric network's warm start (the potentials its next solve starts from:

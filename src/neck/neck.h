@@ -22,6 +22,8 @@
  *   batch.c         many pairs in one CVODE system with a block-diagonal Jacobian (strategy 3)
  *   blockdiag.c     the block-diagonal SUNMatrix and direct SUNLinearSolver batch.c uses
  *   model.c         the public handle (options by key) and sinter_neck_two_particles
+ *   gb_law.c        the classic grain-boundary diffusion contact law (Bouvard & McMeeking),
+ *                   a free two-particle law for comparison with the 7DOF model
  *
  * Threads: nothing here has global state; a solver or batch object is used by one thread at a
  * time. Pure functions (geometry, rhs, jacobian) may be called concurrently.
@@ -73,6 +75,9 @@ typedef struct sinter_neck_phase {
 typedef struct sinter_neck_material {
     sinter_neck_phase phase[2];    /* [0] below the transition (Ti alpha), [1] at/above (Ti beta) */
     double transition_temperature; /* [K] */
+    /* The reconstruction's path constants (docs/7dof.md §3), both phases: Delta s of fluxes
+     * I-II = boundary_path x, III-IV = cone_path s, V-VI = cap_path s; n_v of the lattice. */
+    double boundary_path, cone_path, cap_path, lattice_fraction;
 } sinter_neck_material;
 
 /* Read the neck parameters of a public material. */
@@ -95,6 +100,9 @@ typedef struct sinter_neck_coeffs {
     double mobility_lattice;
     double mobility_surface;
     double mobility_boundary;
+    /* 1 / Delta s = boundary_factor / x (fluxes I, II), cap_factor / s (V, VI) and
+     * cone_factor cap_factor / s (III, IV): 4, 1 and 2 with the default path constants. */
+    double boundary_factor, cap_factor, cone_factor;
 } sinter_neck_coeffs;
 
 /* Fill the coefficients of `phase` at temperature T (> 0). */
@@ -433,5 +441,27 @@ double sinter_neck_impingement_ratio(double coordination);
 /* Relative density of a packing of green density `green` that shrinks isotropically as the
  * pair does: green / (1 - shrinkage)^3. */
 double sinter_neck_pair_density(double green, double shrinkage);
+
+/* ---------------------------------------------------------------------------------------- */
+/* The classic grain-boundary diffusion contact law (gb_law.c, docs/7dof.md §7)               */
+/* ---------------------------------------------------------------------------------------- */
+
+/* Delta_b = Omega delta_gb D_gb(T) / (k_B T) of a phase [m^6/(J s)] (no mobile fraction n_gb:
+ * the law's own definition). */
+double sinter_gb_law_diffusion(const sinter_neck_phase *p, double temperature);
+/* F_s = pi gamma_s [4 R* (1 - cos(psi/2)) + a sin(psi/2)], cos(psi/2) = gamma_gb / (2 gamma_s)
+ * [N] (0 when gamma_s <= 0 or gamma_gb >= 2 gamma_s). */
+double sinter_gb_law_sintering_force(const sinter_neck_phase *p, double rstar, double a);
+/* The free pair's approach rate 8 Delta_b F_s / (pi a^4) [m/s]. */
+double sinter_gb_law_approach_rate(const sinter_neck_phase *p, double temperature, double rstar,
+                                   double a);
+/* The neck a1 with integral_{a0}^{a1} a^5 / (b + s a) da = target (b > 0, s >= 0) [m]. */
+double sinter_gb_law_grow(double b, double s, double a0, double target);
+/* Advance the neck radius *a of a free pair of radii radius_a, radius_b over [t0, t1] on the
+ * schedule (split at its points and the phase switches). Returns 0, or -1 (bad arguments or a
+ * neck that is not finite; *a untouched). The approach over the step is
+ * (a1^2 - a0^2) / (4 R*), by the law's neck relation a^2 = 4 R* delta. */
+int sinter_gb_law_advance(const sinter_neck_material *m, const sinter_neck_schedule *s,
+                          double radius_a, double radius_b, double t0, double t1, double *a);
 
 #endif /* SINTER_NECK_H */

@@ -37,6 +37,10 @@ void sinter_neck_material_from(const sinter_material *m, sinter_neck_material *o
     read_phase(m, 0, &out->phase[0]);
     read_phase(m, 1, &out->phase[1]);
     out->transition_temperature = m->value[SINTER_MAT_PHASE_TRANSITION_TEMPERATURE];
+    out->boundary_path = m->value[SINTER_MAT_NECK_BOUNDARY_PATH];
+    out->cone_path = m->value[SINTER_MAT_NECK_CONE_PATH];
+    out->cap_path = m->value[SINTER_MAT_NECK_CAP_PATH];
+    out->lattice_fraction = m->value[SINTER_MAT_LATTICE_MOBILE_FRACTION];
 }
 
 int sinter_neck_phase_at(const sinter_neck_material *m, double temperature)
@@ -67,12 +71,18 @@ void sinter_neck_coeffs_eval(const sinter_neck_material *m, int phase, double te
     c->surface_thickness = p->surface_thickness;
     c->boundary_thickness = p->grain_boundary_thickness;
     /* Seed 001 eq. 4 with docs/7dof.md §3: V = C (D n_frac / (k_B T)) (mu_a - mu_b) / ds, n Omega =
-     * n_frac for surface and grain boundary, n_v = 1 for the lattice. */
-    c->mobility_lattice = arrhenius(p->lattice_d0, p->lattice_q, temperature) / kt;
+     * n_frac for surface and grain boundary, n_v (1 by default) for the lattice. */
+    c->mobility_lattice =
+        arrhenius(p->lattice_d0, p->lattice_q, temperature) * m->lattice_fraction / kt;
     c->mobility_surface =
         arrhenius(p->surface_d0, p->surface_q, temperature) * p->surface_fraction / kt;
     c->mobility_boundary =
         arrhenius(p->boundary_d0, p->boundary_q, temperature) * p->boundary_fraction / kt;
+    /* docs/7dof.md §3's path lengths as factors (exact for the defaults 1/4, 1/2, 1: the same
+     * bits as the constants 4, 2, 1 they replace) */
+    c->boundary_factor = 1.0 / m->boundary_path;
+    c->cap_factor = 1.0 / m->cap_path;
+    c->cone_factor = m->cap_path / m->cone_path;
 }
 
 #define PI 3.14159265358979323846
@@ -112,7 +122,8 @@ void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geome
                 inv_dv[i];
     }
 
-    /* Seed 001 table 1 cross-sections C and docs/7dof.md §3 path lengths ds, per side P with
+    /* Seed 001 table 1 cross-sections C and docs/7dof.md §3 path lengths ds (the defaults of the
+     * material's neck_*_path options), per side P with
      * regions ring = 1, cap = 2 + 3P, cone = 3 + 3P, GB = 4 + 3P (1-based as in the seed):
      *   I   GB -> ring,    C = pi x delta_gb,       ds = x/4, D_gb n_gb
      *   II  GB -> ring,    C = (2/3) pi x^2,        ds = x/4, D_v
@@ -125,11 +136,13 @@ void sinter_neck_rhs_at(const double y[SINTER_NECK_DOF], const sinter_neck_geome
     const double ring_mu = mu[SINTER_NECK_X];
     double *rate = w->region_rate;
     rate[SINTER_NECK_X] = 0.0;
-    const double per_gb_path = 4.0 / x; /* 1 / ds, ds = x/4 */
+    const double per_gb_path = c->boundary_factor / x; /* 1 / ds, ds = x/4 by default */
     for (int p = 0; p < 2; ++p) {
         const double h = g->side[p].junction_radius, s = g->side[p].slant;
         const double cap_mu = mu[1 + 3 * p], cone_mu = mu[2 + 3 * p], gb_mu = mu[3 + 3 * p];
-        const double per_cap_path = 1.0 / s, per_cone_path = 2.0 * per_cap_path; /* s, s/2 */
+        /* ds = s and s/2 by default */
+        const double per_cap_path = c->cap_factor / s,
+                     per_cone_path = c->cone_factor * per_cap_path;
         double *f = w->flux[p];
         f[SINTER_NECK_FLUX_I] =
             PI * x * c->boundary_thickness * c->mobility_boundary * (gb_mu - ring_mu) * per_gb_path;

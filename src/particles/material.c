@@ -162,6 +162,21 @@ static const param_spec PARAMS[SINTER_MAT_PARAM_COUNT_] = {
      "1: refuse a step taking a particle above melting_temperature when latent_heat = 0; 0: heat "
      "on",
      1.0, 0.0, 1.0, RANGE_INTEGER},
+    {"neck_boundary_path", "1",
+     "grain-boundary diffusion path of the 7DOF neck as a fraction of the neck radius "
+     "(docs/7dof.md sec. 3: x/4)",
+     0.25, 0.0, 100.0, RANGE_OPEN_MIN},
+    {"neck_cone_path", "1",
+     "cone-to-neck diffusion path of the 7DOF neck as a fraction of the cone slant "
+     "(docs/7dof.md sec. 3: s/2)",
+     0.5, 0.0, 100.0, RANGE_OPEN_MIN},
+    {"neck_cap_path", "1",
+     "cap-to-cone diffusion path of the 7DOF neck as a fraction of the cone slant "
+     "(docs/7dof.md sec. 3: s)",
+     1.0, 0.0, 100.0, RANGE_OPEN_MIN},
+    {"lattice_mobile_fraction", "1",
+     "concentration of mobile atoms of lattice diffusion n_v (seed 001 eq. 4; both phases)",
+     1.0, 0.0, 1.0, RANGE_CLOSED},
 };
 
 void sinter_material_defaults(double values[SINTER_MAT_PARAM_COUNT_])

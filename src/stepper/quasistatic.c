@@ -43,6 +43,9 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->new_contacts = 1.0;
     opt->validity = 1.0;
     opt->neck_stiffness = 0.0;
+    opt->neck_law = 0.0;
+    memset(&opt->host_law, 0, sizeof(opt->host_law));
+    opt->host_law_user = NULL;
 }
 
 double sinter_qs_section_scale(const sinter_qs_options *opt, const sinter_qs_link *l)
@@ -86,6 +89,7 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_new_contacts", new_contacts, 0.0, 1.0, 0),
     QS_KEY("qs_validity", validity, 0.0, 2.0, 0),
     QS_KEY("qs_neck_stiffness", neck_stiffness, 0.0, 1.0, 0),
+    QS_KEY("qs_neck_law", neck_law, 0.0, 2.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
@@ -124,6 +128,11 @@ sinter_status sinter_qs_option_set(sinter_qs_options *opt, sinter_ctx *ctx, cons
         if (q->offset == offsetof(sinter_qs_options, validity) && value != floor(value))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
                                "%s = %g: expected 0 (off), 1 (warn) or 2 (error)", key, value);
+        if (q->offset == offsetof(sinter_qs_options, neck_law) && value != floor(value))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s = %g: expected 0 (the 7DOF model), 1 (grain-boundary "
+                               "diffusion law) or 2 (host law)",
+                               key, value);
         if ((q->offset == offsetof(sinter_qs_options, dt_min) && value > opt->dt_max) ||
             (q->offset == offsetof(sinter_qs_options, dt_max) && value < opt->dt_min))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -725,8 +734,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     /* 1. the necks (sec. 3.3, fig. 7) */
     const double alpha = qs->opt.alpha;
     double next = h;
-    if (qs->opt.strategy == 3) {
-        if ((st = advance_batch(qs, schedule, t, h)) != SINTER_OK)
+    if (qs->opt.strategy == 3 || qs->opt.neck_law != 0.0) {
+        st = qs->opt.neck_law != 0.0 ? sinter_qs_advance_law(qs, p, schedule, t, h)
+                                     : advance_batch(qs, schedule, t, h);
+        if (st != SINTER_OK)
             return st;
         size_t above = 0; /* links whose approach of the step / L0 reached max_strain */
         for (size_t k = 0; k < m; ++k) {

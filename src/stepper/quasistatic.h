@@ -38,6 +38,7 @@
 
 #include "bonded/beam.h"
 #include "neck/neck.h"
+#include "sinter_submodel.h"
 
 typedef struct sinter_qs_options {
     int strategy;             /* 1 or 2 (sec. 3.3, fig. 7), or 3: CVODE batch (below) */
@@ -67,6 +68,11 @@ typedef struct sinter_qs_options {
                                  by (x/R_m)^2, bending and torsion by (x/R_m)^4 */
     double validity;          /* the validity guard (docs/7dof.md §2.6, qs_validity.c): 0 off,
                                  1 a warning (default), 2 SINTER_ERR_DOMAIN */
+    double neck_law;          /* the pair law of step 1 (qs_law.c): 0 the 7DOF model (default,
+                                 by the strategy), 1 the classic grain-boundary diffusion law
+                                 (neck/gb_law.c), 2 the host law below */
+    sinter_neck_law_callbacks host_law; /* neck_law 2 (sinter_stepper_set_neck_law) */
+    void *host_law_user;
 } sinter_qs_options;
 
 /* strategy 3, dt 1e-6 s, dt_min 1e-12 s, dt_max 10 s (docs/7dof.md §5), alpha 1.5, eps_lim 1,
@@ -83,7 +89,10 @@ void sinter_qs_options_default(sinter_qs_options *opt);
  * the default: links for contacts made during the run; 0: none after the first step; any value
  * above 0 means 1), "qs_neck_stiffness" (0, the default: constant full-section links; 1: the
  * section of the neck, pi x^2; any value above 0 means 1), "qs_validity" (0, 1 or 2: the validity
- * guard off, a warning (the default) or an error, docs/7dof.md §2.6). Set checks the value (the
+ * guard off, a warning (the default) or an error, docs/7dof.md §2.6), "qs_neck_law" (0, the
+ * default: the 7DOF model; 1: the classic grain-boundary diffusion law; 2: the host law of
+ * sinter_stepper_set_neck_law; the strategies apply to the 7DOF model only, the other laws
+ * advance every pair over the global step, which follows strategy 3's strain rule). Set checks the value (the
  * whole set is validated again when the stepper is created). Errors: SINTER_ERR_NOT_FOUND (unknown
  * key; the message lists the keys), SINTER_ERR_INVALID (value out of range or not finite, or
  * qs_dt_min above qs_dt_max).
@@ -154,6 +163,17 @@ void sinter_qs_destroy(sinter_qs *qs);
 sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                              const sinter_neck_schedule *schedule, double t, double h,
                              double *taken);
+
+/*
+ * Step 1 with a pair law other than the 7DOF model (qs_law.c): every link's pair advanced
+ * freely over [t, t + h] by the grain-boundary diffusion law (neck_law 1) or the host law
+ * (neck_law 2). On error every link keeps its state at t. Errors: SINTER_ERR_NOMEM,
+ * SINTER_ERR_CALLBACK, SINTER_ERR_DOMAIN, SINTER_ERR_INVALID (neck_law 2 without a host law).
+ */
+sinter_status sinter_qs_advance_law(sinter_qs *qs, const sinter_qs_particles *p,
+                                    const sinter_neck_schedule *schedule, double t, double h);
+/* Copy opt's neck_law and host law into a stepper already made (sinter_stepper_set_neck_law). */
+void sinter_qs_set_host_law(sinter_qs *qs, const sinter_qs_options *opt);
 
 /*
  * The validity guard after a step to time t (qs_validity.c, docs/7dof.md §2.6): the necks of a

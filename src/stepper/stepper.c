@@ -81,6 +81,8 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_staggered_free(ctx, &st->staggered);
     sinter_frozen_free(ctx, &st->frozen);
     sinter_qs_destroy(st->quasistatic);
+    if (st->quasistatic_options.host_law.destroy_user != NULL)
+        st->quasistatic_options.host_law.destroy_user(st->quasistatic_options.host_law_user);
     sinter_free(ctx, st->furnace);
     sinter_free(ctx, st->energy_flag);
     sinter_free(ctx, st->energy_store);
@@ -221,6 +223,38 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         (strncmp(key, "qs_", 3) == 0 || !sinter_staggered_is_option(key)))
         return sinter_qs_option_set(&st->quasistatic_options, st->ctx, key, value);
     return sinter_staggered_set(st, key, value);
+}
+
+sinter_status sinter_stepper_set_neck_law(sinter_stepper *st,
+                                         const sinter_neck_law_callbacks *callbacks, void *user)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (st->kind != SINTER_STEPPER_QUASISTATIC)
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                           "sinter_stepper_set_neck_law: only the quasi-static stepper has a "
+                           "neck law");
+    sinter_neck_law_callbacks table;
+    memset(&table, 0, sizeof(table));
+    if (callbacks != NULL) {
+        if (callbacks->struct_size != sizeof(sinter_neck_law_callbacks))
+            return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
+                               "sinter_stepper_set_neck_law: struct_size is %zu, expected %zu",
+                               callbacks->struct_size, sizeof(sinter_neck_law_callbacks));
+        if (callbacks->advance == NULL)
+            return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                               "sinter_stepper_set_neck_law: the table has no advance callback");
+        table = *callbacks;
+    }
+    sinter_qs_options *o = &st->quasistatic_options;
+    if (o->host_law.destroy_user != NULL)
+        o->host_law.destroy_user(o->host_law_user);
+    o->host_law = table;
+    o->host_law_user = callbacks != NULL ? user : NULL;
+    o->neck_law = callbacks != NULL ? 2.0 : 0.0;
+    if (st->quasistatic != NULL)
+        sinter_qs_set_host_law(st->quasistatic, o);
+    return SINTER_OK;
 }
 
 sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *key, double *value)

@@ -6,7 +6,7 @@
  *   ti_shrinkage --make SCENE OUT [--count N] [--aspect A]
  *   ti_shrinkage --pairs SCENE PACKING [--schedule e14b|iso|cu] [--stride K] [--times LIST]
  *   ti_shrinkage --run SCENE PACKING [--schedule e14b|iso|cu] [--strategy S]
- *                [--new live|inert|off] [--times LIST]
+ *                [--new live|inert|off] [--times LIST] [--neck-stiffness 0|1]
  *
  * LIST: output times [s] in quotes, "720 1440 2160 3600 5040 7200 8880" by default (the last
  * one is the end). Schedules: e14b, the scene's furnace (793 K -> 1373 K at 1740 s, held to
@@ -31,8 +31,8 @@
  *   link from its birth: its natural (7DOF) approach, the sum of the per-step decrements d4 + d7 of
  *   eq. 43, and its mechanical approach L0 - y4 - y7 (after eq. 41-44 it is the sum of the link's
  *   compressions xi). --new inert: links born during the run get zero grain-boundary and lattice
- *   diffusion (no natural approach, docs/7dof.md sec. 3); off: also 1e-6 of the beam stiffness (as if
- *   they were not detected). Prints, at the output times, the shrinkage, per cohort (links present
+ *   diffusion (no natural approach, docs/7dof.md sec. 3); off: also 1e-6 of the beam stiffness (as
+ * if they were not detected). Prints, at the output times, the shrinkage, per cohort (links present
  *   at the start / born during the run) the mean natural and mechanical strains, and the affine
  *   estimate of the shrinkage: the sum over the global steps of the R_m^2 L0-weighted mean natural
  *   strain increment of the links present in that step, and per axis the diagonal strain increment
@@ -200,7 +200,6 @@ static double draw_radius(uint64_t *state)
             return 32e-6 + 3.2e-6 * g;
     }
 }
-
 
 static void pairs(const char *scene_path, const char *pack_path, const schedule *s, size_t stride,
                   const char *time_list)
@@ -441,6 +440,9 @@ static void report(const sinter_stepper *st, const tracker *tr, const schedule *
     fflush(stdout);
 }
 
+/* qs_neck_stiffness of --run (--neck-stiffness): 1 grows each link's section with its neck */
+static double g_neck_stiffness = 0.0;
+
 static void run(const char *scene_path, const char *pack_path, const schedule *s, int strategy,
                 int mode, const char *time_list)
 {
@@ -454,6 +456,7 @@ static void run(const char *scene_path, const char *pack_path, const schedule *s
     sinter_stepper *st = NULL;
     CHECK(sinter_stepper_create(&st, g_ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
     CHECK(sinter_stepper_set_option(st, "qs_strategy", strategy));
+    CHECK(sinter_stepper_set_option(st, "qs_neck_stiffness", g_neck_stiffness));
     CHECK(sinter_stepper_set_dt(st, 1e-6));
     CHECK(sinter_stepper_set_furnace(st, s->n, s->times, s->temps));
     tracker tr;
@@ -462,10 +465,11 @@ static void run(const char *scene_path, const char *pack_path, const schedule *s
     CHECK(sinter_stepper_set_observer(st, observe, &tr));
     double out[MAX_OUT];
     const size_t n_out = parse_numbers(time_list, out, MAX_OUT);
-    printf("%zu spheres, strategy %d, new links %s\n\n", pk.n, strategy,
+    printf("%zu spheres, strategy %d, new links %s, qs_neck_stiffness %g\n\n", pk.n, strategy,
            mode == NEW_LIVE    ? "live"
            : mode == NEW_INERT ? "inert"
-                               : "off");
+                               : "off",
+           g_neck_stiffness);
     printf("| t [s] | T [K] | links at start | born since | shrinkage x / y / z | neck ratio | "
            "start: natural | start: mechanical | start: ratio | born: natural | born: "
            "mechanical | born: ratio | all: natural | affine estimate | affine x / y / z | start: "
@@ -522,12 +526,15 @@ int main(int argc, char **argv)
             strategy = atoi(argv[++k]);
         else if (strcmp(argv[k], "--new") == 0 && k + 1 < argc)
             newmode = argv[++k];
+        else if (strcmp(argv[k], "--neck-stiffness") == 0 && k + 1 < argc)
+            g_neck_stiffness = strtod(argv[++k], NULL);
         else {
             fprintf(stderr, "usage: ti_shrinkage --make SCENE OUT [--count N] [--aspect A]\n"
                             "       ti_shrinkage --pairs SCENE PACKING [--schedule e14b|iso|cu] "
                             "[--stride K] [--times LIST]\n"
                             "       ti_shrinkage --run SCENE PACKING [--schedule e14b|iso|cu] "
-                            "[--strategy S] [--new live|inert|off] [--times LIST]\n");
+                            "[--strategy S] [--new live|inert|off] [--times LIST] "
+                            "[--neck-stiffness 0|1]\n");
             return 2;
         }
     }

@@ -198,5 +198,56 @@ class CopperLatticeSceneTest(unittest.TestCase):
             self.assertGreater(later.neck_ratio_mean, first.neck_ratio_mean)
 
 
+class HostNeckLawTest(unittest.TestCase):
+    """A host neck law (Stepper.set_neck_law): a pair law whose free approach is a constant
+    rate v makes two touching spheres shrink by exactly v t / (2 R) (the stepper's contract:
+    the decrease of L_A + L_B is the free approach, and a free pair follows it), and the law's
+    neck radius is what the statistics report."""
+
+    def test_constant_rate_law_sets_the_shrinkage(self):
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        copper = sinter.Material(ctx, "copper", **COPPER)
+        particles = sinter.Particles(ctx)
+        particles.set_material(0, copper)
+        particles.add([(0.0, 0.0, 0.0), (2 * R, 0.0, 0.0)], [R, R], temperature=T_SINTER)
+        rate = 1e-9  # free approach [m/s]
+        seen = []
+
+        def advance(batch: sinter.NeckLawBatch) -> None:
+            seen.append((len(batch), batch.dt, list(batch.schedule_temperature)))
+            for k in range(len(batch)):
+                batch.state[k, 3] -= 0.5 * rate * batch.dt
+                batch.state[k, 6] -= 0.5 * rate * batch.dt
+                batch.state[k, 0] = 0.2 * batch.radius_a[k]
+
+        with sinter.Stepper(ctx, particles, kind="quasistatic", dt=1e-3) as stepper:
+            stepper.set_neck_law(advance)
+            self.assertEqual(stepper.get_option("qs_neck_law"), 2.0)
+            stepper.advance(100.0)
+            stats = stepper.sintering_stats()
+            stepper.set_neck_law(None)
+            self.assertEqual(stepper.get_option("qs_neck_law"), 0.0)
+        self.assertGreater(len(seen), 5)
+        self.assertEqual(seen[0][0], 1)
+        self.assertAlmostEqual(sum(step[1] for step in seen), 100.0, places=9)
+        # the network solve's tolerance (PCG 1e-7)
+        self.assertAlmostEqual(stats.shrinkage[0] / (rate * 100.0 / (2 * R)), 1.0, places=6)
+        self.assertAlmostEqual(stats.neck_ratio_mean, 0.2, places=12)
+
+    def test_exception_in_the_law_is_raised_again(self):
+        ctx = sinter.Context()
+        self.addCleanup(ctx.close)
+        copper, particles = lattice(ctx)
+
+        def advance(batch: sinter.NeckLawBatch) -> None:
+            raise ZeroDivisionError("law")
+
+        with sinter.Stepper(ctx, particles, kind="quasistatic", dt=1e-3) as stepper:
+            stepper.set_neck_law(advance)
+            with self.assertRaises(ZeroDivisionError):
+                stepper.advance(1.0)
+
+
 if __name__ == "__main__":
     unittest.main()

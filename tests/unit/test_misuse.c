@@ -723,7 +723,7 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_material_set(f->mat, SINTER_MAT_SOFTENING_LAW, 1.5))                                  \
     X(material_get_null_out, SINTER_ERR_NULL, "'value'",                                           \
       sinter_material_get(f->mat, SINTER_MAT_DENSITY, NULL))                                       \
-    X(material_get_unknown_param, SINTER_ERR_RANGE, "parameter 57",                                \
+    X(material_get_unknown_param, SINTER_ERR_RANGE, "parameter 61",                                \
       sinter_material_get(f->mat, SINTER_MAT_PARAM_COUNT_, &f->out.value))                         \
     X(material_param_info_unknown, SINTER_ERR_RANGE, NULL,                                         \
       sinter_material_param_info((sinter_material_param)-5, NULL, NULL, NULL, NULL, NULL, NULL))   \

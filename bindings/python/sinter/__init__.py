@@ -25,7 +25,7 @@ lib/libsinter.so, or the system's libsinter.so.0 (see sinter._lib).
 from ._errors import (BusyError, FileNotFound, Interrupted, InvalidArgument, NotFound,
                       RangeError, SinterError, Status)
 from ._lib import LibraryNotFound, library_path
-from ._callbacks import CallbackResult, ContactBatch, ContactKind, StateView
+from ._callbacks import CallbackResult, ContactBatch, ContactKind, NeckLawBatch, StateView
 from .fields import CoarseQuantity, coarse_grain, lamina_profile
 from .context import LOGGER_NAME, Context, LogLevel, version_number, version_string
 from .material import Material, MaterialParam, ParamInfo
@@ -44,7 +44,7 @@ from .walls import WallElectric, WallKind, WallMotion, WallThermal, Walls
 __version__ = version_string()
 
 __all__ = [
-    "BusyError", "CallbackResult", "CoarseQuantity", "coarse_grain", "lamina_profile", "ContactBatch", "ContactKind", "Context", "DType", "Field",
+    "BusyError", "CallbackResult", "CoarseQuantity", "coarse_grain", "lamina_profile", "ContactBatch", "ContactKind", "Context", "NeckLawBatch", "DType", "Field",
     "MaterialParam", "ParticleFlag", "ElectricModel", "FIELDS", "FieldInfo", "FieldView",
     "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
     "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult",

@@ -333,3 +333,32 @@ class ContactBatch(_StructArrays):
         if not self._valid:
             return "<sinter.ContactBatch (expired)>"
         return "<sinter.ContactBatch %s count=%d>" % (self.kind, self._struct.count)
+
+
+class NeckLawBatch(_StructArrays):
+    """The quasi-static stepper's links for a host neck law (sinter_neck_law_batch), SI units.
+
+    Scalars: count, time [s], dt [s] (advance each pair freely from time to time + dt),
+    schedule_count. Read-only arrays: schedule_time [s], schedule_temperature [K]
+    (schedule_count,): T(t) piecewise linear, constant outside; a, b (count,) uint32 particle
+    indices; material (count,) int32 of particle a; radius_a, radius_b (count,) [m].
+    Written: state (count, 7; index it as state[k, i]), in at time, out at time + dt: [0] the neck radius x, [3] and [6]
+    L_A, L_B (centre to neck plane; their decrease is the free approach), [1] and [4] the
+    radii, [2] and [5] the law's own; every value finite and > 0.
+    """
+
+    _ARRAYS = {
+        "schedule_time": ("schedule_time", "d", "schedule_count", 1, False),
+        "schedule_temperature": ("schedule_temperature", "d", "schedule_count", 1, False),
+        "a": ("a", "I", "count", 1, False),
+        "b": ("b", "I", "count", 1, False),
+        "material": ("material", "i", "count", 1, False),
+        "radius_a": ("radius_a", "d", "count", 1, False),
+        "radius_b": ("radius_b", "d", "count", 1, False),
+        "state": ("state", "d", "count", 7, True),
+    }
+    _SCALARS = ("count", "time", "dt", "schedule_count")
+
+    def __len__(self):
+        self._require_valid()
+        return self._struct.count

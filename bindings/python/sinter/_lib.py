@@ -218,6 +218,28 @@ class ElectricCallbacks(ctypes.Structure):
                 ("joule_split", JouleSplitFn), ("destroy_user", DestroyUserFn)]
 
 
+class NeckLawBatch(ctypes.Structure):
+    """struct sinter_neck_law_batch: the quasi-static stepper's links (borrowed during a call)."""
+
+    _cname = "sinter_neck_law_batch"
+    _fields_ = [("count", _size), ("time", _double), ("dt", _double),
+                ("schedule_count", _size), ("schedule_time", ctypes.c_void_p),
+                ("schedule_temperature", ctypes.c_void_p), ("a", ctypes.c_void_p),
+                ("b", ctypes.c_void_p), ("material", ctypes.c_void_p),
+                ("radius_a", ctypes.c_void_p), ("radius_b", ctypes.c_void_p),
+                ("state", ctypes.c_void_p)]
+
+
+NeckLawFn = ctypes.CFUNCTYPE(_int, _P(NeckLawBatch), ctypes.c_void_p)
+
+
+class NeckLawCallbacks(ctypes.Structure):
+    """struct sinter_neck_law_callbacks (struct_size = ctypes.sizeof(NeckLawCallbacks))."""
+
+    _cname = "sinter_neck_law_callbacks"
+    _fields_ = [("struct_size", _size), ("advance", NeckLawFn), ("destroy_user", DestroyUserFn)]
+
+
 # name: (restype, argtypes), in the order of sinter.h. `const T x[3]` is a T pointer.
 SIGNATURES = {
     # status codes and version
@@ -453,6 +475,8 @@ SIGNATURES = {
     "sinter_electric_model_set_host": (
         c_status, [ElectricModelPtr, _P(ElectricCallbacks), ctypes.c_void_p]),
     "sinter_electric_model_electrode_heat": (c_status, [ElectricModelPtr, _P(_double)]),
+    "sinter_stepper_set_neck_law": (
+        c_status, [StepperPtr, _P(NeckLawCallbacks), ctypes.c_void_p]),
 }
 
 

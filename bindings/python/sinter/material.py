@@ -93,7 +93,8 @@ class Material(_Handle):
         "surface_activation_energy_hot", "grain_boundary_diffusion_prefactor_hot",
         "grain_boundary_activation_energy_hot", "surface_mobile_fraction_hot",
         "grain_boundary_mobile_fraction_hot", "phase_transition_temperature",
-        "melting_temperature", "latent_heat", "melting_range", "melting_stop"
+        "melting_temperature", "latent_heat", "melting_range", "melting_stop",
+        "neck_boundary_path", "neck_cone_path", "neck_cap_path", "lattice_mobile_fraction"
     )
 
     def __init__(self, context: Context, name: Optional[str] = None,
@@ -154,7 +155,11 @@ class Material(_Handle):
                  melting_temperature: Optional[float] = None,
                  latent_heat: Optional[float] = None,
                  melting_range: Optional[float] = None,
-                 melting_stop: Optional[float] = None) -> None:
+                 melting_stop: Optional[float] = None,
+                 neck_boundary_path: Optional[float] = None,
+                 neck_cone_path: Optional[float] = None,
+                 neck_cap_path: Optional[float] = None,
+                 lattice_mobile_fraction: Optional[float] = None) -> None:
         """Create a material with every parameter at its default, then set `params` (a
         mapping {key: value}) and the keywords given (None: left at the default).
 
@@ -222,6 +227,10 @@ class Material(_Handle):
             melting_temperature + melting_range] as an apparent heat capacity (enthalpy method)
         melting_range [K]: default 1, range (0, 10000]
         melting_stop [1]: default 1 (stop without latent heat), 0 heats on; whole number
+        neck_boundary_path, neck_cone_path, neck_cap_path [1]: defaults 0.25, 0.5, 1, range
+            (0, 100]: the 7DOF neck's diffusion paths (grain boundary: this times the neck
+            radius; cone and cap: this times the cone's slant; docs/7dof.md sec. 3)
+        lattice_mobile_fraction [1]: default 1, range [0, 1]: n_v of lattice diffusion
         """
         handle = MaterialPtr()
         encoded = None if name is None else name.encode("utf-8")
@@ -329,7 +338,11 @@ class Material(_Handle):
                melting_temperature: Optional[float] = None,
                latent_heat: Optional[float] = None,
                melting_range: Optional[float] = None,
-               melting_stop: Optional[float] = None) -> None:
+               melting_stop: Optional[float] = None,
+               neck_boundary_path: Optional[float] = None,
+               neck_cone_path: Optional[float] = None,
+               neck_cap_path: Optional[float] = None,
+               lattice_mobile_fraction: Optional[float] = None) -> None:
         """Set several parameters from a mapping {key: value} and/or the keywords (None:
         unchanged); see __init__ for the keys, units and ranges. An unknown key of the
         mapping raises NotFound listing the known ones."""

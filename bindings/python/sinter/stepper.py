@@ -12,8 +12,8 @@ from typing import (TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Mapping,
 
 from . import _callbacks
 from ._errors import check, check_path
-from ._lib import (ObserverFn, SinteringStats as _CSinteringStats, StepperPtr,
-                   StepperStats as _CStats, lib)
+from ._lib import (NeckLawCallbacks, NeckLawFn, ObserverFn, SinteringStats as _CSinteringStats,
+                   StepperPtr, StepperStats as _CStats, lib)
 from .context import Context, _Handle
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -87,7 +87,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "anderson_depth": "[-] m of Anderson(m) in scheme 1; 3; whole number in [0, 10]",
     },
     "quasistatic": {
-        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7), 3 (default): CVODE necks",
+        "qs_strategy": "[-] 1 or 2 (seed 001 sec. 3.3, fig. 7), 3 (default; the library's own "
+                       "addition, not in the seed): CVODE necks",
         "qs_dt_min": "[s] a global step below it fails; 1e-12",
         "qs_dt_max": "[s] largest global step; 10",
         "qs_alpha": "[-] step factor of seed 001 eq. 45, 47; 1.5",
@@ -107,6 +108,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                           "steps; 0: one batch",
         "qs_new_contacts": "[-] 1 (default): contacts made during the run become links; 0: "
                            "only those of the first step",
+        "qs_neck_law": "[-] 0 (default) the 7DOF model, 1 the grain-boundary diffusion law of "
+                       "Bouvard and McMeeking, 2 a host law (set_neck_law)",
     },
 }
 
@@ -432,6 +435,39 @@ class Stepper(_Handle):
         array = ctypes.c_double * max(n, 1)
         self._call(lib.sinter_stepper_set_furnace, self._ptr, n, array(*times),
                    array(*temperatures))
+
+    def set_neck_law(self,
+                     advance: Optional[Callable[[_callbacks.NeckLawBatch], Any]]) -> None:
+        """A host neck law for the quasi-static stepper (sinter_stepper_set_neck_law): it
+        selects "qs_neck_law" 2; None removes it and selects the 7DOF model (0).
+
+        advance(batch) is called once per global step with every link (a
+        sinter.NeckLawBatch) and writes batch.state (count, 7) at batch.time + batch.dt:
+        column 0 the neck radius [m], columns 3 and 6 the centre-to-neck-plane distances
+        L_A, L_B [m], whose decrease is the pair's free approach. Return None or a
+        CallbackResult, as ForceModel.from_callbacks; an exception is raised again from the
+        stepper call."""
+        table = None
+        function = None
+        if advance is not None:
+            def trampoline(batch_pointer, user):
+                try:
+                    batch = _callbacks.NeckLawBatch(batch_pointer.contents)
+                    try:
+                        return _callbacks.result_code(advance(batch))
+                    finally:
+                        batch.invalidate()
+                except BaseException as exception:  # never unwind through C
+                    _callbacks.store(exception)
+                    return -1
+
+            function = NeckLawFn(trampoline)
+            table = NeckLawCallbacks()
+            table.struct_size = ctypes.sizeof(NeckLawCallbacks)
+            table.advance = function
+        self._call(lib.sinter_stepper_set_neck_law, self._ptr,
+                   ctypes.byref(table) if table is not None else None, None)
+        self._neck_law = function  # the C function must outlive the stepper's use of it
 
     def get_option(self, key: str) -> float:
         """Read an option of set_option."""
