@@ -11,6 +11,7 @@
 #include "contact/chunks.h"
 #include "core/ranges_run.h"
 #include "core/stream_store.h"
+#include "insertion.h"
 #include "sanity.h"
 #include "stepper.h"
 #include "verlet_blocks.h"
@@ -467,7 +468,10 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
 
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
-    sinter_status s = sinter_explicit_reserve(st);
+    /* continuous insertion: the spheres due now, their forces evaluated (insertion.c) */
+    sinter_status s = sinter_insertion_stage(st);
+    if (s == SINTER_OK)
+        s = sinter_explicit_reserve(st);
     if (s != SINTER_OK)
         return s;
     const double t_start = st->time, clock_start = sinter_clock();
