@@ -1895,7 +1895,8 @@ SINTER_API sinter_status sinter_insertion_options_init(sinter_insertion_options 
  * their forces are evaluated at once, and the step's stability check (sinter_stable_dt_hertz)
  * then covers them. One random stream (powder->seed) gives radii and places in order, so a run
  * inserts the same spheres on every machine and any thread count. A later call replaces the
- * insertion; powder = NULL removes it. The insertion is not part of a checkpoint. Only the
+ * insertion; powder = NULL removes it. A checkpoint carries its state (format 11): set the same
+ * insertion before sinter_checkpoint_read, and the run continues bit for bit. Only the
  * explicit stepper inserts (SINTER_ERR_STATE for another kind).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (a bad option, a region
  * narrower than the largest sphere, a mixture), SINTER_ERR_NOT_FOUND (an unregistered material).
@@ -2211,9 +2212,10 @@ SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
  * electric model the potentials its next solve starts from; the particle
  * ranges its contact sums follow, the steps since its last spatial sort) to
- * a versioned binary file (format 10, which also carries the stepper's counts;
- * formats 2-9 are still read, and a run restored from formats 2-4 may differ from
- * the straight run in the last bits) with a checksum.
+ * a versioned binary file (format 11, which also carries the stepper's counts and
+ * its continuous insertion's state, sinter_stepper_set_insertion: set the insertion
+ * before reading; formats 2-10 are still read, and a run restored from formats 2-4
+ * may differ from the straight run in the last bits) with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */

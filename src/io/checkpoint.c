@@ -21,6 +21,7 @@
 #include "electric/electric.h"
 #include "io/checkpoint.h"
 #include "io/path.h"
+#include "stepper/insertion.h"
 #include "stepper/stepper.h"
 
 /* 2: material parameter count recorded (53 parameters since the neck data; 54 with
@@ -51,8 +52,13 @@
  *    and the modulus factors of the freeze (per particle); earlier versions are still read (not
  *    frozen, the statistics at 0)
  * 10: then the count of bonds that held in tension and broke (sinter_stepper_stats.bonds_broken,
- *    a series column: force/power_law.c); earlier versions are still read (the count at 0) */
-#define CHECKPOINT_VERSION 10u
+ *    a series column: force/power_law.c); earlier versions are still read (the count at 0)
+ * 11: then the continuous insertion (stepper/insertion.h): 1 and its state (7 u64: the next
+ *    insertion, the spheres inserted, the crowded insertions, the random stream; 3 doubles: the
+ *    next sphere's radius, the mass inserted and its target), or 0 without one; restored into
+ *    the stepper's insertion, which the host sets before reading (a scene's [insert]); earlier
+ *    versions are still read (the insertion as the host set it) */
+#define CHECKPOINT_VERSION 11u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -266,6 +272,16 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
             put(&w, fz->scale0, n * sizeof(double));
     }
     put_u64(&w, st->stats.bonds_broken); /* version 10 */
+    put_u64(&w, st->insertion != NULL);  /* version 11 */
+    if (st->insertion != NULL) {
+        uint64_t u[SINTER_INSERTION_U64];
+        double d[SINTER_INSERTION_F64];
+        sinter_insertion_get_state(st->insertion, u, d);
+        for (int k = 0; k < SINTER_INSERTION_U64; ++k)
+            put_u64(&w, u[k]);
+        for (int k = 0; k < SINTER_INSERTION_F64; ++k)
+            put_f64(&w, d[k]);
+    }
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -690,6 +706,17 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
             fz_scale = take(&r, n * sizeof(double));
     }
     const uint64_t bonds_broken = version >= 10u && !r.bad ? take_u64(&r) : 0;
+    const uint64_t has_insertion = version >= 11u && !r.bad ? take_u64(&r) : 0;
+    uint64_t ins_u[SINTER_INSERTION_U64] = {0};
+    double ins_d[SINTER_INSERTION_F64] = {0};
+    if (has_insertion > 1)
+        r.bad = 1;
+    for (int k = 0; k < SINTER_INSERTION_U64 && has_insertion && !r.bad; ++k)
+        ins_u[k] = take_u64(&r);
+    for (int k = 0; k < SINTER_INSERTION_F64 && has_insertion && !r.bad; ++k)
+        ins_d[k] = take_f64(&r);
+    if (has_insertion && !r.bad && !sinter_insertion_state_valid(ins_d))
+        r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
@@ -911,6 +938,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->stats.iterations = iterations;
     st->stats.evaluations = evaluations;
     st->stats.bonds_broken = bonds_broken;
+    if (has_insertion && st->insertion != NULL) /* a host without one ignores it */
+        sinter_insertion_set_state(st->insertion, ins_u, ins_d);
     sg->h_prev = h_prev;
     sg->contraction = contraction;
     sg->control.x_prev = x_prev;

@@ -127,6 +127,8 @@ static double volume_fraction(const sinter_scene *sc, double bed_top)
  * (io/solid_fraction.c), over the overlapping pairs of the neighbour list. */
 static double solid_fraction(const sinter_scene *sc, double bed_top)
 {
+    if (sc->solid_box) /* [output] solid_box: a box the spheres may cross */
+        return sinter_solid_fraction_sampled(sc->ctx, sc->ps, sc->solid_lo, sc->solid_hi, 2e7);
     double lo[3], hi[3];
     fraction_box(sc, bed_top, lo, hi);
     const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);

@@ -921,6 +921,16 @@ const sinter_packing_options *sinter_radius_sampler_options(const sinter_radius_
     return &s->o;
 }
 
+void sinter_radius_sampler_get_stream(const sinter_radius_sampler *s, uint64_t state[4])
+{
+    memcpy(state, s->gen.s, sizeof(s->gen.s));
+}
+
+void sinter_radius_sampler_set_stream(sinter_radius_sampler *s, const uint64_t state[4])
+{
+    memcpy(s->gen.s, state, sizeof(s->gen.s));
+}
+
 void sinter_radius_sampler_destroy(sinter_ctx *ctx, sinter_radius_sampler *s)
 {
     if (s == NULL)

@@ -32,6 +32,9 @@ double sinter_radius_sampler_uniform(sinter_radius_sampler *s);
 double sinter_radius_sampler_max(const sinter_radius_sampler *s);
 /* The options as validated (the table pointing to the sampler's copy). */
 const sinter_packing_options *sinter_radius_sampler_options(const sinter_radius_sampler *s);
+/* The random stream's state (a checkpoint's), and its restoration. */
+void sinter_radius_sampler_get_stream(const sinter_radius_sampler *s, uint64_t state[4]);
+void sinter_radius_sampler_set_stream(sinter_radius_sampler *s, const uint64_t state[4]);
 void sinter_radius_sampler_destroy(sinter_ctx *ctx, sinter_radius_sampler *s);
 
 #endif

@@ -43,6 +43,37 @@ void sinter_insertion_destroy(sinter_ctx *ctx, struct sinter_insertion *ins)
     sinter_free(ctx, ins);
 }
 
+void sinter_insertion_get_state(const struct sinter_insertion *ins,
+                                uint64_t u[SINTER_INSERTION_U64], double d[SINTER_INSERTION_F64])
+{
+    u[0] = ins->next;
+    u[1] = ins->inserted;
+    u[2] = ins->crowded;
+    sinter_radius_sampler_get_stream(ins->sampler, u + 3);
+    d[0] = ins->pending;
+    d[1] = ins->mass_done;
+    d[2] = ins->mass_target;
+}
+
+int sinter_insertion_state_valid(const double d[SINTER_INSERTION_F64])
+{
+    return isfinite(d[0]) && d[0] > 0.0 && isfinite(d[1]) && d[1] >= 0.0 && isfinite(d[2]) &&
+           d[2] >= 0.0;
+}
+
+void sinter_insertion_set_state(struct sinter_insertion *ins,
+                                const uint64_t u[SINTER_INSERTION_U64],
+                                const double d[SINTER_INSERTION_F64])
+{
+    ins->next = u[0];
+    ins->inserted = u[1];
+    ins->crowded = u[2];
+    sinter_radius_sampler_set_stream(ins->sampler, u + 3);
+    ins->pending = d[0];
+    ins->mass_done = d[1];
+    ins->mass_target = d[2];
+}
+
 sinter_status sinter_insertion_options_init(sinter_insertion_options *options, size_t struct_size)
 {
     if (options == NULL)

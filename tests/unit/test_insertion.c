@@ -2,9 +2,14 @@
  * Continuous insertion (issue 38): the mass rate met within one particle's mass per interval,
  * no overlap at insertion (nothing moves in a box without gravity: a sphere inserted into an
  * overlap would be pushed), the cylinder region, a region too crowded to take the target,
- * the same spheres for the same seed, and bad input refused.
+ * the same spheres for the same seed, a checkpoint restart continuing the insertion bit for
+ * bit, and bad input refused.
  */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
 
 #include "scene_support.h"
 
@@ -179,6 +184,49 @@ static void test_reproducible(void **state)
     assert_true(first[0][0] != first[2][0]);
 }
 
+/* A run stopped mid-way, written to a checkpoint and read into a fresh stepper with the same
+ * insertion, continues exactly as the straight run: the same spheres, the same bits. */
+static void test_checkpoint_restart(void **state)
+{
+    (void)state;
+    char path[64];
+    snprintf(path, sizeof(path), "/tmp/test_insertion_%ld.ck", (long)getpid());
+    size_t counts[2] = {0, 0};
+    double *final[2] = {NULL, NULL};
+    for (int run = 0; run < 2; ++run) {
+        scene s;
+        open_box(&s, 1, 2e-3);
+        sinter_packing_options p = powder(3e-3, 4e-3, 2e-3);
+        sinter_insertion_options o;
+        OK(sinter_insertion_options_init(&o, sizeof(o)));
+        o.mass_rate = 2e-5;
+        OK(sinter_stepper_set_insertion(s.st, &p, &o));
+        OK(sinter_stepper_advance(s.st, 4.5e-3)); /* both stop here (the last step lands on it) */
+        if (run == 1) {
+            OK(sinter_checkpoint_write(s.st, path));
+            scene_close(&s);
+            open_box(&s, 1, 2e-3);
+            OK(sinter_stepper_set_insertion(s.st, &p, &o));
+            OK(sinter_checkpoint_read(s.st, path));
+            remove(path);
+        }
+        OK(sinter_stepper_advance(s.st, 9.5e-3));
+        OK(sinter_particles_count(s.ps, &counts[run]));
+        final[run] = malloc(4 * counts[run] * sizeof(double));
+        assert_non_null(final[run]);
+        for (size_t i = 0; i < counts[run]; ++i) {
+            get3(&s, SINTER_FIELD_POSITION, i, final[run] + 4 * i);
+            final[run][4 * i + 3] = get1(&s, SINTER_FIELD_RADIUS, i);
+        }
+        scene_close(&s);
+    }
+    assert_true(counts[0] > 10);
+    assert_int_equal(counts[0], counts[1]);
+    assert_memory_equal(final[0], final[1], 4 * counts[0] * sizeof(double));
+    free(final[0]);
+    free(final[1]);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -238,9 +286,8 @@ static void test_bad_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mass_rate),
-        cmocka_unit_test(test_no_overlap),
-        cmocka_unit_test(test_reproducible),
+        cmocka_unit_test(test_mass_rate),    cmocka_unit_test(test_no_overlap),
+        cmocka_unit_test(test_reproducible), cmocka_unit_test(test_checkpoint_restart),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
