@@ -227,6 +227,77 @@ static void test_checkpoint_restart(void **state)
     free(final[1]);
 }
 
+/* The scene's [insert] section: a scene without [particles] fills from its region at the rate
+ * given; bad keys are refused with the file and line; a scene with neither is refused. */
+static const char *SCENE_HEAD = "[scene]\nname = insert\nunits = SI\n"
+                                "[material glass]\ndensity = 2500\nyoungs_modulus = 1e7\n"
+                                "[wall floor]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\n"
+                                "[force hertz_mindlin]\n[force gravity]\n"
+                                "[stepper]\ndt = 1e-6\nend_time = 0.005\n";
+
+static sinter_status load_scene(const char *body, sinter_ctx *ctx, sinter_scene **sc)
+{
+    char path[64], text[2048];
+    snprintf(path, sizeof(path), "/tmp/test_insertion_%ld.sc", (long)getpid());
+    snprintf(text, sizeof(text), "%s%s", SCENE_HEAD, body);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    const sinter_status st = sinter_scene_load(sc, ctx, path);
+    remove(path);
+    return st;
+}
+
+static void test_scene_section(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    sinter_scene *sc = NULL;
+    OK(load_scene("[insert]\nmaterial = glass\ndistribution = uniform\nradius = 1e-4\n"
+                  "spread = 2e-5\nbox_min = -1e-3 -1e-3 2e-3\nbox_max = 1e-3 1e-3 3e-3\n"
+                  "region = cylinder\nmass_rate = 2e-5\ninterval = 1e-3\nseed = 9\n"
+                  "velocity = 0 0 -0.1\n",
+                  ctx, &sc));
+    sinter_stepper *st = NULL;
+    OK(sinter_scene_get_stepper(sc, &st));
+    OK(sinter_stepper_advance(st, 2.5e-3));
+    double done = 0, target = 0;
+    uint64_t n = 0;
+    OK(sinter_stepper_get_insertion(st, &done, &target, &n, NULL));
+    const double r = 1.2e-4, m_max = RHO * 4.0 / 3.0 * PI * r * r * r;
+    assert_true(fabs(target - 3 * 2e-5 * 1e-3) <= 1e-15);
+    assert_true(done <= target && target - done < m_max);
+    assert_true(n > 0);
+    sinter_scene_destroy(sc);
+    struct {
+        const char *body, *fragment;
+    } bad[] = {
+        {"[insert]\nmaterial = glass\nradius = 1e-4\nbox_min = 0 0 0\nbox_max = 1e-3 1e-3 "
+         "1e-3\nmass_rate = 1e-5\nregion = sphere\n",
+         "region: expected box or cylinder"},
+        {"[insert]\nmaterial = glass\nradius = 1e-4\nbox_min = 0 0 0\nbox_max = 1e-3 1e-3 "
+         "1e-3\n",
+         "needs 'mass_rate"},
+        {"[insert]\nmaterial = glass\nradius = 1e-4\nbox_min = 0 0 0\nbox_max = 1e-3 1e-3 "
+         "1e-3\nmass_rate = -1\n",
+         "mass_rate = -1 kg/s"},
+        {"", "has no particles"},
+    };
+    for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); ++k) {
+        sc = NULL;
+        const sinter_status st2 = load_scene(bad[k].body, ctx, &sc);
+        assert_true(st2 == SINTER_ERR_PARSE || st2 == SINTER_ERR_INVALID);
+        assert_null(sc);
+        if (strstr(sinter_last_error(ctx), bad[k].fragment) == NULL) {
+            print_error("message '%s' lacks '%s'\n", sinter_last_error(ctx), bad[k].fragment);
+            fail();
+        }
+    }
+    sinter_ctx_destroy(ctx);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -286,9 +357,9 @@ static void test_bad_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mass_rate),    cmocka_unit_test(test_no_overlap),
-        cmocka_unit_test(test_reproducible), cmocka_unit_test(test_checkpoint_restart),
-        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_mass_rate),     cmocka_unit_test(test_no_overlap),
+        cmocka_unit_test(test_reproducible),  cmocka_unit_test(test_checkpoint_restart),
+        cmocka_unit_test(test_scene_section), cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
