@@ -33,6 +33,7 @@ SHORT = {
     "laser_bed": (0.006, 0.001, {}),
     "mech": (0.02, 0.002, {}),
     "mech_heat": (0.02, 0.002, {}),
+    "powder_bed": (0.006, 0.001, {}),  # restarts while [insert] inserts (its checkpoint state)
     "powder_psd": (2e-6, 5e-7, {}),
     "press": (1.6, 0.02, {}),
     "press_copper": (0.1, 0.005, {"particles": {"count": "60", "box_max": "0.004 0.004 0.015"},
