@@ -152,6 +152,10 @@ sinter_status sinter_stepper_set_insertion(sinter_stepper *st, const sinter_pack
     if (s == SINTER_OK)
         s = check_options(ctx, options, sinter_radius_sampler_options(ins->sampler),
                           sinter_radius_sampler_max(ins->sampler));
+    /* a set that starts empty gets its arrays now: the pipeline's passes over the particles
+     * take their arrays as they are, also for none */
+    if (s == SINTER_OK && st->ps->capacity == 0)
+        s = sinter_particles_reserve(st->ps, 64);
     if (s != SINTER_OK) {
         sinter_insertion_destroy(ctx, ins);
         return s;
