@@ -1949,6 +1949,64 @@ SINTER_API sinter_status sinter_pack_lattice(sinter_particles *particles, const 
 SINTER_API sinter_status sinter_pack_pour(sinter_stepper *stepper, double ke_per_particle,
                                           double t_min, double t_max);
 
+/** Regions of the continuous insertion (sinter_stepper_set_insertion). */
+typedef enum sinter_insertion_region {
+    SINTER_INSERT_BOX = 0,     /**< the powder's box (box_min, box_max) */
+    SINTER_INSERT_CYLINDER = 1 /**< the cylinder inscribed in that box along z: axis through the
+                                    box's centre, radius half the smaller of its x and y widths */
+} sinter_insertion_region;
+
+/** Options of the continuous insertion; fill with sinter_insertion_options_init. */
+typedef struct sinter_insertion_options {
+    size_t struct_size;  /**< sizeof(sinter_insertion_options) */
+    int region;          /**< a sinter_insertion_region (default box) */
+    double mass_rate;    /**< target mass flow [kg/s], > 0 (default 1e-3) */
+    double start;        /**< time of the first insertion [s] (default 0) */
+    double end;          /**< no insertion at or after this time [s] (default HUGE_VAL) */
+    double interval;     /**< time between insertions [s], > 0 (default 1e-3) */
+    double velocity[3];  /**< initial velocity of every inserted particle [m/s] (default 0) */
+} sinter_insertion_options;
+
+/** Fill `options` with the defaults above; struct_size: sizeof(sinter_insertion_options). */
+SINTER_API sinter_status sinter_insertion_options_init(sinter_insertion_options *options,
+                                                       size_t struct_size);
+
+/**
+ * Continuous insertion (a stage at the start of each explicit step): at the times start + k
+ * interval before `end`, the first step at or after each inserts spheres of the powder's size
+ * distribution until the mass inserted since `start` is within one particle's mass of
+ * mass_rate (k + 1) interval (capped at mass_rate (end - start)): the mass of each interval is
+ * inserted at its beginning, and no more than the target is inserted. Each sphere goes to a
+ * uniformly random place in the region (options->region over powder->box_min, box_max, with
+ * powder->gap to the region's faces) where it overlaps no particle and no wall (a surface gap
+ * of at least powder->gap to both), tried at most powder->max_attempts times; a sphere that
+ * finds no room waits for the next insertion (the shortfall is in
+ * sinter_stepper_get_insertion). `powder` gives the size distribution (every
+ * sinter_radius_distribution; a table is copied), the material, the temperature, the seed and
+ * the gap; a mixture is refused. The inserted spheres move at options->velocity, without spin;
+ * their forces are evaluated at once, and the step's stability check (sinter_stable_dt_hertz)
+ * then covers them. One random stream (powder->seed) gives radii and places in order, so a run
+ * inserts the same spheres on every machine and any thread count. A later call replaces the
+ * insertion; powder = NULL removes it. A checkpoint carries its state (format 11): set the same
+ * insertion before sinter_checkpoint_read, and the run continues bit for bit. Only the
+ * explicit stepper inserts (SINTER_ERR_STATE for another kind).
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (a bad option, a region
+ * narrower than the largest sphere, a mixture), SINTER_ERR_NOT_FOUND (an unregistered material).
+ */
+SINTER_API sinter_status sinter_stepper_set_insertion(sinter_stepper *stepper,
+                                                      const sinter_packing_options *powder,
+                                                      const sinter_insertion_options *options);
+
+/**
+ * What the insertion did so far: the mass inserted [kg], the target mass for the insertions
+ * made so far [kg] (mass_rate times the time they cover), the spheres inserted, and the
+ * insertions that ended with a sphere finding no room. Any pointer may be NULL; all are 0
+ * without an insertion.
+ */
+SINTER_API sinter_status sinter_stepper_get_insertion(const sinter_stepper *stepper,
+                                                      double *mass_inserted, double *mass_target,
+                                                      uint64_t *inserted, uint64_t *crowded);
+
 /** Options of sinter_pack_compact; fill with sinter_compaction_options_init. */
 typedef struct sinter_compaction_options {
     size_t struct_size;      /**< sizeof(sinter_compaction_options) */
@@ -2246,9 +2304,10 @@ SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
  * electric model the potentials its next solve starts from; the particle
  * ranges its contact sums follow, the steps since its last spatial sort) to
- * a versioned binary file (format 10, which also carries the stepper's counts;
- * formats 2-9 are still read, and a run restored from formats 2-4 may differ from
- * the straight run in the last bits) with a checksum.
+ * a versioned binary file (format 11, which also carries the stepper's counts and
+ * its continuous insertion's state, sinter_stepper_set_insertion: set the insertion
+ * before reading; formats 2-10 are still read, and a run restored from formats 2-4
+ * may differ from the straight run in the last bits) with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */

@@ -233,6 +233,11 @@ enum class size_basis : int {
     number = SINTER_SIZE_BY_NUMBER,
     volume = SINTER_SIZE_BY_VOLUME,
 };
+/// Mirrors sinter_insertion_region.
+enum class insertion_region : int {
+    box = SINTER_INSERT_BOX,
+    cylinder = SINTER_INSERT_CYLINDER,
+};
 /// Mirrors sinter_contact_data (the per-contact arrays of a snapshot).
 enum class contact_data : int {
     id_a = SINTER_CONTACT_DATA_ID_A,
@@ -1233,6 +1238,13 @@ class stepper : public detail::handle<sinter_stepper, sinter_stepper_destroy> {
     void advance(double t_end)
     {
         run(sinter_stepper_advance(live("sinter_stepper_advance"), t_end), "sinter_stepper_advance");
+    }
+    /// Continuous insertion of `powder` (sinter_stepper_set_insertion); nullptr removes it.
+    void set_insertion(const sinter_packing_options *powder,
+                       const sinter_insertion_options *options)
+    {
+        run(sinter_stepper_set_insertion(live("sinter_stepper_set_insertion"), powder, options),
+            "sinter_stepper_set_insertion");
     }
     /// Take n steps.
     void step(std::uint64_t n)

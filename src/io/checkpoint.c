@@ -21,6 +21,7 @@
 #include "electric/electric.h"
 #include "io/checkpoint.h"
 #include "io/path.h"
+#include "stepper/insertion.h"
 #include "stepper/stepper.h"
 
 /* 2: material parameter count recorded (53 parameters since the neck data; 54 with
@@ -62,8 +63,13 @@
  * 12: then the periodic boundaries (stepper/periodic.c, ghosts/ghosts.h): a mask of the
  *    periodic axes, each one's cell (lo, hi), the count of ghost rows (the last rows of the
  *    particles above) and for each its owner (u32) and shift (3 doubles); earlier versions are
- *    still read (no axis periodic, no ghosts) */
-#define CHECKPOINT_VERSION 12u
+ *    still read (no axis periodic, no ghosts)
+ * 13: then the continuous insertion (stepper/insertion.h): 1 and its state (7 u64: the next
+ *    insertion, the spheres inserted, the crowded insertions, the random stream; 3 doubles: the
+ *    next sphere's radius, the mass inserted and its target), or 0 without one; restored into
+ *    the stepper's insertion, which the host sets before reading (a scene's [insert]); earlier
+ *    versions are still read (the insertion as the host set it) */
+#define CHECKPOINT_VERSION 13u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -277,7 +283,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
             put(&w, fz->scale0, n * sizeof(double));
     }
     put_u64(&w, st->stats.bonds_broken); /* version 10 */
-    /* version 11: periodic axes and the ghost rows' owners and shifts */
+    /* version 12: periodic axes and the ghost rows' owners and shifts */
     const sinter_ghosts *g = &st->ghosts;
     put_u64(&w, (uint64_t)(g->periodic[0] | g->periodic[1] << 1 | g->periodic[2] << 2));
     for (int d = 0; d < 3; ++d)
@@ -289,6 +295,16 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     if (ps->ghost_count > 0) {
         put(&w, g->owner, ps->ghost_count * sizeof(uint32_t));
         put(&w, g->shift, 3 * ps->ghost_count * sizeof(double));
+    }
+    put_u64(&w, st->insertion != NULL);  /* version 13 */
+    if (st->insertion != NULL) {
+        uint64_t u[SINTER_INSERTION_U64];
+        double d[SINTER_INSERTION_F64];
+        sinter_insertion_get_state(st->insertion, u, d);
+        for (int k = 0; k < SINTER_INSERTION_U64; ++k)
+            put_u64(&w, u[k]);
+        for (int k = 0; k < SINTER_INSERTION_F64; ++k)
+            put_f64(&w, d[k]);
     }
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
@@ -739,6 +755,17 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
                 r.bad = 1;
         }
     }
+    const uint64_t has_insertion = version >= 13u && !r.bad ? take_u64(&r) : 0;
+    uint64_t ins_u[SINTER_INSERTION_U64] = {0};
+    double ins_d[SINTER_INSERTION_F64] = {0};
+    if (has_insertion > 1)
+        r.bad = 1;
+    for (int k = 0; k < SINTER_INSERTION_U64 && has_insertion && !r.bad; ++k)
+        ins_u[k] = take_u64(&r);
+    for (int k = 0; k < SINTER_INSERTION_F64 && has_insertion && !r.bad; ++k)
+        ins_d[k] = take_f64(&r);
+    if (has_insertion && !r.bad && !sinter_insertion_state_valid(ins_d))
+        r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
     if (s == SINTER_OK && periodic_mask != 0 && st->kind != SINTER_STEPPER_EXPLICIT)
@@ -988,6 +1015,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->stats.iterations = iterations;
     st->stats.evaluations = evaluations;
     st->stats.bonds_broken = bonds_broken;
+    if (has_insertion && st->insertion != NULL) /* a host without one ignores it */
+        sinter_insertion_set_state(st->insertion, ins_u, ins_d);
     sg->h_prev = h_prev;
     sg->contraction = contraction;
     sg->control.x_prev = x_prev;

@@ -12,6 +12,7 @@
 #include "io/scene_scan.h"
 #include "io/scene_tables.h"
 #include "io/scene_text.h"
+#include "io/scene_insert.h"
 #include "io/scene_walls.h"
 #include "io/text_file.h"
 #include "particles/compact.h"
@@ -417,13 +418,13 @@ static void log_mixture(scene_text *t, const sinter_scene *sc, const scene_secti
     sinter_particles_release(sc->ps, SINTER_FIELD_MASS);
 }
 
-/* [particles] method = random: sinter_pack_random with the section's distribution. */
-static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_section *s,
-                                         sinter_packing_options *o, const char *dist, double radius)
+/* The size distribution keys of a section ([particles] method = random, [insert]) into o;
+ * a table's arrays into *d and *q (free both, also on error). */
+sinter_status scene_read_distribution(scene_text *t, sinter_scene *sc, scene_section *s,
+                                      sinter_packing_options *o, const char *dist, double radius,
+                                      double **d, double **q)
 {
-    double count = 0, seed = 1;
-    TRY(required(t, s, scene_get_double(t, s, "count", &count), "count"));
-    OPTIONAL(scene_get_double(t, s, "seed", &seed));
+    *d = *q = NULL;
     OPTIONAL(scene_get_double(t, s, "spread", &o->radius_spread));
     OPTIONAL(scene_get_double(t, s, "radius_min", &o->radius_min));
     OPTIONAL(scene_get_double(t, s, "radius_max", &o->radius_max));
@@ -447,6 +448,23 @@ static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_
                            "%s:%d: distribution: expected monodisperse, uniform, normal, "
                            "lognormal or table, got '%s'",
                            t->path, scene_find(s, "distribution")->line, dist);
+    if (o->distribution == SINTER_RADII_TABLE)
+        return read_psd_table(t, sc, s, o, d, q);
+    return SINTER_OK;
+}
+
+sinter_status scene_material_ref(scene_text *t, sinter_scene *sc, scene_section *s, int *id)
+{
+    return material_ref(t, sc, s, id);
+}
+
+/* [particles] method = random: sinter_pack_random with the section's distribution. */
+static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_section *s,
+                                         sinter_packing_options *o, const char *dist, double radius)
+{
+    double count = 0, seed = 1;
+    TRY(required(t, s, scene_get_double(t, s, "count", &count), "count"));
+    OPTIONAL(scene_get_double(t, s, "seed", &seed));
     /* Bounded before the conversions below (a double beyond the integer type is UB). */
     if (!(count >= 0 && count <= 1e12) || count != floor(count) ||
         !(seed >= 0 && seed < 18446744073709551616.0) || seed != floor(seed))
@@ -457,9 +475,7 @@ static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_
     o->seed = (uint64_t)seed;
     double *d = NULL, *q = NULL, *fractions = NULL;
     int32_t mat[SCENE_MAX_MATERIALS];
-    sinter_status st = SINTER_OK;
-    if (o->distribution == SINTER_RADII_TABLE)
-        st = read_psd_table(t, sc, s, o, &d, &q);
+    sinter_status st = scene_read_distribution(t, sc, s, o, dist, radius, &d, &q);
     if (st == SINTER_OK && scene_find(s, "materials") != NULL) {
         st = read_mixture(t, sc, s, mat, &fractions, &o->mixture_count);
         o->mixture_materials = mat;
@@ -1109,6 +1125,24 @@ static sinter_status build_output(scene_text *t, sinter_scene *sc, scene_section
     OPTIONAL(scene_get_bool(t, s, "pair_reference", &sc->pair_reference));
     if (sc->pair_reference && sc->st->kind != SINTER_STEPPER_QUASISTATIC)
         return section_error(t, s, "pair_reference needs [stepper] kind = quasistatic");
+    double *box = NULL;
+    size_t box_n = 0;
+    sinter_status got = scene_get_numbers(t, s, "solid_box", &box, &box_n);
+    OPTIONAL(got);
+    if (got == SINTER_OK) {
+        int ok = box_n == 6;
+        for (int d = 0; d < 3 && ok; ++d) {
+            sc->solid_lo[d] = box[d];
+            sc->solid_hi[d] = box[3 + d];
+            ok = isfinite(box[d]) && isfinite(box[3 + d]) && box[d] < box[3 + d];
+        }
+        sinter_free(t->ctx, box);
+        if (!ok)
+            return section_error(t, s,
+                                 "solid_box must be 'x0 y0 z0 x1 y1 z1' [m] with x0 < x1, "
+                                 "y0 < y1, z0 < z1");
+        sc->solid_box = 1;
+    }
     OPTIONAL(scene_get_bool(t, s, "csv", &sc->write_csv));
     OPTIONAL(scene_get_bool(t, s, "plot", &sc->write_plot));
     OPTIONAL(scene_get_double(t, s, "checkpoint_interval", &sc->checkpoint_interval));
@@ -1174,11 +1208,12 @@ static const struct {
     int required;
 } BUILDERS[] = {
     {"scene", build_scene_header, 1},  {"material", build_material, 1},
-    {"particles", build_particles, 1}, {"wall", build_wall, 0},
+    {"particles", build_particles, 0}, {"wall", build_wall, 0},
     {"force", build_force, 0},         {"heat", build_heat, 0},
     {"electric", build_electric, 0},   {"stepper", build_stepper, 1},
-    {"pour", build_pour, 0},           {"compact", build_compact, 0},
-    {"output", build_output, 0},       {"fields", build_fields, 0},
+    {"insert", scene_build_insert, 0}, {"pour", build_pour, 0},
+    {"compact", build_compact, 0},     {"output", build_output, 0},
+    {"fields", build_fields, 0},
 };
 
 static sinter_status build(scene_text *t, sinter_scene *sc)
@@ -1191,8 +1226,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
         if (b == nb)
             return section_error(t, &t->sections[k],
                                  "unknown section type; expected scene, material, particles, "
-                                 "wall, force, heat, electric, stepper, pour, compact, output or "
-                                 "fields");
+                                 "wall, force, heat, electric, stepper, insert, pour, compact, "
+                                 "output or fields");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;
@@ -1202,8 +1237,8 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
                 continue;
             const int single = strcmp(s->type, "scene") == 0 || strcmp(s->type, "stepper") == 0 ||
                                strcmp(s->type, "electric") == 0 || strcmp(s->type, "pour") == 0 ||
-                               strcmp(s->type, "compact") == 0 || strcmp(s->type, "output") == 0 ||
-                               strcmp(s->type, "fields") == 0;
+                               strcmp(s->type, "insert") == 0 || strcmp(s->type, "compact") == 0 ||
+                               strcmp(s->type, "output") == 0 || strcmp(s->type, "fields") == 0;
             if (seen && single)
                 return section_error(t, s, "this section may appear only once");
             seen = 1;
@@ -1222,8 +1257,9 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
     TRY(scene_check_unused(t));
     size_t n = 0;
     TRY(sinter_particles_count(sc->ps, &n));
-    if (n == 0)
-        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s: the scene has no particles", t->path);
+    if (n == 0 && sc->st->insertion == NULL)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s: the scene has no particles (and no [insert] section)", t->path);
     return SINTER_OK;
 }
 

@@ -66,6 +66,10 @@ struct sinter_scene {
     double fields_lo[3], fields_hi[3];
     unsigned profile_axes; /* bit d: the laminae along axis d */
     double laminae;        /* laminae per profile */
+    /* [output] solid_box: the series' solid fraction in this box instead of the walls' (issue
+     * 38: a powder layer's packing density) */
+    int solid_box;
+    double solid_lo[3], solid_hi[3];
     double checkpoint_interval;
     /* where the run stands (io/scene_program.h); restored by sinter_scene_restart */
     scene_program program;
@@ -79,6 +83,17 @@ struct scene_text;
 struct scene_section;
 sinter_status scene_material_read(struct scene_text *t, struct scene_section *s,
                                   sinter_material *m);
+
+/* The material named by a section's "material" key: its index into *id (scene.c). */
+sinter_status scene_material_ref(struct scene_text *t, sinter_scene *sc, struct scene_section *s,
+                                 int *id);
+
+/* A section's size distribution keys (distribution `dist`, radius, spread, radius_min,
+ * radius_max, gap, gsd, table...) into o; a table's arrays into *d and *q (free both, also on
+ * error). Shared by [particles] method = random and [insert] (scene.c). */
+sinter_status scene_read_distribution(struct scene_text *t, sinter_scene *sc,
+                                      struct scene_section *s, sinter_packing_options *o,
+                                      const char *dist, double radius, double **d, double **q);
 
 /* The format bits of the frames' writers (io/vtk_arrays.h) the scene asks for. */
 static inline int scene_vtk_format(const sinter_scene *sc)

@@ -127,6 +127,8 @@ static double volume_fraction(const sinter_scene *sc, double bed_top)
  * (io/solid_fraction.c), over the overlapping pairs of the neighbour list. */
 static double solid_fraction(const sinter_scene *sc, double bed_top)
 {
+    if (sc->solid_box) /* [output] solid_box: a box the spheres may cross */
+        return sinter_solid_fraction_sampled(sc->ctx, sc->ps, sc->solid_lo, sc->solid_hi, 2e7);
     double lo[3], hi[3];
     fraction_box(sc, bed_top, lo, hi);
     const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
@@ -184,9 +186,16 @@ static int holds_bonds(const sinter_scene *sc)
     return 0;
 }
 
+/* 2 when the scene inserts ([insert]): then the mass inserted so far and its target
+ * (sinter_stepper_get_insertion; a checkpoint carries both, version 11), after those. */
+static size_t insertion_columns(const sinter_scene *sc)
+{
+    return sc->st->insertion != NULL ? 2 : 0;
+}
+
 static size_t stepper_columns(const sinter_scene *sc)
 {
-    return stepper_base_columns(sc) + (size_t)holds_bonds(sc);
+    return stepper_base_columns(sc) + (size_t)holds_bonds(sc) + insertion_columns(sc);
 }
 
 static size_t wall_heat_column(const sinter_scene *sc)
@@ -424,6 +433,10 @@ static void observe_flows(const sinter_scene *sc, double *row)
     }
     if (holds_bonds(sc))
         q[base] = (double)s->bonds_broken;
+    if (insertion_columns(sc) > 0) {
+        double *ins = q + base + (size_t)holds_bonds(sc);
+        sinter_stepper_get_insertion(sc->st, &ins[0], &ins[1], NULL, NULL);
+    }
     observe_distributions(sc, row);
     scene_track_observe(sc, row + track_column(sc));
     if (sc->pair_reference)
@@ -796,6 +809,13 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
     if (holds_bonds(sc)) {
         names[stepper_column(sc) + stepper_base_columns(sc)] = "broken bonds";
         units[stepper_column(sc) + stepper_base_columns(sc)] = "1";
+    }
+    if (insertion_columns(sc) > 0) {
+        const size_t k = stepper_column(sc) + stepper_base_columns(sc) + (size_t)holds_bonds(sc);
+        names[k] = "inserted mass";
+        units[k] = "kg";
+        names[k + 1] = "insertion target";
+        units[k + 1] = "kg";
     }
     names[solid_column(sc)] = "solid fraction";
     units[solid_column(sc)] = "1";

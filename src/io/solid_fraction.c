@@ -57,3 +57,63 @@ double sinter_solid_volume_in_box(const sinter_particles *ps, const sinter_pair_
     }
     return volume;
 }
+
+double sinter_solid_fraction_sampled(sinter_ctx *ctx, const sinter_particles *ps,
+                                     const double lo[3], const double hi[3], double max_points)
+{
+    double rmin = INFINITY;
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double r = ps->radius[i], *x = ps->x + 3 * i;
+        int in = 1;
+        for (int d = 0; d < 3; ++d)
+            in &= x[d] + r > lo[d] && x[d] - r < hi[d];
+        if (in)
+            rmin = fmin(rmin, r);
+    }
+    if (rmin == INFINITY)
+        return 0.0;
+    const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    double h = 0.25 * rmin;
+    if (volume / (h * h * h) > max_points)
+        h = cbrt(volume / max_points);
+    size_t n[3];
+    for (int d = 0; d < 3; ++d)
+        n[d] = (size_t)fmax(1.0, ceil((hi[d] - lo[d]) / h));
+    const double w[3] = {(hi[0] - lo[0]) / (double)n[0], (hi[1] - lo[1]) / (double)n[1],
+                         (hi[2] - lo[2]) / (double)n[2]};
+    const size_t total = n[0] * n[1] * n[2];
+    unsigned char *mark = sinter_calloc(ctx, total, 1);
+    if (mark == NULL)
+        return NAN;
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double r = ps->radius[i], *x = ps->x + 3 * i;
+        size_t a[3], b[3];
+        int in = 1;
+        for (int d = 0; d < 3 && in; ++d) {
+            /* the cells whose midpoint lo + (k + 1/2) w can lie within r of x */
+            const double k0 = ceil((x[d] - r - lo[d]) / w[d] - 0.5),
+                         k1 = floor((x[d] + r - lo[d]) / w[d] - 0.5);
+            in = k1 >= 0 && k0 < (double)n[d] && k0 <= k1;
+            a[d] = k0 < 0 ? 0 : (size_t)k0;
+            b[d] = k1 >= (double)n[d] ? n[d] - 1 : (size_t)k1;
+        }
+        if (!in)
+            continue;
+        for (size_t p = a[0]; p <= b[0]; ++p) {
+            const double dx = lo[0] + ((double)p + 0.5) * w[0] - x[0];
+            for (size_t q = a[1]; q <= b[1]; ++q) {
+                const double dy = lo[1] + ((double)q + 0.5) * w[1] - x[1];
+                for (size_t s = a[2]; s <= b[2]; ++s) {
+                    const double dz = lo[2] + ((double)s + 0.5) * w[2] - x[2];
+                    if (dx * dx + dy * dy + dz * dz <= r * r)
+                        mark[(p * n[1] + q) * n[2] + s] = 1;
+                }
+            }
+        }
+    }
+    size_t inside = 0;
+    for (size_t k = 0; k < total; ++k)
+        inside += mark[k];
+    sinter_free(ctx, mark);
+    return (double)inside / (double)total;
+}

@@ -851,6 +851,95 @@ sinter_status sinter_packing_sample_radii(sinter_particles *particles,
     return st;
 }
 
+/* ---- a sampler that outlives the call (packing.h) ------------------------------ */
+
+struct sinter_radius_sampler {
+    sinter_packing_options o;
+    radius_range range;
+    rng gen;
+    double *table; /* 2 table_points: the diameters, then the cumulative fractions */
+};
+
+sinter_status sinter_radius_sampler_create(sinter_radius_sampler **out, sinter_particles *particles,
+                                           const sinter_packing_options *options, const char *func)
+{
+    sinter_ctx *ctx = particles->ctx;
+    *out = NULL;
+    sinter_radius_sampler *s = sinter_calloc(ctx, 1, sizeof(*s));
+    if (s == NULL)
+        return sinter_last_status(ctx);
+    sinter_status st = check_options(particles, func, options, 0, &s->o, &s->range);
+    if (st == SINTER_OK && s->o.mixture_count > 0)
+        st = sinter_fail(ctx, SINTER_ERR_INVALID,
+                         "%s: a mixture (mixture_count = %zu) is not supported here; give one "
+                         "material",
+                         func, s->o.mixture_count);
+    if (st == SINTER_OK && s->o.distribution == SINTER_RADII_TABLE) {
+        const size_t n = s->o.table_points;
+        s->table = sinter_realloc_array(ctx, NULL, 2 * n, sizeof(double));
+        if (s->table == NULL)
+            st = sinter_last_status(ctx);
+        else {
+            memcpy(s->table, s->o.table_diameter, n * sizeof(double));
+            memcpy(s->table + n, s->o.table_cumulative, n * sizeof(double));
+            s->o.table_diameter = s->table;
+            s->o.table_cumulative = s->table + n;
+        }
+    }
+    if (s->o.distribution != SINTER_RADII_TABLE) {
+        s->o.table_diameter = s->o.table_cumulative = NULL;
+        s->o.table_points = 0;
+    }
+    s->o.mixture_materials = NULL;
+    s->o.mixture_mass_fractions = NULL;
+    if (st != SINTER_OK) {
+        sinter_radius_sampler_destroy(ctx, s);
+        return st;
+    }
+    rng_seed(&s->gen, s->o.seed);
+    *out = s;
+    return SINTER_OK;
+}
+
+double sinter_radius_sampler_radius(sinter_radius_sampler *s)
+{
+    return draw_radius(&s->gen, &s->o, &s->range);
+}
+
+double sinter_radius_sampler_uniform(sinter_radius_sampler *s)
+{
+    return rng_uniform(&s->gen);
+}
+
+double sinter_radius_sampler_max(const sinter_radius_sampler *s)
+{
+    return s->range.hi;
+}
+
+const sinter_packing_options *sinter_radius_sampler_options(const sinter_radius_sampler *s)
+{
+    return &s->o;
+}
+
+void sinter_radius_sampler_get_stream(const sinter_radius_sampler *s, uint64_t state[4])
+{
+    memcpy(state, s->gen.s, sizeof(s->gen.s));
+}
+
+void sinter_radius_sampler_set_stream(sinter_radius_sampler *s, const uint64_t state[4])
+{
+    memcpy(s->gen.s, state, sizeof(s->gen.s));
+}
+
+void sinter_radius_sampler_destroy(sinter_ctx *ctx, sinter_radius_sampler *s)
+{
+    if (s == NULL)
+        return;
+    range_free(ctx, &s->range);
+    sinter_free(ctx, s->table);
+    sinter_free(ctx, s);
+}
+
 /* ---- lattice ----------------------------------------------------------------------- */
 
 /* Centres lo + r + i spacing with centre + r <= hi, i = 0 .. *count - 1. */

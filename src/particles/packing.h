@@ -14,4 +14,27 @@ sinter_status sinter_packing_sample_radii(sinter_particles *particles,
                                           const sinter_packing_options *options, size_t n,
                                           double *radii);
 
+/*
+ * A sampler of one particle set's size distribution that outlives the call that made it (the
+ * continuous insertion, stepper/insertion.c): the options validated as sinter_pack_random does
+ * (a mixture refused), the table copied, and a random stream seeded with options->seed that
+ * gives radii and uniform numbers in the order they are asked for, the same on every machine.
+ */
+typedef struct sinter_radius_sampler sinter_radius_sampler;
+
+sinter_status sinter_radius_sampler_create(sinter_radius_sampler **out, sinter_particles *particles,
+                                           const sinter_packing_options *options, const char *func);
+/* The next radius [m] of the distribution. */
+double sinter_radius_sampler_radius(sinter_radius_sampler *s);
+/* The next uniform number in [0, 1). */
+double sinter_radius_sampler_uniform(sinter_radius_sampler *s);
+/* The largest radius the distribution draws [m]. */
+double sinter_radius_sampler_max(const sinter_radius_sampler *s);
+/* The options as validated (the table pointing to the sampler's copy). */
+const sinter_packing_options *sinter_radius_sampler_options(const sinter_radius_sampler *s);
+/* The random stream's state (a checkpoint's), and its restoration. */
+void sinter_radius_sampler_get_stream(const sinter_radius_sampler *s, uint64_t state[4]);
+void sinter_radius_sampler_set_stream(sinter_radius_sampler *s, const uint64_t state[4]);
+void sinter_radius_sampler_destroy(sinter_ctx *ctx, sinter_radius_sampler *s);
+
 #endif

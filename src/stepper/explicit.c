@@ -11,6 +11,7 @@
 #include "contact/chunks.h"
 #include "core/ranges_run.h"
 #include "core/stream_store.h"
+#include "insertion.h"
 #include "sanity.h"
 #include "stepper.h"
 #include "verlet_blocks.h"
@@ -489,6 +490,9 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
     const int periodic = sinter_ghosts_on(&st->ghosts);
     sinter_status s = periodic ? sinter_periodic_check(st) : SINTER_OK;
+    /* continuous insertion: the spheres due now, their forces evaluated (insertion.c) */
+    if (s == SINTER_OK)
+        s = sinter_insertion_stage(st);
     if (s == SINTER_OK)
         s = sinter_explicit_reserve(st);
     if (s != SINTER_OK)

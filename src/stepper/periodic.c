@@ -46,6 +46,9 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
         why = "implicit conduction";
     else if (st->has_domain)
         why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
+    else if (st->insertion != NULL)
+        why = "continuous insertion (sinter_stepper_set_insertion: new spheres would be stored "
+              "after the images)";
     for (size_t k = 0; why == NULL && k < st->force_count; ++k) {
         const sinter_force_model *fm = st->forces[k].model;
         if (fm->ops->eval == sinter_force_host_eval && fm->host.contacts != NULL &&

@@ -9,6 +9,7 @@
 #include "sanity.h"
 #include "stepper.h"
 #include "electric/electric.h"
+#include "insertion.h"
 
 double sinter_clock(void)
 {
@@ -74,6 +75,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
+    sinter_insertion_destroy(ctx, st->insertion);
     for (int k = 0; k < 4; ++k)
         sinter_free(ctx, st->spare[k]);
     sinter_free(ctx, st->wall_arrays);
@@ -956,6 +958,11 @@ static sinter_status prepare(sinter_stepper *st)
         st->population_generation = st->ps->population_generation;
     }
     return s;
+}
+
+sinter_status sinter_stepper_prepare(sinter_stepper *st)
+{
+    return prepare(st);
 }
 
 sinter_status sinter_stepper_evaluate(sinter_stepper *st)

@@ -174,6 +174,7 @@ struct sinter_stepper {
     double *energy_force; /* beside energy_adj: a bound of that contact's force in the step */
     size_t energy_force_capacity;
     sinter_frozen frozen; /* heat at its own pace over a frozen bed (frozen_heat.h, issue 41) */
+    struct sinter_insertion *insertion; /* continuous insertion (insertion.h), NULL: none */
 };
 
 /* Set every particle's temperature to the furnace's T(st->time) (no-op without a furnace). */
@@ -201,6 +202,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist);
 
 /* Accept the last evaluation: commit history and wall reactions. */
 sinter_status sinter_stepper_commit(sinter_stepper *st);
+
+/* Bring forces, wall positions and history in line with the current state when the particles
+ * changed (as sinter_stepper_advance does before its first step): the insertion stage's new
+ * particles get their forces (stepper.c). */
+sinter_status sinter_stepper_prepare(sinter_stepper *st);
 
 /* Explicit velocity-Verlet step of size h (explicit.c). */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h);

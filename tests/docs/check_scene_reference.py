@@ -66,8 +66,9 @@ def direct_keys(body):
 
 def parser_keys():
     src = strip_comments(read("src/io/scene.c"))
-    # the [wall] section's kinds, spin and servo are read in their own file
-    funcs = functions(src + "\n" + strip_comments(read("src/io/scene_walls.c")))
+    # the [wall] section's kinds, spin and servo, and the [insert] section, in their own files
+    funcs = functions(src + "\n" + strip_comments(read("src/io/scene_walls.c")) + "\n" +
+                      strip_comments(read("src/io/scene_insert.c")))
     builders = re.search(r"BUILDERS\[\]\s*=\s*\{(.*?)\};", src, re.S)
     if not builders:
         sys.exit("check_scene_reference: no BUILDERS table in src/io/scene.c")

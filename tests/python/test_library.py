@@ -164,6 +164,7 @@ class CoverageTest(unittest.TestCase):
             "sinter_wall_thermal_mode": (sinter.WallThermal, "SINTER_WALL_"),
             "sinter_radius_distribution": (sinter.RadiusDistribution, "SINTER_RADII_"),
             "sinter_size_basis": (sinter.packing.SizeBasis, "SINTER_SIZE_BY_"),
+            "sinter_insertion_region": (sinter.InsertionRegion, "SINTER_INSERT_"),
             "sinter_callback_result": (sinter.CallbackResult, "SINTER_CALLBACK_"),
             "sinter_contact_kind": (sinter.ContactKind, "SINTER_CONTACT_"),
             "sinter_contact_data": (sinter.snapshot.ContactData, "SINTER_CONTACT_DATA_"),

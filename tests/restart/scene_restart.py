@@ -33,6 +33,7 @@ SHORT = {
     "laser_bed": (0.006, 0.001, {}),
     "mech": (0.02, 0.002, {}),
     "mech_heat": (0.02, 0.002, {}),
+    "powder_bed": (0.006, 0.001, {}),  # restarts while [insert] inserts (its checkpoint state)
     "powder_psd": (2e-6, 5e-7, {}),
     "press": (1.6, 0.02, {}),
     "press_bonded": (1.6, 0.02, {}),

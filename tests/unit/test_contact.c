@@ -391,8 +391,9 @@ static void test_partitioned_law_matches_hertz(void **state)
  * the section (its count, then count + 1 bounds), version 6's tail (the sort counter, the
  * forces' flag and an empty host section, 24 bytes), version 7's (56 bytes) and version 8's
  * walls' state (10 doubles per wall), version 9's frozen heat stage (80 bytes when not
- * frozen), version 10's broken-bond count (8 bytes) and version 12's periodic section (no axis
- * periodic, no ghosts: 16 bytes) dropped from before the checksum, the
+ * frozen), version 10's broken-bond count (8 bytes), version 12's periodic section (no axis
+ * periodic, no ghosts: 16 bytes) and version 13's insertion flag (8 bytes, no insertion)
+ * dropped from before the checksum, the
  * version and the checksum (FNV-1a 64 of everything before it) rewritten; `ranges` is the
  * partition's count. */
 static void checkpoint_as_format_4(const char *path, int ranges, size_t walls)
@@ -405,9 +406,10 @@ static void checkpoint_as_format_4(const char *path, int ranges, size_t walls)
     fclose(f);
     /* + version 7's tail without a staggered history: 2 counts, 3 doubles, 2 flags (56 bytes),
      * version 8's walls, version 9's frozen heat section (not frozen: 10 words, 80 bytes) and
-     * version 10's broken-bond count (8 bytes), version 12's periodic section (16 bytes) */
+     * version 10's broken-bond count (8 bytes), version 12's periodic section (16 bytes),
+     * version 13's insertion flag (8 bytes) */
     const size_t section =
-        8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 56 + 80 * walls + 80 + 8 + 16;
+        8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 56 + 80 * walls + 80 + 8 + 16 + 8;
     assert_true(size > 16 + 8 + section);
     uint64_t count;
     memcpy(&count, data + size - 8 - section, 8);

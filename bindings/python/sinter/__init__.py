@@ -32,7 +32,7 @@ from .material import Material, MaterialParam, ParamInfo
 from .models import ElectricModel, ForceModel, HeatModel
 from .neck import NeckModel, NeckResult, NeckSensitivities, NeckStats
 from .output import Series, plot_csv, plot_run, write_pvd, write_vtu
-from .packing import (RadiusDistribution, compaction_options, pack_compact, pack_lattice,
+from .packing import (InsertionRegion, RadiusDistribution, compaction_options, pack_compact, pack_lattice,
                       pack_random, packing_options, pour)
 from .particles import (FIELDS, DType, Field, FieldInfo, FieldView, ParticleFlag,
                         Particles, Property)
@@ -49,7 +49,8 @@ __all__ = [
     "FileNotFound", "ForceModel", "HeatModel", "Interrupted", "InvalidArgument", "LOGGER_NAME",
     "LibraryNotFound", "LogLevel", "Material", "NeckModel", "NeckResult",
     "NeckSensitivities", "NeckStats",
-    "NotFound", "OPTIONS", "ParamInfo", "Particles", "Property", "RadiusDistribution", "RangeError",
+    "NotFound", "OPTIONS", "ParamInfo", "Particles", "Property", "RadiusDistribution",
+    "InsertionRegion", "RangeError",
     "Scene", "Series", "SinterError", "SinteringStats", "StateView", "Status", "Stepper",
     "StepperKind", "StepperStats", "ThermalScheme", "WallElectric", "WallKind", "WallMotion", "WallThermal", "Walls",
     "compaction_options", "damping_ratio_from_restitution", "library_path", "pack_compact",

@@ -110,6 +110,15 @@ class PackingOptions(ctypes.Structure):
                 ("mixture_mass_fractions", _P(_double))]
 
 
+class InsertionOptions(ctypes.Structure):
+    """struct sinter_insertion_options (mass rate in kg/s, times in s, velocity in m/s)."""
+
+    _cname = "sinter_insertion_options"
+    _fields_ = [("struct_size", _size), ("region", _int), ("mass_rate", _double),
+                ("start", _double), ("end", _double), ("interval", _double),
+                ("velocity", _double * 3)]
+
+
 class CompactionOptions(ctypes.Structure):
     """struct sinter_compaction_options (lengths in m, speed in m/s, stress in Pa, energy in J)."""
 
@@ -464,6 +473,11 @@ SIGNATURES = {
         c_status, [ParticlesPtr, _P(_double), _P(_double), _double, _double, ctypes.c_int32,
                    _double, _P(_size)]),
     "sinter_pack_pour": (c_status, [StepperPtr, _double, _double, _double]),
+    "sinter_insertion_options_init": (c_status, [_P(InsertionOptions), _size]),
+    "sinter_stepper_set_insertion": (
+        c_status, [StepperPtr, _P(PackingOptions), _P(InsertionOptions)]),
+    "sinter_stepper_get_insertion": (
+        c_status, [StepperPtr, _P(_double), _P(_double), _P(_u64), _P(_u64)]),
     "sinter_compaction_options_init": (c_status, [_P(CompactionOptions), _size]),
     "sinter_pack_compact": (
         c_status, [ParticlesPtr, _P(CompactionOptions), _P(CompactionResult)]),

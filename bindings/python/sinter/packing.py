@@ -27,6 +27,13 @@ class RadiusDistribution(enum.IntEnum):
     TABLE = 4
 
 
+class InsertionRegion(enum.IntEnum):
+    """sinter_insertion_region: where the continuous insertion places spheres."""
+
+    BOX = 0       #: the powder's box
+    CYLINDER = 1  #: the cylinder inscribed in the box along z
+
+
 class SizeBasis(enum.IntEnum):
     """sinter_size_basis: what a cumulative size distribution counts."""
 

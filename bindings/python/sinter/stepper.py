@@ -12,12 +12,14 @@ from typing import (TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Mapping,
 
 from . import _callbacks
 from ._errors import check, check_path
-from ._lib import (NeckLawCallbacks, NeckLawFn, ObserverFn, SinteringStats as _CSinteringStats,
+from ._lib import (InsertionOptions as _CInsertionOptions, NeckLawCallbacks, NeckLawFn,
+                   ObserverFn, PackingOptions, SinteringStats as _CSinteringStats,
                    StepperPtr, StepperStats as _CStats, lib)
 from .context import Context, _Handle
 
 if TYPE_CHECKING:  # pragma: no cover
     from .models import ElectricModel, ForceModel, HeatModel
+    from .packing import InsertionRegion
     from .particles import Particles
     from .walls import Walls
 
@@ -468,6 +470,50 @@ class Stepper(_Handle):
         self._call(lib.sinter_stepper_set_neck_law, self._ptr,
                    ctypes.byref(table) if table is not None else None, None)
         self._neck_law = function  # the C function must outlive the stepper's use of it
+
+    def set_insertion(self, powder: Optional[PackingOptions], *,
+                      region: Union["InsertionRegion", str, int] = 0,
+                      mass_rate: float = 1e-3, start: float = 0.0, end: float = float("inf"),
+                      interval: float = 1e-3,
+                      velocity: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+        """Continuous insertion (sinter_stepper_set_insertion), a stage of each explicit step:
+        at start + k interval [s] before end [s], spheres of the powder (packing_options:
+        size distribution, material, temperature, seed, gap; its box is the region) are
+        inserted at random places free of particles and walls until the mass inserted since
+        start is within one sphere's mass of mass_rate [kg/s] times (k + 1) interval; they move
+        at velocity [m/s]. region: "box" or "cylinder" (inscribed in the box along z,
+        InsertionRegion). powder=None removes the insertion."""
+        from .packing import InsertionRegion
+        if powder is None:
+            self._call(lib.sinter_stepper_set_insertion, self._ptr, None, None)
+            return
+        options = _CInsertionOptions()
+        check(lib.sinter_insertion_options_init(ctypes.byref(options),
+                                                ctypes.sizeof(_CInsertionOptions)),
+              None, "sinter_insertion_options_init")
+        if isinstance(region, str):
+            region = InsertionRegion[region.upper()]
+        options.region = int(region)
+        options.mass_rate = float(mass_rate)
+        options.start = float(start)
+        options.end = float(end)
+        options.interval = float(interval)
+        v = [float(x) for x in velocity]
+        if len(v) != 3:
+            raise ValueError("set_insertion: velocity needs 3 components")
+        options.velocity = (ctypes.c_double * 3)(*v)
+        self._call(lib.sinter_stepper_set_insertion, self._ptr, ctypes.byref(powder),
+                   ctypes.byref(options))
+
+    def insertion(self) -> Tuple[float, float, int, int]:
+        """What the insertion did so far (sinter_stepper_get_insertion): the mass inserted
+        [kg], the target mass of the insertions made so far [kg], the spheres inserted, and
+        the insertions that ended with a sphere finding no room."""
+        done, target = ctypes.c_double(), ctypes.c_double()
+        count, crowded = ctypes.c_uint64(), ctypes.c_uint64()
+        self._call(lib.sinter_stepper_get_insertion, self._ptr, ctypes.byref(done),
+                   ctypes.byref(target), ctypes.byref(count), ctypes.byref(crowded))
+        return done.value, target.value, count.value, crowded.value
 
     def get_option(self, key: str) -> float:
         """Read an option of set_option."""

@@ -1,0 +1,332 @@
+/*
+ * Continuous insertion (issue 38; LAMMPS' fix pour and LIGGGHTS' insertion by rate are the
+ * peers): at times start + k interval the stage inserts spheres of the powder's size
+ * distribution into a box or the cylinder inscribed in it, each at a random place where it
+ * overlaps no particle and no wall, until the mass inserted since start reaches, within one
+ * sphere's mass, the target mass_rate (k + 1) interval. The next sphere is drawn before it is
+ * placed and is inserted only when its whole mass fits under the target, so the inserted mass
+ * M_k after insertion k satisfies target_k - m_next < M_k <= target_k: the mass rate is met to
+ * within one particle's mass per interval (tests/unit/test_insertion.c).
+ *
+ * The overlap check runs over the particles that can reach the region (gathered once per
+ * insertion) and the spheres inserted so far in it: O(N) to gather, then O(near) per try.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "insertion.h"
+#include "particles/packing.h"
+#include "particles/particles.h"
+#include "walls/walls.h"
+
+static const double PI = 3.14159265358979323846;
+
+struct sinter_insertion {
+    sinter_radius_sampler *sampler;
+    sinter_insertion_options o;
+    uint64_t next;      /* index k of the next insertion */
+    double pending;     /* radius of the next sphere (drawn, not yet placed) [m] */
+    double mass_done;   /* inserted so far [kg] */
+    double mass_target; /* of the insertions made so far [kg] */
+    uint64_t inserted;  /* spheres */
+    uint64_t crowded;   /* insertions that ended with a sphere finding no room */
+    double *near;       /* x, y, z, r of the spheres the new ones may touch */
+    size_t near_count, near_capacity;
+};
+
+void sinter_insertion_destroy(sinter_ctx *ctx, struct sinter_insertion *ins)
+{
+    if (ins == NULL)
+        return;
+    sinter_radius_sampler_destroy(ctx, ins->sampler);
+    sinter_free(ctx, ins->near);
+    sinter_free(ctx, ins);
+}
+
+void sinter_insertion_get_state(const struct sinter_insertion *ins,
+                                uint64_t u[SINTER_INSERTION_U64], double d[SINTER_INSERTION_F64])
+{
+    u[0] = ins->next;
+    u[1] = ins->inserted;
+    u[2] = ins->crowded;
+    sinter_radius_sampler_get_stream(ins->sampler, u + 3);
+    d[0] = ins->pending;
+    d[1] = ins->mass_done;
+    d[2] = ins->mass_target;
+}
+
+int sinter_insertion_state_valid(const double d[SINTER_INSERTION_F64])
+{
+    return isfinite(d[0]) && d[0] > 0.0 && isfinite(d[1]) && d[1] >= 0.0 && isfinite(d[2]) &&
+           d[2] >= 0.0;
+}
+
+void sinter_insertion_set_state(struct sinter_insertion *ins,
+                                const uint64_t u[SINTER_INSERTION_U64],
+                                const double d[SINTER_INSERTION_F64])
+{
+    ins->next = u[0];
+    ins->inserted = u[1];
+    ins->crowded = u[2];
+    sinter_radius_sampler_set_stream(ins->sampler, u + 3);
+    ins->pending = d[0];
+    ins->mass_done = d[1];
+    ins->mass_target = d[2];
+}
+
+sinter_status sinter_insertion_options_init(sinter_insertion_options *options, size_t struct_size)
+{
+    if (options == NULL)
+        return SINTER_ERR_NULL;
+    if (struct_size != sizeof(sinter_insertion_options))
+        return SINTER_ERR_STRUCT_SIZE;
+    memset(options, 0, sizeof(*options));
+    options->struct_size = sizeof(*options);
+    options->region = SINTER_INSERT_BOX;
+    options->mass_rate = 1e-3;
+    options->start = 0.0;
+    options->end = HUGE_VAL;
+    options->interval = 1e-3;
+    return SINTER_OK;
+}
+
+static sinter_status check_options(sinter_ctx *ctx, const sinter_insertion_options *o,
+                                   const sinter_packing_options *powder, double rmax)
+{
+    static const char *fn = "sinter_stepper_set_insertion";
+    if (o->struct_size != sizeof(sinter_insertion_options))
+        return sinter_fail(ctx, SINTER_ERR_STRUCT_SIZE,
+                           "%s: options.struct_size is %zu, expected %zu; fill the options with "
+                           "sinter_insertion_options_init",
+                           fn, o->struct_size, sizeof(sinter_insertion_options));
+    if (o->region != SINTER_INSERT_BOX && o->region != SINTER_INSERT_CYLINDER)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: region = %d is not a sinter_insertion_region", fn, o->region);
+    if (!isfinite(o->mass_rate) || !(o->mass_rate > 0.0))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: mass_rate = %g kg/s must be positive and finite", fn, o->mass_rate);
+    if (!isfinite(o->interval) || !(o->interval > 0.0))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: interval = %g s must be positive and finite", fn, o->interval);
+    if (!isfinite(o->start) || isnan(o->end) || !(o->end > o->start))
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: need a finite start before end (got start %g s, end %g s)", fn,
+                           o->start, o->end);
+    for (int d = 0; d < 3; ++d)
+        if (!isfinite(o->velocity[d]))
+            return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: velocity[%d] = %g m/s is not finite",
+                               fn, d, o->velocity[d]);
+    if (o->region == SINTER_INSERT_CYLINDER) {
+        const double radius = 0.5 * fmin(powder->box_max[0] - powder->box_min[0],
+                                         powder->box_max[1] - powder->box_min[1]);
+        if (!(radius > rmax + powder->gap))
+            return sinter_fail(ctx, SINTER_ERR_INVALID,
+                               "%s: the cylinder's radius %g m leaves no room for a sphere of "
+                               "radius %g m with gap %g m",
+                               fn, radius, rmax, powder->gap);
+    }
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_set_insertion(sinter_stepper *st, const sinter_packing_options *powder,
+                                           const sinter_insertion_options *options)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = st->ctx;
+    if (powder == NULL) {
+        sinter_insertion_destroy(ctx, st->insertion);
+        st->insertion = NULL;
+        return SINTER_OK;
+    }
+    SINTER_CHECK_NULL(ctx, options);
+    if (st->kind != SINTER_STEPPER_EXPLICIT)
+        return sinter_fail(ctx, SINTER_ERR_STATE,
+                           "sinter_stepper_set_insertion: only the explicit stepper inserts "
+                           "particles");
+    struct sinter_insertion *ins = sinter_calloc(ctx, 1, sizeof(*ins));
+    if (ins == NULL)
+        return sinter_last_status(ctx);
+    sinter_status s =
+        sinter_radius_sampler_create(&ins->sampler, st->ps, powder, "sinter_stepper_set_insertion");
+    if (s == SINTER_OK)
+        s = check_options(ctx, options, sinter_radius_sampler_options(ins->sampler),
+                          sinter_radius_sampler_max(ins->sampler));
+    /* a set that starts empty gets its arrays now: the pipeline's passes over the particles
+     * take their arrays as they are, also for none */
+    if (s == SINTER_OK && st->ps->capacity == 0)
+        s = sinter_particles_reserve(st->ps, 64);
+    if (s != SINTER_OK) {
+        sinter_insertion_destroy(ctx, ins);
+        return s;
+    }
+    ins->o = *options;
+    ins->pending = sinter_radius_sampler_radius(ins->sampler);
+    sinter_insertion_destroy(ctx, st->insertion);
+    st->insertion = ins;
+    return SINTER_OK;
+}
+
+sinter_status sinter_stepper_get_insertion(const sinter_stepper *st, double *mass_inserted,
+                                           double *mass_target, uint64_t *inserted,
+                                           uint64_t *crowded)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    const struct sinter_insertion *ins = st->insertion;
+    if (mass_inserted)
+        *mass_inserted = ins ? ins->mass_done : 0.0;
+    if (mass_target)
+        *mass_target = ins ? ins->mass_target : 0.0;
+    if (inserted)
+        *inserted = ins ? ins->inserted : 0;
+    if (crowded)
+        *crowded = ins ? ins->crowded : 0;
+    return SINTER_OK;
+}
+
+static sinter_status near_push(sinter_ctx *ctx, struct sinter_insertion *ins, const double x[3],
+                               double r)
+{
+    if (ins->near_count == ins->near_capacity) {
+        const size_t cap = ins->near_capacity ? 2 * ins->near_capacity : 64;
+        double *grown = sinter_realloc_array(ctx, ins->near, 4 * cap, sizeof(double));
+        if (grown == NULL)
+            return sinter_last_status(ctx);
+        ins->near = grown;
+        ins->near_capacity = cap;
+    }
+    double *e = ins->near + 4 * ins->near_count++;
+    e[0] = x[0], e[1] = x[1], e[2] = x[2], e[3] = r;
+    return SINTER_OK;
+}
+
+/* The particles that can touch a sphere of the powder inside the region. */
+static sinter_status gather_near(sinter_stepper *st, struct sinter_insertion *ins)
+{
+    const sinter_particles *ps = st->ps;
+    const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
+    const double reach = sinter_radius_sampler_max(ins->sampler) + p->gap;
+    ins->near_count = 0;
+    for (size_t i = 0; i < ps->count; ++i) {
+        const double *x = ps->x + 3 * i, r = ps->radius[i] + reach;
+        int in = 1;
+        for (int d = 0; d < 3; ++d)
+            in &= x[d] + r >= p->box_min[d] && x[d] - r <= p->box_max[d];
+        if (in) {
+            const sinter_status s = near_push(st->ctx, ins, x, ps->radius[i]);
+            if (s != SINTER_OK)
+                return s;
+        }
+    }
+    return SINTER_OK;
+}
+
+/* 1 if a sphere (x, r) keeps the gap g to every near sphere and every wall. */
+static int fits(const sinter_stepper *st, const struct sinter_insertion *ins, const double x[3],
+                double r, double g)
+{
+    for (size_t k = 0; k < ins->near_count; ++k) {
+        const double *e = ins->near + 4 * k;
+        const double dx = x[0] - e[0], dy = x[1] - e[1], dz = x[2] - e[2], c = r + e[3] + g;
+        if (dx * dx + dy * dy + dz * dz < c * c)
+            return 0;
+    }
+    if (st->walls != NULL)
+        for (size_t k = 0; k < st->walls->count; ++k)
+            if (!(sinter_wall_distance(&st->walls->wall[k], x) >= r + g))
+                return 0;
+    return 1;
+}
+
+/* A random place for a sphere of radius r in the region; 0 after max_attempts tries. */
+static int place(const sinter_stepper *st, struct sinter_insertion *ins, double r, double x[3])
+{
+    const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
+    const double g = p->gap, m = r + g;
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+        lo[d] = p->box_min[d] + m;
+        hi[d] = p->box_max[d] - m;
+    }
+    const double cx = 0.5 * (p->box_min[0] + p->box_max[0]),
+                 cy = 0.5 * (p->box_min[1] + p->box_max[1]),
+                 reach =
+                     0.5 * fmin(p->box_max[0] - p->box_min[0], p->box_max[1] - p->box_min[1]) - m;
+    for (uint64_t a = 0; a < p->max_attempts; ++a) {
+        for (int d = 0; d < 3; ++d)
+            x[d] =
+                fmin(lo[d] + (hi[d] - lo[d]) * sinter_radius_sampler_uniform(ins->sampler), hi[d]);
+        if (ins->o.region == SINTER_INSERT_CYLINDER) {
+            const double dx = x[0] - cx, dy = x[1] - cy;
+            if (dx * dx + dy * dy > reach * reach)
+                continue; /* outside the cylinder: another try */
+        }
+        if (fits(st, ins, x, r, g))
+            return 1;
+    }
+    return 0;
+}
+
+sinter_status sinter_insertion_stage(sinter_stepper *st)
+{
+    struct sinter_insertion *ins = st->insertion;
+    if (ins == NULL)
+        return SINTER_OK;
+    const sinter_insertion_options *o = &ins->o;
+    const double t = st->time;
+    double tk = o->start + (double)ins->next * o->interval;
+    if (!(t >= tk) || !(tk < o->end))
+        return SINTER_OK;
+    /* the latest insertion time passed (steps longer than the interval merge insertions) */
+    while (o->start + (double)(ins->next + 1) * o->interval <= t &&
+           o->start + (double)(ins->next + 1) * o->interval < o->end)
+        ins->next++;
+    const double covered = fmin((double)(ins->next + 1) * o->interval, o->end - o->start);
+    ins->next++;
+    ins->mass_target = o->mass_rate * covered;
+    const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
+    const double density = st->ps->materials[p->material].value[SINTER_MAT_DENSITY];
+    sinter_status s = gather_near(st, ins);
+    const size_t first_new = ins->near_count;
+    double mass = ins->mass_done;
+    for (;;) {
+        const double r = ins->pending, m = density * (4.0 / 3.0) * PI * r * r * r;
+        if (s != SINTER_OK || !(mass + m <= ins->mass_target))
+            break;
+        double x[3];
+        if (!place(st, ins, r, x)) {
+            ins->crowded++;
+            break;
+        }
+        s = near_push(st->ctx, ins, x, r);
+        mass += m;
+        ins->pending = sinter_radius_sampler_radius(ins->sampler);
+    }
+    const size_t n = ins->near_count - first_new;
+    if (s != SINTER_OK || n == 0)
+        return s;
+    /* the new spheres: x, y, z, r records into positions and radii */
+    double *xr = sinter_realloc_array(st->ctx, NULL, 4 * n, sizeof(double));
+    if (xr == NULL)
+        return sinter_last_status(st->ctx);
+    for (size_t k = 0; k < n; ++k) {
+        const double *e = ins->near + 4 * (first_new + k);
+        memcpy(xr + 3 * k, e, 3 * sizeof(double));
+        xr[3 * n + k] = e[3];
+    }
+    size_t first = 0;
+    s = sinter_particles_add(st->ps, n, xr, xr + 3 * n, p->material, p->temperature, &first);
+    sinter_free(st->ctx, xr);
+    if (s != SINTER_OK)
+        return s;
+    sinter_particles *ps = st->ps;
+    for (size_t i = first; i < first + n; ++i) {
+        for (int d = 0; d < 3; ++d)
+            ps->v[3 * i + d] = o->velocity[d];
+        ins->mass_done += ps->mass[i];
+    }
+    ins->inserted += n;
+    st->forces_current = 0;
+    return sinter_stepper_prepare(st);
+}
