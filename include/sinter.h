@@ -1042,7 +1042,10 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    resistance in series, 1/G = 1/G_law + R''/A. "gas_conductivity" k_g
  *    [W/(m K)] > 0: conduction through the gas lens around each contact
  *    (Cheng et al. 1999), cut off at the gap "gas_gap" [m] (default 1e-7) and
- *    out to "gas_radius" (default 0.5) times the smaller radius. "walls" = 1/0.
+ *    out to "gas_radius" (default 0.5) times the smaller radius; "gas_reach"
+ *    f > 0: the same lens between pairs apart by less than f min(r_i, r_j)
+ *    (explicit in the implicit scheme; the stepper widens its neighbour search
+ *    by f times the largest radius; default 0: touching pairs only). "walls" = 1/0.
  *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
  *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the

@@ -28,6 +28,9 @@ typedef struct sinter_heat_eval {
     /* the Joule power each particle received from the last network electric solve [W] (the
      * "joule" model's energy-consistent source), or NULL without a network model */
     const double *joule_dissipation;
+    /* the particle-particle candidate pairs the contacts were found among (the neighbour
+     * search's, widened by the gas reach: gas_gap.h), or NULL */
+    const struct sinter_pair_list *pairs;
 } sinter_heat_eval;
 
 typedef struct sinter_heat_ops {

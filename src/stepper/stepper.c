@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "contact/host_views.h"
+#include "heat/gas_gap.h"
 #include "sanity.h"
 #include "stepper.h"
 #include "electric/electric.h"
@@ -464,9 +465,32 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
     return s;
 }
 
+/* The gap [m] within which a heat model reads pairs apart (heat/gas_gap.h): the largest
+ * "gas_reach" of the heat models times the largest radius; 0 without one (the default, no
+ * pass over the radii). */
+static double heat_reach(const sinter_stepper *st)
+{
+    double fraction = 0.0;
+    for (size_t k = 0; k < st->thermal.count; ++k) {
+        const double f = sinter_heat_gas_reach(st->thermal.slots[k].model, st->time);
+        fraction = f > fraction ? f : fraction;
+    }
+    if (!(fraction > 0.0))
+        return 0.0;
+    double rmax = 0.0;
+    for (size_t i = 0; i < st->ps->count; ++i)
+        rmax = st->ps->radius[i] > rmax ? st->ps->radius[i] : rmax;
+    return fraction * rmax;
+}
+
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
-    if (!sinter_neighbors_stale(&st->nb, st->ps, st->walls))
+    /* a wider reach than the list was built with: built again now, whatever the skin */
+    const double reach = st->thermal.count > 0 ? heat_reach(st) : 0.0;
+    const int wider = reach > st->nb.reach;
+    if (wider)
+        st->nb.reach = reach;
+    if (!wider && !sinter_neighbors_stale(&st->nb, st->ps, st->walls))
         return SINTER_OK;
     const double t0 = sinter_clock();
     choose_skin(st);

@@ -207,6 +207,50 @@ static void test_two_spheres_approach_mean(void **state)
     }
 }
 
+/*
+ * The gas between two spheres apart in the stepper (issue 40, heat/gas_gap.h): r = 1 mm, k 50,
+ * C 500, 300 K and 400 K, 0.4 mm apart, twice the default skin (0.2 r), so the pair is a
+ * candidate only because "gas_reach" 0.5 widens the neighbour search (contact/neighbors.h).
+ * The lens closed form G = pi k_g r ln(1 + (rho_out^2 / r) / h) (r* = r / 2, rho_out = r / 2,
+ * h >> g_min) is checked against the quadrature in test_heat_laws.c; here forward Euler gives
+ * theta_2 - theta_1 = 100 K (1 - 2 G dt / (m C))^n exactly up to rounding (1e-9 relative), and
+ * sum m C theta is conserved to round-off. Without the reach nothing conducts.
+ */
+static void test_gas_between_spheres_apart(void **state)
+{
+    (void)state;
+    for (int reach = 0; reach < 2; ++reach) {
+        scene s;
+        const double k = 50.0, c = 500.0, r = 1e-3, h = 0.4e-3, kg = 0.026;
+        open_heat_only(&s, SINTER_MAT_THERMAL_CONDUCTIVITY, k, c);
+        scene_add(&s, 0, 0, 0, r);
+        scene_add(&s, 2 * r + h, 0, 0, r);
+        set_temperature(&s, 0, 300.0);
+        set_temperature(&s, 1, 400.0);
+        sinter_heat_model *hm = NULL;
+        add_heat(&s, "conduction", &hm);
+        OK(sinter_heat_model_set(hm, "gas_conductivity", kg));
+        OK(sinter_heat_model_set(hm, "gas_reach", reach ? 0.5 : 0.0));
+        const double before = sum_mc_theta(&s, c), dt = 1e-2;
+        const int n = 1000;
+        OK(sinter_stepper_set_dt(s.st, dt));
+        OK(sinter_stepper_step(s.st, (uint64_t)n));
+        const double gap =
+            get1(&s, SINTER_FIELD_TEMPERATURE, 1) - get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+        const double mc = get1(&s, SINTER_FIELD_MASS, 0) * c;
+        const double g = PI * kg * r * log(1.0 + 0.25 * r / h);
+        const double expected = reach ? 100.0 * pow(1.0 - 2.0 * g * dt / mc, n) : 100.0;
+        print_message("gas apart, reach %d: gap %.12g K, expected %.12g K (G %.6g W/K)\n", reach,
+                      gap, expected, g);
+        assert_close(gap, expected, 1e-9 * 100.0);
+        assert_close(sum_mc_theta(&s, c), before, 1e-14 * before);
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_heat_model_destroy(hm);
+        scene_close(&s);
+    }
+}
+
 static double one_sphere_cooling(const char *model, double theta0, double theta_env,
                                  double *t_end_out, double *mc_out, double *area_out,
                                  double emissivity)
@@ -662,6 +706,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_two_spheres_approach_mean),
+        cmocka_unit_test(test_gas_between_spheres_apart),
         cmocka_unit_test(test_imposed_wall),
         cmocka_unit_test(test_melting_point_stops),
         cmocka_unit_test(test_convective_and_radiative_cooling),
