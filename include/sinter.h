@@ -1097,6 +1097,13 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    sigma_0 (1 + k1/2 + k2/2), not sigma_0. A current through a particle of
  *    zero conductivity is SINTER_ERR_INVALID, a conductivity <= 0 from eq. 50
  *    SINTER_ERR_DOMAIN.
+ *  - "dissipation": heat from friction and inelastic impacts (seed 003 remark
+ *    3). The force models report the power their contacts dissipate
+ *    ("hertz_mindlin": the normal damper's (f_n - f_elastic) d(delta)/dt and,
+ *    where a contact slides, |f_t . u_t|; the tangential damper while
+ *    sticking and the rolling slider are not counted), half to each particle
+ *    of a pair, all of it to the particle at a wall. "impact" (1/0) and
+ *    "friction" (1/0), default 1. Explicit stepper only (elsewhere nothing).
  * Host models come from sinter_heat_model_create_host (sinter_submodel.h).
  */
 typedef struct sinter_heat_model sinter_heat_model;

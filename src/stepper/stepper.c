@@ -74,6 +74,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
+    sinter_free(ctx, st->dissipation);
     for (int k = 0; k < 4; ++k)
         sinter_free(ctx, st->spare[k]);
     sinter_free(ctx, st->wall_arrays);
@@ -509,6 +510,36 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
     return s;
 }
 
+/* For a "dissipation" heat model (heat/dissipation.c): the power the contacts of the force
+ * evaluation e just made dissipate, from each force model that reports it
+ * (sinter_force_ops.dissipation), into st->dissipation; nothing without such a heat model. */
+static sinter_status contact_dissipation(sinter_stepper *st, sinter_force_eval *e)
+{
+    st->dissipation_valid = 0;
+    int wanted = 0;
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        wanted |= st->thermal.slots[k].model->ops == &sinter_heat_dissipation;
+    if (!wanted)
+        return SINTER_OK;
+    const size_t n = st->ps->count;
+    sinter_status s = sinter_grow(st->ctx, (void **)&st->dissipation, &st->dissipation_capacity,
+                                  2 * n + 1, sizeof(double));
+    if (s != SINTER_OK)
+        return s;
+    memset(st->dissipation, 0, 2 * n * sizeof(double));
+    sinter_contacts_geometry(st->ctx, &st->pp, st->ps);
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        sinter_force_slot *slot = &st->forces[k];
+        if (slot->model->ops->dissipation == NULL)
+            continue;
+        e->hist_pp = &slot->pp;
+        e->hist_pw = &slot->pw;
+        s = slot->model->ops->dissipation(slot->model, e, st->dissipation);
+    }
+    st->dissipation_valid = s == SINTER_OK;
+    return s;
+}
+
 static sinter_status fill_view(sinter_stepper *st, double dt)
 {
     sinter_state_view *v = &st->view;
@@ -722,6 +753,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;
+    if (s == SINTER_OK && st->thermal.count > 0)
+        s = contact_dissipation(st, &e);
     if (s == SINTER_OK && st->thermal.count > 0) {
         const double t1 = sinter_clock();
         s = sinter_thermal_eval(st);

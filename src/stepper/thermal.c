@@ -145,6 +145,7 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     /* the gas between pairs apart (gas_gap.h) reads the candidate pairs of this layout */
     e.pairs =
         st->nb.built && st->nb.layout_generation == st->ps->layout_generation ? &st->nb.pp : NULL;
+    e.dissipation = st->dissipation_valid ? st->dissipation : NULL; /* heat/dissipation.c */
     return e;
 }
 

@@ -91,7 +91,8 @@ static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int
                           implicit ? f->g_pw : NULL,
                           NULL,
                           NULL,
-                          &f->nb.pp};
+                          &f->nb.pp,
+                          NULL};
     return hm->ops->eval(hm, &e);
 }
 
