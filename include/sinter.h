@@ -1131,7 +1131,10 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    resistance in series, 1/G = 1/G_law + R''/A. "gas_conductivity" k_g
  *    [W/(m K)] > 0: conduction through the gas lens around each contact
  *    (Cheng et al. 1999), cut off at the gap "gas_gap" [m] (default 1e-7) and
- *    out to "gas_radius" (default 0.5) times the smaller radius. "walls" = 1/0.
+ *    out to "gas_radius" (default 0.5) times the smaller radius; "gas_reach"
+ *    f > 0: the same lens between pairs apart by less than f min(r_i, r_j)
+ *    (explicit in the implicit scheme; the stepper widens its neighbour search
+ *    by f times the largest radius; default 0: touching pairs only). "walls" = 1/0.
  *  - "convection": Newton's law Q = h (theta_E - theta) 4 pi r^2 (eq. 37) with
  *    h = Nu k_E / (2 r) and Whitaker's Nu (eq. 38-40). Parameters
  *    "temperature" theta_E [K], "h" [W/(m^2 K)] (> 0 overrides the
@@ -1183,6 +1186,13 @@ SINTER_API sinter_status sinter_damping_ratio_from_restitution(double e, double 
  *    sigma_0 (1 + k1/2 + k2/2), not sigma_0. A current through a particle of
  *    zero conductivity is SINTER_ERR_INVALID, a conductivity <= 0 from eq. 50
  *    SINTER_ERR_DOMAIN.
+ *  - "dissipation": heat from friction and inelastic impacts (seed 003 remark
+ *    3). The force models report the power their contacts dissipate
+ *    ("hertz_mindlin": the normal damper's (f_n - f_elastic) d(delta)/dt and,
+ *    where a contact slides, |f_t . u_t|; the tangential damper while
+ *    sticking and the rolling slider are not counted), half to each particle
+ *    of a pair, all of it to the particle at a wall. "impact" (1/0) and
+ *    "friction" (1/0), default 1. Explicit stepper only (elsewhere nothing).
  * Host models come from sinter_heat_model_create_host (sinter_submodel.h).
  */
 typedef struct sinter_heat_model sinter_heat_model;

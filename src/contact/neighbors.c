@@ -360,7 +360,7 @@ static sinter_status scan_append(sinter_neighbors *nb, const grid *g, const sint
     sinter_status st = reserve_pairs(nb->ctx, l, l->count + 1024);
     while (st == SINTER_OK && lo < hi) {
         size_t stop;
-        l->count += scan(g, ps, nb->skin, lo, hi, l->i + l->count, l->j + l->count,
+        l->count += scan(g, ps, nb->skin + nb->reach, lo, hi, l->i + l->count, l->j + l->count,
                          l->capacity - l->count, &stop);
         if (stop < hi) /* the pairs of particle `stop` did not fit in the room left */
             st = reserve_pairs(nb->ctx, l, 2 * l->capacity);
@@ -411,7 +411,7 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     /* Finite inputs can still overflow: a span beyond DBL_MAX (particles near +-1e308)
      * or a cell of radius ~1e308 counts as DBL_MAX, so every quotient below is finite
      * or +inf and the loop ends (the cell grows until the count fits). */
-    double cell = fmin(2.0 * rmax + nb->skin, DBL_MAX), span[3];
+    double cell = fmin(2.0 * rmax + (nb->skin + nb->reach), DBL_MAX), span[3];
     for (int d = 0; d < 3; ++d)
         span[d] = fmin(hi[d] - lo[d], DBL_MAX);
     /* Keep the grid at most ~2 cells per particle (sparse scenes). */
@@ -509,7 +509,7 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     for (int t = 0; t < chunks; ++t) {
         const size_t a = n * (size_t)t / (size_t)chunks, b = n * (size_t)(t + 1) / (size_t)chunks;
         uint32_t *pi = nb->scan + 2 * seg * (size_t)t;
-        found[t] = scan(&g, ps, nb->skin, a, b, pi, pi + seg, seg, &stop[t]);
+        found[t] = scan(&g, ps, nb->skin + nb->reach, a, b, pi, pi + seg, seg, &stop[t]);
     }
     for (int t = 0; t < chunks && st == SINTER_OK; ++t) {
         st = reserve_pairs(ctx, &nb->pp, nb->pp.count + found[t]);

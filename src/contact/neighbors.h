@@ -41,6 +41,11 @@ typedef struct sinter_pair_list {
 typedef struct sinter_neighbors {
     sinter_ctx *ctx;
     double skin;
+    /* [m] particle pairs closer than skin + reach (gap) at a build are listed, so that every
+     * pair apart by less than `reach` is a candidate until the list is stale (the staleness
+     * test reads the skin alone); 0 (the default): the contact search's pairs only. A heat law
+     * between pairs apart sets it (heat/gas_gap.h) */
+    double reach;
     int built;
     sinter_pair_list pp;     /* particle-particle */
     sinter_pair_list pw;     /* particle-wall */

@@ -41,4 +41,5 @@ static sinter_status drag_eval(const sinter_force_model *fm, sinter_force_eval *
 }
 
 const sinter_force_ops sinter_force_drag = {
-    "drag", 0, 0, 0, {"vx", "vy", "vz", NULL}, {0.0, 0.0, 0.0}, drag_eval, NULL, NULL, NULL, NULL};
+    "drag", 0,    0,    0,   {"vx", "vy", "vz", NULL}, {0.0, 0.0, 0.0}, drag_eval, NULL,
+    NULL,   NULL, NULL, NULL};

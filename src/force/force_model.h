@@ -76,6 +76,11 @@ typedef struct sinter_force_ops {
      * at any distance while their first history value is non-zero (bonds that hold in
      * tension: sinter_contact_list.held); NULL means none */
     int (*holds_pairs)(const sinter_force_model *fm);
+    /* optional: the power [W] each contact dissipates in the state of the evaluation just
+     * made (its committed history, e->dt), added into power[2 i] (normal damping) and
+     * power[2 i + 1] (sliding friction) of its particles (heat/dissipation.c); NULL: none */
+    sinter_status (*dissipation)(const sinter_force_model *fm, const sinter_force_eval *e,
+                                 double *power);
 } sinter_force_ops;
 
 struct sinter_force_model {

@@ -125,7 +125,8 @@ HM_INLINE void roots(double rstar, double mstar, double delta, double *sqrt_rd, 
 HM_INLINE void contact_law(const pair_props *p, const double n[3], double delta,
                            double sqrt_rd, double sm, const double u[3], const double w_rel[3],
                            double dt, const double *hist, double *trial, int rolling,
-                           int no_tension, double f[3], double m_roll[3])
+                           int no_tension, double f[3], double m_roll[3], double *power)
+/* (power: NULL where the force is wanted; hertz_mindlin_dissipation's 2 values) */
 {
     const pair_consts *c = p->c;
     /* Normal: eq. 2 and 6. delta_dot = -(u_j - u_i).n = u.n with u = u_i - u_j. */
@@ -160,7 +161,8 @@ HM_INLINE void contact_law(const pair_props *p, const double n[3], double delta,
     for (int d = 0; d < 3; ++d)
         ft[d] = -kt * sx[d] - d_fric * ut[d];
     const double ft2 = v3_dot(ft, ft);
-    if (ft2 > c->mu_s2 * fabs_n * fabs_n && ft2 > 0.0) {
+    const int slipping = ft2 > c->mu_s2 * fabs_n * fabs_n && ft2 > 0.0;
+    if (slipping) {
         /* Slip (eq. 8): Coulomb force along the trial direction; spring from eq. 13. */
         const double scale = c->mu_d * fabs_n / sqrt(ft2);
         const double inv_kt = kt > 0.0 ? 1.0 / kt : 0.0;
@@ -172,6 +174,10 @@ HM_INLINE void contact_law(const pair_props *p, const double n[3], double delta,
     for (int d = 0; d < 3; ++d) {
         f[d] = ft[d] - fn * n[d];
         trial[d] = sx[d];
+    }
+    if (power != NULL) { /* hertz_mindlin_dissipation: the normal damper, the sliding */
+        power[0] = (fn - c->kn_pre * sqrt_rd * delta) * un;
+        power[1] = slipping ? fabs(v3_dot(ft, ut)) : 0.0;
     }
 
     /* Rolling resistance: eq. 15-20. */
@@ -829,7 +835,7 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
         contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
                     hist + width * (size_t)c->pair[q],
                     trial + width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q), rolling,
-                    no_tension, f, mr);
+                    no_tension, f, mr, NULL);
         if (!rolling && width == 6) /* a rolling spring no material uses: held at zero */
             for (int d = 3; d < 6; ++d)
                 trial[width * (e->hist_pw->by_pair ? (size_t)c->pair[q] : q) + (size_t)d] = 0.0;
@@ -944,6 +950,91 @@ static sinter_status hertz_mindlin_eval(const sinter_force_model *fm, sinter_for
     return st;
 }
 
+/*
+ * The power each contact dissipates in the state of the last evaluation (issue 40: heat from
+ * friction and inelastic impacts, heat/dissipation.c), into power[2 i] (the normal damper) and
+ * power[2 i + 1] (Coulomb sliding), added: the law is evaluated again from the committed
+ * history, as the evaluation did (contact_law), and gives
+ *   normal: (f_n - f_elastic) delta_dot, f_elastic = 4/3 E* sqrt(r* delta) delta (eq. 2): the
+ *     damper's force times the overlap rate, >= 0 (with "no_tension" the clamped force's
+ *     difference from the elastic one, again >= 0);
+ *   sliding: |f_t . u_t| where the contact slips (eq. 8), the Coulomb force times the slip
+ *     velocity of the contact points (the usual DEM convention; the tangential damper while
+ *     sticking, the springs' stored energy and the rolling slider are not counted).
+ * A pair contact gives half to each particle, a wall contact all to its particle. Needs the
+ * pair list's geometry (sinter_contacts_geometry) and a confirmed list.
+ */
+static sinter_status hertz_mindlin_dissipation(const sinter_force_model *fm,
+                                               const sinter_force_eval *e, double *power)
+{
+    constants k;
+    build_constants(e, &k);
+    const int no_tension = fm->param[PARAM_NO_TENSION] != 0.0;
+    const sinter_particles *ps = e->ps;
+    const double *v = ps->v, *w = ps->w, *r = ps->radius, *mass = ps->mass;
+    const double *inertia = ps->inertia;
+    const sinter_contact_list *c = e->pp;
+    double trial[6], f[3], mr[3], pw2[2];
+    for (size_t q = 0; q < c->count && c->geometry; ++q) {
+        const uint32_t i = c->i[q], j = c->j[q];
+        const double *n = c->n + 3 * q, li = c->branch[q], lj = c->dist[q] - c->branch[q];
+        pair_consts scratch;
+        const pair_consts *pc = pair_of(&k, e, i, j, NULL, &scratch);
+        const double ii = inertia[i] + mass[i] * r[i] * r[i];
+        const double ij = inertia[j] + mass[j] * r[j] * r[j];
+        const pair_props p = {pc, r[i] * r[j] / (r[i] + r[j]),
+                              mass[i] * mass[j] / (mass[i] + mass[j]), 1.0 / (1.0 / ii + 1.0 / ij)};
+        double ws[3], wsn[3], u[3], wrel[3], sqrt_rd, sm;
+        for (int d = 0; d < 3; ++d) {
+            ws[d] = li * w[3 * i + d] + lj * w[3 * j + d];
+            wrel[d] = w[3 * i + d] - w[3 * j + d];
+        }
+        v3_cross(ws, n, wsn);
+        for (int d = 0; d < 3; ++d)
+            u[d] = v[3 * i + d] - v[3 * j + d] + wsn[d];
+        roots(p.rstar, p.mstar, c->delta[q], &sqrt_rd, &sm);
+        contact_law(&p, n, c->delta[q], sqrt_rd, sm, u, wrel, e->dt,
+                    e->hist_pp->committed + e->hist_pp->width * (size_t)c->pair[q], trial, 0,
+                    no_tension, f, mr, pw2);
+        for (int d = 0; d < 2; ++d) {
+            power[2 * (size_t)i + (size_t)d] += 0.5 * pw2[d];
+            power[2 * (size_t)j + (size_t)d] += 0.5 * pw2[d];
+        }
+    }
+    const sinter_contact_list *cw = e->pw;
+    for (size_t q = 0; e->walls != NULL && q < cw->count; ++q) {
+        const uint32_t i = cw->i[q];
+        const sinter_wall *wall = &e->walls->wall[cw->j[q]];
+        const double *n = cw->n + 3 * q, li = cw->branch[q];
+        side si, sw;
+        side_from_material(&ps->materials[ps->material[i]], k.softening ? e->modulus_scale[i] : 1.0,
+                           &si);
+        side_from_material(&wall->material, 1.0, &sw);
+        pair_consts pc;
+        mix(&si, &sw, &pc);
+        const pair_props p = {&pc, r[i], mass[i], inertia[i] + mass[i] * r[i] * r[i]};
+        const double bi[3] = {li * n[0], li * n[1], li * n[2]};
+        double wi_b[3], uw[3], u[3], sqrt_rd, sm;
+        v3_cross(w + 3 * i, bi, wi_b);
+        if (wall->spin != 0.0) {
+            const double at[3] = {ps->x[3 * i] + bi[0], ps->x[3 * i + 1] + bi[1],
+                                  ps->x[3 * i + 2] + bi[2]};
+            sinter_wall_velocity_at(wall, at, uw);
+        } else {
+            uw[0] = wall->u[0], uw[1] = wall->u[1], uw[2] = wall->u[2];
+        }
+        for (int d = 0; d < 3; ++d)
+            u[d] = v[3 * i + d] + wi_b[d] - uw[d];
+        roots(p.rstar, p.mstar, cw->delta[q], &sqrt_rd, &sm);
+        contact_law(&p, n, cw->delta[q], sqrt_rd, sm, u, w + 3 * i, e->dt,
+                    e->hist_pw->committed + e->hist_pw->width * (size_t)cw->pair[q], trial, 0,
+                    no_tension, f, mr, pw2);
+        power[2 * (size_t)i] += pw2[0];
+        power[2 * (size_t)i + 1] += pw2[1];
+    }
+    return SINTER_OK;
+}
+
 /* Delta x (3) always; Delta theta (3) only with rolling resistance. */
 static size_t hertz_mindlin_history(const sinter_force_model *fm, int wall)
 {
@@ -978,4 +1069,5 @@ const sinter_force_ops sinter_force_hertz_mindlin = {
     .history_width = hertz_mindlin_history,
     .reads_geometry = hertz_mindlin_reads_geometry,
     .confirms_contacts = hertz_mindlin_confirms_contacts,
+    .dissipation = hertz_mindlin_dissipation,
 };

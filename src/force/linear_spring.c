@@ -64,4 +64,5 @@ const sinter_force_ops sinter_force_linear_spring = {"linear_spring",
                                                      NULL,
                                                      NULL,
                                                      NULL,
+                                                     NULL,
                                                      NULL};

@@ -17,8 +17,9 @@
  * = 1 takes Hertz's contact radius a^2 = r* delta for laws 0 and 2 instead of eq. 34's;
  * "resistance" R'' [m^2 K/W] > 0 puts an interface resistance in series over the contact
  * area, 1/G = 1/G_law + R''/A (seed 003 eq. 35's optional t_mat/k_mat); "gas_conductivity"
- * k_g > 0 adds the gas lens around each contact in parallel (gas_lens, with "gas_gap" and
- * "gas_radius"; touching pairs only: near pairs are not in the list). Those options run in
+ * k_g > 0 adds the gas lens around each contact in parallel (gas_gap.h, with "gas_gap" and
+ * "gas_radius"), and "gas_reach" > 0 the same lens between the pairs apart by less than
+ * gas_reach min(r_i, r_j) (gas_gap.c, over the stepper's candidate pairs). Those options run in
  * conduction_eval's own loop (loop_pp_general); the default laws keep their ranges' loops.
  *
  * Particle-wall (when "walls" = 1): the wall is a fixed-temperature reservoir at
@@ -47,6 +48,7 @@
 #include "conduction_ranges.h"
 #include "contact/chunks.h"
 #include "core/ranges_run.h"
+#include "gas_gap.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
@@ -59,7 +61,8 @@ enum {
     PARAM_RESISTANCE = 4,
     PARAM_GAS_CONDUCTIVITY = 5,
     PARAM_GAS_GAP = 6,
-    PARAM_GAS_RADIUS = 7
+    PARAM_GAS_RADIUS = 7,
+    PARAM_GAS_REACH = 8
 };
 
 /* "area": the pair law; "wall_reading": the particle-wall conductance's reading. */
@@ -108,33 +111,6 @@ typedef struct pp_law {
     double gas_k, gas_gap, gas_radius; /* the gas lens (gas_lens); gas_k 0: none */
 } pp_law;
 
-/*
- * Conduction through the gas lens around a contact (the gap model of Cheng, Yu & Zulli 1999
- * and Zhou, Yu & Zulli 2009: heat crosses the gas along the line of centres, each annulus
- * 2 pi rho d rho with the local gap as its length, cut off below at a smallest gap g_min of
- * the order of the gas's mean free path). The gap between the two surfaces at distance rho
- * from the axis is, for gaps small against the radii (the paraboloid approximation of
- * Batchelor & O'Brien 1977's near-contact analysis), g(rho) = h + rho^2 / (2 r*), h = d - r_i
- * - r_j (< 0 when the spheres overlap), r* = r_i r_j / (r_i + r_j). Between the solid contact
- * radius a (0 apart) and rho_out = gas_radius min(r_i, r_j):
- *   G_gas = int 2 pi k_g rho / max(g(rho), g_min) d rho
- *         = pi k_g (rho_m^2 - a^2) / g_min + 2 pi k_g r* ln(g(rho_out) / g(rho_lo)),
- * rho_m^2 = 2 r* (g_min - h) the radius inside which the cut-off holds (clamped to [a,
- * rho_out]), rho_lo = max(a, rho_m).
- */
-static double gas_lens(double kg, double gmin, double rout, double rstar, double h, double a2)
-{
-    const double c = 0.5 / rstar, out2 = rout * rout;
-    if (!(out2 > a2))
-        return 0.0;
-    double m2 = (gmin - h) / c; /* rho_m^2 */
-    m2 = m2 < a2 ? a2 : m2 > out2 ? out2 : m2;
-    double g = PI * kg * (m2 - a2) / gmin;
-    if (out2 > m2)
-        g += PI * kg / c * log((h + c * out2) / (h + c * m2));
-    return g;
-}
-
 static double conductance_pp_general(const pp_law *L, double ki, double kj, double ri, double rj,
                                      double area, double dist, double delta)
 {
@@ -155,7 +131,7 @@ static double conductance_pp_general(const pp_law *L, double ki, double kj, doub
         g = g > 0.0 && contact > 0.0 ? 1.0 / (1.0 / g + L->resistance / contact) : 0.0;
     if (L->gas_k > 0.0) { /* in parallel with the solid contact (and its resistance) */
         const double rs = ri * rj / (ri + rj), rmin = ri < rj ? ri : rj;
-        g += gas_lens(L->gas_k, L->gas_gap, L->gas_radius * rmin, rs, -delta, a2);
+        g += sinter_gas_lens(L->gas_k, L->gas_gap, L->gas_radius * rmin, rs, -delta, a2);
     }
     return g;
 }
@@ -539,12 +515,14 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     const double gas_k = sinter_heat_param(hm, PARAM_GAS_CONDUCTIVITY, e->time);
     const double gas_gap = sinter_heat_param(hm, PARAM_GAS_GAP, e->time);
     const double gas_radius = sinter_heat_param(hm, PARAM_GAS_RADIUS, e->time);
+    const double gas_reach = sinter_heat_param(hm, PARAM_GAS_REACH, e->time);
     if (!(gas_k >= 0.0 && gas_k < INFINITY) || !(gas_gap > 0.0 && gas_gap < INFINITY) ||
-        !(gas_radius > 0.0 && gas_radius <= 1.0))
+        !(gas_radius > 0.0 && gas_radius <= 1.0) || !(gas_reach >= 0.0 && gas_reach <= 10.0))
         return sinter_fail(e->ctx, SINTER_ERR_INVALID,
                            "heat model '%s': 'gas_conductivity' = %g W/(m K) must be finite and "
-                           ">= 0, 'gas_gap' = %g m finite and > 0, 'gas_radius' = %g in (0, 1]",
-                           hm->name, gas_k, gas_gap, gas_radius);
+                           ">= 0, 'gas_gap' = %g m finite and > 0, 'gas_radius' = %g in (0, 1], "
+                           "'gas_reach' = %g in [0, 10]",
+                           hm->name, gas_k, gas_gap, gas_radius, gas_reach);
     const int law = (int)area, proj = law == AREA_PROJECTION;
     const int wr = walls_plain(e, law, (int)reading);
     const int implicit = e->g_pp != NULL;
@@ -556,6 +534,8 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
         conductivities(e->ps, kmat);
         const pp_law L = {law, radius != 0.0, resistance, gas_k, gas_gap, gas_radius};
         loop_pp_general(e, kmat, &L, implicit);
+        const sinter_gas_law gas = {gas_k, gas_gap, gas_radius, gas_reach};
+        sinter_gas_near_pairs(e, &gas); /* the pairs apart (gas_reach > 0) */
         if (walls)
             loop_pw(e, kmat, law, wr, implicit);
         return SINTER_OK;
@@ -585,6 +565,15 @@ static sinter_status conduction_eval(const sinter_heat_model *hm, sinter_heat_ev
     return SINTER_OK;
 }
 
+double sinter_heat_gas_reach(const sinter_heat_model *hm, double t)
+{
+    if (hm->ops != &sinter_heat_conduction ||
+        !(sinter_heat_param(hm, PARAM_GAS_CONDUCTIVITY, t) > 0.0))
+        return 0.0;
+    const double reach = sinter_heat_param(hm, PARAM_GAS_REACH, t);
+    return reach > 0.0 && reach <= 10.0 ? reach : 0.0;
+}
+
 /* The projection law reads radii and temperatures only (the wall contacts, which always
  * carry their geometry, aside). */
 static int conduction_reads_geometry(const sinter_heat_model *hm, double t)
@@ -597,8 +586,8 @@ const sinter_heat_ops sinter_heat_conduction = {
     "conduction",
     1,
     {"area", "walls", "wall_reading", "radius", "resistance", "gas_conductivity", "gas_gap",
-     "gas_radius", NULL},
+     "gas_radius", "gas_reach", NULL},
     /* wall_reading 1: docs/validation.md, seed 003 sec. 5.1 */
-    {0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1e-7, 0.5},
+    {0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1e-7, 0.5, 0.0},
     conduction_eval,
     conduction_reads_geometry};

@@ -31,6 +31,12 @@ typedef struct sinter_heat_eval {
     /* k(theta) of each particle [W/(m K)] when a material has a conductivity table
      * (particles/property_table.h), else NULL: the materials' constants */
     const double *conductivity;
+    /* the particle-particle candidate pairs the contacts were found among (the neighbour
+     * search's, widened by the gas reach: gas_gap.h), or NULL */
+    const struct sinter_pair_list *pairs;
+    /* the power the contacts dissipated in the force evaluation of this state [W], 2 per
+     * particle (normal damping, sliding: sinter_force_ops.dissipation), or NULL */
+    const double *dissipation;
 } sinter_heat_eval;
 
 /* The conductivity of particle i in evaluation e: k(theta_i) when tabulated, else its
@@ -81,6 +87,7 @@ extern const sinter_heat_ops sinter_heat_nozzle;
 extern const sinter_heat_ops sinter_heat_laser;
 extern const sinter_heat_ops sinter_heat_joule;
 extern const sinter_heat_ops sinter_heat_beam;
+extern const sinter_heat_ops sinter_heat_dissipation;
 /* Names of "beam"'s outputs (sinter_heat_model.output, sinter_heat_model_output), NULL-ended. */
 extern const char *const sinter_heat_beam_outputs[SINTER_HEAT_MAX_OUTPUTS + 1];
 

@@ -6,8 +6,9 @@
 #include "heat_model.h"
 
 static const sinter_heat_ops *const BUILTIN[] = {
-    &sinter_heat_conduction, &sinter_heat_convection, &sinter_heat_radiation, &sinter_heat_nozzle,
-    &sinter_heat_laser,      &sinter_heat_joule,      &sinter_heat_beam,
+    &sinter_heat_conduction, &sinter_heat_convection,  &sinter_heat_radiation,
+    &sinter_heat_nozzle,     &sinter_heat_laser,       &sinter_heat_joule,
+    &sinter_heat_beam,       &sinter_heat_dissipation,
 };
 
 static const char *builtin_name(size_t k)

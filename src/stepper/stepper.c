@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "contact/host_views.h"
+#include "heat/gas_gap.h"
 #include "sanity.h"
 #include "stepper.h"
 #include "electric/electric.h"
@@ -76,6 +77,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
     sinter_insertion_destroy(ctx, st->insertion);
+    sinter_free(ctx, st->dissipation);
     for (int k = 0; k < 4; ++k)
         sinter_free(ctx, st->spare[k]);
     sinter_free(ctx, st->wall_arrays);
@@ -500,10 +502,33 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
     return s;
 }
 
+/* The gap [m] within which a heat model reads pairs apart (heat/gas_gap.h): the largest
+ * "gas_reach" of the heat models times the largest radius; 0 without one (the default, no
+ * pass over the radii). */
+static double heat_reach(const sinter_stepper *st)
+{
+    double fraction = 0.0;
+    for (size_t k = 0; k < st->thermal.count; ++k) {
+        const double f = sinter_heat_gas_reach(st->thermal.slots[k].model, st->time);
+        fraction = f > fraction ? f : fraction;
+    }
+    if (!(fraction > 0.0))
+        return 0.0;
+    double rmax = 0.0;
+    for (size_t i = 0; i < st->ps->count; ++i)
+        rmax = st->ps->radius[i] > rmax ? st->ps->radius[i] : rmax;
+    return fraction * rmax;
+}
+
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
     const int periodic = sinter_ghosts_on(&st->ghosts);
-    if (!sinter_neighbors_stale(&st->nb, st->ps, st->walls) &&
+    /* a wider reach than the list was built with: built again now, whatever the skin */
+    const double reach = st->thermal.count > 0 ? heat_reach(st) : 0.0;
+    const int wider = reach > st->nb.reach;
+    if (wider)
+        st->nb.reach = reach;
+    if (!wider && !sinter_neighbors_stale(&st->nb, st->ps, st->walls) &&
         (!periodic || sinter_ghosts_current(&st->ghosts, st->ps)))
         return SINTER_OK;
     const double t0 = sinter_clock();
@@ -513,7 +538,7 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
         /* the spare arrays (explicit.c: the state at t of the step under way) follow: wrapped
          * the same, their ghost rows made alike */
         s = sinter_ghosts_rebuild(
-            &st->ghosts, st->ps, sinter_ghosts_cutoff(st->ps, st->nb.skin),
+            &st->ghosts, st->ps, sinter_ghosts_cutoff(st->ps, st->nb.skin + st->nb.reach),
             st->spare[0] != NULL && st->spare_capacity >= st->ps->count ? st->spare[0] : NULL);
         if (s == SINTER_OK)
             s = sinter_explicit_keep_spare(st);
@@ -534,6 +559,36 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
     }
     st->stats.neighbor_builds++;
     st->stats.seconds_neighbor += sinter_clock() - t0;
+    return s;
+}
+
+/* For a "dissipation" heat model (heat/dissipation.c): the power the contacts of the force
+ * evaluation e just made dissipate, from each force model that reports it
+ * (sinter_force_ops.dissipation), into st->dissipation; nothing without such a heat model. */
+static sinter_status contact_dissipation(sinter_stepper *st, sinter_force_eval *e)
+{
+    st->dissipation_valid = 0;
+    int wanted = 0;
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        wanted |= st->thermal.slots[k].model->ops == &sinter_heat_dissipation;
+    if (!wanted)
+        return SINTER_OK;
+    const size_t n = st->ps->count;
+    sinter_status s = sinter_grow(st->ctx, (void **)&st->dissipation, &st->dissipation_capacity,
+                                  2 * n + 1, sizeof(double));
+    if (s != SINTER_OK)
+        return s;
+    memset(st->dissipation, 0, 2 * n * sizeof(double));
+    sinter_contacts_geometry(st->ctx, &st->pp, st->ps);
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        sinter_force_slot *slot = &st->forces[k];
+        if (slot->model->ops->dissipation == NULL)
+            continue;
+        e->hist_pp = &slot->pp;
+        e->hist_pw = &slot->pw;
+        s = slot->model->ops->dissipation(slot->model, e, st->dissipation);
+    }
+    st->dissipation_valid = s == SINTER_OK;
     return s;
 }
 
@@ -768,6 +823,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;
+    if (s == SINTER_OK && st->thermal.count > 0)
+        s = contact_dissipation(st, &e);
     if (s == SINTER_OK && st->thermal.count > 0) {
         const double t1 = sinter_clock();
         s = sinter_thermal_eval(st);

@@ -119,6 +119,12 @@ struct sinter_stepper {
     double *wall_force;             /* 3 per wall, then 3 per wall of moments [N m], from the
                                        last evaluation (capacity: walls) */
     size_t wall_force_capacity;
+    /* the power the contacts dissipated at the last evaluation, 2 doubles per particle (normal
+     * damping, sliding), for a "dissipation" heat model (heat/dissipation.c); valid while
+     * dissipation_valid */
+    double *dissipation;
+    size_t dissipation_capacity;
+    int dissipation_valid;
     /* The other copy of x, v, w and rot (3 doubles per particle each, for ps->capacity
      * particles): the explicit step writes the new state into it and swaps it with the set's
      * arrays, so that after a step it holds the last accepted state (rollback, sanity check)

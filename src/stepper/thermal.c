@@ -143,6 +143,10 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     e.heat = st->ps->heat;
     e.view = &st->view;
     e.joule_dissipation = sinter_electric_dissipation(st->electric, st->ps->count);
+    /* the gas between pairs apart (gas_gap.h) reads the candidate pairs of this layout */
+    e.pairs =
+        st->nb.built && st->nb.layout_generation == st->ps->layout_generation ? &st->nb.pp : NULL;
+    e.dissipation = st->dissipation_valid ? st->dissipation : NULL; /* heat/dissipation.c */
     return e;
 }
 

@@ -207,6 +207,157 @@ static void test_two_spheres_approach_mean(void **state)
     }
 }
 
+/*
+ * The gas between two spheres apart in the stepper (issue 40, heat/gas_gap.h): r = 1 mm, k 50,
+ * C 500, 300 K and 400 K, 0.4 mm apart, twice the default skin (0.2 r), so the pair is a
+ * candidate only because "gas_reach" 0.5 widens the neighbour search (contact/neighbors.h).
+ * The lens closed form G = pi k_g r ln(1 + (rho_out^2 / r) / h) (r* = r / 2, rho_out = r / 2,
+ * h >> g_min) is checked against the quadrature in test_heat_laws.c; here forward Euler gives
+ * theta_2 - theta_1 = 100 K (1 - 2 G dt / (m C))^n exactly up to rounding (1e-9 relative), and
+ * sum m C theta is conserved to round-off. Without the reach nothing conducts.
+ */
+static void test_gas_between_spheres_apart(void **state)
+{
+    (void)state;
+    for (int reach = 0; reach < 2; ++reach) {
+        scene s;
+        const double k = 50.0, c = 500.0, r = 1e-3, h = 0.4e-3, kg = 0.026;
+        open_heat_only(&s, SINTER_MAT_THERMAL_CONDUCTIVITY, k, c);
+        scene_add(&s, 0, 0, 0, r);
+        scene_add(&s, 2 * r + h, 0, 0, r);
+        set_temperature(&s, 0, 300.0);
+        set_temperature(&s, 1, 400.0);
+        sinter_heat_model *hm = NULL;
+        add_heat(&s, "conduction", &hm);
+        OK(sinter_heat_model_set(hm, "gas_conductivity", kg));
+        OK(sinter_heat_model_set(hm, "gas_reach", reach ? 0.5 : 0.0));
+        const double before = sum_mc_theta(&s, c), dt = 1e-2;
+        const int n = 1000;
+        OK(sinter_stepper_set_dt(s.st, dt));
+        OK(sinter_stepper_step(s.st, (uint64_t)n));
+        const double gap =
+            get1(&s, SINTER_FIELD_TEMPERATURE, 1) - get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+        const double mc = get1(&s, SINTER_FIELD_MASS, 0) * c;
+        const double g = PI * kg * r * log(1.0 + 0.25 * r / h);
+        const double expected = reach ? 100.0 * pow(1.0 - 2.0 * g * dt / mc, n) : 100.0;
+        print_message("gas apart, reach %d: gap %.12g K, expected %.12g K (G %.6g W/K)\n", reach,
+                      gap, expected, g);
+        assert_close(gap, expected, 1e-9 * 100.0);
+        assert_close(sum_mc_theta(&s, c), before, 1e-14 * before);
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_heat_model_destroy(hm);
+        scene_close(&s);
+    }
+}
+
+/*
+ * Heat from inelastic impacts (issue 40, heat/dissipation.c): two frictionless Hertz spheres
+ * (r = 1 mm, E = 1e7 Pa, nu = 0.3, 3000 kg/m^3, damping ratio 0.5) collide head-on at
+ * +-0.1 m/s with no other force and no conduction; once apart, the kinetic energy they lost
+ * (no elastic energy is left) is the heat they gained, sum m C (theta - theta_0), to the
+ * order of the integration: the relative difference is below 1e-2 at dt = t_c / 300 and falls
+ * at least linearly with dt (the stepper's velocity Verlet against the heat's forward Euler).
+ * Returns that difference, and the fraction of the kinetic energy lost in *lost_out.
+ */
+static double impact_heat_error(double dt, double *lost_out)
+{
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 3000, 0.5, 0.0);
+    const double c = 1000.0, r = 1e-3, v0 = 0.1;
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, c));
+    scene_open(&s, "hertz_mindlin", 0);
+    scene_add(&s, 0, 0, 0, r);
+    scene_add(&s, 2 * r + 1e-5, 0, 0, r);
+    const double va[3] = {v0, 0, 0}, vb[3] = {-v0, 0, 0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, va);
+    set3(&s, SINTER_FIELD_VELOCITY, 1, vb);
+    sinter_heat_model *hm = NULL;
+    add_heat(&s, "dissipation", &hm);
+    const double m = get1(&s, SINTER_FIELD_MASS, 0), ke0 = m * v0 * v0;
+    OK(sinter_stepper_set_dt(s.st, dt));
+    OK(sinter_stepper_advance(s.st, 1e-3));
+    double v[3], ke = 0.0, heat = 0.0;
+    for (size_t i = 0; i < 2; ++i) {
+        get3(&s, SINTER_FIELD_VELOCITY, i, v);
+        ke += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        heat += m * c * (get1(&s, SINTER_FIELD_TEMPERATURE, i) - 300.0);
+    }
+    /* apart again, and the two gained the same heat (half each) */
+    assert_true(get1(&s, SINTER_FIELD_TEMPERATURE, 0) == get1(&s, SINTER_FIELD_TEMPERATURE, 1));
+    const double lost = ke0 - ke;
+    print_message("impact, dt %g s: kinetic energy lost %.9g J, heat %.9g J\n", dt, lost, heat);
+    sinter_heat_model_destroy(hm);
+    scene_close(&s);
+    *lost_out = lost / ke0;
+    return fabs(heat - lost) / lost;
+}
+
+static void test_impact_heat_is_lost_kinetic_energy(void **state)
+{
+    (void)state;
+    double lost1, lost2;
+    const double e1 = impact_heat_error(1e-6, &lost1), e2 = impact_heat_error(0.5e-6, &lost2);
+    print_message("relative differences %.3e, %.3e (ratio %.2f)\n", e1, e2, e1 / e2);
+    /* the damper took a good part (restitution well below 1 at a damping ratio of 0.5) */
+    assert_true(lost1 > 0.1 && fabs(lost2 - lost1) < 0.01 * lost1);
+    assert_true(e1 < 1e-2);
+    assert_true(e2 < 0.6 * e1 || e2 < 1e-9);
+}
+
+/*
+ * Heat from sliding (issue 40): a fixed sphere (r = 1 mm, mu = 0.3 for it and the floor)
+ * pressed 1 um into a floor that moves along x at 0.01 m/s: once the tangential spring has
+ * reached the Coulomb limit the contact slides and the sphere gains mu N v, with N the Hertz
+ * force 4/3 E* sqrt(r delta) delta (E* = E / (2 (1 - nu^2)) for two equal bodies, r* = r at a
+ * wall), every step (the normal damper does no work: nothing approaches). 1e-9 relative
+ * (rounding of the summed steps).
+ */
+static void test_sliding_heat_is_mu_n_v(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    /* C small: the heat of a step is then far above the rounding of theta near 300 K */
+    const double e = 1e7, nu = 0.3, mu = 0.3, c = 1e-4, r = 1e-3, delta = 1e-6, vw = 0.01;
+    scene_material(&s, e, nu, 3000, 0.0, mu);
+    OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, c));
+    scene_open(&s, "hertz_mindlin", 0);
+    scene_floor(&s, 0.0);
+    const double u[3] = {vw, 0, 0};
+    OK(sinter_walls_set_velocity(s.walls, 0, u));
+    scene_add(&s, 0, 0, r - delta, r);
+    uint32_t *flags = NULL;
+    OK(sinter_particles_view(s.ps, SINTER_FIELD_FLAGS, (void **)&flags, NULL, NULL));
+    flags[0] |= SINTER_PARTICLE_FIXED;
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_FLAGS));
+    sinter_heat_model *hm = NULL;
+    add_heat(&s, "dissipation", &hm);
+    const double dt = 1e-6;
+    OK(sinter_stepper_set_dt(s.st, dt));
+    OK(sinter_stepper_step(s.st, 200)); /* the spring reaches mu N within ~20 steps */
+    const double mc = get1(&s, SINTER_FIELD_MASS, 0) * c;
+    const double theta1 = get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+    OK(sinter_stepper_step(s.st, 1000));
+    const double rate = mc * (get1(&s, SINTER_FIELD_TEMPERATURE, 0) - theta1) / (1000 * dt);
+    const double estar = e / (2.0 * (1.0 - nu * nu)),
+                 n = 4.0 / 3.0 * estar * sqrt(r * delta) * delta;
+    print_message("sliding: heat rate %.12g W, mu N v %.12g W\n", rate, mu * n * vw);
+    assert_close(rate, mu * n * vw, 1e-9 * mu * n * vw);
+    /* "friction" 0 takes the sliding out (from the step after the next: each step applies the
+     * powers of the evaluation that ended the step before) */
+    OK(sinter_heat_model_set(hm, "friction", 0.0));
+    OK(sinter_stepper_step(s.st, 1));
+    const double theta2 = get1(&s, SINTER_FIELD_TEMPERATURE, 0);
+    OK(sinter_stepper_step(s.st, 10));
+    assert_true(get1(&s, SINTER_FIELD_TEMPERATURE, 0) == theta2);
+    OK(sinter_heat_model_set(hm, "friction", 0.5));
+    assert_int_equal(sinter_stepper_step(s.st, 1), SINTER_ERR_INVALID);
+    sinter_heat_model_destroy(hm);
+    scene_close(&s);
+}
+
 static double one_sphere_cooling(const char *model, double theta0, double theta_env,
                                  double *t_end_out, double *mc_out, double *area_out,
                                  double emissivity)
@@ -662,6 +813,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_two_spheres_approach_mean),
+        cmocka_unit_test(test_gas_between_spheres_apart),
+        cmocka_unit_test(test_impact_heat_is_lost_kinetic_energy),
+        cmocka_unit_test(test_sliding_heat_is_mu_n_v),
         cmocka_unit_test(test_imposed_wall),
         cmocka_unit_test(test_melting_point_stops),
         cmocka_unit_test(test_convective_and_radiative_cooling),
