@@ -532,7 +532,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count)
-        s = sinter_sanity_domain(st, "step", t_start, h);
+        s = sinter_sanity_domain_moved(st, "step", t_start, h, sqrt(scan.moved2));
     if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 &&
         st->stats.steps % (uint64_t)st->energy_check == 0)
         s = sinter_sanity_energy(st, t_start, h); /* energy created (sanity.c, 4) */
