@@ -568,7 +568,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count)
-        s = sinter_sanity_domain(st, "step", t_start, h);
+        s = sinter_sanity_domain_moved(st, "step", t_start, h, sqrt(scan.moved2));
     /* (the energy check's clusters do not follow pairs across a periodic face yet) */
     if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 && !periodic &&
         st->stats.steps % (uint64_t)st->energy_check == 0)

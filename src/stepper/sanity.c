@@ -815,3 +815,58 @@ sinter_status sinter_sanity_domain(sinter_stepper *st, const char *step, double 
                        step, t, t + h, i, (unsigned long long)ps->id[i], "xyz"[d], x[d],
                        st -> domain_lo[d], st -> domain_hi[d]);
 }
+
+/* The smallest distance of a centre of particles [lo, hi) to the domain's faces [m], by range
+ * (a minimum: the same for any split). */
+typedef struct margin_job {
+    const sinter_stepper *st;
+    double margin[SINTER_CHUNKS_MAX];
+} margin_job;
+
+static void margin_range(void *data, int range, size_t lo, size_t hi)
+{
+    margin_job *job = data;
+    const double *x = job->st->ps->x, *a = job->st->domain_lo, *b = job->st->domain_hi;
+    double m = INFINITY;
+    for (size_t i = lo; i < hi; ++i)
+        for (int d = 0; d < 3; ++d) {
+            const double below = x[3 * i + d] - a[d], above = b[d] - x[3 * i + d];
+            m = below < m ? below : m;
+            m = above < m ? above : m;
+        }
+    job->margin[range] = m;
+}
+
+sinter_status sinter_sanity_domain_moved(sinter_stepper *st, const char *step, double t, double h,
+                                         double moved)
+{
+    if (!st->has_domain)
+        return SINTER_OK;
+    const sinter_particles *ps = st->ps;
+    if (st->domain_known && st->domain_layout == ps->layout_generation &&
+        st->domain_write == ps->write_generation) {
+        /* |x - x_known| <= the sum of the steps' largest displacements; a rolled back step's
+         * stays in the sum, which then bounds the restored positions too. The margin is cut by
+         * a relative 1e-9 for the rounding of the sum. */
+        const double sum = st->domain_moved + moved;
+        if (sum < st->domain_margin * (1.0 - 1e-9)) {
+            st->domain_moved = sum;
+            return SINTER_OK;
+        }
+    }
+    st->domain_known = 0;
+    const sinter_status s = sinter_sanity_domain(st, step, t, h);
+    if (s != SINTER_OK)
+        return s;
+    margin_job job = {st, {0}};
+    const int ranges = sinter_particle_pass(st->ctx, &st->pp, ps->count, margin_range, &job);
+    double margin = INFINITY;
+    for (int k = 0; k < ranges; ++k)
+        margin = job.margin[k] < margin ? job.margin[k] : margin;
+    st->domain_margin = margin;
+    st->domain_moved = 0.0;
+    st->domain_known = margin > 0.0; /* not NaN */
+    st->domain_layout = ps->layout_generation;
+    st->domain_write = ps->write_generation;
+    return SINTER_OK;
+}

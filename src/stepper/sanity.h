@@ -74,4 +74,14 @@ sinter_status sinter_sanity_energy(struct sinter_stepper *st, double t, double h
 sinter_status sinter_sanity_domain(struct sinter_stepper *st, const char *step, double t,
                                    double h);
 
+/*
+ * sinter_sanity_domain after an explicit step whose largest displacement of a centre was
+ * `moved` [m]: the full test runs only when the displacements summed since the last full test
+ * reach the smallest distance of a centre to the domain's faces then, so that no particle can
+ * have left the domain unseen; the same verdict at the same step as a test every step (a
+ * non-finite `moved` tests). Particles added, removed, reordered or written: tested.
+ */
+sinter_status sinter_sanity_domain_moved(struct sinter_stepper *st, const char *step, double t,
+                                         double h, double moved);
+
 #endif

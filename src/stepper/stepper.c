@@ -402,6 +402,7 @@ sinter_status sinter_stepper_set_domain(sinter_stepper *st, const double lo[3], 
     memcpy(st->domain_lo, lo, sizeof(st->domain_lo));
     memcpy(st->domain_hi, hi, sizeof(st->domain_hi));
     st->has_domain = 1;
+    st->domain_known = 0; /* the margin was to the old faces */
     return SINTER_OK;
 }
 

@@ -151,6 +151,14 @@ struct sinter_stepper {
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];
+    /* the explicit step's domain test skipped while provably passed (sanity.c,
+     * sinter_sanity_domain_moved): the smallest distance of a centre to the domain's faces at
+     * the last full test [m], the steps' largest displacements summed since [m], valid while
+     * domain_known and the particles' generations match */
+    double domain_margin;
+    double domain_moved;
+    int domain_known;
+    uint64_t domain_layout, domain_write;
     struct sinter_electric_model *electric; /* borrowed, NULL: no current solve */
     uint64_t electric_iterations;           /* sweeps / PCG iterations of its solves, total */
     sinter_staggered staggered;             /* SINTER_STEPPER_STAGGERED only */

@@ -45,6 +45,7 @@ SHORT = {
     "titanium_packing": (480, 60, {"particles": {"count": "400", "box_max": "0.000468 0.000468 0.000936"},
                                    "compact": {"box_max": "0.00036 0.00036 0.00072"}}),
     "vibrated_bed": (0.1, 0.01, {}),
+    "vibrated_bed_12hz": (0.1, 0.01, {}),
 }
 
 

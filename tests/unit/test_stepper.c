@@ -140,6 +140,54 @@ static void test_callback_failure_keeps_last_state(void **state)
     scene_close(&s);
 }
 
+/* The domain tested every step only when a particle may have reached a face (issue 41): a free
+ * sphere at 1 m/s from the centre of a 20 mm box (margin 10 mm, 10 000 steps of 1 um) leaves it
+ * at the step where x first passes the face, not later; a position written far from the face
+ * is tested at the next step. */
+static void test_domain_skip_catches_the_leaving_step(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 0);
+    scene_add(&s, 0, 0, 0, 1e-4);
+    const double v[3] = {1.0, 0.0, 0.0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, v);
+    const double h = 1e-6, lo[3] = {-0.01, -0.01, -0.01}, hi[3] = {0.01, 0.01, 0.01};
+    OK(sinter_stepper_set_dt(s.st, h));
+    OK(sinter_stepper_set_domain(s.st, lo, hi));
+    sinter_status st = SINTER_OK;
+    long k = 0;
+    double x[3] = {0, 0, 0};
+    while (st == SINTER_OK && k < 20000) {
+        st = sinter_stepper_step(s.st, 1);
+        if (st == SINTER_OK)
+            ++k;
+    }
+    assert_int_equal(st, SINTER_ERR_LOST_PARTICLE);
+    get3(&s, SINTER_FIELD_POSITION, 0, x);
+    /* kept: the last position inside; one more step of v h passes the face */
+    assert_true(x[0] <= hi[0] && x[0] + v[0] * h > hi[0]);
+    assert_true(k >= 9999 && k <= 10000); /* 0.01 m at 1 um a step, to rounding */
+    scene_close(&s);
+
+    /* a particle written outside between steps: refused at the next one */
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.0, 0.0);
+    scene_open(&s, "hertz_mindlin", 0);
+    scene_add(&s, 0, 0, 0, 1e-4);
+    OK(sinter_stepper_set_dt(s.st, h));
+    OK(sinter_stepper_set_domain(s.st, lo, hi));
+    for (int j = 0; j < 10; ++j)
+        OK(sinter_stepper_step(s.st, 1));
+    const double out[3] = {0.0, 0.02, 0.0};
+    set3(&s, SINTER_FIELD_POSITION, 0, out);
+    assert_int_equal(sinter_stepper_step(s.st, 1), SINTER_ERR_LOST_PARTICLE);
+    assert_non_null(strstr(sinter_last_error(s.ctx), "at y = 0.02"));
+    scene_close(&s);
+}
+
 static int nan_force(const sinter_state_view *state, double *force, double *torque, void *user)
 {
     (void)torque;
@@ -706,6 +754,7 @@ int main(void)
         cmocka_unit_test(test_host_spring_matches_builtin),
         cmocka_unit_test(test_callback_failure_keeps_last_state),
         cmocka_unit_test(test_unstable_step_is_rejected),
+        cmocka_unit_test(test_domain_skip_catches_the_leaving_step),
         cmocka_unit_test(test_flagged_particles_independent_of_thread_count),
         cmocka_unit_test(test_wall_motions),
         cmocka_unit_test(test_misuse_is_refused),
