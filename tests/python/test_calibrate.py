@@ -195,7 +195,7 @@ class PathConstantTest(unittest.TestCase):
             out = numpy.linspace(0.0, times[-1], count)
             model = calibrate.predict(ctx, material, profile, out)
             noise = rng.normal(0.0, sigma, out.size) if rng is not None else 0.0
-            profile.time, profile.shrinkage = out, model.shrinkage + noise
+            profile.time, profile.shrinkage = out, numpy.asarray(model.shrinkage) + noise
             profile.shrinkage_sigma = sigma
             profiles.append(profile)
         return profiles
