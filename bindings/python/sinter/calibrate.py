@@ -353,11 +353,12 @@ class _Parametrisation:
     """Internal variables theta of the fit and their linear map to the reported ones.
 
     Reported: ln D0 for a prefactor, ln of the value for a path constant, Q [J/mol] for an
-    activation energy, the value for any other key. Internal, dimensionless and of order one to ten, so that the solver and the finite
-    differences see well-scaled, weakly correlated variables: where both D0 and Q of a
-    mechanism are fitted, theta = (ln D(T_ref), Q / (R T_ref)), which removes most of the
-    correlation of ln D0 and Q over a narrow temperature range; a lone Q is Q / (R T_ref); a lone
-    prefactor ln D0; a path constant ln of it; another key value / (its initial value).
+    activation energy, the value for any other key. Internal, dimensionless and of order one to
+    ten, so that the solver and the finite differences see well-scaled, weakly correlated
+    variables: where both D0 and Q of a mechanism are fitted, theta = (ln D(T_ref),
+    Q / (R T_ref)), which removes most of the correlation of ln D0 and Q over a narrow
+    temperature range; a lone Q is Q / (R T_ref); a lone prefactor ln D0; a path constant ln of
+    it; another key value / (its initial value).
     """
 
     def __init__(self, keys: Sequence[str], initial: Dict[str, float], t_ref: float) -> None:
@@ -590,17 +591,17 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
     overrides its starting values. keys: material keys to fit; prefactors D0 [m^2/s] and the
     path constants (PATH_KEYS, docs/7dof.md sec. 3) are fitted in ln of the value, activation
     energies Q [J/mol] linearly, with D0 and Q of one mechanism and phase re-expressed around
-    t_ref [K] (default: the reciprocal of the mean 1/T of the schedules) for conditioning. The residual of an observation is (model - data) / sigma
-    (neck ratios also times neck_weight). The Jacobian: jacobian = "sensitivity" from the
-    forward sensitivities of the model (NeckModel.sensitivities; diffusion prefactors,
-    activation energies and path constants), "differences" by central differences of size step in the internal
-    variables (each a relative change of about step in D or Q), "auto" (default) the first when
-    every key allows it. The model runs at neck_options (default rtol 1e-9, well below the
-    effect of a step). The search stays within
-    a factor search_factor of each starting D (as the D(T_ref) where Q is fitted too), a factor
-    10 of each path constant and a factor 2 of each starting Q or other value. Confidence
-    intervals at `level` from the Student t quantile with m - p degrees of freedom and covariance
-    s^2 (J^T J)^-1. Keys the data cannot tell apart (the Jacobian with unit columns has a
+    t_ref [K] (default: the reciprocal of the mean 1/T of the schedules) for conditioning. The
+    residual of an observation is (model - data) / sigma (neck ratios also times neck_weight).
+    The Jacobian: jacobian = "sensitivity" from the forward sensitivities of the model
+    (NeckModel.sensitivities; diffusion prefactors, activation energies and path constants),
+    "differences" by central differences of size step in the internal variables (each a
+    relative change of about step in D, Q or a path), "auto" (default) the first when every key
+    allows it. The model runs at neck_options (default rtol 1e-9, well below the effect of a
+    step). The search stays within a factor search_factor of each starting D (as the D(T_ref)
+    where Q is fitted too), a factor 10 of each path constant and a factor 2 of each starting Q
+    or other value. Confidence intervals at `level` from the Student t quantile with m - p
+    degrees of freedom and covariance s^2 (J^T J)^-1. Keys the data cannot tell apart (the Jacobian with unit columns has a
     singular value below identifiability_tol times its largest; a path constant fitted with its
     mechanism's D0 is the typical case) make FitResult.identifiable False with infinite
     intervals for them, or raise NotIdentifiable with refuse_unidentifiable. Raises
