@@ -1541,18 +1541,21 @@ SINTER_API sinter_status sinter_neck_two_particles(sinter_neck_model *nm, const 
  * x / min(R_A, R_B) [-] and the shrinkage Delta L / L0 [-] of sinter_neck_two_particles (same
  * pair, schedule and seeded neck, the options of nm: epsilon, h0_ratio, rtol, atol,
  * initial_step, max_steps, error_scale; integrator must be 0, CVODE), and their derivatives
- * with respect to n_params (1-12, distinct) Arrhenius parameters of material m:
+ * with respect to n_params (1-16, distinct) parameters of material m:
  *  - a *_DIFFUSION_PREFACTOR or *_DIFFUSION_PREFACTOR_HOT key: the derivative with respect to
  *    ln D0 [-] (per unit of ln D0, i.e. D0 dy/dD0),
  *  - a *_ACTIVATION_ENERGY or *_ACTIVATION_ENERGY_HOT key: the derivative with respect to
- *    Q [J/mol].
+ *    Q [J/mol],
+ *  - SINTER_MAT_NECK_BOUNDARY_PATH, _CONE_PATH, _CAP_PATH or SINTER_MAT_LATTICE_MOBILE_FRACTION
+ *    (docs/7dof.md §3; both phases): the derivative with respect to the natural log of the
+ *    value [-] (p dy/dp).
  * The sensitivity equations ds/dt = J s + df/dp are integrated together with the state by
  * CVODE, under the same error control. Outputs at the n_out out_times [s] (nondecreasing, each
  * >= times[0]): neck_ratio[k], shrinkage[k], and d_neck_ratio[k * n_params + j],
  * d_shrinkage[k * n_params + j] for parameter j; NaN for times a failed run did not reach.
  * The validity guard (docs/7dof.md §2.6) is not applied. ctx receives the error messages.
- * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments, a parameter that is not a diffusion
- * prefactor or activation energy, a repeated one, integrator = 1), SINTER_ERR_DOMAIN,
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (arguments, a parameter not listed above, a
+ * repeated one, integrator = 1), SINTER_ERR_DOMAIN,
  * SINTER_ERR_NOT_CONVERGED, SINTER_ERR_NOMEM.
  */
 SINTER_API sinter_status sinter_neck_sensitivities(

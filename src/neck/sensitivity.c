@@ -1,6 +1,7 @@
 /*
- * Forward sensitivities of the two-particle 7DOF model with respect to its Arrhenius data
- * (sinter_neck_sensitivities, include/sinter.h; docs/calibration.md §3).
+ * Forward sensitivities of the two-particle 7DOF model with respect to its Arrhenius data and
+ * the reconstruction's path constants (sinter_neck_sensitivities, include/sinter.h;
+ * docs/calibration.md §3).
  *
  * For a parameter p the sensitivity s = dy/dp obeys the forward sensitivity equation
  *     ds/dt = J(y) s + df/dp,   s(t0) = 0
@@ -9,7 +10,11 @@
  * D = D0 exp(-Q / (R T)) (seed 001 eq. 4-5), so exactly
  *     df/d ln D0_m = f_m(y)          (f with only mechanism m's mobility kept)
  *     df/dQ_m      = -f_m(y) / (R T)
- * and only the parameters of the phase active on a piece contribute there. J(y) s is a central
+ * and only the parameters of the phase active on a piece contribute there. The path constants
+ * (docs/7dof.md §3) act on both phases and enter each flux as 1 / ds, so exactly
+ *     df/d ln(boundary path) = -f_{I,II},  df/d ln(cone path) = -f_{III,IV},
+ *     df/d ln(cap path) = -f_{V,VI},       df/d ln n_v = f_lattice
+ * (f with only those fluxes kept). J(y) s is a central
  * difference of f along s. The state and its sensitivities form one system of 7 (1 + P)
  * equations, integrated by CVODE (BDF, Newton with the block-diagonal matrix of 7x7 blocks
  * I - gamma J, the simultaneous-corrector approximation CVODES makes) piece by piece between the
@@ -36,15 +41,17 @@
 #include "neck/neck.h"
 
 #define DOF SINTER_NECK_DOF
-#define MAX_PARAMS 12
+#define MAX_PARAMS 16
 #define Q_SCALE_TEMPERATURE 1000.0 /* T_s [K] of q = Q / (R T_s) */
 
 enum { MECH_LATTICE = 0, MECH_SURFACE = 1, MECH_BOUNDARY = 2 };
+enum { PATH_NONE = 0, PATH_BOUNDARY = 1, PATH_CONE = 2, PATH_CAP = 3 };
 
 typedef struct parameter {
-    int mechanism; /* MECH_* */
-    int phase;     /* 0 base set, 1 the _HOT set */
-    int energy;    /* 0: ln D0, 1: q = Q / (R T_s) */
+    int mechanism; /* MECH_* (for PATH_NONE) */
+    int phase;     /* 0 base set, 1 the _HOT set, -1 both (path constants, n_v) */
+    int energy;    /* 0: ln D0 (ln of the value), 1: q = Q / (R T_s) */
+    int path;      /* PATH_*: ln of that path constant */
 } parameter;
 
 typedef struct problem {
@@ -68,18 +75,23 @@ static int classify(sinter_material_param key, parameter *out)
         sinter_material_param key;
         parameter p;
     } TABLE[MAX_PARAMS] = {
-        {SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR, {MECH_LATTICE, 0, 0}},
-        {SINTER_MAT_LATTICE_ACTIVATION_ENERGY, {MECH_LATTICE, 0, 1}},
-        {SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR, {MECH_SURFACE, 0, 0}},
-        {SINTER_MAT_SURFACE_ACTIVATION_ENERGY, {MECH_SURFACE, 0, 1}},
-        {SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR, {MECH_BOUNDARY, 0, 0}},
-        {SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY, {MECH_BOUNDARY, 0, 1}},
-        {SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR_HOT, {MECH_LATTICE, 1, 0}},
-        {SINTER_MAT_LATTICE_ACTIVATION_ENERGY_HOT, {MECH_LATTICE, 1, 1}},
-        {SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR_HOT, {MECH_SURFACE, 1, 0}},
-        {SINTER_MAT_SURFACE_ACTIVATION_ENERGY_HOT, {MECH_SURFACE, 1, 1}},
-        {SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR_HOT, {MECH_BOUNDARY, 1, 0}},
-        {SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY_HOT, {MECH_BOUNDARY, 1, 1}},
+        {SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR, {MECH_LATTICE, 0, 0, PATH_NONE}},
+        {SINTER_MAT_LATTICE_ACTIVATION_ENERGY, {MECH_LATTICE, 0, 1, PATH_NONE}},
+        {SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR, {MECH_SURFACE, 0, 0, PATH_NONE}},
+        {SINTER_MAT_SURFACE_ACTIVATION_ENERGY, {MECH_SURFACE, 0, 1, PATH_NONE}},
+        {SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR, {MECH_BOUNDARY, 0, 0, PATH_NONE}},
+        {SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY, {MECH_BOUNDARY, 0, 1, PATH_NONE}},
+        {SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR_HOT, {MECH_LATTICE, 1, 0, PATH_NONE}},
+        {SINTER_MAT_LATTICE_ACTIVATION_ENERGY_HOT, {MECH_LATTICE, 1, 1, PATH_NONE}},
+        {SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR_HOT, {MECH_SURFACE, 1, 0, PATH_NONE}},
+        {SINTER_MAT_SURFACE_ACTIVATION_ENERGY_HOT, {MECH_SURFACE, 1, 1, PATH_NONE}},
+        {SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR_HOT, {MECH_BOUNDARY, 1, 0, PATH_NONE}},
+        {SINTER_MAT_GRAIN_BOUNDARY_ACTIVATION_ENERGY_HOT, {MECH_BOUNDARY, 1, 1, PATH_NONE}},
+        /* n_v scales the lattice mobility of both phases: exactly like ln D0_v of each */
+        {SINTER_MAT_LATTICE_MOBILE_FRACTION, {MECH_LATTICE, -1, 0, PATH_NONE}},
+        {SINTER_MAT_NECK_BOUNDARY_PATH, {MECH_LATTICE, -1, 0, PATH_BOUNDARY}},
+        {SINTER_MAT_NECK_CONE_PATH, {MECH_LATTICE, -1, 0, PATH_CONE}},
+        {SINTER_MAT_NECK_CAP_PATH, {MECH_LATTICE, -1, 0, PATH_CAP}},
     };
     for (int k = 0; k < MAX_PARAMS; ++k)
         if (TABLE[k].key == key) {
@@ -105,6 +117,29 @@ static sinter_neck_coeffs only(const sinter_neck_coeffs *c, int mechanism)
     m.mobility_surface = mechanism == MECH_SURFACE ? c->mobility_surface : 0.0;
     m.mobility_boundary = mechanism == MECH_BOUNDARY ? c->mobility_boundary : 0.0;
     return m;
+}
+
+/* df/d ln(path) = -(f with only the fluxes on that path kept), docs/7dof.md §3: the factors are
+ * 1 / ds of I-II (boundary_factor), of V-VI (cap_factor) and of III-IV (cone_factor cap_factor),
+ * so zeroing cone_factor and cap_factor keeps I-II, zeroing boundary_factor and cone_factor keeps
+ * V-VI, and III-IV is the rest of f without I-II. */
+static void path_derivative(const double *y, const sinter_neck_geometry *g,
+                            const sinter_neck_coeffs *c, int path, double *out)
+{
+    sinter_neck_coeffs kept = *c;
+    double rest[DOF];
+    kept.boundary_factor = path == PATH_BOUNDARY ? c->boundary_factor : 0.0;
+    kept.cone_factor = path == PATH_CONE ? c->cone_factor : 0.0;
+    kept.cap_factor = path == PATH_BOUNDARY ? 0.0 : c->cap_factor;
+    sinter_neck_rhs_at(y, g, &kept, out, NULL);
+    if (path == PATH_CONE) { /* out = III-VI; take V-VI away */
+        kept.cone_factor = 0.0;
+        sinter_neck_rhs_at(y, g, &kept, rest, NULL);
+        for (int i = 0; i < DOF; ++i)
+            out[i] -= rest[i];
+    }
+    for (int i = 0; i < DOF; ++i)
+        out[i] = -out[i];
 }
 
 /* f at y + e with e = sigma * direction; returns 0, or 1 outside the domain. */
@@ -169,11 +204,15 @@ static int augmented_rhs(realtype t, N_Vector v, N_Vector vdot, void *user)
                 sdot[i] = 0.0;
         }
         const parameter *p = &pb->param[j];
-        if (p->phase != pb->phase)
+        if (p->phase >= 0 && p->phase != pb->phase)
             continue; /* the other phase's data do not act on this piece */
-        const sinter_neck_coeffs cm = only(&c, p->mechanism);
         double fm[DOF];
-        sinter_neck_rhs_at(y, &g, &cm, fm, NULL);
+        if (p->path != PATH_NONE) {
+            path_derivative(y, &g, &c, p->path, fm);
+        } else {
+            const sinter_neck_coeffs cm = only(&c, p->mechanism);
+            sinter_neck_rhs_at(y, &g, &cm, fm, NULL);
+        }
         /* df/dq = -(T_s / T) f_m with q = Q / (R T_s); df/d ln D0 = f_m. */
         const double factor = p->energy ? -Q_SCALE_TEMPERATURE / temperature : 1.0;
         for (int i = 0; i < DOF; ++i)
@@ -233,7 +272,8 @@ static void error_handler(int code, const char *module, const char *function, ch
     snprintf(pb->message, sizeof(pb->message), "%s: %s", function, msg);
 }
 
-/* Outputs of one state (x/R, shrinkage) and their derivatives (ln D0 or Q [J/mol]). */
+/* Outputs of one state (x/R, shrinkage) and their derivatives (ln D0, ln of a path constant or
+ * n_v, or Q [J/mol]). */
 static void write_output(const problem *pb, const double *v, double radius, double l0, size_t k,
                          double *neck_ratio, double *shrinkage, double *d_neck_ratio,
                          double *d_shrinkage)
@@ -292,7 +332,8 @@ static sinter_status check_arguments(sinter_ctx *ctx, const sinter_neck_model *n
         if (k < 0)
             return sinter_fail(ctx, SINTER_ERR_INVALID,
                                "%s: parameter %zu (material parameter %d) is not a diffusion "
-                               "prefactor or activation energy",
+                               "prefactor, activation energy, neck path or lattice mobile "
+                               "fraction",
                                WHO, j, (int)params[j]);
         if (seen[k]++)
             return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: parameter %zu is given twice", WHO, j);

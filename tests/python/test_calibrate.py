@@ -174,5 +174,125 @@ class FitTest(unittest.TestCase):
         self.assertLess((q[1] - q[0]) / truth["grain_boundary_activation_energy_hot"], 0.04)
 
 
+def _load_recover():
+    spec = importlib.util.spec_from_file_location(
+        "recover", os.path.join(ROOT, "examples", "calibrate", "recover.py"))
+    recover = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(recover)
+    return recover
+
+
+@unittest.skipUnless(HAVE_SCIPY, "sinter.calibrate.fit needs NumPy and SciPy")
+class PathConstantTest(unittest.TestCase):
+    """The path constants of docs/7dof.md sec. 3 as fitted parameters (issue 42)."""
+
+    def synthetic(self, ctx, material, names, sigma, rng=None, count=40):
+        recover = _load_recover()
+        profiles = []
+        for name in names:
+            times, temps = recover.schedule(name)
+            profile = calibrate.Profile(name, 3.3e-5, times, temps)
+            out = numpy.linspace(0.0, times[-1], count)
+            model = calibrate.predict(ctx, material, profile, out)
+            noise = rng.normal(0.0, sigma, out.size) if rng is not None else 0.0
+            profile.time, profile.shrinkage = out, numpy.asarray(model.shrinkage) + noise
+            profile.shrinkage_sigma = sigma
+            profiles.append(profile)
+        return profiles
+
+    def test_boundary_path_recovered_with_d0_fixed(self):
+        # Titanium with the grain-boundary path at 0.15 y1 instead of the default 0.25, the
+        # diffusion data fixed at Table 4's: shrinkage determines the path (it scales fluxes I
+        # and II as 1 / ds). Noise-free data must give it back to 1e-4 in ln ds (the model at
+        # rtol 1e-9 moves it far less); with noise of 1e-4 in dL/L0 (fixed seed) the truth must
+        # lie in the 95 % interval, which must be narrower than +-2 % (the shrinkage, 1e-2 at the
+        # end, pins 1 / ds to about the relative noise over 80 points); s^2 must be near 1, the
+        # noise being what the weights say: with 79 degrees of freedom its spread is
+        # sqrt(2/79) = 0.16, so 0.36-1.64 is four spreads.
+        recover = _load_recover()
+        truth = dict(recover.titanium(), neck_boundary_path=0.15)
+        key = "neck_boundary_path"
+        with sinter.Context() as ctx:
+            material = sinter.Material(ctx, "titanium", truth)
+            exact = self.synthetic(ctx, material, ("E14B", "E28B"), 1e-4)
+            noisy = self.synthetic(ctx, material, ("E14B", "E28B"), 1e-4,
+                                   numpy.random.default_rng(42))
+            start = {key: 0.25}
+            result = calibrate.fit(ctx, material, exact, [key], start)
+            self.assertTrue(result.success, result.message)
+            self.assertTrue(result.identifiable)
+            self.assertEqual(result.jacobian_kind, "sensitivity")
+            self.assertAlmostEqual(result.reported[0], math.log(0.15), delta=1e-4)
+            result = calibrate.fit(ctx, material, noisy, [key], start)
+        self.assertTrue(result.identifiable)
+        self.assertEqual(result.contains({key: 0.15}), {key: True})
+        low, high = result.interval[key]
+        self.assertLess(high / low, 1.04)
+        self.assertGreater(result.residual_variance, 0.36)
+        self.assertLess(result.residual_variance, 1.64)
+
+    def test_sensitivity_and_differences_agree(self):
+        # The Jacobian of a path constant from the forward sensitivities (sinter_neck_
+        # sensitivities) and from central differences of +-1e-3 in ln ds: the same fit to 1e-6
+        # in ln ds (both converge to the noise-free truth; the differences' truncation error is
+        # 1e-6 of the derivative, which moves the optimum by less).
+        recover = _load_recover()
+        truth = dict(recover.titanium(), neck_cap_path=1.6)
+        key = "neck_cap_path"
+        with sinter.Context() as ctx:
+            material = sinter.Material(ctx, "titanium", truth)
+            profiles = self.synthetic(ctx, material, ("E14B",), 1e-5)
+            for profile in profiles:  # the cap path acts on the neck more than on shrinkage
+                profile.neck_time, profile.neck_ratio = profile.time, calibrate.predict(
+                    ctx, material, profile, profile.time).neck_ratio
+                profile.neck_sigma = 1e-4
+            by_sens = calibrate.fit(ctx, material, profiles, [key], {key: 1.0})
+            by_diff = calibrate.fit(ctx, material, profiles, [key], {key: 1.0},
+                                    jacobian="differences")
+        self.assertEqual(by_diff.jacobian_kind, "differences")
+        self.assertAlmostEqual(by_sens.reported[0], math.log(1.6), delta=1e-4)
+        self.assertAlmostEqual(by_diff.reported[0], by_sens.reported[0], delta=1e-6)
+
+    def test_path_and_its_prefactor_are_not_identifiable(self):
+        # Copper at 1293 K with lattice diffusion off: the boundary path enters only flux I, as
+        # D_gb0 / ds (docs/7dof.md sec. 3), so every data set is fitted equally well along
+        # ln D_gb0 - ln ds = const. The driver must say so: not identifiable, the direction
+        # (1, 1) / sqrt 2 in (ln ds, ln D_gb0), infinite intervals for both; what it can fit,
+        # the ratio D_gb0 / ds, must still come back (1e-4 in its ln, as above); with
+        # refuse_unidentifiable it raises NotIdentifiable.
+        keys = ["neck_boundary_path", "grain_boundary_diffusion_prefactor"]
+        with sinter.Context() as ctx:
+            material = sinter.Material(ctx, "copper", {"lattice_diffusion_prefactor": 0.0})
+            truth = {k: float(material[k]) for k in keys}
+            profile = calibrate.Profile("cu", 25e-6, [0.0, 5000.0], [1293.0, 1293.0])
+            out = numpy.linspace(100.0, 5000.0, 30)
+            model = calibrate.predict(ctx, material, profile, out)
+            profile.time, profile.shrinkage, profile.shrinkage_sigma = out, model.shrinkage, 1e-4
+            profile.neck_time, profile.neck_ratio, profile.neck_sigma = (
+                out, model.neck_ratio, 1e-3)
+            start = {keys[0]: truth[keys[0]] * 1.5, keys[1]: truth[keys[1]] / 2.0}
+            result = calibrate.fit(ctx, material, [profile], keys, start)
+            self.assertFalse(result.identifiable)
+            self.assertGreater(result.condition, 1e5)
+            self.assertEqual(len(result.unidentified), 1)
+            direction = result.unidentified[0]
+            self.assertAlmostEqual(abs(direction[keys[0]]), math.sqrt(0.5), delta=1e-4)
+            self.assertAlmostEqual(direction[keys[0]], direction[keys[1]], delta=1e-4)
+            for key in keys:
+                self.assertTrue(math.isinf(result.standard_error[keys.index(key)]))
+                self.assertEqual(result.interval[key], (0.0, math.inf))
+            self.assertIn("not identifiable", result.message)
+            ratio = result.reported[1] - result.reported[0]
+            self.assertAlmostEqual(ratio, math.log(truth[keys[1]] / truth[keys[0]]), delta=1e-4)
+            with self.assertRaises(calibrate.NotIdentifiable) as caught:
+                calibrate.fit(ctx, material, [profile], keys, start, refuse_unidentifiable=True)
+            self.assertEqual(len(caught.exception.combinations), 1)
+            # the path alone, with D_gb0 fixed at the truth, is identifiable and comes back
+            alone = calibrate.fit(ctx, material, [profile], keys[:1], {keys[0]: 0.5})
+        self.assertTrue(alone.identifiable)
+        self.assertAlmostEqual(alone.reported[0], math.log(truth[keys[0]]), delta=1e-4)
+        self.assertLess(alone.condition, 1.0 + 1e-12)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -6,6 +6,8 @@
  *  - exact relations: at a constant temperature D depends on D0 exp(-Q / (R T)) only, so
  *    dy/dQ = -dy/d ln D0 / (R T); the data of a phase the schedule never reaches have zero
  *    sensitivity; the values themselves are those of sinter_neck_two_particles;
+ *  - the path constants of docs/7dof.md §3 (ln of each) against differences, and the exact
+ *    identities that make a path and its mechanism's D0 inseparable (issue 42);
  *  - argument errors.
  */
 #include <string.h>
@@ -105,7 +107,7 @@ static void check_against_differences(fixture *f, double radius, size_t n, const
                                       const double *temps, const double *out,
                                       const sinter_material_param *params, size_t n_params)
 {
-    double ratio[N_OUT], shrink[N_OUT], d_ratio[N_OUT * 12], d_shrink[N_OUT * 12];
+    double ratio[N_OUT], shrink[N_OUT], d_ratio[N_OUT * 16], d_shrink[N_OUT * 16];
     assert_int_equal(sinter_neck_sensitivities(f->ctx, f->nm, f->m, radius, radius, n, times, temps,
                                                n_params, params, N_OUT, out, ratio, shrink, d_ratio,
                                                d_shrink),
@@ -127,7 +129,11 @@ static void check_against_differences(fixture *f, double radius, size_t n, const
                               params[j] == SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR ||
                               params[j] == SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR_HOT ||
                               params[j] == SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR_HOT ||
-                              params[j] == SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR_HOT;
+                              params[j] == SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR_HOT ||
+                              params[j] == SINTER_MAT_NECK_BOUNDARY_PATH ||
+                              params[j] == SINTER_MAT_NECK_CONE_PATH ||
+                              params[j] == SINTER_MAT_NECK_CAP_PATH ||
+                              params[j] == SINTER_MAT_LATTICE_MOBILE_FRACTION; /* ln of it */
         /* Q moves by h R (1000 K): ln D changes by about h, as for a prefactor (a relative
          * step in Q would change ln D by h Q / (R T), 0.5 for copper's boundary, far too much) */
         const double dq = h * GAS * 1000.0;
@@ -222,6 +228,86 @@ static void test_exact_relations(void **state)
     teardown(&f);
 }
 
+/* The path constants and n_v (derivatives with respect to ln of each) against differences:
+ * titanium E14B, where they act in both phases, and copper at 1293 K with every mechanism on.
+ * n_v is at most 1 (a fraction): at 0.5 here, so that the difference can step up. */
+static void test_paths_against_differences(void **state)
+{
+    (void)state;
+    const sinter_material_param params[] = {
+        SINTER_MAT_NECK_BOUNDARY_PATH,
+        SINTER_MAT_NECK_CONE_PATH,
+        SINTER_MAT_NECK_CAP_PATH,
+        SINTER_MAT_LATTICE_MOBILE_FRACTION,
+    };
+    const size_t n_params = sizeof(params) / sizeof(params[0]);
+    fixture f;
+    setup(&f, 1);
+    assert_int_equal(sinter_material_set(f.m, SINTER_MAT_LATTICE_MOBILE_FRACTION, 0.5), SINTER_OK);
+    const double times[] = {0.0, 1740.0, 7140.0, 8880.0}, temps[] = {793.0, 1373.0, 1373.0, 793.0};
+    const double out[N_OUT] = {1000.0, 4000.0, 8880.0};
+    check_against_differences(&f, 33.3e-6, 4, times, temps, out, params, n_params);
+    teardown(&f);
+    setup(&f, 0);
+    assert_int_equal(sinter_material_set(f.m, SINTER_MAT_LATTICE_MOBILE_FRACTION, 0.5), SINTER_OK);
+    const double t_cu[] = {0.0}, temp_cu[] = {1293.0};
+    const double out_cu[N_OUT] = {10.0, 300.0, 5000.0};
+    check_against_differences(&f, 25e-6, 1, t_cu, temp_cu, out_cu, params, n_params);
+    teardown(&f);
+}
+
+/* Why a path and its mechanism's D0 cannot both be fitted (docs/calibration.md §2): with the
+ * lattice off the boundary path scales flux I exactly as 1 / D_gb0 does, and the cone and cap
+ * paths together scale III and V as 1 / D_s0; n_v scales the lattice mobility as D_v0 does. The
+ * sensitivity equations are then proportional, integrated under one error control: 1e-6. */
+static void test_path_identities(void **state)
+{
+    (void)state;
+    fixture f;
+    setup(&f, 0);
+    const double times[] = {0.0}, temps[] = {1293.0};
+    const double out[N_OUT] = {1.0, 100.0, 5000.0};
+    const sinter_material_param params[] = {
+        SINTER_MAT_NECK_BOUNDARY_PATH,
+        SINTER_MAT_GRAIN_BOUNDARY_DIFFUSION_PREFACTOR,
+        SINTER_MAT_NECK_CONE_PATH,
+        SINTER_MAT_NECK_CAP_PATH,
+        SINTER_MAT_SURFACE_DIFFUSION_PREFACTOR,
+    };
+    enum { P = 5 };
+    double ratio[N_OUT], shrink[N_OUT], d_ratio[N_OUT * P], d_shrink[N_OUT * P];
+    assert_int_equal(sinter_material_set(f.m, SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR, 0.0),
+                     SINTER_OK);
+    assert_int_equal(sinter_neck_sensitivities(f.ctx, f.nm, f.m, 25e-6, 25e-6, 1, times, temps, P,
+                                               params, N_OUT, out, ratio, shrink, d_ratio,
+                                               d_shrink),
+                     SINTER_OK);
+    for (int k = 0; k < N_OUT; ++k) {
+        const double *r = d_ratio + P * k, *s = d_shrink + P * k;
+        assert_true(s[1] > 0.0); /* faster boundary diffusion, more shrinkage */
+        assert_close(r[0], -r[1], 1e-6 * fabs(r[1]) + 1e-15);
+        assert_close(s[0], -s[1], 1e-6 * fabs(s[1]) + 1e-15);
+        assert_close(r[2] + r[3], -r[4], 1e-6 * fabs(r[4]) + 1e-15);
+        assert_close(s[2] + s[3], -s[4], 1e-6 * fabs(s[4]) + 1e-15);
+        assert_true(r[2] != 0.0 && r[3] != 0.0); /* the two paths differ, each acts */
+    }
+    /* lattice on again: n_v and ln D_v0 are one parameter */
+    assert_int_equal(sinter_material_set(f.m, SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR, 6.2e-5),
+                     SINTER_OK);
+    const sinter_material_param lattice[] = {SINTER_MAT_LATTICE_MOBILE_FRACTION,
+                                             SINTER_MAT_LATTICE_DIFFUSION_PREFACTOR};
+    assert_int_equal(sinter_neck_sensitivities(f.ctx, f.nm, f.m, 25e-6, 25e-6, 1, times, temps, 2,
+                                               lattice, N_OUT, out, ratio, shrink, d_ratio,
+                                               d_shrink),
+                     SINTER_OK);
+    for (int k = 0; k < N_OUT; ++k) {
+        assert_true(d_shrink[2 * k] != 0.0);
+        assert_close(d_ratio[2 * k], d_ratio[2 * k + 1], 1e-6 * fabs(d_ratio[2 * k + 1]));
+        assert_close(d_shrink[2 * k], d_shrink[2 * k + 1], 1e-6 * fabs(d_shrink[2 * k + 1]));
+    }
+    teardown(&f);
+}
+
 static void test_arguments(void **state)
 {
     (void)state;
@@ -270,6 +356,8 @@ int main(void)
         cmocka_unit_test(test_titanium_schedule_against_differences),
         cmocka_unit_test(test_copper_isothermal_against_differences),
         cmocka_unit_test(test_exact_relations),
+        cmocka_unit_test(test_paths_against_differences),
+        cmocka_unit_test(test_path_identities),
         cmocka_unit_test(test_arguments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -10,13 +10,14 @@ Two parts:
   negative. Pure Python: works without NumPy.
 - A least-squares driver (fit) over several profiles at once for the Arrhenius data
   D = D0 exp(-Q / (R T)) of the material (any *_diffusion_prefactor[_hot] and
-  *_activation_energy[_hot] key, and other material keys fitted linearly), with confidence
-  intervals from the Jacobian at the optimum: covariance = s^2 (J^T J)^-1, s^2 the residual
-  variance. It needs NumPy and SciPy (scipy.optimize.least_squares); without them fit raises
+  *_activation_energy[_hot] key), the path constants of the reconstruction (neck_boundary_path,
+  neck_cone_path, neck_cap_path, lattice_mobile_fraction: docs/7dof.md sec. 3, fitted in ln of
+  the value) and other material keys fitted linearly, with confidence intervals from the
+  Jacobian at the optimum: covariance = s^2 (J^T J)^-1, s^2 the residual variance. A set of keys
+  the data cannot tell apart (a path constant and its mechanism's D0 scale the same flux) is
+  reported as not identifiable, with infinite intervals, or refused (NotIdentifiable). It needs
+  NumPy and SciPy (scipy.optimize.least_squares); without them fit raises
   CalibrationUnavailable saying so.
-
-The path constants of the reconstruction (the Delta s of docs/7dof.md sec. 3, n_v = 1) are fixed
-in the library, not options, so they are not fitted here.
 
 Only the Python standard library is imported at module level (NumPy and SciPy when fit runs).
 """
@@ -48,6 +49,21 @@ class DilatometryError(ValueError):
 
 class CalibrationUnavailable(ImportError):
     """fit needs NumPy and SciPy (scipy.optimize.least_squares); raised when they are missing."""
+
+
+class NotIdentifiable(ValueError):
+    """fit(..., refuse_unidentifiable=True) found that the data cannot tell some fitted keys
+    apart; .combinations lists the undetermined directions ({key: coefficient} in the reported
+    variables) and .result the FitResult."""
+
+    def __init__(self, message: str, combinations: List[Dict[str, float]],
+                 result: "FitResult") -> None:
+        super().__init__(message)
+        self.combinations, self.result = combinations, result
+
+
+#: The path constants of the reconstruction (docs/7dof.md sec. 3), fitted in ln of the value.
+PATH_KEYS = ("neck_boundary_path", "neck_cone_path", "neck_cap_path", "lattice_mobile_fraction")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -312,8 +328,10 @@ class Profile:
 
 
 def _split_key(key: str) -> Tuple[str, str, str]:
-    """(kind, mechanism, phase suffix) of a material key: kind "prefactor", "energy" or
-    "linear"."""
+    """(kind, mechanism, phase suffix) of a material key: kind "prefactor", "energy", "path"
+    (PATH_KEYS) or "linear"."""
+    if key in PATH_KEYS:
+        return "path", key, ""
     suffix = "_hot" if key.endswith("_hot") else ""
     base = key[:-len(suffix)] if suffix else key
     if base.endswith("_diffusion_prefactor"):
@@ -334,12 +352,13 @@ def _prefactor_key(mechanism: str, suffix: str) -> str:
 class _Parametrisation:
     """Internal variables theta of the fit and their linear map to the reported ones.
 
-    Reported: ln D0 for a prefactor, Q [J/mol] for an activation energy, the value for any other
-    key. Internal, dimensionless and of order one to ten, so that the solver and the finite
-    differences see well-scaled, weakly correlated variables: where both D0 and Q of a
-    mechanism are fitted, theta = (ln D(T_ref), Q / (R T_ref)), which removes most of the
-    correlation of ln D0 and Q over a narrow temperature range; a lone Q is Q / (R T_ref); a lone
-    prefactor ln D0; another key value / (its initial value).
+    Reported: ln D0 for a prefactor, ln of the value for a path constant, Q [J/mol] for an
+    activation energy, the value for any other key. Internal, dimensionless and of order one to
+    ten, so that the solver and the finite differences see well-scaled, weakly correlated
+    variables: where both D0 and Q of a mechanism are fitted, theta = (ln D(T_ref),
+    Q / (R T_ref)), which removes most of the correlation of ln D0 and Q over a narrow
+    temperature range; a lone Q is Q / (R T_ref); a lone prefactor ln D0; a path constant ln of
+    it; another key value / (its initial value).
     """
 
     def __init__(self, keys: Sequence[str], initial: Dict[str, float], t_ref: float) -> None:
@@ -351,7 +370,9 @@ class _Parametrisation:
         index = {k: i for i, k in enumerate(self.keys)}
         for i, key in enumerate(self.keys):
             kind, mech, suffix = _split_key(key)
-            if kind == "prefactor":
+            if kind == "path":
+                self.matrix[i][i] = 1.0
+            elif kind == "prefactor":
                 self.matrix[i][i] = 1.0
                 j = index.get(_energy_key(mech, suffix))
                 if j is not None:  # ln D0 = ln D(T_ref) + Q / (R T_ref)
@@ -360,16 +381,21 @@ class _Parametrisation:
                 self.matrix[i][i] = GAS_CONSTANT * t_ref
             else:
                 self.matrix[i][i] = initial[key]
-        self.reported0 = [math.log(initial[k]) if _split_key(k)[0] == "prefactor" else initial[k]
+        self.reported0 = [math.log(initial[k]) if _logarithmic(k) else initial[k]
                           for k in self.keys]
 
     def bounds(self, theta0: Sequence[float], factor: float) -> Tuple[List[float], List[float]]:
-        """Trust box of the search around theta0: ln D within a factor `factor` either way, Q
-        (and any other key) within a factor 2."""
+        """Trust box of the search around theta0: ln D within a factor `factor` either way, a path
+        constant within a factor 10 (n_v also at most 1), Q (and any other key) within a
+        factor 2."""
         low, high = [], []
         for key, t in zip(self.keys, theta0):
             kind = _split_key(key)[0]
-            if kind == "prefactor":
+            if kind == "path":  # n_v is a fraction: at most 1 (ln 0)
+                low.append(t - math.log(10.0))
+                high.append(min(t + math.log(10.0), 0.0) if key == "lattice_mobile_fraction"
+                            else t + math.log(10.0))
+            elif kind == "prefactor":
                 low.append(t - math.log(factor))
                 high.append(t + math.log(factor))
             else:
@@ -389,19 +415,34 @@ class _Parametrisation:
         """Material values {key: value in its SI unit}."""
         out = {}
         for key, r in zip(self.keys, self.reported_of(theta)):
-            out[key] = math.exp(r) if _split_key(key)[0] == "prefactor" else r
+            out[key] = math.exp(r) if _logarithmic(key) else r
         return out
+
+
+def _logarithmic(key: str) -> bool:
+    """Whether a key is fitted and reported as ln of its value (prefactors, path constants)."""
+    return _split_key(key)[0] in ("prefactor", "path")
 
 
 @dataclasses.dataclass
 class FitResult:
     """Result of fit. Per fitted key (same order as keys): value in its SI unit, the reported
-    variable (ln D0 for a prefactor, Q [J/mol] for an activation energy, the value otherwise),
-    its standard error, and the confidence interval of the value (confidence level `level`;
-    a prefactor's interval is exp(ln D0 -+ t sigma), not symmetric). covariance and correlation
-    are those of the reported variables (s^2 (J^T J)^-1 mapped linearly); residual_variance is
+    variable (ln D0 for a prefactor, ln of the value for a path constant, Q [J/mol] for an
+    activation energy, the value otherwise), its standard error, and the confidence interval of
+    the value (confidence level `level`; a prefactor's or path constant's interval is
+    exp(ln value -+ t sigma), not symmetric). covariance and correlation are those of the
+    reported variables (s^2 (J^T J)^-1 mapped linearly); residual_variance is
     s^2 = sum of squared weighted residuals / (m - p); dof = m - p; evaluations counts runs of
-    every profile (residuals and Jacobians); jacobian_kind is "sensitivity" or "differences"."""
+    every profile (residuals and Jacobians); jacobian_kind is "sensitivity" or "differences".
+
+    identifiable is False when the data cannot tell some keys apart: the smallest singular value
+    of the Jacobian with unit columns is below identifiability_tol times the largest (condition
+    is their ratio, largest / smallest). Then unidentified lists the undetermined directions
+    ({key: coefficient}, unit length in the solver's variables, mapped to the reported ones),
+    the keys they involve have an infinite standard error and the interval (0, inf) or
+    (-inf, inf), and the values of those keys are one arbitrary point of a set that fits equally
+    well; the other keys keep finite intervals (their variance is estimable: s^2 times a
+    generalised inverse). covariance and correlation then hold NaN in the undetermined rows."""
 
     keys: List[str]
     values: Dict[str, float]
@@ -420,6 +461,9 @@ class FitResult:
     success: bool
     message: str
     jacobian_kind: str = "sensitivity"
+    identifiable: bool = True
+    unidentified: List[Dict[str, float]] = dataclasses.field(default_factory=list)
+    condition: float = 1.0
 
     def contains(self, truth: Dict[str, float]) -> Dict[str, bool]:
         """Whether each interval holds the given value {key: value}."""
@@ -431,7 +475,7 @@ class FitResult:
                  % (100.0 * self.level), "|---|---|---|---|"]
         for key, r, se in zip(self.keys, self.reported, self.standard_error):
             low, high = self.interval[key]
-            what = "ln D0" if _split_key(key)[0] == "prefactor" else "value"
+            what = {"prefactor": "ln D0", "path": "ln value"}.get(_split_key(key)[0], "value")
             lines.append("| %s | %.6g | [%.6g, %.6g] | %s = %.6g +- %.3g |"
                          % (key, self.values[key], low, high, what, r, se))
         return "\n".join(lines)
@@ -539,25 +583,30 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         t_ref: Optional[float] = None, neck_options: Optional[Dict[str, float]] = None,
         neck_weight: float = 1.0, step: float = 1e-3, max_evaluations: int = 200,
         xtol: float = 1e-10, search_factor: float = 1e3,
-        jacobian: str = "auto") -> FitResult:
+        jacobian: str = "auto", identifiability_tol: float = 1e-5,
+        refuse_unidentifiable: bool = False) -> FitResult:
     """Fit the material keys to every profile at once by weighted least squares.
 
     material: the starting material (not changed: a clone is fitted); initial {key: value}
-    overrides its starting values. keys: material keys to fit; prefactors D0 [m^2/s] are
-    fitted in ln D0, activation energies Q [J/mol] linearly, with D0 and Q of one mechanism and
-    phase re-expressed around t_ref [K] (default: the reciprocal of the mean 1/T of the
-    schedules) for conditioning. The residual of an observation is (model - data) / sigma
-    (neck ratios also times neck_weight). The Jacobian: jacobian = "sensitivity" from the
-    forward sensitivities of the model (NeckModel.sensitivities; only diffusion prefactors and
-    activation energies), "differences" by central differences of size step in the internal
-    variables (each a relative change of about step in D or Q), "auto" (default) the first when
-    every key allows it. The model runs at neck_options (default rtol 1e-9, well below the
-    effect of a step). The search stays within
-    a factor search_factor of each starting D (as the D(T_ref) where Q is fitted too) and a factor
-    2 of each starting Q or other value. Confidence intervals
-    at `level` from the Student t quantile with m - p degrees of freedom and covariance
-    s^2 (J^T J)^-1. Raises CalibrationUnavailable without NumPy/SciPy, ValueError on bad input,
-    SinterError when the model fails at a trial point.
+    overrides its starting values. keys: material keys to fit; prefactors D0 [m^2/s] and the
+    path constants (PATH_KEYS, docs/7dof.md sec. 3) are fitted in ln of the value, activation
+    energies Q [J/mol] linearly, with D0 and Q of one mechanism and phase re-expressed around
+    t_ref [K] (default: the reciprocal of the mean 1/T of the schedules) for conditioning. The
+    residual of an observation is (model - data) / sigma (neck ratios also times neck_weight).
+    The Jacobian: jacobian = "sensitivity" from the forward sensitivities of the model
+    (NeckModel.sensitivities; diffusion prefactors, activation energies and path constants),
+    "differences" by central differences of size step in the internal variables (each a
+    relative change of about step in D, Q or a path), "auto" (default) the first when every key
+    allows it. The model runs at neck_options (default rtol 1e-9, well below the effect of a
+    step). The search stays within a factor search_factor of each starting D (as the D(T_ref)
+    where Q is fitted too), a factor 10 of each path constant and a factor 2 of each starting Q
+    or other value. Confidence intervals at `level` from the Student t quantile with m - p
+    degrees of freedom and covariance s^2 (J^T J)^-1. Keys the data cannot tell apart (the Jacobian with unit columns has a
+    singular value below identifiability_tol times its largest; a path constant fitted with its
+    mechanism's D0 is the typical case) make FitResult.identifiable False with infinite
+    intervals for them, or raise NotIdentifiable with refuse_unidentifiable. Raises
+    CalibrationUnavailable without NumPy/SciPy, ValueError on bad input, SinterError when the
+    model fails at a trial point.
     """
     optimize = _require_scipy()
     import numpy
@@ -573,11 +622,13 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         raise ValueError("search_factor must exceed 1, got %r" % search_factor)
     if not 0.0 < step < 0.5:
         raise ValueError("step must lie in (0, 0.5), got %r" % step)
+    if not 0.0 < identifiability_tol < 1.0:
+        raise ValueError("identifiability_tol must lie in (0, 1), got %r" % identifiability_tol)
     start = {k: float(material[k]) for k in keys}
     start.update({k: float(v) for k, v in (initial or {}).items()})
     for key in keys:
         kind = _split_key(key)[0]
-        if kind in ("prefactor", "linear") and not start[key] > 0.0:
+        if kind in ("prefactor", "path", "linear") and not start[key] > 0.0:
             raise ValueError("%s must start positive, got %r" % (key, start[key]))
     arrhenius = all(_split_key(k)[0] != "linear" for k in keys)
     if jacobian == "auto":
@@ -586,8 +637,8 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         raise ValueError("jacobian must be 'auto', 'sensitivity' or 'differences', got %r"
                          % (jacobian,))
     if jacobian == "sensitivity" and not arrhenius:
-        raise ValueError("sensitivities exist for diffusion prefactors and activation "
-                         "energies only; use jacobian='differences'")
+        raise ValueError("sensitivities exist for diffusion prefactors, activation energies "
+                         "and path constants only; use jacobian='differences'")
     if t_ref is None:
         inverse = [1.0 / t for p in profiles for t in p.schedule_temperature]
         t_ref = len(inverse) / sum(inverse)
@@ -624,24 +675,81 @@ def fit(context: Context, material: Material, profiles: Sequence[Profile], keys:
         if dof <= 0:
             raise ValueError("%d observations cannot fit %d parameters" % (m, p))
         s2 = float(r @ r) / dof
-        cov_theta = s2 * numpy.linalg.inv(jac.T @ jac)
-        cov = a @ cov_theta @ a.T
+        cov, null, condition = _covariance(jac, a, s2, identifiability_tol)
         se = numpy.sqrt(numpy.diag(cov))
-        corr = cov / numpy.outer(se, se)
+        with numpy.errstate(invalid="ignore", divide="ignore"):
+            corr = cov / numpy.outer(se, se)
         reported = par.reported_of(theta)
         quantile = _student_t(level, dof)
         values = par.values_of(theta)
         interval = {}
         for key, rep, s in zip(keys, reported, se):
+            if not numpy.isfinite(s):
+                interval[key] = (0.0, math.inf) if _logarithmic(key) else (-math.inf, math.inf)
+                continue
             low, high = rep - quantile * s, rep + quantile * s
-            if _split_key(key)[0] == "prefactor":
+            if _logarithmic(key):
                 low, high = math.exp(low), math.exp(high)
             interval[key] = (low, high)
-        return FitResult(keys, values, list(reported), list(se), interval, cov, corr, s2, dof,
-                         level, float(t_ref), r, jac, model.evaluations, bool(solution.success),
-                         str(solution.message), jacobian)
+        unidentified = [{k: float(c) for k, c in zip(keys, a @ v)} for v in null]
+        message = str(solution.message)
+        if null:
+            message += ("; not identifiable: the data do not determine %s (only the combinations "
+                        "orthogonal to these are fitted)"
+                        % "; ".join(_describe(u) for u in unidentified))
+        result = FitResult(keys, values, list(reported), list(se), interval, cov, corr, s2, dof,
+                           level, float(t_ref), r, jac, model.evaluations,
+                           bool(solution.success), message, jacobian, not null, unidentified,
+                           condition)
+        if null and refuse_unidentifiable:
+            raise NotIdentifiable(message, unidentified, result)
+        return result
     finally:
         model.close()
+
+
+def _describe(direction: Dict[str, float]) -> str:
+    """'+0.707 neck_boundary_path -0.707 grain_boundary_diffusion_prefactor' (terms >= 1e-3)."""
+    return " ".join("%+.3g %s" % (c, k) for k, c in direction.items() if abs(c) >= 1e-3)
+
+
+def _covariance(jac: Any, a: Any, s2: float, tol: float) -> Tuple[Any, List[Any], float]:
+    """Covariance of the reported variables, the undetermined directions in the solver's
+    variables (unit vectors) and the condition number of the Jacobian with unit columns.
+
+    With the columns scaled to unit length (a parameter that does not act keeps a zero column),
+    a singular value below tol times the largest is an undetermined direction. The covariance
+    is then s^2 A D (J_s^T J_s)^+ D A^T over the determined subspace (the pseudo-inverse is a
+    generalised inverse, which gives the exact variance of every estimable combination), and
+    NaN, an infinite variance on the diagonal, for any reported variable that the undetermined
+    directions move (more than 1e-6 of its row of A)."""
+    import numpy
+
+    norms = numpy.linalg.norm(jac, axis=0)
+    scale = numpy.where(norms > 0.0, 1.0 / numpy.where(norms > 0.0, norms, 1.0), 1.0)
+    scaled = jac * scale
+    _, sv, vt = numpy.linalg.svd(scaled, full_matrices=False)
+    largest = sv[0] if sv.size and sv[0] > 0.0 else 1.0
+    condition = float(largest / sv[-1]) if sv[-1] > 0.0 else math.inf
+    small = sv < tol * largest
+    inv = numpy.zeros((sv.size, sv.size))
+    for k in range(sv.size):
+        if not small[k]:
+            inv += numpy.outer(vt[k], vt[k]) / sv[k] ** 2
+    transform = a * scale  # A D
+    cov = s2 * transform @ inv @ transform.T
+    null = []
+    for k in numpy.nonzero(small)[0]:
+        v = scale * vt[k]  # the direction in the solver's variables
+        null.append(v / numpy.linalg.norm(v))
+    if null:
+        moved = numpy.zeros(len(cov), dtype=bool)
+        for v in null:
+            moved |= numpy.abs(a @ v) > 1e-6 * numpy.linalg.norm(a, axis=1)
+        cov[moved, :] = numpy.nan
+        cov[:, moved] = numpy.nan
+        cov[moved, moved] = numpy.inf
+    return cov, null, condition
 
 
 def predict(context: Context, material: Material, profile: Profile,

@@ -59,7 +59,8 @@ class NeckSensitivities:
 
     time [s]; neck_ratio x / min(R_A, R_B) [-]; shrinkage Delta L / L0 [-];
     d_neck_ratio and d_shrinkage (n_out, n_params): derivatives with respect to ln D0 [-] for a
-    diffusion prefactor key, Q [J/mol] for an activation energy key; params: the keys.
+    diffusion prefactor key, Q [J/mol] for an activation energy key, ln of the value [-] for a
+    path constant (neck_*_path, lattice_mobile_fraction); params: the keys.
     """
 
     time: object
@@ -197,8 +198,9 @@ class NeckModel(_Handle):
                       out_times: Union[float, Sequence[float]]) -> NeckSensitivities:
         """Neck ratio and shrinkage along the schedule, as two_particles, with their forward
         sensitivities (sinter_neck_sensitivities; docs/calibration.md) with respect to the
-        Arrhenius parameters `params` (material keys: a *_diffusion_prefactor[_hot] key means
-        ln D0, an *_activation_energy[_hot] key Q [J/mol]). Needs integrator 0 (CVODE).
+        parameters `params` (material keys: a *_diffusion_prefactor[_hot] key means ln D0, an
+        *_activation_energy[_hot] key Q [J/mol], neck_boundary_path, neck_cone_path,
+        neck_cap_path or lattice_mobile_fraction ln of the value). Needs integrator 0 (CVODE).
         On a failure the SinterError carries the partial NeckSensitivities as .result.
         """
         times, temperatures = _as_list(times), _as_list(temperatures)
