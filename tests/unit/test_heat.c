@@ -253,16 +253,16 @@ static void test_gas_between_spheres_apart(void **state)
 }
 
 /*
- * A restart with gas between particles apart (issue 40's gas_reach, checked for issue 41): a
+ * A restart with gas between particles apart (issue 40, heat/gas_gap.h's gas_reach): a
  * bed of 12 spheres (r = 1 mm, two layers 0.3 mm apart on a floor, the upper falling under
  * gravity, 300-410 K) with conduction through contacts and through the gas (gas_reach 0.5,
  * which widens the neighbour search). Checkpoint at step k, read by a fresh stepper, k more
  * steps: positions, velocities, spins and temperatures are the uninterrupted run's at step 2k
  * to the bit, and so are the counts of neighbour list builds after step k + 1 and 2k (the
  * restored list was built again at step k + 1 when the fresh stepper's search reach started
- * at 0 and grew to the heat law's: the build history differed, here with the same bits of the
- * state, on threads with another partition of the pairs; checkpoint format 14 keeps the
- * reach).
+ * at 0 and grew to the heat law's: the build history differed, and with it the later builds'
+ * times and the partition a build makes for threads, contact/chunks.h; this bed's state kept
+ * its bits all the same, on 1 and on 2 threads. Checkpoint format 14 keeps the reach).
  */
 static void open_gas_bed(scene *s, sinter_heat_model **hm)
 {
