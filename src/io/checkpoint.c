@@ -73,8 +73,9 @@
  *    gas_reach, heat/gas_gap.h), so that the restored list is not built again at the first
  *    step (a fresh stepper's reach is 0, and a wider reach rebuilds the list: the rebuild
  *    history, and with it the times of later builds and the partition a build makes for
- *    threads, then differed from the uninterrupted run's, issue 40); earlier versions are still
- * read (reach 0: the first step builds the list again where a heat law reaches further) */
+ *    threads, then differed from the uninterrupted run's, issue 40); earlier versions are
+ *    still read (reach 0: the first step builds the list again where a heat law reaches
+ *    further) */
 #define CHECKPOINT_VERSION 14u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
