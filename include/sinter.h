@@ -2317,10 +2317,11 @@ SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
  * links, their 7DOF necks and the principal-plane conditions; with a "network"
  * electric model the potentials its next solve starts from; the particle
  * ranges its contact sums follow, the steps since its last spatial sort) to
- * a versioned binary file (format 11, which also carries the stepper's counts and
- * its continuous insertion's state, sinter_stepper_set_insertion: set the insertion
- * before reading; formats 2-10 are still read, and a run restored from formats 2-4
- * may differ from the straight run in the last bits) with a checksum.
+ * a versioned binary file (format 14, which also carries the stepper's counts, the
+ * frozen heat stage, the periodic cell, the neighbour search's reach and its continuous
+ * insertion's state, sinter_stepper_set_insertion: set the insertion before reading;
+ * formats 2-13 are still read, and a run restored from formats 2-4, or from 2-13 with a
+ * heat law's gas_reach, may differ from the straight run in the last bits) with a checksum.
  * Written to a temporary file and renamed: an existing checkpoint is never
  * left half-written.
  */

@@ -68,8 +68,15 @@
  *    insertion, the spheres inserted, the crowded insertions, the random stream; 3 doubles: the
  *    next sphere's radius, the mass inserted and its target), or 0 without one; restored into
  *    the stepper's insertion, which the host sets before reading (a scene's [insert]); earlier
- *    versions are still read (the insertion as the host set it) */
-#define CHECKPOINT_VERSION 13u
+ *    versions are still read (the insertion as the host set it)
+ * 14: then the neighbour search's reach (f64, m: contact/neighbors.h, widened by a heat law's
+ *    gas_reach, heat/gas_gap.h), so that the restored list is not built again at the first
+ *    step (a fresh stepper's reach is 0, and a wider reach rebuilds the list: the rebuild
+ *    history, and with it the times of later builds and the partition a build makes for
+ *    threads, then differed from the uninterrupted run's, issue 40); earlier versions are
+ *    still read (reach 0: the first step builds the list again where a heat law reaches
+ *    further) */
+#define CHECKPOINT_VERSION 14u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -296,7 +303,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         put(&w, g->owner, ps->ghost_count * sizeof(uint32_t));
         put(&w, g->shift, 3 * ps->ghost_count * sizeof(double));
     }
-    put_u64(&w, st->insertion != NULL);  /* version 13 */
+    put_u64(&w, st->insertion != NULL); /* version 13 */
     if (st->insertion != NULL) {
         uint64_t u[SINTER_INSERTION_U64];
         double d[SINTER_INSERTION_F64];
@@ -306,6 +313,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         for (int k = 0; k < SINTER_INSERTION_F64; ++k)
             put_f64(&w, d[k]);
     }
+    put_f64(&w, st->nb.reach); /* version 14 */
     const uint64_t sum = w.hash;
     put(&w, &sum, sizeof(sum));
     if (fclose(w.f) != 0)
@@ -573,7 +581,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         sinter_free(ctx, data);
         return corrupt(ctx, path,
                        "unsupported format version (this library reads versions 2 "
-                       "to 11) or byte order");
+                       "to 14) or byte order");
     }
     const double time = take_f64(&r), dt = take_f64(&r);
     const uint64_t steps = take_u64(&r), rejected = take_u64(&r), builds = take_u64(&r);
@@ -765,6 +773,9 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     for (int k = 0; k < SINTER_INSERTION_F64 && has_insertion && !r.bad; ++k)
         ins_d[k] = take_f64(&r);
     if (has_insertion && !r.bad && !sinter_insertion_state_valid(ins_d))
+        r.bad = 1;
+    const double reach = version >= 14u && !r.bad ? take_f64(&r) : 0.0;
+    if (!(isfinite(reach) && reach >= 0.0))
         r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
@@ -988,6 +999,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     for (size_t k = 0; k < nw; ++k)
         memcpy(nb->wall_ref + 4 * k, (const char *)wall_ref + sizeof(double) * k, sizeof(double));
     nb->skin = skin;
+    nb->reach = reach;
     nb->built = 1;
     nb->wall_count = nw;
     nb->layout_generation = ps->layout_generation;

@@ -210,11 +210,17 @@ static sinter_status begin_freeze(sinter_stepper *st)
     return SINTER_OK;
 }
 
+/* The stage applies: the option on, the explicit stepper, heat models, no electric model. */
+static int stage_applies(const sinter_stepper *st)
+{
+    return st->frozen.enabled && st->kind == SINTER_STEPPER_EXPLICIT && st->thermal.count > 0 &&
+           st->electric == NULL;
+}
+
 sinter_status sinter_frozen_consider(sinter_stepper *st)
 {
     sinter_frozen *fz = &st->frozen;
-    if (!fz->enabled || fz->active || st->kind != SINTER_STEPPER_EXPLICIT ||
-        st->thermal.count == 0 || st->electric != NULL)
+    if (fz->active || !stage_applies(st))
         return SINTER_OK;
     if (++fz->mech_steps < fz->settle_steps)
         return SINTER_OK;
@@ -243,6 +249,14 @@ static void wake(sinter_stepper *st, const char *why)
     st->forces_current = 0; /* the caller evaluates the forces of the new temperatures */
     sinter_log(st->ctx, SINTER_LOG_DEBUG, "frozen heat: mechanics woken at t = %.9g s (%s)",
                st->time, why);
+}
+
+int sinter_frozen_release(sinter_stepper *st)
+{
+    if (!st->frozen.active || stage_applies(st))
+        return 0;
+    wake(st, "the frozen heat stage no longer applies (option frozen_heat off)");
+    return 1;
 }
 
 /* The error of the update just made (theta_backup -> temperature over h), frozen_heat.h. */

@@ -66,6 +66,15 @@ sinter_status sinter_frozen_get(const struct sinter_stepper *st, const char *key
 sinter_status sinter_frozen_consider(struct sinter_stepper *st);
 
 /*
+ * Frozen mechanics where the stage no longer applies (option "frozen_heat" 0, as after a
+ * checkpoint of a frozen bed read by a stepper with the option off, issue 41; or no heat
+ * model, an electric model, another stepper kind): woken, st->forces_current 0 for the caller
+ * to evaluate the forces. Returns 1 if woken, 0 if nothing changed (not frozen, or the stage
+ * applies: a restored freeze then continues as the uninterrupted run).
+ */
+int sinter_frozen_release(struct sinter_stepper *st);
+
+/*
  * One accepted heat step over the frozen bed, ending at most at t_end, the step taken in
  * *taken; or none (*taken 0) when a wall would move in it. *woke is 1 when the mechanics woke
  * (before the step, or after it for softening): st->forces_current is then 0, and the caller

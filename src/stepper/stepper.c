@@ -230,7 +230,7 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
 }
 
 sinter_status sinter_stepper_set_neck_law(sinter_stepper *st,
-                                         const sinter_neck_law_callbacks *callbacks, void *user)
+                                          const sinter_neck_law_callbacks *callbacks, void *user)
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
@@ -1121,6 +1121,8 @@ void sinter_stepper_shift_furnace(sinter_stepper *st, double delay)
 static sinter_status take_step(sinter_stepper *st, double h, double t_end, double *taken, int *stop)
 {
     sinter_status s;
+    if (sinter_frozen_release(st) && (s = prepare(st)) != SINTER_OK)
+        return s; /* frozen with the stage off (a restart, issue 41): the mechanics step on */
     if (st->frozen.active) {
         /* the frozen heat stage: one heat step over the frozen bed, or a wake-up */
         int woke = 0;

@@ -185,10 +185,10 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
     (void)state;
     enum { N = 60 };
     double every_step[3 * N], rarely[3 * N], reordered[3 * N], sorted[3 * N];
-    run_cloud(0.0, -1, every_step, N);   /* skin 0: rebuilt at every step */
-    run_cloud(2e-3, -1, rarely, N);      /* large skin: rebuilt rarely */
-    run_cloud(2e-3, 0, reordered, N);    /* reordered in memory after 200 steps */
-    run_cloud(2e-3, -2, sorted, N);      /* stepper option sort_interval 37 */
+    run_cloud(0.0, -1, every_step, N); /* skin 0: rebuilt at every step */
+    run_cloud(2e-3, -1, rarely, N);    /* large skin: rebuilt rarely */
+    run_cloud(2e-3, 0, reordered, N);  /* reordered in memory after 200 steps */
+    run_cloud(2e-3, -2, sorted, N);    /* stepper option sort_interval 37 */
     /* The same pairs interact in a possibly different order, so sums differ by
      * round-off only; 600 steps of a dissipative pile do not amplify 1e-16 to 1e-12 m. */
     for (size_t k = 0; k < 3 * N; ++k) {
@@ -197,7 +197,6 @@ static void test_trajectory_independent_of_rebuilds_and_order(void **state)
         assert_close(sorted[k], every_step[k], 1e-12);
     }
 }
-
 
 /* A scene on `threads` threads whose particles conduct heat (k 100 W/m/K, C 100 J/kg/K). */
 static void conducting_scene(scene *s, int threads)
@@ -392,8 +391,8 @@ static void test_partitioned_law_matches_hertz(void **state)
  * forces' flag and an empty host section, 24 bytes), version 7's (56 bytes) and version 8's
  * walls' state (10 doubles per wall), version 9's frozen heat stage (80 bytes when not
  * frozen), version 10's broken-bond count (8 bytes), version 12's periodic section (no axis
- * periodic, no ghosts: 16 bytes) and version 13's insertion flag (8 bytes, no insertion)
- * dropped from before the checksum, the
+ * periodic, no ghosts: 16 bytes), version 13's insertion flag (8 bytes, no insertion) and
+ * version 14's neighbour search reach (8 bytes) dropped from before the checksum, the
  * version and the checksum (FNV-1a 64 of everything before it) rewritten; `ranges` is the
  * partition's count. */
 static void checkpoint_as_format_4(const char *path, int ranges, size_t walls)
@@ -407,9 +406,9 @@ static void checkpoint_as_format_4(const char *path, int ranges, size_t walls)
     /* + version 7's tail without a staggered history: 2 counts, 3 doubles, 2 flags (56 bytes),
      * version 8's walls, version 9's frozen heat section (not frozen: 10 words, 80 bytes) and
      * version 10's broken-bond count (8 bytes), version 12's periodic section (16 bytes),
-     * version 13's insertion flag (8 bytes) */
+     * version 13's insertion flag (8 bytes), version 14's reach (8 bytes) */
     const size_t section =
-        8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 56 + 80 * walls + 80 + 8 + 16 + 8;
+        8 * (ranges > 0 ? (size_t)ranges + 2 : 1) + 24 + 56 + 80 * walls + 80 + 8 + 16 + 8 + 8;
     assert_true(size > 16 + 8 + section);
     uint64_t count;
     memcpy(&count, data + size - 8 - section, 8);
@@ -480,8 +479,7 @@ static void test_rolling_restart_on_threads(void **state)
             differ += a[k] != b[k];
         }
     }
-    print_message("format 4 restart: %zu of %d values differ in their last bits\n", differ,
-                  9 * N);
+    print_message("format 4 restart: %zu of %d values differ in their last bits\n", differ, 9 * N);
     for (int run = 0; run < 3; ++run)
         free(out[run]);
     remove(path);
@@ -988,8 +986,7 @@ static void test_conduction_in_law_matches_after_law(void **state)
  * Returns positions, velocities and spins in out (9 n) and the largest rolling spring |Delta
  * theta| committed after each phase in roll[3]. param 0: the model with rolling off.
  */
-static void run_rolling_phases(int param, const double mu[3], double *out, size_t n,
-                               double roll[3])
+static void run_rolling_phases(int param, const double mu[3], double *out, size_t n, double roll[3])
 {
     scene s;
     scene_init(&s);
@@ -1185,8 +1182,8 @@ static void assert_same_contacts(const sinter_contact_list *a, const sinter_cont
 
 /* The first contact index and the first pair at which list c differs from m (SIZE_MAX when
  * it does not). */
-static void first_difference(const membership *m, const sinter_contact_list *c,
-                             size_t *contact, size_t *pair)
+static void first_difference(const membership *m, const sinter_contact_list *c, size_t *contact,
+                             size_t *pair)
 {
     *contact = *pair = SIZE_MAX;
     const size_t both = m->count < c->count ? m->count : c->count;
@@ -1348,9 +1345,9 @@ static void test_wall_search_matches_a_fresh_one(void **state)
             sinter_contact_list_free(s.ctx, &owned);
             if (round > 0) {
                 const int changed = round == 2 || round == 3;
-                assert_int_equal(memcmp(before, kept.pair_to_contact,
-                                        kept.pair_count * sizeof(uint32_t)) != 0,
-                                 changed);
+                assert_int_equal(
+                    memcmp(before, kept.pair_to_contact, kept.pair_count * sizeof(uint32_t)) != 0,
+                    changed);
                 assert_int_equal(kept.revision != revision, changed);
             }
             free(before);
@@ -1425,8 +1422,7 @@ static void test_lean_search_matches_a_fresh_one(void **state)
              * (round 6) send the search whole, and the next one too (spaced out); a build
              * without OpenMP has one thread whatever t */
             const int one_thread = sinter_threads(s.ctx) == 1;
-            assert_int_equal(deferred,
-                             round > 0 && (one_thread || (round != 6 && round != 7)));
+            assert_int_equal(deferred, round > 0 && (one_thread || (round != 6 && round != 7)));
             assert_int_equal(late.unconfirmed, deferred);
             size_t ended = SIZE_MAX;
             for (size_t q = 0; deferred && q < late.count; ++q) {
@@ -1467,9 +1463,9 @@ static void test_lean_search_matches_a_fresh_one(void **state)
             memcpy(plo_before, kept.chunks.plo, sizeof(plo_before));
             for (int k = 0; k <= kept.chunks.count; ++k) {
                 size_t q = 0;
-                while (q < kept.count && (k == kept.chunks.count ||
-                                          (kept.i[q] < kept.j[q] ? kept.i[q] : kept.j[q]) <
-                                              kept.chunks.plo[k]))
+                while (q < kept.count &&
+                       (k == kept.chunks.count ||
+                        (kept.i[q] < kept.j[q] ? kept.i[q] : kept.j[q]) < kept.chunks.plo[k]))
                     ++q;
                 assert_int_equal(kept.chunks.qlo[k], q);
             }

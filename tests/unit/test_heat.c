@@ -5,6 +5,7 @@
  * particle settling on a 700 K floor with and without thermal softening.
  */
 #include <math.h>
+#include <stdio.h>
 
 #include <sinter_submodel.h>
 
@@ -249,6 +250,94 @@ static void test_gas_between_spheres_apart(void **state)
         sinter_heat_model_destroy(hm);
         scene_close(&s);
     }
+}
+
+/*
+ * A restart with gas between particles apart (issue 40, heat/gas_gap.h's gas_reach): a
+ * bed of 12 spheres (r = 1 mm, two layers 0.3 mm apart on a floor, the upper falling under
+ * gravity, 300-410 K) with conduction through contacts and through the gas (gas_reach 0.5,
+ * which widens the neighbour search). Checkpoint at step k, read by a fresh stepper, k more
+ * steps: positions, velocities, spins and temperatures are the uninterrupted run's at step 2k
+ * to the bit, and so are the counts of neighbour list builds after step k + 1 and 2k (the
+ * restored list was built again at step k + 1 when the fresh stepper's search reach started
+ * at 0 and grew to the heat law's: the build history differed, and with it the later builds'
+ * times and the partition a build makes for threads, contact/chunks.h; this bed's state kept
+ * its bits all the same, on 1 and on 2 threads. Checkpoint format 14 keeps the reach).
+ */
+static void open_gas_bed(scene *s, sinter_heat_model **hm)
+{
+    scene_init(s);
+    scene_material(s, 1e7, 0.3, 3000, 0.3, 0.3);
+    OK(sinter_material_set(s->mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 50.0));
+    OK(sinter_material_set(s->mat, SINTER_MAT_HEAT_CAPACITY, 500.0));
+    scene_open(s, "hertz_mindlin", 1);
+    scene_floor(s, 0.0);
+    const double r = 1e-3, pitch = 2.3e-3;
+    for (int k = 0; k < 12; ++k) {
+        const int ix = k % 3, iy = (k / 3) % 2, iz = k / 6;
+        /* a small fixed offset per sphere: no symmetric pair order */
+        const double jx = 1e-5 * (double)((k * 7) % 5), jy = 1e-5 * (double)((k * 3) % 4);
+        scene_add(s, ix * pitch + jx, iy * pitch + jy, r + iz * pitch, r);
+    }
+    double *theta = NULL;
+    OK(sinter_particles_view(s->ps, SINTER_FIELD_TEMPERATURE, (void **)&theta, NULL, NULL));
+    for (int k = 0; k < 12; ++k)
+        theta[k] = 300.0 + 10.0 * (double)k;
+    OK(sinter_particles_release(s->ps, SINTER_FIELD_TEMPERATURE));
+    add_heat(s, "conduction", hm);
+    OK(sinter_heat_model_set(*hm, "gas_conductivity", 0.026));
+    OK(sinter_heat_model_set(*hm, "gas_reach", 0.5));
+    OK(sinter_stepper_set_dt(s->st, 5e-6));
+}
+
+static void test_restart_with_gas_reach(void **state)
+{
+    (void)state;
+    const char *path = "test_heat_gas_reach.ck";
+    const uint64_t k = 1000;
+    const sinter_field fields[4] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY, SINTER_FIELD_SPIN,
+                                    SINTER_FIELD_TEMPERATURE};
+    double out[2][12 * 10 + 2];
+    for (int pass = 0; pass < 2; ++pass) {
+        scene s;
+        sinter_heat_model *hm = NULL;
+        open_gas_bed(&s, &hm);
+        if (pass == 0) {
+            OK(sinter_stepper_step(s.st, k));
+            OK(sinter_checkpoint_write(s.st, path));
+        } else {
+            OK(sinter_checkpoint_read(s.st, path));
+        }
+        sinter_stepper_stats stats = {.struct_size = sizeof(sinter_stepper_stats)};
+        OK(sinter_stepper_step(s.st, 1));
+        OK(sinter_stepper_get_stats(s.st, &stats));
+        const double builds_after_one = (double)stats.neighbor_builds;
+        OK(sinter_stepper_step(s.st, k - 1));
+        double *o = out[pass];
+        for (int f = 0; f < 4; ++f) {
+            const size_t comps = f < 3 ? 3 : 1;
+            const double *a = NULL;
+            OK(sinter_particles_view_read(s.ps, fields[f], (const void **)&a, NULL, NULL));
+            memcpy(o, a, 12 * comps * sizeof(double));
+            OK(sinter_particles_release(s.ps, fields[f]));
+            o += 12 * comps;
+        }
+        OK(sinter_stepper_get_stats(s.st, &stats));
+        o[0] = builds_after_one;
+        o[1] = (double)stats.neighbor_builds;
+        print_message("gas bed, pass %d: %g neighbour builds at step k + 1, %g at 2k; theta_0 "
+                      "%.17g K, z_11 %.17g m\n",
+                      pass, o[0], o[1], out[pass][12 * 9], out[pass][3 * 11 + 2]);
+        sinter_stepper_destroy(s.st);
+        s.st = NULL;
+        sinter_heat_model_destroy(hm);
+        scene_close(&s);
+    }
+    remove(path);
+    /* the upper layer fell and the heat spread: the comparison is of a moving, heating bed */
+    assert_true(out[0][3 * 11 + 2] < 1e-3 + 2.3e-3);
+    assert_true(out[0][12 * 9] > 300.0);
+    assert_memory_equal(out[0], out[1], sizeof(out[0]));
 }
 
 /*
@@ -814,6 +903,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_two_spheres_approach_mean),
         cmocka_unit_test(test_gas_between_spheres_apart),
+        cmocka_unit_test(test_restart_with_gas_reach),
         cmocka_unit_test(test_impact_heat_is_lost_kinetic_energy),
         cmocka_unit_test(test_sliding_heat_is_mu_n_v),
         cmocka_unit_test(test_imposed_wall),
