@@ -386,7 +386,10 @@ typedef enum sinter_particle_flag {
     SINTER_PARTICLE_FIXED = 1,        /**< position and velocity are prescribed (not integrated) */
     SINTER_PARTICLE_NO_ROTATION = 2,  /**< spin is not integrated */
     SINTER_PARTICLE_FIXED_TEMPERATURE = 4, /**< temperature is not integrated */
-    SINTER_PARTICLE_ELECTRIFIED = 8   /**< set by the electric submodel: touches an electrified wall */
+    SINTER_PARTICLE_ELECTRIFIED = 8,  /**< set by the electric submodel: touches an electrified wall */
+    SINTER_PARTICLE_LIT = 16          /**< set by the beam heat submodels (laser, nozzle, beam) on
+                                           each particle they give power to; never cleared: the
+                                           particles the beam has targeted (seed 003 sec. 5.4) */
 } sinter_particle_flag;
 
 /** Describe a field: its name ("position"), unit, element type and components per particle. */

@@ -178,6 +178,7 @@ enum class particle_flag : std::uint32_t {
     no_rotation = SINTER_PARTICLE_NO_ROTATION,
     fixed_temperature = SINTER_PARTICLE_FIXED_TEMPERATURE,
     electrified = SINTER_PARTICLE_ELECTRIFIED,
+    lit = SINTER_PARTICLE_LIT,
 };
 /// Mirrors sinter_wall_motion.
 enum class wall_motion : int {

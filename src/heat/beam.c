@@ -18,6 +18,9 @@
  * depleted by what it deposits, so the sum of the powers may exceed I0 pi radius^2 (eq. 29-31
  * are per-particle laws); walls absorb nothing; no reflection; the direction is fixed (-z).
  *
+ * A particle given power (> 0) is marked SINTER_PARTICLE_LIT (never cleared): the particles
+ * the beam has targeted so far, whose mean temperature seed 003 sec. 5.4 reports.
+ *
  * Defaults: beam on the z axis, radius 5 mm (seed 003 §5.4's 10 mm beam), intensity 0 (off
  * until set), d_max 1 mm, mu 1000 1/m.
  */
@@ -43,6 +46,7 @@ static inline int lit(const double *x, size_t i, double bx, double by, double rb
 typedef struct beam_job {
     const sinter_particles *ps;
     double *heat;
+    uint32_t *flags; /* marked SINTER_PARTICLE_LIT where power is given, or NULL */
     double bx, by, rb2, top, c, reach;
     int laser;
     double range_top[SINTER_CHUNKS_MAX];
@@ -72,8 +76,11 @@ static inline void deposit(const beam_job *job, size_t lo, size_t hi, int laser)
         const double z = job->top - (x[3 * i + 2] + r[i]);   /* depth along the beam, >= 0 */
         const double f = laser ? exp(-job->reach * z)         /* eq. 31 */
                                : fmax(1.0 - z * inv_d, 0.0); /* eq. 30, 0 beyond d_max */
-        job->heat[i] +=
+        const double q =
             sinter_particle_param(ps, i, SINTER_MAT_ABSORPTANCE) * job->c * r[i] * r[i] * f;
+        job->heat[i] += q;
+        if (q > 0.0 && job->flags != NULL) /* targeted (seed 003 sec. 5.4's "lit" particles) */
+            job->flags[i] |= (uint32_t)SINTER_PARTICLE_LIT;
     }
 }
 
@@ -98,7 +105,8 @@ static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e,
                            "heat model '%s' at t = %g s: needs radius >= 0 (is %g) and %s (is %g)",
                            hm->name, e->time, rb, laser ? "attenuation >= 0" : "depth > 0", reach);
     /* A_i = pi r_i^2, so a_i I0 A_i f = a_i (pi I0) r_i^2 f. */
-    beam_job job = {e->ps, e->heat, bx, by, rb * rb, -HUGE_VAL, PI * i0, reach, laser, {0.0}};
+    beam_job job = {e->ps,     e->heat, e->flags, bx,    by,   rb * rb,
+                    -HUGE_VAL, PI * i0, reach,    laser, {0.0}};
     /* Pass 1: the bed's top surface under the beam (a maximum: the same for any split). */
     const int ranges = sinter_particle_pass(e->ctx, e->pp, e->ps->count, top_range, &job);
     for (int k = 0; k < ranges; ++k)

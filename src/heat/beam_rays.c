@@ -23,7 +23,8 @@
  *
  * Outputs of the last evaluation (sinter_heat_model_output): "absorbed" and "transmitted"
  * [W] (their sum is P to round-off), "lit" (the number of particles that absorbed power) and
- * "lit_temperature" (their mean temperature [K], 0 when none).
+ * "lit_temperature" (their mean temperature [K], 0 when none). Each particle that absorbed power
+ * is marked SINTER_PARTICLE_LIT (never cleared), as by the laser and nozzle (beam.c).
  *
  * Cost: one pass over the particles for the candidates (centre within R_beam + r of the axis,
  * in front of the start), then rays x candidates ray-sphere tests, on one thread (the sums in
@@ -178,6 +179,8 @@ static sinter_status beam_rays_eval(const sinter_heat_model *hm, sinter_heat_eva
         if (got[cand[q]] > 0.0) {
             lit += 1.0;
             lit_theta += ps->temperature[cand[q]];
+            if (e->flags != NULL) /* targeted so far (beam.c) */
+                e->flags[cand[q]] |= (uint32_t)SINTER_PARTICLE_LIT;
         }
     out->output[0] = absorbed;
     out->output[1] = wsum > 0.0 ? transmitted : power;

@@ -37,6 +37,9 @@ typedef struct sinter_heat_eval {
     /* the power the contacts dissipated in the force evaluation of this state [W], 2 per
      * particle (normal damping, sliding: sinter_force_ops.dissipation), or NULL */
     const double *dissipation;
+    /* the particles' flags, on which the beam models set SINTER_PARTICLE_LIT for each particle
+     * they give power to (beam.c, beam_rays.c), or NULL: they mark nothing */
+    uint32_t *flags;
 } sinter_heat_eval;
 
 /* The conductivity of particle i in evaluation e: k(theta_i) when tabulated, else its

@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include "contact/snapshot.h"
+#include "heat/heat_model.h"
 #include "io/csv_stream.h"
 #include "io/run_plot.h"
 #include "io/scene_frames.h"
@@ -354,6 +355,43 @@ static void observe_temperatures(const sinter_scene *sc, double *row)
     }
 }
 
+/* Last of all, with a beam heat model ("laser", "nozzle" or "beam"): how many particles the
+ * beam has given power so far (the beam models mark them SINTER_PARTICLE_LIT; the flag is
+ * particle state, so a checkpoint carries it) and their mean temperature, 0 K while there are
+ * none: seed 003 sec. 5.4 reports this mean ("only those that have been targeted by the
+ * beam"). Absent otherwise, so that the series of other scenes keep their bytes. */
+enum { LIT_COLUMNS = 2 };
+
+static size_t lit_columns(const sinter_scene *sc)
+{
+    for (size_t k = 0; k < sc->st->thermal.count; ++k) {
+        const char *name = sc->st->thermal.slots[k].model->ops->name;
+        if (strcmp(name, "laser") == 0 || strcmp(name, "nozzle") == 0 || strcmp(name, "beam") == 0)
+            return LIT_COLUMNS;
+    }
+    return 0;
+}
+
+static size_t lit_column(const sinter_scene *sc)
+{
+    return temperature_column(sc) + temperature_columns(sc);
+}
+
+static void observe_lit(const sinter_scene *sc, double *row)
+{
+    if (lit_columns(sc) == 0)
+        return;
+    const sinter_particles *ps = sc->ps;
+    double count = 0.0, sum = 0.0;
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) /* owned */
+        if (ps->flags[i] & (uint32_t)SINTER_PARTICLE_LIT) {
+            count += 1.0;
+            sum += ps->temperature[i];
+        }
+    row[lit_column(sc)] = count;
+    row[lit_column(sc) + 1] = count > 0.0 ? sum / count : 0.0;
+}
+
 static void observe_frozen(const sinter_scene *sc, double *row)
 {
     for (size_t k = 0; k < frozen_columns(sc); ++k)
@@ -504,6 +542,7 @@ static void observe(const sinter_scene *sc, double *row)
     observe_flows(sc, row);
     observe_frozen(sc, row);
     observe_temperatures(sc, row);
+    observe_lit(sc, row);
 }
 
 /*
@@ -872,7 +911,13 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         names[temperature_column(sc) + k] = tl[k];
         units[temperature_column(sc) + k] = "1";
     }
-    return temperature_column(sc) + temperature_columns(sc);
+    if (lit_columns(sc) > 0) {
+        names[lit_column(sc)] = "lit particles";
+        names[lit_column(sc) + 1] = "lit mean temperature";
+        units[lit_column(sc)] = "1";
+        units[lit_column(sc) + 1] = "K";
+    }
+    return lit_column(sc) + lit_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -915,7 +960,7 @@ static sinter_status open_output(run_state *r)
         TEMPERATURES = SCENE_MAX_TEMPERATURE_BINS + 2,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
                STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED + SCENE_PAIR_COLUMNS + FROZEN_COLUMNS +
-               TEMPERATURES /* 1: the solid fraction */
+               TEMPERATURES + LIT_COLUMNS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];

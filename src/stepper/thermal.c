@@ -147,6 +147,7 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     e.pairs =
         st->nb.built && st->nb.layout_generation == st->ps->layout_generation ? &st->nb.pp : NULL;
     e.dissipation = st->dissipation_valid ? st->dissipation : NULL; /* heat/dissipation.c */
+    e.flags = st->ps->flags; /* the beams' SINTER_PARTICLE_LIT */
     return e;
 }
 

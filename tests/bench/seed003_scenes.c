@@ -23,6 +23,8 @@
  *   300 K, the other walls adiabatic (the scene's k = 0). Effective conductivity from the
  *   seed's estimator sum m C dtheta / (grad T A t), from the heat that entered through the hot
  *   wall, and from the steady flux through the cold wall; Hashin-Shtrikman bounds (eq. 48).
+ *   The wall heat flows are the library's (a contact snapshot after each step), so that the
+ *   energy balance holds whatever the wall law.
  *   --solid-volume V keeps only the lowest particles of the RSA, V m^3 of solid (0.65e-3 m^3
  *   fills the seed's 0.1 m cube at the volume fraction the pour reaches). --softening THETA:
  *   exponential softening (eq. 42) with theta* = THETA, the mechanics re-settled (particles
@@ -412,47 +414,63 @@ static void hashin_shtrikman(double k1, double k2, double v2, double *lo, double
     *hi = k2 + (1.0 - v2) / (1.0 / (k1 - k2) + v2 / (3.0 * k2));
 }
 
-/* Conductance of every particle to wall `k` (the library's rule, sinter.h: G = k_iw A / d,
- * A = pi (r^2 - d^2), d the centre-plane distance, k_iw = 2 k_i k_w/(k_i + k_w)). */
-static void wall_conductances(const loaded *l, size_t k, double kiw, double *g)
+/*
+ * Heat flows of the hot and the cold wall as the library's conduction model computes them
+ * (whatever its wall law: conduction.c), from a snapshot of the stepper's contacts
+ * (SINTER_CONTACT_DATA_HEAT_FLOW of the wall contacts): *qh into the particles from the hot
+ * wall, *qc out of the particles into the cold wall [W]. With cold_by_particle != NULL, each
+ * particle's flow into the cold wall there (indexed as the particles). The snapshot is taken
+ * after a step: with the implicit scheme, the flows of the step's new temperatures.
+ */
+static void wall_flows(const loaded *l, const sinter_stepper *st, size_t hot, size_t cold,
+                       double *qh, double *qc, double *cold_by_particle)
 {
-    double p[3], u[3], nrm[3];
-    CHECK(sinter_walls_get_state(l->walls, k, p, u));
-    CHECK(sinter_walls_get_normal(l->walls, k, nrm));
-    const double *x = view_read(l->ps, SINTER_FIELD_POSITION);
-    const double *r = view_read(l->ps, SINTER_FIELD_RADIUS);
-    for (size_t i = 0; i < l->n; ++i) {
-        const double s = (x[3 * i] - p[0]) * nrm[0] + (x[3 * i + 1] - p[1]) * nrm[1] +
-                         (x[3 * i + 2] - p[2]) * nrm[2];
-        g[i] = (s < r[i] && s > 0) ? kiw * PI * (r[i] * r[i] - s * s) / s : 0.0;
+    sinter_snapshot *snap = NULL;
+    CHECK(sinter_snapshot_create(&snap, st));
+    size_t np = 0, nw = 0;
+    CHECK(sinter_snapshot_counts(snap, &np, &nw, NULL, NULL));
+    const void *wd = NULL, *qd = NULL, *ida = NULL;
+    CHECK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, &wd, NULL, NULL, NULL));
+    CHECK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_HEAT_FLOW, &qd, NULL, NULL, NULL));
+    CHECK(sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, &ida, NULL, NULL, NULL));
+    const int32_t *w = wd;
+    const double *q = qd;
+    const uint64_t *id = ida;
+    if (cold_by_particle != NULL)
+        memset(cold_by_particle, 0, l->n * sizeof(double));
+    *qh = *qc = 0.0;
+    for (size_t c = np; c < np + nw; ++c) { /* the wall contacts follow the pairs */
+        if (w[c] == (int32_t)hot)
+            *qh += q[c]; /* into particle a from the wall */
+        if (w[c] == (int32_t)cold) {
+            *qc -= q[c];
+            if (cold_by_particle != NULL) {
+                size_t i = 0;
+                CHECK(sinter_particles_find_id(l->ps, id[c], &i));
+                cold_by_particle[i] -= q[c];
+            }
+        }
     }
-    release(l->ps, SINTER_FIELD_RADIUS);
-    release(l->ps, SINTER_FIELD_POSITION);
-}
-
-static double wall_flux(const loaded *l, const double *g, double theta_wall)
-{
-    const double *t = view_read(l->ps, SINTER_FIELD_TEMPERATURE);
-    double q = 0;
-    for (size_t i = 0; i < l->n; ++i)
-        q += g[i] * (theta_wall - t[i]);
-    release(l->ps, SINTER_FIELD_TEMPERATURE);
-    return q; /* into the particles */
+    sinter_snapshot_destroy(snap);
 }
 
 /* Steady flux into the cold wall from particles in 4 height bands, as conductivities. */
-static void band_conductivities(const loaded *l, const double *gcold, double height)
+static void band_conductivities(const loaded *l, const sinter_stepper *st, size_t hot, size_t cold,
+                                double height)
 {
+    double *qcold = malloc(l->n * sizeof(double)), qh = 0, qc = 0;
+    if (qcold == NULL)
+        exit(1);
+    wall_flows(l, st, hot, cold, &qh, &qc, qcold);
     const double *x = view_read(l->ps, SINTER_FIELD_POSITION);
-    const double *t = view_read(l->ps, SINTER_FIELD_TEMPERATURE);
     double q[4] = {0};
     for (size_t i = 0; i < l->n; ++i) {
         int b = (int)(x[3 * i + 2] / height * 4.0);
         b = b < 0 ? 0 : b > 3 ? 3 : b;
-        q[b] += gcold[i] * (t[i] - 300.0);
+        q[b] += qcold[i];
     }
-    release(l->ps, SINTER_FIELD_TEMPERATURE);
     release(l->ps, SINTER_FIELD_POSITION);
+    free(qcold);
     printf("    k* from the cold-wall flux by height band (bottom to top quarter of H):");
     for (int b = 0; b < 4; ++b)
         printf(" %.3f", q[b] / (7000.0 * 0.1 * height / 4.0));
@@ -537,7 +555,7 @@ typedef struct box_result {
  * 350 s. With mech != NULL (softening), the particles are released and re-settled with `mech`
  * every `cycle` seconds of thermal time.
  */
-static box_result box_heat_run(loaded *l, double h, double t_end, double area, double kiw,
+static box_result box_heat_run(loaded *l, double h, double t_end, double area,
                                sinter_stepper *mech, double cycle, int verbose)
 {
     box_result res;
@@ -549,9 +567,6 @@ static box_result box_heat_run(loaded *l, double h, double t_end, double area, d
     CHECK(sinter_walls_set_temperature(l->walls, cold, 300.0));
     set_all_temperatures(l->ps, l->n, 300.0);
     set_fixed(l->ps, l->n, 1);
-    double *ghot = malloc(l->n * sizeof(double)), *gcold = malloc(l->n * sizeof(double));
-    wall_conductances(l, hot, kiw, ghot);
-    wall_conductances(l, cold, kiw, gcold);
     sinter_stepper *st = stepper(l, h);
     sinter_heat_model *cond = heat("conduction");
     CHECK(sinter_stepper_add_heat(st, cond));
@@ -562,7 +577,8 @@ static box_result box_heat_run(loaded *l, double h, double t_end, double area, d
     for (uint64_t s = 1; s <= nsteps; ++s) {
         CHECK(sinter_stepper_step(st, 1));
         const double t = (double)s * h;
-        const double qh = wall_flux(l, ghot, 1000.0), qc = -wall_flux(l, gcold, 300.0);
+        double qh = 0, qc = 0;
+        wall_flows(l, st, hot, cold, &qh, &qc, NULL);
         e_in += h * qh; /* backward Euler: the fluxes of the new temperatures */
         e_out += h * qc;
         if (s == n350) {
@@ -582,17 +598,17 @@ static box_result box_heat_run(loaded *l, double h, double t_end, double area, d
             printf("  t = %4.0f s: Q_hot %.5g W, Q_cold %.5g W, stored %.5g J\n", t, qh, qc,
                    stored_energy(l, c, 300.0));
         if (mech != NULL && t >= next_cycle - 1e-9 && s < nsteps) {
-            /* re-settle with the softened moduli, then refreeze and recompute wall terms */
+            /* re-settle with the softened moduli, then refreeze (the heat stepper's next
+             * step finds the new contacts) */
             set_fixed(l->ps, l->n, 0);
             CHECK(sinter_pack_pour(mech, 1e-10, 0.1, 2.0));
             set_fixed(l->ps, l->n, 1);
-            wall_conductances(l, hot, kiw, ghot);
-            wall_conductances(l, cold, kiw, gcold);
             next_cycle += cycle;
         }
     }
     const double e = stored_energy(l, c, 300.0);
-    const double qh = wall_flux(l, ghot, 1000.0), qc = -wall_flux(l, gcold, 300.0);
+    double qh = 0, qc = 0;
+    wall_flows(l, st, hot, cold, &qh, &qc, NULL);
     res.t_end = t_end;
     res.k_seed_end = e / (grad * area * t_end);
     res.k_cold_end = qc / (grad * area);
@@ -605,12 +621,10 @@ static box_result box_heat_run(loaded *l, double h, double t_end, double area, d
                "(imposed 7000)\n",
                t_end, qh, qc, slope);
         temperature_profile(l, 0.1);
-        band_conductivities(l, gcold, area / 0.1);
+        band_conductivities(l, st, hot, cold, area / 0.1);
     }
     sinter_stepper_destroy(st);
     sinter_heat_model_destroy(cond);
-    free(ghot);
-    free(gcold);
     return res;
 }
 
@@ -695,9 +709,9 @@ static int cmd_conduction_box(int argc, char **argv)
     printf("Hashin-Shtrikman (eq. 48, k1 = 0, k2 = %g): [%.2f, %.2f] W/(m K) at %.4f; [%.2f, "
            "%.2f] at the seed's 0.54\n",
            kp, hs_lo, hs_hi, p.phi_plateau, hs_seed_lo, hs_seed_hi);
-    printf("cross-section A = 0.1 m x H = %.5f m^2; grad T = 7000 K/m; wall conductance k_iw = "
-           "k_i = %g W/(m K) (the scene's hot/cold wall material)\n",
-           area, kp);
+    printf("cross-section A = 0.1 m x H = %.5f m^2; grad T = 7000 K/m; wall heat flows from the "
+           "library's conduction model (its default wall law; snapshot of the wall contacts)\n",
+           area);
     /* ---- heat-only runs --------------------------------------------------------------- */
     double dtv[8];
     int ndt = 0;
@@ -710,7 +724,7 @@ static int cmd_conduction_box(int argc, char **argv)
     if (soft > 0) {
         printf("\nsoftening theta* = %g K, mechanics re-settled every %g s; implicit dt %g s\n",
                soft, cycle, dtv[0]);
-        box_result r = box_heat_run(&l, dtv[0], t_end, area, kp, mech, cycle, 1);
+        box_result r = box_heat_run(&l, dtv[0], t_end, area, mech, cycle, 1);
         const packing p2 = measure_packing(&l, 0.1, 0.1, NULL);
         printf("after heating: volume fraction %.4f, H %.4f m\n", p2.phi_plateau, p2.height);
         printf("RESULT soft dt %.3g: k_seed(350) %.4f  k_in(350) %.4f  k_cold(350) %.4f  "
@@ -721,8 +735,8 @@ static int cmd_conduction_box(int argc, char **argv)
     } else {
         for (int k = 0; k < ndt; ++k) {
             printf("\nimplicit thermal step %g s, to t = %g s\n", dtv[k], k == 0 ? t_end : 350.0);
-            box_result r = box_heat_run(&l, dtv[k], k == 0 ? t_end : 350.0, area, kp, NULL, 0,
-                                        k == 0);
+            box_result r =
+                box_heat_run(&l, dtv[k], k == 0 ? t_end : 350.0, area, NULL, 0, k == 0);
             if (k == 0)
                 printf("RESULT dt %.3g: k_seed(350) %.4f  k_in(350) %.4f  k_cold(350) %.4f  "
                        "k_seed(%g) %.4f  k_cold(end) %.4f  k_hot(end) %.4f  k_bulk(end) %.4f  "

@@ -535,6 +535,64 @@ static void test_laser_energy_is_absorbed_power_integral(void **state)
     scene_close(&s);
 }
 
+/* Whether particle i carries SINTER_PARTICLE_LIT. */
+static int is_lit(scene *s, size_t i)
+{
+    const uint32_t *f = NULL;
+    OK(sinter_particles_view_read(s->ps, SINTER_FIELD_FLAGS, (const void **)&f, NULL, NULL));
+    const int lit = (f[i] & (uint32_t)SINTER_PARTICLE_LIT) != 0;
+    OK(sinter_particles_release(s->ps, SINTER_FIELD_FLAGS));
+    return lit;
+}
+
+/*
+ * The particles a moving laser has targeted (seed 003 sec. 5.4's "lit" set): a beam of radius
+ * 1 mm moving along x from -3 mm to 0 while off (intensity 0 until t = 10 ms), then on and
+ * moving on at 0.1 m/s to x = 6 mm. The spheres at x = 0, 2, 4, 6 mm are crossed by the beam
+ * and end lit (also those the beam has left behind), each warmer; the one the beam passed
+ * while off (no power) and the one at 10 mm (never reached) are not lit and stay at 300 K.
+ */
+static void test_laser_marks_the_particles_it_has_targeted(void **state)
+{
+    (void)state;
+    scene s;
+    open_heat_only(&s, SINTER_MAT_ABSORPTANCE, 0.6, 300.0);
+    const double r = 0.4e-3, xs[6] = {-3e-3, 0.0, 2e-3, 4e-3, 6e-3, 10e-3};
+    for (int k = 0; k < 6; ++k)
+        scene_add(&s, xs[k], 0, 0, r); /* apart: no contacts, no conduction model anyway */
+    sinter_heat_model *laser = NULL;
+    add_heat(&s, "laser", &laser);
+    OK(sinter_heat_model_set(laser, "radius", 1e-3));
+    OK(sinter_heat_model_set(laser, "attenuation", 1000.0));
+    const double ti[2] = {0.00999, 0.01}, ii[2] = {0.0, 1e6};
+    OK(sinter_heat_model_set_schedule(laser, "intensity", 2, ti, ii));
+    const double tx[3] = {0.0, 0.01, 0.07}, xx[3] = {-3e-3, 0.0, 6e-3};
+    OK(sinter_heat_model_set_schedule(laser, "x", 3, tx, xx));
+    OK(sinter_stepper_set_dt(s.st, 1e-4));
+    OK(sinter_stepper_advance(s.st, 0.0095));
+    for (size_t i = 0; i < 6; ++i)
+        assert_false(is_lit(&s, i)); /* the beam is off */
+    OK(sinter_stepper_advance(s.st, 0.08));
+    const double mc = 3000.0 * 4.0 / 3.0 * PI * r * r * r * 300.0;
+    const double rise = 0.6 * 1e6 * PI * r * r * (2e-3 / 0.1) / mc; /* 25.0 K */
+    for (size_t i = 0; i < 6; ++i) {
+        const double theta = get1(&s, SINTER_FIELD_TEMPERATURE, i);
+        const int crossed = i >= 1 && i <= 4;
+        print_message("x = %g mm: lit %d, %.3f K\n", xs[i] * 1e3, is_lit(&s, i), theta);
+        assert_int_equal(is_lit(&s, i), crossed);
+        if (i == 2 || i == 3) /* crossed whole: a I0 pi r^2 (eq. 29, 31) for 2 R / v */
+            assert_close(theta - 300.0, rise, 0.006 * rise); /* within one step of 200 */
+        else if (crossed)
+            assert_true(theta > 300.1); /* the first and the last: part of the crossing */
+        else
+            assert_close(theta, 300.0, 0.0);
+    }
+    sinter_stepper_destroy(s.st);
+    s.st = NULL;
+    sinter_heat_model_destroy(laser);
+    scene_close(&s);
+}
+
 /* A laser far too strong for the particles (sanity check 3, sanity.c): a step that takes a
  * free particle above 1e5 K is rejected, naming the first such particle (a fixed-temperature
  * one above the limit does not count), and the last accepted temperatures are kept; the
@@ -910,6 +968,7 @@ int main(void)
         cmocka_unit_test(test_melting_point_stops),
         cmocka_unit_test(test_convective_and_radiative_cooling),
         cmocka_unit_test(test_laser_energy_is_absorbed_power_integral),
+        cmocka_unit_test(test_laser_marks_the_particles_it_has_targeted),
         cmocka_unit_test(test_explicit_limit_and_implicit_stability),
         cmocka_unit_test(test_seed003_particle_on_hot_floor),
         cmocka_unit_test(test_no_heat_model_no_thermal_work),

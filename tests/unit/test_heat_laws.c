@@ -93,7 +93,8 @@ static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int
                           NULL,
                           NULL,
                           &f->nb.pp,
-                          NULL};
+                          NULL,
+                          f->ps->flags};
     return hm->ops->eval(hm, &e);
 }
 

@@ -90,6 +90,7 @@ class ParticleFlag(enum.IntFlag):
     NO_ROTATION = 2  #: spin is not integrated
     FIXED_TEMPERATURE = 4  #: temperature is not integrated
     ELECTRIFIED = 8  #: set by the electric submodel: touches an electrified wall
+    LIT = 16  #: set by the beam heat submodels: the beam has given the particle power
 
 
 class Property(enum.IntEnum):
