@@ -155,7 +155,7 @@ int main(int argc, char **argv)
         double fc = 0.0, fm = 0.0;
         const double tc = only == 2 ? 1.0 : run(0, path, n, steps, 1u + (unsigned)s, &fc);
         const double tm = only == 1 ? 1.0 : run(1, path, n, steps, 1u + (unsigned)s, &fm);
-        printf("%d  %.3f  %.3f  %.3f  %.4e  %.4e\n", s + 1, tc, tm, tm / tc, fc, fm);
+        printf("%d  %.3f  %.3f  %.3f  %.17e  %.17e\n", s + 1, tc, tm, tm / tc, fc, fm);
         sum += tm / tc;
         sum2 += (tm / tc) * (tm / tc);
     }
