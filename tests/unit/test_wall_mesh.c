@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "scene_support.h"
+#include "io/vtp.h"
 #include "walls/mesh/mesh.h"
 
 static const double PI = 3.14159265358979323846;
@@ -573,6 +574,70 @@ static void write_text(char *path, const char *text)
     fclose(f);
 }
 
+/*
+ * The .vtp wall frame draws a mesh as its triangles where its motion has carried them: a
+ * triangulated square of 8 facets (1 mm cells) moving up at 0.1 m/s, after 1 ms: 8 polygons
+ * of 3 points each, every point 1e-4 m above the file's (to 1e-15 m), the facets' normals
+ * (+z) as cell data.
+ */
+static void test_mesh_drawn_in_wall_frames(void **state)
+{
+    (void)state;
+    double v[72];
+    const size_t nf = grid_plane(2, v);
+    char path[64];
+    write_stl(path, v, nf, 0);
+    scene s;
+    open_rigid(&s, 0.3, 0.3, 0);
+    const double o[3] = {0, 0, 0}, up[3] = {0, 0, 0.1};
+    OK(sinter_walls_add_mesh(s.walls, path, 1e-3, o, o, 0, 0.0, s.wall_mat, NULL));
+    unlink(path);
+    OK(sinter_walls_set_velocity(s.walls, 0, up));
+    scene_add(&s, 0, 0, 0.01, R); /* far from it */
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_advance(s.st, 1e-3));
+    char out[64];
+    write_text(out, "");
+    const double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    OK(sinter_vtp_write_walls(s.ctx, out, s.walls, lo, hi, 0));
+    scene_close(&s);
+    FILE *f = fopen(out, "r");
+    assert_non_null(f);
+    static char text[1 << 16];
+    const size_t len = fread(text, 1, sizeof(text) - 1, f);
+    fclose(f);
+    unlink(out);
+    text[len] = '\0';
+    assert_non_null(strstr(text, "NumberOfPoints=\"24\""));
+    assert_non_null(strstr(text, "NumberOfPolys=\"8\""));
+    const char *at = strstr(text, "Name=\"points\"");
+    assert_non_null(at);
+    at = strchr(at, '\n') + 1;
+    for (size_t k = 0; k < 24; ++k) {
+        char *end = NULL;
+        double q[3];
+        for (int d = 0; d < 3; ++d) {
+            q[d] = strtod(at, &end);
+            assert_true(end != at);
+            at = end;
+        }
+        for (int d = 0; d < 3; ++d) /* the file's vertex (unit cells, scaled), moved up */
+            assert_close(q[d], 1e-3 * v[3 * k + d] + (d == 2 ? 1e-4 : 0.0), 1e-15);
+    }
+    at = strstr(text, "Name=\"normal\"");
+    assert_non_null(at);
+    at = strchr(at, '\n') + 1;
+    for (size_t k = 0; k < 8; ++k) {
+        char *end = NULL;
+        for (int d = 0; d < 3; ++d) {
+            const double q = strtod(at, &end);
+            assert_true(end != at);
+            at = end;
+            assert_close(q, d == 2 ? 1.0 : 0.0, 1e-15);
+        }
+    }
+}
+
 /* Bad files and arguments are refused with a message naming what is wrong; nothing added. */
 static void test_bad_meshes_refused(void **state)
 {
@@ -655,6 +720,7 @@ int main(void)
         cmocka_unit_test(test_mesh_force_and_moment_balance),
         cmocka_unit_test(test_hint_changes_no_bit),
         cmocka_unit_test(test_packed_bed_in_triangulated_die),
+        cmocka_unit_test(test_mesh_drawn_in_wall_frames),
         cmocka_unit_test(test_bad_meshes_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
