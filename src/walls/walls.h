@@ -197,7 +197,8 @@ void sinter_wall_frame(sinter_wall *w);
 
 /* A drawing of a wall that is not a plane (wall_shapes.c): its polygons' points (at most
  * 4 * SINTER_WALL_OUTLINE_SEGMENTS), each polygon's point count in sizes and its normal into
- * the particles; an infinite cylinder over the box [lo, hi]. Returns the polygon count. */
+ * the particles; an infinite cylinder over the box [lo, hi]; a mesh none (sinter_wall_mesh_draw
+ * draws it). Returns the polygon count. */
 #define SINTER_WALL_OUTLINE_SEGMENTS 32
 int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double hi[3],
                         double (*points)[3], int *sizes, double (*normals)[3]);
