@@ -964,7 +964,8 @@ static inline void wall_test_pairs(wall_search *job, int t, int planes)
         const sinter_wall *w = &job->walls->wall[k];
         double buf[3];
         const double *wn = w->n;
-        const double sd = wall_distance_normal(w, x + 3 * i, planes, buf, &wn, c->hint + p);
+        const double sd =
+            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
@@ -1010,7 +1011,8 @@ static inline void wall_put_pairs(wall_search *job, int t, int planes)
         to_contact[p] = (uint32_t)m;
         double buf[3];
         const double *wn = w->n;
-        const double sd = wall_distance_normal(w, x + 3 * i, planes, buf, &wn, c->hint + p);
+        const double sd =
+            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p);
         put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }
@@ -1035,6 +1037,11 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                          pairs->count + 1, sizeof(uint32_t));
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&c->touch, &c->touch_capacity, pairs->count + 1, 1);
+    int planes = 1;
+    for (size_t k = 0; k < walls->count; ++k)
+        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
+    if (st == SINTER_OK && !planes) /* the meshes' hints (planes: none read) */
+        st = carry_hints(ctx, c, pairs);
     if (st != SINTER_OK)
         return st;
     /* over the pairs of the last search, the membership is compared as the verdicts come
@@ -1045,8 +1052,6 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     c->particle_count = ps->count;
     c->pair_count = pairs->count;
     c->lean_source = pairs->build_id; /* for the comparison only: the list has its geometry */
-    if (st == SINTER_OK)
-        st = carry_hints(ctx, c, pairs);
     const size_t n = pairs->count;
     /* Ranges of pairs: by preference the pair partition's particle ranges (owner), so that
      * each thread reads the positions it wrote and writes the contacts its law will read
@@ -1070,9 +1075,6 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     bound[ranges] = n;
     const int team = threads < ranges ? threads : ranges;
-    int planes = 1;
-    for (size_t k = 0; k < walls->count; ++k)
-        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
     wall_search job = {c, pairs, ps, walls, bound, compare, planes, {0}, {0}, {0}};
     sinter_ranges_run(team, ranges, wall_test_range, &job);
     int ascending = 1;

@@ -620,11 +620,14 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     int planes = 1; /* only planes: their distance inline, without the kind's test */
     for (size_t k = 0; k < nw; ++k)
         planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
+    int meshes = 0; /* hints only for meshes (the other kinds' closest point is closed-form) */
+    for (size_t k = 0; k < nw; ++k)
+        meshes |= walls->wall[k].kind == SINTER_WALL_MESH;
     if (!planes) {
         const size_t had = nb->wall_hint_capacity;
         sinter_status st =
             sinter_grow(nb->ctx, (void **)&nb->wall_near, &nb->wall_near_capacity, n * nw + 1, 1);
-        if (st == SINTER_OK)
+        if (st == SINTER_OK && meshes)
             st = sinter_grow(nb->ctx, (void **)&nb->wall_hint, &nb->wall_hint_capacity, n * nw + 1,
                              sizeof(uint32_t));
         if (st != SINTER_OK)
@@ -633,7 +636,7 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
             memset(nb->wall_hint, 0xff, nb->wall_hint_capacity * sizeof(uint32_t));
     }
     uint8_t *near = nb->wall_near;
-    uint32_t *hint = nb->wall_hint;
+    uint32_t *hint = nb->wall_hint; /* NULL without a mesh: not read */
     const int threads = n * nw < 16384 ? 1 : sinter_threads(nb->ctx);
     const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
     size_t offset[RANGES_MAX + 1] = {0};
