@@ -24,7 +24,7 @@ void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
     void *arrays[] = {c->i,    c->j,      c->pair,   c->n,
                       c->delta, c->dist,  c->area,   c->branch,
                       c->pair_to_contact, c->chunk_scratch, c->touch, c->fill_scratch,
-                      c->ended, c->gaps};
+                      c->ended, c->gaps, c->hint, c->hint_spare};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -891,14 +891,45 @@ static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const d
 
 /* Wall w's signed distance from centre x and its normal there (*wn: a plane's own, else the
  * kind's, into buf) from one evaluation of the kind's closest point (a mesh's search is not
- * repeated; the arithmetic of sinter_wall_distance and of the kind's normal). */
+ * repeated, and starts from the pair's hint; the arithmetic of sinter_wall_distance and of
+ * the kind's normal). */
 static inline double wall_distance_normal(const sinter_wall *w, const double *x, int planes,
-                                          double *buf, const double **wn)
+                                          double *buf, const double **wn, uint32_t *hint)
 {
     if (planes || w->kind == SINTER_WALL_PLANE)
         return sinter_plane_distance(w, x);
     *wn = buf;
-    return sinter_wall_shape_contact(w, x, buf);
+    return sinter_wall_contact_hinted(w, x, buf, hint);
+}
+
+/* The pairs' mesh hints (c->hint) for pair list `pairs`: the last search's, carried to the
+ * same (particle, wall) pairs of a rebuilt list by its `from`, none for new pairs. Any hint
+ * gives the same bits (sinter_mesh_closest_hinted): only the cost depends on them. */
+static sinter_status carry_hints(sinter_ctx *ctx, sinter_contact_list *c,
+                                 const sinter_pair_list *pairs)
+{
+    sinter_status st =
+        sinter_grow(ctx, (void **)&c->hint, &c->hint_capacity, pairs->count + 1, sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&c->hint_spare, &c->hint_spare_capacity, pairs->count + 1,
+                         sizeof(uint32_t));
+    if (st != SINTER_OK)
+        return st;
+    if (c->hint_source == pairs->build_id && c->hint_count == pairs->count)
+        return SINTER_OK;
+    for (size_t p = 0; p < pairs->count; ++p) {
+        const uint32_t q = pairs->from != NULL ? pairs->from[p] : SINTER_NO_PAIR;
+        c->hint_spare[p] = q != SINTER_NO_PAIR && q < c->hint_count ? c->hint[q] : UINT32_MAX;
+    }
+    uint32_t *swap = c->hint;
+    c->hint = c->hint_spare;
+    c->hint_spare = swap;
+    const size_t cap = c->hint_capacity;
+    c->hint_capacity = c->hint_spare_capacity;
+    c->hint_spare_capacity = cap;
+    c->hint_count = pairs->count;
+    c->hint_source = pairs->build_id;
+    return SINTER_OK;
 }
 
 /* The wall search's ranges of pairs (sinter_contacts_find_pw), run by sinter_ranges_run. */
@@ -933,7 +964,8 @@ static inline void wall_test_pairs(wall_search *job, int t, int planes)
         const sinter_wall *w = &job->walls->wall[k];
         double buf[3];
         const double *wn = w->n;
-        const double sd = wall_distance_normal(w, x + 3 * i, planes, buf, &wn);
+        const double sd =
+            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
@@ -979,7 +1011,8 @@ static inline void wall_put_pairs(wall_search *job, int t, int planes)
         to_contact[p] = (uint32_t)m;
         double buf[3];
         const double *wn = w->n;
-        const double sd = wall_distance_normal(w, x + 3 * i, planes, buf, &wn);
+        const double sd =
+            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p);
         put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }
@@ -1004,6 +1037,11 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                          pairs->count + 1, sizeof(uint32_t));
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&c->touch, &c->touch_capacity, pairs->count + 1, 1);
+    int planes = 1;
+    for (size_t k = 0; k < walls->count; ++k)
+        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
+    if (st == SINTER_OK && !planes) /* the meshes' hints (planes: none read) */
+        st = carry_hints(ctx, c, pairs);
     if (st != SINTER_OK)
         return st;
     /* over the pairs of the last search, the membership is compared as the verdicts come
@@ -1037,9 +1075,6 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     bound[ranges] = n;
     const int team = threads < ranges ? threads : ranges;
-    int planes = 1;
-    for (size_t k = 0; k < walls->count; ++k)
-        planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
     wall_search job = {c, pairs, ps, walls, bound, compare, planes, {0}, {0}, {0}};
     sinter_ranges_run(team, ranges, wall_test_range, &job);
     int ascending = 1;

@@ -58,6 +58,12 @@ typedef struct sinter_contact_list {
     size_t chunk_scratch_capacity;
     uint8_t *touch; /* threaded search: 1 per candidate pair in contact (the counting pass) */
     size_t touch_capacity;
+    /* particle-wall lists: per candidate pair of the pair list build hint_source
+     * (hint_count pairs) the mesh triangle its last search ended on (sinter_wall_contact_
+     * hinted: a start that changes no bit), carried over a rebuild by the pairs' `from` */
+    uint32_t *hint, *hint_spare;
+    size_t hint_capacity, hint_spare_capacity, hint_count;
+    uint64_t hint_source;
     uint32_t *fill_scratch; /* threaded search of a lean list: i, j, pair per candidate pair */
     size_t fill_scratch_capacity;
     /* identity of the membership (count, i, j, pair, pair_to_contact): a new sinter_unique_id

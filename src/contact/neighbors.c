@@ -32,6 +32,8 @@ void sinter_neighbors_free(sinter_neighbors *nb)
     free_pairs(nb->ctx, &nb->old_pw);
     sinter_free(nb->ctx, nb->x_ref);
     sinter_free(nb->ctx, nb->wall_ref);
+    sinter_free(nb->ctx, nb->wall_near);
+    sinter_free(nb->ctx, nb->wall_hint);
     sinter_free(nb->ctx, nb->cell_start);
     sinter_free(nb->ctx, nb->cell_items);
     sinter_free(nb->ctx, nb->cell_counts);
@@ -554,29 +556,48 @@ static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
     }
 }
 
-/* The particle-wall candidates of particles [a, b): the walls closer than r + skin, counted
- * (planes: every wall is a plane, whose distance is inline: a constant where called). */
+/* The particle-wall candidates of particles [a, b) when every wall is a plane (its distance
+ * inline): the walls closer than r + skin, counted. */
 static inline size_t count_pw(const sinter_walls *walls, const double *x, const double *r,
-                              double skin, size_t a, size_t b, int planes)
+                              double skin, size_t a, size_t b)
 {
     size_t count = 0;
     for (size_t i = a; i < b; ++i)
         for (size_t k = 0; k < walls->count; ++k)
-            count += (planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
-                             : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin;
+            count += sinter_plane_distance(&walls->wall[k], x + 3 * i) < r[i] + skin;
     return count;
 }
 
-/* The candidates of particles [a, b) written from m on (planes: as in count_pw). */
+/* count_pw for walls of any kind: each verdict kept in near (i nw + k), a mesh's search
+ * started from the triangle of the particle's last (hint, i nw + k; the same bits from any). */
+static size_t count_pw_kinds(const sinter_walls *walls, const double *x, const double *r,
+                             double skin, size_t a, size_t b, uint8_t *near, uint32_t *hint)
+{
+    const size_t nw = walls->count;
+    size_t count = 0;
+    for (size_t i = a; i < b; ++i)
+        for (size_t k = 0; k < nw; ++k) {
+            const sinter_wall *w = &walls->wall[k];
+            const double s = w->kind == SINTER_WALL_MESH
+                                 ? sinter_wall_contact_hinted(w, x + 3 * i, NULL, hint + i * nw + k)
+                                 : sinter_wall_distance(w, x + 3 * i);
+            near[i * nw + k] = (uint8_t)(s < r[i] + skin);
+            count += near[i * nw + k];
+        }
+    return count;
+}
+
+/* The candidates of particles [a, b) written from m on (planes: every wall a plane, its
+ * distance inline; else the counting pass's verdicts, near). */
 static inline void put_pw(sinter_pair_list *l, const sinter_walls *walls,
                           const sinter_particles *ps, double skin, size_t a, size_t b, size_t m,
-                          int planes)
+                          int planes, const uint8_t *near)
 {
     const double *x = ps->x, *r = ps->radius;
     for (size_t i = a; i < b; ++i)
         for (size_t k = 0; k < walls->count; ++k)
-            if ((planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i)
-                        : sinter_wall_distance(&walls->wall[k], x + 3 * i)) < r[i] + skin) {
+            if (planes ? sinter_plane_distance(&walls->wall[k], x + 3 * i) < r[i] + skin
+                       : near[i * walls->count + k]) {
                 l->i[m] = (uint32_t)i;
                 l->j[m] = (uint32_t)k;
                 l->key_i[m] = ps->id[i];
@@ -599,14 +620,31 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     int planes = 1; /* only planes: their distance inline, without the kind's test */
     for (size_t k = 0; k < nw; ++k)
         planes &= walls->wall[k].kind == SINTER_WALL_PLANE;
+    int meshes = 0; /* hints only for meshes (the other kinds' closest point is closed-form) */
+    for (size_t k = 0; k < nw; ++k)
+        meshes |= walls->wall[k].kind == SINTER_WALL_MESH;
+    if (!planes) {
+        const size_t had = nb->wall_hint_capacity;
+        sinter_status st =
+            sinter_grow(nb->ctx, (void **)&nb->wall_near, &nb->wall_near_capacity, n * nw + 1, 1);
+        if (st == SINTER_OK && meshes)
+            st = sinter_grow(nb->ctx, (void **)&nb->wall_hint, &nb->wall_hint_capacity, n * nw + 1,
+                             sizeof(uint32_t));
+        if (st != SINTER_OK)
+            return st;
+        if (nb->wall_hint_capacity != had) /* no hints yet (stale ones cost time only) */
+            memset(nb->wall_hint, 0xff, nb->wall_hint_capacity * sizeof(uint32_t));
+    }
+    uint8_t *near = nb->wall_near;
+    uint32_t *hint = nb->wall_hint; /* NULL without a mesh: not read */
     const int threads = n * nw < 16384 ? 1 : sinter_threads(nb->ctx);
     const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
     size_t offset[RANGES_MAX + 1] = {0};
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
     for (int t = 0; t < ranges; ++t) {
         const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        offset[t + 1] =
-            planes ? count_pw(walls, x, r, skin, a, b, 1) : count_pw(walls, x, r, skin, a, b, 0);
+        offset[t + 1] = planes ? count_pw(walls, x, r, skin, a, b)
+                               : count_pw_kinds(walls, x, r, skin, a, b, near, hint);
     }
     for (int t = 0; t < ranges; ++t)
         offset[t + 1] += offset[t];
@@ -618,9 +656,9 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     for (int t = 0; t < ranges; ++t) {
         const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
         if (planes)
-            put_pw(l, walls, ps, skin, a, b, offset[t], 1);
+            put_pw(l, walls, ps, skin, a, b, offset[t], 1, NULL);
         else
-            put_pw(l, walls, ps, skin, a, b, offset[t], 0);
+            put_pw(l, walls, ps, skin, a, b, offset[t], 0, near);
     }
     l->count = offset[ranges];
     return SINTER_OK;

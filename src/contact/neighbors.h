@@ -57,6 +57,13 @@ typedef struct sinter_neighbors {
     size_t wall_ref_capacity;
     uint64_t layout_generation;
     size_t wall_count;
+    /* a build with a wall that is not a plane: per particle and wall (i nw + k) whether it is
+     * a candidate (the counting pass's verdict, which the writing pass reads), and for a mesh
+     * the triangle its last search ended on (sinter_wall_contact_hinted), kept across builds */
+    uint8_t *wall_near;
+    size_t wall_near_capacity;
+    uint32_t *wall_hint;
+    size_t wall_hint_capacity;
     /* scratch of the cell grid */
     uint32_t *cell_start;
     size_t cell_capacity;

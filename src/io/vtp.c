@@ -263,18 +263,36 @@ sinter_status sinter_vtp_write_walls(sinter_ctx *ctx, const char *path, const si
     /* a plane: one polygon of at most 12 points; the other kinds (sinter_wall_outline) up to
      * SEGMENTS polygons of 4 points */
     enum { SEGMENTS = SINTER_WALL_OUTLINE_SEGMENTS, POINTS = 4 * SEGMENTS };
-    double *points = sinter_calloc(ctx, 3 * POINTS * nw + 3, sizeof(double));
-    size_t *offsets = sinter_calloc(ctx, SEGMENTS * nw + 1, sizeof(size_t));
-    int32_t *index = sinter_calloc(ctx, SEGMENTS * nw + 1, sizeof(int32_t));
-    double *normal = sinter_calloc(ctx, 3 * SEGMENTS * nw + 3, sizeof(double));
-    double *force = sinter_calloc(ctx, 3 * SEGMENTS * nw + 3, sizeof(double));
-    double *temperature = sinter_calloc(ctx, SEGMENTS * nw + 1, sizeof(double));
+    /* a mesh: its triangles, where its motion has carried them */
+    size_t triangles = 0;
+    for (size_t k = 0; k < nw; ++k)
+        if (walls->wall[k].kind == SINTER_WALL_MESH)
+            triangles += sinter_wall_mesh_draw(&walls->wall[k], NULL, NULL);
+    const size_t most = SEGMENTS * nw + triangles + 1; /* polygons */
+    double *points = sinter_calloc(ctx, 3 * (POINTS * nw + 3 * triangles) + 3, sizeof(double));
+    size_t *offsets = sinter_calloc(ctx, most, sizeof(size_t));
+    int32_t *index = sinter_calloc(ctx, most, sizeof(int32_t));
+    double *normal = sinter_calloc(ctx, 3 * most, sizeof(double));
+    double *force = sinter_calloc(ctx, 3 * most, sizeof(double));
+    double *temperature = sinter_calloc(ctx, most, sizeof(double));
     sinter_status st = SINTER_OK;
     if (!points || !offsets || !index || !normal || !force || !temperature)
         st = sinter_fail(ctx, SINTER_ERR_NOMEM, "%s: out of memory", fn);
     size_t npoints = 0, polys = 0;
     for (size_t k = 0; k < nw && st == SINTER_OK; ++k) {
         const sinter_wall *w = &walls->wall[k];
+        if (w->kind == SINTER_WALL_MESH) { /* its triangles, unclipped */
+            const size_t nt = sinter_wall_mesh_draw(w, points + 3 * npoints, normal + 3 * polys);
+            for (size_t t = 0; t < nt; ++t) {
+                npoints += 3;
+                offsets[polys] = npoints;
+                index[polys] = (int32_t)k;
+                memcpy(force + 3 * polys, w->force, 3 * sizeof(double));
+                temperature[polys] = w->temperature;
+                ++polys;
+            }
+            continue;
+        }
         if (w->kind != SINTER_WALL_PLANE) { /* its own outline, unclipped */
             double corner[POINTS][3], normals[SEGMENTS][3];
             int sizes[SEGMENTS];

@@ -19,7 +19,8 @@ sinter_status sinter_vtp_write_contacts(sinter_ctx *ctx, const char *path,
                                         int binary);
 
 /* One polygon per wall: its plane clipped to the box lo..hi (3 to 6 corners; a wall that
- * misses the box has none and no cell), with cell data "wall" (index), "normal", "force" (the
+ * misses the box has none and no cell); the other kinds their outlines, a mesh one triangle
+ * per facet where its motion has carried it; with cell data "wall" (index), "normal", "force" (the
  * reaction of sinter_walls_get_force [N]) and "temperature" [K]. */
 sinter_status sinter_vtp_write_walls(sinter_ctx *ctx, const char *path, const sinter_walls *walls,
                                      const double lo[3], const double hi[3], int binary);

@@ -390,7 +390,7 @@ int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double h
                         double (*points)[3], int *sizes, double (*normals)[3])
 {
     const double *p = w->p;
-    if (w->kind == SINTER_WALL_MESH) /* not drawn (its triangles may be many) */
+    if (w->kind == SINTER_WALL_MESH) /* its triangles instead (sinter_wall_mesh_draw) */
         return 0;
     if (w->kind == SINTER_WALL_RECTANGLE) {
         static const double sign[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};

@@ -87,7 +87,17 @@ double sinter_wall_shape_contact(const sinter_wall *w, const double *x, double *
 /* The triangle-mesh kind (walls/mesh/mesh_wall.c): as sinter_wall_shape_contact, and its
  * mesh released. */
 double sinter_wall_mesh_contact(const sinter_wall *w, const double *x, double *n);
+
+/* As sinter_wall_shape_contact, for a mesh started from triangle *hint and *hint set to the
+ * triangle of the closest point (sinter_mesh_closest_hinted: the same bits with any hint);
+ * the other kinds ignore it. */
+double sinter_wall_contact_hinted(const sinter_wall *w, const double *x, double *n, uint32_t *hint);
 void sinter_wall_mesh_free(sinter_walls *walls, sinter_wall *w);
+
+/* A drawing of a mesh wall (mesh_wall.c): its triangle count, and when points is not NULL its
+ * triangles where the wall's motion has carried them (9 doubles each [m]) and their unit
+ * normals into the particles (3 each, may be NULL). */
+size_t sinter_wall_mesh_draw(const sinter_wall *w, double *points, double *normals);
 
 /* Signed distance [m] of centre x from wall w, positive on the particles' side (the one
  * arithmetic every search and check uses, so that their verdicts agree); a plane's is the
@@ -187,7 +197,8 @@ void sinter_wall_frame(sinter_wall *w);
 
 /* A drawing of a wall that is not a plane (wall_shapes.c): its polygons' points (at most
  * 4 * SINTER_WALL_OUTLINE_SEGMENTS), each polygon's point count in sizes and its normal into
- * the particles; an infinite cylinder over the box [lo, hi]. Returns the polygon count. */
+ * the particles; an infinite cylinder over the box [lo, hi]; a mesh none (sinter_wall_mesh_draw
+ * draws it). Returns the polygon count. */
 #define SINTER_WALL_OUTLINE_SEGMENTS 32
 int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double hi[3],
                         double (*points)[3], int *sizes, double (*normals)[3]);

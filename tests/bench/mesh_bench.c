@@ -6,6 +6,9 @@
  * about as tall as wide, particles inside: its normals flipped), one thread, and prints both
  * times, their ratio and the die's radial reaction (the sum of |f| in the plane normal to the
  * axis), which the facets' offset from the circle, Rc (1 - cos(pi / facets)), changes a little.
+ * Times are the steps' CPU time (the process's, one thread), so that other work on the host
+ * counts less; the radial forces print all their digits (a change of the search that is to
+ * keep every bit can be checked against an earlier library).
  *
  *   mesh_bench [particles=2000] [steps=4000] [facets=48] [seeds=3] [reach=0 m] [only=0]
  * (only: 1 runs the cylinder alone, 2 the mesh alone, for a profiler)
@@ -59,7 +62,15 @@ static void write_tube(const char *path, int facets, double rc, double height)
     fclose(f);
 }
 
-/* One run: seconds of the steps, and the die's radial reaction [N]. */
+/* The process's CPU time [s] (one thread: the steps' own, whatever else the host runs). */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* One run: CPU seconds of the steps, and the die's radial reaction [N]. */
 static double run(int mesh, const char *path, size_t n, int steps, unsigned seed, double *radial)
 {
     sinter_ctx *ctx = NULL;
@@ -115,9 +126,9 @@ static double run(int mesh, const char *path, size_t n, int steps, unsigned seed
     CHECK(sinter_stepper_add_force(st, g));
     const double dt = 2e-6;
     CHECK(sinter_stepper_set_dt(st, dt));
-    const double t0 = now();
+    const double t0 = cpu_now();
     CHECK(sinter_stepper_advance(st, steps * dt));
-    const double seconds = now() - t0;
+    const double seconds = cpu_now() - t0;
     double f[3];
     CHECK(sinter_walls_get_force(walls, die, f));
     *radial = sqrt(f[0] * f[0] + f[1] * f[1]);
@@ -155,7 +166,7 @@ int main(int argc, char **argv)
         double fc = 0.0, fm = 0.0;
         const double tc = only == 2 ? 1.0 : run(0, path, n, steps, 1u + (unsigned)s, &fc);
         const double tm = only == 1 ? 1.0 : run(1, path, n, steps, 1u + (unsigned)s, &fm);
-        printf("%d  %.3f  %.3f  %.3f  %.4e  %.4e\n", s + 1, tc, tm, tm / tc, fc, fm);
+        printf("%d  %.3f  %.3f  %.3f  %.17e  %.17e\n", s + 1, tc, tm, tm / tc, fc, fm);
         sum += tm / tc;
         sum2 += (tm / tc) * (tm / tc);
     }

@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include "scene_support.h"
+#include "io/vtp.h"
+#include "walls/mesh/mesh.h"
 
 static const double PI = 3.14159265358979323846;
 static const double R = 1e-3, E = 1e7, NU = 0.3, RHO = 2500.0, G = 9.81;
@@ -358,6 +360,210 @@ static void test_mesh_force_and_moment_balance(void **state)
     free(v);
 }
 
+/* A tube of nf facets around and nr rings along x from -len to len, radius rc, outward
+ * normals: 2 nf nr facets into v. */
+static size_t ringed_tube(int nf, int nr, double rc, double len, double *v)
+{
+    size_t k = 0;
+    for (int j = 0; j < nr; ++j)
+        for (int i = 0; i < nf; ++i) {
+            const double p0 = 2 * PI * i / nf, p1 = 2 * PI * (i + 1) / nf;
+            const double x0 = -len + 2 * len * j / nr, x1 = -len + 2 * len * (j + 1) / nr;
+            const double a[3] = {x0, rc * cos(p0), rc * sin(p0)},
+                         b[3] = {x1, rc * cos(p0), rc * sin(p0)};
+            const double c[3] = {x1, rc * cos(p1), rc * sin(p1)},
+                         d[3] = {x0, rc * cos(p1), rc * sin(p1)};
+            const double *q[2][3] = {{a, c, b}, {a, d, c}};
+            for (int f = 0; f < 2; ++f, ++k)
+                for (int p = 0; p < 3; ++p)
+                    for (int e = 0; e < 3; ++e)
+                        v[9 * k + 3 * p + e] = q[f][p][e];
+        }
+    return k;
+}
+
+/* The search from a hint (the triangle of the last step's closest point, kept per contact and
+ * per neighbour candidate) against the search without: the same bits of distance and normal,
+ * and the same triangle, from every hint (the answer's, its index neighbours, the first and
+ * last triangles, a random one, none, one past the mesh), for points all around two meshes:
+ * a triangulated plane with points above its edges and vertices (exact ties between coplanar
+ * triangles, where the order of the search decides) and a ringed die, inside, outside and
+ * behind, with the reach unlimited and short (lower bounds beyond it). */
+static void test_hint_changes_no_bit(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    double *v = malloc(9 * 2 * 16 * 24 * sizeof(double));
+    for (int which = 0; which < 2; ++which) {
+        const size_t nf = which == 0 ? grid_plane(8, v) : ringed_tube(16, 12, 1.0, 2.0, v);
+        char path[64];
+        write_stl(path, v, nf, 1);
+        sinter_stl stl;
+        OK(sinter_stl_read(ctx, path, &stl));
+        unlink(path);
+        for (int r = 0; r < 2; ++r) {
+            const double o[3] = {0, 0, 0}, reach = r == 0 ? 0.0 : 0.3;
+            sinter_mesh *m = NULL;
+            OK(sinter_mesh_build(ctx, &stl, "test", 1.0, o, o, 0, reach, &m));
+            srand(7u + (unsigned)(2 * which + r));
+            size_t checked = 0, bounded = 0;
+            for (int k = 0; k < 4000; ++k) {
+                double x[3];
+                for (int d = 0; d < 3; ++d)
+                    x[d] = (double)rand() / RAND_MAX;
+                if (which == 0) { /* over [-1, 9]^2, z in [-0.5, 1.5]; a third on grid lines */
+                    x[0] = -1.0 + 10.0 * x[0], x[1] = -1.0 + 10.0 * x[1], x[2] = 2 * x[2] - 0.5;
+                    if (k % 3 == 1)
+                        x[0] = floor(x[0] * 2.0) / 2.0;
+                    if (k % 3 == 2)
+                        x[0] = floor(x[0]), x[1] = floor(x[1]);
+                } else { /* radius 0 to 1.6, along x past the ends */
+                    const double rho = 1.6 * x[1], phi = 2 * PI * x[2];
+                    x[0] = -2.5 + 5.0 * x[0], x[1] = rho * cos(phi), x[2] = rho * sin(phi);
+                }
+                double n0[3];
+                const double d0 = sinter_mesh_closest(m, x, n0);
+                uint32_t truth = UINT32_MAX;
+                double n1[3];
+                const double d1 = sinter_mesh_closest_hinted(m, x, n1, &truth);
+                assert_memory_equal(&d0, &d1, sizeof(double));
+                assert_memory_equal(n0, n1, sizeof(n0));
+                const uint32_t nt = (uint32_t)m->nt;
+                const uint32_t hints[8] = {
+                    truth, truth + 1, truth - 1, 0, nt - 1, UINT32_MAX, (uint32_t)rand() % nt,
+                    nt + 7};
+                for (int h = 0; h < 8; ++h) {
+                    uint32_t hint = hints[h];
+                    double n[3];
+                    const double d = sinter_mesh_closest_hinted(m, x, n, &hint);
+                    assert_memory_equal(&d, &d0, sizeof(double));
+                    assert_memory_equal(n, n0, sizeof(n0));
+                    if (truth != UINT32_MAX)
+                        assert_int_equal(hint, truth);
+                }
+                checked += truth != UINT32_MAX;
+                bounded += truth == UINT32_MAX;
+            }
+            print_message("%s, reach %g: %zu points exact, %zu beyond the reach (lower bounds)\n",
+                          which ? "die" : "plane", reach, checked, bounded);
+            assert_true(checked > 1000);
+            sinter_mesh_destroy(ctx, m);
+        }
+        sinter_stl_free(ctx, &stl);
+    }
+    free(v);
+    sinter_ctx_destroy(ctx);
+}
+
+/*
+ * A packed bed in a triangulated die against the same bed in the analytic cylinder: six
+ * layers of 26 spheres (a ring of 16 pressed 0.05 R into the wall, an inner ring of 9, one on
+ * the axis; the layers 1.98 R apart and touching each other; each layer's ring turned by
+ * another angle so that spheres meet facets' middles, edges and vertices), the forces
+ * evaluated at rest with no die, the cylinder of radius Rc, the mesh of 48 facets around
+ * (rings as tall as wide) inscribed in it, and the cylinder through the facets' middles,
+ * Rc cos(pi / 48). The wall's force on each sphere (its force less the no-die force: the pair
+ * forces are the same) lies between the two cylinders' (the facets lie between the circles:
+ * the overlap grows by at most the facets' offset Rc (1 - cos(pi / 48)), 1.29e-2 R here) and
+ * turns from the radial by at most pi / 48; the die's reaction balances the spheres' forces.
+ */
+static void test_packed_bed_in_triangulated_die(void **state)
+{
+    (void)state;
+    const double rc = 6.0 * R, len = 8.0 * R, delta = 0.05 * R;
+    const int nf = 48, nr = (int)ceil(2.0 * len / (2.0 * PI * rc / nf)), layers = 6;
+    double *v = malloc(9 * 2 * (size_t)(nf * nr) * sizeof(double));
+    const size_t nt = ringed_tube(nf, nr, rc, len, v);
+    char path[64];
+    write_stl(path, v, nt, 1);
+    free(v);
+    const double rin = rc * cos(PI / nf);
+    size_t n = 0;
+    double *f[4] = {NULL, NULL, NULL, NULL}, reaction[3] = {0, 0, 0};
+    double(*x)[3] = NULL;
+    for (int kind = 0; kind < 4; ++kind) { /* none, cylinder rc, mesh, cylinder rin */
+        scene s;
+        open_rigid(&s, 0.3, 0.3, 0);
+        const double o[3] = {0, 0, 0}, axis[3] = {1, 0, 0};
+        if (kind == 1 || kind == 3)
+            OK(sinter_walls_add_cylinder(s.walls, o, axis, kind == 1 ? rc : rin, HUGE_VAL, 1,
+                                         s.wall_mat, NULL));
+        if (kind == 2)
+            OK(sinter_walls_add_mesh(s.walls, path, 1.0, o, o, 1, 0.0, s.wall_mat, NULL));
+        for (int l = 0; l < layers; ++l) {
+            const double ax = (l - 0.5 * (layers - 1)) * 1.98 * R, turn = 0.37 * l;
+            for (int i = 0; i < 16; ++i) {
+                const double phi = turn + 2 * PI * i / 16, rho = rc - R + delta;
+                scene_add(&s, ax, rho * cos(phi), rho * sin(phi), R);
+            }
+            for (int i = 0; i < 9; ++i) {
+                const double phi = -turn + 2 * PI * i / 9, rho = 3.05 * R;
+                scene_add(&s, ax, rho * cos(phi), rho * sin(phi), R);
+            }
+            scene_add(&s, ax, 0, 0, R);
+        }
+        OK(sinter_particles_count(s.ps, &n));
+        f[kind] = malloc(3 * n * sizeof(double));
+        if (x == NULL)
+            x = malloc(n * sizeof(*x));
+        OK(sinter_stepper_evaluate(s.st));
+        for (size_t i = 0; i < n; ++i) {
+            get3(&s, SINTER_FIELD_FORCE, i, f[kind] + 3 * i);
+            get3(&s, SINTER_FIELD_POSITION, i, x[i]);
+        }
+        if (kind == 2)
+            OK(sinter_walls_get_force(s.walls, 0, reaction));
+        scene_close(&s);
+    }
+    unlink(path);
+    double push[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, worst_turn = 0.0;
+    size_t touching = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double rho = hypot(x[i][1], x[i][2]), at = rho > 0.0 ? rho : 1.0;
+        const double in[3] = {0, -x[i][1] / at, -x[i][2] / at}; /* towards the axis */
+        double p[3], w[3][3];
+        for (int kind = 1; kind < 4; ++kind) {
+            double *wk = w[kind - 1];
+            for (int d = 0; d < 3; ++d)
+                wk[d] = f[kind][3 * i + d] - f[0][3 * i + d];
+            p[kind - 1] = wk[0] * in[0] + wk[1] * in[1] + wk[2] * in[2];
+            push[kind - 1] += p[kind - 1];
+        }
+        for (int d = 0; d < 3; ++d)
+            sum[d] += w[1][d];
+        const double scale = fabs(f[0][3 * i]) + fabs(f[0][3 * i + 1]) + fabs(f[0][3 * i + 2]) +
+                             fabs(p[2]); /* the round-off of the subtraction */
+        if (rho < rc - 2.0 * R) {        /* inner spheres: no wall force */
+            for (int kind = 0; kind < 3; ++kind)
+                for (int d = 0; d < 3; ++d)
+                    assert_true(fabs(w[kind][d]) <= 1e-12 * scale);
+            continue;
+        }
+        ++touching;
+        const double mag = sqrt(w[1][0] * w[1][0] + w[1][1] * w[1][1] + w[1][2] * w[1][2]);
+        assert_true(p[0] > 0.0);
+        assert_true(p[0] <= mag * (1.0 + 1e-12) + 1e-12 * scale); /* cylinder rc <= mesh */
+        assert_true(mag <= p[2] * (1.0 + 1e-12) + 1e-12 * scale); /* mesh <= cylinder rin */
+        const double turned = acos(fmin(p[1] / mag, 1.0));
+        worst_turn = fmax(worst_turn, turned);
+        /* 1e-6 rad: acos near 1 of a ratio with round-off (at a facets' edge the turn is
+         * pi / nf exactly, a face's normal); a wrong facet's would be off by pi / nf more */
+        assert_true(turned <= PI / nf + 1e-6);
+    }
+    print_message("bed: %zu of %zu spheres on the die; radial push %.6e N (cylinder Rc %.6e, "
+                  "cylinder Rc cos(pi/%d) %.6e), normals turned by at most %.3e rad (pi/%d = "
+                  "%.3e)\n",
+                  touching, n, push[1], push[0], nf, push[2], worst_turn, nf, PI / nf);
+    assert_int_equal(touching, 16 * layers);
+    assert_true(push[0] <= push[1] && push[1] <= push[2]);
+    for (int d = 0; d < 3; ++d)
+        assert_close(reaction[d], -sum[d], 1e-12 * push[1]);
+    for (int kind = 0; kind < 4; ++kind)
+        free(f[kind]);
+    free(x);
+}
+
 static void write_text(char *path, const char *text)
 {
     snprintf(path, 64, "/tmp/sinter_meshXXXXXX");
@@ -366,6 +572,70 @@ static void write_text(char *path, const char *text)
     FILE *f = fdopen(fd, "w");
     fputs(text, f);
     fclose(f);
+}
+
+/*
+ * The .vtp wall frame draws a mesh as its triangles where its motion has carried them: a
+ * triangulated square of 8 facets (1 mm cells) moving up at 0.1 m/s, after 1 ms: 8 polygons
+ * of 3 points each, every point 1e-4 m above the file's (to 1e-15 m), the facets' normals
+ * (+z) as cell data.
+ */
+static void test_mesh_drawn_in_wall_frames(void **state)
+{
+    (void)state;
+    double v[72];
+    const size_t nf = grid_plane(2, v);
+    char path[64];
+    write_stl(path, v, nf, 0);
+    scene s;
+    open_rigid(&s, 0.3, 0.3, 0);
+    const double o[3] = {0, 0, 0}, up[3] = {0, 0, 0.1};
+    OK(sinter_walls_add_mesh(s.walls, path, 1e-3, o, o, 0, 0.0, s.wall_mat, NULL));
+    unlink(path);
+    OK(sinter_walls_set_velocity(s.walls, 0, up));
+    scene_add(&s, 0, 0, 0.01, R); /* far from it */
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_advance(s.st, 1e-3));
+    char out[64];
+    write_text(out, "");
+    const double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    OK(sinter_vtp_write_walls(s.ctx, out, s.walls, lo, hi, 0));
+    scene_close(&s);
+    FILE *f = fopen(out, "r");
+    assert_non_null(f);
+    static char text[1 << 16];
+    const size_t len = fread(text, 1, sizeof(text) - 1, f);
+    fclose(f);
+    unlink(out);
+    text[len] = '\0';
+    assert_non_null(strstr(text, "NumberOfPoints=\"24\""));
+    assert_non_null(strstr(text, "NumberOfPolys=\"8\""));
+    const char *at = strstr(text, "Name=\"points\"");
+    assert_non_null(at);
+    at = strchr(at, '\n') + 1;
+    for (size_t k = 0; k < 24; ++k) {
+        char *end = NULL;
+        double q[3];
+        for (int d = 0; d < 3; ++d) {
+            q[d] = strtod(at, &end);
+            assert_true(end != at);
+            at = end;
+        }
+        for (int d = 0; d < 3; ++d) /* the file's vertex (unit cells, scaled), moved up */
+            assert_close(q[d], 1e-3 * v[3 * k + d] + (d == 2 ? 1e-4 : 0.0), 1e-15);
+    }
+    at = strstr(text, "Name=\"normal\"");
+    assert_non_null(at);
+    at = strchr(at, '\n') + 1;
+    for (size_t k = 0; k < 8; ++k) {
+        char *end = NULL;
+        for (int d = 0; d < 3; ++d) {
+            const double q = strtod(at, &end);
+            assert_true(end != at);
+            at = end;
+            assert_close(q, d == 2 ? 1.0 : 0.0, 1e-15);
+        }
+    }
 }
 
 /* Bad files and arguments are refused with a message naming what is wrong; nothing added. */
@@ -448,6 +718,9 @@ int main(void)
         cmocka_unit_test(test_sphere_rests_in_triangulated_die),
         cmocka_unit_test(test_edges_and_corners_as_rectangle),
         cmocka_unit_test(test_mesh_force_and_moment_balance),
+        cmocka_unit_test(test_hint_changes_no_bit),
+        cmocka_unit_test(test_packed_bed_in_triangulated_die),
+        cmocka_unit_test(test_mesh_drawn_in_wall_frames),
         cmocka_unit_test(test_bad_meshes_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -33,6 +33,8 @@ typedef struct sinter_mesh {
                           a vertex [m] (the triangle lies in that disc of its plane) */
     double *vn;        /* 3 per vertex: angle-weighted sum of its faces' normals; zero on an
                           open edge's vertex */
+    double *cull;      /* 10 per triangle, what the search's first tests read, together: its
+                          first vertex, fn and disc (copies) */
     size_t open_edges; /* edges of one triangle only: rims met from either side */
     /* the cell grid over the triangles' boxes */
     double lo[3];    /* its corner [m] */
@@ -57,5 +59,12 @@ void sinter_mesh_destroy(sinter_ctx *ctx, sinter_mesh *mesh);
 /* Signed distance [m] of point x (in the mesh's frame) from the closest point of the mesh,
  * positive in front, and the unit normal n there towards x (may be NULL). */
 double sinter_mesh_closest(const sinter_mesh *mesh, const double *x, double *n);
+
+/* The same bits as sinter_mesh_closest, its search started from triangle *hint's distance
+ * (UINT32_MAX or any index past the mesh: none) so that a hint near the answer (the triangle
+ * of the last step's closest point) leaves few triangles to test; *hint becomes the triangle
+ * of the closest point (unchanged when the distance is a lower bound beyond the reach). */
+double sinter_mesh_closest_hinted(const sinter_mesh *mesh, const double *x, double *n,
+                                  uint32_t *hint);
 
 #endif

@@ -32,6 +32,7 @@ void sinter_mesh_destroy(sinter_ctx *ctx, sinter_mesh *m)
     sinter_free(ctx, m->en);
     sinter_free(ctx, m->vn);
     sinter_free(ctx, m->disc);
+    sinter_free(ctx, m->cull);
     sinter_free(ctx, m->start);
     sinter_free(ctx, m->item);
     sinter_free(ctx, m->layer);
@@ -275,6 +276,14 @@ static sinter_status make_grid(sinter_ctx *ctx, const char *path, sinter_mesh *m
         nc *= (size_t)m->dim[i];
     }
     m->h = h;
+    m->cull = sinter_alloc(ctx, 10 * m->nt * sizeof(double));
+    if (!m->cull)
+        return sinter_fail(ctx, SINTER_ERR_NOMEM, "STL file '%s': out of memory", path);
+    for (size_t t = 0; t < m->nt; ++t) {
+        memcpy(m->cull + 10 * t, m->v + 3 * m->tri[3 * t], 3 * sizeof(double));
+        memcpy(m->cull + 10 * t + 3, m->fn + 3 * t, 3 * sizeof(double));
+        memcpy(m->cull + 10 * t + 6, m->disc + 4 * t, 4 * sizeof(double));
+    }
     m->start = sinter_calloc(ctx, nc + 1, sizeof(uint32_t));
     m->layer = sinter_alloc(ctx, nc * sizeof(uint16_t));
     if (!m->start || !m->layer)

@@ -96,14 +96,14 @@ static void try_cell(const sinter_mesh *m, const double *x, size_t cell, best_po
 {
     for (uint32_t k = m->start[cell]; k < m->start[cell + 1]; ++k) {
         const size_t t = m->item[k];
-        const uint32_t *v = m->tri + 3 * t;
-        const double *a = m->v + 3 * v[0], *fn = m->fn + 3 * t;
+        const double *a = m->cull + 10 * t, *fn = a + 3;
         const double h = (x[0] - a[0]) * fn[0] + (x[1] - a[1]) * fn[1] + (x[2] - a[2]) * fn[2];
         if (h * h > best->d2) /* its plane is farther than the best point */
             continue;
         /* in its plane the triangle lies within its disc: |x - q|^2 >= h^2 + (lateral - rho)^2
          * for every point q of it */
-        const double *disc = m->disc + 4 * t;
+        const double *disc = a + 6;
+        const uint32_t *v = m->tri + 3 * t;
         const double g[3] = {x[0] - disc[0], x[1] - disc[1], x[2] - disc[2]};
         const double lateral = sqrt(fmax(dot3(g, g) - h * h, 0.0)) - disc[3];
         if (lateral > 0.0 && h * h + lateral * lateral > best->d2)
@@ -158,7 +158,9 @@ static void try_ring(const sinter_mesh *m, const double *x, const int *at, int k
         }
 }
 
-double sinter_mesh_closest(const sinter_mesh *m, const double *x, double *n)
+/* The search from x's cell outwards, ring by ring (the search of sinter_mesh_closest_hinted,
+ * with best seeded); 0 and the lower bound in *lower when x is beyond the reach. */
+static int search(const sinter_mesh *m, const double *x, best_point *best, double *lower)
 {
     int at[3], kmax = 0;
     for (int d = 0; d < 3; ++d) {
@@ -173,13 +175,11 @@ double sinter_mesh_closest(const sinter_mesh *m, const double *x, double *n)
     /* a cell k rings away is at least (k - 1) h from x (x anywhere in its cell, or beyond
      * the grid's side of it) */
     if (first >= 2 && (first - 1) * m->h >= m->reach) {
-        if (n != NULL)
-            memcpy(n, m->fn, 3 * sizeof(double));
-        return (first - 1) * m->h; /* a lower bound, beyond the reach */
+        *lower = (first - 1) * m->h; /* a lower bound, beyond the reach */
+        return 0;
     }
-    best_point best = {INFINITY, 0, 0, {0, 0, 0}};
     for (int k = first; k <= kmax; ++k) {
-        try_ring(m, x, at, k, &best);
+        try_ring(m, x, at, k, best);
         /* the distance from x to the cells beyond the block searched: at least k h */
         double bound = INFINITY;
         for (int d = 0; d < 3; ++d) {
@@ -188,14 +188,60 @@ double sinter_mesh_closest(const sinter_mesh *m, const double *x, double *n)
             if (at[d] + k < m->dim[d] - 1)
                 bound = fmin(bound, m->lo[d] + (at[d] + k + 1) * m->h - x[d]);
         }
-        if (best.d2 <= bound * bound)
+        if (best->d2 <= bound * bound)
             break;
         if (bound >= m->reach) { /* beyond the reach: a lower bound */
-            if (n != NULL)
-                memcpy(n, m->fn, 3 * sizeof(double));
-            return bound;
+            *lower = bound;
+            return 0;
         }
     }
+    return 1;
+}
+
+double sinter_mesh_closest(const sinter_mesh *m, const double *x, double *n)
+{
+    uint32_t none = UINT32_MAX;
+    return sinter_mesh_closest_hinted(m, x, n, &none);
+}
+
+/* The hint: the best point's squared distance may only come down from its triangle's, so
+ * that d2 (with a margin for the bounds' round-off) seeds the search as a best point of no
+ * triangle. Every triangle, cell and ring the search skips with it lies farther than the
+ * hint's triangle and would lose; those it tries come in the order of the search without
+ * it and win by the same comparisons once one is taken: the same point, normal and distance
+ * bits, only fewer triangles tested. */
+static best_point seed(const sinter_mesh *m, const double *x, uint32_t hint)
+{
+    best_point best = {INFINITY, SIZE_MAX, 0, {0, 0, 0}};
+    if (hint >= m->nt)
+        return best;
+    const uint32_t *v = m->tri + 3 * (size_t)hint;
+    double c[3];
+    (void)closest_on_triangle(x, m->v + 3 * v[0], m->v + 3 * v[1], m->v + 3 * v[2], c);
+    const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+    const double d2 = dot3(r, r), tiny = 1e-12 * m->h;
+    const double bound = d2 * (1.0 + 1e-9) + tiny * tiny;
+    if (bound < m->reach * m->reach) /* beyond, the search may end at a lower bound: none */
+        best.d2 = bound;
+    return best;
+}
+
+double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double *n, uint32_t *hint)
+{
+    best_point best = seed(m, x, *hint);
+    double lower = 0.0;
+    int found = search(m, x, &best, &lower);
+    /* seeded and nothing taken (a bound's round-off past the margin): the search without */
+    if (found && best.tri == SIZE_MAX) {
+        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}};
+        found = search(m, x, &best, &lower);
+    }
+    if (!found) {
+        if (n != NULL)
+            memcpy(n, m->fn, 3 * sizeof(double));
+        return lower;
+    }
+    *hint = (uint32_t)best.tri;
     const double r[3] = {x[0] - best.c[0], x[1] - best.c[1], x[2] - best.c[2]};
     const double *fn = m->fn + 3 * best.tri;
     if (best.feature == 0) { /* in front of (or behind) a face: its plane's distance */

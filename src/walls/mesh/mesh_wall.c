@@ -14,6 +14,32 @@ double sinter_wall_mesh_contact(const sinter_wall *w, const double *x, double *n
     return sinter_mesh_closest(w->mesh, local, n);
 }
 
+size_t sinter_wall_mesh_draw(const sinter_wall *w, double *points, double *normals)
+{
+    const sinter_mesh *m = w->mesh;
+    if (m == NULL)
+        return 0;
+    if (points != NULL) {
+        const double shift[3] = {w->p[0] - w->p0[0], w->p[1] - w->p0[1], w->p[2] - w->p0[2]};
+        for (size_t t = 0; t < m->nt; ++t)
+            for (int c = 0; c < 3; ++c)
+                for (int d = 0; d < 3; ++d)
+                    points[9 * t + 3 * c + d] = m->v[3 * m->tri[3 * t + c] + d] + shift[d];
+    }
+    if (normals != NULL)
+        memcpy(normals, m->fn, 3 * m->nt * sizeof(double));
+    return m->nt;
+}
+
+double sinter_wall_contact_hinted(const sinter_wall *w, const double *x, double *n, uint32_t *hint)
+{
+    if (w->kind != SINTER_WALL_MESH)
+        return sinter_wall_shape_contact(w, x, n);
+    const double local[3] = {x[0] - (w->p[0] - w->p0[0]), x[1] - (w->p[1] - w->p0[1]),
+                             x[2] - (w->p[2] - w->p0[2])};
+    return sinter_mesh_closest_hinted(w->mesh, local, n, hint);
+}
+
 void sinter_wall_mesh_free(sinter_walls *walls, sinter_wall *w)
 {
     sinter_mesh_destroy(walls->ctx, w->mesh);
