@@ -2003,7 +2003,7 @@ SINTER_API sinter_status sinter_insertion_options_init(sinter_insertion_options 
  * their forces are evaluated at once, and the step's stability check (sinter_stable_dt_hertz)
  * then covers them. One random stream (powder->seed) gives radii and places in order, so a run
  * inserts the same spheres on every machine and any thread count. A later call replaces the
- * insertion; powder = NULL removes it. A checkpoint carries its state (format 11): set the same
+ * insertion; powder = NULL removes it. A checkpoint carries its state (format 13): set the same
  * insertion before sinter_checkpoint_read, and the run continues bit for bit. Only the
  * explicit stepper inserts (SINTER_ERR_STATE for another kind).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (a bad option, a region
