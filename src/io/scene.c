@@ -19,13 +19,7 @@
 
 #define TRY(expr) SCENE_TRY(expr)
 
-/* A getter whose key may be absent. */
-#define OPTIONAL(expr)                                                                             \
-    do {                                                                                           \
-        sinter_status opt_st_ = (expr);                                                            \
-        if (opt_st_ != SINTER_OK && opt_st_ != SINTER_ERR_NOT_FOUND)                               \
-            return opt_st_;                                                                        \
-    } while (0)
+#define OPTIONAL(expr) SCENE_OPTIONAL(expr)
 
 static sinter_status section_error(scene_text *t, const scene_section *s, const char *what)
 {

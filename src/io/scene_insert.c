@@ -10,13 +10,7 @@
 
 #define TRY(expr) SCENE_TRY(expr)
 
-/* A getter whose key may be absent. */
-#define OPTIONAL(expr)                                                                             \
-    do {                                                                                           \
-        sinter_status opt_st_ = (expr);                                                            \
-        if (opt_st_ != SINTER_OK && opt_st_ != SINTER_ERR_NOT_FOUND)                               \
-            return opt_st_;                                                                        \
-    } while (0)
+#define OPTIONAL(expr) SCENE_OPTIONAL(expr)
 
 static sinter_status need(scene_text *t, scene_section *s, sinter_status st, const char *key)
 {

@@ -43,6 +43,14 @@ typedef struct scene_text {
             return scene_try_st_;                                                                  \
     } while (0)
 
+/* The same for a getter whose key may be absent (SINTER_ERR_NOT_FOUND passes). */
+#define SCENE_OPTIONAL(expr)                                                                       \
+    do {                                                                                           \
+        sinter_status scene_opt_st_ = (expr);                                                      \
+        if (scene_opt_st_ != SINTER_OK && scene_opt_st_ != SINTER_ERR_NOT_FOUND)                   \
+            return scene_opt_st_;                                                                  \
+    } while (0)
+
 /* Read and split a scene file. Errors name "path:line". */
 sinter_status scene_text_read(scene_text *t, sinter_ctx *ctx, const char *path);
 void scene_text_free(scene_text *t);

@@ -13,18 +13,24 @@ static const sinter_material_param PROPERTY_PARAMS[SINTER_PROPERTY_COUNT_] = {
 
 /* ---- the enthalpy --------------------------------------------------------- */
 
-/* The segment k with t_k <= theta < t_k+1 (0 below t_1, the last one above). */
-static size_t segment_of(const sinter_enthalpy *H, double theta)
+/* The k with a[k] <= v < a[k+1] in an increasing a[0..n) (0 below a[1], n-1 from a[n-1]). */
+static size_t bracket(const double *a, size_t n, double v)
 {
-    size_t lo = 0, hi = H->count; /* t[lo] <= theta < t[hi] (t[count] = +inf) */
+    size_t lo = 0, hi = n; /* a[lo] <= v < a[hi] (a[n] = +inf) */
     while (hi - lo > 1) {
         const size_t mid = (lo + hi) / 2;
-        if (H->t[mid] <= theta)
+        if (a[mid] <= v)
             lo = mid;
         else
             hi = mid;
     }
     return lo;
+}
+
+/* The segment k with t_k <= theta < t_k+1 (0 below t_1, the last one above). */
+static size_t segment_of(const sinter_enthalpy *H, double theta)
+{
+    return bracket(H->t, H->count, theta);
 }
 
 double sinter_enthalpy_at(const sinter_enthalpy *H, double theta)
@@ -42,14 +48,7 @@ double sinter_enthalpy_capacity(const sinter_enthalpy *H, double theta)
 
 double sinter_enthalpy_inverse(const sinter_enthalpy *H, double h)
 {
-    size_t lo = 0, hi = H->count; /* h[lo] <= h < h[hi] */
-    while (hi - lo > 1) {
-        const size_t mid = (lo + hi) / 2;
-        if (H->h[mid] <= h)
-            lo = mid;
-        else
-            hi = mid;
-    }
+    const size_t lo = bracket(H->h, H->count, h); /* h[lo] <= h < h[lo+1] */
     const double dh = h - H->h[lo], c = H->c[lo], b = H->b[lo];
     if (dh < 0.0) /* below 0 K: linear, the sanity check refuses it */
         return H->t[lo] + dh / c;
