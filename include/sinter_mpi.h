@@ -1,0 +1,140 @@
+/**
+ * @file sinter_mpi.h
+ * libsinter_mpi (issue 44): libsinter's optional companion library over the system MPI, built
+ * with `cmake -DSINTER_MPI=ON`, linked with `pkg-config --libs libsinter-mpi` or CMake's
+ * `find_package(libsinter COMPONENTS mpi)` and `libsinter::sinter_mpi`. The only header of the
+ * project that includes <mpi.h>: libsinter.so and sinter.h never depend on MPI.
+ *
+ * What it holds today: a domain (a duplicated communicator with a decomposition of the global
+ * box, sinter_mpi_decomp.h), collective reductions and an exclusive scan with the signatures of
+ * the `reduce` and `exscan` entries of libsinter's domain operations (so that they can be
+ * installed there as they are, with the domain as `user`), an exact global sum, and load
+ * balancing by recursive coordinate bisection.
+ *
+ * Every function is collective over the domain's communicator unless it says otherwise: every
+ * rank calls it with the same non-local arguments (count, type, op, threshold). Argument errors
+ * are found before any communication; every other error is returned by every rank alike.
+ * Communication errors are returned (the duplicated communicator's error handler is
+ * MPI_ERRORS_RETURN) as SINTER_ERR_IO.
+ */
+#ifndef SINTER_MPI_H
+#define SINTER_MPI_H
+
+#include <mpi.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sinter.h"
+#include "sinter_mpi_decomp.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** A decomposed domain over an MPI communicator (opaque). */
+typedef struct sinter_mpi_domain sinter_mpi_domain;
+
+/** Options of sinter_mpi_domain_create; fill with sinter_mpi_options_init first. */
+typedef struct sinter_mpi_options {
+    size_t struct_size;       /**< sizeof(sinter_mpi_options) as the caller compiled it. */
+    int decomposition;        /**< the initial kind, a sinter_mpi_decomp_kind (brick; an RCB without
+                                   points yet is built at the first sinter_mpi_balance) */
+    int grid[3];              /**< brick: ranks per axis; 0: chosen (sinter_mpi_decomp_brick) */
+    double lo[3];             /**< the global box's lower corner (m) */
+    double hi[3];             /**< the global box's upper corner (m) */
+    double balance_threshold; /**< rebalance when the largest load over the mean exceeds it
+                                   (>= 1; default 1.1) */
+} sinter_mpi_options;
+
+/**
+ * Defaults: a brick chosen by the number of ranks over the unit box [0, 1]^3, threshold 1.1.
+ * Not collective. Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE.
+ */
+SINTER_API sinter_status sinter_mpi_options_init(sinter_mpi_options *options, size_t struct_size);
+
+/**
+ * Create a domain over a duplicate of `comm` (the caller's communicator is not touched and may
+ * be freed afterwards), decomposed as the options say into one part per rank.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (options; MPI not
+ * initialised), SINTER_ERR_NOMEM, SINTER_ERR_IO.
+ */
+SINTER_API sinter_status sinter_mpi_domain_create(sinter_mpi_domain **out, MPI_Comm comm,
+                                                  const sinter_mpi_options *options);
+
+/** Destroy a domain (collective: frees its communicator). NULL is allowed. */
+SINTER_API void sinter_mpi_domain_destroy(sinter_mpi_domain *d);
+
+/** This rank and the number of ranks. Not collective. Errors: SINTER_ERR_NULL. */
+SINTER_API sinter_status sinter_mpi_domain_rank(const sinter_mpi_domain *d, int *rank, int *size);
+
+/** The domain's own communicator (borrowed). Not collective. Errors: SINTER_ERR_NULL. */
+SINTER_API sinter_status sinter_mpi_domain_comm(const sinter_mpi_domain *d, MPI_Comm *comm);
+
+/** The current decomposition (borrowed, valid until the next balance). Not collective. */
+SINTER_API sinter_status sinter_mpi_domain_decomp(const sinter_mpi_domain *d,
+                                                  const sinter_mpi_decomp **decomp);
+
+/**
+ * Reduce `count` values of `type` (SINTER_MPI_F64, _I64, _U64) element-wise over the ranks with
+ * `op` (SINTER_MPI_SUM, _MIN, _MAX), in place; `user` is the sinter_mpi_domain. Every rank
+ * receives the same bits, and the bits do not depend on the number of ranks or the order in
+ * which MPI combines them:
+ *  - I64 and U64: MPI_Allreduce, exact (sums wrap modulo 2^64);
+ *  - F64 SUM: through integer limbs below an agreed exponent (He and Ding 2001, J.
+ *    Supercomputing 18:259-277; the method of CESM's shr_reprosum): the exact sum rounded the
+ *    same way whatever the order (accurate to 2^-97 of the largest value's binary exponent
+ *    times the number of ranks); a NaN anywhere, or +inf and -inf, gives NaN; else an infinity
+ *    gives itself;
+ *  - F64 MIN and MAX: a NaN anywhere gives NaN; -0 counts as below +0 (so the result does not
+ *    depend on which rank holds which zero).
+ * The signature of the `reduce` entry of libsinter's domain operations. Returns 0 or a
+ * negative sinter_status (SINTER_ERR_NULL, SINTER_ERR_INVALID, SINTER_ERR_IO). Uses no heap.
+ */
+SINTER_API int sinter_mpi_reduce(void *values, size_t count, int type, int op, void *user);
+
+/**
+ * Exclusive prefix sum of `value` over the ranks in rank order (rank 0 gets 0), and the total;
+ * `user` is the sinter_mpi_domain. The signature of the domain operations' `exscan` (global row
+ * numbers). Returns 0 or SINTER_ERR_NULL, SINTER_ERR_IO.
+ */
+SINTER_API int sinter_mpi_exscan(uint64_t value, uint64_t *before, uint64_t *total, void *user);
+
+/**
+ * The sum of every rank's n terms, bit-identical for any number of ranks and any spread of the
+ * terms over them (integer limbs, as sinter_mpi_reduce's F64 SUM). Non-finite terms as there.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_IO.
+ */
+SINTER_API sinter_status sinter_mpi_sum(sinter_mpi_domain *d, const double *terms, size_t n,
+                                        double *sum);
+
+/**
+ * Rebalance the domain when its imbalance (largest rank load over the mean) exceeds the
+ * options' threshold: the loads are the weights (NULL: 1 each) of this rank's n points
+ * (positions: 3 doubles each) summed per owning part; above the threshold the decomposition
+ * becomes a recursive coordinate bisection of the points (sinter_mpi_decomp_rebalance). The new
+ * parts depend only on the set of points and weights, not on which rank holds them.
+ * @param imbalance   receives the imbalance before (may be NULL).
+ * @param rebalanced  receives 1 when the decomposition changed (may be NULL).
+ * Errors: those of sinter_mpi_decomp_rebalance.
+ */
+SINTER_API sinter_status sinter_mpi_balance(sinter_mpi_domain *d, const double *positions,
+                                            const double *weights, size_t n, double *imbalance,
+                                            int *rebalanced);
+
+/** Communication counters of a domain (this rank's). */
+typedef struct sinter_mpi_stats {
+    size_t struct_size;    /**< sizeof(sinter_mpi_stats) as the caller compiled it. */
+    uint64_t reductions;   /**< collective reductions and scans made */
+    uint64_t reduce_bytes; /**< bytes this rank contributed to them */
+    uint64_t rebalances;   /**< decompositions replaced by sinter_mpi_balance */
+    double seconds_comm;   /**< wall time inside them (MPI_Wtime), s */
+} sinter_mpi_stats;
+
+/** This rank's counters. Not collective. Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
+SINTER_API sinter_status sinter_mpi_get_stats(const sinter_mpi_domain *d, sinter_mpi_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
