@@ -16,6 +16,18 @@
 #include "mpi/domain.h"
 #include "mpi/exact_sums.h"
 
+/* The constants are those of libsinter's domain operations (include/sinter_domain.h, issue 43),
+ * so that sinter_mpi_reduce can be installed there as it is: checked wherever that header is. */
+#if defined(__has_include)
+#if __has_include("sinter_domain.h")
+#include "sinter_domain.h"
+_Static_assert(SINTER_REDUCE_SUM == SINTER_MPI_SUM && SINTER_REDUCE_MIN == SINTER_MPI_MIN &&
+                   SINTER_REDUCE_MAX == SINTER_MPI_MAX && SINTER_REDUCE_F64 == SINTER_MPI_F64 &&
+                   SINTER_REDUCE_I64 == SINTER_MPI_I64 && SINTER_REDUCE_U64 == SINTER_MPI_U64,
+               "sinter_mpi_decomp.h's reduce constants differ from sinter_domain.h's");
+#endif
+#endif
+
 #define CHUNK 64                    /* doubles per round of a floating-point reduction */
 #define INT_CHUNK ((size_t)1 << 28) /* integers per MPI_Allreduce (its count is an int) */
 
