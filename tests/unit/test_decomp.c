@@ -231,6 +231,33 @@ static void rcb_cuts_are_deterministic(void **state)
     free(wr);
 }
 
+/* A simple cubic lattice of 10 x 10 x 10 points: whole layers only. Three parts: the best
+ * plane leaves 3 of the 10 x-layers to part 0 (300 points for a share of 333), the other 700
+ * are cut across y, the longer side, into 5 + 5 layers of 70: loads 300, 350, 350, imbalance
+ * 350 / (1000 / 3) = 1.05 exactly; the search ends (the bracket cannot narrow) although no
+ * plane meets the share. */
+static void rcb_on_a_lattice(void **state)
+{
+    (void)state;
+    double x[3000];
+    for (int i = 0; i < 1000; ++i) {
+        x[3 * i] = 0.05 + 0.1 * (i % 10);
+        x[3 * i + 1] = 0.05 + 0.1 * (i / 10 % 10);
+        x[3 * i + 2] = 0.05 + 0.1 * (i / 100);
+    }
+    sinter_mpi_decomp *d = NULL;
+    assert_int_equal(sinter_mpi_decomp_rcb(&d, 3, box_lo, box_hi, x, NULL, 1000, NULL, NULL),
+                     SINTER_OK);
+    double loads[3];
+    assert_int_equal(sinter_mpi_decomp_loads(d, x, NULL, 1000, NULL, NULL, loads), SINTER_OK);
+    assert_close(loads[0], 300.0, 0.0);
+    assert_close(loads[1], 350.0, 0.0);
+    assert_close(loads[2], 350.0, 0.0);
+    assert_close(imbalance_of(d, x, NULL, 1000), 1.05, 1e-15);
+    assert_tiles(d, x, 1000);
+    sinter_mpi_decomp_destroy(d);
+}
+
 static void imbalance_metric(void **state)
 {
     (void)state;
@@ -324,6 +351,7 @@ int main(void)
         cmocka_unit_test(bottom_third_brick_against_rcb),
         cmocka_unit_test(rcb_balances_weights_not_counts),
         cmocka_unit_test(rcb_cuts_are_deterministic),
+        cmocka_unit_test(rcb_on_a_lattice),
         cmocka_unit_test(imbalance_metric),
         cmocka_unit_test(rebalance_above_threshold),
         cmocka_unit_test(refuses_bad_input),
