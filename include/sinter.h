@@ -2386,6 +2386,32 @@ SINTER_API sinter_status sinter_stepper_export(sinter_stepper *stepper, size_t n
 SINTER_API sinter_status sinter_stepper_import(sinter_stepper *stepper, const void *buffer,
                                               size_t bytes, size_t *count);
 
+/**
+ * The stepper's global part, for a portable checkpoint: what is not kept per particle (time
+ * [s], step [s], counters, the neighbour search's skin and reach [m], the walls' motion start,
+ * temperature, reaction and servo state, the staggered step controller, the frozen heat stage's
+ * counters, the continuous insertion's state), versioned and checksummed. buf = NULL: *bytes
+ * receives the size only. A portable checkpoint is this part plus the records of every
+ * particle (sinter_stepper_export, remove = 0, in any order and any number of pieces); a
+ * restart calls sinter_stepper_load_global on a stepper set up alike without particles (the
+ * same force models, walls and materials), then imports the records: the run continues bit
+ * for bit as the original would after a reordering of its particles (which rebuilds its
+ * neighbour lists, as the restart does). Errors: SINTER_ERR_RANGE (cap too small),
+ * SINTER_ERR_UNSUPPORTED (the quasi-static stepper, periodic boundaries: use
+ * sinter_checkpoint_write), SINTER_ERR_STATE (the frozen heat stage active).
+ */
+SINTER_API sinter_status sinter_stepper_save_global(const sinter_stepper *stepper, void *buf,
+                                                   size_t cap, size_t *bytes);
+
+/**
+ * Load a global part of sinter_stepper_save_global into a stepper without particles (then
+ * import the records). Errors: SINTER_ERR_CORRUPT (damaged, another format), SINTER_ERR_INVALID
+ * (another kind of stepper, other force models or another number of walls), SINTER_ERR_STATE
+ * (the set holds particles), SINTER_ERR_UNSUPPORTED as for the save. On error nothing changes.
+ */
+SINTER_API sinter_status sinter_stepper_load_global(sinter_stepper *stepper, const void *buf,
+                                                   size_t bytes);
+
 #ifdef __cplusplus
 }
 #endif

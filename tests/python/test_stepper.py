@@ -614,6 +614,21 @@ class StepperApiTest(unittest.TestCase):
         self.assertEqual(self.st.import_particles(other.stepper.export_particles([0, 1])), 2)
         self.assertEqual(len(self.drop.particles), 12)
 
+    def test_portable_checkpoint(self):
+        if "sinter_stepper_load_global" in sinter._lib.missing_functions:
+            self.skipTest("the library has no portable checkpoints")
+        self.st.advance(2e-3)
+        part = self.st.save_global()
+        records = self.st.export_particles(reversed(range(12)))
+        other = Drop(lambda ctx: sinter.ForceModel(ctx, "hertz_mindlin"), positions=[])
+        self.addCleanup(other.close)
+        with self.assertRaises(sinter.SinterError):
+            other.stepper.load_global(part[:-1])
+        other.stepper.load_global(part)
+        self.assertEqual(other.stepper.time, 2e-3)
+        self.assertEqual(other.stepper.import_particles(records), 12)
+        self.assertEqual(other.positions(), list(reversed(self.drop.positions())))
+
     def test_view_out_blocks_advance(self):
         with self.drop.particles.view("position"):
             with self.assertRaises(sinter.BusyError):

@@ -425,6 +425,8 @@ SIGNATURES = {
     "sinter_stepper_export": (
         c_status, [StepperPtr, _size, _P(_size), ctypes.c_void_p, _size, _P(_size), _int]),
     "sinter_stepper_import": (c_status, [StepperPtr, ctypes.c_void_p, _size, _P(_size)]),
+    "sinter_stepper_save_global": (c_status, [StepperPtr, ctypes.c_void_p, _size, _P(_size)]),
+    "sinter_stepper_load_global": (c_status, [StepperPtr, ctypes.c_void_p, _size]),
     "sinter_stepper_set_furnace": (c_status, [StepperPtr, _size, _P(_double), _P(_double)]),
     "sinter_stepper_set_observer": (c_status, [StepperPtr, ObserverFn, ctypes.c_void_p]),
     "sinter_stepper_advance": (c_status, [StepperPtr, _double]),

@@ -746,6 +746,23 @@ class Stepper(_Handle):
         self._call(lib.sinter_stepper_import, self._ptr, buffer, len(data), ctypes.byref(count))
         return count.value
 
+    def save_global(self) -> bytes:
+        """The stepper's global part (time, step, counters, walls, step control): with the
+        records of every particle (export_particles), a portable checkpoint."""
+        size = ctypes.c_size_t(0)
+        self._call(lib.sinter_stepper_save_global, self._ptr, None, 0, ctypes.byref(size))
+        buffer = ctypes.create_string_buffer(max(size.value, 1))
+        self._call(lib.sinter_stepper_save_global, self._ptr, buffer, size.value,
+                   ctypes.byref(size))
+        return buffer.raw[:size.value]
+
+    def load_global(self, part: bytes) -> None:
+        """Load a global part of save_global into this stepper, set up alike and without
+        particles; then import the particles' records (import_particles)."""
+        data = bytes(part)
+        buffer = ctypes.create_string_buffer(data, max(len(data), 1))
+        self._call(lib.sinter_stepper_load_global, self._ptr, buffer, len(data))
+
     def __repr__(self) -> str:
         if self.closed:
             return "<sinter.Stepper closed>"
