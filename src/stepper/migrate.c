@@ -771,19 +771,22 @@ static sinter_status parse(sinter_stepper *st, const unsigned char *data, size_t
 }
 
 /* The warm start after the import: the set's potentials, the records', the walls' (NULL when
- * the set's or a record's is missing: the next solve then starts from 0). */
+ * the set's or a record's is missing: the next solve then starts from 0; an empty set without
+ * one takes the records' with its walls' from 0). */
 static double *warm_after(sinter_stepper *st, const parsed *p, size_t owned)
 {
     size_t nodes = 0;
     const double *warm =
         st->electric != NULL ? sinter_electric_warm_potentials(st->electric, &nodes) : NULL;
     const size_t nw = st->walls != NULL ? st->walls->count : 0;
-    if (warm == NULL || nodes != owned + nw)
+    const int empty = owned == 0 && (warm == NULL || nodes == nw); /* a set filled by imports */
+    if (st->electric == NULL || (!empty && (warm == NULL || nodes != owned + nw)))
         return NULL;
-    double *phi = sinter_alloc(st->ctx, (nodes + p->records + 1) * sizeof(double));
+    double *phi = sinter_calloc(st->ctx, owned + nw + p->records + 1, sizeof(double));
     if (phi == NULL)
         return NULL;
-    memcpy(phi, warm, owned * sizeof(double));
+    if (owned > 0)
+        memcpy(phi, warm, owned * sizeof(double));
     for (size_t k = 0; k < p->records; ++k) {
         fixed_part f;
         read_fixed(p->at[k], &f);
@@ -793,7 +796,8 @@ static double *warm_after(sinter_stepper *st, const parsed *p, size_t owned)
         }
         phi[owned + k] = f.phi;
     }
-    memcpy(phi + owned + p->records, warm + owned, nw * sizeof(double));
+    if (warm != NULL) /* the walls' (an empty set without a warm start: from 0) */
+        memcpy(phi + owned + p->records, warm + owned, nw * sizeof(double));
     return phi;
 }
 

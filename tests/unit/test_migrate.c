@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "scene_support.h"
+#include "electric/electric.h"
 #include "stepper/migrate.h"
 #include "stepper/qs_struct.h"
 #include "stepper/stepper.h"
@@ -275,6 +276,97 @@ static void test_portable_checkpoint_restarts_bit_for_bit(void **state)
     scene_close(&c);
 }
 
+/*
+ * The electric network's warm start (the potentials its next solve starts from): a chain of 8
+ * spheres pressed between two electrodes (1 V and 0 V) sends its particles of odd index to a
+ * second stepper and back. The potentials come back with their particles (the warm start of
+ * the first stepper, reordered, equals the reference's by id, walls included), and the next
+ * solve gives the same currents to its tolerance in as many iterations as the reference's.
+ */
+enum { CHAIN = 8 };
+
+static void open_chain(scene *s, sinter_electric_model **em, int fill)
+{
+    scene_init(s);
+    scene_material(s, 1e7, 0.3, 2500, 0.3, 0.0);
+    OK(sinter_material_set(s->mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, 1e6));
+    OK(sinter_material_set(s->wall_mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, 1e6));
+    scene_open(s, "hertz_mindlin", 0);
+    OK(sinter_stepper_set_dt(s->st, 1e-7));
+    const double r = 1e-3, pitch = 1.99e-3;
+    const double lo[3] = {-r + 1e-5, 0, 0}, hi[3] = {pitch * (CHAIN - 1) + r - 1e-5, 0, 0};
+    const double up[3] = {1, 0, 0}, down[3] = {-1, 0, 0};
+    OK(sinter_walls_add_plane(s->walls, lo, up, s->wall_mat, NULL));
+    OK(sinter_walls_add_plane(s->walls, hi, down, s->wall_mat, NULL));
+    OK(sinter_walls_set_electric(s->walls, 0, SINTER_WALL_POTENTIAL, 1.0));
+    OK(sinter_walls_set_electric(s->walls, 1, SINTER_WALL_POTENTIAL, 0.0));
+    OK(sinter_electric_model_create(em, s->ctx, "network"));
+    OK(sinter_electric_model_set(*em, "tolerance", 1e-10));
+    OK(sinter_stepper_set_electric(s->st, *em));
+    for (size_t k = 0; fill && k < CHAIN; ++k)
+        scene_add(s, pitch * (double)k, 0.0, 0.0, r);
+}
+
+static void test_electric_warm_start_travels(void **state)
+{
+    (void)state;
+    scene ref, a, b;
+    sinter_electric_model *em_ref, *em_a, *em_b;
+    open_chain(&ref, &em_ref, 1);
+    open_chain(&a, &em_a, 1);
+    open_chain(&b, &em_b, 0);
+    OK(sinter_stepper_step(ref.st, 3));
+    OK(sinter_stepper_step(a.st, 3));
+    size_t nodes = 0;
+    const double *warm = sinter_electric_warm_potentials(em_ref, &nodes);
+    assert_int_equal(nodes, CHAIN + 2);
+    double want[CHAIN + 2];
+    memcpy(want, warm, sizeof(want));                    /* by id: the ids are the indices */
+    assert_true(want[0] > 0.5 && want[CHAIN - 1] < 0.5); /* a gradient along the chain */
+    size_t odd[CHAIN / 2], all[CHAIN / 2], bytes = 0, written = 0, count = 0;
+    for (size_t k = 0; k < CHAIN / 2; ++k) {
+        odd[k] = 2 * k + 1;
+        all[k] = k;
+    }
+    OK(sinter_stepper_export_size(a.st, CHAIN / 2, odd, &bytes));
+    unsigned char *buf = malloc(bytes);
+    assert_non_null(buf);
+    OK(sinter_stepper_export(a.st, CHAIN / 2, odd, buf, bytes, &written, 1));
+    OK(sinter_stepper_import(b.st, buf, written, &count));
+    free(buf);
+    OK(sinter_stepper_export_size(b.st, CHAIN / 2, all, &bytes));
+    buf = malloc(bytes);
+    assert_non_null(buf);
+    OK(sinter_stepper_export(b.st, CHAIN / 2, all, buf, bytes, &written, 1));
+    OK(sinter_stepper_import(a.st, buf, written, &count));
+    free(buf);
+    warm = sinter_electric_warm_potentials(em_a, &nodes);
+    assert_int_equal(nodes, CHAIN + 2);
+    double got[CHAIN + 2];
+    for (size_t i = 0; i < CHAIN; ++i)
+        got[a.ps->id[i]] = warm[i];
+    got[CHAIN] = warm[CHAIN];
+    got[CHAIN + 1] = warm[CHAIN + 1];
+    assert_memory_equal(got, want, sizeof(got));
+    /* the next solve starts from them: the same currents to the solver's tolerance, in as
+     * many iterations as the reference's (a start that lost them takes more) */
+    OK(sinter_stepper_step(ref.st, 1));
+    OK(sinter_stepper_step(a.st, 1));
+    for (size_t i = 0; i < CHAIN; ++i) {
+        const double j = ref.ps->current[a.ps->id[i]];
+        assert_true(fabs(a.ps->current[i] - j) <= 1e-8 * fabs(j));
+    }
+    print_message("electric: %zu PCG iterations after the round trip, %zu in the reference\n",
+                  em_a->last_iterations, em_ref->last_iterations);
+    assert_int_equal(em_a->last_iterations, em_ref->last_iterations);
+    sinter_electric_model *em[3] = {em_ref, em_a, em_b};
+    scene *sc[3] = {&ref, &a, &b};
+    for (int k = 0; k < 3; ++k) {
+        scene_close(sc[k]);
+        sinter_electric_model_destroy(em[k]);
+    }
+}
+
 /* ---- refusals ---- */
 
 static void test_bad_streams_are_refused(void **state)
@@ -471,6 +563,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip_keeps_every_bit),
         cmocka_unit_test(test_portable_checkpoint_restarts_bit_for_bit),
+        cmocka_unit_test(test_electric_warm_start_travels),
         cmocka_unit_test(test_bad_streams_are_refused),
         cmocka_unit_test(test_quasistatic_links_travel),
     };
