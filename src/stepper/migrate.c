@@ -847,7 +847,7 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
             s = sinter_qs_create(&st->quasistatic, ctx, &st->quasistatic_options);
     }
     double *phi = s == SINTER_OK ? warm_after(st, &p, owned) : NULL;
-    if (s == SINTER_OK) { /* the links, in the stream's order */
+    if (s == SINTER_OK && p.links > 0) { /* the links, in the stream's order */
         size_t m = 0;
         for (size_t k = 0; k < p.records; ++k) {
             reader r = {p.at[k] + RECORD_FIXED, (const unsigned char *)buffer + bytes - 8, 0};
@@ -858,13 +858,13 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
                 (void)take(&r, (size_t)n * (16 + 8 * w));
             }
             const uint64_t n = take_u64(&r);
-            memcpy(links + m, take(&r, (size_t)n * sizeof(sinter_qs_link)),
-                   (size_t)n * sizeof(sinter_qs_link));
+            if (n > 0)
+                memcpy(links + m, take(&r, (size_t)n * sizeof(sinter_qs_link)),
+                       (size_t)n * sizeof(sinter_qs_link));
             m += (size_t)n;
         }
         size_t added = 0;
-        if (p.links > 0)
-            s = sinter_qs_links_insert(st->quasistatic, links, p.links, &added);
+        s = sinter_qs_links_insert(st->quasistatic, links, p.links, &added);
     }
     sinter_free(ctx, links);
     if (s != SINTER_OK) {
