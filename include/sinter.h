@@ -2376,7 +2376,9 @@ SINTER_API sinter_status sinter_stepper_export(sinter_stepper *stepper, size_t n
  * (its other end never left) keeps its own history, the same bits. Their quasi-static links
  * join the stepper's (created with the options set so far when it has none yet), one per pair.
  * The stepper must have the same force models in the same order, and the set the records'
- * materials. The staggered stepper's predictor history restarts after any migration. Errors:
+ * materials. Ghost rows, if any, are dropped (owned particles stay first; the host or the
+ * periodic boundaries give them again). The staggered stepper's predictor history restarts
+ * after any migration. Errors:
  * SINTER_ERR_CORRUPT (not a stream, another format or byte order, truncated, checksum),
  * SINTER_ERR_INVALID (an id the set holds or two records with one id, other force models, a
  * material not registered, links for a stepper that is not quasi-static, a wall it does not
