@@ -375,16 +375,29 @@ static int left(const leaving *l, uint64_t id)
     return bsearch(&id, l->id, l->n, sizeof(uint64_t), id_order) != NULL;
 }
 
-/* A staged entry to drop: both ends left (pp), or the particle left (pw). */
+/* The staged entries' verdicts, made before the removal, read in order by the drop. */
+typedef struct verdicts {
+    const unsigned char *drop;
+    size_t next;
+} verdicts;
+
 static int staged_leaves(const uint64_t key[2], void *user)
 {
-    const leaving *l = user;
-    return left(l, key[0]) && (l->wall || left(l, key[1]));
+    (void)key;
+    verdicts *v = user;
+    return v->drop[v->next++];
+}
+
+/* 1 when particle `id` is in the set and does not leave (the id index is current). */
+static int stays(const sinter_particles *ps, const leaving *l, uint64_t id)
+{
+    return sinter_id_index_find(&ps->id_index, ps, id) != SIZE_MAX && !left(l, id);
 }
 
 /* The state that stays after the exported particles leave: the pairs of the current lists
  * whose ends all left made unmatchable at the next build (a pair with one end staying keeps
- * its history here: the other end's copy of the contact), the same for staged entries, the
+ * its history here: the other end's copy of the contact), the staged entries none of whose
+ * ends stays a particle of the set, the
  * links that left with their smaller id, the warm-start potentials of the particles gone. */
 static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t *indices)
 {
@@ -402,13 +415,29 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
         st->electric != NULL ? sinter_electric_warm_potentials(st->electric, &nodes) : NULL;
     const int keep_warm = warm != NULL && nodes == ps->count + nw;
     double *phi = keep_warm ? sinter_alloc(ctx, (nodes + 1) * sizeof(double)) : NULL;
-    sinter_status s =
-        gone == NULL || drop == NULL || (keep_warm && phi == NULL) ? SINTER_ERR_NOMEM : SINTER_OK;
+    sinter_migrate_stage *stage = st->migrate;
+    size_t staged = 0;
+    for (size_t k = 0; stage != NULL && k < 2 * stage->slots; ++k)
+        staged += stage->list[k].count;
+    unsigned char *unheld = sinter_calloc(ctx, staged + 1, 1);
+    sinter_status s = gone == NULL || drop == NULL || unheld == NULL || (keep_warm && phi == NULL)
+                          ? SINTER_ERR_NOMEM
+                          : SINTER_OK;
     size_t kept = 0;
     if (s == SINTER_OK) {
         for (size_t k = 0; k < n; ++k)
             gone[k] = ps->id[indices[k]];
         qsort(gone, n, sizeof(uint64_t), id_order);
+        /* a staged entry stays while one of its ends stays a particle of this set (the entry
+         * came with it); one whose ends are all gone would come back stale */
+        const leaving l = {gone, n, 0};
+        size_t e = 0;
+        for (size_t k = 0; stage != NULL && k < 2 * stage->slots; ++k)
+            for (size_t j = 0; j < stage->list[k].count; ++j, ++e) {
+                const uint64_t *key = stage->list[k].key + 2 * j;
+                unheld[e] = (unsigned char)!(stays(ps, &l, key[0]) ||
+                                             (k % 2 == 0 && stays(ps, &l, key[1])));
+            }
         for (size_t i = 0; keep_warm && i < nodes; ++i) {
             const int leaves = i < ps->count && left(&(leaving){gone, n, 0}, ps->id[i]);
             if (!leaves)
@@ -420,6 +449,7 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
         sinter_free(ctx, gone);
         sinter_free(ctx, drop);
         sinter_free(ctx, phi);
+        sinter_free(ctx, unheld);
         return s;
     }
     leaving l = {gone, n, 0};
@@ -432,11 +462,9 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
             if (left(&l, pw->key_i[p]))
                 pw->key_i[p] = UINT64_MAX;
     }
-    sinter_migrate_stage *stage = st->migrate;
-    for (size_t k = 0; stage != NULL && k < 2 * stage->slots; ++k) {
-        l.wall = (int)(k % 2);
-        sinter_migrate_drop(&stage->list[k], stage->width[k], staged_leaves, &l);
-    }
+    verdicts v = {unheld, 0};
+    for (size_t k = 0; stage != NULL && k < 2 * stage->slots; ++k)
+        sinter_migrate_drop(&stage->list[k], stage->width[k], staged_leaves, &v);
     if (st->quasistatic != NULL) {
         const sinter_qs_link *links = sinter_qs_links(st->quasistatic, &m);
         for (size_t k = 0; k < m; ++k)
@@ -449,6 +477,7 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
     sinter_free(ctx, gone);
     sinter_free(ctx, drop);
     sinter_free(ctx, phi);
+    sinter_free(ctx, unheld);
     return s;
 }
 
