@@ -435,6 +435,14 @@ static void test_bad_streams_are_refused(void **state)
     scene_open(&c, "linear_spring", 0);
     assert_int_equal(sinter_stepper_import(c.st, buf, bytes, &count), SINTER_ERR_INVALID);
     assert_int_equal(c.ps->count, 0);
+    /* an empty stream: no particle, nothing changes */
+    unsigned char empty[512];
+    OK(sinter_stepper_export(a.st, 0, NULL, empty, sizeof(empty), &written, 1));
+    assert_true(written > 0 && written < sizeof(empty));
+    OK(sinter_stepper_import(b.st, empty, written, &count));
+    assert_int_equal(count, 0);
+    assert_int_equal(a.ps->count, CLOUD);
+    assert_int_equal(b.ps->count, 0);
     /* the stream itself was sound */
     OK(sinter_stepper_import(b.st, buf, bytes, &count));
     assert_int_equal(count, 3);
