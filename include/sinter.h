@@ -2339,6 +2339,81 @@ SINTER_API sinter_status sinter_checkpoint_write(const sinter_stepper *stepper, 
  */
 SINTER_API sinter_status sinter_checkpoint_read(sinter_stepper *stepper, const char *path);
 
+/* ---- migration of particles between steppers (issue 43) ---------------------------------- */
+
+/**
+ * Bytes sinter_stepper_export needs for the particles of the n indices listed (owned particles,
+ * each once, in any order). The same checks as sinter_stepper_export.
+ */
+SINTER_API sinter_status sinter_stepper_export_size(const sinter_stepper *stepper, size_t n,
+                                                   const size_t *indices, size_t *bytes);
+
+/**
+ * Write the particles of the n indices listed, with everything the stepper keeps for them, as
+ * a record stream into buffer (capacity bytes; *written receives the bytes written): every
+ * field (id, position [m], velocity [m/s], spin [rad/s], rotation, force [N], moment [N m],
+ * radius [m], mass [kg], inertia [kg m^2], temperature [K], current [A], heat [W], material,
+ * flags), the contact history of every force model in which the particle is an end (keyed by
+ * the two ids; wall contacts by id and wall index), its quasi-static links where it is the
+ * smaller id (beam and 7DOF neck state) and its electric warm-start potential [V]. The stream
+ * is versioned and checksummed, in the host's byte order. remove = 1 then takes the particles
+ * out of the set (the order of the others kept), with their links and the histories of the
+ * contacts both of whose ends left; a contact with one end staying keeps its history here too
+ * (each side holds the contact once). Between two steps the forces stay current: the next step
+ * continues as the run would have. Errors: SINTER_ERR_RANGE (an index not an owned particle, or
+ * a buffer too small: see sinter_stepper_export_size), SINTER_ERR_INVALID (an index listed
+ * twice, remove not 0 or 1), SINTER_ERR_BUSY (views out), SINTER_ERR_UNSUPPORTED (periodic
+ * boundaries), SINTER_ERR_STATE (the frozen heat stage active).
+ */
+SINTER_API sinter_status sinter_stepper_export(sinter_stepper *stepper, size_t n,
+                                              const size_t *indices, void *buffer,
+                                              size_t capacity, size_t *written, int remove);
+
+/**
+ * Append the particles of a record stream of sinter_stepper_export (any alignment) as owned
+ * particles; *count (may be NULL) receives how many. Their contact histories are staged by key
+ * and taken by their pairs at the next neighbour build; a contact this stepper holds already
+ * (its other end never left) keeps its own history, the same bits. Their quasi-static links
+ * join the stepper's (created with the options set so far when it has none yet), one per pair.
+ * The stepper must have the same force models in the same order, and the set the records'
+ * materials. Ghost rows, if any, are dropped (owned particles stay first; the host or the
+ * periodic boundaries give them again). The staggered stepper's predictor history restarts
+ * after any migration. Errors:
+ * SINTER_ERR_CORRUPT (not a stream, another format or byte order, truncated, checksum),
+ * SINTER_ERR_INVALID (an id the set holds or two records with one id, other force models, a
+ * material not registered, links for a stepper that is not quasi-static, a wall it does not
+ * have), SINTER_ERR_BUSY, SINTER_ERR_UNSUPPORTED, SINTER_ERR_STATE as for the export. On error
+ * nothing is changed.
+ */
+SINTER_API sinter_status sinter_stepper_import(sinter_stepper *stepper, const void *buffer,
+                                              size_t bytes, size_t *count);
+
+/**
+ * The stepper's global part, for a portable checkpoint: what is not kept per particle (time
+ * [s], step [s], counters, the neighbour search's skin and reach [m], the walls' motion start,
+ * temperature, reaction and servo state, the staggered step controller, the frozen heat stage's
+ * counters, the continuous insertion's state), versioned and checksummed. buf = NULL: *bytes
+ * receives the size only. A portable checkpoint is this part plus the records of every
+ * particle (sinter_stepper_export, remove = 0, in any order and any number of pieces); a
+ * restart calls sinter_stepper_load_global on a stepper set up alike without particles (the
+ * same force models, walls and materials), then imports the records: the run continues bit
+ * for bit as the original would after a reordering of its particles (which rebuilds its
+ * neighbour lists, as the restart does). Errors: SINTER_ERR_RANGE (cap too small),
+ * SINTER_ERR_UNSUPPORTED (the quasi-static stepper, periodic boundaries: use
+ * sinter_checkpoint_write), SINTER_ERR_STATE (the frozen heat stage active).
+ */
+SINTER_API sinter_status sinter_stepper_save_global(const sinter_stepper *stepper, void *buf,
+                                                   size_t cap, size_t *bytes);
+
+/**
+ * Load a global part of sinter_stepper_save_global into a stepper without particles (then
+ * import the records). Errors: SINTER_ERR_CORRUPT (damaged, another format), SINTER_ERR_INVALID
+ * (another kind of stepper, other force models or another number of walls), SINTER_ERR_STATE
+ * (the set holds particles), SINTER_ERR_UNSUPPORTED as for the save. On error nothing changes.
+ */
+SINTER_API sinter_status sinter_stepper_load_global(sinter_stepper *stepper, const void *buf,
+                                                   size_t bytes);
+
 #ifdef __cplusplus
 }
 #endif

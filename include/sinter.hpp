@@ -1299,6 +1299,51 @@ class stepper : public detail::handle<sinter_stepper, sinter_stepper_destroy> {
         check(sinter_checkpoint_read(live("sinter_checkpoint_read"), path.c_str()),
               "sinter_checkpoint_read");
     }
+    /// The particles of `indices` as a record stream with everything the stepper keeps for
+    /// them (sinter_stepper_export); remove: take them out of this stepper's set.
+    std::vector<unsigned char> export_particles(const std::vector<std::size_t> &indices,
+                                                bool remove = false)
+    {
+        std::size_t bytes = 0, written = 0;
+        check(sinter_stepper_export_size(live("sinter_stepper_export_size"), indices.size(),
+                                         indices.data(), &bytes),
+              "sinter_stepper_export_size");
+        std::vector<unsigned char> records(bytes);
+        check(sinter_stepper_export(live("sinter_stepper_export"), indices.size(),
+                                    indices.data(), records.data(), records.size(), &written,
+                                    remove ? 1 : 0),
+              "sinter_stepper_export");
+        records.resize(written);
+        return records;
+    }
+    /// Append the particles of a record stream of export_particles; returns how many.
+    std::size_t import_particles(const std::vector<unsigned char> &records)
+    {
+        std::size_t count = 0;
+        check(sinter_stepper_import(live("sinter_stepper_import"), records.data(),
+                                    records.size(), &count),
+              "sinter_stepper_import");
+        return count;
+    }
+    /// The stepper's global part of a portable checkpoint (sinter_stepper_save_global).
+    std::vector<unsigned char> save_global() const
+    {
+        std::size_t bytes = 0;
+        check(sinter_stepper_save_global(live("sinter_stepper_save_global"), nullptr, 0, &bytes),
+              "sinter_stepper_save_global");
+        std::vector<unsigned char> part(bytes);
+        check(sinter_stepper_save_global(live("sinter_stepper_save_global"), part.data(),
+                                         part.size(), &bytes),
+              "sinter_stepper_save_global");
+        return part;
+    }
+    /// Load a global part into this stepper, set up alike and without particles.
+    void load_global(const std::vector<unsigned char> &part)
+    {
+        check(sinter_stepper_load_global(live("sinter_stepper_load_global"), part.data(),
+                                         part.size()),
+              "sinter_stepper_load_global");
+    }
 
   private:
     struct observer_state {

@@ -143,6 +143,15 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_checkpoint_write: take at least one step (or step 0) before "
                            "writing a checkpoint");
+    /* the pair lists and their reference positions are by index: particles added, removed or
+     * reordered since the last build (a migration keeps the forces current: migrate.c) make
+     * them another layout's, until the next step builds them again */
+    if (st->kind != SINTER_STEPPER_QUASISTATIC &&
+        st->nb.layout_generation != st->ps->layout_generation)
+        return sinter_fail(ctx, SINTER_ERR_STATE,
+                           "sinter_checkpoint_write: the particles were added, removed or "
+                           "reordered since the last step; take a step before writing a "
+                           "checkpoint (or write a portable one: sinter_stepper_save_global)");
     char tmp[SINTER_PATH_SIZE];
     const sinter_status named = sinter_path_format(ctx, tmp, sizeof(tmp), "%s.tmp", path);
     if (named != SINTER_OK)

@@ -11,6 +11,7 @@
 #include "stepper.h"
 #include "electric/electric.h"
 #include "insertion.h"
+#include "migrate.h"
 
 double sinter_clock(void)
 {
@@ -85,6 +86,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_staggered_free(ctx, &st->staggered);
     sinter_frozen_free(ctx, &st->frozen);
     sinter_qs_destroy(st->quasistatic);
+    sinter_migrate_stage_free(ctx, st->migrate);
     if (st->quasistatic_options.host_law.destroy_user != NULL)
         st->quasistatic_options.host_law.destroy_user(st->quasistatic_options.host_law_user);
     sinter_free(ctx, st->furnace);
@@ -558,6 +560,8 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
         if (s == SINTER_OK)
             s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count, &st->nb.pw);
     }
+    if (s == SINTER_OK) /* the histories imported particles brought, by key (migrate.h) */
+        s = sinter_migrate_match(st);
     st->stats.neighbor_builds++;
     st->stats.seconds_neighbor += sinter_clock() - t0;
     return s;

@@ -189,6 +189,9 @@ struct sinter_stepper {
     size_t energy_force_capacity;
     sinter_frozen frozen; /* heat at its own pace over a frozen bed (frozen_heat.h, issue 41) */
     struct sinter_insertion *insertion; /* continuous insertion (insertion.h), NULL: none */
+    /* pair histories of imported particles waiting for the next neighbour build (migrate.h),
+     * NULL: none */
+    struct sinter_migrate_stage *migrate;
 };
 
 /* Set every particle's temperature to the furnace's T(st->time) (no-op without a furnace). */

@@ -57,7 +57,8 @@ class Drop:
         self.stepper = sinter.Stepper(self.ctx, self.particles, self.walls, dt=DT,
                                       forces=[self.contact, sinter.ForceModel(self.ctx,
                                                                               "gravity")])
-        self.particles.add(positions, 1e-3)
+        if positions:
+            self.particles.add(positions, 1e-3)
 
     def positions(self):
         return as_lists(self.particles.get("position"))
@@ -591,6 +592,42 @@ class StepperApiTest(unittest.TestCase):
             with self.assertRaises(sinter.SinterError):
                 self.st.read_checkpoint(path)
             self.assertEqual(self.st.time, 4e-3)
+
+    def test_export_and_import_round_trip(self):
+        if "sinter_stepper_import" in sinter._lib.missing_functions:
+            self.skipTest("the library has no migration")
+        self.st.advance(2e-3)
+        other = Drop(lambda ctx: sinter.ForceModel(ctx, "hertz_mindlin"), positions=[])
+        self.addCleanup(other.close)
+        before = self.drop.positions()
+        records = self.st.export_particles([1, 4], remove=True)
+        self.assertEqual(len(self.drop.particles), 10)
+        self.assertEqual(other.stepper.import_particles(records), 2)
+        self.assertEqual(other.positions(), [before[1], before[4]])  # the same bits
+        with self.assertRaises(sinter.InvalidArgument):  # its ids are there now
+            other.stepper.import_particles(records)
+        damaged = bytearray(records)
+        damaged[len(damaged) // 2] ^= 1
+        with self.assertRaises(sinter.SinterError):
+            self.st.import_particles(bytes(damaged))
+        self.assertEqual(len(self.drop.particles), 10)  # nothing changed
+        self.assertEqual(self.st.import_particles(other.stepper.export_particles([0, 1])), 2)
+        self.assertEqual(len(self.drop.particles), 12)
+
+    def test_portable_checkpoint(self):
+        if "sinter_stepper_load_global" in sinter._lib.missing_functions:
+            self.skipTest("the library has no portable checkpoints")
+        self.st.advance(2e-3)
+        part = self.st.save_global()
+        records = self.st.export_particles(reversed(range(12)))
+        other = Drop(lambda ctx: sinter.ForceModel(ctx, "hertz_mindlin"), positions=[])
+        self.addCleanup(other.close)
+        with self.assertRaises(sinter.SinterError):
+            other.stepper.load_global(part[:-1])
+        other.stepper.load_global(part)
+        self.assertEqual(other.stepper.time, 2e-3)
+        self.assertEqual(other.stepper.import_particles(records), 12)
+        self.assertEqual(other.positions(), list(reversed(self.drop.positions())))
 
     def test_view_out_blocks_advance(self):
         with self.drop.particles.view("position"):

@@ -368,6 +368,19 @@ outcome run_cpp()
     r.position = ps.copy(sinter::field::position);
     r.temperature = ps.copy(sinter::field::temperature);
     r.force_z = ws.force(floor_index)[2];
+    // a portable checkpoint of the run, restored into a stepper set up alike: the same particle
+    const std::vector<unsigned char> part = st.save_global(), records = st.export_particles({0});
+    sinter::particles ps2(ctx);
+    ps2.set_material(0, grain);
+    sinter::walls ws2(ctx);
+    ws2.add_plane({0, 0, 0}, {0, 0, 1}, grain);
+    sinter::stepper st2(ctx, sinter::stepper_kind::explicit_, ps2, ws2);
+    sinter::force_model hertz2(ctx, "hertz_mindlin"), gravity2(ctx, "gravity");
+    sinter::heat_model conduction2(ctx, "conduction");
+    st2.add(hertz2).add(gravity2).add(conduction2).set_dt(dt);
+    st2.load_global(part);
+    CHECK(st2.import_particles(records) == 1);
+    CHECK(ps2.copy(sinter::field::position) == r.position);
     return r;
 }
 

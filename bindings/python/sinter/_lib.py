@@ -421,6 +421,12 @@ SIGNATURES = {
     "sinter_scene_check": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
+    "sinter_stepper_export_size": (c_status, [StepperPtr, _size, _P(_size), _P(_size)]),
+    "sinter_stepper_export": (
+        c_status, [StepperPtr, _size, _P(_size), ctypes.c_void_p, _size, _P(_size), _int]),
+    "sinter_stepper_import": (c_status, [StepperPtr, ctypes.c_void_p, _size, _P(_size)]),
+    "sinter_stepper_save_global": (c_status, [StepperPtr, ctypes.c_void_p, _size, _P(_size)]),
+    "sinter_stepper_load_global": (c_status, [StepperPtr, ctypes.c_void_p, _size]),
     "sinter_stepper_set_furnace": (c_status, [StepperPtr, _size, _P(_double), _P(_double)]),
     "sinter_stepper_set_observer": (c_status, [StepperPtr, ObserverFn, ctypes.c_void_p]),
     "sinter_stepper_advance": (c_status, [StepperPtr, _double]),

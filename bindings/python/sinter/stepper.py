@@ -720,6 +720,49 @@ class Stepper(_Handle):
         status = lib.sinter_checkpoint_read(self._ptr, _path(path))
         check_path(status, self._context._handle, "sinter_checkpoint_read", path)
 
+    # --- migration between steppers (subdomains) ---------------------------
+
+    def export_particles(self, indices: Sequence[int], remove: bool = False) -> bytes:
+        """The particles of the indices listed as a record stream, with everything the stepper
+        keeps for them (fields, contact histories, quasi-static links, electric warm start);
+        remove=True also takes them out of this stepper's set. See sinter_stepper_export."""
+        index_list = [int(i) for i in indices]
+        array = (ctypes.c_size_t * max(len(index_list), 1))(*index_list)
+        size = ctypes.c_size_t(0)
+        self._call(lib.sinter_stepper_export_size, self._ptr, len(index_list), array,
+                   ctypes.byref(size))
+        buffer = ctypes.create_string_buffer(max(size.value, 1))
+        written = ctypes.c_size_t(0)
+        self._call(lib.sinter_stepper_export, self._ptr, len(index_list), array, buffer,
+                   size.value, ctypes.byref(written), 1 if remove else 0)
+        return buffer.raw[:written.value]
+
+    def import_particles(self, records: bytes) -> int:
+        """Append the particles of a record stream of export_particles as owned particles;
+        returns how many. A damaged or foreign stream is refused and nothing changes."""
+        data = bytes(records)
+        buffer = ctypes.create_string_buffer(data, max(len(data), 1))
+        count = ctypes.c_size_t(0)
+        self._call(lib.sinter_stepper_import, self._ptr, buffer, len(data), ctypes.byref(count))
+        return count.value
+
+    def save_global(self) -> bytes:
+        """The stepper's global part (time, step, counters, walls, step control): with the
+        records of every particle (export_particles), a portable checkpoint."""
+        size = ctypes.c_size_t(0)
+        self._call(lib.sinter_stepper_save_global, self._ptr, None, 0, ctypes.byref(size))
+        buffer = ctypes.create_string_buffer(max(size.value, 1))
+        self._call(lib.sinter_stepper_save_global, self._ptr, buffer, size.value,
+                   ctypes.byref(size))
+        return buffer.raw[:size.value]
+
+    def load_global(self, part: bytes) -> None:
+        """Load a global part of save_global into this stepper, set up alike and without
+        particles; then import the particles' records (import_particles)."""
+        data = bytes(part)
+        buffer = ctypes.create_string_buffer(data, max(len(data), 1))
+        self._call(lib.sinter_stepper_load_global, self._ptr, buffer, len(data))
+
     def __repr__(self) -> str:
         if self.closed:
             return "<sinter.Stepper closed>"

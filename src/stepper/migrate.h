@@ -1,0 +1,69 @@
+/*
+ * Migration of particles between steppers (issue 43): the record stream of
+ * sinter_stepper_export / sinter_stepper_import (migrate.c), the pair histories that imported
+ * records bring, staged by key until the next neighbour build (migrate_stage.c), and the
+ * quasi-static links that travel with their smaller-id particle (qs_migrate.c).
+ *
+ * A contact history entry is keyed by the ids of its two particles, oriented as the pair list
+ * orients them (particle-particle), or by the particle's id and the wall's index
+ * (particle-wall), so that it names the same contact in any stepper that holds both ends.
+ */
+#ifndef SINTER_STEPPER_MIGRATE_H
+#define SINTER_STEPPER_MIGRATE_H
+
+#include "stepper/quasistatic.h"
+
+struct sinter_stepper;
+
+/* Entries of one force slot's history of one kind (pp or pw), waiting for their pair. */
+typedef struct sinter_migrate_entries {
+    size_t count, capacity;
+    uint64_t *key; /* 2 per entry: key_i, key_j (pw: particle id, wall index) */
+    double *value; /* width per entry */
+} sinter_migrate_entries;
+
+/* What imported records brought for the stepper's force slots: 2 lists per slot (pp, pw). */
+typedef struct sinter_migrate_stage {
+    size_t slots;
+    size_t *width; /* 2 per slot: the pp and pw history widths the entries were made for */
+    sinter_migrate_entries *list; /* 2 per slot */
+} sinter_migrate_stage;
+
+/* The stage of st made for its force slots (created empty on first use). NULL: out of memory. */
+sinter_migrate_stage *sinter_migrate_stage_get(struct sinter_stepper *st);
+
+/* Room for `more` entries in list l of width w (nothing else changes). */
+sinter_status sinter_migrate_reserve(sinter_ctx *ctx, sinter_migrate_entries *l, size_t w,
+                                     size_t more);
+
+/* Drop entries for which drop(key, user) is 1. */
+void sinter_migrate_drop(sinter_migrate_entries *l, size_t w,
+                         int (*drop)(const uint64_t key[2], void *user), void *user);
+
+/* After a neighbour build and the history remap: each new pair that holds no history yet and
+ * whose key is staged takes the staged values (committed, active); every staged entry is then
+ * dropped (a pair that is not a candidate any more is not in contact). No-op without a stage. */
+sinter_status sinter_migrate_match(struct sinter_stepper *st);
+
+void sinter_migrate_stage_free(sinter_ctx *ctx, sinter_migrate_stage *stage);
+
+/* ---- quasi-static links (qs_migrate.c) ---- */
+
+/* Drop the links flagged in drop[k] (1: drop), keeping the order of the others. */
+void sinter_qs_links_drop(sinter_qs *qs, const unsigned char *drop);
+
+/* Add m links (copied, no two with one key) whose key qs does not hold yet; *added of them. When
+ * the links held are in the order in which a run makes them (time made, then ids), the whole list
+ * is put back in that order, so that a link leaving and coming back takes its old place (the loads
+ * are summed in link order). Errors: SINTER_ERR_NOMEM (then nothing changed). */
+sinter_status sinter_qs_links_insert(sinter_qs *qs, const sinter_qs_link *links, size_t m,
+                                     size_t *added);
+
+/* After an import: when the n ids of the set are those of qs's last step (every particle that
+ * left came back), the set counts for qs as the same particles reordered (population: the set's
+ * population_generation), so that the principal-plane conditions, the last displacements and
+ * the kept pairs stay (they are per id); any other set has them detected again at the next
+ * step, as for particles added or removed. */
+void sinter_qs_particles_back(sinter_qs *qs, size_t n, const uint64_t *ids, uint64_t population);
+
+#endif
