@@ -381,10 +381,251 @@ static void test_decomposed_bed(void **st)
     }
 }
 
+/*
+ * Two spheres pressed together (2 % overlap), both held (FIXED), the one of subdomain 0
+ * driven along x at 0.5 m/s across the border x = XB into subdomain 1's slab, where the other
+ * sits; friction high enough that the contact sticks, so the tangential spring grows with
+ * the slip. Each side evaluates the pair (newton off) from its own history: the force on each
+ * sphere must follow the single-domain run step by step (to 1e-12 of the largest: the same
+ * operations on the same bits; a spring lost at a rebuild would drop to zero), and the two
+ * sides' forces must be exactly opposite (their histories are the same bits).
+ */
+enum { SLIDE_STEPS = 600 };
+static const double XB = 5e-3; /* the border [m] */
+
+typedef struct slide_job {
+    int rank, size; /* size 0: no domain operations */
+    loopback *lb;
+    int failed;
+    double f[2][SLIDE_STEPS]; /* x force on the held sphere (id 7) and the driven one (id 3) */
+    uint64_t builds;
+    double end; /* the driven sphere's final x [m] (its owner's) */
+} slide_job;
+
+static void *run_slide(void *arg)
+{
+    slide_job *j = arg;
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    sinter_stepper *st = NULL;
+    sinter_force_model *contact = NULL;
+    j->failed = 1;
+    const uint64_t ids[2] = {7, 3};
+    const double x[2][3] = {{XB + 2e-5, 0.0, 0.0}, {XB - 1e-4, 2 * R * 0.98, 0.0}};
+    size_t index[2] = {SIZE_MAX, SIZE_MAX};
+    if (sinter_ctx_create(&ctx, NULL) || sinter_ctx_set_threads(ctx, 1) ||
+        sinter_material_create(&mat, ctx, "m") ||
+        sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 1e7) ||
+        sinter_material_set(mat, SINTER_MAT_POISSON_RATIO, 0.3) ||
+        sinter_material_set(mat, SINTER_MAT_DENSITY, 2500) ||
+        sinter_material_set(mat, SINTER_MAT_DAMPING_RATIO, 0.0) ||
+        sinter_material_set(mat, SINTER_MAT_FRICTION_STATIC, 100.0) ||
+        sinter_material_set(mat, SINTER_MAT_FRICTION_DYNAMIC, 100.0) ||
+        sinter_particles_create(&ps, ctx) || sinter_particles_set_material(ps, 0, mat) ||
+        sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL) ||
+        sinter_stepper_set_option(st, "thread_choice", 0) ||
+        sinter_force_model_create(&contact, ctx, "hertz_mindlin") ||
+        sinter_stepper_add_force(st, contact) || sinter_stepper_set_dt(st, 1e-6))
+        goto done;
+    for (int k = 0; k < 2; ++k) {
+        const int owner = x[k][0] < XB ? 0 : 1;
+        if (j->size > 0 && owner != j->rank)
+            continue;
+        if (sinter_particles_add_with_ids(ps, 1, &ids[k], x[k], &R, 0, 300.0, &index[k]))
+            goto done;
+    }
+    uint32_t *flags = NULL;
+    double *v = NULL;
+    size_t count = 0;
+    if (sinter_particles_view(ps, SINTER_FIELD_FLAGS, (void **)&flags, &count, NULL))
+        goto done;
+    for (size_t i = 0; i < count; ++i)
+        flags[i] = SINTER_PARTICLE_FIXED;
+    sinter_particles_release(ps, SINTER_FIELD_FLAGS);
+    if (index[1] != SIZE_MAX) {
+        if (sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL))
+            goto done;
+        v[3 * index[1]] = 0.5;
+        sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
+    }
+    if (j->lb != NULL && loopback_attach(j->lb, j->rank, st, ps))
+        goto done;
+    for (int s = 0; s < SLIDE_STEPS; ++s) {
+        if (sinter_stepper_step(st, 1) != SINTER_OK)
+            goto done;
+        const double *f = NULL;
+        if (sinter_particles_view_read(ps, SINTER_FIELD_FORCE, (const void **)&f, NULL, NULL))
+            goto done;
+        for (int k = 0; k < 2; ++k)
+            j->f[k][s] = index[k] != SIZE_MAX ? f[3 * index[k]] : NAN;
+        sinter_particles_release(ps, SINTER_FIELD_FORCE);
+    }
+    if (index[1] != SIZE_MAX) {
+        const double *p = NULL;
+        if (sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&p, NULL, NULL))
+            goto done;
+        j->end = p[3 * index[1]];
+        sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    }
+    sinter_stepper_stats stats;
+    stats.struct_size = sizeof(stats);
+    if (sinter_stepper_get_stats_global(st, &stats))
+        goto done;
+    j->builds = stats.neighbor_builds;
+    j->failed = 0;
+done:
+    sinter_stepper_destroy(st);
+    sinter_force_model_destroy(contact);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    return NULL;
+}
+
+static slide_job SERIAL, SIDE[2];
+
+static void test_sliding_across_border(void **st)
+{
+    (void)st;
+    SERIAL.size = 0;
+    run_slide(&SERIAL);
+    assert_int_equal(SERIAL.failed, 0);
+    loopback *lb = loopback_create(2);
+    assert_non_null(lb);
+    pthread_t t[2];
+    for (int r = 0; r < 2; ++r) {
+        SIDE[r] = (slide_job){.rank = r, .size = 2, .lb = lb};
+        assert_int_equal(pthread_create(&t[r], NULL, run_slide, &SIDE[r]), 0);
+    }
+    for (int r = 0; r < 2; ++r)
+        assert_int_equal(pthread_join(t[r], NULL), 0);
+    loopback_destroy(lb);
+    assert_int_equal(SIDE[0].failed, 0);
+    assert_int_equal(SIDE[1].failed, 0);
+    assert_true(SIDE[0].end > XB + 1e-4); /* the driven sphere crossed the border */
+    assert_true(SIDE[0].builds >= 3);     /* and the lists and ghosts were made again */
+    double top = 0.0;
+    for (int s = 0; s < SLIDE_STEPS; ++s)
+        top = fmax(top, fabs(SERIAL.f[0][s]));
+    assert_true(top > 1e-4);                                     /* the spring did grow */
+    assert_true(fabs(SERIAL.f[0][SLIDE_STEPS - 1]) > 0.9 * top); /* and holds */
+    for (int s = 0; s < SLIDE_STEPS; ++s) {
+        assert_close(SIDE[1].f[0][s], SERIAL.f[0][s], 1e-12 * top); /* held, subdomain 1 */
+        assert_close(SIDE[0].f[1][s], SERIAL.f[1][s], 1e-12 * top); /* driven, subdomain 0 */
+        assert_true(SIDE[1].f[0][s] == -SIDE[0].f[1][s]);           /* one history, twice */
+    }
+}
+
+/* A NaN force made on subdomain 2 of 3 at step 37 stops every subdomain at step 37 with
+ * SINTER_ERR_UNSTABLE and one message, naming subdomain 2 and the particle's id. */
+static void test_nan_stops_all(void **st)
+{
+    (void)st;
+    make_bed();
+    uint64_t id = 0;
+    for (int k = 0; k < N && id == 0; ++k)
+        if (slab_of(BED.x[3 * k], 3) == 2 && BED.x[3 * k + 2] > 3 * R)
+            id = BED.id[k];
+    run_decomposed(3, 60, id, 37, JOBS, &DEC);
+    char want[64];
+    snprintf(want, sizeof(want), "(id %llu)", (unsigned long long)id);
+    for (int r = 0; r < 3; ++r) {
+        assert_int_equal(JOBS[r].status, SINTER_ERR_UNSTABLE);
+        assert_int_equal(JOBS[r].failed_at, 37);
+        assert_string_equal(JOBS[r].message, JOBS[0].message);
+    }
+    print_message("%s\n", JOBS[0].message);
+    assert_non_null(strstr(JOBS[0].message, "subdomain 2: "));
+    assert_non_null(strstr(JOBS[0].message, want));
+}
+
+/* Arguments and settings refused with the status the header gives. */
+static void test_refusals(void **st)
+{
+    (void)st;
+    sinter_ctx *ctx = NULL;
+    sinter_particles *ps = NULL;
+    sinter_stepper *step = NULL, *stag = NULL;
+    sinter_material *mat = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    OK(sinter_material_create(&mat, ctx, "m"));
+    OK(sinter_particles_create(&ps, ctx));
+    OK(sinter_particles_set_material(ps, 0, mat));
+    const uint64_t id = 5;
+    const double x[3] = {0, 0, 0};
+    OK(sinter_particles_add_with_ids(ps, 1, &id, x, &R, 0, 300.0, NULL));
+    OK(sinter_stepper_create(&step, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL));
+    OK(sinter_stepper_create(&stag, ctx, SINTER_STEPPER_STAGGERED, ps, NULL));
+    loopback *lb = loopback_create(1);
+    assert_non_null(lb);
+    assert_int_equal(loopback_attach(lb, 0, stag, ps), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_periodic(step, 0, -1.0, 1.0));
+    assert_int_equal(loopback_attach(lb, 0, step, ps), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_periodic(step, 0, 0.0, 0.0));
+    sinter_domain_ops ops = {.struct_size = sizeof(ops) - 1};
+    assert_int_equal(sinter_stepper_set_domain_ops(step, &ops, NULL), SINTER_ERR_STRUCT_SIZE);
+    ops.struct_size = sizeof(ops);
+    assert_int_equal(sinter_stepper_set_domain_ops(step, &ops, NULL), SINTER_ERR_NULL);
+    assert_int_equal(sinter_stepper_set_domain_ops(NULL, &ops, NULL), SINTER_ERR_NULL);
+    OK(loopback_attach(lb, 0, step, ps));
+    /* a stepper with domain operations keeps its kind */
+    /* ghosts: an owned id, an unregistered material, a mass <= 0 */
+    const uint64_t gid[1] = {5};
+    const double zero3[3] = {0, 0, 0}, one = 1.0, temp = 300.0;
+    int32_t material = 0;
+    double mass = 1.0;
+    sinter_ghost_fields g = {.struct_size = sizeof(g),
+                             .count = 1,
+                             .id = gid,
+                             .position = zero3,
+                             .velocity = zero3,
+                             .spin = zero3,
+                             .rotation = zero3,
+                             .radius = &R,
+                             .mass = &mass,
+                             .inertia = &one,
+                             .temperature = &temp,
+                             .material = &material};
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_INVALID); /* owned id */
+    const uint64_t other[1] = {6};
+    g.id = other;
+    material = 3;
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_INVALID); /* material */
+    material = 0;
+    mass = 0.0;
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_INVALID); /* mass */
+    mass = 1.0;
+    g.struct_size = 8;
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_STRUCT_SIZE);
+    g.struct_size = sizeof(g);
+    OK(sinter_particles_set_ghosts(ps, &g));
+    size_t count = 0, owned = 0;
+    OK(sinter_particles_count(ps, &count));
+    OK(sinter_particles_owned_count(ps, &owned));
+    assert_int_equal(count, 2);
+    assert_int_equal(owned, 1);
+    double cutoff = 0.0;
+    OK(sinter_stepper_ghost_cutoff(step, &cutoff));
+    assert_true(cutoff >= 2 * R);
+    double f[3];
+    assert_int_equal(sinter_walls_get_force_local(NULL, 0, f), SINTER_ERR_NULL);
+    OK(sinter_stepper_set_domain_ops(step, NULL, NULL)); /* removed */
+    loopback_destroy(lb);
+    sinter_stepper_destroy(step);
+    sinter_stepper_destroy(stag);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_decomposed_bed),
+        cmocka_unit_test(test_sliding_across_border),
+        cmocka_unit_test(test_nan_stops_all),
+        cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
