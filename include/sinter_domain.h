@@ -123,8 +123,10 @@ typedef struct sinter_domain_ops {
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
  * stepper's global quantities go through `ops`. The explicit stepper only, without periodic
- * axes, continuous insertion, an electric model or implicit conduction (SINTER_ERR_UNSUPPORTED
- * names the one); reduce, exscan, halo and redistribute are required.
+ * axes, continuous insertion, an electric model, implicit conduction or the option
+ * sort_interval (SINTER_ERR_UNSUPPORTED names the one, here or at the next step); reduce,
+ * exscan, halo and redistribute are required. sinter_checkpoint_write refuses such a stepper
+ * (SINTER_ERR_UNSUPPORTED) until migration brings portable checkpoints.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
  */
 SINTER_API sinter_status sinter_stepper_set_domain_ops(sinter_stepper *stepper,

@@ -78,7 +78,7 @@ sinter_status sinter_particles_set_ghosts(sinter_particles *ps, const sinter_gho
         s = check_ghost(ps, g, k);
     if (s == SINTER_OK)
         s = sinter_particles_make_ghost_rows(ps, n);
-    if (s != SINTER_OK)
+    if (s != SINTER_OK || n == 0)
         return s;
     const size_t first = ps->count - n;
     memcpy(ps->x + 3 * first, g->position, 3 * n * sizeof(double));

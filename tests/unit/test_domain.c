@@ -610,6 +610,7 @@ static void test_refusals(void **st)
     assert_true(cutoff >= 2 * R);
     double f[3];
     assert_int_equal(sinter_walls_get_force_local(NULL, 0, f), SINTER_ERR_NULL);
+    assert_int_equal(sinter_checkpoint_write(step, "never_written.ck"), SINTER_ERR_UNSUPPORTED);
     OK(sinter_stepper_set_domain_ops(step, NULL, NULL)); /* removed */
     loopback_destroy(lb);
     sinter_stepper_destroy(step);
