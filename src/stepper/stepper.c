@@ -1120,6 +1120,8 @@ static sinter_status prepare(sinter_stepper *st)
         if (r != SINTER_OK)
             return r;
         st->forces_current = stale == 0;
+        if (stale) /* the host may have written owned particles: their ghosts made again */
+            d->rebuild_due = 1;
     }
     if (st->forces_current)
         return SINTER_OK;
@@ -1298,6 +1300,22 @@ static sinter_status take_step(sinter_stepper *st, double h, double t_end, doubl
     return SINTER_OK;
 }
 
+/* With domain operations, whether the run goes on, the same on every subdomain (one
+ * reduction): a stop asked of one subdomain's context (status `s`) or by its observer
+ * (*stop) stops all of them. Without, `s` as it is. */
+static sinter_status go_on_together(sinter_stepper *st, sinter_status s, int *stop)
+{
+    if (!st->domain.on)
+        return s;
+    int64_t v[2] = {(int64_t)s, *stop ? -1 : 0}; /* (a MIN of both) */
+    const sinter_status r =
+        sinter_domain_reduce(st->ctx, &st->domain, v, 2, SINTER_REDUCE_I64, SINTER_REDUCE_MIN);
+    if (r != SINTER_OK)
+        return r;
+    *stop = v[1] < 0;
+    return v[0] < 0 ? sinter_domain_agree(st->ctx, &st->domain, s) : SINTER_OK;
+}
+
 /* The step to try next: the set (explicit) or adapted (staggered) step, capped by dt_max. */
 static double next_step(const sinter_stepper *st)
 {
@@ -1323,10 +1341,10 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
     if (s == SINTER_OK)
         s = prepare(st);
     int stop = 0;
-    while (s == SINTER_OK && !stop && st->time < t_end) {
+    while (s == SINTER_OK && (!stop || st->domain.on) && st->time < t_end) {
         s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_advance", st->time);
-        if ((s = sinter_domain_agree(st->ctx, &st->domain, s)) != SINTER_OK)
-            break; /* (a stop asked of one subdomain stops all) */
+        if ((s = go_on_together(st, s, &stop)) != SINTER_OK || stop)
+            break;
         const double proposal = next_step(st);
         double h = proposal, taken = 0.0;
         const double remaining = t_end - st->time;
@@ -1364,11 +1382,11 @@ sinter_status sinter_stepper_step(sinter_stepper *st, uint64_t n)
         s = prepare(st);
     int stop = 0;
     double taken = 0.0;
-    for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k) {
+    for (uint64_t k = 0; k < n && s == SINTER_OK && (!stop || st->domain.on); ++k) {
         s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_step", st->time);
-        s = sinter_domain_agree(st->ctx, &st->domain, s);
-        if (s == SINTER_OK)
-            s = take_step(st, next_step(st), INFINITY, &taken, &stop);
+        if ((s = go_on_together(st, s, &stop)) != SINTER_OK || stop)
+            break;
+        s = take_step(st, next_step(st), INFINITY, &taken, &stop);
     }
     st->stats.seconds_total += sinter_clock() - t0;
     return s;

@@ -91,6 +91,9 @@ typedef struct job {
     int steps;
     uint64_t poison_id; /* 0: none */
     int poison_step;    /* the step (from 1) whose evaluation makes the NaN */
+    int stop_step;      /* > 0: one advance, which this subdomain's observer stops after the
+                           step stop_step (0: steps one by one) */
+    double end_time;    /* the time it ended at [s] */
     /* results */
     int setup_failed;
     sinter_status status;
@@ -143,6 +146,13 @@ static void copy_owned(sinter_particles *ps, size_t owned, state *out)
     sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
     sinter_particles_release(ps, SINTER_FIELD_SPIN);
     sinter_particles_release(ps, SINTER_FIELD_TEMPERATURE);
+}
+
+/* An observer that stops the run from time `*user` on. */
+static int stop_after(const sinter_stepper *st, double time, void *user)
+{
+    (void)st;
+    return time >= *(const double *)user;
 }
 
 static void *run_bed(void *arg)
@@ -215,7 +225,12 @@ static void *run_bed(void *arg)
     if (j->lb != NULL)
         TRY(loopback_attach(j->lb, j->rank, st, ps));
     j->status = SINTER_OK;
-    for (int k = 1; k <= j->steps; ++k) {
+    const double stop_time = (j->stop_step - 0.5) * dt;
+    if (j->stop_step > 0 && j->rank == j->size - 1)
+        TRY(sinter_stepper_set_observer(st, stop_after, (void *)&stop_time));
+    if (j->stop_step > 0)
+        j->status = sinter_stepper_advance(st, j->steps * dt);
+    for (int k = 1; k <= j->steps && j->stop_step == 0; ++k) {
         const sinter_status s = sinter_stepper_step(st, 1);
         if (s != SINTER_OK) {
             j->status = s;
@@ -224,6 +239,7 @@ static void *run_bed(void *arg)
             break;
         }
     }
+    TRY(sinter_stepper_time(st, &j->end_time));
     copy_owned(ps, j->owned, js->out);
     for (int k = 0; k < NW; ++k) {
         TRY(sinter_walls_get_force(walls, (size_t)k, j->wall + 3 * k));
@@ -251,8 +267,16 @@ done:
 }
 
 /* The bed on `size` subdomains (0: one run without domain operations). */
+static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poison_step,
+                                int stop_step, job *jobs, state *out);
 static void run_decomposed(int size, int steps, uint64_t poison_id, int poison_step, job *jobs,
                            state *out)
+{
+    run_decomposed_stop(size, steps, poison_id, poison_step, 0, jobs, out);
+}
+
+static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poison_step,
+                                int stop_step, job *jobs, state *out)
 {
     memset(out, 0, sizeof(*out));
     const int n = size > 0 ? size : 1;
@@ -267,7 +291,8 @@ static void run_decomposed(int size, int steps, uint64_t poison_id, int poison_s
                         .lb = lb,
                         .steps = steps,
                         .poison_id = poison_id,
-                        .poison_step = poison_step};
+                        .poison_step = poison_step,
+                        .stop_step = stop_step};
         js[r] = (job_and_state){&jobs[r], out};
         assert_int_equal(pthread_create(&threads[r], NULL, run_bed, &js[r]), 0);
     }
@@ -540,6 +565,20 @@ static void test_nan_stops_all(void **st)
     assert_non_null(strstr(JOBS[0].message, want));
 }
 
+/* The observer of the last of 3 subdomains stops its advance after step 12 of 40: every
+ * subdomain stops there (no hang), at the same time, with SINTER_OK. */
+static void test_observer_stops_all(void **st)
+{
+    (void)st;
+    make_bed();
+    run_decomposed_stop(3, 40, 0, 0, 12, JOBS, &DEC);
+    for (int r = 0; r < 3; ++r) {
+        assert_int_equal(JOBS[r].status, SINTER_OK);
+        assert_true(JOBS[r].end_time == JOBS[0].end_time);
+    }
+    assert_close(JOBS[0].end_time, 12 * 2e-6, 1e-15);
+}
+
 /* Arguments and settings refused with the status the header gives. */
 static void test_refusals(void **st)
 {
@@ -623,9 +662,8 @@ static void test_refusals(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_decomposed_bed),
-        cmocka_unit_test(test_sliding_across_border),
-        cmocka_unit_test(test_nan_stops_all),
+        cmocka_unit_test(test_decomposed_bed), cmocka_unit_test(test_sliding_across_border),
+        cmocka_unit_test(test_nan_stops_all),  cmocka_unit_test(test_observer_stops_all),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
