@@ -156,6 +156,15 @@ SINTER_API sinter_status sinter_walls_get_force_local(const sinter_walls *walls,
 SINTER_API sinter_status sinter_stepper_get_stats_global(const sinter_stepper *stepper,
                                                          sinter_stepper_stats *stats);
 
+/**
+ * Collective: the energy heat model `index` has put into the particles so far [J], summed
+ * over every subdomain (sinter_stepper_heat_energy stays this subdomain's share, its owned
+ * particles'). Without domain operations the same as sinter_stepper_heat_energy.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE, SINTER_ERR_CALLBACK.
+ */
+SINTER_API sinter_status sinter_stepper_heat_energy_global(const sinter_stepper *stepper,
+                                                           size_t index, double *energy);
+
 #ifdef __cplusplus
 }
 #endif

@@ -91,6 +91,16 @@ sinter_status sinter_walls_get_force_local(const sinter_walls *walls, size_t k, 
     return SINTER_OK;
 }
 
+sinter_status sinter_stepper_heat_energy_global(const sinter_stepper *st, size_t index,
+                                                double *energy)
+{
+    sinter_status s = sinter_stepper_heat_energy(st, index, energy);
+    if (s != SINTER_OK || !st->domain.on)
+        return s;
+    return sinter_domain_reduce(st->ctx, (sinter_domain *)&st->domain, energy, 1, SINTER_REDUCE_F64,
+                                SINTER_REDUCE_SUM);
+}
+
 sinter_status sinter_stepper_get_stats_global(const sinter_stepper *st, sinter_stepper_stats *stats)
 {
     if (st == NULL)

@@ -94,6 +94,7 @@ typedef struct job {
     int stop_step;      /* > 0: one advance, which this subdomain's observer stops after the
                            step stop_step (0: steps one by one) */
     double end_time;    /* the time it ended at [s] */
+    double energy;      /* the conduction's energy into the particles, all subdomains [J] */
     /* results */
     int setup_failed;
     sinter_status status;
@@ -240,6 +241,7 @@ static void *run_bed(void *arg)
         }
     }
     TRY(sinter_stepper_time(st, &j->end_time));
+    TRY(sinter_stepper_heat_energy_global(st, 0, &j->energy));
     copy_owned(ps, j->owned, js->out);
     for (int k = 0; k < NW; ++k) {
         TRY(sinter_walls_get_force(walls, (size_t)k, j->wall + 3 * k));
@@ -360,6 +362,7 @@ static void test_decomposed_bed(void **st)
              * reduced to the same bits on every subdomain */
             assert_int_equal(JOBS[r].builds, JOBS[0].builds);
             assert_memory_equal(JOBS[r].wall, JOBS[0].wall, sizeof(JOBS[r].wall));
+            assert_true(JOBS[r].energy == JOBS[0].energy);
         }
         assert_int_equal(owned, N);
         for (int k = 0; k < N; ++k)
@@ -386,6 +389,12 @@ static void test_decomposed_bed(void **st)
         const double ex = rel_diff(dx, dref, 3 * N), ev = rel_diff(DEC.v, REF.v, 3 * N),
                      ew = rel_diff(DEC.w, REF.w, 3 * N), et = rel_diff(tdec, tref, N);
         const double ef = rel_diff(JOBS[0].wall, REF_JOB[0].wall, 3 * NW);
+        /* the heat the walls (reservoirs) took, over every subdomain */
+        const double ee = fabs(JOBS[0].energy - REF_JOB[0].energy) / fabs(REF_JOB[0].energy);
+        print_message("  conduction's energy %.6g J (single domain %.6g J): %.2g relative\n",
+                      JOBS[0].energy, REF_JOB[0].energy, ee);
+        assert_true(fabs(REF_JOB[0].energy) > 0.0);
+        assert_true(ee <= 1e-10);
         print_message("%d subdomains: displacements %.2g, velocities %.2g, spins %.2g, "
                       "temperatures %.2g, wall forces %.2g (relative); %llu builds\n",
                       size, ex, ev, ew, et, ef, (unsigned long long)JOBS[0].builds);

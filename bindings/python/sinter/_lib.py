@@ -536,6 +536,7 @@ SIGNATURES = {
     "sinter_stepper_ghost_cutoff": (c_status, [StepperPtr, _P(_double)]),
     "sinter_walls_get_force_local": (c_status, [WallsPtr, _size, _P(_double)]),
     "sinter_stepper_get_stats_global": (c_status, [StepperPtr, _P(StepperStats)]),
+    "sinter_stepper_heat_energy_global": (c_status, [StepperPtr, _size, _P(_double)]),
 }
 
 

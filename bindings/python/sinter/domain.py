@@ -179,6 +179,14 @@ def wall_force_local(walls: "object", k: int) -> Tuple[float, float, float]:
     return tuple(force)
 
 
+def heat_energy_global(stepper: "object", index: int) -> float:
+    """Collective: the energy heat model `index` put into the particles of every subdomain [J]."""
+    energy = ctypes.c_double()
+    stepper._call(lib.sinter_stepper_heat_energy_global, stepper._ptr, int(index),
+                  ctypes.byref(energy))
+    return energy.value
+
+
 def stats_global(stepper: "object") -> "object":
     """Collective: the statistics over every subdomain (a sinter.StepperStats)."""
     from ._lib import StepperStats as CStats
