@@ -650,7 +650,8 @@ SINTER_API sinter_status sinter_walls_get_normal(const sinter_walls *walls, size
                                                  double normal[3]);
 /**
  * Reaction force on wall k from every particle touching it in the last
- * accepted step [N] (the force the particles exert on the wall).
+ * accepted step [N] (the force the particles exert on the wall). With domain
+ * operations (sinter_domain.h) the total over every subdomain.
  */
 SINTER_API sinter_status sinter_walls_get_force(const sinter_walls *walls, size_t k,
                                                 double force[3]);

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "sinter.h"
+#include "sinter_domain.h"
 
 /** @brief C++17 layer of libsinter (include/sinter.hpp). */
 namespace sinter {
@@ -274,6 +275,23 @@ enum class coarse_quantity : int {
     temperature = SINTER_COARSE_TEMPERATURE,
     velocity = SINTER_COARSE_VELOCITY,
     stress = SINTER_COARSE_STRESS,
+};
+/// Mirrors sinter_reduce_op (sinter_domain.h: the host's reductions).
+enum class reduce_op : int {
+    sum = SINTER_REDUCE_SUM,
+    min = SINTER_REDUCE_MIN,
+    max = SINTER_REDUCE_MAX,
+};
+/// Mirrors sinter_reduce_type (double, int64_t, uint64_t).
+enum class reduce_type : int {
+    f64 = SINTER_REDUCE_F64,
+    i64 = SINTER_REDUCE_I64,
+    u64 = SINTER_REDUCE_U64,
+};
+/// Mirrors sinter_halo_dir (sinter_domain.h: the host's exchanges of rows).
+enum class halo_dir : int {
+    forward = SINTER_HALO_FORWARD,
+    reverse = SINTER_HALO_REVERSE,
 };
 
 /// Combine particle flags (sinter_particle_flag bits).

@@ -1,4 +1,4 @@
-"""include/sinter.hpp mirrors every enumerator of include/sinter.h: each C constant of a typedef'd
+"""include/sinter.hpp mirrors every enumerator of include/sinter.h and include/sinter_domain.h: each C constant of a typedef'd
 enum (and of SINTER_STATUS_LIST) appears in sinter.hpp as the value of a scoped enumerator
 (`name = SINTER_...`), so that an enumerator added in C without its C++ twin fails this test."""
 
@@ -7,7 +7,8 @@ import re
 import sys
 
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-c_header = open(os.path.join(root, "include", "sinter.h")).read()
+c_header = (open(os.path.join(root, "include", "sinter.h")).read() +
+            open(os.path.join(root, "include", "sinter_domain.h")).read())
 cpp_header = open(os.path.join(root, "include", "sinter.hpp")).read()
 
 constants = re.findall(r"^\s*X\((SINTER_[A-Z0-9_]+),", c_header, re.M)

@@ -46,6 +46,8 @@ typedef struct sinter_neighbors {
      * test reads the skin alone); 0 (the default): the contact search's pairs only. A heat law
      * between pairs apart sets it (heat/gas_gap.h) */
     double reach;
+    int both_sides; /* ghosts of other subdomains: a pair is kept when either end is owned
+                       (newton off; domain/domain.h), not only its smaller-id end */
     int built;
     sinter_pair_list pp;     /* particle-particle */
     sinter_pair_list pw;     /* particle-wall */

@@ -139,6 +139,10 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         return SINTER_ERR_NULL;
     sinter_ctx *ctx = st->ctx;
     SINTER_CHECK_NULL(ctx, path);
+    if (st->domain.on) /* (the ghosts are the host's: a portable checkpoint comes with migration) */
+        return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED,
+                           "sinter_checkpoint_write: a stepper with domain operations "
+                           "(sinter_stepper_set_domain_ops) cannot be checkpointed yet");
     if (st->kind != SINTER_STEPPER_QUASISTATIC && (!st->forces_current || !st->nb.built))
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_checkpoint_write: take at least one step (or step 0) before "

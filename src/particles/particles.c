@@ -504,6 +504,27 @@ sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, co
     return SINTER_OK;
 }
 
+sinter_status sinter_particles_make_ghost_rows(sinter_particles *ps, size_t n)
+{
+    sinter_status st = check_unlocked(ps, "sinter_particles_set_ghosts");
+    if (st != SINTER_OK)
+        return st;
+    sinter_particles_drop_ghosts(ps);
+    const size_t owned = ps->count;
+    if (n == 0)
+        return SINTER_OK;
+    if (owned + n > ps->capacity && (st = grow(ps, owned + n + (owned + n) / 4)) != SINTER_OK)
+        return st;
+    memset(ps->force + 3 * owned, 0, 3 * n * sizeof(double));
+    memset(ps->torque + 3 * owned, 0, 3 * n * sizeof(double));
+    memset(ps->heat + owned, 0, n * sizeof(double));
+    memset(ps->current + owned, 0, n * sizeof(double));
+    ps->count = owned + n;
+    ps->ghost_count = n;
+    ps->layout_generation++; /* (the owned particles, the population, did not change) */
+    return SINTER_OK;
+}
+
 /* Move particle `from` to slot `to` in every field. */
 static void move_particle(sinter_particles *ps, size_t to, size_t from)
 {

@@ -79,6 +79,9 @@ void sinter_particles_drop_ghosts(sinter_particles *ps);
  * particle owner[k], its position shifted by shift[3k..3k+2], its force, moment and heat zero. */
 sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, const uint32_t *owner,
                                               const double *shift);
+/* Replace the ghost rows by n rows whose fields the caller fills (sinter_particles_set_ghosts,
+ * domain/ghost_input.c): force, moment, heat power and current zero, the rest unset. */
+sinter_status sinter_particles_make_ghost_rows(sinter_particles *ps, size_t n);
 /* The tabulated branches of the accessors below, out of line (property_table.c) so that the
  * constant path stays a flag test and the load it always was. */
 double sinter_particle_property_tabulated(const sinter_particles *ps, size_t i, sinter_property p,

@@ -486,34 +486,76 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
     return "rotation";
 }
 
+/* A rejected step undone: the state at t back from the spare arrays, the temperatures, the
+ * time and the walls; the forces and heat powers the drift zeroed are evaluated again. */
+static void undo_step(sinter_stepper *st, double t_start)
+{
+    swap_spare(st);
+    sinter_neighbors_positions_restored(&st->nb);
+    sinter_thermal_rollback(st);
+    st->time = t_start;
+    if (st->walls != NULL)
+        sinter_walls_move(st->walls, t_start);
+    st->forces_current = 0;
+    st->forces_zeroed = st->gravity_seeded = 0;
+    st->thermal.heat_zeroed = 0;
+    st->ghosts.built = 0; /* made again, from the restored owners, at the next build */
+    st->stats.rejected++;
+}
+
+/* The first particle of `bad` that is owned (ghosts are their owners' to check), or n. */
+static size_t owned_bad(const sinter_particles *ps, size_t bad, int domain)
+{
+    return domain && bad >= ps->count - ps->ghost_count ? ps->count : bad;
+}
+
+/*
+ * One step. With domain operations (domain/domain.h) its collective stages are: the status
+ * agreed after the drift (A), the forward halo, the rebuild decision inside the evaluation
+ * (a reduction, then the host's redistribution), the status agreed after the kick and the
+ * checks (C), the forward halo of the accepted state, and the commit's reductions. Between
+ * two of them a subdomain that failed only skips its own work, so none waits for another.
+ */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
     const int periodic = sinter_ghosts_on(&st->ghosts);
+    const int domain = st->domain.on;
     sinter_status s = periodic ? sinter_periodic_check(st) : SINTER_OK;
+    if (s == SINTER_OK && domain) /* (settings not yet supported across subdomains) */
+        s = sinter_domain_check(st);
     /* continuous insertion: the spheres due now, their forces evaluated (insertion.c) */
     if (s == SINTER_OK)
         s = sinter_insertion_stage(st);
     if (s == SINTER_OK)
         s = sinter_explicit_reserve(st);
-    if (s != SINTER_OK)
+    if (s != SINTER_OK && !domain)
         return s;
     const double t_start = st->time, clock_start = sinter_clock();
     st->stores.stream_now = choose_stores(st);
     /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5):
      * the explicit scheme's in the kick and drift's pass, range by range (thermal.h) */
     const int heat_update = st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
-    s = heat_update ? sinter_thermal_explicit_begin(st) : sinter_thermal_implicit_advance(st, h);
-    if (s != SINTER_OK) {
-        st->stats.rejected++;
-        return s;
+    if (s == SINTER_OK) {
+        s = heat_update ? sinter_thermal_explicit_begin(st)
+                        : sinter_thermal_implicit_advance(st, h);
+        if (s != SINTER_OK) {
+            st->stats.rejected++;
+            if (!domain)
+                return s;
+        }
     }
-    double t0 = sinter_clock();
+    int drifted = 0;
     sinter_sanity_scan scan;
     size_t heat_first[2];
     const size_t n_drift = st->ps->count; /* (a neighbour build may make other ghosts) */
-    const size_t bad_drift = kick_drift(st, h, heat_update, heat_first, &scan);
-    st->stats.seconds_integrate += sinter_clock() - t0;
-    if (heat_update) {
+    size_t bad_drift = n_drift;
+    if (s == SINTER_OK) {
+        const double t0 = sinter_clock();
+        bad_drift = owned_bad(st->ps, kick_drift(st, h, heat_update, heat_first, &scan), domain);
+        drifted = 1;
+        st->stats.seconds_integrate += sinter_clock() - t0;
+    }
+    if (drifted && heat_update) {
         s = sinter_thermal_explicit_end(st, h, heat_first[0], heat_first[1]);
         if (s != SINTER_OK) { /* refused: temperatures restored; the drift undone, and the
                                * forces and heat powers it zeroed evaluated again */
@@ -523,12 +565,24 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
             st->forces_zeroed = st->gravity_seeded = 0;
             st->thermal.heat_zeroed = 0;
             st->stats.rejected++;
-            return s;
+            drifted = 0;
+            if (!domain)
+                return s;
         }
     }
-    st->time = t_start + h;
-    if (st->walls != NULL)
-        s = sinter_walls_move(st->walls, st->time);
+    if (drifted) {
+        st->time = t_start + h;
+        if (st->walls != NULL)
+            s = sinter_walls_move(st->walls, st->time);
+    }
+    if (domain) { /* stage A: every subdomain drifted, or all stop here */
+        const sinter_status a = sinter_domain_agree(st->ctx, &st->domain, s);
+        if (a != SINTER_OK) {
+            if (drifted)
+                undo_step(st, t_start);
+            return a;
+        }
+    }
     range_kick job = {st, h, {0}, NULL};
     for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
         job.bad[r] = st->ps->count;
@@ -538,8 +592,10 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     }
     /* halo: the ghosts take their owners' new state (ghosts/ghosts.h); a neighbour build in
      * the evaluation makes them again from the owners */
-    if (s == SINTER_OK && st->ps->ghost_count > 0)
+    if (s == SINTER_OK && st->ps->ghost_count > 0 && !domain)
         sinter_ghosts_forward(&st->ghosts, st->ps);
+    if (s == SINTER_OK && domain) /* (the host's ghosts of other subdomains) */
+        s = sinter_domain_forward(st->ctx, &st->domain, st->ps);
     st->heat_in_law = 1; /* conduction in the law's region when it can (thermal.h) */
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
@@ -551,17 +607,19 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     sinter_neighbors_clear_moved(&st->nb); /* valid for that evaluation only */
     size_t bad = st->ps->count;
     if (s == SINTER_OK) {
-        t0 = sinter_clock();
+        const double t0 = sinter_clock();
         bad = st->ps->count;
         if (kicked) /* by the law, range by range */
             for (int r = 0; r < SINTER_CHUNKS_MAX; ++r)
                 bad = job.bad[r] < bad ? job.bad[r] : bad;
         else
             bad = kick(st, h);
+        bad = owned_bad(st->ps, bad, domain);
         if (bad_drift < n_drift)
             bad = bad_drift < bad ? bad_drift : bad;
-        /* halo again: the accepted state's ghosts are exact images of their owners */
-        if (st->ps->ghost_count > 0)
+        /* halo again: the accepted state's ghosts are exact images of their owners (the
+         * host's ghosts after stage C below) */
+        if (st->ps->ghost_count > 0 && !domain)
             sinter_ghosts_forward(&st->ghosts, st->ps);
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
@@ -569,8 +627,9 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         s = sinter_sanity_step(st, st->spare[0], t_start, h, &scan); /* spare: x at t */
     if (s == SINTER_OK && bad == st->ps->count)
         s = sinter_sanity_domain_moved(st, "step", t_start, h, sqrt(scan.moved2));
-    /* (the energy check's clusters do not follow pairs across a periodic face yet) */
-    if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 && !periodic &&
+    /* (the energy check's clusters do not follow pairs across a periodic face or a
+     * subdomain border yet) */
+    if (s == SINTER_OK && bad == st->ps->count && st->energy_check > 0 && !periodic && !domain &&
         st->stats.steps % (uint64_t)st->energy_check == 0)
         s = sinter_sanity_energy(st, t_start, h); /* energy created (sanity.c, 4) */
     if (s == SINTER_OK && bad < st->ps->count) {
@@ -582,20 +641,20 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
                         "state is kept.",
                         t_start, t_start + h, what, bad, (unsigned long long)st->ps->id[bad], h);
     }
+    s = sinter_domain_agree(st->ctx, &st->domain, s); /* stage C (with domain operations) */
     if (s != SINTER_OK) {
         /* Roll back: state (the spare arrays hold it), time and walls; history was never
          * committed. */
-        swap_spare(st);
-        sinter_neighbors_positions_restored(&st->nb);
-        sinter_thermal_rollback(st);
-        st->time = t_start;
-        if (st->walls != NULL)
-            sinter_walls_move(st->walls, t_start);
-        st->forces_current = 0;
-        st->ghosts.built = 0; /* made again, from the restored owners, at the next build */
-        st->stats.rejected++;
+        undo_step(st, t_start);
+        if (domain) { /* the ghosts too, and made again at the next step */
+            st->domain.rebuild_due = 1;
+            const sinter_status r = sinter_domain_forward(st->ctx, &st->domain, st->ps);
+            (void)r; /* (the step's error is the one reported) */
+        }
         return s;
     }
+    if (domain && (s = sinter_domain_forward(st->ctx, &st->domain, st->ps)) != SINTER_OK)
+        return s;
     s = sinter_stepper_commit(st);
     if (s == SINTER_OK)
         time_stores(st, sinter_clock() - clock_start);

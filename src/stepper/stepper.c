@@ -52,6 +52,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->stores.option = -1; /* measured (explicit.c) */
     st->stores.decided = -1;
     sinter_thread_choice_init(&st->threads_choice);
+    st->domain.rank = -1;
     sinter_neighbors_init(&st->nb, ctx, 0.0);
     st->stats.struct_size = sizeof(sinter_stepper_stats);
     st->stats.dt = st->dt;
@@ -74,6 +75,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_free(ctx, st->forces);
     sinter_neighbors_free(&st->nb);
     sinter_ghosts_free(ctx, &st->ghosts);
+    sinter_domain_free(ctx, &st->domain);
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
@@ -107,6 +109,10 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     if (st->stats.steps > 0 || st->stats.rejected > 0)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "the stepper has taken steps; its kind can no longer change");
+    if (kind != SINTER_STEPPER_EXPLICIT && st->domain.on)
+        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
+                           "domain operations (sinter_stepper_set_domain_ops) are supported by "
+                           "the explicit stepper only so far; remove them first");
     if (kind != SINTER_STEPPER_EXPLICIT && sinter_ghosts_on(&st->ghosts))
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
                            "periodic boundaries are supported by the explicit stepper only; make "
@@ -450,16 +456,28 @@ sinter_status sinter_stepper_get_stats(const sinter_stepper *st, sinter_stepper_
     return SINTER_OK;
 }
 
-/* Default skin: a fifth of the mean radius (LIGGGHTS' canonical deck uses 0.2 r). */
-static void choose_skin(sinter_stepper *st)
+/* Default skin: a fifth of the mean radius (LIGGGHTS' canonical deck uses 0.2 r); with
+ * domain operations the mean over every subdomain's owned particles (collective: every
+ * subdomain calls it at the same rebuild, with or without particles). */
+static sinter_status choose_skin(sinter_stepper *st)
 {
-    if (st->skin_set || st->ps->count == 0)
-        return;
-    double sum = 0.0;
-    for (size_t i = 0; i < st->ps->count; ++i)
-        sum += st->ps->radius[i];
-    st->nb.skin = 0.2 * sum / (double)st->ps->count;
+    if (st->skin_set)
+        return SINTER_OK;
+    const size_t n = st->ps->count - st->ps->ghost_count;
+    double sum[2] = {0.0, (double)n};
+    for (size_t i = 0; i < n; ++i)
+        sum[0] += st->ps->radius[i];
+    if (st->domain.on) {
+        const sinter_status s = sinter_domain_reduce(st->ctx, &st->domain, sum, 2,
+                                                     SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+        if (s != SINTER_OK)
+            return s;
+    }
+    if (!(sum[1] > 0.0))
+        return SINTER_OK;
+    st->nb.skin = 0.2 * sum[0] / sum[1];
     st->skin_set = 1;
+    return SINTER_OK;
 }
 
 /* The bonded pairs of a model that holds pairs (set_held), in the current layout, for the
@@ -523,8 +541,80 @@ static double heat_reach(const sinter_stepper *st)
     return fraction * rmax;
 }
 
+/*
+ * The rebuild stage of a decomposed run (domain/domain.h): the decision is every subdomain's
+ * (a MAX of the flags, with the largest radius for the ghost cut-off); then the host
+ * redistributes (migration and new ghosts, sinter_particles_set_ghosts) before the build.
+ * Returns the status, *rebuild whether the lists must be built.
+ */
+static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int local,
+                                          int *rebuild)
+{
+    sinter_domain *d = &st->domain;
+    const sinter_particles *ps = st->ps;
+    double v[2] = {local || d->rebuild_due ? 1.0 : 0.0, 0.0};
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i)
+        v[1] = ps->radius[i] > v[1] ? ps->radius[i] : v[1];
+    sinter_status s = sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+    if (s != SINTER_OK)
+        return s;
+    const double reach = fraction * v[1];
+    const int wider = reach > st->nb.reach;
+    if (wider)
+        st->nb.reach = reach;
+    *rebuild = v[0] > 0.0 || wider;
+    if (!*rebuild)
+        return SINTER_OK;
+    if ((s = choose_skin(st)) != SINTER_OK)
+        return s;
+    d->cutoff = 2.0 * v[1] + st->nb.skin + st->nb.reach;
+    d->rebuild_due = 0;
+    const int failed = d->ops.redistribute(st, d->user) != 0;
+    s = failed ? sinter_fail(st->ctx, SINTER_ERR_CALLBACK,
+                             "the host's redistribute callback failed at t = %.9g s", st->time)
+               : sinter_explicit_keep_spare(st);
+    /* the spare arrays (explicit.c: the state at t) get the new ghosts' rows as they are now:
+     * a rollback restores the owners, and a forward halo the ghosts */
+    const size_t first = ps->count - ps->ghost_count;
+    double *rows[4] = {ps->x, ps->v, ps->w, ps->rot};
+    for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL; ++k)
+        memcpy(st->spare[k] + 3 * first, rows[k] + 3 * first, 3 * ps->ghost_count * sizeof(double));
+    return s;
+}
+
+/* The largest "gas_reach" fraction of the heat models (heat/gas_gap.h), 0 without one. */
+static double heat_reach_fraction(const sinter_stepper *st)
+{
+    double fraction = 0.0;
+    for (size_t k = 0; k < st->thermal.count; ++k) {
+        const double f = sinter_heat_gas_reach(st->thermal.slots[k].model, st->time);
+        fraction = f > fraction ? f : fraction;
+    }
+    return fraction > 0.0 ? fraction : 0.0;
+}
+
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
+    if (st->domain.on) {
+        int rebuild = 0;
+        const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
+        sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
+        if (s != SINTER_OK || !rebuild)
+            return s;
+        const double t0 = sinter_clock();
+        s = keep_held_pairs(st);
+        if (s == SINTER_OK)
+            s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
+        for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+            s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
+            if (s == SINTER_OK)
+                s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count,
+                                         &st->nb.pw);
+        }
+        st->stats.neighbor_builds++;
+        st->stats.seconds_neighbor += sinter_clock() - t0;
+        return s;
+    }
     const int periodic = sinter_ghosts_on(&st->ghosts);
     /* a wider reach than the list was built with: built again now, whatever the skin */
     const double reach = st->thermal.count > 0 ? heat_reach(st) : 0.0;
@@ -535,8 +625,7 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
         (!periodic || sinter_ghosts_current(&st->ghosts, st->ps)))
         return SINTER_OK;
     const double t0 = sinter_clock();
-    choose_skin(st);
-    sinter_status s = SINTER_OK;
+    sinter_status s = choose_skin(st);
     if (periodic) { /* owned particles wrapped into the cell, their images made (ghosts.h) */
         /* the spare arrays (explicit.c: the state at t of the step under way) follow: wrapped
          * the same, their ghost rows made alike */
@@ -764,8 +853,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->forces_zeroed = 0;
     st->gravity_seeded = 0;
     /* ghosts: their rows gather only what pairs put there (the reverse halo below) */
-    const int ghosts = ps->ghost_count > 0;
-    if (ghosts)
+    const int ghosts = ps->ghost_count > 0 && !st->domain.on; /* periodic images */
+    if (ps->ghost_count > 0)
         clear_ghost_rows(ps);
     s = fill_view(st, dt_hist);
     if (s != SINTER_OK)
@@ -835,9 +924,12 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         s = sinter_thermal_eval(st);
         st->stats_seconds_heat += sinter_clock() - t1;
     }
-    /* reverse halo: what the pairs put on the images goes to their owners (ghosts.h) */
+    /* reverse halo: what the pairs put on the images goes to their owners (ghosts.h); ghosts
+     * of other subdomains: discarded, their owners evaluate the same pairs (newton off) */
     if (s == SINTER_OK && ghosts)
         sinter_ghosts_reverse(&st->ghosts, ps);
+    else if (s == SINTER_OK && st->domain.on)
+        sinter_domain_discard_ghost_rows(ps);
     return s;
 }
 
@@ -953,14 +1045,33 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
     return s;
 }
 
-/* The last evaluation's wall forces and moments into the walls. */
-static void copy_wall_reactions(sinter_stepper *st)
+/* The last evaluation's wall forces and moments into the walls; with domain operations the
+ * sums over all subdomains (one reduction, collective), this subdomain's force kept as its
+ * share (sinter_walls_get_force_local). */
+static sinter_status copy_wall_reactions(sinter_stepper *st)
 {
     const size_t nw = st->walls->count;
-    for (size_t k = 0; k < nw; ++k) {
-        memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
-        memcpy(st->walls->wall[k].moment, st->wall_force + 3 * (nw + k), 3 * sizeof(double));
+    for (size_t k = 0; k < nw; ++k)
+        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
+    double *f = st->wall_force;
+    if (st->domain.on && nw > 0) {
+        f = st->domain.halo; /* (a work array between two halos) */
+        sinter_status s = sinter_grow(st->ctx, (void **)&st->domain.halo, &st->domain.halo_capacity,
+                                      6 * nw, sizeof(double));
+        if (s != SINTER_OK)
+            return s;
+        f = st->domain.halo;
+        memcpy(f, st->wall_force, 6 * nw * sizeof(double));
+        s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw, SINTER_REDUCE_F64,
+                                 SINTER_REDUCE_SUM);
+        if (s != SINTER_OK)
+            return s;
     }
+    for (size_t k = 0; k < nw; ++k) {
+        memcpy(st->walls->wall[k].force, f + 3 * k, 3 * sizeof(double));
+        memcpy(st->walls->wall[k].moment, f + 3 * (nw + k), 3 * sizeof(double));
+    }
+    return SINTER_OK;
 }
 
 sinter_status sinter_stepper_commit(sinter_stepper *st)
@@ -973,10 +1084,13 @@ sinter_status sinter_stepper_commit(sinter_stepper *st)
         if (s == SINTER_OK)
             s = sinter_history_commit(st->ctx, &st->forces[k].pw, &st->pw);
     }
-    if (st->walls != NULL) {
-        copy_wall_reactions(st);
+    /* a stage of its own with domain operations: the status agreed, then the reactions
+     * summed over the subdomains (both collective) */
+    s = sinter_domain_agree(st->ctx, &st->domain, s);
+    if (st->walls != NULL && s == SINTER_OK)
+        s = copy_wall_reactions(st);
+    if (st->walls != NULL && s == SINTER_OK)
         sinter_walls_servo_commit(st->walls, st->time); /* servos act on the accepted step */
-    }
     return s;
 }
 
@@ -993,8 +1107,9 @@ static sinter_status check_ready(sinter_stepper *st, const char *func)
 /* Bring forces, wall positions and history in line with the current state. */
 static sinter_status prepare(sinter_stepper *st)
 {
+    sinter_domain *d = &st->domain;
     if (st->kind == SINTER_STEPPER_EXPLICIT) { /* its fixed step against the estimate */
-        const sinter_status c = sinter_stable_step_check(st);
+        const sinter_status c = sinter_domain_agree(st->ctx, d, sinter_stable_step_check(st));
         if (c != SINTER_OK)
             return c;
     }
@@ -1002,16 +1117,28 @@ static sinter_status prepare(sinter_stepper *st)
         st->population_generation != st->ps->population_generation)
         st->forces_current = 0; /* the host changed the state through a view, or added/removed
                                    particles; a mere reordering moves forces along */
+    if (d->on) {                /* evaluated everywhere if anywhere (collective) */
+        int64_t stale = !st->forces_current;
+        const sinter_status r =
+            sinter_domain_reduce(st->ctx, d, &stale, 1, SINTER_REDUCE_I64, SINTER_REDUCE_MAX);
+        if (r != SINTER_OK)
+            return r;
+        st->forces_current = stale == 0;
+        if (stale) /* the host may have written owned particles: their ghosts made again */
+            d->rebuild_due = 1;
+    }
     if (st->forces_current)
         return SINTER_OK;
     sinter_stepper_apply_furnace(st);
     sinter_status s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
     if (s == SINTER_OK && st->kind == SINTER_STEPPER_EXPLICIT)
         s = sinter_explicit_reserve(st);
+    s = sinter_domain_agree(st->ctx, d, s);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
     if (s == SINTER_OK && st->kind != SINTER_STEPPER_QUASISTATIC)
         s = sinter_sanity_start(st); /* particles behind a wall, coincident centres */
+    s = sinter_domain_agree(st->ctx, d, s);
     if (s == SINTER_OK)
         s = sinter_stepper_commit(st);
     if (s == SINTER_OK) {
@@ -1034,10 +1161,12 @@ sinter_status sinter_stepper_evaluate(sinter_stepper *st)
     sinter_status s = check_ready(st, "sinter_stepper_evaluate");
     if (s == SINTER_OK && st->walls)
         s = sinter_walls_move(st->walls, st->time);
+    s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
+    s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK && st->walls != NULL)
-        copy_wall_reactions(st);
+        s = copy_wall_reactions(st);
     return s;
 }
 
@@ -1159,7 +1288,8 @@ static sinter_status take_step(sinter_stepper *st, double h, double t_end, doubl
         sinter_thread_choice_end(st, sinter_clock() - clock_start, s == SINTER_OK);
         *taken = h;
         st->eval_lag = s == SINTER_OK ? 0.5 * h : 0.0;
-        if (s == SINTER_OK) /* at rest: the next steps are heat steps (frozen_heat.h) */
+        if (s == SINTER_OK && !st->domain.on) /* at rest: the next steps are heat steps
+                                                 (frozen_heat.h; not yet across subdomains) */
             s = sinter_frozen_consider(st);
     }
     if (s != SINTER_OK) {
@@ -1172,6 +1302,22 @@ static sinter_status take_step(sinter_stepper *st, double h, double t_end, doubl
     if (st->observer != NULL && st->observer(st, st->time, st->observer_user) != 0)
         *stop = 1;
     return SINTER_OK;
+}
+
+/* With domain operations, whether the run goes on, the same on every subdomain (one
+ * reduction): a stop asked of one subdomain's context (status `s`) or by its observer
+ * (*stop) stops all of them. Without, `s` as it is. */
+static sinter_status go_on_together(sinter_stepper *st, sinter_status s, int *stop)
+{
+    if (!st->domain.on)
+        return s;
+    int64_t v[2] = {(int64_t)s, *stop ? -1 : 0}; /* (a MIN of both) */
+    const sinter_status r =
+        sinter_domain_reduce(st->ctx, &st->domain, v, 2, SINTER_REDUCE_I64, SINTER_REDUCE_MIN);
+    if (r != SINTER_OK)
+        return r;
+    *stop = v[1] < 0;
+    return v[0] < 0 ? sinter_domain_agree(st->ctx, &st->domain, s) : SINTER_OK;
 }
 
 /* The step to try next: the set (explicit) or adapted (staggered) step, capped by dt_max. */
@@ -1195,11 +1341,13 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
                            t_end, st->time);
     const double t0 = sinter_clock();
     sinter_status s = check_ready(st, "sinter_stepper_advance");
+    s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
         s = prepare(st);
     int stop = 0;
-    while (s == SINTER_OK && !stop && st->time < t_end) {
-        if ((s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_advance", st->time)) != SINTER_OK)
+    while (s == SINTER_OK && (!stop || st->domain.on) && st->time < t_end) {
+        s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_advance", st->time);
+        if ((s = go_on_together(st, s, &stop)) != SINTER_OK || stop)
             break;
         const double proposal = next_step(st);
         double h = proposal, taken = 0.0;
@@ -1233,14 +1381,16 @@ sinter_status sinter_stepper_step(sinter_stepper *st, uint64_t n)
         return SINTER_ERR_NULL;
     const double t0 = sinter_clock();
     sinter_status s = check_ready(st, "sinter_stepper_step");
+    s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
         s = prepare(st);
     int stop = 0;
     double taken = 0.0;
-    for (uint64_t k = 0; k < n && s == SINTER_OK && !stop; ++k) {
+    for (uint64_t k = 0; k < n && s == SINTER_OK && (!stop || st->domain.on); ++k) {
         s = sinter_ctx_take_stop(st->ctx, "sinter_stepper_step", st->time);
-        if (s == SINTER_OK)
-            s = take_step(st, next_step(st), INFINITY, &taken, &stop);
+        if ((s = go_on_together(st, s, &stop)) != SINTER_OK || stop)
+            break;
+        s = take_step(st, next_step(st), INFINITY, &taken, &stop);
     }
     st->stats.seconds_total += sinter_clock() - t0;
     return s;

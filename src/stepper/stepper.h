@@ -3,6 +3,7 @@
 #define SINTER_STEPPER_H
 
 #include "contact/history.h"
+#include "domain/domain.h"
 #include "ghosts/ghosts.h"
 #include "stepper/anderson.h"
 #include "stepper/step_control.h"
@@ -148,6 +149,7 @@ struct sinter_stepper {
     double stats_seconds_heat;         /* wall-clock time in heat evaluation [s] (conduction summed
                                           in the law's region counts in stats.seconds_force) */
     sinter_ghosts ghosts; /* periodic axes and their images (ghosts/ghosts.h); explicit only */
+    sinter_domain domain; /* the host's collective operations (domain/domain.h); explicit only */
     int has_domain;
     double domain_lo[3];
     double domain_hi[3];

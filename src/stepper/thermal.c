@@ -256,11 +256,13 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
         /* four partial sums: the dependent additions of one would take longer than the
          * submodel at a million particles */
         double part[4] = {0.0, 0.0, 0.0, 0.0};
+        /* (with ghosts of other subdomains, this subdomain's share: its owned particles) */
+        const size_t m = st->domain.on ? n - ps->ghost_count : n;
         size_t i = 0;
-        for (; i + 4 <= n; i += 4)
+        for (; i + 4 <= m; i += 4)
             for (int a = 0; a < 4; ++a)
                 part[a] += ps->heat[i + (size_t)a];
-        for (; i < n; ++i)
+        for (; i < m; ++i)
             part[0] += ps->heat[i];
         const double after = (part[0] + part[1]) + (part[2] + part[3]);
         slot->power = after - before;

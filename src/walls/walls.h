@@ -57,8 +57,9 @@ typedef struct sinter_wall {
     double thermal_value; /* RESISTANCE: R'' [m^2 K/W]; TRANSFER: h [W/(m^2 K)]; others 0 */
     /* Written at every step's commit: last, and a cache line away from the next wall's first
      * fields (the array of walls is not line-aligned). */
-    double force[3];  /* reaction: force the particles exert on the wall [N] */
-    double moment[3]; /* reaction moment about p [N m] */
+    double force[3];       /* reaction: force the particles exert on the wall [N] */
+    double moment[3];      /* reaction moment about p [N m] */
+    double force_local[3]; /* this subdomain's share of force (include/sinter_domain.h) [N] */
     /* force servo (servo.c): state changed at each commit */
     int servo;          /* 1: the wall's motion along its axis is the servo's */
     size_t servo_count; /* target force schedule (servo_t [s], servo_f [N]) */

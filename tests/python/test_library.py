@@ -21,9 +21,9 @@ def header_defines(name):
 
 
 def header_functions():
-    """Names of the functions declared with SINTER_API in sinter.h and sinter_submodel.h."""
+    """Names of the functions declared with SINTER_API in the public headers."""
     names = []
-    for name in ("sinter.h", "sinter_submodel.h"):
+    for name in ("sinter.h", "sinter_submodel.h", "sinter_domain.h"):
         with open(_cdef.find_header(name)) as header:
             code = re.sub(r"/\*.*?\*/", " ", header.read(), flags=re.S)
         names += re.findall(r"SINTER_API\s+[\w\s*]*?\b(sinter_\w+)\s*\(", code)
@@ -146,7 +146,7 @@ class CoverageTest(unittest.TestCase):
     def test_enums_of_the_header_are_python_enums(self):
         """Every enum of the headers has a Python enum with the header's names and values."""
         code = ""
-        for header in ("sinter.h", "sinter_submodel.h"):
+        for header in ("sinter.h", "sinter_submodel.h", "sinter_domain.h"):
             with open(_cdef.find_header(header)) as text:
                 code += re.sub(r"/\*.*?\*/", " ", text.read(), flags=re.S)
         pairs = {
@@ -171,6 +171,9 @@ class CoverageTest(unittest.TestCase):
             "sinter_link_data": (sinter.snapshot.LinkData, "SINTER_LINK_DATA_"),
             "sinter_coarse_quantity": (sinter.CoarseQuantity, "SINTER_COARSE_"),
             "sinter_property": (sinter.Property, "SINTER_PROPERTY_"),
+            "sinter_reduce_op": (sinter.domain.ReduceOp, "SINTER_REDUCE_"),
+            "sinter_reduce_type": (sinter.domain.ReduceType, "SINTER_REDUCE_"),
+            "sinter_halo_dir": (sinter.domain.HaloDir, "SINTER_HALO_"),
         }
         declared = set(re.findall(r"typedef enum (\w+) \{", code))
         self.assertEqual(declared - set(pairs), set(), "give these C enums a Python enum")

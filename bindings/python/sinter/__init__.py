@@ -40,6 +40,7 @@ from .scene import Scene
 from .stepper import (OPTIONS, SinteringStats, Stepper, StepperKind, StepperStats,
                       ThermalScheme, damping_ratio_from_restitution, stable_dt_hertz)
 from .walls import WallElectric, WallKind, WallMotion, WallThermal, Walls
+from . import domain  # noqa: E402 (sinter_domain.h: a subdomain of the host's decomposition)
 
 __version__ = version_string()
 

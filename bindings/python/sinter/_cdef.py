@@ -1,5 +1,5 @@
 """The public headers as a cffi cdef: preprocess sinter_submodel.h (which
-includes sinter.h) and parse it.
+includes sinter.h) and sinter_domain.h, and parse them.
 
 sinter.h promises that its preprocessed form parses as a cffi cdef. The C
 preprocessor runs with -nostdinc and empty stand-ins for <stddef.h> and
@@ -42,15 +42,20 @@ def find_header(name="sinter.h", dirs=None):
 def preprocess(header=None, cc=None, dirs=None):
     """Text of the preprocessed header, without '#' lines, ready for FFI.cdef.
 
-    The default header is sinter_submodel.h: sinter.h plus the host submodel API.
+    The default is every public header: sinter.h, the host submodel API (sinter_submodel.h)
+    and the domain API (sinter_domain.h).
     """
     dirs = include_dirs() if dirs is None else dirs
-    header = find_header("sinter_submodel.h", dirs=dirs) if header is None else header
     compiler = shlex.split(cc or os.environ.get("SINTER_CC") or "cc")
     with tempfile.TemporaryDirectory() as stubs:
         for name in ("stddef.h", "stdint.h"):
             with open(os.path.join(stubs, name), "w") as stub:
                 stub.write("/* provided by cffi */\n")
+        if header is None:
+            header = os.path.join(stubs, "sinter_all.h")
+            with open(header, "w") as stub:
+                for name in ("sinter_submodel.h", "sinter_domain.h"):
+                    stub.write('#include "%s"\n' % os.path.abspath(find_header(name, dirs=dirs)))
         command = compiler + ["-E", "-P", "-x", "c", "-nostdinc", "-I", stubs]
         for directory in dirs:
             command += ["-I", directory]

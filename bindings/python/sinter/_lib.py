@@ -1,6 +1,6 @@
 """Finding and loading libsinter, and the one table of its C signatures.
 
-Every function of the public headers sinter.h and sinter_submodel.h is declared in SIGNATURES
+Every function of the public headers sinter.h, sinter_submodel.h and sinter_domain.h is declared in SIGNATURES
 below (restype and argtypes), with the structs and callback types they use;
 no other module sets argtypes. The tests compare this table with the headers.
 """
@@ -62,6 +62,45 @@ class Allocator(ctypes.Structure):
     _cname = "sinter_allocator"
     _fields_ = [("struct_size", _size), ("alloc", AllocFn), ("realloc", ReallocFn),
                 ("free", FreeFn), ("user", ctypes.c_void_p)]
+
+
+# sinter_domain.h (issue 43): ghosts of other subdomains and the host's collective operations
+ReduceFn = ctypes.CFUNCTYPE(_int, ctypes.c_void_p, _size, _int, _int, ctypes.c_void_p)
+ExscanFn = ctypes.CFUNCTYPE(_int, _u64, _P(_u64), _P(_u64), ctypes.c_void_p)
+RedistributeFn = ctypes.CFUNCTYPE(_int, StepperPtr, ctypes.c_void_p)
+DestroyUserFn = ctypes.CFUNCTYPE(None, ctypes.c_void_p)
+
+
+class GhostFields(ctypes.Structure):
+    """struct sinter_ghost_fields: one layer of ghosts (SI units, arrays borrowed)."""
+
+    _cname = "sinter_ghost_fields"
+    _fields_ = [("struct_size", _size), ("count", _size), ("id", _P(_u64)),
+                ("position", _P(_double)), ("velocity", _P(_double)), ("spin", _P(_double)),
+                ("rotation", _P(_double)), ("radius", _P(_double)), ("mass", _P(_double)),
+                ("inertia", _P(_double)), ("temperature", _P(_double)),
+                ("material", _P(ctypes.c_int32)), ("flags", _P(ctypes.c_uint32)),
+                ("owner", _P(ctypes.c_int32))]
+
+
+class Halo(ctypes.Structure):
+    """struct sinter_halo: one exchange of per-particle rows."""
+
+    _cname = "sinter_halo"
+    _fields_ = [("struct_size", _size), ("direction", _int), ("width", _size),
+                ("data", _P(_double)), ("id", _P(_u64)), ("owned", _size), ("ghosts", _size)]
+
+
+HaloFn = ctypes.CFUNCTYPE(_int, _P(Halo), ctypes.c_void_p)
+
+
+class DomainOps(ctypes.Structure):
+    """struct sinter_domain_ops: the host's collective operations."""
+
+    _cname = "sinter_domain_ops"
+    _fields_ = [("struct_size", _size), ("reduce", ReduceFn), ("exscan", ExscanFn),
+                ("halo", HaloFn), ("redistribute", RedistributeFn),
+                ("destroy_user", DestroyUserFn)]
 
 
 class StepperStats(ctypes.Structure):
@@ -497,6 +536,13 @@ SIGNATURES = {
     "sinter_electric_model_electrode_heat": (c_status, [ElectricModelPtr, _P(_double)]),
     "sinter_stepper_set_neck_law": (
         c_status, [StepperPtr, _P(NeckLawCallbacks), ctypes.c_void_p]),
+    # sinter_domain.h: libsinter on one subdomain of the host's decomposition
+    "sinter_particles_set_ghosts": (c_status, [ParticlesPtr, _P(GhostFields)]),
+    "sinter_stepper_set_domain_ops": (c_status, [StepperPtr, _P(DomainOps), ctypes.c_void_p]),
+    "sinter_stepper_ghost_cutoff": (c_status, [StepperPtr, _P(_double)]),
+    "sinter_walls_get_force_local": (c_status, [WallsPtr, _size, _P(_double)]),
+    "sinter_stepper_get_stats_global": (c_status, [StepperPtr, _P(StepperStats)]),
+    "sinter_stepper_heat_energy_global": (c_status, [StepperPtr, _size, _P(_double)]),
 }
 
 

@@ -1,0 +1,172 @@
+/*
+ * libsinter on one subdomain of a decomposed body (issue 43, layer a: no MPI in the library).
+ *
+ * The host owns the decomposition. Every subdomain has its own context, particle set, walls
+ * (the same walls everywhere) and stepper; the owned particles carry global ids
+ * (sinter_particles_add_with_ids), and the host supplies copies ("ghosts") of the particles of
+ * other subdomains that lie within sinter_stepper_ghost_cutoff of its owned ones. Through a
+ * table of callbacks the library asks the host for the collective operations it needs.
+ *
+ * Contract (explicit stepper, this version):
+ *  - Newton's third law is off across subdomain borders: each subdomain evaluates every pair
+ *    with an owned end; the pair is oriented and keyed by the two ids, so both sides hold equal
+ *    histories; forces, moments and heat powers on ghosts are discarded. No ghost-ghost pairs,
+ *    no ghost wall contacts.
+ *  - Every global quantity of a step (wall forces, the rebuild decision, the ghost cut-off and
+ *    skin, the stopping of a run, every status) comes from `reduce`; control flow follows
+ *    reduced values only, so every subdomain takes the same branch.
+ *  - Errors are collective: every subdomain returns the same status at the same step, with the
+ *    same message, which names the subdomain that reported it and the particle's id.
+ *  - sinter_stepper_advance, _step and _evaluate become collective calls: every subdomain
+ *    makes the same call with the same arguments.
+ *
+ * Like sinter.h, this header uses only <stddef.h> and <stdint.h> and parses as a cffi cdef.
+ */
+#ifndef SINTER_DOMAIN_H
+#define SINTER_DOMAIN_H
+
+/**
+ * @file sinter_domain.h
+ * @brief Running libsinter on one subdomain of a decomposition owned by the host: ghosts, the
+ * callback table of collective operations, global results.
+ */
+
+#include "sinter.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** One layer of ghosts: `count` particles of other subdomains (all arrays borrowed, particle
+ * major). */
+typedef struct sinter_ghost_fields {
+    size_t struct_size; /**< sizeof(sinter_ghost_fields) */
+    size_t count;       /**< ghosts */
+    const uint64_t *id; /**< global ids (not ids of owned particles) */
+    const double *position, *velocity, *spin, *rotation; /**< 3 each [m], [m/s], [rad/s], [-] */
+    const double *radius, *mass, *inertia, *temperature; /**< 1 each [m], [kg], [kg m^2], [K] */
+    const int32_t *material;                             /**< registered material ids of this set */
+    const uint32_t *flags; /**< sinter_particle_flag bits (NULL: none) */
+    const int32_t *owner;  /**< owning subdomain, for checks (NULL: unknown) */
+} sinter_ghost_fields;
+
+/**
+ * Replace every ghost row of `particles` by `ghosts` (owned particles untouched; ghosts come
+ * after them, in the given order). Called by the host from its redistribute callback, and
+ * once before the first step. Between two calls the ghost list (membership and order) is
+ * fixed: only the values change, through the halo callback. Forces, moments, heat powers and
+ * currents of the rows start at zero. Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE,
+ * SINTER_ERR_INVALID (a non-finite value, a radius, mass or inertia <= 0, an unregistered
+ * material, an id of an owned particle), SINTER_ERR_BUSY (views out), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_particles_set_ghosts(sinter_particles *particles,
+                                                     const sinter_ghost_fields *ghosts);
+
+/** Operations of sinter_domain_ops.reduce. */
+typedef enum sinter_reduce_op {
+    SINTER_REDUCE_SUM = 0,
+    SINTER_REDUCE_MIN = 1,
+    SINTER_REDUCE_MAX = 2
+} sinter_reduce_op;
+
+/** Value types of sinter_domain_ops.reduce: double, int64_t, uint64_t. */
+typedef enum sinter_reduce_type {
+    SINTER_REDUCE_F64 = 0,
+    SINTER_REDUCE_I64 = 1,
+    SINTER_REDUCE_U64 = 2
+} sinter_reduce_type;
+
+/** Directions of sinter_domain_ops.halo. */
+typedef enum sinter_halo_dir {
+    SINTER_HALO_FORWARD = 0, /**< owners' rows copied into the ghost rows */
+    SINTER_HALO_REVERSE = 1  /**< ghost rows added into their owners' rows, then zeroed */
+} sinter_halo_dir;
+
+/** One exchange of per-particle rows (sinter_domain_ops.halo). */
+typedef struct sinter_halo {
+    size_t struct_size; /**< sizeof(sinter_halo) */
+    int direction;      /**< a sinter_halo_dir */
+    size_t width;       /**< doubles per particle */
+    double *data;       /**< (owned + ghosts) * width doubles, in the set's index order */
+    const uint64_t *id; /**< the set's ids in the same order */
+    size_t owned, ghosts;
+} sinter_halo;
+
+/** The explicit step's forward halo: 13 doubles per particle, x (3) [m], v (3) [m/s], spin (3)
+ * [rad/s], rotation vector (3) [-], temperature (1) [K]. */
+#define SINTER_HALO_STATE_WIDTH 13
+
+/**
+ * The host's collective operations. Every callback returns 0 on success; a non-zero return
+ * becomes SINTER_ERR_CALLBACK on every subdomain (reduced, as every status is). Every
+ * subdomain calls them in the same order.
+ */
+typedef struct sinter_domain_ops {
+    size_t struct_size; /**< sizeof(sinter_domain_ops) */
+    /** Reduce `count` values of `type` (sinter_reduce_type) with `op` (sinter_reduce_op) in
+     * place; every subdomain must receive identical bits. */
+    int (*reduce)(void *values, size_t count, int type, int op, void *user);
+    /** Exclusive prefix sum of `value` over the subdomains (in the host's order), and the
+     * total. The library learns its subdomain's number (exscan of 1) from it. */
+    int (*exscan)(uint64_t value, uint64_t *before, uint64_t *total, void *user);
+    /** Refresh ghost rows from their owners (forward) or add ghost rows into owners (reverse). */
+    int (*halo)(const sinter_halo *h, void *user);
+    /** At a neighbour-list rebuild (every subdomain at once): move the owned particles that
+     * left the subdomain (migration: sinter_stepper_export / _import, a later milestone), then
+     * call sinter_particles_set_ghosts with every particle within sinter_stepper_ghost_cutoff
+     * of an owned one. The set's owned particles may be read (not written) here. */
+    int (*redistribute)(sinter_stepper *st, void *user);
+    /** Called once when the stepper is destroyed or the table replaced (may be NULL). */
+    void (*destroy_user)(void *user);
+} sinter_domain_ops;
+
+/**
+ * Install the host's collective operations (copied; NULL removes them). From then on the
+ * stepper's global quantities go through `ops`. The explicit stepper only, without periodic
+ * axes, continuous insertion, an electric model, implicit conduction or the option
+ * sort_interval (SINTER_ERR_UNSUPPORTED names the one, here or at the next step); reduce,
+ * exscan, halo and redistribute are required. sinter_checkpoint_write refuses such a stepper
+ * (SINTER_ERR_UNSUPPORTED) until migration brings portable checkpoints.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
+ */
+SINTER_API sinter_status sinter_stepper_set_domain_ops(sinter_stepper *stepper,
+                                                       const sinter_domain_ops *ops, void *user);
+
+/**
+ * The distance [m] within which the host must supply ghosts of an owned particle: 2 r_max +
+ * skin (+ the heat models' gas reach), r_max over every subdomain. Valid inside
+ * `redistribute`; before the first rebuild it is computed from this subdomain's particles.
+ */
+SINTER_API sinter_status sinter_stepper_ghost_cutoff(const sinter_stepper *stepper, double *cutoff);
+
+/**
+ * This subdomain's share of wall k's reaction force [N]; with domain ops sinter_walls_get_force
+ * returns the total over all subdomains (reduced once per accepted step). Without domain ops
+ * both are equal. Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE.
+ */
+SINTER_API sinter_status sinter_walls_get_force_local(const sinter_walls *walls, size_t k,
+                                                      double force[3]);
+
+/**
+ * Collective: the statistics over all subdomains (counts and times summed, dt and time as
+ * they are: equal everywhere). Contacts across a border count on both sides.
+ * sinter_stepper_get_stats stays local. Without domain ops the same as sinter_stepper_get_stats.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_CALLBACK.
+ */
+SINTER_API sinter_status sinter_stepper_get_stats_global(const sinter_stepper *stepper,
+                                                         sinter_stepper_stats *stats);
+
+/**
+ * Collective: the energy heat model `index` has put into the particles so far [J], summed
+ * over every subdomain (sinter_stepper_heat_energy stays this subdomain's share, its owned
+ * particles'). Without domain operations the same as sinter_stepper_heat_energy.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_RANGE, SINTER_ERR_CALLBACK.
+ */
+SINTER_API sinter_status sinter_stepper_heat_energy_global(const sinter_stepper *stepper,
+                                                           size_t index, double *energy);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,54 @@
+/*
+ * The stepper's side of a decomposed run (issue 43, include/sinter_domain.h): the host's
+ * collective operations and the few helpers the explicit step calls as stages of its own
+ * (reductions, the collective status, the forward halo of the state).
+ *
+ * Control flow in a decomposed run comes only from reduced values: a status is agreed
+ * (sinter_domain_agree) before any branch that skips a collective call, so that no
+ * subdomain waits for another that went elsewhere.
+ */
+#ifndef SINTER_DOMAIN_INTERNAL_H
+#define SINTER_DOMAIN_INTERNAL_H
+
+#include "core/core.h"
+#include "particles/particles.h"
+#include "sinter_domain.h"
+
+typedef struct sinter_domain {
+    int on;                /* 1 while the host's operations are installed */
+    sinter_domain_ops ops; /* copied */
+    void *user;
+    long rank;            /* this subdomain's number (exscan of 1), -1 until known */
+    double cutoff;        /* the ghost cut-off of the last rebuild [m] (0: none yet) */
+    int rebuild_due;      /* a rejected step left ghosts to be made again */
+    double *halo;         /* the forward halo's rows, (owned + ghosts) * width */
+    size_t halo_capacity; /* doubles */
+    uint64_t reductions;  /* reduce calls made */
+    uint64_t halos;       /* halo calls made */
+} sinter_domain;
+
+void sinter_domain_free(sinter_ctx *ctx, sinter_domain *d);
+
+/* Reduce `count` values in place through the host; SINTER_ERR_CALLBACK when it fails (the
+ * same on every subdomain only if the host's failure is: hosts fail collectively or abort). */
+sinter_status sinter_domain_reduce(sinter_ctx *ctx, sinter_domain *d, void *values, size_t count,
+                                   int type, int op);
+
+/* The collective status: every subdomain passes its own status `s` and receives the same
+ * one, the most negative code reported anywhere, with the message of the lowest-numbered
+ * subdomain that reported it, prefixed by "subdomain R: ". SINTER_OK costs one reduction. */
+sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_status s);
+
+/* The forward halo of the state (SINTER_HALO_STATE_WIDTH doubles per particle): the owned
+ * rows packed, the host fills the ghost rows, which are unpacked into the set. */
+sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_particles *ps);
+
+/* Forces, moments and heat powers on the ghost rows discarded (newton off across borders). */
+void sinter_domain_discard_ghost_rows(sinter_particles *ps);
+
+/* SINTER_OK when the stepper's settings work across subdomains, else SINTER_ERR_UNSUPPORTED
+ * naming the first that does not (domain/stepper_domain.c). */
+struct sinter_stepper;
+sinter_status sinter_domain_check(struct sinter_stepper *st);
+
+#endif

@@ -1,0 +1,679 @@
+/*
+ * libsinter on subdomains of a decomposition owned by the host (issue 43, include/
+ * sinter_domain.h), run through the thread transport of domain_loopback.h: 1 to 4 subdomains
+ * as threads of one process, slabs along x.
+ *
+ *  - A bed of 288 spheres (Hertz-Mindlin with friction, damping and rolling resistance,
+ *    gravity, conduction, five walls) on 1, 2, 3 and 4 subdomains equals the single-domain
+ *    run: on one subdomain bit for bit (nothing is summed in another order), on more within
+ *    1e-10 relative, with the wall forces identical on every subdomain.
+ *  - A contact sliding across a subdomain border keeps its tangential spring: equal to the
+ *    single-domain run to 1e-12 of its largest force, and the same bits on both sides.
+ *  - A NaN made on one subdomain stops all of them at the same step with the same status and
+ *    message, which names the subdomain and the particle's id (no hang: ctest's timeout).
+ */
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <sinter_domain.h>
+#include <sinter_submodel.h>
+
+#include "domain_loopback.h"
+#include "test_support.h"
+
+#define OK(call) assert_int_equal((call), SINTER_OK)
+
+enum { NX = 8, NY = 6, NZ = 6, N = NX * NY * NZ, NW = 5, STEPS = 150 };
+static const double R = 1e-3, A = 1.97e-3; /* radius and lattice spacing [m]: 1.5 % overlap */
+
+static double lcg(uint64_t *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*s >> 11) / 9007199254740992.0;
+}
+
+/* The bed's particles, the same for every decomposition; ids in another order than the
+ * lattice's (a multiplicative permutation) so that nothing leans on ids ascending. */
+typedef struct bed_spec {
+    double x[3 * N], v[3 * N], w[3 * N], temp[N];
+    uint64_t id[N];
+} bed_spec;
+
+static bed_spec BED;
+static const double LX = R + A * (NX - 1) + 0.99 * R; /* the box [m] */
+static const double LY = R + A * (NY - 1) + 0.99 * R;
+
+static void make_bed(void)
+{
+    uint64_t seed = 43;
+    for (int k = 0; k < N; ++k) {
+        const int i = k % NX, j = (k / NX) % NY, l = k / (NX * NY);
+        BED.x[3 * k] = R + A * i + 0.01 * R * (lcg(&seed) - 0.5);
+        BED.x[3 * k + 1] = R + A * j + 0.01 * R * (lcg(&seed) - 0.5);
+        BED.x[3 * k + 2] = 0.99 * R + A * l + 0.01 * R * (lcg(&seed) - 0.5);
+        for (int d = 0; d < 3; ++d) {
+            BED.v[3 * k + d] = 0.04 * (lcg(&seed) - 0.5);
+            BED.w[3 * k + d] = 20.0 * (lcg(&seed) - 0.5);
+        }
+        BED.temp[k] = 300.0 + 100.0 * lcg(&seed);
+        BED.id[k] = 1 + (uint64_t)((k * 37) % N);
+    }
+}
+
+/* The subdomain of a particle at x among `size` slabs of the box along x. */
+static int slab_of(double x, int size)
+{
+    int r = (int)floor(x / LX * size);
+    return r < 0 ? 0 : r >= size ? size - 1 : r;
+}
+
+/* A host body force that makes the force of one particle NaN from time `after` on. */
+typedef struct poison {
+    size_t index; /* (SIZE_MAX: none) */
+    double after;
+} poison;
+
+static int poison_force(const sinter_state_view *s, double *force, double *torque, void *user)
+{
+    (void)torque;
+    const poison *p = user;
+    if (p->index != SIZE_MAX && s->time > p->after)
+        force[3 * p->index] = NAN;
+    return 0;
+}
+
+/* One subdomain's run of the bed and what it leaves: its owned particles' state by id. */
+typedef struct job {
+    int rank, size;
+    loopback *lb; /* NULL: a run without domain operations */
+    int steps;
+    uint64_t poison_id; /* 0: none */
+    int poison_step;    /* the step (from 1) whose evaluation makes the NaN */
+    int stop_step;      /* > 0: one advance, which this subdomain's observer stops after the
+                           step stop_step (0: steps one by one) */
+    double end_time;    /* the time it ended at [s] */
+    double energy;      /* the conduction's energy into the particles, all subdomains [J] */
+    /* results */
+    int setup_failed;
+    sinter_status status;
+    int failed_at; /* the step that failed (from 1), 0: none */
+    char message[512];
+    double wall[3 * NW], wall_local[3 * NW];
+    uint64_t builds, contacts;
+    size_t owned;
+} job;
+
+/* Final state by id - 1 (each subdomain writes the slots of its owned particles). */
+typedef struct state {
+    double x[3 * N], v[3 * N], w[3 * N], temp[N];
+    int seen[N];
+} state;
+
+typedef struct job_and_state {
+    job *j;
+    state *out;
+} job_and_state;
+
+#define TRY(call)                                                                                  \
+    do {                                                                                           \
+        if ((call) != SINTER_OK) {                                                                 \
+            j->setup_failed = __LINE__;                                                            \
+            goto done;                                                                             \
+        }                                                                                          \
+    } while (0)
+
+static void copy_owned(sinter_particles *ps, size_t owned, state *out)
+{
+    const uint64_t *id = NULL;
+    const double *x = NULL, *v = NULL, *w = NULL, *t = NULL;
+    if (sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&id, NULL, NULL) ||
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL) ||
+        sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v, NULL, NULL) ||
+        sinter_particles_view_read(ps, SINTER_FIELD_SPIN, (const void **)&w, NULL, NULL) ||
+        sinter_particles_view_read(ps, SINTER_FIELD_TEMPERATURE, (const void **)&t, NULL, NULL))
+        return;
+    for (size_t i = 0; i < owned; ++i) {
+        const size_t k = (size_t)id[i] - 1;
+        memcpy(out->x + 3 * k, x + 3 * i, 24);
+        memcpy(out->v + 3 * k, v + 3 * i, 24);
+        memcpy(out->w + 3 * k, w + 3 * i, 24);
+        out->temp[k] = t[i];
+        out->seen[k]++;
+    }
+    sinter_particles_release(ps, SINTER_FIELD_ID);
+    sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
+    sinter_particles_release(ps, SINTER_FIELD_SPIN);
+    sinter_particles_release(ps, SINTER_FIELD_TEMPERATURE);
+}
+
+/* An observer that stops the run from time `*user` on. */
+static int stop_after(const sinter_stepper *st, double time, void *user)
+{
+    (void)st;
+    return time >= *(const double *)user;
+}
+
+static void *run_bed(void *arg)
+{
+    job_and_state *js = arg;
+    job *j = js->j;
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    sinter_walls *walls = NULL;
+    sinter_stepper *st = NULL;
+    sinter_force_model *gravity = NULL, *contact = NULL, *host = NULL;
+    sinter_heat_model *cond = NULL;
+    poison p = {SIZE_MAX, 0.0};
+    const double dt = 2e-6;
+    TRY(sinter_ctx_create(&ctx, NULL));
+    TRY(sinter_ctx_set_threads(ctx, 1));
+    TRY(sinter_material_create(&mat, ctx, "bed"));
+    const struct {
+        sinter_material_param p;
+        double v;
+    } props[] = {{SINTER_MAT_YOUNGS_MODULUS, 1e7},   {SINTER_MAT_POISSON_RATIO, 0.3},
+                 {SINTER_MAT_DENSITY, 2500},         {SINTER_MAT_DAMPING_RATIO, 0.3},
+                 {SINTER_MAT_FRICTION_STATIC, 0.5},  {SINTER_MAT_FRICTION_DYNAMIC, 0.5},
+                 {SINTER_MAT_ROLLING_FRICTION, 0.1}, {SINTER_MAT_THERMAL_CONDUCTIVITY, 400},
+                 {SINTER_MAT_HEAT_CAPACITY, 400}};
+    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
+        TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    TRY(sinter_particles_create(&ps, ctx));
+    TRY(sinter_particles_set_material(ps, 0, mat));
+    TRY(sinter_walls_create(&walls, ctx));
+    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
+    const double wn[NW][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    for (int k = 0; k < NW; ++k)
+        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
+    TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
+    TRY(sinter_stepper_set_option(st, "thread_choice", 0));
+    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
+    TRY(sinter_stepper_add_force(st, gravity)); /* first: the integrator seeds m g */
+    TRY(sinter_force_model_create(&contact, ctx, "hertz_mindlin"));
+    TRY(sinter_stepper_add_force(st, contact));
+    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
+    TRY(sinter_stepper_add_heat(st, cond));
+    for (int k = 0; k < N; ++k) {
+        if (slab_of(BED.x[3 * k], j->size) != j->rank)
+            continue;
+        size_t first = 0;
+        TRY(sinter_particles_add_with_ids(ps, 1, &BED.id[k], BED.x + 3 * k, &R, 0, BED.temp[k],
+                                          &first));
+        double *v = NULL, *w = NULL;
+        TRY(sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
+        memcpy(v + 3 * first, BED.v + 3 * k, 24);
+        TRY(sinter_particles_release(ps, SINTER_FIELD_VELOCITY));
+        TRY(sinter_particles_view(ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
+        memcpy(w + 3 * first, BED.w + 3 * k, 24);
+        TRY(sinter_particles_release(ps, SINTER_FIELD_SPIN));
+        if (BED.id[k] == j->poison_id) {
+            p.index = first;
+            p.after = (j->poison_step - 0.5) * dt;
+        }
+    }
+    if (p.index != SIZE_MAX) {
+        const sinter_force_callbacks cb = {.struct_size = sizeof(cb), .particles = poison_force};
+        TRY(sinter_force_model_create_host(&host, ctx, "poison", &cb, &p));
+        TRY(sinter_stepper_add_force(st, host));
+    }
+    TRY(sinter_particles_owned_count(ps, &j->owned));
+    TRY(sinter_stepper_set_dt(st, dt));
+    TRY(sinter_stepper_set_skin(st, 1e-5)); /* rebuilds (and redistributions) every few steps */
+    if (j->lb != NULL)
+        TRY(loopback_attach(j->lb, j->rank, st, ps));
+    j->status = SINTER_OK;
+    const double stop_time = (j->stop_step - 0.5) * dt;
+    if (j->stop_step > 0 && j->rank == j->size - 1)
+        TRY(sinter_stepper_set_observer(st, stop_after, (void *)&stop_time));
+    if (j->stop_step > 0)
+        j->status = sinter_stepper_advance(st, j->steps * dt);
+    for (int k = 1; k <= j->steps && j->stop_step == 0; ++k) {
+        const sinter_status s = sinter_stepper_step(st, 1);
+        if (s != SINTER_OK) {
+            j->status = s;
+            j->failed_at = k;
+            snprintf(j->message, sizeof(j->message), "%s", sinter_last_error(ctx));
+            break;
+        }
+    }
+    TRY(sinter_stepper_time(st, &j->end_time));
+    TRY(sinter_stepper_heat_energy_global(st, 0, &j->energy));
+    copy_owned(ps, j->owned, js->out);
+    for (int k = 0; k < NW; ++k) {
+        TRY(sinter_walls_get_force(walls, (size_t)k, j->wall + 3 * k));
+        TRY(sinter_walls_get_force_local(walls, (size_t)k, j->wall_local + 3 * k));
+    }
+    sinter_stepper_stats stats;
+    stats.struct_size = sizeof(stats);
+    TRY(sinter_stepper_get_stats_global(st, &stats));
+    j->builds = stats.neighbor_builds;
+    j->contacts = stats.contacts;
+done:
+    if (j->setup_failed && j->lb != NULL)
+        snprintf(j->message, sizeof(j->message), "setup failed at line %d: %s", j->setup_failed,
+                 sinter_last_error(ctx));
+    sinter_stepper_destroy(st);
+    sinter_force_model_destroy(gravity);
+    sinter_force_model_destroy(contact);
+    sinter_force_model_destroy(host);
+    sinter_heat_model_destroy(cond);
+    sinter_walls_destroy(walls);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    return NULL;
+}
+
+/* The bed on `size` subdomains (0: one run without domain operations). */
+static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poison_step,
+                                int stop_step, job *jobs, state *out);
+static void run_decomposed(int size, int steps, uint64_t poison_id, int poison_step, job *jobs,
+                           state *out)
+{
+    run_decomposed_stop(size, steps, poison_id, poison_step, 0, jobs, out);
+}
+
+static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poison_step,
+                                int stop_step, job *jobs, state *out)
+{
+    memset(out, 0, sizeof(*out));
+    const int n = size > 0 ? size : 1;
+    loopback *lb = size > 0 ? loopback_create(size) : NULL;
+    assert_true(size == 0 || lb != NULL);
+    pthread_t threads[LOOPBACK_MAX];
+    job_and_state js[LOOPBACK_MAX];
+    for (int r = 0; r < n; ++r) {
+        memset(&jobs[r], 0, sizeof(job));
+        jobs[r] = (job){.rank = r,
+                        .size = n,
+                        .lb = lb,
+                        .steps = steps,
+                        .poison_id = poison_id,
+                        .poison_step = poison_step,
+                        .stop_step = stop_step};
+        js[r] = (job_and_state){&jobs[r], out};
+        assert_int_equal(pthread_create(&threads[r], NULL, run_bed, &js[r]), 0);
+    }
+    for (int r = 0; r < n; ++r)
+        assert_int_equal(pthread_join(threads[r], NULL), 0);
+    loopback_destroy(lb);
+    for (int r = 0; r < n; ++r) {
+        if (jobs[r].setup_failed)
+            print_error("subdomain %d: setup failed at line %d: %s\n", r, jobs[r].setup_failed,
+                        jobs[r].message);
+        assert_int_equal(jobs[r].setup_failed, 0);
+    }
+}
+
+/* max |a - b| / max |b| over n values. */
+static double rel_diff(const double *a, const double *b, size_t n)
+{
+    double d = 0.0, m = 0.0;
+    for (size_t k = 0; k < n; ++k) {
+        d = fmax(d, fabs(a[k] - b[k]));
+        m = fmax(m, fabs(b[k]));
+    }
+    return m > 0.0 ? d / m : d;
+}
+
+/* The bed's index of the particle with id k + 1. */
+static int index_of(int k)
+{
+    for (int i = 0; i < N; ++i)
+        if (BED.id[i] == (uint64_t)k + 1)
+            return i;
+    return -1;
+}
+
+static state REF, DEC;
+static job REF_JOB[1], JOBS[LOOPBACK_MAX];
+
+static void test_decomposed_bed(void **st)
+{
+    (void)st;
+    make_bed();
+    run_decomposed(0, STEPS, 0, 0, REF_JOB, &REF);
+    assert_int_equal(REF_JOB[0].status, SINTER_OK);
+    assert_true(REF_JOB[0].builds >= 3); /* the skin is small: the lists are rebuilt */
+    double heated = 0.0; /* conduction works: temperatures change by more than round-off */
+    for (int k = 0; k < N; ++k)
+        heated = fmax(heated, fabs(REF.temp[k] - BED.temp[index_of(k)]));
+    print_message("largest temperature change %.3g K\n", heated);
+    assert_true(heated > 1e-6);
+    double x0[3 * N], dref[3 * N]; /* displacements over the run: what the comparison sees */
+    for (int k = 0; k < N; ++k)
+        for (int d = 0; d < 3; ++d) {
+            x0[3 * (BED.id[k] - 1) + d] = BED.x[3 * k + d];
+            dref[3 * (BED.id[k] - 1) + d] = REF.x[3 * (BED.id[k] - 1) + d] - BED.x[3 * k + d];
+        }
+    for (int size = 1; size <= LOOPBACK_MAX; ++size) {
+        run_decomposed(size, STEPS, 0, 0, JOBS, &DEC);
+        size_t owned = 0;
+        for (int r = 0; r < size; ++r) {
+            if (JOBS[r].status != SINTER_OK)
+                print_error("%d subdomains, subdomain %d: %s\n", size, r, JOBS[r].message);
+            assert_int_equal(JOBS[r].status, SINTER_OK);
+            owned += JOBS[r].owned;
+            /* the collective decisions: the same rebuilds everywhere, and the wall forces
+             * reduced to the same bits on every subdomain */
+            assert_int_equal(JOBS[r].builds, JOBS[0].builds);
+            assert_memory_equal(JOBS[r].wall, JOBS[0].wall, sizeof(JOBS[r].wall));
+            assert_true(JOBS[r].energy == JOBS[0].energy);
+        }
+        assert_int_equal(owned, N);
+        for (int k = 0; k < N; ++k)
+            assert_int_equal(DEC.seen[k], 1);
+        if (size == 1) { /* nothing summed in another order: the same bits */
+            assert_memory_equal(DEC.x, REF.x, sizeof(REF.x));
+            assert_memory_equal(DEC.v, REF.v, sizeof(REF.v));
+            assert_memory_equal(DEC.w, REF.w, sizeof(REF.w));
+            assert_memory_equal(DEC.temp, REF.temp, sizeof(REF.temp));
+            assert_memory_equal(JOBS[0].wall, REF_JOB[0].wall, sizeof(REF_JOB[0].wall));
+            continue;
+        }
+        /* More subdomains sum a particle's contacts in another order (pairs across a border
+         * are evaluated on both sides): round-off, 1e-16 relative per sum, grown by the
+         * contacts' stiffness over 150 steps; 1e-10 relative bounds it with room. */
+        double dx[3 * N];
+        for (int k = 0; k < 3 * N; ++k)
+            dx[k] = DEC.x[k] - x0[k];
+        double tref[N], tdec[N]; /* the temperature changes: what conduction did */
+        for (int k = 0; k < N; ++k) {
+            tref[k] = REF.temp[k] - BED.temp[index_of(k)];
+            tdec[k] = DEC.temp[k] - BED.temp[index_of(k)];
+        }
+        const double ex = rel_diff(dx, dref, 3 * N), ev = rel_diff(DEC.v, REF.v, 3 * N),
+                     ew = rel_diff(DEC.w, REF.w, 3 * N), et = rel_diff(tdec, tref, N);
+        const double ef = rel_diff(JOBS[0].wall, REF_JOB[0].wall, 3 * NW);
+        /* the heat the walls (reservoirs) took, over every subdomain */
+        const double ee = fabs(JOBS[0].energy - REF_JOB[0].energy) / fabs(REF_JOB[0].energy);
+        print_message("  conduction's energy %.6g J (single domain %.6g J): %.2g relative\n",
+                      JOBS[0].energy, REF_JOB[0].energy, ee);
+        assert_true(fabs(REF_JOB[0].energy) > 0.0);
+        assert_true(ee <= 1e-10);
+        print_message("%d subdomains: displacements %.2g, velocities %.2g, spins %.2g, "
+                      "temperatures %.2g, wall forces %.2g (relative); %llu builds\n",
+                      size, ex, ev, ew, et, ef, (unsigned long long)JOBS[0].builds);
+        assert_true(ex <= 1e-10);
+        assert_true(ev <= 1e-10);
+        assert_true(ew <= 1e-10);
+        assert_true(et <= 1e-10);
+        assert_true(ef <= 1e-10);
+        /* the shares add up to the total (to the reduction's round-off) */
+        for (int c = 0; c < 3 * NW; ++c) {
+            double sum = 0.0, m = 0.0;
+            for (int r = 0; r < size; ++r) {
+                sum += JOBS[r].wall_local[c];
+                m = fmax(m, fabs(JOBS[r].wall_local[c]));
+            }
+            assert_close(sum, JOBS[0].wall[c], 1e-14 * m * size + 1e-300);
+        }
+    }
+}
+
+/*
+ * Two spheres pressed together (2 % overlap), both held (FIXED), the one of subdomain 0
+ * driven along x at 0.5 m/s across the border x = XB into subdomain 1's slab, where the other
+ * sits; friction high enough that the contact sticks, so the tangential spring grows with
+ * the slip. Each side evaluates the pair (newton off) from its own history: the force on each
+ * sphere must follow the single-domain run step by step (to 1e-12 of the largest: the same
+ * operations on the same bits; a spring lost at a rebuild would drop to zero), and the two
+ * sides' forces must be exactly opposite (their histories are the same bits).
+ */
+enum { SLIDE_STEPS = 600 };
+static const double XB = 5e-3; /* the border [m] */
+
+typedef struct slide_job {
+    int rank, size; /* size 0: no domain operations */
+    loopback *lb;
+    int failed;
+    double f[2][SLIDE_STEPS]; /* x force on the held sphere (id 7) and the driven one (id 3) */
+    uint64_t builds;
+    double end; /* the driven sphere's final x [m] (its owner's) */
+} slide_job;
+
+static void *run_slide(void *arg)
+{
+    slide_job *j = arg;
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    sinter_stepper *st = NULL;
+    sinter_force_model *contact = NULL;
+    j->failed = 1;
+    const uint64_t ids[2] = {7, 3};
+    const double x[2][3] = {{XB + 2e-5, 0.0, 0.0}, {XB - 1e-4, 2 * R * 0.98, 0.0}};
+    size_t index[2] = {SIZE_MAX, SIZE_MAX};
+    if (sinter_ctx_create(&ctx, NULL) || sinter_ctx_set_threads(ctx, 1) ||
+        sinter_material_create(&mat, ctx, "m") ||
+        sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 1e7) ||
+        sinter_material_set(mat, SINTER_MAT_POISSON_RATIO, 0.3) ||
+        sinter_material_set(mat, SINTER_MAT_DENSITY, 2500) ||
+        sinter_material_set(mat, SINTER_MAT_DAMPING_RATIO, 0.0) ||
+        sinter_material_set(mat, SINTER_MAT_FRICTION_STATIC, 100.0) ||
+        sinter_material_set(mat, SINTER_MAT_FRICTION_DYNAMIC, 100.0) ||
+        sinter_particles_create(&ps, ctx) || sinter_particles_set_material(ps, 0, mat) ||
+        sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL) ||
+        sinter_stepper_set_option(st, "thread_choice", 0) ||
+        sinter_force_model_create(&contact, ctx, "hertz_mindlin") ||
+        sinter_stepper_add_force(st, contact) || sinter_stepper_set_dt(st, 1e-6))
+        goto done;
+    for (int k = 0; k < 2; ++k) {
+        const int owner = x[k][0] < XB ? 0 : 1;
+        if (j->size > 0 && owner != j->rank)
+            continue;
+        if (sinter_particles_add_with_ids(ps, 1, &ids[k], x[k], &R, 0, 300.0, &index[k]))
+            goto done;
+    }
+    uint32_t *flags = NULL;
+    double *v = NULL;
+    size_t count = 0;
+    if (sinter_particles_view(ps, SINTER_FIELD_FLAGS, (void **)&flags, &count, NULL))
+        goto done;
+    for (size_t i = 0; i < count; ++i)
+        flags[i] = SINTER_PARTICLE_FIXED;
+    sinter_particles_release(ps, SINTER_FIELD_FLAGS);
+    if (index[1] != SIZE_MAX) {
+        if (sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL))
+            goto done;
+        v[3 * index[1]] = 0.5;
+        sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
+    }
+    if (j->lb != NULL && loopback_attach(j->lb, j->rank, st, ps))
+        goto done;
+    for (int s = 0; s < SLIDE_STEPS; ++s) {
+        if (sinter_stepper_step(st, 1) != SINTER_OK)
+            goto done;
+        const double *f = NULL;
+        if (sinter_particles_view_read(ps, SINTER_FIELD_FORCE, (const void **)&f, NULL, NULL))
+            goto done;
+        for (int k = 0; k < 2; ++k)
+            j->f[k][s] = index[k] != SIZE_MAX ? f[3 * index[k]] : NAN;
+        sinter_particles_release(ps, SINTER_FIELD_FORCE);
+    }
+    if (index[1] != SIZE_MAX) {
+        const double *p = NULL;
+        if (sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&p, NULL, NULL))
+            goto done;
+        j->end = p[3 * index[1]];
+        sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    }
+    sinter_stepper_stats stats;
+    stats.struct_size = sizeof(stats);
+    if (sinter_stepper_get_stats_global(st, &stats))
+        goto done;
+    j->builds = stats.neighbor_builds;
+    j->failed = 0;
+done:
+    sinter_stepper_destroy(st);
+    sinter_force_model_destroy(contact);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    return NULL;
+}
+
+static slide_job SERIAL, SIDE[2];
+
+static void test_sliding_across_border(void **st)
+{
+    (void)st;
+    SERIAL.size = 0;
+    run_slide(&SERIAL);
+    assert_int_equal(SERIAL.failed, 0);
+    loopback *lb = loopback_create(2);
+    assert_non_null(lb);
+    pthread_t t[2];
+    for (int r = 0; r < 2; ++r) {
+        SIDE[r] = (slide_job){.rank = r, .size = 2, .lb = lb};
+        assert_int_equal(pthread_create(&t[r], NULL, run_slide, &SIDE[r]), 0);
+    }
+    for (int r = 0; r < 2; ++r)
+        assert_int_equal(pthread_join(t[r], NULL), 0);
+    loopback_destroy(lb);
+    assert_int_equal(SIDE[0].failed, 0);
+    assert_int_equal(SIDE[1].failed, 0);
+    assert_true(SIDE[0].end > XB + 1e-4); /* the driven sphere crossed the border */
+    assert_true(SIDE[0].builds >= 3);     /* and the lists and ghosts were made again */
+    double top = 0.0;
+    for (int s = 0; s < SLIDE_STEPS; ++s)
+        top = fmax(top, fabs(SERIAL.f[0][s]));
+    assert_true(top > 1e-4);                                     /* the spring did grow */
+    assert_true(fabs(SERIAL.f[0][SLIDE_STEPS - 1]) > 0.9 * top); /* and holds */
+    for (int s = 0; s < SLIDE_STEPS; ++s) {
+        assert_close(SIDE[1].f[0][s], SERIAL.f[0][s], 1e-12 * top); /* held, subdomain 1 */
+        assert_close(SIDE[0].f[1][s], SERIAL.f[1][s], 1e-12 * top); /* driven, subdomain 0 */
+        assert_true(SIDE[1].f[0][s] == -SIDE[0].f[1][s]);           /* one history, twice */
+    }
+}
+
+/* A NaN force made on subdomain 2 of 3 at step 37 stops every subdomain at step 37 with
+ * SINTER_ERR_UNSTABLE and one message, naming subdomain 2 and the particle's id. */
+static void test_nan_stops_all(void **st)
+{
+    (void)st;
+    make_bed();
+    uint64_t id = 0;
+    for (int k = 0; k < N && id == 0; ++k)
+        if (slab_of(BED.x[3 * k], 3) == 2 && BED.x[3 * k + 2] > 3 * R)
+            id = BED.id[k];
+    run_decomposed(3, 60, id, 37, JOBS, &DEC);
+    char want[64];
+    snprintf(want, sizeof(want), "(id %llu)", (unsigned long long)id);
+    for (int r = 0; r < 3; ++r) {
+        assert_int_equal(JOBS[r].status, SINTER_ERR_UNSTABLE);
+        assert_int_equal(JOBS[r].failed_at, 37);
+        assert_string_equal(JOBS[r].message, JOBS[0].message);
+    }
+    print_message("%s\n", JOBS[0].message);
+    assert_non_null(strstr(JOBS[0].message, "subdomain 2: "));
+    assert_non_null(strstr(JOBS[0].message, want));
+}
+
+/* The observer of the last of 3 subdomains stops its advance after step 12 of 40: every
+ * subdomain stops there (no hang), at the same time, with SINTER_OK. */
+static void test_observer_stops_all(void **st)
+{
+    (void)st;
+    make_bed();
+    run_decomposed_stop(3, 40, 0, 0, 12, JOBS, &DEC);
+    for (int r = 0; r < 3; ++r) {
+        assert_int_equal(JOBS[r].status, SINTER_OK);
+        assert_true(JOBS[r].end_time == JOBS[0].end_time);
+    }
+    assert_close(JOBS[0].end_time, 12 * 2e-6, 1e-15);
+}
+
+/* Arguments and settings refused with the status the header gives. */
+static void test_refusals(void **st)
+{
+    (void)st;
+    sinter_ctx *ctx = NULL;
+    sinter_particles *ps = NULL;
+    sinter_stepper *step = NULL, *stag = NULL;
+    sinter_material *mat = NULL;
+    OK(sinter_ctx_create(&ctx, NULL));
+    OK(sinter_material_create(&mat, ctx, "m"));
+    OK(sinter_particles_create(&ps, ctx));
+    OK(sinter_particles_set_material(ps, 0, mat));
+    const uint64_t id = 5;
+    const double x[3] = {0, 0, 0};
+    OK(sinter_particles_add_with_ids(ps, 1, &id, x, &R, 0, 300.0, NULL));
+    OK(sinter_stepper_create(&step, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL));
+    OK(sinter_stepper_create(&stag, ctx, SINTER_STEPPER_STAGGERED, ps, NULL));
+    loopback *lb = loopback_create(1);
+    assert_non_null(lb);
+    assert_int_equal(loopback_attach(lb, 0, stag, ps), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_periodic(step, 0, -1.0, 1.0));
+    assert_int_equal(loopback_attach(lb, 0, step, ps), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_periodic(step, 0, 0.0, 0.0));
+    sinter_domain_ops ops = {.struct_size = sizeof(ops) - 1};
+    assert_int_equal(sinter_stepper_set_domain_ops(step, &ops, NULL), SINTER_ERR_STRUCT_SIZE);
+    ops.struct_size = sizeof(ops);
+    assert_int_equal(sinter_stepper_set_domain_ops(step, &ops, NULL), SINTER_ERR_NULL);
+    assert_int_equal(sinter_stepper_set_domain_ops(NULL, &ops, NULL), SINTER_ERR_NULL);
+    OK(loopback_attach(lb, 0, step, ps));
+    /* a stepper with domain operations keeps its kind */
+    /* ghosts: an owned id, an unregistered material, a mass <= 0 */
+    const uint64_t gid[1] = {5};
+    const double zero3[3] = {0, 0, 0}, one = 1.0, temp = 300.0;
+    int32_t material = 0;
+    double mass = 1.0;
+    sinter_ghost_fields g = {.struct_size = sizeof(g),
+                             .count = 1,
+                             .id = gid,
+                             .position = zero3,
+                             .velocity = zero3,
+                             .spin = zero3,
+                             .rotation = zero3,
+                             .radius = &R,
+                             .mass = &mass,
+                             .inertia = &one,
+                             .temperature = &temp,
+                             .material = &material};
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_INVALID); /* owned id */
+    const uint64_t other[1] = {6};
+    g.id = other;
+    material = 3;
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_INVALID); /* material */
+    material = 0;
+    mass = 0.0;
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_INVALID); /* mass */
+    mass = 1.0;
+    g.struct_size = 8;
+    assert_int_equal(sinter_particles_set_ghosts(ps, &g), SINTER_ERR_STRUCT_SIZE);
+    g.struct_size = sizeof(g);
+    OK(sinter_particles_set_ghosts(ps, &g));
+    size_t count = 0, owned = 0;
+    OK(sinter_particles_count(ps, &count));
+    OK(sinter_particles_owned_count(ps, &owned));
+    assert_int_equal(count, 2);
+    assert_int_equal(owned, 1);
+    double cutoff = 0.0;
+    OK(sinter_stepper_ghost_cutoff(step, &cutoff));
+    assert_true(cutoff >= 2 * R);
+    double f[3];
+    assert_int_equal(sinter_walls_get_force_local(NULL, 0, f), SINTER_ERR_NULL);
+    assert_int_equal(sinter_checkpoint_write(step, "never_written.ck"), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_domain_ops(step, NULL, NULL)); /* removed */
+    loopback_destroy(lb);
+    sinter_stepper_destroy(step);
+    sinter_stepper_destroy(stag);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_decomposed_bed), cmocka_unit_test(test_sliding_across_border),
+        cmocka_unit_test(test_nan_stops_all),  cmocka_unit_test(test_observer_stops_all),
+        cmocka_unit_test(test_refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
