@@ -910,8 +910,12 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
                                                    const double hi[3]);
 /**
  * Periodic boundary along `axis` (0 x, 1 y, 2 z) with the cell lo..hi [m] (hi > lo); lo = hi = 0
- * makes the axis non-periodic again (the default). Explicit stepper only
- * (SINTER_ERR_UNSUPPORTED on the others). At every neighbour build the particles are wrapped
+ * makes the axis non-periodic again (the default). Explicit and quasi-static steppers
+ * (SINTER_ERR_UNSUPPORTED on the others). The quasi-static stepper makes no ghost particles: its
+ * links join a particle to the image of another, and its cell shrinks with the packing's mean
+ * strain (option "qs_cell_strain"; sinter_stepper_get_periodic gives the cell now); every
+ * particle must lie in the cell at its first step. The rest of this comment is about the
+ * explicit stepper. At every neighbour build the particles are wrapped
  * into the cell (between builds a centre may lie up to half the skin outside it) and each
  * particle within 2 r_max + skin of a periodic face gets an image beyond the opposite face: a
  * ghost particle, stored after the owned particles (sinter_particles_owned_count), refreshed
@@ -1629,6 +1633,9 @@ SINTER_API sinter_status sinter_pair_run(sinter_ctx *ctx, const char *path, cons
  * "qs_neck_law" chooses the pair law that advances the necks: 0 (default) the 7DOF model,
  * 1 the classic grain-boundary diffusion contact law of Bouvard and McMeeking (docs/7dof.md
  * §7.4), 2 a host law (sinter_stepper_set_neck_law, sinter_submodel.h).
+ * With periodic axes (sinter_stepper_set_periodic) "qs_cell_strain" 1 (default) shrinks the cell
+ * with the links' mean approach, 0 keeps its size; along a periodic axis the shrinkage below is
+ * the cell's strain 1 - L/L0 and the relative density is over the cell (docs/steppers.md).
  */
 typedef struct sinter_sintering_stats {
     size_t struct_size;      /**< sizeof(sinter_sintering_stats) */

@@ -75,8 +75,12 @@
  *    history, and with it the times of later builds and the partition a build makes for
  *    threads, then differed from the uninterrupted run's, issue 40); earlier versions are
  *    still read (reach 0: the first step builds the list again where a heat law reaches
- *    further) */
-#define CHECKPOINT_VERSION 14u
+ *    further)
+ * 15: the quasi-static section (stepper/qs_state.c) ends with the periodic cell of the
+ *    quasi-static stepper (issue 38: its axes, corner, lengths now and at the start), and each
+ *    link carries its image across the cell's faces; earlier versions are still read (no
+ *    periodic cell, every image 0) */
+#define CHECKPOINT_VERSION 15u
 /* doubles per wall in the version 8 section */
 #define WALL_STATE_DOUBLES 10u
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'C', 'K'};
@@ -792,10 +796,11 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
-    if (s == SINTER_OK && periodic_mask != 0 && st->kind != SINTER_STEPPER_EXPLICIT)
+    if (s == SINTER_OK && periodic_mask != 0 && st->kind != SINTER_STEPPER_EXPLICIT &&
+        st->kind != SINTER_STEPPER_QUASISTATIC)
         s = sinter_fail(ctx, SINTER_ERR_INVALID,
-                        "checkpoint '%s' has periodic axes, which only the explicit stepper "
-                        "supports; nothing was changed",
+                        "checkpoint '%s' has periodic axes, which only the explicit and "
+                        "quasi-static steppers support; nothing was changed",
                         path);
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
         s = sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -820,7 +825,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         const char *why = NULL;
         s = sinter_qs_state_restore(&qs_new, ctx, &st->quasistatic_options, qs_data,
                                     (size_t)qs_bytes, n, field_data[SINTER_FIELD_ID], version < 11u,
-                                    &why);
+                                    version >= 15u, &why);
         if (s == SINTER_ERR_CORRUPT)
             s = corrupt(ctx, path, why);
     }

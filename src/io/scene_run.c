@@ -392,6 +392,41 @@ static void observe_lit(const sinter_scene *sc, double *row)
     row[lit_column(sc) + 1] = count > 0.0 ? sum / count : 0.0;
 }
 
+/* Columns after those (issue 38): a quasi-static stepper with periodic axes writes its cell's
+ * lengths along x, y, z (0 along an axis that is not periodic) and the volumetric strain
+ * 1 - (1 - s_x)(1 - s_y)(1 - s_z) of the shrinkage columns (stepper/qs_periodic.c: on a
+ * periodic axis the shrinkage is the cell's strain). Absent otherwise: other series keep their
+ * bytes. */
+enum { CELL_COLUMNS = 4 };
+
+static size_t cell_columns(const sinter_scene *sc)
+{
+    return sc->st->kind == SINTER_STEPPER_QUASISTATIC && sinter_ghosts_on(&sc->st->ghosts)
+               ? CELL_COLUMNS
+               : 0;
+}
+
+static size_t cell_column(const sinter_scene *sc)
+{
+    return lit_column(sc) + lit_columns(sc);
+}
+
+static void observe_cell(const sinter_scene *sc, double *row)
+{
+    if (cell_columns(sc) == 0)
+        return;
+    double *c = row + cell_column(sc);
+    for (int d = 0; d < 3; ++d) {
+        int periodic = 0;
+        double lo = 0.0, hi = 0.0;
+        c[d] = sinter_stepper_get_periodic(sc->st, d, &periodic, &lo, &hi) == SINTER_OK ? hi - lo
+                                                                                        : NAN;
+    }
+    /* the shrinkage columns, written before this */
+    const double *q = row + COL_FIXED_ + sc->walls->count + 5;
+    c[3] = 1.0 - (1.0 - q[0]) * (1.0 - q[1]) * (1.0 - q[2]);
+}
+
 static void observe_frozen(const sinter_scene *sc, double *row)
 {
     for (size_t k = 0; k < frozen_columns(sc); ++k)
@@ -532,6 +567,16 @@ static void observe(const sinter_scene *sc, double *row)
             memset(&s, 0, sizeof(s));
             double lo[3], hi[3];
             const double solid = spheres_box(ps, lo, hi);
+            for (int d = 0; d < 3; ++d) { /* a periodic axis: the cell (qs_periodic.c) */
+                int periodic = 0;
+                double cell_lo = 0.0, cell_hi = 0.0;
+                if (sinter_stepper_get_periodic(sc->st, d, &periodic, &cell_lo, &cell_hi) ==
+                        SINTER_OK &&
+                    periodic) {
+                    lo[d] = cell_lo;
+                    hi[d] = cell_hi;
+                }
+            }
             s.relative_density = solid / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]));
         }
         const double v[SINTERING_COLUMNS] = {
@@ -543,6 +588,7 @@ static void observe(const sinter_scene *sc, double *row)
     observe_frozen(sc, row);
     observe_temperatures(sc, row);
     observe_lit(sc, row);
+    observe_cell(sc, row);
 }
 
 /*
@@ -917,7 +963,13 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         units[lit_column(sc)] = "1";
         units[lit_column(sc) + 1] = "K";
     }
-    return lit_column(sc) + lit_columns(sc);
+    static const char *const cell_names[CELL_COLUMNS] = {"cell x", "cell y", "cell z",
+                                                         "volumetric strain"};
+    for (size_t k = 0; k < cell_columns(sc); ++k) {
+        names[cell_column(sc) + k] = cell_names[k];
+        units[cell_column(sc) + k] = k < 3 ? "m" : "1";
+    }
+    return cell_column(sc) + cell_columns(sc);
 }
 
 /* The output directory made and writable, and the series opened in it: before the first step. */
@@ -960,7 +1012,7 @@ static sinter_status open_output(run_state *r)
         TEMPERATURES = SCENE_MAX_TEMPERATURE_BINS + 2,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
                STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED + SCENE_PAIR_COLUMNS + FROZEN_COLUMNS +
-               TEMPERATURES + LIT_COLUMNS /* 1: the solid fraction */
+               TEMPERATURES + LIT_COLUMNS + CELL_COLUMNS /* 1: the solid fraction */
     };
     const char *names[MOST];
     const char *units[MOST];

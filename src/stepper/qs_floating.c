@@ -96,7 +96,10 @@ sinter_status sinter_qs_remove_free_motion(sinter_qs *qs, const sinter_qs_partic
             continue;
         const size_t r = root[i];
         double *s = sums + SUMS * r;
-        const unsigned char h = held[r];
+        /* a periodic axis holds the rotations that would turn it (a network across its faces
+         * cannot turn), not the translations along it (qs_periodic.c) */
+        const unsigned char h = (unsigned char)(held[r] | qs->periodic[0] | qs->periodic[1] << 1 |
+                                                qs->periodic[2] << 2);
         double w[3], arm[3];
         for (int k = 0; k < 3; ++k) {
             const int free_about_k = !(h & (1u << ((k + 1) % 3))) && !(h & (1u << ((k + 2) % 3)));

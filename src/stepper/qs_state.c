@@ -9,7 +9,10 @@
  * f64 dt_next, u64 steps, rejected, pcg_iterations, substepped, f64 u_step and, when it is
  * > 0, the last displacements u (the next solve starts from them, so they are state too), then
  * u64 origin count and the origins (id, initial position: the reference of the shrinkage),
- * f64 green density.
+ * f64 green density; from version 15 on the periodic cell (qs_periodic.c): u64 mask of the
+ * periodic axes, f64 lower corner[3], lengths now[3], lengths at the start[3], u64 1 once the
+ * start's lengths are taken. Each link carries its image (version 15's link layout; the links
+ * of earlier files, without it, are read with image 0).
  *
  * Keyed by ids (issue 43; checkpoint version 11): the plane conditions and displacements are per
  * particle in order of ascending id (the stepper's slots, qs_ids.c), and a restore finds the two
@@ -19,12 +22,14 @@
  * sinter_qs_state_restore reorders them (by_index).
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "stepper/qs_struct.h"
 
 enum { QS_HEADER_U64 = 2, QS_TAIL_BYTES = 4 * 8 + 4 * 8 }; /* extent0, dt_next; 4 counters */
+enum { QS_CELL_BYTES = 8 + 9 * 8 + 8 };                    /* mask, lo, len, len0, started */
 
 static size_t fixed_bytes(const sinter_qs *qs)
 {
@@ -39,7 +44,8 @@ static size_t u_bytes(const sinter_qs *qs)
 size_t sinter_qs_state_size(const sinter_qs *qs)
 {
     return QS_HEADER_U64 * 8 + qs->count * sizeof(sinter_qs_link) + 16 + fixed_bytes(qs) +
-           QS_TAIL_BYTES + 8 + u_bytes(qs) + 8 + qs->origin_count * sizeof(sinter_qs_origin) + 8;
+           QS_TAIL_BYTES + 8 + u_bytes(qs) + 8 + qs->origin_count * sizeof(sinter_qs_origin) + 8 +
+           QS_CELL_BYTES;
 }
 
 static unsigned char *put(unsigned char *p, const void *data, size_t bytes)
@@ -72,6 +78,7 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
         l.id_a = qs->links[k].id_a;
         l.id_b = qs->links[k].id_b;
         l.born = qs->links[k].born;
+        memcpy(l.image, qs->links[k].image, sizeof(l.image));
         p = put(p, &l, sizeof(l));
     }
     p = put_u64(p, qs->particles == SIZE_MAX ? UINT64_MAX : (uint64_t)qs->particles);
@@ -88,7 +95,12 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out)
     p = put(p, qs->u, u_bytes(qs));
     p = put_u64(p, qs->origin_count);
     p = put(p, qs->origins, qs->origin_count * sizeof(sinter_qs_origin));
-    (void)put(p, &qs->density0, 8);
+    p = put(p, &qs->density0, 8);
+    p = put_u64(p, (uint64_t)(qs->periodic[0] | qs->periodic[1] << 1 | qs->periodic[2] << 2));
+    p = put(p, qs->cell_lo, sizeof(qs->cell_lo));
+    p = put(p, qs->cell_len, sizeof(qs->cell_len));
+    p = put(p, qs->cell_len0, sizeof(qs->cell_len0));
+    (void)put_u64(p, (uint64_t)qs->cell_started);
 }
 
 typedef struct cursor {
@@ -155,21 +167,23 @@ static int link_ok(const sinter_qs *qs, sinter_qs_link *l)
 sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
                                       const sinter_qs_options *opt, const unsigned char *data,
                                       size_t bytes, size_t n, const void *ids, int by_index,
-                                      const char **why)
+                                      int with_cell, const char **why)
 {
     *out = NULL;
     *why = NULL;
     cursor c = {data, data + bytes, 0};
     const uint64_t link_size = take_u64(&c), count = take_u64(&c);
-    if (!c.bad && link_size != sizeof(sinter_qs_link)) {
+    /* before version 15 the links end before their image */
+    const size_t old_size = offsetof(sinter_qs_link, image);
+    if (!c.bad && link_size != sizeof(sinter_qs_link) && (with_cell || link_size != old_size)) {
         *why = "its quasi-static links were written by a build with another link layout";
         return SINTER_ERR_CORRUPT;
     }
-    if (c.bad || count > bytes / sizeof(sinter_qs_link)) {
+    if (c.bad || count > bytes / link_size) {
         *why = "its quasi-static section does not fit its size";
         return SINTER_ERR_CORRUPT;
     }
-    const unsigned char *links = take(&c, (size_t)count * sizeof(sinter_qs_link));
+    const unsigned char *links = take(&c, (size_t)count * (size_t)link_size);
     const uint64_t particles = take_u64(&c), nfixed = take_u64(&c);
     const unsigned char *fixed = nfixed <= bytes ? take(&c, (size_t)nfixed) : NULL;
     double tail[4];
@@ -194,6 +208,15 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
         memcpy(&density0, density0_at, 8);
     if (!(density0 >= 0.0 && density0 < 1.0))
         c.bad = 1;
+    uint64_t cell_mask = 0, cell_started = 0;
+    double cell[9] = {0};
+    if (with_cell) {
+        cell_mask = take_u64(&c);
+        const void *cell_at = take(&c, sizeof(cell));
+        if (cell_at != NULL)
+            memcpy(cell, cell_at, sizeof(cell));
+        cell_started = take_u64(&c);
+    }
     if (c.bad || fixed == NULL || c.p != c.end || !(u_step >= 0.0 && isfinite(u_step)) ||
         (u_step > 0.0 && (nfixed == 0 || u == NULL))) {
         *why = "its quasi-static section does not fit its size";
@@ -209,6 +232,15 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     for (uint64_t k = 0; k < nfixed; ++k)
         if (fixed[k] > 1) {
             *why = "its quasi-static plane conditions hold values other than 0 and 1";
+            return SINTER_ERR_CORRUPT;
+        }
+    for (int d = 0; d < 3; ++d)
+        if (cell_mask > 7u || cell_started > 1u ||
+            ((cell_mask >> d) & 1u
+                 ? !(isfinite(cell[d]) && cell[3 + d] > 0.0 && isfinite(cell[3 + d]) &&
+                     cell[6 + d] > 0.0 && isfinite(cell[6 + d]))
+                 : (cell[d] != 0.0 || cell[3 + d] != 0.0))) {
+            *why = "its quasi-static periodic cell is not a finite positive box";
             return SINTER_ERR_CORRUPT;
         }
     for (int d = 0; d < 3; ++d)
@@ -263,8 +295,13 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     }
     for (uint64_t k = 0; k < count; ++k) {
         sinter_qs_link *l = &qs->links[k];
-        memcpy(l, links + k * sizeof(sinter_qs_link), sizeof(*l));
-        if (!link_ok(qs, l)) {
+        memset(l, 0, sizeof(*l));
+        memcpy(l, links + k * (size_t)link_size, (size_t)link_size);
+        int image_ok = 1; /* an image only along a periodic axis, within a few periods */
+        for (int d = 0; d < 3; ++d)
+            image_ok =
+                image_ok && (((cell_mask >> d) & 1u) ? abs(l->image[d]) <= 2 : l->image[d] == 0);
+        if (!image_ok || !link_ok(qs, l)) {
             sinter_qs_destroy(qs);
             *why = "a quasi-static link names particles that do not exist or holds non-finite "
                    "or non-positive lengths";
@@ -322,6 +359,13 @@ sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
     qs->rejected = counters[1];
     qs->pcg_iterations = counters[2];
     qs->substepped = counters[3];
+    for (int d = 0; d < 3; ++d) {
+        qs->periodic[d] = (int)((cell_mask >> d) & 1u);
+        qs->cell_lo[d] = cell[d];
+        qs->cell_len[d] = cell[3 + d];
+        qs->cell_len0[d] = cell[6 + d];
+    }
+    qs->cell_started = (int)cell_started;
     *out = qs;
     return SINTER_OK;
 }

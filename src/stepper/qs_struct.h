@@ -15,6 +15,12 @@ typedef struct sinter_qs_origin {
     double x[3]; /* [m] */
 } sinter_qs_origin;
 
+/* A touching pair of the periodic search: slots sa < sb, B seen from A at x_B + image L. */
+typedef struct sinter_qs_image_pair {
+    uint32_t sa, sb;
+    int32_t image[3];
+} sinter_qs_image_pair;
+
 struct sinter_qs {
     sinter_ctx *ctx;
     sinter_qs_options opt;
@@ -73,6 +79,21 @@ struct sinter_qs {
     double u_step; /* step of the displacements in u (0: none to start the next solve from) */
     uint64_t steps, rejected, pcg_iterations, substepped;
     sinter_neck_counters batch_counters[2]; /* strategy 3: CVODE work, young [0] and grown [1] */
+    /* Periodic axes (qs_periodic.c) */
+    int periodic[3];     /* 1 for a periodic axis */
+    double cell_lo[3];   /* the cell's lower corner [m] (fixed: the cell shrinks towards it) */
+    double cell_len[3];  /* its lengths now [m] */
+    double cell_len0[3]; /* at the first step [m] (the reference of the cell's strain) */
+    int cell_started;    /* cell_len0 taken */
+    double eps[3];       /* the step's cell strain increment (qs_cell_strain) */
+    double *xi_affine;   /* per link: the approach the cell's strain gives it [m] */
+    size_t xi_affine_capacity;
+    sinter_qs_image_pair *image_pairs; /* the periodic contact search's pairs */
+    size_t image_pairs_capacity;
+    double *ext_x, *ext_r; /* the search's spheres: the slots, then their images */
+    uint32_t *ext_owner;   /* per sphere of the search (from n on, the images): its slot */
+    int32_t *ext_image;    /* and 3 cell offsets */
+    size_t ext_x_capacity, ext_r_capacity, ext_owner_capacity, ext_image_capacity;
 };
 
 /* ---- the id order (qs_ids.c) ---- */
@@ -101,5 +122,47 @@ sinter_status sinter_qs_follow_ids(sinter_qs *qs, const sinter_qs_particles *p);
 /* Positions and radii per slot (qs->slot_x, slot_r; p's own arrays when slot = index). */
 sinter_status sinter_qs_slot_geometry(sinter_qs *qs, const sinter_qs_particles *p, const double **x,
                                       const double **radius);
+
+/* ---- periodic axes (qs_periodic.c) ---- */
+
+/* 1 when some axis is periodic. */
+static inline int sinter_qs_periodic_on(const sinter_qs *qs)
+{
+    return qs->periodic[0] || qs->periodic[1] || qs->periodic[2];
+}
+
+/* Where B is as A's neighbour: x_B + image L (x_B itself without periodic axes). */
+static inline void sinter_qs_image_of(const sinter_qs *qs, const int32_t image[3],
+                                      const double xb[3], double out[3])
+{
+    for (int d = 0; d < 3; ++d)
+        out[d] = image[d] != 0 ? xb[d] + (double)image[d] * qs->cell_len[d] : xb[d];
+}
+
+/* The touching pairs of the n slots (positions x, radii r per slot) across the periodic faces
+ * as well: qs->image_pairs[0..*count), sorted by (sa, sb). Errors: SINTER_ERR_NOMEM,
+ * SINTER_ERR_INVALID (a non-finite position), SINTER_ERR_UNSUPPORTED (a period under twice the
+ * touching distance: a pair could touch through two images). */
+sinter_status sinter_qs_periodic_pairs(sinter_qs *qs, size_t n, const double *x, const double *r,
+                                       size_t *count);
+
+/* The step's cell strain increment qs->eps from the links' free approaches over the step
+ * (their necks at t in qs->saved; 0 along the axes that are not periodic, and without
+ * qs_cell_strain), and each link's approach from it in qs->xi_affine; the loads that strain
+ * puts on the links taken off f (6 per slot). */
+sinter_status sinter_qs_cell_strain(sinter_qs *qs, const sinter_qs_particles *p, double *f);
+
+/* The centre distance of link k after the step (u: the solve's displacements per slot, the
+ * cell's strain qs->eps on top), squared; positions at t. */
+double sinter_qs_cell_distance2(const sinter_qs *qs, const sinter_qs_particles *p, size_t k,
+                                const double *u);
+
+/* The cell's strain applied to positions at t: every particle moved by -eps (x - lo) along
+ * each periodic axis, and the cell's lengths by (1 - eps). */
+void sinter_qs_cell_move(sinter_qs *qs, const sinter_qs_particles *p);
+
+/* Particles outside the cell along a periodic axis moved in by a period, the images of their
+ * links following (the links' vectors unchanged). */
+void sinter_qs_cell_wrap(sinter_qs *qs, const sinter_qs_particles *p);
 
 #endif /* SINTER_STEPPER_QS_STRUCT_H */

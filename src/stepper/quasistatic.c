@@ -44,6 +44,7 @@ void sinter_qs_options_default(sinter_qs_options *opt)
     opt->validity = 1.0;
     opt->neck_stiffness = 0.0;
     opt->neck_law = 0.0;
+    opt->cell_strain = 1.0;
     memset(&opt->host_law, 0, sizeof(opt->host_law));
     opt->host_law_user = NULL;
 }
@@ -90,12 +91,13 @@ static const qs_key qs_keys[] = {
     QS_KEY("qs_validity", validity, 0.0, 2.0, 0),
     QS_KEY("qs_neck_stiffness", neck_stiffness, 0.0, 1.0, 0),
     QS_KEY("qs_neck_law", neck_law, 0.0, 2.0, 0),
+    QS_KEY("qs_cell_strain", cell_strain, 0.0, 1.0, 0),
 };
 
 /* SINTER_ERR_NOT_FOUND with the list of keys. */
 static sinter_status unknown_key(sinter_ctx *ctx, const char *key)
 {
-    char list[512] = "qs_strategy";
+    char list[640] = "qs_strategy";
     size_t len = strlen(list);
     for (size_t k = 0; k < sizeof(qs_keys) / sizeof(qs_keys[0]) && len < sizeof(list); ++k)
         len += (size_t)snprintf(list + len, sizeof(list) - len, ", %s", qs_keys[k].key);
@@ -225,6 +227,12 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->batch_order);
     sinter_free(ctx, qs->batch_states);
     sinter_free(ctx, qs->batch_materials);
+    sinter_free(ctx, qs->xi_affine);
+    sinter_free(ctx, qs->image_pairs);
+    sinter_free(ctx, qs->ext_x);
+    sinter_free(ctx, qs->ext_r);
+    sinter_free(ctx, qs->ext_owner);
+    sinter_free(ctx, qs->ext_image);
     sinter_free(ctx, qs);
 }
 
@@ -400,8 +408,11 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
     const size_t before = qs->count;
     size_t found = 0;
     const double *slot_x = NULL, *slot_r = NULL;
+    const int periodic = sinter_qs_periodic_on(qs);
     sinter_status found_status = sinter_qs_slot_geometry(qs, p, &slot_x, &slot_r);
-    if (found_status == SINTER_OK)
+    if (found_status == SINTER_OK && periodic) /* across the faces too (qs_periodic.c) */
+        found_status = sinter_qs_periodic_pairs(qs, n, slot_x, slot_r, &found);
+    else if (found_status == SINTER_OK)
         found_status = sinter_qs_touching_pairs_near(qs->ctx, &qs->near, n, slot_x, slot_r,
                                                      qs->opt.contact_tolerance, &qs->candidates,
                                                      &qs->candidates_capacity, &found, NULL);
@@ -417,9 +428,15 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
     if (found_status != SINTER_OK)
         return found_status;
     for (size_t c = 0; c < found; ++c) {
-        const size_t sa = (size_t)(qs->candidates[c] / n), sb = (size_t)(qs->candidates[c] % n);
+        const sinter_qs_image_pair *q = periodic ? &qs->image_pairs[c] : NULL;
+        const size_t sa = q != NULL ? q->sa : (size_t)(qs->candidates[c] / n);
+        const size_t sb = q != NULL ? q->sb : (size_t)(qs->candidates[c] % n);
+        const int32_t none[3] = {0, 0, 0};
+        const int32_t *image = q != NULL ? q->image : none;
         const size_t a = qs->index_of_slot[sa], b = qs->index_of_slot[sb];
-        const double *xa = p->x + 3 * a, *xb = p->x + 3 * b;
+        double xb[3]; /* B, or its image across a periodic face */
+        const double *xa = p->x + 3 * a;
+        sinter_qs_image_of(qs, image, p->x + 3 * b, xb);
         const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
         const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         const sinter_qs_pair key = {qs->slot_id[sa], qs->slot_id[sb]};
@@ -451,6 +468,7 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
                                sqrt(dist2));
         l->id_a = key.lo;
         l->id_b = key.hi;
+        memcpy(l->image, image, sizeof(l->image));
         l->born = t;
         qs->keys[qs->count] = key;
         qs->count++;
@@ -486,6 +504,11 @@ static double box_density(const sinter_qs *qs, const sinter_qs_particles *p)
             hi[d] = fmax(hi[d], p->x[3 * i + d] + r);
         }
     }
+    for (int d = 0; d < 3; ++d) /* a periodic axis: the cell's length */
+        if (qs->periodic[d]) {
+            lo[d] = 0.0;
+            hi[d] = qs->cell_len[d];
+        }
     return p->count > 0 ? volume / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])) : 0.0;
 }
 
@@ -504,8 +527,9 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
     for (size_t k = 0; k < n; ++k) {
         const size_t i = qs->index_of_slot[k];
         for (size_t d = 0; d < 3; ++d)
-            qs->fixed[6 * k + d] = (unsigned char)(p->x[3 * i + d] - p->radius[i] <
-                                                   qs->opt.plane_tolerance * p->radius[i]);
+            qs->fixed[6 * k + d] =
+                (unsigned char)(!qs->periodic[d] && p->x[3 * i + d] - p->radius[i] <
+                                                        qs->opt.plane_tolerance * p->radius[i]);
     }
     if (qs->particles == 0) { /* the first setup only (not after a remap) */
         extents(p, qs->extent0);
@@ -519,9 +543,32 @@ static sinter_status setup(sinter_qs *qs, const sinter_qs_particles *p)
         }
         qs->origin_count = n;
         qs->density0 = box_density(qs, p);
+        for (int d = 0; d < 3; ++d) /* the reference of the cell's strain */
+            qs->cell_len0[d] = qs->cell_len[d];
+        qs->cell_started = 1;
     }
     qs->particles = n;
     qs->u_step = 0.0; /* u no longer matches the particles */
+    return SINTER_OK;
+}
+
+/* Periodic axes: every particle in the cell when the links are searched afresh (the search
+ * makes images only of particles near a face, qs_periodic.c). */
+static sinter_status inside_cell(const sinter_qs *qs, const sinter_qs_particles *p)
+{
+    for (size_t s = 0; s < p->count; ++s) {
+        const size_t i = qs->index_of_slot[s];
+        for (int d = 0; d < 3; ++d) {
+            const double x = p->x[3 * i + (size_t)d];
+            if (qs->periodic[d] && !(x >= qs->cell_lo[d] && x < qs->cell_lo[d] + qs->cell_len[d]))
+                return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
+                                   "quasi-static stepper: particle id %llu is at %g m along axis "
+                                   "%d, outside the periodic cell [%g, %g) m; place every "
+                                   "particle in the cell",
+                                   (unsigned long long)qs->slot_id[s], x, d, qs->cell_lo[d],
+                                   qs->cell_lo[d] + qs->cell_len[d]);
+        }
+    }
     return SINTER_OK;
 }
 
@@ -719,6 +766,8 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     if (st != SINTER_OK)
         return st;
     if (qs->particles != n) {
+        if (sinter_qs_periodic_on(qs) && (st = inside_cell(qs, p)) != SINTER_OK)
+            return st;
         if ((st = setup(qs, p)) != SINTER_OK)
             return st;
         if ((st = detect_contacts(qs, p, t)) != SINTER_OK)
@@ -815,6 +864,15 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         }
     }
 
+    /* periodic axes: the cell's strain from the links' approaches, its loads off f (the
+     * solve's u is then the periodic rest; qs_periodic.c) */
+    const int periodic = sinter_qs_periodic_on(qs);
+    if (periodic && (st = sinter_qs_cell_strain(qs, p, f)) != SINTER_OK) {
+        for (size_t k = 0; k < m; ++k)
+            memcpy(qs->links[k].neck.y, qs->saved[k], sizeof(qs->saved[k]));
+        return st;
+    }
+
     /* 3. K u = f (eq. 40) under the principal-plane conditions */
     int iterations = 0;
     st = sinter_grow(qs->ctx, (void **)&qs->beams, &qs->beams_capacity, m + 1, sizeof(sinter_beam));
@@ -857,10 +915,12 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         const sinter_qs_link *l = &qs->links[k];
         const size_t a = l->beam.a, b = l->beam.b, sa = slot[a], sb = slot[b];
         double d2 = 0.0;
-        for (size_t d = 0; d < 3; ++d) {
+        for (size_t d = 0; d < 3 && !periodic; ++d) {
             const double dd = (p->x[3 * b + d] + u[6 * sb + d]) - (p->x[3 * a + d] + u[6 * sa + d]);
             d2 += dd * dd;
         }
+        if (periodic)
+            d2 = sinter_qs_cell_distance2(qs, p, k, u);
         if (!(d2 > 0.0) || !isfinite(d2)) {
             for (size_t j = 0; j < m; ++j)
                 memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
@@ -875,6 +935,8 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     }
 
     /* 4. move and turn the particles; share the link compression between y4 and y7 */
+    if (periodic) /* the cell's strain first: it acts on the positions at t */
+        sinter_qs_cell_move(qs, p);
     for (size_t i = 0; i < n; ++i) {
         const double *ui = u + 6 * (size_t)slot[i];
         for (size_t d = 0; d < 3; ++d)
@@ -882,12 +944,16 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         if (p->rot != NULL)
             sinter_compose_rotation(p->rot + 3 * i, ui + 3);
     }
+    if (periodic) /* back into the cell, the links' images following */
+        sinter_qs_cell_wrap(qs, p);
     for (size_t k = 0; k < m; ++k) {
         sinter_qs_link *l = &qs->links[k];
         const size_t a = l->beam.a, b = l->beam.b, sa = slot[a], sb = slot[b];
         double xi = 0.0; /* eq. 41, positive when the centres approach */
         for (size_t d = 0; d < 3; ++d)
             xi += (u[6 * sa + d] - u[6 * sb + d]) * l->beam.axis[d];
+        if (periodic)
+            xi += qs->xi_affine[k]; /* the cell's share */
         const double y4p = qs->saved[k][SINTER_NECK_LA], y7p = qs->saved[k][SINTER_NECK_LB];
         const double d4 = y4p - l->neck.y[SINTER_NECK_LA]; /* eq. 43a */
         const double d7 = y7p - l->neck.y[SINTER_NECK_LB]; /* eq. 43b */
@@ -899,7 +965,9 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         l->neck.last_dy4 = d4;
         l->neck.last_dy7 = d7;
         l->neck.time = t + h;
-        if (sinter_beam_update(&l->beam, p->x + 3 * a, p->x + 3 * b, l->neck.y[SINTER_NECK_LA],
+        double xb[3];
+        sinter_qs_image_of(qs, l->image, p->x + 3 * b, xb);
+        if (sinter_beam_update(&l->beam, p->x + 3 * a, xb, l->neck.y[SINTER_NECK_LA],
                                l->neck.y[SINTER_NECK_LB]) != 0)
             return sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
                                "quasi-static stepper: particles id %llu and id %llu coincide at "
@@ -983,6 +1051,8 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
         const double var = m > 0.0 ? s00[d] - sum0[d] * sum0[d] / m : 0.0;
         const double cov = m > 0.0 ? s0u[d] - sum0[d] * sumu[d] / m : 0.0;
         out[d] = var > 0.0 ? -cov / var : 0.0;
+        if (qs->periodic[d]) /* a periodic axis: the cell's strain (qs_periodic.c) */
+            out[d] = 1.0 - qs->cell_len[d] / qs->cell_len0[d];
     }
 }
 
@@ -1040,6 +1110,19 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
                                           ps->material, ps->id, NULL};
     if ((s = sinter_qs_follow_ids(*qs, &ids_view)) != SINTER_OK)
         return s;
+    /* the stepper's periodic axes (sinter_stepper_set_periodic): the cell is the core's once
+     * it steps, and is written back after each step, so only a change by the host is taken */
+    int per[3], cell_per[3];
+    double cell_lo[3], cell_hi[3];
+    sinter_qs_get_cell(*qs, cell_per, cell_lo, cell_hi);
+    int changed = 0;
+    for (int d = 0; d < 3; ++d) {
+        per[d] = st->ghosts.periodic[d];
+        changed |= per[d] != cell_per[d] ||
+                   (per[d] && (st->ghosts.lo[d] != cell_lo[d] || st->ghosts.hi[d] != cell_hi[d]));
+    }
+    if (changed && (s = sinter_qs_set_cell(*qs, per, st->ghosts.lo, st->ghosts.hi)) != SINTER_OK)
+        return s;
     (*qs)->layout_generation = ps->layout_generation;
     (*qs)->population_generation = ps->population_generation;
     (*qs)->population_known = 1;
@@ -1079,6 +1162,10 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
     sinter_free(st->ctx, mats);
     if (s != SINTER_OK)
         return s;
+    if (sinter_qs_get_cell(*qs, cell_per, cell_lo, cell_hi)) /* the cell after the step */
+        for (int d = 0; d < 3; ++d)
+            if (cell_per[d])
+                st->ghosts.hi[d] = cell_hi[d];
     *taken = step;
     st->time += step;
     st->dt = (*qs)->dt_next;

@@ -71,6 +71,9 @@ typedef struct sinter_qs_options {
     double neck_law;          /* the pair law of step 1 (qs_law.c): 0 the 7DOF model (default,
                                  by the strategy), 1 the classic grain-boundary diffusion law
                                  (neck/gb_law.c), 2 the host law below */
+    double cell_strain;       /* periodic axes (qs_periodic.c): 1 (default) the cell follows the
+                                 links' mean approach (free sintering of a representative
+                                 volume), 0 the cell keeps its size (constrained sintering) */
     sinter_neck_law_callbacks host_law; /* neck_law 2 (sinter_stepper_set_neck_law) */
     void *host_law_user;
 } sinter_qs_options;
@@ -92,7 +95,9 @@ void sinter_qs_options_default(sinter_qs_options *opt);
  * guard off, a warning (the default) or an error, docs/7dof.md §2.6), "qs_neck_law" (0, the
  * default: the 7DOF model; 1: the classic grain-boundary diffusion law; 2: the host law of
  * sinter_stepper_set_neck_law; the strategies apply to the 7DOF model only, the other laws
- * advance every pair over the global step, which follows strategy 3's strain rule). Set checks the value (the
+ * advance every pair over the global step, which follows strategy 3's strain rule),
+ * "qs_cell_strain" (1, the default: a periodic cell follows the links' mean approach; 0: it keeps
+ * its size; any value above 0 means 1; qs_periodic.c). Set checks the value (the
  * whole set is validated again when the stepper is created). Errors: SINTER_ERR_NOT_FOUND (unknown
  * key; the message lists the keys), SINTER_ERR_INVALID (value out of range or not finite, or
  * qs_dt_min above qs_dt_max).
@@ -132,6 +137,8 @@ typedef struct sinter_qs_link {
                                       beam's a and b are the caller's indices, set from these
                                       after a reordering (sinter_qs_remap) */
     double born;                   /* time the link was made [s] (its age: neck.time - born) */
+    int32_t image[3]; /* periodic axes (qs_periodic.c): B as A's neighbour is the image of B at
+                         x_B + image * L, L the cell's lengths; 0 without periodic axes */
 } sinter_qs_link;
 
 /* Outputs (seed 001 sec. 4; docs/7dof.md §5). */
@@ -257,7 +264,20 @@ void sinter_qs_state_save(const sinter_qs *qs, unsigned char *out);
 sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,
                                       const sinter_qs_options *opt, const unsigned char *data,
                                       size_t bytes, size_t n, const void *ids, int by_index,
-                                      const char **why);
+                                      int with_cell, const char **why);
+
+/*
+ * Periodic axes (qs_periodic.c): axis d periodic on [lo[d], hi[d]) when periodic[d] is 1. Links
+ * across a face join a particle to the image of another; with qs_cell_strain the cell shrinks
+ * with the links' mean approach. Set before the first step, or between steps (the links keep
+ * their images, which scale with the cell). Errors: SINTER_ERR_INVALID (hi <= lo or not
+ * finite).
+ */
+sinter_status sinter_qs_set_cell(sinter_qs *qs, const int periodic[3], const double lo[3],
+                                 const double hi[3]);
+/* The periodic axes and the cell now (hi = lo + the current lengths); 0 when no axis is
+ * periodic. */
+int sinter_qs_get_cell(const sinter_qs *qs, int periodic[3], double lo[3], double hi[3]);
 
 /* The links (count in *n). */
 const sinter_qs_link *sinter_qs_links(const sinter_qs *qs, size_t *n);

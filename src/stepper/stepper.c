@@ -113,10 +113,12 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
                            "domain operations (sinter_stepper_set_domain_ops) are supported by "
                            "the explicit stepper only so far; remove them first");
-    if (kind != SINTER_STEPPER_EXPLICIT && sinter_ghosts_on(&st->ghosts))
+    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_QUASISTATIC &&
+        sinter_ghosts_on(&st->ghosts))
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "periodic boundaries are supported by the explicit stepper only; make "
-                           "every axis non-periodic first (sinter_stepper_set_periodic)");
+                           "periodic boundaries are supported by the explicit and quasi-static "
+                           "steppers only; make every axis non-periodic first "
+                           "(sinter_stepper_set_periodic)");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
@@ -615,7 +617,8 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
         st->stats.seconds_neighbor += sinter_clock() - t0;
         return s;
     }
-    const int periodic = sinter_ghosts_on(&st->ghosts);
+    /* the quasi-static stepper makes no images: its links see them (stepper/qs_periodic.c) */
+    const int periodic = sinter_ghosts_on(&st->ghosts) && st->kind != SINTER_STEPPER_QUASISTATIC;
     /* a wider reach than the list was built with: built again now, whatever the skin */
     const double reach = st->thermal.count > 0 ? heat_reach(st) : 0.0;
     const int wider = reach > st->nb.reach;

@@ -26,6 +26,7 @@ import sys
 SHORT = {
     "conduction_box": (0.06, 0.01, {}),
     "copper_lattice": (300, 50, {}),
+    "copper_rve": (20, 4, {}),  # periodic cell: format 15, the cell and the links' images
     "die_press": (0.004, 0.0005, {"particles": {"count": "200"}}),
     "copper_packing": (300, 50, {"particles": {"count": "200", "box_max": "0.000394 0.000394 0.000315"},
                                  "compact": {"box_max": "0.000315 0.000315 0.000252"}}),

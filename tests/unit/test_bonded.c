@@ -655,13 +655,13 @@ static void test_qs_state_keyed_by_id(void **state)
     const char *why = NULL;
     const uint64_t reversed[3] = {11, 10, 12};
     assert_int_equal(
-        sinter_qs_state_restore(&restored[0], pk.ctx, &pk.qs->opt, data, bytes, 3, ids, 0, &why),
+        sinter_qs_state_restore(&restored[0], pk.ctx, &pk.qs->opt, data, bytes, 3, ids, 0, 1, &why),
         SINTER_OK);
     assert_int_equal(
-        sinter_qs_state_restore(&restored[1], pk.ctx, &pk.qs->opt, v10, bytes, 3, ids, 1, &why),
+        sinter_qs_state_restore(&restored[1], pk.ctx, &pk.qs->opt, v10, bytes, 3, ids, 1, 1, &why),
         SINTER_OK);
     assert_int_equal(sinter_qs_state_restore(&restored[2], pk.ctx, &pk.qs->opt, data, bytes, 3,
-                                             reversed, 0, &why),
+                                             reversed, 0, 1, &why),
                      SINTER_OK);
     for (int r = 0; r < 3; ++r) {
         const sinter_qs *q = restored[r];
@@ -679,9 +679,9 @@ static void test_qs_state_keyed_by_id(void **state)
     }
     /* a link whose particle is gone is refused */
     const uint64_t other[3] = {12, 10, 13};
-    assert_int_equal(
-        sinter_qs_state_restore(&restored[0], pk.ctx, &pk.qs->opt, data, bytes, 3, other, 0, &why),
-        SINTER_ERR_CORRUPT);
+    assert_int_equal(sinter_qs_state_restore(&restored[0], pk.ctx, &pk.qs->opt, data, bytes, 3,
+                                             other, 0, 1, &why),
+                     SINTER_ERR_CORRUPT);
     assert_null(restored[0]);
     assert_non_null(strstr(why, "do not exist"));
     free(data);

@@ -112,6 +112,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                            "only those of the first step",
         "qs_neck_law": "[-] 0 (default) the 7DOF model, 1 the grain-boundary diffusion law of "
                        "Bouvard and McMeeking, 2 a host law (set_neck_law)",
+        "qs_cell_strain": "[-] periodic axes: 1 (default) the cell follows the links' mean "
+                          "approach; 0: the cell keeps its size",
     },
 }
 
