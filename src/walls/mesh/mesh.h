@@ -67,4 +67,10 @@ double sinter_mesh_closest(const sinter_mesh *mesh, const double *x, double *n);
 double sinter_mesh_closest_hinted(const sinter_mesh *mesh, const double *x, double *n,
                                   uint32_t *hint);
 
+/* 1 if sinter_mesh_closest_hinted(mesh, x, ..) < bound [m] (a neighbour list's r + skin), by a
+ * search that ends at the bound; a sphere farther than it, in front of the plane of its hint
+ * triangle, is taken as in front (0). Updates *hint as sinter_mesh_closest_hinted when it
+ * finds a triangle. */
+int sinter_mesh_within(const sinter_mesh *mesh, const double *x, double bound, uint32_t *hint);
+
 #endif

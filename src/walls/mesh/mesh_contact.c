@@ -178,6 +178,10 @@ static int search(const sinter_mesh *m, const double *x, best_point *best, doubl
         *lower = (first - 1) * m->h; /* a lower bound, beyond the reach */
         return 0;
     }
+    /* every triangle farther than the best point (a seeded bound: sinter_mesh_within's, a
+     * hint's): none can win, nothing to search */
+    if (first >= 2 && (first - 1) * m->h * ((first - 1) * m->h) > best->d2)
+        return 1;
     for (int k = first; k <= kmax; ++k) {
         try_ring(m, x, at, k, best);
         /* the distance from x to the cells beyond the block searched: at least k h */
@@ -226,22 +230,10 @@ static best_point seed(const sinter_mesh *m, const double *x, uint32_t hint)
     return best;
 }
 
-double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double *n, uint32_t *hint)
+/* The signed distance and normal of the closest point found (best.tri a triangle). */
+static double finish(const sinter_mesh *m, const double *x, const best_point *bp, double *n)
 {
-    best_point best = seed(m, x, *hint);
-    double lower = 0.0;
-    int found = search(m, x, &best, &lower);
-    /* seeded and nothing taken (a bound's round-off past the margin): the search without */
-    if (found && best.tri == SIZE_MAX) {
-        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}};
-        found = search(m, x, &best, &lower);
-    }
-    if (!found) {
-        if (n != NULL)
-            memcpy(n, m->fn, 3 * sizeof(double));
-        return lower;
-    }
-    *hint = (uint32_t)best.tri;
+    const best_point best = *bp;
     const double r[3] = {x[0] - best.c[0], x[1] - best.c[1], x[2] - best.c[2]};
     const double *fn = m->fn + 3 * best.tri;
     if (best.feature == 0) { /* in front of (or behind) a face: its plane's distance */
@@ -261,4 +253,57 @@ double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double 
             memcpy(n, fn, 3 * sizeof(double));
     }
     return sign * s;
+}
+
+double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double *n, uint32_t *hint)
+{
+    best_point best = seed(m, x, *hint);
+    double lower = 0.0;
+    int found = search(m, x, &best, &lower);
+    /* seeded and nothing taken (a bound's round-off past the margin): the search without */
+    if (found && best.tri == SIZE_MAX) {
+        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}};
+        found = search(m, x, &best, &lower);
+    }
+    if (!found) {
+        if (n != NULL)
+            memcpy(n, m->fn, 3 * sizeof(double));
+        return lower;
+    }
+    *hint = (uint32_t)best.tri;
+    return finish(m, x, &best, n);
+}
+
+/*
+ * The neighbour list's question, whether the signed distance is below `bound`, by a search
+ * seeded with the bound itself (times the hint's margin) as a best point of no triangle: a
+ * triangle closer than the bound is found as the search without the seed finds it (the
+ * hint's argument), and then its signed distance decides, the same bits. When none is closer
+ * the search ends at the bound instead of at the mesh: the sphere is at least `bound` from
+ * the mesh, and taken as in front of it (not near) if it is in front of the plane of its hint
+ * triangle (the last closest). Behind that plane, without a hint, or with a bound beyond the
+ * reach, the full search answers (a sphere behind the mesh stays a candidate, so that the
+ * step refuses it as passed through the wall).
+ */
+int sinter_mesh_within(const sinter_mesh *m, const double *x, double bound, uint32_t *hint)
+{
+    const uint32_t t = *hint;
+    int front = 0;
+    if (t < m->nt && bound > 0.0 && bound < m->reach) {
+        const double *a = m->cull + 10 * (size_t)t, *fn = a + 3;
+        front = (x[0] - a[0]) * fn[0] + (x[1] - a[1]) * fn[1] + (x[2] - a[2]) * fn[2] >= 0.0;
+    }
+    if (!front)
+        return sinter_mesh_closest_hinted(m, x, NULL, hint) < bound;
+    best_point best = seed(m, x, t);
+    const double tiny = 1e-12 * m->h, b2 = bound * bound * (1.0 + 1e-9) + tiny * tiny;
+    if (b2 < best.d2)
+        best.d2 = b2;
+    double lower = 0.0;
+    if (!search(m, x, &best, &lower))
+        return lower < bound; /* beyond the reach from the first layer: a lower bound */
+    if (best.tri == SIZE_MAX)
+        return 0; /* nothing within the bound, in front of the hint's plane */
+    *hint = (uint32_t)best.tri;
+    return finish(m, x, &best, NULL) < bound;
 }
