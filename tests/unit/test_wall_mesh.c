@@ -384,11 +384,12 @@ static size_t ringed_tube(int nf, int nr, double rc, double len, double *v)
 
 /* The search from a hint (the triangle of the last step's closest point, kept per contact and
  * per neighbour candidate) against the search without: the same bits of distance and normal,
- * and the same triangle, from every hint (the answer's, its index neighbours, the first and
- * last triangles, a random one, none, one past the mesh), for points all around two meshes:
- * a triangulated plane with points above its edges and vertices (exact ties between coplanar
- * triangles, where the order of the search decides) and a ringed die, inside, outside and
- * behind, with the reach unlimited and short (lower bounds beyond it). */
+ * and the same triangle, and the neighbour list's verdict (sinter_mesh_within), from every hint
+ * (the answer's, its index neighbours, the first and last triangles, a random one, none, one past
+ * the mesh), for points all around two meshes: a triangulated plane with points above its edges and
+ * vertices (exact ties between coplanar triangles, where the order of the search decides) and a
+ * ringed die, inside, outside and behind, with the reach unlimited and short (lower bounds beyond
+ * it). */
 static void test_hint_changes_no_bit(void **state)
 {
     (void)state;
@@ -407,7 +408,7 @@ static void test_hint_changes_no_bit(void **state)
             sinter_mesh *m = NULL;
             OK(sinter_mesh_build(ctx, &stl, "test", 1.0, o, o, 0, reach, &m));
             srand(7u + (unsigned)(2 * which + r));
-            size_t checked = 0, bounded = 0;
+            size_t checked = 0, bounded = 0, within_checked = 0, taken_front = 0;
             for (int k = 0; k < 4000; ++k) {
                 double x[3];
                 for (int d = 0; d < 3; ++d)
@@ -441,12 +442,27 @@ static void test_hint_changes_no_bit(void **state)
                     assert_memory_equal(n, n0, sizeof(n0));
                     if (truth != UINT32_MAX)
                         assert_int_equal(hint, truth);
+                    /* the neighbour list's verdict by the search ended at the bound: the
+                     * full search's, but for a point farther behind the mesh than the bound
+                     * and in front of its hint's plane (taken as in front, stated) */
+                    for (int b = 0; b < 3; ++b) {
+                        const double bound = b == 0 ? 0.05 : b == 1 ? 0.2 : 0.5;
+                        uint32_t hint2 = hints[h];
+                        const int within = sinter_mesh_within(m, x, bound, &hint2);
+                        if (within != (d0 < bound)) {
+                            assert_true(d0 <= -bound && within == 0);
+                            taken_front++;
+                        }
+                        within_checked++;
+                    }
                 }
                 checked += truth != UINT32_MAX;
                 bounded += truth == UINT32_MAX;
             }
-            print_message("%s, reach %g: %zu points exact, %zu beyond the reach (lower bounds)\n",
-                          which ? "die" : "plane", reach, checked, bounded);
+            print_message("%s, reach %g: %zu points exact, %zu beyond the reach (lower bounds); "
+                          "%zu verdicts within a bound, %zu far behind taken as in front\n",
+                          which ? "die" : "plane", reach, checked, bounded, within_checked,
+                          taken_front);
             assert_true(checked > 1000);
             sinter_mesh_destroy(ctx, m);
         }
