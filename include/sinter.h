@@ -719,7 +719,9 @@ SINTER_API sinter_status sinter_walls_add_cylinder(sinter_walls *walls, const do
  * rectangle's edge. Distances from the mesh come from a cell grid over its
  * triangles; beyond `reach` [m] (0: everywhere exact) one may come out as a
  * lower bound, so reach must exceed the largest particle radius plus the
- * neighbour list's skin. A spin does not turn the mesh (it gives its surface
+ * neighbour list's skin (the neighbour list takes a sphere farther than its
+ * radius plus the skin, in front of its last closest triangle's plane, as in
+ * front: docs/models.md). A spin does not turn the mesh (it gives its surface
  * velocity, as for a cylinder); the mesh is not drawn in .vtp files.
  * Errors: SINTER_ERR_IO (unreadable), SINTER_ERR_PARSE (not STL, with the
  * line), SINTER_ERR_INVALID (a scale not positive, a non-finite placement, a
