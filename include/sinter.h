@@ -720,7 +720,9 @@ SINTER_API sinter_status sinter_walls_add_cylinder(sinter_walls *walls, const do
  * rectangle's edge. Distances from the mesh come from a cell grid over its
  * triangles; beyond `reach` [m] (0: everywhere exact) one may come out as a
  * lower bound, so reach must exceed the largest particle radius plus the
- * neighbour list's skin. A spin does not turn the mesh (it gives its surface
+ * neighbour list's skin (the neighbour list takes a sphere farther than its
+ * radius plus the skin, in front of its last closest triangle's plane, as in
+ * front: docs/models.md). A spin does not turn the mesh (it gives its surface
  * velocity, as for a cylinder); the mesh is not drawn in .vtp files.
  * Errors: SINTER_ERR_IO (unreadable), SINTER_ERR_PARSE (not STL, with the
  * line), SINTER_ERR_INVALID (a scale not positive, a non-finite placement, a
@@ -1890,11 +1892,20 @@ typedef struct sinter_packing_options {
     const int32_t *mixture_materials;     /**< mixture: material ids (borrowed) */
     const double *mixture_mass_fractions; /**< mixture: mass fractions, positive, sum 1 within
                                                1e-6 (then divided by their sum) */
+    /* Appended in 0.x (issue 38, a size distribution per material); the layout that ended at
+     * mixture_mass_fractions is still served (struct_size = offsetof(.., mixture_sizes)). */
+    const struct sinter_packing_options *mixture_sizes; /**< mixture: NULL (default): every
+                                      material draws its radii from this struct's distribution;
+                                      else mixture_count options (each filled by
+                                      sinter_packing_options_init) whose size fields
+                                      (distribution, radius_*, table_*) give material k its own
+                                      distribution; their other fields are ignored (borrowed) */
 } sinter_packing_options;
 
 /** Fill `options` with defaults: unit box, monodisperse r = 0.05 m, seed 1, 293.15 K.
  * struct_size: sizeof(sinter_packing_options), or offsetof(sinter_packing_options,
- * radius_median) for the layout before issue 38. */
+ * radius_median) for the layout before issue 38, or offsetof(sinter_packing_options,
+ * mixture_sizes) for the layout before the sizes per material. */
 SINTER_API sinter_status sinter_packing_options_init(sinter_packing_options *options,
                                                      size_t struct_size);
 
@@ -1913,8 +1924,11 @@ SINTER_API sinter_status sinter_packing_options_init(sinter_packing_options *opt
  * for the piecewise-linear Q3; radius_min/max are ignored. A mixture chooses each placed
  * particle's material greedily, the one furthest below its mass share, so that each
  * material's mass exceeds its share of the total by at most one particle's mass (and, for two
- * materials, falls short by at most one particle's mass). The random stream of the first three
- * distributions is that of earlier versions (a mixture draws no random numbers).
+ * materials, falls short by at most one particle's mass). With mixture_sizes each particle's
+ * material is chosen by that rule before its radius is drawn from the material's own
+ * distribution (the same bound, with the largest particle of any material). The random
+ * stream of the first three distributions is that of earlier versions (a mixture draws no
+ * random numbers of its own).
  * Errors: SINTER_ERR_INVALID for an empty box or bad radii, tables or fractions;
  * SINTER_ERR_NOT_FOUND for an unregistered material; the set is unchanged on error.
  */
@@ -2007,7 +2021,11 @@ SINTER_API sinter_status sinter_insertion_options_init(sinter_insertion_options 
  * finds no room waits for the next insertion (the shortfall is in
  * sinter_stepper_get_insertion). `powder` gives the size distribution (every
  * sinter_radius_distribution; a table is copied), the material, the temperature, the seed and
- * the gap; a mixture is refused. The inserted spheres move at options->velocity, without spin;
+ * the gap. A mixture (mixture_count > 0, with or without mixture_sizes) chooses each sphere's
+ * material as sinter_pack_random does, before its radius is drawn, from the masses inserted
+ * so far: each material's inserted mass stays within one particle's mass of its share
+ * (sinter_stepper_get_insertion_mixture reports them). The inserted spheres move at
+ * options->velocity, without spin;
  * their forces are evaluated at once, and the step's stability check (sinter_stable_dt_hertz)
  * then covers them. One random stream (powder->seed) gives radii and places in order, so a run
  * inserts the same spheres on every machine and any thread count. A later call replaces the
@@ -2015,7 +2033,8 @@ SINTER_API sinter_status sinter_insertion_options_init(sinter_insertion_options 
  * insertion before sinter_checkpoint_read, and the run continues bit for bit. Only the
  * explicit stepper inserts (SINTER_ERR_STATE for another kind).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_INVALID (a bad option, a region
- * narrower than the largest sphere, a mixture), SINTER_ERR_NOT_FOUND (an unregistered material).
+ * narrower than the largest sphere, mass fractions not positive or not summing to 1),
+ * SINTER_ERR_NOT_FOUND (an unregistered material).
  */
 SINTER_API sinter_status sinter_stepper_set_insertion(sinter_stepper *stepper,
                                                       const sinter_packing_options *powder,
@@ -2030,6 +2049,16 @@ SINTER_API sinter_status sinter_stepper_set_insertion(sinter_stepper *stepper,
 SINTER_API sinter_status sinter_stepper_get_insertion(const sinter_stepper *stepper,
                                                       double *mass_inserted, double *mass_target,
                                                       uint64_t *inserted, uint64_t *crowded);
+
+/**
+ * The mass inserted so far of each material of the insertion's mixture [kg], in the order of
+ * powder->mixture_materials: mass[k] for k < capacity; *count (may be NULL) receives the number
+ * of materials (0 without a mixture or without an insertion, 1 entry then not written).
+ * Errors: SINTER_ERR_NULL (stepper, or mass with capacity > 0).
+ */
+SINTER_API sinter_status sinter_stepper_get_insertion_mixture(const sinter_stepper *stepper,
+                                                              double *mass, size_t capacity,
+                                                              size_t *count);
 
 /** Options of sinter_pack_compact; fill with sinter_compaction_options_init. */
 typedef struct sinter_compaction_options {

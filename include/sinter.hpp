@@ -1265,6 +1265,19 @@ class stepper : public detail::handle<sinter_stepper, sinter_stepper_destroy> {
         run(sinter_stepper_set_insertion(live("sinter_stepper_set_insertion"), powder, options),
             "sinter_stepper_set_insertion");
     }
+    /// The mass inserted so far of each material of the insertion's mixture [kg], in the order
+    /// of the powder's mixture_materials (sinter_stepper_get_insertion_mixture); empty without
+    /// a mixture.
+    std::vector<double> insertion_mixture() const
+    {
+        const char *fn = "sinter_stepper_get_insertion_mixture";
+        std::size_t count = 0;
+        check(sinter_stepper_get_insertion_mixture(live(fn), nullptr, 0, &count), fn);
+        std::vector<double> mass(count);
+        if (count > 0)
+            check(sinter_stepper_get_insertion_mixture(live(fn), mass.data(), count, nullptr), fn);
+        return mass;
+    }
     /// Take n steps.
     void step(std::uint64_t n)
     {

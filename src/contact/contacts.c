@@ -21,10 +21,24 @@ void sinter_contact_radii(const sinter_contact_list *c, double *a)
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c)
 {
-    void *arrays[] = {c->i,    c->j,      c->pair,   c->n,
-                      c->delta, c->dist,  c->area,   c->branch,
-                      c->pair_to_contact, c->chunk_scratch, c->touch, c->fill_scratch,
-                      c->ended, c->gaps, c->hint, c->hint_spare};
+    void *arrays[] = {c->i,
+                      c->j,
+                      c->pair,
+                      c->n,
+                      c->delta,
+                      c->dist,
+                      c->area,
+                      c->branch,
+                      c->pair_to_contact,
+                      c->chunk_scratch,
+                      c->touch,
+                      c->fill_scratch,
+                      c->ended,
+                      c->gaps,
+                      c->hint,
+                      c->hint_spare,
+                      c->cert,
+                      c->cert_spare};
     for (size_t k = 0; k < sizeof(arrays) / sizeof(arrays[0]); ++k)
         sinter_free(ctx, arrays[k]);
     memset(c, 0, sizeof(*c));
@@ -37,9 +51,9 @@ static sinter_status reserve(sinter_ctx *ctx, sinter_contact_list *c, size_t nee
     size_t cap = c->capacity ? c->capacity : 256;
     while (cap < need)
         cap *= 2;
-    void **slots[] = {(void **)&c->i,     (void **)&c->j,    (void **)&c->pair,
-                      (void **)&c->n,     (void **)&c->delta, (void **)&c->dist,
-                      (void **)&c->area,  (void **)&c->branch};
+    void **slots[] = {(void **)&c->i,    (void **)&c->j,     (void **)&c->pair,
+                      (void **)&c->n,    (void **)&c->delta, (void **)&c->dist,
+                      (void **)&c->area, (void **)&c->branch};
     const size_t elem[] = {4, 4, 4, 3 * sizeof(double), 8, 8, 8, 8};
     for (size_t k = 0; k < sizeof(slots) / sizeof(slots[0]); ++k) {
         void *q = sinter_realloc_array(ctx, *slots[k], cap, elem[k]);
@@ -92,8 +106,8 @@ typedef struct fill_part {
 
 /* Geometry of contact m from its particles' centres (sinter_pp_geometry; a^2 = R_i^2 - L_i^2,
  * seed 000 eq. 7, 11). */
-static inline void put_geometry(sinter_contact_list *c, const double *x, const double *r,
-                                size_t m, uint32_t i, uint32_t j)
+static inline void put_geometry(sinter_contact_list *c, const double *x, const double *r, size_t m,
+                                uint32_t i, uint32_t j)
 {
     const sinter_pp_geom g = sinter_pp_geometry(x[3 * j] - x[3 * i], x[3 * j + 1] - x[3 * i + 1],
                                                 x[3 * j + 2] - x[3 * i + 2], r[i], r[j]);
@@ -222,9 +236,9 @@ static size_t verify_range(const sinter_contact_list *c, const sinter_pair_list 
 
 /* Ranges of pairs for a threaded pass over pairs [p0, n) on `threads` threads. */
 typedef struct pair_ranges {
-    int count;                  /* ranges */
-    int team;                   /* threads of the loop over them, schedule(static) */
-    size_t lo[MAX_CHUNKS + 1];  /* range t: pairs [lo[t], lo[t + 1]) */
+    int count;                 /* ranges */
+    int team;                  /* threads of the loop over them, schedule(static) */
+    size_t lo[MAX_CHUNKS + 1]; /* range t: pairs [lo[t], lo[t + 1]) */
 } pair_ranges;
 
 /* Fewest pairs a range of a threaded fill is given (fill_ranges). */
@@ -293,9 +307,8 @@ static pair_ranges pass_ranges(const sinter_contact_list *c, const sinter_pair_l
  * SIZE_MAX: nowhere). Returns the number of contacts.
  */
 static size_t fill_segments(sinter_contact_list *c, const sinter_pair_list *pairs,
-                            const sinter_particles *ps, size_t m0, const pair_ranges *r,
-                            int verify, fill_part *part, size_t *change_pair,
-                            size_t *change_contact)
+                            const sinter_particles *ps, size_t m0, const pair_ranges *r, int verify,
+                            fill_part *part, size_t *change_pair, size_t *change_contact)
 {
     const size_t n = pairs->count;
     const int chunks = r->count;
@@ -501,9 +514,8 @@ static void make_chunks(sinter_contact_list *c, const sinter_pair_list *pairs,
     contact_ranges(c);
 }
 
-static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c,
-                             const sinter_pair_list *pairs, const sinter_particles *ps,
-                             int geometry)
+static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c, const sinter_pair_list *pairs,
+                             const sinter_particles *ps, int geometry)
 {
     /* Reserve for the worst case so the loops below never allocate. */
     sinter_status st = reserve(ctx, c, pairs->count + 1);
@@ -670,9 +682,9 @@ static size_t first_new_contact(sinter_ctx *ctx, sinter_contact_list *c,
         offset[t + 1] = gaps != NULL && n > 0 ? cap * r.lo[t + 1] / n : 0;
 #pragma omp parallel for num_threads(r.team) schedule(static)
     for (int t = 0; t < ranges; ++t) {
-        first[t] = scan_range(c, pairs, ps, r.lo[t], r.lo[t + 1],
-                              gaps != NULL ? gaps + offset[t] : NULL, offset[t + 1] - offset[t],
-                              &count[t]);
+        first[t] =
+            scan_range(c, pairs, ps, r.lo[t], r.lo[t + 1], gaps != NULL ? gaps + offset[t] : NULL,
+                       offset[t + 1] - offset[t], &count[t]);
     }
     size_t kept = 0;
     for (int t = 0; t < ranges; ++t) {
@@ -771,8 +783,8 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
  * those marked in `ended` (clearing the marks), or without it those failing the search's
  * test; and record the change (pairs before the first dropped kept their verdicts). */
 static void drop_contacts(sinter_contact_list *c, size_t from, uint8_t *ended,
-                          const sinter_pair_list *pairs, const sinter_particles *ps,
-                          double *rows, size_t width)
+                          const sinter_pair_list *pairs, const sinter_particles *ps, double *rows,
+                          size_t width)
 {
     const size_t first_pair = c->pair[from];
     uint32_t *to_contact = c->pair_to_contact;
@@ -894,12 +906,13 @@ static inline void renew_wall_geometry(sinter_contact_list *c, size_t m, const d
  * repeated, and starts from the pair's hint; the arithmetic of sinter_wall_distance and of
  * the kind's normal). */
 static inline double wall_distance_normal(const sinter_wall *w, const double *x, int planes,
-                                          double *buf, const double **wn, uint32_t *hint)
+                                          double *buf, const double **wn, uint32_t *hint,
+                                          double *cert)
 {
     if (planes || w->kind == SINTER_WALL_PLANE)
         return sinter_plane_distance(w, x);
     *wn = buf;
-    return sinter_wall_contact_hinted(w, x, buf, hint);
+    return sinter_wall_contact_certified(w, x, buf, hint, cert);
 }
 
 /* The pairs' mesh hints (c->hint) for pair list `pairs`: the last search's, carried to the
@@ -913,20 +926,37 @@ static sinter_status carry_hints(sinter_ctx *ctx, sinter_contact_list *c,
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&c->hint_spare, &c->hint_spare_capacity, pairs->count + 1,
                          sizeof(uint32_t));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&c->cert, &c->cert_capacity, 4 * pairs->count + 4,
+                         sizeof(double));
+    if (st == SINTER_OK)
+        st = sinter_grow(ctx, (void **)&c->cert_spare, &c->cert_spare_capacity,
+                         4 * pairs->count + 4, sizeof(double));
     if (st != SINTER_OK)
         return st;
     if (c->hint_source == pairs->build_id && c->hint_count == pairs->count)
         return SINTER_OK;
     for (size_t p = 0; p < pairs->count; ++p) {
         const uint32_t q = pairs->from != NULL ? pairs->from[p] : SINTER_NO_PAIR;
-        c->hint_spare[p] = q != SINTER_NO_PAIR && q < c->hint_count ? c->hint[q] : UINT32_MAX;
+        const int kept = q != SINTER_NO_PAIR && q < c->hint_count;
+        c->hint_spare[p] = kept ? c->hint[q] : UINT32_MAX;
+        if (kept)
+            memcpy(c->cert_spare + 4 * p, c->cert + 4 * (size_t)q, 4 * sizeof(double));
+        else
+            c->cert_spare[4 * p + 3] = -1.0; /* none */
     }
     uint32_t *swap = c->hint;
     c->hint = c->hint_spare;
     c->hint_spare = swap;
-    const size_t cap = c->hint_capacity;
+    size_t cap = c->hint_capacity;
     c->hint_capacity = c->hint_spare_capacity;
     c->hint_spare_capacity = cap;
+    double *cswap = c->cert;
+    c->cert = c->cert_spare;
+    c->cert_spare = cswap;
+    cap = c->cert_capacity;
+    c->cert_capacity = c->cert_spare_capacity;
+    c->cert_spare_capacity = cap;
     c->hint_count = pairs->count;
     c->hint_source = pairs->build_id;
     return SINTER_OK;
@@ -965,7 +995,8 @@ static inline void wall_test_pairs(wall_search *job, int t, int planes)
         double buf[3];
         const double *wn = w->n;
         const double sd =
-            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p);
+            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p,
+                                 planes ? NULL : c->cert + 4 * p);
         const int touches = sd < r[i];
         touch[p] = (uint8_t)touches;
         count += (size_t)touches;
@@ -1012,7 +1043,8 @@ static inline void wall_put_pairs(wall_search *job, int t, int planes)
         double buf[3];
         const double *wn = w->n;
         const double sd =
-            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p);
+            wall_distance_normal(w, x + 3 * i, planes, buf, &wn, planes ? NULL : c->hint + p,
+                                 planes ? NULL : c->cert + 4 * p);
         put_wall_geometry(c, m, (uint32_t)p, i, k, wn, r[i], sd);
         ++m;
     }

@@ -29,14 +29,14 @@ typedef struct sinter_contact_list {
     size_t count;
     size_t capacity;
     size_t pair_count; /* candidate pairs the contacts were found among */
-    uint32_t *i;      /* particle */
-    uint32_t *j;      /* particle or wall */
-    uint32_t *pair;   /* index of the candidate pair (history slot) */
-    double *n;        /* unit normal from i towards j, 3 per contact */
-    double *delta;    /* overlap [m] */
-    double *dist;     /* centre distance or centre-plane distance [m] */
-    double *area;     /* pi a^2 [m^2] */
-    double *branch;   /* L_i: distance from the centre of i to the contact plane [m] */
+    uint32_t *i;       /* particle */
+    uint32_t *j;       /* particle or wall */
+    uint32_t *pair;    /* index of the candidate pair (history slot) */
+    double *n;         /* unit normal from i towards j, 3 per contact */
+    double *delta;     /* overlap [m] */
+    double *dist;      /* centre distance or centre-plane distance [m] */
+    double *area;      /* pi a^2 [m^2] */
+    double *branch;    /* L_i: distance from the centre of i to the contact plane [m] */
     /* 1 when n, delta, dist, area and branch hold this list's geometry; 0 for a list made by
      * sinter_contacts_find_pp_lean until sinter_contacts_geometry fills them */
     int geometry;
@@ -63,6 +63,10 @@ typedef struct sinter_contact_list {
      * hinted: a start that changes no bit), carried over a rebuild by the pairs' `from` */
     uint32_t *hint, *hint_spare;
     size_t hint_capacity, hint_spare_capacity, hint_count;
+    /* and 4 doubles per pair: the certificate of its last search (sinter_wall_contact_
+     * certified: where the hint's triangle is still the closest), carried with the hint */
+    double *cert, *cert_spare;
+    size_t cert_capacity, cert_spare_capacity;
     uint64_t hint_source;
     uint32_t *fill_scratch; /* threaded search of a lean list: i, j, pair per candidate pair */
     size_t fill_scratch_capacity;

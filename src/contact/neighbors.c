@@ -569,7 +569,9 @@ static inline size_t count_pw(const sinter_walls *walls, const double *x, const 
 }
 
 /* count_pw for walls of any kind: each verdict kept in near (i nw + k), a mesh's search
- * started from the triangle of the particle's last (hint, i nw + k; the same bits from any). */
+ * started from the triangle of the particle's last (hint, i nw + k; the same bits from any)
+ * and ended at r + skin (sinter_mesh_within: a sphere farther in front of its last triangle's
+ * plane is not searched out to the mesh). */
 static size_t count_pw_kinds(const sinter_walls *walls, const double *x, const double *r,
                              double skin, size_t a, size_t b, uint8_t *near, uint32_t *hint)
 {
@@ -578,10 +580,10 @@ static size_t count_pw_kinds(const sinter_walls *walls, const double *x, const d
     for (size_t i = a; i < b; ++i)
         for (size_t k = 0; k < nw; ++k) {
             const sinter_wall *w = &walls->wall[k];
-            const double s = w->kind == SINTER_WALL_MESH
-                                 ? sinter_wall_contact_hinted(w, x + 3 * i, NULL, hint + i * nw + k)
-                                 : sinter_wall_distance(w, x + 3 * i);
-            near[i * nw + k] = (uint8_t)(s < r[i] + skin);
+            near[i * nw + k] = (uint8_t)(w->kind == SINTER_WALL_MESH
+                                             ? sinter_wall_mesh_within(w, x + 3 * i, r[i] + skin,
+                                                                       hint + i * nw + k)
+                                             : sinter_wall_distance(w, x + 3 * i) < r[i] + skin);
             count += near[i * nw + k];
         }
     return count;

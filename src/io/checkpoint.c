@@ -68,7 +68,11 @@
  *    insertion, the spheres inserted, the crowded insertions, the random stream; 3 doubles: the
  *    next sphere's radius, the mass inserted and its target), or 0 without one; restored into
  *    the stepper's insertion, which the host sets before reading (a scene's [insert]); earlier
- *    versions are still read (the insertion as the host set it)
+ *    versions are still read (the insertion as the host set it). An insertion of a mixture
+ *    (issue 38) writes 2 instead of 1, and after the 3 doubles the count of its materials
+ *    (u64, at most SINTER_MAX_MATERIALS), the pending sphere's material index (u64) and count
+ *    + 1 doubles (each material's inserted mass, then their total, kg); files without a
+ *    mixture are unchanged
  * 14: then the neighbour search's reach (f64, m: contact/neighbors.h, widened by a heat law's
  *    gas_reach, heat/gas_gap.h), so that the restored list is not built again at the first
  *    step (a fresh stepper's reach is 0, and a wider reach rebuilds the list: the rebuild
@@ -320,7 +324,8 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
         put(&w, g->owner, ps->ghost_count * sizeof(uint32_t));
         put(&w, g->shift, 3 * ps->ghost_count * sizeof(double));
     }
-    put_u64(&w, st->insertion != NULL); /* version 13 */
+    const size_t mixed = st->insertion != NULL ? sinter_insertion_mixture_count(st->insertion) : 0;
+    put_u64(&w, st->insertion == NULL ? 0u : mixed > 0 ? 2u : 1u); /* version 13 */
     if (st->insertion != NULL) {
         uint64_t u[SINTER_INSERTION_U64];
         double d[SINTER_INSERTION_F64];
@@ -329,6 +334,15 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
             put_u64(&w, u[k]);
         for (int k = 0; k < SINTER_INSERTION_F64; ++k)
             put_f64(&w, d[k]);
+    }
+    if (mixed > 0) {
+        uint64_t pending = 0;
+        double mass[SINTER_MAX_MATERIALS + 1];
+        sinter_insertion_get_mixture(st->insertion, &pending, mass);
+        put_u64(&w, (uint64_t)mixed);
+        put_u64(&w, pending);
+        for (size_t k = 0; k <= mixed; ++k)
+            put_f64(&w, mass[k]);
     }
     put_f64(&w, st->nb.reach); /* version 14 */
     const uint64_t sum = w.hash;
@@ -783,7 +797,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     const uint64_t has_insertion = version >= 13u && !r.bad ? take_u64(&r) : 0;
     uint64_t ins_u[SINTER_INSERTION_U64] = {0};
     double ins_d[SINTER_INSERTION_F64] = {0};
-    if (has_insertion > 1)
+    if (has_insertion > 2)
         r.bad = 1;
     for (int k = 0; k < SINTER_INSERTION_U64 && has_insertion && !r.bad; ++k)
         ins_u[k] = take_u64(&r);
@@ -791,6 +805,17 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         ins_d[k] = take_f64(&r);
     if (has_insertion && !r.bad && !sinter_insertion_state_valid(ins_d))
         r.bad = 1;
+    /* a mixture's state (has_insertion 2) */
+    const uint64_t mixed = has_insertion == 2 && !r.bad ? take_u64(&r) : 0;
+    const uint64_t mix_pending = mixed > 0 && !r.bad ? take_u64(&r) : 0;
+    double mix_mass[SINTER_MAX_MATERIALS + 1] = {0};
+    if (has_insertion == 2 && (mixed == 0 || mixed > SINTER_MAX_MATERIALS || mix_pending >= mixed))
+        r.bad = 1;
+    for (uint64_t k = 0; mixed > 0 && k <= mixed && !r.bad; ++k) {
+        mix_mass[k] = take_f64(&r);
+        if (!(isfinite(mix_mass[k]) && mix_mass[k] >= 0.0))
+            r.bad = 1;
+    }
     const double reach = version >= 14u && !r.bad ? take_f64(&r) : 0.0;
     if (!(isfinite(reach) && reach >= 0.0))
         r.bad = 1;
@@ -802,6 +827,14 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
                         "checkpoint '%s' has periodic axes, which only the explicit and "
                         "quasi-static steppers support; nothing was changed",
                         path);
+    if (s == SINTER_OK && has_insertion && st->insertion != NULL &&
+        (uint64_t)sinter_insertion_mixture_count(st->insertion) != mixed)
+        s = sinter_fail(ctx, SINTER_ERR_INVALID,
+                        "checkpoint '%s' holds an insertion of a mixture of %llu materials, but "
+                        "the stepper's insertion mixes %zu (0: none); set the same insertion "
+                        "before reading; nothing was changed",
+                        path, (unsigned long long)mixed,
+                        sinter_insertion_mixture_count(st->insertion));
     if (s == SINTER_OK && has_qs && st->kind != SINTER_STEPPER_QUASISTATIC)
         s = sinter_fail(ctx, SINTER_ERR_INVALID,
                         "checkpoint '%s' holds quasi-static links and necks, but the stepper is "
@@ -1045,8 +1078,11 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     st->stats.iterations = iterations;
     st->stats.evaluations = evaluations;
     st->stats.bonds_broken = bonds_broken;
-    if (has_insertion && st->insertion != NULL) /* a host without one ignores it */
+    if (has_insertion && st->insertion != NULL) { /* a host without one ignores it */
         sinter_insertion_set_state(st->insertion, ins_u, ins_d);
+        if (mixed > 0) /* checked above: it fits */
+            (void)sinter_insertion_set_mixture(st->insertion, mix_pending, mix_mass);
+    }
     sg->h_prev = h_prev;
     sg->contraction = contraction;
     sg->control.x_prev = x_prev;

@@ -319,12 +319,12 @@ static sinter_status read_psd_table(scene_text *t, sinter_scene *sc, scene_secti
 }
 
 /*
- * [particles] materials = A B ... with mass_fractions = f_A f_B ...: the mixture of
- * sinter_pack_random, the ids into mat[] and the fractions into a new array (*fractions).
+ * [particles] or [insert] materials = A B ... with mass_fractions = f_A f_B ...: the mixture
+ * of sinter_pack_random, the ids into mat[] and the fractions into a new array (*fractions).
  */
-static sinter_status read_mixture(scene_text *t, sinter_scene *sc, scene_section *s,
-                                  int32_t mat[SCENE_MAX_MATERIALS], double **fractions,
-                                  size_t *count)
+sinter_status scene_read_mixture(scene_text *t, sinter_scene *sc, scene_section *s,
+                                 int32_t mat[SCENE_MAX_MATERIALS], double **fractions,
+                                 size_t *count)
 {
     *fractions = NULL;
     *count = 0;
@@ -422,7 +422,6 @@ sinter_status scene_read_distribution(scene_text *t, sinter_scene *sc, scene_sec
     OPTIONAL(scene_get_double(t, s, "spread", &o->radius_spread));
     OPTIONAL(scene_get_double(t, s, "radius_min", &o->radius_min));
     OPTIONAL(scene_get_double(t, s, "radius_max", &o->radius_max));
-    OPTIONAL(scene_get_double(t, s, "gap", &o->gap));
     if (strcmp(dist, "table") != 0)
         o->radius_mean = radius;
     if (strcmp(dist, "monodisperse") == 0)
@@ -447,6 +446,82 @@ sinter_status scene_read_distribution(scene_text *t, sinter_scene *sc, scene_sec
     return SINTER_OK;
 }
 
+/* [size NAME]: a size distribution of a mixture's material of its own: distribution, radius
+ * and the distribution's keys into o (a table's arrays into *d and *q, free both). */
+static sinter_status read_size_section(scene_text *t, sinter_scene *sc, scene_section *s,
+                                       sinter_packing_options *o, double **d, double **q)
+{
+    *d = *q = NULL;
+    TRY(sinter_packing_options_init(o, sizeof(*o)));
+    const char *dist = "monodisperse";
+    OPTIONAL(scene_get_word(t, s, "distribution", &dist));
+    double radius = 0.0;
+    if (strcmp(dist, "table") != 0) /* a table has its own sizes */
+        TRY(required(t, s, scene_get_double(t, s, "radius", &radius), "radius"));
+    return scene_read_distribution(t, sc, s, o, dist, radius, d, q);
+}
+
+/* [size NAME] sections are read where a mixture names them (`sizes`); here each is read once
+ * for its keys' sake (an unknown key or a bad table is reported even when none names it). */
+static sinter_status build_size(scene_text *t, sinter_scene *sc, scene_section *s)
+{
+    if (s->name[0] == '\0')
+        return section_error(t, s, "a size distribution needs a name: [size NAME]");
+    for (size_t k = 0; &t->sections[k] != s; ++k)
+        if (strcmp(t->sections[k].type, "size") == 0 && strcmp(t->sections[k].name, s->name) == 0)
+            return section_error(t, s, "a [size] section of this name is above");
+    sinter_packing_options o;
+    double *d = NULL, *q = NULL;
+    const sinter_status st = read_size_section(t, sc, s, &o, &d, &q);
+    sinter_free(t->ctx, d);
+    sinter_free(t->ctx, q);
+    return st;
+}
+
+sinter_status scene_read_sizes(scene_text *t, sinter_scene *sc, scene_section *s, size_t count,
+                               sinter_packing_options *sizes, double **tables)
+{
+    for (size_t k = 0; k < 2 * count; ++k)
+        tables[k] = NULL;
+    const scene_entry *e = scene_find(s, "sizes");
+    char names[1024];
+    if (strlen(e->value) >= sizeof(names))
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: sizes: the list is too long", t->path,
+                           e->line);
+    snprintf(names, sizeof(names), "%s", e->value);
+    size_t n = 0;
+    for (char *w = names; *w != '\0';) {
+        const size_t skip = strspn(w, " \t,;"), len = strcspn(w + skip, " \t,;");
+        w += skip;
+        if (len == 0)
+            break;
+        const int end = w[len] != '\0';
+        w[len] = '\0';
+        scene_section *size = NULL;
+        for (size_t k = 0; k < t->count && size == NULL; ++k)
+            if (strcmp(t->sections[k].type, "size") == 0 && strcmp(t->sections[k].name, w) == 0)
+                size = &t->sections[k];
+        if (size == NULL)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: sizes: '%s' is not the name of a [size NAME] section",
+                               t->path, e->line, w);
+        if (n == count)
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: sizes: expected one [size] name for each of the %zu "
+                               "materials, got more",
+                               t->path, e->line, count);
+        TRY(read_size_section(t, sc, size, &sizes[n], &tables[2 * n], &tables[2 * n + 1]));
+        ++n;
+        w += len + (size_t)end;
+    }
+    if (n != count)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: sizes: expected one [size] name for each of the %zu "
+                           "materials, got %zu",
+                           t->path, e->line, count, n);
+    return SINTER_OK;
+}
+
 sinter_status scene_material_ref(scene_text *t, sinter_scene *sc, scene_section *s, int *id)
 {
     return material_ref(t, sc, s, id);
@@ -467,13 +542,25 @@ static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_
                            "in [0, 1e12] and [0, 2^64)",
                            t->path, s->line, count, seed);
     o->seed = (uint64_t)seed;
-    double *d = NULL, *q = NULL, *fractions = NULL;
+    OPTIONAL(scene_get_double(t, s, "gap", &o->gap));
+    double *d = NULL, *q = NULL, *fractions = NULL, *tables[2 * SCENE_MAX_MATERIALS] = {NULL};
     int32_t mat[SCENE_MAX_MATERIALS];
-    sinter_status st = scene_read_distribution(t, sc, s, o, dist, radius, &d, &q);
+    sinter_packing_options sizes[SCENE_MAX_MATERIALS];
+    const int own_sizes = scene_find(s, "sizes") != NULL; /* then no distribution of its own */
+    sinter_status st =
+        own_sizes ? SINTER_OK : scene_read_distribution(t, sc, s, o, dist, radius, &d, &q);
     if (st == SINTER_OK && scene_find(s, "materials") != NULL) {
-        st = read_mixture(t, sc, s, mat, &fractions, &o->mixture_count);
+        st = scene_read_mixture(t, sc, s, mat, &fractions, &o->mixture_count);
         o->mixture_materials = mat;
         o->mixture_mass_fractions = fractions;
+    }
+    if (st == SINTER_OK && own_sizes && o->mixture_count == 0)
+        st = sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                         "%s:%d: sizes: sizes per material need materials = ... (a mixture)",
+                         t->path, scene_find(s, "sizes")->line);
+    if (st == SINTER_OK && own_sizes) {
+        st = scene_read_sizes(t, sc, s, o->mixture_count, sizes, tables);
+        o->mixture_sizes = sizes;
     }
     size_t first = 0, placed = 0;
     if (st == SINTER_OK)
@@ -482,6 +569,8 @@ static sinter_status pack_random_section(scene_text *t, sinter_scene *sc, scene_
         st = at_line(t, s->line, sinter_pack_random(sc->ps, o, (size_t)count, &placed));
     sinter_free(t->ctx, d);
     sinter_free(t->ctx, q);
+    for (size_t k = 0; k < 2 * SCENE_MAX_MATERIALS; ++k)
+        sinter_free(t->ctx, tables[k]);
     if (st == SINTER_OK && o->mixture_count > 0)
         log_mixture(t, sc, s, o, first, placed);
     sinter_free(t->ctx, fractions);
@@ -533,7 +622,9 @@ static sinter_status build_particles(scene_text *t, sinter_scene *sc, scene_sect
     const char *dist = "monodisperse";
     if (strcmp(method, "random") == 0)
         OPTIONAL(scene_get_word(t, s, "distribution", &dist));
-    if (strcmp(dist, "table") != 0) /* a table has its own sizes */
+    /* a table has its own sizes, and so have the materials of a mixture with `sizes` */
+    if (strcmp(dist, "table") != 0 &&
+        !(strcmp(method, "random") == 0 && scene_find(s, "sizes") != NULL))
         TRY(required(t, s, scene_get_double(t, s, "radius", &radius), "radius"));
     if (strcmp(method, "lattice") == 0) {
         double spacing = 2.0 * radius;
@@ -1201,13 +1292,13 @@ static const struct {
     section_builder build;
     int required;
 } BUILDERS[] = {
-    {"scene", build_scene_header, 1},  {"material", build_material, 1},
-    {"particles", build_particles, 0}, {"wall", build_wall, 0},
-    {"force", build_force, 0},         {"heat", build_heat, 0},
-    {"electric", build_electric, 0},   {"stepper", build_stepper, 1},
-    {"insert", scene_build_insert, 0}, {"pour", build_pour, 0},
-    {"compact", build_compact, 0},     {"output", build_output, 0},
-    {"fields", build_fields, 0},
+    {"scene", build_scene_header, 1}, {"material", build_material, 1},
+    {"size", build_size, 0},          {"particles", build_particles, 0},
+    {"wall", build_wall, 0},          {"force", build_force, 0},
+    {"heat", build_heat, 0},          {"electric", build_electric, 0},
+    {"stepper", build_stepper, 1},    {"insert", scene_build_insert, 0},
+    {"pour", build_pour, 0},          {"compact", build_compact, 0},
+    {"output", build_output, 0},      {"fields", build_fields, 0},
 };
 
 static sinter_status build(scene_text *t, sinter_scene *sc)
@@ -1219,9 +1310,9 @@ static sinter_status build(scene_text *t, sinter_scene *sc)
             ++b;
         if (b == nb)
             return section_error(t, &t->sections[k],
-                                 "unknown section type; expected scene, material, particles, "
-                                 "wall, force, heat, electric, stepper, insert, pour, compact, "
-                                 "output or fields");
+                                 "unknown section type; expected scene, material, size, "
+                                 "particles, wall, force, heat, electric, stepper, insert, pour, "
+                                 "compact, output or fields");
     }
     for (size_t b = 0; b < nb; ++b) {
         int seen = 0;

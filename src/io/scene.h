@@ -22,6 +22,8 @@ struct sinter_scene {
     sinter_material *materials[SCENE_MAX_MATERIALS];
     char material_names[SCENE_MAX_MATERIALS][SCENE_NAME];
     size_t material_count;
+    int32_t insert_materials[SCENE_MAX_MATERIALS]; /* [insert] materials = ...: the mixture's */
+    size_t insert_mixture;                         /* their count (0: one material) */
     sinter_particles *ps;
     sinter_walls *walls;
     char wall_names[SCENE_MAX_WALLS][SCENE_NAME];
@@ -89,11 +91,24 @@ sinter_status scene_material_ref(struct scene_text *t, sinter_scene *sc, struct 
                                  int *id);
 
 /* A section's size distribution keys (distribution `dist`, radius, spread, radius_min,
- * radius_max, gap, gsd, table...) into o; a table's arrays into *d and *q (free both, also on
- * error). Shared by [particles] method = random and [insert] (scene.c). */
+ * radius_max, gsd, table...) into o; a table's arrays into *d and *q (free both, also on
+ * error). Shared by [particles] method = random, [insert] and [size NAME] (scene.c). */
 sinter_status scene_read_distribution(struct scene_text *t, sinter_scene *sc,
                                       struct scene_section *s, sinter_packing_options *o,
                                       const char *dist, double radius, double **d, double **q);
+
+/* A section's mixture, materials = A B ... with mass_fractions = f_A f_B ... (scene.c): the
+ * ids into mat[], the fractions into a new array (*fractions, free it), their count. */
+sinter_status scene_read_mixture(struct scene_text *t, sinter_scene *sc, struct scene_section *s,
+                                 int32_t mat[SCENE_MAX_MATERIALS], double **fractions,
+                                 size_t *count);
+
+/* A mixture's sizes = NAME ... (one [size NAME] section per material, in the order of
+ * `materials`), each read into sizes[k] (count of them, filled by sinter_packing_options_init);
+ * the tables' arrays into tables[2 k], tables[2 k + 1] (all 2 count set; free each, also on
+ * error) (scene.c). */
+sinter_status scene_read_sizes(struct scene_text *t, sinter_scene *sc, struct scene_section *s,
+                               size_t count, sinter_packing_options *sizes, double **tables);
 
 /* The format bits of the frames' writers (io/vtk_arrays.h) the scene asks for. */
 static inline int scene_vtk_format(const sinter_scene *sc)

@@ -1,6 +1,8 @@
 /*
  * [insert]: continuous insertion from a box or the cylinder inscribed in it at a mass rate
- * (sinter_stepper_set_insertion), the sizes by the keys of [particles] method = random.
+ * (sinter_stepper_set_insertion), the sizes by the keys of [particles] method = random, one
+ * material or a mixture by mass fraction (materials, mass_fractions; sizes per material from
+ * [size NAME] sections with `sizes`).
  */
 #include <math.h>
 #include <stdio.h>
@@ -20,21 +22,55 @@ static sinter_status need(scene_text *t, scene_section *s, sinter_status st, con
                        s->line, key);
 }
 
-/* The powder: material, temperature, box, seed and size distribution (d, q: a table's). */
-static sinter_status read_powder(scene_text *t, sinter_scene *sc, scene_section *s,
-                                 sinter_packing_options *p, double **d, double **q)
+/* The arrays a powder borrows: a table's, a mixture's and its sizes' (freed together). */
+typedef struct powder_arrays {
+    double *d, *q, *fractions, *tables[2 * SCENE_MAX_MATERIALS];
+    sinter_packing_options sizes[SCENE_MAX_MATERIALS];
+} powder_arrays;
+
+static void powder_free(sinter_ctx *ctx, powder_arrays *a)
 {
-    *d = *q = NULL;
+    sinter_free(ctx, a->d);
+    sinter_free(ctx, a->q);
+    sinter_free(ctx, a->fractions);
+    for (size_t k = 0; k < 2 * SCENE_MAX_MATERIALS; ++k)
+        sinter_free(ctx, a->tables[k]);
+}
+
+/* The mixture (materials, mass_fractions, and sizes per material if given): into p and a. */
+static sinter_status read_mixture(scene_text *t, sinter_scene *sc, scene_section *s,
+                                  sinter_packing_options *p, powder_arrays *a)
+{
+    TRY(scene_read_mixture(t, sc, s, sc->insert_materials, &a->fractions, &p->mixture_count));
+    sc->insert_mixture = p->mixture_count;
+    p->mixture_materials = sc->insert_materials;
+    p->mixture_mass_fractions = a->fractions;
+    if (scene_find(s, "sizes") == NULL)
+        return SINTER_OK;
+    p->mixture_sizes = a->sizes;
+    return scene_read_sizes(t, sc, s, p->mixture_count, a->sizes, a->tables);
+}
+
+/* The powder: material(s), temperature, box, seed, gap and size distribution (a's arrays:
+ * free them, also on error). */
+static sinter_status read_powder(scene_text *t, sinter_scene *sc, scene_section *s,
+                                 sinter_packing_options *p, powder_arrays *a)
+{
+    memset(a, 0, sizeof(*a));
     TRY(sinter_packing_options_init(p, sizeof(*p)));
-    int mat = 0;
-    TRY(scene_material_ref(t, sc, s, &mat));
-    p->material = mat;
+    const int mixture = scene_find(s, "materials") != NULL;
+    if (!mixture || scene_find(s, "material") != NULL) {
+        int mat = 0;
+        TRY(scene_material_ref(t, sc, s, &mat));
+        p->material = mat;
+    }
     OPTIONAL(scene_get_double(t, s, "temperature", &p->temperature));
     TRY(need(t, s, scene_get_vec3(t, s, "box_min", p->box_min), "box_min"));
     TRY(need(t, s, scene_get_vec3(t, s, "box_max", p->box_max), "box_max"));
     double seed = 1, attempts = 1000;
     OPTIONAL(scene_get_double(t, s, "seed", &seed));
     OPTIONAL(scene_get_double(t, s, "max_attempts", &attempts));
+    OPTIONAL(scene_get_double(t, s, "gap", &p->gap));
     if (!(seed >= 0 && seed < 18446744073709551616.0) || seed != floor(seed) ||
         !(attempts >= 1 && attempts <= 1e12) || attempts != floor(attempts))
         return sinter_fail(t->ctx, SINTER_ERR_PARSE,
@@ -43,12 +79,20 @@ static sinter_status read_powder(scene_text *t, sinter_scene *sc, scene_section 
                            t->path, s->line, seed, attempts);
     p->seed = (uint64_t)seed;
     p->max_attempts = (uint64_t)attempts;
+    if (mixture)
+        TRY(read_mixture(t, sc, s, p, a));
+    else if (scene_find(s, "sizes") != NULL)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                           "%s:%d: sizes: sizes per material need materials = ... (a mixture)",
+                           t->path, scene_find(s, "sizes")->line);
+    if (p->mixture_sizes != NULL) /* each material has its own distribution */
+        return SINTER_OK;
     const char *dist = "monodisperse";
     OPTIONAL(scene_get_word(t, s, "distribution", &dist));
     double radius = 0.0;
     if (strcmp(dist, "table") != 0) /* a table has its own sizes */
         TRY(need(t, s, scene_get_double(t, s, "radius", &radius), "radius"));
-    return scene_read_distribution(t, sc, s, p, dist, radius, d, q);
+    return scene_read_distribution(t, sc, s, p, dist, radius, &a->d, &a->q);
 }
 
 static sinter_status read_options(scene_text *t, scene_section *s, sinter_insertion_options *o)
@@ -76,8 +120,8 @@ sinter_status scene_build_insert(scene_text *t, sinter_scene *sc, scene_section 
 {
     sinter_packing_options p;
     sinter_insertion_options o;
-    double *d = NULL, *q = NULL;
-    sinter_status st = read_powder(t, sc, s, &p, &d, &q);
+    powder_arrays a;
+    sinter_status st = read_powder(t, sc, s, &p, &a);
     if (st == SINTER_OK)
         st = read_options(t, s, &o);
     if (st == SINTER_OK) {
@@ -88,7 +132,8 @@ sinter_status scene_build_insert(scene_text *t, sinter_scene *sc, scene_section 
             st = sinter_fail(t->ctx, st, "%s:%d: %s", t->path, s->line, detail);
         }
     }
-    sinter_free(t->ctx, d);
-    sinter_free(t->ctx, q);
+    powder_free(t->ctx, &a);
+    if (st != SINTER_OK)
+        sc->insert_mixture = 0;
     return st;
 }

@@ -188,10 +188,11 @@ static int holds_bonds(const sinter_scene *sc)
 }
 
 /* 2 when the scene inserts ([insert]): then the mass inserted so far and its target
- * (sinter_stepper_get_insertion; a checkpoint carries both, version 11), after those. */
+ * (sinter_stepper_get_insertion; a checkpoint carries both, version 11), after those; and for
+ * a mixture the mass inserted of each material (sinter_stepper_get_insertion_mixture). */
 static size_t insertion_columns(const sinter_scene *sc)
 {
-    return sc->st->insertion != NULL ? 2 : 0;
+    return sc->st->insertion != NULL ? 2 + sc->insert_mixture : 0;
 }
 
 static size_t stepper_columns(const sinter_scene *sc)
@@ -509,6 +510,7 @@ static void observe_flows(const sinter_scene *sc, double *row)
     if (insertion_columns(sc) > 0) {
         double *ins = q + base + (size_t)holds_bonds(sc);
         sinter_stepper_get_insertion(sc->st, &ins[0], &ins[1], NULL, NULL);
+        sinter_stepper_get_insertion_mixture(sc->st, ins + 2, sc->insert_mixture, NULL);
     }
     observe_distributions(sc, row);
     scene_track_observe(sc, row + track_column(sc));
@@ -901,6 +903,16 @@ static size_t columns(const sinter_scene *sc, const char **names, const char **u
         units[k] = "kg";
         names[k + 1] = "insertion target";
         units[k + 1] = "kg";
+        /* a mixture's labels after the temperature histogram's */
+        char(*ml)[SCENE_NAME + 16] = wall_labels + 3 * nw + distribution_columns(sc) +
+                                     SCENE_MAX_TRACKED * SCENE_TRACK_COLUMNS +
+                                     temperature_columns(sc);
+        for (size_t m = 0; m < sc->insert_mixture; ++m) {
+            snprintf(ml[m], sizeof(ml[m]), "inserted mass %s",
+                     sc->material_names[sc->insert_materials[m]]);
+            names[k + 2 + m] = ml[m];
+            units[k + 2 + m] = "kg";
+        }
     }
     names[solid_column(sc)] = "solid fraction";
     units[solid_column(sc)] = "1";
@@ -1012,12 +1024,14 @@ static sinter_status open_output(run_state *r)
         TEMPERATURES = SCENE_MAX_TEMPERATURE_BINS + 2,
         MOST = COL_FIXED_ + 3 * SCENE_MAX_WALLS + SINTERING_COLUMNS + ELECTRIC_COLUMNS +
                STEPPER_COLUMNS + 1 + HISTOGRAMS + TRACKED + SCENE_PAIR_COLUMNS + FROZEN_COLUMNS +
-               TEMPERATURES + LIT_COLUMNS + CELL_COLUMNS /* 1: the solid fraction */
-    };
+               TEMPERATURES + LIT_COLUMNS + CELL_COLUMNS /* 1: the solid fraction */ + 2 +
+               SCENE_MAX_MATERIALS
+    }; /* 2 + SCENE_MAX_MATERIALS: the insertion's */
     const char *names[MOST];
     const char *units[MOST];
     /* the walls' labels, then the histograms', then the followed particles' */
-    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS + TRACKED + TEMPERATURES][SCENE_NAME + 16];
+    char wall_labels[3 * SCENE_MAX_WALLS + HISTOGRAMS + TRACKED + TEMPERATURES +
+                     SCENE_MAX_MATERIALS][SCENE_NAME + 16];
     const size_t ncol = columns(sc, names, units, wall_labels);
     r->row = sinter_calloc(ctx, ncol, sizeof(double));
     if (r->row == NULL)

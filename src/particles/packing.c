@@ -11,9 +11,11 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "particles.h"
+#include "particles/mixture.h"
 #include "particles/packing.h"
 
 #if defined(__clang__)
@@ -125,8 +127,16 @@ static double rng_normal(rng *g)
 
 /* ---- options ----------------------------------------------------------------- */
 
-/* The layout before issue 38 appended the log-normal, table and mixture fields. */
+/* The layout before issue 38 appended the log-normal, table and mixture fields, and the one
+ * before the sizes per material. */
 #define PACKING_OPTIONS_OLD_SIZE offsetof(sinter_packing_options, radius_median)
+#define PACKING_OPTIONS_MIXTURE_SIZE offsetof(sinter_packing_options, mixture_sizes)
+
+static int known_size(size_t struct_size)
+{
+    return struct_size == sizeof(sinter_packing_options) ||
+           struct_size == PACKING_OPTIONS_OLD_SIZE || struct_size == PACKING_OPTIONS_MIXTURE_SIZE;
+}
 
 static void packing_defaults(sinter_packing_options *options)
 {
@@ -155,7 +165,7 @@ sinter_status sinter_packing_options_init(sinter_packing_options *options, size_
 {
     if (options == NULL)
         return SINTER_ERR_NULL;
-    if (struct_size != sizeof(sinter_packing_options) && struct_size != PACKING_OPTIONS_OLD_SIZE)
+    if (!known_size(struct_size))
         return SINTER_ERR_STRUCT_SIZE;
     sinter_packing_options full;
     packing_defaults(&full);
@@ -325,6 +335,10 @@ static sinter_status check_mixture(const sinter_particles *ps, const char *func,
                            "%s: mixture_count = %zu needs mixture_materials and "
                            "mixture_mass_fractions",
                            func, o->mixture_count);
+    if (o->mixture_count > SINTER_MAX_MATERIALS)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: mixture_count = %zu exceeds the %d materials a set can hold", func,
+                           o->mixture_count, SINTER_MAX_MATERIALS);
     double sum = 0.0;
     for (size_t k = 0; k < o->mixture_count; ++k) {
         sinter_status st = check_material(ps, func, o->mixture_materials[k]);
@@ -418,22 +432,105 @@ static sinter_status check_radii(sinter_ctx *ctx, const char *func, const sinter
 static sinter_status read_options(sinter_ctx *ctx, const char *func,
                                   const sinter_packing_options *in, sinter_packing_options *o)
 {
-    if (in->struct_size != sizeof(sinter_packing_options) &&
-        in->struct_size != PACKING_OPTIONS_OLD_SIZE)
+    if (!known_size(in->struct_size))
         return sinter_fail(ctx, SINTER_ERR_STRUCT_SIZE,
-                           "%s: options.struct_size is %zu, expected %zu (or %zu for the layout "
-                           "before the log-normal, table and mixture fields); fill the options "
-                           "with sinter_packing_options_init",
+                           "%s: options.struct_size is %zu, expected %zu (or %zu or %zu for the "
+                           "layouts before the log-normal, table and mixture fields and before "
+                           "mixture_sizes); fill the options with sinter_packing_options_init",
                            func, in->struct_size, sizeof(sinter_packing_options),
-                           PACKING_OPTIONS_OLD_SIZE);
+                           PACKING_OPTIONS_OLD_SIZE, PACKING_OPTIONS_MIXTURE_SIZE);
     packing_defaults(o);
     memcpy(o, in, in->struct_size);
     return SINTER_OK;
 }
 
+/* ---- sizes per material (mixture_sizes) ------------------------------------------ */
+
+/* The distributions of a mixture whose materials have their own (mixture_sizes): each
+ * validated as the options' own, its table copied. */
+typedef struct size_set {
+    size_t count;              /* 0: every material draws from the options' own distribution */
+    sinter_packing_options *o; /* count, validated, their tables pointing into `table` */
+    radius_range *range;       /* count */
+    double *table;             /* the tables' copies */
+} size_set;
+
+static void sizes_free(sinter_ctx *ctx, size_set *z)
+{
+    for (size_t k = 0; k < z->count; ++k)
+        range_free(ctx, &z->range[k]);
+    sinter_free(ctx, z->o);
+    sinter_free(ctx, z->range);
+    sinter_free(ctx, z->table);
+    memset(z, 0, sizeof(*z));
+}
+
+static sinter_status sizes_copy_tables(sinter_ctx *ctx, size_set *z)
+{
+    size_t points = 0;
+    for (size_t k = 0; k < z->count; ++k)
+        points += z->o[k].distribution == SINTER_RADII_TABLE ? z->o[k].table_points : 0;
+    z->table = sinter_realloc_array(ctx, NULL, 2 * points + 1, sizeof(double));
+    if (z->table == NULL)
+        return sinter_last_status(ctx);
+    double *at = z->table;
+    for (size_t k = 0; k < z->count; ++k) {
+        sinter_packing_options *e = &z->o[k];
+        e->mixture_count = 0;
+        e->mixture_materials = NULL;
+        e->mixture_mass_fractions = NULL;
+        e->mixture_sizes = NULL;
+        if (e->distribution != SINTER_RADII_TABLE) {
+            e->table_diameter = e->table_cumulative = NULL;
+            e->table_points = 0;
+            continue;
+        }
+        const size_t n = e->table_points;
+        memcpy(at, e->table_diameter, n * sizeof(double));
+        memcpy(at + n, e->table_cumulative, n * sizeof(double));
+        e->table_diameter = at;
+        e->table_cumulative = at + n;
+        at += 2 * n;
+    }
+    return SINTER_OK;
+}
+
+/* o->mixture_sizes (if any) validated into z, and `range` widened to every material's. */
+static sinter_status sizes_check(sinter_ctx *ctx, const char *func, const sinter_packing_options *o,
+                                 radius_range *range, size_set *z)
+{
+    memset(z, 0, sizeof(*z));
+    if (o->mixture_sizes == NULL)
+        return SINTER_OK;
+    if (o->mixture_count == 0)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: mixture_sizes is set but mixture_count is 0 (sizes per material "
+                           "need a mixture)",
+                           func);
+    const size_t m = o->mixture_count;
+    z->o = sinter_calloc(ctx, m, sizeof(*z->o));
+    z->range = sinter_calloc(ctx, m, sizeof(*z->range));
+    if (z->o == NULL || z->range == NULL)
+        return SINTER_ERR_NOMEM;
+    z->count = m;
+    for (size_t k = 0; k < m; ++k) {
+        char where[160];
+        snprintf(where, sizeof(where), "%s: mixture_sizes[%zu] (material %d)", func, k,
+                 (int)o->mixture_materials[k]);
+        sinter_status st = read_options(ctx, where, &o->mixture_sizes[k], &z->o[k]);
+        if (st == SINTER_OK)
+            st = check_radii(ctx, where, &z->o[k], &z->range[k]);
+        if (st != SINTER_OK)
+            return st;
+        range->lo = k == 0 ? z->range[k].lo : fmin(range->lo, z->range[k].lo);
+        range->hi = k == 0 ? z->range[k].hi : fmax(range->hi, z->range[k].hi);
+    }
+    return sizes_copy_tables(ctx, z);
+}
+
 static sinter_status check_fields(const sinter_particles *ps, const char *func,
                                   const sinter_packing_options *in, size_t n,
-                                  sinter_packing_options *o, radius_range *range)
+                                  sinter_packing_options *o, radius_range *range, size_set *z)
 {
     sinter_ctx *ctx = ps->ctx;
     sinter_status st = read_options(ctx, func, in, o);
@@ -446,6 +543,8 @@ static sinter_status check_fields(const sinter_particles *ps, const char *func,
         st = check_mixture(ps, func, o);
     if (st == SINTER_OK)
         st = check_radii(ctx, func, o, range);
+    if (st == SINTER_OK)
+        st = sizes_check(ctx, func, o, range, z);
     if (st != SINTER_OK)
         return st;
     for (int d = 0; d < 3; ++d) {
@@ -466,16 +565,20 @@ static sinter_status check_fields(const sinter_particles *ps, const char *func,
 
 /*
  * The caller's options `in` read into `o` and checked for n new spheres, and the sampler set up
- * in `range` (range_free it after a success; on an error nothing is left to free).
+ * in `range` and the sizes per material in `z` (range_free and sizes_free them after a
+ * success; on an error nothing is left to free).
  */
 static sinter_status check_options(const sinter_particles *ps, const char *func,
                                    const sinter_packing_options *in, size_t n,
-                                   sinter_packing_options *o, radius_range *range)
+                                   sinter_packing_options *o, radius_range *range, size_set *z)
 {
     memset(range, 0, sizeof(*range));
-    const sinter_status st = check_fields(ps, func, in, n, o, range);
-    if (st != SINTER_OK)
+    memset(z, 0, sizeof(*z));
+    const sinter_status st = check_fields(ps, func, in, n, o, range, z);
+    if (st != SINTER_OK) {
         range_free(ps->ctx, range);
+        sizes_free(ps->ctx, z);
+    }
     return st;
 }
 
@@ -667,14 +770,16 @@ static void grid_destroy(cell_grid *g, sinter_ctx *ctx)
 
 /* ---- random sequential addition ------------------------------------------------ */
 
-/* The new spheres, kept apart so that they reach the set in one sinter_particles_add. */
+/* The new spheres, kept apart so that they reach the set in one sinter_particles_add (and
+ * each one's material in a mixture: an index into the mixture's materials). */
 typedef struct sphere_list {
     double *x, *r;
+    uint32_t *kind;
     size_t count, capacity;
 } sphere_list;
 
 static sinter_status spheres_push(sphere_list *s, sinter_ctx *ctx, const double x[3], double r,
-                                  size_t limit)
+                                  size_t kind, size_t limit)
 {
     if (s->count == s->capacity) {
         size_t cap = s->capacity < 1024 ? 1024 : 2 * s->capacity;
@@ -688,9 +793,14 @@ static sinter_status spheres_push(sphere_list *s, sinter_ctx *ctx, const double 
         if (nr == NULL)
             return sinter_last_status(ctx);
         s->r = nr;
+        uint32_t *nk = sinter_realloc_array(ctx, s->kind, cap, sizeof(uint32_t));
+        if (nk == NULL)
+            return sinter_last_status(ctx);
+        s->kind = nk;
         s->capacity = cap;
     }
     memcpy(s->x + 3 * s->count, x, 3 * sizeof(double));
+    s->kind[s->count] = (uint32_t)kind;
     s->r[s->count++] = r;
     return SINTER_OK;
 }
@@ -707,8 +817,10 @@ static int near_box(const sinter_particles *ps, size_t i, const sinter_packing_o
     return 1;
 }
 
+/* With sizes per material (z) each sphere's material is chosen (mx) before its radius. */
 static sinter_status pack_random(sinter_particles *ps, const sinter_packing_options *o, size_t n,
-                                 const radius_range *range, sphere_list *s, cell_grid *g)
+                                 const radius_range *range, const size_set *z, sinter_mixture *mx,
+                                 sphere_list *s, cell_grid *g)
 {
     sinter_ctx *ctx = ps->ctx;
     /* Existing particles that can touch the box take part in the overlap test. */
@@ -725,7 +837,9 @@ static sinter_status pack_random(sinter_particles *ps, const sinter_packing_opti
     rng gen;
     rng_seed(&gen, o->seed);
     for (size_t k = 0; k < n; ++k) {
-        const double r = draw_radius(&gen, o, range);
+        const size_t kind = z->count > 0 ? sinter_mixture_next(mx) : 0;
+        const double r = z->count > 0 ? draw_radius(&gen, &z->o[kind], &z->range[kind])
+                                      : draw_radius(&gen, o, range);
         double lo[3], hi[3], x[3];
         for (int d = 0; d < 3; ++d) {
             lo[d] = o->box_min[d] + r + o->gap;
@@ -739,62 +853,42 @@ static sinter_status pack_random(sinter_particles *ps, const sinter_packing_opti
         }
         if (!placed)
             break; /* max_attempts failures in a row: the box is (nearly) jammed */
-        st = spheres_push(s, ctx, x, r, n);
+        st = spheres_push(s, ctx, x, r, kind, n);
         if (st == SINTER_OK)
             st = grid_insert(g, ctx, x, r, 0.0);
         if (st != SINTER_OK)
             return st;
+        if (z->count > 0)
+            sinter_mixture_add(mx, kind, r);
     }
     return SINTER_OK;
 }
 
 /*
- * Add the placed spheres, each of the material the mixture chooses for it: in placement order,
- * the material k furthest below its mass share, f_k M - M_k largest (M the mass so far, the
- * lowest k on a tie). The chosen one is never above its share, so after the particle it is at
- * most one particle's mass above; the others only fall further. Runs of one material go to
- * the set in one call each, after a reserve (so that no call after the first can run out of
- * memory and leave the set half filled).
+ * Add the placed spheres, each of the material the mixture chooses for it (mixture.c): with
+ * one distribution for all, in placement order now (the random stream does not depend on the
+ * mixture); with sizes per material, as chosen before each radius was drawn. Runs of one
+ * material go to the set in one call each, after a reserve (so that no call after the first
+ * can run out of memory and leave the set half filled).
  */
 static sinter_status add_mixture(sinter_particles *ps, const sinter_packing_options *o,
-                                 const sphere_list *s)
+                                 const size_set *z, sinter_mixture *mx, sphere_list *s)
 {
-    sinter_ctx *ctx = ps->ctx;
-    const size_t m = o->mixture_count;
-    double *mass = sinter_calloc(ctx, m + 1, sizeof(double));
-    int32_t *mat = sinter_realloc_array(ctx, NULL, s->count, sizeof(int32_t));
-    sinter_status st = mass != NULL && mat != NULL ? SINTER_OK : SINTER_ERR_NOMEM;
-    double sum = 0.0, total = 0.0;
-    for (size_t k = 0; k < m; ++k)
-        sum += o->mixture_mass_fractions[k];
-    for (size_t i = 0; i < s->count && st == SINTER_OK; ++i) {
-        size_t best = 0;
-        double best_deficit = -INFINITY;
-        for (size_t k = 0; k < m; ++k) {
-            const double deficit = o->mixture_mass_fractions[k] / sum * total - mass[k];
-            if (deficit > best_deficit) {
-                best = k;
-                best_deficit = deficit;
-            }
+    if (z->count == 0)
+        for (size_t i = 0; i < s->count; ++i) {
+            const size_t k = sinter_mixture_next(mx);
+            sinter_mixture_add(mx, k, s->r[i]);
+            s->kind[i] = (uint32_t)k;
         }
-        const double r = s->r[i];
-        const sinter_material *mt = &ps->materials[o->mixture_materials[best]];
-        const double particle = mt->value[SINTER_MAT_DENSITY] * (4.0 / 3.0) * PI * r * r * r;
-        mass[best] += particle;
-        total += particle;
-        mat[i] = o->mixture_materials[best];
-    }
-    if (st == SINTER_OK)
-        st = sinter_particles_reserve(ps, ps->count + s->count);
+    sinter_status st = sinter_particles_reserve(ps, ps->count + s->count);
     for (size_t i = 0; i < s->count && st == SINTER_OK;) {
         size_t j = i + 1;
-        while (j < s->count && mat[j] == mat[i])
+        while (j < s->count && s->kind[j] == s->kind[i])
             ++j;
-        st = sinter_particles_add(ps, j - i, s->x + 3 * i, s->r + i, mat[i], o->temperature, NULL);
+        st = sinter_particles_add(ps, j - i, s->x + 3 * i, s->r + i, mx->material[s->kind[i]],
+                                  o->temperature, NULL);
         i = j;
     }
-    sinter_free(ctx, mass);
-    sinter_free(ctx, mat);
     return st;
 }
 
@@ -809,24 +903,34 @@ sinter_status sinter_pack_random(sinter_particles *particles, const sinter_packi
         *placed = 0;
     sinter_packing_options o;
     radius_range range;
-    sinter_status st = check_options(particles, "sinter_pack_random", options, n, &o, &range);
+    size_set sizes;
+    sinter_status st =
+        check_options(particles, "sinter_pack_random", options, n, &o, &range, &sizes);
+    if (st != SINTER_OK)
+        return st;
+    sinter_mixture mx;
+    st = sinter_mixture_init(&mx, particles, &o);
     if (st != SINTER_OK || n == 0) {
+        sizes_free(ctx, &sizes);
         range_free(ctx, &range);
         return st;
     }
-    sphere_list spheres = {NULL, NULL, 0, 0};
+    sphere_list spheres = {NULL, NULL, NULL, 0, 0};
     cell_grid grid;
     memset(&grid, 0, sizeof(grid));
-    st = pack_random(particles, &o, n, &range, &spheres, &grid);
+    st = pack_random(particles, &o, n, &range, &sizes, &mx, &spheres, &grid);
     const size_t count = spheres.count;
     if (st == SINTER_OK && count > 0)
-        st = o.mixture_count > 0 ? add_mixture(particles, &o, &spheres)
+        st = o.mixture_count > 0 ? add_mixture(particles, &o, &sizes, &mx, &spheres)
                                  : sinter_particles_add(particles, count, spheres.x, spheres.r,
                                                         o.material, o.temperature, NULL);
     grid_destroy(&grid, ctx);
+    sinter_mixture_free(ctx, &mx);
+    sizes_free(ctx, &sizes);
     range_free(ctx, &range);
     sinter_free(ctx, spheres.x);
     sinter_free(ctx, spheres.r);
+    sinter_free(ctx, spheres.kind);
     if (st == SINTER_OK && placed)
         *placed = count;
     return st;
@@ -839,14 +943,16 @@ sinter_status sinter_packing_sample_radii(sinter_particles *particles,
     sinter_ctx *ctx = particles->ctx;
     sinter_packing_options o;
     radius_range range;
+    size_set sizes;
     const sinter_status st =
-        check_options(particles, "sinter_packing_sample_radii", options, 0, &o, &range);
+        check_options(particles, "sinter_packing_sample_radii", options, 0, &o, &range, &sizes);
     if (st == SINTER_OK) {
         rng gen;
         rng_seed(&gen, o.seed);
         for (size_t k = 0; k < n; ++k)
             radii[k] = draw_radius(&gen, &o, &range);
     }
+    sizes_free(ctx, &sizes);
     range_free(ctx, &range);
     return st;
 }
@@ -856,6 +962,9 @@ sinter_status sinter_packing_sample_radii(sinter_particles *particles,
 struct sinter_radius_sampler {
     sinter_packing_options o;
     radius_range range;
+    size_set sizes; /* a mixture's sizes per material, if any */
+    sinter_mixture mix;
+    size_t pending; /* the mixture's index of the material of the last radius drawn */
     rng gen;
     double *table; /* 2 table_points: the diameters, then the cumulative fractions */
 };
@@ -868,12 +977,9 @@ sinter_status sinter_radius_sampler_create(sinter_radius_sampler **out, sinter_p
     sinter_radius_sampler *s = sinter_calloc(ctx, 1, sizeof(*s));
     if (s == NULL)
         return sinter_last_status(ctx);
-    sinter_status st = check_options(particles, func, options, 0, &s->o, &s->range);
-    if (st == SINTER_OK && s->o.mixture_count > 0)
-        st = sinter_fail(ctx, SINTER_ERR_INVALID,
-                         "%s: a mixture (mixture_count = %zu) is not supported here; give one "
-                         "material",
-                         func, s->o.mixture_count);
+    sinter_status st = check_options(particles, func, options, 0, &s->o, &s->range, &s->sizes);
+    if (st == SINTER_OK)
+        st = sinter_mixture_init(&s->mix, particles, &s->o);
     if (st == SINTER_OK && s->o.distribution == SINTER_RADII_TABLE) {
         const size_t n = s->o.table_points;
         s->table = sinter_realloc_array(ctx, NULL, 2 * n, sizeof(double));
@@ -890,8 +996,10 @@ sinter_status sinter_radius_sampler_create(sinter_radius_sampler **out, sinter_p
         s->o.table_diameter = s->o.table_cumulative = NULL;
         s->o.table_points = 0;
     }
+    /* borrowed: the mixture and its sizes are copied (s->mix, s->sizes) */
     s->o.mixture_materials = NULL;
     s->o.mixture_mass_fractions = NULL;
+    s->o.mixture_sizes = NULL;
     if (st != SINTER_OK) {
         sinter_radius_sampler_destroy(ctx, s);
         return st;
@@ -903,7 +1011,51 @@ sinter_status sinter_radius_sampler_create(sinter_radius_sampler **out, sinter_p
 
 double sinter_radius_sampler_radius(sinter_radius_sampler *s)
 {
+    if (s->mix.count > 0)
+        s->pending = sinter_mixture_next(&s->mix);
+    if (s->sizes.count > 0)
+        return draw_radius(&s->gen, &s->sizes.o[s->pending], &s->sizes.range[s->pending]);
     return draw_radius(&s->gen, &s->o, &s->range);
+}
+
+int32_t sinter_radius_sampler_material(const sinter_radius_sampler *s)
+{
+    return s->mix.count > 0 ? s->mix.material[s->pending] : s->o.material;
+}
+
+void sinter_radius_sampler_placed(sinter_radius_sampler *s, double r)
+{
+    if (s->mix.count > 0)
+        sinter_mixture_add(&s->mix, s->pending, r);
+}
+
+size_t sinter_radius_sampler_mixture(const sinter_radius_sampler *s, const double **mass)
+{
+    if (mass != NULL)
+        *mass = s->mix.mass;
+    return s->mix.count;
+}
+
+void sinter_radius_sampler_get_mixture(const sinter_radius_sampler *s, uint64_t *pending,
+                                       double *mass)
+{
+    *pending = s->pending;
+    memcpy(mass, s->mix.mass, s->mix.count * sizeof(double));
+    mass[s->mix.count] = s->mix.total;
+}
+
+int sinter_radius_sampler_set_mixture(sinter_radius_sampler *s, uint64_t pending,
+                                      const double *mass)
+{
+    if (pending >= s->mix.count)
+        return 0;
+    for (size_t k = 0; k <= s->mix.count; ++k)
+        if (!isfinite(mass[k]) || mass[k] < 0.0)
+            return 0;
+    s->pending = (size_t)pending;
+    memcpy(s->mix.mass, mass, s->mix.count * sizeof(double));
+    s->mix.total = mass[s->mix.count];
+    return 1;
 }
 
 double sinter_radius_sampler_uniform(sinter_radius_sampler *s)
@@ -936,6 +1088,8 @@ void sinter_radius_sampler_destroy(sinter_ctx *ctx, sinter_radius_sampler *s)
     if (s == NULL)
         return;
     range_free(ctx, &s->range);
+    sizes_free(ctx, &s->sizes);
+    sinter_mixture_free(ctx, &s->mix);
     sinter_free(ctx, s->table);
     sinter_free(ctx, s);
 }

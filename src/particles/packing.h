@@ -16,9 +16,11 @@ sinter_status sinter_packing_sample_radii(sinter_particles *particles,
 
 /*
  * A sampler of one particle set's size distribution that outlives the call that made it (the
- * continuous insertion, stepper/insertion.c): the options validated as sinter_pack_random does
- * (a mixture refused), the table copied, and a random stream seeded with options->seed that
- * gives radii and uniform numbers in the order they are asked for, the same on every machine.
+ * continuous insertion, stepper/insertion.c): the options validated as sinter_pack_random does,
+ * the tables and a mixture copied, and a random stream seeded with options->seed that gives
+ * radii and uniform numbers in the order they are asked for, the same on every machine. In a
+ * mixture each radius drawn is of the material the apportionment (mixture.h) picks from the
+ * spheres counted as placed so far, from that material's sizes if it has its own.
  */
 typedef struct sinter_radius_sampler sinter_radius_sampler;
 
@@ -26,6 +28,20 @@ sinter_status sinter_radius_sampler_create(sinter_radius_sampler **out, sinter_p
                                            const sinter_packing_options *options, const char *func);
 /* The next radius [m] of the distribution. */
 double sinter_radius_sampler_radius(sinter_radius_sampler *s);
+/* The material id of the last radius drawn (options->material without a mixture). */
+int32_t sinter_radius_sampler_material(const sinter_radius_sampler *s);
+/* Count the last radius drawn, r [m], as placed (the mixture's masses; nothing without one). */
+void sinter_radius_sampler_placed(sinter_radius_sampler *s, double r);
+/* The mixture's number of materials (0: none) and its masses placed so far [kg] (*mass may be
+ * NULL: not set). */
+size_t sinter_radius_sampler_mixture(const sinter_radius_sampler *s, const double **mass);
+/* A checkpoint's mixture state: the pending material's index, and count + 1 masses (each
+ * material's, then the total) [kg]; set returns 0 (and changes nothing) for values that cannot
+ * be the mixture's. */
+void sinter_radius_sampler_get_mixture(const sinter_radius_sampler *s, uint64_t *pending,
+                                       double *mass);
+int sinter_radius_sampler_set_mixture(sinter_radius_sampler *s, uint64_t pending,
+                                      const double *mass);
 /* The next uniform number in [0, 1). */
 double sinter_radius_sampler_uniform(sinter_radius_sampler *s);
 /* The largest radius the distribution draws [m]. */

@@ -10,6 +10,11 @@
  *
  * The overlap check runs over the particles that can reach the region (gathered once per
  * insertion) and the spheres inserted so far in it: O(N) to gather, then O(near) per try.
+ *
+ * A mixture by mass fraction: the next sphere's material is chosen when it is drawn, by the
+ * apportionment of particles/mixture.c over the spheres inserted so far (its radius then from
+ * that material's sizes, or the shared ones), so each material's inserted mass stays within
+ * one particle's mass of its share of the total inserted.
  */
 #include <math.h>
 #include <string.h>
@@ -32,6 +37,8 @@ struct sinter_insertion {
     uint64_t crowded;   /* insertions that ended with a sphere finding no room */
     double *near;       /* x, y, z, r of the spheres the new ones may touch */
     size_t near_count, near_capacity;
+    int32_t *made; /* the material of each sphere placed in the insertion under way */
+    size_t made_capacity;
 };
 
 void sinter_insertion_destroy(sinter_ctx *ctx, struct sinter_insertion *ins)
@@ -40,6 +47,7 @@ void sinter_insertion_destroy(sinter_ctx *ctx, struct sinter_insertion *ins)
         return;
     sinter_radius_sampler_destroy(ctx, ins->sampler);
     sinter_free(ctx, ins->near);
+    sinter_free(ctx, ins->made);
     sinter_free(ctx, ins);
 }
 
@@ -72,6 +80,22 @@ void sinter_insertion_set_state(struct sinter_insertion *ins,
     ins->pending = d[0];
     ins->mass_done = d[1];
     ins->mass_target = d[2];
+}
+
+size_t sinter_insertion_mixture_count(const struct sinter_insertion *ins)
+{
+    return sinter_radius_sampler_mixture(ins->sampler, NULL);
+}
+
+void sinter_insertion_get_mixture(const struct sinter_insertion *ins, uint64_t *pending,
+                                  double *mass)
+{
+    sinter_radius_sampler_get_mixture(ins->sampler, pending, mass);
+}
+
+int sinter_insertion_set_mixture(struct sinter_insertion *ins, uint64_t pending, const double *mass)
+{
+    return sinter_radius_sampler_set_mixture(ins->sampler, pending, mass);
 }
 
 sinter_status sinter_insertion_options_init(sinter_insertion_options *options, size_t struct_size)
@@ -185,6 +209,23 @@ sinter_status sinter_stepper_get_insertion(const sinter_stepper *st, double *mas
     return SINTER_OK;
 }
 
+sinter_status sinter_stepper_get_insertion_mixture(const sinter_stepper *st, double *mass,
+                                                   size_t capacity, size_t *count)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    if (capacity > 0)
+        SINTER_CHECK_NULL(st->ctx, mass);
+    const double *m = NULL;
+    const size_t n =
+        st->insertion != NULL ? sinter_radius_sampler_mixture(st->insertion->sampler, &m) : 0;
+    for (size_t k = 0; k < n && k < capacity; ++k)
+        mass[k] = m[k];
+    if (count != NULL)
+        *count = n;
+    return SINTER_OK;
+}
+
 static sinter_status near_push(sinter_ctx *ctx, struct sinter_insertion *ins, const double x[3],
                                double r)
 {
@@ -286,11 +327,12 @@ sinter_status sinter_insertion_stage(sinter_stepper *st)
     ins->next++;
     ins->mass_target = o->mass_rate * covered;
     const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
-    const double density = st->ps->materials[p->material].value[SINTER_MAT_DENSITY];
     sinter_status s = gather_near(st, ins);
     const size_t first_new = ins->near_count;
     double mass = ins->mass_done;
     for (;;) {
+        const int32_t mat = sinter_radius_sampler_material(ins->sampler);
+        const double density = st->ps->materials[mat].value[SINTER_MAT_DENSITY];
         const double r = ins->pending, m = density * (4.0 / 3.0) * PI * r * r * r;
         if (s != SINTER_OK || !(mass + m <= ins->mass_target))
             break;
@@ -299,7 +341,15 @@ sinter_status sinter_insertion_stage(sinter_stepper *st)
             ins->crowded++;
             break;
         }
+        const size_t made = ins->near_count - first_new;
         s = near_push(st->ctx, ins, x, r);
+        if (s == SINTER_OK)
+            s = sinter_grow(st->ctx, (void **)&ins->made, &ins->made_capacity, made + 1,
+                            sizeof(int32_t));
+        if (s != SINTER_OK)
+            break;
+        ins->made[made] = mat;
+        sinter_radius_sampler_placed(ins->sampler, r);
         mass += m;
         ins->pending = sinter_radius_sampler_radius(ins->sampler);
     }
@@ -315,8 +365,20 @@ sinter_status sinter_insertion_stage(sinter_stepper *st)
         memcpy(xr + 3 * k, e, 3 * sizeof(double));
         xr[3 * n + k] = e[3];
     }
+    /* runs of one material in one call each (one run without a mixture), after a reserve so
+     * that no call after the first runs out of memory */
     size_t first = 0;
-    s = sinter_particles_add(st->ps, n, xr, xr + 3 * n, p->material, p->temperature, &first);
+    if (sinter_radius_sampler_mixture(ins->sampler, NULL) > 0)
+        s = sinter_particles_reserve(st->ps, st->ps->count + n);
+    for (size_t k = 0; k < n && s == SINTER_OK;) {
+        size_t j = k + 1, at = 0;
+        while (j < n && ins->made[j] == ins->made[k])
+            ++j;
+        s = sinter_particles_add(st->ps, j - k, xr + 3 * k, xr + 3 * n + k, ins->made[k],
+                                 p->temperature, &at);
+        first = k == 0 ? at : first;
+        k = j;
+    }
     sinter_free(st->ctx, xr);
     if (s != SINTER_OK)
         return s;

@@ -23,6 +23,15 @@ void sinter_insertion_set_state(struct sinter_insertion *ins,
                                 const uint64_t u[SINTER_INSERTION_U64],
                                 const double d[SINTER_INSERTION_F64]);
 
+/* A mixture's state (a checkpoint's, io/checkpoint.c): its number of materials (0: none), and
+ * the pending sphere's material index with count + 1 masses (each material's inserted, then
+ * their total) [kg]; set returns 0 (changing nothing) for values that cannot be the mixture's. */
+size_t sinter_insertion_mixture_count(const struct sinter_insertion *ins);
+void sinter_insertion_get_mixture(const struct sinter_insertion *ins, uint64_t *pending,
+                                  double *mass);
+int sinter_insertion_set_mixture(struct sinter_insertion *ins, uint64_t pending,
+                                 const double *mass);
+
 void sinter_insertion_destroy(sinter_ctx *ctx, struct sinter_insertion *ins);
 
 #endif

@@ -93,6 +93,13 @@ double sinter_wall_mesh_contact(const sinter_wall *w, const double *x, double *n
  * triangle of the closest point (sinter_mesh_closest_hinted: the same bits with any hint);
  * the other kinds ignore it. */
 double sinter_wall_contact_hinted(const sinter_wall *w, const double *x, double *n, uint32_t *hint);
+/* sinter_wall_contact_hinted with a certificate per contact (cert[4], cert[3] <= 0: none;
+ * sinter_mesh_closest_certified): the same bits, a search only when the sphere left it. */
+double sinter_wall_contact_certified(const sinter_wall *w, const double *x, double *n,
+                                     uint32_t *hint, double cert[4]);
+/* A mesh wall (w->kind SINTER_WALL_MESH): 1 if the signed distance of x is below `bound` [m],
+ * the search ending at the bound (sinter_mesh_within; the neighbour list's verdict). */
+int sinter_wall_mesh_within(const sinter_wall *w, const double *x, double bound, uint32_t *hint);
 void sinter_wall_mesh_free(sinter_walls *walls, sinter_wall *w);
 
 /* A drawing of a mesh wall (mesh_wall.c): its triangle count, and when points is not NULL its

@@ -396,6 +396,51 @@ void test_same_result_as_c()
                 cpp.temperature[0], cpp.force_z);
 }
 
+// A mixture inserted by mass fraction: insertion_mixture() gives each material's mass, adding
+// up to the mass inserted, each within one sphere's mass of its share (test_mixture.c has the
+// physics; this checks the C++ wrapper).
+void test_insertion_mixture()
+{
+    using sinter::material_param;
+    sinter::context ctx;
+    sinter::material a(ctx, "a"), b(ctx, "b");
+    a.set(material_param::density, 2500).set(material_param::youngs_modulus, 1e6);
+    b.set(material_param::density, 7500).set(material_param::youngs_modulus, 1e6);
+    sinter::particles ps(ctx);
+    ps.set_material(0, a);
+    ps.set_material(1, b);
+    sinter::walls ws(ctx);
+    ws.add_plane({0, 0, 0}, {0, 0, 1}, a);
+    sinter::force_model hertz(ctx, "hertz_mindlin"), gravity(ctx, "gravity");
+    sinter::stepper st(ctx, sinter::stepper_kind::explicit_, ps, ws);
+    st.add(hertz).add(gravity).set_dt(1e-5);
+    CHECK(st.insertion_mixture().empty());
+    sinter_packing_options powder;
+    sinter_packing_options_init(&powder, sizeof(powder));
+    const std::int32_t ids[2] = {0, 1};
+    const double shares[2] = {0.4, 0.6}, r = 1e-3;
+    powder.radius_mean = r;
+    powder.box_min[0] = powder.box_min[1] = -0.02;
+    powder.box_max[0] = powder.box_max[1] = 0.02;
+    powder.box_min[2] = 0.01;
+    powder.box_max[2] = 0.02;
+    powder.mixture_count = 2;
+    powder.mixture_materials = ids;
+    powder.mixture_mass_fractions = shares;
+    sinter_insertion_options options;
+    sinter_insertion_options_init(&options, sizeof(options));
+    options.mass_rate = 0.05;
+    st.set_insertion(&powder, &options);
+    st.advance(0.0105);
+    const std::vector<double> mass = st.insertion_mixture();
+    CHECK(mass.size() == 2);
+    const double pi = 3.14159265358979323846, m_max = 7500 * 4.0 / 3.0 * pi * r * r * r;
+    const double total = mass.size() == 2 ? mass[0] + mass[1] : 0.0;
+    CHECK(total > 10 * m_max);
+    for (std::size_t k = 0; k < mass.size(); ++k)
+        CHECK(std::fabs(mass[k] - shares[k] * total) <= m_max);
+}
+
 } // namespace
 
 int main()
@@ -406,6 +451,7 @@ int main()
     test_raii_frees();
     test_observer();
     test_same_result_as_c();
+    test_insertion_mixture();
     if (failures != 0) {
         std::fprintf(stderr, "%d check(s) failed\n", failures);
         return 1;

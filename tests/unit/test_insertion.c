@@ -332,7 +332,7 @@ static void test_bad_input(void **state)
     assert_int_equal(sinter_stepper_set_insertion(s.st, &q, &o), SINTER_ERR_NOT_FOUND);
     q = p;
     const int32_t mats[1] = {0};
-    const double fractions[1] = {1.0};
+    const double fractions[1] = {0.9}; /* a mixture's fractions must sum to 1 (test_mixture.c) */
     q.mixture_count = 1;
     q.mixture_materials = mats;
     q.mixture_mass_fractions = fractions;

@@ -353,6 +353,28 @@ static void test_force_and_moment_balance(void **state)
     }
 }
 
+/* A triangulated rectangle [-2R, 4R] x [-3R, 2R] at height z, its normal up, as an ASCII STL
+ * file at a temporary path (64 chars); its diagonal passes the origin's foot at y = -4R/3. */
+static void write_square_stl(char *path, double z)
+{
+    snprintf(path, 64, "/tmp/sinter_kindsXXXXXX");
+    const int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    assert_non_null(f);
+    const double c[4][2] = {{-2 * R, -3 * R}, {4 * R, -3 * R}, {4 * R, 2 * R}, {-2 * R, 2 * R}};
+    const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    fprintf(f, "solid square\n");
+    for (int t = 0; t < 2; ++t) {
+        fprintf(f, " facet normal 0 0 1\n  outer loop\n");
+        for (int v = 0; v < 3; ++v)
+            fprintf(f, "   vertex %.17g %.17g %.17g\n", c[tri[t][v]][0], c[tri[t][v]][1], z);
+        fprintf(f, "  endloop\n endfacet\n");
+    }
+    fprintf(f, "endsolid square\n");
+    fclose(f);
+}
+
 /* One evaluation of a sphere between a wall of `kind` below it (its closest point straight
  * below the centre, 0.99 R away) and a plane above (0.99 R away), with Hertz-Mindlin with
  * rolling, conduction (walls at 400 K and 500 K, the sphere at 300 K), the electric network
@@ -377,7 +399,13 @@ static void between_walls(int kind, double out[7])
         OK(sinter_walls_add_rectangle(s.walls, below, up, ex, 3 * R, 2 * R, s.wall_mat, NULL));
     else if (kind == SINTER_WALL_DISC)
         OK(sinter_walls_add_disc(s.walls, below, up, 3 * R, s.wall_mat, NULL));
-    else {
+    else if (kind == SINTER_WALL_MESH) {
+        char path[64];
+        const double o[3] = {0, 0, 0};
+        write_square_stl(path, below[2]);
+        OK(sinter_walls_add_mesh(s.walls, path, 1.0, o, o, 0, 0.0, s.wall_mat, NULL));
+        unlink(path);
+    } else {
         const double axis_point[3] = {0, 0, 4.01 * R};
         OK(sinter_walls_add_cylinder(s.walls, axis_point, ex, 5 * R, HUGE_VAL, 1, s.wall_mat,
                                      NULL));
@@ -428,17 +456,20 @@ static void between_walls(int kind, double out[7])
  * wall point lies at the same distance and direction gets the same force and torque
  * (Hertz-Mindlin with friction history and rolling resistance), heat power (conduction from
  * both walls, Joule heating of the network's current) from a rectangle's face, a disc's face
- * and a cylinder's inside as from a plane, to round-off (1e-12 of the normal force, whose two
- * walls' parts cancel: the distances come out of different arithmetic, R_c - rho against a
- * dot product). The sphere moves along the cylinder's axis only, so that its curvature does
- * not turn the contact within the three steps.
+ * a cylinder's inside and a triangle mesh's face as from a plane, to round-off (1e-12 of the
+ * normal force, whose two walls' parts cancel: the distances come out of different
+ * arithmetic, R_c - rho against a dot product). The sphere moves along the cylinder's axis
+ * only, so that its curvature does not turn the contact within the three steps.
  */
 static void test_submodels_alike_on_every_kind(void **state)
 {
     (void)state;
     double plane[7];
     between_walls(SINTER_WALL_PLANE, plane);
-    for (int kind = SINTER_WALL_RECTANGLE; kind <= SINTER_WALL_CYLINDER; ++kind) {
+    const int kinds[] = {SINTER_WALL_RECTANGLE, SINTER_WALL_DISC, SINTER_WALL_CYLINDER,
+                         SINTER_WALL_MESH};
+    for (size_t k = 0; k < sizeof(kinds) / sizeof(kinds[0]); ++k) {
+        const int kind = kinds[k];
         double got[7];
         between_walls(kind, got);
         /* the scale: each wall's normal force (they cancel in the sum), Hertz at 0.01 R */

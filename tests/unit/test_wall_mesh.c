@@ -384,11 +384,13 @@ static size_t ringed_tube(int nf, int nr, double rc, double len, double *v)
 
 /* The search from a hint (the triangle of the last step's closest point, kept per contact and
  * per neighbour candidate) against the search without: the same bits of distance and normal,
- * and the same triangle, from every hint (the answer's, its index neighbours, the first and
- * last triangles, a random one, none, one past the mesh), for points all around two meshes:
- * a triangulated plane with points above its edges and vertices (exact ties between coplanar
- * triangles, where the order of the search decides) and a ringed die, inside, outside and
- * behind, with the reach unlimited and short (lower bounds beyond it). */
+ * and the same triangle, and the neighbour list's verdict (sinter_mesh_within), and points
+ * moved inside and outside a certificate (sinter_mesh_closest_certified), from every hint
+ * (the answer's, its index neighbours, the first and last triangles, a random one, none, one past
+ * the mesh), for points all around two meshes: a triangulated plane with points above its edges and
+ * vertices (exact ties between coplanar triangles, where the order of the search decides) and a
+ * ringed die, inside, outside and behind, with the reach unlimited and short (lower bounds beyond
+ * it). */
 static void test_hint_changes_no_bit(void **state)
 {
     (void)state;
@@ -407,7 +409,7 @@ static void test_hint_changes_no_bit(void **state)
             sinter_mesh *m = NULL;
             OK(sinter_mesh_build(ctx, &stl, "test", 1.0, o, o, 0, reach, &m));
             srand(7u + (unsigned)(2 * which + r));
-            size_t checked = 0, bounded = 0;
+            size_t checked = 0, bounded = 0, within_checked = 0, taken_front = 0, certified = 0;
             for (int k = 0; k < 4000; ++k) {
                 double x[3];
                 for (int d = 0; d < 3; ++d)
@@ -441,12 +443,52 @@ static void test_hint_changes_no_bit(void **state)
                     assert_memory_equal(n, n0, sizeof(n0));
                     if (truth != UINT32_MAX)
                         assert_int_equal(hint, truth);
+                    /* the neighbour list's verdict by the search ended at the bound: the
+                     * full search's, but for a point farther behind the mesh than the bound
+                     * and in front of its hint's plane (taken as in front, stated) */
+                    for (int b = 0; b < 3; ++b) {
+                        const double bound = b == 0 ? 0.05 : b == 1 ? 0.2 : 0.5;
+                        uint32_t hint2 = hints[h];
+                        const int within = sinter_mesh_within(m, x, bound, &hint2);
+                        if (within != (d0 < bound)) {
+                            assert_true(d0 <= -bound && within == 0);
+                            taken_front++;
+                        }
+                        within_checked++;
+                    }
+                }
+                /* a certificate from the search at x, then points moved from x by 0.5, 0.99
+                 * and 1.5 of its radius: the same bits as the search without */
+                double cert[4] = {0, 0, 0, -1}, nc[3];
+                uint32_t hc = UINT32_MAX;
+                const double dc = sinter_mesh_closest_certified(m, x, nc, &hc, cert);
+                assert_memory_equal(&dc, &d0, sizeof(double));
+                assert_memory_equal(nc, n0, sizeof(n0));
+                for (int f = 0; f < 3 && cert[3] > 0.0; ++f) {
+                    double u[3], y[3], ny[3], nz[3], ce[4];
+                    for (int d = 0; d < 3; ++d)
+                        u[d] = (double)rand() / RAND_MAX - 0.5;
+                    const double lu = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) + 1e-300;
+                    const double step = (f == 0 ? 0.5 : f == 1 ? 0.99 : 1.5) * cert[3] / lu;
+                    for (int d = 0; d < 3; ++d)
+                        y[d] = x[d] + step * u[d];
+                    memcpy(ce, cert, sizeof(ce));
+                    uint32_t hy = hc;
+                    const double dy = sinter_mesh_closest(m, y, ny);
+                    const double dz = sinter_mesh_closest_certified(m, y, nz, &hy, ce);
+                    assert_memory_equal(&dy, &dz, sizeof(double));
+                    assert_memory_equal(ny, nz, sizeof(ny));
+                    certified += f < 2;
                 }
                 checked += truth != UINT32_MAX;
                 bounded += truth == UINT32_MAX;
             }
-            print_message("%s, reach %g: %zu points exact, %zu beyond the reach (lower bounds)\n",
-                          which ? "die" : "plane", reach, checked, bounded);
+            print_message("%s, reach %g: %zu points exact, %zu beyond the reach (lower bounds); "
+                          "%zu verdicts within a bound, %zu far behind taken as in front; %zu "
+                          "points moved within a certificate\n",
+                          which ? "die" : "plane", reach, checked, bounded, within_checked,
+                          taken_front, certified);
+            assert_true(certified > 1000);
             assert_true(checked > 1000);
             sinter_mesh_destroy(ctx, m);
         }

@@ -146,7 +146,9 @@ class PackingOptions(ctypes.Structure):
                 ("table_diameter", _P(_double)), ("table_cumulative", _P(_double)),
                 ("table_points", _size), ("table_basis", _int), ("mixture_count", _size),
                 ("mixture_materials", _P(ctypes.c_int32)),
-                ("mixture_mass_fractions", _P(_double))]
+                ("mixture_mass_fractions", _P(_double)),
+                # appended in issue 38: sizes per material (mixture_count structs like this)
+                ("mixture_sizes", ctypes.c_void_p)]
 
 
 class InsertionOptions(ctypes.Structure):
@@ -523,6 +525,8 @@ SIGNATURES = {
         c_status, [StepperPtr, _P(PackingOptions), _P(InsertionOptions)]),
     "sinter_stepper_get_insertion": (
         c_status, [StepperPtr, _P(_double), _P(_double), _P(_u64), _P(_u64)]),
+    "sinter_stepper_get_insertion_mixture": (
+        c_status, [StepperPtr, _P(_double), _size, _P(_size)]),
     "sinter_compaction_options_init": (c_status, [_P(CompactionOptions), _size]),
     "sinter_pack_compact": (
         c_status, [ParticlesPtr, _P(CompactionOptions), _P(CompactionResult)]),

@@ -73,7 +73,8 @@ def packing_options(*, box_min: Optional[Vec3] = None, box_max: Optional[Vec3] =
                     table_cumulative: Optional[Sequence[float]] = None,
                     table_basis: Union[SizeBasis, str, int, None] = None,
                     mixture_materials: Optional[Sequence[int]] = None,
-                    mixture_mass_fractions: Optional[Sequence[float]] = None
+                    mixture_mass_fractions: Optional[Sequence[float]] = None,
+                    mixture_sizes: Optional[Sequence[PackingOptions]] = None
                     ) -> PackingOptions:
     """A sinter_packing_options filled with the library's defaults, then the keywords given
     (None: the default).
@@ -90,7 +91,9 @@ def packing_options(*, box_min: Optional[Vec3] = None, box_max: Optional[Vec3] =
     radius_max its truncation (0: median / gsd^3, median gsd^3); distribution "table" with
     table_diameter [m] and table_cumulative (sequences of one length, e.g. from
     read_psd_csv) and table_basis ("volume" (default) or "number", SizeBasis); a mixture by
-    mass: mixture_materials (ids) and mixture_mass_fractions (one length, summing to 1). The
+    mass: mixture_materials (ids) and mixture_mass_fractions (one length, summing to 1), and
+    optionally mixture_sizes, one packing_options(...) per material whose size keywords give
+    that material its own distribution (the material is then chosen before the radius). The
     sequences are copied into arrays that the returned struct keeps alive.
     """
     return _packing_options(_given(locals()))
@@ -101,6 +104,10 @@ def _packing_options(options: Dict[str, Any]) -> PackingOptions:
     check(lib.sinter_packing_options_init(ctypes.byref(c), ctypes.sizeof(PackingOptions)), None,
           "sinter_packing_options_init")
     aliases = {"radius": "radius_mean", "spread": "radius_spread", "gsd": "radius_gsd"}
+    if "mixture_sizes" in options and len(options["mixture_sizes"]) != len(
+            options.get("mixture_materials", ())):
+        raise ValueError("mixture_sizes needs one packing_options per material of "
+                         "mixture_materials")
     for a, b in (("table_diameter", "table_cumulative"),
                  ("mixture_materials", "mixture_mass_fractions")):
         if (a in options) != (b in options) or (a in options and
@@ -119,6 +126,12 @@ def _packing_options(options: Dict[str, Any]) -> PackingOptions:
             ids = [to_c(int(v), ctypes.c_int32, key) for v in value]
             c.mixture_materials = (ctypes.c_int32 * max(1, len(ids)))(*ids)
             c.mixture_count = len(ids)
+        elif key == "mixture_sizes":
+            sizes = list(value)
+            array = (PackingOptions * max(1, len(sizes)))(*sizes)
+            c.mixture_sizes = ctypes.cast(array, ctypes.c_void_p).value
+            # the copies borrow the originals' tables: keep both alive with the struct
+            setattr(c, "_sizes_alive", (array, sizes))
         elif key == "table_basis":
             c.table_basis = _basis(value)
         elif key in ("box_min", "box_max"):
@@ -154,7 +167,8 @@ def pack_random(particles: "Particles", n: int, box_min: Vec3, box_max: Vec3, *,
                 table_cumulative: Optional[Sequence[float]] = None,
                 table_basis: Union[SizeBasis, str, int, None] = None,
                 mixture_materials: Optional[Sequence[int]] = None,
-                mixture_mass_fractions: Optional[Sequence[float]] = None) -> int:
+                mixture_mass_fractions: Optional[Sequence[float]] = None,
+                mixture_sizes: Optional[Sequence[PackingOptions]] = None) -> int:
     """Random sequential addition of up to n non-overlapping spheres inside the box
     box_min..box_max [m] (seed 000 sec. 7.1); returns the number placed (fewer if
     max_attempts fail in a row). The keywords are those of packing_options.

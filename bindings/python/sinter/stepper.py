@@ -517,6 +517,17 @@ class Stepper(_Handle):
                    ctypes.byref(target), ctypes.byref(count), ctypes.byref(crowded))
         return done.value, target.value, count.value, crowded.value
 
+    def insertion_mixture(self) -> List[float]:
+        """The mass inserted so far of each material of the insertion's mixture [kg], in the
+        order of the powder's mixture_materials (sinter_stepper_get_insertion_mixture); empty
+        without a mixture."""
+        count = ctypes.c_size_t()
+        self._call(lib.sinter_stepper_get_insertion_mixture, self._ptr, None, 0,
+                   ctypes.byref(count))
+        mass = (ctypes.c_double * max(1, count.value))()
+        self._call(lib.sinter_stepper_get_insertion_mixture, self._ptr, mass, count.value, None)
+        return [mass[k] for k in range(count.value)]
+
     def get_option(self, key: str) -> float:
         """Read an option of set_option."""
         value = ctypes.c_double()

@@ -67,4 +67,17 @@ double sinter_mesh_closest(const sinter_mesh *mesh, const double *x, double *n);
 double sinter_mesh_closest_hinted(const sinter_mesh *mesh, const double *x, double *n,
                                   uint32_t *hint);
 
+/* sinter_mesh_closest_hinted with a certificate cert[4] (the last search's point and a radius;
+ * radius <= 0: none) kept by the caller per contact: within the radius the hint's triangle is
+ * still the closest and is taken without a search (the same bits); otherwise the search, and a
+ * new certificate. */
+double sinter_mesh_closest_certified(const sinter_mesh *mesh, const double *x, double *n,
+                                     uint32_t *hint, double cert[4]);
+
+/* 1 if sinter_mesh_closest_hinted(mesh, x, ..) < bound [m] (a neighbour list's r + skin), by a
+ * search that ends at the bound; a sphere farther than it, in front of the plane of its hint
+ * triangle, is taken as in front (0). Updates *hint as sinter_mesh_closest_hinted when it
+ * finds a triangle. */
+int sinter_mesh_within(const sinter_mesh *mesh, const double *x, double bound, uint32_t *hint);
+
 #endif

@@ -84,40 +84,53 @@ static int closest_on_triangle(const double *x, const double *a, const double *b
     return 0;
 }
 
-/* The best candidate so far: squared distance, triangle, feature, closest point. */
+/* The best candidate so far: squared distance, triangle, feature, closest point; and a lower
+ * bound of the squared distance of every other triangle (what the search skipped or tested
+ * and rejected, and the region beyond it: the margin of a certificate). */
 typedef struct best_point {
     double d2;
     size_t tri;
     int feature;
     double c[3];
+    double second;
 } best_point;
 
 static void try_cell(const sinter_mesh *m, const double *x, size_t cell, best_point *best)
 {
     for (uint32_t k = m->start[cell]; k < m->start[cell + 1]; ++k) {
         const size_t t = m->item[k];
+        if (t == best->tri) /* met again (listed in every cell it meets): it cannot win */
+            continue;
         const double *a = m->cull + 10 * t, *fn = a + 3;
         const double h = (x[0] - a[0]) * fn[0] + (x[1] - a[1]) * fn[1] + (x[2] - a[2]) * fn[2];
-        if (h * h > best->d2) /* its plane is farther than the best point */
+        if (h * h > best->d2) { /* its plane is farther than the best point */
+            best->second = fmin(best->second, h * h);
             continue;
+        }
         /* in its plane the triangle lies within its disc: |x - q|^2 >= h^2 + (lateral - rho)^2
          * for every point q of it */
         const double *disc = a + 6;
         const uint32_t *v = m->tri + 3 * t;
         const double g[3] = {x[0] - disc[0], x[1] - disc[1], x[2] - disc[2]};
         const double lateral = sqrt(fmax(dot3(g, g) - h * h, 0.0)) - disc[3];
-        if (lateral > 0.0 && h * h + lateral * lateral > best->d2)
+        if (lateral > 0.0 && h * h + lateral * lateral > best->d2) {
+            best->second = fmin(best->second, h * h + lateral * lateral);
             continue;
+        }
         double c[3];
         const int f = closest_on_triangle(x, m->v + 3 * v[0], m->v + 3 * v[1], m->v + 3 * v[2], c);
         const double r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
         const double d2 = dot3(r, r);
         /* the closer point; at a tie a face's (its plane's arithmetic) */
         if (d2 < best->d2 || (d2 == best->d2 && f == 0 && best->feature != 0)) {
+            if (best->tri != SIZE_MAX) /* the one it replaces */
+                best->second = fmin(best->second, best->d2);
             best->d2 = d2;
             best->tri = t;
             best->feature = f;
             memcpy(best->c, c, sizeof(c));
+        } else {
+            best->second = fmin(best->second, d2);
         }
     }
 }
@@ -151,8 +164,10 @@ static void try_ring(const sinter_mesh *m, const double *x, const int *at, int k
                     if (g > 0.0)
                         gap2 += g * g;
                 }
-                if (gap2 > best->d2)
+                if (gap2 > best->d2) {
+                    best->second = fmin(best->second, gap2);
                     continue;
+                }
                 try_cell(m, x, c, best);
             }
         }
@@ -178,6 +193,12 @@ static int search(const sinter_mesh *m, const double *x, best_point *best, doubl
         *lower = (first - 1) * m->h; /* a lower bound, beyond the reach */
         return 0;
     }
+    /* every triangle farther than the best point (a seeded bound: sinter_mesh_within's, a
+     * hint's): none can win, nothing to search */
+    if (first >= 2 && (first - 1) * m->h * ((first - 1) * m->h) > best->d2) {
+        best->second = fmin(best->second, (first - 1) * m->h * ((first - 1) * m->h));
+        return 1;
+    }
     for (int k = first; k <= kmax; ++k) {
         try_ring(m, x, at, k, best);
         /* the distance from x to the cells beyond the block searched: at least k h */
@@ -188,8 +209,10 @@ static int search(const sinter_mesh *m, const double *x, best_point *best, doubl
             if (at[d] + k < m->dim[d] - 1)
                 bound = fmin(bound, m->lo[d] + (at[d] + k + 1) * m->h - x[d]);
         }
-        if (best->d2 <= bound * bound)
+        if (best->d2 <= bound * bound) {
+            best->second = fmin(best->second, bound * bound);
             break;
+        }
         if (bound >= m->reach) { /* beyond the reach: a lower bound */
             *lower = bound;
             return 0;
@@ -212,7 +235,7 @@ double sinter_mesh_closest(const sinter_mesh *m, const double *x, double *n)
  * bits, only fewer triangles tested. */
 static best_point seed(const sinter_mesh *m, const double *x, uint32_t hint)
 {
-    best_point best = {INFINITY, SIZE_MAX, 0, {0, 0, 0}};
+    best_point best = {INFINITY, SIZE_MAX, 0, {0, 0, 0}, INFINITY};
     if (hint >= m->nt)
         return best;
     const uint32_t *v = m->tri + 3 * (size_t)hint;
@@ -226,22 +249,10 @@ static best_point seed(const sinter_mesh *m, const double *x, uint32_t hint)
     return best;
 }
 
-double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double *n, uint32_t *hint)
+/* The signed distance and normal of the closest point found (best.tri a triangle). */
+static double finish(const sinter_mesh *m, const double *x, const best_point *bp, double *n)
 {
-    best_point best = seed(m, x, *hint);
-    double lower = 0.0;
-    int found = search(m, x, &best, &lower);
-    /* seeded and nothing taken (a bound's round-off past the margin): the search without */
-    if (found && best.tri == SIZE_MAX) {
-        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}};
-        found = search(m, x, &best, &lower);
-    }
-    if (!found) {
-        if (n != NULL)
-            memcpy(n, m->fn, 3 * sizeof(double));
-        return lower;
-    }
-    *hint = (uint32_t)best.tri;
+    const best_point best = *bp;
     const double r[3] = {x[0] - best.c[0], x[1] - best.c[1], x[2] - best.c[2]};
     const double *fn = m->fn + 3 * best.tri;
     if (best.feature == 0) { /* in front of (or behind) a face: its plane's distance */
@@ -261,4 +272,107 @@ double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double 
             memcpy(n, fn, 3 * sizeof(double));
     }
     return sign * s;
+}
+
+double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double *n, uint32_t *hint)
+{
+    best_point best = seed(m, x, *hint);
+    double lower = 0.0;
+    int found = search(m, x, &best, &lower);
+    /* seeded and nothing taken (a bound's round-off past the margin): the search without */
+    if (found && best.tri == SIZE_MAX) {
+        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}, INFINITY};
+        found = search(m, x, &best, &lower);
+    }
+    if (!found) {
+        if (n != NULL)
+            memcpy(n, m->fn, 3 * sizeof(double));
+        return lower;
+    }
+    *hint = (uint32_t)best.tri;
+    return finish(m, x, &best, n);
+}
+
+/*
+ * A certificate (cert[0..2] the point x0 of the last full search, in the mesh's frame, and
+ * cert[3] a radius rho, negative: none): every distance function to a triangle changes by at
+ * most |x - x0| (1-Lipschitz), so while |x - x0| < rho = (d_2 - d_1) / 2, d_1 the closest
+ * triangle's distance at x0 and d_2 a lower bound of every other's, that triangle stays
+ * strictly the closest, the search would end on it again, and its closest point alone gives
+ * the same bits. rho is shrunk by 1e-9 of d_2 (the bounds' round-off) and kept below the
+ * reach (the search would give a lower bound beyond it); a tie (a shared edge or vertex
+ * closest) gives no certificate.
+ */
+double sinter_mesh_closest_certified(const sinter_mesh *m, const double *x, double *n,
+                                     uint32_t *hint, double cert[4])
+{
+    const uint32_t t = *hint;
+    if (t < m->nt && cert[3] > 0.0) {
+        const double dx = x[0] - cert[0], dy = x[1] - cert[1], dz = x[2] - cert[2];
+        if (dx * dx + dy * dy + dz * dz < cert[3] * cert[3]) {
+            const uint32_t *v = m->tri + 3 * (size_t)t;
+            best_point best = {0.0, t, 0, {0, 0, 0}, INFINITY};
+            best.feature =
+                closest_on_triangle(x, m->v + 3 * v[0], m->v + 3 * v[1], m->v + 3 * v[2], best.c);
+            const double r[3] = {x[0] - best.c[0], x[1] - best.c[1], x[2] - best.c[2]};
+            best.d2 = dot3(r, r);
+            return finish(m, x, &best, n);
+        }
+    }
+    cert[3] = -1.0;
+    best_point best = seed(m, x, t);
+    double lower = 0.0;
+    int found = search(m, x, &best, &lower);
+    if (found && best.tri == SIZE_MAX) {
+        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}, INFINITY};
+        found = search(m, x, &best, &lower);
+    }
+    if (!found) {
+        if (n != NULL)
+            memcpy(n, m->fn, 3 * sizeof(double));
+        return lower;
+    }
+    *hint = (uint32_t)best.tri;
+    const double d1 = sqrt(best.d2), d2 = sqrt(best.second);
+    double rho = 0.5 * (d2 - d1) - 1e-9 * d2 - 1e-12 * m->h;
+    rho = fmin(rho, (m->reach - d1) * (1.0 - 1e-9));
+    if (rho > 0.0) { /* (NaN and infinite bounds give none) */
+        memcpy(cert, x, 3 * sizeof(double));
+        cert[3] = rho;
+    }
+    return finish(m, x, &best, n);
+}
+
+/*
+ * The neighbour list's question, whether the signed distance is below `bound`, by a search
+ * seeded with the bound itself (times the hint's margin) as a best point of no triangle: a
+ * triangle closer than the bound is found as the search without the seed finds it (the
+ * hint's argument), and then its signed distance decides, the same bits. When none is closer
+ * the search ends at the bound instead of at the mesh: the sphere is at least `bound` from
+ * the mesh, and taken as in front of it (not near) if it is in front of the plane of its hint
+ * triangle (the last closest). Behind that plane, without a hint, or with a bound beyond the
+ * reach, the full search answers (a sphere behind the mesh stays a candidate, so that the
+ * step refuses it as passed through the wall).
+ */
+int sinter_mesh_within(const sinter_mesh *m, const double *x, double bound, uint32_t *hint)
+{
+    const uint32_t t = *hint;
+    int front = 0;
+    if (t < m->nt && bound > 0.0 && bound < m->reach) {
+        const double *a = m->cull + 10 * (size_t)t, *fn = a + 3;
+        front = (x[0] - a[0]) * fn[0] + (x[1] - a[1]) * fn[1] + (x[2] - a[2]) * fn[2] >= 0.0;
+    }
+    if (!front)
+        return sinter_mesh_closest_hinted(m, x, NULL, hint) < bound;
+    best_point best = seed(m, x, t);
+    const double tiny = 1e-12 * m->h, b2 = bound * bound * (1.0 + 1e-9) + tiny * tiny;
+    if (b2 < best.d2)
+        best.d2 = b2;
+    double lower = 0.0;
+    if (!search(m, x, &best, &lower))
+        return lower < bound; /* beyond the reach from the first layer: a lower bound */
+    if (best.tri == SIZE_MAX)
+        return 0; /* nothing within the bound, in front of the hint's plane */
+    *hint = (uint32_t)best.tri;
+    return finish(m, x, &best, NULL) < bound;
 }

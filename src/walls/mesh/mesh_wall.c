@@ -40,6 +40,23 @@ double sinter_wall_contact_hinted(const sinter_wall *w, const double *x, double 
     return sinter_mesh_closest_hinted(w->mesh, local, n, hint);
 }
 
+double sinter_wall_contact_certified(const sinter_wall *w, const double *x, double *n,
+                                     uint32_t *hint, double cert[4])
+{
+    if (w->kind != SINTER_WALL_MESH)
+        return sinter_wall_shape_contact(w, x, n);
+    const double local[3] = {x[0] - (w->p[0] - w->p0[0]), x[1] - (w->p[1] - w->p0[1]),
+                             x[2] - (w->p[2] - w->p0[2])};
+    return sinter_mesh_closest_certified(w->mesh, local, n, hint, cert);
+}
+
+int sinter_wall_mesh_within(const sinter_wall *w, const double *x, double bound, uint32_t *hint)
+{
+    const double local[3] = {x[0] - (w->p[0] - w->p0[0]), x[1] - (w->p[1] - w->p0[1]),
+                             x[2] - (w->p[2] - w->p0[2])};
+    return sinter_mesh_within(w->mesh, local, bound, hint);
+}
+
 void sinter_wall_mesh_free(sinter_walls *walls, sinter_wall *w)
 {
     sinter_mesh_destroy(walls->ctx, w->mesh);
