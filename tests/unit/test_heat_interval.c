@@ -235,16 +235,14 @@ static void test_refused(void **state)
     assert_int_equal(sinter_stepper_step(st, 1), SINTER_ERR_INVALID);
     OK(sinter_stepper_set_option(st, "frozen_heat", 0));
     /* a model whose power belongs to every step (the contacts' dissipation) */
-    sinter_heat_model *diss = NULL;
-    OK(sinter_heat_model_create(&diss, w.s.ctx, "dissipation"));
-    OK(sinter_stepper_add_heat(st, diss));
+    OK(sinter_heat_model_create(&w.conv, w.s.ctx, "dissipation")); /* destroyed by close_two */
+    OK(sinter_stepper_add_heat(st, w.conv));
     assert_int_equal(sinter_stepper_step(st, 1), SINTER_ERR_INVALID);
     assert_true(get1(&w.s, SINTER_FIELD_TEMPERATURE, 0) == 400.0);
     double t = -1.0;
     OK(sinter_stepper_time(st, &t));
     assert_true(t == 0.0);
     close_two(&w);
-    sinter_heat_model_destroy(diss);
 }
 
 int main(void)
