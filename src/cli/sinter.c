@@ -14,7 +14,8 @@
  * updated in place (\r) at most once a second, otherwise a line at most every 5 s;
  * --progress S sets that interval [s] (0: no progress), and a one-line summary ends the run.
  * --threads N runs the library on N threads (sinter_ctx_set_threads; 0: as many as OpenMP offers,
- * OMP_NUM_THREADS or the cores; default 1): the results are the same for every N. --log LEVEL
+ * OMP_NUM_THREADS or the cores; default the scene's [stepper] threads, else 1): the results
+ * are the same for every N. --log LEVEL
  * (error, warning, info or debug) prints the library's messages up to that level to stderr, one per
  * line (sinter_ctx_set_log): info tells what the set-up did (the compaction's steps, its green
  * body, what a restart took from its checkpoint), debug also the steppers' choices (the explicit
@@ -183,7 +184,7 @@ static int time_value(const char *option, const char *text, double *value)
 static int run(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
-    int threads = 1, log_level = -1;
+    int threads = -1, log_level = -1; /* threads: -1 the scene's, else 1 */
     double end_time = -1.0, stop_at = HUGE_VAL, every = -1.0;
     for (int k = 2; k < argc; ++k) {
         if (strcmp(argv[k], "-o") == 0 && k + 1 < argc)
@@ -233,7 +234,7 @@ static int run(int argc, char **argv)
     sinter_ctx *ctx = NULL;
     if (sinter_ctx_create(&ctx, NULL) != SINTER_OK)
         return 1;
-    sinter_status st = sinter_ctx_set_threads(ctx, threads);
+    sinter_status st = sinter_ctx_set_threads(ctx, threads >= 0 ? threads : 1);
     if (st == SINTER_OK && log_level >= 0)
         st = sinter_ctx_set_log(ctx, cli_print_log, log_level, NULL);
     if (st != SINTER_OK) {
@@ -243,6 +244,8 @@ static int run(int argc, char **argv)
     }
     sinter_scene *scene = NULL;
     st = sinter_scene_load(&scene, ctx, scene_path);
+    if (st == SINTER_OK && threads >= 0) /* over the scene's [stepper] threads */
+        st = sinter_ctx_set_threads(ctx, threads);
     if (st == SINTER_OK && end_time >= 0.0)
         st = sinter_scene_set_end_time(scene, end_time);
     if (st == SINTER_OK && restart != NULL)

@@ -1023,6 +1023,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "thread_choice",
                                           "dt_check",
                                           "energy_check",
+                                          "heat_interval",
                                           "phi",
                                           "target_iterations",
                                           "tolerance",
@@ -1048,6 +1049,20 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
         if (got == SINTER_OK)
             TRY(at_line(t, scene_find(s, options[k])->line,
                         sinter_stepper_set_option(sc->st, options[k], value)));
+    }
+    /* The threads the scene runs on (its context's, sinter_ctx_set_threads; the command line's
+     * --threads overrides it): any count gives the same bits (issue 41). */
+    double threads;
+    const sinter_status got_threads = scene_get_double(t, s, "threads", &threads);
+    OPTIONAL(got_threads);
+    if (got_threads == SINTER_OK) {
+        if (!(threads >= 0.0 && threads <= 4096.0) || threads != floor(threads))
+            return sinter_fail(t->ctx, SINTER_ERR_PARSE,
+                               "%s:%d: threads: expected a whole number from 0 (all OpenMP "
+                               "offers) to 4096, got %g",
+                               t->path, scene_find(s, "threads")->line, threads);
+        TRY(at_line(t, scene_find(s, "threads")->line,
+                    sinter_ctx_set_threads(t->ctx, (int)threads)));
     }
     TRY(required(t, s, scene_get_double(t, s, "end_time", &sc->end_time), "end_time"));
     if (!(sc->end_time > 0))

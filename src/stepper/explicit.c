@@ -123,7 +123,7 @@ typedef struct kick_drift_job {
     sinter_stepper *st;
     const sinter_verlet_arrays *arrays;
     const sinter_particle_ranges *r;
-    double h;
+    double h, h_heat; /* the mechanics' step, the temperatures' (heat_interval.h) */
     const double *g;
     int exact, stream, heat_update;
     double *heat; /* the heat powers to zero, or NULL */
@@ -140,7 +140,7 @@ static void kick_drift_range(void *data, int t)
     job->heat_bad[t] = job->heat_hot[t] = n;
     if (job->heat_update) { /* the temperatures first, with the heat powers zeroed below */
         size_t b, o;
-        sinter_thermal_explicit_range(job->st, job->h, lo, hi, &b, &o);
+        sinter_thermal_explicit_range(job->st, job->h_heat, lo, hi, &b, &o);
         job->heat_bad[t] = b < hi ? b : n;
         job->heat_hot[t] = o < hi ? o : n;
     }
@@ -161,9 +161,9 @@ static void kick_drift_range(void *data, int t)
  * displacements are the ranges' (a first and a maximum: the same for any split); with
  * `heat_update`, each range's temperature update before its drift (kick_drift).
  */
-static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const double g[3],
-                                          int threads, int exact, int stream, int heat_update,
-                                          size_t heat_first[2])
+static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, double h_heat,
+                                          const double g[3], int threads, int exact, int stream,
+                                          int heat_update, size_t heat_first[2])
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -187,11 +187,12 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
                           .arrays = &arrays,
                           .r = &r,
                           .h = h,
+                          .h_heat = h_heat,
                           .g = g,
                           .exact = exact,
                           .stream = stream,
                           .heat_update = heat_update,
-                          .heat = st->thermal.count > 0 ? ps->heat : NULL};
+                          .heat = st->thermal.count > 0 && !st->heat_skip ? ps->heat : NULL};
     sinter_ranges_run(r.team, r.count, kick_drift_range, &job);
     sinter_drift_scan all = {n, 0.0, 0.0};
     heat_first[0] = heat_first[1] = n;
@@ -215,12 +216,13 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, const do
  * here; returns the first particle with a non-finite one, or n. The sanity check's measure
  * of the step (largest displacement; the smallest radius, kept between steps) goes into
  * *scan, and force and torque are zeroed after their last read (the next evaluation adds
- * into them). With `heat_update`, each range's explicit temperature update first (thermal.h,
- * sinter_thermal_explicit_range: one parallel region fewer a step), its first particles with
- * a bad and a hot temperature into heat_first (the count for none).
+ * into them). With `heat_update`, each range's explicit temperature update over h_heat (h, or
+ * k h on every k-th step: heat_interval.h) first (thermal.h, sinter_thermal_explicit_range:
+ * one parallel region fewer a step), its first particles with a bad and a hot temperature
+ * into heat_first (the count for none).
  */
-static size_t kick_drift(sinter_stepper *st, double h, int heat_update, size_t heat_first[2],
-                         sinter_sanity_scan *scan)
+static size_t kick_drift(sinter_stepper *st, double h_heat, double h, int heat_update,
+                         size_t heat_first[2], sinter_sanity_scan *scan)
 {
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
@@ -252,7 +254,7 @@ static size_t kick_drift(sinter_stepper *st, double h, int heat_update, size_t h
          * displacement is all it needs (sinter_neighbors_add_step): x_ref is not read */
         const int exact = measure && !sinter_neighbors_bound_holds(nb, ps);
         const sinter_drift_scan d = plain_kick_drift(
-            st, h, g, threads, exact, st->stores.stream_now, heat_update, heat_first);
+            st, h, h_heat, g, threads, exact, st->stores.stream_now, heat_update, heat_first);
         swap_spare(st);
         if (exact)
             sinter_neighbors_set_moved(nb, ps, d.moved2);
@@ -267,7 +269,7 @@ static size_t kick_drift(sinter_stepper *st, double h, int heat_update, size_t h
     /* fixed or non-rotating particles among them: one thread, every case by its flags */
     heat_first[0] = heat_first[1] = n;
     if (heat_update)
-        sinter_thermal_explicit_range(st, h, 0, n, &heat_first[0], &heat_first[1]);
+        sinter_thermal_explicit_range(st, h_heat, 0, n, &heat_first[0], &heat_first[1]);
     double moved2 = 0.0, step2 = 0.0;
     for (size_t i = 0; i < n; ++i) {
         const uint32_t fl = flags[i];
@@ -488,11 +490,12 @@ static const char *first_bad_quantity(const sinter_particles *ps, size_t i)
 
 /* A rejected step undone: the state at t back from the spare arrays, the temperatures, the
  * time and the walls; the forces and heat powers the drift zeroed are evaluated again. */
-static void undo_step(sinter_stepper *st, double t_start)
+static void undo_step(sinter_stepper *st, double t_start, int heat_now)
 {
     swap_spare(st);
     sinter_neighbors_positions_restored(&st->nb);
-    sinter_thermal_rollback(st);
+    if (heat_now) /* (temperatures saved this step: heat_interval.h) */
+        sinter_thermal_rollback(st);
     st->time = t_start;
     if (st->walls != NULL)
         sinter_walls_move(st->walls, t_start);
@@ -534,16 +537,32 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     st->stores.stream_now = choose_stores(st);
     /* Temperatures first, with the heat powers of the state at t (seed 003 sec. 4, step 5):
      * the explicit scheme's in the kick and drift's pass, range by range (thermal.h) */
-    const int heat_update = st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
+    const int explicit_heat =
+        st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
+    /* heat_interval k (heat_interval.h): the temperatures advance over k h on every k-th step,
+     * and only the evaluation before such a step sums the heat models */
+    if (s == SINTER_OK)
+        s = sinter_heat_interval_check(st);
+    const uint64_t step = st->stats.steps;
+    const int heat_update = explicit_heat && sinter_heat_interval_update(st, step);
+    const double h_heat = heat_update && st->heat_interval > 1 ? (double)st->heat_interval * h : h;
+    st->heat_skip = explicit_heat && !sinter_heat_interval_eval(st, step);
     if (s == SINTER_OK) {
-        s = heat_update ? sinter_thermal_explicit_begin(st)
-                        : sinter_thermal_implicit_advance(st, h);
+        s = heat_update     ? sinter_thermal_explicit_begin(st)
+            : explicit_heat ? SINTER_OK
+                            : sinter_thermal_implicit_advance(st, h);
         if (s != SINTER_OK) {
+            st->heat_skip = 0;
             st->stats.rejected++;
             if (!domain)
                 return s;
         }
     }
+    if (explicit_heat && !heat_update) { /* the temperatures stay those the last step tested */
+        st->thermal.hot_checked = 1;
+        st->thermal.hot = st->ps->count;
+    }
+    const int heat_now = heat_update || !explicit_heat; /* temperatures saved this step */
     int drifted = 0;
     sinter_sanity_scan scan;
     size_t heat_first[2];
@@ -551,14 +570,16 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     size_t bad_drift = n_drift;
     if (s == SINTER_OK) {
         const double t0 = sinter_clock();
-        bad_drift = owned_bad(st->ps, kick_drift(st, h, heat_update, heat_first, &scan), domain);
+        bad_drift = owned_bad(st->ps, kick_drift(st, h_heat, h, heat_update, heat_first, &scan),
+                              domain);
         drifted = 1;
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
     if (drifted && heat_update) {
-        s = sinter_thermal_explicit_end(st, h, heat_first[0], heat_first[1]);
+        s = sinter_thermal_explicit_end(st, h_heat, heat_first[0], heat_first[1]);
         if (s != SINTER_OK) { /* refused: temperatures restored; the drift undone, and the
                                * forces and heat powers it zeroed evaluated again */
+            st->heat_skip = 0;
             swap_spare(st);
             sinter_neighbors_positions_restored(&st->nb);
             st->forces_current = 0;
@@ -579,7 +600,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         const sinter_status a = sinter_domain_agree(st->ctx, &st->domain, s);
         if (a != SINTER_OK) {
             if (drifted)
-                undo_step(st, t_start);
+                undo_step(st, t_start, heat_now);
             return a;
         }
     }
@@ -596,13 +617,14 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         sinter_ghosts_forward(&st->ghosts, st->ps);
     if (s == SINTER_OK && domain) /* (the host's ghosts of other subdomains) */
         s = sinter_domain_forward(st->ctx, &st->domain, st->ps);
-    st->heat_in_law = 1; /* conduction in the law's region when it can (thermal.h) */
+    st->heat_in_law = !st->heat_skip; /* conduction in the law's region when it can (thermal.h) */
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
     const int kicked = st->range_final != NULL && st->ranges_final;
     st->range_final = NULL;
     st->range_final_user = NULL;
     st->heat_in_law = 0;
+    st->heat_skip = 0;                     /* other evaluations sum the heat */
     st->thermal.heat_zeroed = 0;           /* for that evaluation only */
     sinter_neighbors_clear_moved(&st->nb); /* valid for that evaluation only */
     size_t bad = st->ps->count;
@@ -645,7 +667,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     if (s != SINTER_OK) {
         /* Roll back: state (the spare arrays hold it), time and walls; history was never
          * committed. */
-        undo_step(st, t_start);
+        undo_step(st, t_start, heat_now);
         if (domain) { /* the ghosts too, and made again at the next step */
             st->domain.rebuild_due = 1;
             const sinter_status r = sinter_domain_forward(st->ctx, &st->domain, st->ps);

@@ -49,6 +49,7 @@ sinter_status sinter_stepper_create(sinter_stepper **out, sinter_ctx *ctx, sinte
     st->rotation = 1;
     st->dt_check = 1;
     st->energy_check = SINTER_ENERGY_CHECK_INTERVAL;
+    st->heat_interval = 1;
     st->stores.option = -1; /* measured (explicit.c) */
     st->stores.decided = -1;
     sinter_thread_choice_init(&st->threads_choice);
@@ -230,6 +231,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         st->energy_check = (int)value;
         return SINTER_OK;
     }
+    if (sinter_heat_interval_is_key(key))
+        return sinter_heat_interval_set(st, value);
     if (sinter_frozen_is_key(key))
         return sinter_frozen_set(st, key, value);
     /* an unknown key of a quasi-static stepper is refused with the list of its qs_* keys */
@@ -295,6 +298,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     }
     if (strcmp(key, "dt_check") == 0 || strcmp(key, "energy_check") == 0) {
         *value = key[0] == 'd' ? st->dt_check : st->energy_check;
+        return SINTER_OK;
+    }
+    if (sinter_heat_interval_is_key(key)) {
+        *value = (double)st->heat_interval;
         return SINTER_OK;
     }
     if (sinter_frozen_is_key(key))
@@ -714,7 +721,7 @@ static int geometry_needed(const sinter_stepper *st)
     for (size_t k = 0; k < st->force_count; ++k)
         if (sinter_force_reads_geometry(st->forces[k].model, st->forces[k].pp.width))
             return 1;
-    for (size_t k = 0; k < st->thermal.count; ++k)
+    for (size_t k = 0; k < st->thermal.count && !st->heat_skip; ++k)
         if (sinter_heat_reads_geometry(st->thermal.slots[k].model, st->time))
             return 1;
     return 0;
@@ -920,9 +927,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->stats.contacts = st->pp.count;
     st->stats.wall_contacts = st->pw.count;
     st->stats.seconds_force += sinter_clock() - t0;
-    if (s == SINTER_OK && st->thermal.count > 0)
+    /* heat_interval: an evaluation whose heat powers no update reads leaves them out */
+    const int heat = st->thermal.count > 0 && !st->heat_skip;
+    if (s == SINTER_OK && heat)
         s = contact_dissipation(st, &e);
-    if (s == SINTER_OK && st->thermal.count > 0) {
+    if (s == SINTER_OK && heat) {
         const double t1 = sinter_clock();
         s = sinter_thermal_eval(st);
         st->stats_seconds_heat += sinter_clock() - t1;

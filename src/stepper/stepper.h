@@ -9,6 +9,7 @@
 #include "stepper/step_control.h"
 #include "force/force_model.h"
 #include "stepper/frozen_heat.h"
+#include "stepper/heat_interval.h"
 #include "stepper/thermal.h"
 #include "stepper/quasistatic.h"
 #include "stepper/thread_choice.h"
@@ -109,6 +110,11 @@ struct sinter_stepper {
     /* the explicit step asks for its conduction in the same region (thermal.h,
      * sinter_thermal_law_begin) */
     int heat_in_law;
+    /* option "heat_interval" (heat_interval.h): the explicit step advances the temperatures
+     * every heat_interval-th step (1: every step); heat_skip: this evaluation leaves the heat
+     * models out (their powers are not read before the next evaluation) */
+    uint64_t heat_interval;
+    int heat_skip;
     /* evaluations whose contacts the force law confirmed (sinter_contacts_find_pp_deferred),
      * and those of them in which it dropped ended contacts */
     uint64_t law_confirmed, law_dropped;

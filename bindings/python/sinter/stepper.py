@@ -72,6 +72,9 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "frozen_dt_max": "[s] largest heat step; 0 (default: none); >= 0",
         "frozen_wake": "[-] relative change of a softening factor that wakes the mechanics; "
                        "0.01; > 0",
+        "heat_interval": "[steps] 1 (default) advances the temperatures every step; k: every "
+                         "k-th step over k dt (conduction and convection only, explicit "
+                         "thermal scheme, not with frozen_heat); whole number in [1, 1000]",
     },
     "staggered": {
         "phi": "[-] trapezoidal parameter; 0.5 (default, second order), 1 backward Euler; "
