@@ -541,8 +541,11 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         st->thermal.count > 0 && st->thermal.scheme == SINTER_THERMAL_EXPLICIT;
     /* heat_interval k (heat_interval.h): the temperatures advance over k h on every k-th step,
      * and only the evaluation before such a step sums the heat models */
-    if (s == SINTER_OK)
-        s = sinter_heat_interval_check(st);
+    if (s == SINTER_OK && (s = sinter_heat_interval_check(st)) != SINTER_OK) {
+        st->stats.rejected++;
+        if (!domain)
+            return s;
+    }
     const uint64_t step = st->stats.steps;
     const int heat_update = explicit_heat && sinter_heat_interval_update(st, step);
     const double h_heat = heat_update && st->heat_interval > 1 ? (double)st->heat_interval * h : h;
