@@ -3,6 +3,7 @@
  * submodels in use are right across a periodic face. Particles wrap into the cell and their
  * images are ghost particles (ghosts/ghosts.h), made at every neighbour build.
  */
+#include "electric/electric.h"
 #include "heat/heat_model.h"
 #include "stepper.h"
 
@@ -40,10 +41,11 @@ sinter_status sinter_stepper_get_periodic(const sinter_stepper *st, int axis, in
 sinter_status sinter_periodic_check(sinter_stepper *st)
 {
     const char *why = NULL;
-    if (st->electric != NULL)
-        why = "an electric model (its network would take an image for another node)";
-    else if (st->thermal.count > 0 && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
-        why = "implicit conduction";
+    /* the network's unknowns are the owned particles, an image stands for its owner
+     * (electric/network.c); implicit conduction maps them alike (thermal.c) */
+    if (st->electric != NULL && st->electric->kind != SINTER_ELECTRIC_NETWORK)
+        why = "the 'averaged' electric model (it spreads a current magnitude over the "
+              "particles and has no potential an image could share; use 'network')";
     else if (st->has_domain)
         why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
     else if (st->insertion != NULL)
@@ -61,10 +63,11 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
         if (sinter_force_holds_pairs(st->forces[k].model))
             why = "bonds that hold in tension (the power law's bonds: a bond across a face would "
                   "be kept between the owners, a period apart)";
+    /* the built-in heat models tell a source from a pair term (heat_model.h, owned) */
     for (size_t k = 0; why == NULL && k < st->thermal.count; ++k)
-        if (st->thermal.slots[k].model->ops != &sinter_heat_conduction)
-            why = "a heat model other than conduction (a source on an image would be counted "
-                  "twice)";
+        if (st->thermal.slots[k].model->ops->eval == sinter_heat_host_eval)
+            why = "a host heat model (its power on an image could be a pair's share or a "
+                  "source counted twice)";
     if (why == NULL)
         return SINTER_OK;
     return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,

@@ -735,8 +735,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
         sinter_contacts_geometry(ctx, &st->pp, ps);
-        s = sinter_electric_solve(st->electric, ps, st->walls, &st->pp, &st->pw,
-                                  &electric_iterations);
+        s = sinter_electric_solve_images(st->electric, ps, st->walls, &st->pp, &st->pw,
+                                         ps->ghost_count > 0 ? st->ghosts.owner : NULL,
+                                         &electric_iterations);
         st->electric_iterations += electric_iterations;
         if (s != SINTER_OK)
             return s;
