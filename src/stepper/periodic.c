@@ -11,10 +11,10 @@ sinter_status sinter_stepper_set_periodic(sinter_stepper *st, int axis, double l
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
-    if (st->kind != SINTER_STEPPER_EXPLICIT && !(lo == 0.0 && hi == 0.0))
+    if (st->kind == SINTER_STEPPER_QUASISTATIC && !(lo == 0.0 && hi == 0.0))
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
                            "sinter_stepper_set_periodic: periodic boundaries are supported by the "
-                           "explicit stepper only");
+                           "explicit and staggered steppers only");
     const sinter_status s = sinter_ghosts_set_periodic(st->ctx, &st->ghosts, axis, lo, hi);
     if (s == SINTER_OK && !sinter_ghosts_on(&st->ghosts))
         sinter_particles_drop_ghosts(st->ps); /* no axis left: no images */

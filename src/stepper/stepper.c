@@ -105,10 +105,11 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     if (st->stats.steps > 0 || st->stats.rejected > 0)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "the stepper has taken steps; its kind can no longer change");
-    if (kind != SINTER_STEPPER_EXPLICIT && sinter_ghosts_on(&st->ghosts))
+    if (kind == SINTER_STEPPER_QUASISTATIC && sinter_ghosts_on(&st->ghosts))
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "periodic boundaries are supported by the explicit stepper only; make "
-                           "every axis non-periodic first (sinter_stepper_set_periodic)");
+                           "periodic boundaries are supported by the explicit and staggered "
+                           "steppers only; make every axis non-periodic first "
+                           "(sinter_stepper_set_periodic)");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
