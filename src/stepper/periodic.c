@@ -46,8 +46,6 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
     if (st->electric != NULL && st->electric->kind != SINTER_ELECTRIC_NETWORK)
         why = "the 'averaged' electric model (it spreads a current magnitude over the "
               "particles and has no potential an image could share; use 'network')";
-    else if (st->has_domain)
-        why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
     else if (st->insertion != NULL)
         why = "continuous insertion (sinter_stepper_set_insertion: new spheres would be stored "
               "after the images)";
@@ -59,10 +57,6 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
                   "on the images could not be told from its contact forces; make them two "
                   "models)";
     }
-    for (size_t k = 0; why == NULL && k < st->force_count; ++k)
-        if (sinter_force_holds_pairs(st->forces[k].model))
-            why = "bonds that hold in tension (the power law's bonds: a bond across a face would "
-                  "be kept between the owners, a period apart)";
     /* the built-in heat models tell a source from a pair term (heat_model.h, owned) */
     for (size_t k = 0; why == NULL && k < st->thermal.count; ++k)
         if (st->thermal.slots[k].model->ops->eval == sinter_heat_host_eval)

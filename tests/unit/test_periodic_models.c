@@ -337,6 +337,106 @@ static void test_periodic_averaged_refused(void **state)
     column_close(&s, em, joule);
 }
 
+/* ---- bonds that hold in tension, and the domain check ------------------------------------ */
+
+/* Two power-law spheres (bonds that hold in tension: test_bond_tension.c's held springback)
+ * centred on x = c, colliding at +-0.3 m/s; the centre gap d - 2 R after each of 6000 steps
+ * (1 us) into gap[]. Skin 20 um, so that the bonded pair, pulled apart by up to E_b 2 R =
+ * 0.4 mm, leaves the neighbour reach and is kept as a held pair. */
+static void bonded_pair(double c, int periodic, double *gap, int steps)
+{
+    const double kb = 1e6, pb = 1.5, strength = kb * pow(0.2, pb);
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500.0, 0.0, 0.0);
+    OK(sinter_material_set(s.mat, SINTER_MAT_CONTACT_STIFFNESS, 1e7));
+    OK(sinter_material_set(s.mat, SINTER_MAT_CONTACT_EXPONENT, 2.0));
+    OK(sinter_material_set(s.mat, SINTER_MAT_BOND_STIFFNESS, kb));
+    OK(sinter_material_set(s.mat, SINTER_MAT_BOND_EXPONENT, pb));
+    OK(sinter_material_set(s.mat, SINTER_MAT_BOND_CRITICAL_STRAIN, 0.05));
+    OK(sinter_particles_create(&s.ps, s.ctx));
+    OK(sinter_particles_set_material(s.ps, 0, s.mat));
+    OK(sinter_walls_create(&s.walls, s.ctx));
+    OK(sinter_stepper_create(&s.st, s.ctx, SINTER_STEPPER_EXPLICIT, s.ps, s.walls));
+    OK(sinter_force_model_create(&s.contact, s.ctx, "power_law"));
+    OK(sinter_force_model_set(s.contact, "bond_strength", strength));
+    OK(sinter_stepper_add_force(s.st, s.contact));
+    OK(sinter_stepper_set_skin(s.st, 2e-5));
+    OK(sinter_stepper_set_dt(s.st, 1e-6));
+    if (periodic)
+        OK(sinter_stepper_set_periodic(s.st, 0, 0.0, L));
+    scene_add(&s, c - 1.5 * R, 0, 0, R);
+    scene_add(&s, c + 1.5 * R, 0, 0, R);
+    const double va[3] = {0.3, 0, 0}, vb[3] = {-0.3, 0, 0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, va);
+    set3(&s, SINTER_FIELD_VELOCITY, 1, vb);
+    for (int k = 0; k < steps; ++k) {
+        OK(sinter_stepper_step(s.st, 1));
+        double x0[3], x1[3];
+        get3(&s, SINTER_FIELD_POSITION, 0, x0);
+        get3(&s, SINTER_FIELD_POSITION, 1, x1);
+        gap[k] = periodic_diff(x1[0], x0[0]) - 2.0 * R;
+    }
+    sinter_stepper_stats stats = {.struct_size = sizeof(stats)};
+    OK(sinter_stepper_get_stats(s.st, &stats));
+    assert_int_equal(stats.bonds_broken, 0);
+    scene_close(&s);
+}
+
+/*
+ * A bond across the face: the pair collides across x = 0 of the periodic cell, bonds (overlap
+ * past E* = 0.05) and springs back against the bond's tension, which keeps the gap below
+ * E_b 2 R (test_bond_tension.c's energy argument); the same pair away from the face must give
+ * the same gaps step by step to round-off (1e-13 m: positions a few ulp(1e-2 m) apart over 6000
+ * steps). A bond kept to the far end's owner, a period away, would pull the pair apart with a
+ * force ~ K_b E^1.5 A_b at E ~ 5, or drop the bond's tension: gaps off by far more.
+ */
+static void test_bond_across_face(void **state)
+{
+    (void)state;
+    enum { STEPS = 6000 };
+    static double ga[STEPS], gb[STEPS];
+    bonded_pair(0.0, 1, ga, STEPS);
+    bonded_pair(5e-3, 0, gb, STEPS);
+    double largest = -INFINITY, smallest = INFINITY; /* largest: after the bond formed */
+    for (int k = 0; k < STEPS; ++k) {
+        if (smallest < -0.05 * 2.0 * R)
+            largest = fmax(largest, gb[k]);
+        smallest = fmin(smallest, gb[k]);
+        assert_close(ga[k], gb[k], 1e-13);
+    }
+    assert_true(smallest < -0.05 * 2.0 * R); /* the bond formed */
+    assert_true(largest > 2e-5);             /* pulled past the skin: a held pair */
+    assert_true(largest < 0.2 * 2.0 * R);    /* and held */
+}
+
+/* The domain check with a periodic axis: along it the particles wrap (and their images lie
+ * outside the cell), so only the other axes are checked. A sphere crossing the face x = L
+ * stays; one leaving the domain along z is refused (SINTER_ERR_LOST_PARTICLE). */
+static void test_domain_with_periodic_axis(void **state)
+{
+    (void)state;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.3, 0.5);
+    scene_open(&s, "hertz_mindlin", 0);
+    OK(sinter_stepper_set_periodic(s.st, 0, 0.0, L));
+    const double lo[3] = {0.0, -5e-3, -5e-3}, hi[3] = {L, 5e-3, 5e-3};
+    OK(sinter_stepper_set_domain(s.st, lo, hi));
+    scene_add(&s, L - 0.2e-3, 0, 0, R);
+    const double u[3] = {1.0, 0.0, 0.0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, u);
+    OK(sinter_stepper_set_dt(s.st, 1e-5));
+    OK(sinter_stepper_step(s.st, 100)); /* 1 mm along x: across the face */
+    double x[3];
+    get3(&s, SINTER_FIELD_POSITION, 0, x);
+    assert_true(x[0] < 2e-3); /* wrapped */
+    const double up[3] = {0.0, 0.0, 10.0};
+    set3(&s, SINTER_FIELD_VELOCITY, 0, up);
+    assert_int_equal(sinter_stepper_step(s.st, 100), SINTER_ERR_LOST_PARTICLE);
+    scene_close(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -345,6 +445,8 @@ int main(void)
         cmocka_unit_test(test_periodic_column_resistance),
         cmocka_unit_test(test_periodic_column_shifted),
         cmocka_unit_test(test_periodic_averaged_refused),
+        cmocka_unit_test(test_bond_across_face),
+        cmocka_unit_test(test_domain_with_periodic_axis),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
