@@ -920,8 +920,8 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
  * owned particle only. The "network" electric model's potential is periodic: electrodes are
  * walls across a non-periodic axis. The period must be at least twice 2 r_max + skin.
  * Not yet supported together with (SINTER_ERR_UNSUPPORTED at the step): the "averaged"
- * electric model, host heat models, continuous insertion, a host force model with both a
- * contact and a body callback; the energy check does not run while an axis is periodic. A
+ * electric model, host heat models, a host force model with both a contact and a body
+ * callback; the energy check does not run while an axis is periodic. A
  * domain check tests the non-periodic axes only; a bond in tension across a face is kept to
  * the nearest image of its far end.
  */

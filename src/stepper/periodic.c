@@ -46,9 +46,6 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
     if (st->electric != NULL && st->electric->kind != SINTER_ELECTRIC_NETWORK)
         why = "the 'averaged' electric model (it spreads a current magnitude over the "
               "particles and has no potential an image could share; use 'network')";
-    else if (st->insertion != NULL)
-        why = "continuous insertion (sinter_stepper_set_insertion: new spheres would be stored "
-              "after the images)";
     for (size_t k = 0; why == NULL && k < st->force_count; ++k) {
         const sinter_force_model *fm = st->forces[k].model;
         if (fm->ops->eval == sinter_force_host_eval && fm->host.contacts != NULL &&

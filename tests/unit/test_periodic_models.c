@@ -437,6 +437,80 @@ static void test_domain_with_periodic_axis(void **state)
     scene_close(&s);
 }
 
+/*
+ * Continuous insertion into a cell periodic along x and y, from a region wider than the cell
+ * (0.5 mm beyond each periodic face, so that places a period apart are the same place): spheres
+ * are inserted until the region crowds, and no pair may overlap, measured to the nearest image
+ * (a sphere placed beyond a face is wrapped onto the other side, where an image of another
+ * already is, unless the placement measures across the face). Every velocity stays exactly 0
+ * (no contact ever formed) and every centre ends in the cell.
+ */
+static void test_insertion_periodic(void **state)
+{
+    (void)state;
+    const double half = 1e-3, cell = 2.0 * half;
+    scene s;
+    scene_init(&s);
+    scene_material(&s, 1e7, 0.3, 2500, 0.5, 0.3);
+    scene_open(&s, "hertz_mindlin", 0);
+    const double p0[3] = {0, 0, 0}, n0[3] = {0, 0, 1}, p1[3] = {0, 0, cell}, n1[3] = {0, 0, -1};
+    OK(sinter_walls_add_plane(s.walls, p0, n0, s.wall_mat, NULL));
+    OK(sinter_walls_add_plane(s.walls, p1, n1, s.wall_mat, NULL));
+    OK(sinter_stepper_set_periodic(s.st, 0, -half, half));
+    OK(sinter_stepper_set_periodic(s.st, 1, -half, half));
+    OK(sinter_stepper_set_dt(s.st, 1e-6));
+    sinter_packing_options p;
+    OK(sinter_packing_options_init(&p, sizeof(p)));
+    p.distribution = SINTER_RADII_LOGNORMAL;
+    p.radius_median = 1e-4;
+    p.radius_gsd = 1.3;
+    p.seed = 38;
+    p.max_attempts = 200;
+    for (int d = 0; d < 2; ++d) {
+        p.box_min[d] = -half - 0.5e-3;
+        p.box_max[d] = half + 0.5e-3;
+    }
+    p.box_min[2] = 0.0;
+    p.box_max[2] = cell;
+    sinter_insertion_options o;
+    OK(sinter_insertion_options_init(&o, sizeof(o)));
+    o.mass_rate = 1e-2; /* far more than fits: the cell crowds */
+    o.interval = 1e-4;
+    o.end = 1e-3;
+    OK(sinter_stepper_set_insertion(s.st, &p, &o));
+    OK(sinter_stepper_advance(s.st, 1e-3));
+    uint64_t n = 0, crowded = 0;
+    OK(sinter_stepper_get_insertion(s.st, NULL, NULL, &n, &crowded));
+    assert_true(n > 50);
+    assert_true(crowded > 0);
+    size_t owned = 0;
+    OK(sinter_particles_owned_count(s.ps, &owned));
+    assert_int_equal(owned, n);
+    const double *x = NULL, *v = NULL, *r = NULL;
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL));
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_VELOCITY, (const void **)&v, NULL, NULL));
+    OK(sinter_particles_view_read(s.ps, SINTER_FIELD_RADIUS, (const void **)&r, NULL, NULL));
+    for (size_t i = 0; i < owned; ++i) {
+        for (int d = 0; d < 3; ++d)
+            assert_true(v[3 * i + d] == 0.0);
+        for (int d = 0; d < 2; ++d) /* wrapped (up to half the skin) */
+            assert_true(x[3 * i + d] > -half - r[i] && x[3 * i + d] < half + r[i]);
+        for (size_t j = 0; j < i; ++j) {
+            double e[3];
+            for (int d = 0; d < 3; ++d) {
+                e[d] = x[3 * i + d] - x[3 * j + d];
+                if (d < 2)
+                    e[d] -= cell * nearbyint(e[d] / cell);
+            }
+            assert_true(sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) >= r[i] + r[j]);
+        }
+    }
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_POSITION));
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_VELOCITY));
+    OK(sinter_particles_release(s.ps, SINTER_FIELD_RADIUS));
+    scene_close(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -447,6 +521,7 @@ int main(void)
         cmocka_unit_test(test_periodic_averaged_refused),
         cmocka_unit_test(test_bond_across_face),
         cmocka_unit_test(test_domain_with_periodic_axis),
+        cmocka_unit_test(test_insertion_periodic),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
