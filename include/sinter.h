@@ -912,22 +912,24 @@ SINTER_API sinter_status sinter_stepper_set_domain(sinter_stepper *stepper, cons
                                                    const double hi[3]);
 /**
  * Periodic boundary along `axis` (0 x, 1 y, 2 z) with the cell lo..hi [m] (hi > lo); lo = hi = 0
- * makes the axis non-periodic again (the default). Explicit and quasi-static steppers
- * (SINTER_ERR_UNSUPPORTED on the others). The quasi-static stepper makes no ghost particles: its
- * links join a particle to the image of another, and its cell shrinks with the packing's mean
- * strain (option "qs_cell_strain"; sinter_stepper_get_periodic gives the cell now); every
- * particle must lie in the cell at its first step. The rest of this comment is about the
- * explicit stepper. At every neighbour build the particles are wrapped
+ * makes the axis non-periodic again (the default). Every stepper kind. The quasi-static stepper
+ * makes no ghost particles: its links join a particle to the image of another, and its cell
+ * shrinks with the packing's mean strain (option "qs_cell_strain"; sinter_stepper_get_periodic
+ * gives the cell now); every particle must lie in the cell at its first step. The rest of this
+ * comment is about the explicit and staggered steppers. At every neighbour build the particles are wrapped
  * into the cell (between builds a centre may lie up to half the skin outside it) and each
  * particle within 2 r_max + skin of a periodic face gets an image beyond the opposite face: a
  * ghost particle, stored after the owned particles (sinter_particles_owned_count), refreshed
- * from its owner every step and never integrated for itself. Contacts, their history and
- * conduction act across the faces; a pair across a face is evaluated once and its force,
- * moment and heat power reach both particles. The period must be at least twice 2 r_max + skin.
- * Not yet supported together with (SINTER_ERR_UNSUPPORTED at the step): electric models, heat
- * models other than conduction, implicit conduction, a domain check, bonds that hold in tension
- * (power law with bond_strength > 0), a host force model with both a contact and a body
- * callback; the energy check does not run while an axis is periodic.
+ * from its owner every step and never integrated for itself. Contacts, their history, heat and
+ * current act across the faces; a pair across a face is evaluated once and its force, moment,
+ * heat power and current reach both particles; a heat source of one particle acts on the
+ * owned particle only. The "network" electric model's potential is periodic: electrodes are
+ * walls across a non-periodic axis. The period must be at least twice 2 r_max + skin.
+ * Not yet supported together with (SINTER_ERR_UNSUPPORTED at the step): the "averaged"
+ * electric model, host heat models, a host force model with both a contact and a body
+ * callback; the energy check does not run while an axis is periodic. A
+ * domain check tests the non-periodic axes only; a bond in tension across a face is kept to
+ * the nearest image of its far end.
  */
 SINTER_API sinter_status sinter_stepper_set_periodic(sinter_stepper *stepper, int axis, double lo,
                                                      double hi);

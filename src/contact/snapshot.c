@@ -476,7 +476,8 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
 {
     const sinter_particles *ps = st->ps;
     const struct sinter_electric_model *em = st->electric;
-    const size_t np = L->pp.count, nwc = L->pw.count, n = ps->count;
+    /* the nodes: the owned particles, then the walls; an image has its owner's potential */
+    const size_t np = L->pp.count, nwc = L->pw.count, n = ps->count - ps->ghost_count;
     const int network = em != NULL && em->kind == SINTER_ELECTRIC_NETWORK &&
                         em->potential != NULL &&
                         em->node_count == n + (st->walls ? st->walls->count : 0);
@@ -490,7 +491,7 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
         const uint32_t i = L->pp.i[q], j = L->pp.j[q];
         const double g =
             sinter_electric_contact_conductance(em, ps, i, j, 0, L->pp.area[q], L->pp.dist[q]);
-        snap->current[q] = g * (phi[i] - phi[j]);
+        snap->current[q] = g * (phi[i] - phi[j < n ? j : st->ghosts.owner[j - n]]);
     }
     for (size_t q = 0; q < nwc; ++q) {
         if (!network) {

@@ -202,6 +202,14 @@ sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles 
                                     const sinter_walls *walls, const sinter_contact_list *pp,
                                     const sinter_contact_list *pw, size_t *iterations)
 {
+    return sinter_electric_solve_images(em, ps, walls, pp, pw, NULL, iterations);
+}
+
+sinter_status sinter_electric_solve_images(sinter_electric_model *em, sinter_particles *ps,
+                                           const sinter_walls *walls, const sinter_contact_list *pp,
+                                           const sinter_contact_list *pw,
+                                           const uint32_t *ghost_owner, size_t *iterations)
+{
     if (em == NULL)
         return SINTER_ERR_NULL;
     SINTER_CHECK_NULL(em->ctx, ps);
@@ -221,6 +229,12 @@ sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles 
                            "electric model '%s': %zu particles and %zu walls exceed the 32-bit "
                            "node index",
                            em->name, ps->count, nw);
+    if (ps->ghost_count > 0 && (ghost_owner == NULL || em->kind != SINTER_ELECTRIC_NETWORK))
+        return sinter_fail(em->ctx, SINTER_ERR_UNSUPPORTED,
+                           "electric model '%s': %zu periodic images need the 'network' model "
+                           "and their owners",
+                           em->name, ps->ghost_count);
+    em->ghost_owner = ps->ghost_count > 0 ? ghost_owner : NULL;
     em->last_iterations = 0;
     em->node_count = 0;
     em->open_clusters = 0;

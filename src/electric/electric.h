@@ -65,6 +65,9 @@ struct sinter_electric_model {
     size_t host_g_capacity, host_power_capacity, host_share_capacity, host_sigma_capacity;
     size_t host_radius_capacity, host_walls_capacity;
     uint32_t *edge_contact; /* network: the contact of each edge (pp index, or pp count + pw) */
+    /* network: the owner of each image row of the solve under way (periodic boundaries:
+     * ghosts/ghosts.h), or NULL without images */
+    const uint32_t *ghost_owner;
     size_t edge_contact_capacity;
     /* network: sigma(theta) of each particle when a material tabulates it (issue 39) */
     double *sigma_table;
@@ -108,7 +111,11 @@ struct sinter_electric_model {
 /*
  * Solve the model on the current contact state: write ps->current [A] for every particle and
  * set SINTER_PARTICLE_ELECTRIFIED on the particles touching a driven wall (cleared on the
- * others). `walls` may be NULL only when pw is empty. *iterations (may be NULL) receives the
+ * others). `walls` may be NULL only when pw is empty. With periodic images (ps->ghost_count
+ * rows after the owned particles, ghosts/ghosts.h) sinter_electric_solve_images, whose
+ * `ghost_owner` names each image's owner:
+ * the network's unknowns are the owned particles, an image stands for its owner (network.c);
+ * the averaged model refuses images. *iterations (may be NULL) receives the
  * sweeps or PCG iterations of this solve. Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (a model
  * cannot use a wall's mode), SINTER_ERR_NOT_CONVERGED (the currents of the last iterate are
  * kept), SINTER_ERR_NOMEM.
@@ -116,9 +123,14 @@ struct sinter_electric_model {
 sinter_status sinter_electric_solve(sinter_electric_model *em, sinter_particles *ps,
                                     const sinter_walls *walls, const sinter_contact_list *pp,
                                     const sinter_contact_list *pw, size_t *iterations);
+sinter_status sinter_electric_solve_images(sinter_electric_model *em, sinter_particles *ps,
+                                           const sinter_walls *walls, const sinter_contact_list *pp,
+                                           const sinter_contact_list *pw,
+                                           const uint32_t *ghost_owner, size_t *iterations);
 
-/* The Joule power each particle receives from the last network solve [W] (n values), or NULL
- * when the model is not a network or its last solve was not over n particles. */
+/* The Joule power each particle receives from the last network solve [W] (n values, 0 on
+ * images: their owners have it), or NULL when the model is not a network or its last solve
+ * was not over n particles. */
 const double *sinter_electric_dissipation(const sinter_electric_model *em, size_t n);
 
 /* The two models (averaged.c, network.c); arguments are checked by sinter_electric_solve. */

@@ -41,6 +41,14 @@
  * Output: the current through contact (p, q) is I = G_pq (phi_p - phi_q); a particle's current is
  * half the sum of |I| over its conducting contacts (wall contacts included), i.e. what flows
  * through it: in a chain, the chain's current; at an electrode, what it receives from the wall.
+ *
+ * Periodic boundaries (issue 38; ghosts/ghosts.h): the unknowns are the owned particles only
+ * (nodes 0 .. owned - 1, walls after them); a contact with an image (a ghost row) is an edge to
+ * the image's owner, whose potential the image has, so a pair across a periodic face is one
+ * resistor between the two owners and its Joule power goes to them. A periodic axis carries no
+ * imposed potential drop (the potential is periodic along it: a drop across the cell would be a
+ * jump at the face, which no resistor can carry); electrodes are walls across a non-periodic
+ * axis, and the periodic axes are the transverse ones of an infinite slab between them.
  */
 #include <math.h>
 #include <string.h>
@@ -59,6 +67,18 @@ enum {
 };
 
 static const uint32_t NO_NODE = UINT32_MAX;
+
+/* The owned particles of ps: the particle nodes (the rows after them are images). */
+static inline size_t owned_count(const sinter_particles *ps)
+{
+    return ps->count - ps->ghost_count;
+}
+
+/* The node of particle row j: the row itself, or an image's owner (em->ghost_owner). */
+static inline uint32_t node_of(const sinter_electric_model *em, size_t owned, uint32_t j)
+{
+    return j < owned ? j : em->ghost_owner[j - owned];
+}
 
 /* z = A v: Jacobi diagonal times v minus the couplings between free nodes (a coupling to a
  * pinned node lives in the right-hand side). */
@@ -179,10 +199,10 @@ static sinter_status host_edges(sinter_electric_model *em, sinter_particles *ps,
                                 const sinter_walls *walls, const sinter_contact_list *pp,
                                 const sinter_contact_list *pw, const double *tab, int *bad)
 {
-    const size_t n = ps->count;
-    SINTER_ELECTRIC_RESERVE(em, host_sigma, n + 1);
+    const size_t rows = ps->count, n = owned_count(ps);
+    SINTER_ELECTRIC_RESERVE(em, host_sigma, rows + 1);
     SINTER_ELECTRIC_RESERVE(em, host_g, pp->count + pw->count + 1);
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < rows; ++i)
         em->host_sigma[i] = conductivity(em, ps, i, bad, tab);
     if (*bad)
         return SINTER_OK; /* reported by the caller */
@@ -194,7 +214,7 @@ static sinter_status host_edges(sinter_electric_model *em, sinter_particles *ps,
     for (size_t k = 0; k < pp->count + pw->count; ++k) {
         const int wall = k >= pp->count;
         const size_t q = wall ? k - pp->count : k;
-        const uint32_t b = wall ? (uint32_t)(n + pw->j[q]) : pp->j[q];
+        const uint32_t b = wall ? (uint32_t)(n + pw->j[q]) : node_of(em, n, pp->j[q]);
         if ((wall && em->wall_mode[pw->j[q]] == SINTER_WALL_NEUTRAL) || !(em->host_g[k] > 0.0))
             continue;
         em->edge_a[count] = wall ? pw->i[q] : pp->i[q];
@@ -211,7 +231,7 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
                                  const sinter_walls *walls, const sinter_contact_list *pp,
                                  const sinter_contact_list *pw)
 {
-    const size_t n = ps->count, m = pp->count + pw->count;
+    const size_t n = owned_count(ps), m = pp->count + pw->count;
     SINTER_ELECTRIC_RESERVE(em, edge_a, m + 1);
     SINTER_ELECTRIC_RESERVE(em, edge_b, m + 1);
     SINTER_ELECTRIC_RESERVE(em, edge_g, m + 1);
@@ -232,13 +252,13 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
                              ? si * sj * (r[i] + r[j]) / den * pp->area[k] / pp->dist[k]
                              : 0.0;
         if (g > 0.0 && isfinite(g)) {
-            em->edge_a[count] = i;
-            em->edge_b[count] = j;
+            em->edge_a[count] = i; /* (the smaller id's end: owned) */
+            em->edge_b[count] = node_of(em, n, j);
             em->edge_contact[count] = (uint32_t)k;
             em->edge_g[count++] = g;
         }
     }
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < ps->count; ++i)
         ps->flags[i] &= ~(uint32_t)SINTER_PARTICLE_ELECTRIFIED;
     for (size_t k = 0; k < pw->count; ++k) {
         const uint32_t i = pw->i[k], w = pw->j[k];
@@ -280,7 +300,7 @@ static sinter_status host_split_power(sinter_electric_model *em, sinter_particle
                                       const sinter_walls *walls, const sinter_contact_list *pp,
                                       const sinter_contact_list *pw)
 {
-    const size_t n = ps->count, m = pp->count + pw->count;
+    const size_t n = owned_count(ps), m = pp->count + pw->count;
     SINTER_ELECTRIC_RESERVE(em, host_power, m + 1);
     SINTER_ELECTRIC_RESERVE(em, host_share, m + 1);
     const double *phi = em->potential;
@@ -294,7 +314,7 @@ static sinter_status host_split_power(sinter_electric_model *em, sinter_particle
     if (s != SINTER_OK)
         return s;
     double *p = em->dissipation, dissipated = 0.0, supplied = 0.0, electrodes = 0.0;
-    memset(p, 0, n * sizeof(double));
+    memset(p, 0, ps->count * sizeof(double)); /* (images: 0, their owners have it) */
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t a = em->edge_a[e], b = em->edge_b[e], k = em->edge_contact[e];
         const double power = em->host_power[k], share = em->host_share[k];
@@ -307,7 +327,7 @@ static sinter_status host_split_power(sinter_electric_model *em, sinter_particle
             supplied += phi[b] * em->edge_g[e] * (phi[b] - phi[a]);
         }
     }
-    em->dissipation_count = n;
+    em->dissipation_count = ps->count;
     em->dissipated_power = dissipated;
     em->supplied_power = supplied;
     em->electrode_heat = electrodes;
@@ -325,14 +345,14 @@ static sinter_status account_power(sinter_electric_model *em, sinter_particles *
                                    const sinter_walls *walls, const sinter_contact_list *pp,
                                    const sinter_contact_list *pw)
 {
-    const size_t n = ps->count;
-    SINTER_ELECTRIC_RESERVE(em, dissipation, n + 1);
+    const size_t n = owned_count(ps);
+    SINTER_ELECTRIC_RESERVE(em, dissipation, ps->count + 1);
     em->electrode_heat = 0.0;
     if (em->host.joule_split != NULL)
         return host_split_power(em, ps, walls, pp, pw);
     const double *phi = em->potential;
     double *p = em->dissipation, dissipated = 0.0, supplied = 0.0;
-    memset(p, 0, n * sizeof(double));
+    memset(p, 0, ps->count * sizeof(double)); /* (images: 0, their owners have it) */
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t a = em->edge_a[e], b = em->edge_b[e];
         const double drop = phi[a] - phi[b], power = em->edge_g[e] * drop * drop;
@@ -345,7 +365,7 @@ static sinter_status account_power(sinter_electric_model *em, sinter_particles *
             supplied += phi[b] * em->edge_g[e] * (phi[b] - phi[a]);
         }
     }
-    em->dissipation_count = n;
+    em->dissipation_count = ps->count;
     em->dissipated_power = dissipated;
     em->supplied_power = supplied;
     return SINTER_OK;
@@ -416,7 +436,7 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
                                 const sinter_walls *walls, const sinter_contact_list *pp,
                                 const sinter_contact_list *pw)
 {
-    const size_t n = ps->count, nw = walls != NULL ? walls->count : 0, nodes = n + nw;
+    const size_t n = owned_count(ps), nw = walls != NULL ? walls->count : 0, nodes = n + nw;
     em->open_clusters = 0;
     SINTER_ELECTRIC_RESERVE(em, parent, nodes + 1);
     SINTER_ELECTRIC_RESERVE(em, state, nodes + 1);
@@ -526,6 +546,8 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
         if (b < n)
             J[b] += half;
     }
+    for (size_t k = 0; k < ps->ghost_count; ++k) /* an image carries its owner's current */
+        J[n + k] = J[em->ghost_owner[k]];
     return account_power(em, ps, walls, pp, pw);
 }
 
@@ -575,7 +597,8 @@ sinter_status sinter_electric_solve_network(sinter_electric_model *em, sinter_pa
     }
     sinter_status s = solve_once(em, ps, walls, pp, pw);
     /* each wall changes its mode at most once: at most nw solves more */
-    for (size_t pass = 0; s == SINTER_OK && pass < nw && apply_limits(em, walls, ps->count); ++pass)
+    for (size_t pass = 0; s == SINTER_OK && pass < nw && apply_limits(em, walls, owned_count(ps));
+         ++pass)
         s = solve_once(em, ps, walls, pp, pw);
     if (s == SINTER_OK && em->open_clusters > 0)
         sinter_log(em->ctx, SINTER_LOG_WARNING,

@@ -104,7 +104,7 @@ sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, doub
                                "another; make the cell larger",
                                "xyz"[d], g -> hi[d] - g -> lo[d], cutoff);
     const size_t n = ps->count;
-    for (size_t i = 0; i < n; ++i)
+    for (size_t i = 0; i < n && !g->hold; ++i)
         for (int d = 0; d < 3; ++d)
             if (g->periodic[d]) {
                 const double x = ps->x[3 * i + d], y = wrap(x, g->lo[d], g->hi[d]);
@@ -151,6 +151,24 @@ sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, doub
     g->layout = ps->layout_generation;
     g->built = 1;
     return SINTER_OK;
+}
+
+size_t sinter_ghosts_wrap(sinter_ghosts *g, sinter_particles *ps)
+{
+    size_t moved = 0;
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) {
+        int out = 0;
+        for (int d = 0; d < 3; ++d)
+            if (g->periodic[d]) {
+                const double x = ps->x[3 * i + d], y = wrap(x, g->lo[d], g->hi[d]);
+                out |= y != x;
+                ps->x[3 * i + d] = y;
+            }
+        moved += (size_t)out;
+    }
+    if (moved > 0)
+        g->built = 0;
+    return moved;
 }
 
 void sinter_ghosts_copy_rows(const sinter_ghosts *g, const sinter_particles *ps, double *a,

@@ -32,6 +32,11 @@ typedef struct sinter_ghosts {
     size_t saved_capacity;
     uint64_t layout; /* the set's layout_generation right after that rebuild */
     int built;
+    /* 1 while a step iterates on positions measured from its start (the staggered stepper):
+     * a rebuild then makes the images without wrapping the owned particles, which
+     * sinter_ghosts_wrap does between steps (a particle a step's motion outside the cell still
+     * gets the images it needs: the test below is by distance to the faces) */
+    int hold;
 } sinter_ghosts;
 
 void sinter_ghosts_free(sinter_ctx *ctx, sinter_ghosts *g);
@@ -58,6 +63,10 @@ int sinter_ghosts_current(const sinter_ghosts *g, const sinter_particles *ps);
  * shifted with their particle's wrap, so that x - x_old stays the displacement. */
 sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, double cutoff,
                                     double *x_old);
+
+/* Owned particles outside the periodic cell wrapped into it, as a rebuild does; returns the
+ * number of particles moved (then the ghost rows are out of date: g->built is cleared). */
+size_t sinter_ghosts_wrap(sinter_ghosts *g, sinter_particles *ps);
 
 /* Ghost rows of another per-particle array of 3 doubles (the stepper's copy of an earlier
  * state) made as the rebuild made them in the set: the owner's row, plus the shift when

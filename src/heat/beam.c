@@ -74,7 +74,7 @@ static inline void deposit(const beam_job *job, size_t lo, size_t hi, int laser)
         if (!lit(x, i, job->bx, job->by, job->rb2))
             continue;
         const double z = job->top - (x[3 * i + 2] + r[i]);   /* depth along the beam, >= 0 */
-        const double f = laser ? exp(-job->reach * z)         /* eq. 31 */
+        const double f = laser ? exp(-job->reach * z)        /* eq. 31 */
                                : fmax(1.0 - z * inv_d, 0.0); /* eq. 30, 0 beyond d_max */
         const double q =
             sinter_particle_param(ps, i, SINTER_MAT_ABSORPTANCE) * job->c * r[i] * r[i] * f;
@@ -108,12 +108,12 @@ static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e,
     beam_job job = {e->ps,     e->heat, e->flags, bx,    by,   rb * rb,
                     -HUGE_VAL, PI * i0, reach,    laser, {0.0}};
     /* Pass 1: the bed's top surface under the beam (a maximum: the same for any split). */
-    const int ranges = sinter_particle_pass(e->ctx, e->pp, e->ps->count, top_range, &job);
+    const int ranges = sinter_particle_pass(e->ctx, e->pp, sinter_heat_owned(e), top_range, &job);
     for (int k = 0; k < ranges; ++k)
         job.top = fmax(job.top, job.range_top[k]);
     if (job.top == -HUGE_VAL)
         return SINTER_OK; /* nothing under the beam */
-    sinter_particle_pass(e->ctx, e->pp, e->ps->count, deposit_range, &job);
+    sinter_particle_pass(e->ctx, e->pp, sinter_heat_owned(e), deposit_range, &job);
     return SINTER_OK;
 }
 
@@ -127,14 +127,13 @@ static sinter_status laser_eval(const sinter_heat_model *hm, sinter_heat_eval *e
     return beam_eval(hm, e, 1);
 }
 
-const sinter_heat_ops sinter_heat_nozzle = {"nozzle",
-                                            0,
-                                            {"x", "y", "radius", "intensity", "depth", NULL},
-                                            {0.0, 0.0, 5e-3, 0.0, 1e-3},
-                                            nozzle_eval, NULL};
+const sinter_heat_ops sinter_heat_nozzle = {
+    "nozzle",    0,   {"x", "y", "radius", "intensity", "depth", NULL}, {0.0, 0.0, 5e-3, 0.0, 1e-3},
+    nozzle_eval, NULL};
 
 const sinter_heat_ops sinter_heat_laser = {"laser",
                                            0,
                                            {"x", "y", "radius", "intensity", "attenuation", NULL},
                                            {0.0, 0.0, 5e-3, 0.0, 1e3},
-                                           laser_eval, NULL};
+                                           laser_eval,
+                                           NULL};

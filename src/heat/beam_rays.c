@@ -112,8 +112,8 @@ static sinter_status beam_rays_eval(const sinter_heat_model *hm, sinter_heat_eva
         sinter_free(e->ctx, hits);
         return SINTER_ERR_NOMEM;
     }
-    size_t nc = 0;
-    for (size_t i = 0; i < ps->count; ++i) {
+    size_t nc = 0; /* owned particles only: the beam crosses one periodic cell (heat_model.h) */
+    for (size_t i = 0; i < sinter_heat_owned(e); ++i) {
         const double c[3] = {x[3 * i] - p[0], x[3 * i + 1] - p[1], x[3 * i + 2] - p[2]};
         const double along = c[0] * d[0] + c[1] * d[1] + c[2] * d[2];
         const double a1 = c[0] * e1[0] + c[1] * e1[1] + c[2] * e1[2];

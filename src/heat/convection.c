@@ -169,7 +169,7 @@ static sinter_status convection_eval(const sinter_heat_model *hm, sinter_heat_ev
     if (p[P_EXPOSED] == 1.0 && (st = sinter_heat_exposed_fraction(e, &fraction)) != SINTER_OK)
         return st;
     job.exposed = fraction;
-    sinter_particle_pass(e->ctx, e->pp, e->ps->count, convection_range, &job);
+    sinter_particle_pass(e->ctx, e->pp, sinter_heat_owned(e), convection_range, &job);
     sinter_free(e->ctx, fraction);
     return SINTER_OK;
 }

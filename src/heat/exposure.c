@@ -42,6 +42,9 @@ sinter_status sinter_heat_exposed_fraction(const sinter_heat_eval *e, double **o
     if (e->pw != NULL)
         for (size_t c = 0; c < e->pw->count; ++c)
             f[e->pw->i[c]] -= 0.5; /* a sphere to a plane */
+    /* a contact across a periodic face shades the owner of its image (heat_model.h) */
+    for (size_t k = 0; e->ghost_owner != NULL && k < n - e->owned; ++k)
+        f[e->ghost_owner[k]] -= 1.0 - f[e->owned + k];
     for (size_t i = 0; i < n; ++i)
         f[i] = f[i] < 0.0 ? 0.0 : f[i];
     *out = f;

@@ -40,7 +40,21 @@ typedef struct sinter_heat_eval {
     /* the particles' flags, on which the beam models set SINTER_PARTICLE_LIT for each particle
      * they give power to (beam.c, beam_rays.c), or NULL: they mark nothing */
     uint32_t *flags;
+    /* Periodic boundaries (ghosts/ghosts.h): rows [0, owned) are the owned particles, and row
+     * owned + k is an image (ghost) of particle ghost_owner[k]; ghost_owner is NULL without
+     * images (then owned is not read: every row is owned). A source of one particle
+     * (radiation, convection, the beams, eq. 35's Joule heat) acts on owned rows only, so that
+     * an image does not count it a second time (issue 38); a pair term uses every row, and the
+     * stepper adds what it put on an image to the image's owner (the reverse halo). */
+    size_t owned;
+    const uint32_t *ghost_owner;
 } sinter_heat_eval;
+
+/* The rows a source of one particle acts on: the owned particles (see owned above). */
+static inline size_t sinter_heat_owned(const sinter_heat_eval *e)
+{
+    return e->ghost_owner != NULL ? e->owned : e->ps->count;
+}
 
 /* The conductivity of particle i in evaluation e: k(theta_i) when tabulated, else its
  * material's entry of kmat. */

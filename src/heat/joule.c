@@ -79,7 +79,8 @@ static sinter_status joule_from_network(const sinter_heat_model *hm, sinter_heat
                                hm->name);
         return SINTER_ERR_NOT_FOUND; /* automatic: eq. 35 */
     }
-    for (size_t i = 0; i < e->ps->count; ++i)
+    /* (the network puts a pair's power across a periodic face on the owners: electric.h) */
+    for (size_t i = 0; i < sinter_heat_owned(e); ++i)
         e->heat[i] += e->joule_dissipation[i];
     return SINTER_OK;
 }
@@ -111,7 +112,7 @@ static sinter_status joule_eval(const sinter_heat_model *hm, sinter_heat_eval *e
     const double gamma2 = sinter_heat_param(hm, PARAM_GAMMA2, t);
     const double field_ref = sinter_heat_param(hm, PARAM_FIELD_REF, t);
     const sinter_particles *ps = e->ps;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < sinter_heat_owned(e); ++i) { /* a source: owned rows only */
         const double current = ps->current[i];
         if (current == 0.0)
             continue;

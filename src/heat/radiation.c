@@ -48,7 +48,7 @@ static sinter_status radiation_eval(const sinter_heat_model *hm, sinter_heat_eva
     if (st != SINTER_OK)
         return st;
     radiation_job job = {e->ps, e->heat, te * te * te * te, 4.0 * PI * SIGMA, fraction};
-    sinter_particle_pass(e->ctx, e->pp, e->ps->count, radiation_range, &job);
+    sinter_particle_pass(e->ctx, e->pp, sinter_heat_owned(e), radiation_range, &job);
     sinter_free(e->ctx, fraction);
     return SINTER_OK;
 }

@@ -268,7 +268,10 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     /* version 7: the iteration counts, and the staggered stepper's step controller and
      * predictor history (scheme 1; staggered.c), so that a restart continues bit for bit */
     const sinter_staggered *sg = &st->staggered;
-    const int history = sg->history_valid && sg->history_count == n && sg->hist != NULL;
+    /* (its rows are the owned particles: with periodic images each of its three blocks is
+     * written padded to n rows with zeros, and read back to the owned rows) */
+    const size_t owned = n - ps->ghost_count;
+    const int history = sg->history_valid && sg->history_count == owned && sg->hist != NULL;
     put_u64(&w, st->stats.iterations);
     put_u64(&w, st->stats.evaluations);
     put_f64(&w, sg->h_prev);
@@ -276,8 +279,15 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     put_f64(&w, sg->control.x_prev);
     put_u64(&w, (uint64_t)sg->control.after_reject);
     put_u64(&w, (uint64_t)history);
-    if (history)
+    if (history && owned == n)
         put(&w, sg->hist, 7 * n * sizeof(double));
+    else if (history)
+        for (int b = 0; b < 3; ++b) { /* F, torques (3 per row), Q (1) */
+            const size_t c = b < 2 ? 3 : 1;
+            put(&w, sg->hist + 3 * owned * (size_t)b, c * owned * sizeof(double));
+            for (size_t k = 0; k < c * (n - owned); ++k)
+                put_f64(&w, 0.0);
+        }
     /* the walls' kinds' state (version 8) */
     for (size_t k = 0; k < nw; ++k) {
         const sinter_wall *wall = &st->walls->wall[k];
@@ -821,12 +831,6 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         r.bad = 1;
     if (s == SINTER_OK && (r.bad || r.pos != r.size))
         s = corrupt(ctx, path, "its sections do not fit its size");
-    if (s == SINTER_OK && periodic_mask != 0 && st->kind != SINTER_STEPPER_EXPLICIT &&
-        st->kind != SINTER_STEPPER_QUASISTATIC)
-        s = sinter_fail(ctx, SINTER_ERR_INVALID,
-                        "checkpoint '%s' has periodic axes, which only the explicit and "
-                        "quasi-static steppers support; nothing was changed",
-                        path);
     if (s == SINTER_OK && has_insertion && st->insertion != NULL &&
         (uint64_t)sinter_insertion_mixture_count(st->insertion) != mixed)
         s = sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -1088,9 +1092,12 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
     sg->control.x_prev = x_prev;
     sg->control.after_reject = (int)after_reject;
     sg->history_valid = (int)history;
-    sg->history_count = (size_t)n;
-    if (history)
-        memcpy(sg->hist, hist_data, 7 * n * sizeof(double));
+    sg->history_count = (size_t)(n - ghost_count); /* the owned rows (see the writer) */
+    for (int b = 0; history && b < 3; ++b) {
+        const size_t c = b < 2 ? 3 : 1, o = (size_t)(n - ghost_count);
+        memcpy(sg->hist + 3 * o * (size_t)b,
+               (const char *)hist_data + 3 * (size_t)n * 8 * (size_t)b, c * o * sizeof(double));
+    }
     st->forces_current = (int)forces_current || st->kind != SINTER_STEPPER_QUASISTATIC;
     fz->active = (int)fz_active;
     fz->h = fz_h;

@@ -213,8 +213,9 @@ static sinter_status begin_freeze(sinter_stepper *st)
 /* The stage applies: the option on, the explicit stepper, heat models, no electric model. */
 static int stage_applies(const sinter_stepper *st)
 {
+    /* (not with periodic images: its heat steps do not keep them in step with their owners) */
     return st->frozen.enabled && st->kind == SINTER_STEPPER_EXPLICIT && st->thermal.count > 0 &&
-           st->electric == NULL;
+           st->electric == NULL && !sinter_ghosts_on(&st->ghosts);
 }
 
 sinter_status sinter_frozen_consider(sinter_stepper *st)

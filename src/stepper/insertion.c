@@ -242,18 +242,21 @@ static sinter_status near_push(sinter_ctx *ctx, struct sinter_insertion *ins, co
     return SINTER_OK;
 }
 
-/* The particles that can touch a sphere of the powder inside the region. */
+/* The particles that can touch a sphere of the powder inside the region. With periodic axes
+ * (issue 38) the owned particles, near the region along the other axes: fits() measures to
+ * the nearest image along a periodic axis. */
 static sinter_status gather_near(sinter_stepper *st, struct sinter_insertion *ins)
 {
     const sinter_particles *ps = st->ps;
     const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
     const double reach = sinter_radius_sampler_max(ins->sampler) + p->gap;
+    const int *periodic = st->ghosts.periodic;
     ins->near_count = 0;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) {
         const double *x = ps->x + 3 * i, r = ps->radius[i] + reach;
         int in = 1;
         for (int d = 0; d < 3; ++d)
-            in &= x[d] + r >= p->box_min[d] && x[d] - r <= p->box_max[d];
+            in &= periodic[d] || (x[d] + r >= p->box_min[d] && x[d] - r <= p->box_max[d]);
         if (in) {
             const sinter_status s = near_push(st->ctx, ins, x, ps->radius[i]);
             if (s != SINTER_OK)
@@ -267,9 +270,20 @@ static sinter_status gather_near(sinter_stepper *st, struct sinter_insertion *in
 static int fits(const sinter_stepper *st, const struct sinter_insertion *ins, const double x[3],
                 double r, double g)
 {
+    const sinter_ghosts *pg = &st->ghosts;
+    const int periodic = sinter_ghosts_on(pg);
     for (size_t k = 0; k < ins->near_count; ++k) {
         const double *e = ins->near + 4 * k;
-        const double dx = x[0] - e[0], dy = x[1] - e[1], dz = x[2] - e[2], c = r + e[3] + g;
+        double dx = x[0] - e[0], dy = x[1] - e[1], dz = x[2] - e[2];
+        const double c = r + e[3] + g;
+        if (periodic) { /* the nearest image along a periodic axis */
+            double *dd[3] = {&dx, &dy, &dz};
+            for (int a = 0; a < 3; ++a)
+                if (pg->periodic[a]) {
+                    const double period = pg->hi[a] - pg->lo[a];
+                    *dd[a] -= period * nearbyint(*dd[a] / period);
+                }
+        }
         if (dx * dx + dy * dy + dz * dz < c * c)
             return 0;
     }

@@ -3,6 +3,7 @@
  * submodels in use are right across a periodic face. Particles wrap into the cell and their
  * images are ghost particles (ghosts/ghosts.h), made at every neighbour build.
  */
+#include "electric/electric.h"
 #include "heat/heat_model.h"
 #include "stepper.h"
 
@@ -10,12 +11,8 @@ sinter_status sinter_stepper_set_periodic(sinter_stepper *st, int axis, double l
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
-    /* the quasi-static stepper keeps its own cell (stepper/qs_periodic.c), taken from here */
-    if (st->kind != SINTER_STEPPER_EXPLICIT && st->kind != SINTER_STEPPER_QUASISTATIC &&
-        !(lo == 0.0 && hi == 0.0))
-        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "sinter_stepper_set_periodic: periodic boundaries are supported by the "
-                           "explicit and quasi-static steppers only");
+    /* every stepper kind: the quasi-static one keeps its own cell (stepper/qs_periodic.c), taken
+     * from here */
     const sinter_status s = sinter_ghosts_set_periodic(st->ctx, &st->ghosts, axis, lo, hi);
     if (s == SINTER_OK && !sinter_ghosts_on(&st->ghosts))
         sinter_particles_drop_ghosts(st->ps); /* no axis left: no images */
@@ -42,15 +39,11 @@ sinter_status sinter_stepper_get_periodic(const sinter_stepper *st, int axis, in
 sinter_status sinter_periodic_check(sinter_stepper *st)
 {
     const char *why = NULL;
-    if (st->electric != NULL)
-        why = "an electric model (its network would take an image for another node)";
-    else if (st->thermal.count > 0 && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
-        why = "implicit conduction";
-    else if (st->has_domain)
-        why = "a domain check (sinter_stepper_set_domain; the images lie outside the cell)";
-    else if (st->insertion != NULL)
-        why = "continuous insertion (sinter_stepper_set_insertion: new spheres would be stored "
-              "after the images)";
+    /* the network's unknowns are the owned particles, an image stands for its owner
+     * (electric/network.c); implicit conduction maps them alike (thermal.c) */
+    if (st->electric != NULL && st->electric->kind != SINTER_ELECTRIC_NETWORK)
+        why = "the 'averaged' electric model (it spreads a current magnitude over the "
+              "particles and has no potential an image could share; use 'network')";
     for (size_t k = 0; why == NULL && k < st->force_count; ++k) {
         const sinter_force_model *fm = st->forces[k].model;
         if (fm->ops->eval == sinter_force_host_eval && fm->host.contacts != NULL &&
@@ -59,14 +52,11 @@ sinter_status sinter_periodic_check(sinter_stepper *st)
                   "on the images could not be told from its contact forces; make them two "
                   "models)";
     }
-    for (size_t k = 0; why == NULL && k < st->force_count; ++k)
-        if (sinter_force_holds_pairs(st->forces[k].model))
-            why = "bonds that hold in tension (the power law's bonds: a bond across a face would "
-                  "be kept between the owners, a period apart)";
+    /* the built-in heat models tell a source from a pair term (heat_model.h, owned) */
     for (size_t k = 0; why == NULL && k < st->thermal.count; ++k)
-        if (st->thermal.slots[k].model->ops != &sinter_heat_conduction)
-            why = "a heat model other than conduction (a source on an image would be counted "
-                  "twice)";
+        if (st->thermal.slots[k].model->ops->eval == sinter_heat_host_eval)
+            why = "a host heat model (its power on an image could be a pair's share or a "
+                  "source counted twice)";
     if (why == NULL)
         return SINTER_OK;
     return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,

@@ -755,7 +755,20 @@ sinter_status sinter_sanity_energy(sinter_stepper *st, double t, double h)
 typedef struct domain_job {
     const sinter_stepper *st;
     size_t first[SINTER_CHUNKS_MAX];
+    double lo[3], hi[3]; /* the domain (domain_box) */
 } domain_job;
+
+/* The domain's box, unbounded along a periodic axis (issue 38: the particles wrap along it,
+ * and their images, outside the cell, are not tested), and the rows tested: the owned ones. */
+static size_t domain_box(const sinter_stepper *st, double lo[3], double hi[3])
+{
+    for (int d = 0; d < 3; ++d) {
+        const int periodic = st->ghosts.periodic[d];
+        lo[d] = periodic ? -INFINITY : st->domain_lo[d];
+        hi[d] = periodic ? INFINITY : st->domain_hi[d];
+    }
+    return st->ps->count - st->ps->ghost_count;
+}
 
 enum { DOMAIN_BATCH = 64 };
 
@@ -767,7 +780,7 @@ static inline int outside(const double *x, const double *a, const double *b, int
 static void domain_range(void *data, int range, size_t lo, size_t hi)
 {
     domain_job *job = data;
-    const double *x = job->st->ps->x, *a = job->st->domain_lo, *b = job->st->domain_hi;
+    const double *x = job->st->ps->x, *a = job->lo, *b = job->hi;
     job->first[range] = SIZE_MAX;
     for (size_t i0 = lo; i0 < hi; i0 += DOMAIN_BATCH) {
         const size_t i1 = hi - i0 < DOMAIN_BATCH ? hi : i0 + DOMAIN_BATCH;
@@ -788,8 +801,9 @@ static void domain_range(void *data, int range, size_t lo, size_t hi)
 
 static size_t first_outside(const sinter_stepper *st)
 {
-    domain_job job = {st, {0}};
-    const int ranges = sinter_particle_pass(st->ctx, &st->pp, st->ps->count, domain_range, &job);
+    domain_job job = {st, {0}, {0}, {0}};
+    const size_t n = domain_box(st, job.lo, job.hi);
+    const int ranges = sinter_particle_pass(st->ctx, &st->pp, n, domain_range, &job);
     for (int k = 0; k < ranges; ++k)
         if (job.first[k] != SIZE_MAX)
             return job.first[k];
@@ -806,7 +820,8 @@ sinter_status sinter_sanity_domain(sinter_stepper *st, const char *step, double 
         return SINTER_OK;
     const double *x = ps->x + 3 * i;
     int d = 0;
-    while (d < 3 && x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])
+    while (d < 3 &&
+           (st->ghosts.periodic[d] || (x[d] >= st->domain_lo[d] && x[d] <= st->domain_hi[d])))
         ++d;
     return sinter_fail(st->ctx, SINTER_ERR_LOST_PARTICLE,
                        "%s from t = %.9g s to %.9g s rejected: particle %zu (id %llu) left the "
@@ -821,12 +836,13 @@ sinter_status sinter_sanity_domain(sinter_stepper *st, const char *step, double 
 typedef struct margin_job {
     const sinter_stepper *st;
     double margin[SINTER_CHUNKS_MAX];
+    double lo[3], hi[3]; /* the domain (domain_box) */
 } margin_job;
 
 static void margin_range(void *data, int range, size_t lo, size_t hi)
 {
     margin_job *job = data;
-    const double *x = job->st->ps->x, *a = job->st->domain_lo, *b = job->st->domain_hi;
+    const double *x = job->st->ps->x, *a = job->lo, *b = job->hi;
     double m = INFINITY;
     for (size_t i = lo; i < hi; ++i)
         for (int d = 0; d < 3; ++d) {
@@ -858,8 +874,9 @@ sinter_status sinter_sanity_domain_moved(sinter_stepper *st, const char *step, d
     const sinter_status s = sinter_sanity_domain(st, step, t, h);
     if (s != SINTER_OK)
         return s;
-    margin_job job = {st, {0}};
-    const int ranges = sinter_particle_pass(st->ctx, &st->pp, ps->count, margin_range, &job);
+    margin_job job = {st, {0}, {0}, {0}};
+    const size_t n = domain_box(st, job.lo, job.hi);
+    const int ranges = sinter_particle_pass(st->ctx, &st->pp, n, margin_range, &job);
     double margin = INFINITY;
     for (int k = 0; k < ranges; ++k)
         margin = job.margin[k] < margin ? job.margin[k] : margin;

@@ -73,6 +73,14 @@
  * the trial history that is then committed. A rejected attempt commits nothing: the
  * committed history is as it was at t, and positions, velocities, spins, rotations,
  * temperatures, forces, torques, heat powers, currents and flags are restored bit for bit.
+ *
+ * Periodic boundaries (issue 38; ghosts/ghosts.h): the unknowns are the owned particles, the
+ * rows before the images. Every evaluation first gives the images their owners' iterate (the
+ * forward halo; a neighbour build within the step makes them from the owners), and the
+ * evaluation adds what the pairs put on an image to its owner. Positions are iterated from the
+ * step's start, so a build within the step makes images without wrapping (sinter_ghosts.hold):
+ * the owned particles are wrapped into the cell between steps, before the state at t is saved,
+ * and a rejected attempt restores the owners and their images.
  */
 #include <float.h>
 #include <math.h>
@@ -81,6 +89,26 @@
 
 #include "sanity.h"
 #include "stepper.h"
+
+/* The owned particles: the unknowns (the rows after them are periodic images). */
+static inline size_t owned_rows(const sinter_particles *ps)
+{
+    return ps->count - ps->ghost_count;
+}
+
+/* The images take their owners' state (ghosts/ghosts.h), unless a build is due anyway. */
+static void forward_images(sinter_stepper *st)
+{
+    if (st->ps->ghost_count > 0 && sinter_ghosts_current(&st->ghosts, st->ps))
+        sinter_ghosts_forward(&st->ghosts, st->ps);
+}
+
+/* The pipeline at the iterate in the particles: images first (see the top of the file). */
+static sinter_status evaluate(sinter_stepper *st, double h)
+{
+    forward_images(st);
+    return sinter_stepper_eval_forces(st, h);
+}
 
 /* ---- options ------------------------------------------------------------------------- */
 
@@ -135,6 +163,9 @@ void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg)
     sinter_free(ctx, sg->saved);
     sinter_free(ctx, sg->flags);
     sinter_free(ctx, sg->power);
+    sinter_free(ctx, sg->x_rows);
+    sg->x_rows = NULL;
+    sg->x_rows_capacity = 0;
     sg->saved = NULL;
     sg->flags = NULL;
     sg->power = NULL;
@@ -340,7 +371,7 @@ static saved_state saved_layout(const sinter_staggered *sg, size_t n)
 static sinter_status reserve(sinter_stepper *st)
 {
     sinter_staggered *sg = &st->staggered;
-    const size_t n = st->ps->count, slots = st->thermal.count;
+    const size_t n = owned_rows(st->ps), slots = st->thermal.count;
     if (SAVED_PER_PARTICLE * n + 1 > sg->saved_capacity) {
         double *p =
             sinter_realloc_array(st->ctx, sg->saved, SAVED_PER_PARTICLE * n + 1, sizeof(double));
@@ -369,7 +400,7 @@ static sinter_status reserve(sinter_stepper *st)
 static void save_state(sinter_stepper *st, const saved_state *a)
 {
     const sinter_particles *ps = st->ps;
-    const size_t n = ps->count, n3 = 3 * n * sizeof(double), n1 = n * sizeof(double);
+    const size_t n = owned_rows(ps), n3 = 3 * n * sizeof(double), n1 = n * sizeof(double);
     memcpy(a->x, ps->x, n3);
     memcpy(a->v, ps->v, n3);
     memcpy(a->w, ps->w, n3);
@@ -388,7 +419,7 @@ static void save_state(sinter_stepper *st, const saved_state *a)
 static void restore_state(sinter_stepper *st, const saved_state *a, double t)
 {
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count, n3 = 3 * n * sizeof(double), n1 = n * sizeof(double);
+    const size_t n = owned_rows(ps), n3 = 3 * n * sizeof(double), n1 = n * sizeof(double);
     memcpy(ps->x, a->x, n3);
     memcpy(ps->v, a->v, n3);
     memcpy(ps->w, a->w, n3);
@@ -401,6 +432,7 @@ static void restore_state(sinter_stepper *st, const saved_state *a, double t)
     memcpy(ps->flags, st->staggered.flags, n * sizeof(uint32_t));
     for (size_t k = 0; k < st->thermal.count; ++k)
         st->thermal.slots[k].power = st->staggered.power[k];
+    forward_images(st);
     st->time = t;
     if (st->walls != NULL)
         sinter_walls_move(st->walls, t);
@@ -429,7 +461,7 @@ static size_t update_mechanics(sinter_stepper *st, const saved_state *a, double 
                                const double *tq)
 {
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     const double phi = st->staggered.phi, psi = 1.0 - phi;
     size_t bad = n;
     for (size_t i = 0; i < n; ++i) {
@@ -469,7 +501,7 @@ static size_t update_temperatures(sinter_stepper *st, const saved_state *a, doub
                                   const double *q)
 {
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     const double phi = st->staggered.phi, psi = 1.0 - phi;
     size_t bad = n;
     for (size_t i = 0; i < n; ++i) {
@@ -504,7 +536,7 @@ static double normalised_error(const sinter_particles *ps, const double *now, co
 {
     double num = 0.0, den = 0.0, scale = 0.0;
     size_t free_count = 0;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < owned_rows(ps); ++i) {
         if (ps->flags[i] & skip)
             continue;
         free_count++;
@@ -573,7 +605,7 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
 {
     sinter_staggered *sg = &st->staggered;
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     const int thermal = st->thermal.count > 0;
     memset(res, 0, sizeof(*res));
     res->bad = n;
@@ -597,7 +629,7 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
             return SINTER_OK;
         }
         /* Evaluate at (s^K, theta^(K-1)); ps->temperature holds theta^(K-1). */
-        s = sinter_stepper_eval_forces(st, h);
+        s = evaluate(st, h);
         if (s != SINTER_OK)
             return s;
         t0 = sinter_clock();
@@ -692,7 +724,7 @@ typedef struct aa_vectors {
 static sinter_status aa_reserve(sinter_stepper *st, aa_vectors *vec)
 {
     sinter_staggered *sg = &st->staggered;
-    const size_t n = st->ps->count;
+    const size_t n = owned_rows(st->ps);
     if (30 * n + 1 > sg->work_capacity) {
         double *p = sinter_realloc_array(st->ctx, sg->work, 30 * n + 1, sizeof(double));
         if (p == NULL)
@@ -715,7 +747,7 @@ static sinter_status aa_reserve(sinter_stepper *st, aa_vectors *vec)
 
 static void aa_pack(const sinter_particles *ps, double *u)
 {
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     memcpy(u, ps->x, 3 * n * sizeof(double));
     memcpy(u + 3 * n, ps->v, 3 * n * sizeof(double));
     memcpy(u + 6 * n, ps->w, 3 * n * sizeof(double));
@@ -727,7 +759,7 @@ static size_t aa_unpack(sinter_stepper *st, const saved_state *a, double h, cons
                         int thermal)
 {
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     memcpy(ps->x, u, 3 * n * sizeof(double));
     memcpy(ps->v, u + 3 * n, 3 * n * sizeof(double));
     memcpy(ps->w, u + 6 * n, 3 * n * sizeof(double));
@@ -753,7 +785,7 @@ static void aa_weights(const sinter_stepper *st, const saved_state *a, double *w
 {
     const sinter_particles *ps = st->ps;
     const sinter_staggered *sg = &st->staggered;
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     size_t nx = 0, nt = 0;
     for (size_t i = 0; i < n; ++i) {
         nx += !(ps->flags[i] & SINTER_PARTICLE_FIXED);
@@ -800,7 +832,7 @@ static void aa_predict(const sinter_stepper *st, const saved_state *a, double h,
                        double *tq, double *q)
 {
     const sinter_staggered *sg = &st->staggered;
-    const size_t n = st->ps->count;
+    const size_t n = owned_rows(st->ps);
     const int history = sg->history_valid && sg->history_count == n && sg->h_prev > 0.0;
     const double r = history ? h / sg->h_prev : 0.0;
     const double *fp = sg->hist, *tp = sg->hist + 3 * n, *qp = sg->hist + 6 * n;
@@ -817,7 +849,7 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
 {
     sinter_staggered *sg = &st->staggered;
     sinter_particles *ps = st->ps;
-    const size_t n = ps->count;
+    const size_t n = owned_rows(ps);
     const int thermal = st->thermal.count > 0;
     const int k_max = 2 * sg->target_iterations;
     memset(res, 0, sizeof(*res));
@@ -849,7 +881,7 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
             return SINTER_OK;
         }
         st->stats.iterations++;
-        s = sinter_stepper_eval_forces(st, h); /* at u_k */
+        s = evaluate(st, h); /* at u_k */
         if (s != SINTER_OK)
             return s;
         t0 = sinter_clock();
@@ -920,7 +952,7 @@ static sinter_status give_up(sinter_stepper *st, const saved_state *a, double t,
                  r->eps_theta);
     else
         snprintf(errors, sizeof(errors), "positions %.3g", r->eps_r);
-    if (r->bad < st->ps->count)
+    if (r->bad < owned_rows(st->ps))
         return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
                            "staggered step at t = %.9g s: the fixed-point iteration diverged "
                            "with step %g s (particle %zu: %s) and %s %g s; the last accepted "
@@ -945,14 +977,30 @@ static sinter_status give_up(sinter_stepper *st, const saved_state *a, double t,
                        sg->dt_min);
 }
 
-sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
+/* The positions at t of every row, for the sanity check: a->x itself without images, else
+ * the owners' with the images' rows made from them (ghosts/ghosts.h); NULL when out of memory. */
+static const double *positions_at_start(sinter_stepper *st, const saved_state *a)
+{
+    const sinter_particles *ps = st->ps;
+    if (ps->ghost_count == 0)
+        return a->x;
+    sinter_staggered *sg = &st->staggered;
+    if (sinter_grow(st->ctx, (void **)&sg->x_rows, &sg->x_rows_capacity, 3 * ps->count + 1,
+                    sizeof(double)) != SINTER_OK)
+        return NULL;
+    memcpy(sg->x_rows, a->x, 3 * owned_rows(ps) * sizeof(double));
+    sinter_ghosts_copy_rows(&st->ghosts, ps, sg->x_rows, 1);
+    return sg->x_rows;
+}
+
+static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
 {
     sinter_staggered *sg = &st->staggered;
     sinter_status s = reserve(st);
     if (s != SINTER_OK)
         return s;
     const double t = st->time;
-    const saved_state a = saved_layout(sg, st->ps->count);
+    const saved_state a = saved_layout(sg, owned_rows(st->ps));
     save_state(st, &a);
     attempt_result r;
     int restarted = 0;
@@ -979,15 +1027,18 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     }
     /* Accepted: (s^K, theta^K) at t + h. */
     s = sinter_sanity_domain(st, "staggered step", t, h);
+    const double *x_start = s == SINTER_OK ? positions_at_start(st, &a) : a.x;
+    if (s == SINTER_OK && x_start == NULL)
+        s = sinter_last_status(st->ctx);
     if (s == SINTER_OK)
-        s = sinter_sanity_step(st, a.x, t, h, NULL);
+        s = sinter_sanity_step(st, x_start, t, h, NULL);
     if (s == SINTER_OK && st->thermal.count > 0) {
         /* Copy the iterate's slot powers before the evaluation overwrites them. */
         for (size_t j = 0; j < st->thermal.count; ++j)
             st->thermal.slots[j].applied =
                 h * (sg->phi * sg->power[st->thermal.count + j] + (1.0 - sg->phi) * sg->power[j]);
-        if (sg->scheme == 0) /* scheme 1 evaluated the accepted state itself */
-            s = sinter_stepper_eval_forces(st, h); /* currents, F, Q of the accepted state */
+        if (sg->scheme == 0)     /* scheme 1 evaluated the accepted state itself */
+            s = evaluate(st, h); /* currents, F, Q of the accepted state */
     }
     if (s == SINTER_OK)
         s = sinter_stepper_commit(st);
@@ -1002,7 +1053,7 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     st->thermal_last_h = h;
     if (sg->scheme == 1) {
         /* The predictor's history: F, torques and Q at t become F^(L-1) for the next step. */
-        const size_t n = st->ps->count;
+        const size_t n = owned_rows(st->ps);
         memcpy(sg->hist, a.f, 3 * n * sizeof(double));
         memcpy(sg->hist + 3 * n, a.tq, 3 * n * sizeof(double));
         memcpy(sg->hist + 6 * n, a.q, n * sizeof(double));
@@ -1024,4 +1075,20 @@ sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
     st->stats.dt = st->dt;
     *taken = h;
     return SINTER_OK;
+}
+
+sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)
+{
+    if (!sinter_ghosts_on(&st->ghosts))
+        return staggered_step(st, h, taken);
+    /* periodic: the owned particles into the cell between steps, none during (see the top) */
+    sinter_status s = sinter_periodic_check(st);
+    if (s != SINTER_OK)
+        return s;
+    (void)sinter_ghosts_wrap(&st->ghosts, st->ps);
+    st->ghosts.hold = 1;
+    s = staggered_step(st, h, taken);
+    st->ghosts.hold = 0;
+    forward_images(st); /* the images of the accepted (or the kept) state */
+    return s;
 }

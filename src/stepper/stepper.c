@@ -114,12 +114,6 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
                            "domain operations (sinter_stepper_set_domain_ops) are supported by "
                            "the explicit stepper only so far; remove them first");
-    if (kind != SINTER_STEPPER_EXPLICIT && kind != SINTER_STEPPER_QUASISTATIC &&
-        sinter_ghosts_on(&st->ghosts))
-        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "periodic boundaries are supported by the explicit and quasi-static "
-                           "steppers only; make every axis non-periodic first "
-                           "(sinter_stepper_set_periodic)");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
@@ -489,16 +483,103 @@ static sinter_status choose_skin(sinter_stepper *st)
     return SINTER_OK;
 }
 
+/* Periodic images (ghosts/ghosts.h): first[o] the first ghost row of owned particle o (its
+ * images are consecutive rows), or UINT32_MAX; NULL when out of memory. */
+static uint32_t *first_images(sinter_stepper *st)
+{
+    const sinter_particles *ps = st->ps;
+    const size_t owned = ps->count - ps->ghost_count;
+    uint32_t *first = sinter_realloc_array(st->ctx, NULL, owned + 1, sizeof(uint32_t));
+    if (first == NULL)
+        return NULL;
+    for (size_t o = 0; o < owned; ++o)
+        first[o] = UINT32_MAX;
+    for (size_t k = ps->ghost_count; k-- > 0;)
+        first[st->ghosts.owner[k]] = (uint32_t)(owned + k);
+    return first;
+}
+
+/* The row of owned particle j's image nearest to row i: j or one of its ghosts, so that a
+ * bond across a periodic face is kept to the image it spans to, not to the owner a period
+ * away (issue 38). */
+static double distance2(const double *x, size_t i, size_t j)
+{
+    const double d[3] = {x[3 * j] - x[3 * i], x[3 * j + 1] - x[3 * i + 1],
+                         x[3 * j + 2] - x[3 * i + 2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+}
+
+static size_t nearest_image(const sinter_stepper *st, const uint32_t *first, size_t i, size_t j)
+{
+    const sinter_particles *ps = st->ps;
+    const size_t owned = ps->count - ps->ghost_count;
+    size_t best = j;
+    double best2 = distance2(ps->x, i, j);
+    for (size_t q = first[j]; q < ps->count && st->ghosts.owner[q - owned] == j; ++q) {
+        const double d2 = distance2(ps->x, i, q);
+        if (d2 < best2) {
+            best2 = d2;
+            best = q;
+        }
+    }
+    return best;
+}
+
+/* The history of the first model that holds pairs (bonds in tension), or NULL. */
+static const sinter_history *held_history(const sinter_stepper *st)
+{
+    for (size_t k = 0; k < st->force_count; ++k)
+        if (sinter_force_holds_pairs(st->forces[k].model) && st->forces[k].pp.width > 0)
+            return &st->forces[k].pp;
+    return NULL;
+}
+
+/* Periodic images: the largest gap [m] of a held pair to the nearest image of its far end
+ * (by ids, so any layout), which the ghost cut-off must cover for that image to exist; 0
+ * without held pairs (or when the index cannot be made: then the usual cut-off). */
+static double held_gap(sinter_stepper *st)
+{
+    const sinter_history *h = held_history(st);
+    sinter_neighbors *nb = &st->nb;
+    sinter_particles *ps = st->ps;
+    if (h == NULL || h->committed == NULL || h->active_count == 0 || !nb->built)
+        return 0.0;
+    if (sinter_id_index_update(&ps->id_index, ps) != SINTER_OK) {
+        sinter_clear_error(st->ctx);
+        return 0.0;
+    }
+    const sinter_ghosts *g = &st->ghosts;
+    double gap = 0.0;
+    for (size_t a = 0; a < h->active_count; ++a) {
+        const uint32_t p = h->active[a];
+        if (p >= nb->pp.count || h->committed[h->width * p] == 0.0)
+            continue;
+        const size_t i = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_i[p]),
+                     j = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_j[p]);
+        if (i == SIZE_MAX || j == SIZE_MAX)
+            continue;
+        double e2 = 0.0;
+        for (int d = 0; d < 3; ++d) {
+            double e = ps->x[3 * j + d] - ps->x[3 * i + d];
+            if (g->periodic[d]) {
+                const double period = g->hi[d] - g->lo[d];
+                e -= period * nearbyint(e / period);
+            }
+            e2 += e * e;
+        }
+        gap = fmax(gap, sqrt(e2) - ps->radius[i] - ps->radius[j]);
+    }
+    return gap;
+}
+
 /* The bonded pairs of a model that holds pairs (set_held), in the current layout, for the
  * next build to keep at any distance (sinter_neighbors_keep): the pairs it lists hold
- * their history whatever their distance. */
+ * their history whatever their distance. With periodic images the pair's first end (the
+ * smaller id, owned) is kept with the nearest image of the other. */
 static sinter_status keep_held_pairs(sinter_stepper *st)
 {
     sinter_neighbors *nb = &st->nb;
-    const sinter_history *h = NULL;
-    for (size_t k = 0; k < st->force_count && h == NULL; ++k)
-        if (sinter_force_holds_pairs(st->forces[k].model) && st->forces[k].pp.width > 0)
-            h = &st->forces[k].pp;
+    const sinter_history *h = held_history(st);
     if (h == NULL || h->committed == NULL || h->active_count == 0 || !nb->built) {
         nb->keep_count = 0;
         return SINTER_OK;
@@ -510,6 +591,9 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
     sinter_particles *ps = st->ps;
     const int moved = nb->layout_generation != ps->layout_generation; /* indices changed */
     sinter_status s = moved ? sinter_id_index_update(&ps->id_index, ps) : SINTER_OK;
+    uint32_t *first = NULL;
+    if (s == SINTER_OK && ps->ghost_count > 0 && (first = first_images(st)) == NULL)
+        s = sinter_last_status(st->ctx);
     size_t count = 0;
     for (size_t a = 0; a < h->active_count && s == SINTER_OK; ++a) {
         const uint32_t p = h->active[a];
@@ -521,6 +605,8 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
             j = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_j[p]);
             if (i == SIZE_MAX || j == SIZE_MAX)
                 continue; /* a particle was removed: its bonds go with it */
+            if (first != NULL)
+                j = nearest_image(st, first, i, j);
         }
         both[count] = (uint32_t)i;
         both[h->active_count + count] = (uint32_t)j;
@@ -529,6 +615,7 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
     if (s == SINTER_OK)
         s = sinter_neighbors_keep(nb, ps, both, both + h->active_count, count);
     sinter_free(st->ctx, both);
+    sinter_free(st->ctx, first);
     return s;
 }
 
@@ -639,8 +726,10 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
     if (periodic) { /* owned particles wrapped into the cell, their images made (ghosts.h) */
         /* the spare arrays (explicit.c: the state at t of the step under way) follow: wrapped
          * the same, their ghost rows made alike */
+        /* (a bond in tension may be longer than a contact: its far end needs its image) */
         s = sinter_ghosts_rebuild(
-            &st->ghosts, st->ps, sinter_ghosts_cutoff(st->ps, st->nb.skin + st->nb.reach),
+            &st->ghosts, st->ps,
+            sinter_ghosts_cutoff(st->ps, st->nb.skin + fmax(st->nb.reach, held_gap(st))),
             st->spare[0] != NULL && st->spare_capacity >= st->ps->count ? st->spare[0] : NULL);
         if (s == SINTER_OK)
             s = sinter_explicit_keep_spare(st);
@@ -838,8 +927,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
         sinter_contacts_geometry(ctx, &st->pp, ps);
-        s = sinter_electric_solve(st->electric, ps, st->walls, &st->pp, &st->pw,
-                                  &electric_iterations);
+        s = sinter_electric_solve_images(st->electric, ps, st->walls, &st->pp, &st->pw,
+                                         ps->ghost_count > 0 ? st->ghosts.owner : NULL,
+                                         &electric_iterations);
         st->electric_iterations += electric_iterations;
         if (s != SINTER_OK)
             return s;

@@ -52,6 +52,10 @@ typedef struct sinter_staggered {
     size_t flags_capacity;
     double *power; /* per heat slot: power at t, then of the last iterate (2 per slot) */
     size_t power_capacity;
+    /* periodic boundaries: the positions at t of every row, images included, for the sanity
+     * check (3 per row; staggered.c) */
+    double *x_rows;
+    size_t x_rows_capacity;
 } sinter_staggered;
 
 /*

@@ -148,6 +148,9 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
         st->nb.built && st->nb.layout_generation == st->ps->layout_generation ? &st->nb.pp : NULL;
     e.dissipation = st->dissipation_valid ? st->dissipation : NULL; /* heat/dissipation.c */
     e.flags = st->ps->flags; /* the beams' SINTER_PARTICLE_LIT */
+    /* periodic images: sources act on the owned particles only (heat_model.h) */
+    e.owned = st->ps->count - st->ps->ghost_count;
+    e.ghost_owner = st->ps->ghost_count > 0 ? st->ghosts.owner : NULL;
     return e;
 }
 
@@ -301,18 +304,27 @@ static int fixed(const sinter_particles *ps, size_t i)
     return (ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE) != 0;
 }
 
-/* z = A v for backward Euler: A = diag(m C / h + sum G) - G couplings (free rows only). */
+/* The unknown of particle row j: the row, or an image's owner (periodic boundaries, issue 38:
+ * the unknowns are the owned particles, rows [0, owned); ghosts/ghosts.h). */
+static inline uint32_t owner_of(const sinter_stepper *st, size_t owned, uint32_t j)
+{
+    return j < owned ? j : st->ghosts.owner[j - owned];
+}
+
+/* z = A v for backward Euler: A = diag(m C / h + sum G) - G couplings (free rows only); a
+ * contact with an image couples to the image's owner. */
 static void apply_operator(const double *vv, double *zz, void *data)
 {
     const sinter_thermal_solver *s = data;
     const sinter_stepper *st = s->st;
     const sinter_particles *ps = st->ps;
-    for (size_t i = 0; i < ps->count; ++i)
+    const size_t owned = ps->count - ps->ghost_count;
+    for (size_t i = 0; i < owned; ++i)
         zz[i] = s->diag[i] * vv[i];
     const sinter_contact_list *c = &st->pp;
     const double *g = st->thermal.g_pp;
     for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], j = c->j[k];
+        const uint32_t i = c->i[k], j = owner_of(st, owned, c->j[k]);
         if (fixed(ps, i) || fixed(ps, j))
             continue; /* coupling to a fixed temperature lives in the right-hand side */
         zz[i] -= g[k] * vv[j];
@@ -324,7 +336,7 @@ static void apply_operator(const double *vv, double *zz, void *data)
 static void precondition(const double *rr, double *zz, void *data)
 {
     const sinter_thermal_solver *s = data;
-    for (size_t i = 0; i < s->st->ps->count; ++i)
+    for (size_t i = 0; i < s->st->ps->count - s->st->ps->ghost_count; ++i)
         zz[i] = rr[i] / s->diag[i];
 }
 
@@ -343,7 +355,7 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
 {
     sinter_particles *ps = st->ps;
     sinter_thermal *th = &st->thermal;
-    const size_t n = ps->count;
+    const size_t n = ps->count - ps->ghost_count; /* the owned particles: the unknowns */
     sinter_status s = ensure_solver(st, n);
     if (s != SINTER_OK)
         return s;
@@ -364,7 +376,7 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     }
     const sinter_contact_list *c = &st->pp;
     for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], j = c->j[k];
+        const uint32_t i = c->i[k], j = owner_of(st, n, c->j[k]);
         const double g = th->g_pp[k];
         if (!fixed(ps, i)) {
             diag[i] += g;

@@ -94,7 +94,9 @@ static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int
                           NULL,
                           &f->nb.pp,
                           NULL,
-                          f->ps->flags};
+                          f->ps->flags,
+                          0,
+                          NULL};
     return hm->ops->eval(hm, &e);
 }
 

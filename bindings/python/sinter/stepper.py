@@ -391,7 +391,7 @@ class Stepper(_Handle):
 
     def set_periodic(self, axis: int, lo: float = 0.0, hi: float = 0.0) -> None:
         """Make `axis` (0 x, 1 y, 2 z) periodic with the cell lo..hi [m]; lo = hi = 0 makes it
-        non-periodic again. Explicit stepper only: particles wrap into the cell and their
+        non-periodic again. Explicit and staggered steppers: particles wrap into the cell and their
         images within 2 r_max + skin of a face are ghost particles after the owned ones."""
         self._call(lib.sinter_stepper_set_periodic, self._ptr, int(axis), float(lo), float(hi))
 
