@@ -62,12 +62,13 @@ def error(run, ref, key):  # largest difference over the common samples after ST
     return max(d) if d else float('nan')
 
 
-def evaluations(run, dt):
-    """Explicit steps (each a force and heat evaluation) and heat steps after START."""
-    a, b = run[0], run[-1]
+def evaluations(start, run, dt):
+    """Explicit steps (each a force and heat evaluation) and heat steps from the start
+    checkpoint (start: the last row of the run that wrote it) to the run's end."""
+    a, b = start, run[-1]
     frozen = b.get('frozen time', 0.0) - a.get('frozen time', 0.0)
     heat = b.get('heat steps', 0.0) - a.get('heat steps', 0.0)
-    return round((b['time'] - a['time'] - frozen) / dt) + heat, heat
+    return round((b['time'] - a['time'] - frozen) / dt) + heat, heat, frozen
 
 
 def scene_dt(path):
@@ -85,21 +86,22 @@ SEEDS = [s for s in SEEDS if s not in missing]  # pours whose reference has not 
 for seed in SEEDS:
     d = os.path.join(W, 's' + seed)
     ref = series(os.path.join(d, 'ref'))
+    start = series(os.path.join(d, 'start'))[-1]
     ref_cpu = float(open(os.path.join(d, 'ref.cpu')).read())
     t_ref, p_ref = last_frame(os.path.join(d, 'ref'))
-    ref_figures.append({'cpu': ref_cpu, 'eval': evaluations(ref, scene_dt(os.path.join(d, 'ref.scene')))[0],
+    ref_figures.append({'cpu': ref_cpu, 'eval': evaluations(start, ref, scene_dt(os.path.join(d, 'ref.scene')))[0],
                         **{k: ref[-1][k] for k, _ in QUANTITIES}})
     for n in names:
         if not os.path.exists(os.path.join(d, n + '.cpu')):
             continue
         run = series(os.path.join(d, n))
         cpu = float(open(os.path.join(d, n + '.cpu')).read())
-        ev, heat = evaluations(run, scene_dt(os.path.join(d, n + '.scene')))
+        ev, heat, frozen = evaluations(start, run, scene_dt(os.path.join(d, n + '.scene')))
         t, p = last_frame(os.path.join(d, n))
         diff = [abs(p[i] - p_ref[i]) for i in p_ref] if abs(t - t_ref) < 1e-9 else [math.nan]
         f = {'cpu': cpu, 'ratio': cpu / ref_cpu, 'eval': ev, 'heat': heat,
              'particle': max(diff), 'over5': sum(x > 5.0 for x in diff),
-             'frozen': run[-1].get('frozen time', 0.0) - run[0].get('frozen time', 0.0)}
+             'frozen': frozen}
         for k, _ in QUANTITIES:
             f[k] = error(run, ref, k)
         results[n].append((seed, f))

@@ -11,13 +11,16 @@
 # 1. settle: the scene, coupled (frozen_heat 0), through `sinter run` to a checkpoint at
 #    the sample at 0.11 s (the bed still creeping), then coupled on to the sample at 0.12 s, the
 #    beam's switch-on (a second checkpoint; its CPU is not counted: every run below starts there).
-# 2. From 0.12 s to END = 0.13 s (the beam 1 mm along its track), samples every 1 ms:
+# 2. From 0.12 s to END = 0.13 s (the beam 1 mm along its track; the scenes ask for samples
+#    every 1 ms, but a restart keeps the checkpoint's output schedule, so the first sample
+#    after 0.12 s is the one at 0.13 s and the comparison is at END):
 #    ref   coupled, explicit heat, the scene's dt 5e-7 s: the reference;
 #    eDT   coupled at dt 2.5e-7 s (the reference's own error) and 1e-6 s (DT_SEEDS only);
 #    fRTOL frozen_heat 1 (the scene's frozen_ke, 1e-12 J per particle; frozen_atol 1e-3 of
 #          frozen_rtol in kelvin) at frozen_rtol 1e-3 .. 1e-6 and 1e-8 (the frozen limit:
 #          the heat step converged, what is left is the frozen bed's).
-# 3. Errors against ref, the largest difference over the samples after 0.12 s: the mean
+# 3. Errors against ref, the largest difference over the samples after 0.12 s (with END =
+#    0.13 s the one at END): the mean
 #    temperature, the largest temperature, the mean temperature of the lit particles (those the
 #    beam has heated: the seed's 5.4 quantity), the hot zone (particles at 393 K or more, 20 K
 #    above the start, from the series' temperature histogram); and per particle (by id) at END
@@ -79,7 +82,7 @@ R=""; [ "$C" = - ] || R="--restart $C"
 EOF
 mv run.sh.new run.sh # a new file: a run.sh still being read keeps its own
 
-# the runs after START: samples every 1 ms and the temperature histogram
+# the runs after START: the temperature histogram (and samples every 1 ms after the first)
 out() { variant "$@" output.interval=0.001 "output.temperature_bins=393 453 3"; }
 for s in $SEEDS; do
     mkdir -p "s$s"
