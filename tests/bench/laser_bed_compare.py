@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Tables and chart data of tests/bench/laser_bed_work_precision.sh (issue 41).
 
-    laser_bed_compare.py WORK_DIR START "SEEDS" "EXPLICIT_RUNS" "RTOLS"
+    laser_bed_compare.py WORK_DIR START "SEEDS" "EXPLICIT_RUNS" "RTOLS" "CAPS"
 
-Reads WORK_DIR/sSEED/{ref,eDT,fRTOL}/series.csv, the last frames and NAME.cpu (user + sys),
+Reads WORK_DIR/sSEED/{ref,fRTOL,mCAP}/series.csv (and eDT, coupled runs at other steps, if named), the last frames and NAME.cpu (user + sys),
 compares every run with ref (coupled at the scene's dt) of the same pour and writes
 WORK_DIR/laser_bed.md and WORK_DIR/laser_bed.csv (log10 of the means over the pours).
 Errors: the largest absolute difference over the samples after START of the mean, the largest
@@ -21,6 +21,7 @@ import sys
 
 W, START = sys.argv[1], float(sys.argv[2])
 SEEDS, EXPLICIT, RTOLS = sys.argv[3].split(), sys.argv[4].split(), sys.argv[5].split()
+CAPS = sys.argv[6].split() if len(sys.argv) > 6 else []
 QUANTITIES = [('mean temperature', 'mean T [K]'), ('max temperature', 'max T [K]'),
               ('lit mean temperature', 'lit mean T [K]'), ('hot', 'hot zone [particles]')]
 
@@ -76,9 +77,9 @@ def scene_dt(path):
     return float(m.group(1))
 
 
-names = EXPLICIT + ['f' + r for r in RTOLS]
-label = {n: ('explicit, coupled, dt %s s' % n[1:]) if n.startswith('e') else
-         ('frozen, frozen_rtol %s' % n[1:]) for n in names}
+names = EXPLICIT + ['f' + r for r in RTOLS] + ['m' + c for c in CAPS]
+label = {n: {'e': 'explicit, coupled, dt %s s', 'f': 'frozen, frozen_rtol %s',
+             'm': 'frozen, frozen_rtol 1e-4, frozen_dt_max %s s'}[n[0]] % n[1:] for n in names}
 results = {n: [] for n in names}  # per pour: dict of figures
 ref_figures = []
 missing = [s for s in SEEDS if not os.path.exists(os.path.join(W, 's' + s, 'ref.cpu'))]
@@ -157,7 +158,9 @@ with open(os.path.join(W, 'laser_bed.md'), 'w') as o:
                 ' | %s | %s |\n' % (fmt(col('particle')), fmt(col('over5'))))
 
 lg = lambda v: math.log10(v) if v > 0 else math.nan
-groups = [('explicit', EXPLICIT), ('frozen', ['f' + r for r in RTOLS])]
+groups = [('explicit', EXPLICIT), ('frozen', ['f' + r for r in RTOLS]),
+          ('frozen dt_max', ['m' + c for c in CAPS])]
+groups = [g for g in groups if g[1]]
 # charted (the hot zone's error is often 0 particles: in the tables only)
 short = [('lit mean temperature', 'lit mean T'), ('max temperature', 'max T'),
          ('mean temperature', 'mean T'), ('particle', 'per particle')]
