@@ -23,11 +23,10 @@
 #          the beam's power at its start, and its error control does not see the beam reach
 #          new particles within the step (RESULTS.md), so the beam's travel per step is capped.
 # 3. Errors against ref, the largest difference over the samples after 0.12 s (with END =
-#    0.13 s the one at END): the mean
-#    temperature, the largest temperature, the mean temperature of the lit particles (those the
-#    beam has heated: the seed's 5.4 quantity), the hot zone (particles at 393 K or more, 20 K
-#    above the start, from the series' temperature histogram); and per particle (by id) at END
-#    from the last frames.
+#    0.13 s the one at END): the mean temperature, the largest temperature, the mean
+#    temperature of the lit particles (those the beam has heated: the seed's 5.4 quantity), the
+#    hot zone (particles at 393 K or more, 20 K above the start, from the series' temperature
+#    histogram); and per particle (by id) at END from the last frames.
 #    CPU: user + sys (/usr/bin/time) of each run; evaluations: explicit steps (one force and
 #    heat evaluation each) + heat steps (one backward Euler solve each, PCG).
 # Writes WORK_DIR/laser_bed.md (per-pour rows, then mean ± sample standard deviation over the
