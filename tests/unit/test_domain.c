@@ -62,16 +62,23 @@ static void make_bed(void)
     }
 }
 
-/* The subdomain of a particle at x among `size` slabs of the box along x. */
+/* The slabs along x: [X0, X1) cut into 2, 3 or 4 equal ones puts every border on a column of
+ * the lattice (X1 - X0 = 12 A), so that the particles of that column, jiggling about it by
+ * their random velocities, cross it back and forth and migrate (domain_loopback.h). */
+static const double X0 = R - 2 * A, X1 = R + 10 * A;
+
+/* The subdomain of a particle at x among `size` slabs (the loopback's rule). */
 static int slab_of(double x, int size)
 {
-    int r = (int)floor(x / LX * size);
-    return r < 0 ? 0 : r >= size ? size - 1 : r;
+    const double r = floor((x - X0) / (X1 - X0) * size);
+    return r < 0.0 ? 0 : r >= size ? size - 1 : (int)r;
 }
 
-/* A host body force that makes the force of one particle NaN from time `after` on. */
+/* A host body force that makes the force of the particle with id `id` NaN from time `after`
+ * on, on the subdomain that owns it then (it may have migrated). */
 typedef struct poison {
-    size_t index; /* (SIZE_MAX: none) */
+    const sinter_particles *ps;
+    uint64_t id; /* (0: none) */
     double after;
 } poison;
 
@@ -79,8 +86,12 @@ static int poison_force(const sinter_state_view *s, double *force, double *torqu
 {
     (void)torque;
     const poison *p = user;
-    if (p->index != SIZE_MAX && s->time > p->after)
-        force[3 * p->index] = NAN;
+    size_t i = SIZE_MAX, owned = 0;
+    if (p->id == 0 || !(s->time > p->after) ||
+        sinter_particles_owned_count(p->ps, &owned) != SINTER_OK ||
+        sinter_particles_find_id(p->ps, p->id, &i) != SINTER_OK || i >= owned)
+        return 0;
+    force[3 * i] = NAN;
     return 0;
 }
 
@@ -103,6 +114,7 @@ typedef struct job {
     double wall[3 * NW], wall_local[3 * NW];
     uint64_t builds, contacts;
     size_t owned;
+    uint64_t migrated; /* particles it sent to other subdomains */
 } job;
 
 /* Final state by id - 1 (each subdomain writes the slots of its owned particles). */
@@ -167,7 +179,7 @@ static void *run_bed(void *arg)
     sinter_stepper *st = NULL;
     sinter_force_model *gravity = NULL, *contact = NULL, *host = NULL;
     sinter_heat_model *cond = NULL;
-    poison p = {SIZE_MAX, 0.0};
+    poison p = {NULL, 0, 0.0};
     const double dt = 2e-6;
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
@@ -210,17 +222,13 @@ static void *run_bed(void *arg)
         TRY(sinter_particles_view(ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
         memcpy(w + 3 * first, BED.w + 3 * k, 24);
         TRY(sinter_particles_release(ps, SINTER_FIELD_SPIN));
-        if (BED.id[k] == j->poison_id) {
-            p.index = first;
-            p.after = (j->poison_step - 0.5) * dt;
-        }
     }
-    if (p.index != SIZE_MAX) {
+    if (j->poison_id != 0) { /* on every subdomain: migration needs the same force models */
+        p = (poison){ps, j->poison_id, (j->poison_step - 0.5) * dt};
         const sinter_force_callbacks cb = {.struct_size = sizeof(cb), .particles = poison_force};
         TRY(sinter_force_model_create_host(&host, ctx, "poison", &cb, &p));
         TRY(sinter_stepper_add_force(st, host));
     }
-    TRY(sinter_particles_owned_count(ps, &j->owned));
     TRY(sinter_stepper_set_dt(st, dt));
     TRY(sinter_stepper_set_skin(st, 1e-5)); /* rebuilds (and redistributions) every few steps */
     if (j->lb != NULL)
@@ -241,6 +249,7 @@ static void *run_bed(void *arg)
         }
     }
     TRY(sinter_stepper_time(st, &j->end_time));
+    TRY(sinter_particles_owned_count(ps, &j->owned));
     TRY(sinter_stepper_heat_energy_global(st, 0, &j->energy));
     copy_owned(ps, j->owned, js->out);
     for (int k = 0; k < NW; ++k) {
@@ -284,6 +293,8 @@ static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poi
     const int n = size > 0 ? size : 1;
     loopback *lb = size > 0 ? loopback_create(size) : NULL;
     assert_true(size == 0 || lb != NULL);
+    if (lb != NULL)
+        loopback_set_slabs(lb, X0, X1);
     pthread_t threads[LOOPBACK_MAX];
     job_and_state js[LOOPBACK_MAX];
     for (int r = 0; r < n; ++r) {
@@ -298,8 +309,10 @@ static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poi
         js[r] = (job_and_state){&jobs[r], out};
         assert_int_equal(pthread_create(&threads[r], NULL, run_bed, &js[r]), 0);
     }
-    for (int r = 0; r < n; ++r)
+    for (int r = 0; r < n; ++r) {
         assert_int_equal(pthread_join(threads[r], NULL), 0);
+        jobs[r].migrated = lb != NULL ? loopback_migrated(lb, r) : 0;
+    }
     loopback_destroy(lb);
     for (int r = 0; r < n; ++r) {
         if (jobs[r].setup_failed)
@@ -353,20 +366,24 @@ static void test_decomposed_bed(void **st)
     for (int size = 1; size <= LOOPBACK_MAX; ++size) {
         run_decomposed(size, STEPS, 0, 0, JOBS, &DEC);
         size_t owned = 0;
+        uint64_t migrated = 0;
         for (int r = 0; r < size; ++r) {
             if (JOBS[r].status != SINTER_OK)
                 print_error("%d subdomains, subdomain %d: %s\n", size, r, JOBS[r].message);
             assert_int_equal(JOBS[r].status, SINTER_OK);
             owned += JOBS[r].owned;
+            migrated += JOBS[r].migrated;
             /* the collective decisions: the same rebuilds everywhere, and the wall forces
              * reduced to the same bits on every subdomain */
             assert_int_equal(JOBS[r].builds, JOBS[0].builds);
             assert_memory_equal(JOBS[r].wall, JOBS[0].wall, sizeof(JOBS[r].wall));
             assert_true(JOBS[r].energy == JOBS[0].energy);
         }
-        assert_int_equal(owned, N);
+        assert_int_equal(owned, N); /* every particle owned once, wherever it went */
         for (int k = 0; k < N; ++k)
             assert_int_equal(DEC.seen[k], 1);
+        print_message("%d subdomains: %llu migrations\n", size, (unsigned long long)migrated);
+        assert_true(size == 1 ? migrated == 0 : migrated > 0); /* the borders were crossed */
         if (size == 1) { /* nothing summed in another order: the same bits */
             assert_memory_equal(DEC.x, REF.x, sizeof(REF.x));
             assert_memory_equal(DEC.v, REF.v, sizeof(REF.v));
