@@ -6,7 +6,10 @@
  * sanity checks read them), so they are made to follow: every particle that stayed takes its
  * rows back by id; an arrival's state at t stayed with the subdomain it left, so its rows are
  * its state now (a rollback of that step leaves an arrival where it is, and the displacement
- * checks see no motion of it in that step).
+ * checks see no motion of it in that step). The rows an arrival brings for force, moment and
+ * heat are not what this subdomain's drift left (zeroed, or m g seeded), so the evaluation
+ * zeroes them all itself after a migration; and the kick that ends the step takes its general
+ * path when an arrival is fixed or does not rotate.
  */
 #include <string.h>
 
@@ -72,8 +75,21 @@ sinter_status sinter_domain_redistribute(sinter_stepper *st)
     if (s == SINTER_OK && d->ops.redistribute(st, d->user) != 0)
         s = sinter_fail(st->ctx, SINTER_ERR_CALLBACK,
                         "the host's redistribute callback failed at t = %.9g s", st->time);
-    if (s == SINTER_OK && k.id != NULL && st->ps->population_generation != population)
-        s = follow_rows(st, &k); /* particles migrated */
+    if (s == SINTER_OK && st->ps->population_generation != population) {
+        /* particles migrated: an arrival's force, moment and heat rows are those its record
+         * brought, not zeroed by this subdomain's drift, so the evaluation zeroes every row
+         * itself (the same bits: 0 + m g either way) */
+        st->forces_zeroed = st->gravity_seeded = 0;
+        st->thermal.heat_zeroed = 0;
+        /* the step's kick takes the general path when an arrival is fixed or does not rotate
+         * (the drift found the particles plain before they came) */
+        const sinter_particles *ps = st->ps;
+        for (size_t i = 0; i < ps->count - ps->ghost_count && st->plain_particles; ++i)
+            if (ps->flags[i] & (SINTER_PARTICLE_FIXED | SINTER_PARTICLE_NO_ROTATION))
+                st->plain_particles = 0;
+        if (k.id != NULL)
+            s = follow_rows(st, &k);
+    }
     sinter_free(st->ctx, k.id);
     sinter_free(st->ctx, k.rows);
     return s;
