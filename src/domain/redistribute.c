@@ -36,7 +36,8 @@ static sinter_status keep_rows(sinter_stepper *st, spare_rows *k)
     if (k->id == NULL || k->rows == NULL)
         return sinter_fail(st->ctx, SINTER_ERR_NOMEM,
                            "the rebuild stage: no memory to keep %zu particles' state", k->n);
-    memcpy(k->id, ps->id, k->n * sizeof(uint64_t));
+    if (k->n > 0)
+        memcpy(k->id, ps->id, k->n * sizeof(uint64_t));
     for (int f = 0; f < 4; ++f)
         for (size_t i = 0; st->spare[f] != NULL && i < k->n; ++i)
             memcpy(k->rows + 12 * i + 3 * f, st->spare[f] + 3 * i, 3 * sizeof(double));

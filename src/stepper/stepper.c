@@ -587,7 +587,7 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
      * a rollback restores the owners, and a forward halo the ghosts */
     const size_t first = ps->count - ps->ghost_count;
     double *rows[4] = {ps->x, ps->v, ps->w, ps->rot};
-    for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL; ++k)
+    for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL && ps->ghost_count > 0; ++k)
         memcpy(st->spare[k] + 3 * first, rows[k] + 3 * first, 3 * ps->ghost_count * sizeof(double));
     return s;
 }

@@ -447,7 +447,9 @@ static void test_decomposed_bed(void **st)
  * would drop to zero), and the two forces must be exactly opposite (one history, twice).
  *
  * The wall variant: one sphere pressed on the floor z = 0 (2 % overlap) driven the same way,
- * its wall contact's tangential spring carried by the migration (keyed by id and wall).
+ * its wall contact's tangential spring carried by the migration (keyed by id and wall); a
+ * held sphere rests on the floor far from it in each slab (an empty subdomain is not yet
+ * clean under UBSan: an empty set's arrays are NULL).
  */
 enum { SLIDE_STEPS = 600 };
 static const double XB = 5e-3; /* the border [m] */
@@ -504,6 +506,14 @@ static void *run_slide(void *arg)
         if (sinter_particles_add_with_ids(ps, 1, &ids[k], xk, &R, 0, 300.0, NULL))
             goto done;
     }
+    /* the wall variant: a resting sphere far from the slide on either side, so that neither
+     * subdomain is ever empty */
+    const uint64_t rest_id[2] = {11, 12};
+    const double rest[2][3] = {{1.5e-3, 0.0, 0.98 * R}, {8.5e-3, 0.0, 0.98 * R}};
+    for (int k = 0; k < 2 && j->wall; ++k)
+        if ((j->size == 0 || k == j->rank) &&
+            sinter_particles_add_with_ids(ps, 1, &rest_id[k], rest[k], &R, 0, 300.0, NULL))
+            goto done;
     uint32_t *flags = NULL;
     double *v = NULL;
     size_t count = 0, driven = SIZE_MAX;
