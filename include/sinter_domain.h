@@ -112,9 +112,11 @@ typedef struct sinter_domain_ops {
     /** Refresh ghost rows from their owners (forward) or add ghost rows into owners (reverse). */
     int (*halo)(const sinter_halo *h, void *user);
     /** At a neighbour-list rebuild (every subdomain at once): move the owned particles that
-     * left the subdomain (migration: sinter_stepper_export / _import, a later milestone), then
-     * call sinter_particles_set_ghosts with every particle within sinter_stepper_ghost_cutoff
-     * of an owned one. The set's owned particles may be read (not written) here. */
+     * left the subdomain (migration: sinter_stepper_export with remove = 1 here,
+     * sinter_stepper_import on the subdomain they entered), then call
+     * sinter_particles_set_ghosts with every particle within sinter_stepper_ghost_cutoff of an
+     * owned one. The set's owned particles may be read (not written) here. A step rejected
+     * after a migration leaves the arrivals at their drifted state. */
     int (*redistribute)(sinter_stepper *st, void *user);
     /** Called once when the stepper is destroyed or the table replaced (may be NULL). */
     void (*destroy_user)(void *user);

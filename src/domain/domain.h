@@ -51,4 +51,9 @@ void sinter_domain_discard_ghost_rows(sinter_particles *ps);
 struct sinter_stepper;
 sinter_status sinter_domain_check(struct sinter_stepper *st);
 
+/* The host's redistribute callback (migration and new ghosts), with the explicit stepper's
+ * spare rows (the state at t) following the particles that stayed, by id
+ * (domain/redistribute.c). SINTER_ERR_CALLBACK when the host fails. */
+sinter_status sinter_domain_redistribute(struct sinter_stepper *st);
+
 #endif

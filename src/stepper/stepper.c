@@ -640,7 +640,9 @@ static double heat_reach(const sinter_stepper *st)
 /*
  * The rebuild stage of a decomposed run (domain/domain.h): the decision is every subdomain's
  * (a MAX of the flags, with the largest radius for the ghost cut-off); then the host
- * redistributes (migration and new ghosts, sinter_particles_set_ghosts) before the build.
+ * redistributes (migration and new ghosts, sinter_particles_set_ghosts) before the build,
+ * and the build gives the migrated particles' pairs their staged histories, as a build
+ * without domain operations does.
  * Returns the status, *rebuild whether the lists must be built.
  */
 static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int local,
@@ -665,15 +667,14 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
         return s;
     d->cutoff = 2.0 * v[1] + st->nb.skin + st->nb.reach;
     d->rebuild_due = 0;
-    const int failed = d->ops.redistribute(st, d->user) != 0;
-    s = failed ? sinter_fail(st->ctx, SINTER_ERR_CALLBACK,
-                             "the host's redistribute callback failed at t = %.9g s", st->time)
-               : sinter_explicit_keep_spare(st);
+    s = sinter_domain_redistribute(st); /* migration, then the new ghosts */
+    if (s == SINTER_OK)
+        s = sinter_explicit_keep_spare(st);
     /* the spare arrays (explicit.c: the state at t) get the new ghosts' rows as they are now:
      * a rollback restores the owners, and a forward halo the ghosts */
     const size_t first = ps->count - ps->ghost_count;
     double *rows[4] = {ps->x, ps->v, ps->w, ps->rot};
-    for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL; ++k)
+    for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL && ps->ghost_count > 0; ++k)
         memcpy(st->spare[k] + 3 * first, rows[k] + 3 * first, 3 * ps->ghost_count * sizeof(double));
     return s;
 }
@@ -707,6 +708,8 @@ static sinter_status refresh_neighbors(sinter_stepper *st)
                 s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count,
                                          &st->nb.pw);
         }
+        if (s == SINTER_OK) /* the histories migrated particles brought, by key (migrate.h) */
+            s = sinter_migrate_match(st);
         st->stats.neighbor_builds++;
         st->stats.seconds_neighbor += sinter_clock() - t0;
         return s;

@@ -30,6 +30,9 @@ typedef struct member {
     size_t slot_capacity;
     const sinter_halo *halo; /* published for the duration of a halo */
     uint64_t counts[3];
+    unsigned char *out[LOOPBACK_MAX]; /* records for subdomain r at a migration */
+    size_t out_bytes[LOOPBACK_MAX], out_capacity[LOOPBACK_MAX];
+    uint64_t migrated; /* particles sent to others */
 } member;
 
 /* A barrier of mutex and condition (POSIX barriers are optional: macOS has none). */
@@ -42,6 +45,8 @@ typedef struct barrier {
 
 struct loopback {
     int size;
+    int slabs;     /* 1: particles migrate between the slabs of [x0, x1) */
+    double x0, x1; /* [m] */
     barrier barrier;
     member m[LOOPBACK_MAX];
 };
@@ -302,18 +307,85 @@ static void take_ghost(member *me, size_t k, int r, size_t j)
     me->src_index[k] = j;
 }
 
+/* The subdomain whose slab holds x. */
+static int slab_of(const loopback *lb, double x)
+{
+    const double r = floor((x - lb->x0) / (lb->x1 - lb->x0) * lb->size);
+    return r < 0.0 ? 0 : r >= lb->size ? lb->size - 1 : (int)r;
+}
+
+/* Export the owned particles of `me` listed for subdomain r into me->out[r]. */
+static int export_to(member *me, sinter_stepper *st, int r, size_t n, const size_t *list)
+{
+    size_t bytes = 0, written = 0;
+    me->out_bytes[r] = 0;
+    if (n == 0)
+        return 0;
+    if (sinter_stepper_export_size(st, n, list, &bytes) != SINTER_OK)
+        return -1;
+    if (bytes > me->out_capacity[r]) {
+        unsigned char *g = realloc(me->out[r], bytes);
+        if (g == NULL)
+            return -1;
+        me->out[r] = g;
+        me->out_capacity[r] = bytes;
+    }
+    if (sinter_stepper_export(st, n, list, me->out[r], me->out_capacity[r], &written, 0))
+        return -1;
+    me->out_bytes[r] = written;
+    return 0;
+}
+
+/* Migration: the owned particles whose centre left this slab go, with everything the stepper
+ * keeps for them, to the subdomain whose slab holds them; those of the others come here
+ * (from subdomain 0 up). Collective (two barriers). */
+static int migrate(member *me, sinter_stepper *st)
+{
+    loopback *lb = me->lb;
+    int bad = publish_owned(me); /* (positions and ids; no view stays out) */
+    const size_t n = me->own.n;
+    size_t *list = malloc((n + 1) * sizeof(size_t)), *all = malloc((n + 1) * sizeof(size_t));
+    bad |= list == NULL || all == NULL;
+    size_t leaving = 0;
+    for (int r = 0; r < lb->size && !bad; ++r) {
+        size_t m = 0;
+        for (size_t i = 0; r != me->rank && i < n; ++i)
+            if (slab_of(lb, me->own.x[3 * i]) == r)
+                list[m++] = all[leaving++] = i;
+        bad |= export_to(me, st, r, m, list);
+    }
+    if (!bad && leaving > 0) { /* one removal of all of them (the indices stay valid) */
+        size_t bytes = 0, written = 0;
+        bad = sinter_stepper_export_size(st, leaving, all, &bytes) != SINTER_OK;
+        void *scratch = bad ? NULL : malloc(bytes);
+        bad |= scratch == NULL ||
+               sinter_stepper_export(st, leaving, all, scratch, bytes, &written, 1) != SINTER_OK;
+        free(scratch);
+        me->migrated += leaving;
+    }
+    free(list);
+    free(all);
+    for (int r = 0; r < lb->size && bad; ++r)
+        me->out_bytes[r] = 0;
+    loopback_barrier(lb); /* every record written */
+    for (int r = 0; r < lb->size && !bad; ++r) {
+        const member *o = &lb->m[r];
+        if (r != me->rank && o->out_bytes[me->rank] > 0)
+            bad |= sinter_stepper_import(st, o->out[me->rank], o->out_bytes[me->rank], NULL) !=
+                   SINTER_OK;
+    }
+    loopback_barrier(lb); /* every record read before any is written again */
+    return bad;
+}
+
 static int lb_redistribute(sinter_stepper *st, void *user)
 {
     member *me = user;
     loopback *lb = me->lb;
     me->counts[2]++;
-    /* Migration goes here: the owned particles that left the slab would be exported
-     * (sinter_stepper_export, with their contact histories) to the subdomain they entered
-     * and imported there (sinter_stepper_import) before the ghosts are made. This version
-     * keeps every particle on the subdomain that owned it at the start: the tests' horizons
-     * are short, and the ghost criterion below follows the owned particles wherever they go. */
+    int bad = lb->slabs ? migrate(me, st) : 0;
     double cutoff = 0.0;
-    int bad = sinter_stepper_ghost_cutoff(st, &cutoff) != SINTER_OK;
+    bad |= sinter_stepper_ghost_cutoff(st, &cutoff) != SINTER_OK;
     bad |= publish_owned(me);
     double lo = INFINITY, hi = -INFINITY; /* the owned particles' extent along x */
     for (size_t i = 0; i < me->own.n; ++i) {
@@ -407,6 +479,8 @@ void loopback_destroy(loopback *lb)
         free(m->src_rank);
         free(m->src_index);
         free(m->slot);
+        for (int k = 0; k < LOOPBACK_MAX; ++k)
+            free(m->out[k]);
     }
     pthread_cond_destroy(&lb->barrier.all_in);
     pthread_mutex_destroy(&lb->barrier.lock);
@@ -430,4 +504,16 @@ sinter_status loopback_attach(loopback *lb, int rank, sinter_stepper *st, sinter
 void loopback_counts(const loopback *lb, int rank, uint64_t counts[3])
 {
     memcpy(counts, lb->m[rank].counts, sizeof(lb->m[rank].counts));
+}
+
+void loopback_set_slabs(loopback *lb, double x0, double x1)
+{
+    lb->slabs = x1 > x0;
+    lb->x0 = x0;
+    lb->x1 = x1;
+}
+
+uint64_t loopback_migrated(const loopback *lb, int rank)
+{
+    return lb->m[rank].migrated;
 }

@@ -7,10 +7,12 @@
  * - reduce: every subdomain computes the result from all slots in the same order; sums of
  *   doubles go through the order-independent limb sum (core/repro_sum.h), integer sums are
  *   exact, MIN and MAX are order-free: every subdomain receives identical bits.
- * - redistribute: a slab decomposition along x fixed at the start (no migration in this
- *   version; the place for sinter_stepper_export / _import is marked in the code): every
- *   subdomain publishes its owned particles, and takes as ghosts the particles of the others
- *   within the ghost cut-off of its owned particles' extent along x.
+ * - redistribute: with slabs set (loopback_set_slabs), every owned particle whose centre
+ *   left its subdomain's slab along x migrates to the subdomain whose slab holds it
+ *   (sinter_stepper_export with remove = 1 there, sinter_stepper_import here, from the
+ *   subdomains in order); then every subdomain publishes its owned particles and takes as
+ *   ghosts the particles of the others within the ghost cut-off of its owned particles'
+ *   extent along x. Without slabs, particles stay where they started.
  * - halo: forward copies the owners' rows into the ghost rows; reverse adds ghost rows into
  *   their owners' rows (in subdomain order) and zeroes them.
  */
@@ -29,6 +31,13 @@ typedef struct loopback loopback;
 /* A transport for `size` subdomains (1..LOOPBACK_MAX), NULL on failure. */
 loopback *loopback_create(int size);
 void loopback_destroy(loopback *lb);
+
+/* Equal slabs of [x0, x1) along x, subdomain r the r-th (the outer ones open outwards):
+ * particles migrate at every redistribution. Call before the subdomains step. */
+void loopback_set_slabs(loopback *lb, double x0, double x1);
+
+/* Particles subdomain `rank` sent to others so far (migrations). */
+uint64_t loopback_migrated(const loopback *lb, int rank);
 
 /* Install the transport on subdomain `rank`'s stepper over `ps` (called by its thread). */
 sinter_status loopback_attach(loopback *lb, int rank, sinter_stepper *st, sinter_particles *ps);

@@ -7,8 +7,11 @@
  *    gravity, conduction, five walls) on 1, 2, 3 and 4 subdomains equals the single-domain
  *    run: on one subdomain bit for bit (nothing is summed in another order), on more within
  *    1e-10 relative, with the wall forces identical on every subdomain.
- *  - A contact sliding across a subdomain border keeps its tangential spring: equal to the
- *    single-domain run to 1e-12 of its largest force, and the same bits on both sides.
+ *    Particles jiggling about the borders migrate (export/import with their histories).
+ *  - A contact sliding across a subdomain border keeps its tangential spring, before and after
+ *    the driven sphere migrates: equal to the single-domain run to 1e-12 of its largest force,
+ *    and the same bits on both sides; a sphere sliding on a wall across the border keeps its
+ *    wall contact's spring through its migration.
  *  - A NaN made on one subdomain stops all of them at the same step with the same status and
  *    message, which names the subdomain and the particle's id (no hang: ctest's timeout).
  */
@@ -62,16 +65,23 @@ static void make_bed(void)
     }
 }
 
-/* The subdomain of a particle at x among `size` slabs of the box along x. */
+/* The slabs along x: [X0, X1) cut into 2, 3 or 4 equal ones puts every border on a column of
+ * the lattice (X1 - X0 = 12 A), so that the particles of that column, jiggling about it by
+ * their random velocities, cross it back and forth and migrate (domain_loopback.h). */
+static const double X0 = R - 2 * A, X1 = R + 10 * A;
+
+/* The subdomain of a particle at x among `size` slabs (the loopback's rule). */
 static int slab_of(double x, int size)
 {
-    int r = (int)floor(x / LX * size);
-    return r < 0 ? 0 : r >= size ? size - 1 : r;
+    const double r = floor((x - X0) / (X1 - X0) * size);
+    return r < 0.0 ? 0 : r >= size ? size - 1 : (int)r;
 }
 
-/* A host body force that makes the force of one particle NaN from time `after` on. */
+/* A host body force that makes the force of the particle with id `id` NaN from time `after`
+ * on, on the subdomain that owns it then (it may have migrated). */
 typedef struct poison {
-    size_t index; /* (SIZE_MAX: none) */
+    const sinter_particles *ps;
+    uint64_t id; /* (0: none) */
     double after;
 } poison;
 
@@ -79,8 +89,12 @@ static int poison_force(const sinter_state_view *s, double *force, double *torqu
 {
     (void)torque;
     const poison *p = user;
-    if (p->index != SIZE_MAX && s->time > p->after)
-        force[3 * p->index] = NAN;
+    size_t i = SIZE_MAX, owned = 0;
+    if (p->id == 0 || !(s->time > p->after) ||
+        sinter_particles_owned_count(p->ps, &owned) != SINTER_OK ||
+        sinter_particles_find_id(p->ps, p->id, &i) != SINTER_OK || i >= owned)
+        return 0;
+    force[3 * i] = NAN;
     return 0;
 }
 
@@ -103,6 +117,7 @@ typedef struct job {
     double wall[3 * NW], wall_local[3 * NW];
     uint64_t builds, contacts;
     size_t owned;
+    uint64_t migrated; /* particles it sent to other subdomains */
 } job;
 
 /* Final state by id - 1 (each subdomain writes the slots of its owned particles). */
@@ -167,7 +182,7 @@ static void *run_bed(void *arg)
     sinter_stepper *st = NULL;
     sinter_force_model *gravity = NULL, *contact = NULL, *host = NULL;
     sinter_heat_model *cond = NULL;
-    poison p = {SIZE_MAX, 0.0};
+    poison p = {NULL, 0, 0.0};
     const double dt = 2e-6;
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
@@ -210,17 +225,13 @@ static void *run_bed(void *arg)
         TRY(sinter_particles_view(ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
         memcpy(w + 3 * first, BED.w + 3 * k, 24);
         TRY(sinter_particles_release(ps, SINTER_FIELD_SPIN));
-        if (BED.id[k] == j->poison_id) {
-            p.index = first;
-            p.after = (j->poison_step - 0.5) * dt;
-        }
     }
-    if (p.index != SIZE_MAX) {
+    if (j->poison_id != 0) { /* on every subdomain: migration needs the same force models */
+        p = (poison){ps, j->poison_id, (j->poison_step - 0.5) * dt};
         const sinter_force_callbacks cb = {.struct_size = sizeof(cb), .particles = poison_force};
         TRY(sinter_force_model_create_host(&host, ctx, "poison", &cb, &p));
         TRY(sinter_stepper_add_force(st, host));
     }
-    TRY(sinter_particles_owned_count(ps, &j->owned));
     TRY(sinter_stepper_set_dt(st, dt));
     TRY(sinter_stepper_set_skin(st, 1e-5)); /* rebuilds (and redistributions) every few steps */
     if (j->lb != NULL)
@@ -241,6 +252,7 @@ static void *run_bed(void *arg)
         }
     }
     TRY(sinter_stepper_time(st, &j->end_time));
+    TRY(sinter_particles_owned_count(ps, &j->owned));
     TRY(sinter_stepper_heat_energy_global(st, 0, &j->energy));
     copy_owned(ps, j->owned, js->out);
     for (int k = 0; k < NW; ++k) {
@@ -284,6 +296,8 @@ static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poi
     const int n = size > 0 ? size : 1;
     loopback *lb = size > 0 ? loopback_create(size) : NULL;
     assert_true(size == 0 || lb != NULL);
+    if (lb != NULL)
+        loopback_set_slabs(lb, X0, X1);
     pthread_t threads[LOOPBACK_MAX];
     job_and_state js[LOOPBACK_MAX];
     for (int r = 0; r < n; ++r) {
@@ -298,8 +312,10 @@ static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poi
         js[r] = (job_and_state){&jobs[r], out};
         assert_int_equal(pthread_create(&threads[r], NULL, run_bed, &js[r]), 0);
     }
-    for (int r = 0; r < n; ++r)
+    for (int r = 0; r < n; ++r) {
         assert_int_equal(pthread_join(threads[r], NULL), 0);
+        jobs[r].migrated = lb != NULL ? loopback_migrated(lb, r) : 0;
+    }
     loopback_destroy(lb);
     for (int r = 0; r < n; ++r) {
         if (jobs[r].setup_failed)
@@ -353,20 +369,24 @@ static void test_decomposed_bed(void **st)
     for (int size = 1; size <= LOOPBACK_MAX; ++size) {
         run_decomposed(size, STEPS, 0, 0, JOBS, &DEC);
         size_t owned = 0;
+        uint64_t migrated = 0;
         for (int r = 0; r < size; ++r) {
             if (JOBS[r].status != SINTER_OK)
                 print_error("%d subdomains, subdomain %d: %s\n", size, r, JOBS[r].message);
             assert_int_equal(JOBS[r].status, SINTER_OK);
             owned += JOBS[r].owned;
+            migrated += JOBS[r].migrated;
             /* the collective decisions: the same rebuilds everywhere, and the wall forces
              * reduced to the same bits on every subdomain */
             assert_int_equal(JOBS[r].builds, JOBS[0].builds);
             assert_memory_equal(JOBS[r].wall, JOBS[0].wall, sizeof(JOBS[r].wall));
             assert_true(JOBS[r].energy == JOBS[0].energy);
         }
-        assert_int_equal(owned, N);
+        assert_int_equal(owned, N); /* every particle owned once, wherever it went */
         for (int k = 0; k < N; ++k)
             assert_int_equal(DEC.seen[k], 1);
+        print_message("%d subdomains: %llu migrations\n", size, (unsigned long long)migrated);
+        assert_true(size == 1 ? migrated == 0 : migrated > 0); /* the borders were crossed */
         if (size == 1) { /* nothing summed in another order: the same bits */
             assert_memory_equal(DEC.x, REF.x, sizeof(REF.x));
             assert_memory_equal(DEC.v, REF.v, sizeof(REF.v));
@@ -419,20 +439,30 @@ static void test_decomposed_bed(void **st)
  * Two spheres pressed together (2 % overlap), both held (FIXED), the one of subdomain 0
  * driven along x at 0.5 m/s across the border x = XB into subdomain 1's slab, where the other
  * sits; friction high enough that the contact sticks, so the tangential spring grows with
- * the slip. Each side evaluates the pair (newton off) from its own history: the force on each
- * sphere must follow the single-domain run step by step (to 1e-12 of the largest: the same
- * operations on the same bits; a spring lost at a rebuild would drop to zero), and the two
- * sides' forces must be exactly opposite (their histories are the same bits).
+ * the slip. While the driven sphere is on subdomain 0 each side evaluates the pair (newton
+ * off) from its own history; once it crossed it migrates (with its history) to subdomain 1,
+ * which then holds the pair alone. The force on each sphere, read from the subdomain that
+ * owns it at that step, must follow the single-domain run step by step (to 1e-12 of the
+ * largest: the same operations on the same bits; a spring lost at a rebuild or a migration
+ * would drop to zero), and the two forces must be exactly opposite (one history, twice).
+ *
+ * The wall variant: one sphere pressed on the floor z = 0 (2 % overlap) driven the same way,
+ * its wall contact's tangential spring carried by the migration (keyed by id and wall); a
+ * held sphere rests on the floor far from it in each slab (an empty subdomain is not yet
+ * clean under UBSan: an empty set's arrays are NULL).
  */
 enum { SLIDE_STEPS = 600 };
 static const double XB = 5e-3; /* the border [m] */
 
 typedef struct slide_job {
     int rank, size; /* size 0: no domain operations */
+    int wall;       /* 1: the sphere on a wall */
     loopback *lb;
     int failed;
-    double f[2][SLIDE_STEPS]; /* x force on the held sphere (id 7) and the driven one (id 3) */
-    uint64_t builds;
+    double f[2][SLIDE_STEPS]; /* x force on the held sphere (id 7) and the driven one (id 3),
+                                 NAN where this subdomain does not own it */
+    double fw[SLIDE_STEPS];   /* x force on the wall (reduced over the subdomains) */
+    uint64_t builds, migrated;
     double end; /* the driven sphere's final x [m] (its owner's) */
 } slide_job;
 
@@ -442,12 +472,14 @@ static void *run_slide(void *arg)
     sinter_ctx *ctx = NULL;
     sinter_material *mat = NULL;
     sinter_particles *ps = NULL;
+    sinter_walls *walls = NULL;
     sinter_stepper *st = NULL;
     sinter_force_model *contact = NULL;
     j->failed = 1;
     const uint64_t ids[2] = {7, 3};
     const double x[2][3] = {{XB + 2e-5, 0.0, 0.0}, {XB - 1e-4, 2 * R * 0.98, 0.0}};
-    size_t index[2] = {SIZE_MAX, SIZE_MAX};
+    const double on_wall[3] = {XB - 1e-4, 0.0, 0.98 * R};
+    const double floor_point[3] = {0, 0, 0}, floor_normal[3] = {0, 0, 1};
     if (sinter_ctx_create(&ctx, NULL) || sinter_ctx_set_threads(ctx, 1) ||
         sinter_material_create(&mat, ctx, "m") ||
         sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 1e7) ||
@@ -456,31 +488,44 @@ static void *run_slide(void *arg)
         sinter_material_set(mat, SINTER_MAT_DAMPING_RATIO, 0.0) ||
         sinter_material_set(mat, SINTER_MAT_FRICTION_STATIC, 100.0) ||
         sinter_material_set(mat, SINTER_MAT_FRICTION_DYNAMIC, 100.0) ||
-        sinter_particles_create(&ps, ctx) || sinter_particles_set_material(ps, 0, mat) ||
-        sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL) ||
+        sinter_particles_create(&ps, ctx) || sinter_particles_set_material(ps, 0, mat))
+        goto done;
+    if (j->wall && (sinter_walls_create(&walls, ctx) ||
+                    sinter_walls_add_plane(walls, floor_point, floor_normal, mat, NULL)))
+        goto done;
+    if (sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls) ||
         sinter_stepper_set_option(st, "thread_choice", 0) ||
         sinter_force_model_create(&contact, ctx, "hertz_mindlin") ||
         sinter_stepper_add_force(st, contact) || sinter_stepper_set_dt(st, 1e-6))
         goto done;
-    for (int k = 0; k < 2; ++k) {
-        const int owner = x[k][0] < XB ? 0 : 1;
+    for (int k = j->wall; k < 2; ++k) {
+        const double *xk = j->wall ? on_wall : x[k];
+        const int owner = xk[0] < XB ? 0 : 1;
         if (j->size > 0 && owner != j->rank)
             continue;
-        if (sinter_particles_add_with_ids(ps, 1, &ids[k], x[k], &R, 0, 300.0, &index[k]))
+        if (sinter_particles_add_with_ids(ps, 1, &ids[k], xk, &R, 0, 300.0, NULL))
             goto done;
     }
+    /* the wall variant: a resting sphere far from the slide on either side, so that neither
+     * subdomain is ever empty */
+    const uint64_t rest_id[2] = {11, 12};
+    const double rest[2][3] = {{1.5e-3, 0.0, 0.98 * R}, {8.5e-3, 0.0, 0.98 * R}};
+    for (int k = 0; k < 2 && j->wall; ++k)
+        if ((j->size == 0 || k == j->rank) &&
+            sinter_particles_add_with_ids(ps, 1, &rest_id[k], rest[k], &R, 0, 300.0, NULL))
+            goto done;
     uint32_t *flags = NULL;
     double *v = NULL;
-    size_t count = 0;
+    size_t count = 0, driven = SIZE_MAX;
     if (sinter_particles_view(ps, SINTER_FIELD_FLAGS, (void **)&flags, &count, NULL))
         goto done;
     for (size_t i = 0; i < count; ++i)
         flags[i] = SINTER_PARTICLE_FIXED;
     sinter_particles_release(ps, SINTER_FIELD_FLAGS);
-    if (index[1] != SIZE_MAX) {
+    if (sinter_particles_find_id(ps, ids[1], &driven) == SINTER_OK) {
         if (sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL))
             goto done;
-        v[3 * index[1]] = 0.5;
+        v[3 * driven] = 0.5;
         sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
     }
     if (j->lb != NULL && loopback_attach(j->lb, j->rank, st, ps))
@@ -489,17 +534,29 @@ static void *run_slide(void *arg)
         if (sinter_stepper_step(st, 1) != SINTER_OK)
             goto done;
         const double *f = NULL;
-        if (sinter_particles_view_read(ps, SINTER_FIELD_FORCE, (const void **)&f, NULL, NULL))
+        size_t owned = 0;
+        if (sinter_particles_owned_count(ps, &owned) ||
+            sinter_particles_view_read(ps, SINTER_FIELD_FORCE, (const void **)&f, NULL, NULL))
             goto done;
-        for (int k = 0; k < 2; ++k)
-            j->f[k][s] = index[k] != SIZE_MAX ? f[3 * index[k]] : NAN;
+        for (int k = 0; k < 2; ++k) { /* by id: a migration changes the indices */
+            size_t i = SIZE_MAX;
+            const int mine = sinter_particles_find_id(ps, ids[k], &i) == SINTER_OK && i < owned;
+            j->f[k][s] = mine ? f[3 * i] : NAN;
+        }
         sinter_particles_release(ps, SINTER_FIELD_FORCE);
+        double fw[3] = {0, 0, 0};
+        if (walls != NULL && sinter_walls_get_force(walls, 0, fw))
+            goto done;
+        j->fw[s] = fw[0];
     }
-    if (index[1] != SIZE_MAX) {
+    size_t owned = 0;
+    if (sinter_particles_owned_count(ps, &owned))
+        goto done;
+    if (sinter_particles_find_id(ps, ids[1], &driven) == SINTER_OK && driven < owned) {
         const double *p = NULL;
         if (sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&p, NULL, NULL))
             goto done;
-        j->end = p[3 * index[1]];
+        j->end = p[3 * driven];
         sinter_particles_release(ps, SINTER_FIELD_POSITION);
     }
     sinter_stepper_stats stats;
@@ -511,6 +568,7 @@ static void *run_slide(void *arg)
 done:
     sinter_stepper_destroy(st);
     sinter_force_model_destroy(contact);
+    sinter_walls_destroy(walls);
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);
     sinter_ctx_destroy(ctx);
@@ -519,35 +577,88 @@ done:
 
 static slide_job SERIAL, SIDE[2];
 
-static void test_sliding_across_border(void **st)
+/* The slide on one domain and on two with migration; returns the step after which the
+ * driven sphere (id 3) is owned by subdomain 1. */
+static int run_slides(int wall)
 {
-    (void)st;
-    SERIAL.size = 0;
+    SERIAL = (slide_job){.size = 0, .wall = wall};
     run_slide(&SERIAL);
     assert_int_equal(SERIAL.failed, 0);
     loopback *lb = loopback_create(2);
     assert_non_null(lb);
+    loopback_set_slabs(lb, 0.0, 2 * XB); /* the border at XB */
     pthread_t t[2];
     for (int r = 0; r < 2; ++r) {
-        SIDE[r] = (slide_job){.rank = r, .size = 2, .lb = lb};
+        SIDE[r] = (slide_job){.rank = r, .size = 2, .wall = wall, .lb = lb};
         assert_int_equal(pthread_create(&t[r], NULL, run_slide, &SIDE[r]), 0);
     }
-    for (int r = 0; r < 2; ++r)
+    for (int r = 0; r < 2; ++r) {
         assert_int_equal(pthread_join(t[r], NULL), 0);
+        SIDE[r].migrated = loopback_migrated(lb, r);
+    }
     loopback_destroy(lb);
     assert_int_equal(SIDE[0].failed, 0);
     assert_int_equal(SIDE[1].failed, 0);
-    assert_true(SIDE[0].end > XB + 1e-4); /* the driven sphere crossed the border */
-    assert_true(SIDE[0].builds >= 3);     /* and the lists and ghosts were made again */
+    assert_true(SIDE[1].end > XB + 1e-4);  /* the driven sphere crossed the border */
+    assert_int_equal(SIDE[0].migrated, 1); /* and migrated, once */
+    assert_int_equal(SIDE[1].migrated, 0);
+    int moved = -1; /* its owner at every step: subdomain 0, then 1 */
+    for (int s = 0; s < SLIDE_STEPS; ++s) {
+        assert_true(isnan(SIDE[0].f[1][s]) != isnan(SIDE[1].f[1][s]));
+        if (moved < 0 && isnan(SIDE[0].f[1][s]))
+            moved = s;
+        assert_true(moved < 0 || isnan(SIDE[0].f[1][s]));
+    }
+    print_message("the driven sphere migrated at step %d of %d\n", moved, SLIDE_STEPS);
+    assert_true(moved > 0 && moved < SLIDE_STEPS - 100); /* with room after it */
+    return moved;
+}
+
+/* (the owner's value) */
+static double owned_value(double a, double b)
+{
+    return isnan(a) ? b : a;
+}
+
+static void test_sliding_across_border(void **st)
+{
+    (void)st;
+    run_slides(0);
+    assert_true(SIDE[0].builds >= 3); /* the lists and ghosts were made again */
     double top = 0.0;
     for (int s = 0; s < SLIDE_STEPS; ++s)
         top = fmax(top, fabs(SERIAL.f[0][s]));
     assert_true(top > 1e-4);                                     /* the spring did grow */
     assert_true(fabs(SERIAL.f[0][SLIDE_STEPS - 1]) > 0.9 * top); /* and holds */
     for (int s = 0; s < SLIDE_STEPS; ++s) {
-        assert_close(SIDE[1].f[0][s], SERIAL.f[0][s], 1e-12 * top); /* held, subdomain 1 */
-        assert_close(SIDE[0].f[1][s], SERIAL.f[1][s], 1e-12 * top); /* driven, subdomain 0 */
-        assert_true(SIDE[1].f[0][s] == -SIDE[0].f[1][s]);           /* one history, twice */
+        const double held = owned_value(SIDE[0].f[0][s], SIDE[1].f[0][s]);
+        const double driven = owned_value(SIDE[0].f[1][s], SIDE[1].f[1][s]);
+        assert_true(isnan(SIDE[0].f[0][s])); /* the held sphere stays on subdomain 1 */
+        assert_close(held, SERIAL.f[0][s], 1e-12 * top);
+        assert_close(driven, SERIAL.f[1][s], 1e-12 * top);
+        assert_true(held == -driven); /* one history, twice (or one pair after the move) */
+    }
+}
+
+/* A sphere sliding on a wall across the border keeps its wall contact's tangential spring
+ * through the migration: its force equals the single-domain run's to 1e-12 relative (of the
+ * largest), and the wall force, reduced over the subdomains, is its opposite. */
+static void test_sliding_on_wall_across_border(void **st)
+{
+    (void)st;
+    const int moved = run_slides(1);
+    double top = 0.0;
+    for (int s = 0; s < SLIDE_STEPS; ++s)
+        top = fmax(top, fabs(SERIAL.f[1][s]));
+    assert_true(top > 1e-4);                                     /* the spring did grow */
+    assert_true(fabs(SERIAL.f[1][SLIDE_STEPS - 1]) > 0.9 * top); /* and holds */
+    assert_true(fabs(SERIAL.f[1][moved]) > 0.1 * top);           /* it was loaded there */
+    for (int s = 0; s < SLIDE_STEPS; ++s) {
+        const double driven = owned_value(SIDE[0].f[1][s], SIDE[1].f[1][s]);
+        assert_close(driven, SERIAL.f[1][s], 1e-12 * top);
+        assert_true(SIDE[0].fw[s] == SIDE[1].fw[s]); /* reduced: the same bits */
+        assert_close(SIDE[0].fw[s], SERIAL.fw[s], 1e-12 * top);
+        assert_close(SIDE[0].fw[s], -driven, 1e-12 * top);
     }
 }
 
@@ -671,8 +782,11 @@ static void test_refusals(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_decomposed_bed), cmocka_unit_test(test_sliding_across_border),
-        cmocka_unit_test(test_nan_stops_all),  cmocka_unit_test(test_observer_stops_all),
+        cmocka_unit_test(test_decomposed_bed),
+        cmocka_unit_test(test_sliding_across_border),
+        cmocka_unit_test(test_sliding_on_wall_across_border),
+        cmocka_unit_test(test_nan_stops_all),
+        cmocka_unit_test(test_observer_stops_all),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

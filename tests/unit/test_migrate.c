@@ -377,9 +377,11 @@ static void test_electric_warm_start_travels(void **state)
     assert_int_equal(em_a->last_iterations, em_ref->last_iterations);
     sinter_electric_model *em[3] = {em_ref, em_a, em_b};
     scene *sc[3] = {&ref, &a, &b};
-    for (int k = 0; k < 3; ++k) {
-        scene_close(sc[k]);
+    for (int k = 0; k < 3; ++k) { /* the model after its stepper, before its context */
+        sinter_stepper_destroy(sc[k]->st);
+        sc[k]->st = NULL;
         sinter_electric_model_destroy(em[k]);
+        scene_close(sc[k]);
     }
 }
 
