@@ -96,6 +96,11 @@ struct sinter_heat_model {
  * axis point, and the power times the path's level). */
 double sinter_heat_param(const sinter_heat_model *hm, int k, double t);
 
+/* How far the axis point (parameters "x" and "y": the laser, the nozzle, the beam) of hm moves
+ * from t to t + h [m]: the chord of its schedules or scan path over the interval; 0 for a model
+ * without an axis point. */
+double sinter_heat_axis_travel(const sinter_heat_model *hm, double t, double h);
+
 /* Built-in models, one file each. */
 extern const sinter_heat_ops sinter_heat_conduction;
 extern const sinter_heat_ops sinter_heat_convection;

@@ -38,6 +38,15 @@ static int param_index(const sinter_heat_model *hm, const char *key)
     return -1;
 }
 
+double sinter_heat_axis_travel(const sinter_heat_model *hm, double t, double h)
+{
+    const int kx = param_index(hm, "x"), ky = param_index(hm, "y");
+    if (kx < 0 || ky < 0)
+        return 0.0;
+    return hypot(sinter_heat_param(hm, kx, t + h) - sinter_heat_param(hm, kx, t),
+                 sinter_heat_param(hm, ky, t + h) - sinter_heat_param(hm, ky, t));
+}
+
 sinter_status sinter_heat_model_set_scan_path(sinter_heat_model *hm, size_t n, const double *points,
                                               double start_time)
 {

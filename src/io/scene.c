@@ -1041,7 +1041,8 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "frozen_atol",
                                           "frozen_dt_max",
                                           "frozen_wake",
-                                          "frozen_settle"};
+                                          "frozen_settle",
+                                          "frozen_travel"};
     for (size_t k = 0; k < sizeof(options) / sizeof(options[0]); ++k) {
         double value;
         const sinter_status got = scene_get_double(t, s, options[k], &value);

@@ -22,6 +22,7 @@ void sinter_frozen_init(sinter_frozen *fz)
     fz->rtol = 1e-4;
     fz->atol = 1e-2;
     fz->dt_max = 0.0;
+    fz->travel = 0.05;
     fz->wake = 0.01;
     fz->settle_steps = 1000;
     fz->ke_last = INFINITY;
@@ -36,7 +37,8 @@ void sinter_frozen_free(sinter_ctx *ctx, sinter_frozen *fz)
 }
 
 static const char *const OPTIONS[] = {"frozen_heat",   "frozen_ke",   "frozen_rtol",  "frozen_atol",
-                                      "frozen_dt_max", "frozen_wake", "frozen_settle"};
+                                      "frozen_dt_max", "frozen_wake", "frozen_settle",
+                                      "frozen_travel"};
 static const char *const STATISTICS[] = {"frozen_time",    "frozen_steps",   "frozen_rejected",
                                          "frozen_wakeups", "frozen_freezes", "frozen_active",
                                          "frozen_dt"};
@@ -83,6 +85,12 @@ sinter_status sinter_frozen_set(sinter_stepper *st, const char *key, double valu
             return SINTER_OK;
         }
         need = "finite and >= 0 s (0: no limit)";
+    } else if (strcmp(key, "frozen_travel") == 0) {
+        if (isfinite(value) && value >= 0.0) {
+            fz->travel = value;
+            return SINTER_OK;
+        }
+        need = "finite and >= 0 radii (0: no limit)";
     } else if (strcmp(key, "frozen_settle") == 0) {
         if (value >= 0.0 && value <= 1e15 && value == floor(value)) {
             fz->settle_steps = (uint64_t)value;
@@ -112,6 +120,7 @@ sinter_status sinter_frozen_get(const sinter_stepper *st, const char *key, doubl
                  {"frozen_dt_max", fz->dt_max},
                  {"frozen_wake", fz->wake},
                  {"frozen_settle", (double)fz->settle_steps},
+                 {"frozen_travel", fz->travel},
                  {"frozen_time", fz->time},
                  {"frozen_steps", (double)fz->steps},
                  {"frozen_rejected", (double)fz->rejected},
@@ -326,6 +335,30 @@ static sinter_status heat_update(sinter_stepper *st, double h)
     return s;
 }
 
+/* The proposal h shortened so that no heat source's axis point travels more than
+ * `frozen_travel` smallest radii over it (frozen_heat.h); at least h_floor. */
+static double travel_limit(const sinter_stepper *st, double h, double h_floor)
+{
+    const sinter_frozen *fz = &st->frozen;
+    if (fz->travel <= 0.0)
+        return h;
+    const sinter_particles *ps = st->ps;
+    double rmin = INFINITY;
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i)
+        rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
+    const double reach = fz->travel * rmin;
+    if (!(reach < INFINITY))
+        return h;
+    for (size_t k = 0; k < st->thermal.count; ++k)
+        for (int pass = 0; pass < 3 && h > h_floor; ++pass) { /* the chord of a bend: again */
+            const double d = sinter_heat_axis_travel(st->thermal.slots[k].model, st->time, h);
+            if (!(d > reach))
+                break;
+            h = fmax(h * (reach / d), h_floor);
+        }
+    return h;
+}
+
 sinter_status sinter_frozen_step(sinter_stepper *st, double t_end, double *taken, int *woke)
 {
     sinter_frozen *fz = &st->frozen;
@@ -336,7 +369,7 @@ sinter_status sinter_frozen_step(sinter_stepper *st, double t_end, double *taken
         double proposal = fz->h;
         if (fz->dt_max > 0.0)
             proposal = fmin(proposal, fz->dt_max);
-        proposal = fmax(proposal, h_floor);
+        proposal = travel_limit(st, fmax(proposal, h_floor), h_floor);
         const double remaining = t_end - st->time;
         const int lands = remaining <= proposal * (1.0 + 1e-6);
         const double h = lands ? remaining : proposal;

@@ -13,7 +13,11 @@
  * step's start (r0) and end (r1 = (theta1 - theta0) / h) it is estimated as
  * e = h / 2 |r1 - r0|, and a step is accepted when max_i e_i / (atol + rtol |theta_i|) <= 1
  * (the weighted norm of SUNDIALS' integrators, maximum over particles); the next step is
- * h 0.9 / sqrt(err), within [h / 5, 5 h], at most "frozen_dt_max".
+ * h 0.9 / sqrt(err), within [h / 5, 5 h], at most "frozen_dt_max", and short enough that a
+ * moving source's axis point (a laser, nozzle or beam on a schedule or scan path) travels at
+ * most "frozen_travel" times the smallest particle radius in one step: the error estimate
+ * compares two approximations of one step under the source's power at its start, so it cannot
+ * see the source reach new particles within the step (issue 41, measured on the laser bed).
  * Wake-up: a wall that would move in the next heat step, or a particle whose modulus factor
  * (thermal softening, seed 003 eq. 42) changed by more than "frozen_wake" relative to its
  * value at the freeze. The forces are then evaluated again and the explicit steps resume.
@@ -33,6 +37,7 @@ typedef struct sinter_frozen {
     double rtol;           /* "frozen_rtol": relative temperature tolerance [1] */
     double atol;           /* "frozen_atol": absolute temperature tolerance [K] */
     double dt_max;         /* "frozen_dt_max": largest heat step [s] */
+    double travel; /* "frozen_travel": a source's axis moves at most this many smallest radii a step */
     double wake;           /* "frozen_wake": relative modulus change that wakes the mechanics */
     uint64_t settle_steps; /* "frozen_settle": mechanical steps before the rest test */
     /* state (carried by checkpoints) */

@@ -70,6 +70,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "frozen_rtol": "[-] relative temperature tolerance of a heat step; 1e-4; > 0",
         "frozen_atol": "[K] absolute temperature tolerance of a heat step; 0.01; > 0",
         "frozen_dt_max": "[s] largest heat step; 0 (default: none); >= 0",
+        "frozen_travel": "[radii] a moving source's axis travels at most this many smallest "
+                         "radii in a heat step; 0.05; >= 0 (0: no limit)",
         "frozen_wake": "[-] relative change of a softening factor that wakes the mechanics; "
                        "0.01; > 0",
         "heat_interval": "[steps] 1 (default) advances the temperatures every step; k: every "
