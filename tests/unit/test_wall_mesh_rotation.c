@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "scene_support.h"
+#include "walls/walls.h"
 
 static const double PI = 3.14159265358979323846;
 static const double R = 1e-3, E = 1e7, NU = 0.3, RHO = 2500.0;
@@ -225,6 +226,55 @@ static void test_paddle_strikes_sphere(void **state)
     scene_close(&s);
 }
 
+/*
+ * The turned geometry: a 2 mm square of 8 triangles in z = 0 turned about the x axis through
+ * the origin at pi/2 rad/s, at t = 1 s a quarter turn: (x, y, 0) -> (x, 0, y), its normal
+ * (0, 0, 1) -> (0, -1, 0). Its drawing has each file vertex so turned, the distance of a point
+ * in front of it is its offset along -y with that normal, and the neighbour list's measure of
+ * the wall's travel is at least the farthest vertex's arc, sqrt(2) mm pi/2 (all to 1e-15 m:
+ * cos(pi/2) is 6e-17, not 0).
+ */
+static void test_turned_mesh_geometry(void **state)
+{
+    (void)state;
+    double v[72];
+    const size_t nf = grid_square(2, v);
+    char path[64];
+    write_stl(path, v, nf);
+    scene s;
+    open_rigid(&s, 0.3, 0.3, 0);
+    const double o[3] = {0, 0, 0}, ex[3] = {1, 0, 0};
+    OK(sinter_walls_add_mesh(s.walls, path, 1e-3, o, o, 0, 0.0, s.wall_mat, NULL));
+    unlink(path);
+    OK(sinter_walls_set_rotation(s.walls, 0, o, ex, PI / 2));
+    const sinter_wall *w = &s.walls->wall[0];
+    double ref[4];
+    sinter_wall_reference(w, ref);
+    OK(sinter_walls_move(s.walls, 1.0));
+    double points[72], normals[24];
+    assert_int_equal(sinter_wall_mesh_draw(w, points, normals), 8);
+    for (size_t k = 0; k < 24; ++k) {
+        const double want[3] = {1e-3 * v[3 * k], 0.0, 1e-3 * v[3 * k + 1]};
+        for (int d = 0; d < 3; ++d)
+            assert_close(points[3 * k + d], want[d], 1e-15);
+    }
+    for (size_t t = 0; t < 8; ++t)
+        for (int d = 0; d < 3; ++d)
+            assert_close(normals[3 * t + d], d == 1 ? -1.0 : 0.0, 1e-15);
+    const double x[3] = {0.2e-3, -0.4e-3, 0.5e-3};
+    double n[3];
+    const double dist = sinter_wall_distance(w, x);
+    assert_close(dist, 0.4e-3, 1e-15);
+    uint32_t hint = UINT32_MAX;
+    assert_true(sinter_wall_contact_hinted(w, x, n, &hint) == dist);
+    for (int d = 0; d < 3; ++d)
+        assert_close(n[d], d == 1 ? -1.0 : 0.0, 1e-15);
+    assert_true(sinter_wall_mesh_within(w, x, 0.5e-3, &hint) == 1);
+    assert_true(sinter_wall_mesh_within(w, x, 0.3e-3, &hint) == 0);
+    assert_true(sinter_wall_moved(w, ref) >= sqrt(2.0) * 1e-3 * PI / 2 * (1 - 1e-15));
+    scene_close(&s);
+}
+
 /* Bad input refused, and the wall unchanged: a zero axis, a non-finite point, axis or rate,
  * a wall that is not a mesh, a wall that does not exist, NULL arrays. */
 static void test_bad_rotation_refused(void **state)
@@ -263,6 +313,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_turning_mesh_as_turning_rectangle),
         cmocka_unit_test(test_paddle_strikes_sphere),
+        cmocka_unit_test(test_turned_mesh_geometry),
         cmocka_unit_test(test_bad_rotation_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
