@@ -750,8 +750,9 @@ SINTER_API sinter_status sinter_walls_get_shape(const sinter_walls *walls, size_
  * [rad/s] (right-handed about the axis), from its motion's start on, added to
  * its translation: the surface velocity at a contact point c is
  * u + omega a x (c - p), which the contact laws take as the wall's velocity
- * (friction, tangential history). A rectangle turns with it; the other kinds
- * are unchanged by a spin about their axis.
+ * (friction, tangential history). A rectangle turns with it, and a mesh
+ * given an axis by sinter_walls_set_rotation; the other kinds are unchanged
+ * by a spin about their axis.
  */
 SINTER_API sinter_status sinter_walls_set_spin(sinter_walls *walls, size_t k, double omega);
 /**
