@@ -750,10 +750,27 @@ SINTER_API sinter_status sinter_walls_get_shape(const sinter_walls *walls, size_
  * [rad/s] (right-handed about the axis), from its motion's start on, added to
  * its translation: the surface velocity at a contact point c is
  * u + omega a x (c - p), which the contact laws take as the wall's velocity
- * (friction, tangential history). A rectangle turns with it; the other kinds
- * are unchanged by a spin about their axis.
+ * (friction, tangential history). A rectangle turns with it, and a mesh
+ * given an axis by sinter_walls_set_rotation; the other kinds are unchanged
+ * by a spin about their axis.
  */
 SINTER_API sinter_status sinter_walls_set_spin(sinter_walls *walls, size_t k, double omega);
+/**
+ * Turn mesh wall k rigidly about the axis through `point` [m] along `axis`
+ * (any length, not zero) at angular velocity omega [rad/s] (right-handed),
+ * from its motion's start on: its triangles at time t are those placed at
+ * t = 0 turned by omega (t - start) about the axis, which the wall's
+ * translation carries along. The wall's point (sinter_walls_get_state, the
+ * reference of sinter_walls_get_moment) becomes `point` plus the
+ * translation's displacement, its axis `axis`, its spin omega (a later
+ * sinter_walls_set_spin changes the rate); the surface velocity at a contact
+ * point c is u + omega a x (c - p) (friction, tangential history, damping).
+ * Errors: SINTER_ERR_INVALID for a wall that is not a mesh, a non-finite
+ * input or a zero axis.
+ */
+SINTER_API sinter_status sinter_walls_set_rotation(sinter_walls *walls, size_t k,
+                                                   const double point[3], const double axis[3],
+                                                   double omega);
 /**
  * Reaction moment on wall k about its point p [N m] in the last accepted step:
  * the sum over its contacts of -(c - p) x f - m_r, f the force and m_r the

@@ -982,6 +982,13 @@ class walls : public detail::handle<sinter_walls, sinter_walls_destroy> {
         check(sinter_walls_set_spin(live("sinter_walls_set_spin"), k, omega),
               "sinter_walls_set_spin");
     }
+    /// Turn mesh wall k about the axis through point [m] along axis at omega [rad/s]
+    /// (sinter_walls_set_rotation).
+    void set_rotation(std::size_t k, const double point[3], const double axis[3], double omega)
+    {
+        check(sinter_walls_set_rotation(live("sinter_walls_set_rotation"), k, point, axis, omega),
+              "sinter_walls_set_rotation");
+    }
     /// Force servo along wall k's normal: targets (times [s], forces [N]), gains kp [m/(s N)],
     /// ki [m/(s^2 N)], velocity limit vmax [m/s] (sinter_walls_set_servo).
     void set_servo(std::size_t k, span<const double> times, span<const double> forces, double kp,

@@ -1,6 +1,7 @@
 /*
- * The [wall] section's wall kinds (plane, rectangle, disc, cylinder, mesh), spin and force servo:
- * scene keys to sinter_walls_add_* and sinter_walls_set_spin / _set_servo. The keys are in
+ * The [wall] section's wall kinds (plane, rectangle, disc, cylinder, mesh), spin, a mesh's
+ * rotation and force servo: scene keys to sinter_walls_add_* and sinter_walls_set_spin /
+ * _set_rotation / _set_servo. The keys are in
  * docs/scene-reference.md.
  */
 #include <math.h>
@@ -138,10 +139,25 @@ sinter_status scene_wall_spin(scene_text *t, sinter_scene *sc, scene_section *s,
 {
     double omega = 0.0;
     const sinter_status st = scene_get_double(t, s, "spin", &omega);
+    if (st != SINTER_OK && st != SINTER_ERR_NOT_FOUND)
+        return st;
+    double axis[3], point[3];
+    sinter_status sa = scene_get_vec3(t, s, "rotation_axis", axis);
+    if (sa == SINTER_OK) { /* a mesh turning about its own axis at `spin` */
+        TRY(sinter_walls_get_state(sc->walls, index, point, NULL));
+        const sinter_status sp = scene_get_vec3(t, s, "rotation_point", point);
+        if (sp != SINTER_OK && sp != SINTER_ERR_NOT_FOUND)
+            return sp;
+        return labelled(t, scene_find(s, "rotation_axis")->line,
+                        sinter_walls_set_rotation(sc->walls, index, point, axis, omega));
+    }
+    if (sa != SINTER_ERR_NOT_FOUND)
+        return sa;
+    if (scene_find(s, "rotation_point") != NULL)
+        return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: rotation_point needs rotation_axis",
+                           t->path, scene_find(s, "rotation_point")->line);
     if (st == SINTER_ERR_NOT_FOUND)
         return SINTER_OK;
-    if (st != SINTER_OK)
-        return st;
     return labelled(t, scene_find(s, "spin")->line, sinter_walls_set_spin(sc->walls, index, omega));
 }
 

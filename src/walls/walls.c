@@ -455,6 +455,10 @@ sinter_status sinter_walls_move(sinter_walls *walls, double t)
                 e2[2] = a[0] * e1[1] - a[1] * e1[0];
                 sinter_put_changed(w->e1, e1, sizeof(e1));
                 sinter_put_changed(w->e2, e2, sizeof(e2));
+            } else if (w->turns) { /* a mesh turned about its axis (mesh_rotation.c) */
+                double rot[9];
+                sinter_wall_rotation_matrix(w->axis, angle, rot);
+                sinter_put_changed(w->rot, rot, sizeof(rot));
             }
         }
         if (w->temperature_count > 0) {

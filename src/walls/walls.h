@@ -27,6 +27,10 @@ typedef struct sinter_wall {
     struct sinter_mesh *mesh; /* triangle mesh (walls/mesh/): its triangles placed at p0 */
     double spin;              /* angular velocity about axis through p [rad/s] */
     double angle;             /* spin angle at the current time [rad] */
+    int turns;                /* mesh: 1 when its triangles turn with the spin about axis through
+                                 p (sinter_walls_set_rotation; mesh_rotation.c) */
+    double rot[9];            /* a mesh that turns: R(angle) about axis, row-major */
+    double turn_reach;        /* a mesh that turns: largest distance of a vertex from p [m] */
     double e1_0[3];           /* rectangle: e1 at angle 0 */
     double p0[3];             /* point of the plane at t = 0 [m] */
     size_t temperature_count; /* > 0: temperature follows (temperature_t, temperature_v) */
@@ -156,6 +160,8 @@ static inline double sinter_wall_moved(const sinter_wall *w, const double *ref)
     double moved = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (w->kind == SINTER_WALL_RECTANGLE) /* a turn moves a corner by at most arc length */
         moved += sqrt(w->half[0] * w->half[0] + w->half[1] * w->half[1]) * fabs(w->angle - ref[3]);
+    if (w->turns) /* a turning mesh: a vertex moves by at most its distance times the angle */
+        moved += w->turn_reach * fabs(w->angle - ref[3]);
     return moved;
 }
 
@@ -216,6 +222,9 @@ int sinter_wall_outline(const sinter_wall *w, const double lo[3], const double h
 void sinter_wall_servo_at(const sinter_wall *w, double t, double *disp, double *vel);
 void sinter_walls_servo_commit(sinter_walls *walls, double t);
 void sinter_wall_servo_free(sinter_walls *walls, sinter_wall *w);
+
+/* R(angle) about unit axis a (Rodrigues), row-major, into rot (mesh_rotation.c). */
+void sinter_wall_rotation_matrix(const double *a, double angle, double *rot);
 
 /* The electric drive (electric_drive.c): the wall's value at time t [s], and its schedule
  * freed. */

@@ -426,7 +426,8 @@ class WallKindsTest(unittest.TestCase):
 
     def test_sphere_on_a_mesh_floor(self):
         """A square of two facets (an ASCII STL file, in mm) carries a resting sphere's
-        weight; a file with a degenerate facet is refused."""
+        weight, also while it turns about the vertical through the sphere (set_rotation); a
+        zero axis and a file with a degenerate facet are refused."""
         ctx = sinter.Context()
         self.addCleanup(ctx.close)
         material = sinter.Material(ctx, youngs_modulus=1e6, damping_ratio=1.0, density=3000.0)
@@ -452,6 +453,13 @@ class WallKindsTest(unittest.TestCase):
         st.advance(0.05)
         weight = 4.0 / 3.0 * math.pi * r ** 3 * 3000.0 * 9.81
         self.assertAlmostEqual(-walls.force(floor)[2], weight, delta=1e-6 * weight)
+        # the floor turning under the sphere about the vertical through it: still the weight
+        walls.set_rotation(floor, (0.0, 0.0, 0.0), (0.0, 0.0, 3.0), 5.0)
+        st.advance(0.1)
+        self.assertAlmostEqual(-walls.force(floor)[2], weight, delta=1e-6 * weight)
+        self.assertEqual(walls.shape(floor)[0], (0.0, 0.0, 1.0))
+        with self.assertRaises(sinter.InvalidArgument):
+            walls.set_rotation(floor, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 5.0)
         with open(path, "w") as f:
             f.write(text.replace("vertex 5 5 0", "vertex -5 -5 0", 1))
         with self.assertRaises(sinter.InvalidArgument):

@@ -973,6 +973,35 @@ static void test_mesh_wall_in_scenes(void **state)
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
 
+    /* turning about an axis (rotation_axis, rotation_point, the rate from spin): the wall's
+     * point becomes the axis point, its axis the one given (normalised) */
+    snprintf(text, sizeof(text),
+             "%s[wall floor]\nkind = mesh\nfile = square.stl\nscale = 0.001\n"
+             "rotate = 180 0 0\ntranslate = 0 0 -0.0001\nmaterial = glass\nspin = 3\n"
+             "rotation_axis = 0 0 2\nrotation_point = 0.001 0 -0.0001\n%s",
+             head, tail);
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_scene_load(&scene, ctx, write_file("mesh.scene", text)), SINTER_OK);
+    assert_int_equal(sinter_scene_get_walls(scene, &w), SINTER_OK);
+    double axis[3];
+    assert_int_equal(sinter_walls_get_state(w, 0, p, NULL), SINTER_OK);
+    assert_int_equal(sinter_walls_get_shape(w, 0, axis, NULL, NULL), SINTER_OK);
+    assert_true(p[0] == 0.001 && p[1] == 0.0 && p[2] == -0.0001);
+    assert_true(axis[0] == 0.0 && axis[1] == 0.0 && axis[2] == 1.0);
+    sinter_scene_destroy(scene);
+    sinter_ctx_destroy(ctx);
+    snprintf(text, sizeof(text),
+             "%s[wall w]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\n"
+             "rotation_axis = 0 0 1\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_INVALID, "broken.scene:", "is not a mesh");
+    snprintf(text, sizeof(text),
+             "%s[wall w]\npoint = 0 0 0\nnormal = 0 0 1\nmaterial = glass\n"
+             "rotation_point = 0 0 1\n%s",
+             head, tail);
+    expect_parse_error(text, SINTER_ERR_PARSE,
+                       "broken.scene:", "rotation_point needs rotation_axis");
+
     snprintf(text, sizeof(text), "%s[wall w]\nkind = mesh\nmaterial = glass\n%s", head, tail);
     expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:", "needs 'file = ...'");
     snprintf(one, sizeof(one), facet, "-5 -5 0", "5 5 0", "-5 5 0"); /* against its neighbour */

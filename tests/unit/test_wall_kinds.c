@@ -375,23 +375,28 @@ static void write_square_stl(char *path, double z)
     fclose(f);
 }
 
+static const double PL_KW = 1e7; /* power_law's wall compliance constant K_w [Pa] */
+
 /* One evaluation of a sphere between a wall of `kind` below it (its closest point straight
  * below the centre, 0.99 R away) and a plane above (0.99 R away), with Hertz-Mindlin with
- * rolling, conduction (walls at 400 K and 500 K, the sphere at 300 K), the electric network
- * (the lower wall at 1 V, the upper at 0 V) and Joule heating: the sphere's force, heat power
- * and current into out (7 values). */
-static void between_walls(int kind, double out[7])
+ * rolling (or the power-law contact: `model`), conduction (walls at 400 K and 500 K, the sphere
+ * at 300 K), the electric network (the lower wall at 1 V, the upper at 0 V) and Joule heating:
+ * the sphere's force, heat power and current into out (7 values). */
+
+static void between_walls(int kind, const char *model, double out[7])
 {
     scene s;
     scene_init(&s);
     scene_material(&s, E, NU, RHO, 0.3, 0.4);
     OK(sinter_material_set(s.mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
+    OK(sinter_material_set(s.mat, SINTER_MAT_WALL_STIFFNESS, PL_KW)); /* power_law's eq. 13 */
+    OK(sinter_material_set(s.mat, SINTER_MAT_WALL_EXPONENT, 1.0));
     OK(sinter_material_set(s.mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 60.0));
     OK(sinter_material_set(s.mat, SINTER_MAT_HEAT_CAPACITY, 100.0));
     OK(sinter_material_set(s.mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, 1e6));
     sinter_material_destroy(s.wall_mat);
     OK(sinter_material_clone(&s.wall_mat, s.mat));
-    scene_open(&s, "hertz_mindlin", 0);
+    scene_open(&s, model, 0);
     const double below[3] = {0, 0, -0.99 * R}, up[3] = {0, 0, 1}, ex[3] = {1, 0, 0};
     if (kind == SINTER_WALL_PLANE)
         OK(sinter_walls_add_plane(s.walls, below, up, s.wall_mat, NULL));
@@ -439,8 +444,8 @@ static void between_walls(int kind, double out[7])
     get3(&s, SINTER_FIELD_TORQUE, 0, out + 3);
     out[6] = get1(&s, SINTER_FIELD_HEAT, 0);
     const double current = get1(&s, SINTER_FIELD_CURRENT, 0);
-    print_message("kind %d: force (%.9e, %.9e, %.9e) N, heat %.9e W, current %.9e A\n", kind,
-                  out[0], out[1], out[2], out[6], current);
+    print_message("%s, kind %d: force (%.9e, %.9e, %.9e) N, heat %.9e W, current %.9e A\n", model,
+                  kind, out[0], out[1], out[2], out[6], current);
     assert_true(current > 0.0 && out[6] != 0.0 && out[0] != 0.0);
     sinter_stepper_destroy(s.st);
     s.st = NULL;
@@ -454,32 +459,42 @@ static void between_walls(int kind, double out[7])
  * Every submodel that meets walls reads a wall contact's geometry (overlap, distance, normal,
  * area) from the contact list, which every kind fills the same way: a sphere whose closest
  * wall point lies at the same distance and direction gets the same force and torque
- * (Hertz-Mindlin with friction history and rolling resistance), heat power (conduction from
+ * (Hertz-Mindlin with friction history and rolling resistance; the power-law contact's wall
+ * law, seed 000 eq. 13-17, with its continuous sliding friction), heat power (conduction from
  * both walls, Joule heating of the network's current) from a rectangle's face, a disc's face
  * a cylinder's inside and a triangle mesh's face as from a plane, to round-off (1e-12 of the
  * normal force, whose two walls' parts cancel: the distances come out of different
- * arithmetic, R_c - rho against a dot product). The sphere moves along the cylinder's axis
+ * arithmetic, R_c - rho against a dot product; for the power law on the cylinder 1e-9: its
+ * contact area pi (R^2 - s^2) at s = 0.99 R magnifies the distance's round-off a hundredfold,
+ * and its friction's lateral part came out 1.8e-10 of the normal force from the plane's,
+ * more than that alone explains: measured, not derived). The sphere moves along the cylinder's axis
  * only, so that its curvature does not turn the contact within the three steps.
  */
 static void test_submodels_alike_on_every_kind(void **state)
 {
     (void)state;
-    double plane[7];
-    between_walls(SINTER_WALL_PLANE, plane);
-    const int kinds[] = {SINTER_WALL_RECTANGLE, SINTER_WALL_DISC, SINTER_WALL_CYLINDER,
-                         SINTER_WALL_MESH};
-    for (size_t k = 0; k < sizeof(kinds) / sizeof(kinds[0]); ++k) {
-        const int kind = kinds[k];
-        double got[7];
-        between_walls(kind, got);
-        /* the scale: each wall's normal force (they cancel in the sum), Hertz at 0.01 R */
+    static const char *const models[] = {"hertz_mindlin", "power_law"};
+    for (int m = 0; m < 2; ++m) {
+        double plane[7];
+        between_walls(SINTER_WALL_PLANE, models[m], plane);
+        const int kinds[] = {SINTER_WALL_RECTANGLE, SINTER_WALL_DISC, SINTER_WALL_CYLINDER,
+                             SINTER_WALL_MESH};
+        /* the scale: each wall's normal force (they cancel in the sum): Hertz at 0.01 R, or
+         * eq. 13's K_w (delta / R) A with A = pi (R^2 - s^2) at s = 0.99 R */
         const double estar = E / (2.0 * (1.0 - NU * NU)), delta = 0.01 * R;
-        const double fn = 4.0 / 3.0 * estar * sqrt(R * delta) * delta;
-        for (int d = 0; d < 3; ++d) {
-            assert_close(got[d], plane[d], 1e-12 * fn);
-            assert_close(got[3 + d], plane[3 + d], 1e-12 * fn * R);
+        const double fn = m == 0 ? 4.0 / 3.0 * estar * sqrt(R * delta) * delta
+                                 : PL_KW * 0.01 * PI * (1.0 - 0.99 * 0.99) * R * R;
+        for (size_t k = 0; k < sizeof(kinds) / sizeof(kinds[0]); ++k) {
+            const int kind = kinds[k];
+            const double tol = m == 1 && kind == SINTER_WALL_CYLINDER ? 1e-9 : 1e-12;
+            double got[7];
+            between_walls(kind, models[m], got);
+            for (int d = 0; d < 3; ++d) {
+                assert_close(got[d], plane[d], tol * fn);
+                assert_close(got[3 + d], plane[3 + d], tol * fn * R);
+            }
+            assert_close(got[6], plane[6], 1e-12 * fabs(plane[6]));
         }
-        assert_close(got[6], plane[6], 1e-12 * fabs(plane[6]));
     }
 }
 

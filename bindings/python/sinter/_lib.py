@@ -379,6 +379,8 @@ SIGNATURES = {
     "sinter_walls_get_kind": (c_status, [WallsPtr, _size, _P(_int)]),
     "sinter_walls_get_shape": (c_status, [WallsPtr, _size, _P(_double), _P(_double), _P(_double)]),
     "sinter_walls_set_spin": (c_status, [WallsPtr, _size, _double]),
+    "sinter_walls_set_rotation": (
+        c_status, [WallsPtr, _size, _P(_double), _P(_double), _double]),
     "sinter_walls_get_moment": (c_status, [WallsPtr, _size, _P(_double)]),
     "sinter_walls_set_moment": (c_status, [WallsPtr, _size, _int]),
     "sinter_walls_set_servo": (

@@ -186,6 +186,13 @@ class Walls(_Handle):
         contact, u + omega a x (c - p), enters the friction laws."""
         self._call(lib.sinter_walls_set_spin, self._ptr, self._index(k), float(omega))
 
+    def set_rotation(self, k: int, point: Vec3, axis: Vec3, omega: float) -> None:
+        """Turn mesh wall k rigidly about the axis through point [m] along axis at omega
+        [rad/s] from its motion's start on (its triangles turn; the surface velocity u + omega
+        a x (c - p) enters the contact laws). The wall's point becomes point."""
+        self._call(lib.sinter_walls_set_rotation, self._ptr, self._index(k),
+                   _vec3(point, "point"), _vec3(axis, "axis"), float(omega))
+
     def set_servo(self, k: int, times: Sequence[float], forces: Sequence[float], kp: float,
                   ki: float, vmax: float) -> None:
         """Drive wall k along its normal to a target force schedule (times [s], forces [N]) by a
