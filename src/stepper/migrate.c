@@ -591,33 +591,7 @@ static const char *link_wrong(const sinter_qs_link *l, uint64_t id)
 {
     if ((l->id_a < l->id_b ? l->id_a : l->id_b) != id || l->id_a == l->id_b)
         return "a quasi-static link is not one of the particle's own (its smaller id)";
-    for (int k = 0; k < SINTER_NECK_DOF; ++k)
-        if (!isfinite(l->neck.y[k]) || !(l->neck.y[k] > 0.0))
-            return "a quasi-static link's neck state is not finite and > 0";
-    const double v[] = {l->neck.time,
-                        l->neck.center_distance0,
-                        l->neck.last_dy4,
-                        l->neck.last_dy7,
-                        l->neck.step_hint,
-                        l->rm,
-                        l->youngs,
-                        l->beam.arm_a,
-                        l->beam.arm_b,
-                        l->beam.k_axial,
-                        l->beam.k_shear,
-                        l->beam.k_bend,
-                        l->beam.k_torsion,
-                        l->beam.axis[0],
-                        l->beam.axis[1],
-                        l->beam.axis[2],
-                        l->born};
-    for (size_t k = 0; k < sizeof(v) / sizeof(v[0]); ++k)
-        if (!isfinite(v[k]))
-            return "a quasi-static link holds a number that is not finite";
-    if (!(l->rm > 0.0) || !(l->youngs > 0.0) || !(l->neck.center_distance0 > 0.0) ||
-        !(l->born <= l->neck.time))
-        return "a quasi-static link's lengths or times are out of their range";
-    return NULL;
+    return sinter_qs_link_numbers_wrong(l);
 }
 
 /* The parsed stream: where each record starts, how many entries each section holds. */

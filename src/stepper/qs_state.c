@@ -128,18 +128,11 @@ static uint64_t take_u64(cursor *c)
     return v;
 }
 
-/* A link's particles (found by id in qs's map: their indices go into the beam) and its numbers
- * are usable: two particles that exist, lengths finite and positive. */
-static int link_ok(const sinter_qs *qs, sinter_qs_link *l)
+const char *sinter_qs_link_numbers_wrong(const sinter_qs_link *l)
 {
-    const size_t a = sinter_qs_slot_of_id(qs, l->id_a), b = sinter_qs_slot_of_id(qs, l->id_b);
-    if (a == SIZE_MAX || b == SIZE_MAX || a == b)
-        return 0;
-    l->beam.a = qs->index_of_slot[a];
-    l->beam.b = qs->index_of_slot[b];
     for (int k = 0; k < SINTER_NECK_DOF; ++k)
         if (!isfinite(l->neck.y[k]) || !(l->neck.y[k] > 0.0))
-            return 0;
+            return "a quasi-static link's neck state is not finite and > 0";
     const double v[] = {l->neck.time,
                         l->neck.center_distance0,
                         l->neck.last_dy4,
@@ -159,9 +152,23 @@ static int link_ok(const sinter_qs *qs, sinter_qs_link *l)
                         l->born};
     for (size_t k = 0; k < sizeof(v) / sizeof(v[0]); ++k)
         if (!isfinite(v[k]))
-            return 0;
-    return l->rm > 0.0 && l->youngs > 0.0 && l->neck.center_distance0 > 0.0 &&
-           l->born <= l->neck.time;
+            return "a quasi-static link holds a number that is not finite";
+    if (!(l->rm > 0.0) || !(l->youngs > 0.0) || !(l->neck.center_distance0 > 0.0) ||
+        !(l->born <= l->neck.time))
+        return "a quasi-static link's lengths or times are out of their range";
+    return NULL;
+}
+
+/* A link's particles (found by id in qs's map: their indices go into the beam) and its numbers
+ * are usable: two particles that exist, lengths finite and positive. */
+static int link_ok(const sinter_qs *qs, sinter_qs_link *l)
+{
+    const size_t a = sinter_qs_slot_of_id(qs, l->id_a), b = sinter_qs_slot_of_id(qs, l->id_b);
+    if (a == SIZE_MAX || b == SIZE_MAX || a == b)
+        return 0;
+    l->beam.a = qs->index_of_slot[a];
+    l->beam.b = qs->index_of_slot[b];
+    return sinter_qs_link_numbers_wrong(l) == NULL;
 }
 
 sinter_status sinter_qs_state_restore(sinter_qs **out, sinter_ctx *ctx,

@@ -194,6 +194,10 @@ sinter_status sinter_qs_check_validity(sinter_qs *qs, const sinter_qs_particles 
  * qs_neck_stiffness. */
 double sinter_qs_section_scale(const sinter_qs_options *opt, const sinter_qs_link *l);
 
+/* Why a link's numbers (neck state, lengths, stiffnesses, times: a checkpoint's or an imported
+ * record's) cannot be used, or NULL when they can (qs_state.c). */
+const char *sinter_qs_link_numbers_wrong(const sinter_qs_link *l);
+
 /* March from t0 to t1 with the adaptive global step (convenience for tests and drivers). */
 sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
                             const sinter_neck_schedule *schedule, double t0, double t1);
