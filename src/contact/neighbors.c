@@ -765,7 +765,8 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         nb->built = 0;
         return st;
     }
-    memcpy(nb->x_ref, ps->x, 3 * ps->count * sizeof(double));
+    if (ps->count > 0) /* an empty set (a subdomain that owns nothing) has no arrays */
+        memcpy(nb->x_ref, ps->x, 3 * ps->count * sizeof(double));
     for (size_t k = 0; k < nw; ++k)
         sinter_wall_reference(&walls->wall[k], nb->wall_ref + 4 * k);
     nb->wall_count = nw;

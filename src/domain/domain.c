@@ -112,6 +112,8 @@ sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_pa
 void sinter_domain_discard_ghost_rows(sinter_particles *ps)
 {
     const size_t first = ps->count - ps->ghost_count, n = ps->ghost_count;
+    if (n == 0) /* (an empty set has no arrays) */
+        return;
     memset(ps->force + 3 * first, 0, 3 * n * sizeof(double));
     memset(ps->torque + 3 * first, 0, 3 * n * sizeof(double));
     memset(ps->heat + first, 0, n * sizeof(double));

@@ -949,7 +949,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     /* the integrator zeroed force and torque after their last read, and may have written m g
      * (gravity as the first model: 0 + m g, the same bits as its evaluation) into the force */
     const size_t first_model = st->forces_zeroed && st->gravity_seeded ? 1 : 0;
-    if (!st->forces_zeroed) {
+    if (!st->forces_zeroed && ps->count > 0) { /* (an empty set has no arrays) */
         memset(ps->force, 0, 3 * ps->count * sizeof(double));
         memset(ps->torque, 0, 3 * ps->count * sizeof(double));
     }
@@ -1125,9 +1125,12 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
     double *heat_copy = sinter_calloc(st->ctx, ps->count + 1, sizeof(double));
     sinter_status s = heat_copy ? SINTER_OK : SINTER_ERR_NOMEM;
     if (s == SINTER_OK) {
-        memcpy(heat_copy, ps->heat, ps->count * sizeof(double));
+        const size_t bytes = ps->count * sizeof(double); /* (an empty set has no arrays) */
+        if (bytes > 0)
+            memcpy(heat_copy, ps->heat, bytes);
         s = sinter_thermal_eval(st);
-        memcpy(ps->heat, heat_copy, ps->count * sizeof(double));
+        if (bytes > 0)
+            memcpy(ps->heat, heat_copy, bytes);
     }
     st->thermal.scheme = scheme;
     if (s == SINTER_OK) {

@@ -194,7 +194,7 @@ int sinter_thermal_law_begin(sinter_stepper *st)
     if (!sinter_conduction_ranges_begin(th->slots[0].model, &e, th->law_scratch, &th->law_job) ||
         th->law_job.walls_left)
         return 0;
-    if (!th->heat_zeroed) /* the drift zeroes it on the threads when it can */
+    if (!th->heat_zeroed && st->ps->count > 0) /* the drift zeroes it on the threads when it can */
         memset(st->ps->heat, 0, st->ps->count * sizeof(double));
     th->heat_zeroed = 1;
     return 1;
@@ -221,7 +221,7 @@ sinter_status sinter_thermal_eval(sinter_stepper *st)
     sinter_thermal *th = &st->thermal;
     sinter_particles *ps = st->ps;
     const size_t n = ps->count;
-    if (!th->heat_zeroed)
+    if (!th->heat_zeroed && n > 0) /* (an empty set has no arrays) */
         memset(ps->heat, 0, n * sizeof(double));
     th->heat_zeroed = 0;
     const int first_done = th->first_in_law;
@@ -282,7 +282,7 @@ static sinter_status backup(sinter_stepper *st)
     const size_t n = st->ps->count;
     sinter_status s = sinter_grow(st->ctx, (void **)&th->theta_backup, &th->backup_capacity, n + 1,
                                   sizeof(double));
-    if (s == SINTER_OK)
+    if (s == SINTER_OK && n > 0)
         memcpy(th->theta_backup, st->ps->temperature, n * sizeof(double));
     return s;
 }
@@ -291,7 +291,8 @@ void sinter_thermal_rollback(sinter_stepper *st)
 {
     if (st->thermal.count == 0)
         return;
-    memcpy(st->ps->temperature, st->thermal.theta_backup, st->ps->count * sizeof(double));
+    if (st->ps->count > 0)
+        memcpy(st->ps->temperature, st->thermal.theta_backup, st->ps->count * sizeof(double));
     /* energies: the rejected step's contribution is taken back */
     for (size_t k = 0; k < st->thermal.count; ++k) {
         st->thermal.slots[k].energy -= st->thermal.slots[k].applied;

@@ -8,6 +8,8 @@
  *    run: on one subdomain bit for bit (nothing is summed in another order), on more within
  *    1e-10 relative, with the wall forces identical on every subdomain.
  *    Particles jiggling about the borders migrate (export/import with their histories).
+ *  - The same bed on 3 and 4 slabs of which it fills two: the empty subdomains take part in
+ *    every collective step with nothing to add, and the run equals the single-domain one.
  *  - A contact sliding across a subdomain border keeps its tangential spring, before and after
  *    the driven sphere migrates: equal to the single-domain run to 1e-12 of its largest force,
  *    and the same bits on both sides; a sphere sliding on a wall across the border keeps its
@@ -70,10 +72,13 @@ static void make_bed(void)
  * their random velocities, cross it back and forth and migrate (domain_loopback.h). */
 static const double X0 = R - 2 * A, X1 = R + 10 * A;
 
+/* The upper end of the slabs' range: X1, except in the test of an empty subdomain. */
+static double SLAB_X1 = R + 10 * A;
+
 /* The subdomain of a particle at x among `size` slabs (the loopback's rule). */
 static int slab_of(double x, int size)
 {
-    const double r = floor((x - X0) / (X1 - X0) * size);
+    const double r = floor((x - X0) / (SLAB_X1 - X0) * size);
     return r < 0.0 ? 0 : r >= size ? size - 1 : (int)r;
 }
 
@@ -297,7 +302,7 @@ static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poi
     loopback *lb = size > 0 ? loopback_create(size) : NULL;
     assert_true(size == 0 || lb != NULL);
     if (lb != NULL)
-        loopback_set_slabs(lb, X0, X1);
+        loopback_set_slabs(lb, X0, SLAB_X1);
     pthread_t threads[LOOPBACK_MAX];
     job_and_state js[LOOPBACK_MAX];
     for (int r = 0; r < n; ++r) {
@@ -436,6 +441,63 @@ static void test_decomposed_bed(void **st)
 }
 
 /*
+ * Subdomains that own no particle: the slabs cut [X0, X0 + 6 A size) into `size` slabs of 6 A,
+ * so that the bed (x up to R + 7 A) fills the first two (their border on a lattice column,
+ * crossed by migrations) and leaves the others empty from start to end. An empty subdomain
+ * takes part in every collective operation with nothing to add; the run must equal the
+ * single-domain one within 1e-10 relative (the round-off argument of test_decomposed_bed),
+ * and under the sanitizers run clean (no zero-size copy from a NULL array).
+ */
+static void test_empty_subdomains(void **st)
+{
+    (void)st;
+    make_bed();
+    run_decomposed(0, STEPS, 0, 0, REF_JOB, &REF);
+    assert_int_equal(REF_JOB[0].status, SINTER_OK);
+    for (int size = 3; size <= LOOPBACK_MAX; ++size) {
+        SLAB_X1 = X0 + 6 * A * size;
+        run_decomposed(size, STEPS, 0, 0, JOBS, &DEC);
+        SLAB_X1 = X1;
+        size_t owned = 0;
+        for (int r = 0; r < size; ++r) {
+            if (JOBS[r].status != SINTER_OK)
+                print_error("%d subdomains, subdomain %d: %s\n", size, r, JOBS[r].message);
+            assert_int_equal(JOBS[r].status, SINTER_OK);
+            assert_int_equal(JOBS[r].builds, JOBS[0].builds);
+            assert_memory_equal(JOBS[r].wall, JOBS[0].wall, sizeof(JOBS[r].wall));
+            owned += JOBS[r].owned;
+        }
+        for (int r = 2; r < size; ++r) /* empty to the end: nothing came in */
+            assert_int_equal(JOBS[r].owned, 0);
+        assert_true(JOBS[0].migrated + JOBS[1].migrated > 0); /* the border was crossed */
+        assert_int_equal(owned, N);
+        for (int k = 0; k < N; ++k)
+            assert_int_equal(DEC.seen[k], 1);
+        double dx[3 * N], dref[3 * N], tref[N], tdec[N];
+        for (int k = 0; k < N; ++k) {
+            const int i = index_of(k);
+            for (int d = 0; d < 3; ++d) {
+                dx[3 * k + d] = DEC.x[3 * k + d] - BED.x[3 * i + d];
+                dref[3 * k + d] = REF.x[3 * k + d] - BED.x[3 * i + d];
+            }
+            tref[k] = REF.temp[k] - BED.temp[i];
+            tdec[k] = DEC.temp[k] - BED.temp[i];
+        }
+        const double ex = rel_diff(dx, dref, 3 * N), ev = rel_diff(DEC.v, REF.v, 3 * N),
+                     ew = rel_diff(DEC.w, REF.w, 3 * N), et = rel_diff(tdec, tref, N),
+                     ef = rel_diff(JOBS[0].wall, REF_JOB[0].wall, 3 * NW);
+        print_message("%d subdomains, %d empty: displacements %.2g, velocities %.2g, spins "
+                      "%.2g, temperatures %.2g, wall forces %.2g (relative)\n",
+                      size, size - 2, ex, ev, ew, et, ef);
+        assert_true(ex <= 1e-10);
+        assert_true(ev <= 1e-10);
+        assert_true(ew <= 1e-10);
+        assert_true(et <= 1e-10);
+        assert_true(ef <= 1e-10);
+    }
+}
+
+/*
  * Two spheres pressed together (2 % overlap), both held (FIXED), the one of subdomain 0
  * driven along x at 0.5 m/s across the border x = XB into subdomain 1's slab, where the other
  * sits; friction high enough that the contact sticks, so the tangential spring grows with
@@ -447,9 +509,9 @@ static void test_decomposed_bed(void **st)
  * would drop to zero), and the two forces must be exactly opposite (one history, twice).
  *
  * The wall variant: one sphere pressed on the floor z = 0 (2 % overlap) driven the same way,
- * its wall contact's tangential spring carried by the migration (keyed by id and wall); a
- * held sphere rests on the floor far from it in each slab (an empty subdomain is not yet
- * clean under UBSan: an empty set's arrays are NULL).
+ * its wall contact's tangential spring carried by the migration (keyed by id and wall). It is
+ * the only particle: subdomain 1 owns nothing (its set has no arrays yet) until the sphere
+ * arrives, and subdomain 0 nothing after it left.
  */
 enum { SLIDE_STEPS = 600 };
 static const double XB = 5e-3; /* the border [m] */
@@ -506,14 +568,6 @@ static void *run_slide(void *arg)
         if (sinter_particles_add_with_ids(ps, 1, &ids[k], xk, &R, 0, 300.0, NULL))
             goto done;
     }
-    /* the wall variant: a resting sphere far from the slide on either side, so that neither
-     * subdomain is ever empty */
-    const uint64_t rest_id[2] = {11, 12};
-    const double rest[2][3] = {{1.5e-3, 0.0, 0.98 * R}, {8.5e-3, 0.0, 0.98 * R}};
-    for (int k = 0; k < 2 && j->wall; ++k)
-        if ((j->size == 0 || k == j->rank) &&
-            sinter_particles_add_with_ids(ps, 1, &rest_id[k], rest[k], &R, 0, 300.0, NULL))
-            goto done;
     uint32_t *flags = NULL;
     double *v = NULL;
     size_t count = 0, driven = SIZE_MAX;
@@ -783,6 +837,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_decomposed_bed),
+        cmocka_unit_test(test_empty_subdomains),
         cmocka_unit_test(test_sliding_across_border),
         cmocka_unit_test(test_sliding_on_wall_across_border),
         cmocka_unit_test(test_nan_stops_all),
