@@ -115,8 +115,10 @@ typedef struct sinter_domain_ops {
      * left the subdomain (migration: sinter_stepper_export with remove = 1 here,
      * sinter_stepper_import on the subdomain they entered), then call
      * sinter_particles_set_ghosts with every particle within sinter_stepper_ghost_cutoff of an
-     * owned one. The set's owned particles may be read (not written) here. A step rejected
-     * after a migration leaves the arrivals at their drifted state. */
+     * owned one. The set's owned particles may be read (not written) here. The records
+     * exported here carry each particle's state at the start of the step, so that a step
+     * rejected after a migration restores the arrivals too; export every leaver before the
+     * first removal or import (a record exported after the rows moved carries its state now). */
     int (*redistribute)(sinter_stepper *st, void *user);
     /** Called once when the stepper is destroyed or the table replaced (may be NULL). */
     void (*destroy_user)(void *user);

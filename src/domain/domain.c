@@ -8,6 +8,8 @@ void sinter_domain_free(sinter_ctx *ctx, sinter_domain *d)
     if (d->on && d->ops.destroy_user != NULL)
         d->ops.destroy_user(d->user);
     sinter_free(ctx, d->halo);
+    sinter_free(ctx, d->arrived_id);
+    sinter_free(ctx, d->arrived_rows);
     memset(d, 0, sizeof(*d));
     d->rank = -1;
 }

@@ -25,6 +25,14 @@ typedef struct sinter_domain {
     size_t halo_capacity; /* doubles */
     uint64_t reductions;  /* reduce calls made */
     uint64_t halos;       /* halo calls made */
+    /* the redistribution stage (redistribute.c): 1 during the host's callback, and the state
+     * at t (x, v, w, rot, temperature: 13 doubles) of the particles imported then, by id, for
+     * a rollback */
+    int redistributing;
+    uint64_t layout_at_start; /* the set's layout generation when the callback began */
+    uint64_t *arrived_id;
+    double *arrived_rows;
+    size_t arrived_count, arrived_id_capacity, arrived_rows_capacity;
 } sinter_domain;
 
 void sinter_domain_free(sinter_ctx *ctx, sinter_domain *d);

@@ -10,8 +10,12 @@
  *   u64 sizeof(sinter_qs_link), the records, u64 FNV-1a 64 checksum of all bytes before it.
  * Record:
  *   u64 id; f64 x[3], v[3], w[3], rot[3], force[3], torque[3], radius, mass, inertia,
- *   temperature, current, heat; i32 material; u32 flags; u64 record bits (bit 0: the electric
- *   warm start below is valid); f64 warm-start potential [V];
+ *   temperature, current, heat; f64 x, v, w, rot [3 each] and temperature at the start of the
+ *   step (bit 1);
+ *   i32 material; u32 flags; u64 record bits (bit 0: the electric warm start below is valid;
+ *   bit 1: the particle left in the middle of an explicit step, after its drift, and the rows
+ *   at the start of the step are its state at t, for a rollback on the side it enters; without
+ *   bit 1 they repeat x, v, w, rot, temperature); f64 warm-start potential [V];
  *   per force slot: u64 count and (key_i, key_j, pp width values) of each particle-particle
  *   history entry the particle is an end of, u64 count and (id, wall, pw width values) of each
  *   particle-wall entry;
@@ -27,9 +31,9 @@
 #include "stepper/migrate.h"
 #include "stepper/stepper.h"
 
-#define MIGRATE_VERSION 1u
+#define MIGRATE_VERSION 2u
 #define MIGRATE_NAME 64
-#define RECORD_F64 24
+#define RECORD_F64 37
 #define RECORD_FIXED (8 + 8 * RECORD_F64 + 4 + 4 + 8 + 8)
 
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'M', 'G'};
@@ -314,10 +318,20 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
                                    ps->temperature, ps->current, ps->heat};
         for (int f = 0; f < 6; ++f)
             put(&w, scalar[f] + i, sizeof(double));
+        /* the state at t: in the host's redistribution (after the drift, before any row
+         * moved) the spare rows and the saved temperature */
+        const int mid_step = st->domain.redistributing && st->spare[0] != NULL &&
+                             ps->layout_generation == st->domain.layout_at_start;
+        for (int f = 0; f < 4; ++f)
+            put(&w, (mid_step && st->spare[f] != NULL ? st->spare[f] : vec[f]) + 3 * i,
+                3 * sizeof(double));
+        const int saved = mid_step && st->thermal.count > 0 && st->thermal.theta_backup != NULL &&
+                          i < st->thermal.backup_capacity;
+        put(&w, (saved ? st->thermal.theta_backup : ps->temperature) + i, sizeof(double));
         put(&w, ps->material + i, 4);
         put(&w, ps->flags + i, 4);
         double phi = 0.0;
-        put_u64(&w, (uint64_t)warm_potential(st, i, &phi));
+        put_u64(&w, (uint64_t)warm_potential(st, i, &phi) | (uint64_t)mid_step << 1);
         put(&w, &phi, 8);
         for (uint32_t sec = 0; sec <= 2 * st->force_count; ++sec) {
             size_t count = 0;
@@ -581,7 +595,7 @@ static const char *fixed_wrong(const fixed_part *f, const sinter_particles *ps)
         return "its radius, mass, inertia or temperature is not > 0";
     if (f->material < 0 || f->material >= SINTER_MAX_MATERIALS || !ps->material_used[f->material])
         return "its material is not registered in this particle set";
-    if (f->bits > 1 || !isfinite(f->phi))
+    if (f->bits > 3 || !isfinite(f->phi))
         return "its electric warm start is malformed";
     return NULL;
 }
@@ -793,7 +807,7 @@ static double *warm_after(sinter_stepper *st, const parsed *p, size_t owned)
     for (size_t k = 0; k < p->records; ++k) {
         fixed_part f;
         read_fixed(p->at[k], &f);
-        if (!f.bits) {
+        if (!(f.bits & 1)) {
             sinter_free(st->ctx, phi);
             return NULL;
         }
@@ -849,6 +863,14 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
         if (s == SINTER_OK && st->quasistatic == NULL)
             s = sinter_qs_create(&st->quasistatic, ctx, &st->quasistatic_options);
     }
+    /* in the host's redistribution: room for the arrivals' state at t (redistribute.c) */
+    sinter_domain *dom = &st->domain;
+    if (s == SINTER_OK && dom->redistributing)
+        s = sinter_grow(ctx, (void **)&dom->arrived_id, &dom->arrived_id_capacity,
+                        dom->arrived_count + p.records + 1, sizeof(uint64_t));
+    if (s == SINTER_OK && dom->redistributing)
+        s = sinter_grow(ctx, (void **)&dom->arrived_rows, &dom->arrived_rows_capacity,
+                        13 * (dom->arrived_count + p.records) + 1, sizeof(double));
     double *phi = s == SINTER_OK ? warm_after(st, &p, owned) : NULL;
     if (s == SINTER_OK && p.links > 0) { /* the links, in the stream's order */
         size_t m = 0;
@@ -889,6 +911,11 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
                              ps->temperature, ps->current, ps->heat};
         for (int d = 0; d < 6; ++d)
             scalar[d][i] = f.v[18 + d];
+        if (dom->redistributing && (f.bits & 2)) { /* left its side after the drift */
+            dom->arrived_id[dom->arrived_count] = f.id;
+            memcpy(dom->arrived_rows + 13 * dom->arrived_count, f.v + 24, 13 * sizeof(double));
+            dom->arrived_count++;
+        }
         ps->material[i] = f.material;
         ps->flags[i] = f.flags;
         ps->id[i] = f.id;
