@@ -39,8 +39,9 @@ flags=(-std=c11 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined
 libs=(-lsundials_cvode -lsundials_sunlinsolpcg -lsundials_nvecserial -lsundials_sunlinsoldense
       -lsundials_sunmatrixdense -lm)
 
-# Library objects (rebuilt when their source, a header or the flags changed), in parallel.
-mapfile -t sources < <(find "$root/src" -name '*.c' -not -path '*/src/cli/*' | sort)
+# Library objects (rebuilt when their source, a header or the flags changed), in parallel; src/mpi/
+# is libsinter_mpi's (it needs mpi.h), not the library's.
+mapfile -t sources < <(find "$root/src" -name '*.c' -not -path '*/src/cli/*' -not -path '*/src/mpi/*' | sort)
 objects=()
 for src in "${sources[@]}"; do
   rel=${src#"$root"/src/}
