@@ -43,8 +43,14 @@ typedef struct sinter_ghost_fields {
     size_t struct_size; /**< sizeof(sinter_ghost_fields) */
     size_t count;       /**< ghosts */
     const uint64_t *id; /**< global ids (not ids of owned particles) */
-    const double *position, *velocity, *spin, *rotation; /**< 3 each [m], [m/s], [rad/s], [-] */
-    const double *radius, *mass, *inertia, *temperature; /**< 1 each [m], [kg], [kg m^2], [K] */
+    const double *position;    /**< 3 per ghost [m] */
+    const double *velocity;    /**< 3 per ghost [m/s] */
+    const double *spin;        /**< 3 per ghost [rad/s] */
+    const double *rotation;    /**< 3 per ghost: total rotation vector (seed 003 eq. 45) [-] */
+    const double *radius;      /**< 1 per ghost [m] */
+    const double *mass;        /**< 1 per ghost [kg] */
+    const double *inertia;     /**< 1 per ghost [kg m^2] */
+    const double *temperature; /**< 1 per ghost [K] */
     const int32_t *material;                             /**< registered material ids of this set */
     const uint32_t *flags; /**< sinter_particle_flag bits (NULL: none) */
     const int32_t *owner;  /**< owning subdomain, for checks (NULL: unknown) */
@@ -89,7 +95,8 @@ typedef struct sinter_halo {
     size_t width;       /**< doubles per particle */
     double *data;       /**< (owned + ghosts) * width doubles, in the set's index order */
     const uint64_t *id; /**< the set's ids in the same order */
-    size_t owned, ghosts;
+    size_t owned;       /**< owned rows, first */
+    size_t ghosts;      /**< ghost rows, after them */
 } sinter_halo;
 
 /** The explicit step's forward halo: 13 doubles per particle, x (3) [m], v (3) [m/s], spin (3)
