@@ -318,6 +318,19 @@ static sinter_status read_psd_table(scene_text *t, sinter_scene *sc, scene_secti
     return SINTER_OK;
 }
 
+/* The next word of `*rest`, a list separated by blanks, commas or semicolons: ended in place
+ * with a NUL, `*rest` moved past it; NULL when no word is left. */
+static char *next_list_word(char **rest)
+{
+    char *word = *rest + strspn(*rest, " \t,;");
+    const size_t len = strcspn(word, " \t,;");
+    if (len == 0)
+        return NULL;
+    *rest = word + len + (word[len] != '\0');
+    word[len] = '\0';
+    return word;
+}
+
 /*
  * [particles] or [insert] materials = A B ... with mass_fractions = f_A f_B ...: the mixture
  * of sinter_pack_random, the ids into mat[] and the fractions into a new array (*fractions).
@@ -335,13 +348,8 @@ sinter_status scene_read_mixture(scene_text *t, sinter_scene *sc, scene_section 
                            t->path, e->line);
     snprintf(names, sizeof(names), "%s", e->value);
     size_t n = 0;
-    for (char *w = names; *w != '\0';) {
-        const size_t skip = strspn(w, " \t,;"), len = strcspn(w + skip, " \t,;");
-        w += skip;
-        if (len == 0)
-            break;
-        const int end = w[len] != '\0';
-        w[len] = '\0';
+    char *rest = names;
+    for (char *w; (w = next_list_word(&rest)) != NULL;) {
         const int id = find_material(sc, w);
         if (id < 0)
             return sinter_fail(t->ctx, SINTER_ERR_PARSE,
@@ -352,7 +360,6 @@ sinter_status scene_read_mixture(scene_text *t, sinter_scene *sc, scene_section 
             return sinter_fail(t->ctx, SINTER_ERR_PARSE, "%s:%d: materials: too many", t->path,
                                e->line);
         mat[n++] = (int32_t)id;
-        w += len + (size_t)end;
     }
     size_t nf = 0;
     TRY(required(t, s, scene_get_numbers(t, s, "mass_fractions", fractions, &nf),
@@ -490,13 +497,8 @@ sinter_status scene_read_sizes(scene_text *t, sinter_scene *sc, scene_section *s
                            e->line);
     snprintf(names, sizeof(names), "%s", e->value);
     size_t n = 0;
-    for (char *w = names; *w != '\0';) {
-        const size_t skip = strspn(w, " \t,;"), len = strcspn(w + skip, " \t,;");
-        w += skip;
-        if (len == 0)
-            break;
-        const int end = w[len] != '\0';
-        w[len] = '\0';
+    char *rest = names;
+    for (char *w; (w = next_list_word(&rest)) != NULL;) {
         scene_section *size = NULL;
         for (size_t k = 0; k < t->count && size == NULL; ++k)
             if (strcmp(t->sections[k].type, "size") == 0 && strcmp(t->sections[k].name, w) == 0)
@@ -512,7 +514,6 @@ sinter_status scene_read_sizes(scene_text *t, sinter_scene *sc, scene_section *s
                                t->path, e->line, count);
         TRY(read_size_section(t, sc, size, &sizes[n], &tables[2 * n], &tables[2 * n + 1]));
         ++n;
-        w += len + (size_t)end;
     }
     if (n != count)
         return sinter_fail(t->ctx, SINTER_ERR_PARSE,
