@@ -12,17 +12,7 @@
 
 #include <sinter_submodel.h>
 
-#include "scene_support.h"
-
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
-
-enum { SIDE = 3, N = SIDE * SIDE * SIDE };
-static const double R = 1e-3, A = 1.96e-3; /* radius and lattice spacing [m]: 2 % overlap */
-static const double L = 12e-3;             /* the period along x [m] */
+#include "periodic_cluster.h"
 
 /* The heat models of one run (destroyed with the scene). */
 typedef struct heat_set {
@@ -60,23 +50,7 @@ static void heat_scene(scene *s, heat_set *h, double x0, int periodic, int schem
     for (int k = 0; k < 4; ++k)
         OK(sinter_stepper_add_heat(s->st, h->m[k]));
     OK(sinter_stepper_set_thermal_scheme(s->st, scheme));
-    if (periodic)
-        OK(sinter_stepper_set_periodic(s->st, 0, 0.0, L));
-    uint64_t seed = 11;
-    for (int k = 0; k < N; ++k) {
-        const double p[3] = {x0 + A * (k % SIDE), A * ((k / SIDE) % SIDE), A * (k / (SIDE * SIDE))};
-        OK(sinter_particles_add(s->ps, 1, p, &R, 0, 300.0 + 100.0 * lcg(&seed), NULL));
-    }
-    double *v = NULL, *w = NULL;
-    OK(sinter_particles_view(s->ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
-    OK(sinter_particles_view(s->ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
-    for (int k = 0; k < 3 * N; ++k) {
-        v[k] = 0.05 * (lcg(&seed) - 0.5);
-        w[k] = 20.0 * (lcg(&seed) - 0.5);
-    }
-    OK(sinter_particles_release(s->ps, SINTER_FIELD_VELOCITY));
-    OK(sinter_particles_release(s->ps, SINTER_FIELD_SPIN));
-    OK(sinter_stepper_set_dt(s->st, 2e-6));
+    periodic_cluster_fill(s, x0, periodic, 2e-6);
 }
 
 static void heat_close(scene *s, heat_set *h)
