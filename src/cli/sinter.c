@@ -24,7 +24,8 @@
  * --restart continues the run of DIR/checkpoint.bin (sinter_scene_restart): the series and
  * frames of -o DIR are continued where they hold the run's earlier samples. --end-time T
  * replaces the scene's end time; --stop-at T stops at the first sample at or after the
- * simulated time T, writing the checkpoint to continue from (exit status 0).
+ * simulated time T (a sample within a relative 1e-12 below T counts as at T: sample times carry
+ * their steps' rounding), writing the checkpoint to continue from (exit status 0).
  * SIGINT (Ctrl-C) or SIGTERM ends the current step, writes the checkpoint and the plot and
  * exits with 130 or 143; a second signal ends the program at once.
  */
@@ -60,7 +61,9 @@ typedef struct progress_state {
 static int show_progress(double time, double end_time, void *user)
 {
     progress_state *p = user;
-    if (time >= p->stop_at) {
+    /* a sample's time carries its steps' rounding (0.029999999999999999 for 0.03): within a
+     * relative 1e-12 below T it is the sample at T */
+    if (time >= p->stop_at - 1e-12 * fabs(p->stop_at)) {
         p->stopped_at = 1;
         return 1;
     }
