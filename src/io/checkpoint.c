@@ -18,6 +18,7 @@
 
 #include <sys/stat.h>
 
+#include "core/fnv1a.h"
 #include "electric/electric.h"
 #include "io/checkpoint.h"
 #include "io/path.h"
@@ -99,11 +100,7 @@ typedef struct writer {
 
 static void put(writer *w, const void *data, size_t bytes)
 {
-    const unsigned char *p = data;
-    for (size_t k = 0; k < bytes; ++k) {
-        w->hash ^= p[k];
-        w->hash *= 0x100000001b3ull;
-    }
+    w->hash = sinter_fnv1a(w->hash, data, bytes);
     if (bytes > 0 && fwrite(data, 1, bytes, w->f) != bytes)
         w->failed = 1;
 }
@@ -168,7 +165,7 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     const sinter_status named = sinter_path_format(ctx, tmp, sizeof(tmp), "%s.tmp", path);
     if (named != SINTER_OK)
         return named;
-    writer w = {fopen(tmp, "wb"), 0xcbf29ce484222325ull, 0};
+    writer w = {fopen(tmp, "wb"), SINTER_FNV1A_START, 0};
     if (w.f == NULL)
         return sinter_fail(ctx, SINTER_ERR_IO, "cannot write checkpoint '%s': %s", tmp,
                            strerror(errno));
@@ -604,11 +601,8 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         sinter_free(ctx, data);
         return corrupt(ctx, path, "it is not a libsinter checkpoint (bad magic or too short)");
     }
-    uint64_t h = 0xcbf29ce484222325ull, stored = 0;
-    for (size_t k = 0; k < size - 8; ++k) {
-        h ^= data[k];
-        h *= 0x100000001b3ull;
-    }
+    const uint64_t h = sinter_fnv1a(SINTER_FNV1A_START, data, size - 8);
+    uint64_t stored = 0;
     memcpy(&stored, data + size - 8, 8);
     if (h != stored) {
         sinter_free(ctx, data);

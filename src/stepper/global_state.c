@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/fnv1a.h"
 #include "stepper/insertion.h"
 #include "stepper/stepper.h"
 
@@ -23,16 +24,6 @@
 enum { STEPPER_F64 = 13, STEPPER_U64 = 15 };
 
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'G', 'L'};
-
-static uint64_t fnv1a(const unsigned char *p, size_t n)
-{
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (size_t k = 0; k < n; ++k) {
-        h ^= p[k];
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
 
 static size_t walls_of(const sinter_stepper *st)
 {
@@ -151,7 +142,7 @@ sinter_status sinter_stepper_save_global(const sinter_stepper *st, void *buf, si
     PUT(&has, 8);
     PUT(iu, sizeof(iu));
     PUT(id, sizeof(id));
-    const uint64_t sum = fnv1a(buf, (size_t)(p - (unsigned char *)buf));
+    const uint64_t sum = sinter_fnv1a(SINTER_FNV1A_START, buf, (size_t)(p - (unsigned char *)buf));
     PUT(&sum, 8);
 #undef PUT
     return SINTER_OK;
@@ -188,7 +179,7 @@ sinter_status sinter_stepper_load_global(sinter_stepper *st, const void *buf, si
                            F, version, (unsigned long long)head[0], bytes);
     uint64_t sum;
     memcpy(&sum, p + bytes - 8, 8);
-    if (fnv1a(p, bytes - 8) != sum)
+    if (sinter_fnv1a(SINTER_FNV1A_START, p, bytes - 8) != sum)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
                            "%s: the checksum does not match (the buffer is damaged)", F);
     if (head[1] != (uint64_t)st->kind || head[2] != st->force_count)

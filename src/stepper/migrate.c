@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/fnv1a.h"
 #include "electric/electric.h"
 #include "stepper/migrate.h"
 #include "stepper/stepper.h"
@@ -37,16 +38,6 @@
 #define RECORD_FIXED (8 + 8 * RECORD_F64 + 4 + 4 + 8 + 8)
 
 static const char MAGIC[8] = {'S', 'I', 'N', 'T', 'E', 'R', 'M', 'G'};
-
-static uint64_t fnv1a(const unsigned char *p, size_t n)
-{
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (size_t k = 0; k < n; ++k) {
-        h ^= p[k];
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
 
 static size_t header_bytes(const sinter_stepper *st)
 {
@@ -365,7 +356,7 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
             }
         }
     }
-    const uint64_t sum = fnv1a(out, (size_t)(w.p - out));
+    const uint64_t sum = sinter_fnv1a(SINTER_FNV1A_START, out, (size_t)(w.p - out));
     put(&w, &sum, 8);
 }
 
@@ -659,7 +650,7 @@ static sinter_status parse(sinter_stepper *st, const unsigned char *data, size_t
                            (unsigned long long)total, bytes);
     uint64_t sum;
     memcpy(&sum, data + bytes - 8, 8);
-    if (fnv1a(data, bytes - 8) != sum)
+    if (sinter_fnv1a(SINTER_FNV1A_START, data, bytes - 8) != sum)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
                            "%s: the records' checksum does not match "
                            "(the buffer is damaged)",

@@ -274,17 +274,27 @@ static double finish(const sinter_mesh *m, const double *x, const best_point *bp
     return sign * s;
 }
 
+/* The closest triangle to x by the search seeded with triangle `hint`; seeded and nothing
+ * taken (a bound's round-off past the margin), the search again without the seed. 0 when no
+ * triangle lies within the reach (*lower is then a lower bound of the distance). */
+static int seeded_search(const sinter_mesh *m, const double *x, uint32_t hint, best_point *best,
+                         double *lower)
+{
+    *best = seed(m, x, hint);
+    *lower = 0.0;
+    int found = search(m, x, best, lower);
+    if (found && best->tri == SIZE_MAX) {
+        *best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}, INFINITY};
+        found = search(m, x, best, lower);
+    }
+    return found;
+}
+
 double sinter_mesh_closest_hinted(const sinter_mesh *m, const double *x, double *n, uint32_t *hint)
 {
-    best_point best = seed(m, x, *hint);
-    double lower = 0.0;
-    int found = search(m, x, &best, &lower);
-    /* seeded and nothing taken (a bound's round-off past the margin): the search without */
-    if (found && best.tri == SIZE_MAX) {
-        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}, INFINITY};
-        found = search(m, x, &best, &lower);
-    }
-    if (!found) {
+    best_point best;
+    double lower;
+    if (!seeded_search(m, x, *hint, &best, &lower)) {
         if (n != NULL)
             memcpy(n, m->fn, 3 * sizeof(double));
         return lower;
@@ -320,14 +330,9 @@ double sinter_mesh_closest_certified(const sinter_mesh *m, const double *x, doub
         }
     }
     cert[3] = -1.0;
-    best_point best = seed(m, x, t);
-    double lower = 0.0;
-    int found = search(m, x, &best, &lower);
-    if (found && best.tri == SIZE_MAX) {
-        best = (best_point){INFINITY, SIZE_MAX, 0, {0, 0, 0}, INFINITY};
-        found = search(m, x, &best, &lower);
-    }
-    if (!found) {
+    best_point best;
+    double lower;
+    if (!seeded_search(m, x, t, &best, &lower)) {
         if (n != NULL)
             memcpy(n, m->fn, 3 * sizeof(double));
         return lower;
