@@ -619,16 +619,23 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
     return s;
 }
 
-/* The gap [m] within which a heat model reads pairs apart (heat/gas_gap.h): the largest
- * "gas_reach" of the heat models times the largest radius; 0 without one (the default, no
- * pass over the radii). */
-static double heat_reach(const sinter_stepper *st)
+/* The largest "gas_reach" fraction of the heat models (heat/gas_gap.h), 0 without one. */
+static double heat_reach_fraction(const sinter_stepper *st)
 {
     double fraction = 0.0;
     for (size_t k = 0; k < st->thermal.count; ++k) {
         const double f = sinter_heat_gas_reach(st->thermal.slots[k].model, st->time);
         fraction = f > fraction ? f : fraction;
     }
+    return fraction > 0.0 ? fraction : 0.0;
+}
+
+/* The gap [m] within which a heat model reads pairs apart (heat/gas_gap.h): the largest
+ * "gas_reach" of the heat models times the largest radius; 0 without one (the default, no
+ * pass over the radii). */
+static double heat_reach(const sinter_stepper *st)
+{
+    const double fraction = heat_reach_fraction(st);
     if (!(fraction > 0.0))
         return 0.0;
     double rmax = 0.0;
@@ -677,17 +684,6 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
     for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL && ps->ghost_count > 0; ++k)
         memcpy(st->spare[k] + 3 * first, rows[k] + 3 * first, 3 * ps->ghost_count * sizeof(double));
     return s;
-}
-
-/* The largest "gas_reach" fraction of the heat models (heat/gas_gap.h), 0 without one. */
-static double heat_reach_fraction(const sinter_stepper *st)
-{
-    double fraction = 0.0;
-    for (size_t k = 0; k < st->thermal.count; ++k) {
-        const double f = sinter_heat_gas_reach(st->thermal.slots[k].model, st->time);
-        fraction = f > fraction ? f : fraction;
-    }
-    return fraction > 0.0 ? fraction : 0.0;
 }
 
 static sinter_status refresh_neighbors(sinter_stepper *st)
