@@ -94,6 +94,9 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->dissipation);
     sinter_free(ctx, em->wall_mode);
     sinter_free(ctx, em->wall_value);
+    sinter_free(ctx, em->warm_id);
+    sinter_free(ctx, em->warm_pairs);
+    sinter_free(ctx, em->warm_moved);
     sinter_free(ctx, em);
 }
 
@@ -257,6 +260,7 @@ sinter_status sinter_electric_set_warm_potentials(sinter_electric_model *em, con
                                                   size_t nodes)
 {
     em->warm_nodes = 0;
+    em->warm_id_count = 0; /* by row: see warm_ids.c */
     if (nodes == 0 || em->kind != SINTER_ELECTRIC_NETWORK)
         return SINTER_OK;
     SINTER_ELECTRIC_RESERVE(em, potential, nodes + 1);

@@ -42,6 +42,12 @@ struct sinter_electric_model {
     size_t open_clusters; /* network: clusters left without current (open circuit) */
     size_t warm_nodes;    /* network: nodes of the last solve, whose potentials start the next
                              (0: none; see network.c) */
+    /* network: the ids of the last solve's particle nodes, warm_id_count of them (0: unknown,
+     * the potentials were restored by row), and the scratch that moves the warm start to the
+     * particles' new rows after a reordering (warm_ids.c) */
+    uint64_t *warm_id, *warm_pairs;
+    double *warm_moved;
+    size_t warm_id_count, warm_id_capacity, warm_pairs_capacity, warm_moved_capacity;
     /* network: the power of the last solve (network.c): delivered by the driven walls, and
      * dissipated in the contacts, per particle (its share) and in all [W] */
     double supplied_power, dissipated_power;
@@ -167,6 +173,15 @@ double sinter_electric_contact_conductance(const sinter_electric_model *em,
 /* The network model's warm start (network.c): the potentials of its last solve, *nodes of
  * them (0 and NULL when the next solve starts from 0), for a checkpoint. */
 const double *sinter_electric_warm_potentials(const sinter_electric_model *em, size_t *nodes);
+
+/* Before a solve over n particle nodes (nodes in all): when the warm start is of that many
+ * nodes and its particles' ids are known but sit in other rows now, move each potential to its
+ * particle's row (a particle the last solve did not have: start from 0). After a solve: keep the
+ * ids of its n particle rows. (warm_ids.c) Errors: SINTER_ERR_NOMEM. */
+sinter_status sinter_electric_warm_follow(sinter_electric_model *em, const sinter_particles *ps,
+                                          size_t n, size_t nodes);
+sinter_status sinter_electric_warm_record_ids(sinter_electric_model *em, const sinter_particles *ps,
+                                              size_t n);
 
 /* Restore them from `phi`, nodes doubles at any alignment (a checkpoint's; nodes = 0 clears
  * them). Errors: SINTER_ERR_NOMEM. */

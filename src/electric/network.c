@@ -35,7 +35,8 @@
  * stepper/thermal.c); pinned nodes are identity rows that keep their value exactly; stopping test
  * ||b - A phi||_2 <= tolerance ||b||_2 over the free rows, started from the potentials of the
  * model's last solve when it had as many nodes (a stepper's last step: a close start, a sixth of
- * the iterations over the press scene), from phi = 0 otherwise; the test, and so the accuracy,
+ * the iterations over the press scene; moved with the particles by id after a reordering:
+ * warm_ids.c), from phi = 0 otherwise; the test, and so the accuracy,
  * is the same either way. Checkpoints keep these potentials, so a restart continues bit for bit
  * (sinter_electric_warm_potentials).
  * Output: the current through contact (p, q) is I = G_pq (phi_p - phi_q); a particle's current is
@@ -447,11 +448,14 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
     SINTER_ELECTRIC_RESERVE(em, potential, nodes + 1);
     /* the last solve's potentials start this one if it had as many nodes (then cleared: an
      * error below leaves the next solve a start from 0) */
+    sinter_status s = sinter_electric_warm_follow(em, ps, n, nodes); /* after a reordering */
+    if (s != SINTER_OK)
+        return s;
     const int warm = em->warm_nodes == nodes;
     em->warm_nodes = 0;
     em->dissipation_count = 0;
     em->supplied_power = em->dissipated_power = 0.0;
-    sinter_status s = build_edges(em, ps, walls, pp, pw);
+    s = build_edges(em, ps, walls, pp, pw);
     if (s != SINTER_OK)
         return s;
     classify_nodes(em, walls, n, nw);
@@ -534,6 +538,8 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
                                rc, em->last_iterations, res, em->tolerance, bnorm);
     }
     em->node_count = nodes;
+    if ((s = sinter_electric_warm_record_ids(em, ps, n)) != SINTER_OK)
+        return s;
     em->warm_nodes = nodes;
 
     /* Contact currents I = G (phi_a - phi_b); a particle carries half the sum of |I|. */

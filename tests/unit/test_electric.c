@@ -395,6 +395,128 @@ static void test_network_warm_start(void **state)
 }
 
 /*
+ * The warm start follows the particles when they are reordered (warm_ids.c): a chain added
+ * right to left, solved, then sorted in memory by position (every row changes) and its contacts
+ * found again. Solving the same circuit again starts from each particle's own potential, so
+ * it needs no iteration (the first solve went to 1e-13, the second asks 1e-9: the new sum order
+ * of the residual cannot reach that) and gives the same potentials per particle to the first
+ * solve's accuracy. The potentials of the rows before the sort would be a start of the
+ * reversed chain: a residual of the order of the drive, many iterations.
+ */
+static void test_network_warm_start_follows_a_sort(void **state)
+{
+    (void)state;
+    fixture f;
+    open_fixture(&f);
+    enum { N = 9 };
+    double delta[N - 1];
+    for (size_t k = 0; k < N - 1; ++k)
+        delta[k] = 1e-4 * (1.0 + 0.1 * (double)k); /* unequal conductances */
+    double x = R - 2e-4, xs[N];
+    for (size_t k = 0; k < N; ++k) {
+        xs[k] = x;
+        if (k + 1 < N)
+            x += 2.0 * R - delta[k];
+    }
+    for (size_t k = N; k-- > 0;) /* right to left: id 0 is the rightmost */
+        add(&f, xs[k], 0.0, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 1.0);
+    add_wall(&f, x + R - 2e-4, -1.0, SINTER_WALL_POTENTIAL, 0.0);
+    find_contacts(&f);
+    model(&f, "network", 1e-13);
+    size_t first = 0, again = 0;
+    OK(solve(&f, &first));
+    double phi_by_id[N];
+    for (size_t i = 0; i < N; ++i)
+        phi_by_id[f.ps->id[i]] = f.em->potential[i];
+    OK(sinter_particles_sort_spatial(f.ps));
+    assert_true(f.ps->id[0] != 0 && f.ps->id[N - 1] != N - 1); /* sorted by x: reversed */
+    find_contacts(&f);
+    OK(sinter_electric_model_set(f.em, "tolerance", 1e-9));
+    OK(solve(&f, &again));
+    print_message("after a sort: %zu PCG iterations from 0, %zu from the moved warm start\n", first,
+                  again);
+    assert_true(first >= 3);
+    assert_int_equal(again, 0);
+    for (size_t i = 0; i < N; ++i) /* the potentials are the first solve's (0..1 V) */
+        assert_close(f.em->potential[i], phi_by_id[f.ps->id[i]], 1e-12);
+    /* a warm start restored by row (a checkpoint's) is taken as it is */
+    double restored[N + 2];
+    memcpy(restored, f.em->potential, sizeof(restored));
+    OK(sinter_electric_set_warm_potentials(f.em, restored, N + 2));
+    OK(solve(&f, &again));
+    assert_int_equal(again, 0);
+    close_fixture(&f);
+}
+
+/*
+ * The same through a stepper (option sort_interval): two chains added right to left, held
+ * still (no force model: the contacts stay as they are), an explicit step to start the warm
+ * start in that order, then a sort before each step. The PCG iterations of the run are those
+ * of the same run without the sort (the first solve's 6; every later one starts at the
+ * solution), and every particle carries the same current to the solves' accuracy (tolerance
+ * 1e-12; the sort changes only the order of the sums). The rows' potentials as a start would
+ * cost 6 more iterations after the first sort.
+ */
+static void run_with_sort(uint64_t sort_interval, uint64_t *iterations, double *current_by_id)
+{
+    fixture f;
+    open_fixture(&f);
+    sinter_material *mat;
+    OK(sinter_material_create(&mat, f.ctx, NULL));
+    OK(sinter_material_set(mat, SINTER_MAT_ELECTRIC_CONDUCTIVITY, 1e4));
+    OK(sinter_material_set(mat, SINTER_MAT_DENSITY, 8000.0));
+    OK(sinter_particles_set_material(f.ps, 0, mat));
+    sinter_material_destroy(mat);
+    enum { N = 6 };
+    double delta[N - 1], x = R - 2e-4, xs[N];
+    for (size_t k = 0; k < N - 1; ++k)
+        delta[k] = 1e-4 * (1.0 + 0.2 * (double)k);
+    for (size_t k = 0; k < N; ++k) {
+        xs[k] = x;
+        if (k + 1 < N)
+            x += 2.0 * R - delta[k];
+    }
+    for (int chain = 0; chain < 2; ++chain)
+        for (size_t k = N; k-- > 0;)
+            add(&f, xs[k], 3.0 * R * chain, 0.0, 0);
+    add_wall(&f, 0.0, 1.0, SINTER_WALL_POTENTIAL, 0.5);
+    add_wall(&f, x + R - 2e-4, -1.0, SINTER_WALL_POTENTIAL, -0.5);
+    model(&f, "network", 1e-12);
+    sinter_stepper *st;
+    OK(sinter_stepper_create(&st, f.ctx, SINTER_STEPPER_EXPLICIT, f.ps, f.walls));
+    OK(sinter_stepper_set_electric(st, f.em));
+    OK(sinter_stepper_set_dt(st, 2e-6));
+    OK(sinter_stepper_step(st, 1)); /* solved in the order added */
+    OK(sinter_stepper_set_option(st, "sort_interval", (double)sort_interval));
+    OK(sinter_stepper_step(st, 40));
+    OK(sinter_stepper_electric_iterations(st, iterations));
+    for (size_t i = 0; i < 2 * N; ++i)
+        current_by_id[f.ps->id[i]] = f.ps->current[i];
+    if (sort_interval > 0)
+        assert_true(f.ps->id[0] != 0); /* the sort did move the particles */
+    sinter_stepper_destroy(st);
+    close_fixture(&f);
+}
+
+static void test_network_sort_interval_same_iterations(void **state)
+{
+    (void)state;
+    uint64_t plain = 0, sorted = 0;
+    double current[12], current_sorted[12];
+    run_with_sort(0, &plain, current);
+    run_with_sort(1, &sorted, current_sorted);
+    print_message("PCG iterations over the run: %llu without sorts, %llu with a sort each step\n",
+                  (unsigned long long)plain, (unsigned long long)sorted);
+    assert_true(plain > 0);
+    assert_true(plain == sorted);
+    for (size_t i = 0; i < 12; ++i) {
+        assert_true(current[i] > 0.0);
+        assert_rel(current_sorted[i], current[i], 1e-9);
+    }
+}
+
+/*
  * Two separate chains of 3 between the same two walls, one of sigma 2 S/m, one of 5 S/m, with
  * the same geometry: currents in the ratio of the conductances. With potential walls each
  * chain carries V0 / R_c; with a current electrode the total I0 splits as G_c / (G_a + G_b).
@@ -1404,6 +1526,8 @@ int main(void)
         cmocka_unit_test(test_averaged_unequal_areas),
         cmocka_unit_test(test_network_series_chain),
         cmocka_unit_test(test_network_warm_start),
+        cmocka_unit_test(test_network_warm_start_follows_a_sort),
+        cmocka_unit_test(test_network_sort_interval_same_iterations),
         cmocka_unit_test(test_parallel_chains),
         cmocka_unit_test(test_isolated_particles),
         cmocka_unit_test(test_iterations),
