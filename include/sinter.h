@@ -2306,10 +2306,14 @@ SINTER_API sinter_status sinter_scene_checkpoint_write(const sinter_scene *scene
  * models) is refused with SINTER_ERR_INVALID naming the first difference, a
  * stepper checkpoint without a scene program likewise; a path that is a
  * directory or not a regular file with SINTER_ERR_INVALID, an empty, truncated
- * or corrupted file with SINTER_ERR_CORRUPT; nothing is changed then. Values
- * the checkpoint carries that the scene file sets otherwise (the time step,
- * material parameters) are taken from the checkpoint and named at the info log
- * level. The end time stays the scene's (sinter_scene_set_end_time).
+ * or corrupted file with SINTER_ERR_CORRUPT; nothing is changed then. A scene
+ * file edited since the run: the explicit stepper's time step and the [output]
+ * interval and checkpoint_interval are the scene's (the next sample comes the
+ * new interval after the last one written), each change logged as a warning
+ * (the run then no longer repeats the straight run); the adaptive steppers
+ * keep the checkpoint's current step and material parameters are the
+ * checkpoint's, named at the info log level. The end time stays the scene's
+ * (sinter_scene_set_end_time).
  */
 SINTER_API sinter_status sinter_scene_restart(sinter_scene *scene, const char *path);
 

@@ -22,7 +22,10 @@
  * stepper's thread count and stores, by timing).
  *
  * --restart continues the run of DIR/checkpoint.bin (sinter_scene_restart): the series and
- * frames of -o DIR are continued where they hold the run's earlier samples. --end-time T
+ * frames of -o DIR are continued where they hold the run's earlier samples. A scene file
+ * edited since the run: its explicit dt and its [output] interval and checkpoint_interval win
+ * over the checkpoint's, and the restart prints a warning for each (also without --log;
+ * docs/getting-started.md, "Stopping and continuing"). --end-time T
  * replaces the scene's end time; --stop-at T stops at the first sample at or after the
  * simulated time T (a sample within a relative 1e-12 below T counts as at T: sample times carry
  * their steps' rounding), writing the checkpoint to continue from (exit status 0).
@@ -251,8 +254,16 @@ static int run(int argc, char **argv)
         st = sinter_ctx_set_threads(ctx, threads);
     if (st == SINTER_OK && end_time >= 0.0)
         st = sinter_scene_set_end_time(scene, end_time);
-    if (st == SINTER_OK && restart != NULL)
-        st = sinter_scene_restart(scene, restart);
+    if (st == SINTER_OK && restart != NULL) {
+        /* what the restart takes from the scene over the checkpoint (an edited dt or output
+         * schedule) is a warning, printed even without --log */
+        if (log_level < 0)
+            st = sinter_ctx_set_log(ctx, cli_print_log, SINTER_LOG_WARNING, NULL);
+        if (st == SINTER_OK)
+            st = sinter_scene_restart(scene, restart);
+        if (log_level < 0)
+            (void)sinter_ctx_set_log(ctx, NULL, 0, NULL);
+    }
     int rc = 0;
     const int tty = isatty(fileno(stderr));
     progress_state p = {scene,   now(), now(), tty, every >= 0.0 ? every : tty ? 1.0 : 5.0,

@@ -7,10 +7,21 @@
  * particle count, the stepper kind, each wall's name and normal in order, each material's name
  * in id order, each heat model's name, whether there is an electric model), then the program
  * (phase, pour start, time origin, next output, next checkpoint, rows, frames and
- * the frames' times). A restart into a scene that differs in any of the identifying items is
- * refused, naming the first difference; values the checkpoint carries that the scene file
- * sets otherwise (the time step, material parameters) are taken from the checkpoint and
- * reported at the info log level.
+ * the frames' times; version 2 then the output and checkpoint intervals of the run that wrote
+ * it). A restart into a scene that differs in any of the identifying items is refused, naming
+ * the first difference.
+ *
+ * A scene file edited between the run and its restart (docs/getting-started.md, "Stopping and
+ * continuing"):
+ *  - [stepper] dt of the explicit stepper: the scene's wins, with a warning (the run then no
+ *    longer continues bit for bit). The staggered and quasi-static steppers adapt their step:
+ *    the checkpoint's is where the adaptation stands and is kept (info level);
+ *  - [output] interval and checkpoint_interval: the scene's win, with a warning; the next
+ *    sample comes the new interval after the last one written (at the restart's time at the
+ *    earliest), the next checkpoint likewise. A version 1 checkpoint does not know the
+ *    intervals it ran with: its schedule is kept for one sample, as before;
+ *  - material parameters: the checkpoint's are kept (the particles' state was made with them),
+ *    reported at the info level.
  */
 #include <math.h>
 #include <stdio.h>
@@ -21,7 +32,7 @@
 #include "io/scene.h"
 
 static const char PROGRAM_MAGIC[8] = {'S', 'C', 'E', 'N', 'E', 'P', 'R', 'G'};
-enum { PROGRAM_VERSION = 1, NAME_BYTES = 64 };
+enum { PROGRAM_VERSION = 2, NAME_BYTES = 64 };
 
 sinter_status scene_program_add_frame(sinter_ctx *ctx, scene_program *p, double time)
 {
@@ -104,6 +115,8 @@ static void put_program(buffer *b, const sinter_scene *sc)
     put_u64(b, p->rows);
     put_u64(b, p->frames);
     put(b, p->frame_times, (size_t)p->frames * sizeof(double));
+    put_f64(b, sc->output_interval); /* version 2 */
+    put_f64(b, sc->checkpoint_interval);
 }
 
 sinter_status sinter_scene_checkpoint_write(const sinter_scene *sc, const char *path)
@@ -174,6 +187,8 @@ typedef struct restart_check {
     sinter_scene *sc;
     const char *path;
     scene_program staged; /* the program read, committed when the stepper's state is */
+    int intervals;        /* the program has the run's intervals (version 2) */
+    double output_interval, checkpoint_interval; /* [s] */
 } restart_check;
 
 static const char *const KIND_NAMES[3] = {"explicit", "staggered", "quasistatic"};
@@ -280,10 +295,10 @@ static sinter_status check_program(void *user, const void *data, size_t bytes,
     cursor c = {data, bytes, sizeof(PROGRAM_MAGIC), 0};
     uint32_t version = 0;
     memcpy(&version, take(&c, sizeof(version)), sizeof(version));
-    if (version != PROGRAM_VERSION)
+    if (version != 1 && version != PROGRAM_VERSION)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
-                           "checkpoint '%s': scene program version %u, this library reads %d; "
-                           "nothing was changed",
+                           "checkpoint '%s': scene program version %u, this library reads 1 to "
+                           "%d; nothing was changed",
                            rc->path, version, PROGRAM_VERSION);
     char why[400];
     const char *differs = compare_scene(&c, rc->sc, why, sizeof(why));
@@ -301,10 +316,18 @@ static sinter_status check_program(void *user, const void *data, size_t bytes,
     p->rows = take_u64(&c);
     const uint64_t frames = take_u64(&c);
     const void *times = frames <= bytes / sizeof(double) ? take(&c, frames * sizeof(double)) : NULL;
-    const int valid = !c.bad && c.pos == c.size && (times != NULL || frames == 0) &&
-                      (p->phase == SCENE_PHASE_POUR || p->phase == SCENE_PHASE_MAIN) &&
-                      isfinite(p->pour_start) && isfinite(p->origin) && isfinite(p->next_output) &&
-                      isfinite(p->next_checkpoint) && p->next_output >= facts->time;
+    rc->intervals = version >= 2;
+    if (rc->intervals) {
+        rc->output_interval = take_f64(&c);
+        rc->checkpoint_interval = take_f64(&c);
+    }
+    const int valid =
+        !c.bad && c.pos == c.size && (times != NULL || frames == 0) &&
+        (!rc->intervals || (rc->output_interval > 0.0 && isfinite(rc->output_interval) &&
+                            rc->checkpoint_interval >= 0.0 && isfinite(rc->checkpoint_interval))) &&
+        (p->phase == SCENE_PHASE_POUR || p->phase == SCENE_PHASE_MAIN) && isfinite(p->pour_start) &&
+        isfinite(p->origin) && isfinite(p->next_output) && isfinite(p->next_checkpoint) &&
+        p->next_output >= facts->time;
     if (!valid)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
                            "checkpoint '%s' is refused: its scene program is malformed; nothing "
@@ -320,15 +343,61 @@ static sinter_status check_program(void *user, const void *data, size_t bytes,
     return SINTER_OK;
 }
 
-/* What the checkpoint changed of the scene's own settings, at the info level. */
-static void report_overrides(sinter_scene *sc, double dt_before,
-                             const double before[][SINTER_MAT_PARAM_COUNT_])
+/* The scene's time step against the checkpoint's (see the top): the explicit stepper takes
+ * the scene's back, the adaptive ones keep the checkpoint's. */
+static sinter_status reconcile_dt(sinter_scene *sc, double dt_before)
 {
     const double dt_after = sc->st->dt;
-    if (dt_after != dt_before)
+    if (dt_after == dt_before)
+        return SINTER_OK;
+    if (sc->st->kind != SINTER_STEPPER_EXPLICIT) {
         sinter_log(sc->ctx, SINTER_LOG_INFO,
-                   "restart: the checkpoint's time step %.17g s replaces the scene's %.17g s",
-                   dt_after, dt_before);
+                   "restart: the %s stepper continues with the checkpoint's adapted time step "
+                   "%.17g s (the scene's dt = %.17g s is its first step)",
+                   kind_name((uint64_t)sc->st->kind), dt_after, dt_before);
+        return SINTER_OK;
+    }
+    sinter_log(sc->ctx, SINTER_LOG_WARNING,
+               "restart: the scene's time step dt = %.17g s replaces the checkpoint's %.17g s; "
+               "the run no longer continues bit for bit",
+               dt_before, dt_after);
+    return sinter_stepper_set_dt(sc->st, dt_before);
+}
+
+/* The next time of a schedule whose last event was at `next - old` when its interval becomes
+ * `now_interval`: that event plus the new interval, not before time t. */
+static double rescheduled(double next, double old, double now_interval, double t)
+{
+    return fmax(t, next - old + now_interval);
+}
+
+/* The scene's output and checkpoint intervals against the run's (version 2 programs). */
+static void reconcile_schedule(sinter_scene *sc, const restart_check *rc)
+{
+    scene_program *p = &sc->program;
+    const double t = sc->st->time;
+    if (!rc->intervals)
+        return;
+    if (sc->output_interval != rc->output_interval) {
+        p->next_output = rescheduled(p->next_output, rc->output_interval, sc->output_interval, t);
+        sinter_log(sc->ctx, SINTER_LOG_WARNING,
+                   "restart: the scene's [output] interval = %.17g s replaces the run's %.17g s; "
+                   "the next sample is at t = %.17g s",
+                   sc->output_interval, rc->output_interval, p->next_output);
+    }
+    if (sc->checkpoint_interval != rc->checkpoint_interval) {
+        p->next_checkpoint =
+            rescheduled(p->next_checkpoint, rc->checkpoint_interval, sc->checkpoint_interval, t);
+        sinter_log(sc->ctx, SINTER_LOG_WARNING,
+                   "restart: the scene's [output] checkpoint_interval = %.17g s replaces the "
+                   "run's %.17g s",
+                   sc->checkpoint_interval, rc->checkpoint_interval);
+    }
+}
+
+/* What the checkpoint changed of the scene's materials, at the info level. */
+static void report_overrides(sinter_scene *sc, const double before[][SINTER_MAT_PARAM_COUNT_])
+{
     for (size_t m = 0; m < sc->material_count; ++m)
         for (int p = 0; p < SINTER_MAT_PARAM_COUNT_; ++p) {
             const double after = sc->ps->materials[m].value[p];
@@ -363,9 +432,11 @@ sinter_status sinter_scene_restart(sinter_scene *sc, const char *path)
     rc.path = path;
     sinter_status st = sinter_checkpoint_read_with(sc->st, path, check_program, &rc);
     if (st == SINTER_OK) {
-        report_overrides(sc, dt_before, (const double(*)[SINTER_MAT_PARAM_COUNT_])before);
+        report_overrides(sc, (const double(*)[SINTER_MAT_PARAM_COUNT_])before);
+        st = reconcile_dt(sc, dt_before); /* (a dt the scene's parser accepted) */
         scene_program_free(ctx, &sc->program);
         sc->program = rc.staged;
+        reconcile_schedule(sc, &rc);
         /* the furnace, as loaded, is timed from 0: delay it to the program's origin */
         sinter_stepper_shift_furnace(sc->st, sc->program.origin - sc->furnace_shift);
         sc->furnace_shift = sc->program.origin;

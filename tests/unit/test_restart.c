@@ -297,8 +297,17 @@ static void test_overrides_are_reported(void **state)
     static char log[4096];
     OK(sinter_ctx_set_log(ctx, note, SINTER_LOG_INFO, log));
     OK(sinter_scene_restart(scene, in_dir("a/checkpoint.bin")));
-    assert_non_null(strstr(log, "time step 1.9999999999999999e-06 s replaces the scene's"));
+    /* an edited dt of the explicit stepper wins (a warning); materials stay the checkpoint's */
+    assert_non_null(strstr(log, "the scene's time step dt = 3.0000000000000001e-06 s replaces "
+                                "the checkpoint's 1.9999999999999999e-06 s"));
     assert_non_null(strstr(log, "material 'glass' density = 2500 from the checkpoint replaces"));
+    sinter_stepper *st = NULL;
+    sinter_stepper_stats stats;
+    memset(&stats, 0, sizeof(stats));
+    stats.struct_size = sizeof(stats);
+    OK(sinter_scene_get_stepper(scene, &st));
+    OK(sinter_stepper_get_stats(st, &stats));
+    assert_true(stats.dt == 3e-6);
     sinter_scene_destroy(scene);
     sinter_ctx_destroy(ctx);
 }
