@@ -1092,6 +1092,8 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
     if (st == SINTER_OK) {
         TRY(required(t, s, scene_get_vec3(t, s, "domain_max", hi), "domain_max"));
         TRY(at_line(t, s->line, sinter_stepper_set_domain(sc->st, lo, hi)));
+    } else if (scene_find(s, "domain_max") != NULL) { /* (not "unknown key") */
+        return required(t, s, SINTER_ERR_NOT_FOUND, "domain_min");
     }
     TRY(read_periodic(t, sc, s));
     /* dt last: "auto" needs the particles and walls (seed 003 eq. 47). */
@@ -1099,7 +1101,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
     if (e == NULL)
         return required(t, s, SINTER_ERR_NOT_FOUND, "dt");
     double dt = 0;
-    if (strncmp(e->value, "auto", 4) == 0) {
+    if (strcmp(e->value, "auto") == 0) { /* (a word that only begins so is not a number) */
         double v_rel = 1.0;
         OPTIONAL(scene_get_double(t, s, "impact_speed", &v_rel));
         TRY(at_line(t, e->line, sinter_stable_dt_hertz(sc->ps, sc->walls, v_rel, &dt)));

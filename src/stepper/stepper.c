@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 /* Steppers: creation, submodels, the evaluation pipeline, advance and statistics. */
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -377,9 +378,11 @@ sinter_status sinter_stepper_set_dt(sinter_stepper *st, double dt)
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
-    if (!isfinite(dt) || dt <= 0.0)
+    if (!isfinite(dt) || dt <= 0.0 || !isnormal(dt)) /* a subnormal step: ~1e308 steps a second */
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
-                           "sinter_stepper_set_dt: time step %g s must be positive and finite", dt);
+                           "sinter_stepper_set_dt: time step %g s must be positive, finite and "
+                           "a normal double (at least %g s)",
+                           dt, DBL_MIN);
     st->dt = dt;
     st->stats.dt = dt;
     return SINTER_OK;
@@ -1438,7 +1441,10 @@ sinter_status sinter_stepper_advance(sinter_stepper *st, double t_end)
 {
     if (st == NULL)
         return SINTER_ERR_NULL;
-    if (!isfinite(t_end) || t_end < st->time)
+    if (!isfinite(t_end))
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_advance: end time %g s is not a finite number", t_end);
+    if (t_end < st->time)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "sinter_stepper_advance: end time %g s is before the current time %g "
                            "s (time cannot go backwards)",

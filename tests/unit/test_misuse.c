@@ -1000,6 +1000,8 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_set_dt(f->st, NAN))                                                           \
     X(stepper_set_dt_inf, SINTER_ERR_INVALID, "time step inf s",                                   \
       sinter_stepper_set_dt(f->st, INFINITY))                                                      \
+    X(stepper_set_dt_subnormal, SINTER_ERR_INVALID, "s must be positive, finite and a normal double",                                                          \
+      sinter_stepper_set_dt(f->st, 1e-320))                                                        \
     X(stepper_set_dt_null, SINTER_ERR_NULL, NULL, sinter_stepper_set_dt(NULL, 1e-6))               \
     X(stepper_set_skin_negative, SINTER_ERR_INVALID, "skin -0.001 m",                              \
       sinter_stepper_set_skin(f->st, -1e-3))                                                       \
@@ -1019,9 +1021,9 @@ static const sinter_vtu_array VTU_BUILTIN_NAME[1] = {{"radius", R1, 1}};
       sinter_stepper_advance(f->st, 0.0))                                                          \
     X(stepper_advance_negative, SINTER_ERR_INVALID, "end time -1 s",                               \
       sinter_stepper_advance(f->st, -1.0))                                                         \
-    X(stepper_advance_nan, SINTER_ERR_INVALID, "end time nan s",                                   \
+    X(stepper_advance_nan, SINTER_ERR_INVALID, "end time nan s is not a finite number",            \
       sinter_stepper_advance(f->st, NAN))                                                          \
-    X(stepper_advance_inf, SINTER_ERR_INVALID, "end time inf s",                                   \
+    X(stepper_advance_inf, SINTER_ERR_INVALID, "end time inf s is not a finite number",            \
       sinter_stepper_advance(f->st, INFINITY))                                                     \
     X(stepper_advance_null, SINTER_ERR_NULL, NULL, sinter_stepper_advance(NULL, 1.0))              \
     X(stepper_step_null, SINTER_ERR_NULL, NULL, sinter_stepper_step(NULL, 1))                      \

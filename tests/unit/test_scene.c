@@ -132,6 +132,15 @@ static void test_broken_scene_files(void **state)
     const char *forces = strstr(GOOD, "[force hertz_mindlin]");
     snprintf(text, sizeof(text), "%.*s%s", (int)(forces - GOOD), GOOD, strstr(GOOD, "[stepper]"));
     expect_parse_error(text, SINTER_ERR_PARSE, "needs a [force] section", "quasistatic");
+    /* dt = a word that begins with "auto" is not auto (it was taken as auto) */
+    snprintf(text, sizeof(text), "%s", GOOD);
+    memcpy(strstr(text, "dt = auto\n"), "dt = autx\n", 10);
+    expect_parse_error(text, SINTER_ERR_PARSE, "broken.scene:27: dt:", "autx");
+    /* domain_max without domain_min names the missing key (it said "unknown key 'domain_max'") */
+    const char *end_time = strstr(GOOD, "end_time");
+    snprintf(text, sizeof(text), "%.*sdomain_max = 1 1 1\n%s", (int)(end_time - GOOD), GOOD,
+             end_time);
+    expect_parse_error(text, SINTER_ERR_PARSE, "[stepper] needs 'domain_min = ...'", NULL);
     /* a missing file */
     sinter_ctx *ctx = NULL;
     sinter_scene *scene = NULL;
