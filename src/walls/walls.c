@@ -221,12 +221,24 @@ sinter_status sinter_walls_set_callback(sinter_walls *walls, size_t k, sinter_wa
     sinter_wall *w = NULL;
     GET_WALL(walls, k, w);
     SINTER_CHECK_NULL(walls->ctx, fn);
-    clear_schedule(walls, w);
+    /* tried at the current time first: a callback that fails leaves the wall as it was */
+    const sinter_wall_motion_fn old_fn = w->callback;
+    void *const old_user = w->callback_user;
+    const int old_motion = w->motion, old_servo = w->servo;
     w->callback = fn;
     w->callback_user = user;
     w->motion = SINTER_WALL_CALLBACK;
     w->servo = 0;
-    return sinter_walls_move(walls, walls->time);
+    const sinter_status s = sinter_walls_move(walls, walls->time);
+    if (s != SINTER_OK) {
+        w->callback = old_fn;
+        w->callback_user = old_user;
+        w->motion = old_motion;
+        w->servo = old_servo;
+        return s;
+    }
+    clear_schedule(walls, w);
+    return SINTER_OK;
 }
 
 sinter_status sinter_walls_set_motion_start(sinter_walls *walls, size_t k, double start)

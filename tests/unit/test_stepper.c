@@ -33,9 +33,9 @@ static int host_spring(const sinter_state_view *state, sinter_contact_batch *b, 
         const double *n = b->normal + 3 * k;
         double u[3];
         for (int d = 0; d < 3; ++d)
-            u[d] = state->velocity[3 * i + d] -
-                   (b->kind == SINTER_CONTACT_WALL ? state->wall_velocity[3 * j + d]
-                                                   : state->velocity[3 * j + d]);
+            u[d] = state->velocity[3 * i + d] - (b->kind == SINTER_CONTACT_WALL
+                                                     ? state->wall_velocity[3 * j + d]
+                                                     : state->velocity[3 * j + d]);
         const double fn = p->kn * b->overlap[k] + p->cn * (u[0] * n[0] + u[1] * n[1] + u[2] * n[2]);
         for (int d = 0; d < 3; ++d)
             b->force[3 * k + d] = -fn * n[d];
@@ -275,6 +275,15 @@ static int wall_motion(double t, double *disp, double *vel, void *user)
     return 0;
 }
 
+static int failing_motion(double t, double *disp, double *vel, void *user)
+{
+    (void)t;
+    (void)disp;
+    (void)vel;
+    (void)user;
+    return 1;
+}
+
 static void test_wall_motions(void **state)
 {
     (void)state;
@@ -313,6 +322,13 @@ static void test_wall_motions(void **state)
     OK(sinter_walls_get_state(s.walls, 1, p, v));
     assert_close(p[2], 0.05, 0.0); /* held after the last point */
     assert_close(v[2], 0.0, 0.0);
+    /* a callback that fails at once is refused and leaves the wall as it was: its schedule
+     * goes on (it was cleared and the failing callback kept) */
+    assert_int_equal(sinter_walls_set_callback(s.walls, 1, failing_motion, NULL),
+                     SINTER_ERR_CALLBACK);
+    OK(sinter_stepper_advance(s.st, 0.31));
+    OK(sinter_walls_get_state(s.walls, 1, p, v));
+    assert_close(p[2], 0.05, 0.0);
     /* Misuse */
     const double bad_t[2] = {0.0, 0.0};
     assert_int_equal(sinter_walls_set_schedule(s.walls, 1, 2, bad_t, disp), SINTER_ERR_INVALID);
@@ -466,8 +482,8 @@ static void test_fixed_between_steps(void **state)
 /* A lattice of n^3 spheres of 1 mm, `spacing` apart, falling onto a floor with friction, on
  * `threads` threads, stepped `steps` times with stepper option `key` (default -1) at `value`:
  * positions, velocities and spins into out (9 per particle). */
-static void run_option(int n, double spacing, int threads, const char *key, double value,
-                       int steps, double *out)
+static void run_option(int n, double spacing, int threads, const char *key, double value, int steps,
+                       double *out)
 {
     scene s;
     scene_init(&s);
@@ -599,8 +615,8 @@ static void run_gravity_first(int reference, int with_fixed, double *out, size_t
     const double r = 1e-3;
     for (size_t k = 0; k + 1 < n; ++k) /* a heap of overlapping spheres on the floor */
         scene_add(&s, 1.9 * r * (double)(k % 3) + 1e-5 * lcg(&seed),
-                  1.9 * r * (double)(k / 3 % 3) + 1e-5 * lcg(&seed),
-                  r + 1.9 * r * (double)(k / 9), r);
+                  1.9 * r * (double)(k / 3 % 3) + 1e-5 * lcg(&seed), r + 1.9 * r * (double)(k / 9),
+                  r);
     scene_add(&s, 0.1, 0.1, 0.5, r); /* far from the heap */
     if (with_fixed) {
         uint32_t *flags = NULL;
@@ -610,8 +626,8 @@ static void run_gravity_first(int reference, int with_fixed, double *out, size_t
     }
     OK(sinter_stepper_set_dt(s.st, 1e-5));
     OK(sinter_stepper_step(s.st, 400));
-    const sinter_field fields[4] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY,
-                                    SINTER_FIELD_SPIN, SINTER_FIELD_FORCE};
+    const sinter_field fields[4] = {SINTER_FIELD_POSITION, SINTER_FIELD_VELOCITY, SINTER_FIELD_SPIN,
+                                    SINTER_FIELD_FORCE};
     for (int f = 0; f < 4; ++f)
         for (size_t i = 0; i < n; ++i)
             get3(&s, fields[f], i, out + 3 * (n * (size_t)f + i));
@@ -707,8 +723,11 @@ static void test_pour_comes_to_rest_in_box(void **state)
     OK(sinter_material_set(s.wall_mat, SINTER_MAT_FRICTION_DAMPING_RATIO, xi));
     scene_open(&s, "hertz_mindlin", 1);
     const double r = 0.5e-3, L = 10 * 2.2 * r;
-    const double walls[5][6] = {{0, 0, 0, 0, 0, 1},  {0, 0, 0, 1, 0, 0}, {L, 0, 0, -1, 0, 0},
-                                {0, 0, 0, 0, 1, 0},  {0, L, 0, 0, -1, 0}};
+    const double walls[5][6] = {{0, 0, 0, 0, 0, 1},
+                                {0, 0, 0, 1, 0, 0},
+                                {L, 0, 0, -1, 0, 0},
+                                {0, 0, 0, 0, 1, 0},
+                                {0, L, 0, 0, -1, 0}};
     for (int k = 0; k < 5; ++k)
         OK(sinter_walls_add_plane(s.walls, walls[k], walls[k] + 3, s.wall_mat, NULL));
     sinter_packing_options opt;
