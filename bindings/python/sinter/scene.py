@@ -113,7 +113,9 @@ class Scene(_Handle):
         """Restore the scene to a checkpoint its run wrote; the next run() continues it.
 
         A checkpoint of another scene is refused (InvalidArgument naming the difference), a
-        missing file raises FileNotFoundError, and nothing changes.
+        missing file raises FileNotFoundError, and nothing changes. A scene file edited since
+        the run: its explicit-stepper dt and [output] interval and checkpoint_interval win,
+        each logged as a warning (the run then differs from an uninterrupted one).
         """
         check_path(lib.sinter_scene_restart(self._ptr, os.fsencode(checkpoint)),
                    self._context._handle, "sinter_scene_restart", checkpoint)
