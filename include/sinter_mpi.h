@@ -9,7 +9,8 @@
  * box, sinter_mpi_decomp.h), collective reductions and an exclusive scan with the signatures of
  * the `reduce` and `exscan` entries of libsinter's domain operations (so that they can be
  * installed there as they are, with the domain as `user`), an exact global sum, and load
- * balancing by recursive coordinate bisection.
+ * balancing by recursive coordinate bisection, and portable checkpoints through MPI-IO that
+ * restart on another number of ranks.
  *
  * Every function is collective over the domain's communicator unless it says otherwise: every
  * rank calls it with the same non-local arguments (count, type, op, threshold). Argument errors
@@ -132,6 +133,45 @@ typedef struct sinter_mpi_stats {
 
 /** This rank's counters. Not collective. Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
 SINTER_API sinter_status sinter_mpi_get_stats(const sinter_mpi_domain *d, sinter_mpi_stats *stats);
+
+/**
+ * Write a portable checkpoint of a decomposed run into one file through MPI-IO (collective over
+ * `comm`; every rank passes the same path): a header (magic, format version, byte-order
+ * marker, the number of ranks, each rank's piece's offset, size, particle count and FNV-1a
+ * checksum, its own checksum), the global part of rank 0's stepper (sinter_stepper_save_global)
+ * and every rank's record stream of its owned particles (sinter_stepper_export, remove = 0) at
+ * the exclusive prefix sum of the sizes before it (MPI_File_write_at_all). `particles` is the
+ * set the stepper was created over. The stepper is not changed; a file of the same name is
+ * replaced. Errors (the same on every rank): SINTER_ERR_NULL, SINTER_ERR_NOMEM, those of
+ * sinter_stepper_save_global and sinter_stepper_export (SINTER_ERR_UNSUPPORTED for the
+ * quasi-static stepper and periodic boundaries), SINTER_ERR_IO (the file).
+ */
+SINTER_API sinter_status sinter_mpi_checkpoint_write(sinter_stepper *stepper,
+                                                     sinter_particles *particles, MPI_Comm comm,
+                                                     const char *path);
+
+/**
+ * Read a checkpoint of sinter_mpi_checkpoint_write on any number of ranks (collective over
+ * `comm`; every rank passes the same path and the same decomposition): each rank's stepper, set
+ * up alike (the same kind, force models, walls and materials) over a set without particles,
+ * receives the global part and the particles whose centres lie in its part of `decomp` (part r
+ * for rank r of comm; a brick or an RCB of sinter_mpi_decomp.h, `parts` = the number of ranks),
+ * with every field, contact history and link, as the writer's ranks held them. The pieces are
+ * read collectively (MPI_File_read_at_all), in contiguous runs of about the same bytes per rank,
+ * then each particle is sent to its part's rank (MPI_Alltoallv). A restart continues as the run
+ * would after a reordering of its particles (its neighbour lists are built afresh).
+ * @param count  receives this rank's particles (may be NULL).
+ * Errors, the same on every rank, nothing changed on any: SINTER_ERR_NULL, SINTER_ERR_INVALID
+ * (decomp's parts not the number of ranks; those of sinter_stepper_load_global and
+ * sinter_stepper_import: a stepper not set up alike), SINTER_ERR_STATE (a set holding
+ * particles), SINTER_ERR_CORRUPT (not a checkpoint, another format or byte order, truncated,
+ * a checksum), SINTER_ERR_RANGE (more than 2 GiB of records to send or receive on one rank),
+ * SINTER_ERR_NOMEM, SINTER_ERR_IO (no such file, a read failed).
+ */
+SINTER_API sinter_status sinter_mpi_checkpoint_read(sinter_stepper *stepper,
+                                                    sinter_particles *particles, MPI_Comm comm,
+                                                    const char *path,
+                                                    const sinter_mpi_decomp *decomp, size_t *count);
 
 #ifdef __cplusplus
 }
