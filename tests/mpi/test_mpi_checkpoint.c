@@ -13,7 +13,8 @@
  *  - a damaged file (a byte of the last piece flipped, a byte of the header's table, the file
  *    cut short), a foreign file and a missing one are refused on every rank with the same
  *    status, and the stepper is unchanged: no particle, time 0 (a stepper of other force
- *    models as well); the sound file then reads.
+ *    models, or a decomposition of another number of parts, as well); the sound file then
+ *    reads.
  * The record streams are compared in a canonical form: each record's fixed part, and the set of
  * its history entries, sorted (a stepper lists them in the order it found them, which differs
  * between a built pair list and one staged by an import) and byte-identical copies counted once
@@ -493,6 +494,10 @@ static void test_damaged_files_refused(const char *dir)
     refused(&r, path, decomp, SINTER_ERR_CORRUPT, "a byte of the header's table flipped");
     damage(path, -(64 + 8), 0);
     refused(&other, path, decomp, SINTER_ERR_INVALID, "a stepper of other force models");
+    sinter_mpi_decomp *wrong = NULL; /* one part more than there are ranks */
+    OK(sinter_mpi_decomp_brick(&wrong, size + 1, NULL, LO, HI));
+    refused(&r, path, wrong, SINTER_ERR_INVALID, "a decomposition of another number of parts");
+    sinter_mpi_decomp_destroy(wrong);
     if (rank == 0) {
         FILE *f = fopen(foreign, "wb");
         CHECK(f != NULL);
