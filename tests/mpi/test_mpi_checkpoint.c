@@ -13,8 +13,9 @@
  *  - a damaged file (a byte of the last piece flipped, a byte of the header's table, the file
  *    cut short), a foreign file and a missing one are refused on every rank with the same
  *    status, and the stepper is unchanged: no particle, time 0 (a stepper of other force
- *    models, or a decomposition of another number of parts, as well); the sound file then
- *    reads.
+ *    models, a decomposition of another number of parts, and a set without the records'
+ *    material on the last rank only, found after the others imported their pieces, as well);
+ *    the sound file then reads.
  * The record streams are compared in a canonical form: each record's fixed part, and the set of
  * its history entries, sorted (a stepper lists them in the order it found them, which differs
  * between a built pair list and one staged by an import) and byte-identical copies counted once
@@ -54,8 +55,9 @@ static double lcg(uint64_t *s)
 }
 
 /* The cloud of tests/unit/test_migrate.c: Hertz-Mindlin with rolling resistance, gravity (or
- * none), a floor and four side walls of a box of 8.2 mm. */
-static void scene_open(scene *s, int gravity)
+ * none), a floor and four side walls of a box of 8.2 mm; the particles' material 0 registered
+ * (or not: a set that cannot take the records). */
+static void scene_open_as(scene *s, int gravity, int material)
 {
     memset(s, 0, sizeof *s);
     OK(sinter_ctx_create(&s->ctx, NULL));
@@ -69,7 +71,8 @@ static void scene_open(scene *s, int gravity)
     OK(sinter_material_set(s->mat, SINTER_MAT_ROLLING_FRICTION, 0.05));
     OK(sinter_material_clone(&s->wall_mat, s->mat));
     OK(sinter_particles_create(&s->ps, s->ctx));
-    OK(sinter_particles_set_material(s->ps, 0, s->mat));
+    if (material)
+        OK(sinter_particles_set_material(s->ps, 0, s->mat));
     OK(sinter_walls_create(&s->walls, s->ctx));
     OK(sinter_stepper_create(&s->st, s->ctx, SINTER_STEPPER_EXPLICIT, s->ps, s->walls));
     OK(sinter_stepper_set_option(s->st, "thread_choice", 0));
@@ -90,6 +93,11 @@ static void scene_open(scene *s, int gravity)
             n[d] = side ? -1.0 : 1.0;
             OK(sinter_walls_add_plane(s->walls, p, n, s->wall_mat, NULL));
         }
+}
+
+static void scene_open(scene *s, int gravity)
+{
+    scene_open_as(s, gravity, 1);
 }
 
 static void scene_close(scene *s)
@@ -498,6 +506,14 @@ static void test_damaged_files_refused(const char *dir)
     OK(sinter_mpi_decomp_brick(&wrong, size + 1, NULL, LO, HI));
     refused(&r, path, wrong, SINTER_ERR_INVALID, "a decomposition of another number of parts");
     sinter_mpi_decomp_destroy(wrong);
+    /* the last rank's set lacks the material: its import is refused after every rank loaded
+     * the global part (and the others imported their pieces), so every rank takes its
+     * particles out again and puts its own global part back */
+    scene lacking;
+    scene_open_as(&lacking, 1, 0);
+    refused(rank == size - 1 ? &lacking : &r, path, decomp, SINTER_ERR_INVALID,
+            "a set without the records' material on the last rank");
+    scene_close(&lacking);
     if (rank == 0) {
         FILE *f = fopen(foreign, "wb");
         CHECK(f != NULL);
