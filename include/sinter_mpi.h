@@ -142,7 +142,8 @@ SINTER_API sinter_status sinter_mpi_get_stats(const sinter_mpi_domain *d, sinter
  * and every rank's record stream of its owned particles (sinter_stepper_export, remove = 0) at
  * the exclusive prefix sum of the sizes before it (MPI_File_write_at_all). `particles` is the
  * set the stepper was created over. The stepper is not changed; a file of the same name is
- * replaced. Errors (the same on every rank): SINTER_ERR_NULL, SINTER_ERR_NOMEM, those of
+ * replaced. comm = MPI_COMM_NULL or path = NULL: SINTER_ERR_NULL at once, without communication.
+ * Errors (the same on every rank): SINTER_ERR_NULL, SINTER_ERR_NOMEM, those of
  * sinter_stepper_save_global and sinter_stepper_export (SINTER_ERR_UNSUPPORTED for the
  * quasi-static stepper and periodic boundaries), SINTER_ERR_IO (the file).
  */
@@ -161,6 +162,7 @@ SINTER_API sinter_status sinter_mpi_checkpoint_write(sinter_stepper *stepper,
  * then each particle is sent to its part's rank (MPI_Alltoallv). A restart continues as the run
  * would after a reordering of its particles (its neighbour lists are built afresh).
  * @param count  receives this rank's particles (may be NULL).
+ * comm = MPI_COMM_NULL or path = NULL: SINTER_ERR_NULL at once, without communication.
  * Errors, the same on every rank, nothing changed on any: SINTER_ERR_NULL, SINTER_ERR_INVALID
  * (decomp's parts not the number of ranks; those of sinter_stepper_load_global and
  * sinter_stepper_import: a stepper not set up alike), SINTER_ERR_STATE (a set holding

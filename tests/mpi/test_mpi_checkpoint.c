@@ -488,6 +488,13 @@ static void test_damaged_files_refused(const char *dir)
     scene_open(&w, 1);
     fill_and_settle(&w);
     keep_share(&w);
+    /* argument errors: a NULL stepper on one rank is every rank's error */
+    const sinter_status no_stepper =
+        sinter_mpi_checkpoint_write(rank == size - 1 ? NULL : w.st, w.ps, MPI_COMM_WORLD, path);
+    CHECK(no_stepper == SINTER_ERR_NULL);
+    CHECK(sinter_mpi_checkpoint_write(w.st, w.ps, MPI_COMM_NULL, path) == SINTER_ERR_NULL);
+    CHECK(sinter_mpi_checkpoint_read(w.st, w.ps, MPI_COMM_WORLD, NULL, NULL, NULL) ==
+          SINTER_ERR_NULL);
     OK(sinter_mpi_checkpoint_write(w.st, w.ps, MPI_COMM_WORLD, path));
     scene_close(&w);
     scene r, other;
