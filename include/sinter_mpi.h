@@ -7,9 +7,11 @@
  *
  * What it holds today: a domain (a duplicated communicator with a decomposition of the global
  * box, sinter_mpi_decomp.h), collective reductions and an exclusive scan with the signatures of
- * the `reduce` and `exscan` entries of libsinter's domain operations (so that they can be
- * installed there as they are, with the domain as `user`), an exact global sum, and load
- * balancing by recursive coordinate bisection.
+ * the `reduce` and `exscan` entries of libsinter's domain operations, an exact global sum, load
+ * balancing by recursive coordinate bisection, and sinter_mpi_attach: the domain installed as an
+ * explicit stepper's collective operations (migration, ghosts and halos through MPI's
+ * neighbourhood collectives), with sinter_mpi_distribute for a set filled on one rank and
+ * exchange counters (sinter_mpi_get_exchange_stats).
  *
  * Every function is collective over the domain's communicator unless it says otherwise: every
  * rank calls it with the same non-local arguments (count, type, op, threshold). Argument errors
