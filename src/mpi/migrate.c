@@ -90,6 +90,7 @@ static int pack(sinter_mpi_attachment *a, outbox *o, int *far)
         bad |= o->bytes[r] > INT_MAX;
         o->total += bad ? 0 : o->bytes[r];
     }
+    bad |= o->total > INT_MAX;
     o->stream = bad ? NULL : malloc(o->total + 1);
     bad |= o->stream == NULL;
     size_t at = 0;
@@ -127,35 +128,33 @@ int sinter_mpi_migrate(sinter_mpi_attachment *a, int everywhere)
     outbox o;
     memset(&o, 0, sizeof o);
     int far = 0;
-    const int packed = pack(a, &o, &far);
+    /* the counts of the exchange, allocated before the ranks agree to go on */
+    int *c = calloc(4 * (size_t)d->size + 4, sizeof(int));
+    const int packed = c == NULL ? -1 : pack(a, &o, &far);
     /* 2: a rank failed; 1: a leaver goes beyond the neighbours */
     const int agreed = sinter_mpi_agree(a, packed != 0 ? 2 : far || everywhere ? 1 : 0);
     if (agreed == 2) {
+        free(c);
         free_outbox(&o);
         return -1;
     }
     everywhere = agreed == 1 || a->graph == MPI_COMM_NULL;
     const int peers = everywhere ? d->size : a->nbr_count;
-    /* counts[0..3]: send counts, send displacements, receive counts, receive displacements */
-    int *c = calloc(4 * (size_t)peers + 4, sizeof(int));
-    int bad = c == NULL;
-    int *sc = c, *sd = c ? c + peers + 1 : NULL, *rc = c ? c + 2 * peers + 2 : NULL,
-        *rd = c ? c + 3 * peers + 3 : NULL;
+    /* send counts, send displacements, receive counts, receive displacements */
+    int *sc = c, *sd = c + peers + 1, *rc = c + 2 * peers + 2, *rd = c + 3 * peers + 3;
+    int bad = 0;
     size_t at = 0; /* the streams lie in rank order; a neighbour's starts where its rank's does */
-    for (int r = 0, k = 0; r < d->size && !bad; ++r) {
+    for (int r = 0, k = 0; r < d->size; ++r) {
         const int is_peer = everywhere ? 1 : (k < peers && a->nbr[k] == r);
         if (is_peer) {
             sc[k] = (int)o.bytes[r];
             sd[k] = (int)at;
             ++k;
         }
-        at += o.bytes[r];
-        bad |= at > INT_MAX;
+        at += o.bytes[r]; /* (at most o.total, below INT_MAX: checked in pack) */
     }
     double t0 = MPI_Wtime();
-    int mpi = 0;
-    if (!bad)
-        mpi = everywhere ? MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, d->comm)
+    int mpi = everywhere ? MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, d->comm)
                          : MPI_Neighbor_alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, a->graph);
     a->stats.seconds_comm += MPI_Wtime() - t0;
     bad |= mpi != MPI_SUCCESS;
