@@ -16,7 +16,8 @@
  *    here on rank 0 (both take ghosts and arrivals in ascending rank order, each rank's in its
  *    index order, and reduce through the same exact sums).
  *  - The statistics: migrations happened (np >= 2), ghosts exist, the bytes sent over all ranks
- *    equal the bytes received.
+ *    equal the bytes received, and at every step without a rebuild each rank received exactly
+ *    13 doubles per ghost per halo.
  *  - A NaN force made on the rank that owns one particle at step 37 stops every rank at step 37
  *    with SINTER_ERR_UNSTABLE and the same message, naming that rank's subdomain (no hang:
  *    ctest's timeout).
@@ -81,7 +82,8 @@ typedef struct state {
     sinter_status status;
     int failed_at;
     char message[256];
-    sinter_mpi_exchange_stats xs; /* the MPI runs' exchange counters at the end */
+    sinter_mpi_exchange_stats xs;    /* the MPI runs' exchange counters at the end */
+    int quiet_steps, counter_errors; /* steps without a rebuild; counters not as predicted */
 } state;
 
 /* How a run is decomposed: alone, one thread of the loopback, or one rank of an MPI domain. */
@@ -232,6 +234,9 @@ static void *run_bed(void *arg)
         TRY(sinter_mpi_distribute(spec->d));
     }
     out->status = SINTER_OK;
+    sinter_mpi_exchange_stats before = {.struct_size = sizeof before}, after = before;
+    if (spec->d != NULL)
+        TRY(sinter_mpi_get_exchange_stats(spec->d, &before));
     for (int k = 1; k <= STEPS; ++k) {
         const sinter_status s = sinter_stepper_step(st, 1);
         if (s != SINTER_OK) {
@@ -240,6 +245,19 @@ static void *run_bed(void *arg)
             snprintf(out->message, sizeof(out->message), "%s", sinter_last_error(ctx));
             break;
         }
+        if (spec->d == NULL)
+            continue;
+        /* the counters of a step without a rebuild: its halos (forward only, the explicit
+         * step's state rows) received 13 doubles per ghost, sent 13 per row a neighbour
+         * holds, in one message per neighbour that has rows to send */
+        TRY(sinter_mpi_get_exchange_stats(spec->d, &after));
+        if (after.redistributions == before.redistributions) {
+            const uint64_t halos = after.halos - before.halos;
+            out->quiet_steps++;
+            out->counter_errors += halos < 1 || after.bytes_received - before.bytes_received !=
+                                                    halos * after.ghosts * 13 * sizeof(double);
+        }
+        before = after;
     }
     copy_owned(ps, out);
     for (int k = 0; k < NW; ++k)
@@ -379,6 +397,7 @@ static void test_bed(int rank, int size, int flags, int tall)
     if (!tall || flags)
         CHECK(size == 1 ? c[2] == 0 && c[4] == 0 : c[2] > 0 && c[4] > 0);
     CHECK(MINE.xs.redistributions == MINE.builds);
+    CHECK(MINE.quiet_steps > 100 && MINE.counter_errors == 0);
     CHECK(MINE.xs.owned > 0 || size > 1);
     if (rank == 0)
         printf("np %d%s: %llu redistributions, %llu migrations, %llu ghosts now, %llu bytes sent "
