@@ -150,6 +150,7 @@ sinter_status sinter_mpi_attach(sinter_mpi_domain *d, sinter_stepper *stepper,
                                        .halo = sinter_mpi_halo,
                                        .redistribute = att_redistribute,
                                        .destroy_user = att_destroy};
+        a->ops = ops;
         d->attached = a; /* (before: a table it replaces may detach nothing of ours) */
         s = sinter_stepper_set_domain_ops(stepper, &ops, a);
         if (s != SINTER_OK) {

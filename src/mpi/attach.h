@@ -16,6 +16,7 @@ typedef struct sinter_mpi_attachment {
     sinter_stepper *st;
     sinter_particles *ps;
     int flags;
+    sinter_domain_ops ops; /* the table installed (the tests call its halo directly) */
     /* the neighbourhood: ranks whose parts lie within `graph_cutoff` of this one's */
     MPI_Comm graph;      /* MPI_COMM_NULL: none yet */
     int nbr_count;       /* neighbours, in ascending rank order */

@@ -18,6 +18,9 @@
  *  - The statistics: migrations happened (np >= 2), ghosts exist, the bytes sent over all ranks
  *    equal the bytes received, and at every step without a rebuild each rank received exactly
  *    13 doubles per ghost per halo.
+ *  - The halo callback itself, forward and reverse, on the last rebuild's ghosts (the explicit
+ *    step uses the forward one only): ids arrive in the right ghost rows, and the reverse adds
+ *    one per ghost into its owner and zeroes the ghost rows.
  *  - A NaN force made on the rank that owns one particle at step 37 stops every rank at step 37
  *    with SINTER_ERR_UNSTABLE and the same message, naming that rank's subdomain (no hang:
  *    ctest's timeout).
@@ -34,6 +37,8 @@
 #include <sinter_submodel.h>
 
 #include "../unit/domain_loopback.h"
+#include "mpi/attach.h" /* (the installed halo callback, called directly below) */
+#include "mpi/domain.h"
 #include "mpi_check.h"
 
 enum { NX = 8, NY = 6, NZ = 6, N = NX * NY * NZ, NW = 5, STEPS = 150, POISON_STEP = 37 };
@@ -84,6 +89,7 @@ typedef struct state {
     char message[256];
     sinter_mpi_exchange_stats xs;    /* the MPI runs' exchange counters at the end */
     int quiet_steps, counter_errors; /* steps without a rebuild; counters not as predicted */
+    int halo_errors;                 /* check_halos' */
 } state;
 
 /* How a run is decomposed: alone, one thread of the loopback, or one rank of an MPI domain. */
@@ -158,6 +164,52 @@ static void copy_owned(sinter_particles *ps, state *out)
     sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
     sinter_particles_release(ps, SINTER_FIELD_SPIN);
     sinter_particles_release(ps, SINTER_FIELD_TEMPERATURE);
+}
+
+/* The halo callback in both directions, on the ghosts of the last rebuild: forward, one
+ * column holding each owned row's id, must bring every ghost row its own particle's id;
+ * reverse, ghost rows of 1, must add to each owned row the number of ranks holding it as a
+ * ghost (summed over the ranks: the number of ghosts) and zero the ghost rows. */
+static int check_halos(sinter_mpi_domain *d, sinter_particles *ps, int *errors)
+{
+    size_t owned = 0, count = 0;
+    const uint64_t *id = NULL;
+    if (sinter_particles_owned_count(ps, &owned) != SINTER_OK ||
+        sinter_particles_count(ps, &count) != SINTER_OK)
+        return -1;
+    double *data = calloc(2 * count + 2, sizeof(double));
+    if (data == NULL || (count > 0 && sinter_particles_view_read(ps, SINTER_FIELD_ID,
+                                                                 (const void **)&id, NULL, NULL)))
+        return -1;
+    for (size_t i = 0; i < owned; ++i)
+        data[2 * i + 1] = (double)id[i];
+    sinter_halo h = {.struct_size = sizeof h,
+                     .direction = SINTER_HALO_FORWARD,
+                     .width = 2,
+                     .data = data,
+                     .id = id,
+                     .owned = owned,
+                     .ghosts = count - owned};
+    int rc = d->attached->ops.halo(&h, d->attached);
+    for (size_t i = owned; i < count; ++i)
+        *errors += data[2 * i + 1] != (double)id[i];
+    for (size_t i = 0; i < count; ++i)
+        data[2 * i] = i < owned ? 0.0 : 1.0;
+    h.direction = SINTER_HALO_REVERSE;
+    rc |= d->attached->ops.halo(&h, d->attached);
+    uint64_t sums[2] = {0, count - owned}; /* ghosts counted by their owners, and held */
+    for (size_t i = 0; i < count; ++i) {
+        if (i < owned)
+            sums[0] += (uint64_t)data[2 * i];
+        else
+            *errors += data[2 * i] != 0.0;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    *errors += sums[0] != sums[1];
+    if (count > 0)
+        sinter_particles_release(ps, SINTER_FIELD_ID);
+    free(data);
+    return rc;
 }
 
 static void *run_bed(void *arg)
@@ -259,6 +311,8 @@ static void *run_bed(void *arg)
         }
         before = after;
     }
+    if (spec->d != NULL && out->status == SINTER_OK && check_halos(spec->d, ps, &out->halo_errors))
+        out->halo_errors++;
     copy_owned(ps, out);
     for (int k = 0; k < NW; ++k)
         TRY(sinter_walls_get_force(walls, (size_t)k, out->wall + 3 * k));
@@ -398,6 +452,7 @@ static void test_bed(int rank, int size, int flags, int tall)
         CHECK(size == 1 ? c[2] == 0 && c[4] == 0 : c[2] > 0 && c[4] > 0);
     CHECK(MINE.xs.redistributions == MINE.builds);
     CHECK(MINE.quiet_steps > 100 && MINE.counter_errors == 0);
+    CHECK(MINE.halo_errors == 0);
     CHECK(MINE.xs.owned > 0 || size > 1);
     if (rank == 0)
         printf("np %d%s: %llu redistributions, %llu migrations, %llu ghosts now, %llu bytes sent "
