@@ -4,7 +4,8 @@
  * 288 spheres (Hertz-Mindlin with friction, damping and rolling resistance, gravity,
  * conduction, five walls, a small skin: a rebuild every few steps) on a brick of x slabs whose
  * borders lie on columns of the lattice, so that the particles jiggling about them migrate.
- * Rank 0 fills the set alone and sinter_mpi_distribute hands the particles to their ranks.
+ * Rank 0 fills the set alone and sinter_mpi_distribute hands the particles to their ranks (or
+ * every rank adds those sinter_mpi_decomp_owners gives it: the same bits).
  *
  *  - np 1: the same bits as the run without domain operations (nothing summed in another
  *    order: the domain's exchanges are with no one).
@@ -98,6 +99,7 @@ typedef struct run_spec {
     int rank, size;       /* the loopback's subdomain and count */
     sinter_mpi_domain *d; /* an MPI domain, or NULL */
     int attach_flags;
+    int keep_own;       /* MPI: every rank adds the particles its part holds (no distribution) */
     uint64_t poison_id; /* 0: none */
     state *out;
     int failed; /* a setup line */
@@ -256,9 +258,16 @@ static void *run_bed(void *arg)
     TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
     TRY(sinter_stepper_add_heat(st, cond));
     for (int k = 0; k < N; ++k) {
-        /* the loopback: each subdomain its slab; MPI: rank 0 all of them (distributed below) */
+        /* the loopback: each subdomain its slab; MPI: rank 0 all of them (distributed below),
+         * or each rank those of its part */
+        int part = 0;
+        if (spec->d != NULL && spec->keep_own) {
+            const sinter_mpi_decomp *decomp = NULL;
+            TRY(sinter_mpi_domain_decomp(spec->d, &decomp));
+            TRY(sinter_mpi_decomp_owners(decomp, BED.x + 3 * k, 1, &part));
+        }
         if ((spec->lb != NULL && slab_of(BED.x[3 * k], spec->size) != spec->rank) ||
-            (spec->d != NULL && mpi_rank != 0))
+            (spec->d != NULL && part != mpi_rank))
             continue;
         size_t first = 0;
         TRY(sinter_particles_add_with_ids(ps, 1, &BED.id[k], BED.x + 3 * k, &R, 0, BED.temp[k],
@@ -283,7 +292,8 @@ static void *run_bed(void *arg)
         TRY(loopback_attach(spec->lb, spec->rank, st, ps));
     if (spec->d != NULL) {
         TRY(sinter_mpi_attach(spec->d, st, ps, spec->attach_flags));
-        TRY(sinter_mpi_distribute(spec->d));
+        if (!spec->keep_own)
+            TRY(sinter_mpi_distribute(spec->d));
     }
     out->status = SINTER_OK;
     sinter_mpi_exchange_stats before = {.struct_size = sizeof before}, after = before;
@@ -513,6 +523,20 @@ static void test_bed(int rank, int size, int flags, int tall)
         CHECK(same);
     }
     sinter_mpi_domain_destroy(d);
+    if (flags == 0 && !tall) { /* every rank keeps its own: the same particles in the same order */
+        static state own, own_all;
+        memset(&own, 0, sizeof own);
+        d = make_domain(size, 0);
+        run_spec keep = {.d = d, .keep_own = 1, .out = &own};
+        run_bed(&keep);
+        CHECK(keep.failed == 0 && own.status == SINTER_OK);
+        gather(&own, &own_all);
+        CHECK(memcmp(own_all.x, ALL.x, sizeof ALL.x) == 0 &&
+              memcmp(own_all.v, ALL.v, sizeof ALL.v) == 0 &&
+              memcmp(own_all.temp, ALL.temp, sizeof ALL.temp) == 0);
+        CHECK(memcmp(own.wall, MINE.wall, sizeof MINE.wall) == 0);
+        sinter_mpi_domain_destroy(d);
+    }
 }
 
 /* A NaN on one rank stops every rank at the same step with the same error. */
