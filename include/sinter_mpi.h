@@ -159,7 +159,9 @@ SINTER_API sinter_status sinter_mpi_get_stats(const sinter_mpi_domain *d, sinter
  * replaced, or the first redistribution) goes through MPI_Alltoallv over the domain's
  * communicator instead. With SINTER_MPI_ATTACH_BALANCE, each rebuild first measures the parts'
  * loads (one per owned particle) and bisects anew above the options' threshold
- * (sinter_mpi_balance); without it the decomposition stays as it is.
+ * (sinter_mpi_balance); without it the decomposition stays as it is, unless the domain was
+ * created as a bisection (options.decomposition = SINTER_MPI_DECOMP_RCB), which balances at
+ * every rebuild as well (its first rebuild bisects the brick it starts as).
  *
  * Collective. One stepper per domain at a time; the domain must outlive the stepper (or
  * sinter_stepper_set_domain_ops(stepper, NULL, NULL) first, which detaches it). Local errors

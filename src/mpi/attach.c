@@ -87,7 +87,10 @@ static int att_redistribute(sinter_stepper *st, void *user)
     if (sinter_stepper_ghost_cutoff(st, &cutoff) != SINTER_OK)
         return -1;
     int changed = 0;
-    if ((a->flags & SINTER_MPI_ATTACH_BALANCE) && balance(a, &changed) != 0)
+    /* (a domain created as a bisection balances whatever the flags: its first bisection) */
+    const int balancing = (a->flags & SINTER_MPI_ATTACH_BALANCE) ||
+                          a->d->options.decomposition == SINTER_MPI_DECOMP_RCB;
+    if (balancing && balance(a, &changed) != 0)
         return -1;
     if (sinter_mpi_neighbours(a, cutoff) != SINTER_OK)
         return -1;

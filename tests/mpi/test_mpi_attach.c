@@ -420,10 +420,11 @@ static void changes(const state *s, double *dx, double *dt)
 
 /* x slabs over [X0, X1) (the loopback's), or with `tall` z slabs over a box three times the
  * bed's height (the bed in its bottom third, as after a pour). */
-static sinter_mpi_domain *make_domain(int size, int tall)
+static sinter_mpi_domain *make_domain(int size, int tall, int rcb)
 {
     sinter_mpi_options o;
     sinter_mpi_options_init(&o, sizeof o);
+    o.decomposition = rcb ? SINTER_MPI_DECOMP_RCB : SINTER_MPI_DECOMP_BRICK;
     const int grid[3] = {tall ? 1 : size, 1, tall ? size : 1};
     const double lo[3] = {X0, -A, tall ? 0.0 : -A},
                  hi[3] = {X1, LY + A, tall ? 3 * A * NZ : A * (NZ + 1)};
@@ -438,10 +439,10 @@ static sinter_mpi_domain *make_domain(int size, int tall)
 static state REF, MINE, ALL, LOOP;
 
 /* The bed through MPI against the single-domain run (and the loopback's, same slabs). */
-static void test_bed(int rank, int size, int flags, int tall)
+static void test_bed(int rank, int size, int flags, int tall, int rcb)
 {
     memset(&MINE, 0, sizeof MINE);
-    sinter_mpi_domain *d = make_domain(size, tall);
+    sinter_mpi_domain *d = make_domain(size, tall, rcb);
     run_spec spec = {.d = d, .attach_flags = flags, .out = &MINE};
     run_bed(&spec);
     CHECK(spec.failed == 0);
@@ -485,10 +486,12 @@ static void test_bed(int rank, int size, int flags, int tall)
          * np 3 and 4); rebalanced at the first rebuild, it stays below the threshold 1.1 */
         if (rank == 0)
             printf("np %d, z slabs%s: imbalance %.3f, %llu rebalances\n", size,
-                   flags ? " (balanced)" : "", MINE.xs.imbalance,
-                   (unsigned long long)ms.rebalances);
-        CHECK(flags ? MINE.xs.imbalance <= 1.1 && ms.rebalances >= 1
-                    : MINE.xs.imbalance >= 1.9 && ms.rebalances == 0);
+                   flags ? " (balanced)"
+                   : rcb ? " (an RCB domain)"
+                         : "",
+                   MINE.xs.imbalance, (unsigned long long)ms.rebalances);
+        CHECK(flags || rcb ? MINE.xs.imbalance <= 1.1 && ms.rebalances >= 1
+                           : MINE.xs.imbalance >= 1.9 && ms.rebalances == 0);
     }
     if (size == 1 && flags == 0) { /* the same bits */
         CHECK(memcmp(ALL.x, REF.x, sizeof REF.x) == 0);
@@ -507,8 +510,11 @@ static void test_bed(int rank, int size, int flags, int tall)
     if (rank == 0)
         printf("np %d%s%s: displacements %.2g, velocities %.2g, spins %.2g, temperatures %.2g, "
                "wall forces %.2g, energy %.2g (relative); %llu builds\n",
-               size, tall ? ", z slabs" : "", flags ? " (balanced)" : "", ex, ev, ew, et, ef, ee,
-               (unsigned long long)MINE.builds);
+               size, tall ? ", z slabs" : "",
+               flags ? " (balanced)"
+               : rcb ? " (an RCB domain)"
+                     : "",
+               ex, ev, ew, et, ef, ee, (unsigned long long)MINE.builds);
     CHECK(ex <= 1e-10 && ev <= 1e-10 && ew <= 1e-10 && et <= 1e-10 && ef <= 1e-10 && ee <= 1e-10);
     if (rank == 0 && flags == 0 && !tall &&
         size <= LOOPBACK_MAX) { /* the thread transport's bits */
@@ -526,7 +532,7 @@ static void test_bed(int rank, int size, int flags, int tall)
     if (flags == 0 && !tall) { /* every rank keeps its own: the same particles in the same order */
         static state own, own_all;
         memset(&own, 0, sizeof own);
-        d = make_domain(size, 0);
+        d = make_domain(size, 0, 0);
         run_spec keep = {.d = d, .keep_own = 1, .out = &own};
         run_bed(&keep);
         CHECK(keep.failed == 0 && own.status == SINTER_OK);
@@ -543,7 +549,7 @@ static void test_bed(int rank, int size, int flags, int tall)
 static void test_nan(int rank, int size)
 {
     memset(&MINE, 0, sizeof MINE);
-    sinter_mpi_domain *d = make_domain(size, 0);
+    sinter_mpi_domain *d = make_domain(size, 0, 0);
     const uint64_t victim = BED.id[N / 2 + 3]; /* (in the middle of the bed) */
     run_spec spec = {.d = d, .poison_id = victim, .out = &MINE};
     run_bed(&spec);
@@ -571,11 +577,12 @@ int main(int argc, char **argv)
     run_bed(&ref);
     CHECK(ref.failed == 0 && REF.status == SINTER_OK);
     CHECK(REF.builds >= 3);
-    test_bed(rank, size, 0, 0);
+    test_bed(rank, size, 0, 0, 0);
     if (size > 1) {
-        test_bed(rank, size, SINTER_MPI_ATTACH_BALANCE, 0);
-        test_bed(rank, size, 0, 1);
-        test_bed(rank, size, SINTER_MPI_ATTACH_BALANCE, 1);
+        test_bed(rank, size, SINTER_MPI_ATTACH_BALANCE, 0, 0);
+        test_bed(rank, size, 0, 1, 0);
+        test_bed(rank, size, SINTER_MPI_ATTACH_BALANCE, 1, 0);
+        test_bed(rank, size, 0, 1, 1); /* an RCB domain balances without the flag */
     }
     test_nan(rank, size);
     const int rc = mpi_check_finish("test_mpi_attach");
