@@ -147,9 +147,10 @@ SINTER_API sinter_status sinter_mpi_get_stats(const sinter_mpi_domain *d, sinter
  *  - redistribute, at every neighbour-list rebuild: each owned particle goes to the rank whose
  *    part of the decomposition holds its centre (sinter_stepper_export / _import, one
  *    MPI_Neighbor_alltoallv of record streams; received from the ranks in ascending order),
- *    then every rank receives as ghosts the owned particles of the other ranks within
- *    sinter_stepper_ghost_cutoff of its part (one MPI_Neighbor_alltoallv of 144-byte
- *    records; ghosts in ascending rank order, each rank's in its index order);
+ *    then every rank receives as ghosts the owned particles of its neighbours within
+ *    sinter_stepper_ghost_cutoff of the bounding box of its own owned particles (the boxes
+ *    traded by MPI_Neighbor_allgather; one MPI_Neighbor_alltoallv of 144-byte records;
+ *    ghosts in ascending rank order, each rank's in its index order);
  *  - halo: forward (owners' rows into ghost rows) and reverse (ghost rows added into their
  *    owners' rows in ascending rank order, then zeroed), one MPI_Neighbor_alltoallv each.
  * The neighbours are the parts whose boxes (outer faces pushed to infinity: a point outside

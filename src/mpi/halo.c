@@ -1,11 +1,12 @@
 /*
  * Ghosts and their exchange (libsinter_mpi, issue 44). At a redistribution every rank sends to
- * each neighbour its owned particles within the ghost cut-off of that neighbour's part (one
- * MPI_Neighbor_alltoallv of fixed records), and takes what it receives as its ghosts, in
- * ascending rank order, each rank's in its index order. Between two redistributions the ghost
- * list is fixed, so a halo is one MPI_Neighbor_alltoallv of rows: forward, the owners' rows
- * into the ghost rows (received in place); reverse, the ghost rows back to their owners, added
- * there in ascending rank order (the order of the thread transport of the tests), then zeroed.
+ * each neighbour its owned particles within the ghost cut-off of the bounding box of that
+ * neighbour's owned particles (one MPI_Neighbor_alltoallv of fixed records), and takes what it
+ * receives as its ghosts, in ascending rank order, each rank's in its index order. Between two
+ * redistributions the ghost list is fixed, so a halo is one MPI_Neighbor_alltoallv of rows:
+ * forward, the owners' rows into the ghost rows (received in place); reverse, the ghost rows back
+ * to their owners, added there in ascending rank order (the order of the thread transport of the
+ * tests), then zeroed.
  */
 #include <limits.h>
 #include <math.h>
