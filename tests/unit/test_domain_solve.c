@@ -373,6 +373,40 @@ static void test_network_block_joule(void **state)
     assert_true(fabs(DEC.supplied - DEC.dissipated) <= 1e-9 * DEC.supplied);
 }
 
+/* What is not yet distributed is refused, naming it: the "averaged" model (a smoothing over
+ * the whole contact graph) and the network's host callbacks; the plain network is accepted. */
+static void test_refused_models(void **state)
+{
+    (void)state;
+    sinter_ctx *ctx;
+    sinter_particles *ps;
+    sinter_stepper *st;
+    sinter_electric_model *averaged, *network;
+    OK(sinter_ctx_create(&ctx, NULL));
+    OK(sinter_particles_create(&ps, ctx));
+    OK(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL));
+    OK(sinter_electric_model_create(&averaged, ctx, "averaged"));
+    OK(sinter_electric_model_create(&network, ctx, "network"));
+    loopback *lb = loopback_create(1);
+    assert_non_null(lb);
+    OK(sinter_stepper_set_electric(st, averaged));
+    assert_int_equal(loopback_attach(lb, 0, st, ps), SINTER_ERR_UNSUPPORTED);
+    assert_non_null(strstr(sinter_last_error(ctx), "other than 'network'"));
+    OK(sinter_stepper_set_electric(st, network));
+    OK(loopback_attach(lb, 0, st, ps));
+    /* installed afterwards: refused at the next step, on every subdomain */
+    OK(sinter_stepper_set_electric(st, averaged));
+    OK(sinter_stepper_set_dt(st, 1e-6));
+    assert_int_equal(sinter_stepper_step(st, 1), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_electric(st, NULL));
+    sinter_stepper_destroy(st);
+    loopback_destroy(lb);
+    sinter_electric_model_destroy(averaged);
+    sinter_electric_model_destroy(network);
+    sinter_particles_destroy(ps);
+    sinter_ctx_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -380,6 +414,7 @@ int main(void)
         cmocka_unit_test(test_network_chain),
         cmocka_unit_test(test_network_chain_current_wall),
         cmocka_unit_test(test_network_block_joule),
+        cmocka_unit_test(test_refused_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
