@@ -43,12 +43,19 @@ static const double DW = 4e-5;   /* overlap with the electrode walls [m] */
 static const double SIGMA = 1e5; /* electric conductivity [S/m] */
 static const double PI = 3.14159265358979323846;
 
-typedef enum scene_kind { CONDUCTION, CHAIN, CHAIN_CURRENT, BLOCK_JOULE } scene_kind;
+typedef enum scene_kind {
+    CONDUCTION,
+    CHAIN,
+    CHAIN_CURRENT,
+    CHAIN_BALANCED,
+    BLOCK_JOULE
+} scene_kind;
 
 typedef struct scene {
     scene_kind kind;
     int nx, ny, nz, steps;
     double dt;
+    int floating; /* a chain of this many spheres touching neither wall, across the middle */
 } scene;
 
 /* What a run leaves, by id - 1. */
@@ -78,7 +85,7 @@ static double lcg(uint64_t *s)
 
 static int count_of(const scene *sc)
 {
-    return sc->nx * sc->ny * sc->nz;
+    return sc->nx * sc->ny * sc->nz + sc->floating;
 }
 
 static double length_of(const scene *sc) /* the wall-to-wall distance [m] */
@@ -133,7 +140,10 @@ static void *run_scene(void *arg)
             TRY(sinter_walls_set_electric(walls, 0, SINTER_WALL_POTENTIAL, 1.0));
         else
             TRY(sinter_walls_set_electric(walls, 0, SINTER_WALL_CURRENT, 0.25));
-        TRY(sinter_walls_set_electric(walls, 1, SINTER_WALL_POTENTIAL, 0.0));
+        if (sc->kind == CHAIN_BALANCED) /* (0.25 A out: wall 0 is pinned at 0 V) */
+            TRY(sinter_walls_set_electric(walls, 1, SINTER_WALL_CURRENT, -0.25));
+        else
+            TRY(sinter_walls_set_electric(walls, 1, SINTER_WALL_POTENTIAL, 0.0));
     }
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
     if (heat) {
@@ -151,8 +161,11 @@ static void *run_scene(void *arg)
         TRY(sinter_stepper_add_heat(st, joule));
     }
     uint64_t seed = 28;
+    const int lattice = sc->nx * sc->ny * sc->nz;
     for (int k = 0; k < count_of(sc); ++k) {
-        const int i = k % sc->nx, l = (k / sc->nx) % sc->ny, m = k / (sc->nx * sc->ny);
+        const int i = k < lattice ? k % sc->nx : sc->nx / 2 - sc->floating / 2 + k - lattice;
+        const int l = k < lattice ? (k / sc->nx) % sc->ny : 3 * sc->ny; /* (apart) */
+        const int m = k < lattice ? k / (sc->nx * sc->ny) : 0;
         const double x[3] = {R - DW + A * i, A * l, A * m};
         const double theta = 300.0 + 200.0 * i / (sc->nx - 1) + 20.0 * lcg(&seed);
         /* ids in another order than the lattice's */
@@ -308,7 +321,7 @@ static void start_of(const scene *sc)
 static void test_implicit_conduction(void **state)
 {
     (void)state;
-    const scene sc = {CONDUCTION, 12, 3, 2, 20, 0.02};
+    const scene sc = {CONDUCTION, 12, 3, 2, 20, 0.02, 0};
     start_of(&sc);
     compare_decompositions(&sc);
     /* an isolated body: sum m C theta conserved (C constant) */
@@ -336,7 +349,7 @@ static void chain_conductances(double *g_pp, double *g_w)
 static void test_network_chain(void **state)
 {
     (void)state;
-    const scene sc = {CHAIN, 12, 1, 1, 2, 1e-6};
+    const scene sc = {CHAIN, 12, 1, 1, 2, 1e-6, 4};
     start_of(&sc);
     compare_decompositions(&sc);
     double g_pp, g_w;
@@ -344,15 +357,20 @@ static void test_network_chain(void **state)
     const double current = 1.0 / (2.0 / g_w + (sc.nx - 1) / g_pp);
     print_message("chain: I = %.9g A analytic, electrode current %.9g A (4 subdomains)\n", current,
                   DEC.supplied / 1.0);
-    for (int k = 0; k < sc.nx; ++k)
-        assert_true(fabs(DEC.current[k] - current) <= 1e-10 * current);
+    for (int k = 0; k < count_of(&sc); ++k) {
+        const int id = (k * 29) % count_of(&sc); /* (id - 1 of the sphere made k-th) */
+        if (k >= sc.nx) /* the floating chain, across a border: no driven wall, no current */
+            assert_true(DEC.current[id] == 0.0 && DEC.phi[id] == 0.0);
+        else
+            assert_true(fabs(DEC.current[id] - current) <= 1e-10 * current);
+    }
     assert_true(fabs(DEC.supplied - current) <= 1e-10 * current); /* P = V I at 1 V */
 }
 
 static void test_network_chain_current_wall(void **state)
 {
     (void)state;
-    const scene sc = {CHAIN_CURRENT, 12, 1, 1, 2, 1e-6};
+    const scene sc = {CHAIN_CURRENT, 12, 1, 1, 2, 1e-6, 0};
     start_of(&sc);
     compare_decompositions(&sc);
     double g_pp, g_w;
@@ -363,10 +381,28 @@ static void test_network_chain_current_wall(void **state)
     assert_true(fabs(DEC.wall_phi[0] - v) <= 1e-10 * v);
 }
 
+/* Both electrodes current walls, +0.25 A and -0.25 A: balanced, the first pinned at 0 V (on
+ * every subdomain: the cluster's label is its first current wall), the other at -0.25 A times
+ * the chain's resistance. */
+static void test_network_chain_balanced(void **state)
+{
+    (void)state;
+    const scene sc = {CHAIN_BALANCED, 12, 1, 1, 2, 1e-6, 0};
+    start_of(&sc);
+    compare_decompositions(&sc);
+    double g_pp, g_w;
+    chain_conductances(&g_pp, &g_w);
+    for (int k = 0; k < sc.nx; ++k)
+        assert_true(fabs(DEC.current[k] - 0.25) <= 1e-10 * 0.25);
+    assert_true(DEC.wall_phi[0] == 0.0);
+    const double v = -0.25 * (2.0 / g_w + (sc.nx - 1) / g_pp);
+    assert_true(fabs(DEC.wall_phi[1] - v) <= 1e-10 * fabs(v));
+}
+
 static void test_network_block_joule(void **state)
 {
     (void)state;
-    const scene sc = {BLOCK_JOULE, 12, 3, 2, 10, 0.02};
+    const scene sc = {BLOCK_JOULE, 12, 3, 2, 10, 0.02, 0};
     start_of(&sc);
     compare_decompositions(&sc);
     /* Tellegen: what the electrodes supply is what the contacts dissipate */
@@ -413,6 +449,7 @@ int main(void)
         cmocka_unit_test(test_implicit_conduction),
         cmocka_unit_test(test_network_chain),
         cmocka_unit_test(test_network_chain_current_wall),
+        cmocka_unit_test(test_network_chain_balanced),
         cmocka_unit_test(test_network_block_joule),
         cmocka_unit_test(test_refused_models),
     };
