@@ -55,14 +55,16 @@ typedef struct scene {
     scene_kind kind;
     int nx, ny, nz, steps;
     double dt;
-    int floating; /* a chain of this many spheres touching neither wall, across the middle */
+    int floating;  /* a chain of this many spheres touching neither wall, across the middle */
+    double jiggle; /* > 0: random x velocities up to this [m/s] and slab borders just past
+                      columns of spheres, which cross them back and forth (migrations) */
 } scene;
 
 /* What a run leaves, by id - 1. */
 typedef struct result {
     double temp[NMAX], current[NMAX], phi[NMAX], joule[NMAX];
     double wall_phi[2], supplied, dissipated;
-    uint64_t thermal_iterations, electric_iterations;
+    uint64_t thermal_iterations, electric_iterations, migrated;
     int seen[NMAX];
 } result;
 
@@ -93,9 +95,19 @@ static double length_of(const scene *sc) /* the wall-to-wall distance [m] */
     return A * (sc->nx - 1) + 2.0 * (R - DW);
 }
 
+/* The slabs' range along x: the walls', or with jiggling spheres 1e-5 m past the first column
+ * and twelve spacings long (so that every border lies 1e-5 m past a column). */
+static void slabs_of(const scene *sc, double *x0, double *x1)
+{
+    *x0 = sc->jiggle > 0.0 ? R - DW + 1e-5 : 0.0;
+    *x1 = sc->jiggle > 0.0 ? *x0 + 12.0 * A : length_of(sc);
+}
+
 static int slab_of(const scene *sc, double x, int size)
 {
-    const double r = floor(x / length_of(sc) * size);
+    double x0, x1;
+    slabs_of(sc, &x0, &x1);
+    const double r = floor((x - x0) / (x1 - x0) * size);
     return r < 0.0 ? 0 : r >= size ? size - 1 : (int)r;
 }
 
@@ -170,11 +182,19 @@ static void *run_scene(void *arg)
         const double theta = 300.0 + 200.0 * i / (sc->nx - 1) + 20.0 * lcg(&seed);
         /* ids in another order than the lattice's */
         const uint64_t id = 1 + (uint64_t)((k * 29) % count_of(sc));
+        const double vx = sc->jiggle * (2.0 * lcg(&seed) - 1.0);
         if (slab_of(sc, x[0], j->size) != j->rank)
             continue;
-        TRY(sinter_particles_add_with_ids(ps, 1, &id, x, &R, 0, theta, NULL));
+        size_t first = 0;
+        TRY(sinter_particles_add_with_ids(ps, 1, &id, x, &R, 0, theta, &first));
+        double *v = NULL;
+        TRY(sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
+        v[3 * first] = vx;
+        TRY(sinter_particles_release(ps, SINTER_FIELD_VELOCITY));
     }
     TRY(sinter_stepper_set_dt(st, sc->dt));
+    if (sc->jiggle > 0.0) /* rebuilds, and so redistributions, every few steps */
+        TRY(sinter_stepper_set_skin(st, 1e-5));
     if (j->lb != NULL)
         TRY(loopback_attach(j->lb, j->rank, st, ps));
     for (int k = 0; k < sc->steps; ++k) {
@@ -230,16 +250,20 @@ static void run(const scene *sc, int size, result *out)
     const int n = size > 0 ? size : 1;
     loopback *lb = size > 0 ? loopback_create(size) : NULL;
     assert_true(size == 0 || lb != NULL);
+    double x0, x1;
+    slabs_of(sc, &x0, &x1);
     if (lb != NULL)
-        loopback_set_slabs(lb, 0.0, length_of(sc));
+        loopback_set_slabs(lb, x0, x1);
     pthread_t threads[LOOPBACK_MAX];
     job jobs[LOOPBACK_MAX];
     for (int r = 0; r < n; ++r) {
         jobs[r] = (job){.sc = sc, .rank = r, .size = n, .lb = lb, .out = out};
         assert_int_equal(pthread_create(&threads[r], NULL, run_scene, &jobs[r]), 0);
     }
-    for (int r = 0; r < n; ++r)
+    for (int r = 0; r < n; ++r) {
         assert_int_equal(pthread_join(threads[r], NULL), 0);
+        out->migrated += lb != NULL ? loopback_migrated(lb, r) : 0;
+    }
     loopback_destroy(lb);
     for (int r = 0; r < n; ++r) {
         if (jobs[r].failed)
@@ -300,6 +324,12 @@ static void compare_decompositions(const scene *sc)
         assert_true(et <= 1e-9 && ei <= 1e-9 && ep <= 1e-9 && ej <= 1e-9 && ew <= 1e-9);
         assert_true(fabs(DEC.supplied - REF.supplied) <= 1e-9 * fabs(REF.supplied));
         assert_true(fabs(DEC.dissipated - REF.dissipated) <= 1e-9 * fabs(REF.dissipated));
+        if (sc->jiggle > 0.0) { /* (a migration drops the network's warm start) */
+            print_message("%d subdomains: %llu migrations\n", size,
+                          (unsigned long long)DEC.migrated);
+            assert_true(DEC.migrated > 0);
+            continue;
+        }
         /* Jacobi is pointwise: the single-domain preconditioner, the same iterations but for
          * round-off deciding the last one (at most one per solve) */
         const double solves = sc->steps + 1.0;
@@ -321,7 +351,7 @@ static void start_of(const scene *sc)
 static void test_implicit_conduction(void **state)
 {
     (void)state;
-    const scene sc = {CONDUCTION, 12, 3, 2, 20, 0.02, 0};
+    const scene sc = {CONDUCTION, 12, 3, 2, 20, 0.02, 0, 0.0};
     start_of(&sc);
     compare_decompositions(&sc);
     /* an isolated body: sum m C theta conserved (C constant) */
@@ -349,7 +379,7 @@ static void chain_conductances(double *g_pp, double *g_w)
 static void test_network_chain(void **state)
 {
     (void)state;
-    const scene sc = {CHAIN, 12, 1, 1, 2, 1e-6, 4};
+    const scene sc = {CHAIN, 12, 1, 1, 2, 1e-6, 4, 0.0};
     start_of(&sc);
     compare_decompositions(&sc);
     double g_pp, g_w;
@@ -370,7 +400,7 @@ static void test_network_chain(void **state)
 static void test_network_chain_current_wall(void **state)
 {
     (void)state;
-    const scene sc = {CHAIN_CURRENT, 12, 1, 1, 2, 1e-6, 0};
+    const scene sc = {CHAIN_CURRENT, 12, 1, 1, 2, 1e-6, 0, 0.0};
     start_of(&sc);
     compare_decompositions(&sc);
     double g_pp, g_w;
@@ -387,7 +417,7 @@ static void test_network_chain_current_wall(void **state)
 static void test_network_chain_balanced(void **state)
 {
     (void)state;
-    const scene sc = {CHAIN_BALANCED, 12, 1, 1, 2, 1e-6, 0};
+    const scene sc = {CHAIN_BALANCED, 12, 1, 1, 2, 1e-6, 0, 0.0};
     start_of(&sc);
     compare_decompositions(&sc);
     double g_pp, g_w;
@@ -402,7 +432,7 @@ static void test_network_chain_balanced(void **state)
 static void test_network_block_joule(void **state)
 {
     (void)state;
-    const scene sc = {BLOCK_JOULE, 12, 3, 2, 10, 0.02, 0};
+    const scene sc = {BLOCK_JOULE, 12, 3, 2, 10, 0.02, 0, 0.0};
     start_of(&sc);
     compare_decompositions(&sc);
     /* Tellegen: what the electrodes supply is what the contacts dissipate */
@@ -443,6 +473,17 @@ static void test_refused_models(void **state)
     sinter_ctx_destroy(ctx);
 }
 
+/* The block with Joule heating and implicit conduction, its spheres jiggling along x across
+ * the slab borders: migrations in the middle of the solves' runs, the ghosts made again. */
+static void test_moving_block(void **state)
+{
+    (void)state;
+    const scene sc = {BLOCK_JOULE, 12, 3, 2, 20, 1e-3, 0, 2e-3};
+    start_of(&sc);
+    compare_decompositions(&sc);
+    assert_true(fabs(DEC.supplied - DEC.dissipated) <= 1e-9 * DEC.supplied);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -451,6 +492,7 @@ int main(void)
         cmocka_unit_test(test_network_chain_current_wall),
         cmocka_unit_test(test_network_chain_balanced),
         cmocka_unit_test(test_network_block_joule),
+        cmocka_unit_test(test_moving_block),
         cmocka_unit_test(test_refused_models),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
