@@ -134,9 +134,14 @@ typedef struct sinter_domain_ops {
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
  * stepper's global quantities go through `ops`. The explicit stepper only, without periodic
- * axes, continuous insertion, an electric model, implicit conduction or the option
- * sort_interval (SINTER_ERR_UNSUPPORTED names the one, here or at the next step); reduce,
- * exscan, halo and redistribute are required. sinter_checkpoint_write refuses such a stepper
+ * axes, continuous insertion, an electric model other than "network" (or one with host
+ * callbacks) or the option sort_interval (SINTER_ERR_UNSUPPORTED names the one, here or at the
+ * next step); reduce, exscan, halo and redistribute are required. Implicit conduction and the
+ * "network" electric model solve over every subdomain at once: the owned particles are the
+ * unknowns, a ghost's value comes from its owner through a forward halo of width 1 before each
+ * operator product (the network's cluster labels travel as the bits of a double: the halo must
+ * copy bits), and dot products, norms and the stopping test go through reduce, so every
+ * subdomain stops at the same iteration; sinter_electric_model_power then returns the totals. sinter_checkpoint_write refuses such a stepper
  * (SINTER_ERR_UNSUPPORTED) until migration brings portable checkpoints.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
  */

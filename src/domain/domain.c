@@ -37,6 +37,13 @@ static sinter_status find_rank(sinter_ctx *ctx, sinter_domain *d)
     return SINTER_OK;
 }
 
+sinter_status sinter_domain_rank(sinter_ctx *ctx, sinter_domain *d, long *rank)
+{
+    const sinter_status s = find_rank(ctx, d);
+    *rank = d->rank;
+    return s;
+}
+
 enum { TEXT_WORDS = SINTER_ERROR_TEXT_SIZE / 8 };
 
 sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_status s)

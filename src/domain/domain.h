@@ -42,6 +42,9 @@ void sinter_domain_free(sinter_ctx *ctx, sinter_domain *d);
 sinter_status sinter_domain_reduce(sinter_ctx *ctx, sinter_domain *d, void *values, size_t count,
                                    int type, int op);
 
+/* This subdomain's number into *rank (collective the first time: an exscan of 1). */
+sinter_status sinter_domain_rank(sinter_ctx *ctx, sinter_domain *d, long *rank);
+
 /* The collective status: every subdomain passes its own status `s` and receives the same
  * one, the most negative code reported anywhere, with the message of the lowest-numbered
  * subdomain that reported it, prefixed by "subdomain R: ". SINTER_OK costs one reduction. */

@@ -2,6 +2,7 @@
  * operations installed, the ghost cut-off, and the global results. */
 #include <string.h>
 
+#include "electric/electric.h"
 #include "stepper/stepper.h"
 #include "walls/walls.h"
 
@@ -16,10 +17,9 @@ sinter_status sinter_domain_check(sinter_stepper *st)
         what = "periodic axes (sinter_stepper_set_periodic)";
     else if (st->insertion != NULL)
         what = "continuous insertion (its ids are chosen per set)";
-    else if (st->electric != NULL)
-        what = "an electric model (its network solve is global)";
-    else if (st->thermal.count > 0 && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
-        what = "implicit conduction (its solve is global)";
+    else if (st->electric != NULL &&
+             (st->electric->kind != SINTER_ELECTRIC_NETWORK || st->electric->host.struct_size != 0))
+        what = "an electric model other than 'network', or one with host callbacks";
     else if (st->sort_interval > 0)
         what = "the option sort_interval (a sort drops the ghosts)";
     if (what == NULL)

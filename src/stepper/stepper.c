@@ -915,6 +915,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->pp.held = NULL; /* the history moves at commits and rebuilds */
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks);
+    /* the network's solve is collective (domain/solve.h): every subdomain or none */
+    if (st->domain.on && st->electric != NULL)
+        s = sinter_domain_agree(ctx, &st->domain, s);
     if (s != SINTER_OK)
         return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {
@@ -926,9 +929,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
         sinter_contacts_geometry(ctx, &st->pp, ps);
-        s = sinter_electric_solve_images(st->electric, ps, st->walls, &st->pp, &st->pw,
-                                         ps->ghost_count > 0 ? st->ghosts.owner : NULL,
-                                         &electric_iterations);
+        st->electric->domain = st->domain.on ? &st->domain : NULL;
+        s = sinter_electric_solve_images(
+            st->electric, ps, st->walls, &st->pp, &st->pw,
+            ps->ghost_count > 0 && !st->domain.on ? st->ghosts.owner : NULL, &electric_iterations);
+        st->electric->domain = NULL;
         st->electric_iterations += electric_iterations;
         if (s != SINTER_OK)
             return s;
