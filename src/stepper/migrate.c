@@ -486,6 +486,18 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
     return s;
 }
 
+/* A migration asked during the staggered stepper's fixed-point attempt (its state at t and its
+ * histories are per index): refused, and made at the next accepted state (stepper.h,
+ * sinter_stepper_domain_accepted_stage). */
+static sinter_status refuse_in_attempt(sinter_stepper *st, const char *func)
+{
+    st->domain.migration_deferred = 1;
+    return sinter_fail(st->ctx, SINTER_ERR_STATE,
+                       "%s: the staggered stepper is inside a fixed-point attempt; the particles "
+                       "stay where they are and migrate at the next accepted state",
+                       func);
+}
+
 sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *indices,
                                     void *buffer, size_t capacity, size_t *written, int remove)
 {
@@ -497,6 +509,8 @@ sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *
     if (remove != 0 && remove != 1)
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "sinter_stepper_export: remove is %d, not 0 or 1", remove);
+    if (remove && st->domain.in_attempt)
+        return refuse_in_attempt(st, "sinter_stepper_export");
     gathered g;
     sinter_status s = gather(st, n, indices, &g, "sinter_stepper_export");
     if (s != SINTER_OK)
@@ -820,6 +834,8 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
         *count = 0;
     sinter_particles *ps = st->ps;
     const char *F = "sinter_stepper_import";
+    if (st->domain.in_attempt)
+        return refuse_in_attempt(st, F);
     if (ps->views_out > 0)
         return sinter_fail(ctx, SINTER_ERR_BUSY,
                            "%s: %zu field view(s) of the particle set are out", F, ps->views_out);

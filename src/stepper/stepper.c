@@ -110,10 +110,10 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     if (st->stats.steps > 0 || st->stats.rejected > 0)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "the stepper has taken steps; its kind can no longer change");
-    if (kind != SINTER_STEPPER_EXPLICIT && st->domain.on)
+    if (kind == SINTER_STEPPER_QUASISTATIC && st->domain.on)
         return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
                            "domain operations (sinter_stepper_set_domain_ops) are supported by "
-                           "the explicit stepper only so far; remove them first");
+                           "the explicit and staggered steppers only so far; remove them first");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
@@ -686,30 +686,64 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
     return s;
 }
 
+/* The neighbour lists of a decomposed run: the rebuild stage (collective), then the build when
+ * it decided one. */
+static sinter_status domain_refresh(sinter_stepper *st)
+{
+    int rebuild = 0;
+    const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
+    sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
+    if (s != SINTER_OK || !rebuild)
+        return s;
+    const double t0 = sinter_clock();
+    s = keep_held_pairs(st);
+    if (s == SINTER_OK)
+        s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
+        if (s == SINTER_OK)
+            s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count, &st->nb.pw);
+    }
+    if (s == SINTER_OK) /* the histories migrated particles brought, by key (migrate.h) */
+        s = sinter_migrate_match(st);
+    st->stats.neighbor_builds++;
+    st->stats.seconds_neighbor += sinter_clock() - t0;
+    return s;
+}
+
+/*
+ * The staggered stepper's redistribution at an accepted state (stepper.h): the host's
+ * migrations are refused during its fixed-point attempts (the state at t, the predictor's and
+ * Anderson's histories are per index), so a migration refused there is made here, before the
+ * next step saves its state at t. One reduction a step: whether a migration waits anywhere,
+ * and whether any subdomain's predictor history restarts (then every one restarts it, so that
+ * the subdomains predict alike).
+ */
+sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st)
+{
+    sinter_domain *d = &st->domain;
+    sinter_staggered *sg = &st->staggered;
+    const size_t n = st->ps->count - st->ps->ghost_count;
+    int64_t v[2] = {d->migration_deferred,
+                    !(sg->history_valid && sg->history_count == n && sg->h_prev > 0.0)};
+    sinter_status s = sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_I64, SINTER_REDUCE_MAX);
+    if (s != SINTER_OK)
+        return s;
+    d->migration_deferred = 0;
+    if (v[0] != 0) { /* rebuilt with the host's redistribution, migrations allowed */
+        d->rebuild_due = 1;
+        s = sinter_domain_agree(st->ctx, d, domain_refresh(st));
+        v[1] = 1; /* the particles' order changed: the history restarts everywhere */
+    }
+    if (v[1] != 0)
+        sg->history_valid = 0;
+    return s;
+}
+
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
-    if (st->domain.on) {
-        int rebuild = 0;
-        const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
-        sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
-        if (s != SINTER_OK || !rebuild)
-            return s;
-        const double t0 = sinter_clock();
-        s = keep_held_pairs(st);
-        if (s == SINTER_OK)
-            s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
-        for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
-            s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
-            if (s == SINTER_OK)
-                s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count,
-                                         &st->nb.pw);
-        }
-        if (s == SINTER_OK) /* the histories migrated particles brought, by key (migrate.h) */
-            s = sinter_migrate_match(st);
-        st->stats.neighbor_builds++;
-        st->stats.seconds_neighbor += sinter_clock() - t0;
-        return s;
-    }
+    if (st->domain.on)
+        return domain_refresh(st);
     /* the quasi-static stepper makes no images: its links see them (stepper/qs_periodic.c) */
     const int periodic = sinter_ghosts_on(&st->ghosts) && st->kind != SINTER_STEPPER_QUASISTATIC;
     /* a wider reach than the list was built with: built again now, whatever the skin */
@@ -926,9 +960,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
         sinter_contacts_geometry(ctx, &st->pp, ps);
-        s = sinter_electric_solve_images(st->electric, ps, st->walls, &st->pp, &st->pw,
-                                         ps->ghost_count > 0 ? st->ghosts.owner : NULL,
-                                         &electric_iterations);
+        /* (a decomposed run: the averaged model's sums and halos through the host's, averaged.c) */
+        st->electric->averaged_domain = st->domain.on ? &st->domain : NULL;
+        s = sinter_electric_solve_images(
+            st->electric, ps, st->walls, &st->pp, &st->pw,
+            ps->ghost_count > 0 && !st->domain.on ? st->ghosts.owner : NULL, &electric_iterations);
         st->electric_iterations += electric_iterations;
         if (s != SINTER_OK)
             return s;
