@@ -1067,7 +1067,8 @@ static sinter_status give_up_status(sinter_stepper *st, double t, double h, doub
 }
 
 /* The positions at t of every row, for the sanity check: a->x itself without images, else
- * the owners' with the images' rows made from them (ghosts/ghosts.h); NULL when out of memory. */
+ * the owners' with the images' rows made from them (ghosts/ghosts.h), or with the ghosts of
+ * other subdomains as they are now; NULL when out of memory. */
 static const double *positions_at_start(sinter_stepper *st, const saved_state *a)
 {
     const sinter_particles *ps = st->ps;
@@ -1078,7 +1079,11 @@ static const double *positions_at_start(sinter_stepper *st, const saved_state *a
                     sizeof(double)) != SINTER_OK)
         return NULL;
     memcpy(sg->x_rows, a->x, 3 * owned_rows(ps) * sizeof(double));
-    sinter_ghosts_copy_rows(&st->ghosts, ps, sg->x_rows, 1);
+    if (st->domain.on) /* ghosts of other subdomains: their owners check them (no motion here) */
+        memcpy(sg->x_rows + 3 * owned_rows(ps), ps->x + 3 * owned_rows(ps),
+               3 * ps->ghost_count * sizeof(double));
+    else
+        sinter_ghosts_copy_rows(&st->ghosts, ps, sg->x_rows, 1);
     return sg->x_rows;
 }
 
