@@ -7,14 +7,16 @@
  * other subdomains that lie within sinter_stepper_ghost_cutoff of its owned ones. Through a
  * table of callbacks the library asks the host for the collective operations it needs.
  *
- * Contract (explicit stepper, this version):
+ * Contract (explicit and staggered steppers, this version):
  *  - Newton's third law is off across subdomain borders: each subdomain evaluates every pair
  *    with an owned end; the pair is oriented and keyed by the two ids, so both sides hold equal
  *    histories; forces, moments and heat powers on ghosts are discarded. No ghost-ghost pairs,
  *    no ghost wall contacts.
  *  - Every global quantity of a step (wall forces, the rebuild decision, the ghost cut-off and
- *    skin, the stopping of a run, every status) comes from `reduce`; control flow follows
- *    reduced values only, so every subdomain takes the same branch.
+ *    skin, the stopping of a run, every status; the staggered stepper's error norms, Anderson's
+ *    inner products, accept/reject and next step; the averaged electric model's sweep norms)
+ *    comes from `reduce`; control flow follows reduced values only, so every subdomain takes
+ *    the same branch.
  *  - Errors are collective: every subdomain returns the same status at the same step, with the
  *    same message, which names the subdomain that reported it and the particle's id.
  *  - sinter_stepper_advance, _step and _evaluate become collective calls: every subdomain
@@ -40,9 +42,9 @@ extern "C" {
 /** One layer of ghosts: `count` particles of other subdomains (all arrays borrowed, particle
  * major). */
 typedef struct sinter_ghost_fields {
-    size_t struct_size; /**< sizeof(sinter_ghost_fields) */
-    size_t count;       /**< ghosts */
-    const uint64_t *id; /**< global ids (not ids of owned particles) */
+    size_t struct_size;        /**< sizeof(sinter_ghost_fields) */
+    size_t count;              /**< ghosts */
+    const uint64_t *id;        /**< global ids (not ids of owned particles) */
     const double *position;    /**< 3 per ghost [m] */
     const double *velocity;    /**< 3 per ghost [m/s] */
     const double *spin;        /**< 3 per ghost [rad/s] */
@@ -51,9 +53,9 @@ typedef struct sinter_ghost_fields {
     const double *mass;        /**< 1 per ghost [kg] */
     const double *inertia;     /**< 1 per ghost [kg m^2] */
     const double *temperature; /**< 1 per ghost [K] */
-    const int32_t *material;                             /**< registered material ids of this set */
-    const uint32_t *flags; /**< sinter_particle_flag bits (NULL: none) */
-    const int32_t *owner;  /**< owning subdomain, for checks (NULL: unknown) */
+    const int32_t *material;   /**< registered material ids of this set */
+    const uint32_t *flags;     /**< sinter_particle_flag bits (NULL: none) */
+    const int32_t *owner;      /**< owning subdomain, for checks (NULL: unknown) */
 } sinter_ghost_fields;
 
 /**
@@ -125,7 +127,9 @@ typedef struct sinter_domain_ops {
      * owned one. The set's owned particles may be read (not written) here. The records
      * exported here carry each particle's state at the start of the step, so that a step
      * rejected after a migration restores the arrivals too; export every leaver before the
-     * first removal or import (a record exported after the rows moved carries its state now). */
+     * first removal or import (a record exported after the rows moved carries its state now).
+     * Inside a staggered stepper's attempt the removal and the import are refused with
+     * SINTER_ERR_STATE: keep the particles (ghosts are still made) until the next call. */
     int (*redistribute)(sinter_stepper *st, void *user);
     /** Called once when the stepper is destroyed or the table replaced (may be NULL). */
     void (*destroy_user)(void *user);
@@ -133,10 +137,17 @@ typedef struct sinter_domain_ops {
 
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
- * stepper's global quantities go through `ops`. The explicit stepper only, without periodic
- * axes, continuous insertion, an electric model, implicit conduction or the option
- * sort_interval (SINTER_ERR_UNSUPPORTED names the one, here or at the next step); reduce,
- * exscan, halo and redistribute are required. sinter_checkpoint_write refuses such a stepper
+ * stepper's global quantities go through `ops`. The explicit and the staggered steppers (not
+ * the quasi-static one), without periodic axes, continuous insertion, implicit conduction or
+ * the option sort_interval; an electric model only with the staggered stepper, and only the
+ * "averaged" one (its sweeps reduced, its currents haloed to the ghosts; the "network" model's
+ * solve is not distributed yet). SINTER_ERR_UNSUPPORTED names the setting, here or at the next
+ * step. The staggered stepper halos the state before every evaluation of its fixed-point
+ * iteration and reduces its norms and Anderson's inner products; during one of its attempts
+ * the host's redistribute callback may make new ghosts but not migrate: sinter_stepper_export
+ * with removal and sinter_stepper_import return SINTER_ERR_STATE there, and the stepper calls
+ * redistribute again at the next accepted state, where migration is allowed. reduce, exscan,
+ * halo and redistribute are required. sinter_checkpoint_write refuses such a stepper
  * (SINTER_ERR_UNSUPPORTED) until migration brings portable checkpoints.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
  */

@@ -81,6 +81,14 @@
  * step's start, so a build within the step makes images without wrapping (sinter_ghosts.hold):
  * the owned particles are wrapped into the cell between steps, before the state at t is saved,
  * and a rejected attempt restores the owners and their images.
+ *
+ * Subdomains (issue 43, domain/domain.h, docs/scaleout.md): the unknowns are the owned
+ * particles; every evaluation first gives the ghosts of other subdomains their owners' iterate
+ * (a forward halo) and its status is agreed; the sums behind every norm, a bad state anywhere
+ * and Anderson's inner products are reduced, so that every subdomain takes the same branches
+ * and steps. Inside an attempt the host may make new ghosts but not migrate (the state at t
+ * and the histories are per index); a refused migration is made at the next accepted state
+ * (sinter_stepper_domain_accepted_stage).
  */
 #include <float.h>
 #include <math.h>
