@@ -42,9 +42,9 @@ extern "C" {
 /** One layer of ghosts: `count` particles of other subdomains (all arrays borrowed, particle
  * major). */
 typedef struct sinter_ghost_fields {
-    size_t struct_size;        /**< sizeof(sinter_ghost_fields) */
-    size_t count;              /**< ghosts */
-    const uint64_t *id;        /**< global ids (not ids of owned particles) */
+    size_t struct_size; /**< sizeof(sinter_ghost_fields) */
+    size_t count;       /**< ghosts */
+    const uint64_t *id; /**< global ids (not ids of owned particles) */
     const double *position;    /**< 3 per ghost [m] */
     const double *velocity;    /**< 3 per ghost [m/s] */
     const double *spin;        /**< 3 per ghost [rad/s] */
@@ -53,9 +53,9 @@ typedef struct sinter_ghost_fields {
     const double *mass;        /**< 1 per ghost [kg] */
     const double *inertia;     /**< 1 per ghost [kg m^2] */
     const double *temperature; /**< 1 per ghost [K] */
-    const int32_t *material;   /**< registered material ids of this set */
-    const uint32_t *flags;     /**< sinter_particle_flag bits (NULL: none) */
-    const int32_t *owner;      /**< owning subdomain, for checks (NULL: unknown) */
+    const int32_t *material;                             /**< registered material ids of this set */
+    const uint32_t *flags; /**< sinter_particle_flag bits (NULL: none) */
+    const int32_t *owner;  /**< owning subdomain, for checks (NULL: unknown) */
 } sinter_ghost_fields;
 
 /**
