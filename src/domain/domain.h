@@ -35,6 +35,9 @@ typedef struct sinter_domain {
      * was refused so: the stepper redistributes again at the next accepted state */
     int in_attempt;
     int migration_deferred;
+    /* 1 during the staggered stepper's redistribution at an accepted state: the records carry
+     * the predictor's history (record bit 2), the arrivals' kept in arrived_id / _rows */
+    int keep_history;
     uint64_t *arrived_id;
     double *arrived_rows;
     size_t arrived_count, arrived_id_capacity, arrived_rows_capacity;
