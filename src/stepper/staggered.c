@@ -134,7 +134,7 @@ static sinter_status global_sum(sinter_stepper *st, double *values, size_t count
 }
 
 /* Whether any subdomain has a particle with a bad state (`bad` < n here); a failed reduction
- * into *s. Without domain operations bad < n. */
+ * into *s, and 1 (the caller returns *s then). Without domain operations bad < n. */
 static int any_bad(sinter_stepper *st, size_t bad, size_t n, sinter_status *s)
 {
     if (!st->domain.on)
@@ -142,8 +142,10 @@ static int any_bad(sinter_stepper *st, size_t bad, size_t n, sinter_status *s)
     int64_t v = bad < n;
     const sinter_status r =
         sinter_domain_reduce(st->ctx, &st->domain, &v, 1, SINTER_REDUCE_I64, SINTER_REDUCE_MAX);
-    if (r != SINTER_OK && *s == SINTER_OK)
+    if (r != SINTER_OK) {
         *s = r;
+        return 1;
+    }
     return v != 0;
 }
 
