@@ -85,6 +85,7 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->wall_area);
     sinter_free(ctx, em->queue);
     sinter_free(ctx, em->state);
+    sinter_free(ctx, em->averaged_rows);
     sinter_free(ctx, em->edge_a);
     sinter_free(ctx, em->edge_b);
     sinter_free(ctx, em->edge_g);
@@ -239,7 +240,9 @@ sinter_status sinter_electric_solve_images(sinter_electric_model *em, sinter_par
                            "electric model '%s': across subdomains only the 'network' model "
                            "without host callbacks",
                            em->name);
-    if (ps->ghost_count > 0 && em->domain == NULL &&
+    const int subdomain = em->domain != NULL ||
+                          (em->averaged_domain != NULL && em->kind == SINTER_ELECTRIC_AVERAGED);
+    if (ps->ghost_count > 0 && !subdomain &&
         (ghost_owner == NULL || em->kind != SINTER_ELECTRIC_NETWORK))
         return sinter_fail(em->ctx, SINTER_ERR_UNSUPPORTED,
                            "electric model '%s': %zu periodic images need the 'network' model "

@@ -88,6 +88,11 @@ struct sinter_electric_model {
     size_t queue_capacity;
     unsigned char *state; /* averaged: per particle; network: per node */
     size_t state_capacity;
+    /* averaged, on one subdomain of a decomposed run (domain/domain.h; NULL: the whole body):
+     * the host's collective operations, and a row per particle for their halos */
+    struct sinter_domain *averaged_domain;
+    double *averaged_rows;
+    size_t averaged_rows_capacity;
     uint32_t *edge_a, *edge_b; /* network: conducting edges between nodes */
     double *edge_g;            /* network: their conductances [S] */
     size_t edge_a_capacity, edge_b_capacity, edge_g_capacity;
