@@ -439,8 +439,9 @@ static void test_network_block_joule(void **state)
     assert_true(fabs(DEC.supplied - DEC.dissipated) <= 1e-9 * DEC.supplied);
 }
 
-/* What is not yet distributed is refused, naming it: the "averaged" model (a smoothing over
- * the whole contact graph) and the network's host callbacks; the plain network is accepted. */
+/* What is not yet distributed is refused, naming it: the "averaged" model with the explicit
+ * stepper (it runs across subdomains with the staggered stepper only) and the network's host
+ * callbacks; the plain network is accepted. */
 static void test_refused_models(void **state)
 {
     (void)state;
@@ -457,7 +458,7 @@ static void test_refused_models(void **state)
     assert_non_null(lb);
     OK(sinter_stepper_set_electric(st, averaged));
     assert_int_equal(loopback_attach(lb, 0, st, ps), SINTER_ERR_UNSUPPORTED);
-    assert_non_null(strstr(sinter_last_error(ctx), "other than 'network'"));
+    assert_non_null(strstr(sinter_last_error(ctx), "averaged electric model with the explicit"));
     OK(sinter_stepper_set_electric(st, network));
     OK(loopback_attach(lb, 0, st, ps));
     /* installed afterwards: refused at the next step, on every subdomain */
