@@ -6,23 +6,29 @@
  * gives it (issue 44, "Tests and measurements": speed and communication volume).
  *
  *   mpiexec -n NP build/bin/mpi_packed_bed [--n 40] [--steps 200] [--heat 1] [--dt 1e-5]
- *                                          [--grid GX GY GZ] [--balance 0|1]
+ *                                          [--grid GX GY GZ] [--balance 0|1] [--tall F]
  *
  * Every rank builds the same lattice and keeps the spheres whose centres its part of a brick
  * over the bed's box [0, n s]^3 holds (sinter_mpi_decomp_owners; --grid fixes the ranks per
  * axis, default: the brick of least cut area). step(0) (the first distribution, neighbour
- * build and forces) is left out of the timing, as in peer_bench. Rank 0 prints:
+ * build and forces) is left out of the timing, as in peer_bench. --tall F makes the domain's
+ * box F times the bed's height and (without --grid) z slabs: the bed in the bottom 1/F of the
+ * box, as after a pour, for the imbalance of the static brick and of --balance 1 (a bisection
+ * at the first rebuild). Rank 0 prints:
  *
  *   TIME   wall and CPU seconds per step (CPU: summed over the ranks, and the largest rank's;
  *          Open MPI ranks that wait in a collective spin, so CPU time includes waiting), the
- *          microseconds per particle-step, and the load average before and after;
+ *          microseconds per particle-step, the largest rank's own work (the stepper's
+ *          neighbour, force and integration phases, wall time) and the load average before
+ *          and after;
  *   COMM   per step of the timed loop: halos, bytes sent and messages (summed over the ranks),
  *          ghosts (sum and largest), owned (smallest and largest), migrations, redistributions,
  *          imbalance, the seconds in exchanges and reductions (largest rank), the reductions
  *          per step and the bytes of the first distribution (the one-off rebuild traffic);
- *   MODEL  the ghosts predicted from the geometry (each internal cut plane of area A gives
- *          2 A c / s^3 ghosts in the continuum estimate, c the ghost cut-off, and 2 floor(c/s)
- *          lattice layers of A / s^2 spheres on this lattice) and the halo bytes per step they
+ *   MODEL  the ghosts predicted from the geometry (each cut plane of area A within the bed
+ *          gives 2 A c / s^3 ghosts in the continuum estimate, c the ghost cut-off, and
+ *          2 floor(c/s) lattice layers of A / s^2 spheres on this lattice; the area from the
+ *          parts' boxes, a brick's or a bisection's) and the halo bytes per step they
  *          imply (halos per step x 13 doubles x ghosts; the explicit step has no reverse halo);
  *   SANITY the peer benchmark's mean height, contacts per sphere and mean temperature, summed
  *          over the ranks (to compare the decomposed run with np 1).
@@ -62,6 +68,7 @@ int main(int argc, char **argv)
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     int n = 40, heat = 1, balance = 0, grid[3] = {0, 0, 0};
+    double tall = 1.0; /* the domain's box: tall times the bed's height */
     unsigned long long steps = 200;
     double dt = 1e-5;
     for (int a = 1; a < argc; ++a) {
@@ -75,6 +82,8 @@ int main(int argc, char **argv)
             heat = atoi(argv[++a]);
         else if (strcmp(argv[a], "--balance") == 0)
             balance = atoi(argv[++a]);
+        else if (strcmp(argv[a], "--tall") == 0)
+            tall = strtod(argv[++a], NULL);
         else if (strcmp(argv[a], "--dt") == 0)
             dt = strtod(argv[++a], NULL);
         else if (strcmp(argv[a], "--grid") == 0 && a + 3 < argc) {
@@ -83,7 +92,7 @@ int main(int argc, char **argv)
         } else
             usage();
     }
-    if (n < 1 || steps == 0 || !(dt > 0.0))
+    if (n < 1 || steps == 0 || !(dt > 0.0) || !(tall >= 1.0))
         usage();
 
     /* ---- the lattice of gen_lattice.py --scene thermal (peer benchmark) ---------------------- */
@@ -93,7 +102,9 @@ int main(int argc, char **argv)
 
     sinter_mpi_options o;
     CHECK(sinter_mpi_options_init(&o, sizeof o));
-    const double lo[3] = {0, 0, 0}, hi[3] = {L, L, L}; /* the bed (the walls' box is taller) */
+    const double lo[3] = {0, 0, 0}, hi[3] = {L, L, tall * L}; /* (the walls' box is taller) */
+    if (tall > 1.0 && grid[0] == 0 && grid[1] == 0 && grid[2] == 0)
+        grid[2] = size; /* z slabs: the bed in the bottom part(s), as after a pour */
     memcpy(o.grid, grid, sizeof grid);
     memcpy(o.lo, lo, sizeof lo);
     memcpy(o.hi, hi, sizeof hi);
@@ -124,6 +135,11 @@ int main(int argc, char **argv)
             rad[mine] = r;
             id[mine++] = (uint64_t)k + 1;
         }
+
+    /* the brick's imbalance as created (largest part over the mean), before any balancing */
+    double imbalance_brick = (double)mine;
+    MPI_Allreduce(MPI_IN_PLACE, &imbalance_brick, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    imbalance_brick *= (double)size / (double)total;
 
     /* ---- peer_bench's canonical material, walls and stepper (liggghts/in.mech) -------------- */
     CHECK(sinter_ctx_create(&g_ctx, NULL));
@@ -193,6 +209,8 @@ int main(int argc, char **argv)
     double cutoff = 0.0, load[2];
     CHECK(sinter_stepper_ghost_cutoff(st, &cutoff));
     load_average(load);
+    sinter_stepper_stats p0 = {.struct_size = sizeof p0}, p1 = p0;
+    CHECK(sinter_stepper_get_stats(st, &p0));
     MPI_Barrier(MPI_COMM_WORLD);
     const double t0 = now(), c0 = cpu_seconds();
     CHECK(sinter_stepper_step(st, steps));
@@ -202,6 +220,11 @@ int main(int argc, char **argv)
     load_average(load + 1);
     CHECK(sinter_mpi_get_exchange_stats(dom, &x1));
     CHECK(sinter_mpi_get_stats(dom, &m1));
+    CHECK(sinter_stepper_get_stats(st, &p1));
+    /* this rank's own work: the stepper's neighbour, force and integration phases (wall) */
+    const double work = (p1.seconds_neighbor - p0.seconds_neighbor) +
+                        (p1.seconds_force - p0.seconds_force) +
+                        (p1.seconds_integrate - p0.seconds_integrate);
 
     /* ---- the counters over the ranks ------------------------------------------------------ */
     const double per = 1.0 / (double)steps;
@@ -213,11 +236,15 @@ int main(int argc, char **argv)
                       (double)x0.bytes_sent,
                       (double)(m1.reduce_bytes - m0.reduce_bytes),
                       (double)x1.owned};
-    double maxs[5] = {c1 - c0, (double)x1.ghosts, x1.seconds_comm - x0.seconds_comm,
-                      m1.seconds_comm - m0.seconds_comm, (double)x1.owned};
+    double maxs[6] = {c1 - c0,
+                      (double)x1.ghosts,
+                      x1.seconds_comm - x0.seconds_comm,
+                      m1.seconds_comm - m0.seconds_comm,
+                      (double)x1.owned,
+                      work};
     double mins[1] = {(double)x1.owned};
     MPI_Allreduce(MPI_IN_PLACE, sums, 8, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-    MPI_Allreduce(MPI_IN_PLACE, maxs, 5, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, maxs, 6, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     MPI_Allreduce(MPI_IN_PLACE, mins, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
 
     /* ---- sanity values (peer_bench's), summed over the ranks ------------------------------ */
@@ -239,22 +266,40 @@ int main(int argc, char **argv)
     sinter_stepper_stats gs = {.struct_size = sizeof gs};
     CHECK(sinter_stepper_get_stats_global(st, &gs));
 
-    /* ---- the model: ghosts from the geometry of the brick's internal cut planes ----------- */
-    double area = 0.0; /* total area of internal cut planes within the bed [m^2] */
-    for (int a = 0; a < 3; ++a)
-        area += (double)(g[a] - 1) * L * L; /* the bed is a cube of side L */
-    const double ghosts_continuum = 2.0 * area * cutoff / (s * s * s),
-                 ghosts_lattice = 2.0 * floor(cutoff / s) * area / (s * s);
+    /* ---- the model: ghosts from the geometry of the parts' faces inside the bed ----------- */
+    /* Each face of a part's box that cuts the bed (the cube [0, L]^3) receives the spheres of
+     * the far side within the cut-off c of its owned spheres: continuum A c / s^3, on this
+     * lattice floor(c / s) layers of A / s^2 (the cut planes lie between layers; diagonal
+     * neighbours add none, as s sqrt 2 > c). Counted from both sides, as the ghosts are. */
+    CHECK(sinter_mpi_domain_decomp(dom, &decomp));
+    double area = 0.0; /* both sides of every cut plane within the bed [m^2] */
+    for (int part = 0; part < size; ++part) {
+        double plo[3], phi[3];
+        CHECK(sinter_mpi_decomp_box(decomp, part, plo, phi));
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            const double wb = fmin(phi[b], L) - fmax(plo[b], 0.0),
+                         wc = fmin(phi[c], L) - fmax(plo[c], 0.0);
+            if (wb <= 0.0 || wc <= 0.0)
+                continue;
+            area += (plo[a] > 1e-9 * L && plo[a] < L ? wb * wc : 0.0) +
+                    (phi[a] > 0.0 && phi[a] < L * (1 - 1e-9) ? wb * wc : 0.0);
+        }
+    }
+    const double ghosts_continuum = area * cutoff / (s * s * s),
+                 ghosts_lattice = floor(cutoff / s) * area / (s * s);
     const double halos = (double)(x1.halos - x0.halos) * per;
 
     if (rank == 0) {
-        printf("MPI_PACKED_BED np=%d N=%zu grid=%dx%dx%d steps=%llu dt=%g heat=%d balance=%d "
-               "cutoff=%.6g m\n",
-               size, total, g[0], g[1], g[2], steps, dt, heat, balance, cutoff);
+        printf("MPI_PACKED_BED np=%d N=%zu grid=%dx%dx%d tall=%g steps=%llu dt=%g heat=%d "
+               "balance=%d cutoff=%.6g m imbalance_brick=%.4f rebalances=%llu\n",
+               size, total, g[0], g[1], g[2], tall, steps, dt, heat, balance, cutoff,
+               imbalance_brick, (unsigned long long)m1.rebalances);
         printf("TIME wall_per_step=%.6g s cpu_per_step_sum=%.6g s cpu_per_step_max_rank=%.6g s "
-               "us_per_particle_step=%.6g (wall x np / N) load_before=%.2f load_after=%.2f\n",
+               "us_per_particle_step=%.6g (wall x np / N) work_per_step_max_rank=%.6g s "
+               "load_before=%.2f load_after=%.2f\n",
                wall * per, sums[0] * per, maxs[0] * per, 1e6 * wall * per * size / (double)total,
-               load[0], load[1]);
+               maxs[5] * per, load[0], load[1]);
         printf("COMM halos_per_step=%.3g bytes_sent_per_step=%.6g messages_per_step=%.4g "
                "ghosts_sum=%.0f ghosts_max=%.0f owned_min=%.0f owned_max=%.0f "
                "migrations=%.0f redistributions=%llu imbalance=%.4f comm_s_per_step_max=%.4g "
