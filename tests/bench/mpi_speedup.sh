@@ -28,6 +28,7 @@ echo "# $(date -u '+%F %T') UTC, libsinter $(git -C "$ROOT" rev-parse --short HE
 echo "# CPU: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'), $(nproc) cores"
 run() { # np -> "wall cpu" on stdout, the program's lines on stderr
   local out
+  # shellcheck disable=SC2086 # MPIEXEC and WRAP are split into words on purpose
   out=$(LD_LIBRARY_PATH="$BUILD/lib" $MPIEXEC -n "$1" $WRAP "$BUILD/bin/mpi_packed_bed" \
           --n "$N" --steps "$STEPS" --heat "$HEAT")
   echo "$out" >&2
