@@ -7,6 +7,7 @@
  *
  *   mpiexec -n NP build/bin/mpi_packed_bed [--n 40] [--steps 200] [--heat 1] [--dt 1e-5]
  *                                          [--grid GX GY GZ] [--balance 0|1] [--tall F]
+ *                                          [--skin 1e-4]
  *
  * Every rank builds the same lattice and keeps the spheres whose centres its part of a brick
  * over the bed's box [0, n s]^3 holds (sinter_mpi_decomp_owners; --grid fixes the ranks per
@@ -14,7 +15,8 @@
  * build and forces) is left out of the timing, as in peer_bench. --tall F makes the domain's
  * box F times the bed's height and (without --grid) z slabs: the bed in the bottom 1/F of the
  * box, as after a pour, for the imbalance of the static brick and of --balance 1 (a bisection
- * at the first rebuild). Rank 0 prints:
+ * at the first rebuild); --skin sets the neighbour-list skin (a small one makes rebuilds in the
+ * resting bed, for the rebuild traffic). Rank 0 prints:
  *
  *   TIME   wall and CPU seconds per step (CPU: summed over the ranks, and the largest rank's;
  *          Open MPI ranks that wait in a collective spin, so CPU time includes waiting), the
@@ -57,7 +59,7 @@ static void load_average(double out[1])
 static void usage(void)
 {
     fprintf(stderr, "usage: mpiexec -n NP mpi_packed_bed [--n 40] [--steps 200] [--heat 0|1] "
-                    "[--dt 1e-5] [--grid GX GY GZ] [--balance 0|1]\n");
+                    "[--dt 1e-5] [--grid GX GY GZ] [--balance 0|1] [--tall F] [--skin 1e-4]\n");
     MPI_Abort(MPI_COMM_WORLD, 1);
 }
 
@@ -70,7 +72,7 @@ int main(int argc, char **argv)
     int n = 40, heat = 1, balance = 0, grid[3] = {0, 0, 0};
     double tall = 1.0; /* the domain's box: tall times the bed's height */
     unsigned long long steps = 200;
-    double dt = 1e-5;
+    double dt = 1e-5, skin = 1e-4;
     for (int a = 1; a < argc; ++a) {
         if (a + 1 >= argc)
             usage();
@@ -84,6 +86,8 @@ int main(int argc, char **argv)
             balance = atoi(argv[++a]);
         else if (strcmp(argv[a], "--tall") == 0)
             tall = strtod(argv[++a], NULL);
+        else if (strcmp(argv[a], "--skin") == 0)
+            skin = strtod(argv[++a], NULL);
         else if (strcmp(argv[a], "--dt") == 0)
             dt = strtod(argv[++a], NULL);
         else if (strcmp(argv[a], "--grid") == 0 && a + 3 < argc) {
@@ -92,7 +96,7 @@ int main(int argc, char **argv)
         } else
             usage();
     }
-    if (n < 1 || steps == 0 || !(dt > 0.0) || !(tall >= 1.0))
+    if (n < 1 || steps == 0 || !(dt > 0.0) || !(tall >= 1.0) || !(skin > 0.0))
         usage();
 
     /* ---- the lattice of gen_lattice.py --scene thermal (peer benchmark) ---------------------- */
@@ -190,7 +194,7 @@ int main(int argc, char **argv)
     CHECK(sinter_stepper_add_force(st, grav));
     CHECK(sinter_stepper_add_force(st, hm));
     CHECK(sinter_stepper_set_dt(st, dt));
-    CHECK(sinter_stepper_set_skin(st, 1e-4));
+    CHECK(sinter_stepper_set_skin(st, skin)); /* the peer's 1e-4 m by default */
     CHECK(sinter_stepper_set_option(st, "rotation", 0.0));
     CHECK(sinter_stepper_set_option(st, "thread_choice", 0.0));
     if (heat) {
@@ -311,9 +315,16 @@ int main(int argc, char **argv)
                sums[6] * per / size, sums[5], x1.neighbours);
         printf("MODEL cut_area=%.6g m^2 ghosts_continuum=%.0f ghosts_lattice=%.0f "
                "halo_bytes_per_step_lattice=%.6g halo_bytes_per_step_continuum=%.6g "
-               "(measured ghosts x 13 x 8 x halos: %.6g)\n",
+               "(measured ghosts x 13 x 8 x halos: %.6g) rebuild_bytes_per_redistribution=%.6g "
+               "(the bytes beyond the halos' at the final ghost count; model 144 x ghosts = %.6g "
+               "plus the migrants' records)\n",
                area, ghosts_continuum, ghosts_lattice, halos * 13 * 8 * ghosts_lattice,
-               halos * 13 * 8 * ghosts_continuum, halos * 13 * 8 * sums[3]);
+               halos * 13 * 8 * ghosts_continuum, halos * 13 * 8 * sums[3],
+               x1.redistributions > x0.redistributions
+                   ? (sums[1] - (double)(x1.halos - x0.halos) * 13 * 8 * sums[3]) /
+                         (double)(x1.redistributions - x0.redistributions)
+                   : 0.0,
+               144.0 * sums[3]);
         printf("SANITY zmean=%.10g Zcontacts=%.10g Tmean=%.10g\n", san[0] / san[1],
                2.0 * (double)gs.contacts / (double)total, san[2] / (double)total);
     }
