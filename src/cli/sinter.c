@@ -396,6 +396,12 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "plot") == 0)
         return plot(argc, argv);
+#ifdef SINTER_CLI_MPI
+    if (strcmp(argv[1], "run") == 0 && cli_mpi_launched()) {
+        const int rc = cli_run_mpi(argc, argv);
+        return rc == 2 ? usage() : rc;
+    }
+#endif
     if (strcmp(argv[1], "run") == 0)
         return run(argc, argv);
     if (strcmp(argv[1], "check") == 0 && argc == 3)
