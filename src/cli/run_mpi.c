@@ -48,6 +48,14 @@ typedef struct scene_facts {
     int heat;                /* a [heat ...] section: the wall heat-flow columns */
 } scene_facts;
 
+/* Copy src into dst of `size` bytes, cut short where it does not fit. */
+static void copy(char *dst, size_t size, const char *src)
+{
+    const size_t n = strlen(src) < size - 1 ? strlen(src) : size - 1;
+    memcpy(dst, src, n);
+    dst[n] = '\0';
+}
+
 static void trim(char *s)
 {
     size_t n = strlen(s);
@@ -76,10 +84,10 @@ static int read_facts(const char *path, scene_facts *f)
             if (end == NULL)
                 continue;
             *end = '\0';
-            snprintf(section, sizeof(section), "%s", line + 1);
+            copy(section, sizeof(section), line + 1);
             trim(section);
             if (strncmp(section, "wall ", 5) == 0 && f->wall_count < MAX_WALLS) {
-                snprintf(f->walls[f->wall_count], NAME_SIZE, "%s", section + 5);
+                copy(f->walls[f->wall_count], NAME_SIZE, section + 5);
                 trim(f->walls[f->wall_count++]);
             }
             if (strncmp(section, "heat", 4) == 0)
@@ -87,11 +95,11 @@ static int read_facts(const char *path, scene_facts *f)
             static const char *const refused[] = {"pour", "compact", "insert"};
             for (size_t k = 0; k < 3 && f->refused[0] == '\0'; ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
-                    snprintf(f->refused, sizeof(f->refused), "%s", section);
+                    copy(f->refused, sizeof(f->refused), section);
         } else if (strcmp(section, "scene") == 0 && strncmp(line, "name", 4) == 0) {
             char *eq = strchr(line, '=');
             if (eq != NULL) {
-                snprintf(f->name, sizeof(f->name), "%s", eq + 1);
+                copy(f->name, sizeof(f->name), eq + 1);
                 trim(f->name);
             }
         }
@@ -553,20 +561,20 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         st = remove_all(r);
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, "removing the copies of rank 0's particles", st);
-    if (restart != NULL) {
-        const sinter_mpi_decomp *decomp = NULL;
-        sinter_mpi_domain_decomp(r->domain, &decomp);
-        st = sinter_mpi_checkpoint_read(r->st, r->ps, r->comm, restart, decomp, NULL);
-        if (st != SINTER_OK)
-            return say(r, restart, st);
-    }
     /* the staggered and quasi-static steppers, periodic axes, electric models, implicit
      * conduction and sort_interval are refused here, with the library's reason */
     st = sinter_mpi_attach(r->domain, r->st, r->ps, 0);
     if (st != SINTER_OK)
         return say(r, "not supported over MPI yet", st);
-    if (restart == NULL)
+    if (restart != NULL) { /* read into the attached stepper: each rank its part */
+        const sinter_mpi_decomp *decomp = NULL;
+        sinter_mpi_domain_decomp(r->domain, &decomp);
+        st = sinter_mpi_checkpoint_read(r->st, r->ps, r->comm, restart, decomp, NULL);
+        if (st != SINTER_OK)
+            return say(r, restart, st);
+    } else {
         st = sinter_mpi_distribute(r->domain);
+    }
     if (st != SINTER_OK)
         return say(r, "distributing the particles", st);
     return 0;
@@ -614,7 +622,7 @@ int cli_run_mpi(int argc, char **argv)
             *hash = '\0';
         trim(line);
         if (line[0] == '[')
-            snprintf(section, sizeof(section), "%s", line);
+            copy(section, sizeof(section), line);
         else if (strcmp(section, "[output]") == 0 && strncmp(line, "interval", 8) == 0 &&
                  strchr(line, '=') != NULL)
             interval = strtod(strchr(line, '=') + 1, NULL);
