@@ -11,9 +11,10 @@
  * the end time. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
- *    (sinter_mpi_reduce), so that one rank gives the serial bits; the columns this runner
- *    cannot form yet (the solid fraction and the wall heat flows, which need the library's
- *    pair lists) are written as nan;
+ *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows from
+ *    each rank's snapshot (sinter_snapshot_create), as the serial runner sums them. The solid
+ *    fraction, which needs the library's pair list, is written as nan (not formed yet);
+ *    contacts across a border count on both sides (sinter_stepper_get_stats_global);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
  *  - checkpoint.mpi at the end through MPI-IO (sinter_mpi_checkpoint_write), which --restart
@@ -45,7 +46,7 @@ typedef struct scene_facts {
     char walls[MAX_WALLS][NAME_SIZE];
     size_t wall_count;
     char refused[NAME_SIZE]; /* the first refused section, "" if none */
-    int heat;                /* a [heat ...] section: the wall heat-flow columns */
+    int heat;                /* a [heat conduction] section: the wall heat-flow columns */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -90,7 +91,7 @@ static int read_facts(const char *path, scene_facts *f)
                 copy(f->walls[f->wall_count], NAME_SIZE, section + 5);
                 trim(f->walls[f->wall_count++]);
             }
-            if (strncmp(section, "heat", 4) == 0)
+            if (strncmp(section, "heat conduction", 15) == 0)
                 f->heat = 1;
             static const char *const refused[] = {"pour", "compact", "insert"};
             for (size_t k = 0; k < 3 && f->refused[0] == '\0'; ++k)
@@ -228,6 +229,36 @@ static int fraction_box(const mpi_run *r, double top, double lo[3], double hi[3]
     return 1;
 }
 
+/* The heat flow from each wall into the particles [W] (a conduction model): this rank's wall
+ * contacts in the stepper's order (those of a public snapshot, as the serial runner sums
+ * them), summed over the ranks; nan where no snapshot can be taken. Collective. */
+static int wall_heat_flows(mpi_run *r, double *flow)
+{
+    const size_t nw = r->facts.wall_count;
+    double local[MAX_WALLS + 1];
+    memset(local, 0, sizeof(local));
+    sinter_snapshot *snap = NULL;
+    const double *heat = NULL;
+    const int32_t *wall = NULL;
+    size_t pairs = 0, walls = 0;
+    int ok = sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
+             sinter_snapshot_counts(snap, &pairs, &walls, NULL, NULL) == SINTER_OK &&
+             sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_HEAT_FLOW, (const void **)&heat,
+                                      NULL, NULL, NULL) == SINTER_OK &&
+             sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, (const void **)&wall, NULL,
+                                      NULL, NULL) == SINTER_OK;
+    for (size_t q = pairs; ok && q < pairs + walls; ++q)
+        if (wall[q] >= 0 && (size_t)wall[q] < nw)
+            local[wall[q]] += heat[q]; /* into the particle, from the wall */
+    sinter_snapshot_destroy(snap);
+    local[nw] = ok ? 0.0 : 1.0; /* ranks without a snapshot */
+    if (sinter_mpi_reduce(local, nw + 1, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
+        return 0;
+    for (size_t k = 0; k < nw; ++k)
+        flow[k] = local[nw] == 0.0 ? local[k] : NAN;
+    return 1;
+}
+
 /* One series row on every rank (collective); 0 on a failed view or reduction. */
 static int observe(mpi_run *r, double *row, size_t columns)
 {
@@ -269,7 +300,9 @@ static int observe(mpi_run *r, double *row, size_t columns)
         sinter_walls_get_normal(r->walls, k, nrm);
         row[8 + k] = -(f[0] * nrm[0] + f[1] * nrm[1] + f[2] * nrm[2]);
     }
-    size_t c = 8 + nw + (r->facts.heat ? nw : 0); /* the heat flows: nan (not formed yet) */
+    if (r->facts.heat && !wall_heat_flows(r, row + 8 + nw))
+        return 0;
+    size_t c = 8 + nw + (r->facts.heat ? nw : 0);
     row[c] = global.dt;
     row[c + 1] = (double)local.rejected;        /* decided together: equal on every rank */
     row[c + 2] = (double)local.neighbor_builds; /* likewise */
