@@ -68,6 +68,32 @@ static void trim(char *s)
     memmove(s, s + k, n - k + 1);
 }
 
+/* 1 for a key line of a section whose output the MPI runner does not write yet: the series
+ * columns of [output] distributions, temperature_bins, track, pair_reference, the frames' extra
+ * files (contacts, walls), the bonds of a power law with bond_strength. */
+static int refused_key(const char *section, const char *line)
+{
+    static const char *const keys[][2] = {
+        {"output", "distributions"},         {"output", "temperature_bins"}, {"output", "track"},
+        {"output", "pair_reference"},        {"output", "contacts"},         {"output", "walls"},
+        {"force power_law", "bond_strength"}};
+    const char *eq = strchr(line, '=');
+    if (eq == NULL)
+        return 0;
+    char key[NAME_SIZE], value[NAME_SIZE];
+    copy(key, sizeof(key), line);
+    key[eq - line < NAME_SIZE ? eq - line : NAME_SIZE - 1] = '\0';
+    trim(key);
+    copy(value, sizeof(value), eq + 1);
+    trim(value);
+    const int off = strcmp(value, "no") == 0 || strcmp(value, "none") == 0 || atof(value) == 0.0;
+    for (size_t k = 0; k < sizeof(keys) / sizeof(keys[0]); ++k)
+        if (strcmp(section, keys[k][0]) == 0 && strcmp(key, keys[k][1]) == 0)
+            return strcmp(value, "no") != 0 && strcmp(value, "none") != 0 &&
+                   (strcmp(key, "bond_strength") != 0 || !off);
+    return 0;
+}
+
 static int read_facts(const char *path, scene_facts *f)
 {
     memset(f, 0, sizeof(*f));
@@ -93,10 +119,14 @@ static int read_facts(const char *path, scene_facts *f)
             }
             if (strncmp(section, "heat conduction", 15) == 0)
                 f->heat = 1;
-            static const char *const refused[] = {"pour", "compact", "insert"};
-            for (size_t k = 0; k < 3 && f->refused[0] == '\0'; ++k)
+            static const char *const refused[] = {"pour",       "compact",     "insert",   "fields",
+                                                  "heat laser", "heat nozzle", "heat beam"};
+            for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
+                 ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
-                    copy(f->refused, sizeof(f->refused), section);
+                    snprintf(f->refused, sizeof(f->refused), "[%.100s]", section);
+        } else if (f->refused[0] == '\0' && refused_key(section, line)) {
+            snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
         } else if (strcmp(section, "scene") == 0 && strncmp(line, "name", 4) == 0) {
             char *eq = strchr(line, '=');
             if (eq != NULL) {
@@ -571,14 +601,17 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     if (r->facts.refused[0] != '\0') {
         if (r->rank == 0)
             fprintf(stderr,
-                    "sinter (MPI, %d ranks): %s: the [%s] section is not supported over MPI "
-                    "yet (run it with the serial sinter)\n",
+                    "sinter (MPI, %d ranks): %s: %s is not supported over MPI yet (run the "
+                    "scene with the serial sinter)\n",
                     r->size, scene_path, r->facts.refused);
         return 1;
     }
     sinter_scene_get_stepper(r->scene, &r->st);
     sinter_scene_get_particles(r->scene, &r->ps);
     sinter_scene_get_walls(r->scene, &r->walls);
+    double frozen = 0.0;
+    if (sinter_stepper_get_option(r->st, "frozen_heat", &frozen) == SINTER_OK && frozen != 0.0)
+        return refuse(r, "the frozen heat stage (frozen_heat) is not supported over MPI yet");
     size_t walls = 0;
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
