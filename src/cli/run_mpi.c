@@ -651,8 +651,19 @@ int cli_run_mpi(int argc, char **argv)
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
     double end_time = -1.0, every = -1.0;
     int log_level = -1;
-    if (!parse(argc, argv, &scene_path, &out_dir, &restart, &end_time, &every, &log_level))
-        return 2;
+    if (!parse(argc, argv, &scene_path, &out_dir, &restart, &end_time, &every, &log_level)) {
+        /* before MPI_Init: rank 0 by the launcher's environment */
+        const char *rank = getenv("OMPI_COMM_WORLD_RANK");
+        rank = rank != NULL                 ? rank
+               : getenv("PMI_RANK") != NULL ? getenv("PMI_RANK")
+                                            : getenv("PMIX_RANK");
+        if (rank == NULL || strcmp(rank, "0") == 0)
+            fputs("sinter (MPI): usage: mpiexec -n N sinter run SCENE [-o DIR] [--restart "
+                  "DIR/checkpoint.mpi] [--end-time T] [--progress S] [--log LEVEL]\n"
+                  "(--stop-at and --threads are not supported over MPI yet)\n",
+                  stderr);
+        return 1;
+    }
     int provided = 0;
     if (MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
         return 1;
