@@ -153,8 +153,9 @@ typedef struct mpi_run {
     scene_facts facts;
     const char *out_dir;
     FILE *csv;
-    uint64_t frame; /* the next frame's number */
-    double frame_times[100000];
+    uint64_t frame;      /* the next frame's number */
+    double *frame_times; /* the frames' times so far (room for frame_room) */
+    size_t frame_room;
 } mpi_run;
 
 /* Every rank's error as one: the lowest failing status (0 when none failed). */
@@ -374,6 +375,23 @@ static void write_row(mpi_run *r, const double *row, size_t columns)
     fflush(r->csv);
 }
 
+/* Record frame k's time [s], growing the list; 0 when out of memory. */
+static int frame_time(mpi_run *r, uint64_t k, double time)
+{
+    if (k >= r->frame_room) {
+        size_t room = r->frame_room ? 2 * r->frame_room : 256;
+        while (room <= k)
+            room *= 2;
+        double *grown = realloc(r->frame_times, room * sizeof(double));
+        if (grown == NULL)
+            return 0;
+        r->frame_times = grown;
+        r->frame_room = room;
+    }
+    r->frame_times[k] = time;
+    return 1;
+}
+
 /* The piece of this rank, then (rank 0) the frame's .pvtu and the collection. */
 static int write_frame(mpi_run *r, double time)
 {
@@ -381,8 +399,8 @@ static int write_frame(mpi_run *r, double time)
     snprintf(path, sizeof(path), "%s/frames/frame_%05llu_r%04d.vtu", r->out_dir,
              (unsigned long long)r->frame, r->rank);
     int ok = sinter_write_vtu(r->ps, path, NULL, 0) == SINTER_OK;
-    if (r->frame < sizeof(r->frame_times) / sizeof(r->frame_times[0]))
-        r->frame_times[r->frame] = time;
+    if (!frame_time(r, r->frame, time))
+        ok = 0;
     if (r->rank == 0 && ok) {
         snprintf(path, sizeof(path), "%s/frames/frame_%05llu.pvtu", r->out_dir,
                  (unsigned long long)r->frame);
@@ -448,14 +466,15 @@ static long long resume_series(mpi_run *r, double t)
     }
     static char line[1 << 16];
     long long rows = 0;
-    const long long most = (long long)(sizeof(r->frame_times) / sizeof(r->frame_times[0]));
     for (int first = 1; fgets(line, sizeof(line), in) != NULL; first = 0) {
         const double time = first ? 0.0 : strtod(line, NULL);
-        if (!first && (time > t + 1e-12 * fabs(t) || strchr(line, '\n') == NULL || rows >= most))
+        if (!first && (time > t + 1e-12 * fabs(t) || strchr(line, '\n') == NULL))
             break;
         fputs(line, out);
-        if (!first)
-            r->frame_times[rows++] = time;
+        if (!first && !frame_time(r, (uint64_t)rows++, time)) {
+            rows = -1;
+            break;
+        }
     }
     fclose(in);
     if (fclose(out) != 0 || rename(tmp, path) != 0)
@@ -713,8 +732,11 @@ int cli_run_mpi(int argc, char **argv)
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);
-        MPI_Bcast(r->frame_times, (int)(rows > 0 ? rows : 0), MPI_DOUBLE, 0, r->comm);
-        if (rows < 0) {
+        int ok_times = rows <= 0 || r->rank == 0 || frame_time(r, (uint64_t)rows - 1, 0.0);
+        ok_times = agree(r->comm, ok_times ? 0 : -1) == 0;
+        if (ok_times && rows > 0)
+            MPI_Bcast(r->frame_times, (int)rows, MPI_DOUBLE, 0, r->comm);
+        if (rows < 0 || !ok_times) {
             refuse(r, "--restart: no series.csv in the output directory to continue");
             goto done;
         }
@@ -782,6 +804,7 @@ done:
         sinter_mpi_domain_destroy(r->domain);
         sinter_scene_destroy(r->scene);
         sinter_ctx_destroy(r->ctx);
+        free(r->frame_times);
         free(r);
     }
     MPI_Finalize();
