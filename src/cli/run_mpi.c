@@ -1,7 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 /*
- * `mpiexec -n N sinter run SCENE [-o DIR] [--end-time T] [--restart CHECKPOINT] [--progress S]
- * [--log LEVEL]` in the MPI build (issue 44): the scene on N ranks through libsinter_mpi.
+ * `mpiexec -n N sinter run SCENE [-o DIR] [--end-time T] [--stop-at T] [--restart CHECKPOINT]
+ * [--progress S] [--log LEVEL]` in the MPI build (issue 44): the scene on N ranks through libsinter_mpi.
  *
  * Every rank reads the scene file; rank 0 keeps the particles the scene made, the others give
  * theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a brick of the
@@ -17,8 +17,9 @@
  *    contacts across a border count on both sides (sinter_stepper_get_stats_global);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
- *  - checkpoint.mpi at the end through MPI-IO (sinter_mpi_checkpoint_write), which --restart
- *    reads on any number of ranks (sinter_mpi_checkpoint_read); series.csv then continues.
+ *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
+ *    checkpoint_interval, at the end and at --stop-at's sample, which --restart reads on any
+ *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue.
  * Refused, with the reason on every rank and exit status 1: scenes with [pour], [compact] or
  * [insert] sections, and what sinter_stepper_set_domain_ops refuses (the staggered and
  * quasi-static steppers, periodic axes, electric models, implicit conduction, sort_interval).
@@ -566,7 +567,8 @@ static sinter_status remove_all(mpi_run *r)
 }
 
 static int parse(int argc, char **argv, const char **scene_path, const char **out_dir,
-                 const char **restart, double *end_time, double *every, int *log_level)
+                 const char **restart, double *end_time, double *every, double *stop_at,
+                 int *log_level)
 {
     static const char *const levels[] = {"error", "warning", "info", "debug"};
     for (int k = 2; k < argc; ++k) {
@@ -575,13 +577,16 @@ static int parse(int argc, char **argv, const char **scene_path, const char **ou
             *out_dir = argv[++k];
         else if (strcmp(argv[k], "--restart") == 0 && more)
             *restart = argv[++k];
-        else if ((strcmp(argv[k], "--end-time") == 0 || strcmp(argv[k], "--progress") == 0) &&
+        else if ((strcmp(argv[k], "--end-time") == 0 || strcmp(argv[k], "--progress") == 0 ||
+                  strcmp(argv[k], "--stop-at") == 0) &&
                  more) {
             char *end = NULL;
             const double value = strtod(argv[k + 1], &end);
             if (end == argv[k + 1] || *end != '\0' || !(value >= 0.0) || value > 1e300)
                 return 0;
-            *(strcmp(argv[k], "--end-time") == 0 ? end_time : every) = value;
+            *(strcmp(argv[k], "--end-time") == 0   ? end_time
+              : strcmp(argv[k], "--progress") == 0 ? every
+                                                   : stop_at) = value;
             ++k;
         } else if (strcmp(argv[k], "--log") == 0 && more) {
             ++k;
@@ -668,9 +673,10 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
 int cli_run_mpi(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "out", *restart = NULL;
-    double end_time = -1.0, every = -1.0;
+    double end_time = -1.0, every = -1.0, stop_at = HUGE_VAL;
     int log_level = -1;
-    if (!parse(argc, argv, &scene_path, &out_dir, &restart, &end_time, &every, &log_level)) {
+    if (!parse(argc, argv, &scene_path, &out_dir, &restart, &end_time, &every, &stop_at,
+               &log_level)) {
         /* before MPI_Init: rank 0 by the launcher's environment */
         const char *rank = getenv("OMPI_COMM_WORLD_RANK");
         rank = rank != NULL                 ? rank
@@ -678,8 +684,8 @@ int cli_run_mpi(int argc, char **argv)
                                             : getenv("PMIX_RANK");
         if (rank == NULL || strcmp(rank, "0") == 0)
             fputs("sinter (MPI): usage: mpiexec -n N sinter run SCENE [-o DIR] [--restart "
-                  "DIR/checkpoint.mpi] [--end-time T] [--progress S] [--log LEVEL]\n"
-                  "(--stop-at and --threads are not supported over MPI yet)\n",
+                  "DIR/checkpoint.mpi] [--end-time T] [--stop-at T] [--progress S] [--log LEVEL]\n"
+                  "(--threads is not supported over MPI: one thread per rank)\n",
                   stderr);
         return 1;
     }
@@ -705,7 +711,7 @@ int cli_run_mpi(int argc, char **argv)
         refuse(r, "cannot create the output directory");
         goto done;
     }
-    double t = 0.0, end = 0.0, interval = 0.0;
+    double t = 0.0, end = 0.0, interval = 0.0, checkpoint_every = 0.0;
     sinter_stepper_time(r->st, &t);
     sinter_scene_end_time(r->scene, &end);
     /* the output interval: the scene's [output] interval through the checkpoint-free route
@@ -719,14 +725,21 @@ int cli_run_mpi(int argc, char **argv)
         trim(line);
         if (line[0] == '[')
             copy(section, sizeof(section), line);
-        else if (strcmp(section, "[output]") == 0 && strncmp(line, "interval", 8) == 0 &&
-                 strchr(line, '=') != NULL)
-            interval = strtod(strchr(line, '=') + 1, NULL);
+        else if (strcmp(section, "[output]") == 0 && strchr(line, '=') != NULL) {
+            char key[64];
+            copy(key, sizeof(key), line);
+            key[strchr(line, '=') - line < 63 ? strchr(line, '=') - line : 63] = '\0';
+            trim(key);
+            if (strcmp(key, "interval") == 0)
+                interval = strtod(strchr(line, '=') + 1, NULL);
+            else if (strcmp(key, "checkpoint_interval") == 0)
+                checkpoint_every = strtod(strchr(line, '=') + 1, NULL);
+        }
     }
     if (fp != NULL)
         fclose(fp);
-    if (!(interval > 0.0))
-        interval = end;
+    if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
+        interval = end / 100.0;
     const size_t columns = column_count(r);
     double row[8 + 2 * MAX_WALLS + 4];
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
@@ -759,7 +772,9 @@ int cli_run_mpi(int argc, char **argv)
         if (st == SINTER_OK && !record(r, row, columns))
             st = SINTER_ERR_IO;
     }
-    double next = t + interval, last_print = started;
+    double next = t + interval, next_checkpoint = t + checkpoint_every, last_print = started;
+    int stopped = 0;
+    snprintf(path, sizeof(path), "%s/checkpoint.mpi", out_dir);
     while (st == SINTER_OK) {
         sinter_stepper_time(r->st, &t);
         if (t >= end)
@@ -769,16 +784,23 @@ int cli_run_mpi(int argc, char **argv)
             st = SINTER_ERR_IO;
         sinter_stepper_time(r->st, &t);
         next = t + interval;
+        /* --stop-at: the first sample at or after it (within a relative 1e-12, as serially) */
+        if (st == SINTER_OK && t >= stop_at - 1e-12 * fabs(stop_at)) {
+            stopped = 1;
+            break;
+        }
+        if (st == SINTER_OK && checkpoint_every > 0.0 && t >= next_checkpoint) {
+            next_checkpoint = t + checkpoint_every;
+            st = sinter_mpi_checkpoint_write(r->st, r->ps, r->comm, path);
+        }
         const double now = MPI_Wtime();
         if (r->rank == 0 && every != 0.0 && now - last_print >= (every > 0 ? every : 5.0)) {
             fprintf(stderr, "sinter: t = %.4g / %.4g s (%.1f %%)\n", t, end, 100.0 * t / end);
             last_print = now;
         }
     }
-    if (st == SINTER_OK) {
-        snprintf(path, sizeof(path), "%s/checkpoint.mpi", out_dir);
+    if (st == SINTER_OK)
         st = sinter_mpi_checkpoint_write(r->st, r->ps, r->comm, path);
-    }
     if (r->csv != NULL) {
         fclose(r->csv);
         r->csv = NULL;
@@ -790,7 +812,11 @@ int cli_run_mpi(int argc, char **argv)
         say(r, "the run failed", st);
         goto done;
     }
-    if (r->rank == 0)
+    if (r->rank == 0 && stopped)
+        printf("sinter: stopped (--stop-at) at t = %.9g s; continue with: mpiexec -n N sinter "
+               "run %s -o %s --restart %s\n",
+               t, scene_path, out_dir, path);
+    else if (r->rank == 0)
         printf("sinter: ran %s on %d MPI ranks in %.1f s; results in %s/ (series.csv, "
                "series.svg, %s.pvd with frames/*.pvtu, checkpoint.mpi)\n",
                scene_path, r->size, MPI_Wtime() - started, out_dir, r->facts.name);

@@ -14,7 +14,7 @@ CASE
               the box.
   heat NP     the same for mech_heat.scene (conduction: the wall heat-flow columns from the
               ranks' snapshots, the temperatures).
-  restart     mech.scene to T1 on 4 ranks, continued from its checkpoint.mpi on 2 ranks to
+  restart     mech.scene stopped at T1 (--stop-at) on 4 ranks, continued from its checkpoint.mpi on 2 ranks to
               END: the series runs on without a gap, and its last row agrees with the
               straight serial run within a relative 1e-10 (the restart reorders the particles,
               so the sums' round-off differs, within the same horizon; its first step builds
@@ -146,7 +146,9 @@ def case_restart(sinter, mpiexec, scenes, work):
     ref = serial(sinter, scene, work)
     out = os.path.join(work, "restart")
     shutil.rmtree(out, ignore_errors=True)
-    rc, _, err = mpi(mpiexec, 4, [sinter, "run", scene, "-o", out, "--end-time", T1])
+    rc, out4, err = mpi(mpiexec, 4, [sinter, "run", scene, "-o", out, "--end-time", END,
+                                     "--stop-at", T1])
+    check("stopped (--stop-at)" in out4, "no stop message: " + out4)
     check(rc == 0, "np 4 to %s: %s" % (T1, err))
     rc, _, err = mpi(mpiexec, 2, [sinter, "run", scene, "-o", out, "--end-time", END,
                                   "--restart", os.path.join(out, "checkpoint.mpi")])
