@@ -1,7 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 /*
  * `mpiexec -n N sinter run SCENE [-o DIR] [--end-time T] [--stop-at T] [--restart CHECKPOINT]
- * [--progress S] [--log LEVEL]` in the MPI build (issue 44): the scene on N ranks through libsinter_mpi.
+ * [--progress S] [--log LEVEL]` in the MPI build (issue 44): the scene on N ranks through
+ * libsinter_mpi.
  *
  * Every rank reads the scene file; rank 0 keeps the particles the scene made, the others give
  * theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a brick of the
@@ -11,10 +12,10 @@
  * the end time. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
- *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows from
- *    each rank's snapshot (sinter_snapshot_create), as the serial runner sums them. The solid
- *    fraction, which needs the library's pair list, is written as nan (not formed yet);
- *    contacts across a border count on both sides (sinter_stepper_get_stats_global);
+ *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows and the
+ *    solid fraction's lenses from each rank's snapshot (sinter_snapshot_create), as the
+ *    serial runner sums them (an [output] solid_box's sampled fraction is nan: not formed
+ *    yet); contacts across a border count on both sides (sinter_stepper_get_stats_global);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
  *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
@@ -48,6 +49,7 @@ typedef struct scene_facts {
     size_t wall_count;
     char refused[NAME_SIZE]; /* the first refused section, "" if none */
     int heat;                /* a [heat conduction] section: the wall heat-flow columns */
+    int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -128,6 +130,8 @@ static int read_facts(const char *path, scene_facts *f)
                     snprintf(f->refused, sizeof(f->refused), "[%.100s]", section);
         } else if (f->refused[0] == '\0' && refused_key(section, line)) {
             snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
+        } else if (strcmp(section, "output") == 0 && strncmp(line, "solid_box", 9) == 0) {
+            f->solid_box = 1;
         } else if (strcmp(section, "scene") == 0 && strncmp(line, "name", 4) == 0) {
             char *eq = strchr(line, '=');
             if (eq != NULL) {
@@ -291,6 +295,115 @@ static int wall_heat_flows(mpi_run *r, double *flow)
     return 1;
 }
 
+/* The cap of a sphere of radius r beyond a plane at distance s from its centre (s < 0: the
+ * centre beyond it): pi c^2 (3 r - c) / 3 for the height c (as the serial runner). */
+static double cap_volume(double r, double s)
+{
+    if (s >= r)
+        return 0.0;
+    const double c = fmin(r - s, 2.0 * r);
+    return PI * c * c * (3.0 * r - c) / 3.0;
+}
+
+/* The lens two balls of radii a, b at distance d share (the smaller ball when d <= |a - b|):
+ * pi (a + b - d)^2 (d^2 + 2 d (a + b) - 3 (a - b)^2) / (12 d). */
+static double lens_volume(double a, double b, double d)
+{
+    if (!(d < a + b))
+        return 0.0;
+    const double small = fmin(a, b);
+    if (d <= fabs(a - b))
+        return 4.0 / 3.0 * PI * small * small * small;
+    const double gap = a + b - d, diff = a - b;
+    return PI * gap * gap * (d * d + 2.0 * d * (a + b) - 3.0 * diff * diff) / (12.0 * d);
+}
+
+/* (id, index) of every row of the set, owned and ghost, sorted by id for bsearch. */
+typedef struct id_index {
+    uint64_t id;
+    size_t index;
+} id_index;
+
+static int by_id(const void *a, const void *b)
+{
+    const uint64_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
+    return (x > y) - (x < y);
+}
+
+static int row_of(const id_index *table, size_t n, uint64_t id, size_t *index)
+{
+    const id_index key = {id, 0};
+    const id_index *hit = bsearch(&key, table, n, sizeof(id_index), by_id);
+    if (hit != NULL)
+        *index = hit->index;
+    return hit != NULL;
+}
+
+/*
+ * This rank's share of the spheres' union inside the box (the serial series' "solid
+ * fraction" times the box): its owned spheres less their caps beyond the box's faces, in
+ * index order, then less the lens of each overlapping pair of its snapshot in the contact
+ * list's order (the neighbour list's order of the overlapping pairs, which the serial runner
+ * follows; pairs that do not overlap subtract nothing). A pair with a ghost end is listed on
+ * both ranks: the rank that owns its smaller id subtracts it. 0 without a snapshot.
+ */
+static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3], double *out)
+{
+    const double *x = NULL, *rad = NULL;
+    const uint64_t *id = NULL;
+    size_t owned = 0, rows = 0;
+    int ok = sinter_particles_owned_count(r->ps, &owned) == SINTER_OK;
+    ok = ok && sinter_particles_view_read(r->ps, SINTER_FIELD_ID, (const void **)&id, &rows,
+                                          NULL) == SINTER_OK;
+    id_index *table = ok ? malloc((rows + 1) * sizeof(id_index)) : NULL;
+    ok = ok && table != NULL;
+    for (size_t i = 0; ok && i < rows; ++i) {
+        table[i].id = id[i];
+        table[i].index = i;
+    }
+    if (ok)
+        qsort(table, rows, sizeof(id_index), by_id);
+    ok = ok && sinter_particles_view_read(r->ps, SINTER_FIELD_POSITION, (const void **)&x, NULL,
+                                          NULL) == SINTER_OK;
+    ok = ok && sinter_particles_view_read(r->ps, SINTER_FIELD_RADIUS, (const void **)&rad, NULL,
+                                          NULL) == SINTER_OK;
+    double volume = 0.0;
+    for (size_t i = 0; ok && i < owned; ++i) {
+        const double ri = rad[i], *xi = x + 3 * i;
+        volume += 4.0 / 3.0 * PI * ri * ri * ri;
+        for (int d = 0; d < 3; ++d)
+            volume -= cap_volume(ri, xi[d] - lo[d]) + cap_volume(ri, hi[d] - xi[d]);
+    }
+    sinter_snapshot *snap = NULL;
+    const uint64_t *ida = NULL, *idb = NULL;
+    size_t pairs = 0;
+    ok = ok && sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
+         sinter_snapshot_counts(snap, &pairs, NULL, NULL, NULL) == SINTER_OK &&
+         sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, (const void **)&ida, NULL, NULL,
+                                  NULL) == SINTER_OK &&
+         sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, (const void **)&idb, NULL, NULL,
+                                  NULL) == SINTER_OK;
+    for (size_t k = 0; ok && k < pairs; ++k) {
+        size_t i = 0, j = 0;
+        ok = row_of(table, rows, ida[k], &i) && row_of(table, rows, idb[k], &j);
+        if (!ok || (ida[k] < idb[k] ? i : j) >= owned)
+            continue; /* the other rank owns the smaller id */
+        const double *a = x + 3 * i, *b = x + 3 * j;
+        const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+        volume -= lens_volume(rad[i], rad[j], sqrt(dx * dx + dy * dy + dz * dz));
+    }
+    sinter_snapshot_destroy(snap);
+    free(table);
+    if (id != NULL)
+        sinter_particles_release(r->ps, SINTER_FIELD_ID);
+    if (x != NULL)
+        sinter_particles_release(r->ps, SINTER_FIELD_POSITION);
+    if (rad != NULL)
+        sinter_particles_release(r->ps, SINTER_FIELD_RADIUS);
+    *out = volume;
+    return ok;
+}
+
 /* One series row on every rank (collective); 0 on a failed view or reduction. */
 static int observe(mpi_run *r, double *row, size_t columns)
 {
@@ -322,6 +435,13 @@ static int observe(mpi_run *r, double *row, size_t columns)
     if (fraction_box(r, o.max[0], lo, hi)) {
         const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
         row[5] = volume > 0 ? o.sum[2] / volume : NAN;
+        /* the solid fraction in the same box ([output] solid_box: nan, not formed yet) */
+        double solid[2] = {0.0, 0.0};
+        solid[1] = solid_volume(r, lo, hi, &solid[0]) ? 0.0 : 1.0;
+        if (sinter_mpi_reduce(solid, 2, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
+            return 0;
+        if (solid[1] == 0.0 && !r->facts.solid_box)
+            row[columns - 1] = volume > 0 ? solid[0] / volume : NAN;
     }
     row[6] = o.sum[1] / n;
     row[7] = o.max[1];
@@ -338,7 +458,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
     row[c] = global.dt;
     row[c + 1] = (double)local.rejected;        /* decided together: equal on every rank */
     row[c + 2] = (double)local.neighbor_builds; /* likewise */
-    return 1;                                   /* solid fraction: nan (not formed yet) */
+    return 1;
 }
 
 static size_t column_count(const mpi_run *r)
