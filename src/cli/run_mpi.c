@@ -15,7 +15,7 @@
  *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows and the
  *    solid fraction's lenses from each rank's snapshot (sinter_snapshot_create), as the
  *    serial runner sums them (an [output] solid_box's sampled fraction is nan: not formed
- *    yet); contacts across a border count on both sides (sinter_stepper_get_stats_global);
+ *    yet), and the contacts from them too, each pair once (the owner of its smaller id);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
  *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
@@ -347,7 +347,8 @@ static int row_of(const id_index *table, size_t n, uint64_t id, size_t *index)
  * follows; pairs that do not overlap subtract nothing). A pair with a ghost end is listed on
  * both ranks: the rank that owns its smaller id subtracts it. 0 without a snapshot.
  */
-static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3], double *out)
+static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3], double *out,
+                        double *contacts)
 {
     const double *x = NULL, *rad = NULL;
     const uint64_t *id = NULL;
@@ -388,6 +389,7 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
         ok = row_of(table, rows, ida[k], &i) && row_of(table, rows, idb[k], &j);
         if (!ok || (ida[k] < idb[k] ? i : j) >= owned)
             continue; /* the other rank owns the smaller id */
+        *contacts += 1.0;
         const double *a = x + 3 * i, *b = x + 3 * j;
         const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
         volume -= lens_volume(rad[i], rad[j], sqrt(dx * dx + dy * dy + dz * dz));
@@ -428,7 +430,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[k] = NAN;
     row[0] = t;
     row[1] = o.sum[0];
-    row[2] = (double)global.contacts; /* a pair across a border counts on both sides */
+    row[2] = (double)global.contacts; /* without a snapshot: a border pair on both sides */
     row[3] = 2.0 * (double)global.contacts / n;
     row[4] = o.max[0];
     double lo[3] = {-o.max[5], -o.max[6], -o.max[7]}, hi[3] = {o.max[2], o.max[3], o.max[4]};
@@ -436,12 +438,16 @@ static int observe(mpi_run *r, double *row, size_t columns)
         const double volume = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
         row[5] = volume > 0 ? o.sum[2] / volume : NAN;
         /* the solid fraction in the same box ([output] solid_box: nan, not formed yet) */
-        double solid[2] = {0.0, 0.0};
-        solid[1] = solid_volume(r, lo, hi, &solid[0]) ? 0.0 : 1.0;
-        if (sinter_mpi_reduce(solid, 2, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
+        double solid[3] = {0.0, 0.0, 0.0}; /* volume, ranks without a snapshot, contacts */
+        solid[1] = solid_volume(r, lo, hi, &solid[0], &solid[2]) ? 0.0 : 1.0;
+        if (sinter_mpi_reduce(solid, 3, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
             return 0;
         if (solid[1] == 0.0 && !r->facts.solid_box)
             row[columns - 1] = volume > 0 ? solid[0] / volume : NAN;
+        if (solid[1] == 0.0) { /* each contact once, also those across a border */
+            row[2] = solid[2];
+            row[3] = 2.0 * solid[2] / n;
+        }
     }
     row[6] = o.sum[1] / n;
     row[7] = o.max[1];
