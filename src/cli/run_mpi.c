@@ -746,7 +746,7 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     /* every rank read the same file: the same outcome everywhere, agreed all the same */
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, scene_path, st);
-    if (!read_facts(scene_path, &r->facts))
+    if (agree(r->comm, read_facts(scene_path, &r->facts) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene file");
     if (r->facts.refused[0] != '\0') {
         if (r->rank == 0)
@@ -768,7 +768,7 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
-    if (!scene_box(r, options.lo, options.hi))
+    if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
     st = sinter_mpi_domain_create(&r->domain, r->comm, &options);
     if (agree(r->comm, st) != SINTER_OK)
