@@ -21,7 +21,7 @@
  * between a built pair list and one staged by an import) and byte-identical copies counted once
  * (an import stages a contact between two arriving particles from both their records, and an
  * export before the next step lists both copies). The stream's layout is the one documented
- * in src/stepper/migrate.c (format 2).
+ * in src/stepper/migrate.c (format 3; its layout is format 2's).
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -207,7 +207,7 @@ static int parse(const unsigned char *b, size_t bytes, record **recs, size_t *n,
         return 0;
     memcpy(&version, b + 8, 4);
     const uint64_t count = u64_at(b + 24), slots = u64_at(b + 32);
-    if (version != 2 || u64_at(b + 16) != bytes || slots > 8)
+    if (version != 3 || u64_at(b + 16) != bytes || slots > 8)
         return 0;
     uint64_t width[17];
     for (uint64_t k = 0; k < slots; ++k) {
