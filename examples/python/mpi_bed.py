@@ -3,13 +3,13 @@
 
 Rank 0 fills a jittered lattice of glass spheres (r = 0.5 mm, Hertz-Mindlin with friction and
 damping, gravity) in a box of five walls; every rank sets up the same materials, walls and
-stepper over its own set. A sinter.mpi.Domain over MPI.COMM_WORLD decomposes the box (slabs across x,
-one per rank, or with --balance a bisection rebalanced at the rebuilds), is attached
+stepper over its own set. A sinter.mpi.Domain over MPI.COMM_WORLD decomposes the box (slabs
+across x, one per rank, or with --balance a bisection rebalanced at the rebuilds), is attached
 as the stepper's collective operations and hands each particle to the rank whose part holds
 it; the library then migrates particles, trades ghosts and reduces through MPI by itself.
 Every --report steps rank 0 prints the time, the largest speed, the force on the floor (the
-same bits on every rank) and this run's exchange figures per step summed over the ranks;
-at the end a portable checkpoint (MPI-IO, restartable on another number of ranks) goes to
+same bits on every rank) and the exchange figures per step summed over the ranks; at the
+end a portable checkpoint (MPI-IO, restartable on another number of ranks) goes to
 DIR/mpi_bed.ckpt. Units: SI.
 
     mpiexec -n 2 python3 mpi_bed.py [--out DIR] [--steps 2000] [--report 500] [--balance]

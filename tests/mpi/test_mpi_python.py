@@ -19,8 +19,12 @@ Rank 0 fills the set alone and Domain.distribute hands the particles to their ra
    MPI.COMM_SELF, a brick of one part), holds every particle with the bits the writers held,
    at the writers' time; continued serially to step 150 it stays within 1e-10 of the straight
    serial run (a restart reorders the particles: sums in another order).
- - The small wrappers: rank, size, the duplicated communicator, reduce, exscan, sum, a
-   decomposition's boxes and owners, the reduction counters.
+ - The small wrappers: rank, size, the duplicated communicator, reduce, exscan, sum (spread
+   over the ranks, the bits of the same terms on one rank), a brick's boxes and owners, a
+   bisection of points spread over the ranks equal to the one of all of them on one caller,
+   loads, balance (a set all in part 0 has imbalance np and is bisected), the counters, and
+   errors raised on every rank alike (a missing checkpoint, a bad threshold, a brick's grid
+   asked of a bisection, not a communicator).
 """
 
 import math
@@ -200,15 +204,66 @@ def small_wrappers(dom):
     expect(abs(lo[0] - (X0 + comm.rank * width)) < 1e-15 and
            abs(hi[0] - (X0 + (comm.rank + 1) * width)) < 1e-15, "the box of this part")
     expect(decomp.owners([(X0 - 1.0, 0, 0), (X1 + 1.0, 0, 0)]) == [0, n - 1], "owners")
+    # a bisection of points spread over the ranks equals the one of all of them on one
+    # caller (the parts depend on the set of points only), and so do the loads
+    points = [(X0 + (X1 - X0) * ((7 * k) % 23) / 23.0, 1e-3 * (k % 5), 2e-3 * (k % 3))
+              for k in range(40)]
+    weights = [1.0 + k % 4 for k in range(40)]
+    mine = range(comm.rank, 40, n)
+    lo_hi = ((X0, 0.0, 0.0), (X1, LY, 0.02))
+    alone = sinter.mpi.Decomposition.rcb(n, *lo_hi, points, weights)
+    spread = sinter.mpi.Decomposition.rcb(n, *lo_hi, [points[k] for k in mine],
+                                          [weights[k] for k in mine], domain=dom)
+    expect(spread.kind == sinter.mpi.DecompKind.RCB, "a bisection")
+    expect([spread.box(p) for p in range(n)] == [alone.box(p) for p in range(n)],
+           "a collective bisection equals the one of all points")
+    loads = spread.loads([points[k] for k in mine], [weights[k] for k in mine], domain=dom)
+    expect(loads == alone.loads(points, weights), "collective loads")
+    expect(abs(sum(loads) - sum(weights)) == 0.0, "the loads sum the weights")
+    expect(sinter.mpi.imbalance([1.0, 1.0, 2.0]) == 1.5, "imbalance")
+    # rebalanced exactly when the imbalance exceeds the threshold (1.1 by default)
+    before, replaced = dom.balance([points[k] for k in mine])
+    expect(before >= 1.0 and replaced == (before > 1.1), "balance: %r %r" % (before, replaced))
+    if n > 1:
+        skewed = [(X0, 0.0, 0.0)] * 10 if comm.rank == 0 else []  # all in part 0
+        before, replaced = dom.balance(skewed)
+        expect(before == float(n) and replaced, "balance of a skewed set: %r" % before)
+        expect(dom.decomposition.kind == sinter.mpi.DecompKind.RCB, "a bisection now")
+        expect(dom.stats().rebalances >= 1, "rebalances counted")
+    # errors: raised alike on every rank, nothing hangs
+    raised = []
+    for what, call in (
+            ("grid of a bisection", lambda: alone.grid),
+            ("threshold below 1", lambda: sinter.mpi.Domain(comm, balance_threshold=0.5)),
+            ("not a communicator", lambda: sinter.mpi.comm_handle(42)),
+            ("a missing checkpoint", lambda: missing_checkpoint(dom))):
+        try:
+            call()
+            raised.append("%s: nothing raised" % what)
+        except (sinter.SinterError, TypeError) as err:
+            raised.append("%s: %s" % (what, type(err).__name__))
+    expect(raised == ["grid of a bisection: SinterError",
+                      "threshold below 1: InvalidArgument",
+                      "not a communicator: TypeError",
+                      "a missing checkpoint: SinterError"], "errors: %r" % raised)
+    alone.close()
+    spread.close()
     expect(dom.stats().reductions >= 4, "the reduction counters")
+
+
+def missing_checkpoint(dom):
+    run = Run(fill=False)
+    try:
+        sinter.mpi.checkpoint_read(run.stepper, run.ps, comm, "/nonexistent/sinter.ckpt",
+                                   dom.decomposition)
+    finally:
+        run.close()
 
 
 def mpi_run(steps, path=None):
     """The bed through sinter.mpi on every rank of comm (rank 0 fills, distribute)."""
     run = Run(fill=comm.rank == 0)
     with sinter.mpi.Domain(comm, (X0, 0.0, 0.0), (X1, LY, 0.02), grid=(comm.size, 1, 1)) as dom:
-        if path is None:
-            small_wrappers(dom)
         dom.attach(run.stepper, run.ps)
         dom.distribute()
         run.stepper.step(steps)
@@ -224,6 +279,8 @@ def mpi_run(steps, path=None):
 def main():
     exact = comm.size == 1
     label = "np %d" % comm.size
+    with sinter.mpi.Domain(comm, (X0, 0.0, 0.0), (X1, LY, 0.02), grid=(comm.size, 1, 1)) as dom:
+        small_wrappers(dom)  # (on a domain of its own: it rebalances)
     ref, ref_walls, ref_energy = serial(STEPS)
 
     owned, walls, energy, xs = mpi_run(STEPS)

@@ -328,7 +328,7 @@ class Decomposition:
 
     @property
     def grid(self) -> Tuple[int, int, int]:
-        """A brick's boxes per axis (StateError for a bisection)."""
+        """A brick's boxes per axis (SinterError, status ERR_STATE, for a bisection)."""
         grid = (_int * 3)()
         _check(_state()[1].sinter_mpi_decomp_grid(self._ptr, grid), "sinter_mpi_decomp_grid")
         return tuple(grid)
@@ -537,7 +537,11 @@ class Domain:
     def distribute(self) -> None:
         """Collective: move every owned particle to the rank whose part holds its centre (the
         initial distribution of a set filled on one rank). After attach, before stepping."""
-        _check(_state()[1].sinter_mpi_distribute(self._ptr), "sinter_mpi_distribute")
+        function = _state()[1].sinter_mpi_distribute
+        if self._attached is not None and not self._attached[0].closed:
+            self._attached[0]._call(function, self._ptr)  # the stepper context's message
+        else:
+            _check(function(self._ptr), "sinter_mpi_distribute")
 
     def exchange_stats(self) -> ExchangeStats:
         """This rank's exchange counters of the attached stepper."""
