@@ -162,7 +162,11 @@ SINTER_API sinter_status sinter_mpi_checkpoint_write(sinter_stepper *stepper,
  * with every field, contact history and link, as the writer's ranks held them. The pieces are
  * read collectively (MPI_File_read_at_all), in contiguous runs of about the same bytes per rank,
  * then each particle is sent to its part's rank (MPI_Alltoallv). A restart continues as the run
- * would after a reordering of its particles (its neighbour lists are built afresh).
+ * would after a reordering of its particles (its neighbour lists are built afresh). For a
+ * decomposed continuation attach the domain first (sinter_mpi_attach on the empty stepper), then
+ * read: installing domain operations after the read makes the next step evaluate the forces
+ * again at the full-step velocities instead of keeping the records' (the continuation then
+ * differs by about 1e-6 within a few hundred steps; `sinter run` under mpiexec attaches first).
  * @param count  receives this rank's particles (may be NULL).
  * comm = MPI_COMM_NULL or path = NULL: SINTER_ERR_NULL at once, without communication.
  * Errors, the same on every rank, nothing changed on any: SINTER_ERR_NULL, SINTER_ERR_INVALID
