@@ -45,6 +45,17 @@ class ExamplesTest(unittest.TestCase):
         self.assertEqual(len(lines), 1 + 11)
         self.assertIn("static force 1.2328e-04 N", out.getvalue())
 
+    def test_mpi_example_without_mpi_exits_cleanly(self):
+        import sinter.mpi
+
+        example = load_example("mpi_bed")
+        out = io.StringIO()
+        with mock.patch.object(sinter.mpi, "available", lambda: False), \
+                contextlib.redirect_stdout(out), tempfile.TemporaryDirectory() as tmp:
+            self.assertEqual(example.main(["--out", tmp]), 0)
+            self.assertEqual(os.listdir(tmp), [])
+        self.assertIn("needs mpi4py and libsinter_mpi", out.getvalue())
+
 
 if __name__ == "__main__":
     unittest.main()
