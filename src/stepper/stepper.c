@@ -187,6 +187,27 @@ static sinter_status set_thread_choice(sinter_stepper *st, double value)
     return SINTER_OK;
 }
 
+/* Option "reproducible" (the explicit stepper's sums in an order fixed by the ids, issue 43):
+ * 0, the default, off; 1 on. The neighbour lists are built again in the canonical order, and
+ * the forces evaluated again in it before the next step. */
+static sinter_status set_reproducible(sinter_stepper *st, double value)
+{
+    if (value != 0.0 && value != 1.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_option: reproducible = %g must be 0 (off, the "
+                           "default) or 1 (results independent of the decomposition and the "
+                           "order in memory)",
+                           value);
+    const int on = value == 1.0;
+    if (on == st->reproducible)
+        return SINTER_OK;
+    st->reproducible = on;
+    st->nb.canonical = on;
+    st->nb.built = 0;
+    st->forces_current = 0;
+    return SINTER_OK;
+}
+
 /* Options "dt_check" and "energy_check" (any stepper; the explicit one uses them, issue 35):
  * 1, the default, on; 0 off. */
 static sinter_status set_check(sinter_stepper *st, const char *key, int *flag, double value)
@@ -215,6 +236,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_thread_choice(st, value);
     if (strcmp(key, "dt_check") == 0)
         return set_check(st, key, &st->dt_check, value);
+    if (strcmp(key, "reproducible") == 0)
+        return set_reproducible(st, value);
     if (strcmp(key, "energy_check") == 0) {
         if (!(value >= 0.0 && value <= 1e6) || value != floor(value))
             return sinter_fail(st->ctx, SINTER_ERR_INVALID,
@@ -292,6 +315,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     }
     if (strcmp(key, "dt_check") == 0 || strcmp(key, "energy_check") == 0) {
         *value = key[0] == 'd' ? st->dt_check : st->energy_check;
+        return SINTER_OK;
+    }
+    if (strcmp(key, "reproducible") == 0) {
+        *value = st->reproducible;
         return SINTER_OK;
     }
     if (sinter_heat_interval_is_key(key)) {

@@ -183,6 +183,8 @@ struct sinter_stepper {
     double *furnace;      /* sinter_stepper_set_furnace: times, then temperatures */
     size_t furnace_count; /* points (0: no furnace) */
     /* issue 35 (stable_step.c, sanity.c criterion 4), explicit stepper only */
+    int reproducible;     /* option "reproducible": 1 sorts the pairs by ids at every build
+                             (contact/canonical_order.h); 0, the default, keeps the build's order */
     int dt_check;         /* option "dt_check": 1 (the default) refuses a step beyond the limit */
     int energy_check;     /* option "energy_check": check every N-th step for energy
                              creation (default SINTER_ENERGY_CHECK_INTERVAL), 0 never */
