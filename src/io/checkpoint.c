@@ -1037,6 +1037,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         memcpy(L->key_i, staged[l]->key_i, L->count * 8);
         memcpy(L->key_j, staged[l]->key_j, L->count * 8);
         L->build_id = sinter_unique_id();
+        L->canonical = nb->canonical; /* (written in the order of the mode it was made in) */
     }
     nb->old_pp.count = nb->old_pw.count = 0;
     /* the partition over the restored pairs: kept by the next search (contact/chunks.h) */

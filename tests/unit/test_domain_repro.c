@@ -22,9 +22,8 @@
 #include "domain_loopback.h"
 #include "test_support.h"
 
-enum { NX = 8, NY = 6, NZ = 6, N = NX * NY * NZ, NW = 5, STEPS = 150, SPLIT = 80 };
+enum { N_MAX = 12 * 12 * 12, NW = 5, STEPS = 150, SPLIT = 80 };
 static const double R = 1e-3, A = 1.97e-3; /* radius and lattice spacing [m]: 1.5 % overlap */
-static const double LX = R + A * (NX - 1) + 0.99 * R, LY = R + A * (NY - 1) + 0.99 * R;
 static const double X0 = R - 2 * A, X1 = R + 10 * A; /* slab borders on lattice columns */
 static const double DT = 2e-6;                       /* [s] */
 
@@ -34,18 +33,28 @@ static double lcg(uint64_t *s)
     return (double)(*s >> 11) / 9007199254740992.0;
 }
 
-/* The bed of test_domain.c: a jiggled lattice, random velocities, spins and temperatures,
- * ids a multiplicative permutation of the lattice order. */
+/* The bed of test_domain.c (8 x 6 x 6; larger ones for the threads): a jiggled lattice,
+ * random velocities, spins and temperatures, ids a multiplicative permutation of the lattice
+ * order (or, `ids_ascending`, the lattice order); `reversed`: added to the set last first
+ * (another order in memory). */
 static struct {
-    double x[3 * N], v[3 * N], w[3 * N], temp[N];
-    uint64_t id[N];
+    int n, nx, ny, reversed;
+    double lx, ly; /* the box [m] */
+    double x[3 * N_MAX], v[3 * N_MAX], w[3 * N_MAX], temp[N_MAX];
+    uint64_t id[N_MAX];
 } BED;
 
-static void make_bed(void)
+static void make_bed(int nx, int ny, int nz, int reversed, int ids_ascending)
 {
     uint64_t seed = 43;
-    for (int k = 0; k < N; ++k) {
-        const int i = k % NX, j = (k / NX) % NY, l = k / (NX * NY);
+    BED.n = nx * ny * nz;
+    BED.nx = nx;
+    BED.ny = ny;
+    BED.reversed = reversed;
+    BED.lx = R + A * (nx - 1) + 0.99 * R;
+    BED.ly = R + A * (ny - 1) + 0.99 * R;
+    for (int k = 0; k < BED.n; ++k) {
+        const int i = k % nx, j = (k / nx) % ny, l = k / (nx * ny);
         BED.x[3 * k] = R + A * i + 0.01 * R * (lcg(&seed) - 0.5);
         BED.x[3 * k + 1] = R + A * j + 0.01 * R * (lcg(&seed) - 0.5);
         BED.x[3 * k + 2] = 0.99 * R + A * l + 0.01 * R * (lcg(&seed) - 0.5);
@@ -54,7 +63,8 @@ static void make_bed(void)
             BED.w[3 * k + d] = 20.0 * (lcg(&seed) - 0.5);
         }
         BED.temp[k] = 300.0 + 100.0 * lcg(&seed);
-        BED.id[k] = 1 + (uint64_t)((k * 37) % N);
+        /* (37 is prime to 288 and 1728) */
+        BED.id[k] = 1 + (uint64_t)(ids_ascending ? k : (k * 37) % BED.n);
     }
 }
 
@@ -66,15 +76,15 @@ static int slab_of(double x, int size)
 
 /* Every particle's export record by id - 1 (a run's result or a checkpoint's records). */
 typedef struct records {
-    unsigned char *rec[N];
-    size_t len[N];
+    unsigned char *rec[N_MAX];
+    size_t len[N_MAX];
     unsigned char *global; /* a checkpoint's global part (subdomain 0's) */
     size_t global_len;
 } records;
 
 static void records_free(records *r)
 {
-    for (int k = 0; k < N; ++k)
+    for (int k = 0; k < N_MAX; ++k)
         free(r->rec[k]);
     free(r->global);
     memset(r, 0, sizeof(*r));
@@ -115,7 +125,7 @@ static sinter_status export_owned(sinter_stepper *st, sinter_particles *ps, reco
         if ((s = sinter_stepper_export_size(st, 1, &i, &bytes)) != SINTER_OK)
             break;
         unsigned char *buf = malloc(bytes);
-        if (buf == NULL || id < 1 || id > N || out->rec[id - 1] != NULL) {
+        if (buf == NULL || id < 1 || id > (uint64_t)BED.n || out->rec[id - 1] != NULL) {
             free(buf);
             return SINTER_ERR_INVALID;
         }
@@ -152,7 +162,7 @@ static void *run(void *arg)
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
     TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
+    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {BED.lx, 0, 0}, {0, 0, 0}, {0, BED.ly, 0}};
     const double wn[NW][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
     for (int k = 0; k < NW; ++k)
         TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
@@ -173,7 +183,7 @@ static void *run(void *arg)
         /* the documented restart: the global part, then the records of the particles whose
          * centres lie in this slab (any split of the records would do) */
         TRY(sinter_stepper_load_global(st, j->restart->global, j->restart->global_len));
-        for (int k = 0; k < N; ++k) {
+        for (int k = 0; k < BED.n; ++k) {
             const unsigned char *rec = j->restart->rec[k];
             size_t first = 0, count = 0;
             TRY(sinter_particles_count(ps, &first));
@@ -197,7 +207,8 @@ static void *run(void *arg)
             }
         }
     } else {
-        for (int k = 0; k < N; ++k) {
+        for (int m = 0; m < BED.n; ++m) {
+            const int k = BED.reversed ? BED.n - 1 - m : m;
             if (j->lb != NULL && slab_of(BED.x[3 * k], j->size) != j->rank)
                 continue;
             size_t first = 0;
@@ -271,7 +282,7 @@ static void run_on(int size, int reproducible, int threads, int steps, const rec
                         jobs[r].message);
         assert_int_equal(jobs[r].failed, 0);
     }
-    for (int k = 0; k < N; ++k) /* every particle owned once */
+    for (int k = 0; k < BED.n; ++k) /* every particle owned once */
         assert_non_null(out->rec[k]);
 }
 
@@ -279,7 +290,7 @@ static void run_on(int size, int reproducible, int threads, int steps, const rec
 static int differing(const records *a, const records *b)
 {
     int d = 0;
-    for (int k = 0; k < N; ++k)
+    for (int k = 0; k < BED.n; ++k)
         d += a->len[k] != b->len[k] || memcmp(a->rec[k], b->rec[k], a->len[k]) != 0;
     return d;
 }
@@ -289,14 +300,14 @@ static records REF, RUN;
 static void test_reproducible_decompositions(void **unused)
 {
     (void)unused;
-    make_bed();
+    make_bed(8, 6, 6, 0, 0);
     run_on(0, 1, 1, STEPS, NULL, &REF); /* without domain operations, one thread */
     for (int threads = 1; threads <= 2; ++threads)
         for (int size = threads == 1 ? 1 : 0; size <= LOOPBACK_MAX; ++size) {
             run_on(size, 1, threads, STEPS, NULL, &RUN);
             const int d = differing(&RUN, &REF);
             print_message("reproducible, %d slabs, %d threads: %d of %d records differ\n", size,
-                          threads, d, N);
+                          threads, d, BED.n);
             assert_int_equal(d, 0);
             records_free(&RUN);
         }
@@ -305,7 +316,7 @@ static void test_reproducible_decompositions(void **unused)
     run_on(0, 0, 1, STEPS, NULL, &def);
     run_on(3, 0, 1, STEPS, NULL, &RUN);
     const int d = differing(&RUN, &def);
-    print_message("default mode, 3 slabs: %d of %d records differ from one domain\n", d, N);
+    print_message("default mode, 3 slabs: %d of %d records differ from one domain\n", d, BED.n);
     assert_true(d > 0);
     records_free(&RUN);
     records_free(&def);
@@ -315,18 +326,54 @@ static void test_reproducible_decompositions(void **unused)
 static void test_checkpoint_across_decompositions(void **unused)
 {
     (void)unused;
-    make_bed();
+    make_bed(8, 6, 6, 0, 0);
     run_on(4, 1, 1, STEPS, NULL, &REF); /* uninterrupted */
     records ckpt;
     run_on(4, 1, 1, SPLIT, NULL, &ckpt); /* the checkpoint at step SPLIT, on 4 slabs */
     run_on(2, 1, 1, STEPS - SPLIT, &ckpt, &RUN);
     const int d = differing(&RUN, &REF);
     print_message("checkpoint of 4 slabs at step %d, continued on 2: %d of %d records differ\n",
-                  SPLIT, d, N);
+                  SPLIT, d, BED.n);
     assert_int_equal(d, 0);
     records_free(&RUN);
     records_free(&ckpt);
     records_free(&REF);
+}
+
+/*
+ * Threads and the order in memory, without domain operations: a bed of 1728 spheres (about
+ * 5 000 candidate pairs: the default mode partitions its list for the threads, and from 512
+ * particles the integrator's passes run on them), ids in lattice order, in reproducible mode
+ * on one thread in lattice order and on two threads added last first: the same bits. (In
+ * lattice order the pairs sorted by id are also sorted by index, which the partition takes
+ * for the build's order: the mode must refuse it, or the sums of its boundary contacts come
+ * later than in the reversed run.) In the default mode the
+ * reversed order gives other bits (a particle's sums come in another order).
+ */
+static void test_reproducible_threads_and_order(void **unused)
+{
+    (void)unused;
+    enum { SHORT = 60 };
+    make_bed(12, 12, 12, 0, 1);
+    records one, two;
+    run_on(0, 1, 1, SHORT, NULL, &one);
+    BED.reversed = 1;
+    run_on(0, 1, 2, SHORT, NULL, &two);
+    const int d = differing(&one, &two);
+    print_message("reproducible, %d spheres: 1 thread in order against 2 threads reversed: %d "
+                  "records differ\n",
+                  BED.n, d);
+    assert_int_equal(d, 0);
+    records_free(&one);
+    records_free(&two);
+    run_on(0, 0, 2, SHORT, NULL, &two); /* default mode, reversed */
+    BED.reversed = 0;
+    run_on(0, 0, 2, SHORT, NULL, &one);
+    const int e = differing(&one, &two);
+    print_message("default mode: in order against reversed: %d records differ\n", e);
+    assert_true(e > 0);
+    records_free(&one);
+    records_free(&two);
 }
 
 int main(void)
@@ -334,6 +381,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reproducible_decompositions),
         cmocka_unit_test(test_checkpoint_across_decompositions),
+        cmocka_unit_test(test_reproducible_threads_and_order),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
