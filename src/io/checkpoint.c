@@ -147,7 +147,10 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     if (st->domain.on) /* (the ghosts are the host's: a portable checkpoint comes with migration) */
         return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED,
                            "sinter_checkpoint_write: a stepper with domain operations "
-                           "(sinter_stepper_set_domain_ops) cannot be checkpointed yet");
+                           "(sinter_stepper_set_domain_ops) writes a portable checkpoint: "
+                           "sinter_stepper_save_global on one subdomain and "
+                           "sinter_stepper_export (remove = 0) of every subdomain's owned "
+                           "particles (include/sinter_domain.h)");
     if (st->kind != SINTER_STEPPER_QUASISTATIC && (!st->forces_current || !st->nb.built))
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_checkpoint_write: take at least one step (or step 0) before "
