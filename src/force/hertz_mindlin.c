@@ -845,9 +845,14 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
             e->torque[3 * i + d] += ti[d] + mr[d];
             wall_force[3 * wall_index + d] -= f[d];
         }
+        if (e->pw_reaction != NULL) /* (the reproducible mode: each contact's own) */
+            for (int d = 0; d < 3; ++d)
+                e->pw_reaction[6 * q + (size_t)d] -= f[d];
         if (wall_moment != NULL && wall->moment_wanted) {
             const double at[3] = {x[3 * i] + bi[0], x[3 * i + 1] + bi[1], x[3 * i + 2] + bi[2]};
             sinter_wall_add_moment(wall, at, f, mr, wall_moment + 3 * wall_index);
+            if (e->pw_reaction != NULL)
+                sinter_wall_add_moment(wall, at, f, mr, e->pw_reaction + 6 * q + 3);
         }
     }
 }

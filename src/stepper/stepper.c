@@ -9,6 +9,7 @@
 #include "heat/gas_gap.h"
 #include "sanity.h"
 #include "stepper.h"
+#include "stepper/wall_sums.h"
 #include "electric/electric.h"
 #include "insertion.h"
 #include "migrate.h"
@@ -80,6 +81,8 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
+    sinter_free(ctx, st->pw_reaction);
+    sinter_free(ctx, st->wall_sums_scratch);
     sinter_insertion_destroy(ctx, st->insertion);
     sinter_free(ctx, st->dissipation);
     for (int k = 0; k < 4; ++k)
@@ -205,6 +208,7 @@ static sinter_status set_reproducible(sinter_stepper *st, double value)
     st->reproducible = on;
     st->nb.canonical = on;
     st->nb.built = 0;
+    st->pw_reaction_valid = 0; /* (until an evaluation in the mode) */
     return SINTER_OK;
 }
 
@@ -1001,6 +1005,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.view = &st->view;
     e.stream = st->stores.stream_now;
     s = sinter_thermal_softening(st, &e.modulus_scale);
+    if (s == SINTER_OK) /* the reproducible mode: each wall contact's own reaction too */
+        s = sinter_wall_sums_prepare(st, &e.pw_reaction);
     /* the explicit step's conduction in the last law's region, by ranges (thermal.h) */
     const int heat_ranges = s == SINTER_OK && st->heat_in_law && sinter_thermal_law_begin(st);
     st->ranges_final = 0;
@@ -1182,19 +1188,27 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
 static sinter_status copy_wall_reactions(sinter_stepper *st)
 {
     const size_t nw = st->walls->count;
-    for (size_t k = 0; k < nw; ++k)
-        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
     double *f = st->wall_force;
     if (st->domain.on && nw > 0) {
-        f = st->domain.halo; /* (a work array between two halos) */
         sinter_status s = sinter_grow(st->ctx, (void **)&st->domain.halo, &st->domain.halo_capacity,
                                       6 * nw, sizeof(double));
         if (s != SINTER_OK)
             return s;
-        f = st->domain.halo;
+        f = st->domain.halo; /* (a work array between two halos) */
+    }
+    /* the reproducible mode: the sums of the contacts' own reactions, exact (wall_sums.h) */
+    const int exact = st->reproducible && st->pw_reaction_valid && nw > 0;
+    if (exact) {
+        const sinter_status s = sinter_wall_sums(st, st->wall_force, f);
+        if (s != SINTER_OK)
+            return s;
+    }
+    for (size_t k = 0; k < nw; ++k)
+        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
+    if (st->domain.on && nw > 0 && !exact) {
         memcpy(f, st->wall_force, 6 * nw * sizeof(double));
-        s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw, SINTER_REDUCE_F64,
-                                 SINTER_REDUCE_SUM);
+        const sinter_status s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw,
+                                                     SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
         if (s != SINTER_OK)
             return s;
     }

@@ -130,6 +130,13 @@ struct sinter_stepper {
     double *wall_force;             /* 3 per wall, then 3 per wall of moments [N m], from the
                                        last evaluation (capacity: walls) */
     size_t wall_force_capacity;
+    /* the reproducible mode (stepper/wall_sums.h): 6 doubles per wall contact of the last
+     * evaluation (pw_reaction_count of them), and the sums' scratch */
+    double *pw_reaction;
+    size_t pw_reaction_capacity, pw_reaction_count;
+    int pw_reaction_valid; /* 1 after an evaluation in the mode (cleared when it is set) */
+    void *wall_sums_scratch;
+    size_t wall_sums_scratch_capacity;
     /* the power the contacts dissipated at the last evaluation, 2 doubles per particle (normal
      * damping, sliding), for a "dissipation" heat model (heat/dissipation.c); valid while
      * dissipation_valid */

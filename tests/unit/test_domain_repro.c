@@ -79,6 +79,7 @@ typedef struct records {
     unsigned char *rec[N_MAX];
     size_t len[N_MAX];
     unsigned char *global; /* a checkpoint's global part (subdomain 0's) */
+    double wall[3 * NW];   /* the walls' total reaction forces [N] (subdomain 0's) */
     size_t global_len;
 } records;
 
@@ -234,6 +235,8 @@ static void *run(void *arg)
         if (j->out->global == NULL)
             TRY(SINTER_ERR_NOMEM);
         TRY(sinter_stepper_save_global(st, j->out->global, bytes, &bytes));
+        for (int k = 0; k < NW; ++k)
+            TRY(sinter_walls_get_force(walls, (size_t)k, j->out->wall + 3 * k));
     }
 done:
     if (j->failed)
@@ -309,6 +312,9 @@ static void test_reproducible_decompositions(void **unused)
             print_message("reproducible, %d slabs, %d threads: %d of %d records differ\n", size,
                           threads, d, BED.n);
             assert_int_equal(d, 0);
+            /* the global part: time, counters, the walls' reactions (exact sums) */
+            assert_int_equal(RUN.global_len, REF.global_len);
+            assert_memory_equal(RUN.global, REF.global, REF.global_len);
             records_free(&RUN);
         }
     /* the default mode on 3 slabs: other sums, other bits (the comparison can fail) */
@@ -335,6 +341,9 @@ static void test_checkpoint_across_decompositions(void **unused)
     print_message("checkpoint of 4 slabs at step %d, continued on 2: %d of %d records differ\n",
                   SPLIT, d, BED.n);
     assert_int_equal(d, 0);
+    /* the walls' reactions (the global parts differ in the count of neighbour builds: the
+     * restart builds its lists afresh) */
+    assert_memory_equal(RUN.wall, REF.wall, sizeof(REF.wall));
     records_free(&RUN);
     records_free(&ckpt);
     records_free(&REF);
