@@ -1054,10 +1054,11 @@ SINTER_API sinter_status sinter_stepper_get_periodic(const sinter_stepper *stepp
  * thread (the integrator's passes stay on the threads: they work particle by
  * particle), so that the particles' state and contact histories are the same
  * bits for any order of the particles in memory, any number of threads and,
- * with domain operations (sinter_domain.h), any number of subdomains. Its
- * cost: a sort of the pairs at each build and the force law's threads (on one
- * thread the mechanics benchmark takes fewer instructions than the default:
- * tests/bench/RESULTS.md). 0, the default, keeps the build's order, which
+ * with domain operations (sinter_domain.h), any number of subdomains; the
+ * walls' reactions are then exact sums of their contacts' (the same bits in
+ * every case too). Its cost: a sort of the pairs at each build, the exact
+ * sums of the wall reactions and the force law's threads
+ * (tests/bench/RESULTS.md). 0, the default, keeps the build's order, which
  * gives the same bits on any number of threads only. Setting it rebuilds the
  * neighbour lists at the next evaluation; forces already evaluated are kept.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message

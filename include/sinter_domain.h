@@ -22,10 +22,10 @@
  *  - With the stepper option "reproducible" (sinter_stepper_set_option) the particles' state
  *    and contact histories are the same bits for any number of subdomains and threads and
  *    any order of the particles in memory: every pair list is sorted by the two ids at each
- *    build and every particle's sums run in that order on one thread. Not yet through exact
- *    sums: the wall reactions and the heat models' energies (each subdomain's share is summed
- *    in its own order, then the shares are reduced), so these may differ in the last bits
- *    between decompositions, and so may a run whose walls move by their reactions (servos).
+ *    build and every particle's sums run in that order on one thread; the walls' reactions
+ *    are exact sums of their contacts' (two integer reductions a step). Not yet through exact
+ *    sums: the heat models' energies (each subdomain's share is summed in its own order, then
+ *    the shares are reduced), which may differ in the last bits between decompositions.
  *
  * Like sinter.h, this header uses only <stddef.h> and <stdint.h> and parses as a cffi cdef.
  */
