@@ -35,9 +35,16 @@ sinter_status sinter_wall_sums(sinter_stepper *st, double *local, double *total)
     if (nw == 0)
         return SINTER_OK;
     const size_t v = 6 * nw; /* values */
-    /* scratch: the exponents (v int64), the limb sums (v), their limbs for a reduction */
-    const size_t bytes =
-        v * (sizeof(int64_t) + sizeof(sinter_repro_sum) + SINTER_REPRO_LIMBS * sizeof(int64_t));
+    /* the moments only where a wall wants them (else every term is zero) */
+    int moments = 0;
+    for (size_t k = 0; k < nw; ++k)
+        moments |= st->walls->wall[k].moment_wanted;
+    const int per = moments ? 6 : 3;
+    /* scratch: the exponents (v int64), the limb sums (v), their limbs for a reduction, the
+     * slots' starts (v + 1) and the terms gathered by slot (per m) */
+    const size_t bytes = v * (sizeof(int64_t) + sizeof(sinter_repro_sum) +
+                              SINTER_REPRO_LIMBS * sizeof(int64_t) + sizeof(size_t)) +
+                         sizeof(size_t) + (size_t)per * m * sizeof(double);
     sinter_status s =
         sinter_grow(st->ctx, &st->wall_sums_scratch, &st->wall_sums_scratch_capacity, bytes, 1);
     if (s != SINTER_OK)
@@ -45,27 +52,33 @@ sinter_status sinter_wall_sums(sinter_stepper *st, double *local, double *total)
     int64_t *ex = st->wall_sums_scratch;
     sinter_repro_sum *sum = (sinter_repro_sum *)(ex + v);
     int64_t *limbs = (int64_t *)(sum + v);
+    size_t *start = (size_t *)(limbs + SINTER_REPRO_LIMBS * v);
+    double *terms = (double *)(start + v + 1);
     const uint32_t *wall = st->pw.j;
     const double *r = st->pw_reaction;
-    /* the exponent of each sum over its terms (its wall's contacts), the same for any order */
-    for (size_t q = 0; q < v; ++q)
-        ex[q] = INT32_MIN;
+    /* the terms of each sum together (a counting sort by wall: each sum then is one pass of
+     * the limb sum over its terms, in any order) */
+    memset(start, 0, (v + 1) * sizeof(size_t));
     for (size_t c = 0; c < m; ++c)
-        for (int d = 0; d < 6; ++d) {
-            const int e = sinter_repro_exponent(r + 6 * c + d, 1, 1, NULL);
-            int64_t *to = &ex[slot_of(nw, wall[c], d)];
-            *to = e > *to ? e : *to;
-        }
+        for (int d = 0; d < per; ++d)
+            start[slot_of(nw, wall[c], d) + 1]++;
+    for (size_t q = 0; q < v; ++q)
+        start[q + 1] += start[q];
+    for (size_t c = 0; c < m; ++c)
+        for (int d = 0; d < per; ++d)
+            terms[start[slot_of(nw, wall[c], d)]++] = r[6 * c + (size_t)d];
+    for (size_t q = v; q > 0; --q) /* (the cursors ran to the ends: back to the starts) */
+        start[q] = start[q - 1];
+    start[0] = 0;
+    for (size_t q = 0; q < v; ++q)
+        ex[q] = sinter_repro_exponent(terms + start[q], start[q + 1] - start[q], 1, NULL);
     const int domain = st->domain.on && total != NULL;
     if (domain && (s = sinter_domain_reduce(st->ctx, &st->domain, ex, v, SINTER_REDUCE_I64,
                                             SINTER_REDUCE_MAX)) != SINTER_OK)
         return s;
     memset(sum, 0, v * sizeof(sinter_repro_sum));
-    for (size_t c = 0; c < m; ++c)
-        for (int d = 0; d < 6; ++d) {
-            const size_t q = slot_of(nw, wall[c], d);
-            sinter_repro_add(&sum[q], (int)ex[q], r + 6 * c + d, 1, 1);
-        }
+    for (size_t q = 0; q < v; ++q)
+        sinter_repro_add(&sum[q], (int)ex[q], terms + start[q], start[q + 1] - start[q], 1);
     if (!domain) { /* the share is the total (at its own exponents) */
         for (size_t q = 0; q < v; ++q) {
             const double x = sinter_repro_value(&sum[q], (int)ex[q]);
@@ -87,8 +100,8 @@ sinter_status sinter_wall_sums(sinter_stepper *st, double *local, double *total)
         for (int k = 0; k < SINTER_REPRO_LIMBS; ++k)
             limbs[SINTER_REPRO_LIMBS * q + (size_t)k] = part.limb[k];
     }
-    s = sinter_domain_reduce(st->ctx, &st->domain, limbs, SINTER_REPRO_LIMBS * v, SINTER_REDUCE_I64,
-                             SINTER_REDUCE_SUM);
+    s = sinter_domain_reduce(st->ctx, &st->domain, limbs, SINTER_REPRO_LIMBS * v,
+                             SINTER_REDUCE_I64, SINTER_REDUCE_SUM);
     if (s != SINTER_OK)
         return s;
     for (size_t q = 0; q < v; ++q) {
