@@ -362,7 +362,7 @@ static void test_checkpoint_across_decompositions(void **unused)
 static void test_reproducible_threads_and_order(void **unused)
 {
     (void)unused;
-    enum { SHORT = 60 };
+    enum { SHORT = 30 };
     make_bed(12, 12, 12, 0, 1);
     records one, two;
     run_on(0, 1, 1, SHORT, NULL, &one);
