@@ -21,6 +21,13 @@
  *    same message, which names the subdomain that reported it and the particle's id.
  *  - sinter_stepper_advance, _step and _evaluate become collective calls: every subdomain
  *    makes the same call with the same arguments.
+ *  - With the stepper option "reproducible" (sinter_stepper_set_option) the particles' state
+ *    and contact histories are the same bits for any number of subdomains and threads and
+ *    any order of the particles in memory: every pair list is sorted by the two ids at each
+ *    build and every particle's sums run in that order on one thread; the walls' reactions
+ *    are exact sums of their contacts' (two integer reductions a step). Not yet through exact
+ *    sums: the heat models' energies (each subdomain's share is summed in its own order, then
+ *    the shares are reduced), which may differ in the last bits between decompositions.
  *
  * Like sinter.h, this header uses only <stddef.h> and <stdint.h> and parses as a cffi cdef.
  */
@@ -153,9 +160,20 @@ typedef struct sinter_domain_ops {
  * Anderson's inner products; during one of its attempts the host's redistribute callback may
  * make new ghosts but not migrate: sinter_stepper_export with removal and
  * sinter_stepper_import return SINTER_ERR_STATE there, and the stepper calls redistribute
- * again at the next accepted state, where migration is allowed. sinter_checkpoint_write
- * refuses such a stepper
- * (SINTER_ERR_UNSUPPORTED) until migration brings portable checkpoints.
+ * again at the next accepted state, where migration is allowed. The option "reproducible"
+ * (explicit stepper) makes the results the same bits for any decomposition.
+ * sinter_checkpoint_write refuses such a stepper
+ * (SINTER_ERR_UNSUPPORTED): a decomposed run writes a portable checkpoint instead, between two
+ * steps: the global part (sinter_stepper_save_global; the same bytes on every subdomain, so one
+ * subdomain writes it) and the records of every subdomain's owned particles
+ * (sinter_stepper_export with remove = 0; ghosts are not written). It restarts on any number
+ * of subdomains: each sets up its stepper alike (the same force and heat models in the same
+ * order, walls, materials and options), installs its domain operations, loads the global
+ * part (sinter_stepper_load_global) and imports the records of the particles it owns (in any
+ * order and split; a record in the wrong subdomain is moved by the next redistribution). With
+ * the option "reproducible" the run then continues bit for bit as the uninterrupted one
+ * (tests/unit/test_domain_repro.c: written on 4 subdomains, continued on 2); in the default
+ * mode to round-off, as any other decomposition would.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
  */
 SINTER_API sinter_status sinter_stepper_set_domain_ops(sinter_stepper *stepper,

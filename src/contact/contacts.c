@@ -473,6 +473,8 @@ static void make_chunks(sinter_contact_list *c, const sinter_pair_list *pairs,
                         const fill_part *parts, int nparts, size_t n, int count)
 {
     sinter_chunks *k = &c->chunks;
+    if (pairs->canonical) /* the reproducible mode: every sum in list order (canonical_order.h) */
+        count = 0;
     int seen = 0;
     uint32_t last = 0;
     for (int t = 0; t < nparts; ++t) {

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "neighbors.h"
+#include "contact/canonical_order.h"
 
 void sinter_neighbors_init(sinter_neighbors *nb, sinter_ctx *ctx, double skin)
 {
@@ -41,6 +42,7 @@ void sinter_neighbors_free(sinter_neighbors *nb)
     sinter_free(nb->ctx, nb->scan);
     sinter_free(nb->ctx, nb->keep_start);
     sinter_free(nb->ctx, nb->keep_j);
+    sinter_free(nb->ctx, nb->order_scratch);
     memset(nb, 0, sizeof(*nb));
 }
 
@@ -743,6 +745,13 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
         fill_keys(&nb->pp, ps->id, nb->pp.count < 4096 ? 1 : sinter_threads(ctx));
     if (st == SINTER_OK)
         st = build_pw(nb, ps, walls);
+    nb->pp.canonical = nb->pw.canonical = 0;
+    if (st == SINTER_OK && nb->canonical) /* the reproducible mode's order */
+        st = sinter_pairs_sort_by_keys(ctx, &nb->pp, &nb->order_scratch,
+                                       &nb->order_scratch_capacity);
+    if (st == SINTER_OK && nb->canonical)
+        st = sinter_pairs_sort_by_keys(ctx, &nb->pw, &nb->order_scratch,
+                                       &nb->order_scratch_capacity);
     if (st == SINTER_OK)
         st = reserve_pairs(ctx, &nb->pp, 1);
     if (st == SINTER_OK)

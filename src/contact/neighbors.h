@@ -36,6 +36,10 @@ typedef struct sinter_pair_list {
      * while a build is under way. A contact list found among these pairs can tell by it that
      * its pairs did not change since (sinter_contacts_find_pp_lean) */
     uint64_t build_id;
+    /* 1 when the build sorted the pairs by their keys (the reproducible mode:
+     * contact/canonical_order.h); such a list is never partitioned (contact/chunks.h), so that
+     * every particle receives its terms in that order on any number of threads */
+    int canonical;
 } sinter_pair_list;
 
 typedef struct sinter_neighbors {
@@ -46,6 +50,11 @@ typedef struct sinter_neighbors {
      * test reads the skin alone); 0 (the default): the contact search's pairs only. A heat law
      * between pairs apart sets it (heat/gas_gap.h) */
     double reach;
+    /* the reproducible mode (stepper option "reproducible"): each build sorts its pairs by
+     * their keys (contact/canonical_order.h), in order_scratch */
+    int canonical;
+    void *order_scratch;
+    size_t order_scratch_capacity;
     int both_sides; /* ghosts of other subdomains: a pair is kept when either end is owned
                        (newton off; domain/domain.h), not only its smaller-id end */
     int built;

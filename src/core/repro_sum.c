@@ -23,7 +23,13 @@ int sinter_repro_exponent(const double *x, size_t n, size_t stride, int *finite)
         if (v == 0.0)
             continue;
         int ev = 0;
-        frexp(v, &ev); /* |v| < 2^ev */
+        uint64_t bits;
+        memcpy(&bits, &v, sizeof(bits));
+        const int biased = (int)((bits >> 52) & 0x7ff);
+        if (biased != 0)
+            ev = biased - 1022; /* a normal number: frexp's exponent, without the call */
+        else
+            frexp(v, &ev); /* |v| < 2^ev */
         e = ev > e ? ev : e;
     }
     if (finite != NULL)
@@ -47,16 +53,22 @@ void sinter_repro_add(sinter_repro_sum *s, int e, const double *x, size_t n, siz
 {
     if (e == INT32_MIN)
         return; /* every term is zero */
+    /* scaling by a normal power of two: the correctly rounded product, as ldexp's (both exact
+     * unless the result is subnormal, and then rounded alike); a scale out of range: ldexp */
+    const int shift = -e - HEADROOM;
+    const int by_product = shift >= -1022 && shift <= 1023;
+    const double scale = by_product ? ldexp(1.0, shift) : 0.0;
+    const double limb_scale = (double)((int64_t)1 << SINTER_REPRO_LIMB_BITS);
     for (size_t k = 0; k < n; ++k) {
         const double v = x[k * stride];
         if (v == 0.0 || !isfinite(v))
             continue;
-        double r = ldexp(v, -e - HEADROOM); /* |r| < 2^-23, exact */
+        double r = by_product ? v * scale : ldexp(v, shift); /* |r| < 2^-23, exact */
         for (int j = 0; j < SINTER_REPRO_LIMBS; ++j) {
-            r = ldexp(r, SINTER_REPRO_LIMB_BITS);
-            const double whole = trunc(r); /* |whole| < 2^40: exact */
-            s->limb[j] += (int64_t)whole;
-            r -= whole; /* exact */
+            r *= limb_scale;                  /* exact */
+            const int64_t whole = (int64_t)r; /* toward zero, as trunc: |r| < 2^40, exact */
+            s->limb[j] += whole;
+            r -= (double)whole; /* exact */
         }
         if (++s->terms >= CARRY_EVERY)
             carry(s);

@@ -23,6 +23,10 @@ typedef struct sinter_force_eval {
     double *wall_force;             /* 3 per wall, accumulated (force on the wall) */
     double *wall_moment;            /* 3 per wall, accumulated (moment about its point) for
                                        the walls that want it (sinter_wall.moment_wanted) */
+    /* NULL, or 6 per wall contact (the stepper's reproducible mode): the force and moment the
+     * contact puts on its wall, added beside wall_force and wall_moment, so that the stepper
+     * can sum them in an order-independent way (stepper/wall_sums.c) */
+    double *pw_reaction;
     const double *modulus_scale;    /* per particle E(theta)/E_0, or NULL for 1 */
     const sinter_state_view *view;  /* for host callbacks */
     /* pp->unconfirmed (sinter_contacts_find_pp_deferred): a model that confirms contacts

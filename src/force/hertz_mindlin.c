@@ -787,9 +787,9 @@ static sinter_status eval_pp(const sinter_force_eval *e, const constants *k, int
  * its surface's at the contact point (its spin: sinter_wall_velocity_at). */
 HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pair_consts *table,
                         int cached, int rolling, size_t lo, size_t hi, double *wall_force,
-                        double *wall_moment, int no_tension)
+                        double *wall_moment, int no_tension, double *reaction)
 /* (wall_moment NULL where called: no wall spins or wants its moment, and the loop tests
- * neither) */
+ * neither; reaction: sinter_force_eval.pw_reaction, NULL (a constant) on the plain path) */
 {
     const sinter_particles *ps = e->ps;
     const double *x = ps->x;
@@ -845,9 +845,14 @@ HM_INLINE void pw_range(const sinter_force_eval *e, const constants *k, const pa
             e->torque[3 * i + d] += ti[d] + mr[d];
             wall_force[3 * wall_index + d] -= f[d];
         }
+        if (reaction != NULL) /* (the reproducible mode: each contact's own) */
+            for (int d = 0; d < 3; ++d)
+                reaction[6 * q + (size_t)d] -= f[d];
         if (wall_moment != NULL && wall->moment_wanted) {
             const double at[3] = {x[3 * i] + bi[0], x[3 * i + 1] + bi[1], x[3 * i + 2] + bi[2]};
             sinter_wall_add_moment(wall, at, f, mr, wall_moment + 3 * wall_index);
+            if (reaction != NULL)
+                sinter_wall_add_moment(wall, at, f, mr, reaction + 6 * q + 3);
         }
     }
 }
@@ -857,11 +862,11 @@ static void pw_plain(const sinter_force_eval *e, const constants *k, const wall_
                      int rolling, size_t lo, size_t hi, double *wall_force)
 {
     if (k->no_tension)
-        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wall_force, NULL, 1);
+        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wall_force, NULL, 1, NULL);
     else if (rolling)
-        pw_range(e, k, job->table, job->cached, 1, lo, hi, wall_force, NULL, 0);
+        pw_range(e, k, job->table, job->cached, 1, lo, hi, wall_force, NULL, 0, NULL);
     else
-        pw_range(e, k, job->table, job->cached, 0, lo, hi, wall_force, NULL, 0);
+        pw_range(e, k, job->table, job->cached, 0, lo, hi, wall_force, NULL, 0, NULL);
 }
 
 /* Run s of a wall job, its reactions into the run's partial sums. */
@@ -872,14 +877,15 @@ static void pw_run(const sinter_force_eval *e, const constants *k, wall_job *job
         job->partial[s][d] = 0.0;
     const size_t lo = job->qlo[s], hi = job->qlo[s + 1];
     double *wf = job->partial[s], *wm = e->wall_moment ? wf + 3 * job->nw : NULL;
-    if (job->plain) /* the planes' loop without a spin's or a moment's test */
+    double *re = e->pw_reaction; /* (the reproducible mode: the general loop) */
+    if (job->plain && re == NULL) /* the planes' loop without a spin's or a moment's test */
         pw_plain(e, k, job, rolling, lo, hi, wf);
     else if (k->no_tension)
-        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wf, wm, 1);
+        pw_range(e, k, job->table, job->cached, rolling, lo, hi, wf, wm, 1, re);
     else if (rolling)
-        pw_range(e, k, job->table, job->cached, 1, lo, hi, wf, wm, 0);
+        pw_range(e, k, job->table, job->cached, 1, lo, hi, wf, wm, 0, re);
     else
-        pw_range(e, k, job->table, job->cached, 0, lo, hi, wf, wm, 0);
+        pw_range(e, k, job->table, job->cached, 0, lo, hi, wf, wm, 0, re);
 }
 
 /* The wall contacts by the job's plan (plan_walls); `done`: its runs were evaluated already
@@ -890,15 +896,15 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
     const sinter_contact_list *c = e->pw;
     const int runs = job->runs;
     if (runs == 0) {
-        double *wf = e->wall_force, *wm = e->wall_moment;
-        if (job->plain)
+        double *wf = e->wall_force, *wm = e->wall_moment, *re = e->pw_reaction;
+        if (job->plain && re == NULL)
             pw_plain(e, k, job, rolling, 0, c->count, wf);
         else if (k->no_tension)
-            pw_range(e, k, job->table, job->cached, rolling, 0, c->count, wf, wm, 1);
+            pw_range(e, k, job->table, job->cached, rolling, 0, c->count, wf, wm, 1, re);
         else if (rolling)
-            pw_range(e, k, job->table, job->cached, 1, 0, c->count, wf, wm, 0);
+            pw_range(e, k, job->table, job->cached, 1, 0, c->count, wf, wm, 0, re);
         else
-            pw_range(e, k, job->table, job->cached, 0, 0, c->count, wf, wm, 0);
+            pw_range(e, k, job->table, job->cached, 0, 0, c->count, wf, wm, 0, re);
         return;
     }
     if (!done) {

@@ -45,6 +45,8 @@ static sinter_status run_batch(const sinter_force_model *fm, sinter_force_eval *
                     e->torque[3 * j + d] += out[6 * n + 3 * k + d];
                 } else {
                     e->wall_force[3 * j + d] -= out[3 * k + d];
+                    if (e->pw_reaction != NULL) /* (the reproducible mode) */
+                        e->pw_reaction[6 * k + (size_t)d] -= out[3 * k + d];
                 }
             }
             if (kind == SINTER_CONTACT_WALL && e->wall_moment != NULL &&
@@ -60,6 +62,9 @@ static sinter_status run_batch(const sinter_force_model *fm, sinter_force_eval *
                 mr[1] = out[3 * n + 3 * k + 1] - (arm[2] * f[0] - arm[0] * f[2]);
                 mr[2] = out[3 * n + 3 * k + 2] - (arm[0] * f[1] - arm[1] * f[0]);
                 sinter_wall_add_moment(&e->walls->wall[j], at, f, mr, e->wall_moment + 3 * j);
+                if (e->pw_reaction != NULL)
+                    sinter_wall_add_moment(&e->walls->wall[j], at, f, mr,
+                                           e->pw_reaction + 6 * k + 3);
             }
         }
     }

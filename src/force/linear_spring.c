@@ -48,8 +48,13 @@ static sinter_status linear_spring_eval(const sinter_force_model *fm, sinter_for
             e->force[3 * i + d] += f[d];
             e->wall_force[3 * wk + d] -= f[d];
         }
+        if (e->pw_reaction != NULL) /* (the reproducible mode: each contact's own) */
+            for (int d = 0; d < 3; ++d)
+                e->pw_reaction[6 * k + (size_t)d] -= f[d];
         if (e->wall_moment != NULL && wall->moment_wanted)
             sinter_wall_add_moment(wall, at, f, NULL, e->wall_moment + 3 * wk);
+        if (e->pw_reaction != NULL && e->wall_moment != NULL && wall->moment_wanted)
+            sinter_wall_add_moment(wall, at, f, NULL, e->pw_reaction + 6 * k + 3);
     }
     return SINTER_OK;
 }

@@ -284,8 +284,13 @@ static void eval_pw(const sinter_force_eval *e)
             e->torque[3 * i + d] += ti[d];
             e->wall_force[3 * wall_index + d] -= f[d]; /* reaction on the wall */
         }
+        if (e->pw_reaction != NULL) /* (the reproducible mode: each contact's own) */
+            for (int d = 0; d < 3; ++d)
+                e->pw_reaction[6 * k + (size_t)d] -= f[d];
         if (e->wall_moment != NULL && wall->moment_wanted)
             sinter_wall_add_moment(wall, at, f, NULL, e->wall_moment + 3 * wall_index);
+        if (e->pw_reaction != NULL && e->wall_moment != NULL && wall->moment_wanted)
+            sinter_wall_add_moment(wall, at, f, NULL, e->pw_reaction + 6 * k + 3);
     }
 }
 

@@ -147,7 +147,10 @@ sinter_status sinter_checkpoint_write_with(const sinter_stepper *st, const char 
     if (st->domain.on) /* (the ghosts are the host's: a portable checkpoint comes with migration) */
         return sinter_fail(ctx, SINTER_ERR_UNSUPPORTED,
                            "sinter_checkpoint_write: a stepper with domain operations "
-                           "(sinter_stepper_set_domain_ops) cannot be checkpointed yet");
+                           "(sinter_stepper_set_domain_ops) writes a portable checkpoint: "
+                           "sinter_stepper_save_global on one subdomain and "
+                           "sinter_stepper_export (remove = 0) of every subdomain's owned "
+                           "particles (include/sinter_domain.h)");
     if (st->kind != SINTER_STEPPER_QUASISTATIC && (!st->forces_current || !st->nb.built))
         return sinter_fail(ctx, SINTER_ERR_STATE,
                            "sinter_checkpoint_write: take at least one step (or step 0) before "
@@ -1037,6 +1040,7 @@ sinter_status sinter_checkpoint_read_with(sinter_stepper *st, const char *path,
         memcpy(L->key_i, staged[l]->key_i, L->count * 8);
         memcpy(L->key_j, staged[l]->key_j, L->count * 8);
         L->build_id = sinter_unique_id();
+        L->canonical = nb->canonical; /* (written in the order of the mode it was made in) */
     }
     nb->old_pp.count = nb->old_pw.count = 0;
     /* the partition over the restored pairs: kept by the next search (contact/chunks.h) */

@@ -1024,6 +1024,7 @@ static sinter_status build_stepper(scene_text *t, sinter_scene *sc, scene_sectio
                                           "thread_choice",
                                           "dt_check",
                                           "energy_check",
+                                          "reproducible",
                                           "heat_interval",
                                           "phi",
                                           "target_iterations",

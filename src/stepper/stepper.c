@@ -11,6 +11,7 @@
 #include "sanity.h"
 #include "particles/id_index.h"
 #include "stepper.h"
+#include "stepper/wall_sums.h"
 #include "electric/electric.h"
 #include "insertion.h"
 #include "migrate.h"
@@ -82,6 +83,8 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_free(ctx, st->wall_force);
+    sinter_free(ctx, st->pw_reaction);
+    sinter_free(ctx, st->wall_sums_scratch);
     sinter_insertion_destroy(ctx, st->insertion);
     sinter_free(ctx, st->dissipation);
     for (int k = 0; k < 4; ++k)
@@ -189,6 +192,28 @@ static sinter_status set_thread_choice(sinter_stepper *st, double value)
     return SINTER_OK;
 }
 
+/* Option "reproducible" (the explicit stepper's sums in an order fixed by the ids, issue 43):
+ * 0, the default, off; 1 on. The neighbour lists are built again, in the mode's order, at the
+ * next evaluation; forces already current stay (a restart that sets its options after reading
+ * a checkpoint continues bit for bit: a build changes no bit in this mode). */
+static sinter_status set_reproducible(sinter_stepper *st, double value)
+{
+    if (value != 0.0 && value != 1.0)
+        return sinter_fail(st->ctx, SINTER_ERR_INVALID,
+                           "sinter_stepper_set_option: reproducible = %g must be 0 (off, the "
+                           "default) or 1 (results independent of the decomposition and the "
+                           "order in memory)",
+                           value);
+    const int on = value == 1.0;
+    if (on == st->reproducible)
+        return SINTER_OK;
+    st->reproducible = on;
+    st->nb.canonical = on;
+    st->nb.built = 0;
+    st->pw_reaction_valid = 0; /* (until an evaluation in the mode) */
+    return SINTER_OK;
+}
+
 /* Options "dt_check" and "energy_check" (any stepper; the explicit one uses them, issue 35):
  * 1, the default, on; 0 off. */
 static sinter_status set_check(sinter_stepper *st, const char *key, int *flag, double value)
@@ -217,6 +242,8 @@ sinter_status sinter_stepper_set_option(sinter_stepper *st, const char *key, dou
         return set_thread_choice(st, value);
     if (strcmp(key, "dt_check") == 0)
         return set_check(st, key, &st->dt_check, value);
+    if (strcmp(key, "reproducible") == 0)
+        return set_reproducible(st, value);
     if (strcmp(key, "energy_check") == 0) {
         if (!(value >= 0.0 && value <= 1e6) || value != floor(value))
             return sinter_fail(st->ctx, SINTER_ERR_INVALID,
@@ -294,6 +321,10 @@ sinter_status sinter_stepper_get_option(const sinter_stepper *st, const char *ke
     }
     if (strcmp(key, "dt_check") == 0 || strcmp(key, "energy_check") == 0) {
         *value = key[0] == 'd' ? st->dt_check : st->energy_check;
+        return SINTER_OK;
+    }
+    if (strcmp(key, "reproducible") == 0) {
+        *value = st->reproducible;
         return SINTER_OK;
     }
     if (sinter_heat_interval_is_key(key)) {
@@ -1084,6 +1115,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     e.view = &st->view;
     e.stream = st->stores.stream_now;
     s = sinter_thermal_softening(st, &e.modulus_scale);
+    if (s == SINTER_OK) /* the reproducible mode: each wall contact's own reaction too */
+        s = sinter_wall_sums_prepare(st, &e.pw_reaction);
     /* the explicit step's conduction in the last law's region, by ranges (thermal.h) */
     const int heat_ranges = s == SINTER_OK && st->heat_in_law && sinter_thermal_law_begin(st);
     st->ranges_final = 0;
@@ -1265,19 +1298,27 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
 static sinter_status copy_wall_reactions(sinter_stepper *st)
 {
     const size_t nw = st->walls->count;
-    for (size_t k = 0; k < nw; ++k)
-        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
     double *f = st->wall_force;
     if (st->domain.on && nw > 0) {
-        f = st->domain.halo; /* (a work array between two halos) */
         sinter_status s = sinter_grow(st->ctx, (void **)&st->domain.halo, &st->domain.halo_capacity,
                                       6 * nw, sizeof(double));
         if (s != SINTER_OK)
             return s;
-        f = st->domain.halo;
+        f = st->domain.halo; /* (a work array between two halos) */
+    }
+    /* the reproducible mode: the sums of the contacts' own reactions, exact (wall_sums.h) */
+    const int exact = st->reproducible && st->pw_reaction_valid && nw > 0;
+    if (exact) {
+        const sinter_status s = sinter_wall_sums(st, st->wall_force, f);
+        if (s != SINTER_OK)
+            return s;
+    }
+    for (size_t k = 0; k < nw; ++k)
+        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
+    if (st->domain.on && nw > 0 && !exact) {
         memcpy(f, st->wall_force, 6 * nw * sizeof(double));
-        s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw, SINTER_REDUCE_F64,
-                                 SINTER_REDUCE_SUM);
+        const sinter_status s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw,
+                                                     SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
         if (s != SINTER_OK)
             return s;
     }

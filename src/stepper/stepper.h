@@ -130,6 +130,13 @@ struct sinter_stepper {
     double *wall_force;             /* 3 per wall, then 3 per wall of moments [N m], from the
                                        last evaluation (capacity: walls) */
     size_t wall_force_capacity;
+    /* the reproducible mode (stepper/wall_sums.h): 6 doubles per wall contact of the last
+     * evaluation (pw_reaction_count of them), and the sums' scratch */
+    double *pw_reaction;
+    size_t pw_reaction_capacity, pw_reaction_count;
+    int pw_reaction_valid; /* 1 after an evaluation in the mode (cleared when it is set) */
+    void *wall_sums_scratch;
+    size_t wall_sums_scratch_capacity;
     /* the power the contacts dissipated at the last evaluation, 2 doubles per particle (normal
      * damping, sliding), for a "dissipation" heat model (heat/dissipation.c); valid while
      * dissipation_valid */
@@ -183,6 +190,8 @@ struct sinter_stepper {
     double *furnace;      /* sinter_stepper_set_furnace: times, then temperatures */
     size_t furnace_count; /* points (0: no furnace) */
     /* issue 35 (stable_step.c, sanity.c criterion 4), explicit stepper only */
+    int reproducible;     /* option "reproducible": 1 sorts the pairs by ids at every build
+                             (contact/canonical_order.h); 0, the default, keeps the build's order */
     int dt_check;         /* option "dt_check": 1 (the default) refuses a step beyond the limit */
     int energy_check;     /* option "energy_check": check every N-th step for energy
                              creation (default SINTER_ENERGY_CHECK_INTERVAL), 0 never */

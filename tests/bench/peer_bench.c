@@ -46,9 +46,12 @@ static void usage(void)
             "usage: peer_bench --scene S --xyz FILE --box FILE --steps N --dt DT "
             "--heat 0|1 [--stats] [--threads N] [--shuffle SEED] [--sort-interval K]\n"
             "       [--rotation 0|1] [--thread-choice -1|0] [--rolling MU_R] [--alternate K]\n"
+            "       [--reproducible 0|1]\n"
             "  --shuffle: the particles in a random order in memory (as an unsorted host\n"
             "    would give them; the PROBE line then follows other particles)\n"
             "  --sort-interval: stepper option sort_interval (spatial sort every K steps)\n"
+            "  --reproducible: stepper option reproducible (1: pairs in id order, sums on one\n"
+            "    thread: the same bits for any order, thread count and decomposition)\n"
             "  --thread-choice: stepper option thread_choice (-1, the default, times\n"
             "    steps on the threads and on one and takes the faster; 0 always --threads)\n"
             "  --rotation: stepper option rotation (1 integrates the rotation vector;\n"
@@ -125,6 +128,7 @@ int main(int argc, char **argv)
     int heat = 0, stats = 0, threads = 1, rotation = 0, thread_choice = -1;
     unsigned long long shuffle = 0, sort_interval = 0, alternate = 0;
     const char *alternate_option = NULL;
+    int reproducible = 0;
     for (int a = 1; a < argc; ++a) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (strcmp(argv[a], "--stats") == 0) {
@@ -155,6 +159,8 @@ int main(int argc, char **argv)
             rotation = atoi(v);
         else if (strcmp(argv[a], "--rolling") == 0)
             rolling = strtod(v, NULL);
+        else if (strcmp(argv[a], "--reproducible") == 0)
+            reproducible = atoi(v);
         else if (strcmp(argv[a], "--thread-choice") == 0)
             thread_choice = atoi(v);
         else if (strcmp(argv[a], "--alternate") == 0)
@@ -262,6 +268,7 @@ int main(int argc, char **argv)
         CHECK(sinter_stepper_set_option(st, "sort_interval", (double)sort_interval));
     CHECK(sinter_stepper_set_option(st, "rotation", (double)rotation));
     CHECK(sinter_stepper_set_option(st, "thread_choice", (double)thread_choice));
+    CHECK(sinter_stepper_set_option(st, "reproducible", (double)reproducible));
     sinter_heat_model *cond = NULL;
     if (heat) {
         /* fix heat/gran/conduction ... contact_area projection */

@@ -56,6 +56,9 @@ OPTIONS: Dict[str, Dict[str, str]] = {
         "energy_check": "[steps] 1 (default): every step is checked for energy created in "
                         "contacts, stopped with the last accepted state kept (explicit only); "
                         "N: every N-th step; 0 off",
+        "reproducible": "[-] 1: pairs sorted by id at every build, every particle's sums in "
+                        "that order on one thread: the same bits for any memory order, thread "
+                        "count and decomposition (explicit stepper); 0 (default) off",
     },
     "explicit_staggered": {
         "sort_interval": "[steps] sort the particles spatially every so many steps; 0 "
