@@ -1,0 +1,415 @@
+/*
+ * The quasi-static stepper on subdomains (issue 43, include/sinter_domain.h, src/stepper/
+ * qs_domain.c), through the thread transport of domain_loopback.h: slabs along x.
+ *
+ * A lattice of 8 x 3 x 3 copper spheres (R = 25 um, radii spread by up to 0.2 %, so each
+ * neck is its own, on a 2R lattice: every neighbour pair overlaps and becomes a link; seed 001
+ * table 2 copper at 1293 K) sinters for 40 s with the particles on x, y, z = 0 held on their
+ * planes. The ids are a permutation of the places, so a link's smaller id lies on either side
+ * of a border. Each link is owned by the subdomain of its smaller id, its loads on a ghost end
+ * go back through the reverse halo, the step decision and statistics are reduced and K u = f is
+ * solved by the split PCG (block-Jacobi over the subdomains).
+ *  - On one subdomain every position, rotation, neck and statistic equals the run without
+ *    domain operations bit for bit (the reductions of one term are exact, the solve the
+ *    serial one).
+ *  - On 2, 3 and 4 subdomains (every border between two columns) the same number of steps
+ *    and PCG-free quantities: positions, rotations, every neck radius and approach, the
+ *    shrinkage and density within 1e-10 relative. Both runs solve K u = f to a true residual
+ *    of 1e-12 |f|, so their displacements differ by about that times the condition number
+ *    rather than by the default 1e-7 (with it the positions differ by about 1e-9, too much to
+ *    tell a lost load from round-off).
+ *  - Strategy 2 (per-pair RK4 sub-steps, the copper_lattice scene's) and the default
+ *    strategy 3 (young necks in CVODE) both.
+ *  - A particle that migrates after the first step is refused on every subdomain with the same
+ *    status (the decomposition is fixed for now); qs_strategy 1 is refused.
+ */
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <sinter_domain.h>
+
+#include "domain_loopback.h"
+#include "test_support.h"
+
+#define OK(call) assert_int_equal((call), SINTER_OK)
+
+enum { NX = 8, NY = 3, NZ = 3, N = NX * NY * NZ, MAX_LINKS = 4 * N };
+static const double R = 25e-6, T_END = 2.0;
+static double SOLVE_RTOL = 1e-12;
+
+typedef struct outcome {
+    double x[3 * N], rot[3 * N]; /* by id - 1 */
+    int seen[N];
+    size_t links;
+    uint64_t link_a[MAX_LINKS], link_b[MAX_LINKS];
+    double neck[MAX_LINKS], approach[MAX_LINKS];
+    double stats[11];
+    uint64_t steps;
+    size_t owned[LOOPBACK_MAX], ghosts[LOOPBACK_MAX];
+} outcome;
+
+typedef struct job {
+    int rank, size;
+    loopback *lb; /* NULL: without domain operations */
+    int strategy;
+    int migrate; /* move one particle's owner after the first step */
+    outcome *out;
+    pthread_mutex_t *lock;
+    int setup_failed;
+    sinter_status status;
+    char message[512];
+} job;
+
+static void place(size_t p, double x[3], double *r)
+{
+    const size_t i = p / (NY * NZ), j = (p / NZ) % NY, k = p % NZ;
+    x[0] = (1 + 2 * (double)i) * R;
+    x[1] = (1 + 2 * (double)j) * R;
+    x[2] = (1 + 2 * (double)k) * R;
+    *r = R * (1.0 + 2e-3 * (double)((p * 7919u) % 97u) / 96.0);
+}
+
+static uint64_t id_of(size_t p)
+{
+    return 1 + (uint64_t)((p * 37u) % N); /* 37 is prime to 72 */
+}
+
+static const double X0 = 0.0, X1 = 2.0 * NX * 25e-6;
+
+static int slab_of(double x, int size)
+{
+    int r = (int)floor((x - X0) / ((X1 - X0) / size));
+    return r < 0 ? 0 : r >= size ? size - 1 : r;
+}
+
+#define TRY(call)                                                                                  \
+    do {                                                                                           \
+        if ((call) != SINTER_OK) {                                                                 \
+            j->setup_failed = __LINE__;                                                            \
+            goto done;                                                                             \
+        }                                                                                          \
+    } while (0)
+
+static void collect(job *j, sinter_particles *ps, sinter_stepper *st)
+{
+    size_t owned = 0;
+    const uint64_t *id = NULL;
+    const double *x = NULL, *rot = NULL;
+    sinter_snapshot *snap = NULL;
+    sinter_sintering_stats ss;
+    memset(&ss, 0, sizeof(ss));
+    ss.struct_size = sizeof(ss);
+    /* collective: every subdomain calls it */
+    if (sinter_stepper_sintering_stats(st, &ss) != SINTER_OK)
+        j->setup_failed = __LINE__;
+    sinter_stepper_stats stats;
+    stats.struct_size = sizeof(stats);
+    if (sinter_stepper_get_stats(st, &stats) != SINTER_OK ||
+        sinter_particles_owned_count(ps, &owned) != SINTER_OK ||
+        sinter_snapshot_create(&snap, st) != SINTER_OK) {
+        j->setup_failed = __LINE__;
+        return;
+    }
+    pthread_mutex_lock(j->lock);
+    outcome *o = j->out;
+    o->owned[j->rank] = owned;
+    {
+        size_t n = 0;
+        sinter_particles_count(ps, &n);
+        o->ghosts[j->rank] = n - owned;
+    }
+    if (sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&id, NULL, NULL) ||
+        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL) ||
+        sinter_particles_view_read(ps, SINTER_FIELD_ROTATION, (const void **)&rot, NULL, NULL))
+        j->setup_failed = __LINE__;
+    for (size_t i = 0; i < owned && id != NULL && x != NULL && rot != NULL; ++i) {
+        const size_t k = (size_t)id[i] - 1;
+        memcpy(o->x + 3 * k, x + 3 * i, 24);
+        memcpy(o->rot + 3 * k, rot + 3 * i, 24);
+        o->seen[k]++;
+    }
+    sinter_particles_release(ps, SINTER_FIELD_ID);
+    sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    sinter_particles_release(ps, SINTER_FIELD_ROTATION);
+    size_t m = 0;
+    const void *a = NULL, *b = NULL, *neck = NULL, *appr = NULL;
+    if (sinter_snapshot_counts(snap, NULL, NULL, &m, NULL) ||
+        sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_A, &a, NULL, NULL, NULL) ||
+        sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_B, &b, NULL, NULL, NULL) ||
+        sinter_snapshot_links(snap, SINTER_LINK_DATA_NECK_RADIUS, &neck, NULL, NULL, NULL) ||
+        sinter_snapshot_links(snap, SINTER_LINK_DATA_APPROACH, &appr, NULL, NULL, NULL) ||
+        o->links + m > MAX_LINKS)
+        j->setup_failed = __LINE__;
+    for (size_t k = 0; k < m && !j->setup_failed; ++k, ++o->links) {
+        o->link_a[o->links] = ((const uint64_t *)a)[k];
+        o->link_b[o->links] = ((const uint64_t *)b)[k];
+        o->neck[o->links] = ((const double *)neck)[k];
+        o->approach[o->links] = ((const double *)appr)[k];
+    }
+    sinter_snapshot_destroy(snap);
+    const double v[11] = {ss.neck_mean,
+                          ss.neck_min,
+                          ss.neck_max,
+                          ss.neck_ratio_mean,
+                          ss.shrinkage[0],
+                          ss.shrinkage[1],
+                          ss.shrinkage[2],
+                          ss.relative_density,
+                          ss.coordination,
+                          (double)ss.links,
+                          (double)ss.pcg_iterations};
+    memcpy(o->stats, v, sizeof(v)); /* the same on every subdomain */
+    o->steps = stats.steps;
+    pthread_mutex_unlock(j->lock);
+}
+
+static void *run(void *arg)
+{
+    job *j = arg;
+    sinter_ctx *ctx = NULL;
+    sinter_material *mat = NULL;
+    sinter_particles *ps = NULL;
+    sinter_stepper *st = NULL;
+    TRY(sinter_ctx_create(&ctx, NULL));
+    TRY(sinter_ctx_set_threads(ctx, 1));
+    TRY(sinter_material_create(&mat, ctx, "copper")); /* neck data: the defaults (copper) */
+    TRY(sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 72e9));
+    TRY(sinter_material_set(mat, SINTER_MAT_POISSON_RATIO, 0.3));
+    TRY(sinter_material_set(mat, SINTER_MAT_DENSITY, 8960));
+    TRY(sinter_particles_create(&ps, ctx));
+    TRY(sinter_particles_set_material(ps, 0, mat));
+    TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
+    TRY(sinter_stepper_set_option(st, "qs_strategy", j->strategy));
+    TRY(sinter_stepper_set_option(st, "qs_solve_rtol", SOLVE_RTOL));
+    TRY(sinter_stepper_set_skin(st, 0.5 * R));
+    for (size_t p = 0; p < N; ++p) {
+        double x[3], r;
+        place(p, x, &r);
+        if (j->lb != NULL && slab_of(x[0], j->size) != j->rank)
+            continue;
+        const uint64_t id = id_of(p);
+        TRY(sinter_particles_add_with_ids(ps, 1, &id, x, &r, 0, 1293.0, NULL));
+    }
+    if (j->lb != NULL)
+        j->status = loopback_attach(j->lb, j->rank, st, ps);
+    if (j->status == SINTER_OK)
+        j->status = sinter_stepper_step(st, 1);
+    if (j->status == SINTER_OK && j->migrate) {
+        /* the middle column of subdomain 0 moves into subdomain 1's slab: it migrates at the
+         * next redistribution */
+        double *x = NULL;
+        size_t owned = 0;
+        TRY(sinter_particles_owned_count(ps, &owned));
+        TRY(sinter_particles_view(ps, SINTER_FIELD_POSITION, (void **)&x, NULL, NULL));
+        for (size_t i = 0; i < owned && j->rank == 0; ++i)
+            if (x[3 * i] > 3.5 * R)
+                x[3 * i] += 2.5 * R;
+        TRY(sinter_particles_release(ps, SINTER_FIELD_POSITION));
+    }
+    if (j->status == SINTER_OK)
+        j->status = sinter_stepper_advance(st, T_END);
+    if (j->status != SINTER_OK) {
+        snprintf(j->message, sizeof(j->message), "%s", sinter_last_error(ctx));
+        goto done;
+    }
+    collect(j, ps, st);
+done:
+    if (j->setup_failed)
+        snprintf(j->message, sizeof(j->message), "setup failed at line %d: %s", j->setup_failed,
+                 sinter_last_error(ctx));
+    sinter_stepper_destroy(st);
+    sinter_particles_destroy(ps);
+    sinter_material_destroy(mat);
+    sinter_ctx_destroy(ctx);
+    return NULL;
+}
+
+/* The lattice on `size` subdomains (0: one run without domain operations) into out. */
+static void run_on(int size, int strategy, int migrate, outcome *out, job jobs[LOOPBACK_MAX])
+{
+    memset(out, 0, sizeof(*out));
+    pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+    loopback *lb = size > 0 ? loopback_create(size) : NULL;
+    assert_true(size == 0 || lb != NULL);
+    if (lb != NULL)
+        loopback_set_slabs(lb, X0, X1);
+    const int threads = size > 0 ? size : 1;
+    pthread_t t[LOOPBACK_MAX];
+    for (int r = 0; r < threads; ++r) {
+        jobs[r] = (job){r, threads, lb, strategy, migrate, out, &lock, 0, SINTER_OK, ""};
+        assert_int_equal(pthread_create(&t[r], NULL, run, &jobs[r]), 0);
+    }
+    for (int r = 0; r < threads; ++r)
+        assert_int_equal(pthread_join(t[r], NULL), 0);
+    loopback_destroy(lb);
+    pthread_mutex_destroy(&lock);
+}
+
+static double rel_diff(const double *a, const double *b, size_t n)
+{
+    double worst = 0.0, scale = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        scale = fmax(scale, fabs(a[i]));
+    for (size_t i = 0; i < n; ++i)
+        worst = fmax(worst, fabs(a[i] - b[i]));
+    return scale > 0.0 ? worst / scale : worst;
+}
+
+/* The links of `o` in the order of the reference's (by their ids). */
+static void links_like(const outcome *ref, const outcome *o, double *neck, double *approach)
+{
+    assert_int_equal(o->links, ref->links);
+    for (size_t k = 0; k < ref->links; ++k) {
+        size_t found = SIZE_MAX;
+        for (size_t q = 0; q < o->links && found == SIZE_MAX; ++q)
+            if (o->link_a[q] == ref->link_a[k] && o->link_b[q] == ref->link_b[k])
+                found = q;
+        assert_true(found != SIZE_MAX);
+        neck[k] = o->neck[found];
+        approach[k] = o->approach[found];
+    }
+}
+
+static outcome REF, DEC;
+static job JOBS[LOOPBACK_MAX];
+
+static void check_jobs(int size)
+{
+    for (int r = 0; r < (size > 0 ? size : 1); ++r) {
+        if (JOBS[r].setup_failed || JOBS[r].status != SINTER_OK)
+            print_message("subdomain %d of %d: %s\n", r, size, JOBS[r].message);
+        assert_int_equal(JOBS[r].setup_failed, 0);
+        assert_int_equal(JOBS[r].status, SINTER_OK);
+    }
+}
+
+/* The largest relative difference of the quantities compared below between outcomes a and b
+ * (links in a's order), into e[6]: positions, displacements, rotations (as the motion R theta
+ * they give a sphere's surface, relative to the largest displacement: the lattice turns little),
+ * neck radii, approaches, the statistics. */
+static void differences(const outcome *a, const outcome *b, double e[6])
+{
+    static double neck[MAX_LINKS], approach[MAX_LINKS];
+    links_like(a, b, neck, approach);
+    double ua[3 * N], ub[3 * N], ra[3 * N], rb[3 * N];
+    for (size_t k = 0; k < N; ++k) { /* the displacements, by id */
+        double x[3], r;
+        place(k, x, &r);
+        const size_t i = (size_t)id_of(k) - 1;
+        for (size_t d = 0; d < 3; ++d) {
+            ua[3 * i + d] = a->x[3 * i + d] - x[d];
+            ub[3 * i + d] = b->x[3 * i + d] - x[d];
+        }
+    }
+    double umax = 0.0, rot = 0.0;
+    for (size_t i = 0; i < 3 * N; ++i) {
+        umax = fmax(umax, fabs(ua[i]));
+        rot = fmax(rot, R * fabs(a->rot[i] - b->rot[i]));
+        ra[i] = a->rot[i];
+        rb[i] = b->rot[i];
+    }
+    (void)ra;
+    (void)rb;
+    e[0] = rel_diff(a->x, b->x, 3 * N);
+    e[1] = rel_diff(ua, ub, 3 * N);
+    e[2] = rot / umax;
+    e[3] = rel_diff(a->neck, neck, a->links);
+    e[4] = rel_diff(a->approach, approach, a->links);
+    e[5] = rel_diff(a->stats, b->stats, 9);
+}
+
+static void compare_runs(int strategy)
+{
+    /* the spread of the serial run itself under a perturbation of the solve at the level of
+     * round-off: its target 1e-13 instead of 1e-12 */
+    static outcome PERTURBED;
+    SOLVE_RTOL = 1e-13;
+    run_on(0, strategy, 0, &PERTURBED, JOBS);
+    check_jobs(0);
+    SOLVE_RTOL = 1e-12;
+    run_on(0, strategy, 0, &REF, JOBS);
+    check_jobs(0);
+    double spread[6];
+    differences(&REF, &PERTURBED, spread);
+    print_message("strategy %d, serial spread (solve target 1e-12 against 1e-13): x %.2e, u %.2e, "
+                  "rot %.2e, neck %.2e, approach %.2e, stats %.2e\n",
+                  strategy, spread[0], spread[1], spread[2], spread[3], spread[4], spread[5]);
+    assert_true(REF.links >= 2 * N - NY * NZ - NX * NZ - NX * NY); /* every neighbour pair */
+    assert_true(REF.steps > 10);
+    for (int size = 1; size <= LOOPBACK_MAX; ++size) {
+        run_on(size, strategy, 0, &DEC, JOBS);
+        check_jobs(size);
+        for (size_t k = 0; k < N; ++k)
+            assert_int_equal(DEC.seen[k], 1);
+        assert_int_equal(DEC.steps, REF.steps);
+        static double neck[MAX_LINKS], approach[MAX_LINKS];
+        links_like(&REF, &DEC, neck, approach);
+        if (size == 1) { /* bit for bit */
+            assert_memory_equal(DEC.x, REF.x, sizeof(REF.x));
+            assert_memory_equal(DEC.rot, REF.rot, sizeof(REF.rot));
+            assert_memory_equal(neck, REF.neck, REF.links * sizeof(double));
+            assert_memory_equal(approach, REF.approach, REF.links * sizeof(double));
+            assert_memory_equal(DEC.stats, REF.stats, sizeof(REF.stats));
+            continue;
+        }
+        double e[6];
+        differences(&REF, &DEC, e);
+        for (int r = 0; r < size; ++r) /* every subdomain owns a part and sees its neighbours */
+            assert_true(DEC.owned[r] >= NY * NZ && DEC.ghosts[r] >= NY * NZ);
+        print_message("strategy %d, %d subdomains: relative differences x %.2e, u %.2e, rot "
+                      "%.2e, neck %.2e, approach %.2e, stats %.2e (%llu steps, %zu links)\n",
+                      strategy, size, e[0], e[1], e[2], e[3], e[4], e[5],
+                      (unsigned long long)DEC.steps, DEC.links);
+        /* 1e-10, or ten times the serial run's own spread where its adaptive neck integration
+         * (CVODE, strategy 3) turns round-off into more */
+        for (int k = 0; k < 6; ++k)
+            assert_true(e[k] <= fmax(1e-10, 10.0 * spread[k]));
+        assert_true(REF.stats[4] > 0.0); /* it shrank */
+    }
+}
+
+static void test_strategy2_on_subdomains(void **state)
+{
+    (void)state;
+    compare_runs(2);
+}
+
+static void test_strategy3_on_subdomains(void **state)
+{
+    (void)state;
+    compare_runs(3);
+}
+
+static void test_migration_refused(void **state)
+{
+    (void)state;
+    run_on(2, 2, 1, &DEC, JOBS);
+    for (int r = 0; r < 2; ++r) {
+        assert_int_equal(JOBS[r].setup_failed, 0);
+        assert_int_equal(JOBS[r].status, SINTER_ERR_UNSUPPORTED);
+        assert_string_equal(JOBS[r].message, JOBS[0].message);
+    }
+    assert_non_null(strstr(JOBS[0].message, "migrated"));
+}
+
+static void test_strategy1_refused(void **state)
+{
+    (void)state;
+    run_on(1, 1, 0, &DEC, JOBS);
+    assert_int_equal(JOBS[0].setup_failed, 0);
+    assert_int_equal(JOBS[0].status, SINTER_ERR_UNSUPPORTED);
+    assert_non_null(strstr(JOBS[0].message, "qs_strategy 1"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_strategy2_on_subdomains),
+        cmocka_unit_test(test_strategy3_on_subdomains),
+        cmocka_unit_test(test_migration_refused),
+        cmocka_unit_test(test_strategy1_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
