@@ -7,7 +7,7 @@
  * other subdomains that lie within sinter_stepper_ghost_cutoff of its owned ones. Through a
  * table of callbacks the library asks the host for the collective operations it needs.
  *
- * Contract (explicit stepper, this version):
+ * Contract (explicit and quasi-static steppers, this version):
  *  - Newton's third law is off across subdomain borders: each subdomain evaluates every pair
  *    with an owned end; the pair is oriented and keyed by the two ids, so both sides hold equal
  *    histories; forces, moments and heat powers on ghosts are discarded. No ghost-ghost pairs,
@@ -19,6 +19,10 @@
  *    same message, which names the subdomain that reported it and the particle's id.
  *  - sinter_stepper_advance, _step and _evaluate become collective calls: every subdomain
  *    makes the same call with the same arguments.
+ *  - Quasi-static stepper: each link is owned (and its neck advanced) by the subdomain of its
+ *    smaller id; loads on a ghost end go to the owner through the reverse halo; K u = f is
+ *    solved across subdomains (PCG, block-Jacobi, halos of 6 and 36 doubles per particle);
+ *    sinter_stepper_sintering_stats becomes collective (docs/scaleout.md).
  *
  * Like sinter.h, this header uses only <stddef.h> and <stdint.h> and parses as a cffi cdef.
  */
@@ -133,11 +137,21 @@ typedef struct sinter_domain_ops {
 
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
- * stepper's global quantities go through `ops`. The explicit stepper only, without periodic
- * axes, continuous insertion, an electric model, implicit conduction or the option
- * sort_interval (SINTER_ERR_UNSUPPORTED names the one, here or at the next step); reduce,
- * exscan, halo and redistribute are required. sinter_checkpoint_write refuses such a stepper
- * (SINTER_ERR_UNSUPPORTED) until migration brings portable checkpoints.
+ * stepper's global quantities go through `ops`. The explicit and the quasi-static steppers
+ * (not the staggered one), without periodic axes, continuous insertion, an electric model,
+ * implicit conduction or the option sort_interval (SINTER_ERR_UNSUPPORTED names the one, here
+ * or at the next step); reduce, exscan, halo and redistribute are required.
+ * The quasi-static stepper, given them before its first step, keeps its decomposition fixed:
+ * the redistribution at each sinter_stepper_advance or _step call must leave every owned
+ * particle where it is (a migration after the first step is refused with
+ * SINTER_ERR_UNSUPPORTED on every subdomain), and the ghosts are made once per such call (set
+ * a skin, sinter_stepper_set_skin, that covers the pairs coming into contact). Not with
+ * qs_strategy 1; on more than one subdomain the rigid motion of link components that no plane
+ * holds is not removed and the validity guard is skipped. On one subdomain its results are the
+ * bits of the run without domain operations; on more they equal them to round-off (another
+ * PCG: set qs_solve_rtol well below its default 1e-7 to compare).
+ * sinter_checkpoint_write refuses such a stepper (SINTER_ERR_UNSUPPORTED) until migration
+ * brings portable checkpoints.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
  */
 SINTER_API sinter_status sinter_stepper_set_domain_ops(sinter_stepper *stepper,
