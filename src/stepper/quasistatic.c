@@ -234,6 +234,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->ext_r);
     sinter_free(ctx, qs->ext_owner);
     sinter_free(ctx, qs->ext_image);
+    sinter_free(ctx, qs->dom.rows);
     sinter_free(ctx, qs);
 }
 

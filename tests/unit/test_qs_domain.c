@@ -24,6 +24,8 @@
  *    2e-12; with the default strategy 3 the young necks' CVODE turns the round-off of u into
  *    about 2e-9 on the necks, in the serial run as in the decomposed ones (the test prints
  *    both).
+ *  - A host neck law that fails on subdomain 2 of 3 stops all three at the same step with
+ *    SINTER_ERR_CALLBACK and one message naming subdomain 2 (no hang: ctest's timeout).
  *  - A particle that migrates after the first step is refused on every subdomain with the same
  *    status and message (the decomposition is fixed for now); qs_strategy 1 is refused.
  */
@@ -33,6 +35,7 @@
 #include <string.h>
 
 #include <sinter_domain.h>
+#include <sinter_submodel.h>
 
 #include "domain_loopback.h"
 #include "test_support.h"
@@ -58,13 +61,35 @@ typedef struct job {
     int rank, size;
     loopback *lb; /* NULL: without domain operations */
     int strategy;
-    int migrate; /* move one particle's owner after the first step */
+    int migrate;   /* move one particle's owner after the first step */
+    int fail_call; /* > 0: a host neck law that fails at this call on subdomain size - 1 */
+    double end_time;
     outcome *out;
     pthread_mutex_t *lock;
     int setup_failed;
     sinter_status status;
     char message[512];
 } job;
+
+/* A host neck law (sinter_submodel.h): the neck grows and the pair approaches at fixed rates;
+ * on the subdomain `fail_rank` its call number `fail_call` fails. */
+typedef struct failing_law {
+    int rank, fail_rank, fail_call, calls;
+} failing_law;
+
+static int failing_advance(sinter_neck_law_batch *b, void *user)
+{
+    failing_law *law = user;
+    if (++law->calls == law->fail_call && law->rank == law->fail_rank)
+        return 1;
+    for (size_t k = 0; k < b->count; ++k) {
+        double *y = b->state + SINTER_NECK_LAW_STATE * k;
+        y[0] *= 1.0 + 0.01 * b->dt;
+        y[3] -= 1e-6 * y[3] * b->dt;
+        y[6] -= 1e-6 * y[6] * b->dt;
+    }
+    return 0;
+}
 
 static void place(size_t p, double x[3], double *r)
 {
@@ -176,6 +201,7 @@ static void *run(void *arg)
     sinter_material *mat = NULL;
     sinter_particles *ps = NULL;
     sinter_stepper *st = NULL;
+    failing_law law = {j->rank, j->size - 1, j->fail_call, 0};
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
     TRY(sinter_material_create(&mat, ctx, "copper")); /* neck data: the defaults (copper) */
@@ -189,6 +215,10 @@ static void *run(void *arg)
     TRY(sinter_stepper_set_option(st, "qs_solve_rtol", SOLVE_RTOL));
     TRY(sinter_stepper_set_skin(st, 0.5 * R));
     TRY(sinter_stepper_set_dt(st, 1e-3)); /* the first global step [s] */
+    if (j->fail_call > 0) {
+        const sinter_neck_law_callbacks cb = {sizeof(cb), failing_advance, NULL};
+        TRY(sinter_stepper_set_neck_law(st, &cb, &law));
+    }
     for (size_t p = 0; p < N; ++p) {
         double x[3], r;
         place(p, x, &r);
@@ -215,6 +245,7 @@ static void *run(void *arg)
     }
     if (j->status == SINTER_OK)
         j->status = sinter_stepper_advance(st, T_END);
+    TRY(sinter_stepper_time(st, &j->end_time));
     if (j->status != SINTER_OK) {
         snprintf(j->message, sizeof(j->message), "%s", sinter_last_error(ctx));
         goto done;
@@ -232,7 +263,15 @@ done:
 }
 
 /* The lattice on `size` subdomains (0: one run without domain operations) into out. */
+static void run_on_failing(int size, int strategy, int migrate, int fail_call, outcome *out,
+                           job jobs[LOOPBACK_MAX]);
 static void run_on(int size, int strategy, int migrate, outcome *out, job jobs[LOOPBACK_MAX])
+{
+    run_on_failing(size, strategy, migrate, 0, out, jobs);
+}
+
+static void run_on_failing(int size, int strategy, int migrate, int fail_call, outcome *out,
+                           job jobs[LOOPBACK_MAX])
 {
     memset(out, 0, sizeof(*out));
     pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
@@ -243,7 +282,8 @@ static void run_on(int size, int strategy, int migrate, outcome *out, job jobs[L
     const int threads = size > 0 ? size : 1;
     pthread_t t[LOOPBACK_MAX];
     for (int r = 0; r < threads; ++r) {
-        jobs[r] = (job){r, threads, lb, strategy, migrate, out, &lock, 0, SINTER_OK, ""};
+        jobs[r] =
+            (job){r, threads, lb, strategy, migrate, fail_call, 0.0, out, &lock, 0, SINTER_OK, ""};
         assert_int_equal(pthread_create(&t[r], NULL, run, &jobs[r]), 0);
     }
     for (int r = 0; r < threads; ++r)
@@ -399,6 +439,23 @@ static void test_migration_refused(void **state)
     assert_non_null(strstr(JOBS[0].message, "migrated"));
 }
 
+/* A host neck law that fails on subdomain 2 of 3 at its 7th call stops all three in the same
+ * step, with the same status and message, which names subdomain 2; the time stays the one
+ * before that step everywhere. */
+static void test_failure_stops_all(void **state)
+{
+    (void)state;
+    run_on_failing(3, 3, 0, 7, &DEC, JOBS);
+    for (int r = 0; r < 3; ++r) {
+        assert_int_equal(JOBS[r].setup_failed, 0);
+        assert_int_equal(JOBS[r].status, SINTER_ERR_CALLBACK);
+        assert_string_equal(JOBS[r].message, JOBS[0].message);
+        assert_true(JOBS[r].end_time == JOBS[0].end_time);
+    }
+    assert_non_null(strstr(JOBS[0].message, "subdomain 2"));
+    assert_true(JOBS[0].end_time > 0.0); /* after 6 steps */
+}
+
 static void test_strategy1_refused(void **state)
 {
     (void)state;
@@ -414,6 +471,7 @@ int main(void)
         cmocka_unit_test(test_strategy2_on_subdomains),
         cmocka_unit_test(test_strategy3_on_subdomains),
         cmocka_unit_test(test_migration_refused),
+        cmocka_unit_test(test_failure_stops_all),
         cmocka_unit_test(test_strategy1_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
