@@ -40,26 +40,6 @@ sinter_status sinter_qs_domain_reduce(sinter_qs *qs, void *values, size_t count,
                       : SINTER_OK;
 }
 
-sinter_status sinter_qs_domain_same_owners(sinter_qs *qs, const sinter_qs_particles *p)
-{
-    sinter_qs_domain *dom = &qs->dom;
-    uint64_t sum = 0;
-    for (size_t i = 0; i < dom->owned; ++i)
-        sum += (p->id != NULL ? p->id[i] : (uint64_t)i) * 0x9E3779B97F4A7C15ull + 1u;
-    sinter_status s = SINTER_OK;
-    if (dom->owned_known && qs->steps > 0 &&
-        (sum != dom->owned_sum || dom->owned != dom->owned_count))
-        s = sinter_fail(qs->ctx, SINTER_ERR_UNSUPPORTED,
-                        "quasi-static stepper: particles migrated between subdomains after the "
-                        "first step (%zu owned now, %llu before); the quasi-static stepper keeps "
-                        "its decomposition fixed for now (docs/scaleout.md)",
-                        dom->owned, (unsigned long long)dom->owned_count);
-    dom->owned_sum = sum;
-    dom->owned_count = dom->owned;
-    dom->owned_known = 1;
-    return sinter_qs_domain_agree(qs, s);
-}
-
 sinter_status sinter_qs_domain_start(sinter_qs *qs, const sinter_qs_particles *p)
 {
     /* lo (3), -hi (3) of the centres, lo (3), -hi (3) of the spheres: one MIN */

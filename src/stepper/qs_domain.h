@@ -23,10 +23,6 @@ sinter_status sinter_qs_domain_agree(sinter_qs *qs, sinter_status s);
 /* Reduce values in place (nothing without domain operations). */
 sinter_status sinter_qs_domain_reduce(sinter_qs *qs, void *values, size_t count, int type, int op);
 
-/* The owned particles are those of the last step (SINTER_ERR_UNSUPPORTED, agreed, when one
- * migrated: not yet for the quasi-static stepper). Collective. */
-sinter_status sinter_qs_domain_same_owners(sinter_qs *qs, const sinter_qs_particles *p);
-
 /* 1 when the particle at index i is a ghost. */
 static inline int sinter_qs_domain_ghost(const sinter_qs *qs, size_t i)
 {

@@ -35,9 +35,7 @@ typedef struct sinter_qs_domain {
     uint64_t size;      /* subdomains (exscan of 1; 0: not asked yet) */
     int split;          /* more than one subdomain: the split solve, the guard skipped */
     int started;        /* the global extents and green density taken (first step) */
-    uint64_t owned_sum, owned_count; /* the owned ids at the last step (migration refused) */
-    int owned_known;
-    double *rows; /* halo rows, (owned + ghosts) * width */
+    double *rows;       /* halo rows, (owned + ghosts) * width */
     size_t rows_capacity;
 } sinter_qs_domain;
 

@@ -1209,9 +1209,7 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
     const sinter_qs_particles ids_view = {ps->count,    ps->x,  ps->rot, ps->radius,
                                           ps->material, ps->id, NULL};
     s = sinter_qs_follow_ids(*qs, &ids_view);
-    if ((s = sinter_qs_domain_agree(*qs, s)) == SINTER_OK && st->domain.on)
-        s = sinter_qs_domain_same_owners(*qs, &ids_view);
-    if (s != SINTER_OK)
+    if ((s = sinter_qs_domain_agree(*qs, s)) != SINTER_OK)
         return s;
     /* the stepper's periodic axes (sinter_stepper_set_periodic): the cell is the core's once
      * it steps, and is written back after each step, so only a change by the host is taken */

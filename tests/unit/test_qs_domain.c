@@ -26,8 +26,10 @@
  *    both).
  *  - A host neck law that fails on subdomain 2 of 3 stops all three at the same step with
  *    SINTER_ERR_CALLBACK and one message naming subdomain 2 (no hang: ctest's timeout).
- *  - A particle that migrates after the first step is refused on every subdomain with the same
- *    status and message (the decomposition is fixed for now); qs_strategy 1 is refused.
+ *  - Migration: the runs stop at 1 s, the slabs move by -2R, and at the next call's
+ *    redistribution the column at each border (9, 18, 27 spheres on 2, 3, 4 subdomains)
+ *    migrates with the links of its smaller ids; the results equal the serial run's as above.
+ *  - qs_strategy 1 is refused.
  */
 #include <math.h>
 #include <pthread.h>
@@ -45,6 +47,7 @@
 enum { NX = 8, NY = 3, NZ = 3, N = NX * NY * NZ, MAX_LINKS = 4 * N };
 static const double R = 25e-6, T_END = 2.0;
 static double SOLVE_RTOL = 1e-12;
+static int SHIFT = 0; /* the runs advance to T_END / 2 first; the slabs move then */
 
 typedef struct outcome {
     double x[3 * N], rot[3 * N]; /* by id - 1 */
@@ -61,8 +64,9 @@ typedef struct job {
     int rank, size;
     loopback *lb; /* NULL: without domain operations */
     int strategy;
-    int migrate;   /* move one particle's owner after the first step */
     int fail_call; /* > 0: a host neck law that fails at this call on subdomain size - 1 */
+    int shift;     /* at T_END / 2 the slabs move by -2R: a column migrates at each border */
+    uint64_t migrated;
     double end_time;
     outcome *out;
     pthread_mutex_t *lock;
@@ -231,20 +235,19 @@ static void *run(void *arg)
         j->status = loopback_attach(j->lb, j->rank, st, ps);
     if (j->status == SINTER_OK)
         j->status = sinter_stepper_step(st, 1);
-    if (j->status == SINTER_OK && j->migrate) {
-        /* the middle column of subdomain 0 moves into subdomain 1's slab: it migrates at the
-         * next redistribution */
-        double *x = NULL;
-        size_t owned = 0;
-        TRY(sinter_particles_owned_count(ps, &owned));
-        TRY(sinter_particles_view(ps, SINTER_FIELD_POSITION, (void **)&x, NULL, NULL));
-        for (size_t i = 0; i < owned && j->rank == 0; ++i)
-            if (x[3 * i] > 3.5 * R)
-                x[3 * i] += 2.5 * R;
-        TRY(sinter_particles_release(ps, SINTER_FIELD_POSITION));
+    if (j->status == SINTER_OK && j->shift) {
+        j->status = sinter_stepper_advance(st, 0.5 * T_END);
+        if (j->lb != NULL) { /* every subdomain between two calls */
+            loopback_barrier(j->lb);
+            if (j->rank == 0)
+                loopback_set_slabs(j->lb, X0 - 2.0 * R, X1 - 2.0 * R);
+            loopback_barrier(j->lb);
+        }
     }
     if (j->status == SINTER_OK)
         j->status = sinter_stepper_advance(st, T_END);
+    if (j->lb != NULL)
+        j->migrated = loopback_migrated(j->lb, j->rank);
     TRY(sinter_stepper_time(st, &j->end_time));
     if (j->status != SINTER_OK) {
         snprintf(j->message, sizeof(j->message), "%s", sinter_last_error(ctx));
@@ -263,14 +266,14 @@ done:
 }
 
 /* The lattice on `size` subdomains (0: one run without domain operations) into out. */
-static void run_on_failing(int size, int strategy, int migrate, int fail_call, outcome *out,
+static void run_on_failing(int size, int strategy, int fail_call, outcome *out,
                            job jobs[LOOPBACK_MAX]);
-static void run_on(int size, int strategy, int migrate, outcome *out, job jobs[LOOPBACK_MAX])
+static void run_on(int size, int strategy, outcome *out, job jobs[LOOPBACK_MAX])
 {
-    run_on_failing(size, strategy, migrate, 0, out, jobs);
+    run_on_failing(size, strategy, 0, out, jobs);
 }
 
-static void run_on_failing(int size, int strategy, int migrate, int fail_call, outcome *out,
+static void run_on_failing(int size, int strategy, int fail_call, outcome *out,
                            job jobs[LOOPBACK_MAX])
 {
     memset(out, 0, sizeof(*out));
@@ -282,8 +285,15 @@ static void run_on_failing(int size, int strategy, int migrate, int fail_call, o
     const int threads = size > 0 ? size : 1;
     pthread_t t[LOOPBACK_MAX];
     for (int r = 0; r < threads; ++r) {
-        jobs[r] =
-            (job){r, threads, lb, strategy, migrate, fail_call, 0.0, out, &lock, 0, SINTER_OK, ""};
+        jobs[r] = (job){.rank = r,
+                        .size = threads,
+                        .lb = lb,
+                        .strategy = strategy,
+                        .fail_call = fail_call,
+                        .shift = SHIFT,
+                        .out = out,
+                        .lock = &lock,
+                        .status = SINTER_OK};
         assert_int_equal(pthread_create(&t[r], NULL, run, &jobs[r]), 0);
     }
     for (int r = 0; r < threads; ++r)
@@ -371,10 +381,10 @@ static void compare_runs(int strategy)
      * round-off: its target 1e-13 instead of 1e-12 */
     static outcome PERTURBED;
     SOLVE_RTOL = 1e-13;
-    run_on(0, strategy, 0, &PERTURBED, JOBS);
+    run_on(0, strategy, &PERTURBED, JOBS);
     check_jobs(0);
     SOLVE_RTOL = 1e-12;
-    run_on(0, strategy, 0, &REF, JOBS);
+    run_on(0, strategy, &REF, JOBS);
     check_jobs(0);
     double spread[6];
     differences(&REF, &PERTURBED, spread);
@@ -384,7 +394,7 @@ static void compare_runs(int strategy)
     assert_true(REF.links >= 2 * N - NY * NZ - NX * NZ - NX * NY); /* every neighbour pair */
     assert_true(REF.steps > 10);
     for (int size = 1; size <= LOOPBACK_MAX; ++size) {
-        run_on(size, strategy, 0, &DEC, JOBS);
+        run_on(size, strategy, &DEC, JOBS);
         check_jobs(size);
         for (size_t k = 0; k < N; ++k)
             assert_int_equal(DEC.seen[k], 1);
@@ -401,8 +411,12 @@ static void compare_runs(int strategy)
         }
         double e[6];
         differences(&REF, &DEC, e);
-        for (int r = 0; r < size; ++r) /* every subdomain owns a part and sees its neighbours */
+        uint64_t migrated = 0;
+        for (int r = 0; r < size; ++r) { /* every subdomain owns a part, sees its neighbours */
             assert_true(DEC.owned[r] >= NY * NZ && DEC.ghosts[r] >= NY * NZ);
+            migrated += JOBS[r].migrated;
+        }
+        assert_int_equal(migrated, SHIFT ? (uint64_t)(size - 1) * NY * NZ : 0);
         print_message("strategy %d, %d subdomains: relative differences x %.2e, u %.2e, rot "
                       "%.2e, neck %.2e, approach %.2e, stats %.2e (%llu steps, %zu links)\n",
                       strategy, size, e[0], e[1], e[2], e[3], e[4], e[5],
@@ -427,16 +441,15 @@ static void test_strategy3_on_subdomains(void **state)
     compare_runs(3);
 }
 
-static void test_migration_refused(void **state)
+/* Migration: the runs stop at T_END / 2, the slabs move by -2R, and at the next call's
+ * redistribution the column at each border migrates with its links (those of its smaller ids)
+ * to the next subdomain; the plane conditions are found again there. */
+static void test_migration(void **state)
 {
     (void)state;
-    run_on(2, 2, 1, &DEC, JOBS);
-    for (int r = 0; r < 2; ++r) {
-        assert_int_equal(JOBS[r].setup_failed, 0);
-        assert_int_equal(JOBS[r].status, SINTER_ERR_UNSUPPORTED);
-        assert_string_equal(JOBS[r].message, JOBS[0].message);
-    }
-    assert_non_null(strstr(JOBS[0].message, "migrated"));
+    SHIFT = 1;
+    compare_runs(2);
+    SHIFT = 0;
 }
 
 /* A host neck law that fails on subdomain 2 of 3 at its 7th call stops all three in the same
@@ -445,7 +458,7 @@ static void test_migration_refused(void **state)
 static void test_failure_stops_all(void **state)
 {
     (void)state;
-    run_on_failing(3, 3, 0, 7, &DEC, JOBS);
+    run_on_failing(3, 3, 7, &DEC, JOBS);
     for (int r = 0; r < 3; ++r) {
         assert_int_equal(JOBS[r].setup_failed, 0);
         assert_int_equal(JOBS[r].status, SINTER_ERR_CALLBACK);
@@ -459,7 +472,7 @@ static void test_failure_stops_all(void **state)
 static void test_strategy1_refused(void **state)
 {
     (void)state;
-    run_on(1, 1, 0, &DEC, JOBS);
+    run_on(1, 1, &DEC, JOBS);
     assert_int_equal(JOBS[0].setup_failed, 0);
     assert_int_equal(JOBS[0].status, SINTER_ERR_UNSUPPORTED);
     assert_non_null(strstr(JOBS[0].message, "qs_strategy 1"));
@@ -470,7 +483,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_strategy2_on_subdomains),
         cmocka_unit_test(test_strategy3_on_subdomains),
-        cmocka_unit_test(test_migration_refused),
+        cmocka_unit_test(test_migration),
         cmocka_unit_test(test_failure_stops_all),
         cmocka_unit_test(test_strategy1_refused),
     };
