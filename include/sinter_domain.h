@@ -141,13 +141,12 @@ typedef struct sinter_domain_ops {
  * (not the staggered one), without periodic axes, continuous insertion, an electric model,
  * implicit conduction or the option sort_interval (SINTER_ERR_UNSUPPORTED names the one, here
  * or at the next step); reduce, exscan, halo and redistribute are required.
- * The quasi-static stepper, given them before its first step, keeps its decomposition fixed:
- * the redistribution at each sinter_stepper_advance or _step call must leave every owned
- * particle where it is (a migration after the first step is refused with
- * SINTER_ERR_UNSUPPORTED on every subdomain), and the ghosts are made once per such call (set
- * a skin, sinter_stepper_set_skin, that covers the pairs coming into contact). Not with
- * qs_strategy 1; on more than one subdomain the rigid motion of link components that no plane
- * holds is not removed and the validity guard is skipped. On one subdomain its results are the
+ * The quasi-static stepper (given them before its first step) redistributes once per
+ * sinter_stepper_advance or _step call, at its start: migration then, links travelling with
+ * their smaller id; the ghosts serve the whole call (set a skin, sinter_stepper_set_skin, that
+ * covers the pairs coming into contact). Not with qs_strategy 1; on more than one subdomain
+ * the rigid motion of link components that no plane holds is not removed and the validity
+ * guard is skipped. On one subdomain its results are the
  * bits of the run without domain operations; on more they equal them to round-off (another
  * PCG: set qs_solve_rtol well below its default 1e-7 to compare).
  * sinter_checkpoint_write refuses such a stepper (SINTER_ERR_UNSUPPORTED) until migration
