@@ -201,3 +201,10 @@ sinter_status sinter_qs_domain_linked(sinter_qs *qs, size_t n, unsigned char *li
         linked[i] = (unsigned char)(i < qs->dom.owned && qs->dom.rows[i] > 0.0);
     return SINTER_OK;
 }
+
+sinter_status sinter_qs_domain_reverse_index(sinter_qs *qs, double *rows, size_t width)
+{
+    if (!qs->dom.on || qs->dom.ghosts == 0)
+        return SINTER_OK;
+    return halo(qs, rows, width, SINTER_HALO_REVERSE);
+}

@@ -42,8 +42,12 @@ sinter_status sinter_qs_domain_reverse(sinter_qs *qs, double *per_slot, size_t w
 sinter_status sinter_qs_domain_solve(sinter_qs *qs, size_t n, const double *f, const double *guess,
                                      double *u, int *iterations);
 
-/* The statistics' sums over every subdomain: link counts and neck sums (in place), the
- * shrinkage's regression sums over the linked owned particles. Collective. */
+/* Marks per index (n: the step's particles) of the particles with a link: the ghosts' marks
+ * go to their owners (a reverse halo), and are cleared. Collective. */
 sinter_status sinter_qs_domain_linked(sinter_qs *qs, size_t n, unsigned char *linked);
+
+/* Rows per index (width doubles each, owned then ghosts): the ghost rows added into their
+ * owners' (a reverse halo), then zero. Nothing without domain operations. Collective. */
+sinter_status sinter_qs_domain_reverse_index(sinter_qs *qs, double *rows, size_t width);
 
 #endif

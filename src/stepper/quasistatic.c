@@ -1032,8 +1032,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     qs->dt_next = next;
     if (taken)
         *taken = h;
-    /* (across subdomains not yet: a particle's necks may lie on several) */
-    return qs->dom.split ? SINTER_OK : sinter_qs_check_validity(qs, p, t + h);
+    return sinter_qs_check_validity(qs, p, t + h); /* (collective with domain operations) */
 }
 
 sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,

@@ -88,6 +88,12 @@ static int failing_advance(sinter_neck_law_batch *b, void *user)
     failing_law *law = user;
     if (++law->calls == law->fail_call && law->rank == law->fail_rank)
         return 1;
+    for (size_t k = 0; k < b->count && law->fail_call < 0; ++k) { /* necks of 0.9 R at once */
+        double *y = b->state + SINTER_NECK_LAW_STATE * k;
+        y[0] = 0.9 * fmin(y[1], y[4]);
+    }
+    if (law->fail_call < 0)
+        return 0;
     for (size_t k = 0; k < b->count; ++k) {
         double *y = b->state + SINTER_NECK_LAW_STATE * k;
         y[0] *= 1.0 + 0.01 * b->dt;
@@ -224,6 +230,11 @@ static void *run(void *arg)
     if (j->fail_call > 0) {
         const sinter_neck_law_callbacks cb = {sizeof(cb), failing_advance, NULL};
         TRY(sinter_stepper_set_neck_law(st, &cb, &law));
+    }
+    if (j->fail_call < 0) { /* the necks that law makes: the validity guard as an error */
+        const sinter_neck_law_callbacks cb = {sizeof(cb), failing_advance, NULL};
+        TRY(sinter_stepper_set_neck_law(st, &cb, &law));
+        TRY(sinter_stepper_set_option(st, "qs_validity", 2.0));
     }
     for (size_t p = 0; p < N; ++p) {
         double x[3], r;
@@ -476,6 +487,27 @@ static void test_failure_stops_all(void **state)
     assert_true(JOBS[0].end_time > 0.0); /* after 6 steps */
 }
 
+/* The validity guard over the subdomains: necks of 0.9 R (a host law) cover more than 0.8 of
+ * the particles' surfaces at the first step; on 3 subdomains every one stops with
+ * SINTER_ERR_DOMAIN and the serial run's message (the same particle, its 6 necks, wherever
+ * they are owned). */
+static void test_validity_guard(void **state)
+{
+    (void)state;
+    char serial[512];
+    run_on_failing(0, 3, -1, &REF, JOBS);
+    assert_int_equal(JOBS[0].setup_failed, 0);
+    assert_int_equal(JOBS[0].status, SINTER_ERR_DOMAIN);
+    assert_non_null(strstr(JOBS[0].message, "the necks impinge: the 6 necks"));
+    snprintf(serial, sizeof(serial), "%s", JOBS[0].message);
+    run_on_failing(3, 3, -1, &DEC, JOBS);
+    for (int r = 0; r < 3; ++r) {
+        assert_int_equal(JOBS[r].setup_failed, 0);
+        assert_int_equal(JOBS[r].status, SINTER_ERR_DOMAIN);
+        assert_string_equal(JOBS[r].message, serial);
+    }
+}
+
 static void test_strategy1_refused(void **state)
 {
     (void)state;
@@ -492,6 +524,7 @@ int main(void)
         cmocka_unit_test(test_strategy3_on_subdomains),
         cmocka_unit_test(test_migration),
         cmocka_unit_test(test_failure_stops_all),
+        cmocka_unit_test(test_validity_guard),
         cmocka_unit_test(test_strategy1_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
