@@ -145,10 +145,10 @@ typedef struct sinter_domain_ops {
  * sinter_stepper_advance or _step call, at its start: migration then, links travelling with
  * their smaller id; the ghosts serve the whole call (set a skin, sinter_stepper_set_skin, that
  * covers the pairs coming into contact). Not with qs_strategy 1; on more than one subdomain
- * the rigid motion of link components that no plane holds is not removed and the validity
- * guard is skipped. On one subdomain its results are the
- * bits of the run without domain operations; on more they equal them to round-off (another
- * PCG: set qs_solve_rtol well below its default 1e-7 to compare).
+ * the rigid motion of link components that no plane holds is not removed. On one subdomain
+ * its results are the bits of the run without domain operations; on more they equal them to
+ * round-off when the solve's target qs_solve_rtol is tight (another PCG: at the default 1e-7
+ * the approaches differ by about 2e-8).
  * sinter_checkpoint_write refuses such a stepper (SINTER_ERR_UNSUPPORTED) until migration
  * brings portable checkpoints.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.

@@ -19,8 +19,8 @@
  * and statistics within 1e-10 relative, or within ten times the serial run's own spread where that
  * is larger. The spread: the serial run with its solve's target at 1e-13 instead of 1e-12, a change
  * of u at round-off level, as the split solve's other sum order and preconditioner make. All runs
- * solve K u = f to 1e-12 |f| (the default 1e-7 would leave displacements differing by about 1e-7
- * between the two preconditioners, which would hide a lost load). With strategy 2 (per-pair RK4,
+ * solve K u = f to 1e-12 |f| (at the default 1e-7 the two preconditioners' approximations
+ * leave the approaches differing by about 2e-8, too much for 1e-10). With strategy 2 (per-pair RK4,
  * the copper_lattice scene's) every difference is below 5e-12; with the default strategy 3 the
  * young necks' CVODE turns the round-off of u into about 1.5e-9 on the necks, in the serial run as
  * in the decomposed ones (the test prints both, and the PCG iterations: about 2.2 times the serial
@@ -30,6 +30,8 @@
  *  - Migration: the runs stop after 20 steps, the slabs move by -2R, and at the next call's
  *    redistribution the column at each border (9, 18, 27 spheres on 2, 3, 4 subdomains)
  *    migrates with the links of its smaller ids; the results equal the serial run's as above.
+ *  - The validity guard (qs_validity 2) with necks of 0.9 R from a host law: 3 subdomains stop
+ *    with the serial run's SINTER_ERR_DOMAIN message (the same particle and its 6 necks).
  *  - qs_strategy 1 is refused.
  */
 #include <math.h>
