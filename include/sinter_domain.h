@@ -7,14 +7,16 @@
  * other subdomains that lie within sinter_stepper_ghost_cutoff of its owned ones. Through a
  * table of callbacks the library asks the host for the collective operations it needs.
  *
- * Contract (explicit and quasi-static steppers, this version):
+ * Contract (explicit, staggered and quasi-static steppers, this version):
  *  - Newton's third law is off across subdomain borders: each subdomain evaluates every pair
  *    with an owned end; the pair is oriented and keyed by the two ids, so both sides hold equal
  *    histories; forces, moments and heat powers on ghosts are discarded. No ghost-ghost pairs,
  *    no ghost wall contacts.
  *  - Every global quantity of a step (wall forces, the rebuild decision, the ghost cut-off and
- *    skin, the stopping of a run, every status) comes from `reduce`; control flow follows
- *    reduced values only, so every subdomain takes the same branch.
+ *    skin, the stopping of a run, every status; the staggered stepper's error norms, Anderson's
+ *    inner products, accept/reject and next step; the averaged electric model's sweep norms)
+ *    comes from `reduce`; control flow follows reduced values only, so every subdomain takes
+ *    the same branch.
  *  - Errors are collective: every subdomain returns the same status at the same step, with the
  *    same message, which names the subdomain that reported it and the particle's id.
  *  - sinter_stepper_advance, _step and _evaluate become collective calls: every subdomain
@@ -129,7 +131,9 @@ typedef struct sinter_domain_ops {
      * owned one. The set's owned particles may be read (not written) here. The records
      * exported here carry each particle's state at the start of the step, so that a step
      * rejected after a migration restores the arrivals too; export every leaver before the
-     * first removal or import (a record exported after the rows moved carries its state now). */
+     * first removal or import (a record exported after the rows moved carries its state now).
+     * Inside a staggered stepper's attempt the removal and the import are refused with
+     * SINTER_ERR_STATE: keep the particles (ghosts are still made) until the next call. */
     int (*redistribute)(sinter_stepper *st, void *user);
     /** Called once when the stepper is destroyed or the table replaced (may be NULL). */
     void (*destroy_user)(void *user);
@@ -137,10 +141,23 @@ typedef struct sinter_domain_ops {
 
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
- * stepper's global quantities go through `ops`. The explicit and the quasi-static steppers
- * (not the staggered one), without periodic axes, continuous insertion, an electric model,
- * implicit conduction or the option sort_interval (SINTER_ERR_UNSUPPORTED names the one, here
- * or at the next step); reduce, exscan, halo and redistribute are required.
+ * stepper's global quantities go through `ops`. The explicit, staggered and quasi-static
+ * steppers, without periodic axes, continuous insertion, an electric model with host
+ * callbacks or the option sort_interval; with the explicit stepper the "network" electric
+ * model and implicit conduction, with the staggered stepper the "averaged" electric model
+ * (SINTER_ERR_UNSUPPORTED names the setting, here or at the next step); reduce, exscan, halo
+ * and redistribute are required. Implicit conduction and the "network" electric model solve
+ * over every subdomain at once: the owned particles are the unknowns, a ghost's value comes
+ * from its owner through a forward halo of width 1 before each operator product (the
+ * network's cluster labels travel as the bits of a double: the halo must copy bits), and dot
+ * products, norms and the stopping test go through reduce, so every subdomain stops at the
+ * same iteration; sinter_electric_model_power then returns the totals. The averaged model's
+ * sweeps are reduced and its currents haloed to the ghosts. The staggered stepper halos the
+ * state before every evaluation of its fixed-point iteration and reduces its norms and
+ * Anderson's inner products; during one of its attempts the host's redistribute callback may
+ * make new ghosts but not migrate: sinter_stepper_export with removal and
+ * sinter_stepper_import return SINTER_ERR_STATE there, and the stepper calls redistribute
+ * again at the next accepted state, where migration is allowed.
  * The quasi-static stepper (given them before its first step) redistributes once per
  * sinter_stepper_advance or _step call, at its start: migration then, links travelling with
  * their smaller id; the ghosts serve the whole call (set a skin, sinter_stepper_set_skin, that

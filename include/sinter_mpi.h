@@ -7,9 +7,12 @@
  *
  * What it holds today: a domain (a duplicated communicator with a decomposition of the global
  * box, sinter_mpi_decomp.h), collective reductions and an exclusive scan with the signatures of
- * the `reduce` and `exscan` entries of libsinter's domain operations (so that they can be
- * installed there as they are, with the domain as `user`), an exact global sum, and load
- * balancing by recursive coordinate bisection.
+ * the `reduce` and `exscan` entries of libsinter's domain operations, an exact global sum, load
+ * balancing by recursive coordinate bisection, sinter_mpi_attach: the domain installed as an
+ * explicit stepper's collective operations (migration, ghosts and halos through MPI's
+ * neighbourhood collectives), with sinter_mpi_distribute for a set filled on one rank and
+ * exchange counters (sinter_mpi_get_exchange_stats), and portable checkpoints through MPI-IO
+ * that restart on another number of ranks.
  *
  * Every function is collective over the domain's communicator unless it says otherwise: every
  * rank calls it with the same non-local arguments (count, type, op, threshold). Argument errors
@@ -132,6 +135,124 @@ typedef struct sinter_mpi_stats {
 
 /** This rank's counters. Not collective. Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE. */
 SINTER_API sinter_status sinter_mpi_get_stats(const sinter_mpi_domain *d, sinter_mpi_stats *stats);
+
+/**
+ * Write a portable checkpoint of a decomposed run into one file through MPI-IO (collective over
+ * `comm`; every rank passes the same path): a header (magic, format version, byte-order
+ * marker, the number of ranks, each rank's piece's offset, size, particle count and FNV-1a
+ * checksum, its own checksum), the global part of rank 0's stepper (sinter_stepper_save_global)
+ * and every rank's record stream of its owned particles (sinter_stepper_export, remove = 0) at
+ * the exclusive prefix sum of the sizes before it (MPI_File_write_at_all). `particles` is the
+ * set the stepper was created over. The stepper is not changed; a file of the same name is
+ * replaced. comm = MPI_COMM_NULL or path = NULL: SINTER_ERR_NULL at once, without communication.
+ * Errors (the same on every rank): SINTER_ERR_NULL, SINTER_ERR_NOMEM, those of
+ * sinter_stepper_save_global and sinter_stepper_export (SINTER_ERR_UNSUPPORTED for the
+ * quasi-static stepper and periodic boundaries), SINTER_ERR_IO (the file).
+ */
+SINTER_API sinter_status sinter_mpi_checkpoint_write(sinter_stepper *stepper,
+                                                     sinter_particles *particles, MPI_Comm comm,
+                                                     const char *path);
+
+/**
+ * Read a checkpoint of sinter_mpi_checkpoint_write on any number of ranks (collective over
+ * `comm`; every rank passes the same path and the same decomposition): each rank's stepper, set
+ * up alike (the same kind, force models, walls and materials) over a set without particles,
+ * receives the global part and the particles whose centres lie in its part of `decomp` (part r
+ * for rank r of comm; a brick or an RCB of sinter_mpi_decomp.h, `parts` = the number of ranks),
+ * with every field, contact history and link, as the writer's ranks held them. The pieces are
+ * read collectively (MPI_File_read_at_all), in contiguous runs of about the same bytes per rank,
+ * then each particle is sent to its part's rank (MPI_Alltoallv). A restart continues as the run
+ * would after a reordering of its particles (its neighbour lists are built afresh).
+ * @param count  receives this rank's particles (may be NULL).
+ * comm = MPI_COMM_NULL or path = NULL: SINTER_ERR_NULL at once, without communication.
+ * Errors, the same on every rank, nothing changed on any: SINTER_ERR_NULL, SINTER_ERR_INVALID
+ * (decomp's parts not the number of ranks; those of sinter_stepper_load_global and
+ * sinter_stepper_import: a stepper not set up alike), SINTER_ERR_STATE (a set holding
+ * particles), SINTER_ERR_CORRUPT (not a checkpoint, another format or byte order, truncated,
+ * a checksum), SINTER_ERR_RANGE (more than 2 GiB of records to send or receive on one rank),
+ * SINTER_ERR_NOMEM, SINTER_ERR_IO (no such file, a read failed).
+ */
+SINTER_API sinter_status sinter_mpi_checkpoint_read(sinter_stepper *stepper,
+                                                    sinter_particles *particles, MPI_Comm comm,
+                                                    const char *path,
+                                                    const sinter_mpi_decomp *decomp, size_t *count);
+
+/* ---- the domain installed as a stepper's collective operations (issue 44) ---------------- */
+
+/** Flags of sinter_mpi_attach. */
+#define SINTER_MPI_ATTACH_BALANCE 1 /**< rebalance at every neighbour-list rebuild (below) */
+
+/**
+ * Install the domain as the collective operations of this rank's explicit stepper
+ * (sinter_stepper_set_domain_ops of sinter_domain.h), over `particles`, the stepper's set:
+ *  - reduce and exscan: sinter_mpi_reduce and sinter_mpi_exscan (the same bits on every rank);
+ *  - redistribute, at every neighbour-list rebuild: each owned particle goes to the rank whose
+ *    part of the decomposition holds its centre (sinter_stepper_export / _import, one
+ *    MPI_Neighbor_alltoallv of record streams; received from the ranks in ascending order),
+ *    then every rank receives as ghosts the owned particles of its neighbours within
+ *    sinter_stepper_ghost_cutoff of the bounding box of its own owned particles (the boxes
+ *    traded by MPI_Neighbor_allgather; one MPI_Neighbor_alltoallv of 144-byte records;
+ *    ghosts in ascending rank order, each rank's in its index order);
+ *  - halo: forward (owners' rows into ghost rows) and reverse (ghost rows added into their
+ *    owners' rows in ascending rank order, then zeroed), one MPI_Neighbor_alltoallv each.
+ * The neighbours are the parts whose boxes (outer faces pushed to infinity: a point outside
+ * the global box belongs to the nearest part) lie within the ghost cut-off of this rank's:
+ * a graph communicator (MPI_Dist_graph_create_adjacent) made anew when the cut-off or the
+ * decomposition changes. A particle that moved farther than a neighbour (a decomposition
+ * replaced, or the first redistribution) goes through MPI_Alltoallv over the domain's
+ * communicator instead. With SINTER_MPI_ATTACH_BALANCE, each rebuild first measures the parts'
+ * loads (one per owned particle) and bisects anew above the options' threshold
+ * (sinter_mpi_balance); without it the decomposition stays as it is, unless the domain was
+ * created as a bisection (options.decomposition = SINTER_MPI_DECOMP_RCB), which balances at
+ * every rebuild as well (its first rebuild bisects the brick it starts as).
+ *
+ * Collective. One stepper per domain at a time; the domain must outlive the stepper (or
+ * sinter_stepper_set_domain_ops(stepper, NULL, NULL) first, which detaches it). Local errors
+ * inside the callbacks are agreed over the ranks before the next exchange, so every rank
+ * returns the same status (SINTER_ERR_CALLBACK from the stepper) and none waits forever.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (flags), SINTER_ERR_STATE (a stepper attached
+ * already), SINTER_ERR_NOMEM, SINTER_ERR_IO, or those of sinter_stepper_set_domain_ops.
+ */
+SINTER_API sinter_status sinter_mpi_attach(sinter_mpi_domain *d, sinter_stepper *stepper,
+                                           sinter_particles *particles, int flags);
+
+/**
+ * Move every owned particle of the attached stepper to the rank whose part holds its centre
+ * (MPI_Alltoallv over the domain's communicator, records imported in ascending rank order):
+ * the initial distribution of a set that rank 0 (or any rank) filled alone. Call after
+ * sinter_mpi_attach and before the first step; a host whose ranks all read the same input can
+ * instead keep the particles sinter_mpi_decomp_owners gives to its rank. Collective.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STATE (nothing attached), SINTER_ERR_NOMEM,
+ * SINTER_ERR_IO, or the export's and import's errors (agreed: the same on every rank).
+ */
+SINTER_API sinter_status sinter_mpi_distribute(sinter_mpi_domain *d);
+
+/** This rank's counters of the exchanges of an attached stepper (cumulative since the attach:
+ * a host takes differences between two steps for per-step figures). */
+typedef struct sinter_mpi_exchange_stats {
+    size_t struct_size;         /**< sizeof(sinter_mpi_exchange_stats) as the caller compiled it */
+    uint64_t halos;             /**< forward and reverse halos */
+    uint64_t redistributions;   /**< redistributions (neighbour-list rebuilds) */
+    uint64_t messages_sent;     /**< non-empty messages this rank sent in them */
+    uint64_t bytes_sent;        /**< bytes this rank sent in them */
+    uint64_t bytes_received;    /**< bytes this rank received in them */
+    uint64_t migrated_out;      /**< particles this rank sent to others */
+    uint64_t migrated_in;       /**< particles this rank received from others */
+    uint64_t global_migrations; /**< migrations through MPI_Alltoallv (not the neighbours) */
+    uint64_t graph_builds;      /**< neighbourhood graphs made */
+    uint64_t ghosts;            /**< ghosts now */
+    uint64_t owned;             /**< owned particles now */
+    int neighbours;             /**< ranks in the neighbourhood now */
+    double imbalance;           /**< the last imbalance measured (largest owned count over the
+                                     mean, at the last redistribution) */
+    double seconds_comm;        /**< wall time in the exchanges (MPI_Wtime), s; the reductions'
+                                     is in sinter_mpi_stats */
+} sinter_mpi_exchange_stats;
+
+/** The attached stepper's exchange counters on this rank. Not collective.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_STATE (nothing attached). */
+SINTER_API sinter_status sinter_mpi_get_exchange_stats(const sinter_mpi_domain *d,
+                                                       sinter_mpi_exchange_stats *stats);
 
 #ifdef __cplusplus
 }

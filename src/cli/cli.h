@@ -8,4 +8,11 @@ void cli_print_log(int level, const char *message, void *user);
 /* sinter pair FILE... [-o DIR] [--quiet] (pair.c). */
 int cli_pair(int argc, char **argv);
 
+#ifdef SINTER_CLI_MPI
+/* The MPI build: 1 when started by mpiexec (run_mpi.c). */
+int cli_mpi_launched(void);
+/* sinter run on the ranks of MPI_COMM_WORLD (run_mpi.c): MPI_Init to MPI_Finalize. */
+int cli_run_mpi(int argc, char **argv);
+#endif
+
 #endif

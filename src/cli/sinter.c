@@ -26,6 +26,9 @@
  * replaces the scene's end time; --stop-at T stops at the first sample at or after the
  * simulated time T (a sample within a relative 1e-12 below T counts as at T: sample times carry
  * their steps' rounding), writing the checkpoint to continue from (exit status 0).
+ * In a build with -DSINTER_MPI=ON, `run` started by mpiexec runs on the ranks instead
+ * (run_mpi.c, over libsinter_mpi; docs/scaleout.md).
+ *
  * SIGINT (Ctrl-C) or SIGTERM ends the current step, writes the checkpoint and the plot and
  * exits with 130 or 143; a second signal ends the program at once.
  */
@@ -116,6 +119,11 @@ static int help(void)
           "         --progress S  progress on stderr at most every S seconds (0: none; default\n"
           "                       1 on a terminal, updated in place, else 5, one line each)\n"
           "         Ctrl-C stops after the current step, with a checkpoint (exit status 130)\n"
+#ifdef SINTER_CLI_MPI
+          "         under mpiexec (this MPI build): on the ranks, writing series.csv,\n"
+          "         frames/*.pvtu over one piece per rank and checkpoint.mpi (--restart it\n"
+          "         on any number of ranks); docs/scaleout.md\n"
+#endif
           "check    read and check a scene without running it\n"
           "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not);\n"
           "         with --panel NAMES (comma-separated column names or their prefixes, one\n"
@@ -396,6 +404,11 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "plot") == 0)
         return plot(argc, argv);
+#ifdef SINTER_CLI_MPI
+    if (strcmp(argv[1], "run") == 0 && cli_mpi_launched()) {
+        return cli_run_mpi(argc, argv);
+    }
+#endif
     if (strcmp(argv[1], "run") == 0)
         return run(argc, argv);
     if (strcmp(argv[1], "check") == 0 && argc == 3)

@@ -22,6 +22,11 @@ struct sinter_pcg {
      * part_threads 2: the second part on a second thread */
     size_t part_a, part_b;
     int part_threads;
+    /* spread over subdomains (sinter_pcg_set_sum): dot products over [0, counted) summed by
+     * sum (NULL: local) */
+    sinter_pcg_sum sum;
+    void *sum_data;
+    size_t counted;
 };
 
 /* The solve under way on this thread: SUNDIALS calls the vector operations below without a
@@ -60,8 +65,8 @@ double sinter_pcg_dot(const double *restrict x, const double *restrict y, size_t
     for (; i + LANES <= n; i += LANES)
         for (int k = 0; k < LANES; ++k)
             lane[k] += x[i + (size_t)k] * y[i + (size_t)k];
-    double sum = ((lane[0] + lane[4]) + (lane[1] + lane[5])) +
-                 ((lane[2] + lane[6]) + (lane[3] + lane[7]));
+    double sum =
+        ((lane[0] + lane[4]) + (lane[1] + lane[5])) + ((lane[2] + lane[6]) + (lane[3] + lane[7]));
     for (; i < n; ++i)
         sum += x[i] * y[i];
     return sum;
@@ -133,6 +138,9 @@ static const sinter_pcg *parted_solve(void)
 
 static realtype dot_op(N_Vector x, N_Vector y)
 {
+    const sinter_pcg *g = active_solve;
+    if (g != NULL && g->sum != NULL)
+        return g->sum(sinter_pcg_dot(NV_DATA_S(x), NV_DATA_S(y), g->counted), g->sum_data);
     const sinter_pcg *p = parted_solve();
     if (p != NULL)
         return parts_run(p, PART_DOT, 0.0, NV_DATA_S(x), 0.0, NV_DATA_S(y), NULL);
@@ -228,6 +236,13 @@ void sinter_pcg_set_parts(sinter_pcg *pcg, size_t a, size_t b, int threads)
     pcg->part_a = valid ? a : 0;
     pcg->part_b = valid ? b : 0;
     pcg->part_threads = valid && threads >= 2 && a > 0 && b > a ? 2 : 1;
+}
+
+void sinter_pcg_set_sum(sinter_pcg *pcg, sinter_pcg_sum sum, void *data, size_t counted)
+{
+    pcg->sum = sum;
+    pcg->sum_data = data;
+    pcg->counted = counted <= pcg->n ? counted : pcg->n;
 }
 
 int sinter_pcg_solve(sinter_pcg *pcg, sinter_pcg_operator apply, sinter_pcg_operator precondition,

@@ -32,6 +32,16 @@ double *sinter_pcg_solution(sinter_pcg *pcg);
 void sinter_pcg_set_parts(sinter_pcg *pcg, size_t a, size_t b, int threads);
 
 /*
+ * A solve spread over subdomains (issue 43, domain/solve.h): every dot product is the local
+ * one over the first `counted` unknowns (the others are copies that another subdomain counts)
+ * passed through `sum`, which returns the total over all subdomains, the same bits on each, so
+ * that every subdomain takes the same steps and stops at the same iteration. Parts
+ * (sinter_pcg_set_parts) are then not used for the dot products. `sum` NULL: a local solve.
+ */
+typedef double (*sinter_pcg_sum)(double local, void *data);
+void sinter_pcg_set_sum(sinter_pcg *pcg, sinter_pcg_sum sum, void *data, size_t counted);
+
+/*
  * Solve A x = b until |b - A x|_2 <= tol, preconditioned by `precondition`.
  * Returns SUNDIALS' code (0: converged); *iterations and *residual (may be NULL) get the
  * iterations taken and the final residual norm.

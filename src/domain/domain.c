@@ -37,6 +37,13 @@ static sinter_status find_rank(sinter_ctx *ctx, sinter_domain *d)
     return SINTER_OK;
 }
 
+sinter_status sinter_domain_rank(sinter_ctx *ctx, sinter_domain *d, long *rank)
+{
+    const sinter_status s = find_rank(ctx, d);
+    *rank = d->rank;
+    return s;
+}
+
 enum { TEXT_WORDS = SINTER_ERROR_TEXT_SIZE / 8 };
 
 sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_status s)
@@ -109,6 +116,33 @@ sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_pa
         ps->temperature[i] = row[12];
     }
     return SINTER_OK;
+}
+
+sinter_status sinter_domain_forward_rows(sinter_ctx *ctx, sinter_domain *d,
+                                         const sinter_particles *ps, double *rows, size_t width)
+{
+    const size_t owned = ps->count - ps->ghost_count;
+    const sinter_halo h = {.struct_size = sizeof(sinter_halo),
+                           .direction = SINTER_HALO_FORWARD,
+                           .width = width,
+                           .data = rows,
+                           .id = ps->id,
+                           .owned = owned,
+                           .ghosts = ps->ghost_count};
+    d->halos++;
+    if (d->ops.halo(&h, d->user) != 0)
+        return sinter_fail(ctx, SINTER_ERR_CALLBACK,
+                           "the host's halo callback failed (forward, width %zu, %zu owned rows, "
+                           "%zu ghost rows)",
+                           width, owned, ps->ghost_count);
+    return SINTER_OK;
+}
+
+sinter_status sinter_domain_sum(sinter_ctx *ctx, sinter_domain *d, double *values, size_t count)
+{
+    if (!d->on)
+        return SINTER_OK;
+    return sinter_domain_reduce(ctx, d, values, count, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
 }
 
 void sinter_domain_discard_ghost_rows(sinter_particles *ps)

@@ -30,6 +30,14 @@ typedef struct sinter_domain {
      * a rollback */
     int redistributing;
     uint64_t layout_at_start; /* the set's layout generation when the callback began */
+    /* the staggered stepper (staggered.c): 1 while a fixed-point attempt is under way, when
+     * migration is refused (sinter_stepper_export with removal, _import), and 1 when a host
+     * was refused so: the stepper redistributes again at the next accepted state */
+    int in_attempt;
+    int migration_deferred;
+    /* 1 during the staggered stepper's redistribution at an accepted state: the records carry
+     * the predictor's history (record bit 2), the arrivals' kept in arrived_id / _rows */
+    int keep_history;
     uint64_t *arrived_id;
     double *arrived_rows;
     size_t arrived_count, arrived_id_capacity, arrived_rows_capacity;
@@ -42,6 +50,9 @@ void sinter_domain_free(sinter_ctx *ctx, sinter_domain *d);
 sinter_status sinter_domain_reduce(sinter_ctx *ctx, sinter_domain *d, void *values, size_t count,
                                    int type, int op);
 
+/* This subdomain's number into *rank (collective the first time: an exscan of 1). */
+sinter_status sinter_domain_rank(sinter_ctx *ctx, sinter_domain *d, long *rank);
+
 /* The collective status: every subdomain passes its own status `s` and receives the same
  * one, the most negative code reported anywhere, with the message of the lowest-numbered
  * subdomain that reported it, prefixed by "subdomain R: ". SINTER_OK costs one reduction. */
@@ -50,6 +61,14 @@ sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_stat
 /* The forward halo of the state (SINTER_HALO_STATE_WIDTH doubles per particle): the owned
  * rows packed, the host fills the ghost rows, which are unpacked into the set. */
 sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_particles *ps);
+
+/* A forward halo of `width` doubles per particle: `rows` holds (owned + ghosts) * width
+ * doubles, the owned rows filled by the caller; the host fills the ghost rows. */
+sinter_status sinter_domain_forward_rows(sinter_ctx *ctx, sinter_domain *d,
+                                         const sinter_particles *ps, double *rows, size_t width);
+
+/* Sum `count` doubles over every subdomain in place (nothing without domain operations). */
+sinter_status sinter_domain_sum(sinter_ctx *ctx, sinter_domain *d, double *values, size_t count);
 
 /* Forces, moments and heat powers on the ghost rows discarded (newton off across borders). */
 void sinter_domain_discard_ghost_rows(sinter_particles *ps);

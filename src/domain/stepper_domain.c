@@ -2,7 +2,9 @@
  * operations installed, the ghost cut-off, and the global results. */
 #include <string.h>
 
+#include "electric/electric.h"
 #include "stepper/stepper.h"
+#include "electric/electric.h"
 #include "walls/walls.h"
 #include "stepper/qs_struct.h"
 
@@ -11,9 +13,7 @@
 sinter_status sinter_domain_check(sinter_stepper *st)
 {
     const char *what = NULL;
-    if (st->kind == SINTER_STEPPER_STAGGERED)
-        what = "the staggered stepper";
-    else if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic_options.strategy == 1)
+    if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic_options.strategy == 1)
         what = "qs_strategy 1 (its whole-step rejections are not agreed yet)";
     else if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic != NULL &&
              st->quasistatic->steps > 0 && !st->quasistatic->dom.on)
@@ -22,10 +22,17 @@ sinter_status sinter_domain_check(sinter_stepper *st)
         what = "periodic axes (sinter_stepper_set_periodic)";
     else if (st->insertion != NULL)
         what = "continuous insertion (its ids are chosen per set)";
-    else if (st->electric != NULL)
-        what = "an electric model (its network solve is global)";
-    else if (st->thermal.count > 0 && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
-        what = "implicit conduction (its solve is global)";
+    else if (st->electric != NULL && st->electric->host.struct_size != 0)
+        what = "an electric model with host callbacks";
+    else if (st->electric != NULL && st->kind == SINTER_STEPPER_STAGGERED &&
+             st->electric->kind != SINTER_ELECTRIC_AVERAGED)
+        what = "the electric network model with the staggered stepper";
+    else if (st->electric != NULL && st->kind != SINTER_STEPPER_STAGGERED &&
+             st->electric->kind != SINTER_ELECTRIC_NETWORK)
+        what = "the averaged electric model with the explicit stepper";
+    else if (st->kind == SINTER_STEPPER_STAGGERED && st->thermal.count > 0 &&
+             st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
+        what = "implicit conduction with the staggered stepper";
     else if (st->sort_interval > 0)
         what = "the option sort_interval (a sort drops the ghosts)";
     if (what == NULL)

@@ -24,10 +24,23 @@
  *
  * This is a magnitude smoothing, not Kirchhoff's law: a branch does not split the current and
  * the total current is not conserved (see network.c for that).
+ *
+ * On one subdomain of a decomposed run (em->averaged_domain, domain/domain.h) the unknowns are
+ * the owned particles; a ghost's current is its owner's, brought by a forward halo. The
+ * search for connected particles goes on in rounds: the reached marks of the owners go to
+ * their ghosts (a halo), the search goes on from the ghosts newly reached, until a round
+ * reaches no owned particle anywhere (a reduction). A sweep is Gauss-Seidel within the
+ * subdomain and Jacobi across its border: it sweeps the owned particles in index order with
+ * the ghosts' currents of the last halo, then the change and the norm are summed over every
+ * subdomain and the ghosts take the new currents. The fixed point is eq. 42's, the same as on
+ * one domain; the iterates differ, by less than the tolerance. Every decision comes from the
+ * reduced values, so every subdomain sweeps as often. On one subdomain the sweep is the
+ * whole body's, the same bits.
  */
 #include <math.h>
 #include <string.h>
 
+#include "domain/domain.h"
 #include "electric.h"
 
 enum { UNREACHED = 0, ELECTRIFIED = 1, FREE = 2 };
@@ -61,6 +74,66 @@ static sinter_status build_adjacency(sinter_electric_model *em, size_t n,
     return SINTER_OK;
 }
 
+/* The owners' values of `v` (one per particle) into their ghosts (a forward halo). */
+static sinter_status to_ghosts(sinter_electric_model *em, const sinter_particles *ps, double *v)
+{
+    const size_t n = ps->count, owned = n - ps->ghost_count;
+    double *rows = em->averaged_rows;
+    if (owned > 0)
+        memcpy(rows, v, owned * sizeof(double));
+    const sinter_status s = sinter_domain_forward_rows(em->ctx, em->averaged_domain, ps, rows, 1);
+    if (s == SINTER_OK && n > owned)
+        memcpy(v + owned, rows + owned, (n - owned) * sizeof(double));
+    return s;
+}
+
+/* The search for particles connected to an electrified one, across subdomains (see the top of
+ * the file): rounds of a halo of the marks and the search from the ghosts they reached, until
+ * one reaches no owned particle anywhere. `tail` is the queue's length after the local search. */
+static sinter_status search_across(sinter_electric_model *em, sinter_particles *ps, size_t tail)
+{
+    const size_t n = ps->count, owned = n - ps->ghost_count;
+    unsigned char *state = em->state;
+    double *mark = em->wall_sum; /* (scratch: the wall sums are read) */
+    const uint32_t *start = em->adj_start, *other = em->adj_other;
+    for (;;) {
+        for (size_t i = 0; i < owned; ++i)
+            mark[i] = (double)state[i];
+        sinter_status s = to_ghosts(em, ps, mark);
+        if (s != SINTER_OK)
+            return s;
+        size_t head = tail;
+        for (size_t g = owned; g < n; ++g) {
+            const unsigned char remote = (unsigned char)mark[g];
+            ps->flags[g] &= ~(uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+            if (remote == ELECTRIFIED)
+                ps->flags[g] |= (uint32_t)SINTER_PARTICLE_ELECTRIFIED;
+            if (remote != UNREACHED && state[g] == UNREACHED)
+                em->queue[tail++] = (uint32_t)g;
+            state[g] = remote;
+        }
+        double reached = 0.0; /* owned particles reached in this round */
+        while (head < tail) {
+            const uint32_t i = em->queue[head++];
+            for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
+                const uint32_t j = other[e];
+                if (state[j] != UNREACHED)
+                    continue;
+                state[j] = FREE;
+                if (!isfinite(ps->current[j]))
+                    ps->current[j] = 0.0;
+                em->queue[tail++] = j;
+                reached += (double)(j < owned);
+            }
+        }
+        if ((s = sinter_domain_sum(em->ctx, em->averaged_domain, &reached, 1)) != SINTER_OK)
+            return s;
+        if (reached == 0.0)
+            return SINTER_OK;
+        tail = 0; /* (the queue only grows within a round) */
+    }
+}
+
 sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_particles *ps,
                                              const sinter_walls *walls,
                                              const sinter_contact_list *pp,
@@ -80,6 +153,13 @@ sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_p
     SINTER_ELECTRIC_RESERVE(em, wall_area, n + 1);
     SINTER_ELECTRIC_RESERVE(em, state, n + 1);
     SINTER_ELECTRIC_RESERVE(em, queue, n + 1);
+    sinter_domain *dom = em->averaged_domain;
+    const size_t owned = dom != NULL ? n - ps->ghost_count : n;
+    if (dom != NULL) /* (the search across borders: up to n after the local search) */
+    {
+        SINTER_ELECTRIC_RESERVE(em, averaged_rows, n + 1);
+        SINTER_ELECTRIC_RESERVE(em, queue, 2 * n + 1);
+    }
     sinter_status s = build_adjacency(em, n, pp);
     if (s != SINTER_OK)
         return s;
@@ -125,9 +205,21 @@ sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_p
             free_count++;
         }
     }
-    for (size_t i = 0; i < n; ++i)
+    if (dom != NULL) { /* across the subdomains' borders; the free particles counted again */
+        if ((s = search_across(em, ps, tail)) != SINTER_OK)
+            return s;
+        double count = 0.0;
+        for (size_t i = 0; i < owned; ++i)
+            count += state[i] == FREE;
+        if ((s = sinter_domain_sum(em->ctx, dom, &count, 1)) != SINTER_OK)
+            return s;
+        free_count = (size_t)count;
+    }
+    for (size_t i = 0; i < owned; ++i)
         if (state[i] == UNREACHED)
             J[i] = 0.0;
+    if (dom != NULL && (s = to_ghosts(em, ps, J)) != SINTER_OK) /* the ghosts' start */
+        return s;
     if (free_count == 0)
         return SINTER_OK; /* every connected particle is electrified: nothing to iterate */
 
@@ -137,7 +229,7 @@ sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_p
     for (size_t sweep = 1; sweep <= max_sweeps; ++sweep) {
         change = 0.0;
         norm = 0.0;
-        for (size_t i = 0; i < n; ++i) {
+        for (size_t i = 0; i < owned; ++i) {
             if (state[i] == UNREACHED)
                 continue;
             if (state[i] == FREE) {
@@ -151,6 +243,14 @@ sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_p
                 J[i] = next;
             }
             norm += fabs(J[i]);
+        }
+        if (dom != NULL) { /* over every subdomain; the ghosts take the new currents */
+            double v[2] = {change, norm};
+            if ((s = sinter_domain_sum(em->ctx, dom, v, 2)) != SINTER_OK ||
+                (s = to_ghosts(em, ps, J)) != SINTER_OK)
+                return s;
+            change = v[0];
+            norm = v[1];
         }
         em->last_iterations = sweep;
         if (change <= em->tolerance * norm)

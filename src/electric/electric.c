@@ -73,6 +73,11 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->sigma_table);
     sinter_pcg_free(em->pcg);
     sinter_free(ctx, em->potential);
+    sinter_free(ctx, em->label);
+    sinter_free(ctx, em->wall_words);
+    sinter_free(ctx, em->wall_sums);
+    em->across.ctx = ctx;
+    sinter_domain_solve_free(&em->across);
     sinter_free(ctx, em->adj_start);
     sinter_free(ctx, em->adj_other);
     sinter_free(ctx, em->adj_area);
@@ -80,6 +85,7 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->wall_area);
     sinter_free(ctx, em->queue);
     sinter_free(ctx, em->state);
+    sinter_free(ctx, em->averaged_rows);
     sinter_free(ctx, em->edge_a);
     sinter_free(ctx, em->edge_b);
     sinter_free(ctx, em->edge_g);
@@ -229,12 +235,20 @@ sinter_status sinter_electric_solve_images(sinter_electric_model *em, sinter_par
                            "electric model '%s': %zu particles and %zu walls exceed the 32-bit "
                            "node index",
                            em->name, ps->count, nw);
-    if (ps->ghost_count > 0 && (ghost_owner == NULL || em->kind != SINTER_ELECTRIC_NETWORK))
+    if (em->domain != NULL && (em->kind != SINTER_ELECTRIC_NETWORK || em->host.struct_size != 0))
+        return sinter_fail(em->ctx, SINTER_ERR_UNSUPPORTED,
+                           "electric model '%s': across subdomains only the 'network' model "
+                           "without host callbacks",
+                           em->name);
+    const int subdomain = em->domain != NULL ||
+                          (em->averaged_domain != NULL && em->kind == SINTER_ELECTRIC_AVERAGED);
+    if (ps->ghost_count > 0 && !subdomain &&
+        (ghost_owner == NULL || em->kind != SINTER_ELECTRIC_NETWORK))
         return sinter_fail(em->ctx, SINTER_ERR_UNSUPPORTED,
                            "electric model '%s': %zu periodic images need the 'network' model "
                            "and their owners",
                            em->name, ps->ghost_count);
-    em->ghost_owner = ps->ghost_count > 0 ? ghost_owner : NULL;
+    em->ghost_owner = ps->ghost_count > 0 && em->domain == NULL ? ghost_owner : NULL;
     em->last_iterations = 0;
     em->node_count = 0;
     em->open_clusters = 0;

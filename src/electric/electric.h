@@ -18,6 +18,7 @@
 
 #include "sinter_submodel.h"
 #include "contact/contacts.h"
+#include "domain/solve.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
 
@@ -87,6 +88,11 @@ struct sinter_electric_model {
     size_t queue_capacity;
     unsigned char *state; /* averaged: per particle; network: per node */
     size_t state_capacity;
+    /* averaged, on one subdomain of a decomposed run (domain/domain.h; NULL: the whole body):
+     * the host's collective operations, and a row per particle for their halos */
+    struct sinter_domain *averaged_domain;
+    double *averaged_rows;
+    size_t averaged_rows_capacity;
     uint32_t *edge_a, *edge_b; /* network: conducting edges between nodes */
     double *edge_g;            /* network: their conductances [S] */
     size_t edge_a_capacity, edge_b_capacity, edge_g_capacity;
@@ -106,6 +112,20 @@ struct sinter_electric_model {
     size_t edge_count;
     struct sinter_pcg *pcg; /* network model: the PCG solver (core/pcg.h) */
     size_t pcg_nodes;       /* unknowns of the solve under way */
+    /* network across subdomains (network_domain.c; NULL: one domain): the host's operations
+     * for the solve under way (set by the stepper), the ghosts' values and reductions, the
+     * clusters' global labels per node, and the walls' reduced words */
+    sinter_domain *domain;
+    sinter_domain_solve across;
+    uint64_t *label;
+    size_t label_capacity;
+    uint64_t *wall_words;
+    size_t wall_words_capacity;
+    double *wall_sums; /* per wall, summed over the subdomains */
+    size_t wall_sums_capacity;
+    long rank;                         /* this subdomain's number in the solve under way */
+    size_t across_owned, across_nodes; /* its owned particles and nodes (+ walls) */
+    int across_walls_free;             /* a current wall's potential is an unknown */
 };
 
 /*
@@ -132,6 +152,43 @@ sinter_status sinter_electric_solve_images(sinter_electric_model *em, sinter_par
  * images: their owners have it), or NULL when the model is not a network or its last solve
  * was not over n particles. */
 const double *sinter_electric_dissipation(const sinter_electric_model *em, size_t n);
+
+/* The network's per-node state bits (a cluster's bits live on its union-find root). */
+enum {
+    NODE_FREE = 1,
+    CLUSTER_GROUND = 2,
+    CLUSTER_CURRENT = 4,
+    CLUSTER_PARTICLE = 8,
+    CLUSTER_SOLVED = 16,
+    CLUSTER_UNLIMITED = 32 /* holds a current wall without a compliance limit */
+};
+
+/* The network's union-find over nodes: the root of p (path halving), and a union in which the
+ * smaller index becomes the root. */
+static inline uint32_t sinter_network_root(uint32_t *parent, uint32_t p)
+{
+    while (parent[p] != p) {
+        parent[p] = parent[parent[p]]; /* path halving */
+        p = parent[p];
+    }
+    return p;
+}
+
+static inline void sinter_network_unite(uint32_t *parent, uint32_t a, uint32_t b)
+{
+    a = sinter_network_root(parent, a);
+    b = sinter_network_root(parent, b);
+    if (a != b)
+        parent[a > b ? a : b] = a < b ? a : b;
+}
+
+/*
+ * The network across subdomains (network_domain.c), with em->domain set: clusters found over
+ * every subdomain (em->state of the nodes [0, owned + walls + ghosts)), and the wall nodes'
+ * rows of an operator product summed over the subdomains.
+ */
+sinter_status sinter_network_classify_across(sinter_electric_model *em, const sinter_walls *walls,
+                                             const sinter_particles *ps, size_t nw);
 
 /* The two models (averaged.c, network.c); arguments are checked by sinter_electric_solve. */
 sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_particles *ps,

@@ -56,16 +56,6 @@
 #include "core/pcg.h"
 #include "electric.h"
 
-/* Per-node state bits (a cluster's bits live on its union-find root). */
-enum {
-    NODE_FREE = 1,
-    CLUSTER_GROUND = 2,
-    CLUSTER_CURRENT = 4,
-    CLUSTER_PARTICLE = 8,
-    CLUSTER_SOLVED = 16,
-    CLUSTER_UNLIMITED = 32 /* holds a current wall without a compliance limit */
-};
-
 static const uint32_t NO_NODE = UINT32_MAX;
 
 /* The owned particles of ps: the particle nodes (the rows after them are images). */
@@ -96,6 +86,42 @@ static void apply_operator(const double *vv, double *zz, void *data)
     }
 }
 
+/*
+ * The product across subdomains (domain/solve.h): the ghosts' values through the forward
+ * halo; a free current wall's row summed over the subdomains (the diagonal term on the first
+ * only, which on one subdomain makes the operations those of apply_operator).
+ */
+static void apply_operator_across(const double *vv, double *zz, void *data)
+{
+    sinter_electric_model *em = data;
+    const size_t n = em->across_owned, nodes = em->across_nodes, nw = nodes - n;
+    sinter_domain_solve_forward(&em->across, vv);
+    const double *ghost = em->across.rows; /* node nodes + k is row n + k */
+    const uint32_t *fa = em->free_a, *fb = em->free_b;
+    const double *fg = em->free_g;
+    for (size_t p = 0; p < em->pcg_nodes; ++p)
+        zz[p] = p >= n && p < nodes && (em->state[p] & NODE_FREE) && em->rank != 0
+                    ? 0.0
+                    : em->diag[p] * vv[p];
+    for (size_t e = 0; e < em->free_edges; ++e) {
+        const uint32_t a = fa[e], b = fb[e];
+        zz[a] -= fg[e] * (b < nodes ? vv[b] : ghost[b - nw]);
+        if (b < nodes)
+            zz[b] -= fg[e] * vv[a];
+    }
+    if (!em->across_walls_free)
+        return;
+    double *sum = em->wall_sums;
+    for (size_t w = 0; w < nw; ++w)
+        sum[w] = em->state[n + w] & NODE_FREE ? zz[n + w] : 0.0;
+    if (!em->across.failed && sinter_domain_reduce(em->ctx, em->domain, sum, nw, SINTER_REDUCE_F64,
+                                                   SINTER_REDUCE_SUM) != SINTER_OK)
+        em->across.failed = 1;
+    for (size_t w = 0; w < nw; ++w)
+        if (em->state[n + w] & NODE_FREE)
+            zz[n + w] = sum[w];
+}
+
 /* Jacobi preconditioner: z = r / diag. */
 static void precondition(const double *rr, double *zz, void *data)
 {
@@ -106,19 +132,12 @@ static void precondition(const double *rr, double *zz, void *data)
 
 static uint32_t find_root(uint32_t *parent, uint32_t p)
 {
-    while (parent[p] != p) {
-        parent[p] = parent[parent[p]]; /* path halving */
-        p = parent[p];
-    }
-    return p;
+    return sinter_network_root(parent, p);
 }
 
 static void unite(uint32_t *parent, uint32_t a, uint32_t b)
 {
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a != b)
-        parent[a > b ? a : b] = a < b ? a : b; /* the smaller index becomes the root */
+    sinter_network_unite(parent, a, b);
 }
 
 /*
@@ -226,12 +245,20 @@ static sinter_status host_edges(sinter_electric_model *em, sinter_particles *ps,
     return SINTER_OK;
 }
 
+/* Across subdomains (em->domain): the node of particle row j, owned or the ghost row n + k,
+ * whose node is n + nw + k (after the walls; its potential comes through the halo). */
+static inline uint32_t far_node(size_t n, size_t nw, uint32_t j)
+{
+    return j < n ? j : (uint32_t)(j + nw);
+}
+
 /* Conducting edges of the contact lists (G > 0), and the ELECTRIFIED flags. */
 static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps,
                                  const sinter_walls *walls, const sinter_contact_list *pp,
                                  const sinter_contact_list *pw)
 {
     const size_t n = owned_count(ps), m = pp->count + pw->count;
+    const size_t nw = walls != NULL ? walls->count : 0;
     SINTER_ELECTRIC_RESERVE(em, edge_a, m + 1);
     SINTER_ELECTRIC_RESERVE(em, edge_b, m + 1);
     SINTER_ELECTRIC_RESERVE(em, edge_g, m + 1);
@@ -253,7 +280,11 @@ static sinter_status build_edges(sinter_electric_model *em, sinter_particles *ps
                              : 0.0;
         if (g > 0.0 && isfinite(g)) {
             em->edge_a[count] = i; /* (the smaller id's end: owned) */
-            em->edge_b[count] = node_of(em, n, j);
+            em->edge_b[count] = em->domain == NULL ? node_of(em, n, j) : far_node(n, nw, j);
+            if (em->domain != NULL && i >= n) { /* a ghost's pair: its owned end first */
+                em->edge_a[count] = j;
+                em->edge_b[count] = far_node(n, nw, i);
+            }
             em->edge_contact[count] = (uint32_t)k;
             em->edge_g[count++] = g;
         }
@@ -353,13 +384,17 @@ static sinter_status account_power(sinter_electric_model *em, sinter_particles *
     const double *phi = em->potential;
     double *p = em->dissipation, dissipated = 0.0, supplied = 0.0;
     memset(p, 0, ps->count * sizeof(double)); /* (images: 0, their owners have it) */
+    const size_t nodes = n + (walls != NULL ? walls->count : 0);
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t a = em->edge_a[e], b = em->edge_b[e];
         const double drop = phi[a] - phi[b], power = em->edge_g[e] * drop * drop;
-        dissipated += power;
+        /* (a pair with a ghost of another subdomain: half here, half on its owner's side) */
+        dissipated += b < nodes ? power : 0.5 * power;
         if (b < n) {
             p[a] += 0.5 * power;
             p[b] += 0.5 * power;
+        } else if (b >= nodes) {
+            p[a] += 0.5 * power;
         } else {
             p[a] += power;
             supplied += phi[b] * em->edge_g[e] * (phi[b] - phi[a]);
@@ -368,7 +403,14 @@ static sinter_status account_power(sinter_electric_model *em, sinter_particles *
     em->dissipation_count = ps->count;
     em->dissipated_power = dissipated;
     em->supplied_power = supplied;
-    return SINTER_OK;
+    if (em->domain == NULL)
+        return SINTER_OK;
+    double total[2] = {supplied, dissipated}; /* over every subdomain */
+    const sinter_status s =
+        sinter_domain_reduce(em->ctx, em->domain, total, 2, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    em->supplied_power = total[0];
+    em->dissipated_power = total[1];
+    return s;
 }
 
 /* Clusters, their boundary conditions, and which nodes are free (state bits). */
@@ -431,30 +473,64 @@ static void classify_nodes(sinter_electric_model *em, const sinter_walls *walls,
     }
 }
 
+/* Across subdomains: the diagonal of each free current wall summed over the subdomains (each
+ * holds its particles' edges to it), and whether there is such a wall. */
+static sinter_status sum_free_walls(sinter_electric_model *em, size_t n, size_t nw)
+{
+    SINTER_ELECTRIC_RESERVE(em, wall_sums, nw + 1);
+    em->across_walls_free = 0;
+    for (size_t w = 0; w < nw; ++w) {
+        const int free = (em->state[n + w] & NODE_FREE) != 0;
+        em->wall_sums[w] = free ? em->diag[n + w] : 0.0;
+        em->across_walls_free |= free; /* (the same on every subdomain: the clusters are) */
+    }
+    if (!em->across_walls_free)
+        return SINTER_OK;
+    const sinter_status s = sinter_domain_reduce(em->ctx, em->domain, em->wall_sums, nw,
+                                                 SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    for (size_t w = 0; w < nw && s == SINTER_OK; ++w)
+        if (em->state[n + w] & NODE_FREE)
+            em->diag[n + w] = em->wall_sums[w];
+    return s;
+}
+
 /* One solve with the walls' effective modes and values (em->wall_mode, em->wall_value). */
 static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
                                 const sinter_walls *walls, const sinter_contact_list *pp,
                                 const sinter_contact_list *pw)
 {
     const size_t n = owned_count(ps), nw = walls != NULL ? walls->count : 0, nodes = n + nw;
+    sinter_domain *dom = em->domain; /* across subdomains: ghosts after the walls */
+    const size_t all = dom != NULL ? nodes + ps->ghost_count : nodes;
+    if (dom != NULL)
+        em->across =
+            (sinter_domain_solve){em->ctx, dom, ps, em->across.rows, em->across.rows_capacity, 0};
     em->open_clusters = 0;
-    SINTER_ELECTRIC_RESERVE(em, parent, nodes + 1);
-    SINTER_ELECTRIC_RESERVE(em, state, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, parent, all + 1);
+    SINTER_ELECTRIC_RESERVE(em, state, all + 1);
     SINTER_ELECTRIC_RESERVE(em, net, nodes + 1);
     SINTER_ELECTRIC_RESERVE(em, scale, nodes + 1);
-    SINTER_ELECTRIC_RESERVE(em, pin, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, pin, all + 1);
     SINTER_ELECTRIC_RESERVE(em, diag, nodes + 1);
-    SINTER_ELECTRIC_RESERVE(em, potential, nodes + 1);
+    SINTER_ELECTRIC_RESERVE(em, potential, all + 1);
     /* the last solve's potentials start this one if it had as many nodes (then cleared: an
-     * error below leaves the next solve a start from 0) */
-    const int warm = em->warm_nodes == nodes;
+     * error below leaves the next solve a start from 0); across subdomains only if every
+     * subdomain's do (the wall nodes, copies on each, must start equal) */
+    int64_t warm = em->warm_nodes == nodes;
     em->warm_nodes = 0;
     em->dissipation_count = 0;
     em->supplied_power = em->dissipated_power = 0.0;
-    sinter_status s = build_edges(em, ps, walls, pp, pw);
+    sinter_status s = SINTER_OK;
+    if (dom != NULL)
+        s = sinter_domain_reduce(em->ctx, dom, &warm, 1, SINTER_REDUCE_I64, SINTER_REDUCE_MIN);
+    if (s == SINTER_OK)
+        s = build_edges(em, ps, walls, pp, pw);
+    if (dom != NULL && (s = sinter_domain_agree(em->ctx, dom, s)) == SINTER_OK)
+        s = sinter_network_classify_across(em, walls, ps, nw);
     if (s != SINTER_OK)
         return s;
-    classify_nodes(em, walls, n, nw);
+    if (dom == NULL)
+        classify_nodes(em, walls, n, nw);
 
     /* Right-hand side, diagonal and start: pinned rows are identities at their value. */
     double *phi = em->potential, *diag = em->diag, *rhs = em->net; /* net is no longer needed */
@@ -474,6 +550,8 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
             rhs[p] = phi[p];
         }
     }
+    for (size_t p = nodes; p < all; ++p)
+        phi[p] = 0.0; /* the ghosts' potentials: from their owners after the solve */
     for (size_t e = 0; e < em->edge_count; ++e) {
         const uint32_t a = em->edge_a[e], b = em->edge_b[e];
         const double g = em->edge_g[e];
@@ -482,16 +560,33 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
             if (!(state[b] & NODE_FREE))
                 rhs[a] += g * phi[b];
         }
-        if (state[b] & NODE_FREE) {
+        if (b < nodes && (state[b] & NODE_FREE)) { /* (a ghost's row is its owner's) */
             diag[b] += g;
             if (!(state[a] & NODE_FREE))
                 rhs[b] += g * phi[a];
         }
     }
     double bnorm = 0.0;
-    for (size_t p = 0; p < nodes; ++p)
-        if (state[p] & NODE_FREE)
-            bnorm += rhs[p] * rhs[p];
+    uint64_t free_total = free_count;
+    if (dom != NULL) {
+        if ((s = sinter_domain_rank(em->ctx, dom, &em->rank)) != SINTER_OK ||
+            (s = sum_free_walls(em, n, nw)) != SINTER_OK)
+            return s;
+        /* the wall nodes are copies on every subdomain: counted by the first */
+        const size_t counted = em->rank == 0 ? nodes : n;
+        for (size_t p = 0; p < counted; ++p)
+            if (state[p] & NODE_FREE)
+                bnorm += rhs[p] * rhs[p];
+        if ((s = sinter_domain_reduce(em->ctx, dom, &bnorm, 1, SINTER_REDUCE_F64,
+                                      SINTER_REDUCE_SUM)) != SINTER_OK ||
+            (s = sinter_domain_reduce(em->ctx, dom, &free_total, 1, SINTER_REDUCE_U64,
+                                      SINTER_REDUCE_SUM)) != SINTER_OK)
+            return s;
+    } else {
+        for (size_t p = 0; p < nodes; ++p)
+            if (state[p] & NODE_FREE)
+                bnorm += rhs[p] * rhs[p];
+    }
     bnorm = sqrt(bnorm);
 
     /* A zero right-hand side on an SPD system has the solution 0. */
@@ -499,7 +594,7 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
         for (size_t p = 0; p < nodes; ++p)
             if (state[p] & NODE_FREE)
                 phi[p] = 0.0;
-    if (free_count > 0 && bnorm > 0.0) {
+    if (free_total > 0 && bnorm > 0.0) {
         SINTER_ELECTRIC_RESERVE(em, free_a, em->edge_count + 1);
         SINTER_ELECTRIC_RESERVE(em, free_b, em->edge_count + 1);
         SINTER_ELECTRIC_RESERVE(em, free_g, em->edge_count + 1);
@@ -514,18 +609,36 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
         }
         em->free_edges = kept;
         const int maxl = (int)fmin(em->max_iterations, 2147483647.0);
-        s = sinter_pcg_reserve(em->ctx, &em->pcg, nodes, maxl);
+        /* (an empty subdomain without walls solves 1 x = 0 as its part) */
+        const size_t unknowns = nodes > 0 || dom == NULL ? nodes : 1;
+        s = sinter_pcg_reserve(em->ctx, &em->pcg, unknowns, maxl);
+        if (dom != NULL)
+            s = sinter_domain_agree(em->ctx, dom, s);
         if (s != SINTER_OK)
             return s;
-        em->pcg_nodes = nodes;
-        memcpy(sinter_pcg_solution(em->pcg), phi, nodes * sizeof(double));
-        memcpy(sinter_pcg_rhs(em->pcg), rhs, nodes * sizeof(double));
+        if (unknowns > nodes) {
+            diag[0] = 1.0;
+            phi[0] = rhs[0] = 0.0;
+        }
+        em->pcg_nodes = unknowns;
+        memcpy(sinter_pcg_solution(em->pcg), phi, unknowns * sizeof(double));
+        memcpy(sinter_pcg_rhs(em->pcg), rhs, unknowns * sizeof(double));
         int iterations = 0;
         double res = 0.0;
-        const int rc = sinter_pcg_solve(em->pcg, apply_operator, precondition, em,
-                                        em->tolerance * bnorm, &iterations, &res);
+        if (dom != NULL) {
+            em->across_owned = n;
+            em->across_nodes = nodes;
+            sinter_pcg_set_sum(em->pcg, sinter_domain_solve_sum, &em->across,
+                               em->rank == 0 ? nodes : n);
+        }
+        const int rc =
+            sinter_pcg_solve(em->pcg, dom != NULL ? apply_operator_across : apply_operator,
+                             precondition, em, em->tolerance * bnorm, &iterations, &res);
+        sinter_pcg_set_sum(em->pcg, NULL, NULL, 0);
         em->last_iterations = (size_t)iterations;
         memcpy(phi, sinter_pcg_solution(em->pcg), nodes * sizeof(double));
+        if (dom != NULL && em->across.failed)
+            return sinter_last_status(em->ctx);
         if (rc != 0)
             return sinter_fail(em->ctx, SINTER_ERR_NOT_CONVERGED,
                                "electric model 'network': PCG returned %d after %zu iterations "
@@ -535,6 +648,13 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
     }
     em->node_count = nodes;
     em->warm_nodes = nodes;
+    if (dom != NULL) { /* the ghosts' potentials, from their owners */
+        sinter_domain_solve_forward(&em->across, phi);
+        if (em->across.failed)
+            return sinter_last_status(em->ctx);
+        if (ps->ghost_count > 0)
+            memcpy(phi + nodes, em->across.rows + n, ps->ghost_count * sizeof(double));
+    }
 
     /* Contact currents I = G (phi_a - phi_b); a particle carries half the sum of |I|. */
     double *J = ps->current;
@@ -547,8 +667,33 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
             J[b] += half;
     }
     for (size_t k = 0; k < ps->ghost_count; ++k) /* an image carries its owner's current */
-        J[n + k] = J[em->ghost_owner[k]];
+        J[n + k] = dom == NULL ? J[em->ghost_owner[k]] : 0.0; /* (a ghost's: its owner's side) */
     return account_power(em, ps, walls, pp, pw);
+}
+
+/* Across subdomains: the current from each wall into the powder, summed over the
+ * subdomains, into em->wall_sums (collective when a wall has a limit). 0 on a failure. */
+static int wall_currents_across(sinter_electric_model *em, const sinter_walls *walls, size_t n)
+{
+    int limited = 0;
+    for (size_t w = 0; w < walls->count; ++w)
+        limited |= walls->wall[w].electric_limit > 0.0;
+    if (!limited)
+        return 1;
+    const double *phi = em->potential;
+    double *sums = sinter_electric_reserve(em->ctx, em->wall_sums, &em->wall_sums_capacity,
+                                           walls->count + 1, sizeof(double));
+    if (sums == NULL)
+        return 0;
+    em->wall_sums = sums;
+    for (size_t w = 0; w < walls->count; ++w) {
+        em->wall_sums[w] = 0.0;
+        for (size_t e = 0; e < em->edge_count; ++e)
+            if (em->edge_b[e] == n + w)
+                em->wall_sums[w] += em->edge_g[e] * (phi[n + w] - phi[em->edge_a[e]]);
+    }
+    return sinter_domain_reduce(em->ctx, em->domain, em->wall_sums, walls->count, SINTER_REDUCE_F64,
+                                SINTER_REDUCE_SUM) == SINTER_OK;
 }
 
 /*
@@ -560,6 +705,8 @@ static int apply_limits(sinter_electric_model *em, const sinter_walls *walls, si
 {
     const double *phi = em->potential;
     int changed = 0;
+    if (em->domain != NULL && !wall_currents_across(em, walls, n))
+        return 0; /* (a failed reduction: reported by the caller) */
     for (size_t w = 0; w < walls->count; ++w) {
         const double limit = walls->wall[w].electric_limit;
         if (!(limit > 0.0) || em->wall_mode[w] != walls->wall[w].electric_mode)
@@ -570,9 +717,11 @@ static int apply_limits(sinter_electric_model *em, const sinter_walls *walls, si
             changed = 1;
         } else if (em->wall_mode[w] == SINTER_WALL_POTENTIAL) {
             double current = 0.0; /* from the wall into the powder */
-            for (size_t e = 0; e < em->edge_count; ++e)
+            for (size_t e = 0; e < em->edge_count && em->domain == NULL; ++e)
                 if (em->edge_b[e] == n + w)
                     current += em->edge_g[e] * (phi[n + w] - phi[em->edge_a[e]]);
+            if (em->domain != NULL) /* (over every subdomain) */
+                current = em->wall_sums[w];
             if (fabs(current) > limit) {
                 em->wall_mode[w] = SINTER_WALL_CURRENT;
                 em->wall_value[w] = copysign(limit, current);

@@ -1,6 +1,8 @@
 /* An MPI domain: a duplicated communicator and its decomposition (libsinter_mpi, issue 44). */
 #include "mpi/domain.h"
 
+#include "mpi/attach.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,6 +74,8 @@ void sinter_mpi_domain_destroy(sinter_mpi_domain *d)
 {
     if (d == NULL)
         return;
+    if (d->attached != NULL) /* its stepper outlives it: its callbacks fail from now on */
+        d->attached->d = NULL;
     sinter_mpi_decomp_destroy(d->decomp);
     MPI_Comm_free(&d->comm);
     free(d);

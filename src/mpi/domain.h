@@ -10,6 +10,7 @@ struct sinter_mpi_domain {
     sinter_mpi_options options;
     sinter_mpi_decomp *decomp;
     sinter_mpi_stats stats;
+    struct sinter_mpi_attachment *attached; /* the stepper installed on it (attach.c), or NULL */
 };
 
 #endif

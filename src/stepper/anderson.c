@@ -44,7 +44,14 @@ sinter_status sinter_anderson_reset(sinter_ctx *ctx, sinter_anderson *aa, size_t
     return SINTER_OK;
 }
 
-int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, const double *w)
+/* The inner products' sums over the parts of a distributed vector (nothing when whole). */
+static int sum_parts(const sinter_anderson_sum *sum, double *values, size_t count)
+{
+    return sum != NULL ? sum->sum(values, count, sum->user) : 0;
+}
+
+int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, const double *w,
+                           const sinter_anderson_sum *sum)
 {
     const size_t n = aa->length;
     const int m = aa->depth;
@@ -84,6 +91,7 @@ int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, cons
     double r[ANDERSON_MAX_DEPTH][ANDERSON_MAX_DEPTH] = {{0}};
     int used[ANDERSON_MAX_DEPTH] = {0};
     double largest = 0.0;
+    int failed = 0; /* a sum failed: every later one is still made (collective) */
     for (int j = 0; j < k; ++j) {
         const int slot = (aa->head + j) % m;
         const double *df = aa->df + (size_t)slot * n;
@@ -93,6 +101,8 @@ int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, cons
             qj[i] = w[i] * df[i];
             norm0 += qj[i] * qj[i];
         }
+        if (sum_parts(sum, &norm0, 1) != 0)
+            failed = 1;
         norm0 = sqrt(norm0);
         largest = fmax(largest, norm0);
         for (int l = 0; l < j; ++l) {
@@ -102,6 +112,8 @@ int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, cons
             double dot = 0.0;
             for (size_t i = 0; i < n; ++i)
                 dot += ql[i] * qj[i];
+            if (sum_parts(sum, &dot, 1) != 0)
+                failed = 1;
             r[l][j] = dot;
             for (size_t i = 0; i < n; ++i)
                 qj[i] -= dot * ql[i];
@@ -109,6 +121,8 @@ int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, cons
         double norm = 0.0;
         for (size_t i = 0; i < n; ++i)
             norm += qj[i] * qj[i];
+        if (sum_parts(sum, &norm, 1) != 0)
+            failed = 1;
         norm = sqrt(norm);
         if (!(norm > 1e-10 * largest) || !(norm > 0.0))
             continue;
@@ -129,6 +143,12 @@ int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, cons
         for (size_t i = 0; i < n; ++i)
             dot += qj[i] * w[i] * aa->f_prev[i];
         c[j] = dot;
+    }
+    if (any && sum_parts(sum, c, (size_t)k) != 0) /* (the unused ones are 0) */
+        failed = 1;
+    if (failed) {
+        memcpy(u, g, n * sizeof(double));
+        return -1;
     }
     for (int j = k - 1; j >= 0; --j) {
         if (!used[j])

@@ -37,9 +37,22 @@ void sinter_anderson_free(sinter_ctx *ctx, sinter_anderson *aa);
 /* Size for N unknowns and depth m (allocates; keeps nothing of a previous solve). */
 sinter_status sinter_anderson_reset(sinter_ctx *ctx, sinter_anderson *aa, size_t length, int depth);
 /*
- * One update: u holds u_k on entry and u_(k+1) on return; g holds G(u_k) (kept as is); w the
- * weights (length N, >= 0). Returns the number of differences used.
+ * Sums over every part of a vector spread over subdomains (domain/domain.h), in place: each
+ * subdomain holds the rows of its owned particles, and the least-squares problem's inner
+ * products are the sums of the parts' (every subdomain receives the same bits, so every one
+ * solves the same small problem and takes the same branches). Returns 0 on success.
  */
-int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, const double *w);
+typedef struct sinter_anderson_sum {
+    int (*sum)(double *values, size_t count, void *user);
+    void *user;
+} sinter_anderson_sum;
+
+/*
+ * One update: u holds u_k on entry and u_(k+1) on return; g holds G(u_k) (kept as is); w the
+ * weights (length N, >= 0); `sum` NULL when the vectors are whole. Returns the number of
+ * differences used, or -1 when a sum failed (u is then G(u_k)).
+ */
+int sinter_anderson_update(sinter_anderson *aa, double *u, const double *g, const double *w,
+                           const sinter_anderson_sum *sum);
 
 #endif

@@ -550,6 +550,9 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     const int heat_update = explicit_heat && sinter_heat_interval_update(st, step);
     const double h_heat = heat_update && st->heat_interval > 1 ? (double)st->heat_interval * h : h;
     st->heat_skip = explicit_heat && !sinter_heat_interval_eval(st, step);
+    /* implicit conduction's solve is collective (domain/solve.h): every subdomain or none */
+    if (domain && !explicit_heat && st->thermal.count > 0)
+        s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK) {
         s = heat_update     ? sinter_thermal_explicit_begin(st)
             : explicit_heat ? SINTER_OK
@@ -573,8 +576,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     size_t bad_drift = n_drift;
     if (s == SINTER_OK) {
         const double t0 = sinter_clock();
-        bad_drift = owned_bad(st->ps, kick_drift(st, h_heat, h, heat_update, heat_first, &scan),
-                              domain);
+        bad_drift =
+            owned_bad(st->ps, kick_drift(st, h_heat, h, heat_update, heat_first, &scan), domain);
         drifted = 1;
         st->stats.seconds_integrate += sinter_clock() - t0;
     }

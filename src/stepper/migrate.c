@@ -14,8 +14,11 @@
  *   step (bit 1);
  *   i32 material; u32 flags; u64 record bits (bit 0: the electric warm start below is valid;
  *   bit 1: the particle left in the middle of an explicit step, after its drift, and the rows
- *   at the start of the step are its state at t, for a rollback on the side it enters; without
- *   bit 1 they repeat x, v, w, rot, temperature); f64 warm-start potential [V];
+ *   at the start of the step are its state at t, for a rollback on the side it enters; bit 2:
+ *   it left at a staggered stepper's accepted state, and those rows hold instead the
+ *   predictor's history, its force [3] and moment [3] of the step before, zeros [6] and its
+ *   heat power of the step before; without bits 1 and 2 they repeat x, v, w, rot,
+ *   temperature); f64 warm-start potential [V];
  *   per force slot: u64 count and (key_i, key_j, pp width values) of each particle-particle
  *   history entry the particle is an end of, u64 count and (id, wall, pw width values) of each
  *   particle-wall entry;
@@ -32,7 +35,7 @@
 #include "stepper/migrate.h"
 #include "stepper/stepper.h"
 
-#define MIGRATE_VERSION 2u
+#define MIGRATE_VERSION 3u
 #define MIGRATE_NAME 64
 #define RECORD_F64 37
 #define RECORD_FIXED (8 + 8 * RECORD_F64 + 4 + 4 + 8 + 8)
@@ -313,16 +316,31 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
          * moved) the spare rows and the saved temperature */
         const int mid_step = st->domain.redistributing && st->spare[0] != NULL &&
                              ps->layout_generation == st->domain.layout_at_start;
-        for (int f = 0; f < 4; ++f)
+        /* or the staggered predictor's history, at its accepted state (before any row moved) */
+        const sinter_staggered *sg = &st->staggered;
+        const int history = st->domain.redistributing && st->domain.keep_history &&
+                            ps->layout_generation == st->domain.layout_at_start &&
+                            sg->history_valid && i < sg->history_count;
+        if (history) {
+            const size_t m = sg->history_count;
+            const double zero[6] = {0};
+            put(&w, sg->hist + 3 * i, 3 * sizeof(double));
+            put(&w, sg->hist + 3 * m + 3 * i, 3 * sizeof(double));
+            put(&w, zero, sizeof(zero));
+            put(&w, sg->hist + 6 * m + i, sizeof(double));
+        }
+        for (int f = 0; f < 4 && !history; ++f)
             put(&w, (mid_step && st->spare[f] != NULL ? st->spare[f] : vec[f]) + 3 * i,
                 3 * sizeof(double));
         const int saved = mid_step && st->thermal.count > 0 && st->thermal.theta_backup != NULL &&
                           i < st->thermal.backup_capacity;
-        put(&w, (saved ? st->thermal.theta_backup : ps->temperature) + i, sizeof(double));
+        if (!history)
+            put(&w, (saved ? st->thermal.theta_backup : ps->temperature) + i, sizeof(double));
         put(&w, ps->material + i, 4);
         put(&w, ps->flags + i, 4);
         double phi = 0.0;
-        put_u64(&w, (uint64_t)warm_potential(st, i, &phi) | (uint64_t)mid_step << 1);
+        put_u64(&w, (uint64_t)warm_potential(st, i, &phi) | (uint64_t)mid_step << 1 |
+                        (uint64_t)history << 2);
         put(&w, &phi, 8);
         for (uint32_t sec = 0; sec <= 2 * st->force_count; ++sec) {
             size_t count = 0;
@@ -486,6 +504,18 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
     return s;
 }
 
+/* A migration asked during the staggered stepper's fixed-point attempt (its state at t and its
+ * histories are per index): refused, and made at the next accepted state (stepper.h,
+ * sinter_stepper_domain_accepted_stage). */
+static sinter_status refuse_in_attempt(sinter_stepper *st, const char *func)
+{
+    st->domain.migration_deferred = 1;
+    return sinter_fail(st->ctx, SINTER_ERR_STATE,
+                       "%s: the staggered stepper is inside a fixed-point attempt; the particles "
+                       "stay where they are and migrate at the next accepted state",
+                       func);
+}
+
 sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *indices,
                                     void *buffer, size_t capacity, size_t *written, int remove)
 {
@@ -497,6 +527,8 @@ sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *
     if (remove != 0 && remove != 1)
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "sinter_stepper_export: remove is %d, not 0 or 1", remove);
+    if (remove && st->domain.in_attempt)
+        return refuse_in_attempt(st, "sinter_stepper_export");
     gathered g;
     sinter_status s = gather(st, n, indices, &g, "sinter_stepper_export");
     if (s != SINTER_OK)
@@ -586,7 +618,7 @@ static const char *fixed_wrong(const fixed_part *f, const sinter_particles *ps)
         return "its radius, mass, inertia or temperature is not > 0";
     if (f->material < 0 || f->material >= SINTER_MAX_MATERIALS || !ps->material_used[f->material])
         return "its material is not registered in this particle set";
-    if (f->bits > 3 || !isfinite(f->phi))
+    if (f->bits > 7 || (f->bits & 6) == 6 || !isfinite(f->phi))
         return "its electric warm start is malformed";
     return NULL;
 }
@@ -820,6 +852,8 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
         *count = 0;
     sinter_particles *ps = st->ps;
     const char *F = "sinter_stepper_import";
+    if (st->domain.in_attempt)
+        return refuse_in_attempt(st, F);
     if (ps->views_out > 0)
         return sinter_fail(ctx, SINTER_ERR_BUSY,
                            "%s: %zu field view(s) of the particle set are out", F, ps->views_out);
@@ -902,7 +936,9 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
                              ps->temperature, ps->current, ps->heat};
         for (int d = 0; d < 6; ++d)
             scalar[d][i] = f.v[18 + d];
-        if (dom->redistributing && (f.bits & 2)) { /* left its side after the drift */
+        /* left its side after the drift (its state at t), or at a staggered stepper's accepted
+         * state (its predictor history): kept by id for the redistribution stage */
+        if (dom->redistributing && (f.bits & 6)) {
             dom->arrived_id[dom->arrived_count] = f.id;
             memcpy(dom->arrived_rows + 13 * dom->arrived_count, f.v + 24, 13 * sizeof(double));
             dom->arrived_count++;

@@ -81,6 +81,14 @@
  * step's start, so a build within the step makes images without wrapping (sinter_ghosts.hold):
  * the owned particles are wrapped into the cell between steps, before the state at t is saved,
  * and a rejected attempt restores the owners and their images.
+ *
+ * Subdomains (issue 43, domain/domain.h, docs/scaleout.md): the unknowns are the owned
+ * particles; every evaluation first gives the ghosts of other subdomains their owners' iterate
+ * (a forward halo) and its status is agreed; the sums behind every norm, a bad state anywhere
+ * and Anderson's inner products are reduced, so that every subdomain takes the same branches
+ * and steps. Inside an attempt the host may make new ghosts but not migrate (the state at t
+ * and the histories are per index); a refused migration is made at the next accepted state
+ * (sinter_stepper_domain_accepted_stage).
  */
 #include <float.h>
 #include <math.h>
@@ -103,11 +111,49 @@ static void forward_images(sinter_stepper *st)
         sinter_ghosts_forward(&st->ghosts, st->ps);
 }
 
-/* The pipeline at the iterate in the particles: images first (see the top of the file). */
+/* The pipeline at the iterate in the particles: images first (see the top of the file); with
+ * domain operations the ghosts of other subdomains first take their owners' iterate (the
+ * forward halo), and the status is agreed (collective, domain/domain.h). */
 static sinter_status evaluate(sinter_stepper *st, double h)
 {
     forward_images(st);
-    return sinter_stepper_eval_forces(st, h);
+    sinter_status s = SINTER_OK;
+    if (st->domain.on)
+        s = sinter_domain_forward(st->ctx, &st->domain, st->ps);
+    if (s == SINTER_OK)
+        s = sinter_stepper_eval_forces(st, h);
+    return sinter_domain_agree(st->ctx, &st->domain, s);
+}
+
+/* ---- the global quantities of a decomposed run (domain/domain.h) --------------------------- */
+
+/* Sums of doubles over every subdomain, in place (nothing without domain operations). */
+static sinter_status global_sum(sinter_stepper *st, double *values, size_t count)
+{
+    return sinter_domain_sum(st->ctx, &st->domain, values, count);
+}
+
+/* Whether any subdomain has a particle with a bad state (`bad` < n here); a failed reduction
+ * into *s, and 1 (the caller returns *s then). Without domain operations bad < n. */
+static int any_bad(sinter_stepper *st, size_t bad, size_t n, sinter_status *s)
+{
+    if (!st->domain.on)
+        return bad < n;
+    int64_t v = bad < n;
+    const sinter_status r =
+        sinter_domain_reduce(st->ctx, &st->domain, &v, 1, SINTER_REDUCE_I64, SINTER_REDUCE_MAX);
+    if (r != SINTER_OK) {
+        *s = r;
+        return 1;
+    }
+    return v != 0;
+}
+
+/* Anderson's inner products over every subdomain (anderson.h). */
+static int anderson_sum(double *values, size_t count, void *user)
+{
+    sinter_stepper *st = user;
+    return global_sum(st, values, count) == SINTER_OK ? 0 : -1;
 }
 
 /* ---- options ------------------------------------------------------------------------- */
@@ -433,6 +479,10 @@ static void restore_state(sinter_stepper *st, const saved_state *a, double t)
     for (size_t k = 0; k < st->thermal.count; ++k)
         st->thermal.slots[k].power = st->staggered.power[k];
     forward_images(st);
+    if (st->domain.on) { /* the ghosts of other subdomains: their owners' state at t */
+        const sinter_status r = sinter_domain_forward(st->ctx, &st->domain, ps);
+        (void)r; /* (the error reported is the step's; a failed halo fails the next one too) */
+    }
     st->time = t;
     if (st->walls != NULL)
         sinter_walls_move(st->walls, t);
@@ -530,10 +580,11 @@ static size_t update_temperatures(sinter_stepper *st, const saved_state *a, doub
  * n atol / TOL, so that a mean change per particle <= atol passes eq. 48 (atol = 0: the seed's
  * relative test alone).
  */
-static double normalised_error(const sinter_particles *ps, const double *now, const double *prev,
+static double normalised_error(sinter_stepper *st, const double *now, const double *prev,
                                const double *start, int comps, uint32_t skip, double atol,
-                               double tol)
+                               double tol, sinter_status *status)
 {
+    const sinter_particles *ps = st->ps;
     double num = 0.0, den = 0.0, scale = 0.0;
     size_t free_count = 0;
     for (size_t i = 0; i < owned_rows(ps); ++i) {
@@ -553,6 +604,16 @@ static double normalised_error(const sinter_particles *ps, const double *now, co
             den += sqrt(d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2]);
             scale += sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         }
+    }
+    if (st->domain.on) { /* sums over every subdomain (the count is exact as a double) */
+        double v[4] = {num, den, scale, (double)free_count};
+        const sinter_status r = global_sum(st, v, 4);
+        if (r != SINTER_OK && *status == SINTER_OK)
+            *status = r;
+        num = v[0];
+        den = v[1];
+        scale = v[2];
+        free_count = (size_t)v[3];
     }
     if (num <= 8.0 * DBL_EPSILON * scale)
         return 0.0;
@@ -622,7 +683,9 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
     for (int k = 1; k <= sg->target_iterations; ++k) {
         res->iterations = k;
         st->stats.iterations++;
-        if (bad < n) {
+        if (any_bad(st, bad, n, &s)) {
+            if (s != SINTER_OK)
+                return s;
             res->bad = bad;
             res->bad_field = "position, velocity or spin not finite";
             res->lambda = 0.1;
@@ -637,7 +700,9 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
             for (size_t j = 0; j < st->thermal.count; ++j)
                 sg->power[st->thermal.count + j] = st->thermal.slots[j].power;
             bad = update_temperatures(st, a, h, ps->heat);
-            if (bad < n) {
+            if (any_bad(st, bad, n, &s)) {
+                if (s != SINTER_OK)
+                    return s;
                 st->stats.seconds_integrate += sinter_clock() - t0;
                 res->bad = bad;
                 res->bad_field = "temperature not positive and finite";
@@ -648,14 +713,16 @@ static sinter_status attempt(sinter_stepper *st, const saved_state *a, double t,
         /* Eq. 47-49. The first iterate's errors are 1 by definition (x^0 = x^L). */
         const double eps_r =
             k == 1 ? 1.0
-                   : normalised_error(ps, ps->x, a->x_prev, a->x, 3, SINTER_PARTICLE_FIXED,
-                                      sg->position_tolerance, sg->tolerance);
+                   : normalised_error(st, ps->x, a->x_prev, a->x, 3, SINTER_PARTICLE_FIXED,
+                                      sg->position_tolerance, sg->tolerance, &s);
         const double eps_t = !thermal ? 0.0
                              : k == 1
                                  ? 1.0
-                                 : normalised_error(ps, ps->temperature, a->theta_prev, a->theta, 1,
+                                 : normalised_error(st, ps->temperature, a->theta_prev, a->theta, 1,
                                                     SINTER_PARTICLE_FIXED_TEMPERATURE,
-                                                    sg->temperature_tolerance, sg->tolerance);
+                                                    sg->temperature_tolerance, sg->tolerance, &s);
+        if (s != SINTER_OK)
+            return s;
         res->eps_r = eps_r;
         res->eps_theta = eps_t;
         const double z = fmax(eps_r, eps_t) / sg->tolerance; /* eq. 48 */
@@ -781,7 +848,7 @@ static size_t aa_unpack(sinter_stepper *st, const saved_state *a, double h, cons
 
 /* WRMS weights (see above), scaled by 1/sqrt(count) per field so that ||W f||_2 is the
  * field's WRMS norm. Made once per attempt, at the predictor. */
-static void aa_weights(const sinter_stepper *st, const saved_state *a, double *w, int thermal)
+static sinter_status aa_weights(sinter_stepper *st, const saved_state *a, double *w, int thermal)
 {
     const sinter_particles *ps = st->ps;
     const sinter_staggered *sg = &st->staggered;
@@ -790,6 +857,14 @@ static void aa_weights(const sinter_stepper *st, const saved_state *a, double *w
     for (size_t i = 0; i < n; ++i) {
         nx += !(ps->flags[i] & SINTER_PARTICLE_FIXED);
         nt += thermal && !(ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE);
+    }
+    if (st->domain.on) { /* the counts over every subdomain (exact as doubles) */
+        double c[2] = {(double)nx, (double)nt};
+        const sinter_status r = global_sum(st, c, 2);
+        if (r != SINTER_OK)
+            return r;
+        nx = (size_t)c[0];
+        nt = (size_t)c[1];
     }
     const double rtol = sg->tolerance;
     const double sx = nx > 0 ? 1.0 / sqrt(3.0 * (double)nx) : 0.0;
@@ -808,11 +883,13 @@ static void aa_weights(const sinter_stepper *st, const saved_state *a, double *w
         if (thermal && !(ps->flags[i] & SINTER_PARTICLE_FIXED_TEMPERATURE))
             w[9 * n + i] = st_ / (rtol * fabs(a->theta[i]) + sg->temperature_tolerance);
     }
+    return SINTER_OK;
 }
 
-/* WRMS norms of g - u for positions and temperatures (W already holds 1/sqrt(count)). */
-static void aa_norms(size_t n, const double *u, const double *g, const double *w, double *ex,
-                     double *et)
+/* WRMS norms of g - u for positions and temperatures (W already holds 1/sqrt(count)); with
+ * domain operations the sums of squares over every subdomain. */
+static sinter_status aa_norms(sinter_stepper *st, size_t n, const double *u, const double *g,
+                              const double *w, double *ex, double *et)
 {
     double sx = 0.0, st_ = 0.0;
     for (size_t i = 0; i < 3 * n; ++i) {
@@ -823,8 +900,11 @@ static void aa_norms(size_t n, const double *u, const double *g, const double *w
         const double e = w[i] * (g[i] - u[i]);
         st_ += e * e;
     }
-    *ex = sqrt(sx);
-    *et = sqrt(st_);
+    double sums[2] = {sx, st_};
+    const sinter_status s = global_sum(st, sums, 2);
+    *ex = sqrt(sums[0]);
+    *et = sqrt(sums[1]);
+    return s;
 }
 
 /* The predictor's forces, torques and heat into f (3n), tq (3n), q (n). */
@@ -856,11 +936,10 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
     res->bad = n;
     aa_vectors vec = {NULL, NULL, NULL};
     sinter_status s = aa_reserve(st, &vec);
-    if (s != SINTER_OK)
-        return s;
     st->time = t + h;
-    s = st->walls != NULL ? sinter_walls_move(st->walls, t + h) : SINTER_OK;
-    if (s != SINTER_OK)
+    if (s == SINTER_OK)
+        s = st->walls != NULL ? sinter_walls_move(st->walls, t + h) : SINTER_OK;
+    if ((s = sinter_domain_agree(st->ctx, &st->domain, s)) != SINTER_OK)
         return s;
     /* Predictor u_0 (the image buffer is scratch until the first evaluation). */
     double t0 = sinter_clock();
@@ -868,13 +947,16 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
     size_t bad = update_mechanics(st, a, h, vec.g, vec.g + 3 * n);
     if (thermal && bad == n)
         bad = update_temperatures(st, a, h, vec.g + 6 * n);
-    aa_weights(st, a, vec.w, thermal);
+    if ((s = aa_weights(st, a, vec.w, thermal)) != SINTER_OK)
+        return s;
     aa_pack(ps, vec.u);
     st->stats.seconds_integrate += sinter_clock() - t0;
     double e0 = 0.0;
     for (int k = 0; k <= k_max; ++k) {
         res->iterations = k;
-        if (bad < n) {
+        if (any_bad(st, bad, n, &s)) {
+            if (s != SINTER_OK)
+                return s;
             res->bad = bad;
             res->bad_field = "position, velocity, spin or temperature not finite (or <= 0 K)";
             res->lambda = INFINITY;
@@ -893,7 +975,8 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
             bad = update_temperatures(st, a, h, ps->heat);
         aa_pack(ps, vec.g);
         double ex, et;
-        aa_norms(n, vec.u, vec.g, vec.w, &ex, &et);
+        if ((s = aa_norms(st, n, vec.u, vec.g, vec.w, &ex, &et)) != SINTER_OK)
+            return s;
         const double e = fmax(ex, et);
         res->eps_r = ex;
         res->eps_theta = et;
@@ -923,7 +1006,10 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
                 return SINTER_OK;
             }
         }
-        sinter_anderson_update(&sg->aa, vec.u, vec.g, vec.w); /* u_(k+1) */
+        const sinter_anderson_sum sum = {anderson_sum, st};
+        if (sinter_anderson_update(&sg->aa, vec.u, vec.g, vec.w, /* u_(k+1) */
+                                   st->domain.on ? &sum : NULL) < 0)
+            return sinter_last_status(st->ctx);
         bad = aa_unpack(st, a, h, vec.u, thermal);
         st->stats.seconds_integrate += sinter_clock() - t0;
     }
@@ -940,12 +1026,25 @@ static const char *limiting_field(const attempt_result *r)
     return r->eps_theta > r->eps_r ? "temperature field" : "position field";
 }
 
+static sinter_status give_up_status(sinter_stepper *st, double t, double h, double h_next,
+                                    const attempt_result *r);
+
 static sinter_status give_up(sinter_stepper *st, const saved_state *a, double t, double h,
                              double h_next, const attempt_result *r)
 {
     restore_state(st, a, t);
     st->forces_current = 0;
+    return sinter_domain_agree(st->ctx, &st->domain, give_up_status(st, t, h, h_next, r));
+}
+
+/* give_up's status and message (for a decomposed run: the same code everywhere; the particle
+ * with a bad state is named by the subdomain that holds it, the others report nothing). */
+static sinter_status give_up_status(sinter_stepper *st, double t, double h, double h_next,
+                                    const attempt_result *r)
+{
     const sinter_staggered *sg = &st->staggered;
+    if (st->domain.on && r->bad_field != NULL && r->bad >= owned_rows(st->ps))
+        return SINTER_OK; /* (another subdomain's particle: its message is the one agreed) */
     char errors[96];
     if (st->thermal.count > 0)
         snprintf(errors, sizeof(errors), "positions %.3g, temperatures %.3g", r->eps_r,
@@ -955,9 +1054,9 @@ static sinter_status give_up(sinter_stepper *st, const saved_state *a, double t,
     if (r->bad < owned_rows(st->ps))
         return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
                            "staggered step at t = %.9g s: the fixed-point iteration diverged "
-                           "with step %g s (particle %zu: %s) and %s %g s; the last accepted "
-                           "state is kept",
-                           t, h, r->bad, r->bad_field,
+                           "with step %g s (particle %zu, id %llu: %s) and %s %g s; the last "
+                           "accepted state is kept",
+                           t, h, r->bad, (unsigned long long)st->ps->id[r->bad], r->bad_field,
                            sg->adaptive ? "the next step would fall below dt_min ="
                                         : "the step is fixed (adaptive = 0) at",
                            sg->adaptive ? sg->dt_min : h);
@@ -978,7 +1077,8 @@ static sinter_status give_up(sinter_stepper *st, const saved_state *a, double t,
 }
 
 /* The positions at t of every row, for the sanity check: a->x itself without images, else
- * the owners' with the images' rows made from them (ghosts/ghosts.h); NULL when out of memory. */
+ * the owners' with the images' rows made from them (ghosts/ghosts.h), or with the ghosts of
+ * other subdomains as they are now; NULL when out of memory. */
 static const double *positions_at_start(sinter_stepper *st, const saved_state *a)
 {
     const sinter_particles *ps = st->ps;
@@ -989,21 +1089,24 @@ static const double *positions_at_start(sinter_stepper *st, const saved_state *a
                     sizeof(double)) != SINTER_OK)
         return NULL;
     memcpy(sg->x_rows, a->x, 3 * owned_rows(ps) * sizeof(double));
-    sinter_ghosts_copy_rows(&st->ghosts, ps, sg->x_rows, 1);
+    if (st->domain.on) /* ghosts of other subdomains: their owners check them (no motion here) */
+        memcpy(sg->x_rows + 3 * owned_rows(ps), ps->x + 3 * owned_rows(ps),
+               3 * ps->ghost_count * sizeof(double));
+    else
+        sinter_ghosts_copy_rows(&st->ghosts, ps, sg->x_rows, 1);
     return sg->x_rows;
 }
 
-static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
+/* The attempts of one step from the state at t (saved in a) until one is accepted, then the
+ * commit and the next step's size; see staggered_step. */
+static sinter_status staggered_attempts(sinter_stepper *st, const saved_state *saved, double t,
+                                        double h, double *taken)
 {
     sinter_staggered *sg = &st->staggered;
-    sinter_status s = reserve(st);
-    if (s != SINTER_OK)
-        return s;
-    const double t = st->time;
-    const saved_state a = saved_layout(sg, owned_rows(st->ps));
-    save_state(st, &a);
+    const saved_state a = *saved;
     attempt_result r;
     int restarted = 0;
+    sinter_status s = SINTER_OK;
     for (;;) {
         s = sg->scheme == 1 ? attempt_anderson(st, &a, t, h, &r) : attempt(st, &a, t, h, &r);
         if (s != SINTER_OK) {
@@ -1032,6 +1135,7 @@ static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
         s = sinter_last_status(st->ctx);
     if (s == SINTER_OK)
         s = sinter_sanity_step(st, x_start, t, h, NULL);
+    s = sinter_domain_agree(st->ctx, &st->domain, s); /* (checks of this subdomain's particles) */
     if (s == SINTER_OK && st->thermal.count > 0) {
         /* Copy the iterate's slot powers before the evaluation overwrites them. */
         for (size_t j = 0; j < st->thermal.count; ++j)
@@ -1075,6 +1179,27 @@ static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
     st->stats.dt = st->dt;
     *taken = h;
     return SINTER_OK;
+}
+
+static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
+{
+    sinter_staggered *sg = &st->staggered;
+    sinter_status s = SINTER_OK;
+    if (st->domain.on) /* (settings not yet supported across subdomains) */
+        s = sinter_domain_agree(st->ctx, &st->domain, sinter_domain_check(st));
+    if (s == SINTER_OK && st->domain.on) /* a migration refused during the last step, now */
+        s = sinter_stepper_domain_accepted_stage(st);
+    if (s == SINTER_OK)
+        s = reserve(st);
+    if ((s = sinter_domain_agree(st->ctx, &st->domain, s)) != SINTER_OK)
+        return s;
+    const double t = st->time;
+    const saved_state a = saved_layout(sg, owned_rows(st->ps));
+    save_state(st, &a);
+    st->domain.in_attempt = st->domain.on; /* migration waits for the accepted state */
+    s = staggered_attempts(st, &a, t, h, taken);
+    st->domain.in_attempt = 0;
+    return s;
 }
 
 sinter_status sinter_staggered_step(sinter_stepper *st, double h, double *taken)

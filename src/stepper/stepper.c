@@ -8,6 +8,7 @@
 #include "contact/host_views.h"
 #include "heat/gas_gap.h"
 #include "sanity.h"
+#include "particles/id_index.h"
 #include "stepper.h"
 #include "stepper/qs_domain.h"
 #include "electric/electric.h"
@@ -111,11 +112,6 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     if (st->stats.steps > 0 || st->stats.rejected > 0)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "the stepper has taken steps; its kind can no longer change");
-    if (kind == SINTER_STEPPER_STAGGERED && st->domain.on)
-        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "domain operations (sinter_stepper_set_domain_ops) are supported by "
-                           "the explicit and quasi-static steppers only so far; remove them "
-                           "first");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
@@ -692,30 +688,127 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
     return s;
 }
 
+/* The neighbour lists of a decomposed run: the rebuild stage (collective), then the build when
+ * it decided one. */
+static sinter_status domain_refresh(sinter_stepper *st)
+{
+    int rebuild = 0;
+    const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
+    sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
+    if (s != SINTER_OK || !rebuild)
+        return s;
+    const double t0 = sinter_clock();
+    s = keep_held_pairs(st);
+    if (s == SINTER_OK)
+        s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
+        if (s == SINTER_OK)
+            s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count, &st->nb.pw);
+    }
+    if (s == SINTER_OK) /* the histories migrated particles brought, by key (migrate.h) */
+        s = sinter_migrate_match(st);
+    st->stats.neighbor_builds++;
+    st->stats.seconds_neighbor += sinter_clock() - t0;
+    return s;
+}
+
+/* The staggered predictor's history (7 doubles a particle: force, moment, heat of the step
+ * before) after a redistribution: the stayers' rows by id from `kept` (ids `kept_id`, `kept_n`
+ * of them), the arrivals' from their records (domain.h, arrived_*). Returns 1 when every owned
+ * particle has its rows (the history stays valid), 0 otherwise or without memory. */
+static int follow_history(sinter_stepper *st, const uint64_t *kept_id, const double *kept,
+                          size_t kept_n)
+{
+    sinter_particles *ps = st->ps;
+    sinter_staggered *sg = &st->staggered;
+    const sinter_domain *d = &st->domain;
+    const size_t n = ps->count - ps->ghost_count;
+    if (sinter_grow(st->ctx, (void **)&sg->hist, &sg->hist_capacity, 7 * n + 1, sizeof(double)) !=
+            SINTER_OK ||
+        sinter_id_index_update(&ps->id_index, ps) != SINTER_OK)
+        return 0;
+    unsigned char *have = sinter_calloc(st->ctx, n + 1, 1);
+    if (have == NULL)
+        return 0;
+    for (size_t k = 0; k < kept_n + d->arrived_count; ++k) {
+        const int stayed = k < kept_n;
+        const uint64_t id = stayed ? kept_id[k] : d->arrived_id[k - kept_n];
+        const size_t j = sinter_id_index_find(&ps->id_index, ps, id);
+        if (j >= n)
+            continue;
+        const double *f = stayed ? kept + 7 * k : d->arrived_rows + 13 * (k - kept_n);
+        memcpy(sg->hist + 3 * j, f, 3 * sizeof(double));
+        memcpy(sg->hist + 3 * n + 3 * j, f + 3, 3 * sizeof(double));
+        sg->hist[6 * n + j] = stayed ? f[6] : f[12];
+        have[j] = 1;
+    }
+    size_t count = 0;
+    for (size_t j = 0; j < n; ++j)
+        count += have[j];
+    sinter_free(st->ctx, have);
+    sg->history_count = n;
+    return count == n;
+}
+
+/*
+ * The staggered stepper's redistribution at an accepted state (stepper.h): the host's
+ * migrations are refused during its fixed-point attempts (the state at t, the predictor's and
+ * Anderson's histories are per index), so a migration refused there is made here, before the
+ * next step saves its state at t. One reduction a step: whether a migration waits anywhere,
+ * and whether any subdomain's predictor history restarts (then every one restarts it, so that
+ * the subdomains predict alike). The predictor's history follows the particles: the stayers'
+ * by id, the arrivals' in their records (record bit 2, migrate.c); a second reduction then
+ * says whether every subdomain has it for every particle.
+ */
+sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st)
+{
+    sinter_domain *d = &st->domain;
+    sinter_staggered *sg = &st->staggered;
+    sinter_particles *ps = st->ps;
+    const size_t n = ps->count - ps->ghost_count;
+    const int valid = sg->history_valid && sg->history_count == n && sg->h_prev > 0.0;
+    int64_t v[2] = {d->migration_deferred, !valid};
+    sinter_status s = sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_I64, SINTER_REDUCE_MAX);
+    if (s != SINTER_OK)
+        return s;
+    d->migration_deferred = 0;
+    if (v[0] != 0) { /* rebuilt with the host's redistribution, migrations allowed */
+        /* the stayers' history by id (the rows move when particles leave or come) */
+        uint64_t *kept_id = sinter_alloc(st->ctx, (n + 1) * sizeof(uint64_t));
+        double *kept = sinter_alloc(st->ctx, (7 * n + 1) * sizeof(double));
+        const int keep = v[1] == 0 && kept_id != NULL && kept != NULL;
+        for (size_t i = 0; keep && i < n; ++i) {
+            kept_id[i] = ps->id[i];
+            memcpy(kept + 7 * i, sg->hist + 3 * i, 3 * sizeof(double));
+            memcpy(kept + 7 * i + 3, sg->hist + 3 * n + 3 * i, 3 * sizeof(double));
+            kept[7 * i + 6] = sg->hist[6 * n + i];
+        }
+        const uint64_t population = ps->population_generation;
+        d->rebuild_due = 1;
+        d->keep_history = keep;
+        s = domain_refresh(st);
+        d->keep_history = 0;
+        int64_t lost = 0; /* a subdomain without the history of one of its particles */
+        if (s == SINTER_OK && ps->population_generation != population)
+            lost = !keep || !follow_history(st, kept_id, kept, n);
+        sinter_free(st->ctx, kept_id);
+        sinter_free(st->ctx, kept);
+        if ((s = sinter_domain_agree(st->ctx, d, s)) != SINTER_OK)
+            return s;
+        if (v[1] == 0 && (s = sinter_domain_reduce(st->ctx, d, &lost, 1, SINTER_REDUCE_I64,
+                                                   SINTER_REDUCE_MAX)) != SINTER_OK)
+            return s;
+        v[1] = v[1] != 0 || lost != 0;
+    }
+    sg->history_valid = v[1] == 0; /* (an export or import dropped it: kept, it is valid) */
+    return s;
+}
+
 static sinter_status refresh_neighbors(sinter_stepper *st)
 {
-    if (st->domain.on) {
-        int rebuild = 0;
-        const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
-        sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
-        if (s != SINTER_OK || !rebuild)
-            return s;
-        const double t0 = sinter_clock();
-        s = keep_held_pairs(st);
-        if (s == SINTER_OK)
-            s = sinter_neighbors_build(&st->nb, st->ps, st->walls);
-        for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
-            s = sinter_history_remap(st->ctx, &st->forces[k].pp, st->nb.old_pp.count, &st->nb.pp);
-            if (s == SINTER_OK)
-                s = sinter_history_remap(st->ctx, &st->forces[k].pw, st->nb.old_pw.count,
-                                         &st->nb.pw);
-        }
-        if (s == SINTER_OK) /* the histories migrated particles brought, by key (migrate.h) */
-            s = sinter_migrate_match(st);
-        st->stats.neighbor_builds++;
-        st->stats.seconds_neighbor += sinter_clock() - t0;
-        return s;
-    }
+    if (st->domain.on)
+        return domain_refresh(st);
     /* the quasi-static stepper makes no images: its links see them (stepper/qs_periodic.c) */
     const int periodic = sinter_ghosts_on(&st->ghosts) && st->kind != SINTER_STEPPER_QUASISTATIC;
     /* a wider reach than the list was built with: built again now, whatever the skin */
@@ -921,6 +1014,9 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->pp.held = NULL; /* the history moves at commits and rebuilds */
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks);
+    /* the network's solve is collective (domain/solve.h): every subdomain or none */
+    if (st->domain.on && st->electric != NULL)
+        s = sinter_domain_agree(ctx, &st->domain, s);
     if (s != SINTER_OK)
         return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {
@@ -932,9 +1028,15 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         /* Currents on the contact graph of this state (seed 000 sec. 5), before heat reads them. */
         size_t electric_iterations = 0;
         sinter_contacts_geometry(ctx, &st->pp, ps);
-        s = sinter_electric_solve_images(st->electric, ps, st->walls, &st->pp, &st->pw,
-                                         ps->ghost_count > 0 ? st->ghosts.owner : NULL,
-                                         &electric_iterations);
+        /* a decomposed run: the network's solve (network_domain.c) or the averaged model's sums
+         * and halos (averaged.c) through the host's operations */
+        st->electric->domain =
+            st->domain.on && st->electric->kind == SINTER_ELECTRIC_NETWORK ? &st->domain : NULL;
+        st->electric->averaged_domain = st->domain.on ? &st->domain : NULL;
+        s = sinter_electric_solve_images(
+            st->electric, ps, st->walls, &st->pp, &st->pw,
+            ps->ghost_count > 0 && !st->domain.on ? st->ghosts.owner : NULL, &electric_iterations);
+        st->electric->domain = NULL;
         st->electric_iterations += electric_iterations;
         if (s != SINTER_OK)
             return s;

@@ -228,6 +228,10 @@ double sinter_clock(void);
 
 /* Evaluate every force model on the current state; spring increments use dt_hist. */
 sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist);
+/* The staggered stepper's redistribution at an accepted state, with domain operations
+ * (collective; stepper.c): a migration the host was refused during the last step's attempts is
+ * made now, and the predictor's history restarts on every subdomain if on any. */
+sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st);
 
 /* Accept the last evaluation: commit history and wall reactions. */
 sinter_status sinter_stepper_commit(sinter_stepper *st);

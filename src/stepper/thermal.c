@@ -5,6 +5,7 @@
 #include "contact/chunks.h"
 #include "contact/particle_pass.h"
 #include "core/pcg.h"
+#include "domain/solve.h"
 #include "electric/electric.h"
 #include "sanity.h"
 #include "stepper.h"
@@ -16,6 +17,8 @@ struct sinter_thermal_solver {
     const double *diag;
     double *diag_storage;
     size_t diag_capacity;
+    /* across subdomains (domain/solve.h): the ghosts' values and the reductions */
+    sinter_domain_solve across;
 };
 
 static void solver_free(sinter_ctx *ctx, sinter_thermal_solver *s)
@@ -24,6 +27,7 @@ static void solver_free(sinter_ctx *ctx, sinter_thermal_solver *s)
         return;
     sinter_pcg_free(s->pcg);
     sinter_free(ctx, s->diag_storage);
+    sinter_domain_solve_free(&s->across);
     sinter_free(ctx, s);
 }
 
@@ -333,6 +337,33 @@ static void apply_operator(const double *vv, double *zz, void *data)
     }
 }
 
+/* The same product across subdomains (domain/solve.h): the owned rows only, a ghost's value
+ * from its owner through the forward halo; a pair with a ghost end adds to its owned end. */
+static void apply_operator_across(const double *vv, double *zz, void *data)
+{
+    sinter_thermal_solver *s = data;
+    const sinter_stepper *st = s->st;
+    const sinter_particles *ps = st->ps;
+    const size_t owned = ps->count - ps->ghost_count;
+    sinter_domain_solve_forward(&s->across, vv);
+    const double *v = s->across.rows;
+    for (size_t i = 0; i < owned; ++i)
+        zz[i] = s->diag[i] * v[i];
+    if (owned == 0) /* (the placeholder unknown of an empty subdomain: the identity) */
+        zz[0] = vv[0];
+    const sinter_contact_list *c = &st->pp;
+    const double *g = st->thermal.g_pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        if (fixed(ps, i) || fixed(ps, j))
+            continue;
+        if (i < owned)
+            zz[i] -= g[k] * v[j];
+        if (j < owned)
+            zz[j] -= g[k] * v[i];
+    }
+}
+
 /* Jacobi preconditioner: z = r / diag. */
 static void precondition(const double *rr, double *zz, void *data)
 {
@@ -341,7 +372,9 @@ static void precondition(const double *rr, double *zz, void *data)
         zz[i] = rr[i] / s->diag[i];
 }
 
-static sinter_status ensure_solver(sinter_stepper *st, size_t n)
+/* The solver for n unknowns here, of `total` over every subdomain (the iteration limit,
+ * the same everywhere). */
+static sinter_status ensure_solver(sinter_stepper *st, size_t n, size_t total)
 {
     sinter_thermal *th = &st->thermal;
     if (th->solver == NULL) {
@@ -349,15 +382,128 @@ static sinter_status ensure_solver(sinter_stepper *st, size_t n)
         if (th->solver == NULL)
             return SINTER_ERR_NOMEM;
     }
-    return sinter_pcg_reserve(st->ctx, &th->solver->pcg, n, (int)(n < 1000 ? 1000 : n));
+    return sinter_pcg_reserve(st->ctx, &th->solver->pcg, n,
+                              (int)(total < 1000        ? 1000
+                                    : total > INT32_MAX ? INT32_MAX
+                                                        : total));
+}
+
+/* The temperatures of the solution x of the owned particles [0, n), and the power applied. */
+static void apply_solution(sinter_stepper *st, double h, const double *x, size_t n)
+{
+    sinter_particles *ps = st->ps;
+    const double *theta = ps->temperature;
+    for (size_t i = 0; i < n; ++i) {
+        if (fixed(ps, i))
+            continue;
+        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
+        ps->heat[i] = mc * (x[i] - theta[i]) / h; /* the power actually applied */
+        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
+        /* with C(theta) or latent heat the energy mc (x - theta) goes into the enthalpy */
+        ps->temperature[i] = H == NULL
+                                 ? x[i]
+                                 : sinter_enthalpy_inverse(H, sinter_enthalpy_at(H, theta[i]) +
+                                                                  ps->heat[i] * h / ps->mass[i]);
+    }
+}
+
+/*
+ * Backward Euler across subdomains (domain/solve.h): the owned particles' rows, the pairs with
+ * a ghost end assembled on this side for their owned end (the other side assembles its own),
+ * the ghosts' temperatures those of their owners at t (the halo after the last accepted
+ * step). The same operations in the same order as implicit_update on one subdomain.
+ */
+static sinter_status implicit_update_across(sinter_stepper *st, double h)
+{
+    sinter_particles *ps = st->ps;
+    sinter_thermal *th = &st->thermal;
+    sinter_domain *d = &st->domain;
+    const size_t n = ps->count - ps->ghost_count, rows = n > 0 ? n : 1;
+    uint64_t total = n;
+    sinter_status s =
+        sinter_domain_reduce(st->ctx, d, &total, 1, SINTER_REDUCE_U64, SINTER_REDUCE_SUM);
+    if (s == SINTER_OK)
+        s = ensure_solver(st, rows, (size_t)total);
+    sinter_thermal_solver *sv = th->solver;
+    if (s == SINTER_OK) {
+        sv->across =
+            (sinter_domain_solve){st->ctx, d, ps, sv->across.rows, sv->across.rows_capacity, 0};
+        s = sinter_domain_solve_reserve(&sv->across, 1);
+    }
+    if (s == SINTER_OK)
+        s = sinter_grow(st->ctx, (void **)&sv->diag_storage, &sv->diag_capacity, rows + 1,
+                        sizeof(double));
+    if ((s = sinter_domain_agree(st->ctx, d, s)) != SINTER_OK)
+        return s;
+    double *diag = sv->diag_storage, *b = sinter_pcg_rhs(sv->pcg),
+           *x = sinter_pcg_solution(sv->pcg);
+    const double *theta = ps->temperature;
+    diag[0] = 1.0; /* an empty subdomain's placeholder unknown: 1 x = 0 */
+    b[0] = x[0] = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
+        diag[i] = fixed(ps, i) ? 1.0 : mc / h;
+        b[i] = fixed(ps, i) ? theta[i] : mc / h * theta[i] + ps->heat[i];
+        x[i] = theta[i];
+    }
+    const sinter_contact_list *c = &st->pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = c->j[k];
+        const double g = th->g_pp[k];
+        if (i < n && !fixed(ps, i)) {
+            diag[i] += g;
+            if (fixed(ps, j))
+                b[i] += g * theta[j];
+        }
+        if (j < n && !fixed(ps, j)) {
+            diag[j] += g;
+            if (fixed(ps, i))
+                b[j] += g * theta[i];
+        }
+    }
+    c = &st->pw;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k];
+        if (i >= n || fixed(ps, i))
+            continue;
+        diag[i] += th->g_pw[k];
+        b[i] += th->g_pw[k] * st->walls->wall[c->j[k]].temperature;
+    }
+    sv->st = st;
+    sv->diag = diag;
+    double bnorm = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        bnorm += b[i] * b[i];
+    if ((s = sinter_domain_reduce(st->ctx, d, &bnorm, 1, SINTER_REDUCE_F64, SINTER_REDUCE_SUM)) !=
+        SINTER_OK)
+        return s;
+    const double tol = 1e-13 * sqrt(bnorm) + 1e-300;
+    int iterations = 0;
+    double residual = 0.0;
+    sinter_pcg_set_sum(sv->pcg, sinter_domain_solve_sum, &sv->across, n);
+    const int rc = sinter_pcg_solve(sv->pcg, apply_operator_across, precondition, sv, tol,
+                                    &iterations, &residual);
+    sinter_pcg_set_sum(sv->pcg, NULL, NULL, 0);
+    if (sv->across.failed)
+        return sinter_last_status(st->ctx);
+    if (rc != 0) /* (every subdomain: the same reduced residuals) */
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
+                           "(residual %g)",
+                           rc, iterations, st->time, residual);
+    st->stats_thermal_iterations += (uint64_t)iterations;
+    apply_solution(st, h, x, n);
+    return SINTER_OK;
 }
 
 static sinter_status implicit_update(sinter_stepper *st, double h)
 {
+    if (st->domain.on)
+        return implicit_update_across(st, h);
     sinter_particles *ps = st->ps;
     sinter_thermal *th = &st->thermal;
     const size_t n = ps->count - ps->ghost_count; /* the owned particles: the unknowns */
-    sinter_status s = ensure_solver(st, n);
+    sinter_status s = ensure_solver(st, n, n);
     if (s != SINTER_OK)
         return s;
     sinter_thermal_solver *sv = th->solver;
@@ -414,18 +560,7 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
                            "(residual %g)",
                            rc, iterations, st->time, residual);
     st->stats_thermal_iterations += (uint64_t)iterations;
-    for (size_t i = 0; i < n; ++i) {
-        if (fixed(ps, i))
-            continue;
-        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
-        ps->heat[i] = mc * (x[i] - theta[i]) / h; /* the power actually applied */
-        const sinter_enthalpy *H = sinter_particle_enthalpy(ps, i);
-        /* with C(theta) or latent heat the energy mc (x - theta) goes into the enthalpy */
-        ps->temperature[i] = H == NULL
-                                 ? x[i]
-                                 : sinter_enthalpy_inverse(H, sinter_enthalpy_at(H, theta[i]) +
-                                                                  ps->heat[i] * h / ps->mass[i]);
-    }
+    apply_solution(st, h, x, n);
     return SINTER_OK;
 }
 
@@ -565,6 +700,8 @@ sinter_status sinter_thermal_implicit_advance(sinter_stepper *st, double h)
     if (th->count == 0)
         return SINTER_OK;
     sinter_status s = backup(st);
+    if (st->domain.on) /* (the solve is collective: every subdomain or none) */
+        s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
         s = implicit_update(st, h);
     if (s == SINTER_OK)

@@ -358,10 +358,17 @@ static int migrate(member *me, sinter_stepper *st)
         size_t bytes = 0, written = 0;
         bad = sinter_stepper_export_size(st, leaving, all, &bytes) != SINTER_OK;
         void *scratch = bad ? NULL : malloc(bytes);
-        bad |= scratch == NULL ||
-               sinter_stepper_export(st, leaving, all, scratch, bytes, &written, 1) != SINTER_OK;
+        const sinter_status r =
+            scratch == NULL ? SINTER_ERR_NOMEM
+                            : sinter_stepper_export(st, leaving, all, scratch, bytes, &written, 1);
         free(scratch);
-        me->migrated += leaving;
+        if (r == SINTER_ERR_STATE) /* the staggered stepper in an attempt: they stay (for now) */
+            for (int q = 0; q < lb->size; ++q)
+                me->out_bytes[q] = 0;
+        else if (r == SINTER_OK)
+            me->migrated += leaving;
+        else
+            bad = 1;
     }
     free(list);
     free(all);

@@ -10,9 +10,10 @@
  * - redistribute: with slabs set (loopback_set_slabs), every owned particle whose centre
  *   left its subdomain's slab along x migrates to the subdomain whose slab holds it
  *   (sinter_stepper_export with remove = 1 there, sinter_stepper_import here, from the
- *   subdomains in order); then every subdomain publishes its owned particles and takes as
- *   ghosts the particles of the others within the ghost cut-off of its owned particles'
- *   extent along x. Without slabs, particles stay where they started.
+ *   subdomains in order; when the removal is refused with SINTER_ERR_STATE, inside a
+ *   staggered attempt, they stay until the stepper asks again at its accepted state); then
+ *   every subdomain publishes its owned particles and takes as ghosts the particles of the
+ *   others within the ghost cut-off of its owned particles' extent along x. Without slabs, particles stay where they started.
  * - halo: forward copies the owners' rows into the ghost rows; reverse adds ghost rows into
  *   their owners' rows (in subdomain order) and zeroes them.
  */

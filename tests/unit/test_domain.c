@@ -815,7 +815,7 @@ static void test_refusals(void **st)
     (void)st;
     sinter_ctx *ctx = NULL;
     sinter_particles *ps = NULL;
-    sinter_stepper *step = NULL, *stag = NULL;
+    sinter_stepper *step = NULL, *stag = NULL, *qs = NULL;
     sinter_material *mat = NULL;
     OK(sinter_ctx_create(&ctx, NULL));
     OK(sinter_material_create(&mat, ctx, "m"));
@@ -826,9 +826,18 @@ static void test_refusals(void **st)
     OK(sinter_particles_add_with_ids(ps, 1, &id, x, &R, 0, 300.0, NULL));
     OK(sinter_stepper_create(&step, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL));
     OK(sinter_stepper_create(&stag, ctx, SINTER_STEPPER_STAGGERED, ps, NULL));
+    OK(sinter_stepper_create(&qs, ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
     loopback *lb = loopback_create(1);
     assert_non_null(lb);
+    /* the quasi-static stepper runs on subdomains (test_qs_domain.c), but not its strategy 1 */
+    OK(sinter_stepper_set_option(qs, "qs_strategy", 1.0));
+    assert_int_equal(loopback_attach(lb, 0, qs, ps), SINTER_ERR_UNSUPPORTED);
+    /* the staggered stepper: with the averaged electric model, not the network's global solve */
+    sinter_electric_model *network = NULL;
+    OK(sinter_electric_model_create(&network, ctx, "network"));
+    OK(sinter_stepper_set_electric(stag, network));
     assert_int_equal(loopback_attach(lb, 0, stag, ps), SINTER_ERR_UNSUPPORTED);
+    OK(sinter_stepper_set_electric(stag, NULL));
     OK(sinter_stepper_set_periodic(step, 0, -1.0, 1.0));
     assert_int_equal(loopback_attach(lb, 0, step, ps), SINTER_ERR_UNSUPPORTED);
     OK(sinter_stepper_set_periodic(step, 0, 0.0, 0.0));
@@ -884,6 +893,8 @@ static void test_refusals(void **st)
     loopback_destroy(lb);
     sinter_stepper_destroy(step);
     sinter_stepper_destroy(stag);
+    sinter_stepper_destroy(qs);
+    sinter_electric_model_destroy(network);
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);
     sinter_ctx_destroy(ctx);
