@@ -1688,7 +1688,8 @@ typedef struct sinter_sintering_stats {
     uint64_t pcg_iterations; /**< linear-solver iterations so far */
 } sinter_sintering_stats;
 
-/** Fill `stats` (struct_size set) for a quasi-static stepper that has taken a step. */
+/** Fill `stats` (struct_size set) for a quasi-static stepper that has taken a step. With domain
+ * operations (sinter_domain.h) a collective call: the statistics of every subdomain. */
 SINTER_API sinter_status sinter_stepper_sintering_stats(const sinter_stepper *stepper,
                                                         sinter_sintering_stats *stats);
 

@@ -7,7 +7,7 @@
  * other subdomains that lie within sinter_stepper_ghost_cutoff of its owned ones. Through a
  * table of callbacks the library asks the host for the collective operations it needs.
  *
- * Contract (explicit and staggered steppers, this version):
+ * Contract (explicit, staggered and quasi-static steppers, this version):
  *  - Newton's third law is off across subdomain borders: each subdomain evaluates every pair
  *    with an owned end; the pair is oriented and keyed by the two ids, so both sides hold equal
  *    histories; forces, moments and heat powers on ghosts are discarded. No ghost-ghost pairs,
@@ -28,6 +28,10 @@
  *    are exact sums of their contacts' (two integer reductions a step). Not yet through exact
  *    sums: the heat models' energies (each subdomain's share is summed in its own order, then
  *    the shares are reduced), which may differ in the last bits between decompositions.
+ *  - Quasi-static stepper: each link is owned (and its neck advanced) by the subdomain of its
+ *    smaller id; loads on a ghost end go to the owner through the reverse halo; K u = f is
+ *    solved across subdomains (PCG, block-Jacobi, halos of 6 and 36 doubles per particle);
+ *    sinter_stepper_sintering_stats becomes collective (docs/scaleout.md).
  *
  * Like sinter.h, this header uses only <stddef.h> and <stdint.h> and parses as a cffi cdef.
  */
@@ -144,9 +148,9 @@ typedef struct sinter_domain_ops {
 
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
- * stepper's global quantities go through `ops`. The explicit and the staggered steppers (not
- * the quasi-static one), without periodic axes, continuous insertion, an electric model with
- * host callbacks or the option sort_interval; with the explicit stepper the "network" electric
+ * stepper's global quantities go through `ops`. The explicit, staggered and quasi-static
+ * steppers, without periodic axes, continuous insertion, an electric model with host
+ * callbacks or the option sort_interval; with the explicit stepper the "network" electric
  * model and implicit conduction, with the staggered stepper the "averaged" electric model
  * (SINTER_ERR_UNSUPPORTED names the setting, here or at the next step); reduce, exscan, halo
  * and redistribute are required. Implicit conduction and the "network" electric model solve
@@ -162,8 +166,16 @@ typedef struct sinter_domain_ops {
  * sinter_stepper_import return SINTER_ERR_STATE there, and the stepper calls redistribute
  * again at the next accepted state, where migration is allowed. The option "reproducible"
  * (explicit stepper) makes the results the same bits for any decomposition.
- * sinter_checkpoint_write refuses such a stepper
- * (SINTER_ERR_UNSUPPORTED): a decomposed run writes a portable checkpoint instead, between two
+ * The quasi-static stepper (given them before its first step) redistributes once per
+ * sinter_stepper_advance or _step call, at its start: migration then, links travelling with
+ * their smaller id; the ghosts serve the whole call (set a skin, sinter_stepper_set_skin, that
+ * covers the pairs coming into contact). Not with qs_strategy 1; on more than one subdomain
+ * the rigid motion of link components that no plane holds is not removed. On one subdomain
+ * its results are the bits of the run without domain operations; on more they equal them to
+ * round-off when the solve's target qs_solve_rtol is tight (another PCG: at the default 1e-7
+ * the approaches differ by about 2e-8).
+ * sinter_checkpoint_write refuses such a stepper (SINTER_ERR_UNSUPPORTED): a decomposed run
+ * (not the quasi-static stepper's, whose global part is refused) writes a portable checkpoint instead, between two
  * steps: the global part (sinter_stepper_save_global; the same bytes on every subdomain, so one
  * subdomain writes it) and the records of every subdomain's owned particles
  * (sinter_stepper_export with remove = 0; ghosts are not written). It restarts on any number

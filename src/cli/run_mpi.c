@@ -128,6 +128,10 @@ static int read_facts(const char *path, scene_facts *f)
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
                     snprintf(f->refused, sizeof(f->refused), "[%.100s]", section);
+        } else if (f->refused[0] == '\0' && strcmp(section, "stepper") == 0 &&
+                   strncmp(line, "kind", 4) == 0 && strstr(line, "quasistatic") != NULL) {
+            /* the library steps it on subdomains (issue 43), this runner's output not yet */
+            snprintf(f->refused, sizeof(f->refused), "[stepper] %.60s", line);
         } else if (f->refused[0] == '\0' && refused_key(section, line)) {
             snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
         } else if (strcmp(section, "output") == 0 && strncmp(line, "solid_box", 9) == 0) {

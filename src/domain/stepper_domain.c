@@ -6,14 +6,18 @@
 #include "stepper/stepper.h"
 #include "electric/electric.h"
 #include "walls/walls.h"
+#include "stepper/qs_struct.h"
 
 /* SINTER_OK when the stepper's settings work across subdomains in this version, else
  * SINTER_ERR_UNSUPPORTED naming the first that does not (checked again at every step). */
 sinter_status sinter_domain_check(sinter_stepper *st)
 {
     const char *what = NULL;
-    if (st->kind == SINTER_STEPPER_QUASISTATIC)
-        what = "the quasi-static stepper";
+    if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic_options.strategy == 1)
+        what = "qs_strategy 1 (its whole-step rejections are not agreed yet)";
+    else if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic != NULL &&
+             st->quasistatic->steps > 0 && !st->quasistatic->dom.on)
+        what = "a quasi-static stepper that has stepped without them (its links are all here)";
     else if (sinter_ghosts_on(&st->ghosts))
         what = "periodic axes (sinter_stepper_set_periodic)";
     else if (st->insertion != NULL)

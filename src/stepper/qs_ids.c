@@ -133,6 +133,22 @@ sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
     sinter_status st = slots_make(qs, n, ids, &same);
     if (st != SINTER_OK)
         return st;
+    for (size_t k = 0; k < qs->count && qs->dom.on; ++k) {
+        /* a subdomain keeps its links: the other end of each must be one of its ghosts */
+        const sinter_qs_link *l = &qs->links[k];
+        const uint64_t gone = sinter_qs_slot_of_id(qs, l->id_a) == SIZE_MAX   ? l->id_a
+                              : sinter_qs_slot_of_id(qs, l->id_b) == SIZE_MAX ? l->id_b
+                                                                              : UINT64_MAX;
+        if (gone != UINT64_MAX) {
+            qs->slots_valid = 0; /* (the links still name the old indices) */
+            return sinter_fail(qs->ctx, SINTER_ERR_INVALID,
+                               "quasi-static stepper: particle id %llu of the link of ids %llu "
+                               "and %llu is neither owned nor a ghost here; the host's ghosts "
+                               "must hold every particle within the ghost cut-off",
+                               (unsigned long long)gone, (unsigned long long)l->id_a,
+                               (unsigned long long)l->id_b);
+        }
+    }
     size_t kept = 0;
     for (size_t k = 0; k < qs->count; ++k) {
         sinter_qs_link *l = &qs->links[k];

@@ -2,6 +2,7 @@
 #ifndef SINTER_STEPPER_QS_STRUCT_H
 #define SINTER_STEPPER_QS_STRUCT_H
 
+#include "domain/domain.h"
 #include "stepper/quasistatic.h"
 
 /* A link's key: the ids of its two particles, the smaller first (issue 43). */
@@ -21,8 +22,26 @@ typedef struct sinter_qs_image_pair {
     int32_t image[3];
 } sinter_qs_image_pair;
 
+/* A decomposed run (qs_domain.c, issue 43): the particles of a step are this subdomain's owned
+ * ones, then ghosts of the other subdomains; this subdomain keeps the links whose smaller id it
+ * owns. Bound by the adapter before each step (qs_domain_bind); `on` is 0 without domain
+ * operations. */
+typedef struct sinter_qs_domain {
+    int on;
+    sinter_domain *d;   /* the stepper's collective operations */
+    size_t owned;       /* owned rows, first */
+    size_t ghosts;      /* ghost rows, after them */
+    const uint64_t *id; /* the set's ids (for the halos) */
+    uint64_t size;      /* subdomains (exscan of 1; 0: not asked yet) */
+    int split;          /* more than one subdomain: the split solve, the guard skipped */
+    int started;        /* the global extents and green density taken (first step) */
+    double *rows;       /* halo rows, (owned + ghosts) * width */
+    size_t rows_capacity;
+} sinter_qs_domain;
+
 struct sinter_qs {
     sinter_ctx *ctx;
+    sinter_qs_domain dom;
     sinter_qs_options opt;
     sinter_qs_link *links;
     size_t count, capacity;

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "stepper/qs_domain.h"
 #include "stepper/qs_struct.h"
 #include "stepper/quasistatic.h"
 
@@ -22,47 +23,74 @@ static sinter_status report(sinter_qs *qs, int *warned, const char *what)
 
 sinter_status sinter_qs_check_validity(sinter_qs *qs, const sinter_qs_particles *p, double t)
 {
-    if (qs->opt.validity <= 0.0 || (qs->warned_coverage && qs->warned_density) || p->count == 0)
+    /* with domain operations every decision below follows reduced values (qs_domain.h): a
+     * particle's necks may lie on several subdomains */
+    const int domain = qs->dom.on;
+    if (qs->opt.validity <= 0.0 || (qs->warned_coverage && qs->warned_density) ||
+        (p->count == 0 && !domain))
         return SINTER_OK;
     char what[320];
     if (!qs->warned_coverage) {
-        double *share = sinter_calloc(qs->ctx, p->count, sizeof(double));
-        if (share == NULL)
-            return SINTER_ERR_NOMEM;
+        double *share = sinter_calloc(qs->ctx, p->count + 1, sizeof(double));
+        sinter_status st = sinter_qs_domain_agree(qs, share == NULL ? SINTER_ERR_NOMEM : SINTER_OK);
+        if (st != SINTER_OK) {
+            sinter_free(qs->ctx, share);
+            return st;
+        }
         for (size_t k = 0; k < qs->count; ++k) {
             const sinter_qs_link *l = &qs->links[k];
             const double x = l->neck.y[SINTER_NECK_X];
             share[l->beam.a] += sinter_neck_cap_share(x / p->radius[l->beam.a]);
             share[l->beam.b] += sinter_neck_cap_share(x / p->radius[l->beam.b]);
         }
+        st = sinter_qs_domain_reverse_index(qs, share, 1); /* (the ghosts' shares to owners) */
         /* the most covered particle, the smallest id on ties (the slots' order, qs_ids.c) */
         const int by_slot = qs->slots_valid && qs->slots == p->count;
-        size_t worst = by_slot ? qs->index_of_slot[0] : 0;
-        for (size_t s = 1; s < p->count; ++s) {
+        size_t worst = SIZE_MAX;
+        for (size_t s = 0; s < p->count; ++s) {
             const size_t i = by_slot ? qs->index_of_slot[s] : s;
-            if (share[i] > share[worst])
+            if (!sinter_qs_domain_ghost(qs, i) && (worst == SIZE_MAX || share[i] > share[worst]))
                 worst = i;
         }
-        const double most = share[worst];
+        double most = worst != SIZE_MAX ? share[worst] : 0.0;
+        uint64_t worst_id = worst == SIZE_MAX ? UINT64_MAX : p->id != NULL ? p->id[worst] : worst;
         sinter_free(qs->ctx, share);
+        if (domain && st == SINTER_OK) { /* over the subdomains: the largest share, its
+                                            smallest id */
+            const double mine = most;
+            st = sinter_qs_domain_reduce(qs, &most, 1, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+            worst_id = worst != SIZE_MAX && mine == most ? worst_id : UINT64_MAX;
+            if (st == SINTER_OK)
+                st =
+                    sinter_qs_domain_reduce(qs, &worst_id, 1, SINTER_REDUCE_U64, SINTER_REDUCE_MIN);
+        }
+        if (st != SINTER_OK)
+            return st;
         if (most > SINTER_NECK_COVERAGE_LIMIT) {
-            size_t links = 0;
+            uint64_t links = 0;
             double ratio = 0.0;
             for (size_t k = 0; k < qs->count; ++k) {
                 const sinter_qs_link *l = &qs->links[k];
-                if (l->beam.a == worst || l->beam.b == worst) {
+                const int on_a = domain ? l->id_a == worst_id : l->beam.a == worst;
+                const int on_b = domain ? l->id_b == worst_id : l->beam.b == worst;
+                if (on_a || on_b) {
                     ++links;
-                    ratio = fmax(ratio, l->neck.y[SINTER_NECK_X] / p->radius[worst]);
+                    ratio = fmax(ratio, l->neck.y[SINTER_NECK_X] /
+                                            p->radius[on_a ? l->beam.a : l->beam.b]);
                 }
             }
+            if (domain && ((st = sinter_qs_domain_reduce(qs, &links, 1, SINTER_REDUCE_U64,
+                                                         SINTER_REDUCE_SUM)) != SINTER_OK ||
+                           (st = sinter_qs_domain_reduce(qs, &ratio, 1, SINTER_REDUCE_F64,
+                                                         SINTER_REDUCE_MAX)) != SINTER_OK))
+                return st;
             snprintf(what, sizeof(what),
-                     "the necks impinge: the %zu necks of particle id %llu (largest x/R = %.4g) "
+                     "the necks impinge: the %llu necks of particle id %llu (largest x/R = %.4g) "
                      "cover %.4g of its surface, more than %g (docs/7dof.md section 2.6), at "
                      "t = %.6g s",
-                     links, (unsigned long long)(p->id != NULL ? p->id[worst] : worst), ratio, most,
+                     (unsigned long long)links, (unsigned long long)worst_id, ratio, most,
                      SINTER_NECK_COVERAGE_LIMIT, t);
-            const sinter_status st = report(qs, &qs->warned_coverage, what);
-            if (st != SINTER_OK)
+            if ((st = report(qs, &qs->warned_coverage, what)) != SINTER_OK)
                 return st;
         }
     }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "stepper/quasistatic.h"
+#include "stepper/qs_domain.h"
 #include "stepper/qs_floating.h"
 #include "stepper/qs_struct.h"
 #include "stepper/stepper.h"
@@ -233,6 +234,7 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->ext_r);
     sinter_free(ctx, qs->ext_owner);
     sinter_free(ctx, qs->ext_image);
+    sinter_free(ctx, qs->dom.rows);
     sinter_free(ctx, qs);
 }
 
@@ -440,6 +442,8 @@ static sinter_status detect_contacts(sinter_qs *qs, const sinter_qs_particles *p
         const double d[3] = {xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]};
         const double dist2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         const sinter_qs_pair key = {qs->slot_id[sa], qs->slot_id[sb]};
+        if (sinter_qs_domain_ghost(qs, a)) /* the subdomain of the smaller id owns the link */
+            continue;
         if (before > 0 &&
             bsearch(&key, qs->keys, before, sizeof(sinter_qs_pair), sinter_qs_pair_compare))
             continue;
@@ -752,6 +756,21 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
     return st;
 }
 
+/* With domain operations the status of a stage as every subdomain agrees it; a failure
+ * anywhere puts this subdomain's necks back at t as well (and their step hints, strategy 2). */
+static sinter_status agree_necks(sinter_qs *qs, sinter_status st, int hints)
+{
+    if (!qs->dom.on)
+        return st;
+    const sinter_status agreed = sinter_qs_domain_agree(qs, st);
+    for (size_t k = 0; agreed != SINTER_OK && k < qs->count; ++k) {
+        memcpy(qs->links[k].neck.y, qs->saved[k], sizeof(qs->saved[k]));
+        if (hints)
+            qs->links[k].neck.step_hint = qs->saved_hint[k];
+    }
+    return agreed;
+}
+
 sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                              const sinter_neck_schedule *schedule, double t, double h,
                              double *taken)
@@ -763,19 +782,24 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         return sinter_fail(qs->ctx, SINTER_ERR_INVALID, "quasi-static stepper: step %g s", h);
     const size_t n = p->count;
     sinter_status st = sinter_qs_follow_ids(qs, p); /* the slots of p's particles (qs_ids.c) */
-    if (st != SINTER_OK)
+    const int fresh = st == SINTER_OK && qs->particles != n;
+    if (fresh && sinter_qs_periodic_on(qs))
+        st = inside_cell(qs, p);
+    if (fresh && st == SINTER_OK)
+        st = setup(qs, p);
+    /* with domain operations (qs_domain.h) the stages below agree their status, and the
+     * first step's extents and green density are those of every subdomain */
+    if ((st = sinter_qs_domain_agree(qs, st)) != SINTER_OK)
         return st;
-    if (qs->particles != n) {
-        if (sinter_qs_periodic_on(qs) && (st = inside_cell(qs, p)) != SINTER_OK)
-            return st;
-        if ((st = setup(qs, p)) != SINTER_OK)
-            return st;
-        if ((st = detect_contacts(qs, p, t)) != SINTER_OK)
-            return st;
-    }
+    if (qs->dom.on && !qs->dom.started)
+        st = sinter_qs_domain_start(qs, p);
+    if (fresh && st == SINTER_OK)
+        st = detect_contacts(qs, p, t);
     const size_t m = qs->count;
-    st = sinter_grow(qs->ctx, (void **)&qs->saved, &qs->saved_capacity, m + 1, sizeof(*qs->saved));
-    if (st != SINTER_OK)
+    if (st == SINTER_OK)
+        st = sinter_grow(qs->ctx, (void **)&qs->saved, &qs->saved_capacity, m + 1,
+                         sizeof(*qs->saved));
+    if ((st = sinter_qs_domain_agree(qs, st)) != SINTER_OK)
         return st;
     for (size_t k = 0; k < m; ++k)
         memcpy(qs->saved[k], qs->links[k].neck.y, sizeof(qs->saved[k]));
@@ -786,17 +810,21 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     if (qs->opt.strategy == 3 || qs->opt.neck_law != 0.0) {
         st = qs->opt.neck_law != 0.0 ? sinter_qs_advance_law(qs, p, schedule, t, h)
                                      : advance_batch(qs, schedule, t, h);
-        if (st != SINTER_OK)
+        if ((st = agree_necks(qs, st, 0)) != SINTER_OK)
             return st;
-        size_t above = 0; /* links whose approach of the step / L0 reached max_strain */
+        uint64_t above[2] = {0, m}; /* links whose approach of the step / L0 reached max_strain */
         for (size_t k = 0; k < m; ++k) {
             const double *y = qs->links[k].neck.y;
             const double dl = qs->saved[k][SINTER_NECK_LA] - y[SINTER_NECK_LA] +
                               qs->saved[k][SINTER_NECK_LB] - y[SINTER_NECK_LB];
-            above += fabs(dl) >= qs->opt.max_strain * qs->links[k].neck.center_distance0;
+            above[0] += fabs(dl) >= qs->opt.max_strain * qs->links[k].neck.center_distance0;
         }
+        if ((st = sinter_qs_domain_reduce(qs, above, 2, SINTER_REDUCE_U64, SINTER_REDUCE_SUM)) !=
+            SINTER_OK) /* (over every subdomain's links) */
+            return st;
         /* strain_fraction 0: grow only while no link reached max_strain */
-        next = (double)above <= qs->opt.strain_fraction * (double)m ? h * alpha : h / alpha;
+        next =
+            (double)above[0] <= qs->opt.strain_fraction * (double)above[1] ? h * alpha : h / alpha;
     } else if (qs->opt.strategy == 1) {
         int grow = 0;
         if ((st = advance_global(qs, schedule, t, &h, &grow)) != SINTER_OK)
@@ -808,11 +836,13 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
          * the state and the message do not depend on the thread count. */
         st = sinter_grow(qs->ctx, (void **)&qs->saved_hint, &qs->saved_hint_capacity, m + 1,
                          sizeof(double));
-        if (st != SINTER_OK)
+        if ((st = sinter_qs_domain_agree(qs, st)) != SINTER_OK)
             return st;
         for (size_t k = 0; k < m; ++k)
             qs->saved_hint[k] = qs->links[k].neck.step_hint;
         const uint64_t first_failed = advance_pairs(qs, NULL, m, schedule, t, h);
+        if (first_failed == UINT64_MAX && (st = agree_necks(qs, SINTER_OK, 1)) != SINTER_OK)
+            return st; /* (another subdomain's neck failed) */
         if (first_failed != UINT64_MAX) {
             const size_t k = (size_t)(first_failed >> 1);
             const int outside = (int)(first_failed & 1u);
@@ -821,24 +851,28 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                 qs->links[j].neck.step_hint = qs->saved_hint[j];
             }
             const sinter_qs_link *l = &qs->links[k];
-            return sinter_fail(qs->ctx, outside ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
-                               "quasi-static stepper (strategy 2): the neck of particles id "
-                               "%llu and id %llu (neck radius %g m, x/R %g) %s from t = %.9g s "
-                               "(sub-steps down to %g s tried); the state at t is kept",
-                               (unsigned long long)l->id_a, (unsigned long long)l->id_b,
-                               l->neck.y[SINTER_NECK_X],
-                               l->neck.y[SINTER_NECK_X] /
-                                   fmin(l->neck.y[SINTER_NECK_RA], l->neck.y[SINTER_NECK_RB]),
-                               outside ? "leaves the 7DOF model's domain of validity "
-                                         "(7dof.md sec. 2.5)"
-                                       : "cannot meet the neck tolerance",
-                               t, 1e-3 * qs->opt.dt_min);
+            st = sinter_fail(qs->ctx, outside ? SINTER_ERR_DOMAIN : SINTER_ERR_NOT_CONVERGED,
+                             "quasi-static stepper (strategy 2): the neck of particles id "
+                             "%llu and id %llu (neck radius %g m, x/R %g) %s from t = %.9g s "
+                             "(sub-steps down to %g s tried); the state at t is kept",
+                             (unsigned long long)l->id_a, (unsigned long long)l->id_b,
+                             l->neck.y[SINTER_NECK_X],
+                             l->neck.y[SINTER_NECK_X] /
+                                 fmin(l->neck.y[SINTER_NECK_RA], l->neck.y[SINTER_NECK_RB]),
+                             outside ? "leaves the 7DOF model's domain of validity "
+                                       "(7dof.md sec. 2.5)"
+                                     : "cannot meet the neck tolerance",
+                             t, 1e-3 * qs->opt.dt_min);
+            return agree_necks(qs, st, 1);
         }
-        size_t sub = 0;
+        uint64_t sub[2] = {0, m};
         for (size_t k = 0; k < m; ++k)
-            sub += (size_t)qs->links[k].substepped;
-        qs->substepped += sub;
-        const double fraction = m > 0 ? (double)sub / (double)m : 0.0;
+            sub[0] += (uint64_t)qs->links[k].substepped;
+        qs->substepped += sub[0];
+        if ((st = sinter_qs_domain_reduce(qs, sub, 2, SINTER_REDUCE_U64, SINTER_REDUCE_SUM)) !=
+            SINTER_OK) /* (over every subdomain's links) */
+            return st;
+        const double fraction = sub[1] > 0 ? (double)sub[0] / (double)sub[1] : 0.0;
         if (fraction < qs->opt.grow_fraction)
             next = h * alpha;
         else if (fraction > qs->opt.shrink_fraction)
@@ -863,6 +897,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
             f[6 * (size_t)slot[l->beam.b] + d] -= fn * l->beam.axis[d];
         }
     }
+    /* with domain operations: the loads on ghost ends added into their owners (qs_domain.h) */
+    st = sinter_qs_domain_reverse(qs, f, 6);
+    if ((st = agree_necks(qs, st, 0)) != SINTER_OK)
+        return st;
 
     /* periodic axes: the cell's strain from the links' approaches, its loads off f (the
      * solve's u is then the periodic rest; qs_periodic.c) */
@@ -876,6 +914,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     /* 3. K u = f (eq. 40) under the principal-plane conditions */
     int iterations = 0;
     st = sinter_grow(qs->ctx, (void **)&qs->beams, &qs->beams_capacity, m + 1, sizeof(sinter_beam));
+    st = sinter_qs_domain_agree(qs, st);
     if (st == SINTER_OK) {
         for (size_t k = 0; k < m; ++k) {
             qs->beams[k] = qs->links[k].beam;
@@ -896,10 +935,15 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                 u[i] *= scale;
             guess = u;
         }
-        st = sinter_bonded_solve_from(qs->solver, n, qs->beams, m, qs->fixed, f, guess, u,
-                                      qs->opt.solve_rtol, &iterations);
-        if (st == SINTER_OK) /* the rigid motion K leaves free: none (qs_floating.c) */
-            st = sinter_qs_remove_free_motion(qs, p, u);
+        if (qs->dom.split) /* over the subdomains (bonded/solve_split.h; no free motion removed) */
+            st = sinter_qs_domain_solve(qs, n, f, guess, u, &iterations);
+        else {
+            st = sinter_bonded_solve_from(qs->solver, n, qs->beams, m, qs->fixed, f, guess, u,
+                                          qs->opt.solve_rtol, &iterations);
+            if (st == SINTER_OK) /* the rigid motion K leaves free: none (qs_floating.c) */
+                st = sinter_qs_remove_free_motion(qs, p, u);
+        }
+        st = sinter_qs_domain_agree(qs, st);
         qs->u_step = st == SINTER_OK ? h : 0.0;
     }
     if (st != SINTER_OK) {
@@ -911,7 +955,7 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
 
     /* The new centres of every link must stay apart and finite; checked before anything moves,
      * so that a failure keeps the state at t. */
-    for (size_t k = 0; k < m; ++k) {
+    for (size_t k = 0; k < m && st == SINTER_OK; ++k) {
         const sinter_qs_link *l = &qs->links[k];
         const size_t a = l->beam.a, b = l->beam.b, sa = slot[a], sb = slot[b];
         double d2 = 0.0;
@@ -922,16 +966,19 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         if (periodic)
             d2 = sinter_qs_cell_distance2(qs, p, k, u);
         if (!(d2 > 0.0) || !isfinite(d2)) {
-            for (size_t j = 0; j < m; ++j)
-                memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
-            qs->u_step = 0.0;
-            return sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
-                               "quasi-static stepper: the step from t = %.9g s to %.9g s would "
-                               "put particles id %llu and id %llu at a centre distance of %g m; "
-                               "the state at t is kept",
-                               t, t + h, (unsigned long long)l->id_a, (unsigned long long)l->id_b,
-                               sqrt(d2));
+            st = sinter_fail(qs->ctx, SINTER_ERR_DOMAIN,
+                             "quasi-static stepper: the step from t = %.9g s to %.9g s would "
+                             "put particles id %llu and id %llu at a centre distance of %g m; "
+                             "the state at t is kept",
+                             t, t + h, (unsigned long long)l->id_a, (unsigned long long)l->id_b,
+                             sqrt(d2));
         }
+    }
+    if ((st = agree_necks(qs, st, 0)) != SINTER_OK) {
+        for (size_t j = 0; j < m; ++j)
+            memcpy(qs->links[j].neck.y, qs->saved[j], sizeof(qs->saved[j]));
+        qs->u_step = 0.0;
+        return st;
     }
 
     /* 4. move and turn the particles; share the link compression between y4 and y7 */
@@ -977,13 +1024,15 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     }
 
     /* 5. new contacts */
-    if (qs->opt.new_contacts != 0.0 && (st = detect_contacts(qs, p, t + h)) != SINTER_OK)
+    if (qs->opt.new_contacts != 0.0)
+        st = detect_contacts(qs, p, t + h);
+    if ((st = sinter_qs_domain_agree(qs, st)) != SINTER_OK)
         return st;
     qs->steps++;
     qs->dt_next = next;
     if (taken)
         *taken = h;
-    return sinter_qs_check_validity(qs, p, t + h);
+    return sinter_qs_check_validity(qs, p, t + h); /* (collective with domain operations) */
 }
 
 sinter_status sinter_qs_run(sinter_qs *qs, const sinter_qs_particles *p,
@@ -1015,7 +1064,7 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
 {
     const size_t n = p->count;
     unsigned char *linked = n > 0 ? sinter_calloc(qs->ctx, n, 1) : NULL;
-    if (linked == NULL || qs->origin_count == 0) {
+    if (!qs->dom.on && (linked == NULL || qs->origin_count == 0)) {
         sinter_free(qs->ctx, linked);
         double ext[3];
         extents(p, ext);
@@ -1023,12 +1072,17 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
             out[d] = qs->extent0[d] > 0.0 ? 1.0 - ext[d] / qs->extent0[d] : 0.0;
         return;
     }
-    for (size_t k = 0; k < qs->count; ++k)
+    for (size_t k = 0; k < qs->count && linked != NULL; ++k)
         linked[qs->links[k].beam.a] = linked[qs->links[k].beam.b] = 1;
+    /* with domain operations: a ghost's marks to its owner (every subdomain reduces alike, an
+     * allocation failure only loses this subdomain's share) */
+    sinter_qs *q = (sinter_qs *)qs; /* (the halo counts calls in the domain only) */
+    if (qs->dom.on && sinter_qs_domain_linked(q, linked != NULL ? n : 0, linked) != SINTER_OK)
+        memset(linked, 0, linked != NULL ? n : 0);
     double sum0[3] = {0, 0, 0}, sumu[3] = {0, 0, 0}, s00[3] = {0, 0, 0}, s0u[3] = {0, 0, 0};
     double m = 0.0;
     const int by_slot = qs->slots_valid && qs->slots == n;
-    for (size_t s = 0; s < n; ++s) {
+    for (size_t s = 0; s < n && linked != NULL; ++s) {
         const size_t i = by_slot ? qs->index_of_slot[s] : s;
         if (!linked[i])
             continue;
@@ -1047,6 +1101,21 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
         }
     }
     sinter_free(qs->ctx, linked);
+    if (qs->dom.on) {
+        double v[13];
+        memcpy(v, sum0, sizeof(sum0));
+        memcpy(v + 3, sumu, sizeof(sumu));
+        memcpy(v + 6, s00, sizeof(s00));
+        memcpy(v + 9, s0u, sizeof(s0u));
+        v[12] = m;
+        if (sinter_qs_domain_reduce(q, v, 13, SINTER_REDUCE_F64, SINTER_REDUCE_SUM) == SINTER_OK) {
+            memcpy(sum0, v, sizeof(sum0));
+            memcpy(sumu, v + 3, sizeof(sumu));
+            memcpy(s00, v + 6, sizeof(s00));
+            memcpy(s0u, v + 9, sizeof(s0u));
+            m = v[12];
+        }
+    }
     for (int d = 0; d < 3; ++d) {
         const double var = m > 0.0 ? s00[d] - sum0[d] * sum0[d] / m : 0.0;
         const double cov = m > 0.0 ? s0u[d] - sum0[d] * sumu[d] / m : 0.0;
@@ -1068,6 +1137,7 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
     out->substepped_pairs = qs->substepped;
     out->neck_min = INFINITY;
     out->neck_max = 0.0;
+    double links = (double)qs->count;
     for (size_t k = 0; k < qs->count; ++k) {
         const double *y = qs->links[k].neck.y;
         out->neck_mean += y[SINTER_NECK_X];
@@ -1077,9 +1147,27 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
             y[SINTER_NECK_X] / fmin(p->radius[qs->links[k].beam.a], p->radius[qs->links[k].beam.b]);
         out->time = qs->links[k].neck.time;
     }
-    if (qs->count > 0) {
-        out->neck_mean /= (double)qs->count;
-        out->neck_ratio_mean /= (double)qs->count;
+    if (qs->dom.on) { /* over every subdomain's links and owned particles (qs_domain.h) */
+        sinter_qs *q = (sinter_qs *)qs; /* (the reductions count calls in the domain only) */
+        double sums[4] = {out->neck_mean, out->neck_ratio_mean, links, (double)q->dom.owned};
+        double lo = out->neck_min, hi[2] = {out->neck_max, out->time};
+        if (sinter_qs_domain_reduce(q, sums, 4, SINTER_REDUCE_F64, SINTER_REDUCE_SUM) ==
+                SINTER_OK &&
+            sinter_qs_domain_reduce(q, &lo, 1, SINTER_REDUCE_F64, SINTER_REDUCE_MIN) == SINTER_OK &&
+            sinter_qs_domain_reduce(q, hi, 2, SINTER_REDUCE_F64, SINTER_REDUCE_MAX) == SINTER_OK) {
+            out->neck_mean = sums[0];
+            out->neck_ratio_mean = sums[1];
+            links = sums[2];
+            out->particles = (size_t)sums[3];
+            out->neck_min = lo;
+            out->neck_max = hi[0];
+            out->time = hi[1];
+            out->links = (size_t)links;
+        }
+    }
+    if (links > 0.0) {
+        out->neck_mean /= links;
+        out->neck_ratio_mean /= links;
     } else {
         out->neck_min = 0.0;
     }
@@ -1088,7 +1176,8 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
      * the homogeneous strain: a box that shrinks by s_d along each axis. */
     out->relative_density = qs->density0 / ((1.0 - out->shrinkage[0]) * (1.0 - out->shrinkage[1]) *
                                             (1.0 - out->shrinkage[2]));
-    out->coordination = p->count > 0 ? 2.0 * (double)qs->count / (double)p->count : 0.0;
+    out->coordination =
+        out->particles > 0 ? 2.0 * (double)out->links / (double)out->particles : 0.0;
 }
 
 /* ---- adapter to the stepper ---------------------------------------------------------------- */
@@ -1098,17 +1187,28 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
 {
     sinter_particles *ps = st->ps;
     sinter_status s = SINTER_OK;
-    if (*qs == NULL && (s = sinter_qs_create(qs, st->ctx, opt)) != SINTER_OK)
+    if (*qs == NULL)
+        s = sinter_qs_create(qs, st->ctx, opt);
+    if (s == SINTER_OK && st->domain.on) /* (settings not yet supported across subdomains) */
+        s = sinter_domain_check(st);
+    /* with domain operations (qs_domain.h): the ghosts' state from their owners first */
+    if (st->domain.on && (s = sinter_domain_agree(st->ctx, &st->domain, s)) == SINTER_OK)
+        s = sinter_domain_forward(st->ctx, &st->domain, ps);
+    if (s == SINTER_OK)
+        s = sinter_qs_domain_bind(*qs, st);
+    if (s != SINTER_OK)
         return s;
     /* a reordering (option sort_interval), addition or removal of particles is followed through
      * their ids (qs_ids.c); after particles were added or removed the plane conditions are
      * detected again even where the ids are those of the last step (an id removed and given
      * again: the links of that id stay, as for a particle that leaves and comes back) */
-    if ((*qs)->population_known && (*qs)->population_generation != ps->population_generation)
+    if ((*qs)->population_known && (*qs)->population_generation != ps->population_generation &&
+        !st->domain.on) /* (the ghosts are made again at each redistribution) */
         (*qs)->slots_valid = 0;
     const sinter_qs_particles ids_view = {ps->count,    ps->x,  ps->rot, ps->radius,
                                           ps->material, ps->id, NULL};
-    if ((s = sinter_qs_follow_ids(*qs, &ids_view)) != SINTER_OK)
+    s = sinter_qs_follow_ids(*qs, &ids_view);
+    if ((s = sinter_qs_domain_agree(*qs, s)) != SINTER_OK)
         return s;
     /* the stepper's periodic axes (sinter_stepper_set_periodic): the cell is the core's once
      * it steps, and is written back after each step, so only a change by the host is taken */
@@ -1128,8 +1228,11 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
     (*qs)->population_known = 1;
     /* The materials in use (index = material id). */
     sinter_qs_material *mats = sinter_calloc(st->ctx, SINTER_MAX_MATERIALS, sizeof(*mats));
-    if (mats == NULL)
-        return SINTER_ERR_NOMEM;
+    if ((s = sinter_qs_domain_agree(*qs, mats == NULL ? SINTER_ERR_NOMEM : SINTER_OK)) !=
+        SINTER_OK) {
+        sinter_free(st->ctx, mats);
+        return s;
+    }
     for (int id = 0; id < SINTER_MAX_MATERIALS; ++id) {
         if (!ps->material_used[id])
             continue;
@@ -1138,11 +1241,21 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
         mats[id].poisson = ps->materials[id].value[SINTER_MAT_POISSON_RATIO];
     }
     /* The furnace's T(t), or the mean particle temperature held over the step (summed in id
-     * order). */
-    double mean_temperature = 0.0;
-    for (size_t k = 0; k < ps->count; ++k)
-        mean_temperature += ps->temperature[(*qs)->index_of_slot[k]];
-    mean_temperature = ps->count > 0 ? mean_temperature / (double)ps->count : 0.0;
+     * order; with domain operations over every subdomain's owned particles). */
+    double mean[2] = {0.0, 0.0};
+    for (size_t k = 0; k < ps->count; ++k) {
+        const size_t i = (*qs)->index_of_slot[k];
+        if (!sinter_qs_domain_ghost(*qs, i)) {
+            mean[0] += ps->temperature[i];
+            mean[1] += 1.0;
+        }
+    }
+    if ((s = sinter_qs_domain_reduce(*qs, mean, 2, SINTER_REDUCE_F64, SINTER_REDUCE_SUM)) !=
+        SINTER_OK) {
+        sinter_free(st->ctx, mats);
+        return s;
+    }
+    double mean_temperature = mean[1] > 0.0 ? mean[0] / mean[1] : 0.0;
     const double times[1] = {st->time}, temps[1] = {mean_temperature};
     sinter_neck_schedule schedule = {1, times, temps};
     if (st->furnace_count > 0) {

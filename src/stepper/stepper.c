@@ -12,6 +12,7 @@
 #include "particles/id_index.h"
 #include "stepper.h"
 #include "stepper/wall_sums.h"
+#include "stepper/qs_domain.h"
 #include "electric/electric.h"
 #include "insertion.h"
 #include "migrate.h"
@@ -115,10 +116,6 @@ sinter_status sinter_stepper_set_kind(sinter_stepper *st, int kind)
     if (st->stats.steps > 0 || st->stats.rejected > 0)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "the stepper has taken steps; its kind can no longer change");
-    if (kind == SINTER_STEPPER_QUASISTATIC && st->domain.on)
-        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "domain operations (sinter_stepper_set_domain_ops) are supported by "
-                           "the explicit and staggered steppers only so far; remove them first");
     if (kind == SINTER_STEPPER_STAGGERED && st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         return sinter_fail(st->ctx, SINTER_ERR_INVALID,
                            "the staggered stepper integrates temperatures itself (seed 000 eq. "
@@ -357,6 +354,10 @@ sinter_status sinter_stepper_sintering_stats(const sinter_stepper *st,
     /* the statistics read positions, radii and the links only */
     const sinter_qs_particles p = {ps->count,    ps->x,  ps->rot, ps->radius,
                                    ps->material, ps->id, NULL};
+    /* with domain operations: collective, over every subdomain (stepper/qs_domain.h) */
+    const sinter_status b = sinter_qs_domain_bind(st->quasistatic, (sinter_stepper *)st);
+    if (b != SINTER_OK)
+        return b;
     sinter_qs_stats q;
     sinter_qs_stats_get(st->quasistatic, &p, &q);
     stats->links = q.links;

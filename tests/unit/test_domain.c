@@ -829,6 +829,8 @@ static void test_refusals(void **st)
     OK(sinter_stepper_create(&qs, ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
     loopback *lb = loopback_create(1);
     assert_non_null(lb);
+    /* the quasi-static stepper runs on subdomains (test_qs_domain.c), but not its strategy 1 */
+    OK(sinter_stepper_set_option(qs, "qs_strategy", 1.0));
     assert_int_equal(loopback_attach(lb, 0, qs, ps), SINTER_ERR_UNSUPPORTED);
     /* the staggered stepper: with the averaged electric model, not the network's global solve */
     sinter_electric_model *network = NULL;

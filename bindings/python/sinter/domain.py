@@ -3,7 +3,8 @@
 Every subdomain has its own Context, Particles (owned particles with global ids, from
 Particles.add(..., ids=...)), Walls and Stepper. The host supplies ghosts of the other
 subdomains' particles (set_ghosts) and the collective operations the stepper needs, as a
-DomainHost (set_domain_ops). The explicit and staggered steppers, in this version.
+DomainHost (set_domain_ops). The explicit, staggered and quasi-static steppers, in this
+version.
 
     class Host(sinter.domain.DomainHost):
         def reduce(self, values, type, op): ...       # the same result on every subdomain
