@@ -194,11 +194,13 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, double h
                           .heat_update = heat_update,
                           .heat = st->thermal.count > 0 && !st->heat_skip ? ps->heat : NULL};
     sinter_ranges_run(r.team, r.count, kick_drift_range, &job);
-    sinter_drift_scan all = {n, 0.0, 0.0};
+    sinter_drift_scan all = {n, 0.0, 0.0, {0.0, 0.0, 0.0}};
     heat_first[0] = heat_first[1] = n;
     for (int t = 0; t < r.count; ++t) {
         const sinter_drift_scan d = job.scan[t];
         all.bad = d.bad < all.bad ? d.bad : all.bad;
+        for (int a = 0; a < 3; ++a)
+            all.axis2[a] = d.axis2[a] > all.axis2[a] ? d.axis2[a] : all.axis2[a];
         all.moved2 = d.moved2 > all.moved2 ? d.moved2 : all.moved2;
         all.step2 = d.step2 > all.step2 ? d.step2 : all.step2;
         heat_first[0] = job.heat_bad[t] < heat_first[0] ? job.heat_bad[t] : heat_first[0];
@@ -256,6 +258,8 @@ static size_t kick_drift(sinter_stepper *st, double h_heat, double h, int heat_u
         const sinter_drift_scan d = plain_kick_drift(
             st, h, h_heat, g, threads, exact, st->stores.stream_now, heat_update, heat_first);
         swap_spare(st);
+        /* the walls' certificate: every particle moved by at most this along each axis */
+        sinter_wall_skip_moved(&st->wall_skip, d.axis2);
         if (exact)
             sinter_neighbors_set_moved(nb, ps, d.moved2);
         else if (measure)
@@ -573,8 +577,8 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     size_t bad_drift = n_drift;
     if (s == SINTER_OK) {
         const double t0 = sinter_clock();
-        bad_drift = owned_bad(st->ps, kick_drift(st, h_heat, h, heat_update, heat_first, &scan),
-                              domain);
+        bad_drift =
+            owned_bad(st->ps, kick_drift(st, h_heat, h, heat_update, heat_first, &scan), domain);
         drifted = 1;
         st->stats.seconds_integrate += sinter_clock() - t0;
     }

@@ -79,6 +79,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_domain_free(ctx, &st->domain);
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
+    sinter_wall_skip_free(ctx, &st->wall_skip);
     sinter_free(ctx, st->wall_force);
     sinter_insertion_destroy(ctx, st->insertion);
     sinter_free(ctx, st->dissipation);
@@ -894,6 +895,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
     sinter_particles *ps = st->ps;
+    sinter_wall_skip_begin(&st->wall_skip); /* kept only when drifts alone moved them */
     sinter_status s = refresh_neighbors(st);
     if (s != SINTER_OK)
         return s;
@@ -914,7 +916,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
     st->pp.held = NULL; /* the history moves at commits and rebuilds */
     if (s == SINTER_OK && st->walls != NULL)
-        s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks);
+        s = sinter_contacts_find_pw_skip(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks,
+                                         ps->ghost_count == 0 && !st->domain.on &&
+                                                 !sinter_ghosts_on(&st->ghosts)
+                                             ? &st->wall_skip
+                                             : NULL);
     if (s != SINTER_OK)
         return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {

@@ -52,8 +52,9 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
                            *restrict m = a->m;
     double *restrict f = a->f, *restrict tq = a->tq;
     const double half = 0.5 * h;
-    sinter_drift_scan out = {hi, 0.0, 0.0};
+    sinter_drift_scan out = {hi, 0.0, 0.0, {0.0, 0.0, 0.0}};
     double fa[3 * BLOCK], fb[3 * BLOCK], mg[3 * BLOCK];
+    double lane2[3 * BLOCK] = {0.0}; /* each lane's largest squared step over the blocks */
     double sq[3 * BLOCK], eq[3 * BLOCK], nf[3 * BLOCK], da[3 * BLOCK];
     double bx[3 * BLOCK], bv[3 * BLOCK], bw[3 * BLOCK]; /* staged for streaming */
     for (size_t i0 = lo; i0 < hi; i0 += BLOCK) {
@@ -80,6 +81,7 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
             nf[k] = xk * 0.0; /* 0 when finite, NaN when not */
             const double sk = xk - xo;
             sq[k] = sk * sk;
+            lane2[k] = sq[k] > lane2[k] ? sq[k] : lane2[k]; /* NaN not taken */
             if (exact) {
                 const double e = xk - x0[k0 + k];
                 eq[k] = e * e;
@@ -110,6 +112,10 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
             if (!(z == 0.0) && out.bad == hi)
                 out.bad = i0 + p;
         }
+    }
+    for (size_t k = 0; k < 3 * BLOCK; ++k) {
+        double *a2 = &out.axis2[k % 3];
+        *a2 = lane2[k] > *a2 ? lane2[k] : *a2;
     }
     return out;
 }

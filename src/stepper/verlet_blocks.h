@@ -20,10 +20,12 @@ typedef struct sinter_verlet_arrays {
 
 /* What a range's first pass found: the first particle with a non-finite position or rotation
  * (hi: none), the largest squared displacement since the neighbour build (with `exact`) and
- * in this step. */
+ * in this step, and this step's largest squared displacement along each axis (the walls'
+ * certificate, contact/wall_skip.h). */
 typedef struct sinter_drift_scan {
     size_t bad;
     double moved2, step2;
+    double axis2[3];
 } sinter_drift_scan;
 
 /*

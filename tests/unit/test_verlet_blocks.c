@@ -45,7 +45,7 @@ static sinter_drift_scan reference(state *s, double *nx, double *nv, double *nw,
                                    double h, const double g[3], int rotation, int exact, size_t lo,
                                    size_t hi)
 {
-    sinter_drift_scan out = {hi, 0.0, 0.0};
+    sinter_drift_scan out = {hi, 0.0, 0.0, {0.0, 0.0, 0.0}};
     for (size_t i = lo; i < hi; ++i) {
         const double a = 0.5 * h / s->m[i], b = 0.5 * h / s->j[i];
         double da[3], s2 = 0.0, d2 = 0.0, finite = 1;
@@ -59,6 +59,8 @@ static sinter_drift_scan reference(state *s, double *nx, double *nv, double *nw,
             s->tq[k] = 0.0;
             finite = finite && isfinite(nx[k]);
             s2 += (nx[k] - s->x[k]) * (nx[k] - s->x[k]);
+            const double a2 = (nx[k] - s->x[k]) * (nx[k] - s->x[k]);
+            out.axis2[d] = a2 > out.axis2[d] ? a2 : out.axis2[d];
             d2 += (nx[k] - s->x0[k]) * (nx[k] - s->x0[k]);
         }
         if (rotation) {
@@ -110,6 +112,10 @@ static void check_kick_drift(int rotation, int exact, int stream, size_t poisone
     if (poisoned >= N) { /* the maxima compare values only when all are finite */
         assert_memory_equal(&got.step2, &want.step2, sizeof(double));
         assert_memory_equal(&got.moved2, &want.moved2, sizeof(double));
+        /* the largest step along each axis (the walls' certificate, contact/wall_skip.h) */
+        assert_memory_equal(got.axis2, want.axis2, sizeof want.axis2);
+        assert_true(want.axis2[0] > 0.0 && want.axis2[1] > 0.0 && want.axis2[2] > 0.0);
+        assert_true(want.axis2[0] + want.axis2[1] + want.axis2[2] >= want.step2);
         assert_true(want.step2 > 0.0);
         assert_true(exact ? want.moved2 > 0.0 : want.moved2 == 0.0);
     }
