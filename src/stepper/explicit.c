@@ -117,6 +117,30 @@ static sinter_particle_ranges particle_ranges(const sinter_stepper *st, int thre
     return sinter_chunks_particle_ranges(&st->pp.chunks, st->ps->count, threads);
 }
 
+/* The passes' factors for step h, made or kept (verlet_blocks.h; with gravity g as the first
+ * force), or NULL (ghosts or subdomains: their rows' masses are copied by other stages). */
+static const sinter_verlet_factors *factors_for(sinter_stepper *st, double h, const double g[3])
+{
+    const sinter_particles *ps = st->ps;
+    if (ps->ghost_count > 0 || st->domain.on)
+        return NULL;
+    return sinter_verlet_factors_for(st->ctx, &st->verlet_factors, ps->count, ps->mass, ps->inertia,
+                                     ps->layout_generation, ps->write_generation, h, g);
+}
+
+/* The factors kept by factors_for when they still hold for these particles and step h, else
+ * NULL (the second kick: the evaluation between may have changed the particles). */
+static const sinter_verlet_factors *kept_factors(const sinter_stepper *st, double h)
+{
+    const sinter_particles *ps = st->ps;
+    const sinter_verlet_factors *c = &st->verlet_factors;
+    const int holds = c->count == ps->count && c->count > 0 && ps->ghost_count == 0 &&
+                      !st->domain.on && c->layout == ps->layout_generation &&
+                      c->write == ps->write_generation && c->m == ps->mass && c->j == ps->inertia &&
+                      memcmp(&c->h, &h, sizeof(h)) == 0;
+    return holds ? c : NULL;
+}
+
 /* One range's part of plain_kick_drift (ranges_run.h): its temperatures, its kick and drift,
  * its heat powers zeroed; its first bad particles and largest displacements into the job. */
 typedef struct kick_drift_job {
@@ -179,7 +203,8 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, double h
                                          .nx = st->spare[0],
                                          .nv = st->spare[1],
                                          .nw = st->spare[2],
-                                         .nrot = st->spare[3]};
+                                         .nrot = st->spare[3],
+                                         .factors = factors_for(st, h, g)};
     const sinter_particle_ranges r = particle_ranges(st, threads);
     /* the heat powers are summed again by this step's evaluation: zeroed here, by the ranges
      * whose threads sum them (thermal.h, heat_zeroed) */
@@ -340,7 +365,7 @@ static void kick_range(void *user, int range, size_t lo, size_t hi)
     range_kick *job = user;
     sinter_particles *ps = job->st->ps;
     const size_t b = sinter_verlet_kick(ps->v, ps->w, ps->force, ps->torque, ps->mass, ps->inertia,
-                                        job->h, lo, hi);
+                                        kept_factors(job->st, job->h), job->h, lo, hi);
     job->bad[range] = b < hi ? b : ps->count;
 }
 

@@ -80,6 +80,7 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_wall_skip_free(ctx, &st->wall_skip);
+    sinter_verlet_factors_free(ctx, &st->verlet_factors);
     sinter_free(ctx, st->wall_force);
     sinter_insertion_destroy(ctx, st->insertion);
     sinter_free(ctx, st->dissipation);
