@@ -916,12 +916,13 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     else
         s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
     st->pp.held = NULL; /* the history moves at commits and rebuilds */
+    /* (ghosts and subdomains move particles by other stages: no certificate kept) */
+    const int skip_walls = ps->ghost_count == 0 && !st->domain.on && !sinter_ghosts_on(&st->ghosts);
+    if (!skip_walls)
+        st->wall_skip.valid = 0;
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw_skip(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks,
-                                         ps->ghost_count == 0 && !st->domain.on &&
-                                                 !sinter_ghosts_on(&st->ghosts)
-                                             ? &st->wall_skip
-                                             : NULL);
+                                         skip_walls ? &st->wall_skip : NULL);
     if (s != SINTER_OK)
         return stop_before_law(st, deferred, s);
     if (st->walls == NULL && (st->pw.count != 0 || st->pw.revision == 0)) {
