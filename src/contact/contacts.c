@@ -970,9 +970,12 @@ typedef struct wall_search {
     const sinter_pair_list *pairs;
     const sinter_particles *ps;
     const sinter_walls *walls;
-    const size_t *bound; /* range t: pairs [bound[t], bound[t + 1]) */
-    int compare;         /* the list holds these pairs' contacts: compared, geometry renewed */
-    int planes;          /* every wall is a plane */
+    const size_t *bound;    /* range t: pairs [bound[t], bound[t + 1]) */
+    int compare;            /* the list holds these pairs' contacts: compared, geometry renewed */
+    int planes;             /* every wall is a plane */
+    const uint32_t *active; /* the pairs to test (wall_skip.h), or NULL: all */
+    size_t active_count;
+    int ascending_all; /* with active: the pairs' particles ascend */
     int same[SINTER_CHUNKS_MAX], ascending[SINTER_CHUNKS_MAX];
     size_t offset[SINTER_CHUNKS_MAX + 1]; /* range t's contacts at offset[t + 1], then summed */
 } wall_search;
@@ -990,9 +993,16 @@ static inline void wall_test_pairs(wall_search *job, int t, int planes)
     const size_t lo = job->bound[t], hi = job->bound[t + 1];
     size_t count = 0;
     int same = 1, ascending = 1;
-    for (size_t p = lo; p < hi; ++p) {
+    /* with walls proven out of reach (wall_skip.h): only the other walls' pairs, whose
+     * particles ascend as the certificate found them; the skipped pairs' touch bytes and
+     * contacts stay those of the full test that took it (none) */
+    const uint32_t *active = job->active;
+    const size_t qlo = active ? sinter_lower_bound_u32(active, job->active_count, lo) : lo,
+                 qhi = active ? sinter_lower_bound_u32(active, job->active_count, hi) : hi;
+    for (size_t q = qlo; q < qhi; ++q) {
+        const size_t p = active ? active[q] : q;
         const uint32_t i = pi[p], k = pk[p];
-        ascending &= p == 0 || i >= pi[p - 1];
+        ascending &= active ? job->ascending_all : p == 0 || i >= pi[p - 1];
         const sinter_wall *w = &job->walls->wall[k];
         double buf[3];
         const double *wn = w->n;
@@ -1065,6 +1075,14 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
                                       const sinter_walls *walls, const sinter_chunks *owner)
 {
+    return sinter_contacts_find_pw_skip(ctx, c, pairs, ps, walls, owner, NULL);
+}
+
+sinter_status sinter_contacts_find_pw_skip(sinter_ctx *ctx, sinter_contact_list *c,
+                                           const sinter_pair_list *pairs,
+                                           const sinter_particles *ps, const sinter_walls *walls,
+                                           const sinter_chunks *owner, sinter_wall_skip *skip)
+{
     sinter_status st = reserve(ctx, c, pairs->count + 1);
     if (st == SINTER_OK)
         st = sinter_grow(ctx, (void **)&c->pair_to_contact, &c->pair_to_contact_capacity,
@@ -1109,7 +1127,20 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     bound[ranges] = n;
     const int team = threads < ranges ? threads : ranges;
-    wall_search job = {c, pairs, ps, walls, bound, compare, planes, {0}, {0}, {0}};
+    const int skipping = skip != NULL && sinter_wall_skip_holds(skip, pairs, ps, walls);
+    wall_search job = {c,
+                       pairs,
+                       ps,
+                       walls,
+                       bound,
+                       compare,
+                       planes,
+                       skipping ? skip->active : NULL,
+                       skipping ? skip->active_count : 0,
+                       skipping ? skip->ascending : 1,
+                       {0},
+                       {0},
+                       {0}};
     sinter_ranges_run(team, ranges, wall_test_range, &job);
     int ascending = 1;
     for (int t = 0; t < ranges; ++t) {
@@ -1118,13 +1149,15 @@ sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
     }
     c->geometry = 1;
     c->ascending = ascending;
-    if (same)
-        return SINTER_OK; /* the same contacts, their geometry renewed */
-    for (int t = 0; t < ranges; ++t)
-        job.offset[t + 1] += job.offset[t];
-    sinter_ranges_run(team, ranges, wall_put_range, &job);
-    c->count = job.offset[ranges];
-    sinter_contacts_changed(c, 0, 0);
-    wall_ranges(c, ascending);
+    if (!same) {
+        for (int t = 0; t < ranges; ++t)
+            job.offset[t + 1] += job.offset[t];
+        sinter_ranges_run(team, ranges, wall_put_range, &job);
+        c->count = job.offset[ranges];
+        sinter_contacts_changed(c, 0, 0);
+        wall_ranges(c, ascending);
+    }                                 /* (else the same contacts, their geometry renewed) */
+    if (skip != NULL && !skip->valid) /* a full test at these positions: take it */
+        return sinter_wall_skip_take(ctx, skip, pairs, ps, walls, ascending);
     return SINTER_OK;
 }

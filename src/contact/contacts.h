@@ -8,6 +8,7 @@
 #include <math.h>
 
 #include "contact/neighbors.h"
+#include "contact/wall_skip.h"
 
 /* A fixed partition of a particle-particle list for thread-count independent sums
  * (contact/chunks.h), made by sinter_contacts_find_pp. A particle-wall list made by
@@ -225,5 +226,11 @@ static inline sinter_pp_geom sinter_pp_geometry(double ex, double ey, double ez,
 sinter_status sinter_contacts_find_pw(sinter_ctx *ctx, sinter_contact_list *c,
                                       const sinter_pair_list *pairs, const sinter_particles *ps,
                                       const sinter_walls *walls, const sinter_chunks *owner);
+/* sinter_contacts_find_pw with walls proven out of reach left untested (skip, may be NULL:
+ * none; contact/wall_skip.h): the same contacts. */
+sinter_status sinter_contacts_find_pw_skip(sinter_ctx *ctx, sinter_contact_list *c,
+                                           const sinter_pair_list *pairs,
+                                           const sinter_particles *ps, const sinter_walls *walls,
+                                           const sinter_chunks *owner, sinter_wall_skip *skip);
 
 #endif

@@ -117,6 +117,30 @@ static sinter_particle_ranges particle_ranges(const sinter_stepper *st, int thre
     return sinter_chunks_particle_ranges(&st->pp.chunks, st->ps->count, threads);
 }
 
+/* The passes' factors for step h, made or kept (verlet_blocks.h; with gravity g as the first
+ * force), or NULL (ghosts or subdomains: their rows' masses are copied by other stages). */
+static const sinter_verlet_factors *factors_for(sinter_stepper *st, double h, const double g[3])
+{
+    const sinter_particles *ps = st->ps;
+    if (ps->ghost_count > 0 || st->domain.on)
+        return NULL;
+    return sinter_verlet_factors_for(st->ctx, &st->verlet_factors, ps->count, ps->mass, ps->inertia,
+                                     ps->layout_generation, ps->write_generation, h, g);
+}
+
+/* The factors kept by factors_for when they still hold for these particles and step h, else
+ * NULL (the second kick: the evaluation between may have changed the particles). */
+static const sinter_verlet_factors *kept_factors(const sinter_stepper *st, double h)
+{
+    const sinter_particles *ps = st->ps;
+    const sinter_verlet_factors *c = &st->verlet_factors;
+    const int holds = c->count == ps->count && c->count > 0 && ps->ghost_count == 0 &&
+                      !st->domain.on && c->layout == ps->layout_generation &&
+                      c->write == ps->write_generation && c->m == ps->mass && c->j == ps->inertia &&
+                      memcmp(&c->h, &h, sizeof(h)) == 0;
+    return holds ? c : NULL;
+}
+
 /* One range's part of plain_kick_drift (ranges_run.h): its temperatures, its kick and drift,
  * its heat powers zeroed; its first bad particles and largest displacements into the job. */
 typedef struct kick_drift_job {
@@ -179,7 +203,8 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, double h
                                          .nx = st->spare[0],
                                          .nv = st->spare[1],
                                          .nw = st->spare[2],
-                                         .nrot = st->spare[3]};
+                                         .nrot = st->spare[3],
+                                         .factors = factors_for(st, h, g)};
     const sinter_particle_ranges r = particle_ranges(st, threads);
     /* the heat powers are summed again by this step's evaluation: zeroed here, by the ranges
      * whose threads sum them (thermal.h, heat_zeroed) */
@@ -194,11 +219,13 @@ static sinter_drift_scan plain_kick_drift(sinter_stepper *st, double h, double h
                           .heat_update = heat_update,
                           .heat = st->thermal.count > 0 && !st->heat_skip ? ps->heat : NULL};
     sinter_ranges_run(r.team, r.count, kick_drift_range, &job);
-    sinter_drift_scan all = {n, 0.0, 0.0};
+    sinter_drift_scan all = {n, 0.0, 0.0, {0.0, 0.0, 0.0}};
     heat_first[0] = heat_first[1] = n;
     for (int t = 0; t < r.count; ++t) {
         const sinter_drift_scan d = job.scan[t];
         all.bad = d.bad < all.bad ? d.bad : all.bad;
+        for (int a = 0; a < 3; ++a)
+            all.axis2[a] = d.axis2[a] > all.axis2[a] ? d.axis2[a] : all.axis2[a];
         all.moved2 = d.moved2 > all.moved2 ? d.moved2 : all.moved2;
         all.step2 = d.step2 > all.step2 ? d.step2 : all.step2;
         heat_first[0] = job.heat_bad[t] < heat_first[0] ? job.heat_bad[t] : heat_first[0];
@@ -256,6 +283,8 @@ static size_t kick_drift(sinter_stepper *st, double h_heat, double h, int heat_u
         const sinter_drift_scan d = plain_kick_drift(
             st, h, h_heat, g, threads, exact, st->stores.stream_now, heat_update, heat_first);
         swap_spare(st);
+        /* the walls' certificate: every particle moved by at most this along each axis */
+        sinter_wall_skip_moved(&st->wall_skip, d.axis2);
         if (exact)
             sinter_neighbors_set_moved(nb, ps, d.moved2);
         else if (measure)
@@ -336,7 +365,7 @@ static void kick_range(void *user, int range, size_t lo, size_t hi)
     range_kick *job = user;
     sinter_particles *ps = job->st->ps;
     const size_t b = sinter_verlet_kick(ps->v, ps->w, ps->force, ps->torque, ps->mass, ps->inertia,
-                                        job->h, lo, hi);
+                                        kept_factors(job->st, job->h), job->h, lo, hi);
     job->bad[range] = b < hi ? b : ps->count;
 }
 

@@ -83,6 +83,8 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_domain_free(ctx, &st->domain);
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
+    sinter_wall_skip_free(ctx, &st->wall_skip);
+    sinter_verlet_factors_free(ctx, &st->verlet_factors);
     sinter_free(ctx, st->wall_force);
     sinter_free(ctx, st->pw_reaction);
     sinter_free(ctx, st->wall_sums_scratch);
@@ -1027,6 +1029,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
 {
     sinter_ctx *ctx = st->ctx;
     sinter_particles *ps = st->ps;
+    sinter_wall_skip_begin(&st->wall_skip); /* kept only when drifts alone moved them */
     sinter_status s = refresh_neighbors(st);
     if (s != SINTER_OK)
         return s;
@@ -1046,8 +1049,13 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     else
         s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
     st->pp.held = NULL; /* the history moves at commits and rebuilds */
+    /* (ghosts and subdomains move particles by other stages: no certificate kept) */
+    const int skip_walls = ps->ghost_count == 0 && !st->domain.on && !sinter_ghosts_on(&st->ghosts);
+    if (!skip_walls)
+        st->wall_skip.valid = 0;
     if (s == SINTER_OK && st->walls != NULL)
-        s = sinter_contacts_find_pw(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks);
+        s = sinter_contacts_find_pw_skip(ctx, &st->pw, &st->nb.pw, ps, st->walls, &st->pp.chunks,
+                                         skip_walls ? &st->wall_skip : NULL);
     /* the network's solve is collective (domain/solve.h): every subdomain or none */
     if (st->domain.on && st->electric != NULL)
         s = sinter_domain_agree(ctx, &st->domain, s);

@@ -13,6 +13,7 @@
 #include "stepper/thermal.h"
 #include "stepper/quasistatic.h"
 #include "stepper/thread_choice.h"
+#include "stepper/verlet_blocks.h"
 
 typedef struct sinter_force_slot {
     sinter_force_model *model;
@@ -159,6 +160,11 @@ struct sinter_stepper {
     uint64_t known_layout, known_write;
     sinter_state_view view;
     double *wall_arrays; /* point, normal, velocity: 9 per wall, for host views */
+    /* walls proven out of reach since the explicit drifts of the last steps: their candidate
+     * pairs are not tested (contact/wall_skip.h; the same contacts) */
+    sinter_wall_skip wall_skip;
+    /* the explicit passes' per-particle factors, kept between steps (verlet_blocks.h) */
+    sinter_verlet_factors verlet_factors;
     size_t wall_arrays_capacity;
     sinter_thermal thermal;            /* heat submodels and the temperature update */
     double thermal_last_h;             /* step of the last temperature update [s] */

@@ -12,6 +12,8 @@
  */
 #include "verlet_blocks.h"
 
+#include <string.h>
+
 #include "core/clones.h"
 #include "core/stream_store.h"
 #include "stepper.h"
@@ -43,6 +45,23 @@ spread_factors(const double *restrict m, const double *restrict j, double half, 
         }
 }
 
+/* The first particle of [lo, hi) whose a (and b, unless NULL) values are not all finite, the
+ * sum of value * 0 over its lanes as the passes form it; hi when none. */
+static size_t first_not_finite(const double *a, const double *b, size_t lo, size_t hi)
+{
+    for (size_t i = lo; i < hi; ++i) {
+        double z = 0.0;
+        if (b != NULL)
+            z = a[3 * i] * 0.0 + b[3 * i] * 0.0 + (a[3 * i + 1] * 0.0 + b[3 * i + 1] * 0.0) +
+                (a[3 * i + 2] * 0.0 + b[3 * i + 2] * 0.0);
+        else
+            z = a[3 * i] * 0.0 + a[3 * i + 1] * 0.0 + a[3 * i + 2] * 0.0;
+        if (!(z == 0.0))
+            return i;
+    }
+    return hi;
+}
+
 /* One specialisation of the first pass (exact, stream and rotation fixed). */
 static inline __attribute__((always_inline)) sinter_drift_scan
 kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int rotation, int exact,
@@ -52,34 +71,47 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
                            *restrict m = a->m;
     double *restrict f = a->f, *restrict tq = a->tq;
     const double half = 0.5 * h;
-    sinter_drift_scan out = {hi, 0.0, 0.0};
+    const sinter_verlet_factors *kept = a->factors;
+    sinter_drift_scan out = {hi, 0.0, 0.0, {0.0, 0.0, 0.0}};
     double fa[3 * BLOCK], fb[3 * BLOCK], mg[3 * BLOCK];
+    double lane2[3 * BLOCK] = {0.0}; /* each lane's largest squared step over the blocks */
+    double lanez[3 * BLOCK] = {0.0}; /* without rotation: each lane's sum of x * 0 (NaN sticks) */
     double sq[3 * BLOCK], eq[3 * BLOCK], nf[3 * BLOCK], da[3 * BLOCK];
     double bx[3 * BLOCK], bv[3 * BLOCK], bw[3 * BLOCK]; /* staged for streaming */
     for (size_t i0 = lo; i0 < hi; i0 += BLOCK) {
         const size_t nb = hi - i0 < BLOCK ? hi - i0 : BLOCK, lanes = 3 * nb, k0 = 3 * i0;
-        spread_factors(m + i0, a->j + i0, half, nb, fa, fb);
-        for (size_t p = 0; p < nb; ++p)
-            for (int d = 0; d < 3; ++d) /* gravity's force, as its evaluation adds it */
-                mg[3 * p + (size_t)d] = 0.0 + m[i0 + p] * g[d];
+        const double *restrict ka = fa, *restrict kb = fb, *restrict kg = mg;
+        if (kept != NULL) { /* the same values, kept (sinter_verlet_factors) */
+            ka = kept->fa + k0, kb = kept->fb + k0, kg = kept->mg + k0;
+        } else {
+            spread_factors(m + i0, a->j + i0, half, nb, fa, fb);
+            for (size_t p = 0; p < nb; ++p)
+                for (int d = 0; d < 3; ++d) /* gravity's force, as its evaluation adds it */
+                    mg[3 * p + (size_t)d] = 0.0 + m[i0 + p] * g[d];
+        }
         double *restrict dx = stream ? bx : a->nx + k0;
         double *restrict dv = stream ? bv : a->nv + k0;
         double *restrict dw = stream ? bw : a->nw + k0;
         LANES_INDEPENDENT
         for (size_t k = 0; k < lanes; ++k) {
             const double xo = x[k0 + k];
-            const double vk = v[k0 + k] + fa[k] * f[k0 + k];
+            const double vk = v[k0 + k] + ka[k] * f[k0 + k];
             const double xk = xo + h * vk;
-            const double wk = w[k0 + k] + fb[k] * tq[k0 + k];
+            const double wk = w[k0 + k] + kb[k] * tq[k0 + k];
             dv[k] = vk;
             dx[k] = xk;
             dw[k] = wk;
-            da[k] = h * wk;
-            f[k0 + k] = mg[k]; /* read for the last time: the next evaluation adds into it */
+            if (rotation)
+                da[k] = h * wk;
+            f[k0 + k] = kg[k]; /* read for the last time: the next evaluation adds into it */
             tq[k0 + k] = 0.0;
-            nf[k] = xk * 0.0; /* 0 when finite, NaN when not */
+            if (rotation)
+                nf[k] = xk * 0.0; /* 0 when finite, NaN when not */
+            else
+                lanez[k] += xk * 0.0; /* (the first such particle found below) */
             const double sk = xk - xo;
             sq[k] = sk * sk;
+            lane2[k] = sq[k] > lane2[k] ? sq[k] : lane2[k]; /* NaN not taken */
             if (exact) {
                 const double e = xk - x0[k0 + k];
                 eq[k] = e * e;
@@ -93,7 +125,7 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
             }
         for (size_t p = 0; p < nb; ++p) {
             const size_t k = 3 * p;
-            double z = nf[k] + nf[k + 1] + nf[k + 2];
+            double z = rotation ? nf[k] + nf[k + 1] + nf[k + 2] : 0.0;
             const double s2 = 0.0 + sq[k] + sq[k + 1] + sq[k + 2];
             out.step2 = s2 > out.step2 ? s2 : out.step2;
             if (exact) {
@@ -111,6 +143,14 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
                 out.bad = i0 + p;
         }
     }
+    double any = 0.0;
+    for (size_t k = 0; k < 3 * BLOCK; ++k) {
+        double *a2 = &out.axis2[k % 3];
+        *a2 = lane2[k] > *a2 ? lane2[k] : *a2;
+        any += lanez[k];
+    }
+    if (!rotation && !(any == 0.0)) /* a position not finite: the first, as one at a time */
+        out.bad = first_not_finite(a->nx, NULL, lo, hi);
     return out;
 }
 
@@ -130,25 +170,79 @@ sinter_drift_scan sinter_verlet_kick_drift(const sinter_verlet_arrays *a, double
 SINTER_CLONES
 size_t sinter_verlet_kick(double *restrict v, double *restrict w, const double *restrict f,
                           const double *restrict tq, const double *restrict m,
-                          const double *restrict j, double h, size_t lo, size_t hi)
+                          const double *restrict j, const sinter_verlet_factors *kept, double h,
+                          size_t lo, size_t hi)
 {
     const double half = 0.5 * h;
-    double fa[3 * BLOCK], fb[3 * BLOCK], nf[3 * BLOCK];
-    size_t bad = hi;
+    double fa[3 * BLOCK], fb[3 * BLOCK];
+    double lanez[3 * BLOCK] = {0.0}; /* each lane's sum of v * 0 + w * 0 (NaN sticks) */
     for (size_t i0 = lo; i0 < hi; i0 += BLOCK) {
         const size_t nb = hi - i0 < BLOCK ? hi - i0 : BLOCK, lanes = 3 * nb, k0 = 3 * i0;
-        spread_factors(m + i0, j + i0, half, nb, fa, fb);
+        const double *restrict ka = fa, *restrict kb = fb;
+        if (kept != NULL)
+            ka = kept->fa + k0, kb = kept->fb + k0;
+        else
+            spread_factors(m + i0, j + i0, half, nb, fa, fb);
         LANES_INDEPENDENT
         for (size_t k = 0; k < lanes; ++k) {
-            const double vk = v[k0 + k] + fa[k] * f[k0 + k];
-            const double wk = w[k0 + k] + fb[k] * tq[k0 + k];
+            const double vk = v[k0 + k] + ka[k] * f[k0 + k];
+            const double wk = w[k0 + k] + kb[k] * tq[k0 + k];
             v[k0 + k] = vk;
             w[k0 + k] = wk;
-            nf[k] = vk * 0.0 + wk * 0.0;
+            lanez[k] += vk * 0.0 + wk * 0.0;
         }
-        for (size_t p = 0; p < nb; ++p)
-            if (!(nf[3 * p] + nf[3 * p + 1] + nf[3 * p + 2] == 0.0) && bad == hi)
-                bad = i0 + p;
     }
-    return bad;
+    double any = 0.0;
+    for (size_t k = 0; k < 3 * BLOCK; ++k)
+        any += lanez[k];
+    /* a value not finite: the first such particle, from the values written */
+    return any == 0.0 ? hi : first_not_finite(v, w, lo, hi);
+}
+
+const sinter_verlet_factors *sinter_verlet_factors_for(sinter_ctx *ctx, sinter_verlet_factors *c,
+                                                       size_t n, const double *m, const double *j,
+                                                       uint64_t layout, uint64_t write, double h,
+                                                       const double g[3])
+{
+    if (c->count == n && n > 0 && c->layout == layout && c->write == write && c->m == m &&
+        c->j == j && memcmp(&c->h, &h, sizeof(h)) == 0 && memcmp(c->g, g, sizeof(c->g)) == 0)
+        return c;
+    c->count = 0;
+    if (n > c->capacity) {
+        double **arrays[3] = {&c->fa, &c->fb, &c->mg};
+        for (int k = 0; k < 3; ++k) {
+            double *grown = sinter_realloc_array(ctx, *arrays[k], 3 * n, sizeof(double));
+            if (grown == NULL) {
+                sinter_verlet_factors_free(ctx, c);
+                return NULL;
+            }
+            *arrays[k] = grown;
+        }
+        c->capacity = n;
+    }
+    const double half = 0.5 * h; /* as the passes form them */
+    for (size_t i = 0; i < n; ++i) {
+        const double a = half / m[i], b = half / j[i];
+        for (int d = 0; d < 3; ++d) {
+            c->fa[3 * i + (size_t)d] = a;
+            c->fb[3 * i + (size_t)d] = b;
+            c->mg[3 * i + (size_t)d] = 0.0 + m[i] * g[d];
+        }
+    }
+    c->count = n;
+    c->layout = layout;
+    c->write = write;
+    c->m = m;
+    c->j = j;
+    c->h = h;
+    memcpy(c->g, g, sizeof(c->g));
+    return c;
+}
+
+void sinter_verlet_factors_free(sinter_ctx *ctx, sinter_verlet_factors *c)
+{
+    sinter_free(ctx, c->fa);
+    sinter_free(ctx, c->fb);
+    sinter_free(ctx, c->mg);
+    memset(c, 0, sizeof(*c));
 }

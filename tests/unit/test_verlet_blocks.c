@@ -3,7 +3,8 @@
  * the update written one particle at a time: kick and drift, the zeroed force and moment, the
  * displacements, the rotation vector (seed 003 eq. 45) and the first non-finite particle, to
  * the bit, for every combination of rotation, exact displacement and streaming stores, over
- * ranges that start and end inside a block.
+ * ranges that start and end inside a block; and the same with the factors kept between
+ * steps (sinter_verlet_factors), which are made again when h, g or the particles change.
  */
 #include <math.h>
 #include <stdarg.h>
@@ -45,7 +46,7 @@ static sinter_drift_scan reference(state *s, double *nx, double *nv, double *nw,
                                    double h, const double g[3], int rotation, int exact, size_t lo,
                                    size_t hi)
 {
-    sinter_drift_scan out = {hi, 0.0, 0.0};
+    sinter_drift_scan out = {hi, 0.0, 0.0, {0.0, 0.0, 0.0}};
     for (size_t i = lo; i < hi; ++i) {
         const double a = 0.5 * h / s->m[i], b = 0.5 * h / s->j[i];
         double da[3], s2 = 0.0, d2 = 0.0, finite = 1;
@@ -59,6 +60,8 @@ static sinter_drift_scan reference(state *s, double *nx, double *nv, double *nw,
             s->tq[k] = 0.0;
             finite = finite && isfinite(nx[k]);
             s2 += (nx[k] - s->x[k]) * (nx[k] - s->x[k]);
+            const double a2 = (nx[k] - s->x[k]) * (nx[k] - s->x[k]);
+            out.axis2[d] = a2 > out.axis2[d] ? a2 : out.axis2[d];
             d2 += (nx[k] - s->x0[k]) * (nx[k] - s->x0[k]);
         }
         if (rotation) {
@@ -76,7 +79,10 @@ static sinter_drift_scan reference(state *s, double *nx, double *nv, double *nw,
     return out;
 }
 
-static void check_kick_drift(int rotation, int exact, int stream, size_t poisoned)
+static sinter_ctx *ctx;
+static sinter_verlet_factors kept; /* (made for state 7's masses, h and g below) */
+
+static void check_kick_drift(int rotation, int exact, int stream, size_t poisoned, int keep)
 {
     const double h = 1e-5, g[3] = {0.0, 0.0, -9.81};
     const size_t lo = 13, hi = N;
@@ -90,19 +96,22 @@ static void check_kick_drift(int rotation, int exact, int stream, size_t poisone
     memset(nrot, 0, sizeof nrot);
     const sinter_drift_scan want =
         reference(&a, nx[0], nv[0], nw[0], nrot[0], h, g, rotation, exact, lo, hi);
-    const sinter_verlet_arrays arrays = {.x = b.x,
-                                         .v = b.v,
-                                         .w = b.w,
-                                         .rot = b.rot,
-                                         .f = b.f,
-                                         .tq = b.tq,
-                                         .m = b.m,
-                                         .j = b.j,
-                                         .x0 = b.x0,
-                                         .nx = nx[1],
-                                         .nv = nv[1],
-                                         .nw = nw[1],
-                                         .nrot = nrot[1]};
+    const sinter_verlet_arrays arrays = {
+        .x = b.x,
+        .v = b.v,
+        .w = b.w,
+        .rot = b.rot,
+        .f = b.f,
+        .tq = b.tq,
+        .m = b.m,
+        .j = b.j,
+        .x0 = b.x0,
+        .nx = nx[1],
+        .nv = nv[1],
+        .nw = nw[1],
+        .nrot = nrot[1],
+        .factors = keep ? sinter_verlet_factors_for(ctx, &kept, N, b.m, b.j, 1, 1, h, g) : NULL};
+    assert_true(!keep || arrays.factors != NULL);
     const sinter_drift_scan got =
         sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
     assert_int_equal(got.bad, want.bad);
@@ -110,6 +119,10 @@ static void check_kick_drift(int rotation, int exact, int stream, size_t poisone
     if (poisoned >= N) { /* the maxima compare values only when all are finite */
         assert_memory_equal(&got.step2, &want.step2, sizeof(double));
         assert_memory_equal(&got.moved2, &want.moved2, sizeof(double));
+        /* the largest step along each axis (the walls' certificate, contact/wall_skip.h) */
+        assert_memory_equal(got.axis2, want.axis2, sizeof want.axis2);
+        assert_true(want.axis2[0] > 0.0 && want.axis2[1] > 0.0 && want.axis2[2] > 0.0);
+        assert_true(want.axis2[0] + want.axis2[1] + want.axis2[2] >= want.step2);
         assert_true(want.step2 > 0.0);
         assert_true(exact ? want.moved2 > 0.0 : want.moved2 == 0.0);
     }
@@ -127,11 +140,42 @@ static void test_kick_drift_every_variant(void **unused)
     (void)unused;
     for (int rotation = 0; rotation < 2; ++rotation)
         for (int exact = 0; exact < 2; ++exact)
-            for (int stream = 0; stream < 2; ++stream) {
-                check_kick_drift(rotation, exact, stream, N);  /* all finite */
-                check_kick_drift(rotation, exact, stream, 50); /* second block */
-                check_kick_drift(rotation, exact, stream, 76); /* last particle */
+            for (int stream = 0; stream < 4; ++stream) {
+                check_kick_drift(rotation, exact, stream & 1, N, stream >> 1);  /* all finite */
+                check_kick_drift(rotation, exact, stream & 1, 50, stream >> 1); /* 2nd block */
+                check_kick_drift(rotation, exact, stream & 1, 76, stream >> 1); /* last one */
             }
+}
+
+/* Kept factors are those of the masses, h and g asked for: made again when one changes. */
+static void test_factors_follow_their_inputs(void **unused)
+{
+    (void)unused;
+    static state a;
+    fill(&a, 7);
+    const double g[3] = {0.0, 0.0, -9.81}, g2[3] = {0.0, 0.0, -1.62};
+    const struct {
+        uint64_t write;
+        double h;
+        const double *g;
+    } cases[] = {{1, 1e-5, g}, {1, 1e-5, g}, {1, 2e-5, g}, {2, 2e-5, g}, {2, 2e-5, g2}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        if (c == 3) /* the masses written, under a new write generation */
+            for (size_t i = 0; i < N; ++i)
+                a.m[i] *= 1.5, a.j[i] *= 0.5;
+        const sinter_verlet_factors *f = sinter_verlet_factors_for(
+            ctx, &kept, N, a.m, a.j, 1, cases[c].write, cases[c].h, cases[c].g);
+        assert_non_null(f);
+        for (size_t i = 0; i < N; ++i)
+            for (int d = 0; d < 3; ++d) {
+                const size_t k = 3 * i + (size_t)d;
+                const double fa = 0.5 * cases[c].h / a.m[i], fb = 0.5 * cases[c].h / a.j[i],
+                             mg = 0.0 + a.m[i] * cases[c].g[d];
+                assert_memory_equal(&f->fa[k], &fa, sizeof fa);
+                assert_memory_equal(&f->fb[k], &fb, sizeof fb);
+                assert_memory_equal(&f->mg[k], &mg, sizeof mg);
+            }
+    }
 }
 
 static void test_kick(void **unused)
@@ -149,11 +193,33 @@ static void test_kick(void **unused)
             a.v[k] = a.v[k] + 0.5 * h / a.m[i] * a.f[k];
             a.w[k] = a.w[k] + 0.5 * h / a.j[i] * a.tq[k];
         }
-    assert_int_equal(sinter_verlet_kick(b.v, b.w, b.f, b.tq, b.m, b.j, h, lo, hi), 40);
-    assert_memory_equal(b.v, a.v, sizeof a.v);
-    assert_memory_equal(b.w, a.w, sizeof a.w);
-    fill(&b, 11); /* all finite */
-    assert_int_equal(sinter_verlet_kick(b.v, b.w, b.f, b.tq, b.m, b.j, h, lo, hi), hi);
+    const state b0 = b;
+    for (int keep = 0; keep < 2; ++keep) {
+        const double g[3] = {0.0, 0.0, 0.0};
+        const sinter_verlet_factors *f =
+            keep ? sinter_verlet_factors_for(ctx, &kept, N, b.m, b.j, 3, 3, h, g) : NULL;
+        assert_true(!keep || f != NULL);
+        b = b0;
+        assert_int_equal(sinter_verlet_kick(b.v, b.w, b.f, b.tq, b.m, b.j, f, h, lo, hi), 40);
+        assert_memory_equal(b.v, a.v, sizeof a.v);
+        assert_memory_equal(b.w, a.w, sizeof a.w);
+        fill(&b, 11); /* all finite */
+        assert_int_equal(sinter_verlet_kick(b.v, b.w, b.f, b.tq, b.m, b.j, f, h, lo, hi), hi);
+    }
+}
+
+static int setup(void **unused)
+{
+    (void)unused;
+    return sinter_ctx_create(&ctx, NULL) == SINTER_OK ? 0 : -1;
+}
+
+static int teardown(void **unused)
+{
+    (void)unused;
+    sinter_verlet_factors_free(ctx, &kept);
+    sinter_ctx_destroy(ctx);
+    return 0;
 }
 
 int main(void)
@@ -161,6 +227,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kick_drift_every_variant),
         cmocka_unit_test(test_kick),
+        cmocka_unit_test(test_factors_follow_their_inputs),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return cmocka_run_group_tests(tests, setup, teardown);
 }
