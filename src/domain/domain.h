@@ -58,6 +58,16 @@ sinter_status sinter_domain_rank(sinter_ctx *ctx, sinter_domain *d, long *rank);
  * subdomain that reported it, prefixed by "subdomain R: ". SINTER_OK costs one reduction. */
 sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_status s);
 
+/* The collective status and a sum of `count` doubles in one reduction (the explicit step's
+ * stage C and its wall reactions): `values` has room for count + 1 doubles, the last one
+ * written here with the number of subdomains that failed (an exact small integer in a SUM of
+ * doubles). The values are summed in place (the same bits as a reduction of the `count`
+ * alone: every value is reduced on its own); only when a subdomain failed does
+ * sinter_domain_agree follow, to agree the code and the message. Without domain operations
+ * `s`, the values untouched. */
+sinter_status sinter_domain_agree_sum(sinter_ctx *ctx, sinter_domain *d, sinter_status s,
+                                      double *values, size_t count);
+
 /* The forward halo of the state (SINTER_HALO_STATE_WIDTH doubles per particle): the owned
  * rows packed, the host fills the ghost rows, which are unpacked into the set. */
 sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_particles *ps);

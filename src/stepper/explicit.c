@@ -516,7 +516,8 @@ static size_t owned_bad(const sinter_particles *ps, size_t bad, int domain)
  * One step. With domain operations (domain/domain.h) its collective stages are: the status
  * agreed after the drift (A), the forward halo, the rebuild decision inside the evaluation
  * (a reduction, then the host's redistribution), the status agreed after the kick and the
- * checks (C), the forward halo of the accepted state, and the commit's reductions. Between
+ * checks together with the wall reactions (C, one reduction), the forward halo of the
+ * accepted state, and the commit (local). Between
  * two of them a subdomain that failed only skips its own work, so none waits for another.
  */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
@@ -669,7 +670,12 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
                         "state is kept.",
                         t_start, t_start + h, what, bad, (unsigned long long)st->ps->id[bad], h);
     }
-    s = sinter_domain_agree(st->ctx, &st->domain, s); /* stage C (with domain operations) */
+    /* stage C with domain operations: the status agreed together with the wall reactions
+     * (one reduction), the commit's memory taken before so that the commit cannot fail */
+    if (domain && s == SINTER_OK)
+        s = sinter_stepper_commit_reserve(st);
+    if (domain)
+        s = sinter_stepper_agree_reactions(st, s);
     if (s != SINTER_OK) {
         /* Roll back: state (the spare arrays hold it), time and walls; history was never
          * committed. */
@@ -683,7 +689,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     }
     if (domain && (s = sinter_domain_forward(st->ctx, &st->domain, st->ps)) != SINTER_OK)
         return s;
-    s = sinter_stepper_commit(st);
+    s = domain ? sinter_stepper_commit_agreed(st) : sinter_stepper_commit(st);
     if (s == SINTER_OK)
         time_stores(st, sinter_clock() - clock_start);
     return s;

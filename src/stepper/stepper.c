@@ -1256,36 +1256,65 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
     return s;
 }
 
-/* The last evaluation's wall forces and moments into the walls; with domain operations the
- * sums over all subdomains (one reduction, collective), this subdomain's force kept as its
- * share (sinter_walls_get_force_local). */
-static sinter_status copy_wall_reactions(sinter_stepper *st)
+/* Wall k's force (j < 3 nw) or moment component j of the reactions' layout, in the walls. */
+static double *reaction_slot(sinter_walls *walls, size_t nw, size_t j)
 {
-    const size_t nw = st->walls->count;
-    for (size_t k = 0; k < nw; ++k)
-        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
-    double *f = st->wall_force;
-    if (st->domain.on && nw > 0) {
-        f = st->domain.halo; /* (a work array between two halos) */
-        sinter_status s = sinter_grow(st->ctx, (void **)&st->domain.halo, &st->domain.halo_capacity,
-                                      6 * nw, sizeof(double));
-        if (s != SINTER_OK)
-            return s;
-        f = st->domain.halo;
-        memcpy(f, st->wall_force, 6 * nw * sizeof(double));
-        s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw, SINTER_REDUCE_F64,
-                                 SINTER_REDUCE_SUM);
-        if (s != SINTER_OK)
-            return s;
+    return j < 3 * nw ? &walls->wall[j / 3].force[j % 3]
+                      : &walls->wall[(j - 3 * nw) / 3].moment[j % 3];
+}
+
+/* The last evaluation's wall forces and moments into the walls, and the status `s` of this
+ * subdomain; with domain operations both are collective and go in one reduction
+ * (sinter_domain_agree_sum) for up to 10 walls: the sums over all subdomains, this
+ * subdomain's force kept as its share (sinter_walls_get_force_local). The values travel
+ * through a buffer on the stack, in as many reductions as they need (a shape that depends
+ * only on the number of walls, the same everywhere, and no allocation that could fail on
+ * one subdomain only). The walls are written only when the status agreed is SINTER_OK. */
+sinter_status sinter_stepper_agree_reactions(sinter_stepper *st, sinter_status s)
+{
+    const size_t nw = st->walls != NULL ? st->walls->count : 0;
+    if (st->domain.on) {
+        enum { CHUNK = 63 }; /* values a reduction, the flag after them */
+        double buf[CHUNK + 1];
+        size_t j = 0;
+        do {
+            const size_t m = 6 * nw - j < CHUNK ? 6 * nw - j : CHUNK;
+            if (m > 0)
+                memcpy(buf, st->wall_force + j, m * sizeof(double));
+            const sinter_status a = sinter_domain_agree_sum(st->ctx, &st->domain, s, buf, m);
+            if (a != SINTER_OK)
+                return a; /* (the same chunk everywhere: its flag sum is) */
+            for (size_t i = 0; i < m; ++i)
+                *reaction_slot(st->walls, nw, j + i) = buf[i];
+            j += m;
+        } while (j < 6 * nw);
+    } else if (s != SINTER_OK) {
+        return s;
     }
     for (size_t k = 0; k < nw; ++k) {
-        memcpy(st->walls->wall[k].force, f + 3 * k, 3 * sizeof(double));
-        memcpy(st->walls->wall[k].moment, f + 3 * (nw + k), 3 * sizeof(double));
+        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
+        if (!st->domain.on) {
+            memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+            memcpy(st->walls->wall[k].moment, st->wall_force + 3 * (nw + k), 3 * sizeof(double));
+        }
     }
     return SINTER_OK;
 }
 
-sinter_status sinter_stepper_commit(sinter_stepper *st)
+/* The memory the history commits need, taken before the status is agreed, so that
+ * sinter_stepper_commit_agreed cannot fail afterwards. */
+sinter_status sinter_stepper_commit_reserve(sinter_stepper *st)
+{
+    sinter_status s = SINTER_OK;
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        s = sinter_history_commit_reserve(st->ctx, &st->forces[k].pp, &st->pp);
+        if (s == SINTER_OK)
+            s = sinter_history_commit_reserve(st->ctx, &st->forces[k].pw, &st->pw);
+    }
+    return s;
+}
+
+static sinter_status commit_histories(sinter_stepper *st)
 {
     sinter_status s = SINTER_OK;
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
@@ -1295,11 +1324,22 @@ sinter_status sinter_stepper_commit(sinter_stepper *st)
         if (s == SINTER_OK)
             s = sinter_history_commit(st->ctx, &st->forces[k].pw, &st->pw);
     }
-    /* a stage of its own with domain operations: the status agreed, then the reactions
-     * summed over the subdomains (both collective) */
-    s = sinter_domain_agree(st->ctx, &st->domain, s);
+    return s;
+}
+
+sinter_status sinter_stepper_commit_agreed(sinter_stepper *st)
+{
+    const sinter_status s = commit_histories(st); /* (reserved: cannot fail) */
     if (st->walls != NULL && s == SINTER_OK)
-        s = copy_wall_reactions(st);
+        sinter_walls_servo_commit(st->walls, st->time); /* servos act on the accepted step */
+    return s;
+}
+
+sinter_status sinter_stepper_commit(sinter_stepper *st)
+{
+    /* a stage of its own with domain operations: the status and the reactions summed over the
+     * subdomains agreed in one reduction (collective) */
+    sinter_status s = sinter_stepper_agree_reactions(st, commit_histories(st));
     if (st->walls != NULL && s == SINTER_OK)
         sinter_walls_servo_commit(st->walls, st->time); /* servos act on the accepted step */
     return s;
@@ -1375,10 +1415,7 @@ sinter_status sinter_stepper_evaluate(sinter_stepper *st)
     s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
-    s = sinter_domain_agree(st->ctx, &st->domain, s);
-    if (s == SINTER_OK && st->walls != NULL)
-        s = copy_wall_reactions(st);
-    return s;
+    return sinter_stepper_agree_reactions(st, s);
 }
 
 /*
