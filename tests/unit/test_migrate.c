@@ -114,6 +114,8 @@ static size_t springs(const sinter_stepper *st, size_t k, int wall)
  * trip through b, import back.
  * lose_springs: the travellers' staged histories are dropped before they return (the control
  * run that must differ). */
+static int g_remove_apart; /* 1: a's export without removal, then sinter_stepper_remove */
+
 static void round_trip(scene *a, scene *b, int trip, int lose_springs, size_t *staged_pp)
 {
     size_t idx[CLOUD], n = 0;
@@ -126,8 +128,19 @@ static void round_trip(scene *a, scene *b, int trip, int lose_springs, size_t *s
     OK(sinter_stepper_export_size(a->st, n, idx, &bytes));
     unsigned char *buf = malloc(bytes);
     assert_non_null(buf);
-    OK(sinter_stepper_export(a->st, n, idx, buf, bytes, &written, 1));
+    OK(sinter_stepper_export(a->st, n, idx, buf, bytes, &written, !g_remove_apart));
     assert_int_equal(written, bytes);
+    if (g_remove_apart) { /* the removal without a second record stream */
+        assert_int_equal(a->ps->count, CLOUD);
+        size_t twice[2] = {idx[0], idx[0]}, outside[1] = {CLOUD};
+        assert_int_equal(sinter_stepper_remove(a->st, 2, twice), SINTER_ERR_INVALID);
+        assert_int_equal(sinter_stepper_remove(a->st, 1, outside), SINTER_ERR_RANGE);
+        assert_int_equal(sinter_stepper_remove(a->st, 1, NULL), SINTER_ERR_NULL);
+        assert_int_equal(sinter_stepper_remove(NULL, 0, NULL), SINTER_ERR_NULL);
+        OK(sinter_stepper_remove(a->st, 0, NULL));
+        assert_int_equal(a->ps->count, CLOUD); /* refused or empty: nothing taken */
+        OK(sinter_stepper_remove(a->st, n, idx));
+    }
     assert_int_equal(a->ps->count, CLOUD - n);
     OK(sinter_stepper_import(b->st, buf, bytes, &count));
     assert_int_equal(count, n);
@@ -217,6 +230,13 @@ static void test_round_trip_keeps_every_bit(void **state)
     static double got[20 * CLOUD], want[20 * CLOUD];
     cloud_run(0, got, want);
     assert_memory_equal(got, want, sizeof(got));
+    /* the same with the removal apart from the export (sinter_stepper_remove): the same bits */
+    static double apart[20 * CLOUD], want_apart[20 * CLOUD];
+    g_remove_apart = 1;
+    cloud_run(0, apart, want_apart);
+    g_remove_apart = 0;
+    assert_memory_equal(apart, got, sizeof(got));
+    assert_memory_equal(want_apart, want, sizeof(want));
     /* without the travellers' springs the run differs: the comparison can fail */
     cloud_run(1, got, want);
     assert_true(memcmp(got, want, sizeof(got)) != 0);
