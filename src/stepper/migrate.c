@@ -925,8 +925,17 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
     s = sinter_particles_reserve(ps, owned + p.records + 1);
     if (s == SINTER_OK && (stage = sinter_migrate_stage_get(st)) == NULL)
         s = SINTER_ERR_NOMEM;
-    for (size_t sec = 0; sec < 2 * st->force_count && s == SINTER_OK; ++sec)
+    size_t most = 0; /* entries of the fullest list after the import */
+    for (size_t sec = 0; sec < 2 * st->force_count && s == SINTER_OK; ++sec) {
         s = sinter_migrate_reserve(ctx, &stage->list[sec], stage->width[sec], p.entries[sec]);
+        const size_t after = stage->list[sec].count + p.entries[sec];
+        most = after > most ? after : most;
+    }
+    /* scratch for dropping the second copy of a contact both of whose ends came */
+    const size_t slots = sinter_migrate_dedupe_slots(most);
+    uint32_t *table = s == SINTER_OK ? sinter_alloc(ctx, slots * sizeof(uint32_t)) : NULL;
+    if (s == SINTER_OK && table == NULL)
+        s = SINTER_ERR_NOMEM;
     if (s == SINTER_OK && p.links > 0) {
         links = sinter_alloc(ctx, p.links * sizeof(sinter_qs_link));
         if (links == NULL)
@@ -964,6 +973,7 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
     }
     sinter_free(ctx, links);
     if (s != SINTER_OK) {
+        sinter_free(ctx, table);
         sinter_free(ctx, phi);
         parsed_free(ctx, &p);
         return s;
@@ -1010,6 +1020,9 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
             }
         }
     }
+    for (size_t sec = 0; sec < 2 * st->force_count; ++sec)
+        sinter_migrate_dedupe(&stage->list[sec], stage->width[sec], table, slots);
+    sinter_free(ctx, table);
     ps->count = owned + p.records;
     ps->layout_generation++;
     ps->population_generation++;

@@ -243,6 +243,54 @@ static void test_round_trip_keeps_every_bit(void **state)
 }
 
 /*
+ * A contact between two particles of one stream arrives in both their records; the import
+ * stages it once, so that a stream exported right after the import (before any step) is no
+ * larger than the one imported (every staged entry goes into the records of both its ends:
+ * two staged copies would make four).
+ */
+static void test_import_stages_each_contact_once(void **state)
+{
+    (void)state;
+    scene a, b;
+    open_cloud(&a);
+    open_cloud(&b);
+    fill_cloud(&a);
+    OK(sinter_stepper_step(a.st, 2500));
+    size_t idx[CLOUD], n = 0;
+    for (size_t i = 0; i < CLOUD; ++i)
+        if (a.ps->id[i] % 2 == 1 || a.ps->id[i] < 16) /* neighbours in one stream */
+            idx[n++] = i;
+    size_t bytes = 0, written = 0, count = 0;
+    OK(sinter_stepper_export_size(a.st, n, idx, &bytes));
+    unsigned char *buf = malloc(bytes);
+    assert_non_null(buf);
+    OK(sinter_stepper_export(a.st, n, idx, buf, bytes, &written, 0));
+    OK(sinter_stepper_import(b.st, buf, written, &count));
+    assert_int_equal(count, n);
+    const sinter_migrate_entries *l = &b.st->migrate->list[0];
+    size_t inner = 0; /* staged contacts with both ends in the stream */
+    for (size_t e = 0; e < l->count; ++e) {
+        int ends = 0;
+        for (size_t i = 0; i < b.ps->count; ++i)
+            ends += (b.ps->id[i] == l->key[2 * e]) + (b.ps->id[i] == l->key[2 * e + 1]);
+        inner += ends == 2;
+        for (size_t f = 0; f < e; ++f) /* no key twice */
+            assert_false(l->key[2 * f] == l->key[2 * e] && l->key[2 * f + 1] == l->key[2 * e + 1]);
+    }
+    print_message("%zu particles: %zu contacts staged, %zu of them between two of them\n", n,
+                  l->count, inner);
+    assert_true(inner >= 20); /* the case at stake is there */
+    size_t all[CLOUD], again = 0;
+    for (size_t i = 0; i < n; ++i)
+        all[i] = i;
+    OK(sinter_stepper_export_size(b.st, n, all, &again));
+    assert_int_equal(again, bytes);
+    free(buf);
+    scene_close(&a);
+    scene_close(&b);
+}
+
+/*
  * A portable checkpoint: the global part and the records of every particle, written in three
  * pieces in another order than the particles' (reversed); a stepper set up alike without
  * particles loads the part and imports the pieces, last first. The original run is reordered
@@ -608,6 +656,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip_keeps_every_bit),
+        cmocka_unit_test(test_import_stages_each_contact_once),
         cmocka_unit_test(test_portable_checkpoint_restarts_bit_for_bit),
         cmocka_unit_test(test_electric_warm_start_travels),
         cmocka_unit_test(test_bad_streams_are_refused),
