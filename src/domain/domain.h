@@ -24,7 +24,11 @@ typedef struct sinter_domain {
     double *halo;         /* the forward halo's rows, (owned + ghosts) * width */
     size_t halo_capacity; /* doubles */
     uint64_t reductions;  /* reduce calls made */
-    uint64_t halos;       /* halo calls made */
+    /* the rebuild decision reduced ahead, with the explicit step's agreement after the drift
+     * (stepper.h, sinter_stepper_agree_drift): 1 until the step's evaluation takes it */
+    int decided;
+    double decision[2]; /* rebuild flag, largest radius: the MAX over every subdomain */
+    uint64_t halos;     /* halo calls made */
     /* the redistribution stage (redistribute.c): 1 during the host's callback, and the state
      * at t (x, v, w, rot, temperature: 13 doubles) of the particles imported then, by id, for
      * a rollback */

@@ -653,17 +653,52 @@ static double heat_reach(const sinter_stepper *st)
  * without domain operations does.
  * Returns the status, *rebuild whether the lists must be built.
  */
-static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int local,
-                                          int *rebuild)
+/* This subdomain's side of the rebuild decision: whether its lists are stale (or ghosts are
+ * due), and its largest radius. */
+static void rebuild_values(const sinter_stepper *st, int local, double v[2])
 {
-    sinter_domain *d = &st->domain;
     const sinter_particles *ps = st->ps;
-    double v[2] = {local || d->rebuild_due ? 1.0 : 0.0, 0.0};
+    v[0] = local || st->domain.rebuild_due ? 1.0 : 0.0;
+    v[1] = 0.0;
     for (size_t i = 0; i < ps->count - ps->ghost_count; ++i)
         v[1] = ps->radius[i] > v[1] ? ps->radius[i] : v[1];
-    sinter_status s = sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
-    if (s != SINTER_OK)
-        return s;
+}
+
+sinter_status sinter_stepper_agree_drift(sinter_stepper *st, sinter_status s)
+{
+    sinter_domain *d = &st->domain;
+    d->decided = 0;
+    double v[3] = {0.0, 0.0, s == SINTER_OK ? 0.0 : 1.0};
+    if (s == SINTER_OK) /* (the ghosts' rows are refreshed after this: their owners decide) */
+        rebuild_values(st, sinter_neighbors_stale(&st->nb, st->ps, st->walls), v);
+    const sinter_status r =
+        sinter_domain_reduce(st->ctx, d, v, 3, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+    if (r != SINTER_OK)
+        return r;
+    if (v[2] > 0.0) /* a subdomain failed: the code and the message agreed */
+        return sinter_domain_agree(st->ctx, d, s);
+    d->decided = 1;
+    d->decision[0] = v[0];
+    d->decision[1] = v[1];
+    return SINTER_OK;
+}
+
+static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int *rebuild)
+{
+    sinter_domain *d = &st->domain;
+    double v[2];
+    if (d->decided) { /* reduced with the agreement after the drift */
+        v[0] = d->decision[0];
+        v[1] = d->decision[1];
+        d->decided = 0;
+    } else {
+        rebuild_values(st, sinter_neighbors_stale(&st->nb, st->ps, st->walls), v);
+        sinter_status s =
+            sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+        if (s != SINTER_OK)
+            return s;
+    }
+    sinter_status s = SINTER_OK;
     const double reach = fraction * v[1];
     const int wider = reach > st->nb.reach;
     if (wider)
@@ -680,6 +715,7 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
         s = sinter_explicit_keep_spare(st);
     /* the spare arrays (explicit.c: the state at t) get the new ghosts' rows as they are now:
      * a rollback restores the owners, and a forward halo the ghosts */
+    const sinter_particles *ps = st->ps;
     const size_t first = ps->count - ps->ghost_count;
     double *rows[4] = {ps->x, ps->v, ps->w, ps->rot};
     for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL && ps->ghost_count > 0; ++k)
@@ -692,8 +728,7 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
 static sinter_status domain_refresh(sinter_stepper *st)
 {
     int rebuild = 0;
-    const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
-    sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
+    sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), &rebuild);
     if (s != SINTER_OK || !rebuild)
         return s;
     const double t0 = sinter_clock();

@@ -243,6 +243,12 @@ sinter_status sinter_stepper_commit(sinter_stepper *st);
  * walls written only when SINTER_OK), then the commit itself, which cannot fail after the
  * reserve (_agreed, local). */
 sinter_status sinter_stepper_commit_reserve(sinter_stepper *st);
+/* The explicit step's stage A with domain operations: the status after the drift agreed
+ * together with the rebuild decision (one MAX of three doubles: the stale flag, the largest
+ * radius, a failure flag; the full agreement follows only when a subdomain failed). The
+ * decision waits in the domain (decided) for the evaluation's rebuild stage, which then makes
+ * no reduction of its own. */
+sinter_status sinter_stepper_agree_drift(sinter_stepper *st, sinter_status s);
 sinter_status sinter_stepper_agree_reactions(sinter_stepper *st, sinter_status s);
 sinter_status sinter_stepper_commit_agreed(sinter_stepper *st);
 

@@ -368,11 +368,11 @@ static job REF_JOB[1], JOBS[LOOPBACK_MAX];
 
 /* Reductions of one call of sinter_stepper_step(st, 1) without a rebuild (docs/scaleout.md):
  * the call's own three (its status agreed, the step's stability check agreed, whether the
- * forces are current) and the step's four: whether to go on, the status after the drift
- * (stage A), the rebuild decision, and the status after the checks together with the wall
- * reactions (stage C, one reduction; it was two more, the commit's status and the reactions,
- * before they were merged). */
-enum { REDUCES_PER_CALL = 7 };
+ * forces are current) and the step's three: whether to go on, the status after the drift
+ * together with the rebuild decision (stage A), and the status after the checks together
+ * with the wall reactions (stage C). Before they were merged the step made six: the rebuild
+ * decision, the commit's status and the reactions were reductions of their own (9 a call). */
+enum { REDUCES_PER_CALL = 6 };
 
 static void test_decomposed_bed(void **st)
 {
