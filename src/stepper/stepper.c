@@ -645,14 +645,6 @@ static double heat_reach(const sinter_stepper *st)
     return fraction * rmax;
 }
 
-/*
- * The rebuild stage of a decomposed run (domain/domain.h): the decision is every subdomain's
- * (a MAX of the flags, with the largest radius for the ghost cut-off); then the host
- * redistributes (migration and new ghosts, sinter_particles_set_ghosts) before the build,
- * and the build gives the migrated particles' pairs their staged histories, as a build
- * without domain operations does.
- * Returns the status, *rebuild whether the lists must be built.
- */
 /* This subdomain's side of the rebuild decision: whether its lists are stale (or ghosts are
  * due), and its largest radius. */
 static void rebuild_values(const sinter_stepper *st, int local, double v[2])
@@ -683,6 +675,15 @@ sinter_status sinter_stepper_agree_drift(sinter_stepper *st, sinter_status s)
     return SINTER_OK;
 }
 
+/*
+ * The rebuild stage of a decomposed run (domain/domain.h): the decision is every subdomain's
+ * (a MAX of the flags, with the largest radius for the ghost cut-off); then the host
+ * redistributes (migration and new ghosts, sinter_particles_set_ghosts) before the build,
+ * and the build gives the migrated particles' pairs their staged histories, as a build
+ * without domain operations does.
+ * The decision comes from sinter_stepper_agree_drift when the explicit step reduced it
+ * there. Returns the status, *rebuild whether the lists must be built.
+ */
 static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int *rebuild)
 {
     sinter_domain *d = &st->domain;
