@@ -2445,6 +2445,18 @@ SINTER_API sinter_status sinter_stepper_export(sinter_stepper *stepper, size_t n
                                               size_t capacity, size_t *written, int remove);
 
 /**
+ * Take the particles of the n indices listed out of the set, as sinter_stepper_export with
+ * remove = 1 does, without writing their records: for a host that exported them already
+ * (remove = 0, one stream per destination), so that a migration writes each leaver once. The
+ * same effects (the order of the others kept, their links and the histories of the contacts
+ * both of whose ends left dropped, the forces current between two steps) and the same errors
+ * as that export, less the buffer's; inside a staggered stepper's attempt SINTER_ERR_STATE
+ * (include/sinter_domain.h). n = 0 changes nothing.
+ */
+SINTER_API sinter_status sinter_stepper_remove(sinter_stepper *stepper, size_t n,
+                                              const size_t *indices);
+
+/**
  * Append the particles of a record stream of sinter_stepper_export (any alignment) as owned
  * particles; *count (may be NULL) receives how many. Their contact histories are staged by key
  * and taken by their pairs at the next neighbour build; a contact this stepper holds already

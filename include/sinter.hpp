@@ -1354,6 +1354,14 @@ class stepper : public detail::handle<sinter_stepper, sinter_stepper_destroy> {
         records.resize(written);
         return records;
     }
+    /// Take the particles of `indices` out of this stepper's set without writing their
+    /// records (sinter_stepper_remove): after an export without removal.
+    void remove_particles(const std::vector<std::size_t> &indices)
+    {
+        check(sinter_stepper_remove(live("sinter_stepper_remove"), indices.size(),
+                                    indices.data()),
+              "sinter_stepper_remove");
+    }
     /// Append the particles of a record stream of export_particles; returns how many.
     std::size_t import_particles(const std::vector<unsigned char> &records)
     {

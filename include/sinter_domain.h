@@ -132,7 +132,8 @@ typedef struct sinter_domain_ops {
     /** Refresh ghost rows from their owners (forward) or add ghost rows into owners (reverse). */
     int (*halo)(const sinter_halo *h, void *user);
     /** At a neighbour-list rebuild (every subdomain at once): move the owned particles that
-     * left the subdomain (migration: sinter_stepper_export with remove = 1 here,
+     * left the subdomain (migration: sinter_stepper_export with remove = 1 here, or one
+     * export without removal per destination and then sinter_stepper_remove of all of them,
      * sinter_stepper_import on the subdomain they entered), then call
      * sinter_particles_set_ghosts with every particle within sinter_stepper_ghost_cutoff of an
      * owned one. The set's owned particles may be read (not written) here. The records

@@ -46,7 +46,8 @@ sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
     if (st == SINTER_OK) {
         h->by_pair = 1;
         const uint64_t before = h->written_before;
-        h->trial_written = before == 0 || before == c->revision ? c->revision : SINTER_HISTORY_MIXED;
+        h->trial_written =
+            before == 0 || before == c->revision ? c->revision : SINTER_HISTORY_MIXED;
     }
     return st;
 }
@@ -124,6 +125,15 @@ static inline void copy_trial(double *restrict committed, const double *restrict
             active[k] = pair[k];
         }
     }
+}
+
+sinter_status sinter_history_commit_reserve(sinter_ctx *ctx, sinter_history *h,
+                                            const sinter_contact_list *c)
+{
+    if (h->width == 0)
+        return SINTER_OK;
+    return sinter_grow(ctx, (void **)&h->active, &h->active_capacity, c->count + 1,
+                       sizeof(uint32_t));
 }
 
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,

@@ -12,15 +12,15 @@
 #include "contact/contacts.h"
 
 typedef struct sinter_history {
-    size_t width;        /* doubles per contact */
-    double *committed;   /* width per candidate pair */
+    size_t width;      /* doubles per contact */
+    double *committed; /* width per candidate pair */
     size_t pair_capacity;
-    double *trial;       /* width per active contact */
+    double *trial; /* width per active contact */
     size_t trial_capacity;
-    uint32_t *active;    /* candidate pairs in contact at the last commit */
+    uint32_t *active; /* candidate pairs in contact at the last commit */
     size_t active_count;
     size_t active_capacity;
-    double *scratch;     /* remapping buffer */
+    double *scratch; /* remapping buffer */
     size_t scratch_capacity;
     /* set by a model for one evaluation: its trial history is indexed by candidate pair
      * (width per pair, contacts only written), so the commit swaps the arrays instead of
@@ -47,8 +47,7 @@ void sinter_history_free(sinter_ctx *ctx, sinter_history *h);
 
 /* Make room for trial history of `contacts` contacts, zeroed if `zero` (built-in models
  * write every entry, so they skip the zeroing; host models get zeros). */
-sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts,
-                                     int zero);
+sinter_status sinter_history_prepare(sinter_ctx *ctx, sinter_history *h, size_t contacts, int zero);
 
 /* Let a model write trial history by candidate pair for this evaluation (pairs of `c`). */
 sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
@@ -57,6 +56,11 @@ sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
 /* Accept the trial history of the active contacts `c`. */
 sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
                                     const sinter_contact_list *c);
+
+/* The memory sinter_history_commit needs for `c`, taken now: the commit that follows (same
+ * list) cannot fail. */
+sinter_status sinter_history_commit_reserve(sinter_ctx *ctx, sinter_history *h,
+                                            const sinter_contact_list *c);
 
 /* Carry committed history to a rebuilt pair list (pairs->from maps new to old). */
 sinter_status sinter_history_remap(sinter_ctx *ctx, sinter_history *h, size_t old_pairs,

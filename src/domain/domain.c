@@ -79,6 +79,19 @@ sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_stat
     return sinter_fail(ctx, (sinter_status)code, "subdomain %lld: %s", (long long)who, text);
 }
 
+sinter_status sinter_domain_agree_sum(sinter_ctx *ctx, sinter_domain *d, sinter_status s,
+                                      double *values, size_t count)
+{
+    if (!d->on)
+        return s;
+    values[count] = s == SINTER_OK ? 0.0 : 1.0;
+    const sinter_status r =
+        sinter_domain_reduce(ctx, d, values, count + 1, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    if (r != SINTER_OK)
+        return r;
+    return values[count] > 0.0 ? sinter_domain_agree(ctx, d, s) : SINTER_OK;
+}
+
 sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_particles *ps)
 {
     const size_t n = ps->count, owned = n - ps->ghost_count, w = SINTER_HALO_STATE_WIDTH;

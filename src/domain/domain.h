@@ -24,7 +24,11 @@ typedef struct sinter_domain {
     double *halo;         /* the forward halo's rows, (owned + ghosts) * width */
     size_t halo_capacity; /* doubles */
     uint64_t reductions;  /* reduce calls made */
-    uint64_t halos;       /* halo calls made */
+    /* the rebuild decision reduced ahead, with the explicit step's agreement after the drift
+     * (stepper.h, sinter_stepper_agree_drift): 1 until the step's evaluation takes it */
+    int decided;
+    double decision[2]; /* rebuild flag, largest radius: the MAX over every subdomain */
+    uint64_t halos;     /* halo calls made */
     /* the redistribution stage (redistribute.c): 1 during the host's callback, and the state
      * at t (x, v, w, rot, temperature: 13 doubles) of the particles imported then, by id, for
      * a rollback */
@@ -57,6 +61,16 @@ sinter_status sinter_domain_rank(sinter_ctx *ctx, sinter_domain *d, long *rank);
  * one, the most negative code reported anywhere, with the message of the lowest-numbered
  * subdomain that reported it, prefixed by "subdomain R: ". SINTER_OK costs one reduction. */
 sinter_status sinter_domain_agree(sinter_ctx *ctx, sinter_domain *d, sinter_status s);
+
+/* The collective status and a sum of `count` doubles in one reduction (the explicit step's
+ * stage C and its wall reactions): `values` has room for count + 1 doubles, the last one
+ * written here with the number of subdomains that failed (an exact small integer in a SUM of
+ * doubles). The values are summed in place (the same bits as a reduction of the `count`
+ * alone: every value is reduced on its own); only when a subdomain failed does
+ * sinter_domain_agree follow, to agree the code and the message. Without domain operations
+ * `s`, the values untouched. */
+sinter_status sinter_domain_agree_sum(sinter_ctx *ctx, sinter_domain *d, sinter_status s,
+                                      double *values, size_t count);
 
 /* The forward halo of the state (SINTER_HALO_STATE_WIDTH doubles per particle): the owned
  * rows packed, the host fills the ghost rows, which are unpacked into the set. */

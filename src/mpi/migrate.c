@@ -107,19 +107,12 @@ static int pack(sinter_mpi_attachment *a, outbox *o, int *far)
     return bad ? -1 : 0;
 }
 
-/* Take the leavers out of the set (one export with removal; their streams are written). */
+/* Take the leavers out of the set (their streams are written: a removal without records). */
 static int remove_leavers(sinter_mpi_attachment *a, const outbox *o)
 {
     if (o->leaving == 0)
         return 0;
-    size_t bytes = 0, written = 0;
-    if (sinter_stepper_export_size(a->st, o->leaving, o->list, &bytes) != SINTER_OK)
-        return -1;
-    void *scratch = malloc(bytes);
-    const int bad = scratch == NULL || sinter_stepper_export(a->st, o->leaving, o->list, scratch,
-                                                             bytes, &written, 1) != SINTER_OK;
-    free(scratch);
-    return bad ? -1 : 0;
+    return sinter_stepper_remove(a->st, o->leaving, o->list) != SINTER_OK ? -1 : 0;
 }
 
 int sinter_mpi_migrate(sinter_mpi_attachment *a, int everywhere)

@@ -543,10 +543,11 @@ static size_t owned_bad(const sinter_particles *ps, size_t bad, int domain)
 
 /*
  * One step. With domain operations (domain/domain.h) its collective stages are: the status
- * agreed after the drift (A), the forward halo, the rebuild decision inside the evaluation
- * (a reduction, then the host's redistribution), the status agreed after the kick and the
- * checks (C), the forward halo of the accepted state, and the commit's reductions. Between
- * two of them a subdomain that failed only skips its own work, so none waits for another.
+ * agreed after the drift together with the rebuild decision (A, one reduction), the forward
+ * halo, the host's redistribution inside the evaluation when A decided a rebuild, the status
+ * agreed after the kick and the checks together with the wall reactions (C, one reduction),
+ * the forward halo of the accepted state, and the commit (local). Between two of them a
+ * subdomain that failed only skips its own work, so none waits for another.
  */
 sinter_status sinter_explicit_step(sinter_stepper *st, double h)
 {
@@ -631,8 +632,9 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
         if (st->walls != NULL)
             s = sinter_walls_move(st->walls, st->time);
     }
-    if (domain) { /* stage A: every subdomain drifted, or all stop here */
-        const sinter_status a = sinter_domain_agree(st->ctx, &st->domain, s);
+    if (domain) { /* stage A: every subdomain drifted, or all stop here (with the rebuild
+                   * decision in the same reduction) */
+        const sinter_status a = sinter_stepper_agree_drift(st, s);
         if (a != SINTER_OK) {
             if (drifted)
                 undo_step(st, t_start, heat_now);
@@ -655,6 +657,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     st->heat_in_law = !st->heat_skip; /* conduction in the law's region when it can (thermal.h) */
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, h);
+    st->domain.decided = 0; /* (taken by that evaluation, or by none) */
     const int kicked = st->range_final != NULL && st->ranges_final;
     st->range_final = NULL;
     st->range_final_user = NULL;
@@ -698,7 +701,12 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
                         "state is kept.",
                         t_start, t_start + h, what, bad, (unsigned long long)st->ps->id[bad], h);
     }
-    s = sinter_domain_agree(st->ctx, &st->domain, s); /* stage C (with domain operations) */
+    /* stage C with domain operations: the status agreed together with the wall reactions
+     * (one reduction), the commit's memory taken before so that the commit cannot fail */
+    if (domain && s == SINTER_OK)
+        s = sinter_stepper_commit_reserve(st);
+    if (domain)
+        s = sinter_stepper_agree_reactions(st, s);
     if (s != SINTER_OK) {
         /* Roll back: state (the spare arrays hold it), time and walls; history was never
          * committed. */
@@ -712,7 +720,7 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
     }
     if (domain && (s = sinter_domain_forward(st->ctx, &st->domain, st->ps)) != SINTER_OK)
         return s;
-    s = sinter_stepper_commit(st);
+    s = domain ? sinter_stepper_commit_agreed(st) : sinter_stepper_commit(st);
     if (s == SINTER_OK)
         time_stores(st, sinter_clock() - clock_start);
     return s;

@@ -120,13 +120,30 @@ static sinter_status gather_entries(sinter_stepper *st, gathered *g, uint32_t se
     return s;
 }
 
-/* Check the arguments of an export and gather what travels; g->bytes is the stream's size. */
-static sinter_status gather(sinter_stepper *st, size_t n, const size_t *indices, gathered *g,
-                            const char *func)
+/* Check the arguments of an export or a removal: pos (count + 1 zeros) receives for each
+ * index listed its entry + 1. */
+static sinter_status check_list(sinter_stepper *st, size_t n, const size_t *indices, size_t *pos,
+                                const char *func)
 {
-    memset(g, 0, sizeof(*g));
     sinter_ctx *ctx = st->ctx;
-    sinter_particles *ps = st->ps;
+    const sinter_particles *ps = st->ps;
+    const size_t owned = ps->count - ps->ghost_count;
+    for (size_t k = 0; k < n; ++k) {
+        if (indices[k] >= owned || pos[indices[k]] > 0)
+            return sinter_fail(ctx, indices[k] >= owned ? SINTER_ERR_RANGE : SINTER_ERR_INVALID,
+                               "%s: index %zu (entry %zu) is %s", func, indices[k], k,
+                               indices[k] >= owned ? "not an owned particle" : "listed twice");
+        pos[indices[k]] = k + 1;
+    }
+    return SINTER_OK;
+}
+
+/* The state checks of an export or a removal. */
+static sinter_status check_state(sinter_stepper *st, size_t n, const size_t *indices,
+                                 const char *func)
+{
+    sinter_ctx *ctx = st->ctx;
+    const sinter_particles *ps = st->ps;
     if (n > 0)
         SINTER_CHECK_NULL(ctx, indices);
     if (ps->views_out > 0)
@@ -143,22 +160,27 @@ static sinter_status gather(sinter_stepper *st, size_t n, const size_t *indices,
                            "%s: the frozen heat stage holds per-particle rates; migrate while "
                            "the mechanics run",
                            func);
-    const size_t owned = ps->count - ps->ghost_count;
+    return SINTER_OK;
+}
+
+/* Check the arguments of an export and gather what travels; g->bytes is the stream's size. */
+static sinter_status gather(sinter_stepper *st, size_t n, const size_t *indices, gathered *g,
+                            const char *func)
+{
+    memset(g, 0, sizeof(*g));
+    sinter_ctx *ctx = st->ctx;
+    sinter_particles *ps = st->ps;
+    sinter_status s = check_state(st, n, indices, func);
+    if (s != SINTER_OK)
+        return s;
     g->pos = sinter_calloc(ctx, ps->count + 1, sizeof(size_t));
     if (g->pos == NULL)
         return SINTER_ERR_NOMEM;
-    for (size_t k = 0; k < n; ++k) {
-        if (indices[k] >= owned || g->pos[indices[k]] > 0) {
-            const sinter_status bad =
-                sinter_fail(ctx, indices[k] >= owned ? SINTER_ERR_RANGE : SINTER_ERR_INVALID,
-                            "%s: index %zu (entry %zu) is %s", func, indices[k], k,
-                            indices[k] >= owned ? "not an owned particle" : "listed twice");
-            gathered_free(ctx, g);
-            return bad;
-        }
-        g->pos[indices[k]] = k + 1;
+    if ((s = check_list(st, n, indices, g->pos, func)) != SINTER_OK) {
+        gathered_free(ctx, g);
+        return s;
     }
-    sinter_status s = n > 0 ? sinter_id_index_update(&ps->id_index, ps) : SINTER_OK;
+    s = n > 0 ? sinter_id_index_update(&ps->id_index, ps) : SINTER_OK;
     /* committed histories (pairs of the current lists) and staged ones, slot by slot */
     const sinter_migrate_stage *stage = st->migrate;
     for (size_t k = 0; k < st->force_count && s == SINTER_OK && n > 0; ++k) {
@@ -552,6 +574,30 @@ sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *
     return s;
 }
 
+sinter_status sinter_stepper_remove(sinter_stepper *st, size_t n, const size_t *indices)
+{
+    if (st == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = st->ctx;
+    if (st->domain.in_attempt)
+        return refuse_in_attempt(st, "sinter_stepper_remove");
+    sinter_status s = check_state(st, n, indices, "sinter_stepper_remove");
+    if (s != SINTER_OK || n == 0)
+        return s;
+    size_t *pos = sinter_calloc(ctx, st->ps->count + 1, sizeof(size_t));
+    if (pos == NULL)
+        return SINTER_ERR_NOMEM;
+    s = check_list(st, n, indices, pos, "sinter_stepper_remove");
+    sinter_free(ctx, pos);
+    if (s != SINTER_OK)
+        return s;
+    /* what sinter_stepper_export with remove = 1 does after writing its records */
+    const int current = forces_in_step(st);
+    s = remove_exported(st, n, indices);
+    migrated(st, current && s == SINTER_OK);
+    return s;
+}
+
 /* ---- reading ---- */
 
 typedef struct reader {
@@ -879,8 +925,17 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
     s = sinter_particles_reserve(ps, owned + p.records + 1);
     if (s == SINTER_OK && (stage = sinter_migrate_stage_get(st)) == NULL)
         s = SINTER_ERR_NOMEM;
-    for (size_t sec = 0; sec < 2 * st->force_count && s == SINTER_OK; ++sec)
+    size_t most = 0; /* entries of the fullest list after the import */
+    for (size_t sec = 0; sec < 2 * st->force_count && s == SINTER_OK; ++sec) {
         s = sinter_migrate_reserve(ctx, &stage->list[sec], stage->width[sec], p.entries[sec]);
+        const size_t after = stage->list[sec].count + p.entries[sec];
+        most = after > most ? after : most;
+    }
+    /* scratch for dropping the second copy of a contact both of whose ends came */
+    const size_t slots = sinter_migrate_dedupe_slots(most);
+    uint32_t *table = s == SINTER_OK ? sinter_alloc(ctx, slots * sizeof(uint32_t)) : NULL;
+    if (s == SINTER_OK && table == NULL)
+        s = SINTER_ERR_NOMEM;
     if (s == SINTER_OK && p.links > 0) {
         links = sinter_alloc(ctx, p.links * sizeof(sinter_qs_link));
         if (links == NULL)
@@ -918,6 +973,7 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
     }
     sinter_free(ctx, links);
     if (s != SINTER_OK) {
+        sinter_free(ctx, table);
         sinter_free(ctx, phi);
         parsed_free(ctx, &p);
         return s;
@@ -964,6 +1020,9 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
             }
         }
     }
+    for (size_t sec = 0; sec < 2 * st->force_count; ++sec)
+        sinter_migrate_dedupe(&stage->list[sec], stage->width[sec], table, slots);
+    sinter_free(ctx, table);
     ps->count = owned + p.records;
     ps->layout_generation++;
     ps->population_generation++;

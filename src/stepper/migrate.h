@@ -40,6 +40,12 @@ sinter_status sinter_migrate_reserve(sinter_ctx *ctx, sinter_migrate_entries *l,
 void sinter_migrate_drop(sinter_migrate_entries *l, size_t w,
                          int (*drop)(const uint64_t key[2], void *user), void *user);
 
+/* Keep one entry per key in l (the first; the order of the kept ones unchanged): a contact
+ * between two particles of one stream arrives in both records. table: `cap` slots of scratch,
+ * cap = sinter_migrate_dedupe_slots(l->count) or more (a power of 2). */
+size_t sinter_migrate_dedupe_slots(size_t count);
+void sinter_migrate_dedupe(sinter_migrate_entries *l, size_t w, uint32_t *table, size_t cap);
+
 /* After a neighbour build and the history remap: each new pair that holds no history yet and
  * whose key is staged takes the staged values (committed, active); every staged entry is then
  * dropped (a pair that is not a candidate any more is not in contact). No-op without a stage. */

@@ -101,6 +101,40 @@ static inline uint64_t mix(uint64_t a, uint64_t b)
     return h;
 }
 
+size_t sinter_migrate_dedupe_slots(size_t count)
+{
+    size_t cap = 16;
+    while (cap < 2 * count)
+        cap *= 2;
+    return cap;
+}
+
+void sinter_migrate_dedupe(sinter_migrate_entries *l, size_t w, uint32_t *table, size_t cap)
+{
+    const size_t mask = cap - 1;
+    memset(table, 0xff, cap * sizeof(uint32_t));
+    size_t kept = 0;
+    for (size_t e = 0; e < l->count; ++e) {
+        const uint64_t a = l->key[2 * e], b = l->key[2 * e + 1];
+        size_t at = mix(a, b) & mask;
+        int seen = 0;
+        for (; table[at] != UINT32_MAX; at = (at + 1) & mask)
+            if (l->key[2 * table[at]] == a && l->key[2 * table[at] + 1] == b) {
+                seen = 1; /* a copy of a kept entry (the same contact, the same bits) */
+                break;
+            }
+        if (seen)
+            continue;
+        if (kept != e) {
+            l->key[2 * kept] = a;
+            l->key[2 * kept + 1] = b;
+            memmove(l->value + w * kept, l->value + w * e, w * sizeof(double));
+        }
+        table[at] = (uint32_t)kept++;
+    }
+    l->count = kept;
+}
+
 /* The staged entries of l into history h over pair list L (see sinter_migrate_match). */
 static sinter_status match_list(sinter_ctx *ctx, sinter_history *h, const sinter_pair_list *L,
                                 const sinter_migrate_entries *l)

@@ -682,25 +682,61 @@ static double heat_reach(const sinter_stepper *st)
     return fraction * rmax;
 }
 
+/* This subdomain's side of the rebuild decision: whether its lists are stale (or ghosts are
+ * due), and its largest radius. */
+static void rebuild_values(const sinter_stepper *st, int local, double v[2])
+{
+    const sinter_particles *ps = st->ps;
+    v[0] = local || st->domain.rebuild_due ? 1.0 : 0.0;
+    v[1] = 0.0;
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i)
+        v[1] = ps->radius[i] > v[1] ? ps->radius[i] : v[1];
+}
+
+sinter_status sinter_stepper_agree_drift(sinter_stepper *st, sinter_status s)
+{
+    sinter_domain *d = &st->domain;
+    d->decided = 0;
+    double v[3] = {0.0, 0.0, s == SINTER_OK ? 0.0 : 1.0};
+    if (s == SINTER_OK) /* (the ghosts' rows are refreshed after this: their owners decide) */
+        rebuild_values(st, sinter_neighbors_stale(&st->nb, st->ps, st->walls), v);
+    const sinter_status r =
+        sinter_domain_reduce(st->ctx, d, v, 3, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+    if (r != SINTER_OK)
+        return r;
+    if (v[2] > 0.0) /* a subdomain failed: the code and the message agreed */
+        return sinter_domain_agree(st->ctx, d, s);
+    d->decided = 1;
+    d->decision[0] = v[0];
+    d->decision[1] = v[1];
+    return SINTER_OK;
+}
+
 /*
  * The rebuild stage of a decomposed run (domain/domain.h): the decision is every subdomain's
  * (a MAX of the flags, with the largest radius for the ghost cut-off); then the host
  * redistributes (migration and new ghosts, sinter_particles_set_ghosts) before the build,
  * and the build gives the migrated particles' pairs their staged histories, as a build
  * without domain operations does.
- * Returns the status, *rebuild whether the lists must be built.
+ * The decision comes from sinter_stepper_agree_drift when the explicit step reduced it
+ * there. Returns the status, *rebuild whether the lists must be built.
  */
-static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int local,
-                                          int *rebuild)
+static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, int *rebuild)
 {
     sinter_domain *d = &st->domain;
-    const sinter_particles *ps = st->ps;
-    double v[2] = {local || d->rebuild_due ? 1.0 : 0.0, 0.0};
-    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i)
-        v[1] = ps->radius[i] > v[1] ? ps->radius[i] : v[1];
-    sinter_status s = sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
-    if (s != SINTER_OK)
-        return s;
+    double v[2];
+    if (d->decided) { /* reduced with the agreement after the drift */
+        v[0] = d->decision[0];
+        v[1] = d->decision[1];
+        d->decided = 0;
+    } else {
+        rebuild_values(st, sinter_neighbors_stale(&st->nb, st->ps, st->walls), v);
+        sinter_status s =
+            sinter_domain_reduce(st->ctx, d, v, 2, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+        if (s != SINTER_OK)
+            return s;
+    }
+    sinter_status s = SINTER_OK;
     const double reach = fraction * v[1];
     const int wider = reach > st->nb.reach;
     if (wider)
@@ -717,6 +753,7 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
         s = sinter_explicit_keep_spare(st);
     /* the spare arrays (explicit.c: the state at t) get the new ghosts' rows as they are now:
      * a rollback restores the owners, and a forward halo the ghosts */
+    const sinter_particles *ps = st->ps;
     const size_t first = ps->count - ps->ghost_count;
     double *rows[4] = {ps->x, ps->v, ps->w, ps->rot};
     for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL && ps->ghost_count > 0; ++k)
@@ -729,8 +766,7 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
 static sinter_status domain_refresh(sinter_stepper *st)
 {
     int rebuild = 0;
-    const int stale = sinter_neighbors_stale(&st->nb, st->ps, st->walls);
-    sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), stale, &rebuild);
+    sinter_status s = domain_rebuild_stage(st, heat_reach_fraction(st), &rebuild);
     if (s != SINTER_OK || !rebuild)
         return s;
     const double t0 = sinter_clock();
@@ -1301,44 +1337,87 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
     return s;
 }
 
-/* The last evaluation's wall forces and moments into the walls; with domain operations the
- * sums over all subdomains (one reduction, collective), this subdomain's force kept as its
- * share (sinter_walls_get_force_local). */
-static sinter_status copy_wall_reactions(sinter_stepper *st)
+/* Wall k's force (j < 3 nw) or moment component j of the reactions' layout, in the walls. */
+static double *reaction_slot(sinter_walls *walls, size_t nw, size_t j)
 {
-    const size_t nw = st->walls->count;
-    double *f = st->wall_force;
-    if (st->domain.on && nw > 0) {
-        sinter_status s = sinter_grow(st->ctx, (void **)&st->domain.halo, &st->domain.halo_capacity,
-                                      6 * nw, sizeof(double));
+    return j < 3 * nw ? &walls->wall[j / 3].force[j % 3]
+                      : &walls->wall[(j - 3 * nw) / 3].moment[j % 3];
+}
+
+/* The last evaluation's wall forces and moments into the walls, and the status `s` of this
+ * subdomain; with domain operations both are collective and go in one reduction
+ * (sinter_domain_agree_sum) for up to 10 walls: the sums over all subdomains, this
+ * subdomain's force kept as its share (sinter_walls_get_force_local). The values travel
+ * through a buffer on the stack, in as many reductions as they need (a shape that depends
+ * only on the number of walls, the same everywhere, and no allocation that could fail on
+ * one subdomain only). The walls are written only when the status agreed is SINTER_OK. */
+sinter_status sinter_stepper_agree_reactions(sinter_stepper *st, sinter_status s)
+{
+    const size_t nw = st->walls != NULL ? st->walls->count : 0;
+    /* the reproducible mode: each wall's reaction the exact sum of its contacts' own
+     * (wall_sums.h), over the subdomains through two integer reductions after the status */
+    if (st->reproducible && st->pw_reaction_valid && nw > 0) {
+        double *total = st->wall_force;
+        if (st->domain.on) {
+            if (s == SINTER_OK)
+                s = sinter_grow(st->ctx, (void **)&st->domain.halo, &st->domain.halo_capacity,
+                                6 * nw, sizeof(double));
+            s = sinter_domain_agree(st->ctx, &st->domain, s);
+            total = st->domain.halo; /* (a work array between two halos) */
+        }
+        if (s == SINTER_OK)
+            s = sinter_wall_sums(st, st->wall_force, total);
         if (s != SINTER_OK)
             return s;
-        f = st->domain.halo; /* (a work array between two halos) */
+        for (size_t k = 0; k < nw; ++k) {
+            memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
+            memcpy(st->walls->wall[k].force, total + 3 * k, 3 * sizeof(double));
+            memcpy(st->walls->wall[k].moment, total + 3 * (nw + k), 3 * sizeof(double));
+        }
+        return SINTER_OK;
     }
-    /* the reproducible mode: the sums of the contacts' own reactions, exact (wall_sums.h) */
-    const int exact = st->reproducible && st->pw_reaction_valid && nw > 0;
-    if (exact) {
-        const sinter_status s = sinter_wall_sums(st, st->wall_force, f);
-        if (s != SINTER_OK)
-            return s;
-    }
-    for (size_t k = 0; k < nw; ++k)
-        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
-    if (st->domain.on && nw > 0 && !exact) {
-        memcpy(f, st->wall_force, 6 * nw * sizeof(double));
-        const sinter_status s = sinter_domain_reduce(st->ctx, &st->domain, f, 6 * nw,
-                                                     SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
-        if (s != SINTER_OK)
-            return s;
+    if (st->domain.on) {
+        enum { CHUNK = 63 }; /* values a reduction, the flag after them */
+        double buf[CHUNK + 1];
+        size_t j = 0;
+        do {
+            const size_t m = 6 * nw - j < CHUNK ? 6 * nw - j : CHUNK;
+            if (m > 0)
+                memcpy(buf, st->wall_force + j, m * sizeof(double));
+            const sinter_status a = sinter_domain_agree_sum(st->ctx, &st->domain, s, buf, m);
+            if (a != SINTER_OK)
+                return a; /* (the same chunk everywhere: its flag sum is) */
+            for (size_t i = 0; i < m; ++i)
+                *reaction_slot(st->walls, nw, j + i) = buf[i];
+            j += m;
+        } while (j < 6 * nw);
+    } else if (s != SINTER_OK) {
+        return s;
     }
     for (size_t k = 0; k < nw; ++k) {
-        memcpy(st->walls->wall[k].force, f + 3 * k, 3 * sizeof(double));
-        memcpy(st->walls->wall[k].moment, f + 3 * (nw + k), 3 * sizeof(double));
+        memcpy(st->walls->wall[k].force_local, st->wall_force + 3 * k, 3 * sizeof(double));
+        if (!st->domain.on) {
+            memcpy(st->walls->wall[k].force, st->wall_force + 3 * k, 3 * sizeof(double));
+            memcpy(st->walls->wall[k].moment, st->wall_force + 3 * (nw + k), 3 * sizeof(double));
+        }
     }
     return SINTER_OK;
 }
 
-sinter_status sinter_stepper_commit(sinter_stepper *st)
+/* The memory the history commits need, taken before the status is agreed, so that
+ * sinter_stepper_commit_agreed cannot fail afterwards. */
+sinter_status sinter_stepper_commit_reserve(sinter_stepper *st)
+{
+    sinter_status s = SINTER_OK;
+    for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
+        s = sinter_history_commit_reserve(st->ctx, &st->forces[k].pp, &st->pp);
+        if (s == SINTER_OK)
+            s = sinter_history_commit_reserve(st->ctx, &st->forces[k].pw, &st->pw);
+    }
+    return s;
+}
+
+static sinter_status commit_histories(sinter_stepper *st)
 {
     sinter_status s = SINTER_OK;
     for (size_t k = 0; k < st->force_count && s == SINTER_OK; ++k) {
@@ -1348,11 +1427,22 @@ sinter_status sinter_stepper_commit(sinter_stepper *st)
         if (s == SINTER_OK)
             s = sinter_history_commit(st->ctx, &st->forces[k].pw, &st->pw);
     }
-    /* a stage of its own with domain operations: the status agreed, then the reactions
-     * summed over the subdomains (both collective) */
-    s = sinter_domain_agree(st->ctx, &st->domain, s);
+    return s;
+}
+
+sinter_status sinter_stepper_commit_agreed(sinter_stepper *st)
+{
+    const sinter_status s = commit_histories(st); /* (reserved: cannot fail) */
     if (st->walls != NULL && s == SINTER_OK)
-        s = copy_wall_reactions(st);
+        sinter_walls_servo_commit(st->walls, st->time); /* servos act on the accepted step */
+    return s;
+}
+
+sinter_status sinter_stepper_commit(sinter_stepper *st)
+{
+    /* a stage of its own with domain operations: the status and the reactions summed over the
+     * subdomains agreed in one reduction (collective) */
+    sinter_status s = sinter_stepper_agree_reactions(st, commit_histories(st));
     if (st->walls != NULL && s == SINTER_OK)
         sinter_walls_servo_commit(st->walls, st->time); /* servos act on the accepted step */
     return s;
@@ -1428,10 +1518,7 @@ sinter_status sinter_stepper_evaluate(sinter_stepper *st)
     s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
         s = sinter_stepper_eval_forces(st, 0.0);
-    s = sinter_domain_agree(st->ctx, &st->domain, s);
-    if (s == SINTER_OK && st->walls != NULL)
-        s = copy_wall_reactions(st);
-    return s;
+    return sinter_stepper_agree_reactions(st, s);
 }
 
 /*

@@ -248,8 +248,24 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist);
  * made now, and the predictor's history restarts on every subdomain if on any. */
 sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st);
 
-/* Accept the last evaluation: commit history and wall reactions. */
+/* Accept the last evaluation: commit history and wall reactions (with domain operations the
+ * status and the reactions agreed in one reduction). */
 sinter_status sinter_stepper_commit(sinter_stepper *st);
+
+/* The same in two stages, for the explicit step's stage C (explicit.c): the memory the commit
+ * needs taken before the status is agreed (_reserve, local), the status agreed together with
+ * the wall reactions (_agree_reactions: collective, one reduction for up to 10 walls; the
+ * walls written only when SINTER_OK), then the commit itself, which cannot fail after the
+ * reserve (_agreed, local). */
+sinter_status sinter_stepper_commit_reserve(sinter_stepper *st);
+/* The explicit step's stage A with domain operations: the status after the drift agreed
+ * together with the rebuild decision (one MAX of three doubles: the stale flag, the largest
+ * radius, a failure flag; the full agreement follows only when a subdomain failed). The
+ * decision waits in the domain (decided) for the evaluation's rebuild stage, which then makes
+ * no reduction of its own. */
+sinter_status sinter_stepper_agree_drift(sinter_stepper *st, sinter_status s);
+sinter_status sinter_stepper_agree_reactions(sinter_stepper *st, sinter_status s);
+sinter_status sinter_stepper_commit_agreed(sinter_stepper *st);
 
 /* Bring forces, wall positions and history in line with the current state when the particles
  * changed (as sinter_stepper_advance does before its first step): the insertion stage's new

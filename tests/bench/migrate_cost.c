@@ -5,8 +5,10 @@
  * (every other index, remove = 1) and imports them back, against the mean of 20 explicit
  * steps of the same bed measured in the same run (a ratio, so that the machine's speed
  * cancels). Also the stream's bytes per particle, and the steps after the round trip, whose
- * imported half sits at the end of the arrays, before and after a spatial sort. Usage: migrate_cost [m] (default 40: 64 000
- * spheres) [repeats] (default 3).
+ * imported half sits at the end of the arrays, before and after a spatial sort. Then the
+ * removal of half the bed after its export (a host with several destinations): by a second
+ * export with removal against sinter_stepper_remove, same run. Usage: migrate_cost [m]
+ * (default 40: 64 000 spheres) [repeats] (default 3).
  */
 #define _POSIX_C_SOURCE 199309L
 #define BENCH_NAME "migrate_cost"
@@ -116,6 +118,48 @@ int main(int argc, char **argv)
                rep, half_n, out, out / step, in, in / step, (double)out_bytes / (double)half_n,
                after / step, sorted / step);
     }
+    /* A host with several destinations exports each one's leavers without removal, then
+     * removes them all: once by a second export with removal (its records thrown away, as
+     * before), once by sinter_stepper_remove. Both on the same bed, in alternating order, the
+     * half put back (imported) and one step taken (the lists rebuilt) after each. */
+    double sum_old = 0.0, sum_new = 0.0, min_old = 1e300, max_old = 0.0, min_new = 1e300,
+           max_new = 0.0;
+    for (int rep = 0; rep < 2 * repeats; ++rep) {
+        const int second_export = (rep % 2) == (rep / 2) % 2;
+        size_t count = 0, bytes = 0, written = 0, half_n = 0;
+        CHECK(sinter_particles_count(ps[0], &count));
+        for (size_t i = 0; i < count; i += 2)
+            half[half_n++] = i;
+        CHECK(sinter_stepper_export_size(st[0], half_n, half, &bytes));
+        unsigned char *buf = malloc(bytes), *scratch = malloc(bytes);
+        if (buf == NULL || scratch == NULL)
+            return 1;
+        CHECK(sinter_stepper_export(st[0], half_n, half, buf, bytes, &written, 0));
+        t0 = cpu_seconds();
+        if (second_export) {
+            size_t b2 = 0, w2 = 0;
+            CHECK(sinter_stepper_export_size(st[0], half_n, half, &b2));
+            CHECK(sinter_stepper_export(st[0], half_n, half, scratch, b2, &w2, 1));
+        } else {
+            CHECK(sinter_stepper_remove(st[0], half_n, half));
+        }
+        const double removal = cpu_seconds() - t0;
+        CHECK(sinter_stepper_import(st[0], buf, written, NULL));
+        free(buf);
+        free(scratch);
+        CHECK(sinter_stepper_step(st[0], 1));
+        double *sum = second_export ? &sum_old : &sum_new;
+        double *lo = second_export ? &min_old : &min_new, *hi = second_export ? &max_old : &max_new;
+        *sum += removal;
+        *lo = removal < *lo ? removal : *lo;
+        *hi = removal > *hi ? removal : *hi;
+    }
+    printf("removal of %zu leavers after their export: by a second export %.4f s (%.4f-%.4f) = "
+           "%.2f steps, by sinter_stepper_remove %.4f s (%.4f-%.4f) = %.2f steps; ratio %.3f "
+           "(means of %d each)\n",
+           (n + 1) / 2, sum_old / repeats, min_old, max_old, sum_old / repeats / step,
+           sum_new / repeats, min_new, max_new, sum_new / repeats / step, sum_new / sum_old,
+           repeats);
     for (int k = 0; k < 2; ++k) {
         sinter_stepper_destroy(st[k]);
         sinter_force_model_destroy(hm[k]);

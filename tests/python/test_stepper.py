@@ -622,6 +622,23 @@ class StepperApiTest(unittest.TestCase):
         self.assertEqual(self.st.import_particles(other.stepper.export_particles([0, 1])), 2)
         self.assertEqual(len(self.drop.particles), 12)
 
+    def test_remove_after_export(self):
+        if "sinter_stepper_remove" in sinter._lib.missing_functions:
+            self.skipTest("the library has no removal without records")
+        self.st.advance(2e-3)
+        before = self.drop.positions()
+        records = self.st.export_particles([1, 4])  # kept here
+        self.assertEqual(len(self.drop.particles), 12)
+        with self.assertRaises(sinter.SinterError):  # listed twice: nothing taken
+            self.st.remove_particles([1, 1])
+        self.assertEqual(len(self.drop.particles), 12)
+        self.st.remove_particles([1, 4])  # as export_particles(..., remove=True) would
+        self.assertEqual(len(self.drop.particles), 10)
+        stayed = [p for k, p in enumerate(before) if k not in (1, 4)]
+        self.assertEqual(self.drop.positions(), stayed)
+        self.assertEqual(self.st.import_particles(records), 2)
+        self.assertEqual(self.drop.positions()[10:], [before[1], before[4]])  # the same bits
+
     def test_portable_checkpoint(self):
         if "sinter_stepper_load_global" in sinter._lib.missing_functions:
             self.skipTest("the library has no portable checkpoints")

@@ -355,13 +355,7 @@ static int migrate(member *me, sinter_stepper *st)
         bad |= export_to(me, st, r, m, list);
     }
     if (!bad && leaving > 0) { /* one removal of all of them (the indices stay valid) */
-        size_t bytes = 0, written = 0;
-        bad = sinter_stepper_export_size(st, leaving, all, &bytes) != SINTER_OK;
-        void *scratch = bad ? NULL : malloc(bytes);
-        const sinter_status r =
-            scratch == NULL ? SINTER_ERR_NOMEM
-                            : sinter_stepper_export(st, leaving, all, scratch, bytes, &written, 1);
-        free(scratch);
+        const sinter_status r = sinter_stepper_remove(st, leaving, all);
         if (r == SINTER_ERR_STATE) /* the staggered stepper in an attempt: they stay (for now) */
             for (int q = 0; q < lb->size; ++q)
                 me->out_bytes[q] = 0;

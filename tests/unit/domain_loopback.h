@@ -9,7 +9,8 @@
  *   exact, MIN and MAX are order-free: every subdomain receives identical bits.
  * - redistribute: with slabs set (loopback_set_slabs), every owned particle whose centre
  *   left its subdomain's slab along x migrates to the subdomain whose slab holds it
- *   (sinter_stepper_export with remove = 1 there, sinter_stepper_import here, from the
+ *   (sinter_stepper_export without removal per destination, then one sinter_stepper_remove
+ *   of all of them there, sinter_stepper_import here, from the
  *   subdomains in order; when the removal is refused with SINTER_ERR_STATE, inside a
  *   staggered attempt, they stay until the stepper asks again at its accepted state); then
  *   every subdomain publishes its owned particles and takes as ghosts the particles of the

@@ -123,8 +123,10 @@ typedef struct job {
     double wall[3 * NW], wall_local[3 * NW];
     uint64_t builds, contacts;
     size_t owned;
-    uint64_t migrated;        /* particles it sent to other subdomains */
-    uint64_t sent[STEPS + 1]; /* particles it sent by the end of each step (from 1) */
+    uint64_t migrated;           /* particles it sent to other subdomains */
+    uint64_t sent[STEPS + 1];    /* particles it sent by the end of each step (from 1) */
+    uint64_t reduces[STEPS + 1]; /* its reduce calls by the end of each step (from 1) */
+    uint64_t built[STEPS + 1];   /* its neighbour builds by the end of each step (from 1) */
 } job;
 
 /* Final state by id - 1 (each subdomain writes the slots of its owned particles). */
@@ -251,8 +253,15 @@ static void *run_bed(void *arg)
         j->status = sinter_stepper_advance(st, j->steps * dt);
     for (int k = 1; k <= j->steps && j->stop_step == 0; ++k) {
         const sinter_status s = sinter_stepper_step(st, 1);
-        if (j->lb != NULL && k <= STEPS) /* (its own counter: written by this thread) */
+        if (j->lb != NULL && k <= STEPS) { /* (its own counters: written by this thread) */
             j->sent[k] = loopback_migrated(j->lb, j->rank);
+            uint64_t calls[3];
+            loopback_counts(j->lb, j->rank, calls);
+            j->reduces[k] = calls[0];
+            sinter_stepper_stats local = {.struct_size = sizeof(local)};
+            if (sinter_stepper_get_stats(st, &local) == SINTER_OK)
+                j->built[k] = local.neighbor_builds;
+        }
         if (s != SINTER_OK) {
             j->status = s;
             j->failed_at = k;
@@ -357,6 +366,14 @@ static int index_of(int k)
 static state REF, DEC;
 static job REF_JOB[1], JOBS[LOOPBACK_MAX];
 
+/* Reductions of one call of sinter_stepper_step(st, 1) without a rebuild (docs/scaleout.md):
+ * the call's own three (its status agreed, the step's stability check agreed, whether the
+ * forces are current) and the step's three: whether to go on, the status after the drift
+ * together with the rebuild decision (stage A), and the status after the checks together
+ * with the wall reactions (stage C). Before they were merged the step made six: the rebuild
+ * decision, the commit's status and the reactions were reductions of their own (9 a call). */
+enum { REDUCES_PER_CALL = 6 };
+
 static void test_decomposed_bed(void **st)
 {
     (void)st;
@@ -394,6 +411,17 @@ static void test_decomposed_bed(void **st)
         assert_int_equal(owned, N); /* every particle owned once, wherever it went */
         for (int k = 0; k < N; ++k)
             assert_int_equal(DEC.seen[k], 1);
+        /* The cost of the collective stages: a call of sinter_stepper_step(st, 1) without a
+         * rebuild makes REDUCES_PER_CALL reductions on every subdomain (see there). */
+        for (int r = 0; r < size; ++r)
+            for (int k = 2; k <= STEPS; ++k)
+                if (JOBS[r].built[k] == JOBS[r].built[k - 1]) {
+                    const uint64_t calls = JOBS[r].reduces[k] - JOBS[r].reduces[k - 1];
+                    if (calls != REDUCES_PER_CALL)
+                        print_error("subdomain %d, step %d: %llu reductions\n", r, k,
+                                    (unsigned long long)calls);
+                    assert_int_equal(calls, REDUCES_PER_CALL);
+                }
         print_message("%d subdomains: %llu migrations\n", size, (unsigned long long)migrated);
         assert_true(size == 1 ? migrated == 0 : migrated > 0); /* the borders were crossed */
         if (size == 1) { /* nothing summed in another order: the same bits */

@@ -114,6 +114,8 @@ static size_t springs(const sinter_stepper *st, size_t k, int wall)
  * trip through b, import back.
  * lose_springs: the travellers' staged histories are dropped before they return (the control
  * run that must differ). */
+static int g_remove_apart; /* 1: a's export without removal, then sinter_stepper_remove */
+
 static void round_trip(scene *a, scene *b, int trip, int lose_springs, size_t *staged_pp)
 {
     size_t idx[CLOUD], n = 0;
@@ -126,8 +128,19 @@ static void round_trip(scene *a, scene *b, int trip, int lose_springs, size_t *s
     OK(sinter_stepper_export_size(a->st, n, idx, &bytes));
     unsigned char *buf = malloc(bytes);
     assert_non_null(buf);
-    OK(sinter_stepper_export(a->st, n, idx, buf, bytes, &written, 1));
+    OK(sinter_stepper_export(a->st, n, idx, buf, bytes, &written, !g_remove_apart));
     assert_int_equal(written, bytes);
+    if (g_remove_apart) { /* the removal without a second record stream */
+        assert_int_equal(a->ps->count, CLOUD);
+        size_t twice[2] = {idx[0], idx[0]}, outside[1] = {CLOUD};
+        assert_int_equal(sinter_stepper_remove(a->st, 2, twice), SINTER_ERR_INVALID);
+        assert_int_equal(sinter_stepper_remove(a->st, 1, outside), SINTER_ERR_RANGE);
+        assert_int_equal(sinter_stepper_remove(a->st, 1, NULL), SINTER_ERR_NULL);
+        assert_int_equal(sinter_stepper_remove(NULL, 0, NULL), SINTER_ERR_NULL);
+        OK(sinter_stepper_remove(a->st, 0, NULL));
+        assert_int_equal(a->ps->count, CLOUD); /* refused or empty: nothing taken */
+        OK(sinter_stepper_remove(a->st, n, idx));
+    }
     assert_int_equal(a->ps->count, CLOUD - n);
     OK(sinter_stepper_import(b->st, buf, bytes, &count));
     assert_int_equal(count, n);
@@ -217,9 +230,64 @@ static void test_round_trip_keeps_every_bit(void **state)
     static double got[20 * CLOUD], want[20 * CLOUD];
     cloud_run(0, got, want);
     assert_memory_equal(got, want, sizeof(got));
+    /* the same with the removal apart from the export (sinter_stepper_remove): the same bits */
+    static double apart[20 * CLOUD], want_apart[20 * CLOUD];
+    g_remove_apart = 1;
+    cloud_run(0, apart, want_apart);
+    g_remove_apart = 0;
+    assert_memory_equal(apart, got, sizeof(got));
+    assert_memory_equal(want_apart, want, sizeof(want));
     /* without the travellers' springs the run differs: the comparison can fail */
     cloud_run(1, got, want);
     assert_true(memcmp(got, want, sizeof(got)) != 0);
+}
+
+/*
+ * A contact between two particles of one stream arrives in both their records; the import
+ * stages it once, so that a stream exported right after the import (before any step) is no
+ * larger than the one imported (every staged entry goes into the records of both its ends:
+ * two staged copies would make four).
+ */
+static void test_import_stages_each_contact_once(void **state)
+{
+    (void)state;
+    scene a, b;
+    open_cloud(&a);
+    open_cloud(&b);
+    fill_cloud(&a);
+    OK(sinter_stepper_step(a.st, 2500));
+    size_t idx[CLOUD], n = 0;
+    for (size_t i = 0; i < CLOUD; ++i)
+        if (a.ps->id[i] % 2 == 1 || a.ps->id[i] < 16) /* neighbours in one stream */
+            idx[n++] = i;
+    size_t bytes = 0, written = 0, count = 0;
+    OK(sinter_stepper_export_size(a.st, n, idx, &bytes));
+    unsigned char *buf = malloc(bytes);
+    assert_non_null(buf);
+    OK(sinter_stepper_export(a.st, n, idx, buf, bytes, &written, 0));
+    OK(sinter_stepper_import(b.st, buf, written, &count));
+    assert_int_equal(count, n);
+    const sinter_migrate_entries *l = &b.st->migrate->list[0];
+    size_t inner = 0; /* staged contacts with both ends in the stream */
+    for (size_t e = 0; e < l->count; ++e) {
+        int ends = 0;
+        for (size_t i = 0; i < b.ps->count; ++i)
+            ends += (b.ps->id[i] == l->key[2 * e]) + (b.ps->id[i] == l->key[2 * e + 1]);
+        inner += ends == 2;
+        for (size_t f = 0; f < e; ++f) /* no key twice */
+            assert_false(l->key[2 * f] == l->key[2 * e] && l->key[2 * f + 1] == l->key[2 * e + 1]);
+    }
+    print_message("%zu particles: %zu contacts staged, %zu of them between two of them\n", n,
+                  l->count, inner);
+    assert_true(inner >= 20); /* the case at stake is there */
+    size_t all[CLOUD], again = 0;
+    for (size_t i = 0; i < n; ++i)
+        all[i] = i;
+    OK(sinter_stepper_export_size(b.st, n, all, &again));
+    assert_int_equal(again, bytes);
+    free(buf);
+    scene_close(&a);
+    scene_close(&b);
 }
 
 /*
@@ -588,6 +656,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip_keeps_every_bit),
+        cmocka_unit_test(test_import_stages_each_contact_once),
         cmocka_unit_test(test_portable_checkpoint_restarts_bit_for_bit),
         cmocka_unit_test(test_electric_warm_start_travels),
         cmocka_unit_test(test_bad_streams_are_refused),

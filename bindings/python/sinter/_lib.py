@@ -467,6 +467,7 @@ SIGNATURES = {
     "sinter_stepper_export_size": (c_status, [StepperPtr, _size, _P(_size), _P(_size)]),
     "sinter_stepper_export": (
         c_status, [StepperPtr, _size, _P(_size), ctypes.c_void_p, _size, _P(_size), _int]),
+    "sinter_stepper_remove": (c_status, [StepperPtr, _size, _P(_size)]),
     "sinter_stepper_import": (c_status, [StepperPtr, ctypes.c_void_p, _size, _P(_size)]),
     "sinter_stepper_save_global": (c_status, [StepperPtr, ctypes.c_void_p, _size, _P(_size)]),
     "sinter_stepper_load_global": (c_status, [StepperPtr, ctypes.c_void_p, _size]),

@@ -758,6 +758,15 @@ class Stepper(_Handle):
                    size.value, ctypes.byref(written), 1 if remove else 0)
         return buffer.raw[:written.value]
 
+    def remove_particles(self, indices: Sequence[int]) -> None:
+        """Take the particles of the indices listed out of this stepper's set, as
+        export_particles(indices, remove=True) does, without writing their records (for a
+        host that exported them already, one stream per destination). See
+        sinter_stepper_remove."""
+        index_list = [int(i) for i in indices]
+        array = (ctypes.c_size_t * max(len(index_list), 1))(*index_list)
+        self._call(lib.sinter_stepper_remove, self._ptr, len(index_list), array)
+
     def import_particles(self, records: bytes) -> int:
         """Append the particles of a record stream of export_particles as owned particles;
         returns how many. A damaged or foreign stream is refused and nothing changes."""
