@@ -170,8 +170,9 @@ typedef struct sinter_domain_ops {
  * The quasi-static stepper (given them before its first step) redistributes once per
  * sinter_stepper_advance or _step call, at its start: migration then, links travelling with
  * their smaller id; the ghosts serve the whole call (set a skin, sinter_stepper_set_skin, that
- * covers the pairs coming into contact). Not with qs_strategy 1; on more than one subdomain
- * the rigid motion of link components that no plane holds is not removed. On one subdomain
+ * covers the pairs coming into contact). Not with qs_strategy 1. The rigid motion of link
+ * components that no plane holds is removed as on one domain, the components found across the
+ * subdomains (a few more halos and reductions per step). On one subdomain
  * its results are the bits of the run without domain operations; on more they equal them to
  * round-off when the solve's target qs_solve_rtol is tight (another PCG: at the default 1e-7
  * the approaches differ by about 2e-8).

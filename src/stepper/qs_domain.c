@@ -208,3 +208,10 @@ sinter_status sinter_qs_domain_reverse_index(sinter_qs *qs, double *rows, size_t
         return SINTER_OK;
     return halo(qs, rows, width, SINTER_HALO_REVERSE);
 }
+
+sinter_status sinter_qs_domain_forward_index(sinter_qs *qs, double *rows, size_t width)
+{
+    if (!qs->dom.on || qs->dom.ghosts == 0)
+        return SINTER_OK;
+    return halo(qs, rows, width, SINTER_HALO_FORWARD);
+}

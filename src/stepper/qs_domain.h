@@ -50,4 +50,8 @@ sinter_status sinter_qs_domain_linked(sinter_qs *qs, size_t n, unsigned char *li
  * owners' (a reverse halo), then zero. Nothing without domain operations. Collective. */
 sinter_status sinter_qs_domain_reverse_index(sinter_qs *qs, double *rows, size_t width);
 
+/* Rows per index (width doubles each, owned then ghosts): the ghost rows replaced by their
+ * owners' (a forward halo). Nothing without domain operations. Collective. */
+sinter_status sinter_qs_domain_forward_index(sinter_qs *qs, double *rows, size_t width);
+
 #endif

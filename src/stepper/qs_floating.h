@@ -12,4 +12,13 @@
  */
 sinter_status sinter_qs_remove_free_motion(sinter_qs *qs, const sinter_qs_particles *p, double *u);
 
+/*
+ * The same on a subdomain of a decomposed body (qs_floating_domain.c): the components found
+ * across the subdomains, their sums over every subdomain's owned particles. Collective (every
+ * subdomain calls it after the split solve, whatever its status st: a failure is agreed
+ * before the first exchange and returned). u per slot, ghosts included.
+ */
+sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs_particles *p,
+                                                  double *u, sinter_status st);
+
 #endif

@@ -935,9 +935,11 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                 u[i] *= scale;
             guess = u;
         }
-        if (qs->dom.split) /* over the subdomains (bonded/solve_split.h; no free motion removed) */
+        if (qs->dom.split) { /* over the subdomains (bonded/solve_split.h), and the free
+                              * motion of components across them (qs_floating_domain.c) */
             st = sinter_qs_domain_solve(qs, n, f, guess, u, &iterations);
-        else {
+            st = sinter_qs_domain_remove_free_motion(qs, p, u, st);
+        } else {
             st = sinter_bonded_solve_from(qs->solver, n, qs->beams, m, qs->fixed, f, guess, u,
                                           qs->opt.solve_rtol, &iterations);
             if (st == SINTER_OK) /* the rigid motion K leaves free: none (qs_floating.c) */
