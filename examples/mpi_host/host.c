@@ -34,8 +34,9 @@
  * Runs the bed for 150 steps of 2 us on the host's slabs and prints, on rank 0, the
  * migrations, ghosts and the wall force. With --check it also runs the bed through
  * sinter_mpi_attach (x slabs of a brick, reproducible mode) and exits non-zero unless the
- * final states sorted by id are equal bit for bit, every particle is owned once and, on more
- * than one rank, particles migrated and ghosts existed.
+ * final states sorted by id are equal bit for bit, every particle is owned once, the host's
+ * halo works both ways on the last ghosts and, on more than one rank, particles migrated and
+ * ghosts existed.
  */
 #include <math.h>
 #include <mpi.h>
@@ -433,6 +434,57 @@ static void host_free(host *h)
     free(h->send_idx);
 }
 
+/* The halo in both directions on the last rebuild's ghosts (the explicit step uses the forward
+ * one only): forward, a column holding each owned row's id must bring every ghost row its own
+ * id; reverse, ghost rows of 1 must add to the owners, over all ranks, as many as there are
+ * ghosts, and leave the ghost rows zero. Collective; returns the errors over all ranks. */
+static int check_halo(host *h)
+{
+    size_t owned = 0, count = 0;
+    int errors = 0, held = 0;
+    if (sinter_particles_owned_count(h->ps, &owned) != SINTER_OK ||
+        sinter_particles_count(h->ps, &count) != SINTER_OK)
+        errors++;
+    const uint64_t *id = errors ? NULL : field(h->ps, SINTER_FIELD_ID, &held);
+    double *data = calloc(2 * count + 2, sizeof(double));
+    errors += !held || data == NULL || (id == NULL && count > 0);
+    if (agree(h, errors)) {
+        if (held)
+            sinter_particles_release(h->ps, SINTER_FIELD_ID);
+        free(data);
+        return 1;
+    }
+    for (size_t i = 0; i < owned; ++i)
+        data[2 * i + 1] = (double)id[i];
+    sinter_halo hl = {.struct_size = sizeof(hl),
+                      .direction = SINTER_HALO_FORWARD,
+                      .width = 2,
+                      .data = data,
+                      .id = id,
+                      .owned = owned,
+                      .ghosts = count - owned};
+    errors += h_halo(&hl, h) != 0;
+    for (size_t i = owned; i < count; ++i)
+        errors += data[2 * i + 1] != (double)id[i];
+    for (size_t i = 0; i < count; ++i)
+        data[2 * i] = i < owned ? 0.0 : 1.0;
+    hl.direction = SINTER_HALO_REVERSE;
+    errors += h_halo(&hl, h) != 0;
+    uint64_t sums[2] = {0, count - owned}; /* ghosts counted by their owners, and held */
+    for (size_t i = 0; i < count; ++i)
+        if (i < owned)
+            sums[0] += (uint64_t)data[2 * i];
+        else
+            errors += data[2 * i] != 0.0;
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_UINT64_T, MPI_SUM, h->comm);
+    errors += sums[0] != sums[1];
+    sinter_particles_release(h->ps, SINTER_FIELD_ID);
+    free(data);
+    int all = 0;
+    MPI_Allreduce(&errors, &all, 1, MPI_INT, MPI_SUM, h->comm);
+    return all;
+}
+
 /* ---- the bed ---------------------------------------------------------------------------- */
 
 static double lcg(uint64_t *s)
@@ -467,6 +519,7 @@ typedef struct result {
     double rows[N * (ROW + 1)];
     double wall[3 * NW];
     int ok;
+    int halo_errors; /* check_halo's (the host's run) */
 } result;
 
 #define TRY(call)                                                                                  \
@@ -557,6 +610,8 @@ static void run_bed(MPI_Comm comm, sinter_mpi_domain *d, result *out, host *h)
         TRY(sinter_stepper_set_domain_ops(st, &ops, h));
     }
     TRY(sinter_stepper_step(st, STEPS)); /* collective: the same status on every rank */
+    if (d == NULL)
+        out->halo_errors = check_halo(h);
     TRY(sinter_particles_owned_count(ps, &out->n));
     for (int k = 0; k < NF && out->n > 0; ++k)
         if ((f[k] = field(ps, FIELDS[k], &held[k])) == NULL)
@@ -671,10 +726,12 @@ int main(int argc, char **argv)
             for (size_t k = 0; k < N * ROW; ++k)
                 differ += memcmp(S_HOST + k, S_MPI + k, sizeof(double)) != 0;
             printf("check against sinter_mpi_attach (x brick): %s; owned once %s, state %s "
-                   "(%zu of %d doubles differ), wall forces %s, migrations and ghosts %s\n",
+                   "(%zu of %d doubles differ), wall forces %s, migrations and ghosts %s, "
+                   "halo errors %d\n",
                    all_ok ? "ran" : "FAILED", once ? "yes" : "NO", same ? "same bits" : "DIFFER",
-                   differ, N * ROW, walls ? "same bits" : "DIFFER", moved ? "yes" : "NO");
-            failures += !all_ok || !once || !same || !walls || !moved;
+                   differ, N * ROW, walls ? "same bits" : "DIFFER", moved ? "yes" : "NO",
+                   MINE.halo_errors);
+            failures += !all_ok || !once || !same || !walls || !moved || MINE.halo_errors != 0;
         }
     }
     MPI_Bcast(&failures, 1, MPI_INT, 0, MPI_COMM_WORLD);
