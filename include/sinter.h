@@ -2430,7 +2430,9 @@ SINTER_API sinter_status sinter_stepper_export_size(const sinter_stepper *steppe
  * radius [m], mass [kg], inertia [kg m^2], temperature [K], current [A], heat [W], material,
  * flags), the contact history of every force model in which the particle is an end (keyed by
  * the two ids; wall contacts by id and wall index), its quasi-static links where it is the
- * smaller id (beam and 7DOF neck state) and its electric warm-start potential [V]. The stream
+ * smaller id (beam and 7DOF neck state), its quasi-static state (principal-plane conditions,
+ * last displacements [m, rad], initial position [m]) and its electric warm-start potential [V].
+ * The stream
  * is versioned and checksummed, in the host's byte order. remove = 1 then takes the particles
  * out of the set (the order of the others kept), with their links and the histories of the
  * contacts both of whose ends left; a contact with one end staying keeps its history here too
@@ -2461,7 +2463,10 @@ SINTER_API sinter_status sinter_stepper_remove(sinter_stepper *stepper, size_t n
  * particles; *count (may be NULL) receives how many. Their contact histories are staged by key
  * and taken by their pairs at the next neighbour build; a contact this stepper holds already
  * (its other end never left) keeps its own history, the same bits. Their quasi-static links
- * join the stepper's (created with the options set so far when it has none yet), one per pair.
+ * join the stepper's (created with the options set so far when it has none yet), one per pair;
+ * their quasi-static states are kept by id and taken at the next step when the set's particles
+ * all brought one (a portable restart), else the plane conditions are detected again. Streams
+ * of the previous format (without the quasi-static states) are read too.
  * The stepper must have the same force models in the same order, and the set the records'
  * materials. Ghost rows, if any, are dropped (owned particles stay first; the host or the
  * periodic boundaries give them again). The staggered stepper's predictor history restarts
@@ -2479,15 +2484,17 @@ SINTER_API sinter_status sinter_stepper_import(sinter_stepper *stepper, const vo
  * The stepper's global part, for a portable checkpoint: what is not kept per particle (time
  * [s], step [s], counters, the neighbour search's skin and reach [m], the walls' motion start,
  * temperature, reaction and servo state, the staggered step controller, the frozen heat stage's
- * counters, the continuous insertion's state), versioned and checksummed. buf = NULL: *bytes
+ * counters, the continuous insertion's state, the quasi-static stepper's next step [s],
+ * counters, initial extents [m], green density and cell), versioned and checksummed (a part of
+ * the previous format, without the quasi-static values, is refused). buf = NULL: *bytes
  * receives the size only. A portable checkpoint is this part plus the records of every
  * particle (sinter_stepper_export, remove = 0, in any order and any number of pieces); a
  * restart calls sinter_stepper_load_global on a stepper set up alike without particles (the
  * same force models, walls and materials), then imports the records: the run continues bit
  * for bit as the original would after a reordering of its particles (which rebuilds its
  * neighbour lists, as the restart does). Errors: SINTER_ERR_RANGE (cap too small),
- * SINTER_ERR_UNSUPPORTED (the quasi-static stepper, periodic boundaries: use
- * sinter_checkpoint_write), SINTER_ERR_STATE (the frozen heat stage active).
+ * SINTER_ERR_UNSUPPORTED (periodic boundaries: use sinter_checkpoint_write), SINTER_ERR_STATE
+ * (the frozen heat stage active).
  */
 SINTER_API sinter_status sinter_stepper_save_global(const sinter_stepper *stepper, void *buf,
                                                    size_t cap, size_t *bytes);
@@ -2495,7 +2502,8 @@ SINTER_API sinter_status sinter_stepper_save_global(const sinter_stepper *steppe
 /**
  * Load a global part of sinter_stepper_save_global into a stepper without particles (then
  * import the records). Errors: SINTER_ERR_CORRUPT (damaged, another format), SINTER_ERR_INVALID
- * (another kind of stepper, other force models or another number of walls), SINTER_ERR_STATE
+ * (another kind of stepper, other force models or another number of walls, a quasi-static
+ * state for a stepper of another kind), SINTER_ERR_STATE
  * (the set holds particles), SINTER_ERR_UNSUPPORTED as for the save. On error nothing changes.
  */
 SINTER_API sinter_status sinter_stepper_load_global(sinter_stepper *stepper, const void *buf,

@@ -2,13 +2,15 @@
  * The stepper's global part (issue 43, portable checkpoints): what is not kept per particle
  * and is the same on every subdomain of a decomposed run (time, step, counters, the neighbour
  * search's skin and reach, the walls' state, the staggered step controller, the frozen heat
- * stage's counters, the continuous insertion). A portable checkpoint is this part plus the
+ * stage's counters, the continuous insertion, the quasi-static stepper's step control, counters,
+ * initial extents and cell, qs_portable.c). A portable checkpoint is this part plus the
  * export records of every particle (migrate.c); a restart loads the part into a stepper set
  * up alike with no particles, then imports the records, in any order and split in any way.
  *
  * Stream (host byte order, checked by a marker): "SINTERGL", u32 version, u32 marker, u64 total
  * bytes, u64 stepper kind, u64 force slots and each one's name (char[64]), u64 walls, the
- * values below in the order written, u64 FNV-1a 64 checksum of all bytes before it.
+ * values below in the order written, u64 FNV-1a 64 checksum of all bytes before it. Version 2
+ * appends the quasi-static values (zeros for other steppers); version 1 is not read.
  */
 #include <math.h>
 #include <stdio.h>
@@ -16,9 +18,10 @@
 
 #include "core/fnv1a.h"
 #include "stepper/insertion.h"
+#include "stepper/migrate.h"
 #include "stepper/stepper.h"
 
-#define GLOBAL_VERSION 1u
+#define GLOBAL_VERSION 2u
 #define GLOBAL_NAME 64
 #define WALL_F64 12 /* motion start, temperature, force (3), moment (3), servo (4) */
 enum { STEPPER_F64 = 13, STEPPER_U64 = 15 };
@@ -34,7 +37,8 @@ static size_t global_bytes(const sinter_stepper *st)
 {
     return 8 + 4 + 4 + 8 + 8 + 8 + GLOBAL_NAME * st->force_count + 8 +
            8 * (STEPPER_F64 + STEPPER_U64) + 8 * WALL_F64 * walls_of(st) +
-           8 * (1 + SINTER_INSERTION_U64 + SINTER_INSERTION_F64) + 8;
+           8 * (1 + SINTER_INSERTION_U64 + SINTER_INSERTION_F64) +
+           8 * (SINTER_QS_GLOBAL_F64 + SINTER_QS_GLOBAL_U64) + 8;
 }
 
 /* The stepper's values, in the stream's order. */
@@ -67,11 +71,6 @@ static void values_of(const sinter_stepper *st, double f[STEPPER_F64], uint64_t 
 
 static sinter_status check_kind(const sinter_stepper *st, const char *func)
 {
-    if (st->kind == SINTER_STEPPER_QUASISTATIC)
-        return sinter_fail(st->ctx, SINTER_ERR_UNSUPPORTED,
-                           "%s: the quasi-static stepper's global part (its plane conditions and "
-                           "step control) is not portable yet; use sinter_checkpoint_write",
-                           func);
     if (st->frozen.active)
         return sinter_fail(st->ctx, SINTER_ERR_STATE,
                            "%s: the frozen heat stage holds per-particle rates; save while the "
@@ -142,6 +141,11 @@ sinter_status sinter_stepper_save_global(const sinter_stepper *st, void *buf, si
     PUT(&has, 8);
     PUT(iu, sizeof(iu));
     PUT(id, sizeof(id));
+    double qf[SINTER_QS_GLOBAL_F64];
+    uint64_t qu[SINTER_QS_GLOBAL_U64];
+    sinter_qs_global_values(st->quasistatic, qf, qu);
+    PUT(qf, sizeof(qf));
+    PUT(qu, sizeof(qu));
     const uint64_t sum = sinter_fnv1a(SINTER_FNV1A_START, buf, (size_t)(p - (unsigned char *)buf));
     PUT(&sum, 8);
 #undef PUT
@@ -216,11 +220,25 @@ sinter_status sinter_stepper_load_global(sinter_stepper *st, const void *buf, si
     memcpy(&has, p, 8);
     memcpy(iu, p + 8, sizeof(iu));
     memcpy(id, p + 8 + sizeof(iu), sizeof(id));
+    p += 8 + sizeof(iu) + sizeof(id);
+    double qf[SINTER_QS_GLOBAL_F64];
+    uint64_t qu[SINTER_QS_GLOBAL_U64];
+    memcpy(qf, p, sizeof(qf));
+    memcpy(qu, p + sizeof(qf), sizeof(qu));
+    const char *why = sinter_qs_global_wrong(qf, qu);
+    if (why != NULL)
+        return sinter_fail(ctx, SINTER_ERR_CORRUPT, "%s: %s", F, why);
+    if (qu[0] && st->kind != SINTER_STEPPER_QUASISTATIC)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: the part holds a quasi-static state; this stepper is not one", F);
     for (int k = 0; k < STEPPER_F64; ++k)
         if (!isfinite(f[k]) && !(k == 9 && f[k] > 0.0)) /* ke_last: +inf before a measure */
             return sinter_fail(ctx, SINTER_ERR_CORRUPT, "%s: value %d is not finite", F, k);
     if (!(f[1] > 0.0) || !(f[2] >= 0.0) || u[7] > 1 || u[9] > 1 || u[10] > 1 || has > 1)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT, "%s: a step, skin or flag is out of range", F);
+    if (qu[0] && st->quasistatic == NULL &&
+        (s = sinter_qs_create(&st->quasistatic, ctx, &st->quasistatic_options)) != SINTER_OK)
+        return s;
     /* Nothing can fail from here on. */
     st->time = f[0];
     st->dt = f[1];
@@ -265,6 +283,8 @@ sinter_status sinter_stepper_load_global(sinter_stepper *st, const void *buf, si
         w->servo_v = v[10];
         w->servo_int = v[11];
     }
+    if (qu[0]) /* the quasi-static stepper's own; its per-particle state comes with the records */
+        sinter_qs_global_load(st->quasistatic, qf, qu);
     if (has && st->insertion != NULL) /* a host without one ignores it */
         sinter_insertion_set_state(st->insertion, iu, id);
     if (st->walls != NULL) /* motions come from the set-up, as for a checkpoint */

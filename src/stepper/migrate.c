@@ -22,7 +22,10 @@
  *   per force slot: u64 count and (key_i, key_j, pp width values) of each particle-particle
  *   history entry the particle is an end of, u64 count and (id, wall, pw width values) of each
  *   particle-wall entry;
- *   u64 count and the quasi-static links whose smaller id it is (beam, neck state, neck data).
+ *   u64 count and the quasi-static links whose smaller id it is (beam, neck state, neck data);
+ *   from format 4 on, the quasi-static stepper's state of the particle (qs_portable.c): u64 bits,
+ *   u8 plane conditions [6] and 2 zero bytes, f64 last displacements [6], f64 initial position
+ *   [3] (zeros for other steppers). Format 3 (without them) is still read.
  * An entry whose two ends travel together is in both records; the importer keeps it once.
  */
 #include <math.h>
@@ -35,7 +38,8 @@
 #include "stepper/migrate.h"
 #include "stepper/stepper.h"
 
-#define MIGRATE_VERSION 3u
+#define MIGRATE_VERSION 4u
+#define MIGRATE_VERSION_OLDEST 3u
 #define MIGRATE_NAME 64
 #define RECORD_F64 37
 #define RECORD_FIXED (8 + 8 * RECORD_F64 + 4 + 4 + 8 + 8)
@@ -227,7 +231,8 @@ static sinter_status gather(sinter_stepper *st, size_t n, const size_t *indices,
     }
     if (g->count > 1)
         qsort(g->items, g->count, sizeof(item), item_order);
-    g->bytes = header_bytes(st) + n * (RECORD_FIXED + 16 * st->force_count + 8);
+    g->bytes =
+        header_bytes(st) + n * (RECORD_FIXED + 16 * st->force_count + 8 + SINTER_QS_CARRIED_BYTES);
     for (size_t e = 0; e < g->count; ++e) {
         const uint32_t sec = g->items[e].section;
         g->bytes += sec == 2 * st->force_count ? sizeof(sinter_qs_link)
@@ -395,6 +400,13 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
                 put(&w, it->data, width * sizeof(double));
             }
         }
+        sinter_qs_carried c;
+        sinter_qs_carried_of(st->kind == SINTER_STEPPER_QUASISTATIC ? st->quasistatic : NULL,
+                             ps->count, i, ps->id[i], &c);
+        put_u64(&w, c.bits);
+        put(&w, c.fixed, sizeof(c.fixed));
+        put(&w, c.u, sizeof(c.u));
+        put(&w, c.origin, sizeof(c.origin));
     }
     const uint64_t sum = sinter_fnv1a(SINTER_FNV1A_START, out, (size_t)(w.p - out));
     put(&w, &sum, 8);
@@ -632,6 +644,15 @@ static double f64_at(const unsigned char *p, size_t k)
     return v;
 }
 
+/* A record's quasi-static state (format 4), read from at (SINTER_QS_CARRIED_BYTES). */
+static void read_carried(const unsigned char *at, sinter_qs_carried *c)
+{
+    memcpy(&c->bits, at, 8);
+    memcpy(c->fixed, at + 8, sizeof(c->fixed));
+    memcpy(c->u, at + 16, sizeof(c->u));
+    memcpy(c->origin, at + 16 + sizeof(c->u), sizeof(c->origin));
+}
+
 /* A record's fixed part, read. */
 typedef struct fixed_part {
     uint64_t id;
@@ -684,6 +705,8 @@ typedef struct parsed {
     uint64_t *ids;            /* sorted, for the repeat test */
     size_t *entries;          /* per section (2 per slot), all records together */
     size_t links;
+    uint32_t version;
+    sinter_qs_carried *carried; /* per record (format 4 on a quasi-static stepper), or NULL */
 } parsed;
 
 static void parsed_free(sinter_ctx *ctx, parsed *p)
@@ -691,6 +714,7 @@ static void parsed_free(sinter_ctx *ctx, parsed *p)
     sinter_free(ctx, p->at);
     sinter_free(ctx, p->ids);
     sinter_free(ctx, p->entries);
+    sinter_free(ctx, p->carried);
 }
 
 /* Check a stream against the stepper: SINTER_ERR_CORRUPT (not a stream, damaged), or
@@ -717,10 +741,10 @@ static sinter_status parse(sinter_stepper *st, const unsigned char *data, size_t
     if (marker != 0x01020304u)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
                            "%s: the records were written in another byte order", F);
-    if (version != MIGRATE_VERSION)
+    if (version < MIGRATE_VERSION_OLDEST || version > MIGRATE_VERSION)
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
-                           "%s: the records are of format %u; this build reads format %u", F,
-                           version, MIGRATE_VERSION);
+                           "%s: the records are of format %u; this build reads formats %u to %u", F,
+                           version, MIGRATE_VERSION_OLDEST, MIGRATE_VERSION);
     const uint64_t total = take_u64(&r);
     if (r.bad || total != bytes || bytes < header_bytes(st) - st->force_count * (MIGRATE_NAME + 16))
         return sinter_fail(ctx, SINTER_ERR_CORRUPT,
@@ -762,7 +786,11 @@ static sinter_status parse(sinter_stepper *st, const unsigned char *data, size_t
     p->at = sinter_calloc(ctx, p->records + 1, sizeof(*p->at));
     p->ids = sinter_calloc(ctx, p->records + 1, sizeof(uint64_t));
     p->entries = sinter_calloc(ctx, 2 * st->force_count + 1, sizeof(size_t));
-    if (p->at == NULL || p->ids == NULL || p->entries == NULL) {
+    p->version = version;
+    const int qs = version >= 4 && st->kind == SINTER_STEPPER_QUASISTATIC;
+    if (qs)
+        p->carried = sinter_calloc(ctx, p->records + 1, sizeof(sinter_qs_carried));
+    if (p->at == NULL || p->ids == NULL || p->entries == NULL || (qs && p->carried == NULL)) {
         parsed_free(ctx, p);
         return SINTER_ERR_NOMEM;
     }
@@ -832,6 +860,22 @@ static sinter_status parse(sinter_stepper *st, const unsigned char *data, size_t
             why = link_wrong(&l, f.id);
         }
         p->links += (size_t)links;
+        if (why == NULL && version >= 4) {
+            const unsigned char *at = take(&r, SINTER_QS_CARRIED_BYTES);
+            sinter_qs_carried c;
+            if (at == NULL)
+                why = "the stream ends inside a record's quasi-static state";
+            else {
+                read_carried(at, &c);
+                why = sinter_qs_carried_wrong(&c);
+                if (why == NULL && c.bits != 0 && !qs) {
+                    why = "it carries a quasi-static state, and this stepper is not quasi-static";
+                    invalid = 1;
+                }
+                if (why == NULL && qs)
+                    p->carried[k] = c;
+            }
+        }
     }
     if (s == SINTER_OK && why == NULL && r.p != r.end) {
         why = "the stream is longer than its records";
@@ -951,6 +995,18 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
     if (s == SINTER_OK && dom->redistributing)
         s = sinter_grow(ctx, (void **)&dom->arrived_rows, &dom->arrived_rows_capacity,
                         13 * (dom->arrived_count + p.records) + 1, sizeof(double));
+    if (s == SINTER_OK && p.carried != NULL && p.records > 0) { /* kept by id (qs_portable.c) */
+        if (st->quasistatic == NULL)
+            s = sinter_qs_create(&st->quasistatic, ctx, &st->quasistatic_options);
+        uint64_t *ids = s == SINTER_OK ? sinter_alloc(ctx, p.records * sizeof(uint64_t)) : NULL;
+        if (s == SINTER_OK && ids == NULL)
+            s = SINTER_ERR_NOMEM;
+        for (size_t k = 0; s == SINTER_OK && k < p.records; ++k)
+            memcpy(&ids[k], p.at[k], 8);
+        if (s == SINTER_OK)
+            s = sinter_qs_carried_add(st->quasistatic, ids, p.carried, p.records);
+        sinter_free(ctx, ids);
+    }
     double *phi = s == SINTER_OK ? warm_after(st, &p, owned) : NULL;
     if (s == SINTER_OK && p.links > 0) { /* the links, in the stream's order */
         size_t m = 0;

@@ -72,4 +72,41 @@ sinter_status sinter_qs_links_insert(sinter_qs *qs, const sinter_qs_link *links,
  * step, as for particles added or removed. */
 void sinter_qs_particles_back(sinter_qs *qs, size_t n, const uint64_t *ids, uint64_t population);
 
+/* ---- the quasi-static stepper's portable state (qs_portable.c, issue 43) ---- */
+
+/* What a particle's record carries of the quasi-static stepper (stream format 4): bits (1: the
+ * plane conditions, 2: the last displacements, 4: the initial position), the six conditions
+ * (0/1, two bytes of padding), the six displacements [m, rad] and the initial position [m]. */
+typedef struct sinter_qs_carried {
+    uint64_t bits;
+    unsigned char fixed[8];
+    double u[6];
+    double origin[3];
+} sinter_qs_carried;
+#define SINTER_QS_CARRIED_BYTES (8 + 8 + 8 * 6 + 8 * 3)
+
+/* The state qs (may be NULL) keeps for the particle of index i of a set of n with id `id`. */
+void sinter_qs_carried_of(const sinter_qs *qs, size_t n, size_t i, uint64_t id,
+                          sinter_qs_carried *out);
+
+/* Keep m carried states of particles of ids id[] until the next remap (which gives them their
+ * slots when they cover every particle) and merge their initial positions. Errors:
+ * SINTER_ERR_NOMEM (then nothing changed). */
+sinter_status sinter_qs_carried_add(sinter_qs *qs, const uint64_t *id, const sinter_qs_carried *c,
+                                    size_t m);
+
+/* Why a carried state is unusable, or NULL. */
+const char *sinter_qs_carried_wrong(const sinter_qs_carried *c);
+
+/* The stepper-wide state in the global part: SINTER_QS_GLOBAL_F64 doubles, SINTER_QS_GLOBAL_U64
+ * integers (zeros for qs NULL). sinter_qs_global_load: why the values are unusable (nothing
+ * changed) or NULL (loaded). */
+enum { SINTER_QS_GLOBAL_F64 = 15, SINTER_QS_GLOBAL_U64 = 9 };
+void sinter_qs_global_values(const sinter_qs *qs, double f[SINTER_QS_GLOBAL_F64],
+                             uint64_t u[SINTER_QS_GLOBAL_U64]);
+const char *sinter_qs_global_wrong(const double f[SINTER_QS_GLOBAL_F64],
+                                   const uint64_t u[SINTER_QS_GLOBAL_U64]);
+void sinter_qs_global_load(sinter_qs *qs, const double f[SINTER_QS_GLOBAL_F64],
+                           const uint64_t u[SINTER_QS_GLOBAL_U64]);
+
 #endif

@@ -165,7 +165,11 @@ sinter_status sinter_qs_remap(sinter_qs *qs, size_t n, const uint64_t *ids)
         qsort(qs->keys, kept, sizeof(sinter_qs_pair), sinter_qs_pair_compare);
     }
     qs->count = kept;
-    if (!same) {
+    const int carried = !same && sinter_qs_carried_apply(qs); /* a portable restart */
+    qs->carried_count = 0;
+    if (carried)
+        qs->near.valid = 0;
+    else if (!same) {
         /* Other particles: the plane conditions are detected again at the next step (the
          * initial extents and positions are kept), and the kept pairs are searched again. A
          * reordering of the same particles keeps both: they are per slot. */
@@ -184,8 +188,10 @@ sinter_status sinter_qs_follow_ids(sinter_qs *qs, const sinter_qs_particles *p)
         const size_t i = qs->index_of_slot[s];
         current = (p->id != NULL ? p->id[i] : (uint64_t)i) == qs->slot_id[s];
     }
-    if (current)
+    if (current) {
+        qs->carried_count = 0; /* imported state is for a new map only */
         return SINTER_OK;
+    }
     if (p->id != NULL)
         return sinter_qs_remap(qs, n, p->id);
     /* the index is the id */

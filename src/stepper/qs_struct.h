@@ -113,7 +113,16 @@ struct sinter_qs {
     uint32_t *ext_owner;   /* per sphere of the search (from n on, the images): its slot */
     int32_t *ext_image;    /* and 3 cell offsets */
     size_t ext_x_capacity, ext_r_capacity, ext_owner_capacity, ext_image_capacity;
+    /* Per-particle state imported with the records (qs_portable.c), until the next remap */
+    uint64_t *carried_id;
+    struct sinter_qs_carried *carried;
+    size_t carried_count, carried_id_capacity, carried_capacity;
 };
+
+/* The imported per-particle state given to the slots of the map just made (qs_portable.c):
+ * when it covers every slot and the stepper was set up, the plane conditions (and the last
+ * displacements when all came) are taken and 1 is returned; 0 otherwise. Then dropped. */
+int sinter_qs_carried_apply(sinter_qs *qs);
 
 /* ---- the id order (qs_ids.c) ---- */
 

@@ -212,6 +212,8 @@ void sinter_qs_destroy(sinter_qs *qs)
     sinter_free(ctx, qs->candidates);
     sinter_qs_near_free(ctx, &qs->near);
     sinter_free(ctx, qs->origins);
+    sinter_free(ctx, qs->carried_id);
+    sinter_free(ctx, qs->carried);
     sinter_free(ctx, qs->fixed);
     sinter_free(ctx, qs->f);
     sinter_free(ctx, qs->u);

@@ -207,7 +207,7 @@ static int parse(const unsigned char *b, size_t bytes, record **recs, size_t *n,
         return 0;
     memcpy(&version, b + 8, 4);
     const uint64_t count = u64_at(b + 24), slots = u64_at(b + 32);
-    if (version != 3 || u64_at(b + 16) != bytes || slots > 8)
+    if (version != 4 || u64_at(b + 16) != bytes || slots > 8)
         return 0;
     uint64_t width[17];
     for (uint64_t k = 0; k < slots; ++k) {
@@ -250,6 +250,12 @@ static int parse(const unsigned char *b, size_t bytes, record **recs, size_t *n,
             if (sec == 0)
                 *pp_entries += kept;
         }
+        enum { QS_STATE = 88 }; /* format 4: the quasi-static state, after the links */
+        if (p + QS_STATE > bytes)
+            return 0;
+        memcpy(rec->blob + rec->bytes, b + p, QS_STATE);
+        rec->bytes += QS_STATE;
+        p += QS_STATE;
     }
     return p + 8 == bytes;
 }

@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "scene_support.h"
+#include "core/fnv1a.h"
 #include "electric/electric.h"
 #include "stepper/migrate.h"
 #include "stepper/qs_struct.h"
@@ -585,6 +586,52 @@ static void links_equal(const sinter_qs *p, const sinter_qs *q)
     }
 }
 
+/* A stream of the previous format (3: records without the quasi-static state) is still read:
+ * one written now with its last 88 bytes of the record (the state, zeros for an explicit
+ * stepper) cut and its header and checksum made again imports to the same particle; format 2
+ * is refused. */
+static void test_format_3_is_read(void **state)
+{
+    (void)state;
+    scene a, b;
+    open_cloud(&a);
+    open_cloud(&b);
+    scene_add(&a, 1e-3, 2e-3, 3e-3, 0.9e-3);
+    const double v[3] = {0.1, -0.2, 0.3};
+    set3(&a, SINTER_FIELD_VELOCITY, 0, v);
+    const size_t idx[1] = {0};
+    size_t bytes = 0, written = 0, count = 0;
+    OK(sinter_stepper_export_size(a.st, 1, idx, &bytes));
+    unsigned char *buf = malloc(bytes);
+    assert_non_null(buf);
+    OK(sinter_stepper_export(a.st, 1, idx, buf, bytes, &written, 0));
+    const size_t cut = bytes - 88; /* the record is last: its state ends before the checksum */
+    static const unsigned char zero[88];
+    assert_memory_equal(buf + bytes - 8 - 88, zero, 88);
+    memmove(buf + bytes - 8 - 88, buf + bytes - 8, 8);
+    uint32_t version = 3;
+    uint64_t total = cut;
+    memcpy(buf + 8, &version, 4);
+    memcpy(buf + 16, &total, 8);
+    const uint64_t sum = sinter_fnv1a(SINTER_FNV1A_START, buf, cut - 8);
+    memcpy(buf + cut - 8, &sum, 8);
+    OK(sinter_stepper_import(b.st, buf, cut, &count));
+    assert_int_equal(count, 1);
+    assert_memory_equal(b.ps->x, a.ps->x, 3 * sizeof(double));
+    assert_memory_equal(b.ps->v, a.ps->v, 3 * sizeof(double));
+    scene c;
+    open_cloud(&c);
+    version = 2;
+    memcpy(buf + 8, &version, 4);
+    const uint64_t sum2 = sinter_fnv1a(SINTER_FNV1A_START, buf, cut - 8);
+    memcpy(buf + cut - 8, &sum2, 8);
+    assert_int_equal(sinter_stepper_import(c.st, buf, cut, &count), SINTER_ERR_CORRUPT);
+    free(buf);
+    scene_close(&a);
+    scene_close(&b);
+    scene_close(&c);
+}
+
 static void test_quasistatic_links_travel(void **state)
 {
     (void)state;
@@ -660,6 +707,7 @@ int main(void)
         cmocka_unit_test(test_portable_checkpoint_restarts_bit_for_bit),
         cmocka_unit_test(test_electric_warm_start_travels),
         cmocka_unit_test(test_bad_streams_are_refused),
+        cmocka_unit_test(test_format_3_is_read),
         cmocka_unit_test(test_quasistatic_links_travel),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
