@@ -8,6 +8,10 @@
  * ascending order, each rank's leavers in their index order, as the thread transport of the
  * tests does, so that the two give the same particle order.
  *
+ * Inside a staggered stepper's fixed-point attempt the stepper refuses removals and imports
+ * (SINTER_ERR_STATE): the leavers then stay where they are, the exchange carries nothing from
+ * this rank, and the stepper redistributes again at its next accepted state.
+ *
  * Three agreements (one MPI_Allreduce of an int each) keep the ranks together: a rank that
  * fails locally (memory, an export) says so before the next exchange, and every rank returns
  * -1 at the same point, so none waits for a message that will not come.
@@ -78,6 +82,18 @@ static int pack(sinter_mpi_attachment *a, outbox *o, int *far)
         first[r] = first[r - 1];
     first[0] = 0;
     int bad = 0;
+    /* Inside the staggered stepper's fixed-point attempt no particle may leave (a removal of
+     * none says so, and has the stepper migrate at its next accepted state): they stay, and
+     * only ghosts are made (sinter_domain.h). */
+    if (o->leaving > 0) {
+        const sinter_status s = sinter_stepper_remove(a->st, 0, o->list);
+        if (s == SINTER_ERR_STATE) {
+            o->leaving = 0;
+            for (int r = 0; r <= d->size; ++r)
+                first[r] = 0;
+        }
+        bad |= s != SINTER_OK && s != SINTER_ERR_STATE;
+    }
     for (int r = 0; r < d->size && !bad; ++r) {
         const size_t m = first[r + 1] - first[r];
         if (m == 0)
