@@ -9,10 +9,10 @@
  * box, sinter_mpi_decomp.h), collective reductions and an exclusive scan with the signatures of
  * the `reduce` and `exscan` entries of libsinter's domain operations, an exact global sum, load
  * balancing by recursive coordinate bisection, sinter_mpi_attach: the domain installed as an
- * explicit stepper's collective operations (migration, ghosts and halos through MPI's
- * neighbourhood collectives), with sinter_mpi_distribute for a set filled on one rank and
- * exchange counters (sinter_mpi_get_exchange_stats), and portable checkpoints through MPI-IO
- * that restart on another number of ranks.
+ * explicit, staggered or quasi-static stepper's collective operations (migration, ghosts and
+ * halos through MPI's neighbourhood collectives), with sinter_mpi_distribute for a set filled
+ * on one rank and exchange counters (sinter_mpi_get_exchange_stats), and portable checkpoints
+ * through MPI-IO that restart on another number of ranks.
  *
  * Every function is collective over the domain's communicator unless it says otherwise: every
  * rank calls it with the same non-local arguments (count, type, op, threshold). Argument errors
@@ -187,18 +187,24 @@ SINTER_API sinter_status sinter_mpi_checkpoint_read(sinter_stepper *stepper,
 #define SINTER_MPI_ATTACH_BALANCE 1 /**< rebalance at every neighbour-list rebuild (below) */
 
 /**
- * Install the domain as the collective operations of this rank's explicit stepper
- * (sinter_stepper_set_domain_ops of sinter_domain.h), over `particles`, the stepper's set:
+ * Install the domain as the collective operations of this rank's explicit, staggered or
+ * quasi-static stepper (sinter_stepper_set_domain_ops of sinter_domain.h, which says what each
+ * stepper supports), over `particles`, the stepper's set:
  *  - reduce and exscan: sinter_mpi_reduce and sinter_mpi_exscan (the same bits on every rank);
- *  - redistribute, at every neighbour-list rebuild: each owned particle goes to the rank whose
- *    part of the decomposition holds its centre (sinter_stepper_export / _import, one
- *    MPI_Neighbor_alltoallv of record streams; received from the ranks in ascending order),
+ *  - redistribute, whenever the stepper asks (the explicit and staggered ones at every
+ *    neighbour-list rebuild, the quasi-static one at the start of each advance or step call):
+ *    each owned particle goes to the rank whose part of the decomposition holds its centre
+ *    (sinter_stepper_export / _import, one MPI_Neighbor_alltoallv of record streams; received
+ *    from the ranks in ascending order),
  *    then every rank receives as ghosts the owned particles of its neighbours within
  *    sinter_stepper_ghost_cutoff of the bounding box of its own owned particles (the boxes
  *    traded by MPI_Neighbor_allgather; one MPI_Neighbor_alltoallv of 144-byte records;
  *    ghosts in ascending rank order, each rank's in its index order);
  *  - halo: forward (owners' rows into ghost rows) and reverse (ghost rows added into their
  *    owners' rows in ascending rank order, then zeroed), one MPI_Neighbor_alltoallv each.
+ * Inside a staggered stepper's fixed-point attempt, where the stepper refuses removals and
+ * imports, the particles that left their part stay (only ghosts are made) and migrate at the
+ * stepper's next accepted state, when it redistributes again.
  * The neighbours are the parts whose boxes (outer faces pushed to infinity: a point outside
  * the global box belongs to the nearest part) lie within the ghost cut-off of this rank's:
  * a graph communicator (MPI_Dist_graph_create_adjacent) made anew when the cut-off or the
