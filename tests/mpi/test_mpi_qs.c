@@ -303,7 +303,7 @@ static void test_lattice(int rank, int size, int misplaced)
     CHECK(links == REF.links);
     CHECK(MINE.steps == REF.steps);
     CHECK(same_on_every_rank(MINE.stats, (int)sizeof MINE.stats)); /* reduced */
-    CHECK(mj.end_time == rj.end_time); /* the same global steps */
+    CHECK(mj.end_time == rj.end_time);                             /* the same global steps */
     uint64_t migrated = mj.migrated;
     MPI_Allreduce(MPI_IN_PLACE, &migrated, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
     CHECK(migrated == (misplaced ? (uint64_t)(size - 1) * NY * NZ : 0));
