@@ -50,6 +50,8 @@ typedef struct scene_facts {
     char refused[NAME_SIZE]; /* the first refused section, "" if none */
     int heat;                /* a [heat conduction] section: the wall heat-flow columns */
     int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
+    int electric;            /* an [electric ...] section: the particle-current columns */
+    int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -122,6 +124,8 @@ static int read_facts(const char *path, scene_facts *f)
             }
             if (strncmp(section, "heat conduction", 15) == 0)
                 f->heat = 1;
+            if (strncmp(section, "electric", 8) == 0)
+                f->electric = 1;
             static const char *const refused[] = {"pour",       "compact",     "insert",   "fields",
                                                   "heat laser", "heat nozzle", "heat beam"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
@@ -134,6 +138,9 @@ static int read_facts(const char *path, scene_facts *f)
             snprintf(f->refused, sizeof(f->refused), "[stepper] %.60s", line);
         } else if (f->refused[0] == '\0' && refused_key(section, line)) {
             snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
+        } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
+                   strstr(line, "staggered") != NULL) {
+            f->staggered = 1;
         } else if (strcmp(section, "output") == 0 && strncmp(line, "solid_box", 9) == 0) {
             f->solid_box = 1;
         } else if (strcmp(section, "scene") == 0 && strncmp(line, "name", 4) == 0) {
@@ -198,8 +205,8 @@ static const double PI = 3.14159265358979323846;
 
 /* The owned particles' sums and extremes (scene_run.c's observe(): index order). */
 typedef struct observed {
-    double sum[4]; /* kinetic energy, temperatures, sphere volumes, owned count */
-    double max[9]; /* bed top, max temperature, box hi (3), -box lo (3), unused */
+    double sum[5]; /* kinetic energy, temperatures, sphere volumes, owned count, |currents| */
+    double max[9]; /* bed top, max temperature, box hi (3), -box lo (3), largest |current| */
 } observed;
 
 static int observe_local(const mpi_run *r, observed *o)
@@ -235,8 +242,21 @@ static int observe_local(const mpi_run *r, observed *o)
     for (size_t k = 0; k < got; ++k)
         if (a[k] != NULL)
             sinter_particles_release(r->ps, fields[k]);
-    const double sum[4] = {ke, tsum, solid, (double)owned};
-    const double max[9] = {top, tmax, hi[0], hi[1], hi[2], -lo[0], -lo[1], -lo[2], 0.0};
+    /* the particles' current magnitudes (seed 000 sec. 7), as the serial series has them */
+    double isum = 0.0, imax = 0.0;
+    const double *c = NULL;
+    if (ok && r->facts.electric && owned > 0) {
+        ok = sinter_particles_view_read(r->ps, SINTER_FIELD_CURRENT, (const void **)&c, NULL,
+                                        NULL) == SINTER_OK;
+        for (size_t i = 0; ok && i < owned; ++i) {
+            isum += fabs(c[i]);
+            imax = fmax(imax, fabs(c[i]));
+        }
+        if (ok)
+            sinter_particles_release(r->ps, SINTER_FIELD_CURRENT);
+    }
+    const double sum[5] = {ke, tsum, solid, (double)owned, isum};
+    const double max[9] = {top, tmax, hi[0], hi[1], hi[2], -lo[0], -lo[1], -lo[2], imax};
     memcpy(o->sum, sum, sizeof(sum));
     memcpy(o->max, max, sizeof(max));
     return ok;
@@ -417,7 +437,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
     int ok = observe_local(r, &o);
     ok = agree(r->comm, ok ? 0 : -1) == 0;
     /* each rank's partial sums, summed exactly: one rank keeps its own bits */
-    ok = ok && sinter_mpi_reduce(o.sum, 4, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) == 0;
+    ok = ok && sinter_mpi_reduce(o.sum, 5, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) == 0;
     ok = ok && sinter_mpi_reduce(o.max, 9, SINTER_MPI_F64, SINTER_MPI_MAX, r->domain) == 0;
     sinter_stepper_stats local, global;
     memset(&local, 0, sizeof(local));
@@ -462,19 +482,30 @@ static int observe(mpi_run *r, double *row, size_t columns)
         sinter_walls_get_normal(r->walls, k, nrm);
         row[8 + k] = -(f[0] * nrm[0] + f[1] * nrm[1] + f[2] * nrm[2]);
     }
-    if (r->facts.heat && !wall_heat_flows(r, row + 8 + nw))
+    const size_t ne = r->facts.electric ? 2 : 0;
+    if (ne > 0) {
+        row[8 + nw] = o.sum[4] / n;
+        row[8 + nw + 1] = o.max[8];
+    }
+    if (r->facts.heat && !wall_heat_flows(r, row + 8 + nw + ne))
         return 0;
-    size_t c = 8 + nw + (r->facts.heat ? nw : 0);
+    size_t c = 8 + nw + ne + (r->facts.heat ? nw : 0);
     row[c] = global.dt;
     row[c + 1] = (double)local.rejected;        /* decided together: equal on every rank */
     row[c + 2] = (double)local.neighbor_builds; /* likewise */
+    if (r->facts.staggered) {                   /* likewise (reduced norms and decisions) */
+        row[c + 3] = (double)local.iterations;
+        row[c + 4] = (double)local.evaluations;
+        row[c + 5] = local.contraction;
+    }
     return 1;
 }
 
 static size_t column_count(const mpi_run *r)
 {
     const size_t nw = r->facts.wall_count;
-    return 8 + nw + (r->facts.heat ? nw : 0) + 3 + 1;
+    return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
+           (r->facts.staggered ? 6 : 3) + 1;
 }
 
 /* The header line, as the serial series.csv's. */
@@ -487,9 +518,14 @@ static void write_header(mpi_run *r)
         fprintf(r->csv, "%s%s", k ? "," : "", fixed[k]);
     for (size_t k = 0; k < r->facts.wall_count; ++k)
         fprintf(r->csv, ",%s force [N]", r->facts.walls[k]);
+    if (r->facts.electric)
+        fputs(",mean particle current [A],max particle current [A]", r->csv);
     for (size_t k = 0; r->facts.heat && k < r->facts.wall_count; ++k)
         fprintf(r->csv, ",%s heat flow [W]", r->facts.walls[k]);
-    fputs(",time step [s],rejected steps [1],neighbour rebuilds [1],solid fraction [1]\n", r->csv);
+    fputs(",time step [s],rejected steps [1],neighbour rebuilds [1]", r->csv);
+    if (r->facts.staggered)
+        fputs(",fixed-point iterations [1],pipeline evaluations [1],contraction [1]", r->csv);
+    fputs(",solid fraction [1]\n", r->csv);
 }
 
 static void write_row(mpi_run *r, const double *row, size_t columns)
