@@ -21,9 +21,12 @@
  *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
  *    checkpoint_interval, at the end and at --stop-at's sample, which --restart reads on any
  *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue.
- * Refused, with the reason on every rank and exit status 1: scenes with [pour], [compact] or
- * [insert] sections, and what sinter_stepper_set_domain_ops refuses (the staggered and
- * quasi-static steppers, periodic axes, electric models, implicit conduction, sort_interval).
+ * The explicit and staggered steppers (the staggered one's series has its columns and, with an
+ * [electric] section, the particle currents, as the serial series). Refused, with the reason on
+ * every rank and exit status 1: scenes with [pour], [compact] or [insert] sections, the
+ * quasi-static stepper (its series and frames are not written here yet), and what
+ * sinter_stepper_set_domain_ops refuses (periodic axes, the electric models and implicit
+ * conduction it does not take with the scene's stepper, sort_interval).
  * Messages and progress come from rank 0 only.
  */
 #include <errno.h>
