@@ -712,73 +712,6 @@ static size_t first_contact_from_pair(const sinter_contact_list *c, size_t p)
     return sinter_lower_bound_u32(c->pair, c->count, p);
 }
 
-/*
- * The deferred search's new contacts from pair p on put into the list without refilling its
- * tail (issue 41: a vibrated bed finds a new contact nearly every step, and a refill tests
- * every pair from p to the end again): the pairs from p on that the list does not hold are
- * tested (those of the gap list, when it is current), the ones in contact merged in pair
- * order with the contacts it holds, which move up by the new ones before them and keep their
- * verdicts (the law tests and confirms them, as it does the contacts before p). The list is
- * the refill's once the law has dropped the contacts that ended. *part as fill_into over the
- * contacts from m on. Returns 0 (nothing changed) when there is no room for the new pairs.
- */
-static int insert_new_contacts(sinter_ctx *ctx, sinter_contact_list *c,
-                               const sinter_pair_list *pairs, const sinter_particles *ps, size_t p,
-                               size_t m, fill_part *part)
-{
-    const size_t n = pairs->count;
-    if (sinter_grow(ctx, (void **)&c->fill_scratch, &c->fill_scratch_capacity, n - p + 1,
-                    sizeof(uint32_t)) != SINTER_OK) {
-        sinter_clear_error(ctx);
-        return 0;
-    }
-    uint32_t *restrict fresh = c->fill_scratch, *restrict to_contact = c->pair_to_contact;
-    size_t k = 0;
-    if (c->gap_revision != 0 && c->gap_revision == c->revision) {
-        for (size_t g = 0; g < c->gap_count; ++g) /* ascending: the scan's order */
-            if (c->gaps[g] >= p && touching(c, pairs, ps->x, ps->radius, c->gaps[g]))
-                fresh[k++] = c->gaps[g];
-    } else {
-        for (size_t q = p; q < n; ++q)
-            if (to_contact[q] == SINTER_NO_PAIR && touching(c, pairs, ps->x, ps->radius, q))
-                fresh[k++] = (uint32_t)q;
-    }
-    const size_t added = k;
-    /* merged from the end: the contacts after the last new pair keep their place */
-    uint32_t *restrict ci = c->i, *restrict cj = c->j, *restrict cpair = c->pair;
-    size_t q = c->count, dst = c->count + k;
-    while (k > 0) {
-        if (q > m && cpair[q - 1] > fresh[k - 1]) {
-            --q;
-            --dst;
-            ci[dst] = ci[q];
-            cj[dst] = cj[q];
-            cpair[dst] = cpair[q];
-            to_contact[cpair[dst]] = (uint32_t)dst;
-        } else {
-            const uint32_t f = fresh[--k];
-            --dst;
-            ci[dst] = pairs->i[f];
-            cj[dst] = pairs->j[f];
-            cpair[dst] = f;
-            to_contact[f] = (uint32_t)dst;
-        }
-    }
-    c->count += added;
-    uint32_t prev = 0;
-    int ascending = 1;
-    for (size_t s = m; s < c->count; ++s) {
-        const uint32_t key = smaller_index(c, s);
-        ascending &= key >= prev;
-        prev = key;
-    }
-    part->ascending = ascending;
-    part->any = c->count > m;
-    part->first = c->count > m ? smaller_index(c, m) : 0;
-    part->last = prev;
-    return 1;
-}
-
 sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_list *c,
                                                const sinter_pair_list *pairs,
                                                const sinter_particles *ps, int *deferred)
@@ -822,7 +755,7 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
             c->count = fill_segments(c, pairs, ps, m, &r, 0, parts, &change_pair, &change_contact);
             for (int t = 0; t < r.count; ++t)
                 rest = join_parts(rest, parts[t]);
-        } else if (!insert_new_contacts(ctx, c, pairs, ps, p, m, &rest)) {
+        } else {
             c->count = fill_pp_lean(c, pairs, ps, p, n, m, &rest, NULL);
         }
         sinter_contacts_changed(c, p, m);
