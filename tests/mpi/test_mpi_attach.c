@@ -37,6 +37,7 @@
 #include <sinter_mpi.h>
 #include <sinter_submodel.h>
 
+#include "../unit/domain_bed.h"
 #include "../unit/domain_loopback.h"
 #include "mpi/attach.h" /* (the installed halo callback, called directly below) */
 #include "mpi/domain.h"
@@ -231,32 +232,13 @@ static void *run_bed(void *arg)
         sinter_mpi_domain_rank(spec->d, &mpi_rank, NULL);
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
-    TRY(sinter_material_create(&mat, ctx, "bed"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_YOUNGS_MODULUS, 1e7},   {SINTER_MAT_POISSON_RATIO, 0.3},
-                 {SINTER_MAT_DENSITY, 2500},         {SINTER_MAT_DAMPING_RATIO, 0.3},
-                 {SINTER_MAT_FRICTION_STATIC, 0.5},  {SINTER_MAT_FRICTION_DYNAMIC, 0.5},
-                 {SINTER_MAT_ROLLING_FRICTION, 0.1}, {SINTER_MAT_THERMAL_CONDUCTIVITY, 400},
-                 {SINTER_MAT_HEAT_CAPACITY, 400}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    TRY(domain_bed_material(ctx, &mat));
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
-    const double wn[NW][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < NW; ++k)
-        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
+    TRY(domain_bed_walls(ctx, mat, LX, LY, &walls));
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
     TRY(sinter_stepper_set_option(st, "thread_choice", 0));
-    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    TRY(sinter_stepper_add_force(st, gravity));
-    TRY(sinter_force_model_create(&contact, ctx, "hertz_mindlin"));
-    TRY(sinter_stepper_add_force(st, contact));
-    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    TRY(sinter_stepper_add_heat(st, cond));
+    TRY(domain_bed_models(ctx, st, &gravity, &contact, &cond));
     for (int k = 0; k < N; ++k) {
         /* the loopback: each subdomain its slab; MPI: rank 0 all of them (distributed below),
          * or each rank those of its part */
