@@ -407,6 +407,21 @@ static void apply_solution(sinter_stepper *st, double h, const double *x, size_t
     }
 }
 
+/* The outcome of the PCG solve (return code rc): a failure, or the iterations counted and the
+ * solution x of the n owned particles taken. */
+static sinter_status take_solution(sinter_stepper *st, double h, const double *x, size_t n, int rc,
+                                   int iterations, double residual)
+{
+    if (rc != 0)
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
+                           "(residual %g)",
+                           rc, iterations, st->time, residual);
+    st->stats_thermal_iterations += (uint64_t)iterations;
+    apply_solution(st, h, x, n);
+    return SINTER_OK;
+}
+
 /*
  * The backward-Euler system of the owned particles, rows [0, n): diag, b and the start x (the
  * temperatures at t); returns this side's |b|^2. `across`: a pair's end at a row >= n is a ghost
@@ -503,14 +518,8 @@ static sinter_status implicit_update_across(sinter_stepper *st, double h)
     sinter_pcg_set_sum(sv->pcg, NULL, NULL, 0);
     if (sv->across.failed)
         return sinter_last_status(st->ctx);
-    if (rc != 0) /* (every subdomain: the same reduced residuals) */
-        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
-                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
-                           "(residual %g)",
-                           rc, iterations, st->time, residual);
-    st->stats_thermal_iterations += (uint64_t)iterations;
-    apply_solution(st, h, x, n);
-    return SINTER_OK;
+    /* (every subdomain: the same reduced residuals) */
+    return take_solution(st, h, x, n, rc, iterations, residual);
 }
 
 static sinter_status implicit_update(sinter_stepper *st, double h)
@@ -537,14 +546,7 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
     double residual = 0.0;
     const int rc =
         sinter_pcg_solve(sv->pcg, apply_operator, precondition, sv, tol, &iterations, &residual);
-    if (rc != 0)
-        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
-                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
-                           "(residual %g)",
-                           rc, iterations, st->time, residual);
-    st->stats_thermal_iterations += (uint64_t)iterations;
-    apply_solution(st, h, x, n);
-    return SINTER_OK;
+    return take_solution(st, h, x, n, rc, iterations, residual);
 }
 
 static sinter_status thermal_booked(sinter_stepper *st, double h);
