@@ -40,6 +40,9 @@
 #include <sinter_domain.h>
 #include <sinter_mpi.h>
 
+#include "core/id_row.h"
+#include "core/make_dirs.h"
+#include "core/sphere_volume.h"
 #include "cli.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
@@ -188,20 +191,7 @@ static int agree(MPI_Comm comm, int status)
 static int make_dir(const char *path)
 {
     char partial[PATH_SIZE];
-    const size_t len = strlen(path);
-    if (len == 0 || len >= sizeof(partial))
-        return 0;
-    memcpy(partial, path, len + 1);
-    for (size_t k = 1; k <= len; ++k) {
-        if (partial[k] != '/' && partial[k] != '\0')
-            continue;
-        const char keep = partial[k];
-        partial[k] = '\0';
-        if (mkdir(partial, 0777) != 0 && errno != EEXIST)
-            return 0;
-        partial[k] = keep;
-    }
-    return 1;
+    return sinter_make_dirs(path, partial, sizeof(partial)) == 0;
 }
 
 static const double PI = 3.14159265358979323846;
@@ -322,45 +312,11 @@ static int wall_heat_flows(mpi_run *r, double *flow)
     return 1;
 }
 
-/* The cap of a sphere of radius r beyond a plane at distance s from its centre (s < 0: the
- * centre beyond it): pi c^2 (3 r - c) / 3 for the height c (as the serial runner). */
-static double cap_volume(double r, double s)
+static int row_of(const sinter_id_row *table, size_t n, uint64_t id, size_t *index)
 {
-    if (s >= r)
-        return 0.0;
-    const double c = fmin(r - s, 2.0 * r);
-    return PI * c * c * (3.0 * r - c) / 3.0;
-}
-
-/* The lens two balls of radii a, b at distance d share (the smaller ball when d <= |a - b|):
- * pi (a + b - d)^2 (d^2 + 2 d (a + b) - 3 (a - b)^2) / (12 d). */
-static double lens_volume(double a, double b, double d)
-{
-    if (!(d < a + b))
-        return 0.0;
-    const double small = fmin(a, b);
-    if (d <= fabs(a - b))
-        return 4.0 / 3.0 * PI * small * small * small;
-    const double gap = a + b - d, diff = a - b;
-    return PI * gap * gap * (d * d + 2.0 * d * (a + b) - 3.0 * diff * diff) / (12.0 * d);
-}
-
-/* (id, index) of every row of the set, owned and ghost, sorted by id for bsearch. */
-typedef struct id_index {
-    uint64_t id;
-    size_t index;
-} id_index;
-
-static int by_id(const void *a, const void *b)
-{
-    const uint64_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
-    return (x > y) - (x < y);
-}
-
-static int row_of(const id_index *table, size_t n, uint64_t id, size_t *index)
-{
-    const id_index key = {id, 0};
-    const id_index *hit = bsearch(&key, table, n, sizeof(id_index), by_id);
+    const sinter_id_row key = {id, 0};
+    const sinter_id_row *hit =
+        bsearch(&key, table, n, sizeof(sinter_id_row), sinter_id_row_compare);
     if (hit != NULL)
         *index = hit->index;
     return hit != NULL;
@@ -383,14 +339,14 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
     int ok = sinter_particles_owned_count(r->ps, &owned) == SINTER_OK;
     ok = ok && sinter_particles_view_read(r->ps, SINTER_FIELD_ID, (const void **)&id, &rows,
                                           NULL) == SINTER_OK;
-    id_index *table = ok ? malloc((rows + 1) * sizeof(id_index)) : NULL;
+    sinter_id_row *table = ok ? malloc((rows + 1) * sizeof(sinter_id_row)) : NULL;
     ok = ok && table != NULL;
     for (size_t i = 0; ok && i < rows; ++i) {
         table[i].id = id[i];
         table[i].index = i;
     }
     if (ok)
-        qsort(table, rows, sizeof(id_index), by_id);
+        qsort(table, rows, sizeof(sinter_id_row), sinter_id_row_compare);
     ok = ok && sinter_particles_view_read(r->ps, SINTER_FIELD_POSITION, (const void **)&x, NULL,
                                           NULL) == SINTER_OK;
     ok = ok && sinter_particles_view_read(r->ps, SINTER_FIELD_RADIUS, (const void **)&rad, NULL,
@@ -400,7 +356,8 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
         const double ri = rad[i], *xi = x + 3 * i;
         volume += 4.0 / 3.0 * PI * ri * ri * ri;
         for (int d = 0; d < 3; ++d)
-            volume -= cap_volume(ri, xi[d] - lo[d]) + cap_volume(ri, hi[d] - xi[d]);
+            volume -= sinter_sphere_cap_volume(ri, xi[d] - lo[d]) +
+                      sinter_sphere_cap_volume(ri, hi[d] - xi[d]);
     }
     sinter_snapshot *snap = NULL;
     const uint64_t *ida = NULL, *idb = NULL;
@@ -419,7 +376,7 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
         *contacts += 1.0;
         const double *a = x + 3 * i, *b = x + 3 * j;
         const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-        volume -= lens_volume(rad[i], rad[j], sqrt(dx * dx + dy * dy + dz * dz));
+        volume -= sinter_sphere_lens_volume(rad[i], rad[j], sqrt(dx * dx + dy * dy + dz * dz));
     }
     sinter_snapshot_destroy(snap);
     free(table);

@@ -107,19 +107,8 @@ sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_pa
         memcpy(row + 9, ps->rot + 3 * i, 3 * sizeof(double));
         row[12] = ps->temperature[i];
     }
-    const sinter_halo h = {.struct_size = sizeof(sinter_halo),
-                           .direction = SINTER_HALO_FORWARD,
-                           .width = w,
-                           .data = d->halo,
-                           .id = ps->id,
-                           .owned = owned,
-                           .ghosts = ps->ghost_count};
-    d->halos++;
-    if (d->ops.halo(&h, d->user) != 0)
-        return sinter_fail(ctx, SINTER_ERR_CALLBACK,
-                           "the host's halo callback failed (forward, "
-                           "%zu owned rows, %zu ghost rows)",
-                           owned, ps->ghost_count);
+    if ((s = sinter_domain_forward_rows(ctx, d, ps, d->halo, w)) != SINTER_OK)
+        return s;
     for (size_t i = owned; i < n; ++i) {
         row = d->halo + w * i;
         memcpy(ps->x + 3 * i, row, 3 * sizeof(double));

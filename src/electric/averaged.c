@@ -74,6 +74,31 @@ static sinter_status build_adjacency(sinter_electric_model *em, size_t n,
     return SINTER_OK;
 }
 
+/* The search from the queue's entries [head, *tail): every unreached neighbour becomes FREE,
+ * keeps its current as the warm start when it is usable (else 0) and joins the queue. Returns
+ * how many of them are owned (rows below `owned`). */
+static size_t search(sinter_electric_model *em, sinter_particles *ps, size_t head, size_t *tail,
+                     size_t owned)
+{
+    unsigned char *state = em->state;
+    const uint32_t *start = em->adj_start, *other = em->adj_other;
+    size_t reached = 0;
+    while (head < *tail) {
+        const uint32_t i = em->queue[head++];
+        for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
+            const uint32_t j = other[e];
+            if (state[j] != UNREACHED)
+                continue;
+            state[j] = FREE;
+            if (!isfinite(ps->current[j]))
+                ps->current[j] = 0.0;
+            em->queue[(*tail)++] = j;
+            reached += j < owned;
+        }
+    }
+    return reached;
+}
+
 /* The owners' values of `v` (one per particle) into their ghosts (a forward halo). */
 static sinter_status to_ghosts(sinter_electric_model *em, const sinter_particles *ps, double *v)
 {
@@ -95,7 +120,6 @@ static sinter_status search_across(sinter_electric_model *em, sinter_particles *
     const size_t n = ps->count, owned = n - ps->ghost_count;
     unsigned char *state = em->state;
     double *mark = em->wall_sum; /* (scratch: the wall sums are read) */
-    const uint32_t *start = em->adj_start, *other = em->adj_other;
     for (;;) {
         for (size_t i = 0; i < owned; ++i)
             mark[i] = (double)state[i];
@@ -112,20 +136,7 @@ static sinter_status search_across(sinter_electric_model *em, sinter_particles *
                 em->queue[tail++] = (uint32_t)g;
             state[g] = remote;
         }
-        double reached = 0.0; /* owned particles reached in this round */
-        while (head < tail) {
-            const uint32_t i = em->queue[head++];
-            for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
-                const uint32_t j = other[e];
-                if (state[j] != UNREACHED)
-                    continue;
-                state[j] = FREE;
-                if (!isfinite(ps->current[j]))
-                    ps->current[j] = 0.0;
-                em->queue[tail++] = j;
-                reached += (double)(j < owned);
-            }
-        }
+        double reached = (double)search(em, ps, head, &tail, owned); /* owned ones, this round */
         if ((s = sinter_domain_sum(em->ctx, em->averaged_domain, &reached, 1)) != SINTER_OK)
             return s;
         if (reached == 0.0)
@@ -191,20 +202,7 @@ sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_p
     /* Particles connected to an electrified one; the others carry nothing. */
     const uint32_t *start = em->adj_start, *other = em->adj_other;
     const double *area = em->adj_area;
-    size_t free_count = 0;
-    while (head < tail) {
-        const uint32_t i = em->queue[head++];
-        for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
-            const uint32_t j = other[e];
-            if (state[j] != UNREACHED)
-                continue;
-            state[j] = FREE;
-            if (!isfinite(J[j]))
-                J[j] = 0.0; /* warm start from the previous solution when it is usable */
-            em->queue[tail++] = j;
-            free_count++;
-        }
-    }
+    size_t free_count = search(em, ps, head, &tail, owned); /* (owned = n on one domain) */
     if (dom != NULL) { /* across the subdomains' borders; the free particles counted again */
         if ((s = search_across(em, ps, tail)) != SINTER_OK)
             return s;

@@ -29,6 +29,21 @@ static uint64_t node_key(const sinter_particles *ps, size_t n, size_t nw, size_t
     return nw + ps->id[p - nw]; /* a ghost: node n + nw + k is row n + k */
 }
 
+/* The smaller label and the union of the flags at root r; 1 if either changed. */
+static int take(sinter_electric_model *em, uint32_t r, uint64_t label, unsigned char flags)
+{
+    int changed = 0;
+    if (label < em->label[r]) {
+        em->label[r] = label;
+        changed = 1;
+    }
+    if ((em->state[r] | flags) != em->state[r]) {
+        em->state[r] |= flags;
+        changed = 1;
+    }
+    return changed;
+}
+
 /* Labels and flags of ghosts and current walls taken in one round; 1 if one changed here. */
 static int take_ghosts(sinter_electric_model *em, size_t n, size_t nw, size_t ghosts)
 {
@@ -39,14 +54,7 @@ static int take_ghosts(sinter_electric_model *em, size_t n, size_t nw, size_t gh
         uint64_t label;
         memcpy(&label, rows + 2 * (n + k), sizeof(label)); /* (the bits of the owner's label) */
         const unsigned char flags = (unsigned char)rows[2 * (n + k) + 1];
-        if (label < em->label[r]) {
-            em->label[r] = label;
-            changed = 1;
-        }
-        if ((em->state[r] | flags) != em->state[r]) {
-            em->state[r] |= flags;
-            changed = 1;
-        }
+        changed |= take(em, r, label, flags);
     }
     return changed;
 }
@@ -62,14 +70,7 @@ static int take_walls(sinter_electric_model *em, size_t n, size_t nw)
         const uint64_t label = UINT64_MAX - word[w]; /* (a maximum of the complements) */
         const unsigned char flags = (unsigned char)((word[nw + w] ? CLUSTER_GROUND : 0) |
                                                     (word[2 * nw + w] ? CLUSTER_PARTICLE : 0));
-        if (label < em->label[r]) {
-            em->label[r] = label;
-            changed = 1;
-        }
-        if ((em->state[r] | flags) != em->state[r]) {
-            em->state[r] |= flags;
-            changed = 1;
-        }
+        changed |= take(em, r, label, flags);
     }
     return changed;
 }

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/id_row.h"
 #include "fields/coarse_grain.h"
 #include "particles/particles.h"
 
@@ -216,18 +217,6 @@ static void scatter_contact(const kernel *k, const double p0[3], const double f[
         }
 }
 
-/* (id, index) of a particle, sorted by id to find a contact's particle. */
-typedef struct id_index {
-    uint64_t id;
-    size_t index;
-} id_index;
-
-static int by_id(const void *a, const void *b)
-{
-    const uint64_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
-    return (x > y) - (x < y);
-}
-
 /* The contacts' stress of the snapshot. */
 static sinter_status contact_stress(const sinter_particles *ps, const sinter_snapshot *snap,
                                     const kernel *k, double *stress)
@@ -253,18 +242,20 @@ static sinter_status contact_stress(const sinter_particles *ps, const sinter_sna
     const uint64_t *id_a = raw[0], *id_b = raw[1];
     const double *n = raw[2], *delta = raw[3], *force = raw[4], *tangential = tangential_raw;
     const size_t np = ps->count;
-    id_index *map = sinter_calloc(ctx, np ? np : 1, sizeof(*map));
+    sinter_id_row *map = sinter_calloc(ctx, np ? np : 1, sizeof(*map));
     if (map == NULL)
         return sinter_fail(ctx, SINTER_ERR_NOMEM, "%s: out of memory", fn);
     for (size_t i = 0; i < np; ++i) {
         map[i].id = ps->id[i];
         map[i].index = i;
     }
-    qsort(map, np, sizeof(*map), by_id);
+    qsort(map, np, sizeof(*map), sinter_id_row_compare);
     for (size_t c = 0; c < pairs + walls; ++c) {
-        const id_index key_a = {id_a[c], 0}, key_b = {c < pairs ? id_b[c] : 0, 0};
-        const id_index *a = np ? bsearch(&key_a, map, np, sizeof(*map), by_id) : NULL;
-        const id_index *b = c < pairs && np ? bsearch(&key_b, map, np, sizeof(*map), by_id) : a;
+        const sinter_id_row key_a = {id_a[c], 0}, key_b = {c < pairs ? id_b[c] : 0, 0};
+        const sinter_id_row *a =
+            np ? bsearch(&key_a, map, np, sizeof(*map), sinter_id_row_compare) : NULL;
+        const sinter_id_row *b =
+            c < pairs && np ? bsearch(&key_b, map, np, sizeof(*map), sinter_id_row_compare) : a;
         if (a == NULL || b == NULL) {
             st = sinter_fail(ctx, SINTER_ERR_INVALID,
                              "%s: contact %zu's particles are not among the particles (a "

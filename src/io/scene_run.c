@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/make_dirs.h"
 #include "contact/snapshot.h"
 #include "heat/heat_model.h"
 #include "io/csv_stream.h"
@@ -42,21 +43,13 @@ enum {
 static sinter_status make_dir(sinter_ctx *ctx, const char *path)
 {
     char partial[SINTER_PATH_SIZE];
-    const size_t len = strlen(path);
-    if (len == 0 || len >= sizeof(partial))
+    const int rc = sinter_make_dirs(path, partial, sizeof(partial));
+    if (rc < 0)
         return sinter_fail(ctx, SINTER_ERR_INVALID,
                            "output directory '%.200s' is empty or too long", path);
-    memcpy(partial, path, len + 1);
-    for (size_t k = 1; k <= len; ++k) {
-        if (partial[k] != '/' && partial[k] != '\0')
-            continue;
-        const char keep = partial[k];
-        partial[k] = '\0';
-        if (mkdir(partial, 0777) != 0 && errno != EEXIST)
-            return sinter_fail(ctx, SINTER_ERR_IO, "cannot create directory '%s': %s", partial,
-                               strerror(errno));
-        partial[k] = keep;
-    }
+    if (rc > 0)
+        return sinter_fail(ctx, SINTER_ERR_IO, "cannot create directory '%s': %s", partial,
+                           strerror(errno));
     return SINTER_OK;
 }
 

@@ -11,29 +11,14 @@
  */
 #include <math.h>
 
+#include "core/sphere_volume.h"
 #include "io/solid_fraction.h"
 
 static const double PI = 3.14159265358979323846;
 
 double sinter_lens_volume(double a, double b, double d)
 {
-    if (!(d < a + b))
-        return 0.0;
-    const double small = fmin(a, b);
-    if (d <= fabs(a - b))
-        return 4.0 / 3.0 * PI * small * small * small;
-    const double gap = a + b - d, diff = a - b;
-    return PI * gap * gap * (d * d + 2.0 * d * (a + b) - 3.0 * diff * diff) / (12.0 * d);
-}
-
-/* The cap of a sphere of radius r beyond a plane at distance s from its centre (s < 0: the
- * centre is beyond it). */
-static double cap_volume(double r, double s)
-{
-    if (s >= r)
-        return 0.0;
-    const double c = fmin(r - s, 2.0 * r);
-    return PI * c * c * (3.0 * r - c) / 3.0;
+    return sinter_sphere_lens_volume(a, b, d);
 }
 
 double sinter_solid_volume_in_box(const sinter_particles *ps, const sinter_pair_list *pairs,
@@ -44,7 +29,8 @@ double sinter_solid_volume_in_box(const sinter_particles *ps, const sinter_pair_
         const double r = ps->radius[i], *x = ps->x + 3 * i;
         volume += 4.0 / 3.0 * PI * r * r * r;
         for (int d = 0; d < 3; ++d)
-            volume -= cap_volume(r, x[d] - lo[d]) + cap_volume(r, hi[d] - x[d]);
+            volume -= sinter_sphere_cap_volume(r, x[d] - lo[d]) +
+                      sinter_sphere_cap_volume(r, hi[d] - x[d]);
     }
     for (size_t k = 0; pairs != NULL && k < pairs->count; ++k) {
         const uint32_t i = pairs->i[k], j = pairs->j[k];

@@ -5,29 +5,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/id_row.h"
 #include "io/series.h"
 #include "io/vtk_arrays.h"
 #include "io/vtp.h"
 #include "particles/particles.h"
 #include "walls/walls.h"
 
-/* A particle id and its index, sorted by id to find the particles of a snapshot's records. */
-typedef struct id_index {
-    uint64_t id;
-    size_t index;
-} id_index;
-
-static int by_id(const void *a, const void *b)
-{
-    const uint64_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
-    return x < y ? -1 : x > y;
-}
-
 /* Index of particle `id` in the sorted table, or SIZE_MAX. */
-static size_t find(const id_index *table, size_t n, uint64_t id)
+static size_t find(const sinter_id_row *table, size_t n, uint64_t id)
 {
-    const id_index key = {id, 0};
-    const id_index *hit = bsearch(&key, table, n, sizeof(*table), by_id);
+    const sinter_id_row key = {id, 0};
+    const sinter_id_row *hit = bsearch(&key, table, n, sizeof(*table), sinter_id_row_compare);
     return hit != NULL ? hit->index : SIZE_MAX;
 }
 
@@ -127,15 +116,15 @@ sinter_status sinter_vtp_write_contacts(sinter_ctx *ctx, const char *path,
     const size_t count = as_links ? links : pairs + walls;
     /* the two ends of every line */
     double *points = sinter_calloc(ctx, 6 * count + 6, sizeof(double));
-    id_index *table = sinter_calloc(ctx, ps->count + 1, sizeof(id_index));
+    sinter_id_row *table = sinter_calloc(ctx, ps->count + 1, sizeof(sinter_id_row));
     if (points == NULL || table == NULL) {
         sinter_free(ctx, points);
         sinter_free(ctx, table);
         return sinter_fail(ctx, SINTER_ERR_NOMEM, "%s: out of memory", fn);
     }
     for (size_t i = 0; i < ps->count; ++i)
-        table[i] = (id_index){ps->id[i], i};
-    qsort(table, ps->count, sizeof(*table), by_id);
+        table[i] = (sinter_id_row){ps->id[i], i};
+    qsort(table, ps->count, sizeof(*table), sinter_id_row_compare);
     if (count > 0) {
         const void *a = NULL, *b = NULL, *nv = NULL, *ov = NULL;
         if (as_links) {

@@ -407,6 +407,70 @@ static void apply_solution(sinter_stepper *st, double h, const double *x, size_t
     }
 }
 
+/* The outcome of the PCG solve (return code rc): a failure, or the iterations counted and the
+ * solution x of the n owned particles taken. */
+static sinter_status take_solution(sinter_stepper *st, double h, const double *x, size_t n, int rc,
+                                   int iterations, double residual)
+{
+    if (rc != 0)
+        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
+                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
+                           "(residual %g)",
+                           rc, iterations, st->time, residual);
+    st->stats_thermal_iterations += (uint64_t)iterations;
+    apply_solution(st, h, x, n);
+    return SINTER_OK;
+}
+
+/*
+ * The backward-Euler system of the owned particles, rows [0, n): diag, b and the start x (the
+ * temperatures at t); returns this side's |b|^2. `across`: a pair's end at a row >= n is a ghost
+ * of another subdomain, whose row is assembled there; else an end is the unknown of its row or
+ * of an image's owner (owner_of). The same operations in the same order either way.
+ */
+static double assemble(sinter_stepper *st, double h, size_t n, int across, double *diag, double *b,
+                       double *x)
+{
+    const sinter_particles *ps = st->ps;
+    const sinter_thermal *th = &st->thermal;
+    const double *theta = ps->temperature;
+    for (size_t i = 0; i < n; ++i) {
+        /* C(theta) at the step's start (linearised backward Euler; the energy is kept exact
+         * below through the enthalpy) */
+        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
+        diag[i] = fixed(ps, i) ? 1.0 : mc / h;
+        b[i] = fixed(ps, i) ? theta[i] : mc / h * theta[i] + ps->heat[i];
+        x[i] = theta[i];
+    }
+    const sinter_contact_list *c = &st->pp;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k], j = across ? c->j[k] : owner_of(st, n, c->j[k]);
+        const double g = th->g_pp[k];
+        if ((!across || i < n) && !fixed(ps, i)) {
+            diag[i] += g;
+            if (fixed(ps, j))
+                b[i] += g * theta[j];
+        }
+        if ((!across || j < n) && !fixed(ps, j)) {
+            diag[j] += g;
+            if (fixed(ps, i))
+                b[j] += g * theta[i];
+        }
+    }
+    c = &st->pw;
+    for (size_t k = 0; k < c->count; ++k) {
+        const uint32_t i = c->i[k];
+        if ((across && i >= n) || fixed(ps, i))
+            continue;
+        diag[i] += th->g_pw[k];
+        b[i] += th->g_pw[k] * st->walls->wall[c->j[k]].temperature;
+    }
+    double bnorm = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        bnorm += b[i] * b[i];
+    return bnorm;
+}
+
 /*
  * Backward Euler across subdomains (domain/solve.h): the owned particles' rows, the pairs with
  * a ghost end assembled on this side for their owned end (the other side assembles its own),
@@ -437,43 +501,11 @@ static sinter_status implicit_update_across(sinter_stepper *st, double h)
         return s;
     double *diag = sv->diag_storage, *b = sinter_pcg_rhs(sv->pcg),
            *x = sinter_pcg_solution(sv->pcg);
-    const double *theta = ps->temperature;
     diag[0] = 1.0; /* an empty subdomain's placeholder unknown: 1 x = 0 */
     b[0] = x[0] = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
-        diag[i] = fixed(ps, i) ? 1.0 : mc / h;
-        b[i] = fixed(ps, i) ? theta[i] : mc / h * theta[i] + ps->heat[i];
-        x[i] = theta[i];
-    }
-    const sinter_contact_list *c = &st->pp;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], j = c->j[k];
-        const double g = th->g_pp[k];
-        if (i < n && !fixed(ps, i)) {
-            diag[i] += g;
-            if (fixed(ps, j))
-                b[i] += g * theta[j];
-        }
-        if (j < n && !fixed(ps, j)) {
-            diag[j] += g;
-            if (fixed(ps, i))
-                b[j] += g * theta[i];
-        }
-    }
-    c = &st->pw;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k];
-        if (i >= n || fixed(ps, i))
-            continue;
-        diag[i] += th->g_pw[k];
-        b[i] += th->g_pw[k] * st->walls->wall[c->j[k]].temperature;
-    }
     sv->st = st;
     sv->diag = diag;
-    double bnorm = 0.0;
-    for (size_t i = 0; i < n; ++i)
-        bnorm += b[i] * b[i];
+    double bnorm = assemble(st, h, n, 1, diag, b, x);
     if ((s = sinter_domain_reduce(st->ctx, d, &bnorm, 1, SINTER_REDUCE_F64, SINTER_REDUCE_SUM)) !=
         SINTER_OK)
         return s;
@@ -486,14 +518,8 @@ static sinter_status implicit_update_across(sinter_stepper *st, double h)
     sinter_pcg_set_sum(sv->pcg, NULL, NULL, 0);
     if (sv->across.failed)
         return sinter_last_status(st->ctx);
-    if (rc != 0) /* (every subdomain: the same reduced residuals) */
-        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
-                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
-                           "(residual %g)",
-                           rc, iterations, st->time, residual);
-    st->stats_thermal_iterations += (uint64_t)iterations;
-    apply_solution(st, h, x, n);
-    return SINTER_OK;
+    /* (every subdomain: the same reduced residuals) */
+    return take_solution(st, h, x, n, rc, iterations, residual);
 }
 
 static sinter_status implicit_update(sinter_stepper *st, double h)
@@ -512,56 +538,15 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
         return s;
     double *diag = sv->diag_storage, *b = sinter_pcg_rhs(sv->pcg),
            *x = sinter_pcg_solution(sv->pcg);
-    const double *theta = ps->temperature;
-    for (size_t i = 0; i < n; ++i) {
-        /* C(theta) at the step's start (linearised backward Euler; the energy is kept exact
-         * below through the enthalpy) */
-        const double mc = ps->mass[i] * sinter_particle_heat_capacity(ps, i, theta[i]);
-        diag[i] = fixed(ps, i) ? 1.0 : mc / h;
-        b[i] = fixed(ps, i) ? theta[i] : mc / h * theta[i] + ps->heat[i];
-        x[i] = theta[i];
-    }
-    const sinter_contact_list *c = &st->pp;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k], j = owner_of(st, n, c->j[k]);
-        const double g = th->g_pp[k];
-        if (!fixed(ps, i)) {
-            diag[i] += g;
-            if (fixed(ps, j))
-                b[i] += g * theta[j];
-        }
-        if (!fixed(ps, j)) {
-            diag[j] += g;
-            if (fixed(ps, i))
-                b[j] += g * theta[i];
-        }
-    }
-    c = &st->pw;
-    for (size_t k = 0; k < c->count; ++k) {
-        const uint32_t i = c->i[k];
-        if (fixed(ps, i))
-            continue;
-        diag[i] += th->g_pw[k];
-        b[i] += th->g_pw[k] * st->walls->wall[c->j[k]].temperature;
-    }
     sv->st = st;
     sv->diag = diag;
-    double bnorm = 0.0;
-    for (size_t i = 0; i < n; ++i)
-        bnorm += b[i] * b[i];
+    const double bnorm = assemble(st, h, n, 0, diag, b, x);
     const double tol = 1e-13 * sqrt(bnorm) + 1e-300;
     int iterations = 0;
     double residual = 0.0;
     const int rc =
         sinter_pcg_solve(sv->pcg, apply_operator, precondition, sv, tol, &iterations, &residual);
-    if (rc != 0)
-        return sinter_fail(st->ctx, SINTER_ERR_NOT_CONVERGED,
-                           "implicit conduction: PCG returned %d after %d iterations at t = %g s "
-                           "(residual %g)",
-                           rc, iterations, st->time, residual);
-    st->stats_thermal_iterations += (uint64_t)iterations;
-    apply_solution(st, h, x, n);
-    return SINTER_OK;
+    return take_solution(st, h, x, n, rc, iterations, residual);
 }
 
 static sinter_status thermal_booked(sinter_stepper *st, double h);

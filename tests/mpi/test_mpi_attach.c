@@ -37,47 +37,15 @@
 #include <sinter_mpi.h>
 #include <sinter_submodel.h>
 
+#include "../unit/domain_bed.h"
+#include "../unit/domain_lattice_bed.h"
 #include "../unit/domain_loopback.h"
 #include "mpi/attach.h" /* (the installed halo callback, called directly below) */
 #include "mpi/domain.h"
 #include "mpi_check.h"
 
-enum { NX = 8, NY = 6, NZ = 6, N = NX * NY * NZ, NW = 5, STEPS = 150, POISON_STEP = 37 };
-static const double R = 1e-3, A = 1.97e-3; /* radius and lattice spacing [m]: 1.5 % overlap */
-static const double LX = R + A * (NX - 1) + 0.99 * R; /* the box [m] */
-static const double LY = R + A * (NY - 1) + 0.99 * R;
-/* the slabs: [X0, X1) in 1-4 equal ones puts every border on a column of the lattice */
-static const double X0 = R - 2 * A, X1 = R + 10 * A;
+enum { NW = 5, STEPS = 150, POISON_STEP = 37 };
 static const double DT = 2e-6;
-
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
-
-typedef struct bed_spec {
-    double x[3 * N], v[3 * N], w[3 * N], temp[N];
-    uint64_t id[N];
-} bed_spec;
-static bed_spec BED;
-
-static void make_bed(void)
-{
-    uint64_t seed = 43;
-    for (int k = 0; k < N; ++k) {
-        const int i = k % NX, j = (k / NX) % NY, l = k / (NX * NY);
-        BED.x[3 * k] = R + A * i + 0.01 * R * (lcg(&seed) - 0.5);
-        BED.x[3 * k + 1] = R + A * j + 0.01 * R * (lcg(&seed) - 0.5);
-        BED.x[3 * k + 2] = 0.99 * R + A * l + 0.01 * R * (lcg(&seed) - 0.5);
-        for (int d = 0; d < 3; ++d) {
-            BED.v[3 * k + d] = 0.04 * (lcg(&seed) - 0.5);
-            BED.w[3 * k + d] = 20.0 * (lcg(&seed) - 0.5);
-        }
-        BED.temp[k] = 300.0 + 100.0 * lcg(&seed);
-        BED.id[k] = 1 + (uint64_t)((k * 37) % N);
-    }
-}
 
 /* The final state by id - 1 (each run writes its owned particles' slots). */
 typedef struct state {
@@ -104,26 +72,6 @@ typedef struct run_spec {
     state *out;
     int failed; /* a setup line */
 } run_spec;
-
-/* A host body force that makes particle `id`'s force NaN after `after`, where it is owned. */
-typedef struct poison {
-    const sinter_particles *ps;
-    uint64_t id;
-    double after;
-} poison;
-
-static int poison_force(const sinter_state_view *s, double *force, double *torque, void *user)
-{
-    (void)torque;
-    const poison *p = user;
-    size_t i = SIZE_MAX, owned = 0;
-    if (p->id == 0 || !(s->time > p->after) ||
-        sinter_particles_owned_count(p->ps, &owned) != SINTER_OK ||
-        sinter_particles_find_id(p->ps, p->id, &i) != SINTER_OK || i >= owned)
-        return 0;
-    force[3 * i] = NAN;
-    return 0;
-}
 
 static int slab_of(double x, int size)
 {
@@ -231,32 +179,13 @@ static void *run_bed(void *arg)
         sinter_mpi_domain_rank(spec->d, &mpi_rank, NULL);
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
-    TRY(sinter_material_create(&mat, ctx, "bed"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_YOUNGS_MODULUS, 1e7},   {SINTER_MAT_POISSON_RATIO, 0.3},
-                 {SINTER_MAT_DENSITY, 2500},         {SINTER_MAT_DAMPING_RATIO, 0.3},
-                 {SINTER_MAT_FRICTION_STATIC, 0.5},  {SINTER_MAT_FRICTION_DYNAMIC, 0.5},
-                 {SINTER_MAT_ROLLING_FRICTION, 0.1}, {SINTER_MAT_THERMAL_CONDUCTIVITY, 400},
-                 {SINTER_MAT_HEAT_CAPACITY, 400}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    TRY(domain_bed_material(ctx, &mat));
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
-    const double wn[NW][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < NW; ++k)
-        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
+    TRY(domain_bed_walls(ctx, mat, LX, LY, &walls));
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
     TRY(sinter_stepper_set_option(st, "thread_choice", 0));
-    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    TRY(sinter_stepper_add_force(st, gravity));
-    TRY(sinter_force_model_create(&contact, ctx, "hertz_mindlin"));
-    TRY(sinter_stepper_add_force(st, contact));
-    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    TRY(sinter_stepper_add_heat(st, cond));
+    TRY(domain_bed_models(ctx, st, &gravity, &contact, &cond));
     for (int k = 0; k < N; ++k) {
         /* the loopback: each subdomain its slab; MPI: rank 0 all of them (distributed below),
          * or each rank those of its part */

@@ -26,52 +26,14 @@
 #include <sinter_domain.h>
 #include <sinter_submodel.h>
 
+#include "domain_bed.h"
+#include "domain_lattice_bed.h"
 #include "domain_loopback.h"
 #include "test_support.h"
 
 #define OK(call) assert_int_equal((call), SINTER_OK)
 
-enum { NX = 8, NY = 6, NZ = 6, N = NX * NY * NZ, NW = 5, STEPS = 150 };
-static const double R = 1e-3, A = 1.97e-3; /* radius and lattice spacing [m]: 1.5 % overlap */
-
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
-
-/* The bed's particles, the same for every decomposition; ids in another order than the
- * lattice's (a multiplicative permutation) so that nothing leans on ids ascending. */
-typedef struct bed_spec {
-    double x[3 * N], v[3 * N], w[3 * N], temp[N];
-    uint64_t id[N];
-} bed_spec;
-
-static bed_spec BED;
-static const double LX = R + A * (NX - 1) + 0.99 * R; /* the box [m] */
-static const double LY = R + A * (NY - 1) + 0.99 * R;
-
-static void make_bed(void)
-{
-    uint64_t seed = 43;
-    for (int k = 0; k < N; ++k) {
-        const int i = k % NX, j = (k / NX) % NY, l = k / (NX * NY);
-        BED.x[3 * k] = R + A * i + 0.01 * R * (lcg(&seed) - 0.5);
-        BED.x[3 * k + 1] = R + A * j + 0.01 * R * (lcg(&seed) - 0.5);
-        BED.x[3 * k + 2] = 0.99 * R + A * l + 0.01 * R * (lcg(&seed) - 0.5);
-        for (int d = 0; d < 3; ++d) {
-            BED.v[3 * k + d] = 0.04 * (lcg(&seed) - 0.5);
-            BED.w[3 * k + d] = 20.0 * (lcg(&seed) - 0.5);
-        }
-        BED.temp[k] = 300.0 + 100.0 * lcg(&seed);
-        BED.id[k] = 1 + (uint64_t)((k * 37) % N);
-    }
-}
-
-/* The slabs along x: [X0, X1) cut into 2, 3 or 4 equal ones puts every border on a column of
- * the lattice (X1 - X0 = 12 A), so that the particles of that column, jiggling about it by
- * their random velocities, cross it back and forth and migrate (domain_loopback.h). */
-static const double X0 = R - 2 * A, X1 = R + 10 * A;
+enum { NW = 5, STEPS = 150 };
 
 /* The upper end of the slabs' range: X1, except in the test of an empty subdomain. */
 static double SLAB_X1 = R + 10 * A;
@@ -81,27 +43,6 @@ static int slab_of(double x, int size)
 {
     const double r = floor((x - X0) / (SLAB_X1 - X0) * size);
     return r < 0.0 ? 0 : r >= size ? size - 1 : (int)r;
-}
-
-/* A host body force that makes the force of the particle with id `id` NaN from time `after`
- * on, on the subdomain that owns it then (it may have migrated). */
-typedef struct poison {
-    const sinter_particles *ps;
-    uint64_t id; /* (0: none) */
-    double after;
-} poison;
-
-static int poison_force(const sinter_state_view *s, double *force, double *torque, void *user)
-{
-    (void)torque;
-    const poison *p = user;
-    size_t i = SIZE_MAX, owned = 0;
-    if (p->id == 0 || !(s->time > p->after) ||
-        sinter_particles_owned_count(p->ps, &owned) != SINTER_OK ||
-        sinter_particles_find_id(p->ps, p->id, &i) != SINTER_OK || i >= owned)
-        return 0;
-    force[3 * i] = NAN;
-    return 0;
 }
 
 /* One subdomain's run of the bed and what it leaves: its owned particles' state by id. */
@@ -195,32 +136,13 @@ static void *run_bed(void *arg)
     const double dt = 2e-6;
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
-    TRY(sinter_material_create(&mat, ctx, "bed"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_YOUNGS_MODULUS, 1e7},   {SINTER_MAT_POISSON_RATIO, 0.3},
-                 {SINTER_MAT_DENSITY, 2500},         {SINTER_MAT_DAMPING_RATIO, 0.3},
-                 {SINTER_MAT_FRICTION_STATIC, 0.5},  {SINTER_MAT_FRICTION_DYNAMIC, 0.5},
-                 {SINTER_MAT_ROLLING_FRICTION, 0.1}, {SINTER_MAT_THERMAL_CONDUCTIVITY, 400},
-                 {SINTER_MAT_HEAT_CAPACITY, 400}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    TRY(domain_bed_material(ctx, &mat));
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
-    const double wn[NW][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < NW; ++k)
-        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
+    TRY(domain_bed_walls(ctx, mat, LX, LY, &walls));
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
     TRY(sinter_stepper_set_option(st, "thread_choice", 0));
-    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    TRY(sinter_stepper_add_force(st, gravity)); /* first: the integrator seeds m g */
-    TRY(sinter_force_model_create(&contact, ctx, "hertz_mindlin"));
-    TRY(sinter_stepper_add_force(st, contact));
-    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    TRY(sinter_stepper_add_heat(st, cond));
+    TRY(domain_bed_models(ctx, st, &gravity, &contact, &cond));
     for (int k = 0; k < N; ++k) {
         if (slab_of(BED.x[3 * k], j->size) != j->rank)
             continue;

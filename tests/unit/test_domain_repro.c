@@ -19,6 +19,7 @@
 
 #include <sinter_domain.h>
 
+#include "domain_bed.h"
 #include "domain_loopback.h"
 #include "test_support.h"
 
@@ -149,33 +150,14 @@ static void *run(void *arg)
     sinter_heat_model *cond = NULL;
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, j->threads));
-    TRY(sinter_material_create(&mat, ctx, "bed"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_YOUNGS_MODULUS, 1e7},   {SINTER_MAT_POISSON_RATIO, 0.3},
-                 {SINTER_MAT_DENSITY, 2500},         {SINTER_MAT_DAMPING_RATIO, 0.3},
-                 {SINTER_MAT_FRICTION_STATIC, 0.5},  {SINTER_MAT_FRICTION_DYNAMIC, 0.5},
-                 {SINTER_MAT_ROLLING_FRICTION, 0.1}, {SINTER_MAT_THERMAL_CONDUCTIVITY, 400},
-                 {SINTER_MAT_HEAT_CAPACITY, 400}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    TRY(domain_bed_material(ctx, &mat));
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, 0}, {BED.lx, 0, 0}, {0, 0, 0}, {0, BED.ly, 0}};
-    const double wn[NW][3] = {{0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < NW; ++k)
-        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
+    TRY(domain_bed_walls(ctx, mat, BED.lx, BED.ly, &walls));
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
     TRY(sinter_stepper_set_option(st, "thread_choice", 0));
     TRY(sinter_stepper_set_option(st, "reproducible", j->reproducible));
-    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    TRY(sinter_stepper_add_force(st, gravity));
-    TRY(sinter_force_model_create(&contact, ctx, "hertz_mindlin"));
-    TRY(sinter_stepper_add_force(st, contact));
-    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    TRY(sinter_stepper_add_heat(st, cond));
+    TRY(domain_bed_models(ctx, st, &gravity, &contact, &cond));
     TRY(sinter_stepper_set_dt(st, DT));
     TRY(sinter_stepper_set_skin(st, 1e-5));
     if (j->lb != NULL) /* before the particles: the restart's imports keep their forces */
