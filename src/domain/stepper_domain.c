@@ -4,7 +4,6 @@
 
 #include "electric/electric.h"
 #include "stepper/stepper.h"
-#include "electric/electric.h"
 #include "walls/walls.h"
 #include "stepper/qs_struct.h"
 
@@ -24,15 +23,6 @@ sinter_status sinter_domain_check(sinter_stepper *st)
         what = "continuous insertion (its ids are chosen per set)";
     else if (st->electric != NULL && st->electric->host.struct_size != 0)
         what = "an electric model with host callbacks";
-    else if (st->electric != NULL && st->kind == SINTER_STEPPER_STAGGERED &&
-             st->electric->kind != SINTER_ELECTRIC_AVERAGED)
-        what = "the electric network model with the staggered stepper";
-    else if (st->electric != NULL && st->kind != SINTER_STEPPER_STAGGERED &&
-             st->electric->kind != SINTER_ELECTRIC_NETWORK)
-        what = "the averaged electric model with the explicit stepper";
-    else if (st->kind == SINTER_STEPPER_STAGGERED && st->thermal.count > 0 &&
-             st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
-        what = "implicit conduction with the staggered stepper";
     else if (st->sort_interval > 0)
         what = "the option sort_interval (a sort drops the ghosts)";
     if (what == NULL)

@@ -760,6 +760,18 @@ static void test_observer_stops_all(void **st)
 }
 
 /* Arguments and settings refused with the status the header gives. */
+/* A Joule split for the refusal below (never called: the model is refused first). */
+static int host_split(const sinter_state_view *view, const sinter_contact_batch *contacts,
+                      const double *power, double *share, void *user)
+{
+    (void)view;
+    (void)contacts;
+    (void)power;
+    (void)share;
+    (void)user;
+    return 0;
+}
+
 static void test_refusals(void **st)
 {
     (void)st;
@@ -782,11 +794,17 @@ static void test_refusals(void **st)
     /* the quasi-static stepper runs on subdomains (test_qs_domain.c), but not its strategy 1 */
     OK(sinter_stepper_set_option(qs, "qs_strategy", 1.0));
     assert_int_equal(loopback_attach(lb, 0, qs, ps), SINTER_ERR_UNSUPPORTED);
-    /* the staggered stepper: with the averaged electric model, not the network's global solve */
+    /* the staggered stepper: with the network's global solve (test_domain_electric.c), but
+     * not with its host callbacks */
     sinter_electric_model *network = NULL;
     OK(sinter_electric_model_create(&network, ctx, "network"));
+    const sinter_electric_callbacks host = {.struct_size = sizeof(host), .joule_split = host_split};
+    OK(sinter_electric_model_set_host(network, &host, NULL));
     OK(sinter_stepper_set_electric(stag, network));
     assert_int_equal(loopback_attach(lb, 0, stag, ps), SINTER_ERR_UNSUPPORTED);
+    assert_non_null(strstr(sinter_last_error(ctx), "host callbacks"));
+    OK(sinter_electric_model_set_host(network, NULL, NULL));
+    OK(loopback_attach(lb, 0, stag, ps));
     OK(sinter_stepper_set_electric(stag, NULL));
     OK(sinter_stepper_set_periodic(step, 0, -1.0, 1.0));
     assert_int_equal(loopback_attach(lb, 0, step, ps), SINTER_ERR_UNSUPPORTED);

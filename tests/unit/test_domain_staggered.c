@@ -31,254 +31,37 @@
 #include <sinter_submodel.h>
 
 #include "domain_loopback.h"
+#include "domain_press.h"
 #include "test_support.h"
 
 #define OK(call) assert_int_equal((call), SINTER_OK)
 
-enum { NX = 8, NY = 6, NZ = 5, N = NX * NY * NZ, NW = 6, STEPS = 12 };
-static const double R = 0.05, A = 0.099; /* radius and lattice spacing [m]: 1 % overlap */
-
-static double lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(*s >> 11) / 9007199254740992.0;
-}
-
-typedef struct press_spec {
-    double x[3 * N], v[3 * N], temp[N];
-    uint64_t id[N];
-} press_spec;
+enum { NX = PRESS_NX, NY = PRESS_NY, N = PRESS_N, NW = PRESS_WALLS, STEPS = 12 };
 
 static press_spec PRESS;
-static const double LX = R + A * (NX - 1) + R, LY = R + A * (NY - 1) + R;
-static const double TOP = R + A * (NZ - 1) + 0.99 * R; /* the top wall at t = 0 [m] */
 
-static void make_press(void)
-{
-    uint64_t seed = 28;
-    for (int k = 0; k < N; ++k) {
-        const int i = k % NX, j = (k / NX) % NY, l = k / (NX * NY);
-        PRESS.x[3 * k] = R + A * i + 0.002 * R * (lcg(&seed) - 0.5);
-        PRESS.x[3 * k + 1] = R + A * j + 0.002 * R * (lcg(&seed) - 0.5);
-        PRESS.x[3 * k + 2] = 0.99 * R + A * l + 0.002 * R * (lcg(&seed) - 0.5);
-        for (int d = 0; d < 3; ++d)
-            PRESS.v[3 * k + d] = 0.01 * (lcg(&seed) - 0.5);
-        PRESS.temp[k] = 300.0 + 50.0 * lcg(&seed);
-        PRESS.id[k] = 1 + (uint64_t)((k * 37) % N); /* (ids not in the lattice's order) */
-    }
-}
+/* The slabs of the next runs (domain_press.h): borders between columns, or on them. */
+static double X0 = PRESS_X0_BETWEEN, X1 = PRESS_X1_BETWEEN;
 
-/* Slabs of [X0, X1) along x whose borders lie between two columns of the lattice for 2, 3
- * and 4 subdomains (X1 - X0 = 12 A, borders at odd multiples of A / 2 from the columns). */
-static double X0 = R - 2.5 * A, X1 = R + 9.5 * A;
-
-static int slab_of(double x, int size)
-{
-    const double r = floor((x - X0) / (X1 - X0) * size);
-    return r < 0.0 ? 0 : r >= size ? size - 1 : (int)r;
-}
-
-/* A host force that makes the force of particle `id` NaN once an evaluation reached the time
- * `after`, at every evaluation from then on (the shorter retries too), on the subdomain that
- * owns it. */
-typedef struct host_force {
-    const sinter_particles *ps;
-    uint64_t id;
-    double after;
-    int on;
-} host_force;
-
-static int host_eval(const sinter_state_view *s, double *force, double *torque, void *user)
-{
-    (void)torque;
-    host_force *p = user;
-    size_t i = SIZE_MAX, owned = 0;
-    if (p->id == 0 || sinter_particles_owned_count(p->ps, &owned) != SINTER_OK ||
-        sinter_particles_find_id(p->ps, p->id, &i) != SINTER_OK || i >= owned)
-        return 0;
-    p->on |= s->time > p->after;
-    if (p->on)
-        force[3 * i] = NAN;
-    return 0;
-}
-
-typedef struct job {
-    int rank, size;
-    loopback *lb; /* NULL: without domain operations */
-    int steps;
-    int scheme;       /* the staggered stepper's option "scheme" */
-    uint64_t host_id; /* the host force's particle (0: none) */
-    double nan_after;
-    /* results */
-    int setup_failed, failed_at;
-    sinter_status status;
-    char message[512];
-    double time, wall[3 * NW];
-    sinter_stepper_stats stats;
-    size_t owned;
-} job;
-
-/* The final state by id - 1. */
-typedef struct state {
-    double x[3 * N], v[3 * N], temp[N], current[N];
-    int seen[N];
-} state;
+typedef press_job job;
+typedef press_state state;
 
 typedef struct job_and_state {
     job *j;
     state *out;
+    loopback *lb;
 } job_and_state;
 
-#define TRY(call)                                                                                  \
-    do {                                                                                           \
-        if ((call) != SINTER_OK) {                                                                 \
-            j->setup_failed = __LINE__;                                                            \
-            goto done;                                                                             \
-        }                                                                                          \
-    } while (0)
-
-static void copy_owned(sinter_particles *ps, size_t owned, state *out)
+static sinter_status attach(void *user, sinter_stepper *st, sinter_particles *ps)
 {
-    const uint64_t *id = NULL;
-    const double *x = NULL, *v = NULL, *t = NULL, *c = NULL;
-    if (sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&id, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_VELOCITY, (const void **)&v, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_TEMPERATURE, (const void **)&t, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_CURRENT, (const void **)&c, NULL, NULL))
-        return;
-    for (size_t i = 0; i < owned; ++i) {
-        const size_t k = (size_t)id[i] - 1;
-        memcpy(out->x + 3 * k, x + 3 * i, 24);
-        memcpy(out->v + 3 * k, v + 3 * i, 24);
-        out->temp[k] = t[i];
-        out->current[k] = c[i];
-        out->seen[k]++;
-    }
-    sinter_particles_release(ps, SINTER_FIELD_ID);
-    sinter_particles_release(ps, SINTER_FIELD_POSITION);
-    sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
-    sinter_particles_release(ps, SINTER_FIELD_TEMPERATURE);
-    sinter_particles_release(ps, SINTER_FIELD_CURRENT);
+    const job_and_state *js = user;
+    return loopback_attach(js->lb, js->j->rank, st, ps);
 }
 
 static void *run_press(void *arg)
 {
     job_and_state *js = arg;
-    job *j = js->j;
-    sinter_ctx *ctx = NULL;
-    sinter_material *mat = NULL;
-    sinter_particles *ps = NULL;
-    sinter_walls *walls = NULL;
-    sinter_stepper *st = NULL;
-    sinter_force_model *law = NULL, *drag = NULL, *gravity = NULL, *host = NULL;
-    sinter_heat_model *cond = NULL, *joule = NULL;
-    sinter_electric_model *em = NULL;
-    host_force hf = {NULL, 0, INFINITY, 0};
-    TRY(sinter_ctx_create(&ctx, NULL));
-    TRY(sinter_ctx_set_threads(ctx, 1));
-    TRY(sinter_material_create(&mat, ctx, "powder"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_DENSITY, 2000},
-                 {SINTER_MAT_CONTACT_STIFFNESS, 1e7},
-                 {SINTER_MAT_FRICTION_DYNAMIC, 0.1},
-                 {SINTER_MAT_DRAG_COEFFICIENT, 0.1414},
-                 {SINTER_MAT_THERMAL_CONDUCTIVITY, 100},
-                 {SINTER_MAT_HEAT_CAPACITY, 100},
-                 {SINTER_MAT_ELECTRIC_CONDUCTIVITY, 0.1},
-                 {SINTER_MAT_SOFTENING_LAW, 1},
-                 {SINTER_MAT_SOFTENING_TEMPERATURE, 320},
-                 {SINTER_MAT_SOFTENING_FLOOR, 0.1}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        TRY(sinter_material_set(mat, props[k].p, props[k].v));
-    TRY(sinter_particles_create(&ps, ctx));
-    TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, TOP}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
-    const double wn[NW][3] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < NW; ++k) {
-        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
-        TRY(sinter_walls_set_temperature(walls, (size_t)k, 400.0));
-    }
-    TRY(sinter_walls_set_electric(walls, 0, SINTER_WALL_CURRENT, 1000.0));
-    TRY(sinter_walls_set_electric(walls, 1, SINTER_WALL_CURRENT, 1000.0));
-    const double down[3] = {0, 0, -0.05};
-    TRY(sinter_walls_set_velocity(walls, 1, down));
-    TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_STAGGERED, ps, walls));
-    TRY(sinter_force_model_create(&law, ctx, "power_law"));
-    TRY(sinter_stepper_add_force(st, law));
-    TRY(sinter_force_model_create(&drag, ctx, "drag"));
-    TRY(sinter_stepper_add_force(st, drag));
-    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    TRY(sinter_stepper_add_force(st, gravity));
-    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    TRY(sinter_stepper_add_heat(st, cond));
-    TRY(sinter_heat_model_create(&joule, ctx, "joule"));
-    TRY(sinter_stepper_add_heat(st, joule));
-    TRY(sinter_electric_model_create(&em, ctx, "averaged"));
-    TRY(sinter_electric_model_set(em, "tolerance", 1e-14));
-    TRY(sinter_electric_model_set(em, "max_iterations", 1e5));
-    TRY(sinter_stepper_set_electric(st, em));
-    for (int k = 0; k < N; ++k) {
-        if (slab_of(PRESS.x[3 * k], j->size) != j->rank)
-            continue;
-        size_t first = 0;
-        TRY(sinter_particles_add_with_ids(ps, 1, &PRESS.id[k], PRESS.x + 3 * k, &R, 0,
-                                          PRESS.temp[k], &first));
-        double *v = NULL;
-        TRY(sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
-        memcpy(v + 3 * first, PRESS.v + 3 * k, 24);
-        TRY(sinter_particles_release(ps, SINTER_FIELD_VELOCITY));
-    }
-    if (j->host_id != 0) { /* on every subdomain: migration needs the same force models */
-        hf = (host_force){ps, j->host_id, j->nan_after, 0};
-        const sinter_force_callbacks cb = {.struct_size = sizeof(cb), .particles = host_eval};
-        TRY(sinter_force_model_create_host(&host, ctx, "host", &cb, &hf));
-        TRY(sinter_stepper_add_force(st, host));
-    }
-    TRY(sinter_stepper_set_option(st, "scheme", j->scheme));
-    TRY(sinter_stepper_set_dt(st, 0.005));
-    TRY(sinter_stepper_set_option(st, "dt_max", 0.005));
-    TRY(sinter_stepper_set_option(st, "dt_min", 1e-7));
-    TRY(sinter_stepper_set_option(st, "position_tolerance", 1e-6));
-    TRY(sinter_stepper_set_skin(st, 0.01)); /* rebuilds within the run */
-    if (j->lb != NULL)
-        TRY(loopback_attach(j->lb, j->rank, st, ps));
-    j->status = SINTER_OK;
-    for (int k = 1; k <= j->steps; ++k) {
-        const sinter_status s = sinter_stepper_step(st, 1);
-        if (s != SINTER_OK) {
-            j->status = s;
-            j->failed_at = k;
-            snprintf(j->message, sizeof(j->message), "%s", sinter_last_error(ctx));
-            break;
-        }
-    }
-    TRY(sinter_stepper_time(st, &j->time));
-    TRY(sinter_particles_owned_count(ps, &j->owned));
-    copy_owned(ps, j->owned, js->out);
-    for (int k = 0; k < NW; ++k)
-        TRY(sinter_walls_get_force(walls, (size_t)k, j->wall + 3 * k));
-    j->stats.struct_size = sizeof(j->stats);
-    TRY(sinter_stepper_get_stats_global(st, &j->stats));
-done:
-    if (j->setup_failed)
-        snprintf(j->message, sizeof(j->message), "setup failed at line %d: %s", j->setup_failed,
-                 sinter_last_error(ctx));
-    sinter_stepper_destroy(st);
-    sinter_force_model_destroy(law);
-    sinter_force_model_destroy(drag);
-    sinter_force_model_destroy(gravity);
-    sinter_force_model_destroy(host);
-    sinter_heat_model_destroy(cond);
-    sinter_heat_model_destroy(joule);
-    sinter_electric_model_destroy(em);
-    sinter_walls_destroy(walls);
-    sinter_particles_destroy(ps);
-    sinter_material_destroy(mat);
-    sinter_ctx_destroy(ctx);
+    press_run(js->j, js->out);
     return NULL;
 }
 
@@ -297,14 +80,19 @@ static void run_decomposed(int size, int steps, uint64_t host_id, double nan_aft
     pthread_t threads[LOOPBACK_MAX];
     job_and_state js[LOOPBACK_MAX];
     for (int r = 0; r < n; ++r) {
-        jobs[r] = (job){.rank = r,
+        jobs[r] = (job){.spec = &PRESS,
+                        .rank = r,
                         .size = n,
-                        .lb = lb,
+                        .x0 = X0,
+                        .x1 = X1,
+                        .kind = SINTER_STEPPER_STAGGERED,
                         .steps = steps,
                         .scheme = SCHEME,
                         .host_id = host_id,
-                        .nan_after = nan_after};
-        js[r] = (job_and_state){&jobs[r], out};
+                        .nan_after = nan_after,
+                        .attach = lb != NULL ? attach : NULL,
+                        .user = &js[r]};
+        js[r] = (job_and_state){&jobs[r], out, lb};
         assert_int_equal(pthread_create(&threads[r], NULL, run_press, &js[r]), 0);
     }
     for (int r = 0; r < n; ++r)
@@ -321,17 +109,6 @@ static void run_decomposed(int size, int steps, uint64_t host_id, double nan_aft
     }
 }
 
-/* The largest |a - b| over the largest |ref - base| (base NULL: |ref|), k values. */
-static double rel_diff(const double *a, const double *b, const double *base, size_t k)
-{
-    double diff = 0.0, scale = 0.0;
-    for (size_t i = 0; i < k; ++i) {
-        diff = fmax(diff, fabs(a[i] - b[i]));
-        scale = fmax(scale, fabs(b[i] - (base != NULL ? base[i] : 0.0)));
-    }
-    return scale > 0.0 ? diff / scale : diff;
-}
-
 static job REF_JOB[1], JOBS[LOOPBACK_MAX];
 static state REF, DEC;
 static double X_START[3 * N], T_START[N];
@@ -339,7 +116,7 @@ static double X_START[3 * N], T_START[N];
 static void compare_press(int scheme)
 {
     SCHEME = scheme;
-    make_press();
+    press_make(&PRESS);
     for (int k = 0; k < N; ++k) {
         const size_t i = (size_t)PRESS.id[k] - 1;
         memcpy(X_START + 3 * i, PRESS.x + 3 * k, 24);
@@ -394,11 +171,11 @@ static void compare_press(int scheme)
             assert_memory_equal(JOBS[0].wall, REF_JOB[0].wall, sizeof(REF_JOB[0].wall));
             continue;
         }
-        const double dx = rel_diff(DEC.x, REF.x, X_START, 3 * N);
-        const double dv = rel_diff(DEC.v, REF.v, NULL, 3 * N);
-        const double dt = rel_diff(DEC.temp, REF.temp, T_START, N);
-        const double dc = rel_diff(DEC.current, REF.current, NULL, N);
-        const double dw = rel_diff(JOBS[0].wall, REF_JOB[0].wall, NULL, 3 * NW);
+        const double dx = press_rel_diff(DEC.x, REF.x, X_START, 3 * N);
+        const double dv = press_rel_diff(DEC.v, REF.v, NULL, 3 * N);
+        const double dt = press_rel_diff(DEC.temp, REF.temp, T_START, N);
+        const double dc = press_rel_diff(DEC.current, REF.current, NULL, N);
+        const double dw = press_rel_diff(JOBS[0].wall, REF_JOB[0].wall, NULL, 3 * NW);
         fprintf(stderr,
                 "%d subdomains: displacements %.2g, velocities %.2g, temperature changes %.2g, "
                 "currents %.2g, wall forces %.2g (relative); t %.17g s (single %.17g s)\n",
@@ -436,9 +213,9 @@ static void test_migration_at_accepted_state(void **unused)
 {
     (void)unused;
     SCHEME = 1;
-    make_press();
-    X0 = R - 2.0 * A;
-    X1 = R + 10.0 * A;
+    press_make(&PRESS);
+    X0 = PRESS_X0_ON;
+    X1 = PRESS_X1_ON;
     run_decomposed(0, STEPS, 0, INFINITY, REF_JOB, &REF);
     for (int size = 2; size <= LOOPBACK_MAX; ++size) {
         run_decomposed(size, STEPS, 0, INFINITY, JOBS, &DEC);
@@ -455,9 +232,9 @@ static void test_migration_at_accepted_state(void **unused)
         assert_int_equal(owned, N);
         for (int i = 0; i < N; ++i)
             assert_int_equal(DEC.seen[i], 1);
-        const double dx = rel_diff(DEC.x, REF.x, X_START, 3 * N);
-        const double dv = rel_diff(DEC.v, REF.v, NULL, 3 * N);
-        const double dt = rel_diff(DEC.temp, REF.temp, T_START, N);
+        const double dx = press_rel_diff(DEC.x, REF.x, X_START, 3 * N);
+        const double dv = press_rel_diff(DEC.v, REF.v, NULL, 3 * N);
+        const double dt = press_rel_diff(DEC.temp, REF.temp, T_START, N);
         fprintf(stderr,
                 "%d slabs with borders on columns: %llu migrations; displacements %.2g, "
                 "velocities %.2g, temperature changes %.2g (relative)\n",
@@ -467,8 +244,8 @@ static void test_migration_at_accepted_state(void **unused)
         assert_true(dv <= 1e-10);
         assert_true(dt <= 1e-10);
     }
-    X0 = R - 2.5 * A;
-    X1 = R + 9.5 * A;
+    X0 = PRESS_X0_BETWEEN;
+    X1 = PRESS_X1_BETWEEN;
 }
 
 /* A NaN force on one subdomain's particle stops every subdomain at the same step. */
@@ -476,9 +253,9 @@ static void test_nan_stops_all(void **unused)
 {
     (void)unused;
     SCHEME = 1;
-    make_press();
+    press_make(&PRESS);
     const int k = 2 * NX * NY + 3 * NX + 6; /* in the third slab of 4 */
-    assert_int_equal(slab_of(PRESS.x[3 * k], 4), 2);
+    assert_int_equal(press_slab_of(PRESS.x[3 * k], X0, X1, 4), 2);
     const double after = 0.012; /* in the third step */
     run_decomposed(4, STEPS, PRESS.id[k], after, JOBS, &DEC);
     char id[32];
