@@ -24,26 +24,15 @@
 #include <sinter_mpi.h>
 #include <sinter_submodel.h>
 
+#include "../unit/domain_copper.h"
 #include "mpi_check.h"
 
-enum { LOOPBACK_MAX = 4 };
-
-enum { NX = 8, NY = 3, NZ = 3, N = NX * NY * NZ, MAX_LINKS = 4 * N };
-static const double R = 25e-6;
+enum { NX = COPPER_NX, NY = COPPER_NY, NZ = COPPER_NZ, N = COPPER_N, MAX_LINKS = COPPER_MAX_LINKS };
+static const double R = COPPER_R;
 enum { STEPS = 40 }; /* global steps of a run (the first, then the others in one or two calls) */
 static double SOLVE_RTOL = 1e-12;
-static const int FLOAT = 0; /* the top layer lifted off and moved away from the planes (below) */
 
-typedef struct outcome {
-    double x[3 * N], rot[3 * N]; /* by id - 1 */
-    int seen[N];
-    size_t links;
-    uint64_t link_a[MAX_LINKS], link_b[MAX_LINKS];
-    double neck[MAX_LINKS], approach[MAX_LINKS];
-    double stats[11];
-    uint64_t steps;
-    size_t owned, ghosts; /* this rank's */
-} outcome;
+typedef copper_outcome outcome;
 
 typedef struct job {
     int rank, size;
@@ -57,30 +46,7 @@ typedef struct job {
     char message[512];
 } job;
 
-static void place(size_t p, double x[3], double *r)
-{
-    const size_t i = p / (NY * NZ), j = (p / NZ) % NY, k = p % NZ;
-    x[0] = (1 + 2 * (double)i) * R;
-    x[1] = (1 + 2 * (double)j) * R;
-    x[2] = (1 + 2 * (double)k) * R;
-    if (FLOAT && k == NZ - 1) /* 0.5 R from the layer below and from the x and y planes */
-        for (size_t d = 0; d < 3; ++d)
-            x[d] += 0.5 * R;
-    *r = R * (1.0 + 2e-3 * (double)((p * 7919u) % 97u) / 96.0);
-}
-
-static uint64_t id_of(size_t p)
-{
-    return 1 + (uint64_t)((p * 37u) % N); /* 37 is prime to 72 */
-}
-
-static const double X0 = 0.0, X1 = 2.0 * NX * 25e-6;
-
-static int slab_of(double x, int size)
-{
-    int r = (int)floor((x - X0) / ((X1 - X0) / size));
-    return r < 0 ? 0 : r >= size ? size - 1 : r;
-}
+static const double X0 = COPPER_X0, X1 = COPPER_X1;
 
 #define TRY(call)                                                                                  \
     do {                                                                                           \
@@ -92,73 +58,13 @@ static int slab_of(double x, int size)
 
 static void collect(job *j, sinter_particles *ps, sinter_stepper *st)
 {
-    size_t owned = 0;
-    const uint64_t *id = NULL;
-    const double *x = NULL, *rot = NULL;
-    sinter_snapshot *snap = NULL;
     sinter_sintering_stats ss;
-    memset(&ss, 0, sizeof(ss));
-    ss.struct_size = sizeof(ss);
     /* collective: every rank calls it */
-    if (sinter_stepper_sintering_stats(st, &ss) != SINTER_OK)
+    if (copper_sintering_stats(st, &ss) != SINTER_OK)
         j->setup_failed = __LINE__;
-    sinter_stepper_stats stats;
-    stats.struct_size = sizeof(stats);
-    if (sinter_stepper_get_stats(st, &stats) != SINTER_OK ||
-        sinter_particles_owned_count(ps, &owned) != SINTER_OK ||
-        sinter_snapshot_create(&snap, st) != SINTER_OK) {
-        j->setup_failed = __LINE__;
-        return;
-    }
-    outcome *o = j->out;
-    o->owned = owned;
-    {
-        size_t n = 0;
-        sinter_particles_count(ps, &n);
-        o->ghosts = n - owned;
-    }
-    if (sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&id, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_ROTATION, (const void **)&rot, NULL, NULL))
-        j->setup_failed = __LINE__;
-    for (size_t i = 0; i < owned && id != NULL && x != NULL && rot != NULL; ++i) {
-        const size_t k = (size_t)id[i] - 1;
-        memcpy(o->x + 3 * k, x + 3 * i, 24);
-        memcpy(o->rot + 3 * k, rot + 3 * i, 24);
-        o->seen[k]++;
-    }
-    sinter_particles_release(ps, SINTER_FIELD_ID);
-    sinter_particles_release(ps, SINTER_FIELD_POSITION);
-    sinter_particles_release(ps, SINTER_FIELD_ROTATION);
-    size_t m = 0;
-    const void *a = NULL, *b = NULL, *neck = NULL, *appr = NULL;
-    if (sinter_snapshot_counts(snap, NULL, NULL, &m, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_A, &a, NULL, NULL, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_B, &b, NULL, NULL, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_NECK_RADIUS, &neck, NULL, NULL, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_APPROACH, &appr, NULL, NULL, NULL) ||
-        o->links + m > MAX_LINKS)
-        j->setup_failed = __LINE__;
-    for (size_t k = 0; k < m && !j->setup_failed; ++k, ++o->links) {
-        o->link_a[o->links] = ((const uint64_t *)a)[k];
-        o->link_b[o->links] = ((const uint64_t *)b)[k];
-        o->neck[o->links] = ((const double *)neck)[k];
-        o->approach[o->links] = ((const double *)appr)[k];
-    }
-    sinter_snapshot_destroy(snap);
-    const double v[11] = {ss.neck_mean,
-                          ss.neck_min,
-                          ss.neck_max,
-                          ss.neck_ratio_mean,
-                          ss.shrinkage[0],
-                          ss.shrinkage[1],
-                          ss.shrinkage[2],
-                          ss.relative_density,
-                          ss.coordination,
-                          (double)ss.links,
-                          (double)ss.pcg_iterations};
-    memcpy(o->stats, v, sizeof(v)); /* the same on every rank */
-    o->steps = stats.steps;
+    const int failed = copper_collect(j->out, 0, ps, st, &ss); /* (this rank's counts: slot 0) */
+    if (failed)
+        j->setup_failed = failed;
 }
 
 static void run(job *j)
@@ -169,26 +75,9 @@ static void run(job *j)
     sinter_stepper *st = NULL;
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
-    TRY(sinter_material_create(&mat, ctx, "copper")); /* neck data: the defaults (copper) */
-    TRY(sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 72e9));
-    TRY(sinter_material_set(mat, SINTER_MAT_POISSON_RATIO, 0.3));
-    TRY(sinter_material_set(mat, SINTER_MAT_DENSITY, 8960));
-    TRY(sinter_particles_create(&ps, ctx));
-    TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
-    TRY(sinter_stepper_set_option(st, "qs_strategy", 2));
-    TRY(sinter_stepper_set_option(st, "qs_solve_rtol", SOLVE_RTOL));
-    TRY(sinter_stepper_set_skin(st, 0.5 * R));
-    TRY(sinter_stepper_set_dt(st, 1e-3)); /* the first global step [s] */
+    TRY(copper_setup(ctx, 2, SOLVE_RTOL, &mat, &ps, &st));
     const double shift = j->misplaced ? 2.0 * R : 0.0;
-    for (size_t p = 0; p < N; ++p) {
-        double x[3], r;
-        place(p, x, &r);
-        if (j->d != NULL && slab_of(x[0] - shift, j->size) != j->rank)
-            continue;
-        const uint64_t id = id_of(p);
-        TRY(sinter_particles_add_with_ids(ps, 1, &id, x, &r, 0, 1293.0, NULL));
-    }
+    TRY(copper_add(ps, j->rank, j->d != NULL ? j->size : 0, shift, 0));
     if (j->d != NULL)
         j->status = sinter_mpi_attach(j->d, st, ps, 0);
     if (j->status == SINTER_OK)
@@ -214,16 +103,6 @@ done:
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);
     sinter_ctx_destroy(ctx);
-}
-
-static double rel_diff(const double *a, const double *b, size_t n)
-{
-    double worst = 0.0, scale = 0.0;
-    for (size_t i = 0; i < n; ++i)
-        scale = fmax(scale, fabs(a[i]));
-    for (size_t i = 0; i < n; ++i)
-        worst = fmax(worst, fabs(a[i] - b[i]));
-    return scale > 0.0 ? worst / scale : worst;
 }
 
 static outcome REF, MINE;
@@ -315,12 +194,12 @@ static void test_lattice(int rank, int size, int misplaced)
         CHECK(memcmp(MINE.stats, REF.stats, sizeof REF.stats) == 0);
         return;
     }
-    CHECK(MINE.owned >= NY * NZ && MINE.ghosts >= NY * NZ);
+    CHECK(MINE.owned[0] >= NY * NZ && MINE.ghosts[0] >= NY * NZ);
     double ua[3 * N], ub[3 * N], umax = 0.0, rot = 0.0;
     for (size_t k = 0; k < N; ++k) { /* the displacements, by id */
         double x[3], r;
-        place(k, x, &r);
-        const size_t i = (size_t)id_of(k) - 1;
+        copper_place(k, 0, x, &r);
+        const size_t i = (size_t)copper_id_of(k) - 1;
         for (size_t c = 0; c < 3; ++c) {
             ua[3 * i + c] = REF.x[3 * i + c] - x[c];
             ub[3 * i + c] = X_ALL[3 * i + c] - x[c];
@@ -330,12 +209,12 @@ static void test_lattice(int rank, int size, int misplaced)
         umax = fmax(umax, fabs(ua[i]));
         rot = fmax(rot, R * fabs(REF.rot[i] - ROT_ALL[i]));
     }
-    const double e[6] = {rel_diff(REF.x, X_ALL, 3 * N),
-                         rel_diff(ua, ub, 3 * N),
+    const double e[6] = {copper_rel_diff(REF.x, X_ALL, 3 * N),
+                         copper_rel_diff(ua, ub, 3 * N),
                          rot / umax,
-                         rel_diff(REF.neck, NECK, REF.links),
-                         rel_diff(REF.approach, APPROACH, REF.links),
-                         rel_diff(REF.stats, MINE.stats, 9)};
+                         copper_rel_diff(REF.neck, NECK, REF.links),
+                         copper_rel_diff(REF.approach, APPROACH, REF.links),
+                         copper_rel_diff(REF.stats, MINE.stats, 9)};
     if (rank == 0)
         fprintf(stderr,
                 "%s, %d ranks: %llu migrations; relative differences x %.2e, u %.2e, rot %.2e, "

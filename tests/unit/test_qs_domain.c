@@ -46,28 +46,20 @@
 #include <sinter_domain.h>
 #include <sinter_submodel.h>
 
+#include "domain_copper.h"
 #include "domain_loopback.h"
 #include "test_support.h"
 
 #define OK(call) assert_int_equal((call), SINTER_OK)
 
-enum { NX = 8, NY = 3, NZ = 3, N = NX * NY * NZ, MAX_LINKS = 4 * N };
-static const double R = 25e-6;
+enum { NX = COPPER_NX, NY = COPPER_NY, NZ = COPPER_NZ, N = COPPER_N, MAX_LINKS = COPPER_MAX_LINKS };
+static const double R = COPPER_R;
 enum { STEPS = 40 }; /* global steps of a run (the first, then the others in one or two calls) */
 static double SOLVE_RTOL = 1e-12;
 static int SHIFT = 0; /* the runs stop after STEPS / 2 steps; the slabs move then */
 static int FLOAT = 0; /* the top layer lifted off and moved away from the planes (below) */
 
-typedef struct outcome {
-    double x[3 * N], rot[3 * N]; /* by id - 1 */
-    int seen[N];
-    size_t links;
-    uint64_t link_a[MAX_LINKS], link_b[MAX_LINKS];
-    double neck[MAX_LINKS], approach[MAX_LINKS];
-    double stats[11];
-    uint64_t steps;
-    size_t owned[LOOPBACK_MAX], ghosts[LOOPBACK_MAX];
-} outcome;
+typedef copper_outcome outcome;
 
 typedef struct job {
     int rank, size;
@@ -112,28 +104,10 @@ static int failing_advance(sinter_neck_law_batch *b, void *user)
 
 static void place(size_t p, double x[3], double *r)
 {
-    const size_t i = p / (NY * NZ), j = (p / NZ) % NY, k = p % NZ;
-    x[0] = (1 + 2 * (double)i) * R;
-    x[1] = (1 + 2 * (double)j) * R;
-    x[2] = (1 + 2 * (double)k) * R;
-    if (FLOAT && k == NZ - 1) /* 0.5 R from the layer below and from the x and y planes */
-        for (size_t d = 0; d < 3; ++d)
-            x[d] += 0.5 * R;
-    *r = R * (1.0 + 2e-3 * (double)((p * 7919u) % 97u) / 96.0);
+    copper_place(p, FLOAT, x, r);
 }
 
-static uint64_t id_of(size_t p)
-{
-    return 1 + (uint64_t)((p * 37u) % N); /* 37 is prime to 72 */
-}
-
-static const double X0 = 0.0, X1 = 2.0 * NX * 25e-6;
-
-static int slab_of(double x, int size)
-{
-    int r = (int)floor((x - X0) / ((X1 - X0) / size));
-    return r < 0 ? 0 : r >= size ? size - 1 : r;
-}
+static const double X0 = COPPER_X0, X1 = COPPER_X1;
 
 #define TRY(call)                                                                                  \
     do {                                                                                           \
@@ -145,75 +119,15 @@ static int slab_of(double x, int size)
 
 static void collect(job *j, sinter_particles *ps, sinter_stepper *st)
 {
-    size_t owned = 0;
-    const uint64_t *id = NULL;
-    const double *x = NULL, *rot = NULL;
-    sinter_snapshot *snap = NULL;
     sinter_sintering_stats ss;
-    memset(&ss, 0, sizeof(ss));
-    ss.struct_size = sizeof(ss);
     /* collective: every subdomain calls it */
-    if (sinter_stepper_sintering_stats(st, &ss) != SINTER_OK)
+    if (copper_sintering_stats(st, &ss) != SINTER_OK)
         j->setup_failed = __LINE__;
-    sinter_stepper_stats stats;
-    stats.struct_size = sizeof(stats);
-    if (sinter_stepper_get_stats(st, &stats) != SINTER_OK ||
-        sinter_particles_owned_count(ps, &owned) != SINTER_OK ||
-        sinter_snapshot_create(&snap, st) != SINTER_OK) {
-        j->setup_failed = __LINE__;
-        return;
-    }
     pthread_mutex_lock(j->lock);
-    outcome *o = j->out;
-    o->owned[j->rank] = owned;
-    {
-        size_t n = 0;
-        sinter_particles_count(ps, &n);
-        o->ghosts[j->rank] = n - owned;
-    }
-    if (sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&id, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL) ||
-        sinter_particles_view_read(ps, SINTER_FIELD_ROTATION, (const void **)&rot, NULL, NULL))
-        j->setup_failed = __LINE__;
-    for (size_t i = 0; i < owned && id != NULL && x != NULL && rot != NULL; ++i) {
-        const size_t k = (size_t)id[i] - 1;
-        memcpy(o->x + 3 * k, x + 3 * i, 24);
-        memcpy(o->rot + 3 * k, rot + 3 * i, 24);
-        o->seen[k]++;
-    }
-    sinter_particles_release(ps, SINTER_FIELD_ID);
-    sinter_particles_release(ps, SINTER_FIELD_POSITION);
-    sinter_particles_release(ps, SINTER_FIELD_ROTATION);
-    size_t m = 0;
-    const void *a = NULL, *b = NULL, *neck = NULL, *appr = NULL;
-    if (sinter_snapshot_counts(snap, NULL, NULL, &m, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_A, &a, NULL, NULL, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_ID_B, &b, NULL, NULL, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_NECK_RADIUS, &neck, NULL, NULL, NULL) ||
-        sinter_snapshot_links(snap, SINTER_LINK_DATA_APPROACH, &appr, NULL, NULL, NULL) ||
-        o->links + m > MAX_LINKS)
-        j->setup_failed = __LINE__;
-    for (size_t k = 0; k < m && !j->setup_failed; ++k, ++o->links) {
-        o->link_a[o->links] = ((const uint64_t *)a)[k];
-        o->link_b[o->links] = ((const uint64_t *)b)[k];
-        o->neck[o->links] = ((const double *)neck)[k];
-        o->approach[o->links] = ((const double *)appr)[k];
-    }
-    sinter_snapshot_destroy(snap);
-    const double v[11] = {ss.neck_mean,
-                          ss.neck_min,
-                          ss.neck_max,
-                          ss.neck_ratio_mean,
-                          ss.shrinkage[0],
-                          ss.shrinkage[1],
-                          ss.shrinkage[2],
-                          ss.relative_density,
-                          ss.coordination,
-                          (double)ss.links,
-                          (double)ss.pcg_iterations};
-    memcpy(o->stats, v, sizeof(v)); /* the same on every subdomain */
-    o->steps = stats.steps;
+    const int failed = copper_collect(j->out, (size_t)j->rank, ps, st, &ss);
     pthread_mutex_unlock(j->lock);
+    if (failed)
+        j->setup_failed = failed;
 }
 
 static void *run(void *arg)
@@ -226,17 +140,7 @@ static void *run(void *arg)
     failing_law law = {j->rank, j->size - 1, j->fail_call, 0};
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, 1));
-    TRY(sinter_material_create(&mat, ctx, "copper")); /* neck data: the defaults (copper) */
-    TRY(sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 72e9));
-    TRY(sinter_material_set(mat, SINTER_MAT_POISSON_RATIO, 0.3));
-    TRY(sinter_material_set(mat, SINTER_MAT_DENSITY, 8960));
-    TRY(sinter_particles_create(&ps, ctx));
-    TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_QUASISTATIC, ps, NULL));
-    TRY(sinter_stepper_set_option(st, "qs_strategy", j->strategy));
-    TRY(sinter_stepper_set_option(st, "qs_solve_rtol", SOLVE_RTOL));
-    TRY(sinter_stepper_set_skin(st, 0.5 * R));
-    TRY(sinter_stepper_set_dt(st, 1e-3)); /* the first global step [s] */
+    TRY(copper_setup(ctx, j->strategy, SOLVE_RTOL, &mat, &ps, &st));
     if (j->fail_call > 0) {
         const sinter_neck_law_callbacks cb = {sizeof(cb), failing_advance, NULL};
         TRY(sinter_stepper_set_neck_law(st, &cb, &law));
@@ -246,14 +150,7 @@ static void *run(void *arg)
         TRY(sinter_stepper_set_neck_law(st, &cb, &law));
         TRY(sinter_stepper_set_option(st, "qs_validity", 2.0));
     }
-    for (size_t p = 0; p < N; ++p) {
-        double x[3], r;
-        place(p, x, &r);
-        if (j->lb != NULL && slab_of(x[0], j->size) != j->rank)
-            continue;
-        const uint64_t id = id_of(p);
-        TRY(sinter_particles_add_with_ids(ps, 1, &id, x, &r, 0, 1293.0, NULL));
-    }
+    TRY(copper_add(ps, j->rank, j->lb != NULL ? j->size : 0, 0.0, FLOAT));
     if (j->lb != NULL)
         j->status = loopback_attach(j->lb, j->rank, st, ps);
     if (j->status == SINTER_OK)
@@ -325,16 +222,6 @@ static void run_on_failing(int size, int strategy, int fail_call, outcome *out,
     pthread_mutex_destroy(&lock);
 }
 
-static double rel_diff(const double *a, const double *b, size_t n)
-{
-    double worst = 0.0, scale = 0.0;
-    for (size_t i = 0; i < n; ++i)
-        scale = fmax(scale, fabs(a[i]));
-    for (size_t i = 0; i < n; ++i)
-        worst = fmax(worst, fabs(a[i] - b[i]));
-    return scale > 0.0 ? worst / scale : worst;
-}
-
 /* The links of `o` in the order of the reference's (by their ids). */
 static void links_like(const outcome *ref, const outcome *o, double *neck, double *approach)
 {
@@ -375,7 +262,7 @@ static void differences(const outcome *a, const outcome *b, double e[6])
     for (size_t k = 0; k < N; ++k) { /* the displacements, by id */
         double x[3], r;
         place(k, x, &r);
-        const size_t i = (size_t)id_of(k) - 1;
+        const size_t i = (size_t)copper_id_of(k) - 1;
         for (size_t d = 0; d < 3; ++d) {
             ua[3 * i + d] = a->x[3 * i + d] - x[d];
             ub[3 * i + d] = b->x[3 * i + d] - x[d];
@@ -390,12 +277,12 @@ static void differences(const outcome *a, const outcome *b, double e[6])
     }
     (void)ra;
     (void)rb;
-    e[0] = rel_diff(a->x, b->x, 3 * N);
-    e[1] = rel_diff(ua, ub, 3 * N);
+    e[0] = copper_rel_diff(a->x, b->x, 3 * N);
+    e[1] = copper_rel_diff(ua, ub, 3 * N);
     e[2] = rot / umax;
-    e[3] = rel_diff(a->neck, neck, a->links);
-    e[4] = rel_diff(a->approach, approach, a->links);
-    e[5] = rel_diff(a->stats, b->stats, 9);
+    e[3] = copper_rel_diff(a->neck, neck, a->links);
+    e[4] = copper_rel_diff(a->approach, approach, a->links);
+    e[5] = copper_rel_diff(a->stats, b->stats, 9);
 }
 
 static void compare_runs(int strategy)
