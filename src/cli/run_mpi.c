@@ -777,8 +777,9 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         st = remove_all(r);
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, "removing the copies of rank 0's particles", st);
-    /* the staggered and quasi-static steppers, periodic axes, electric models, implicit
-     * conduction and sort_interval are refused here, with the library's reason */
+    /* what the library does not run across subdomains (periodic axes, continuous insertion,
+     * an electric model with host callbacks, sort_interval, qs_strategy 1) is refused here,
+     * with the library's reason */
     st = sinter_mpi_attach(r->domain, r->st, r->ps, 0);
     if (st != SINTER_OK)
         return say(r, "not supported over MPI yet", st);
