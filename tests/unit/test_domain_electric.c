@@ -4,7 +4,7 @@
  * threads of one process, on the press of domain_press.h (240 spheres, the seed 000 power
  * law, drag, gravity, conduction and Joule heating, the top wall moving down).
  *
- *  - The "network" model inside the staggered stepper's fixed point (scheme 1, 12 adaptive
+ *  - The "network" model inside the staggered stepper's fixed point (scheme 1, 20 adaptive
  *    steps): every evaluation of every iterate solves the network over all subdomains at
  *    once (domain/solve.h: the ghosts' potentials haloed before each operator product, the
  *    dot products reduced, the floor a current electrode whose potential every subdomain
@@ -18,11 +18,10 @@
  *    changes, currents and wall forces within 1e-10 relative of the single domain, or ten
  *    times the spread of the serial run itself, whichever is larger. The spread: the serial
  *    run with its particles added last first, which sums every term in another order, as a
- *    decomposition does. Why it can exceed 1e-10: the network's PCG stops at a relative
- *    residual of 1e-13, and with the supply at its compliance limit the conductances of
- *    touching and barely touching contacts differ by orders of magnitude, so round-off in
- *    the sums moves the currents by about 2e-10 relative in the serial run alone (measured;
- *    every other quantity stays below 5e-12); the seed's Coulomb friction (eq. 5-6, a jump of
+ *    decomposition does. Why it can exceed 1e-10: the network's PCG stops at a residual of
+ *    1e-13 relative to the whole right-hand side, so round-off in its sums moves the currents
+ *    by 1.7e-10 relative in the serial run alone (measured; every other quantity stays below
+ *    3e-12); the seed's Coulomb friction (eq. 5-6, a jump of
  *    mu F_n when a sliding velocity changes sign) turns round-off into differences of 4e-4
  *    in the displacements and 1e-2 in the wall forces over the explicit run's 200 steps, in
  *    the serial run as in the decomposed ones. So the explicit run is compared twice:
