@@ -1111,6 +1111,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         st->electric->domain =
             st->domain.on && st->electric->kind == SINTER_ELECTRIC_NETWORK ? &st->domain : NULL;
         st->electric->averaged_domain = st->domain.on ? &st->domain : NULL;
+        st->electric->reproducible = st->reproducible;
         s = sinter_electric_solve_images(
             st->electric, ps, st->walls, &st->pp, &st->pw,
             ps->ghost_count > 0 && !st->domain.on ? st->ghosts.owner : NULL, &electric_iterations);

@@ -57,6 +57,9 @@ typedef struct sinter_staggered {
      * check (3 per row; staggered.c) */
     double *x_rows;
     size_t x_rows_capacity;
+    /* the reproducible mode: the terms of the exact sums (staggered_exact.h) */
+    double *terms;
+    size_t terms_capacity;
 } sinter_staggered;
 
 /*
