@@ -1212,7 +1212,8 @@ static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
 {
     sinter_staggered *sg = &st->staggered;
     sinter_status s = SINTER_OK;
-    if (st->domain.on) /* (settings not yet supported across subdomains) */
+    sinter_stepper_adopt_history(st); /* (a portable restart's predictor history, by id) */
+    if (st->domain.on)                /* (settings not yet supported across subdomains) */
         s = sinter_domain_agree(st->ctx, &st->domain, sinter_domain_check(st));
     if (s == SINTER_OK && st->domain.on) /* a migration refused during the last step, now */
         s = sinter_stepper_domain_accepted_stage(st);

@@ -823,6 +823,17 @@ static int follow_history(sinter_stepper *st, const uint64_t *kept_id, const dou
     return count == n;
 }
 
+void sinter_stepper_adopt_history(sinter_stepper *st)
+{
+    sinter_domain *d = &st->domain;
+    if (d->arrived_count == 0 || d->redistributing)
+        return;
+    /* (no stayers: a set with one particle that brought none keeps the predictor restarted) */
+    if (!st->staggered.history_valid && follow_history(st, NULL, NULL, 0))
+        st->staggered.history_valid = 1;
+    d->arrived_count = 0;
+}
+
 /*
  * The staggered stepper's redistribution at an accepted state (stepper.h): the host's
  * migrations are refused during its fixed-point attempts (the state at t, the predictor's and

@@ -251,6 +251,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist);
  * made now, and the predictor's history restarts on every subdomain if on any. */
 sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st);
 
+/* The staggered stepper's predictor history brought by records imported between two steps
+ * (a portable restart: record bit 2, migrate.c), taken by id at the start of the next step
+ * when every owned particle brought its own (local; stepper.c). */
+void sinter_stepper_adopt_history(sinter_stepper *st);
+
 /* Accept the last evaluation: commit history and wall reactions (with domain operations the
  * status and the reactions agreed in one reduction). */
 sinter_status sinter_stepper_commit(sinter_stepper *st);
