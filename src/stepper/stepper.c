@@ -877,6 +877,7 @@ sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st)
             lost = !keep || !follow_history(st, kept_id, kept, n);
         sinter_free(st->ctx, kept_id);
         sinter_free(st->ctx, kept);
+        d->arrived_count = 0; /* (taken: not for sinter_stepper_adopt_history) */
         if ((s = sinter_domain_agree(st->ctx, d, s)) != SINTER_OK)
             return s;
         if (v[1] == 0 && (s = sinter_domain_reduce(st->ctx, d, &lost, 1, SINTER_REDUCE_I64,
