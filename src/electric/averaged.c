@@ -42,9 +42,10 @@
  * sweep's result does not depend on which particles a subdomain holds or in which order; a
  * particle's neighbours come in the order of its contacts, which the mode sorts by ids, and
  * the change and the norm of the stopping test are exact sums (domain/exact_reduce.h). The same
- * bits for any decomposition and memory order; Jacobi needs about twice Gauss-Seidel's sweeps
- * (its contraction is rho where Gauss-Seidel's is rho^2 for this averaging;
- * tests/bench/RESULTS.md).
+ * bits for any decomposition and memory order. Jacobi's contraction for this averaging is rho
+ * where Gauss-Seidel's is about rho^2: from a cold start it takes about 1.7 times the sweeps
+ * (253 against 146 in a press's first step, tests/bench/RESULTS.md), about as many once the
+ * currents are warm.
  */
 #include <math.h>
 #include <string.h>
