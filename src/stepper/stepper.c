@@ -828,7 +828,7 @@ void sinter_stepper_adopt_history(sinter_stepper *st)
     sinter_domain *d = &st->domain;
     if (d->arrived_count == 0 || d->redistributing)
         return;
-    /* (no stayers: a set with one particle that brought none keeps the predictor restarted) */
+    /* (valid only when every owned particle brought its own; else the predictor restarts) */
     if (!st->staggered.history_valid && follow_history(st, NULL, NULL, 0))
         st->staggered.history_valid = 1;
     d->arrived_count = 0;
