@@ -15,7 +15,8 @@
  *   i32 material; u32 flags; u64 record bits (bit 0: the electric warm start below is valid;
  *   bit 1: the particle left in the middle of an explicit step, after its drift, and the rows
  *   at the start of the step are its state at t, for a rollback on the side it enters; bit 2:
- *   it left at a staggered stepper's accepted state, and those rows hold instead the
+ *   it left a staggered stepper at an accepted state or between two steps (a portable
+ *   checkpoint: the importer takes it at its next step, stepper.c), and those rows hold the
  *   predictor's history, its force [3] and moment [3] of the step before, zeros [6] and its
  *   heat power of the step before; without bits 1 and 2 they repeat x, v, w, rot,
  *   temperature); f64 warm-start potential [V];
