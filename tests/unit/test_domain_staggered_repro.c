@@ -8,8 +8,9 @@
  * reproducible mode, at the averaged model's tolerance of the scene (1e-4):
  *  - without domain operations and on 1, 2, 3 and 4 slabs, on one and on two threads, both
  *    schemes: every particle's export record (every field, the contact histories keyed by
- *    ids, the predictor's history) is the same bytes after the run, and so are the counts of
- *    steps, rejections and fixed-point iterations and the electric model's sweeps. In the
+ *    ids, the predictor's history) is the same bytes after the run, and so are the global part
+ *    of a portable checkpoint (time, counters, the step controller, the walls' reactions), the
+ *    counts of steps, rejections and fixed-point iterations and the electric model's sweeps. In the
  *    default mode on 3 slabs the records differ (the averaged model's Gauss-Seidel sweeps and
  *    the sums follow the decomposition), so the comparison can fail.
  *  - A portable checkpoint (the global part and every particle's record) written on 4 slabs
@@ -361,6 +362,9 @@ static void compare_decompositions(int scheme)
             assert_int_equal(RUN.stats.rejected, ref->rejected);
             assert_int_equal(RUN.stats.iterations, ref->iterations);
             assert_int_equal(RUN.sweeps, REF.sweeps);
+            /* the global part: time, step, counters, the step controller, the walls' reactions */
+            assert_int_equal(RUN.global_len, REF.global_len);
+            assert_memory_equal(RUN.global, REF.global, REF.global_len);
             records_free(&RUN);
         }
     records_free(&REF);
