@@ -20,6 +20,8 @@
 
 #include <sinter.h>
 
+#include "../unit/domain_press.h"
+
 static double lcg(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -62,56 +64,16 @@ int main(int argc, char **argv)
         return 1;
     CHECK(sinter_ctx_set_threads(ctx, 1));
     sinter_material *mat = NULL;
-    CHECK(sinter_material_create(&mat, ctx, "powder"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_DENSITY, 2000},
-                 {SINTER_MAT_CONTACT_STIFFNESS, 1e7},
-                 {SINTER_MAT_FRICTION_DYNAMIC, 0.1},
-                 {SINTER_MAT_DRAG_COEFFICIENT, 0.1414},
-                 {SINTER_MAT_THERMAL_CONDUCTIVITY, 100},
-                 {SINTER_MAT_HEAT_CAPACITY, 100},
-                 {SINTER_MAT_ELECTRIC_CONDUCTIVITY, 0.1},
-                 {SINTER_MAT_SOFTENING_LAW, 1},
-                 {SINTER_MAT_SOFTENING_TEMPERATURE, 320},
-                 {SINTER_MAT_SOFTENING_FLOOR, 0.1}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        CHECK(sinter_material_set(mat, props[k].p, props[k].v));
+    CHECK(domain_press_material(ctx, &mat));
     sinter_particles *ps = NULL;
     CHECK(sinter_particles_create(&ps, ctx));
     CHECK(sinter_particles_set_material(ps, 0, mat));
     sinter_walls *walls = NULL;
-    CHECK(sinter_walls_create(&walls, ctx));
-    const double wp[6][3] = {{0, 0, 0}, {0, 0, TOP}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LX, 0}};
-    const double wn[6][3] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < 6; ++k) {
-        CHECK(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
-        CHECK(sinter_walls_set_temperature(walls, (size_t)k, 400.0));
-    }
-    CHECK(sinter_walls_set_electric(walls, 0, SINTER_WALL_CURRENT, 1000.0));
-    CHECK(sinter_walls_set_electric(walls, 1, SINTER_WALL_CURRENT, 1000.0));
-    const double down[3] = {0, 0, -0.05};
-    CHECK(sinter_walls_set_velocity(walls, 1, down));
+    CHECK(domain_press_walls(ctx, mat, LX, LX, TOP, &walls));
     sinter_stepper *st = NULL;
     CHECK(sinter_stepper_create(&st, ctx, SINTER_STEPPER_STAGGERED, ps, walls));
-    const char *laws[3] = {"power_law", "drag", "gravity"};
-    sinter_force_model *law[3] = {NULL, NULL, NULL};
-    for (int k = 0; k < 3; ++k) {
-        CHECK(sinter_force_model_create(&law[k], ctx, laws[k]));
-        CHECK(sinter_stepper_add_force(st, law[k]));
-    }
-    const char *heats[2] = {"conduction", "joule"};
-    sinter_heat_model *heat[2] = {NULL, NULL};
-    for (int k = 0; k < 2; ++k) {
-        CHECK(sinter_heat_model_create(&heat[k], ctx, heats[k]));
-        CHECK(sinter_stepper_add_heat(st, heat[k]));
-    }
-    sinter_electric_model *em = NULL;
-    CHECK(sinter_electric_model_create(&em, ctx, "averaged"));
-    CHECK(sinter_electric_model_set(em, "tolerance", 1e-4)); /* the scene's */
-    CHECK(sinter_electric_model_set(em, "max_iterations", 1e5));
-    CHECK(sinter_stepper_set_electric(st, em));
+    domain_press_models models = {NULL, NULL, NULL, NULL, NULL, NULL};
+    CHECK(domain_press_add_models(ctx, st, 1e-4, &models)); /* the scene's electric tolerance */
     CHECK(sinter_stepper_set_option(st, "reproducible", reproducible));
     CHECK(sinter_stepper_set_option(st, "scheme", scheme));
     CHECK(sinter_stepper_set_dt(st, 0.005));
@@ -153,11 +115,7 @@ int main(int argc, char **argv)
            (unsigned long long)stats.evaluations, (unsigned long long)stats.neighbor_builds,
            (unsigned long long)sweeps, t);
     sinter_stepper_destroy(st);
-    for (int k = 0; k < 3; ++k)
-        sinter_force_model_destroy(law[k]);
-    for (int k = 0; k < 2; ++k)
-        sinter_heat_model_destroy(heat[k]);
-    sinter_electric_model_destroy(em);
+    domain_press_models_destroy(&models);
     sinter_walls_destroy(walls);
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);

@@ -28,9 +28,10 @@
 #include <sinter_domain.h>
 
 #include "domain_loopback.h"
+#include "domain_press.h"
 #include "test_support.h"
 
-enum { NX = 8, NY = 6, NZ = 5, N = NX * NY * NZ, NW = 6, STEPS = 12, SPLIT = 5 };
+enum { NX = 8, NY = 6, NZ = 5, N = NX * NY * NZ, STEPS = 12, SPLIT = 5 };
 static const double R = 0.05, A = 0.099; /* radius and lattice spacing [m]: 1 % overlap */
 static const double LX = R + A * (NX - 1) + R, LY = R + A * (NY - 1) + R;
 static const double TOP = R + A * (NZ - 1) + 0.99 * R; /* the top wall at t = 0 [m] */
@@ -173,55 +174,15 @@ static void *run(void *arg)
     sinter_particles *ps = NULL;
     sinter_walls *walls = NULL;
     sinter_stepper *st = NULL;
-    sinter_force_model *law = NULL, *drag = NULL, *gravity = NULL;
-    sinter_heat_model *cond = NULL, *joule = NULL;
-    sinter_electric_model *em = NULL;
+    domain_press_models models = {NULL, NULL, NULL, NULL, NULL, NULL};
     TRY(sinter_ctx_create(&ctx, NULL));
     TRY(sinter_ctx_set_threads(ctx, j->threads));
-    TRY(sinter_material_create(&mat, ctx, "powder"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_DENSITY, 2000},
-                 {SINTER_MAT_CONTACT_STIFFNESS, 1e7},
-                 {SINTER_MAT_FRICTION_DYNAMIC, 0.1},
-                 {SINTER_MAT_DRAG_COEFFICIENT, 0.1414},
-                 {SINTER_MAT_THERMAL_CONDUCTIVITY, 100},
-                 {SINTER_MAT_HEAT_CAPACITY, 100},
-                 {SINTER_MAT_ELECTRIC_CONDUCTIVITY, 0.1},
-                 {SINTER_MAT_SOFTENING_LAW, 1},
-                 {SINTER_MAT_SOFTENING_TEMPERATURE, 320},
-                 {SINTER_MAT_SOFTENING_FLOOR, 0.1}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    TRY(domain_press_material(ctx, &mat));
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
-    TRY(sinter_walls_create(&walls, ctx));
-    const double wp[NW][3] = {{0, 0, 0}, {0, 0, TOP}, {0, 0, 0}, {LX, 0, 0}, {0, 0, 0}, {0, LY, 0}};
-    const double wn[NW][3] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    for (int k = 0; k < NW; ++k) {
-        TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
-        TRY(sinter_walls_set_temperature(walls, (size_t)k, 400.0));
-    }
-    TRY(sinter_walls_set_electric(walls, 0, SINTER_WALL_CURRENT, 1000.0));
-    TRY(sinter_walls_set_electric(walls, 1, SINTER_WALL_CURRENT, 1000.0));
-    const double down[3] = {0, 0, -0.05};
-    TRY(sinter_walls_set_velocity(walls, 1, down));
+    TRY(domain_press_walls(ctx, mat, LX, LY, TOP, &walls));
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_STAGGERED, ps, walls));
-    TRY(sinter_force_model_create(&law, ctx, "power_law"));
-    TRY(sinter_stepper_add_force(st, law));
-    TRY(sinter_force_model_create(&drag, ctx, "drag"));
-    TRY(sinter_stepper_add_force(st, drag));
-    TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    TRY(sinter_stepper_add_force(st, gravity));
-    TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    TRY(sinter_stepper_add_heat(st, cond));
-    TRY(sinter_heat_model_create(&joule, ctx, "joule"));
-    TRY(sinter_stepper_add_heat(st, joule));
-    TRY(sinter_electric_model_create(&em, ctx, "averaged"));
-    TRY(sinter_electric_model_set(em, "tolerance", 1e-4)); /* the scene's */
-    TRY(sinter_electric_model_set(em, "max_iterations", 1e5));
-    TRY(sinter_stepper_set_electric(st, em));
+    TRY(domain_press_add_models(ctx, st, 1e-4, &models)); /* the scene's electric tolerance */
     TRY(sinter_stepper_set_option(st, "reproducible", j->reproducible));
     TRY(sinter_stepper_set_option(st, "scheme", j->scheme));
     TRY(sinter_stepper_set_dt(st, 0.005));
@@ -266,12 +227,7 @@ done:
     if (j->failed)
         snprintf(j->message, sizeof(j->message), "%s", sinter_last_error(ctx));
     sinter_stepper_destroy(st);
-    sinter_force_model_destroy(law);
-    sinter_force_model_destroy(drag);
-    sinter_force_model_destroy(gravity);
-    sinter_heat_model_destroy(cond);
-    sinter_heat_model_destroy(joule);
-    sinter_electric_model_destroy(em);
+    domain_press_models_destroy(&models);
     sinter_walls_destroy(walls);
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);
