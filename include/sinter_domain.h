@@ -25,7 +25,9 @@
  *    and contact histories are the same bits for any number of subdomains and threads and
  *    any order of the particles in memory: every pair list is sorted by the two ids at each
  *    build and every particle's sums run in that order on one thread; the walls' reactions
- *    are exact sums of their contacts' (two integer reductions a step). Not yet through exact
+ *    are exact sums of their contacts' (two integer reductions a step). The staggered
+ *    stepper's norms and Anderson's inner products are exact sums too, and the averaged
+ *    electric model sweeps Jacobi's iteration with exact stopping sums. Not yet through exact
  *    sums: the heat models' energies (each subdomain's share is summed in its own order, then
  *    the shares are reduced), which may differ in the last bits between decompositions.
  *  - Quasi-static stepper: each link is owned (and its neck advanced) by the subdomain of its
@@ -166,7 +168,7 @@ typedef struct sinter_domain_ops {
  * make new ghosts but not migrate: sinter_stepper_export with removal and
  * sinter_stepper_import return SINTER_ERR_STATE there, and the stepper calls redistribute
  * again at the next accepted state, where migration is allowed. The option "reproducible"
- * (explicit stepper) makes the results the same bits for any decomposition.
+ * (explicit and staggered steppers) makes the results the same bits for any decomposition.
  * The quasi-static stepper (given them before its first step) redistributes once per
  * sinter_stepper_advance or _step call, at its start: migration then, links travelling with
  * their smaller id; the ghosts serve the whole call (set a skin, sinter_stepper_set_skin, that
@@ -186,7 +188,9 @@ typedef struct sinter_domain_ops {
  * part (sinter_stepper_load_global) and imports the records of the particles it owns (in any
  * order and split; a record in the wrong subdomain is moved by the next redistribution). With
  * the option "reproducible" the run then continues bit for bit as the uninterrupted one
- * (tests/unit/test_domain_repro.c: written on 4 subdomains, continued on 2); in the default
+ * (tests/unit/test_domain_repro.c and, for the staggered stepper, whose records then carry
+ * its predictor's history, test_domain_staggered_repro.c: written on 4 subdomains,
+ * continued on 2); in the default
  * mode to round-off, as any other decomposition would.
  * Errors: SINTER_ERR_NULL, SINTER_ERR_STRUCT_SIZE, SINTER_ERR_UNSUPPORTED.
  */

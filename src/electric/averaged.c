@@ -36,11 +36,22 @@
  * one domain; the iterates differ, by less than the tolerance. Every decision comes from the
  * reduced values, so every subdomain sweeps as often. On one subdomain the sweep is the
  * whole body's, the same bits.
+ *
+ * The stepper's reproducible mode (em->reproducible, issue 43): the sweeps are Jacobi's
+ * everywhere, each particle's new current from its neighbours' of the last sweep, so that a
+ * sweep's result does not depend on which particles a subdomain holds or in which order; a
+ * particle's neighbours come in the order of its contacts, which the mode sorts by ids, and
+ * the change and the norm of the stopping test are exact sums (domain/exact_reduce.h). The same
+ * bits for any decomposition and memory order. Jacobi's contraction for this averaging is rho
+ * where Gauss-Seidel's is about rho^2: from a cold start it takes about 1.7 times the sweeps
+ * (253 against 146 in a press's first step, tests/bench/RESULTS.md), about as many once the
+ * currents are warm.
  */
 #include <math.h>
 #include <string.h>
 
 #include "domain/domain.h"
+#include "domain/exact_reduce.h"
 #include "electric.h"
 
 enum { UNREACHED = 0, ELECTRIFIED = 1, FREE = 2 };
@@ -145,6 +156,60 @@ static sinter_status search_across(sinter_electric_model *em, sinter_particles *
     }
 }
 
+/* The reproducible mode's sweeps (see the top of the file): Jacobi over the owned particles
+ * [0, owned), the change and the norm summed exactly over every subdomain, the ghosts taking
+ * the new currents after each sweep. Scratch: the wall sums (read before). */
+static sinter_status jacobi_sweeps(sinter_electric_model *em, sinter_particles *ps, size_t owned)
+{
+    sinter_domain *dom = em->averaged_domain;
+    const unsigned char *state = em->state;
+    const uint32_t *start = em->adj_start, *other = em->adj_other;
+    const double *area = em->adj_area;
+    double *J = ps->current, *next = em->wall_area, *change = em->wall_sum;
+    const size_t max_sweeps = (size_t)em->max_iterations;
+    double sums[2] = {0.0, 0.0}; /* change, norm */
+    for (size_t sweep = 1; sweep <= max_sweeps; ++sweep) {
+        for (size_t i = 0; i < owned; ++i) {
+            next[i] = J[i];
+            change[i] = 0.0;
+            if (state[i] != FREE)
+                continue;
+            double sum_ja = 0.0, sum_a = 0.0;
+            for (uint32_t e = start[i]; e < start[i + 1]; ++e) {
+                sum_ja += J[other[e]] * area[e];
+                sum_a += area[e];
+            }
+            next[i] = sum_ja / sum_a; /* eq. 43 with the last sweep's neighbours */
+            change[i] = fabs(next[i] - J[i]);
+        }
+        if (owned > 0)
+            memcpy(J, next, owned * sizeof(double));
+        for (size_t i = 0; i < owned; ++i)
+            next[i] = fabs(J[i]); /* (the norm's terms: 0 where unreached) */
+        sinter_exact x;
+        sinter_exact_begin(&x, 2);
+        sinter_exact_scan(&x, 0, change, NULL, owned);
+        sinter_exact_scan(&x, 1, next, NULL, owned);
+        sinter_status s = sinter_exact_agree(em->ctx, dom, &x);
+        if (s != SINTER_OK)
+            return s;
+        sinter_exact_add(&x, 0, change, NULL, owned);
+        sinter_exact_add(&x, 1, next, NULL, owned);
+        if ((s = sinter_exact_finish(em->ctx, dom, &x, sums)) != SINTER_OK)
+            return s;
+        if (dom != NULL && (s = to_ghosts(em, ps, J)) != SINTER_OK)
+            return s;
+        em->last_iterations = sweep;
+        if (sums[0] <= em->tolerance * sums[1])
+            return SINTER_OK;
+    }
+    return sinter_fail(em->ctx, SINTER_ERR_NOT_CONVERGED,
+                       "electric model 'averaged': no convergence in %zu Jacobi sweeps (the "
+                       "stepper's reproducible mode; normalised change %g > tolerance %g); raise "
+                       "'max_iterations' or 'tolerance'",
+                       max_sweeps, sums[1] > 0.0 ? sums[0] / sums[1] : sums[0], em->tolerance);
+}
+
 sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_particles *ps,
                                              const sinter_walls *walls,
                                              const sinter_contact_list *pp,
@@ -220,6 +285,8 @@ sinter_status sinter_electric_solve_averaged(sinter_electric_model *em, sinter_p
         return s;
     if (free_count == 0)
         return SINTER_OK; /* every connected particle is electrified: nothing to iterate */
+    if (em->reproducible)
+        return jacobi_sweeps(em, ps, owned);
 
     /* Eq. 43, Gauss-Seidel in index order; Z_K of sec. 3.1 step 4 as the stopping test. */
     const size_t max_sweeps = (size_t)em->max_iterations;

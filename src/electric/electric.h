@@ -97,6 +97,9 @@ struct sinter_electric_model {
     /* averaged, on one subdomain of a decomposed run (domain/domain.h; NULL: the whole body):
      * the host's collective operations, and a row per particle for their halos */
     struct sinter_domain *averaged_domain;
+    /* averaged: 1 in the stepper's reproducible mode (set by the stepper before each solve):
+     * Jacobi sweeps with exact sums, the same bits for any decomposition (averaged.c) */
+    int reproducible;
     double *averaged_rows;
     size_t averaged_rows_capacity;
     uint32_t *edge_a, *edge_b; /* network: conducting edges between nodes */

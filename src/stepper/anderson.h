@@ -29,6 +29,7 @@ typedef struct sinter_anderson {
     double *df, *dg; /* depth x N each, ring */
     double *f_prev, *g_prev;
     double *q;       /* depth x N: Q of the QR */
+    double *wf;      /* N: W f_k (the reproducible mode's inner products) */
     size_t capacity; /* doubles allocated per array group */
 } sinter_anderson;
 
@@ -45,6 +46,13 @@ sinter_status sinter_anderson_reset(sinter_ctx *ctx, sinter_anderson *aa, size_t
 typedef struct sinter_anderson_sum {
     int (*sum)(double *values, size_t count, void *user);
     void *user;
+    /* NULL, or every inner product through this instead (the stepper's reproducible mode,
+     * issue 43): out[c] = sum_i a[c][i] b[c][i] over every part, c < count (<= 10), each
+     * product rounded once and the products summed exactly, so that the bits depend neither on
+     * the order of the rows nor on how they are split into parts (domain/exact_reduce.h).
+     * Returns 0 on success. */
+    int (*dots)(const double *const *a, const double *const *b, size_t n, size_t count, double *out,
+                void *user);
 } sinter_anderson_sum;
 
 /*

@@ -15,7 +15,8 @@
  *   i32 material; u32 flags; u64 record bits (bit 0: the electric warm start below is valid;
  *   bit 1: the particle left in the middle of an explicit step, after its drift, and the rows
  *   at the start of the step are its state at t, for a rollback on the side it enters; bit 2:
- *   it left at a staggered stepper's accepted state, and those rows hold instead the
+ *   it left a staggered stepper at an accepted state or between two steps (a portable
+ *   checkpoint: the importer takes it at its next step, stepper.c), and those rows hold the
  *   predictor's history, its force [3] and moment [3] of the step before, zeros [6] and its
  *   heat power of the step before; without bits 1 and 2 they repeat x, v, w, rot,
  *   temperature); f64 warm-start potential [V];
@@ -343,11 +344,16 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
          * moved) the spare rows and the saved temperature */
         const int mid_step = st->domain.redistributing && st->spare[0] != NULL &&
                              ps->layout_generation == st->domain.layout_at_start;
-        /* or the staggered predictor's history, at its accepted state (before any row moved) */
+        /* or the staggered predictor's history, at its accepted state (before any row moved),
+         * or between two steps (a portable checkpoint's records: the restart continues it) */
         const sinter_staggered *sg = &st->staggered;
-        const int history = st->domain.redistributing && st->domain.keep_history &&
-                            ps->layout_generation == st->domain.layout_at_start &&
-                            sg->history_valid && i < sg->history_count;
+        const int history =
+            st->domain.redistributing
+                ? st->domain.keep_history && ps->layout_generation == st->domain.layout_at_start &&
+                      sg->history_valid && i < sg->history_count
+                : st->kind == SINTER_STEPPER_STAGGERED && !st->domain.in_attempt &&
+                      sg->history_valid && sg->history_count == ps->count - ps->ghost_count &&
+                      sg->h_prev > 0.0 && i < sg->history_count;
         if (history) {
             const size_t m = sg->history_count;
             const double zero[6] = {0};
@@ -987,12 +993,15 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
         if (s == SINTER_OK && st->quasistatic == NULL)
             s = sinter_qs_create(&st->quasistatic, ctx, &st->quasistatic_options);
     }
-    /* in the host's redistribution: room for the arrivals' state at t (redistribute.c) */
+    /* in the host's redistribution: room for the arrivals' state at t (redistribute.c); into
+     * a staggered stepper between steps: their predictor history (stepper.c, adopted at the
+     * next step) */
     sinter_domain *dom = &st->domain;
-    if (s == SINTER_OK && dom->redistributing)
+    const int keep_arrivals = dom->redistributing || st->kind == SINTER_STEPPER_STAGGERED;
+    if (s == SINTER_OK && keep_arrivals)
         s = sinter_grow(ctx, (void **)&dom->arrived_id, &dom->arrived_id_capacity,
                         dom->arrived_count + p.records + 1, sizeof(uint64_t));
-    if (s == SINTER_OK && dom->redistributing)
+    if (s == SINTER_OK && keep_arrivals)
         s = sinter_grow(ctx, (void **)&dom->arrived_rows, &dom->arrived_rows_capacity,
                         13 * (dom->arrived_count + p.records) + 1, sizeof(double));
     if (s == SINTER_OK && p.carried != NULL && p.records > 0) { /* kept by id (qs_portable.c) */
@@ -1050,7 +1059,7 @@ sinter_status sinter_stepper_import(sinter_stepper *st, const void *buffer, size
             scalar[d][i] = f.v[18 + d];
         /* left its side after the drift (its state at t), or at a staggered stepper's accepted
          * state (its predictor history): kept by id for the redistribution stage */
-        if (dom->redistributing && (f.bits & 6)) {
+        if (dom->redistributing ? (f.bits & 6) != 0 : keep_arrivals && (f.bits & 4) != 0) {
             dom->arrived_id[dom->arrived_count] = f.id;
             memcpy(dom->arrived_rows + 13 * dom->arrived_count, f.v + 24, 13 * sizeof(double));
             dom->arrived_count++;

@@ -96,6 +96,7 @@
 #include <string.h>
 
 #include "sanity.h"
+#include "staggered_exact.h"
 #include "stepper.h"
 
 /* The owned particles: the unknowns (the rows after them are periodic images). */
@@ -212,6 +213,9 @@ void sinter_staggered_free(sinter_ctx *ctx, sinter_staggered *sg)
     sinter_free(ctx, sg->x_rows);
     sg->x_rows = NULL;
     sg->x_rows_capacity = 0;
+    sinter_free(ctx, sg->terms);
+    sg->terms = NULL;
+    sg->terms_capacity = 0;
     sg->saved = NULL;
     sg->flags = NULL;
     sg->power = NULL;
@@ -440,6 +444,9 @@ static sinter_status reserve(sinter_stepper *st)
         sg->power = p;
         sg->power_capacity = 2 * slots + 1;
     }
+    if (st->reproducible) /* the exact sums' terms (staggered_exact.c), before any reduction */
+        return sinter_grow(st->ctx, (void **)&sg->terms, &sg->terms_capacity, 4 * n + 1,
+                           sizeof(double));
     return SINTER_OK;
 }
 
@@ -587,7 +594,17 @@ static double normalised_error(sinter_stepper *st, const double *now, const doub
     const sinter_particles *ps = st->ps;
     double num = 0.0, den = 0.0, scale = 0.0;
     size_t free_count = 0;
-    for (size_t i = 0; i < owned_rows(ps); ++i) {
+    if (st->reproducible) { /* exact sums: the same bits for any decomposition */
+        double v[4];
+        const sinter_status r = sinter_staggered_exact_errors(st, now, prev, start, comps, skip, v);
+        if (r != SINTER_OK && *status == SINTER_OK)
+            *status = r;
+        num = v[0];
+        den = v[1];
+        scale = v[2];
+        free_count = (size_t)v[3];
+    }
+    for (size_t i = 0; i < owned_rows(ps) && !st->reproducible; ++i) {
         if (ps->flags[i] & skip)
             continue;
         free_count++;
@@ -605,7 +622,8 @@ static double normalised_error(sinter_stepper *st, const double *now, const doub
             scale += sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         }
     }
-    if (st->domain.on) { /* sums over every subdomain (the count is exact as a double) */
+    /* (default mode) sums over every subdomain: the count is exact as a double */
+    if (st->domain.on && !st->reproducible) {
         double v[4] = {num, den, scale, (double)free_count};
         const sinter_status r = global_sum(st, v, 4);
         if (r != SINTER_OK && *status == SINTER_OK)
@@ -892,6 +910,13 @@ static sinter_status aa_norms(sinter_stepper *st, size_t n, const double *u, con
                               const double *w, double *ex, double *et)
 {
     double sx = 0.0, st_ = 0.0;
+    if (st->reproducible) { /* exact sums: the same bits for any decomposition */
+        double sums[2] = {0.0, 0.0};
+        const sinter_status s = sinter_staggered_exact_norms(st, n, u, g, w, sums);
+        *ex = sqrt(sums[0]);
+        *et = sqrt(sums[1]);
+        return s;
+    }
     for (size_t i = 0; i < 3 * n; ++i) {
         const double e = w[i] * (g[i] - u[i]);
         sx += e * e;
@@ -1006,9 +1031,11 @@ static sinter_status attempt_anderson(sinter_stepper *st, const saved_state *a, 
                 return SINTER_OK;
             }
         }
-        const sinter_anderson_sum sum = {anderson_sum, st};
+        /* the inner products over every subdomain, exact in the reproducible mode */
+        const sinter_anderson_sum sum = {anderson_sum, st,
+                                         st->reproducible ? sinter_staggered_exact_dots : NULL};
         if (sinter_anderson_update(&sg->aa, vec.u, vec.g, vec.w, /* u_(k+1) */
-                                   st->domain.on ? &sum : NULL) < 0)
+                                   st->domain.on || st->reproducible ? &sum : NULL) < 0)
             return sinter_last_status(st->ctx);
         bad = aa_unpack(st, a, h, vec.u, thermal);
         st->stats.seconds_integrate += sinter_clock() - t0;
@@ -1185,7 +1212,8 @@ static sinter_status staggered_step(sinter_stepper *st, double h, double *taken)
 {
     sinter_staggered *sg = &st->staggered;
     sinter_status s = SINTER_OK;
-    if (st->domain.on) /* (settings not yet supported across subdomains) */
+    sinter_stepper_adopt_history(st); /* (a portable restart's predictor history, by id) */
+    if (st->domain.on)                /* (settings not yet supported across subdomains) */
         s = sinter_domain_agree(st->ctx, &st->domain, sinter_domain_check(st));
     if (s == SINTER_OK && st->domain.on) /* a migration refused during the last step, now */
         s = sinter_stepper_domain_accepted_stage(st);

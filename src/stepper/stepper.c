@@ -823,6 +823,17 @@ static int follow_history(sinter_stepper *st, const uint64_t *kept_id, const dou
     return count == n;
 }
 
+void sinter_stepper_adopt_history(sinter_stepper *st)
+{
+    sinter_domain *d = &st->domain;
+    if (d->arrived_count == 0 || d->redistributing)
+        return;
+    /* (valid only when every owned particle brought its own; else the predictor restarts) */
+    if (!st->staggered.history_valid && follow_history(st, NULL, NULL, 0))
+        st->staggered.history_valid = 1;
+    d->arrived_count = 0;
+}
+
 /*
  * The staggered stepper's redistribution at an accepted state (stepper.h): the host's
  * migrations are refused during its fixed-point attempts (the state at t, the predictor's and
@@ -866,6 +877,7 @@ sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st)
             lost = !keep || !follow_history(st, kept_id, kept, n);
         sinter_free(st->ctx, kept_id);
         sinter_free(st->ctx, kept);
+        d->arrived_count = 0; /* (taken: not for sinter_stepper_adopt_history) */
         if ((s = sinter_domain_agree(st->ctx, d, s)) != SINTER_OK)
             return s;
         if (v[1] == 0 && (s = sinter_domain_reduce(st->ctx, d, &lost, 1, SINTER_REDUCE_I64,
@@ -1111,6 +1123,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
         st->electric->domain =
             st->domain.on && st->electric->kind == SINTER_ELECTRIC_NETWORK ? &st->domain : NULL;
         st->electric->averaged_domain = st->domain.on ? &st->domain : NULL;
+        st->electric->reproducible = st->reproducible;
         s = sinter_electric_solve_images(
             st->electric, ps, st->walls, &st->pp, &st->pw,
             ps->ghost_count > 0 && !st->domain.on ? st->ghosts.owner : NULL, &electric_iterations);

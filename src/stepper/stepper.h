@@ -57,6 +57,9 @@ typedef struct sinter_staggered {
      * check (3 per row; staggered.c) */
     double *x_rows;
     size_t x_rows_capacity;
+    /* the reproducible mode: the terms of the exact sums (staggered_exact.h) */
+    double *terms;
+    size_t terms_capacity;
 } sinter_staggered;
 
 /*
@@ -247,6 +250,11 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist);
  * (collective; stepper.c): a migration the host was refused during the last step's attempts is
  * made now, and the predictor's history restarts on every subdomain if on any. */
 sinter_status sinter_stepper_domain_accepted_stage(sinter_stepper *st);
+
+/* The staggered stepper's predictor history brought by records imported between two steps
+ * (a portable restart: record bit 2, migrate.c), taken by id at the start of the next step
+ * when every owned particle brought its own (local; stepper.c). */
+void sinter_stepper_adopt_history(sinter_stepper *st);
 
 /* Accept the last evaluation: commit history and wall reactions (with domain operations the
  * status and the reactions agreed in one reduction). */
