@@ -816,9 +816,14 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         if (st != SINTER_OK)
             return say(r, restart, st);
         /* a pour's programme: where it stood (run_mpi_pour.c) */
-        if (agree(r->comm, !r->pour.on || mpi_pour_load(&r->pour, restart) ? 0 : -1) != 0)
-            return refuse(r, "--restart: the checkpoint's pour state (CHECKPOINT.pour) is "
-                             "missing or unreadable");
+        if (agree(r->comm, !r->pour.on || mpi_pour_load(&r->pour, restart) ? 0 : -1) != 0) {
+            char what[PATH_SIZE + 96];
+            snprintf(what, sizeof(what),
+                     "--restart: %s.pour (the pour's state) is missing or "
+                     "unreadable",
+                     restart);
+            return refuse(r, what);
+        }
     } else {
         st = sinter_mpi_distribute(r->domain);
     }
@@ -974,8 +979,9 @@ int cli_run_mpi(int argc, char **argv)
         }
         const double now = MPI_Wtime();
         if (r->rank == 0 && every != 0.0 && now - last_print >= (every > 0 ? every : 5.0)) {
-            const double last = r->pour.origin + end;
-            fprintf(stderr, "sinter: t = %.4g / %.4g s (%.1f %%)\n", t, last, 100.0 * t / last);
+            const double last = mpi_pour_phase_end(&r->pour, end); /* a pour: its t_max */
+            fprintf(stderr, "sinter: t = %.4g / %.4g s (%.1f %%)%s\n", t, last, 100.0 * t / last,
+                    r->pour.pouring ? ", pouring" : "");
             last_print = now;
         }
     }
