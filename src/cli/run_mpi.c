@@ -6,28 +6,34 @@
  *
  * Every rank reads the scene file; rank 0 keeps the particles the scene made, the others give
  * theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a brick of the
- * particles' bounding box. The run then follows `sinter run`'s programme for a scene without
- * pour or compaction: the state at the start with its forces (a step of 0), a sample, then
- * sinter_stepper_advance to each next sample (the current time plus the output interval) until
- * the end time. Output:
+ * particles' bounding box. The run then follows `sinter run`'s programme: the state at the
+ * start with its forces (a step of 0), a sample, then sinter_stepper_advance to each next
+ * sample (the current time plus the output interval) until the end time. With a [pour]
+ * (run_mpi_pour.c) the walls are held after the first sample, the pour ends at the first
+ * sample, after t_min, whose kinetic energy per particle over all ranks is below
+ * ke_per_particle (the same decision on every rank), the walls' motions start then, and the end
+ * time counts from then; a pour not at rest by t_max fails on every rank. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
- *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows and the
- *    solid fraction's lenses from each rank's snapshot (sinter_snapshot_create), as the
- *    serial runner sums them (an [output] solid_box's sampled fraction is nan: not formed
- *    yet), and the contacts from them too, each pair once (the owner of its smaller id);
+ *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows, the
+ *    network model's wall currents and the solid fraction's lenses from each rank's snapshot
+ * (sinter_snapshot_create), as the serial runner sums them (an [output] solid_box's sampled
+ * fraction is nan: not formed yet), and the contacts from them too, each pair once (the owner of
+ * its smaller id);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
  *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
  *    checkpoint_interval, at the end and at --stop-at's sample, which --restart reads on any
- *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue.
+ *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue
+ *    (with a pour, where it stood travels beside it in checkpoint.mpi.pour).
  * The explicit and staggered steppers (the staggered one's series has its columns and, with an
  * [electric] section, the particle currents, as the serial series). Refused, with the reason on
- * every rank and exit status 1: scenes with [pour], [compact] or [insert] sections, the
- * quasi-static stepper (its series and frames are not written here yet), and what
- * sinter_stepper_set_domain_ops refuses (periodic axes, the electric models and implicit
- * conduction it does not take with the scene's stepper, sort_interval).
- * Messages and progress come from rank 0 only.
+ * every rank and exit status 1: scenes with [compact] or [insert] sections, a [pour] with a
+ * [stepper] temperature_schedule (the serial runner delays that furnace to the pour's end
+ * through an internal call), the quasi-static stepper (its series and frames are not written here
+ * yet), and what sinter_stepper_set_domain_ops refuses (periodic axes, the electric models and
+ * implicit conduction it does not take with the scene's stepper, sort_interval). Messages and
+ * progress come from rank 0 only.
  */
 #include <errno.h>
 #include <math.h>
