@@ -19,7 +19,10 @@ CASE
               0.6159 +- 0.0005): the pour's end within 0.25 s of the serial one, those solid
               fractions within 0.05 and 0.0015 (3 standard deviations). The end time counts
               from the pour's end on every rank count: the last row's time is the pour's end +
-              0.3 s. The union of the last frame's pieces holds every particle once.
+              0.3 s. The union of the last frame's pieces holds every particle once. The wall
+              currents (the network model: the walls are its only sources) sum to 0 within
+              1e-6 of the largest in every row where current flows (the pressed bed; measured
+              1e-9, the solve's tolerance).
   restart     stopped during the pour (--stop-at 0.8) on 4 ranks and continued from its
               checkpoint.mpi on 2: the pour goes on and ends, the press follows, the series has
               no gap and ends at the pour's end + 0.3 s, its outcome within the seed spread as
@@ -132,6 +135,18 @@ def case_pour(sinter, mpiexec, scene, work, np):
             worst = max(worst, rel)
             check(rel <= 1e-10, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
     compare_outcome("np %d" % np, (te_s, head_s, rows_s), (te_m, head_m, rows_m))
+    # Kirchhoff: the walls are the network's only sources, so the currents into them sum to 0
+    # within the solve's tolerance (those of ghosts' potentials across ranks included)
+    walls = [k for k, name in enumerate(head_m) if name.endswith(" current [A]") and
+             not name.startswith(("mean ", "max "))]
+    check(len(walls) == 6, "the wall current columns: %s" % walls)
+    flowing = 0
+    for r in rows_m:
+        i = [float(r[k]) for k in walls]
+        scale = max(abs(x) for x in i)
+        flowing += scale > 0
+        check(abs(sum(i)) <= 1e-6 * scale, "t = %s: wall currents %s do not sum to 0" % (r[0], i))
+    check(flowing > 0, "no current flows")
     last = len(rows_m) - 1
     pieces = [os.path.join(out, "frames", "frame_%05d_r%04d.vtu" % (last, q)) for q in range(np)]
     ps = base.vtu_particles(pieces)
