@@ -16,10 +16,10 @@
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
  *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows, the
- *    network model's wall currents and the solid fraction's lenses from each rank's snapshot
- * (sinter_snapshot_create), as the serial runner sums them (an [output] solid_box's sampled
- * fraction is nan: not formed yet), and the contacts from them too, each pair once (the owner of
- * its smaller id);
+ *    network model's wall currents and the solid fraction's lenses from each rank's
+ *    snapshot (sinter_snapshot_create), as the serial runner sums them (an [output]
+ *    solid_box's sampled fraction is nan: not formed yet), and the contacts from them too,
+ *    each pair once (the owner of its smaller id);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
  *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
@@ -825,9 +825,7 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         if (agree(r->comm, !r->pour.on || mpi_pour_load(&r->pour, restart) ? 0 : -1) != 0) {
             char what[PATH_SIZE + 96];
             snprintf(what, sizeof(what),
-                     "--restart: %s.pour (the pour's state) is missing or "
-                     "unreadable",
-                     restart);
+                     "--restart: %s.pour, the pour's state: none or not readable", restart);
             return refuse(r, what);
         }
     } else {
