@@ -50,6 +50,7 @@
 #include "core/make_dirs.h"
 #include "core/sphere_volume.h"
 #include "cli.h"
+#include "run_mpi_compact.h"
 #include "run_mpi_pour.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
@@ -142,8 +143,8 @@ static int read_facts(const char *path, scene_facts *f)
                 f->electric = 1;
             if (strcmp(section, "electric network") == 0)
                 f->network = 1;
-            static const char *const refused[] = {"compact",    "insert",      "fields",
-                                                  "heat laser", "heat nozzle", "heat beam"};
+            static const char *const refused[] = {"insert", "fields", "heat laser", "heat nozzle",
+                                                  "heat beam"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
@@ -188,8 +189,9 @@ typedef struct mpi_run {
     uint64_t frame;      /* the next frame's number */
     double *frame_times; /* the frames' times so far (room for frame_room) */
     size_t frame_room;
-    mpi_pour pour; /* [pour] (run_mpi_pour.c) */
-    int log_level; /* --log: rank 0 prints messages up to it (-1: none) */
+    mpi_pour pour;       /* [pour] (run_mpi_pour.c) */
+    mpi_compact compact; /* [compact] (run_mpi_compact.c) */
+    int log_level;       /* --log: rank 0 prints messages up to it (-1: none) */
 } mpi_run;
 
 /* Every rank's error as one: the lowest failing status (0 when none failed). */
@@ -775,12 +777,15 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     /* every rank read the same file: the same outcome everywhere, agreed all the same */
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, scene_path, st);
-    const int facts = read_facts(scene_path, &r->facts) && mpi_pour_read(scene_path, &r->pour);
+    const int facts = read_facts(scene_path, &r->facts) && mpi_pour_read(scene_path, &r->pour) &&
+                      mpi_compact_read(scene_path, &r->compact);
     if (agree(r->comm, facts ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene file");
     if (r->pour.on && r->pour.furnace && r->facts.refused[0] == '\0')
         snprintf(r->facts.refused, sizeof(r->facts.refused),
                  "a [stepper] temperature_schedule timed from a [pour]'s end");
+    if (r->pour.on && r->compact.on && r->facts.refused[0] == '\0')
+        snprintf(r->facts.refused, sizeof(r->facts.refused), "a [compact] after a [pour]");
     if (r->facts.refused[0] != '\0') {
         if (r->rank == 0)
             fprintf(stderr,
@@ -799,6 +804,14 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
+    if (restart == NULL) { /* [compact]: each rank its copy of every particle, alike */
+        char message[512];
+        st = mpi_compact_run(&r->compact, r->ps, message, sizeof(message));
+        if (agree(r->comm, st) != SINTER_OK)
+            return say(r, "the compaction ([compact])", st);
+        if (message[0] != '\0' && r->rank == 0 && r->log_level >= SINTER_LOG_INFO)
+            cli_print_log(SINTER_LOG_INFO, message, NULL);
+    }
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
     if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
