@@ -12,7 +12,9 @@
  * (run_mpi_pour.c) the walls are held after the first sample, the pour ends at the first
  * sample, after t_min, whose kinetic energy per particle over all ranks is below
  * ke_per_particle (the same decision on every rank), the walls' motions start then, and the end
- * time counts from then; a pour not at rest by t_max fails on every rank. Output:
+ * time counts from then; a pour not at rest by t_max fails on every rank. With a [compact]
+ * (run_mpi_compact.c; no pour) every rank first compacts its copy of every particle alike, as
+ * the serial runner compacts before its first step. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
  *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows, the
@@ -28,12 +30,12 @@
  *    (with a pour, where it stood travels beside it in checkpoint.mpi.pour).
  * The explicit and staggered steppers (the staggered one's series has its columns and, with an
  * [electric] section, the particle currents, as the serial series). Refused, with the reason on
- * every rank and exit status 1: scenes with [compact] or [insert] sections, a [pour] with a
- * [stepper] temperature_schedule (the serial runner delays that furnace to the pour's end
- * through an internal call), the quasi-static stepper (its series and frames are not written here
- * yet), and what sinter_stepper_set_domain_ops refuses (periodic axes, the electric models and
- * implicit conduction it does not take with the scene's stepper, sort_interval). Messages and
- * progress come from rank 0 only.
+ * every rank and exit status 1: scenes with [insert] sections, a [pour] with a [stepper]
+ * temperature_schedule (the serial runner delays that furnace to the pour's end through an
+ * internal call) or followed by a [compact], the quasi-static stepper (its series and frames are
+ * not written here yet), and what sinter_stepper_set_domain_ops refuses (periodic axes, the
+ * electric models and implicit conduction it does not take with the scene's stepper,
+ * sort_interval). Messages and progress come from rank 0 only.
  */
 #include <errno.h>
 #include <math.h>
