@@ -13,8 +13,8 @@
  * sample, after t_min, whose kinetic energy per particle over all ranks is below
  * ke_per_particle (the same decision on every rank), the walls' motions start then, and the end
  * time counts from then; a pour not at rest by t_max fails on every rank. With a [compact]
- * (run_mpi_compact.c; no pour) every rank first compacts its copy of every particle alike, as
- * the serial runner compacts before its first step. Output:
+ * (run_mpi_compact.c; no pour) rank 0 first compacts its copy of every particle, the one it
+ * spreads, as the serial runner compacts before its first step. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
  *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows, the
@@ -806,9 +806,10 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
-    if (restart == NULL) { /* [compact]: each rank its copy of every particle, alike */
-        char message[512];
-        st = mpi_compact_run(&r->compact, r->ps, message, sizeof(message));
+    if (restart == NULL) { /* [compact]: rank 0's copy, which it spreads (the others' go) */
+        char message[512] = "";
+        if (r->rank == 0)
+            st = mpi_compact_run(&r->compact, r->ps, message, sizeof(message));
         if (agree(r->comm, st) != SINTER_OK)
             return say(r, "the compaction ([compact])", st);
         if (message[0] != '\0' && r->rank == 0 && r->log_level >= SINTER_LOG_INFO)
@@ -818,6 +819,8 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_mpi_options_init(&options, sizeof(options));
     if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
+    MPI_Bcast(options.lo, 3, MPI_DOUBLE, 0, r->comm); /* rank 0's (compacted) copy's box */
+    MPI_Bcast(options.hi, 3, MPI_DOUBLE, 0, r->comm);
     st = sinter_mpi_domain_create(&r->domain, r->comm, &options);
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, "the MPI domain", st);

@@ -4,12 +4,12 @@
  * with the explicit or staggered stepper, as the serial runner does it (io/scene_run.c,
  * compact(): sinter_pack_compact on the scene's particles, its own walls and stepper, before
  * the first step). Every rank reads the scene, so every rank holds all its particles before
- * they are spread (run_mpi.c): every rank compacts its copy, alike (one thread per rank: the
- * same bits), so that the decomposition's box is that of the compacted bed on every rank and
- * rank 0's copy, which sinter_mpi_distribute spreads, is the serial runner's. The compaction
- * itself is not decomposed: it costs each rank what it costs the serial runner. The options are
- * the scene's [compact] keys (io/scene.c, build_compact, which has checked them at the load);
- * a [compact] after a [pour] (which would gather the poured bed) is refused by run_mpi.c.
+ * they are spread (run_mpi.c): rank 0 compacts its copy, the one sinter_mpi_distribute spreads
+ * (the other ranks give theirs up), so that it is the serial runner's, and the decomposition's
+ * box is taken from it. The compaction itself is not decomposed: it costs rank 0 what it
+ * costs the serial runner. The options are the scene's [compact] keys (io/scene.c,
+ * build_compact, which has checked them at the load); a [compact] after a [pour] (which would
+ * gather the poured bed) is refused by run_mpi.c.
  */
 #include <stdio.h>
 #include <stdlib.h>

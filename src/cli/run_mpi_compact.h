@@ -16,10 +16,9 @@ typedef struct mpi_compact {
  * has checked them). 0 when the file cannot be read. Not collective. */
 int mpi_compact_read(const char *scene_path, mpi_compact *c);
 
-/* Compact `particles` (every particle of the scene, before they are spread) with
+/* Compact `particles` (every particle of the scene, before rank 0 spreads them) with
  * sinter_pack_compact, as the serial runner does before its first step; `message` receives
- * the serial runner's info line about it ("" without [compact]). Not collective: every rank
- * compacts its own copy alike (one thread: the same bits on every rank). */
+ * the serial runner's info line about it ("" without [compact]). Not collective (rank 0). */
 sinter_status mpi_compact_run(const mpi_compact *c, sinter_particles *particles, char *message,
                               size_t size);
 

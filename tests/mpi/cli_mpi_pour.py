@@ -32,8 +32,8 @@ CASE
               serial end time with as many rows, the top wall presses at the end and the solid
               fraction is within the seed spread as above.
   compact NP  SCENE is tests/mpi/compact_explicit.scene instead: 200 spheres compacted
-              (sinter_pack_compact: every rank compacts its copy of the scene's particles alike
-              before they are spread) and released for 0.02 s with the explicit stepper. The
+              (sinter_pack_compact: rank 0 compacts its copy of the scene's particles before it
+              spreads them) and released for 0.02 s with the explicit stepper. The
               compaction's --log info line is the serial one, once. On one rank series.csv is the
               serial text byte for byte; on more, to 0.005 s (the pile is chaotic: measured at
               np 2, 3, 4: 2.9e-12, 8.3e-12, 3.0e-12 at 0.005 s, 5e-11 to 1.4e-10 at 0.006 s,
