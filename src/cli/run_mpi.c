@@ -6,28 +6,36 @@
  *
  * Every rank reads the scene file; rank 0 keeps the particles the scene made, the others give
  * theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a brick of the
- * particles' bounding box. The run then follows `sinter run`'s programme for a scene without
- * pour or compaction: the state at the start with its forces (a step of 0), a sample, then
- * sinter_stepper_advance to each next sample (the current time plus the output interval) until
- * the end time. Output:
+ * particles' bounding box. The run then follows `sinter run`'s programme: the state at the
+ * start with its forces (a step of 0), a sample, then sinter_stepper_advance to each next
+ * sample (the current time plus the output interval) until the end time. With a [pour]
+ * (run_mpi_pour.c) the walls are held after the first sample, the pour ends at the first
+ * sample, after t_min, whose kinetic energy per particle over all ranks is below
+ * ke_per_particle (the same decision on every rank), the walls' motions start then, and the end
+ * time counts from then; a pour not at rest by t_max fails on every rank. With a [compact]
+ * (run_mpi_compact.c; no pour) rank 0 first compacts its copy of every particle, the one it
+ * spreads, as the serial runner compacts before its first step. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
- *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows and the
- *    solid fraction's lenses from each rank's snapshot (sinter_snapshot_create), as the
- *    serial runner sums them (an [output] solid_box's sampled fraction is nan: not formed
- *    yet), and the contacts from them too, each pair once (the owner of its smaller id);
+ *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows, the
+ *    network model's wall currents and the solid fraction's lenses from each rank's
+ *    snapshot (sinter_snapshot_create), as the serial runner sums them (an [output]
+ *    solid_box's sampled fraction is nan: not formed yet), and the contacts from them too,
+ *    each pair once (the owner of its smaller id);
  *  - per sample one VTU piece per rank (frames/frame_NNNNN_rRRRR.vtu, its owned particles),
  *    an index frames/frame_NNNNN.pvtu and the collection NAME.pvd, from rank 0;
  *  - checkpoint.mpi through MPI-IO (sinter_mpi_checkpoint_write) at the [output]
  *    checkpoint_interval, at the end and at --stop-at's sample, which --restart reads on any
- *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue.
+ *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue
+ *    (with a pour, where it stood travels beside it in checkpoint.mpi.pour).
  * The explicit and staggered steppers (the staggered one's series has its columns and, with an
  * [electric] section, the particle currents, as the serial series). Refused, with the reason on
- * every rank and exit status 1: scenes with [pour], [compact] or [insert] sections, the
- * quasi-static stepper (its series and frames are not written here yet), and what
- * sinter_stepper_set_domain_ops refuses (periodic axes, the electric models and implicit
- * conduction it does not take with the scene's stepper, sort_interval).
- * Messages and progress come from rank 0 only.
+ * every rank and exit status 1: scenes with [insert] sections, a [pour] with a [stepper]
+ * temperature_schedule (the serial runner delays that furnace to the pour's end through an
+ * internal call) or followed by a [compact], the quasi-static stepper (its series and frames are
+ * not written here yet), and what sinter_stepper_set_domain_ops refuses (periodic axes, the
+ * electric models and implicit conduction it does not take with the scene's stepper,
+ * sort_interval). Messages and progress come from rank 0 only.
  */
 #include <errno.h>
 #include <math.h>
@@ -44,6 +52,8 @@
 #include "core/make_dirs.h"
 #include "core/sphere_volume.h"
 #include "cli.h"
+#include "run_mpi_compact.h"
+#include "run_mpi_pour.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -57,6 +67,7 @@ typedef struct scene_facts {
     int heat;                /* a [heat conduction] section: the wall heat-flow columns */
     int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
     int electric;            /* an [electric ...] section: the particle-current columns */
+    int network;             /* [electric network]: the wall current columns */
     int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
 } scene_facts;
 
@@ -132,8 +143,10 @@ static int read_facts(const char *path, scene_facts *f)
                 f->heat = 1;
             if (strncmp(section, "electric", 8) == 0)
                 f->electric = 1;
-            static const char *const refused[] = {"pour",       "compact",     "insert",   "fields",
-                                                  "heat laser", "heat nozzle", "heat beam"};
+            if (strcmp(section, "electric network") == 0)
+                f->network = 1;
+            static const char *const refused[] = {"insert", "fields", "heat laser", "heat nozzle",
+                                                  "heat beam"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
@@ -178,6 +191,9 @@ typedef struct mpi_run {
     uint64_t frame;      /* the next frame's number */
     double *frame_times; /* the frames' times so far (room for frame_room) */
     size_t frame_room;
+    mpi_pour pour;       /* [pour] (run_mpi_pour.c) */
+    mpi_compact compact; /* [compact] (run_mpi_compact.c) */
+    int log_level;       /* --log: rank 0 prints messages up to it (-1: none) */
 } mpi_run;
 
 /* Every rank's error as one: the lowest failing status (0 when none failed). */
@@ -282,10 +298,12 @@ static int fraction_box(const mpi_run *r, double top, double lo[3], double hi[3]
     return 1;
 }
 
-/* The heat flow from each wall into the particles [W] (a conduction model): this rank's wall
- * contacts in the stepper's order (those of a public snapshot, as the serial runner sums
- * them), summed over the ranks; nan where no snapshot can be taken. Collective. */
-static int wall_heat_flows(mpi_run *r, double *flow)
+/* The heat flow from each wall into the particles [W] (a conduction model; `data`
+ * SINTER_CONTACT_DATA_HEAT_FLOW, sign 1) or the current from the particles into each wall [A]
+ * (the network model; SINTER_CONTACT_DATA_CURRENT, sign -1): this rank's wall contacts in the
+ * stepper's order (those of a public snapshot, as the serial runner sums them), summed over
+ * the ranks; nan where no snapshot can be taken. Collective. */
+static int wall_flows(mpi_run *r, sinter_contact_data data, double sign, double *flow)
 {
     const size_t nw = r->facts.wall_count;
     double local[MAX_WALLS + 1];
@@ -294,15 +312,15 @@ static int wall_heat_flows(mpi_run *r, double *flow)
     const double *heat = NULL;
     const int32_t *wall = NULL;
     size_t pairs = 0, walls = 0;
-    int ok = sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
-             sinter_snapshot_counts(snap, &pairs, &walls, NULL, NULL) == SINTER_OK &&
-             sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_HEAT_FLOW, (const void **)&heat,
-                                      NULL, NULL, NULL) == SINTER_OK &&
-             sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, (const void **)&wall, NULL,
-                                      NULL, NULL) == SINTER_OK;
+    int ok =
+        sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
+        sinter_snapshot_counts(snap, &pairs, &walls, NULL, NULL) == SINTER_OK &&
+        sinter_snapshot_contacts(snap, data, (const void **)&heat, NULL, NULL, NULL) == SINTER_OK &&
+        sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_WALL, (const void **)&wall, NULL, NULL,
+                                 NULL) == SINTER_OK;
     for (size_t q = pairs; ok && q < pairs + walls; ++q)
         if (wall[q] >= 0 && (size_t)wall[q] < nw)
-            local[wall[q]] += heat[q]; /* into the particle, from the wall */
+            local[wall[q]] += sign * heat[q]; /* heat into the particle, current out */
     sinter_snapshot_destroy(snap);
     local[nw] = ok ? 0.0 : 1.0; /* ranks without a snapshot */
     if (sinter_mpi_reduce(local, nw + 1, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
@@ -447,9 +465,13 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[8 + nw] = o.sum[4] / n;
         row[8 + nw + 1] = o.max[8];
     }
-    if (r->facts.heat && !wall_heat_flows(r, row + 8 + nw + ne))
+    const size_t nh = r->facts.heat ? nw : 0;
+    if (r->facts.heat && !wall_flows(r, SINTER_CONTACT_DATA_HEAT_FLOW, 1.0, row + 8 + nw + ne))
         return 0;
-    size_t c = 8 + nw + ne + (r->facts.heat ? nw : 0);
+    if (r->facts.network &&
+        !wall_flows(r, SINTER_CONTACT_DATA_CURRENT, -1.0, row + 8 + nw + ne + nh))
+        return 0;
+    size_t c = 8 + nw + ne + nh + (r->facts.network ? nw : 0);
     row[c] = global.dt;
     row[c + 1] = (double)local.rejected;        /* decided together: equal on every rank */
     row[c + 2] = (double)local.neighbor_builds; /* likewise */
@@ -465,7 +487,7 @@ static size_t column_count(const mpi_run *r)
 {
     const size_t nw = r->facts.wall_count;
     return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
-           (r->facts.staggered ? 6 : 3) + 1;
+           (r->facts.network ? nw : 0) + (r->facts.staggered ? 6 : 3) + 1;
 }
 
 /* The header line, as the serial series.csv's. */
@@ -482,6 +504,8 @@ static void write_header(mpi_run *r)
         fputs(",mean particle current [A],max particle current [A]", r->csv);
     for (size_t k = 0; r->facts.heat && k < r->facts.wall_count; ++k)
         fprintf(r->csv, ",%s heat flow [W]", r->facts.walls[k]);
+    for (size_t k = 0; r->facts.network && k < r->facts.wall_count; ++k)
+        fprintf(r->csv, ",%s current [A]", r->facts.walls[k]);
     fputs(",time step [s],rejected steps [1],neighbour rebuilds [1]", r->csv);
     if (r->facts.staggered)
         fputs(",fixed-point iterations [1],pipeline evaluations [1],contraction [1]", r->csv);
@@ -621,6 +645,15 @@ static int record(mpi_run *r, double *row, size_t columns)
     return agree(r->comm, ok ? 0 : -1) == 0;
 }
 
+/* The MPI checkpoint and, with a pour, its state beside it (rank 0). Collective. */
+static sinter_status write_checkpoint(mpi_run *r, const char *path)
+{
+    sinter_status st = sinter_mpi_checkpoint_write(r->st, r->ps, r->comm, path);
+    if (st == SINTER_OK && r->pour.on)
+        st = agree(r->comm, r->rank != 0 || mpi_pour_save(&r->pour, path) ? 0 : SINTER_ERR_IO);
+    return st;
+}
+
 /* Rank 0's message, every rank's status. */
 static int say(const mpi_run *r, const char *what, sinter_status st)
 {
@@ -746,8 +779,15 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     /* every rank read the same file: the same outcome everywhere, agreed all the same */
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, scene_path, st);
-    if (agree(r->comm, read_facts(scene_path, &r->facts) ? 0 : -1) != 0)
+    const int facts = read_facts(scene_path, &r->facts) && mpi_pour_read(scene_path, &r->pour) &&
+                      mpi_compact_read(scene_path, &r->compact);
+    if (agree(r->comm, facts ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene file");
+    if (r->pour.on && r->pour.furnace && r->facts.refused[0] == '\0')
+        snprintf(r->facts.refused, sizeof(r->facts.refused),
+                 "a [stepper] temperature_schedule timed from a [pour]'s end");
+    if (r->pour.on && r->compact.on && r->facts.refused[0] == '\0')
+        snprintf(r->facts.refused, sizeof(r->facts.refused), "a [compact] after a [pour]");
     if (r->facts.refused[0] != '\0') {
         if (r->rank == 0)
             fprintf(stderr,
@@ -766,10 +806,21 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
+    if (restart == NULL) { /* [compact]: rank 0's copy, which it spreads (the others' go) */
+        char message[512] = "";
+        if (r->rank == 0)
+            st = mpi_compact_run(&r->compact, r->ps, message, sizeof(message));
+        if (agree(r->comm, st) != SINTER_OK)
+            return say(r, "the compaction ([compact])", st);
+        if (message[0] != '\0' && r->rank == 0 && r->log_level >= SINTER_LOG_INFO)
+            cli_print_log(SINTER_LOG_INFO, message, NULL);
+    }
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
     if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
+    MPI_Bcast(options.lo, 3, MPI_DOUBLE, 0, r->comm); /* rank 0's (compacted) copy's box */
+    MPI_Bcast(options.hi, 3, MPI_DOUBLE, 0, r->comm);
     st = sinter_mpi_domain_create(&r->domain, r->comm, &options);
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, "the MPI domain", st);
@@ -789,6 +840,13 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         st = sinter_mpi_checkpoint_read(r->st, r->ps, r->comm, restart, decomp, NULL);
         if (st != SINTER_OK)
             return say(r, restart, st);
+        /* a pour's programme: where it stood (run_mpi_pour.c) */
+        if (agree(r->comm, !r->pour.on || mpi_pour_load(&r->pour, restart) ? 0 : -1) != 0) {
+            char what[PATH_SIZE + 96];
+            snprintf(what, sizeof(what),
+                     "--restart: %s.pour, the pour's state: none or not readable", restart);
+            return refuse(r, what);
+        }
     } else {
         st = sinter_mpi_distribute(r->domain);
     }
@@ -825,6 +883,7 @@ int cli_run_mpi(int argc, char **argv)
         goto done;
     r->comm = MPI_COMM_WORLD;
     r->out_dir = out_dir;
+    r->log_level = log_level;
     MPI_Comm_rank(r->comm, &r->rank);
     MPI_Comm_size(r->comm, &r->size);
     const double started = MPI_Wtime();
@@ -868,7 +927,7 @@ int cli_run_mpi(int argc, char **argv)
     if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
         interval = end / 100.0;
     const size_t columns = column_count(r);
-    double row[8 + 2 * MAX_WALLS + 4];
+    double row[8 + 3 * MAX_WALLS + 9];
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);
@@ -898,19 +957,40 @@ int cli_run_mpi(int argc, char **argv)
         st = sinter_stepper_step(r->st, 0);
         if (st == SINTER_OK && !record(r, row, columns))
             st = SINTER_ERR_IO;
+        sinter_stepper_time(r->st, &t);
+        if (st == SINTER_OK) /* a pour: every wall held from now until it ends */
+            st = mpi_pour_begin(&r->pour, r->walls, t);
     }
     double next = t + interval, next_checkpoint = t + checkpoint_every, last_print = started;
-    int stopped = 0;
+    int stopped = 0, pour_failed = 0;
     snprintf(path, sizeof(path), "%s/checkpoint.mpi", out_dir);
     while (st == SINTER_OK) {
         sinter_stepper_time(r->st, &t);
-        if (t >= end)
+        /* the pour's longest end while it lasts, then the end time after its end */
+        const double phase_end = mpi_pour_phase_end(&r->pour, end);
+        if (t >= phase_end) {
+            if (r->pour.pouring && r->rank == 0)
+                fprintf(stderr,
+                        "sinter (MPI, %d ranks): the pour did not come to rest within t_max = %g "
+                        "s (kinetic energy %g J per particle, threshold %g J)\n",
+                        r->size, r->pour.t_max, r->pour.energy, r->pour.ke);
+            pour_failed = r->pour.pouring;
+            st = r->pour.pouring ? SINTER_ERR_NOT_CONVERGED : SINTER_OK;
             break;
-        st = sinter_stepper_advance(r->st, fmin(end, next));
+        }
+        st = sinter_stepper_advance(r->st, fmin(phase_end, next));
         if (st == SINTER_OK && !record(r, row, columns))
             st = SINTER_ERR_IO;
         sinter_stepper_time(r->st, &t);
         next = t + interval;
+        int poured = 0; /* row[1]: the kinetic energy over the ranks */
+        if (st == SINTER_OK)
+            st = mpi_pour_sample(&r->pour, r->walls, r->ps, r->domain, t, row[1], &poured);
+        if (poured && r->rank == 0 && r->log_level >= SINTER_LOG_INFO) {
+            char message[96];
+            snprintf(message, sizeof(message), "poured: at rest at t = %g s", t);
+            cli_print_log(SINTER_LOG_INFO, message, NULL);
+        }
         /* --stop-at: the first sample at or after it (within a relative 1e-12, as serially) */
         if (st == SINTER_OK && t >= stop_at - 1e-12 * fabs(stop_at)) {
             stopped = 1;
@@ -918,16 +998,18 @@ int cli_run_mpi(int argc, char **argv)
         }
         if (st == SINTER_OK && checkpoint_every > 0.0 && t >= next_checkpoint) {
             next_checkpoint = t + checkpoint_every;
-            st = sinter_mpi_checkpoint_write(r->st, r->ps, r->comm, path);
+            st = write_checkpoint(r, path);
         }
         const double now = MPI_Wtime();
         if (r->rank == 0 && every != 0.0 && now - last_print >= (every > 0 ? every : 5.0)) {
-            fprintf(stderr, "sinter: t = %.4g / %.4g s (%.1f %%)\n", t, end, 100.0 * t / end);
+            const double last = mpi_pour_phase_end(&r->pour, end); /* a pour: its t_max */
+            fprintf(stderr, "sinter: t = %.4g / %.4g s (%.1f %%)%s\n", t, last, 100.0 * t / last,
+                    r->pour.pouring ? ", pouring" : "");
             last_print = now;
         }
     }
     if (st == SINTER_OK)
-        st = sinter_mpi_checkpoint_write(r->st, r->ps, r->comm, path);
+        st = write_checkpoint(r, path);
     if (r->csv != NULL) {
         fclose(r->csv);
         r->csv = NULL;
@@ -936,7 +1018,8 @@ int cli_run_mpi(int argc, char **argv)
         sinter_plot_run(r->ctx, out_dir, r->facts.name) != SINTER_OK)
         fprintf(stderr, "sinter: no plot: %s\n", sinter_last_error(r->ctx));
     if (st != SINTER_OK) {
-        say(r, "the run failed", st);
+        if (!pour_failed) /* (else said above) */
+            say(r, "the run failed", st);
         goto done;
     }
     if (r->rank == 0 && stopped)

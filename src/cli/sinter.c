@@ -30,7 +30,8 @@
  * simulated time T (a sample within a relative 1e-12 below T counts as at T: sample times carry
  * their steps' rounding), writing the checkpoint to continue from (exit status 0).
  * In a build with -DSINTER_MPI=ON, `run` started by mpiexec runs on the ranks instead
- * (run_mpi.c, over libsinter_mpi; docs/scaleout.md).
+ * (run_mpi.c, over libsinter_mpi; a pour in run_mpi_pour.c, a compaction in
+ * run_mpi_compact.c; docs/scaleout.md).
  *
  * SIGINT (Ctrl-C) or SIGTERM ends the current step, writes the checkpoint and the plot and
  * exits with 130 or 143; a second signal ends the program at once.
@@ -123,9 +124,9 @@ static int help(void)
           "                       1 on a terminal, updated in place, else 5, one line each)\n"
           "         Ctrl-C stops after the current step, with a checkpoint (exit status 130)\n"
 #ifdef SINTER_CLI_MPI
-          "         under mpiexec (this MPI build): on the ranks, writing series.csv,\n"
-          "         frames/*.pvtu over one piece per rank and checkpoint.mpi (--restart it\n"
-          "         on any number of ranks); docs/scaleout.md\n"
+          "         under mpiexec (this MPI build): on the ranks ([pour], [compact] too), writing\n"
+          "         series.csv, frames/*.pvtu over one piece per rank and checkpoint.mpi\n"
+          "         (--restart it on any number of ranks); docs/scaleout.md\n"
 #endif
           "check    read and check a scene without running it\n"
           "plot     draw DIR/series.svg from DIR/series.csv (any run, finished or not);\n"

@@ -470,6 +470,16 @@ static sinter_status contact_heat(const sinter_stepper *st, sinter_snapshot *sna
     return s;
 }
 
+/* The network's node of particle row j (n owned): the row itself; a ghost's: its image's
+ * owner (periodic), or across subdomains its own node after the walls, whose potential the
+ * solve brought from its owner (electric/network.c). */
+static size_t current_node(const sinter_stepper *st, uint32_t j, size_t n)
+{
+    if (j < n)
+        return j;
+    return st->domain.on ? j + (st->walls ? st->walls->count : 0) : st->ghosts.owner[j - n];
+}
+
 /* Contact currents of the "network" model's last solve, I = G (phi_a - phi_b) with its edge
  * conductances (network.c, build_edges); NaN for another model or none. */
 static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, const lists *L)
@@ -491,7 +501,7 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
         const uint32_t i = L->pp.i[q], j = L->pp.j[q];
         const double g =
             sinter_electric_contact_conductance(em, ps, i, j, 0, L->pp.area[q], L->pp.dist[q]);
-        snap->current[q] = g * (phi[i] - phi[j < n ? j : st->ghosts.owner[j - n]]);
+        snap->current[q] = g * (phi[current_node(st, i, n)] - phi[current_node(st, j, n)]);
     }
     for (size_t q = 0; q < nwc; ++q) {
         if (!network) {
@@ -505,7 +515,7 @@ static void contact_current(const sinter_stepper *st, sinter_snapshot *snap, con
         }
         const double g =
             sinter_electric_contact_conductance(em, ps, i, wi, 1, L->pw.area[q], L->pw.dist[q]);
-        snap->current[np + q] = g * (phi[i] - phi[n + wi]);
+        snap->current[np + q] = g * (phi[current_node(st, i, n)] - phi[n + wi]);
     }
 }
 

@@ -28,8 +28,9 @@ CASE
               except the neighbour rebuilds: a migration refused inside a fixed-point attempt
               redistributes again at the next accepted state, so a decomposed run may count
               up to two more.
-  refused     a scene with [pour] and a quasi-static one: exit status 1 on every rank, the
-              reason on stderr, within the time limit (no rank waits forever).
+  refused     a scene whose bonds hold in tension (bond_strength) and a quasi-static one: exit
+              status 1 on every rank, the reason on stderr, within the time limit (no rank
+              waits forever). (Scenes with a [pour]: cli_mpi_pour.py.)
 """
 import base64
 import os
@@ -216,7 +217,8 @@ def case_restart(sinter, mpiexec, scenes, work):
 
 
 def case_refused(sinter, mpiexec, scenes, work):
-    for name, reason in (("press.scene", "[pour]"), ("copper_lattice.scene", "not supported")):
+    for name, reason in (("press_bonded.scene", "bond_strength"),
+                         ("copper_lattice.scene", "not supported")):
         out = os.path.join(work, "refused")
         rc, _, err = mpi(mpiexec, 2, [sinter, "run", os.path.join(scenes, name), "-o", out],
                          timeout=60)
