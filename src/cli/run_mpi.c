@@ -44,6 +44,7 @@
 #include "core/make_dirs.h"
 #include "core/sphere_volume.h"
 #include "cli.h"
+#include "run_mpi_qs.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -58,6 +59,7 @@ typedef struct scene_facts {
     int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
     int electric;            /* an [electric ...] section: the particle-current columns */
     int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
+    int quasistatic;         /* [stepper] kind = quasistatic: the sintering columns */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -138,10 +140,9 @@ static int read_facts(const char *path, scene_facts *f)
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
                     snprintf(f->refused, sizeof(f->refused), "[%.100s]", section);
-        } else if (f->refused[0] == '\0' && strcmp(section, "stepper") == 0 &&
-                   strncmp(line, "kind", 4) == 0 && strstr(line, "quasistatic") != NULL) {
-            /* the library steps it on subdomains (issue 43), this runner's output not yet */
-            snprintf(f->refused, sizeof(f->refused), "[stepper] %.60s", line);
+        } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
+                   strstr(line, "quasistatic") != NULL) {
+            f->quasistatic = 1; /* its sintering columns (run_mpi_qs.c) */
         } else if (f->refused[0] == '\0' && refused_key(section, line)) {
             snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
         } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
@@ -359,15 +360,18 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
             volume -= sinter_sphere_cap_volume(ri, xi[d] - lo[d]) +
                       sinter_sphere_cap_volume(ri, hi[d] - xi[d]);
     }
+    if (r->facts.quasistatic) /* its links instead of contacts (run_mpi_qs.c) */
+        ok = ok && cli_mpi_qs_lenses(r->st, table, rows, x, rad, &volume, contacts);
     sinter_snapshot *snap = NULL;
     const uint64_t *ida = NULL, *idb = NULL;
     size_t pairs = 0;
-    ok = ok && sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
-         sinter_snapshot_counts(snap, &pairs, NULL, NULL, NULL) == SINTER_OK &&
-         sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, (const void **)&ida, NULL, NULL,
-                                  NULL) == SINTER_OK &&
-         sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, (const void **)&idb, NULL, NULL,
-                                  NULL) == SINTER_OK;
+    ok = ok && (r->facts.quasistatic ||
+                (sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
+                 sinter_snapshot_counts(snap, &pairs, NULL, NULL, NULL) == SINTER_OK &&
+                 sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, (const void **)&ida, NULL,
+                                          NULL, NULL) == SINTER_OK &&
+                 sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, (const void **)&idb, NULL,
+                                          NULL, NULL) == SINTER_OK));
     for (size_t k = 0; ok && k < pairs; ++k) {
         size_t i = 0, j = 0;
         ok = row_of(table, rows, ida[k], &i) && row_of(table, rows, idb[k], &j);
@@ -442,14 +446,20 @@ static int observe(mpi_run *r, double *row, size_t columns)
         sinter_walls_get_normal(r->walls, k, nrm);
         row[8 + k] = -(f[0] * nrm[0] + f[1] * nrm[1] + f[2] * nrm[2]);
     }
+    /* the quasi-static stepper's sintering columns (run_mpi_qs.c) */
+    const size_t nq = r->facts.quasistatic ? CLI_MPI_QS_COLUMNS : 0;
+    const double box_lo[3] = {-o.max[5], -o.max[6], -o.max[7]},
+                 box_hi[3] = {o.max[2], o.max[3], o.max[4]};
+    if (nq > 0 && !cli_mpi_qs_sintering(r->st, o.sum[2], box_lo, box_hi, row + 8 + nw))
+        return 0;
     const size_t ne = r->facts.electric ? 2 : 0;
     if (ne > 0) {
-        row[8 + nw] = o.sum[4] / n;
-        row[8 + nw + 1] = o.max[8];
+        row[8 + nw + nq] = o.sum[4] / n;
+        row[8 + nw + nq + 1] = o.max[8];
     }
-    if (r->facts.heat && !wall_heat_flows(r, row + 8 + nw + ne))
+    if (r->facts.heat && !wall_heat_flows(r, row + 8 + nw + nq + ne))
         return 0;
-    size_t c = 8 + nw + ne + (r->facts.heat ? nw : 0);
+    size_t c = 8 + nw + nq + ne + (r->facts.heat ? nw : 0);
     row[c] = global.dt;
     row[c + 1] = (double)local.rejected;        /* decided together: equal on every rank */
     row[c + 2] = (double)local.neighbor_builds; /* likewise */
@@ -464,8 +474,8 @@ static int observe(mpi_run *r, double *row, size_t columns)
 static size_t column_count(const mpi_run *r)
 {
     const size_t nw = r->facts.wall_count;
-    return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
-           (r->facts.staggered ? 6 : 3) + 1;
+    return 8 + nw + (r->facts.quasistatic ? CLI_MPI_QS_COLUMNS : 0) + (r->facts.electric ? 2 : 0) +
+           (r->facts.heat ? nw : 0) + (r->facts.staggered ? 6 : 3) + 1;
 }
 
 /* The header line, as the serial series.csv's. */
@@ -478,6 +488,8 @@ static void write_header(mpi_run *r)
         fprintf(r->csv, "%s%s", k ? "," : "", fixed[k]);
     for (size_t k = 0; k < r->facts.wall_count; ++k)
         fprintf(r->csv, ",%s force [N]", r->facts.walls[k]);
+    if (r->facts.quasistatic)
+        cli_mpi_qs_header(r->csv);
     if (r->facts.electric)
         fputs(",mean particle current [A],max particle current [A]", r->csv);
     for (size_t k = 0; r->facts.heat && k < r->facts.wall_count; ++k)
