@@ -22,11 +22,15 @@
  *    checkpoint_interval, at the end and at --stop-at's sample, which --restart reads on any
  *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue.
  * The explicit and staggered steppers (the staggered one's series has its columns and, with an
- * [electric] section, the particle currents, as the serial series). Refused, with the reason on
- * every rank and exit status 1: scenes with [pour], [compact] or [insert] sections, the
- * quasi-static stepper (its series and frames are not written here yet), and what
- * sinter_stepper_set_domain_ops refuses (periodic axes, the electric models and implicit
- * conduction it does not take with the scene's stepper, sort_interval).
+ * [electric] section, the particle currents, as the serial series), and the quasi-static one
+ * (run_mpi_qs.c: the sintering columns from the collective statistics; the contacts, the
+ * coordination number and the solid fraction's lenses from the links, each held once by the
+ * rank that owns its smaller id; its checkpoint carries the links in the records of their
+ * smaller ids and its first step's extents in the global part). Refused, with the reason on
+ * every rank and exit status 1: scenes with [pour], [compact] or [insert] sections (the
+ * compaction is a serial run of its own), and what sinter_stepper_set_domain_ops refuses
+ * (periodic axes, so copper_rve.scene; the electric models and implicit conduction it does not
+ * take with the scene's stepper, qs_strategy 1, sort_interval).
  * Messages and progress come from rank 0 only.
  */
 #include <errno.h>
