@@ -64,6 +64,7 @@ typedef struct scene_facts {
     int electric;            /* an [electric ...] section: the particle-current columns */
     int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
     int quasistatic;         /* [stepper] kind = quasistatic: the sintering columns */
+    int compact;             /* a [compact] section: compacted on rank 0 before the distribution */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -138,7 +139,9 @@ static int read_facts(const char *path, scene_facts *f)
                 f->heat = 1;
             if (strncmp(section, "electric", 8) == 0)
                 f->electric = 1;
-            static const char *const refused[] = {"pour",       "compact",     "insert",   "fields",
+            if (strcmp(section, "compact") == 0)
+                f->compact = 1;
+            static const char *const refused[] = {"pour",       "insert",      "fields",
                                                   "heat laser", "heat nozzle", "heat beam"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
@@ -365,7 +368,7 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
                       sinter_sphere_cap_volume(ri, hi[d] - xi[d]);
     }
     if (r->facts.quasistatic) /* its links instead of contacts (run_mpi_qs.c) */
-        ok = ok && cli_mpi_qs_lenses(r->st, table, rows, x, rad, &volume, contacts);
+        ok = ok && cli_mpi_qs_lenses(r->st, table, rows, owned, x, rad, &volume, contacts);
     sinter_snapshot *snap = NULL;
     const uint64_t *ida = NULL, *idb = NULL;
     size_t pairs = 0;
@@ -782,10 +785,18 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
+    if (r->facts.compact && restart == NULL) { /* as the serial set-up: on rank 0's copy */
+        st = r->rank == 0 ? sinter_scene_compact(r->scene) : SINTER_OK;
+        if (agree(r->comm, st) != SINTER_OK)
+            return say(r, "the compaction ([compact], on rank 0)", st);
+    }
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
+    /* rank 0's particles (the others' copies are not compacted) */
     if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
+    MPI_Bcast(options.lo, 3, MPI_DOUBLE, 0, r->comm);
+    MPI_Bcast(options.hi, 3, MPI_DOUBLE, 0, r->comm);
     st = sinter_mpi_domain_create(&r->domain, r->comm, &options);
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, "the MPI domain", st);

@@ -26,11 +26,14 @@ int cli_mpi_qs_sintering(sinter_stepper *st, double solid, const double lo[3], c
 /*
  * This rank's links (each held once, by the rank that owns its smaller id), into *links, and
  * their lens volumes [m^3] subtracted from *volume in link order: the spheres' overlaps that
- * the solid fraction does not count twice. x, radius: the set's rows (owned, then ghosts);
- * table: its ids sorted (rows entries). Nothing before the first step (no links yet). 0 when a
- * link's end is neither owned nor a ghost here.
+ * the solid fraction does not count twice. x, radius: the set's rows (`owned` first, then
+ * ghosts); table: its ids sorted (rows entries). Before the stepper's first step (no links
+ * yet) its overlapping pairs instead, each counted by the owner of its smaller id: the pairs
+ * that the first step links (a compacted green body's overlaps). 0 when a link's end is
+ * neither owned nor a ghost here, or out of memory.
  */
 int cli_mpi_qs_lenses(const sinter_stepper *st, const sinter_id_row *table, size_t rows,
-                      const double *x, const double *radius, double *volume, double *links);
+                      size_t owned, const double *x, const double *radius, double *volume,
+                      double *links);
 
 #endif
