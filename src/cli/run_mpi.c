@@ -4,9 +4,10 @@
  * [--progress S] [--log LEVEL]` in the MPI build (issue 44): the scene on N ranks through
  * libsinter_mpi.
  *
- * Every rank reads the scene file; rank 0 keeps the particles the scene made, the others give
- * theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a brick of the
- * particles' bounding box. The run then follows `sinter run`'s programme for a scene without
+ * Every rank reads the scene file; rank 0 keeps the particles the scene made (compacted there
+ * first by the scene's [compact] section, sinter_scene_compact, as the serial set-up does), the
+ * others give theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a
+ * brick of rank 0's particles' bounding box. The run then follows `sinter run`'s programme for a scene without
  * pour or compaction: the state at the start with its forces (a step of 0), a sample, then
  * sinter_stepper_advance to each next sample (the current time plus the output interval) until
  * the end time. Output:
@@ -27,8 +28,8 @@
  * coordination number and the solid fraction's lenses from the links, each held once by the
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
  * smaller ids and its first step's extents in the global part). Refused, with the reason on
- * every rank and exit status 1: scenes with [pour], [compact] or [insert] sections (the
- * compaction is a serial run of its own), and what sinter_stepper_set_domain_ops refuses
+ * every rank and exit status 1: scenes with [pour] or [insert] sections, and what
+ * sinter_stepper_set_domain_ops refuses
  * (periodic axes, so copper_rve.scene; the electric models and implicit conduction it does not
  * take with the scene's stepper, qs_strategy 1, sort_interval).
  * Messages and progress come from rank 0 only.
