@@ -7,8 +7,8 @@
  * Every rank reads the scene file; rank 0 keeps the particles the scene made (compacted there
  * first by the scene's [compact] section, sinter_scene_compact, as the serial set-up does), the
  * others give theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a
- * brick of rank 0's particles' bounding box. The run then follows `sinter run`'s programme for a scene without
- * pour or compaction: the state at the start with its forces (a step of 0), a sample, then
+ * brick of rank 0's particles' bounding box. The run then follows `sinter run`'s programme for
+ * a scene without pour: the state at the start with its forces (a step of 0), a sample, then
  * sinter_stepper_advance to each next sample (the current time plus the output interval) until
  * the end time. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
@@ -29,9 +29,9 @@
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
  * smaller ids and its first step's extents in the global part). Refused, with the reason on
  * every rank and exit status 1: scenes with [pour] or [insert] sections, and what
- * sinter_stepper_set_domain_ops refuses
- * (periodic axes, so copper_rve.scene; the electric models and implicit conduction it does not
- * take with the scene's stepper, qs_strategy 1, sort_interval).
+ * sinter_stepper_set_domain_ops refuses (periodic axes, so copper_rve.scene; the electric
+ * models and implicit conduction it does not take with the scene's stepper, qs_strategy 1,
+ * sort_interval).
  * Messages and progress come from rank 0 only.
  */
 #include <errno.h>
@@ -895,7 +895,7 @@ int cli_run_mpi(int argc, char **argv)
     if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
         interval = end / 100.0;
     const size_t columns = column_count(r);
-    double row[8 + 2 * MAX_WALLS + 4];
+    double row[8 + 2 * MAX_WALLS + CLI_MPI_QS_COLUMNS + 2 + 6 + 1]; /* column_count's most */
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);
