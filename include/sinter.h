@@ -2392,6 +2392,17 @@ SINTER_API sinter_status sinter_scene_end_time(const sinter_scene *scene, double
  */
 SINTER_API sinter_status sinter_scene_check(const sinter_scene *scene);
 
+/**
+ * Run the scene's [compact] section on its particles now: the triaxial compaction of
+ * sinter_pack_compact with the section's options (its own walls and stepper; the scene's
+ * stepper and walls are not touched), as sinter_scene_run does before the first step of a
+ * fresh scene without [pour]. For a host that runs the scene's stepper itself, e.g. the MPI
+ * runner, which compacts on one rank before it distributes the particles. Logs the outcome at
+ * SINTER_LOG_INFO. SINTER_ERR_STATE when the scene has no [compact] section; the compaction's
+ * own errors otherwise (SINTER_ERR_NOT_CONVERGED, ...).
+ */
+SINTER_API sinter_status sinter_scene_compact(sinter_scene *scene);
+
 /* ------------------------------------------------------------------------ */
 /* Checkpoints                                                               */
 /* ------------------------------------------------------------------------ */

@@ -1511,6 +1511,11 @@ class scene : public detail::handle<sinter_scene, sinter_scene_destroy> {
     {
         check(sinter_scene_check(live("sinter_scene_check")), "sinter_scene_check");
     }
+    /// The scene's [compact] section run on its particles now (before stepping them yourself).
+    void compact()
+    {
+        check(sinter_scene_compact(live("sinter_scene_compact")), "sinter_scene_compact");
+    }
     /// Run to the end time, writing the outputs to `out_dir`.
     void run(const std::string &out_dir)
     {

@@ -4,17 +4,16 @@
  * [--progress S] [--log LEVEL]` in the MPI build (issue 44): the scene on N ranks through
  * libsinter_mpi.
  *
- * Every rank reads the scene file; rank 0 keeps the particles the scene made, the others give
- * theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a brick of the
- * particles' bounding box. The run then follows `sinter run`'s programme: the state at the
- * start with its forces (a step of 0), a sample, then sinter_stepper_advance to each next
- * sample (the current time plus the output interval) until the end time. With a [pour]
- * (run_mpi_pour.c) the walls are held after the first sample, the pour ends at the first
- * sample, after t_min, whose kinetic energy per particle over all ranks is below
+ * Every rank reads the scene file; rank 0 keeps the particles the scene made (compacted there
+ * first by the scene's [compact] section, sinter_scene_compact, as the serial set-up does), the
+ * others give theirs up, and sinter_mpi_attach + sinter_mpi_distribute spread them over a
+ * brick of rank 0's particles' bounding box. The run then follows `sinter run`'s programme: the
+ * state at the start with its forces (a step of 0), a sample, then sinter_stepper_advance to
+ * each next sample (the current time plus the output interval) until the end time. With a
+ * [pour] (run_mpi_pour.c) the walls are held after the first sample, the pour ends at the
+ * first sample, after t_min, whose kinetic energy per particle over all ranks is below
  * ke_per_particle (the same decision on every rank), the walls' motions start then, and the end
- * time counts from then; a pour not at rest by t_max fails on every rank. With a [compact]
- * (run_mpi_compact.c; no pour) rank 0 first compacts its copy of every particle, the one it
- * spreads, as the serial runner compacts before its first step. Output:
+ * time counts from then; a pour not at rest by t_max fails on every rank. Output:
  *  - series.csv from rank 0, the serial runner's columns, each through a reduction: every
  *    rank's partial sum in index order, then the ranks' partials summed exactly
  *    (sinter_mpi_reduce), so that one rank gives the serial bits; the wall heat flows, the
@@ -29,12 +28,15 @@
  *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue
  *    (with a pour, where it stood travels beside it in checkpoint.mpi.pour).
  * The explicit and staggered steppers (the staggered one's series has its columns and, with an
- * [electric] section, the particle currents, as the serial series). Refused, with the reason on
+ * [electric] section, the particle currents, as the serial series), and the quasi-static one
+ * (run_mpi_qs.c: the sintering columns from the collective statistics; the contacts, the
+ * coordination number and the solid fraction's lenses from the links, each held once by the
+ * rank that owns its smaller id; its checkpoint carries the links in the records of their
+ * smaller ids and its first step's extents in the global part). Refused, with the reason on
  * every rank and exit status 1: scenes with [insert] sections, a [pour] with a [stepper]
  * temperature_schedule (the serial runner delays that furnace to the pour's end through an
- * internal call) or followed by a [compact], the quasi-static stepper (its series and frames are
- * not written here yet), and what sinter_stepper_set_domain_ops refuses (periodic axes, the
- * electric models and implicit conduction it does not take with the scene's stepper,
+ * internal call) or followed by a [compact], and what sinter_stepper_set_domain_ops refuses
+ * (periodic axes, so copper_rve.scene; the electric models it does not take, qs_strategy 1,
  * sort_interval). Messages and progress come from rank 0 only.
  */
 #include <errno.h>
@@ -52,8 +54,8 @@
 #include "core/make_dirs.h"
 #include "core/sphere_volume.h"
 #include "cli.h"
-#include "run_mpi_compact.h"
 #include "run_mpi_pour.h"
+#include "run_mpi_qs.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -69,6 +71,8 @@ typedef struct scene_facts {
     int electric;            /* an [electric ...] section: the particle-current columns */
     int network;             /* [electric network]: the wall current columns */
     int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
+    int quasistatic;         /* [stepper] kind = quasistatic: the sintering columns */
+    int compact;             /* a [compact] section: compacted on rank 0 before the distribution */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -145,16 +149,17 @@ static int read_facts(const char *path, scene_facts *f)
                 f->electric = 1;
             if (strcmp(section, "electric network") == 0)
                 f->network = 1;
+            if (strcmp(section, "compact") == 0)
+                f->compact = 1;
             static const char *const refused[] = {"insert", "fields", "heat laser", "heat nozzle",
                                                   "heat beam"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
                     snprintf(f->refused, sizeof(f->refused), "[%.100s]", section);
-        } else if (f->refused[0] == '\0' && strcmp(section, "stepper") == 0 &&
-                   strncmp(line, "kind", 4) == 0 && strstr(line, "quasistatic") != NULL) {
-            /* the library steps it on subdomains (issue 43), this runner's output not yet */
-            snprintf(f->refused, sizeof(f->refused), "[stepper] %.60s", line);
+        } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
+                   strstr(line, "quasistatic") != NULL) {
+            f->quasistatic = 1; /* its sintering columns (run_mpi_qs.c) */
         } else if (f->refused[0] == '\0' && refused_key(section, line)) {
             snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
         } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
@@ -192,7 +197,6 @@ typedef struct mpi_run {
     double *frame_times; /* the frames' times so far (room for frame_room) */
     size_t frame_room;
     mpi_pour pour;       /* [pour] (run_mpi_pour.c) */
-    mpi_compact compact; /* [compact] (run_mpi_compact.c) */
     int log_level;       /* --log: rank 0 prints messages up to it (-1: none) */
 } mpi_run;
 
@@ -377,15 +381,18 @@ static int solid_volume(const mpi_run *r, const double lo[3], const double hi[3]
             volume -= sinter_sphere_cap_volume(ri, xi[d] - lo[d]) +
                       sinter_sphere_cap_volume(ri, hi[d] - xi[d]);
     }
+    if (r->facts.quasistatic) /* its links instead of contacts (run_mpi_qs.c) */
+        ok = ok && cli_mpi_qs_lenses(r->st, table, rows, owned, x, rad, &volume, contacts);
     sinter_snapshot *snap = NULL;
     const uint64_t *ida = NULL, *idb = NULL;
     size_t pairs = 0;
-    ok = ok && sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
-         sinter_snapshot_counts(snap, &pairs, NULL, NULL, NULL) == SINTER_OK &&
-         sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, (const void **)&ida, NULL, NULL,
-                                  NULL) == SINTER_OK &&
-         sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, (const void **)&idb, NULL, NULL,
-                                  NULL) == SINTER_OK;
+    ok = ok && (r->facts.quasistatic ||
+                (sinter_snapshot_create(&snap, r->st) == SINTER_OK &&
+                 sinter_snapshot_counts(snap, &pairs, NULL, NULL, NULL) == SINTER_OK &&
+                 sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_A, (const void **)&ida, NULL,
+                                          NULL, NULL) == SINTER_OK &&
+                 sinter_snapshot_contacts(snap, SINTER_CONTACT_DATA_ID_B, (const void **)&idb, NULL,
+                                          NULL, NULL) == SINTER_OK));
     for (size_t k = 0; ok && k < pairs; ++k) {
         size_t i = 0, j = 0;
         ok = row_of(table, rows, ida[k], &i) && row_of(table, rows, idb[k], &j);
@@ -460,18 +467,25 @@ static int observe(mpi_run *r, double *row, size_t columns)
         sinter_walls_get_normal(r->walls, k, nrm);
         row[8 + k] = -(f[0] * nrm[0] + f[1] * nrm[1] + f[2] * nrm[2]);
     }
+    /* the quasi-static stepper's sintering columns (run_mpi_qs.c) */
+    const size_t nq = r->facts.quasistatic ? CLI_MPI_QS_COLUMNS : 0;
+    const double box_lo[3] = {-o.max[5], -o.max[6], -o.max[7]},
+                 box_hi[3] = {o.max[2], o.max[3], o.max[4]};
+    if (nq > 0 && !cli_mpi_qs_sintering(r->st, o.sum[2], box_lo, box_hi, row + 8 + nw))
+        return 0;
     const size_t ne = r->facts.electric ? 2 : 0;
     if (ne > 0) {
-        row[8 + nw] = o.sum[4] / n;
-        row[8 + nw + 1] = o.max[8];
+        row[8 + nw + nq] = o.sum[4] / n;
+        row[8 + nw + nq + 1] = o.max[8];
     }
     const size_t nh = r->facts.heat ? nw : 0;
-    if (r->facts.heat && !wall_flows(r, SINTER_CONTACT_DATA_HEAT_FLOW, 1.0, row + 8 + nw + ne))
+    if (r->facts.heat &&
+        !wall_flows(r, SINTER_CONTACT_DATA_HEAT_FLOW, 1.0, row + 8 + nw + nq + ne))
         return 0;
     if (r->facts.network &&
-        !wall_flows(r, SINTER_CONTACT_DATA_CURRENT, -1.0, row + 8 + nw + ne + nh))
+        !wall_flows(r, SINTER_CONTACT_DATA_CURRENT, -1.0, row + 8 + nw + nq + ne + nh))
         return 0;
-    size_t c = 8 + nw + ne + nh + (r->facts.network ? nw : 0);
+    size_t c = 8 + nw + nq + ne + nh + (r->facts.network ? nw : 0);
     row[c] = global.dt;
     row[c + 1] = (double)local.rejected;        /* decided together: equal on every rank */
     row[c + 2] = (double)local.neighbor_builds; /* likewise */
@@ -486,8 +500,9 @@ static int observe(mpi_run *r, double *row, size_t columns)
 static size_t column_count(const mpi_run *r)
 {
     const size_t nw = r->facts.wall_count;
-    return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
-           (r->facts.network ? nw : 0) + (r->facts.staggered ? 6 : 3) + 1;
+    return 8 + nw + (r->facts.quasistatic ? CLI_MPI_QS_COLUMNS : 0) + (r->facts.electric ? 2 : 0) +
+           (r->facts.heat ? nw : 0) + (r->facts.network ? nw : 0) + (r->facts.staggered ? 6 : 3) +
+           1;
 }
 
 /* The header line, as the serial series.csv's. */
@@ -500,6 +515,8 @@ static void write_header(mpi_run *r)
         fprintf(r->csv, "%s%s", k ? "," : "", fixed[k]);
     for (size_t k = 0; k < r->facts.wall_count; ++k)
         fprintf(r->csv, ",%s force [N]", r->facts.walls[k]);
+    if (r->facts.quasistatic)
+        cli_mpi_qs_header(r->csv);
     if (r->facts.electric)
         fputs(",mean particle current [A],max particle current [A]", r->csv);
     for (size_t k = 0; r->facts.heat && k < r->facts.wall_count; ++k)
@@ -779,14 +796,13 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     /* every rank read the same file: the same outcome everywhere, agreed all the same */
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, scene_path, st);
-    const int facts = read_facts(scene_path, &r->facts) && mpi_pour_read(scene_path, &r->pour) &&
-                      mpi_compact_read(scene_path, &r->compact);
+    const int facts = read_facts(scene_path, &r->facts) && mpi_pour_read(scene_path, &r->pour);
     if (agree(r->comm, facts ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene file");
     if (r->pour.on && r->pour.furnace && r->facts.refused[0] == '\0')
         snprintf(r->facts.refused, sizeof(r->facts.refused),
                  "a [stepper] temperature_schedule timed from a [pour]'s end");
-    if (r->pour.on && r->compact.on && r->facts.refused[0] == '\0')
+    if (r->pour.on && r->facts.compact && r->facts.refused[0] == '\0')
         snprintf(r->facts.refused, sizeof(r->facts.refused), "a [compact] after a [pour]");
     if (r->facts.refused[0] != '\0') {
         if (r->rank == 0)
@@ -806,17 +822,14 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
-    if (restart == NULL) { /* [compact]: rank 0's copy, which it spreads (the others' go) */
-        char message[512] = "";
-        if (r->rank == 0)
-            st = mpi_compact_run(&r->compact, r->ps, message, sizeof(message));
+    if (r->facts.compact && restart == NULL) { /* as the serial set-up: on rank 0's copy */
+        st = r->rank == 0 ? sinter_scene_compact(r->scene) : SINTER_OK;
         if (agree(r->comm, st) != SINTER_OK)
-            return say(r, "the compaction ([compact])", st);
-        if (message[0] != '\0' && r->rank == 0 && r->log_level >= SINTER_LOG_INFO)
-            cli_print_log(SINTER_LOG_INFO, message, NULL);
+            return say(r, "the compaction ([compact], on rank 0)", st);
     }
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
+    /* rank 0's particles (the others' copies are not compacted) */
     if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
     MPI_Bcast(options.lo, 3, MPI_DOUBLE, 0, r->comm); /* rank 0's (compacted) copy's box */
@@ -927,7 +940,7 @@ int cli_run_mpi(int argc, char **argv)
     if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
         interval = end / 100.0;
     const size_t columns = column_count(r);
-    double row[8 + 3 * MAX_WALLS + 9];
+    double row[8 + 3 * MAX_WALLS + CLI_MPI_QS_COLUMNS + 2 + 6 + 1]; /* column_count's most */
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);

@@ -30,8 +30,8 @@
  * simulated time T (a sample within a relative 1e-12 below T counts as at T: sample times carry
  * their steps' rounding), writing the checkpoint to continue from (exit status 0).
  * In a build with -DSINTER_MPI=ON, `run` started by mpiexec runs on the ranks instead
- * (run_mpi.c, over libsinter_mpi; a pour in run_mpi_pour.c, a compaction in
- * run_mpi_compact.c; docs/scaleout.md).
+ * (run_mpi.c, over libsinter_mpi; a pour in run_mpi_pour.c, quasi-static output in
+ * run_mpi_qs.c; docs/scaleout.md).
  *
  * SIGINT (Ctrl-C) or SIGTERM ends the current step, writes the checkpoint and the plot and
  * exits with 130 or 143; a second signal ends the program at once.

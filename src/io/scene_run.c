@@ -593,19 +593,7 @@ static void observe(const sinter_scene *sc, double *row)
  */
 static sinter_status compact(sinter_scene *sc)
 {
-    sinter_compaction_result res;
-    memset(&res, 0, sizeof(res));
-    res.struct_size = sizeof(res);
-    const sinter_status st = sinter_pack_compact(sc->ps, &sc->compact_options, &res);
-    if (st == SINTER_OK)
-        sinter_log(sc->ctx, SINTER_LOG_INFO,
-                   "compacted: box %g x %g x %g m, volume fraction %.4f%s, coordination %.3f, "
-                   "largest overlap %.3g of the radius, wall stress %g Pa, %g s simulated",
-                   res.box_max[0] - res.box_min[0], res.box_max[1] - res.box_min[1],
-                   res.box_max[2] - res.box_min[2], res.volume_fraction,
-                   res.jammed ? " (jammed)" : "", res.coordination, res.max_overlap_ratio,
-                   res.pressure, res.time);
-    return st;
+    return sinter_scene_compact(sc); /* io/scene_compact.c */
 }
 
 typedef struct run_state {

@@ -284,7 +284,7 @@ sinter_status sinter_stepper_load_global(sinter_stepper *st, const void *buf, si
         w->servo_int = v[11];
     }
     if (qu[0]) /* the quasi-static stepper's own; its per-particle state comes with the records */
-        sinter_qs_global_load(st->quasistatic, qf, qu);
+        sinter_qs_global_load(st->quasistatic, qf, qu, st->domain.on);
     if (has && st->insertion != NULL) /* a host without one ignores it */
         sinter_insertion_set_state(st->insertion, iu, id);
     if (st->walls != NULL) /* motions come from the set-up, as for a checkpoint */

@@ -106,7 +106,8 @@ void sinter_qs_global_values(const sinter_qs *qs, double f[SINTER_QS_GLOBAL_F64]
                              uint64_t u[SINTER_QS_GLOBAL_U64]);
 const char *sinter_qs_global_wrong(const double f[SINTER_QS_GLOBAL_F64],
                                    const uint64_t u[SINTER_QS_GLOBAL_U64]);
+/* domain_on: loaded under domain operations (a decomposed run's restart, issue 44). */
 void sinter_qs_global_load(sinter_qs *qs, const double f[SINTER_QS_GLOBAL_F64],
-                           const uint64_t u[SINTER_QS_GLOBAL_U64]);
+                           const uint64_t u[SINTER_QS_GLOBAL_U64], int domain_on);
 
 #endif

@@ -213,7 +213,7 @@ const char *sinter_qs_global_wrong(const double f[SINTER_QS_GLOBAL_F64],
 }
 
 void sinter_qs_global_load(sinter_qs *qs, const double f[SINTER_QS_GLOBAL_F64],
-                           const uint64_t u[SINTER_QS_GLOBAL_U64])
+                           const uint64_t u[SINTER_QS_GLOBAL_U64], int domain_on)
 {
     memcpy(qs->extent0, f, 3 * sizeof(double));
     qs->dt_next = f[3];
@@ -232,4 +232,11 @@ void sinter_qs_global_load(sinter_qs *qs, const double f[SINTER_QS_GLOBAL_F64],
     qs->cell_started = (int)u[7];
     qs->warned_coverage = (int)(u[8] & 1u);
     qs->warned_density = (int)(u[8] >> 1);
+    /* the first set-up's extents and green density came above: a decomposed run does not
+     * take them again at its next step (qs_domain.c) */
+    qs->dom.started = u[5] != 0;
+    /* under domain operations each link arrives with the record of its smaller id, on the
+     * subdomain that owns that id, as a decomposed run keeps its links */
+    if (domain_on)
+        qs->dom.on = 1;
 }

@@ -348,10 +348,17 @@ sinter_status sinter_stepper_sintering_stats(const sinter_stepper *st,
         return sinter_fail(st->ctx, SINTER_ERR_STRUCT_SIZE,
                            "sinter_stepper_sintering_stats: struct_size is %zu, expected %zu",
                            stats->struct_size, sizeof(sinter_sintering_stats));
+    sinter_status ready = SINTER_OK;
     if (st->kind != SINTER_STEPPER_QUASISTATIC || st->quasistatic == NULL)
-        return sinter_fail(st->ctx, SINTER_ERR_STATE,
-                           "sinter_stepper_sintering_stats: the stepper is not quasi-static or "
-                           "has taken no step yet");
+        ready = sinter_fail(st->ctx, SINTER_ERR_STATE,
+                            "sinter_stepper_sintering_stats: the stepper is not quasi-static or "
+                            "has taken no step yet");
+    /* collective with domain operations: refused on every subdomain if on one (an import
+     * makes a subdomain's stepper state before the first step, issue 44) */
+    if (st->domain.on)
+        ready = sinter_domain_agree(st->ctx, (sinter_domain *)&st->domain, ready);
+    if (ready != SINTER_OK)
+        return ready;
     const sinter_particles *ps = st->ps;
     /* the statistics read positions, radii and the links only */
     const sinter_qs_particles p = {ps->count,    ps->x,  ps->rot, ps->radius,

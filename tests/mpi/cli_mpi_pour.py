@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """`mpiexec -n N sinter run` of a scene with a [pour] or a [compact] (src/cli/run_mpi_pour.c,
-src/cli/run_mpi_compact.c, issue 44).
+src/cli/run_mpi.c, issue 44).
 
 usage: cli_mpi_pour.py SINTER MPIEXEC SCENE WORK CASE [NP]
 

@@ -462,6 +462,7 @@ SIGNATURES = {
     "sinter_plot_run": (c_status, [CtxPtr, _str, _str]),
     "sinter_plot_csv": (c_status, [CtxPtr, _str, _str, _str, _str, _P(_str), _size]),
     "sinter_scene_check": (c_status, [ScenePtr]),
+    "sinter_scene_compact": (c_status, [ScenePtr]),
     "sinter_checkpoint_write": (c_status, [StepperPtr, _str]),
     "sinter_checkpoint_read": (c_status, [StepperPtr, _str]),
     "sinter_stepper_export_size": (c_status, [StepperPtr, _size, _P(_size), _P(_size)]),

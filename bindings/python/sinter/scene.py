@@ -132,6 +132,13 @@ class Scene(_Handle):
         BusyError while a field view is out) naming what is wrong."""
         self._check(lib.sinter_scene_check(self._ptr), "sinter_scene_check")
 
+    def compact(self) -> None:
+        """Run the scene's [compact] section on its particles now (sinter_scene_compact): the
+        triaxial compaction that run() makes before the first step of a scene without [pour],
+        for a host that steps the scene itself. Raises SinterError (SINTER_ERR_STATE) without a
+        [compact] section."""
+        self._check(lib.sinter_scene_compact(self._ptr), "sinter_scene_compact")
+
     def run(self, out_dir: PathLike, progress: Progress = None) -> bool:
         """Run to the end time, writing the [output] files into out_dir (created if missing).
 
