@@ -196,8 +196,8 @@ typedef struct mpi_run {
     uint64_t frame;      /* the next frame's number */
     double *frame_times; /* the frames' times so far (room for frame_room) */
     size_t frame_room;
-    mpi_pour pour;       /* [pour] (run_mpi_pour.c) */
-    int log_level;       /* --log: rank 0 prints messages up to it (-1: none) */
+    mpi_pour pour; /* [pour] (run_mpi_pour.c) */
+    int log_level; /* --log: rank 0 prints messages up to it (-1: none) */
 } mpi_run;
 
 /* Every rank's error as one: the lowest failing status (0 when none failed). */
@@ -479,8 +479,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[8 + nw + nq + 1] = o.max[8];
     }
     const size_t nh = r->facts.heat ? nw : 0;
-    if (r->facts.heat &&
-        !wall_flows(r, SINTER_CONTACT_DATA_HEAT_FLOW, 1.0, row + 8 + nw + nq + ne))
+    if (r->facts.heat && !wall_flows(r, SINTER_CONTACT_DATA_HEAT_FLOW, 1.0, row + 8 + nw + nq + ne))
         return 0;
     if (r->facts.network &&
         !wall_flows(r, SINTER_CONTACT_DATA_CURRENT, -1.0, row + 8 + nw + nq + ne + nh))
