@@ -371,6 +371,9 @@ interior_pass(sinter_conduction_ranges *j, int s, int projection, double factor,
     sinter_range_flags_set(&j->interior_done, s);
 }
 
+/* This file is compiled with its functions on 64-byte lines and its jump targets on 16 bytes
+ * (CMakeLists.txt, SINTER_ALIGNED_SOURCES): the interior pass's speed depends on its loop's
+ * place in the cache lines. Code moved from here to another file must take the flags along. */
 void sinter_conduction_range_interior(sinter_conduction_ranges *j, int s)
 {
     const int skip = j->skip_ended;
