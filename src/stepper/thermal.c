@@ -155,6 +155,7 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     /* periodic images: sources act on the owned particles only (heat_model.h) */
     e.owned = st->ps->count - st->ps->ghost_count;
     e.ghost_owner = st->ps->ghost_count > 0 ? st->ghosts.owner : NULL;
+    e.domain = st->domain.on ? &st->domain : NULL; /* other subdomains' ghosts */
     return e;
 }
 
