@@ -44,6 +44,7 @@
 #include "core/make_dirs.h"
 #include "core/sphere_volume.h"
 #include "cli.h"
+#include "run_mpi_heat.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -58,6 +59,7 @@ typedef struct scene_facts {
     int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
     int electric;            /* an [electric ...] section: the particle-current columns */
     int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
+    int beam;                /* a [heat laser], [heat nozzle] or [heat beam]: the lit columns */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -132,8 +134,10 @@ static int read_facts(const char *path, scene_facts *f)
                 f->heat = 1;
             if (strncmp(section, "electric", 8) == 0)
                 f->electric = 1;
-            static const char *const refused[] = {"pour",       "compact",     "insert",   "fields",
-                                                  "heat laser", "heat nozzle", "heat beam"};
+            if (strncmp(section, "heat laser", 10) == 0 ||
+                strncmp(section, "heat nozzle", 11) == 0 || strncmp(section, "heat beam", 9) == 0)
+                f->beam = 1; /* (across ranks since issue 43's heat sources: run_mpi_heat.h) */
+            static const char *const refused[] = {"pour", "compact", "insert", "fields"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
@@ -408,6 +412,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
     if (!ok)
         return 0;
     const double n = o.sum[3] > 0 ? o.sum[3] : 1.0;
+    const size_t solid_col = columns - 1 - run_mpi_heat_columns(r->st, r->facts.beam);
     double t = 0.0;
     sinter_stepper_time(r->st, &t);
     for (size_t k = 0; k < columns; ++k)
@@ -427,7 +432,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
         if (sinter_mpi_reduce(solid, 3, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
             return 0;
         if (solid[1] == 0.0 && !r->facts.solid_box)
-            row[columns - 1] = volume > 0 ? solid[0] / volume : NAN;
+            row[solid_col] = volume > 0 ? solid[0] / volume : NAN;
         if (solid[1] == 0.0) { /* each contact once, also those across a border */
             row[2] = solid[2];
             row[3] = 2.0 * solid[2] / n;
@@ -458,14 +463,14 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[c + 4] = (double)local.evaluations;
         row[c + 5] = local.contraction;
     }
-    return 1;
+    return run_mpi_heat_observe(r->st, r->facts.beam, r->ps, r->domain, row + solid_col + 1);
 }
 
 static size_t column_count(const mpi_run *r)
 {
     const size_t nw = r->facts.wall_count;
     return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
-           (r->facts.staggered ? 6 : 3) + 1;
+           (r->facts.staggered ? 6 : 3) + 1 + run_mpi_heat_columns(r->st, r->facts.beam);
 }
 
 /* The header line, as the serial series.csv's. */
@@ -485,7 +490,9 @@ static void write_header(mpi_run *r)
     fputs(",time step [s],rejected steps [1],neighbour rebuilds [1]", r->csv);
     if (r->facts.staggered)
         fputs(",fixed-point iterations [1],pipeline evaluations [1],contraction [1]", r->csv);
-    fputs(",solid fraction [1]\n", r->csv);
+    fputs(",solid fraction [1]", r->csv);
+    run_mpi_heat_header(r->csv, r->st, r->facts.beam);
+    fputc('\n', r->csv);
 }
 
 static void write_row(mpi_run *r, const double *row, size_t columns)
@@ -867,7 +874,7 @@ int cli_run_mpi(int argc, char **argv)
     if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
         interval = end / 100.0;
     const size_t columns = column_count(r);
-    double row[8 + 2 * MAX_WALLS + 4];
+    double row[8 + 2 * MAX_WALLS + 16];
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);
