@@ -65,3 +65,12 @@ int run_mpi_heat_observe(const sinter_stepper *st, int beam, sinter_particles *p
     row[c + 1] = sum[0] > 0.0 ? sum[1] / sum[0] : 0.0;
     return 1;
 }
+
+sinter_status run_mpi_heat_checkpoint(sinter_stepper *st, sinter_particles *ps, MPI_Comm comm,
+                                      const char *path, int *skipped)
+{
+    double active = 0.0;
+    *skipped =
+        sinter_stepper_get_option(st, "frozen_active", &active) == SINTER_OK && active != 0.0;
+    return *skipped ? SINTER_OK : sinter_mpi_checkpoint_write(st, ps, comm, path);
+}

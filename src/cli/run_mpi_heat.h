@@ -27,4 +27,11 @@ void run_mpi_heat_header(FILE *csv, const sinter_stepper *st, int beam);
 int run_mpi_heat_observe(const sinter_stepper *st, int beam, sinter_particles *ps,
                          sinter_mpi_domain *domain, double *row);
 
+/* sinter_mpi_checkpoint_write of the stepper's state into `path`, or nothing (SINTER_OK, *skipped
+ * = 1) while the frozen heat stage holds the mechanics: its per-particle rates do not travel in
+ * the portable records yet (the stepper refuses to save them). Collective; the stage's state is
+ * the same on every rank (decided from reductions). */
+sinter_status run_mpi_heat_checkpoint(sinter_stepper *st, sinter_particles *ps, MPI_Comm comm,
+                                      const char *path, int *skipped);
+
 #endif

@@ -1639,8 +1639,8 @@ static sinter_status take_step(sinter_stepper *st, double h, double t_end, doubl
         sinter_thread_choice_end(st, sinter_clock() - clock_start, s == SINTER_OK);
         *taken = h;
         st->eval_lag = s == SINTER_OK ? 0.5 * h : 0.0;
-        if (s == SINTER_OK && !st->domain.on) /* at rest: the next steps are heat steps
-                                                 (frozen_heat.h; not yet across subdomains) */
+        if (s == SINTER_OK) /* at rest: the next steps are heat steps (frozen_heat.h; across
+                               subdomains decided from reductions) */
             s = sinter_frozen_consider(st);
     }
     if (s != SINTER_OK) {

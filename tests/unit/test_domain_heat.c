@@ -15,6 +15,16 @@
  * equal the single domain's within 1e-12 relative: conduction sums a particle's pair terms in
  * another order across a border (round-off, about 1e-16 a step over 40 steps); a beam that
  * ignored the other subdomains' shadows heats the far slabs' spheres by tens of percent more.
+ *
+ * The frozen heat stage (frozen_heat.h) over the same block: at rest (no force models) it
+ * freezes after 3 steps and advances the heat alone by backward Euler (implicit conduction
+ * across subdomains, domain/solve.h) at its controlled step; the spheres soften exponentially
+ * from 300 K, so the laser's heating wakes the mechanics (a modulus factor moved by 0.1 %), which
+ * freeze again. Every decision (at rest, the step's error, the wake-up, the travel limit) comes
+ * from reductions: on 2-4 subdomains the same heat steps, rejections, wake-ups and freezes as
+ * on one, and the temperature changes within 1e-9 relative (the PCG stops at a residual of
+ * 1e-13 of its right-hand side, round-off moves its iterates, and backward Euler's condition
+ * number, 1 + h G / m C, stays below 1e3: test_domain_solve.c's argument).
  */
 #include <math.h>
 #include <pthread.h>
@@ -32,8 +42,14 @@ static const double R = 1e-3;         /* radius [m] */
 static const double A = 1.96e-3;      /* lattice spacing [m]: overlap 4e-5 m */
 static const double DT = 1e-3;        /* [s]: below the explicit conduction limit (about 7 ms) */
 static const double BEAM_POWER = 2.0; /* [W] */
+static const double FROZEN_END = 0.3; /* [s] */
+
+enum { FROZEN_STATS = 5 };
+static const char *const FROZEN_KEYS[FROZEN_STATS] = {
+    "frozen_steps", "frozen_rejected", "frozen_wakeups", "frozen_freezes", "frozen_time"};
 
 typedef struct result {
+    double frozen[LOOPBACK_MAX][FROZEN_STATS]; /* the stage's statistics on each subdomain */
     double temp[N];
     uint32_t flags[N];
     int seen[N];
@@ -42,7 +58,7 @@ typedef struct result {
 } result;
 
 typedef struct job {
-    int rank, size;
+    int rank, size, frozen;
     loopback *lb;
     result *out;
     int failed;
@@ -93,6 +109,13 @@ static void *run_scene(void *arg)
     TRY(sinter_material_set(mat, SINTER_MAT_HEAT_CAPACITY, 400));
     TRY(sinter_material_set(mat, SINTER_MAT_EMISSIVITY, 0.8));
     TRY(sinter_material_set(mat, SINTER_MAT_ABSORPTANCE, 0.3));
+    if (j->frozen) { /* exponential softening (seed 003 eq. 42) from 300 K: 1e-3 per kelvin */
+        TRY(sinter_material_set(mat, SINTER_MAT_SOFTENING_LAW, 2));
+        TRY(sinter_material_set(mat, SINTER_MAT_SOFTENING_TEMPERATURE, 300));
+        TRY(sinter_material_set(mat, SINTER_MAT_SOFTENING_RATE, 0.3));
+        TRY(sinter_material_set(mat, SINTER_MAT_SOFTENING_FLOOR, 0.1));
+        TRY(sinter_material_set(mat, SINTER_MAT_YOUNGS_MODULUS, 1e7));
+    }
     TRY(sinter_particles_create(&ps, ctx));
     TRY(sinter_particles_set_material(ps, 0, mat));
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL));
@@ -100,7 +123,7 @@ static void *run_scene(void *arg)
     TRY(sinter_stepper_add_heat(st, hm[0]));
     /* a laser over the middle of the block, wide enough to light columns of two slabs */
     const char *const laser_keys[] = {"x", "y", "radius", "intensity", "attenuation"};
-    const double laser[] = {NX * A / 2, A, 2.5 * A, 2e5, 500.0};
+    const double laser[] = {NX * A / 2, A, 2.5 * A, 1e6, 500.0};
     TRY(add_heat(ctx, st, "laser", laser_keys, laser, 5, &hm[1]));
     /* the beam: from x < 0 along the block, slanted down, through every slab */
     const char *const beam_keys[] = {"x", "y", "z", "dx", "dy", "dz", "radius", "power", "rays"};
@@ -122,9 +145,23 @@ static void *run_scene(void *arg)
         TRY(sinter_particles_add_with_ids(ps, 1, &id, x, &R, 0, theta, NULL));
     }
     TRY(sinter_stepper_set_dt(st, DT));
+    if (j->frozen) {
+        TRY(sinter_stepper_set_option(st, "frozen_heat", 1));
+        TRY(sinter_stepper_set_option(st, "frozen_settle", 3));
+        TRY(sinter_stepper_set_option(st, "frozen_rtol", 1e-5));
+        TRY(sinter_stepper_set_option(st, "frozen_wake", 1e-3)); /* 1 K above the freeze's */
+    }
     if (j->lb != NULL)
         TRY(loopback_attach(j->lb, j->rank, st, ps));
-    for (int k = 0; k < STEPS; ++k) {
+    if (j->frozen) {
+        const sinter_status s = sinter_stepper_advance(st, FROZEN_END);
+        if (s != SINTER_OK) {
+            snprintf(j->message, sizeof(j->message), "advance: %s", sinter_last_error(ctx));
+            j->failed = -1;
+            goto done;
+        }
+    }
+    for (int k = 0; k < (j->frozen ? 0 : STEPS); ++k) {
         const sinter_status s = sinter_stepper_step(st, 1);
         if (s != SINTER_OK) {
             snprintf(j->message, sizeof(j->message), "step %d: %s", k + 1, sinter_last_error(ctx));
@@ -150,6 +187,9 @@ static void *run_scene(void *arg)
         if (sinter_heat_model_output(hm[2], OUTPUT[k], &out->beam[j->rank][k]) != SINTER_OK)
             j->failed = __LINE__;
     memcpy(out->energy[j->rank], energy, sizeof(energy));
+    for (int k = 0; k < FROZEN_STATS; ++k)
+        if (sinter_stepper_get_option(st, FROZEN_KEYS[k], &out->frozen[j->rank][k]) != SINTER_OK)
+            j->failed = __LINE__;
     pthread_mutex_unlock(&OUT_LOCK);
 done:
     if (j->failed > 0)
@@ -165,7 +205,7 @@ done:
 }
 
 /* The block on `size` subdomains (0: one run without domain operations). */
-static void run(int size, result *out)
+static void run(int size, int frozen, result *out)
 {
     memset(out, 0, sizeof(*out));
     const int n = size > 0 ? size : 1;
@@ -176,7 +216,7 @@ static void run(int size, result *out)
     pthread_t threads[LOOPBACK_MAX];
     job jobs[LOOPBACK_MAX];
     for (int r = 0; r < n; ++r) {
-        jobs[r] = (job){.rank = r, .size = n, .lb = lb, .out = out};
+        jobs[r] = (job){.rank = r, .size = n, .frozen = frozen, .lb = lb, .out = out};
         assert_int_equal(pthread_create(&threads[r], NULL, run_scene, &jobs[r]), 0);
     }
     for (int r = 0; r < n; ++r)
@@ -192,6 +232,7 @@ static void run(int size, result *out)
     for (int r = 1; r < n; ++r) { /* every subdomain holds the same outputs */
         assert_memory_equal(out->beam[r], out->beam[0], sizeof(out->beam[0]));
         assert_memory_equal(out->energy[r], out->energy[0], sizeof(out->energy[0]));
+        assert_memory_equal(out->frozen[r], out->frozen[0], sizeof(out->frozen[0]));
     }
 }
 
@@ -200,7 +241,7 @@ static result REF, DEC;
 static void test_sources_across_subdomains(void **state)
 {
     (void)state;
-    run(0, &REF);
+    run(0, 0, &REF);
     /* the beam's balance: absorbed + transmitted = P to round-off; it lit particles deep in
      * the block (the test is not vacuous: the far slabs are in its path) */
     assert_close(REF.beam[0][0] + REF.beam[0][1], BEAM_POWER, 1e-12 * BEAM_POWER);
@@ -213,7 +254,7 @@ static void test_sources_across_subdomains(void **state)
     for (int k = 0; k < N; ++k)
         start[k] = 300.0 + 100.0 * (k % NX) / (NX - 1) + 7.0 * ((k * 37) % 11) / 11.0;
     for (int size = 1; size <= LOOPBACK_MAX; ++size) {
-        run(size, &DEC);
+        run(size, 0, &DEC);
         assert_memory_equal(DEC.flags, REF.flags, sizeof(REF.flags));
         assert_memory_equal(DEC.beam[0], REF.beam[0], 3 * sizeof(double));
         if (size == 1) {
@@ -243,10 +284,47 @@ static void test_sources_across_subdomains(void **state)
     }
 }
 
+static double start_temperature(int k)
+{
+    return 300.0 + 100.0 * (k % NX) / (NX - 1) + 7.0 * ((k * 37) % 11) / 11.0;
+}
+
+static void test_frozen_heat_across_subdomains(void **state)
+{
+    (void)state;
+    run(0, 1, &REF);
+    print_message("frozen stage alone: %g heat steps, %g rejected, %g wake-ups, %g freezes, "
+                  "%g s frozen\n",
+                  REF.frozen[0][0], REF.frozen[0][1], REF.frozen[0][2], REF.frozen[0][3],
+                  REF.frozen[0][4]);
+    /* the stage ran: it froze, stepped the heat, woke on the softening and froze again */
+    assert_true(REF.frozen[0][0] >= 5.0 && REF.frozen[0][2] >= 1.0 && REF.frozen[0][3] >= 2.0);
+    for (int size = 1; size <= LOOPBACK_MAX; ++size) {
+        run(size, 1, &DEC);
+        assert_memory_equal(DEC.frozen[0], REF.frozen[0], 4 * sizeof(double)); /* the counts */
+        if (size == 1) {
+            assert_memory_equal(DEC.temp, REF.temp, sizeof(REF.temp));
+            assert_memory_equal(DEC.frozen[0], REF.frozen[0], sizeof(REF.frozen[0]));
+            continue;
+        }
+        double d = 0.0, m = 0.0;
+        for (int k = 0; k < N; ++k) {
+            d = fmax(d, fabs(DEC.temp[k] - REF.temp[k]));
+            m = fmax(m, fabs(REF.temp[k] - start_temperature(k)));
+        }
+        print_message("%d subdomains: the same heat steps; temperature changes within %.2g "
+                      "relative, frozen time %.2g relative\n",
+                      size, d / m, fabs(DEC.frozen[0][4] - REF.frozen[0][4]) / REF.frozen[0][4]);
+        assert_true(d <= 1e-9 * m);
+        assert_close(DEC.frozen[0][4], REF.frozen[0][4], 1e-12 * REF.frozen[0][4]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sources_across_subdomains),
+        cmocka_unit_test(test_frozen_heat_across_subdomains),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
