@@ -45,6 +45,7 @@
 #include "core/sphere_volume.h"
 #include "cli.h"
 #include "run_mpi_heat.h"
+#include "run_mpi_insert.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -60,6 +61,7 @@ typedef struct scene_facts {
     int electric;            /* an [electric ...] section: the particle-current columns */
     int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
     int beam;                /* a [heat laser], [heat nozzle] or [heat beam]: the lit columns */
+    int insert;              /* an [insert] section: its two columns (run_mpi_insert.h) */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -87,9 +89,9 @@ static void trim(char *s)
 static int refused_key(const char *section, const char *line)
 {
     static const char *const keys[][2] = {
-        {"output", "distributions"},         {"output", "temperature_bins"}, {"output", "track"},
-        {"output", "pair_reference"},        {"output", "contacts"},         {"output", "walls"},
-        {"force power_law", "bond_strength"}};
+        {"output", "distributions"},          {"output", "temperature_bins"}, {"output", "track"},
+        {"output", "pair_reference"},         {"output", "contacts"},         {"output", "walls"},
+        {"force power_law", "bond_strength"}, {"insert", "materials"}};
     const char *eq = strchr(line, '=');
     if (eq == NULL)
         return 0;
@@ -137,7 +139,8 @@ static int read_facts(const char *path, scene_facts *f)
             if (strncmp(section, "heat laser", 10) == 0 ||
                 strncmp(section, "heat nozzle", 11) == 0 || strncmp(section, "heat beam", 9) == 0)
                 f->beam = 1; /* (across ranks since issue 43's heat sources: run_mpi_heat.h) */
-            static const char *const refused[] = {"pour", "compact", "insert", "fields"};
+            f->insert |= strcmp(section, "insert") == 0;
+            static const char *const refused[] = {"pour", "compact", "fields"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
@@ -463,6 +466,8 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[c + 4] = (double)local.evaluations;
         row[c + 5] = local.contraction;
     }
+    if (r->facts.insert && !run_mpi_insert_observe(r->st, row + c + (r->facts.staggered ? 6 : 3)))
+        return 0;
     return run_mpi_heat_observe(r->st, r->facts.beam, r->ps, r->domain, row + solid_col + 1);
 }
 
@@ -470,7 +475,8 @@ static size_t column_count(const mpi_run *r)
 {
     const size_t nw = r->facts.wall_count;
     return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
-           (r->facts.staggered ? 6 : 3) + 1 + run_mpi_heat_columns(r->st, r->facts.beam);
+           (r->facts.staggered ? 6 : 3) + (r->facts.insert ? RUN_MPI_INSERT_COLUMNS : 0) + 1 +
+           run_mpi_heat_columns(r->st, r->facts.beam);
 }
 
 /* The header line, as the serial series.csv's. */
@@ -490,6 +496,8 @@ static void write_header(mpi_run *r)
     fputs(",time step [s],rejected steps [1],neighbour rebuilds [1]", r->csv);
     if (r->facts.staggered)
         fputs(",fixed-point iterations [1],pipeline evaluations [1],contraction [1]", r->csv);
+    if (r->facts.insert)
+        run_mpi_insert_header(r->csv);
     fputs(",solid fraction [1]", r->csv);
     run_mpi_heat_header(r->csv, r->st, r->facts.beam);
     fputc('\n', r->csv);
@@ -644,9 +652,10 @@ static int refuse(const mpi_run *r, const char *what)
     return 1;
 }
 
-/* The decomposition's box: the scene's particles as every rank read them, with a margin of
- * their largest diameter (a particle outside the box belongs to the nearest part anyway). */
-static int scene_box(const mpi_run *r, double lo[3], double hi[3])
+/* The decomposition's box: the scene's particles as every rank read them and its insertion
+ * region, with a margin of their largest diameter (a particle outside the box belongs to the
+ * nearest part anyway). */
+static int scene_box(const mpi_run *r, const char *path, double lo[3], double hi[3])
 {
     const double *x = NULL, *rad = NULL;
     size_t n = 0;
@@ -660,8 +669,8 @@ static int scene_box(const mpi_run *r, double lo[3], double hi[3])
     }
     double rmax = 0.0;
     for (int d = 0; d < 3; ++d) {
-        lo[d] = n ? INFINITY : 0.0;
-        hi[d] = n ? -INFINITY : 1.0;
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
     }
     for (size_t i = 0; i < n; ++i) {
         rmax = fmax(rmax, rad[i]);
@@ -672,7 +681,13 @@ static int scene_box(const mpi_run *r, double lo[3], double hi[3])
     }
     sinter_particles_release(r->ps, SINTER_FIELD_POSITION);
     sinter_particles_release(r->ps, SINTER_FIELD_RADIUS);
+    if (r->facts.insert) /* and the insertion's region (a scene may start empty) */
+        run_mpi_insert_box(path, lo, hi);
     for (int d = 0; d < 3; ++d) {
+        if (!(lo[d] < INFINITY)) { /* nothing to size it */
+            lo[d] = 0.0;
+            hi[d] = 1.0;
+        }
         lo[d] -= 2.0 * rmax;
         hi[d] += 2.0 * rmax;
         if (!(hi[d] > lo[d]))
@@ -772,7 +787,7 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         return refuse(r, "the scene's walls are not its [wall NAME] sections");
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
-    if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
+    if (agree(r->comm, scene_box(r, scene_path, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
     st = sinter_mpi_domain_create(&r->domain, r->comm, &options);
     if (agree(r->comm, st) != SINTER_OK)
