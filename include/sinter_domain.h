@@ -150,8 +150,11 @@ typedef struct sinter_domain_ops {
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
  * stepper's global quantities go through `ops`. The explicit, staggered and quasi-static
- * steppers, without periodic axes, continuous insertion, an electric model with host
- * callbacks or the option sort_interval; with the explicit stepper the "network" electric
+ * steppers, without periodic axes, an electric model with host callbacks or the option
+ * sort_interval (continuous insertion: every subdomain makes the same spheres, subdomain 0 adds
+ * them with ids above every subdomain's and the redistribution moves them, so a host's
+ * redistribute must move any owned particle to its owner); with the explicit stepper the
+ * "network" electric
  * model and implicit conduction, with the staggered stepper the "averaged" electric model
  * (SINTER_ERR_UNSUPPORTED names the setting, here or at the next step); reduce, exscan, halo
  * and redistribute are required. Implicit conduction and the "network" electric model solve
