@@ -1208,6 +1208,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     const int heat = st->thermal.count > 0 && !st->heat_skip;
     if (s == SINTER_OK && heat)
         s = contact_dissipation(st, &e);
+    if (heat && sinter_thermal_collective(st)) /* (the beams gather: every subdomain or none) */
+        s = sinter_domain_agree(ctx, &st->domain, s);
     if (s == SINTER_OK && heat) {
         const double t1 = sinter_clock();
         s = sinter_thermal_eval(st);
@@ -1312,7 +1314,9 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
         const size_t bytes = ps->count * sizeof(double); /* (an empty set has no arrays) */
         if (bytes > 0)
             memcpy(heat_copy, ps->heat, bytes);
+        st->thermal.local_eval = 1; /* this subdomain's estimate: no collective call */
         s = sinter_thermal_eval(st);
+        st->thermal.local_eval = 0;
         if (bytes > 0)
             memcpy(ps->heat, heat_copy, bytes);
     }
