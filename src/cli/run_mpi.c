@@ -56,13 +56,13 @@ typedef struct scene_facts {
     char name[NAME_SIZE];
     char walls[MAX_WALLS][NAME_SIZE];
     size_t wall_count;
-    char refused[NAME_SIZE]; /* the first refused section, "" if none */
-    int heat;                /* a [heat conduction] section: the wall heat-flow columns */
-    int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
-    int electric;            /* an [electric ...] section: the particle-current columns */
-    int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
-    int beam;                /* a [heat laser], [heat nozzle] or [heat beam]: the lit columns */
-    int insert;              /* an [insert] section: its two columns (run_mpi_insert.h) */
+    char refused[NAME_SIZE];    /* the first refused section, "" if none */
+    int heat;                   /* a [heat conduction] section: the wall heat-flow columns */
+    int solid_box;              /* [output] solid_box: the solid fraction sampled in a box */
+    int electric;               /* an [electric ...] section: the particle-current columns */
+    int staggered;              /* [stepper] kind = staggered: its three more stepper columns */
+    run_mpi_heat_spec heat_out; /* the heat stage's columns (run_mpi_heat.h) */
+    int insert;                 /* an [insert] section: its two columns (run_mpi_insert.h) */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -85,14 +85,14 @@ static void trim(char *s)
 }
 
 /* 1 for a key line of a section whose output the MPI runner does not write yet: the series
- * columns of [output] distributions, temperature_bins, track, pair_reference, the frames' extra
+ * columns of [output] distributions, track, pair_reference, the frames' extra
  * files (contacts, walls), the bonds of a power law with bond_strength. */
 static int refused_key(const char *section, const char *line)
 {
     static const char *const keys[][2] = {
-        {"output", "distributions"},          {"output", "temperature_bins"}, {"output", "track"},
-        {"output", "pair_reference"},         {"output", "contacts"},         {"output", "walls"},
-        {"force power_law", "bond_strength"}, {"insert", "materials"}};
+        {"output", "distributions"}, {"output", "track"}, {"output", "pair_reference"},
+        {"output", "contacts"},      {"output", "walls"}, {"force power_law", "bond_strength"},
+        {"insert", "materials"}};
     const char *eq = strchr(line, '=');
     if (eq == NULL)
         return 0;
@@ -139,7 +139,7 @@ static int read_facts(const char *path, scene_facts *f)
                 f->electric = 1;
             if (strncmp(section, "heat laser", 10) == 0 ||
                 strncmp(section, "heat nozzle", 11) == 0 || strncmp(section, "heat beam", 9) == 0)
-                f->beam = 1; /* (across ranks since issue 43's heat sources: run_mpi_heat.h) */
+                f->heat_out.beam = 1; /* (across ranks since issue 43: run_mpi_heat.h) */
             f->insert |= strcmp(section, "insert") == 0;
             static const char *const refused[] = {"pour", "compact", "fields"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
@@ -166,6 +166,7 @@ static int read_facts(const char *path, scene_facts *f)
         }
     }
     fclose(fp);
+    run_mpi_heat_read(path, &f->heat_out);
     if (f->name[0] == '\0')
         snprintf(f->name, sizeof(f->name), "scene");
     return 1;
@@ -416,7 +417,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
     if (!ok)
         return 0;
     const double n = o.sum[3] > 0 ? o.sum[3] : 1.0;
-    const size_t solid_col = columns - 1 - run_mpi_heat_columns(r->st, r->facts.beam);
+    const size_t solid_col = columns - 1 - run_mpi_heat_columns(r->st, &r->facts.heat_out);
     double t = 0.0;
     sinter_stepper_time(r->st, &t);
     for (size_t k = 0; k < columns; ++k)
@@ -469,7 +470,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
     }
     if (r->facts.insert && !run_mpi_insert_observe(r->st, row + c + (r->facts.staggered ? 6 : 3)))
         return 0;
-    return run_mpi_heat_observe(r->st, r->facts.beam, r->ps, r->domain, row + solid_col + 1);
+    return run_mpi_heat_observe(r->st, &r->facts.heat_out, r->ps, r->domain, row + solid_col + 1);
 }
 
 static size_t column_count(const mpi_run *r)
@@ -477,7 +478,7 @@ static size_t column_count(const mpi_run *r)
     const size_t nw = r->facts.wall_count;
     return 8 + nw + (r->facts.electric ? 2 : 0) + (r->facts.heat ? nw : 0) +
            (r->facts.staggered ? 6 : 3) + (r->facts.insert ? RUN_MPI_INSERT_COLUMNS : 0) + 1 +
-           run_mpi_heat_columns(r->st, r->facts.beam);
+           run_mpi_heat_columns(r->st, &r->facts.heat_out);
 }
 
 /* The header line, as the serial series.csv's. */
@@ -500,7 +501,7 @@ static void write_header(mpi_run *r)
     if (r->facts.insert)
         run_mpi_insert_header(r->csv);
     fputs(",solid fraction [1]", r->csv);
-    run_mpi_heat_header(r->csv, r->st, r->facts.beam);
+    run_mpi_heat_header(r->csv, r->st, &r->facts.heat_out);
     fputc('\n', r->csv);
 }
 
@@ -887,7 +888,7 @@ int cli_run_mpi(int argc, char **argv)
     if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
         interval = end / 100.0;
     const size_t columns = column_count(r);
-    double row[8 + 2 * MAX_WALLS + 16];
+    double row[8 + 2 * MAX_WALLS + 16 + RUN_MPI_HEAT_MAX_COLUMNS];
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);
