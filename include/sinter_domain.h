@@ -152,9 +152,12 @@ typedef struct sinter_domain_ops {
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
  * stepper's global quantities go through `ops`. The explicit, staggered and quasi-static
- * steppers, without periodic axes, continuous insertion, an electric model with host
- * callbacks or the option sort_interval; either electric model ("network" or "averaged")
- * with either the explicit or the staggered stepper, and implicit conduction (explicit stepper)
+ * steppers, without periodic axes, an electric model with host callbacks or the option
+ * sort_interval (continuous insertion: every subdomain makes the same spheres, subdomain 0 adds
+ * them with ids above every subdomain's and the redistribution moves them, so a host's
+ * redistribute must move any owned particle to its owner); either electric model ("network"
+ * or "averaged") with either the explicit or the staggered stepper, and implicit conduction
+ * (explicit stepper)
  * (SINTER_ERR_UNSUPPORTED names the setting, here or at the next step); reduce, exscan, halo
  * and redistribute are required. Implicit conduction and the "network" electric model solve
  * over every subdomain at once: the owned particles are the unknowns, a ghost's value comes

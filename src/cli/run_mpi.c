@@ -28,15 +28,16 @@
  *    number of ranks (sinter_mpi_checkpoint_read); series.csv and the frames then continue
  *    (with a pour, where it stood travels beside it in checkpoint.mpi.pour).
  * The explicit and staggered steppers (the staggered one's series has its columns and, with an
- * [electric] section, the particle currents, as the serial series), and the quasi-static one
+ * [electric] section, the particle currents, as the serial series), the quasi-static one
  * (run_mpi_qs.c: the sintering columns from the collective statistics; the contacts, the
  * coordination number and the solid fraction's lenses from the links, each held once by the
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
- * smaller ids and its first step's extents in the global part). Refused, with the reason on
- * every rank and exit status 1: scenes with [insert] sections, a [pour] with a [stepper]
+ * smaller ids and its first step's extents in the global part); beam heat sources, the frozen
+ * heat stage (run_mpi_heat.h) and [insert] (run_mpi_insert.h). Refused, with the reason on
+ * every rank and exit status 1: scenes with [fields] sections, a [pour] with a [stepper]
  * temperature_schedule (the serial runner delays that furnace to the pour's end through an
  * internal call) or followed by a [compact], and what sinter_stepper_set_domain_ops refuses
- * (periodic axes, so copper_rve.scene; the electric models it does not take, qs_strategy 1,
+ * (periodic axes, so copper_rve.scene; an electric model with host callbacks, qs_strategy 1,
  * sort_interval). Messages and progress come from rank 0 only.
  */
 #include <errno.h>
@@ -56,6 +57,8 @@
 #include "cli.h"
 #include "run_mpi_pour.h"
 #include "run_mpi_qs.h"
+#include "run_mpi_heat.h"
+#include "run_mpi_insert.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -65,14 +68,16 @@ typedef struct scene_facts {
     char name[NAME_SIZE];
     char walls[MAX_WALLS][NAME_SIZE];
     size_t wall_count;
-    char refused[NAME_SIZE]; /* the first refused section, "" if none */
-    int heat;                /* a [heat conduction] section: the wall heat-flow columns */
-    int solid_box;           /* [output] solid_box: the solid fraction sampled in a box */
-    int electric;            /* an [electric ...] section: the particle-current columns */
-    int network;             /* [electric network]: the wall current columns */
-    int staggered;           /* [stepper] kind = staggered: its three more stepper columns */
-    int quasistatic;         /* [stepper] kind = quasistatic: the sintering columns */
-    int compact;             /* a [compact] section: compacted on rank 0 before the distribution */
+    char refused[NAME_SIZE];    /* the first refused section, "" if none */
+    int heat;                   /* a [heat conduction] section: the wall heat-flow columns */
+    int solid_box;              /* [output] solid_box: the solid fraction sampled in a box */
+    int electric;               /* an [electric ...] section: the particle-current columns */
+    int network;                /* [electric network]: the wall current columns */
+    int staggered;              /* [stepper] kind = staggered: its three more stepper columns */
+    int quasistatic;            /* [stepper] kind = quasistatic: the sintering columns */
+    int compact;                /* a [compact] section: compacted on rank 0 before spreading */
+    run_mpi_heat_spec heat_out; /* the heat stage's columns (run_mpi_heat.h) */
+    int insert;                 /* an [insert] section: its two columns (run_mpi_insert.h) */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -95,14 +100,14 @@ static void trim(char *s)
 }
 
 /* 1 for a key line of a section whose output the MPI runner does not write yet: the series
- * columns of [output] distributions, temperature_bins, track, pair_reference, the frames' extra
+ * columns of [output] distributions, track, pair_reference, the frames' extra
  * files (contacts, walls), the bonds of a power law with bond_strength. */
 static int refused_key(const char *section, const char *line)
 {
     static const char *const keys[][2] = {
-        {"output", "distributions"},         {"output", "temperature_bins"}, {"output", "track"},
-        {"output", "pair_reference"},        {"output", "contacts"},         {"output", "walls"},
-        {"force power_law", "bond_strength"}};
+        {"output", "distributions"}, {"output", "track"}, {"output", "pair_reference"},
+        {"output", "contacts"},      {"output", "walls"}, {"force power_law", "bond_strength"},
+        {"insert", "materials"}};
     const char *eq = strchr(line, '=');
     if (eq == NULL)
         return 0;
@@ -151,8 +156,11 @@ static int read_facts(const char *path, scene_facts *f)
                 f->network = 1;
             if (strcmp(section, "compact") == 0)
                 f->compact = 1;
-            static const char *const refused[] = {"insert", "fields", "heat laser", "heat nozzle",
-                                                  "heat beam"};
+            if (strncmp(section, "heat laser", 10) == 0 ||
+                strncmp(section, "heat nozzle", 11) == 0 || strncmp(section, "heat beam", 9) == 0)
+                f->heat_out.beam = 1; /* (across ranks since issue 43: run_mpi_heat.h) */
+            f->insert |= strcmp(section, "insert") == 0;
+            static const char *const refused[] = {"fields"};
             for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
                  ++k)
                 if (strncmp(section, refused[k], strlen(refused[k])) == 0)
@@ -176,6 +184,7 @@ static int read_facts(const char *path, scene_facts *f)
         }
     }
     fclose(fp);
+    run_mpi_heat_read(path, &f->heat_out);
     if (f->name[0] == '\0')
         snprintf(f->name, sizeof(f->name), "scene");
     return 1;
@@ -433,6 +442,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
     if (!ok)
         return 0;
     const double n = o.sum[3] > 0 ? o.sum[3] : 1.0;
+    const size_t solid_col = columns - 1 - run_mpi_heat_columns(r->st, &r->facts.heat_out);
     double t = 0.0;
     sinter_stepper_time(r->st, &t);
     for (size_t k = 0; k < columns; ++k)
@@ -452,7 +462,7 @@ static int observe(mpi_run *r, double *row, size_t columns)
         if (sinter_mpi_reduce(solid, 3, SINTER_MPI_F64, SINTER_MPI_SUM, r->domain) != 0)
             return 0;
         if (solid[1] == 0.0 && !r->facts.solid_box)
-            row[columns - 1] = volume > 0 ? solid[0] / volume : NAN;
+            row[solid_col] = volume > 0 ? solid[0] / volume : NAN;
         if (solid[1] == 0.0) { /* each contact once, also those across a border */
             row[2] = solid[2];
             row[3] = 2.0 * solid[2] / n;
@@ -493,7 +503,9 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[c + 4] = (double)local.evaluations;
         row[c + 5] = local.contraction;
     }
-    return 1;
+    if (r->facts.insert && !run_mpi_insert_observe(r->st, row + c + (r->facts.staggered ? 6 : 3)))
+        return 0;
+    return run_mpi_heat_observe(r->st, &r->facts.heat_out, r->ps, r->domain, row + solid_col + 1);
 }
 
 static size_t column_count(const mpi_run *r)
@@ -501,7 +513,8 @@ static size_t column_count(const mpi_run *r)
     const size_t nw = r->facts.wall_count;
     return 8 + nw + (r->facts.quasistatic ? CLI_MPI_QS_COLUMNS : 0) + (r->facts.electric ? 2 : 0) +
            (r->facts.heat ? nw : 0) + (r->facts.network ? nw : 0) + (r->facts.staggered ? 6 : 3) +
-           1;
+           (r->facts.insert ? RUN_MPI_INSERT_COLUMNS : 0) + 1 +
+           run_mpi_heat_columns(r->st, &r->facts.heat_out);
 }
 
 /* The header line, as the serial series.csv's. */
@@ -525,7 +538,11 @@ static void write_header(mpi_run *r)
     fputs(",time step [s],rejected steps [1],neighbour rebuilds [1]", r->csv);
     if (r->facts.staggered)
         fputs(",fixed-point iterations [1],pipeline evaluations [1],contraction [1]", r->csv);
-    fputs(",solid fraction [1]\n", r->csv);
+    if (r->facts.insert)
+        run_mpi_insert_header(r->csv);
+    fputs(",solid fraction [1]", r->csv);
+    run_mpi_heat_header(r->csv, r->st, &r->facts.heat_out);
+    fputc('\n', r->csv);
 }
 
 static void write_row(mpi_run *r, const double *row, size_t columns)
@@ -662,10 +679,10 @@ static int record(mpi_run *r, double *row, size_t columns)
 }
 
 /* The MPI checkpoint and, with a pour, its state beside it (rank 0). Collective. */
-static sinter_status write_checkpoint(mpi_run *r, const char *path)
+static sinter_status write_checkpoint(mpi_run *r, const char *path, int *frozen_skip)
 {
-    sinter_status st = sinter_mpi_checkpoint_write(r->st, r->ps, r->comm, path);
-    if (st == SINTER_OK && r->pour.on)
+    sinter_status st = run_mpi_heat_checkpoint(r->st, r->ps, r->comm, path, frozen_skip);
+    if (st == SINTER_OK && !*frozen_skip && r->pour.on)
         st = agree(r->comm, r->rank != 0 || mpi_pour_save(&r->pour, path) ? 0 : SINTER_ERR_IO);
     return st;
 }
@@ -686,9 +703,10 @@ static int refuse(const mpi_run *r, const char *what)
     return 1;
 }
 
-/* The decomposition's box: the scene's particles as every rank read them, with a margin of
- * their largest diameter (a particle outside the box belongs to the nearest part anyway). */
-static int scene_box(const mpi_run *r, double lo[3], double hi[3])
+/* The decomposition's box: the scene's particles as every rank read them and its insertion
+ * region, with a margin of their largest diameter (a particle outside the box belongs to the
+ * nearest part anyway). */
+static int scene_box(const mpi_run *r, const char *path, double lo[3], double hi[3])
 {
     const double *x = NULL, *rad = NULL;
     size_t n = 0;
@@ -702,8 +720,8 @@ static int scene_box(const mpi_run *r, double lo[3], double hi[3])
     }
     double rmax = 0.0;
     for (int d = 0; d < 3; ++d) {
-        lo[d] = n ? INFINITY : 0.0;
-        hi[d] = n ? -INFINITY : 1.0;
+        lo[d] = INFINITY;
+        hi[d] = -INFINITY;
     }
     for (size_t i = 0; i < n; ++i) {
         rmax = fmax(rmax, rad[i]);
@@ -714,7 +732,13 @@ static int scene_box(const mpi_run *r, double lo[3], double hi[3])
     }
     sinter_particles_release(r->ps, SINTER_FIELD_POSITION);
     sinter_particles_release(r->ps, SINTER_FIELD_RADIUS);
+    if (r->facts.insert) /* and the insertion's region (a scene may start empty) */
+        run_mpi_insert_box(path, lo, hi);
     for (int d = 0; d < 3; ++d) {
+        if (!(lo[d] < INFINITY)) { /* nothing to size it */
+            lo[d] = 0.0;
+            hi[d] = 1.0;
+        }
         lo[d] -= 2.0 * rmax;
         hi[d] += 2.0 * rmax;
         if (!(hi[d] > lo[d]))
@@ -814,9 +838,6 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_scene_get_stepper(r->scene, &r->st);
     sinter_scene_get_particles(r->scene, &r->ps);
     sinter_scene_get_walls(r->scene, &r->walls);
-    double frozen = 0.0;
-    if (sinter_stepper_get_option(r->st, "frozen_heat", &frozen) == SINTER_OK && frozen != 0.0)
-        return refuse(r, "the frozen heat stage (frozen_heat) is not supported over MPI yet");
     size_t walls = 0;
     sinter_walls_count(r->walls, &walls);
     if (walls != r->facts.wall_count || walls > MAX_WALLS)
@@ -829,7 +850,7 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
     sinter_mpi_options options;
     sinter_mpi_options_init(&options, sizeof(options));
     /* rank 0's particles (the others' copies are not compacted) */
-    if (agree(r->comm, scene_box(r, options.lo, options.hi) ? 0 : -1) != 0)
+    if (agree(r->comm, scene_box(r, scene_path, options.lo, options.hi) ? 0 : -1) != 0)
         return refuse(r, "cannot read the scene's particles");
     MPI_Bcast(options.lo, 3, MPI_DOUBLE, 0, r->comm); /* rank 0's (compacted) copy's box */
     MPI_Bcast(options.hi, 3, MPI_DOUBLE, 0, r->comm);
@@ -840,8 +861,8 @@ static int set_up(mpi_run *r, const char *scene_path, const char *restart, doubl
         st = remove_all(r);
     if (agree(r->comm, st) != SINTER_OK)
         return say(r, "removing the copies of rank 0's particles", st);
-    /* what the library does not run across subdomains (periodic axes, continuous insertion,
-     * an electric model with host callbacks, sort_interval, qs_strategy 1) is refused here,
+    /* what the library does not run across subdomains (periodic axes, an electric model with
+     * host callbacks, sort_interval, qs_strategy 1) is refused here,
      * with the library's reason */
     st = sinter_mpi_attach(r->domain, r->st, r->ps, 0);
     if (st != SINTER_OK)
@@ -939,7 +960,7 @@ int cli_run_mpi(int argc, char **argv)
     if (!(interval > 0.0)) /* without an [output] section: a hundredth of the end time */
         interval = end / 100.0;
     const size_t columns = column_count(r);
-    double row[8 + 3 * MAX_WALLS + CLI_MPI_QS_COLUMNS + 2 + 6 + 1]; /* column_count's most */
+    double row[8 + 3 * MAX_WALLS + CLI_MPI_QS_COLUMNS + 16 + RUN_MPI_HEAT_MAX_COLUMNS];
     if (restart != NULL) { /* the series and frames written up to the checkpoint's time */
         long long rows = r->rank == 0 ? resume_series(r, t) : 0;
         MPI_Bcast(&rows, 1, MPI_LONG_LONG, 0, r->comm);
@@ -974,7 +995,7 @@ int cli_run_mpi(int argc, char **argv)
             st = mpi_pour_begin(&r->pour, r->walls, t);
     }
     double next = t + interval, next_checkpoint = t + checkpoint_every, last_print = started;
-    int stopped = 0, pour_failed = 0;
+    int stopped = 0, pour_failed = 0, frozen_skip = 0;
     snprintf(path, sizeof(path), "%s/checkpoint.mpi", out_dir);
     while (st == SINTER_OK) {
         sinter_stepper_time(r->st, &t);
@@ -1010,7 +1031,7 @@ int cli_run_mpi(int argc, char **argv)
         }
         if (st == SINTER_OK && checkpoint_every > 0.0 && t >= next_checkpoint) {
             next_checkpoint = t + checkpoint_every;
-            st = write_checkpoint(r, path);
+            st = write_checkpoint(r, path, &frozen_skip);
         }
         const double now = MPI_Wtime();
         if (r->rank == 0 && every != 0.0 && now - last_print >= (every > 0 ? every : 5.0)) {
@@ -1021,7 +1042,12 @@ int cli_run_mpi(int argc, char **argv)
         }
     }
     if (st == SINTER_OK)
-        st = write_checkpoint(r, path);
+        st = write_checkpoint(r, path, &frozen_skip);
+    if (st == SINTER_OK && frozen_skip && r->rank == 0)
+        fprintf(stderr,
+                "sinter: no checkpoint at t = %.9g s: the frozen heat stage holds the "
+                "mechanics (its rates do not travel in portable checkpoints yet)\n",
+                t);
     if (r->csv != NULL) {
         fclose(r->csv);
         r->csv = NULL;

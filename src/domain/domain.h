@@ -84,6 +84,18 @@ sinter_status sinter_domain_forward_rows(sinter_ctx *ctx, sinter_domain *d,
 /* Sum `count` doubles over every subdomain in place (nothing without domain operations). */
 sinter_status sinter_domain_sum(sinter_ctx *ctx, sinter_domain *d, double *values, size_t count);
 
+/* Every subdomain's `count` records of `width` doubles to every subdomain, in subdomain order
+ * (collective): *all (sinter_free) holds *total records, this subdomain's from record *first.
+ * The records travel as bits (an integer sum of each slot's one writer and zeros), so any
+ * double, NaN included, arrives unchanged. `s` is this subdomain's status so far: a failure
+ * anywhere makes every subdomain return the agreed one (sinter_domain_agree) with *all NULL.
+ * Cost: an exscan (counts and failure), one agreement (the buffer's allocation) and one
+ * reduction of total * width words; meant for a few records per subdomain (the beam's
+ * candidates), not for every particle. */
+sinter_status sinter_domain_allgather(sinter_ctx *ctx, sinter_domain *d, sinter_status s,
+                                      const double *mine, size_t count, size_t width, double **all,
+                                      size_t *total, size_t *first);
+
 /* Forces, moments and heat powers on the ghost rows discarded (newton off across borders). */
 void sinter_domain_discard_ghost_rows(sinter_particles *ps);
 

@@ -19,8 +19,6 @@ sinter_status sinter_domain_check(sinter_stepper *st)
         what = "a quasi-static stepper that has stepped without them (its links are all here)";
     else if (sinter_ghosts_on(&st->ghosts))
         what = "periodic axes (sinter_stepper_set_periodic)";
-    else if (st->insertion != NULL)
-        what = "continuous insertion (its ids are chosen per set)";
     else if (st->electric != NULL && st->electric->host.struct_size != 0)
         what = "an electric model with host callbacks";
     else if (st->sort_interval > 0)

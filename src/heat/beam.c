@@ -27,6 +27,7 @@
 #include <math.h>
 
 #include "contact/particle_pass.h"
+#include "domain/domain.h"
 #include "heat_model.h"
 #include "particles/particles.h"
 
@@ -111,6 +112,13 @@ static sinter_status beam_eval(const sinter_heat_model *hm, sinter_heat_eval *e,
     const int ranges = sinter_particle_pass(e->ctx, e->pp, sinter_heat_owned(e), top_range, &job);
     for (int k = 0; k < ranges; ++k)
         job.top = fmax(job.top, job.range_top[k]);
+    /* across subdomains the top is every subdomain's: a maximum, the same bits as one domain's */
+    if (e->domain != NULL) {
+        const sinter_status s = sinter_domain_reduce(e->ctx, e->domain, &job.top, 1,
+                                                     SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+        if (s != SINTER_OK)
+            return s;
+    }
     if (job.top == -HUGE_VAL)
         return SINTER_OK; /* nothing under the beam */
     sinter_particle_pass(e->ctx, e->pp, sinter_heat_owned(e), deposit_range, &job);

@@ -48,12 +48,18 @@ typedef struct sinter_heat_eval {
      * stepper adds what it put on an image to the image's owner (the reverse halo). */
     size_t owned;
     const uint32_t *ghost_owner;
+    /* Across subdomains (issue 43, domain/domain.h): the host's collective operations, or NULL.
+     * Rows [owned, count) are then ghosts of other subdomains' particles (ghost_owner NULL):
+     * sources act on the owned rows, and a model that needs other particles than a pair's
+     * (the beams' top surface and shadows) gets them through the domain (collective: every
+     * subdomain evaluates the same models at the same states). */
+    struct sinter_domain *domain;
 } sinter_heat_eval;
 
 /* The rows a source of one particle acts on: the owned particles (see owned above). */
 static inline size_t sinter_heat_owned(const sinter_heat_eval *e)
 {
-    return e->ghost_owner != NULL ? e->owned : e->ps->count;
+    return e->ghost_owner != NULL || e->domain != NULL ? e->owned : e->ps->count;
 }
 
 /* The conductivity of particle i in evaluation e: k(theta_i) when tabulated, else its

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "contact/contacts.h"
+#include "domain/domain.h"
 #include "stepper/frozen_heat.h"
 #include "stepper/sanity.h"
 #include "stepper/stepper.h"
@@ -36,9 +37,9 @@ void sinter_frozen_free(sinter_ctx *ctx, sinter_frozen *fz)
     fz->capacity = 0;
 }
 
-static const char *const OPTIONS[] = {"frozen_heat",   "frozen_ke",   "frozen_rtol",  "frozen_atol",
-                                      "frozen_dt_max", "frozen_wake", "frozen_settle",
-                                      "frozen_travel"};
+static const char *const OPTIONS[] = {"frozen_heat",   "frozen_ke",     "frozen_rtol",
+                                      "frozen_atol",   "frozen_dt_max", "frozen_wake",
+                                      "frozen_settle", "frozen_travel"};
 static const char *const STATISTICS[] = {"frozen_time",    "frozen_steps",   "frozen_rejected",
                                          "frozen_wakeups", "frozen_freezes", "frozen_active",
                                          "frozen_dt"};
@@ -137,15 +138,30 @@ sinter_status sinter_frozen_get(const sinter_stepper *st, const char *key, doubl
                        key);
 }
 
-static double kinetic_energy_per_particle(const sinter_particles *ps)
+/* The kinetic energy per particle of the owned particles (across subdomains: of every
+ * subdomain's, their sums and counts reduced, so that every subdomain takes the same decision;
+ * on one subdomain the bits of the sum without domain operations). */
+static sinter_status kinetic_energy_per_particle(sinter_stepper *st, double *out)
 {
-    double ke = 0.0;
-    for (size_t i = 0; i < ps->count; ++i) {
+    const sinter_particles *ps = st->ps;
+    const size_t owned = ps->count - ps->ghost_count;
+    double sum[2] = {0.0, (double)owned}; /* energy, particles */
+    for (size_t i = 0; i < owned; ++i) {
         const double *v = ps->v + 3 * i, *w = ps->w + 3 * i;
-        ke += 0.5 * ps->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
-              0.5 * ps->inertia[i] * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        sum[0] += 0.5 * ps->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
+                  0.5 * ps->inertia[i] * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     }
-    return ps->count > 0 ? ke / (double)ps->count : 0.0;
+    const sinter_status s = sinter_domain_sum(st->ctx, &st->domain, sum, 2);
+    *out = sum[1] > 0.0 ? sum[0] / sum[1] : 0.0;
+    return s;
+}
+
+/* The largest of v over every subdomain (v itself without domain operations). */
+static sinter_status domain_max(sinter_stepper *st, double *v)
+{
+    if (!st->domain.on)
+        return SINTER_OK;
+    return sinter_domain_reduce(st->ctx, &st->domain, v, 1, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
 }
 
 static int fixed_temperature(const sinter_particles *ps, size_t i)
@@ -235,18 +251,24 @@ sinter_status sinter_frozen_consider(sinter_stepper *st)
     if (++fz->mech_steps < fz->settle_steps)
         return SINTER_OK;
     /* below the threshold and not growing: a bed released from rest is not at rest */
-    const double ke = kinetic_energy_per_particle(st->ps), last = fz->ke_last;
+    double ke = 0.0;
+    sinter_status s = kinetic_energy_per_particle(st, &ke);
+    if (s != SINTER_OK)
+        return s;
+    const double last = fz->ke_last;
     fz->ke_last = ke;
     if (ke >= fz->ke || !(last < INFINITY) || ke > last)
         return SINTER_OK;
-    sinter_status s;
     if (walls_move_within(st, st->dt, &s) || s != SINTER_OK) {
         if (s == SINTER_OK)
             s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
         return s;
     }
     s = st->walls ? sinter_walls_move(st->walls, st->time) : SINTER_OK;
-    return s == SINTER_OK ? begin_freeze(st) : s;
+    if (s == SINTER_OK)
+        s = begin_freeze(st);
+    /* across subdomains every one freezes, or none (a failure is agreed) */
+    return sinter_domain_agree(st->ctx, &st->domain, s);
 }
 
 static void wake(sinter_stepper *st, const char *why)
@@ -269,14 +291,15 @@ int sinter_frozen_release(sinter_stepper *st)
     return 1;
 }
 
-/* The error of the update just made (theta_backup -> temperature over h), frozen_heat.h. */
+/* The error of the update just made (theta_backup -> temperature over h), frozen_heat.h: of
+ * the owned particles (the largest over every subdomain: domain_max). */
 static double step_error(const sinter_stepper *st, double h)
 {
     const sinter_frozen *fz = &st->frozen;
     const sinter_particles *ps = st->ps;
     const double *theta0 = st->thermal.theta_backup, *theta1 = ps->temperature;
     double err = 0.0;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) {
         if (!(theta1[i] > 0.0 && theta1[i] <= SINTER_SANITY_MAX_TEMPERATURE))
             return INFINITY;
         if (fixed_temperature(ps, i))
@@ -306,10 +329,12 @@ static int softened(sinter_stepper *st, sinter_status *s)
     *s = sinter_thermal_softening(st, &scale);
     if (*s != SINTER_OK || scale == NULL)
         return 0;
-    for (size_t i = 0; i < st->ps->count; ++i)
+    double moved = 0.0; /* of the owned particles, then over every subdomain */
+    for (size_t i = 0; i < st->ps->count - st->ps->ghost_count && moved == 0.0; ++i)
         if (fabs(scale[i] - fz->scale0[i]) > fz->wake * fz->scale0[i])
-            return 1;
-    return 0;
+            moved = 1.0;
+    *s = domain_max(st, &moved);
+    return *s == SINTER_OK && moved != 0.0;
 }
 
 /* Backward Euler over h from st->time (the walls already at t + h). */
@@ -326,10 +351,16 @@ static sinter_status heat_update(sinter_stepper *st, double h)
     if (s == SINTER_OK && st->walls != NULL)
         s = sinter_contacts_find_pw(st->ctx, &st->pw, &st->nb.pw, st->ps, st->walls,
                                     &st->pp.chunks);
+    /* across subdomains the evaluation is collective (the beams): agreed first; the solve
+     * agrees again (thermal.c), and the ghosts take their owners' new temperatures */
+    s = sinter_domain_agree(st->ctx, &st->domain, s);
     if (s == SINTER_OK)
-        s = sinter_thermal_eval(st);
+        s = sinter_domain_agree(st->ctx, &st->domain, sinter_thermal_eval(st));
     if (s == SINTER_OK)
         s = sinter_thermal_implicit_advance(st, h);
+    if (s == SINTER_OK && st->domain.on)
+        s = sinter_domain_agree(st->ctx, &st->domain,
+                                sinter_domain_forward(st->ctx, &st->domain, st->ps));
     st->stats_seconds_heat += sinter_clock() - t0;
     th->scheme = scheme;
     return s;
@@ -337,7 +368,7 @@ static sinter_status heat_update(sinter_stepper *st, double h)
 
 /* The proposal h shortened so that no heat source's axis point travels more than
  * `frozen_travel` smallest radii over it (frozen_heat.h); at least h_floor. */
-static double travel_limit(const sinter_stepper *st, double h, double h_floor)
+static double travel_limit(sinter_stepper *st, double h, double h_floor)
 {
     const sinter_frozen *fz = &st->frozen;
     if (fz->travel <= 0.0)
@@ -346,6 +377,12 @@ static double travel_limit(const sinter_stepper *st, double h, double h_floor)
     double rmin = INFINITY;
     for (size_t i = 0; i < ps->count - ps->ghost_count; ++i)
         rmin = ps->radius[i] < rmin ? ps->radius[i] : rmin;
+    if (st->domain.on) { /* every subdomain's smallest (a reduction failing on every one) */
+        double neg = -rmin;
+        if (domain_max(st, &neg) != SINTER_OK)
+            return h;
+        rmin = -neg;
+    }
     const double reach = fz->travel * rmin;
     if (!(reach < INFINITY))
         return h;
@@ -383,7 +420,9 @@ sinter_status sinter_frozen_step(sinter_stepper *st, double t_end, double *taken
         s = heat_update(st, h);
         if (s != SINTER_OK)
             return s;
-        const double err = step_error(st, h);
+        double err = step_error(st, h);
+        if ((s = domain_max(st, &err)) != SINTER_OK)
+            return s;
         if (err > 1.0 && h > h_floor) {
             sinter_thermal_rollback(st);
             fz->rejected++;
@@ -398,7 +437,7 @@ sinter_status sinter_frozen_step(sinter_stepper *st, double t_end, double *taken
                                h, st->time);
         }
         const double *theta0 = st->thermal.theta_backup;
-        for (size_t i = 0; i < st->ps->count; ++i)
+        for (size_t i = 0; i < st->ps->count - st->ps->ghost_count; ++i)
             fz->rate[i] =
                 fixed_temperature(st->ps, i) ? 0.0 : (st->ps->temperature[i] - theta0[i]) / h;
         st->time = lands ? t_end : st->time + h;

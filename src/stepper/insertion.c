@@ -15,10 +15,21 @@
  * apportionment of particles/mixture.c over the spheres inserted so far (its radius then from
  * that material's sizes, or the shared ones), so each material's inserted mass stays within
  * one particle's mass of its share of the total inserted.
+ *
+ * Across subdomains (issue 43, domain/domain.h): every subdomain gathers every subdomain's
+ * particles near the region (sinter_domain_allgather), so that every one draws the same
+ * random numbers, finds the same places and makes the same spheres (the overlap test asks
+ * whether any near sphere is too close: the order of the list does not matter). Subdomain 0
+ * adds them with the ids above every subdomain's (a maximum of the sets' next ids), and the
+ * host's redistribution at the rebuild that follows moves each to the subdomain that owns its
+ * place; the inserted mass is subdomain 0's (a maximum: the others hold the smaller value
+ * before it), so the bookkeeping stays the same bits everywhere. On one subdomain: the bits
+ * of the run without domain operations.
  */
 #include <math.h>
 #include <string.h>
 
+#include "domain/domain.h"
 #include "insertion.h"
 #include "particles/packing.h"
 #include "particles/particles.h"
@@ -266,6 +277,84 @@ static sinter_status gather_near(sinter_stepper *st, struct sinter_insertion *in
     return SINTER_OK;
 }
 
+/* gather_near over every subdomain (collective): every subdomain's near spheres, in subdomain
+ * order, on every subdomain. Without domain operations gather_near. */
+static sinter_status gather_near_all(sinter_stepper *st, struct sinter_insertion *ins)
+{
+    sinter_status s = gather_near(st, ins);
+    if (!st->domain.on)
+        return s;
+    double *all = NULL;
+    size_t total = 0, first = 0;
+    s = sinter_domain_allgather(st->ctx, &st->domain, s, ins->near, ins->near_count, 4, &all,
+                                &total, &first);
+    ins->near_count = 0;
+    for (size_t k = 0; s == SINTER_OK && k < total; ++k)
+        s = near_push(st->ctx, ins, all + 4 * k, all[4 * k + 3]);
+    sinter_free(st->ctx, all);
+    return s;
+}
+
+/* Across subdomains: n new spheres (xr: positions then radii, materials ins->made) added by
+ * subdomain 0 with the ids above every subdomain's, the inserted mass and the status agreed
+ * (collective). */
+static sinter_status add_across(sinter_stepper *st, struct sinter_insertion *ins, const double *xr,
+                                size_t n)
+{
+    sinter_domain *d = &st->domain;
+    sinter_particles *ps = st->ps;
+    const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
+    uint64_t next = ps->next_id;
+    long rank = -1;
+    sinter_status s =
+        sinter_domain_reduce(st->ctx, d, &next, 1, SINTER_REDUCE_U64, SINTER_REDUCE_MAX);
+    if (s == SINTER_OK)
+        s = sinter_domain_rank(st->ctx, d, &rank);
+    if (s != SINTER_OK)
+        return s;
+    uint64_t *ids = rank == 0 ? sinter_alloc(st->ctx, n * sizeof(uint64_t)) : NULL;
+    if (rank == 0 && ids == NULL)
+        s = sinter_last_status(st->ctx);
+    for (size_t k = 0; ids != NULL && k < n; ++k)
+        ids[k] = next + k;
+    /* runs of one material, as the single domain adds them */
+    if (s == SINTER_OK && rank == 0 && sinter_radius_sampler_mixture(ins->sampler, NULL) > 0)
+        s = sinter_particles_reserve(ps, ps->count + n);
+    size_t first = 0;
+    for (size_t k = 0; rank == 0 && k < n && s == SINTER_OK;) {
+        size_t j = k + 1, at = 0;
+        while (j < n && ins->made[j] == ins->made[k])
+            ++j;
+        s = sinter_particles_add_with_ids(ps, j - k, ids + k, xr + 3 * k, xr + 3 * n + k,
+                                          ins->made[k], p->temperature, &at);
+        first = k == 0 ? at : first;
+        k = j;
+    }
+    sinter_free(st->ctx, ids);
+    for (size_t i = first; rank == 0 && s == SINTER_OK && i < first + n; ++i) {
+        for (int c = 0; c < 3; ++c)
+            ps->v[3 * i + c] = ins->o.velocity[c];
+        ins->mass_done += ps->mass[i];
+    }
+    /* their state at t (this step's start) in the rows a redistribution within the step sends
+     * with them (the spare rows, the saved temperatures: stepper/migrate.c) */
+    if (s == SINTER_OK && rank == 0)
+        s = sinter_explicit_keep_spare(st);
+    const double *now[4] = {ps->x, ps->v, ps->w, ps->rot};
+    for (int f = 0; rank == 0 && s == SINTER_OK && f < 4; ++f)
+        if (st->spare[f] != NULL && first + n <= st->spare_capacity)
+            memcpy(st->spare[f] + 3 * first, now[f] + 3 * first, 3 * n * sizeof(double));
+    for (size_t i = first; rank == 0 && s == SINTER_OK && st->thermal.theta_backup != NULL &&
+                           i < first + n && i < st->thermal.backup_capacity;
+         ++i)
+        st->thermal.theta_backup[i] = ps->temperature[i];
+    s = sinter_domain_agree(st->ctx, d, s);
+    if (s == SINTER_OK) /* subdomain 0's sum (the others hold the one before it, smaller) */
+        s = sinter_domain_reduce(st->ctx, d, &ins->mass_done, 1, SINTER_REDUCE_F64,
+                                 SINTER_REDUCE_MAX);
+    return s;
+}
+
 /* 1 if a sphere (x, r) keeps the gap g to every near sphere and every wall. */
 static int fits(const sinter_stepper *st, const struct sinter_insertion *ins, const double x[3],
                 double r, double g)
@@ -341,7 +430,7 @@ sinter_status sinter_insertion_stage(sinter_stepper *st)
     ins->next++;
     ins->mass_target = o->mass_rate * covered;
     const sinter_packing_options *p = sinter_radius_sampler_options(ins->sampler);
-    sinter_status s = gather_near(st, ins);
+    sinter_status s = gather_near_all(st, ins);
     const size_t first_new = ins->near_count;
     double mass = ins->mass_done;
     for (;;) {
@@ -368,16 +457,29 @@ sinter_status sinter_insertion_stage(sinter_stepper *st)
         ins->pending = sinter_radius_sampler_radius(ins->sampler);
     }
     const size_t n = ins->near_count - first_new;
+    s = sinter_domain_agree(st->ctx, &st->domain, s); /* (every subdomain made the same n) */
     if (s != SINTER_OK || n == 0)
         return s;
     /* the new spheres: x, y, z, r records into positions and radii */
     double *xr = sinter_realloc_array(st->ctx, NULL, 4 * n, sizeof(double));
-    if (xr == NULL)
+    if (xr == NULL && !st->domain.on)
         return sinter_last_status(st->ctx);
-    for (size_t k = 0; k < n; ++k) {
+    for (size_t k = 0; xr != NULL && k < n; ++k) {
         const double *e = ins->near + 4 * (first_new + k);
         memcpy(xr + 3 * k, e, 3 * sizeof(double));
         xr[3 * n + k] = e[3];
+    }
+    if (st->domain.on) {
+        s = sinter_domain_agree(st->ctx, &st->domain,
+                                xr != NULL ? SINTER_OK : sinter_last_status(st->ctx));
+        if (s == SINTER_OK)
+            s = add_across(st, ins, xr, n);
+        sinter_free(st->ctx, xr);
+        if (s != SINTER_OK)
+            return s;
+        ins->inserted += n;
+        st->forces_current = 0;
+        return sinter_stepper_prepare(st);
     }
     /* runs of one material in one call each (one run without a mixture), after a reserve so
      * that no call after the first runs out of memory */

@@ -1228,6 +1228,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     const int heat = st->thermal.count > 0 && !st->heat_skip;
     if (s == SINTER_OK && heat)
         s = contact_dissipation(st, &e);
+    if (heat && sinter_thermal_collective(st)) /* (the beams gather: every subdomain or none) */
+        s = sinter_domain_agree(ctx, &st->domain, s);
     if (s == SINTER_OK && heat) {
         const double t1 = sinter_clock();
         s = sinter_thermal_eval(st);
@@ -1332,7 +1334,9 @@ sinter_status sinter_stepper_stable_dt_thermal(sinter_stepper *st, double *dt)
         const size_t bytes = ps->count * sizeof(double); /* (an empty set has no arrays) */
         if (bytes > 0)
             memcpy(heat_copy, ps->heat, bytes);
+        st->thermal.local_eval = 1; /* this subdomain's estimate: no collective call */
         s = sinter_thermal_eval(st);
+        st->thermal.local_eval = 0;
         if (bytes > 0)
             memcpy(ps->heat, heat_copy, bytes);
     }
@@ -1659,8 +1663,8 @@ static sinter_status take_step(sinter_stepper *st, double h, double t_end, doubl
         sinter_thread_choice_end(st, sinter_clock() - clock_start, s == SINTER_OK);
         *taken = h;
         st->eval_lag = s == SINTER_OK ? 0.5 * h : 0.0;
-        if (s == SINTER_OK && !st->domain.on) /* at rest: the next steps are heat steps
-                                                 (frozen_heat.h; not yet across subdomains) */
+        if (s == SINTER_OK) /* at rest: the next steps are heat steps (frozen_heat.h; across
+                               subdomains decided from reductions) */
             s = sinter_frozen_consider(st);
     }
     if (s != SINTER_OK) {

@@ -155,7 +155,19 @@ static sinter_heat_eval explicit_eval(sinter_stepper *st)
     /* periodic images: sources act on the owned particles only (heat_model.h) */
     e.owned = st->ps->count - st->ps->ghost_count;
     e.ghost_owner = st->ps->ghost_count > 0 ? st->ghosts.owner : NULL;
+    /* other subdomains' ghosts and collective calls (not for a local estimate) */
+    e.domain = st->domain.on && !st->thermal.local_eval ? &st->domain : NULL;
     return e;
+}
+
+int sinter_thermal_collective(const sinter_stepper *st)
+{
+    for (size_t k = 0; st->domain.on && k < st->thermal.count; ++k) {
+        const sinter_heat_ops *ops = st->thermal.slots[k].model->ops;
+        if (ops == &sinter_heat_laser || ops == &sinter_heat_nozzle || ops == &sinter_heat_beam)
+            return 1;
+    }
+    return 0;
 }
 
 sinter_status sinter_thermal_conductivities(sinter_stepper *st, const double **k)

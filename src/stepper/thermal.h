@@ -26,6 +26,9 @@ typedef struct sinter_thermal {
     size_t count;
     size_t capacity;
     int scheme;
+    /* 1 while an evaluation is a local estimate (sinter_stepper_stable_dt_thermal): the heat
+     * models then make no collective call across subdomains (heat_model.h, domain) */
+    int local_eval;
     double *g_pp; /* conductance per particle contact of the last evaluation (implicit) */
     size_t g_pp_capacity;
     double *g_pw;
@@ -67,6 +70,11 @@ sinter_status sinter_thermal_softening(struct sinter_stepper *st, const double *
 /* k(theta) of every particle at its temperature when a material has a conductivity table
  * (into st->thermal.conductivity), else *k = NULL. */
 sinter_status sinter_thermal_conductivities(struct sinter_stepper *st, const double **k);
+
+/* 1 when an evaluation of the heat models is collective across subdomains (a laser, nozzle or
+ * beam with domain operations: heat/beam.c, beam_rays.c), so that a failure before it must be
+ * agreed first. */
+int sinter_thermal_collective(const struct sinter_stepper *st);
 
 /* Evaluate every heat submodel into ps->heat (and conductances when implicit). */
 sinter_status sinter_thermal_eval(struct sinter_stepper *st);

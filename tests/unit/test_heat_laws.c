@@ -96,6 +96,7 @@ static sinter_status eval(fixture *f, const sinter_heat_model *hm, double t, int
                           NULL,
                           f->ps->flags,
                           0,
+                          NULL,
                           NULL};
     return hm->ops->eval(hm, &e);
 }
