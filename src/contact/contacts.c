@@ -4,7 +4,6 @@
 
 #include "contacts.h"
 #include "contact/chunks.h"
-#include "contact/pair_skip.h"
 #include "core/ranges_run.h"
 #include "core/stream_store.h"
 
@@ -86,17 +85,12 @@ int sinter_threads(const sinter_ctx *ctx)
 static inline int touching(const sinter_contact_list *c, const sinter_pair_list *pairs,
                            const double *x, const double *r, size_t p)
 {
-    double *key = c->skip_key; /* pairs proven apart (pair_skip.h): the same verdict */
-    if (key != NULL && c->skip_travel < key[p])
-        return 0;
     const uint32_t i = pairs->i[p], j = pairs->j[p];
     const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
                  ez = x[3 * j + 2] - x[3 * i + 2];
     const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
     if (d2 < rs * rs)
         return d2 != 0.0;
-    if (key != NULL) /* (held is NULL then) */
-        key[p] = sinter_pair_skip_key(d2, rs, c->skip_travel);
     return c->held != NULL && c->held[c->held_stride * p] != 0.0 && d2 != 0.0;
 }
 

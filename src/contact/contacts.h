@@ -107,11 +107,6 @@ typedef struct sinter_contact_list {
      * tension, force/power_law.c), so that the commit keeps its history */
     const double *held;
     size_t held_stride;
-    /* set by the stepper before a search (NULL: none, the default; only without held): the
-     * keys of pairs proven out of contact and the travel to compare them with
-     * (contact/pair_skip.h); the search skips those pairs and keys the ones it finds apart */
-    double *skip_key;
-    double skip_travel;
 } sinter_contact_list;
 
 void sinter_contact_list_free(sinter_ctx *ctx, sinter_contact_list *c);

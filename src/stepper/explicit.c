@@ -285,8 +285,6 @@ static size_t kick_drift(sinter_stepper *st, double h_heat, double h, int heat_u
         swap_spare(st);
         /* the walls' certificate: every particle moved by at most this along each axis */
         sinter_wall_skip_moved(&st->wall_skip, d.axis2);
-        /* the pairs' keys: any two particles approached by at most twice the largest step */
-        sinter_pair_skip_moved(&st->pair_skip, d.step2);
         if (exact)
             sinter_neighbors_set_moved(nb, ps, d.moved2);
         else if (measure)
@@ -525,8 +523,7 @@ static void undo_step(sinter_stepper *st, double t_start, int heat_now)
 {
     swap_spare(st);
     sinter_neighbors_positions_restored(&st->nb);
-    sinter_pair_skip_drop(&st->pair_skip); /* (keys may be of the state undone) */
-    if (heat_now)                          /* (temperatures saved this step: heat_interval.h) */
+    if (heat_now) /* (temperatures saved this step: heat_interval.h) */
         sinter_thermal_rollback(st);
     st->time = t_start;
     if (st->walls != NULL)
@@ -621,7 +618,6 @@ sinter_status sinter_explicit_step(sinter_stepper *st, double h)
             st->heat_skip = 0;
             swap_spare(st);
             sinter_neighbors_positions_restored(&st->nb);
-            sinter_pair_skip_drop(&st->pair_skip);
             st->forces_current = 0;
             st->forces_zeroed = st->gravity_seeded = 0;
             st->thermal.heat_zeroed = 0;

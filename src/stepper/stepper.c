@@ -84,7 +84,6 @@ void sinter_stepper_destroy(sinter_stepper *st)
     sinter_contact_list_free(ctx, &st->pp);
     sinter_contact_list_free(ctx, &st->pw);
     sinter_wall_skip_free(ctx, &st->wall_skip);
-    sinter_pair_skip_free(ctx, &st->pair_skip);
     sinter_verlet_factors_free(ctx, &st->verlet_factors);
     sinter_free(ctx, st->wall_force);
     sinter_free(ctx, st->pw_reaction);
@@ -1079,23 +1078,13 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     const int geometry = geometry_needed(st);
     const long confirmer = geometry ? -1 : confirming_slot(st);
     set_held(st);
-    /* pairs proven apart are not tested (pair_skip.h): only where drifts alone moved the
-     * particles (no ghosts, no subdomains) and no pair is held */
-    st->pp.skip_key = NULL;
-    if (ps->ghost_count == 0 && !st->domain.on && !sinter_ghosts_on(&st->ghosts) &&
-        st->pp.held == NULL)
-        st->pp.skip_key =
-            sinter_pair_skip_begin(ctx, &st->pair_skip, &st->nb.pp, ps, &st->pp.skip_travel);
-    else
-        sinter_pair_skip_drop(&st->pair_skip);
     if (geometry)
         s = sinter_contacts_find_pp(ctx, &st->pp, &st->nb.pp, ps);
     else if (confirmer >= 0)
         s = sinter_contacts_find_pp_deferred(ctx, &st->pp, &st->nb.pp, ps, &deferred);
     else
         s = sinter_contacts_find_pp_lean(ctx, &st->pp, &st->nb.pp, ps);
-    st->pp.held = NULL;     /* the history moves at commits and rebuilds */
-    st->pp.skip_key = NULL; /* (other searches test every pair) */
+    st->pp.held = NULL; /* the history moves at commits and rebuilds */
     /* (ghosts and subdomains move particles by other stages: no certificate kept) */
     const int skip_walls = ps->ghost_count == 0 && !st->domain.on && !sinter_ghosts_on(&st->ghosts);
     if (!skip_walls)

@@ -3,7 +3,6 @@
 #define SINTER_STEPPER_H
 
 #include "contact/history.h"
-#include "contact/pair_skip.h"
 #include "domain/domain.h"
 #include "ghosts/ghosts.h"
 #include "stepper/anderson.h"
@@ -164,9 +163,6 @@ struct sinter_stepper {
     /* walls proven out of reach since the explicit drifts of the last steps: their candidate
      * pairs are not tested (contact/wall_skip.h; the same contacts) */
     sinter_wall_skip wall_skip;
-    /* particle pairs proven out of contact since the explicit drifts of the last steps: not
-     * tested (contact/pair_skip.h; the same contacts) */
-    sinter_pair_skip pair_skip;
     /* the explicit passes' per-particle factors, kept between steps (verlet_blocks.h) */
     sinter_verlet_factors verlet_factors;
     size_t wall_arrays_capacity;
