@@ -244,6 +244,13 @@ typedef struct pair_ranges {
 /* Fewest pairs a range of a threaded fill is given (fill_ranges). */
 enum { FILL_RANGE_MIN = 4096 };
 
+/* Fewest candidate pairs a particle-particle search runs on threads for (find_pp and the
+ * deferred search's scan; the same list either way). 1024: the vibrated beds' 1 796 spheres
+ * have fewer than 4096 pairs, and on two threads the worker waited through the search, the
+ * largest single-thread stage of their steps (issue 41: the main thread's share of the step
+ * 0.80, RESULTS.md "pairs proven apart, the heat's pace and the pair search on two threads"). */
+enum { SEARCH_THREADED_MIN = 1024 };
+
 /* The first k in [lo, hi) whose smaller index min(a[k], b[k]) is at least p (they ascend in
  * the neighbour build's pair order; any k in [lo, hi] when they do not). */
 static size_t first_with_smaller_index(const uint32_t *a, const uint32_t *b, size_t lo, size_t hi,
@@ -540,7 +547,7 @@ static sinter_status find_pp(sinter_ctx *ctx, sinter_contact_list *c, const sint
     c->adj_pair = adjacency ? pairs->adj_pair : NULL;
     c->particle_count = ps->count;
     c->pair_count = pairs->count;
-    const int threads = pairs->count < 4096 ? 1 : sinter_threads(ctx);
+    const int threads = pairs->count < SEARCH_THREADED_MIN ? 1 : sinter_threads(ctx);
     const int parts_count = chunk_count(pairs->count);
     c->geometry = geometry;
     size_t (*fill)(sinter_contact_list *, const sinter_pair_list *, const sinter_particles *,
@@ -726,7 +733,7 @@ sinter_status sinter_contacts_find_pp_deferred(sinter_ctx *ctx, sinter_contact_l
         return find_pp(ctx, c, pairs, ps, 0);
     }
     const size_t n = pairs->count;
-    const int threads = n < 4096 ? 1 : sinter_threads(ctx);
+    const int threads = n < SEARCH_THREADED_MIN ? 1 : sinter_threads(ctx);
     const size_t p = first_new_contact(ctx, c, pairs, ps, threads);
     if (p < n) {
         /* pairs from p on are searched afresh (on threads when there are enough of them), the
