@@ -890,10 +890,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         uint64_t sub[2] = {0, m};
         for (size_t k = 0; k < m; ++k)
             sub[0] += (uint64_t)qs->links[k].substepped;
-        qs->substepped += sub[0];
         if ((st = sinter_qs_domain_reduce(qs, sub, 2, SINTER_REDUCE_U64, SINTER_REDUCE_SUM)) !=
             SINTER_OK) /* (over every subdomain's links) */
             return st;
+        qs->substepped += sub[0]; /* (every subdomain's: the same count on each) */
         const double fraction = sub[1] > 0 ? (double)sub[0] / (double)sub[1] : 0.0;
         if (fraction < qs->opt.grow_fraction)
             next = h * alpha;
