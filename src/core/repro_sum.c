@@ -193,6 +193,33 @@ int sinter_repro_dots(const double *const *a, const double *const *b, size_t n, 
     return sinter_repro_totals(sum, e, count, reduce, user, out);
 }
 
+/* sinter_repro_add's inner step for one term r = x 2^-(e + HEADROOM), already scaled by the
+ * correctly rounded product (the same limbs as sinter_repro_add gives x). */
+static void add_scaled(sinter_repro_sum *s, double r)
+{
+    const double limb_scale = (double)((int64_t)1 << SINTER_REPRO_LIMB_BITS);
+    for (int j = 0; j < SINTER_REPRO_LIMBS; ++j) {
+        r *= limb_scale;
+        const int64_t whole = (int64_t)r;
+        s->limb[j] += whole;
+        r -= (double)whole;
+    }
+    if (++s->terms >= CARRY_EVERY)
+        carry(s);
+}
+
+/* sinter_repro_value with the limbs' weights pw[j] = 2^(e + HEADROOM - 40 (j + 1)) given, all
+ * normal numbers (a product by an exact power of two rounds as ldexp does): the same bits. */
+static double value_by(const sinter_repro_sum *s, const double pw[SINTER_REPRO_LIMBS])
+{
+    sinter_repro_sum c = *s;
+    carry(&c);
+    double v = 0.0;
+    for (int j = SINTER_REPRO_LIMBS - 1; j >= 0; --j)
+        v += (double)c.limb[j] * pw[j];
+    return v;
+}
+
 size_t sinter_repro_rows_bytes(size_t rows, size_t width)
 {
     return width * sizeof(int64_t) + rows * width * sizeof(sinter_repro_sum) +
@@ -211,12 +238,24 @@ int sinter_repro_rows(size_t rows, size_t owned, size_t width, const uint32_t *r
     if (reduce != NULL && reduce(e, width, SINTER_REPRO_MAX, user) != 0)
         return -1;
     memset(sum, 0, rows * width * sizeof(sinter_repro_sum));
+    enum { MOST = 64 }; /* columns whose scales are taken once (the others term by term) */
+    double scale[MOST];
+    for (size_t c = 0; c < width && c < MOST; ++c) {
+        const int shift = e[c] == INT32_MIN ? 0 : -(int)e[c] - HEADROOM;
+        scale[c] = shift >= -1022 && shift <= 1023 ? ldexp(1.0, shift) : 0.0;
+    }
     for (size_t k = 0; k < count; ++k) {
         sinter_repro_sum *s = sum + (size_t)row[k] * width;
         const double *t = terms + k * width;
-        for (size_t c = 0; c < width; ++c)
-            if (t[c] != 0.0)
+        for (size_t c = 0; c < width; ++c) {
+            if (t[c] == 0.0 || !isfinite(t[c]))
+                continue;
+            if (c >= MOST || scale[c] == 0.0) {
                 sinter_repro_add(&s[c], (int)e[c], t + c, 1, 1);
+                continue;
+            }
+            add_scaled(&s[c], t[c] * scale[c]); /* as sinter_repro_add: the same limbs */
+        }
     }
     if (reverse != NULL) { /* the ghost rows' limbs into their owners' (integer-valued doubles) */
         for (size_t q = 0; q < rows * width; ++q)
@@ -226,9 +265,22 @@ int sinter_repro_rows(size_t rows, size_t owned, size_t width, const uint32_t *r
         for (size_t q = 0; q < owned * width; ++q)
             sinter_repro_from_doubles(&sum[q], limbs + SINTER_REPRO_LIMBS * q);
     }
+    double pw[MOST][SINTER_REPRO_LIMBS]; /* the limbs' weights, where all are normal */
+    int by[MOST];
+    for (size_t c = 0; c < width && c < MOST; ++c) {
+        by[c] = e[c] != INT32_MIN;
+        for (int j = 0; j < SINTER_REPRO_LIMBS && by[c]; ++j) {
+            const int64_t k = e[c] + HEADROOM - SINTER_REPRO_LIMB_BITS * (j + 1);
+            by[c] = k >= -1022 && k <= 1023;
+            pw[c][j] = by[c] ? ldexp(1.0, (int)k) : 0.0;
+        }
+    }
     for (size_t r = 0; r < rows; ++r)
-        for (size_t c = 0; c < width; ++c)
-            out[r * width + c] =
-                r < owned ? sinter_repro_value(&sum[r * width + c], (int)e[c]) : 0.0;
+        for (size_t c = 0; c < width; ++c) {
+            const sinter_repro_sum *q = &sum[r * width + c];
+            out[r * width + c] = r >= owned          ? 0.0
+                                 : c < MOST && by[c] ? value_by(q, pw[c])
+                                                     : sinter_repro_value(q, (int)e[c]);
+        }
     return 0;
 }
