@@ -251,7 +251,6 @@ sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs
             for (size_t d = 0; d < 3; ++d) {
                 t[1 + d] = p->x[3 * i + d];
                 t[4 + d] = u[6 * s + 3 + d];
-                t[7 + d] = 0.0;
             }
         }
         if (c == k)
