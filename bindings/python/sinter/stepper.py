@@ -58,7 +58,9 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                         "N: every N-th step; 0 off",
         "reproducible": "[-] 1: pairs sorted by id at every build, every particle's sums in "
                         "that order on one thread: the same bits for any memory order, thread "
-                        "count and decomposition (explicit stepper); 0 (default) off",
+                        "count and decomposition (explicit stepper; the quasi-static one "
+                        "with exact sums, block-Jacobi PCG and necks one by one); 0 (default) "
+                        "off",
     },
     "explicit_staggered": {
         "sort_interval": "[steps] sort the particles spatially every so many steps; 0 "
