@@ -1068,7 +1068,8 @@ SINTER_API sinter_status sinter_stepper_get_periodic(const sinter_stepper *stepp
  * per-particle block-Jacobi preconditioner with or without domain operations,
  * and integrates strategy 3's necks one by one, so that its results are the
  * same bits without domain operations and on any number of subdomains and
- * threads; about twice the solve's work (tests/bench/RESULTS.md).
+ * threads; 1.7-3.9 times the default's CPU on one thread (more PCG
+ * iterations, exact row sums; tests/bench/RESULTS.md).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).
