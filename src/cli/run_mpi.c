@@ -33,8 +33,10 @@
  * coordination number and the solid fraction's lenses from the links, each held once by the
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
  * smaller ids and its first step's extents in the global part); beam heat sources, the frozen
- * heat stage (run_mpi_heat.h) and [insert] (run_mpi_insert.h). Refused, with the reason on
- * every rank and exit status 1: scenes with [fields] sections, a [pour] with a [stepper]
+ * heat stage (run_mpi_heat.h), [insert] (run_mpi_insert.h) and [fields] (run_mpi_fields.h:
+ * the grid's and the laminae's sums over the ranks, each pair once, the ratios and the files on
+ * rank 0). Refused, with the reason on every rank and exit status 1: [fields] with
+ * vtu_format = appended, a [pour] with a [stepper]
  * temperature_schedule (the serial runner delays that furnace to the pour's end through an
  * internal call) or followed by a [compact], and what sinter_stepper_set_domain_ops refuses
  * (periodic axes, so copper_rve.scene; an electric model with host callbacks, qs_strategy 1,
