@@ -233,6 +233,54 @@ SINTER_API sinter_status sinter_stepper_get_stats_global(const sinter_stepper *s
 SINTER_API sinter_status sinter_stepper_heat_energy_global(const sinter_stepper *stepper,
                                                            size_t index, double *energy);
 
+/**
+ * Doubles per grid point of sinter_coarse_sums: 15 particle sums (volume, mass, m T, momentum,
+ * m v v) and 9 of the contact stress.
+ */
+#define SINTER_COARSE_SUMS 24
+
+/**
+ * This subdomain's share of sinter_coarse_grain's fields (a [fields] section over subdomains,
+ * issue 44): at every grid point the kernel-weighted sums of its owned particles and of the
+ * snapshot's contacts (NULL: none), each pair counted once over the subdomains, by the one
+ * that owns its smaller id; a wall contact by its particle's. Layout: points * 15 particle sums
+ * (volume [m^3], mass [kg], m T [kg K], m v [kg m/s] (3), m v v [kg m^2/s^2] (9), each times
+ * W [1/m^3]), then points * 9 contact stresses [Pa]. Added to `sums` (zero it first);
+ * sums_count = points * SINTER_COARSE_SUMS. Summed over the subdomains (in any grouping: the
+ * same terms), sinter_write_vti_sums forms the fields; without ghosts these are the sums
+ * sinter_coarse_grain forms its quantities from, bit for bit.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (options, sums_count, a snapshot of other
+ * particles), SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_coarse_sums(const sinter_particles *ps,
+                                            const sinter_snapshot *snapshot,
+                                            const sinter_coarse_options *options, double *sums,
+                                            size_t sums_count);
+
+/**
+ * Write the fields of summed sinter_coarse_sums as VTK ImageData (.vti): every
+ * sinter_coarse_quantity as point data, formed as sinter_coarse_grain forms them (a `scene
+ * run`'s frames/fields_NNNNN.vti). flags: 1 inline base64 arrays (else ascii), 2 single
+ * precision. Written to a temporary name and renamed.
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (options, sums_count, flags), SINTER_ERR_IO,
+ * SINTER_ERR_NOMEM.
+ */
+SINTER_API sinter_status sinter_write_vti_sums(sinter_ctx *ctx, const char *path,
+                                               const sinter_coarse_options *options,
+                                               const double *sums, size_t sums_count, int flags);
+
+/**
+ * This subdomain's share of sinter_lamina_profile: for its owned particles the volume of the
+ * spheres' slices in each lamina [m^3] (sums[s]) and that volume times their temperature
+ * [m^3 K] (sums[count + s]), added to `sums` (2 count doubles; zero it first). Summed over the
+ * subdomains, lamina s has fraction sums[s] / its volume and temperature sums[count + s] /
+ * sums[s].
+ * Errors: SINTER_ERR_NULL, SINTER_ERR_INVALID (as sinter_lamina_profile).
+ */
+SINTER_API sinter_status sinter_lamina_sums(const sinter_particles *ps, int axis,
+                                            const double lo[3], const double hi[3], size_t count,
+                                            double *sums);
+
 #ifdef __cplusplus
 }
 #endif

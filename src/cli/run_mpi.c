@@ -33,8 +33,10 @@
  * coordination number and the solid fraction's lenses from the links, each held once by the
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
  * smaller ids and its first step's extents in the global part); beam heat sources, the frozen
- * heat stage (run_mpi_heat.h) and [insert] (run_mpi_insert.h). Refused, with the reason on
- * every rank and exit status 1: scenes with [fields] sections, a [pour] with a [stepper]
+ * heat stage (run_mpi_heat.h), [insert] (run_mpi_insert.h) and [fields] (run_mpi_fields.h:
+ * the grid's and the laminae's sums over the ranks, each pair once, the ratios and the files on
+ * rank 0). Refused, with the reason on every rank and exit status 1: [fields] with
+ * vtu_format = appended, a [pour] with a [stepper]
  * temperature_schedule (the serial runner delays that furnace to the pour's end through an
  * internal call) or followed by a [compact], and what sinter_stepper_set_domain_ops refuses
  * (periodic axes, so copper_rve.scene; an electric model with host callbacks, qs_strategy 1,
@@ -59,6 +61,7 @@
 #include "run_mpi_qs.h"
 #include "run_mpi_heat.h"
 #include "run_mpi_insert.h"
+#include "run_mpi_fields.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -78,6 +81,7 @@ typedef struct scene_facts {
     int compact;                /* a [compact] section: compacted on rank 0 before spreading */
     run_mpi_heat_spec heat_out; /* the heat stage's columns (run_mpi_heat.h) */
     int insert;                 /* an [insert] section: its two columns (run_mpi_insert.h) */
+    run_mpi_fields fields;      /* [fields]: its files with every frame (run_mpi_fields.h) */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -160,11 +164,6 @@ static int read_facts(const char *path, scene_facts *f)
                 strncmp(section, "heat nozzle", 11) == 0 || strncmp(section, "heat beam", 9) == 0)
                 f->heat_out.beam = 1; /* (across ranks since issue 43: run_mpi_heat.h) */
             f->insert |= strcmp(section, "insert") == 0;
-            static const char *const refused[] = {"fields"};
-            for (size_t k = 0; k < sizeof(refused) / sizeof(refused[0]) && f->refused[0] == '\0';
-                 ++k)
-                if (strncmp(section, refused[k], strlen(refused[k])) == 0)
-                    snprintf(f->refused, sizeof(f->refused), "[%.100s]", section);
         } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
                    strstr(line, "quasistatic") != NULL) {
             f->quasistatic = 1; /* its sintering columns (run_mpi_qs.c) */
@@ -185,6 +184,9 @@ static int read_facts(const char *path, scene_facts *f)
     }
     fclose(fp);
     run_mpi_heat_read(path, &f->heat_out);
+    run_mpi_fields_read(path, &f->fields);
+    if (f->refused[0] == '\0' && f->fields.on && f->fields.appended)
+        snprintf(f->refused, sizeof(f->refused), "[fields] with [output] vtu_format = appended");
     if (f->name[0] == '\0')
         snprintf(f->name, sizeof(f->name), "scene");
     return 1;
@@ -674,7 +676,9 @@ static int record(mpi_run *r, double *row, size_t columns)
     int ok = 1;
     if (r->rank == 0)
         write_row(r, row, columns);
-    ok = write_frame(r, row[0]);
+    ok = run_mpi_fields_write(&r->facts.fields, r->ctx, r->st, r->ps, r->domain, r->rank,
+                              r->out_dir, (unsigned long long)r->frame);
+    ok = write_frame(r, row[0]) && ok;
     return agree(r->comm, ok ? 0 : -1) == 0;
 }
 

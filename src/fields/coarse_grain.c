@@ -219,7 +219,7 @@ static void scatter_contact(const kernel *k, const double p0[3], const double f[
 
 /* The contacts' stress of the snapshot. */
 static sinter_status contact_stress(const sinter_particles *ps, const sinter_snapshot *snap,
-                                    const kernel *k, double *stress)
+                                    const kernel *k, size_t owned, double *stress)
 {
     sinter_ctx *ctx = ps->ctx;
     static const char *const fn = "sinter_coarse_grain";
@@ -264,6 +264,9 @@ static sinter_status contact_stress(const sinter_particles *ps, const sinter_sna
             break;
         }
         const size_t i = a->index;
+        /* a pair once over the subdomains: where its smaller id is owned (sinter_coarse_sums) */
+        if ((c < pairs && id_b[c] < id_a[c] ? b->index : i) >= owned)
+            continue;
         const double *nc = n + 3 * c;
         /* how far the other end lies along n: the other centre at r_a + r_b - delta, the
          * wall's contact point (on its plane) at r_a - delta */
@@ -292,6 +295,63 @@ void sinter_coarse_fields_free(sinter_ctx *ctx, sinter_coarse_fields *f)
     memset(f, 0, sizeof(*f));
 }
 
+sinter_status sinter_coarse_accumulate(const sinter_particles *ps, const sinter_snapshot *snap,
+                                       const sinter_coarse_options *o, size_t owned, double *sums)
+{
+    const size_t points = o->points[0] * o->points[1] * o->points[2];
+    kernel k;
+    sinter_status st = kernel_make(ps->ctx, o, &k);
+    if (st != SINTER_OK)
+        return st;
+    double *acc = sums, *stress = sums + SINTER_COARSE_PARTICLE_SUMS * points;
+    for (size_t i = 0; i < owned && i < ps->count; ++i) {
+        const double r = ps->radius[i], m = ps->mass[i], *v = ps->v + 3 * i;
+        double value[SINTER_COARSE_PARTICLE_SUMS] = {
+            4.0 / 3.0 * PI * r * r * r, m, m * ps->temperature[i], m * v[0], m * v[1], m * v[2]};
+        for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c)
+                value[6 + 3 * a + c] = m * v[a] * v[c];
+        scatter(&k, ps->x + 3 * i, 1.0, value, SINTER_COARSE_PARTICLE_SUMS, acc);
+    }
+    st = snap != NULL ? contact_stress(ps, snap, &k, owned, stress) : SINTER_OK;
+    kernel_free(ps->ctx, &k);
+    return st;
+}
+
+sinter_status sinter_coarse_fields_from_sums(sinter_ctx *ctx, size_t points, const double *sums,
+                                             sinter_coarse_fields *out)
+{
+    memset(out, 0, sizeof(*out));
+    out->points = points;
+    out->solid = sinter_calloc(ctx, points, sizeof(double));
+    out->density = sinter_calloc(ctx, points, sizeof(double));
+    out->temperature = sinter_calloc(ctx, points, sizeof(double));
+    out->velocity = sinter_calloc(ctx, points, 3 * sizeof(double));
+    out->stress = sinter_calloc(ctx, points, 9 * sizeof(double));
+    if (out->solid == NULL || out->density == NULL || out->temperature == NULL ||
+        out->velocity == NULL || out->stress == NULL) {
+        sinter_coarse_fields_free(ctx, out);
+        return sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_coarse_grain: out of memory");
+    }
+    const double *stress = sums + SINTER_COARSE_PARTICLE_SUMS * points;
+    for (size_t p = 0; p < points; ++p) {
+        const double *q = sums + SINTER_COARSE_PARTICLE_SUMS * p, rho = q[1];
+        double *vel = out->velocity + 3 * p, *s = out->stress + 9 * p;
+        out->solid[p] = q[0];
+        out->density[p] = rho;
+        out->temperature[p] = rho > 0 ? q[2] / rho : NAN;
+        for (int a = 0; a < 3; ++a)
+            vel[a] = rho > 0 ? q[3 + a] / rho : 0.0;
+        /* the contacts' stress less the kinetic -sum m v' v' W with v' = v - V (Goldhirsch
+         * 2010): -(sum m v v W - rho V V) */
+        for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c)
+                s[3 * a + c] = stress[9 * p + 3 * (size_t)a + (size_t)c] -
+                               (q[6 + 3 * a + c] - rho * vel[a] * vel[c]);
+    }
+    return SINTER_OK;
+}
+
 sinter_status sinter_coarse_fields_compute(const sinter_particles *ps, const sinter_snapshot *snap,
                                            const sinter_coarse_options *o,
                                            sinter_coarse_fields *out)
@@ -299,54 +359,13 @@ sinter_status sinter_coarse_fields_compute(const sinter_particles *ps, const sin
     sinter_ctx *ctx = ps->ctx;
     memset(out, 0, sizeof(*out));
     const size_t points = o->points[0] * o->points[1] * o->points[2];
-    out->points = points;
-    out->solid = sinter_calloc(ctx, points, sizeof(double));
-    out->density = sinter_calloc(ctx, points, sizeof(double));
-    out->temperature = sinter_calloc(ctx, points, sizeof(double));
-    out->velocity = sinter_calloc(ctx, points, 3 * sizeof(double));
-    out->stress = sinter_calloc(ctx, points, 9 * sizeof(double));
-    /* per point: volume, mass, m T, momentum (3), m v v (9), accumulated together */
-    double *acc = sinter_calloc(ctx, points, 15 * sizeof(double));
-    if (out->solid == NULL || out->density == NULL || out->temperature == NULL ||
-        out->velocity == NULL || out->stress == NULL || acc == NULL) {
-        sinter_free(ctx, acc);
-        sinter_coarse_fields_free(ctx, out);
+    double *sums = sinter_calloc(ctx, points, (SINTER_COARSE_PARTICLE_SUMS + 9) * sizeof(double));
+    if (sums == NULL)
         return sinter_fail(ctx, SINTER_ERR_NOMEM, "sinter_coarse_grain: out of memory");
-    }
-    kernel k;
-    if (kernel_make(ctx, o, &k) != SINTER_OK) {
-        sinter_free(ctx, acc);
-        sinter_coarse_fields_free(ctx, out);
-        return sinter_last_status(ctx);
-    }
-    for (size_t i = 0; i < ps->count; ++i) {
-        const double r = ps->radius[i], m = ps->mass[i], *v = ps->v + 3 * i;
-        double value[15] = {
-            4.0 / 3.0 * PI * r * r * r, m, m * ps->temperature[i], m * v[0], m * v[1], m * v[2]};
-        for (int a = 0; a < 3; ++a)
-            for (int c = 0; c < 3; ++c)
-                value[6 + 3 * a + c] = m * v[a] * v[c];
-        scatter(&k, ps->x + 3 * i, 1.0, value, 15, acc);
-    }
-    sinter_status st = snap != NULL ? contact_stress(ps, snap, &k, out->stress) : SINTER_OK;
-    kernel_free(ctx, &k);
-    for (size_t p = 0; p < points; ++p) {
-        const double *q = acc + 15 * p, rho = q[1];
-        double *vel = out->velocity + 3 * p, *s = out->stress + 9 * p;
-        out->solid[p] = q[0];
-        out->density[p] = rho;
-        out->temperature[p] = rho > 0 ? q[2] / rho : NAN;
-        for (int a = 0; a < 3; ++a)
-            vel[a] = rho > 0 ? q[3 + a] / rho : 0.0;
-        /* kinetic stress -sum m v' v' W with v' = v - V (Goldhirsch 2010):
-         * -(sum m v v W - rho V V) */
-        for (int a = 0; a < 3; ++a)
-            for (int c = 0; c < 3; ++c)
-                s[3 * a + c] -= q[6 + 3 * a + c] - rho * vel[a] * vel[c];
-    }
-    sinter_free(ctx, acc);
-    if (st != SINTER_OK)
-        sinter_coarse_fields_free(ctx, out);
+    sinter_status st = sinter_coarse_accumulate(ps, snap, o, ps->count, sums);
+    if (st == SINTER_OK)
+        st = sinter_coarse_fields_from_sums(ctx, points, sums, out);
+    sinter_free(ctx, sums);
     return st;
 }
 

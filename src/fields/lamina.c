@@ -4,6 +4,8 @@
  */
 #include <math.h>
 
+#include <sinter_domain.h>
+
 #include "core/core.h"
 #include "particles/particles.h"
 
@@ -20,14 +22,10 @@ static double slice_volume(double r, double a, double b)
     return PI * (r * r * (b - a) - (b * b * b - a * a * a) / 3.0);
 }
 
-sinter_status sinter_lamina_profile(const sinter_particles *ps, int axis, const double lo[3],
-                                    const double hi[3], size_t count, double *fraction,
-                                    double *temperature)
+/* Check the arguments of sinter_lamina_profile and _sums. */
+static sinter_status lamina_check(sinter_ctx *ctx, const char *fn, int axis, const double lo[3],
+                                  const double hi[3], size_t count)
 {
-    static const char *const fn = "sinter_lamina_profile";
-    if (ps == NULL)
-        return SINTER_ERR_NULL;
-    sinter_ctx *ctx = ps->ctx;
     SINTER_CHECK_NULL(ctx, lo);
     SINTER_CHECK_NULL(ctx, hi);
     if (axis < 0 || axis > 2)
@@ -38,12 +36,16 @@ sinter_status sinter_lamina_profile(const sinter_particles *ps, int axis, const 
         if (!(lo[d] < hi[d]) || !isfinite(lo[d]) || !isfinite(hi[d]))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
                                "%s: need finite lo < hi along axis %d of the box", fn, d);
-    double *volume = sinter_calloc(ctx, 2 * count, sizeof(double));
-    if (volume == NULL)
-        return sinter_fail(ctx, SINTER_ERR_NOMEM, "%s: out of memory", fn);
-    double *heat = volume + count; /* slice volume times temperature */
+    return SINTER_OK;
+}
+
+/* Add the slice volumes of the first n particles to volume[] and times their temperature to
+ * heat[]. */
+static void lamina_add(const sinter_particles *ps, size_t n, int axis, const double lo[3],
+                       const double hi[3], size_t count, double *volume, double *heat)
+{
     const double q = (hi[axis] - lo[axis]) / (double)count;
-    for (size_t i = 0; i < ps->count; ++i) {
+    for (size_t i = 0; i < n; ++i) {
         const double r = ps->radius[i], c = ps->x[3 * i + (size_t)axis];
         /* the laminae the sphere reaches */
         const double first = floor((c - r - lo[axis]) / q), last = floor((c + r - lo[axis]) / q);
@@ -58,6 +60,39 @@ sinter_status sinter_lamina_profile(const sinter_particles *ps, int axis, const 
             heat[s] += v * ps->temperature[i];
         }
     }
+}
+
+sinter_status sinter_lamina_sums(const sinter_particles *ps, int axis, const double lo[3],
+                                 const double hi[3], size_t count, double *sums)
+{
+    static const char *const fn = "sinter_lamina_sums";
+    if (ps == NULL)
+        return SINTER_ERR_NULL;
+    sinter_status st = lamina_check(ps->ctx, fn, axis, lo, hi, count);
+    if (st != SINTER_OK)
+        return st;
+    SINTER_CHECK_NULL(ps->ctx, sums);
+    lamina_add(ps, ps->count - ps->ghost_count, axis, lo, hi, count, sums, sums + count);
+    return SINTER_OK;
+}
+
+sinter_status sinter_lamina_profile(const sinter_particles *ps, int axis, const double lo[3],
+                                    const double hi[3], size_t count, double *fraction,
+                                    double *temperature)
+{
+    static const char *const fn = "sinter_lamina_profile";
+    if (ps == NULL)
+        return SINTER_ERR_NULL;
+    sinter_ctx *ctx = ps->ctx;
+    sinter_status st = lamina_check(ctx, fn, axis, lo, hi, count);
+    if (st != SINTER_OK)
+        return st;
+    double *volume = sinter_calloc(ctx, 2 * count, sizeof(double));
+    if (volume == NULL)
+        return sinter_fail(ctx, SINTER_ERR_NOMEM, "%s: out of memory", fn);
+    double *heat = volume + count; /* slice volume times temperature */
+    const double q = (hi[axis] - lo[axis]) / (double)count;
+    lamina_add(ps, ps->count, axis, lo, hi, count, volume, heat);
     double section = 1.0;
     for (int d = 0; d < 3; ++d)
         if (d != axis)

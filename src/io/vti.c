@@ -1,4 +1,6 @@
 /* The coarse-grained fields as VTK XML ImageData (io/vti.h). */
+#include <sinter_domain.h>
+
 #include "io/series.h"
 #include "io/vti.h"
 #include "io/vtk_arrays.h"
@@ -50,4 +52,33 @@ sinter_status sinter_vti_write_fields(sinter_ctx *ctx, const char *path,
           "</VTKFile>\n",
           fp);
     return sinter_out_close(&out, SINTER_OK);
+}
+
+sinter_status sinter_write_vti_sums(sinter_ctx *ctx, const char *path,
+                                    const sinter_coarse_options *options, const double *sums,
+                                    size_t sums_count, int flags)
+{
+    static const char *const fn = "sinter_write_vti_sums";
+    if (ctx == NULL)
+        return SINTER_ERR_NULL;
+    SINTER_CHECK_NULL(ctx, path);
+    SINTER_CHECK_NULL(ctx, options);
+    SINTER_CHECK_NULL(ctx, sums);
+    sinter_status st = sinter_coarse_check(ctx, fn, options);
+    if (st != SINTER_OK)
+        return st;
+    const size_t points = options->points[0] * options->points[1] * options->points[2];
+    if (sums_count != points * SINTER_COARSE_SUMS)
+        return sinter_fail(ctx, SINTER_ERR_INVALID,
+                           "%s: sums_count is %zu, the grid's %zu points need %zu", fn, sums_count,
+                           points, points * SINTER_COARSE_SUMS);
+    if (flags < 0 || flags > (SINTER_VTK_BINARY | SINTER_VTK_FLOAT32))
+        return sinter_fail(ctx, SINTER_ERR_INVALID, "%s: flags is %d, expected 0 to 3", fn, flags);
+    sinter_coarse_fields fields;
+    st = sinter_coarse_fields_from_sums(ctx, points, sums, &fields);
+    if (st != SINTER_OK)
+        return st;
+    st = sinter_vti_write_fields(ctx, path, options, &fields, flags);
+    sinter_coarse_fields_free(ctx, &fields);
+    return st;
 }

@@ -5,7 +5,10 @@
 - spheres settled on a floor under gravity: the vertical stress integrated over space is
   -g sum m_i z_i (the virial of a body in equilibrium on a floor at z = 0), to the grid's
   bound (docs/models.md) and the pile's residual forces;
-- the laminae of seed 001 eq. 48 hold the spheres' volume.
+- the laminae of seed 001 eq. 48 hold the spheres' volume;
+- a subdomain's shares (sinter.fields.coarse_sums, lamina_sums; issue 44): without ghosts
+  the density and the laminae they hold are sinter.coarse_grain's and lamina_profile's bit
+  for bit, and write_vti_sums writes them.
 """
 
 import math
@@ -105,6 +108,28 @@ class FieldCases(ArrayBackend):
         with self.assertRaises(ValueError):
             sinter.coarse_grain(particles, "pressure", 0, 1e-3, 2, 1e-3)
         self.assertEqual(sinter.fields.quantity_info("stress"), ("stress", "Pa", 9))
+
+
+    def test_shares_without_ghosts_are_the_whole(self):
+        ctx, _, particles = self.context()
+        sinter.pack_lattice(particles, (0, 0, 0), (4.01e-3, 4.01e-3, 4.01e-3), 1e-3)
+        grid = dict(origin=-1e-3, spacing=1e-3, points=(6, 6, 6), width=1e-3)
+        sums = sinter.fields.coarse_sums(particles, **grid)
+        points = 6 ** 3
+        self.assertEqual(len(sums), points * sinter.fields.COARSE_SUMS)
+        density = flatten(sinter.coarse_grain(particles, "density", **grid))
+        self.assertEqual([sums[15 * p + 1] for p in range(points)], density)
+        self.assertEqual(sums[15 * points:], [0.0] * (9 * points))  # no contacts given
+        laminae = sinter.fields.lamina_sums(particles, "z", (0, 0, 0), (4e-3, 4e-3, 4e-3), 8)
+        fraction, _ = sinter.lamina_profile(particles, "z", (0, 0, 0), (4e-3, 4e-3, 4e-3), 8)
+        self.assertEqual([v / (16e-6 * 0.5e-3) for v in laminae[:8]], flatten(fraction))
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "fields.vti")
+            sinter.fields.write_vti_sums(ctx, path, sums=sums, binary=False, **grid)
+            with open(path) as f:
+                self.assertIn('Name="temperature"', f.read())
+            with self.assertRaises(sinter.InvalidArgument):
+                sinter.fields.write_vti_sums(ctx, path, sums=sums[:5], **grid)
 
 
 class PlotCsvTest(unittest.TestCase):

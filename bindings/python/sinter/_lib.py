@@ -551,6 +551,12 @@ SIGNATURES = {
     "sinter_walls_get_force_local": (c_status, [WallsPtr, _size, _P(_double)]),
     "sinter_stepper_get_stats_global": (c_status, [StepperPtr, _P(StepperStats)]),
     "sinter_stepper_heat_energy_global": (c_status, [StepperPtr, _size, _P(_double)]),
+    "sinter_coarse_sums": (
+        c_status, [ParticlesPtr, SnapshotPtr, _P(CoarseOptions), _P(_double), _size]),
+    "sinter_write_vti_sums": (
+        c_status, [CtxPtr, _str, _P(CoarseOptions), _P(_double), _size, _int]),
+    "sinter_lamina_sums": (
+        c_status, [ParticlesPtr, _int, _P(_double), _P(_double), _size, _P(_double)]),
 }
 
 
