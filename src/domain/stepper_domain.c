@@ -29,6 +29,10 @@ sinter_status sinter_domain_check(sinter_stepper *st)
     else if (sinter_ghosts_on(&st->ghosts) && st->thermal.count > 0 &&
              st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
         what = "periodic axes (sinter_stepper_set_periodic) with implicit conduction";
+    else if (sinter_ghosts_on(&st->ghosts) && st->nb.canonical)
+        what = "periodic axes (sinter_stepper_set_periodic) with the option reproducible (a pair "
+               "across a periodic face and a border is evaluated on each side from positions "
+               "shifted in different places: not the same bits)";
     else if (st->electric != NULL && st->electric->host.struct_size != 0)
         what = "an electric model with host callbacks";
     else if (st->sort_interval > 0)
