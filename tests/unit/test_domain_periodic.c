@@ -18,7 +18,8 @@
  *    without periodic axes. The reference's final state has contacts across the periodic faces
  *    and, at 4 slabs, across a face and a border at once, so both kinds are exercised.
  *  - The same gas periodic along x, cut into slabs along x, is refused with
- *    SINTER_ERR_UNSUPPORTED on every subdomain, the message naming why.
+ *    SINTER_ERR_UNSUPPORTED on every subdomain, the message naming why; so is the option
+ *    "reproducible" with periodic axes (the two sides of a pair do not see the same bits).
  */
 #include <math.h>
 #include <pthread.h>
@@ -282,11 +283,36 @@ static void test_cut_axis_refused(void **unused)
     }
 }
 
+/* Settings refused with periodic axes across subdomains, each naming why. */
+static void test_settings_refused(void **unused)
+{
+    (void)unused;
+    sinter_ctx *ctx = NULL;
+    sinter_particles *ps = NULL;
+    sinter_stepper *st = NULL;
+    assert_int_equal(sinter_ctx_create(&ctx, NULL), SINTER_OK);
+    assert_int_equal(sinter_particles_create(&ps, ctx), SINTER_OK);
+    assert_int_equal(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, NULL), SINTER_OK);
+    assert_int_equal(sinter_stepper_set_periodic(st, 1, 0.0, 1.0), SINTER_OK);
+    assert_int_equal(sinter_stepper_set_option(st, "reproducible", 1.0), SINTER_OK);
+    loopback *lb = loopback_create(1);
+    assert_non_null(lb);
+    assert_int_equal(loopback_attach(lb, 0, st, ps), SINTER_ERR_UNSUPPORTED);
+    assert_non_null(strstr(sinter_last_error(ctx), "reproducible"));
+    assert_int_equal(sinter_stepper_set_option(st, "reproducible", 0.0), SINTER_OK);
+    assert_int_equal(loopback_attach(lb, 0, st, ps), SINTER_OK);
+    sinter_stepper_destroy(st);
+    loopback_destroy(lb);
+    sinter_particles_destroy(ps);
+    sinter_ctx_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_periodic_slabs),
         cmocka_unit_test(test_cut_axis_refused),
+        cmocka_unit_test(test_settings_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
