@@ -152,12 +152,21 @@ typedef struct sinter_domain_ops {
 /**
  * Install the host's collective operations (copied; NULL removes them). From then on the
  * stepper's global quantities go through `ops`. The explicit, staggered and quasi-static
- * steppers, without periodic axes, an electric model with host callbacks or the option
+ * steppers, without an electric model with host callbacks or the option
  * sort_interval (continuous insertion: every subdomain makes the same spheres, subdomain 0 adds
  * them with ids above every subdomain's and the redistribution moves them, so a host's
  * redistribute must move any owned particle to its owner); either electric model ("network"
  * or "averaged") with either the explicit or the staggered stepper, and implicit conduction
- * (explicit stepper)
+ * (explicit stepper). Periodic axes (sinter_stepper_set_periodic): the explicit stepper
+ * only, without implicit conduction, an electric model or the option "reproducible", and
+ * only for a decomposition that leaves every periodic axis whole (each subdomain spans the
+ * cell along it: slabs or a brick cut along non-periodic axes). The host makes its ghosts as
+ * without periodic axes (by real distance; the library wraps the owned particles into the
+ * cell before calling redistribute) and its halo fills only its own ghost rows; the library
+ * appends the periodic images of its owned particles and of the host's ghosts after them
+ * and refreshes them itself. A decomposition that seems to cut a periodic axis (a subdomain
+ * owning particles, none within the ghost cut-off of one of the axis' faces) is refused at
+ * the rebuild, on every subdomain
  * (SINTER_ERR_UNSUPPORTED names the setting, here or at the next step); reduce, exscan, halo
  * and redistribute are required. Implicit conduction and the "network" electric model solve
  * over every subdomain at once: the owned particles are the unknowns, a ghost's value comes

@@ -535,11 +535,19 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
 /* With ghosts (ghosts/ghosts.h): a pair is kept when its first end, the one of smaller id, is
  * owned; ghost-ghost pairs go, and of the two copies of a pair across a periodic face (owned i
  * with the image of j, the image of i with owned j) the one seen from the smaller id stays. */
-static void drop_ghost_pairs(sinter_pair_list *l, size_t owned, int both_sides)
+static int owned_image(const sinter_neighbors *nb, size_t i, size_t owned)
+{
+    return i >= nb->image_first && i - nb->image_first < nb->image_count &&
+           nb->image_owner[i - nb->image_first] < owned;
+}
+
+static void drop_ghost_pairs(const sinter_neighbors *nb, sinter_pair_list *l, size_t owned,
+                             int both_sides)
 {
     size_t m = 0;
     for (size_t p = 0; p < l->count; ++p)
-        if (l->i[p] < owned || (both_sides && l->j[p] < owned)) {
+        if (l->i[p] < owned ||
+            (both_sides && l->j[p] < owned && !owned_image(nb, l->i[p], owned))) {
             l->i[m] = l->i[p];
             l->j[m] = l->j[p];
             ++m;
@@ -740,7 +748,7 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     nb->pp.build_id = nb->pw.build_id = 0;
     sinter_status st = build_pp(nb, ps);
     if (st == SINTER_OK && ps->ghost_count > 0)
-        drop_ghost_pairs(&nb->pp, ps->count - ps->ghost_count, nb->both_sides);
+        drop_ghost_pairs(nb, &nb->pp, ps->count - ps->ghost_count, nb->both_sides);
     if (st == SINTER_OK)
         fill_keys(&nb->pp, ps->id, nb->pp.count < 4096 ? 1 : sinter_threads(ctx));
     if (st == SINTER_OK)

@@ -57,6 +57,12 @@ typedef struct sinter_neighbors {
     size_t order_scratch_capacity;
     int both_sides; /* ghosts of other subdomains: a pair is kept when either end is owned
                        (newton off; domain/domain.h), not only its smaller-id end */
+    /* periodic images in a decomposed run (stepper/domain_periodic.c): rows [image_first,
+     * image_first + image_count) are images, image_owner[k] the row each copies; a pair whose
+     * smaller-id end is an image of an owned particle goes (its twin from that owned
+     * particle is kept), even with both_sides */
+    size_t image_first, image_count;
+    const uint32_t *image_owner;
     int built;
     sinter_pair_list pp;     /* particle-particle */
     sinter_pair_list pw;     /* particle-wall */

@@ -1,5 +1,6 @@
 /* The host's collective operations as stages of the step (domain.h). */
 #include "domain/domain.h"
+#include "ghosts/ghosts.h"
 
 #include <string.h>
 
@@ -94,7 +95,9 @@ sinter_status sinter_domain_agree_sum(sinter_ctx *ctx, sinter_domain *d, sinter_
 
 sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_particles *ps)
 {
-    const size_t n = ps->count, owned = n - ps->ghost_count, w = SINTER_HALO_STATE_WIDTH;
+    const size_t images = d->periodic != NULL ? sinter_ghosts_images(d->periodic, ps) : 0;
+    const size_t n = ps->count - images, owned = ps->count - ps->ghost_count,
+                 w = SINTER_HALO_STATE_WIDTH;
     sinter_status s =
         sinter_grow(ctx, (void **)&d->halo, &d->halo_capacity, w * n + 1, sizeof(double));
     if (s != SINTER_OK)
@@ -117,6 +120,8 @@ sinter_status sinter_domain_forward(sinter_ctx *ctx, sinter_domain *d, sinter_pa
         memcpy(ps->rot + 3 * i, row + 9, 3 * sizeof(double));
         ps->temperature[i] = row[12];
     }
+    if (images > 0) /* the periodic images from their owners, the host's ghosts among them */
+        sinter_ghosts_forward(d->periodic, ps);
     return SINTER_OK;
 }
 
@@ -124,19 +129,22 @@ sinter_status sinter_domain_forward_rows(sinter_ctx *ctx, sinter_domain *d,
                                          const sinter_particles *ps, double *rows, size_t width)
 {
     const size_t owned = ps->count - ps->ghost_count;
+    /* (the host's ghost rows only: the periodic images come after them) */
+    const size_t host =
+        ps->ghost_count - (d->periodic != NULL ? sinter_ghosts_images(d->periodic, ps) : 0);
     const sinter_halo h = {.struct_size = sizeof(sinter_halo),
                            .direction = SINTER_HALO_FORWARD,
                            .width = width,
                            .data = rows,
                            .id = ps->id,
                            .owned = owned,
-                           .ghosts = ps->ghost_count};
+                           .ghosts = host};
     d->halos++;
     if (d->ops.halo(&h, d->user) != 0)
         return sinter_fail(ctx, SINTER_ERR_CALLBACK,
                            "the host's halo callback failed (forward, width %zu, %zu owned rows, "
                            "%zu ghost rows)",
-                           width, owned, ps->ghost_count);
+                           width, owned, host);
     return SINTER_OK;
 }
 

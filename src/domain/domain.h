@@ -42,6 +42,9 @@ typedef struct sinter_domain {
     /* 1 during the staggered stepper's redistribution at an accepted state: the records carry
      * the predictor's history (record bit 2), the arrivals' kept in arrived_id / _rows */
     int keep_history;
+    /* the stepper's periodic images (ghosts/ghosts.h), after the host's ghost rows: the host's
+     * halo sees only its own rows, the images take theirs from their owners after it */
+    struct sinter_ghosts *periodic;
     uint64_t *arrived_id;
     double *arrived_rows;
     size_t arrived_count, arrived_id_capacity, arrived_rows_capacity;

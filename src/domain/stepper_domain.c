@@ -18,8 +18,21 @@ sinter_status sinter_domain_check(sinter_stepper *st)
              st->quasistatic->steps > 0 && !st->quasistatic->dom.on &&
              !st->quasistatic->dom.restored) /* (a portable restart's links come by record) */
         what = "a quasi-static stepper that has stepped without them (its links are all here)";
-    else if (sinter_ghosts_on(&st->ghosts))
-        what = "periodic axes (sinter_stepper_set_periodic)";
+    /* periodic axes (stepper/domain_periodic.c): the explicit stepper, with a decomposition
+     * that leaves every periodic axis whole (checked at each rebuild); the solves and the
+     * other steppers read ghost rows through the host's halo, which does not fill the images */
+    else if (sinter_ghosts_on(&st->ghosts) && st->kind != SINTER_STEPPER_EXPLICIT)
+        what = "periodic axes (sinter_stepper_set_periodic) with a stepper other than the "
+               "explicit one";
+    else if (sinter_ghosts_on(&st->ghosts) && st->electric != NULL)
+        what = "periodic axes (sinter_stepper_set_periodic) with an electric model";
+    else if (sinter_ghosts_on(&st->ghosts) && st->thermal.count > 0 &&
+             st->thermal.scheme != SINTER_THERMAL_EXPLICIT)
+        what = "periodic axes (sinter_stepper_set_periodic) with implicit conduction";
+    else if (sinter_ghosts_on(&st->ghosts) && st->nb.canonical)
+        what = "periodic axes (sinter_stepper_set_periodic) with the option reproducible (a pair "
+               "across a periodic face and a border is evaluated on each side from positions "
+               "shifted in different places: not the same bits)";
     else if (st->electric != NULL && st->electric->host.struct_size != 0)
         what = "an electric model with host callbacks";
     else if (st->sort_interval > 0)

@@ -89,13 +89,9 @@ sinter_status sinter_ghosts_reserve(sinter_ctx *ctx, sinter_ghosts *g, size_t ne
     return SINTER_OK;
 }
 
-sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, double cutoff,
-                                    double *x_old)
+/* Refused when a period is under twice the cut-off. */
+static sinter_status check_periods(const sinter_ghosts *g, sinter_ctx *ctx, double cutoff)
 {
-    sinter_ctx *ctx = ps->ctx;
-    sinter_particles_drop_ghosts(ps);
-    g->built = 0;
-    g->count = 0;
     for (int d = 0; d < 3; ++d)
         if (g->periodic[d] && !(g->hi[d] - g->lo[d] >= 2.0 * cutoff))
             return sinter_fail(ctx, SINTER_ERR_INVALID,
@@ -103,15 +99,50 @@ sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, doub
                                "%g m (2 r_max + skin), so a particle could meet two images of "
                                "another; make the cell larger",
                                "xyz"[d], g -> hi[d] - g -> lo[d], cutoff);
-    const size_t n = ps->count;
-    for (size_t i = 0; i < n && !g->hold; ++i)
-        for (int d = 0; d < 3; ++d)
-            if (g->periodic[d]) {
-                const double x = ps->x[3 * i + d], y = wrap(x, g->lo[d], g->hi[d]);
-                if (y != x && x_old != NULL) /* shifted by the same whole periods */
-                    x_old[3 * i + d] += y - x;
-                ps->x[3 * i + d] = y;
-            }
+    return SINTER_OK;
+}
+
+static sinter_status make_images(sinter_ghosts *g, sinter_particles *ps, double cutoff, size_t n);
+
+sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, double cutoff,
+                                    double *x_old)
+{
+    sinter_ctx *ctx = ps->ctx;
+    sinter_particles_drop_ghosts(ps);
+    g->built = 0;
+    g->count = 0;
+    g->host = 0;
+    const sinter_status s = check_periods(g, ctx, cutoff);
+    if (s != SINTER_OK)
+        return s;
+    if (!g->hold)
+        (void)sinter_ghosts_wrap_with(g, ps, x_old);
+    return make_images(g, ps, cutoff, ps->count);
+}
+
+sinter_status sinter_ghosts_append(sinter_ghosts *g, sinter_particles *ps, double cutoff)
+{
+    g->built = 0;
+    g->count = 0;
+    const sinter_status s = check_periods(g, ps->ctx, cutoff);
+    if (s != SINTER_OK)
+        return s;
+    g->host = ps->ghost_count;
+    return make_images(g, ps, cutoff, ps->count);
+}
+
+size_t sinter_ghosts_images(const sinter_ghosts *g, const sinter_particles *ps)
+{
+    return g->count > 0 && g->layout == ps->layout_generation &&
+                   g->host + g->count == ps->ghost_count
+               ? g->count
+               : 0;
+}
+
+/* The images of rows [0, n) near the faces appended to the set's ghost rows. */
+static sinter_status make_images(sinter_ghosts *g, sinter_particles *ps, double cutoff, size_t n)
+{
+    sinter_ctx *ctx = ps->ctx;
     size_t count = 0;
     for (size_t i = 0; i < n; ++i) {
         /* per axis the images the particle needs: none, +1 period (near lo) or -1 (near hi) */
@@ -144,13 +175,33 @@ sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, doub
             ++count;
         }
     }
-    const sinter_status st = sinter_particles_set_ghost_rows(ps, count, g->owner, g->shift);
+    const sinter_status st = sinter_particles_append_ghost_rows(ps, count, g->owner, g->shift);
     if (st != SINTER_OK)
         return st;
     g->count = count;
     g->layout = ps->layout_generation;
     g->built = 1;
     return SINTER_OK;
+}
+
+size_t sinter_ghosts_wrap_with(sinter_ghosts *g, sinter_particles *ps, double *x_old)
+{
+    size_t moved = 0;
+    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) {
+        int out = 0;
+        for (int d = 0; d < 3; ++d)
+            if (g->periodic[d]) {
+                const double x = ps->x[3 * i + d], y = wrap(x, g->lo[d], g->hi[d]);
+                if (y != x && x_old != NULL) /* shifted by the same whole periods */
+                    x_old[3 * i + d] += y - x;
+                out |= y != x;
+                ps->x[3 * i + d] = y;
+            }
+        moved += (size_t)out;
+    }
+    if (moved > 0)
+        g->built = 0;
+    return moved;
 }
 
 size_t sinter_ghosts_wrap(sinter_ghosts *g, sinter_particles *ps)
@@ -174,8 +225,8 @@ size_t sinter_ghosts_wrap(sinter_ghosts *g, sinter_particles *ps)
 void sinter_ghosts_copy_rows(const sinter_ghosts *g, const sinter_particles *ps, double *a,
                              int shifted)
 {
-    const size_t first = ps->count - ps->ghost_count;
-    for (size_t k = 0; k < ps->ghost_count; ++k) {
+    const size_t first = ps->count - ps->ghost_count + g->host;
+    for (size_t k = 0; k < ps->ghost_count - g->host; ++k) {
         const size_t o = g->owner[k], q = first + k;
         for (int d = 0; d < 3; ++d)
             a[3 * q + d] = a[3 * o + d] + (shifted ? g->shift[3 * k + d] : 0.0);
@@ -184,8 +235,8 @@ void sinter_ghosts_copy_rows(const sinter_ghosts *g, const sinter_particles *ps,
 
 void sinter_ghosts_forward(const sinter_ghosts *g, sinter_particles *ps)
 {
-    const size_t first = ps->count - ps->ghost_count;
-    for (size_t k = 0; k < ps->ghost_count; ++k) {
+    const size_t first = ps->count - ps->ghost_count + g->host;
+    for (size_t k = 0; k < ps->ghost_count - g->host; ++k) {
         const size_t o = g->owner[k], q = first + k;
         for (int d = 0; d < 3; ++d) {
             ps->x[3 * q + d] = ps->x[3 * o + d] + g->shift[3 * k + d];
@@ -200,22 +251,25 @@ void sinter_ghosts_forward(const sinter_ghosts *g, sinter_particles *ps)
 
 void sinter_ghosts_reverse(const sinter_ghosts *g, sinter_particles *ps)
 {
-    const size_t first = ps->count - ps->ghost_count;
-    for (size_t k = 0; k < ps->ghost_count; ++k) {
+    const size_t owned = ps->count - ps->ghost_count, first = owned + g->host;
+    for (size_t k = 0; k < ps->ghost_count - g->host; ++k) {
         const size_t o = g->owner[k], q = first + k;
-        for (int d = 0; d < 3; ++d) {
-            ps->force[3 * o + d] += ps->force[3 * q + d];
-            ps->torque[3 * o + d] += ps->torque[3 * q + d];
+        if (o < owned) /* (an image of a host's ghost: discarded, newton off) */
+            for (int d = 0; d < 3; ++d) {
+                ps->force[3 * o + d] += ps->force[3 * q + d];
+                ps->torque[3 * o + d] += ps->torque[3 * q + d];
+            }
+        if (o < owned)
+            ps->heat[o] += ps->heat[q];
+        for (int d = 0; d < 3; ++d)
             ps->force[3 * q + d] = ps->torque[3 * q + d] = 0.0;
-        }
-        ps->heat[o] += ps->heat[q];
         ps->heat[q] = 0.0;
     }
 }
 
 sinter_status sinter_ghosts_save_rows(sinter_ctx *ctx, sinter_ghosts *g, const sinter_particles *ps)
 {
-    const size_t n = ps->ghost_count, first = ps->count - n;
+    const size_t n = ps->ghost_count - g->host, first = ps->count - n;
     if (6 * n + 1 > g->saved_capacity) {
         double *grown = sinter_realloc_array(ctx, g->saved, 6 * n + 1, sizeof(double));
         if (grown == NULL)
@@ -230,7 +284,7 @@ sinter_status sinter_ghosts_save_rows(sinter_ctx *ctx, sinter_ghosts *g, const s
 
 void sinter_ghosts_restore_rows(const sinter_ghosts *g, sinter_particles *ps)
 {
-    const size_t n = ps->ghost_count, first = ps->count - n;
+    const size_t n = ps->ghost_count - g->host, first = ps->count - n;
     memcpy(ps->force + 3 * first, g->saved, 3 * n * sizeof(double));
     memcpy(ps->torque + 3 * first, g->saved + 3 * n, 3 * n * sizeof(double));
 }

@@ -24,7 +24,10 @@ typedef struct sinter_ghosts {
     int periodic[3]; /* 1 for a periodic axis */
     double lo[3];    /* the periodic cell along each periodic axis [m] */
     double hi[3];
-    size_t count; /* ghost rows made by the last rebuild */
+    size_t count; /* image rows made by the last rebuild */
+    /* with domain operations (sinter_ghosts_append): the host's ghost rows that come before
+     * the images in the set's ghost block; 0 without them */
+    size_t host;
     size_t capacity;
     uint32_t *owner; /* the owned particle each ghost copies */
     double *shift;   /* 3 per ghost: ghost position - owner position [m] */
@@ -63,6 +66,23 @@ int sinter_ghosts_current(const sinter_ghosts *g, const sinter_particles *ps);
  * shifted with their particle's wrap, so that x - x_old stays the displacement. */
 sinter_status sinter_ghosts_rebuild(sinter_ghosts *g, sinter_particles *ps, double cutoff,
                                     double *x_old);
+
+/* The periodic transport beside the host's ghosts (domain operations, a decomposition that
+ * does not cut a periodic axis): the owned particles were wrapped before the host's
+ * redistribution (sinter_ghosts_wrap_with), so the host's ghosts are inside the cell too; the
+ * images of every row, owned or the host's ghost, within `cutoff` of a face are appended after
+ * the host's ghost rows (g->host of them). An image of an owned particle is the periodic kind
+ * (its pairs evaluated once, its force added back to its owner by sinter_ghosts_reverse); an
+ * image of a host's ghost is a ghost of another subdomain (newton off, its force discarded). */
+sinter_status sinter_ghosts_append(sinter_ghosts *g, sinter_particles *ps, double cutoff);
+
+/* The number of image rows at the end of ps's ghost block: g->count while they are the rows
+ * the last rebuild or append made (the layout did not change since), else 0. */
+size_t sinter_ghosts_images(const sinter_ghosts *g, const sinter_particles *ps);
+
+/* Owned particles wrapped into the cell with `x_old` (3 per particle, or NULL) shifted alike,
+ * as sinter_ghosts_rebuild does; returns the number of particles moved. */
+size_t sinter_ghosts_wrap_with(sinter_ghosts *g, sinter_particles *ps, double *x_old);
 
 /* Owned particles outside the periodic cell wrapped into it, as a rebuild does; returns the
  * number of particles moved (then the ghost rows are out of date: g->built is cleared). */

@@ -475,7 +475,13 @@ sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, co
                                               const double *shift)
 {
     sinter_particles_drop_ghosts(ps);
-    const size_t owned = ps->count;
+    return sinter_particles_append_ghost_rows(ps, n, owner, shift);
+}
+
+sinter_status sinter_particles_append_ghost_rows(sinter_particles *ps, size_t n,
+                                                 const uint32_t *owner, const double *shift)
+{
+    const size_t owned = ps->count; /* (rows before the new ones: owned and ghosts) */
     if (n == 0)
         return SINTER_OK;
     if (owned + n > ps->capacity) {
@@ -499,7 +505,7 @@ sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, co
         ps->heat[g] = 0.0;
     }
     ps->count = owned + n;
-    ps->ghost_count = n;
+    ps->ghost_count += n;
     ps->layout_generation++; /* (the owned particles, the population, did not change) */
     return SINTER_OK;
 }

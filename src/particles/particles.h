@@ -79,6 +79,10 @@ void sinter_particles_drop_ghosts(sinter_particles *ps);
  * particle owner[k], its position shifted by shift[3k..3k+2], its force, moment and heat zero. */
 sinter_status sinter_particles_set_ghost_rows(sinter_particles *ps, size_t n, const uint32_t *owner,
                                               const double *shift);
+/* The same rows appended after the ghost rows there are (the periodic images of a decomposed
+ * run, after the host's ghosts: ghosts/ghosts.h); owner[k] may be any row, owned or ghost. */
+sinter_status sinter_particles_append_ghost_rows(sinter_particles *ps, size_t n,
+                                                 const uint32_t *owner, const double *shift);
 /* Replace the ghost rows by n rows whose fields the caller fills (sinter_particles_set_ghosts,
  * domain/ghost_input.c): force, moment, heat power and current zero, the rest unset. */
 sinter_status sinter_particles_make_ghost_rows(sinter_particles *ps, size_t n);

@@ -539,8 +539,10 @@ static uint32_t *first_images(sinter_stepper *st)
         return NULL;
     for (size_t o = 0; o < owned; ++o)
         first[o] = UINT32_MAX;
-    for (size_t k = ps->ghost_count; k-- > 0;)
-        first[st->ghosts.owner[k]] = (uint32_t)(owned + k);
+    const size_t host = st->ghosts.host; /* (a decomposed run's: ghosts before the images) */
+    for (size_t k = sinter_ghosts_images(&st->ghosts, ps); k-- > 0;)
+        if (st->ghosts.owner[k] < owned)
+            first[st->ghosts.owner[k]] = (uint32_t)(owned + host + k);
     return first;
 }
 
@@ -560,7 +562,8 @@ static size_t nearest_image(const sinter_stepper *st, const uint32_t *first, siz
     const size_t owned = ps->count - ps->ghost_count;
     size_t best = j;
     double best2 = distance2(ps->x, i, j);
-    for (size_t q = first[j]; q < ps->count && st->ghosts.owner[q - owned] == j; ++q) {
+    const size_t host = st->ghosts.host; /* (image k is row owned + host + k) */
+    for (size_t q = first[j]; q < ps->count && st->ghosts.owner[q - owned - host] == j; ++q) {
         const double d2 = distance2(ps->x, i, q);
         if (d2 < best2) {
             best2 = d2;
@@ -755,7 +758,15 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
         return s;
     d->cutoff = 2.0 * v[1] + st->nb.skin + st->nb.reach;
     d->rebuild_due = 0;
-    s = sinter_domain_redistribute(st); /* migration, then the new ghosts */
+    /* periodic axes (domain_periodic.c): the images' cut-off as without domain operations (a
+     * bond in tension may be longer than a contact: its far end needs its image), then the
+     * owned particles wrapped before the host sees them */
+    const int periodic = sinter_ghosts_on(&st->ghosts);
+    const double image_cutoff =
+        periodic ? 2.0 * v[1] + (st->nb.skin + fmax(st->nb.reach, held_gap(st))) : 0.0;
+    s = sinter_domain_periodic_wrap(st);
+    if (s == SINTER_OK)
+        s = sinter_domain_redistribute(st); /* migration, then the new ghosts */
     if (s == SINTER_OK)
         s = sinter_explicit_keep_spare(st);
     /* the spare arrays (explicit.c: the state at t) get the new ghosts' rows as they are now:
@@ -765,6 +776,8 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
     double *rows[4] = {ps->x, ps->v, ps->w, ps->rot};
     for (int k = 0; k < 4 && s == SINTER_OK && st->spare[k] != NULL && ps->ghost_count > 0; ++k)
         memcpy(st->spare[k] + 3 * first, rows[k] + 3 * first, 3 * ps->ghost_count * sizeof(double));
+    if (s == SINTER_OK && periodic) /* (after the host's ghosts: images of them too) */
+        s = sinter_domain_periodic_images(st, image_cutoff);
     return s;
 }
 
@@ -1158,7 +1171,8 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
     st->forces_zeroed = 0;
     st->gravity_seeded = 0;
     /* ghosts: their rows gather only what pairs put there (the reverse halo below) */
-    const int ghosts = ps->ghost_count > 0 && !st->domain.on; /* periodic images */
+    const int ghosts = !st->domain.on ? ps->ghost_count > 0 /* periodic images */
+                                      : sinter_ghosts_images(&st->ghosts, ps) > 0;
     if (ps->ghost_count > 0)
         clear_ghost_rows(ps);
     s = fill_view(st, dt_hist);
@@ -1239,7 +1253,7 @@ sinter_status sinter_stepper_eval_forces(sinter_stepper *st, double dt_hist)
      * of other subdomains: discarded, their owners evaluate the same pairs (newton off) */
     if (s == SINTER_OK && ghosts)
         sinter_ghosts_reverse(&st->ghosts, ps);
-    else if (s == SINTER_OK && st->domain.on)
+    if (s == SINTER_OK && st->domain.on)
         sinter_domain_discard_ghost_rows(ps);
     return s;
 }

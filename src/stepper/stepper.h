@@ -292,6 +292,13 @@ sinter_status sinter_explicit_reserve(sinter_stepper *st);
 /* The spare arrays grown, their content kept, after the set grew within a step (ghost rows
  * made at a neighbour build: ghosts/ghosts.h); nothing to do when the capacity is unchanged. */
 sinter_status sinter_explicit_keep_spare(sinter_stepper *st);
+/* Periodic axes with domain operations (domain_periodic.c): the owned particles wrapped into
+ * the cell before the host's redistribution, then the images of the owned particles and of
+ * the host's ghosts appended after its ghosts, with the spare rows (cutoff [m]). The second
+ * is collective and refuses (SINTER_ERR_UNSUPPORTED) a decomposition that seems to cut a
+ * periodic axis. */
+sinter_status sinter_domain_periodic_wrap(sinter_stepper *st);
+sinter_status sinter_domain_periodic_images(sinter_stepper *st, double cutoff);
 /* SINTER_OK when the stepper's submodels work across periodic faces (periodic.c), else
  * SINTER_ERR_UNSUPPORTED naming the one that does not. */
 sinter_status sinter_periodic_check(sinter_stepper *st);
