@@ -33,7 +33,8 @@
  * coordination number and the solid fraction's lenses from the links, each held once by the
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
  * smaller ids and its first step's extents in the global part); beam heat sources, the frozen
- * heat stage (run_mpi_heat.h) and [insert] (run_mpi_insert.h). Refused, with the reason on
+ * heat stage (run_mpi_heat.h), [insert] (run_mpi_insert.h) and bonds that hold in tension
+ * (run_mpi_bonds.h: the broken bonds, each counted once). Refused, with the reason on
  * every rank and exit status 1: scenes with [fields] sections, a [pour] with a [stepper]
  * temperature_schedule (the serial runner delays that furnace to the pour's end through an
  * internal call) or followed by a [compact], and what sinter_stepper_set_domain_ops refuses
