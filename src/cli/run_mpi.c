@@ -33,9 +33,10 @@
  * coordination number and the solid fraction's lenses from the links, each held once by the
  * rank that owns its smaller id; its checkpoint carries the links in the records of their
  * smaller ids and its first step's extents in the global part); beam heat sources, the frozen
- * heat stage (run_mpi_heat.h), [insert] (run_mpi_insert.h) and [fields] (run_mpi_fields.h:
+ * heat stage (run_mpi_heat.h), [insert] (run_mpi_insert.h), [fields] (run_mpi_fields.h:
  * the grid's and the laminae's sums over the ranks, each pair once, the ratios and the files on
- * rank 0). Refused, with the reason on every rank and exit status 1: [fields] with
+ * rank 0) and bonds that hold in tension (run_mpi_bonds.h: the broken bonds, each counted
+ * once). Refused, with the reason on every rank and exit status 1: [fields] with
  * vtu_format = appended, a [pour] with a [stepper]
  * temperature_schedule (the serial runner delays that furnace to the pour's end through an
  * internal call) or followed by a [compact], and what sinter_stepper_set_domain_ops refuses
@@ -62,6 +63,7 @@
 #include "run_mpi_heat.h"
 #include "run_mpi_insert.h"
 #include "run_mpi_fields.h"
+#include "run_mpi_bonds.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -82,6 +84,7 @@ typedef struct scene_facts {
     run_mpi_heat_spec heat_out; /* the heat stage's columns (run_mpi_heat.h) */
     int insert;                 /* an [insert] section: its two columns (run_mpi_insert.h) */
     run_mpi_fields fields;      /* [fields]: its files with every frame (run_mpi_fields.h) */
+    int bonds;                  /* bonds that hold in tension: "broken bonds" (run_mpi_bonds.h) */
 } scene_facts;
 
 /* Copy src into dst of `size` bytes, cut short where it does not fit. */
@@ -105,13 +108,12 @@ static void trim(char *s)
 
 /* 1 for a key line of a section whose output the MPI runner does not write yet: the series
  * columns of [output] distributions, track, pair_reference, the frames' extra
- * files (contacts, walls), the bonds of a power law with bond_strength. */
+ * files (contacts, walls). */
 static int refused_key(const char *section, const char *line)
 {
-    static const char *const keys[][2] = {
-        {"output", "distributions"}, {"output", "track"}, {"output", "pair_reference"},
-        {"output", "contacts"},      {"output", "walls"}, {"force power_law", "bond_strength"},
-        {"insert", "materials"}};
+    static const char *const keys[][2] = {{"output", "distributions"},  {"output", "track"},
+                                          {"output", "pair_reference"}, {"output", "contacts"},
+                                          {"output", "walls"},          {"insert", "materials"}};
     const char *eq = strchr(line, '=');
     if (eq == NULL)
         return 0;
@@ -121,11 +123,9 @@ static int refused_key(const char *section, const char *line)
     trim(key);
     copy(value, sizeof(value), eq + 1);
     trim(value);
-    const int off = strcmp(value, "no") == 0 || strcmp(value, "none") == 0 || atof(value) == 0.0;
     for (size_t k = 0; k < sizeof(keys) / sizeof(keys[0]); ++k)
         if (strcmp(section, keys[k][0]) == 0 && strcmp(key, keys[k][1]) == 0)
-            return strcmp(value, "no") != 0 && strcmp(value, "none") != 0 &&
-                   (strcmp(key, "bond_strength") != 0 || !off);
+            return strcmp(value, "no") != 0 && strcmp(value, "none") != 0;
     return 0;
 }
 
@@ -167,6 +167,8 @@ static int read_facts(const char *path, scene_facts *f)
         } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
                    strstr(line, "quasistatic") != NULL) {
             f->quasistatic = 1; /* its sintering columns (run_mpi_qs.c) */
+        } else if (run_mpi_bonds_key(section, line)) {
+            f->bonds = 1;
         } else if (f->refused[0] == '\0' && refused_key(section, line)) {
             snprintf(f->refused, sizeof(f->refused), "[%.50s] %.60s", section, line);
         } else if (strcmp(section, "stepper") == 0 && strncmp(line, "kind", 4) == 0 &&
@@ -207,8 +209,9 @@ typedef struct mpi_run {
     uint64_t frame;      /* the next frame's number */
     double *frame_times; /* the frames' times so far (room for frame_room) */
     size_t frame_room;
-    mpi_pour pour; /* [pour] (run_mpi_pour.c) */
-    int log_level; /* --log: rank 0 prints messages up to it (-1: none) */
+    mpi_pour pour;        /* [pour] (run_mpi_pour.c) */
+    int log_level;        /* --log: rank 0 prints messages up to it (-1: none) */
+    int64_t bonds_offset; /* added to the broken bonds after a restart (run_mpi_bonds.h) */
 } mpi_run;
 
 /* Every rank's error as one: the lowest failing status (0 when none failed). */
@@ -505,7 +508,10 @@ static int observe(mpi_run *r, double *row, size_t columns)
         row[c + 4] = (double)local.evaluations;
         row[c + 5] = local.contraction;
     }
-    if (r->facts.insert && !run_mpi_insert_observe(r->st, row + c + (r->facts.staggered ? 6 : 3)))
+    c += r->facts.staggered ? 6 : 3;
+    if (r->facts.bonds) /* each bond once: counted by the owner of its smaller id */
+        row[c++] = (double)((int64_t)global.bonds_broken + r->bonds_offset);
+    if (r->facts.insert && !run_mpi_insert_observe(r->st, row + c))
         return 0;
     return run_mpi_heat_observe(r->st, &r->facts.heat_out, r->ps, r->domain, row + solid_col + 1);
 }
@@ -515,7 +521,7 @@ static size_t column_count(const mpi_run *r)
     const size_t nw = r->facts.wall_count;
     return 8 + nw + (r->facts.quasistatic ? CLI_MPI_QS_COLUMNS : 0) + (r->facts.electric ? 2 : 0) +
            (r->facts.heat ? nw : 0) + (r->facts.network ? nw : 0) + (r->facts.staggered ? 6 : 3) +
-           (r->facts.insert ? RUN_MPI_INSERT_COLUMNS : 0) + 1 +
+           (size_t)r->facts.bonds + (r->facts.insert ? RUN_MPI_INSERT_COLUMNS : 0) + 1 +
            run_mpi_heat_columns(r->st, &r->facts.heat_out);
 }
 
@@ -540,6 +546,8 @@ static void write_header(mpi_run *r)
     fputs(",time step [s],rejected steps [1],neighbour rebuilds [1]", r->csv);
     if (r->facts.staggered)
         fputs(",fixed-point iterations [1],pipeline evaluations [1],contraction [1]", r->csv);
+    if (r->facts.bonds)
+        run_mpi_bonds_header(r->csv);
     if (r->facts.insert)
         run_mpi_insert_header(r->csv);
     fputs(",solid fraction [1]", r->csv);
@@ -977,6 +985,11 @@ int cli_run_mpi(int argc, char **argv)
             goto done;
         }
         r->frame = (uint64_t)rows;
+        snprintf(path, sizeof(path), "%s/series.csv", out_dir);
+        if (r->facts.bonds && !run_mpi_bonds_resume(r->st, r->comm, path, &r->bonds_offset)) {
+            refuse(r, "--restart: series.csv has no broken bonds at the checkpoint's time");
+            goto done;
+        }
     }
     if (r->rank == 0) {
         snprintf(path, sizeof(path), "%s/series.csv", out_dir);

@@ -191,6 +191,15 @@ static void eval_pp(const sinter_force_eval *e)
     }
 }
 
+/* 1 for the side that counts a pair's broken bond: with subdomains (domain.h) a pair across a
+ * border is evaluated on both ranks and breaks on both (its history is equal there), so only
+ * the rank that owns the smaller id counts it; serially every pair counts. */
+static int counts_once(const sinter_particles *ps, uint32_t i, uint32_t j)
+{
+    const size_t owned = ps->count - ps->ghost_count;
+    return (ps->id[i] < ps->id[j] ? i : j) < owned;
+}
+
 /* Bonds that hold (bond_strength > 0; history width 2: the bond flag and the bond's area A_b,
  * the largest contact area the bonded pair reached). Overlapping pairs: eq. 2, 5-6 and 18-19
  * as in eval_pp. A bonded pair apart (E_ij > 0: the search keeps it, sinter_contact_list.held)
@@ -220,7 +229,7 @@ static void eval_pp_hold(const sinter_force_model *fm, sinter_force_eval *e)
             const double kb = q.bond_stiffness * (soften ? s_ij : 1.0);
             const double stress = kb * power_of(-strain, q.bond_exponent);
             if (held[0] == 0.0 || stress > strength) {
-                broken += held[0] != 0.0;
+                broken += held[0] != 0.0 && counts_once(ps, i, j);
                 out[0] = out[1] = 0.0;
                 continue;
             }

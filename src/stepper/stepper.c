@@ -3,6 +3,7 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -10,6 +11,7 @@
 #include "heat/gas_gap.h"
 #include "sanity.h"
 #include "particles/id_index.h"
+#include "core/id_row.h"
 #include "stepper.h"
 #include "stepper/wall_sums.h"
 #include "stepper/qs_domain.h"
@@ -573,13 +575,94 @@ static size_t nearest_image(const sinter_stepper *st, const uint32_t *first, siz
     return best;
 }
 
-/* The history of the first model that holds pairs (bonds in tension), or NULL. */
-static const sinter_history *held_history(const sinter_stepper *st)
+/* With subdomains (domain.h) the ghost rows are other ranks' particles, which the id index
+ * (owned rows only) does not list: their rows by id, sorted (*n of them), for find_row; NULL
+ * and *n 0 without such ghosts or without memory (then a held pair with a ghost end is found
+ * only by the cell search, as before). */
+static sinter_id_row *domain_ghost_rows(sinter_stepper *st, size_t *n)
+{
+    const sinter_particles *ps = st->ps;
+    *n = 0;
+    if (ps->ghost_count == 0 || sinter_ghosts_on(&st->ghosts))
+        return NULL;
+    const size_t owned = ps->count - ps->ghost_count;
+    sinter_id_row *t = sinter_realloc_array(st->ctx, NULL, ps->ghost_count, sizeof(*t));
+    if (t == NULL) {
+        sinter_clear_error(st->ctx);
+        return NULL;
+    }
+    for (size_t k = 0; k < ps->ghost_count; ++k) {
+        t[k].id = ps->id[owned + k];
+        t[k].index = owned + k;
+    }
+    qsort(t, ps->ghost_count, sizeof(*t), sinter_id_row_compare); /* ids unique on a rank */
+    *n = ps->ghost_count;
+    return t;
+}
+
+/* The row of particle `id`: owned (the id index, current) or a subdomain's ghost; SIZE_MAX. */
+static size_t find_row(sinter_particles *ps, const sinter_id_row *ghosts, size_t n, uint64_t id)
+{
+    const size_t row = sinter_id_index_find(&ps->id_index, ps, id);
+    if (row != SIZE_MAX || n == 0)
+        return row;
+    const sinter_id_row key = {id, 0};
+    const sinter_id_row *hit = bsearch(&key, ghosts, n, sizeof(*ghosts), sinter_id_row_compare);
+    return hit != NULL ? hit->index : SIZE_MAX;
+}
+
+/* The slot of the first model that holds pairs (bonds in tension), or force_count. */
+static size_t held_slot(const sinter_stepper *st)
 {
     for (size_t k = 0; k < st->force_count; ++k)
         if (sinter_force_holds_pairs(st->forces[k].model) && st->forces[k].pp.width > 0)
-            return &st->forces[k].pp;
-    return NULL;
+            return k;
+    return st->force_count;
+}
+
+/* The history of the first model that holds pairs (bonds in tension), or NULL. */
+static const sinter_history *held_history(const sinter_stepper *st)
+{
+    const size_t k = held_slot(st);
+    return k < st->force_count ? &st->forces[k].pp : NULL;
+}
+
+/* The bonded pairs' entries that imported records brought for that model (migrate.h), staged
+ * until the next build, or NULL: a bond of a particle that moved to this stepper. */
+static const sinter_migrate_entries *held_staged(const sinter_stepper *st)
+{
+    const size_t k = held_slot(st);
+    const sinter_migrate_stage *g = st->migrate;
+    if (k == st->force_count || g == NULL || g->slots != st->force_count ||
+        g->width[2 * k] != st->forces[k].pp.width)
+        return NULL;
+    return &g->list[2 * k];
+}
+
+/* Add the staged bonds of `l` (width w) whose two ends this stepper holds to the count pairs
+ * of both (room for `room` pairs, first ends then second ends at both + room), each pair once. */
+static size_t add_staged_bonds(sinter_stepper *st, const sinter_migrate_entries *l, size_t w,
+                               const sinter_id_row *ghosts, size_t nghost, uint32_t *both,
+                               size_t room, size_t count)
+{
+    sinter_particles *ps = st->ps;
+    for (size_t e = 0; l != NULL && e < l->count && count < room; ++e) {
+        if (l->value[w * e] == 0.0)
+            continue; /* not bonded */
+        const size_t i = find_row(ps, ghosts, nghost, l->key[2 * e]),
+                     j = find_row(ps, ghosts, nghost, l->key[2 * e + 1]);
+        if (i == SIZE_MAX || j == SIZE_MAX)
+            continue;
+        int listed = 0;
+        for (size_t q = 0; q < count && !listed; ++q)
+            listed = (both[q] == i && both[room + q] == j) || (both[q] == j && both[room + q] == i);
+        if (!listed) {
+            both[count] = (uint32_t)i;
+            both[room + count] = (uint32_t)j;
+            ++count;
+        }
+    }
+    return count;
 }
 
 /* Periodic images: the largest gap [m] of a held pair to the nearest image of its far end
@@ -597,13 +680,15 @@ static double held_gap(sinter_stepper *st)
         return 0.0;
     }
     const sinter_ghosts *g = &st->ghosts;
+    size_t nghost = 0;
+    sinter_id_row *ghosts = domain_ghost_rows(st, &nghost);
     double gap = 0.0;
     for (size_t a = 0; a < h->active_count; ++a) {
         const uint32_t p = h->active[a];
         if (p >= nb->pp.count || h->committed[h->width * p] == 0.0)
             continue;
-        const size_t i = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_i[p]),
-                     j = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_j[p]);
+        const size_t i = find_row(ps, ghosts, nghost, nb->pp.key_i[p]),
+                     j = find_row(ps, ghosts, nghost, nb->pp.key_j[p]);
         if (i == SIZE_MAX || j == SIZE_MAX)
             continue;
         double e2 = 0.0;
@@ -617,6 +702,7 @@ static double held_gap(sinter_stepper *st)
         }
         gap = fmax(gap, sqrt(e2) - ps->radius[i] - ps->radius[j]);
     }
+    sinter_free(st->ctx, ghosts);
     return gap;
 }
 
@@ -628,42 +714,55 @@ static sinter_status keep_held_pairs(sinter_stepper *st)
 {
     sinter_neighbors *nb = &st->nb;
     const sinter_history *h = held_history(st);
-    if (h == NULL || h->committed == NULL || h->active_count == 0 || !nb->built) {
+    const sinter_migrate_entries *staged = held_staged(st);
+    const size_t arrived = staged != NULL ? staged->count : 0;
+    if (h == NULL || ((h->committed == NULL || h->active_count == 0) && arrived == 0) ||
+        !nb->built) {
         nb->keep_count = 0;
         return SINTER_OK;
     }
-    const size_t w = h->width;
-    uint32_t *both = sinter_realloc_array(st->ctx, NULL, 2 * h->active_count + 1, sizeof(uint32_t));
+    const size_t w = h->width, room = h->active_count + arrived;
+    uint32_t *both = sinter_realloc_array(st->ctx, NULL, 2 * room + 1, sizeof(uint32_t));
     if (both == NULL)
         return sinter_last_status(st->ctx);
     sinter_particles *ps = st->ps;
     const int moved = nb->layout_generation != ps->layout_generation; /* indices changed */
-    sinter_status s = moved ? sinter_id_index_update(&ps->id_index, ps) : SINTER_OK;
+    sinter_status s = moved || arrived > 0 ? sinter_id_index_update(&ps->id_index, ps) : SINTER_OK;
     uint32_t *first = NULL;
-    if (s == SINTER_OK && ps->ghost_count > 0 && (first = first_images(st)) == NULL)
+    /* periodic images only: a subdomain's ghost rows (domain.h) are other ranks' particles */
+    if (s == SINTER_OK && ps->ghost_count > 0 && sinter_ghosts_on(&st->ghosts) &&
+        (first = first_images(st)) == NULL)
         s = sinter_last_status(st->ctx);
+    size_t nghost = 0;
+    sinter_id_row *ghosts = s == SINTER_OK ? domain_ghost_rows(st, &nghost) : NULL;
     size_t count = 0;
-    for (size_t a = 0; a < h->active_count && s == SINTER_OK; ++a) {
+    for (size_t a = 0; h->committed != NULL && a < h->active_count && s == SINTER_OK; ++a) {
         const uint32_t p = h->active[a];
         if (p >= nb->pp.count || h->committed[w * p] == 0.0)
             continue;
         size_t i = nb->pp.i[p], j = nb->pp.j[p];
         if (moved) {
-            i = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_i[p]);
-            j = sinter_id_index_find(&ps->id_index, ps, nb->pp.key_j[p]);
+            i = find_row(ps, ghosts, nghost, nb->pp.key_i[p]);
+            j = find_row(ps, ghosts, nghost, nb->pp.key_j[p]);
             if (i == SIZE_MAX || j == SIZE_MAX)
                 continue; /* a particle was removed: its bonds go with it */
             if (first != NULL)
                 j = nearest_image(st, first, i, j);
         }
         both[count] = (uint32_t)i;
-        both[h->active_count + count] = (uint32_t)j;
+        both[room + count] = (uint32_t)j;
         ++count;
     }
+    /* with subdomains: the bonds that arrived with migrated particles, which the cell search
+     * finds only within its reach, kept at any distance as those that stayed (first_images is
+     * NULL there: no periodic axes) */
+    if (s == SINTER_OK && arrived > 0 && first == NULL)
+        count = add_staged_bonds(st, staged, w, ghosts, nghost, both, room, count);
     if (s == SINTER_OK)
-        s = sinter_neighbors_keep(nb, ps, both, both + h->active_count, count);
+        s = sinter_neighbors_keep(nb, ps, both, both + room, count);
     sinter_free(st->ctx, both);
     sinter_free(st->ctx, first);
+    sinter_free(st->ctx, ghosts);
     return s;
 }
 
@@ -756,7 +855,18 @@ static sinter_status domain_rebuild_stage(sinter_stepper *st, double fraction, i
         return SINTER_OK;
     if ((s = choose_skin(st)) != SINTER_OK)
         return s;
-    d->cutoff = 2.0 * v[1] + st->nb.skin + st->nb.reach;
+    /* bonds in tension (power law bond_strength): the halo reaches the far end of every held
+     * pair, as the periodic images' cut-off does, so that both sides keep the bond */
+    double held = 0.0;
+    for (size_t k = 0; k < st->force_count; ++k)
+        if (sinter_force_holds_pairs(st->forces[k].model)) { /* the same on every rank */
+            held = held_gap(st);
+            s = sinter_domain_reduce(st->ctx, d, &held, 1, SINTER_REDUCE_F64, SINTER_REDUCE_MAX);
+            if (s != SINTER_OK)
+                return s;
+            break;
+        }
+    d->cutoff = 2.0 * v[1] + st->nb.skin + fmax(st->nb.reach, held);
     d->rebuild_due = 0;
     /* periodic axes (domain_periodic.c): the images' cut-off as without domain operations (a
      * bond in tension may be longer than a contact: its far end needs its image), then the
