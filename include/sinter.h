@@ -1068,6 +1068,15 @@ SINTER_API sinter_status sinter_stepper_get_periodic(const sinter_stepper *stepp
  * cold start, as many once warm; its currents then differ from the default's
  * within the model's tolerance. Setting it rebuilds the
  * neighbour lists at the next evaluation; forces already evaluated are kept.
+ * The quasi-static stepper takes it too: 1 makes every sum over particles or
+ * links exact (each particle's loads, the bonded solve's operator products,
+ * diagonal blocks and dot products, the green density, mean temperature,
+ * statistics and floating components), solves K u = f by PCG with a
+ * per-particle block-Jacobi preconditioner with or without domain operations,
+ * and integrates strategy 3's necks one by one, so that its results are the
+ * same bits without domain operations and on any number of subdomains and
+ * threads; 1.7-3.9 times the default's CPU on one thread (more PCG
+ * iterations, exact row sums; tests/bench/RESULTS.md).
  * Errors: SINTER_ERR_NULL, SINTER_ERR_NOT_FOUND (unknown key, the message
  * lists the keys), SINTER_ERR_INVALID (value out of range, or a stepper of
  * another kind; the message says which).

@@ -21,7 +21,40 @@ typedef struct split {
     unsigned char *mask; /* 6 per row: 1 constrained */
     double *work;        /* 6 per row: the operator's input with its ghost rows */
     int failed;          /* an exchange failed */
+    /* the reproducible mode (exchange.reproducible): each link's terms for its two rows, the
+     * rows they go to, and the exact row sums' work (core/repro_sum.h) */
+    double *terms; /* 72 per link (the diagonal blocks; 12 for the operator) */
+    uint32_t *row; /* 2 per link: a, b */
+    void *rows_work;
 } split;
+
+/* The reproducible mode's exact row sums of 2 contributions per link (width values each). */
+static void exact_rows(split *s, size_t width, double *out)
+{
+    if (sinter_repro_rows(s->rows, s->owned, width, s->row, s->terms, 2 * s->count, s->ex->reduce,
+                          s->ex->reverse, s->ex->user, s->rows_work, out) != 0)
+        s->failed = 1;
+}
+
+/* count dot products over the owned rows, summed across subdomains (exact in the reproducible
+ * mode; else each subdomain's in row order, then the host's sum); collective. */
+static void dots_all(split *s, const double *const *a, const double *const *b, size_t count,
+                     double *out)
+{
+    if (s->ex->reproducible) {
+        if (sinter_repro_dots(a, b, 6 * s->owned, count, s->ex->reduce, s->ex->user, out) != 0)
+            s->failed = 1;
+        return;
+    }
+    for (size_t j = 0; j < count; ++j) {
+        double sum = 0.0;
+        for (size_t i = 0; i < 6 * s->owned; ++i)
+            sum += a[j][i] * b[j][i];
+        out[j] = sum;
+    }
+    if (s->ex->sum(out, count, s->ex->user) != 0)
+        s->failed = 1;
+}
 
 static double owned_dot(const split *s, const double *a, const double *b)
 {
@@ -46,7 +79,25 @@ static void apply(split *s, const double *v, double *y)
     if (s->ex->forward(s->work, 6, s->ex->user) != 0)
         s->failed = 1;
     memset(y, 0, width * sizeof(double));
-    for (size_t e = 0; e < s->count; ++e) {
+    if (s->ex->reproducible) { /* each link's two rows of terms, then exact row sums */
+        for (size_t e = 0; e < s->count; ++e) {
+            const double *k = s->k + 144 * e;
+            const double *va = s->work + 6 * (size_t)s->links[e].a;
+            const double *vb = s->work + 6 * (size_t)s->links[e].b;
+            double *ta = s->terms + 12 * e, *tb = ta + 6;
+            for (int r = 0; r < 6; ++r) {
+                double sa = 0.0, sb = 0.0;
+                for (int c = 0; c < 6; ++c) {
+                    sa += k[12 * r + c] * va[c] + k[12 * r + 6 + c] * vb[c];
+                    sb += k[12 * (6 + r) + c] * va[c] + k[12 * (6 + r) + 6 + c] * vb[c];
+                }
+                ta[r] = sa;
+                tb[r] = sb;
+            }
+        }
+        exact_rows(s, 6, y);
+    }
+    for (size_t e = 0; e < s->count && !s->ex->reproducible; ++e) {
         const double *k = s->k + 144 * e;
         const double *va = s->work + 6 * (size_t)s->links[e].a;
         const double *vb = s->work + 6 * (size_t)s->links[e].b;
@@ -61,7 +112,7 @@ static void apply(split *s, const double *v, double *y)
             yb[r] += sb;
         }
     }
-    if (s->ex->reverse(y, 6, s->ex->user) != 0)
+    if (!s->ex->reproducible && s->ex->reverse(y, 6, s->ex->user) != 0)
         s->failed = 1;
     for (size_t i = 0; i < 6 * s->owned; ++i)
         if (s->mask[i])
@@ -127,7 +178,20 @@ static size_t assemble(split *s, const unsigned char *fixed, double *diag)
                 db[6 * r + c] += k[12 * (6 + r) + 6 + c];
             }
     }
-    if (s->ex->reverse(diag, 36, s->ex->user) != 0)
+    if (s->ex->reproducible) { /* the blocks again as terms, then exact row sums */
+        for (size_t e = 0; e < s->count; ++e) {
+            const double *k = s->k + 144 * e;
+            double *ta = s->terms + 72 * e, *tb = ta + 36;
+            for (int r = 0; r < 6; ++r)
+                for (int c = 0; c < 6; ++c) {
+                    ta[6 * r + c] = k[12 * r + c];
+                    tb[6 * r + c] = k[12 * (6 + r) + 6 + c];
+                }
+            s->row[2 * e] = s->links[e].a;
+            s->row[2 * e + 1] = s->links[e].b;
+        }
+        exact_rows(s, 36, diag);
+    } else if (s->ex->reverse(diag, 36, s->ex->user) != 0)
         s->failed = 1;
     size_t singular = 0;
     for (size_t p = 0; p < s->owned; ++p) {
@@ -155,7 +219,7 @@ sinter_status sinter_bonded_solve_split(sinter_ctx *ctx, size_t owned, size_t ro
     SINTER_CHECK_NULL(ctx, ex);
     if (iterations)
         *iterations = 0;
-    split s = {ctx, owned, rows, count, links, ex, NULL, NULL, NULL, NULL, 0};
+    split s = {ctx, owned, rows, count, links, ex, NULL, NULL, NULL, NULL, 0, NULL, NULL, NULL};
     sinter_status st = SINTER_OK;
     for (size_t e = 0; e < count && st == SINTER_OK; ++e)
         if (links[e].a >= rows || links[e].b >= rows || links[e].a == links[e].b)
@@ -171,8 +235,14 @@ sinter_status sinter_bonded_solve_split(sinter_ctx *ctx, size_t owned, size_t ro
         s.work = sinter_alloc(ctx, w * sizeof(double));
         diag = sinter_alloc(ctx, (36 * rows + 1) * sizeof(double));
         vec = sinter_alloc(ctx, 6 * w * sizeof(double)); /* b, r, z, p, q, x */
+        if (ex->reproducible) {
+            s.terms = sinter_alloc(ctx, (72 * count + 1) * sizeof(double));
+            s.row = sinter_alloc(ctx, (2 * count + 1) * sizeof(uint32_t));
+            s.rows_work = sinter_alloc(ctx, sinter_repro_rows_bytes(rows, 36) + 1);
+        }
         if (s.k == NULL || s.inverse == NULL || s.mask == NULL || s.work == NULL || diag == NULL ||
-            vec == NULL)
+            vec == NULL ||
+            (ex->reproducible && (s.terms == NULL || s.row == NULL || s.rows_work == NULL)))
             st = SINTER_ERR_NOMEM;
     }
     /* every subdomain learns whether one cannot go on before any exchange */
@@ -194,10 +264,14 @@ sinter_status sinter_bonded_solve_split(sinter_ctx *ctx, size_t owned, size_t ro
         b[i] = s.mask[i] ? 0.0 : f[i];
         x[i] = s.mask[i] || guess == NULL ? 0.0 : guess[i];
     }
-    sums[0] = owned_dot(&s, b, b);
+    sums[0] = ex->reproducible ? 0.0 : owned_dot(&s, b, b);
     sums[1] = singular > 0.0 ? 1.0 : 0.0;
     sums[2] = (double)dofs;
     sum_all(&s, sums, 3);
+    if (ex->reproducible) { /* |b|^2 exactly (the others are counts: exact sums already) */
+        const double *bb[1] = {b};
+        dots_all(&s, bb, bb, 1, sums);
+    }
     const double norm = sqrt(sums[0]), target = rtol * norm, total_dofs = sums[2];
     if (sums[1] > 0.0 || s.failed) {
         if (s.failed)
@@ -223,8 +297,9 @@ sinter_status sinter_bonded_solve_split(sinter_ctx *ctx, size_t owned, size_t ro
             r[i] = b[i] - q[i];
         precondition(&s, r, z);
         memcpy(p, z, dofs * sizeof(double));
-        double rr[2] = {owned_dot(&s, r, z), owned_dot(&s, r, r)};
-        sum_all(&s, rr, 2);
+        double rr[2];
+        const double *ra[2] = {r, r}, *rb[2] = {z, r};
+        dots_all(&s, ra, rb, 2, rr);
         const double last = true_residual;
         true_residual = sqrt(rr[1]);
         done = true_residual <= target || (round > 0 && true_residual > 0.5 * last &&
@@ -234,8 +309,9 @@ sinter_status sinter_bonded_solve_split(sinter_ctx *ctx, size_t owned, size_t ro
         double rz = rr[0];
         for (double it = 0.0; !s.failed && it < max_iterations; it += 1.0) {
             apply(&s, p, q);
-            double pq = owned_dot(&s, p, q);
-            sum_all(&s, &pq, 1);
+            double pq;
+            const double *pa[1] = {p}, *pb[1] = {q};
+            dots_all(&s, pa, pb, 1, &pq);
             if (!(pq > 0.0))
                 break; /* no descent left (the rounding floor): the round ends */
             const double alpha = rz / pq;
@@ -244,8 +320,8 @@ sinter_status sinter_bonded_solve_split(sinter_ctx *ctx, size_t owned, size_t ro
                 r[i] -= alpha * q[i];
             }
             precondition(&s, r, z);
-            double next[2] = {owned_dot(&s, r, z), owned_dot(&s, r, r)};
-            sum_all(&s, next, 2);
+            double next[2];
+            dots_all(&s, ra, rb, 2, next);
             ++taken;
             if (sqrt(next[1]) <= 0.5 * target)
                 break; /* aim a bit under: the true residual is checked next round */
@@ -275,5 +351,8 @@ done:
     sinter_free(ctx, s.work);
     sinter_free(ctx, diag);
     sinter_free(ctx, vec);
+    sinter_free(ctx, s.terms);
+    sinter_free(ctx, s.row);
+    sinter_free(ctx, s.rows_work);
     return st;
 }

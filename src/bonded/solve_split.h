@@ -16,6 +16,7 @@
 #define SINTER_BONDED_SOLVE_SPLIT_H
 
 #include "bonded/beam.h"
+#include "core/repro_sum.h"
 
 /* The collective operations the split solve needs (each returns 0 on success). */
 typedef struct sinter_bonded_exchange {
@@ -26,6 +27,12 @@ typedef struct sinter_bonded_exchange {
     /* values[0..count) summed over every subdomain in place (identical bits everywhere) */
     int (*sum)(double *values, size_t count, void *user);
     void *user;
+    /* 1: the reproducible mode (issue 43): every operator product, diagonal block and dot
+     * product an exact sum (core/repro_sum.h), so that the iterations and the result are the
+     * same bits for any split of the links and rows, one part included */
+    int reproducible;
+    /* in that mode: int64 MAX / SUM over every subdomain (NULL: one subdomain) */
+    sinter_repro_reduce_fn reduce;
 } sinter_bonded_exchange;
 
 /*

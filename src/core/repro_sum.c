@@ -97,3 +97,190 @@ double sinter_repro_value(const sinter_repro_sum *s, int e)
         v += ldexp((double)c.limb[j], e + HEADROOM - SINTER_REPRO_LIMB_BITS * (j + 1));
     return v;
 }
+
+/* ---- across parts through a host's collectives ---- */
+
+void sinter_repro_to_doubles(const sinter_repro_sum *s, double out[SINTER_REPRO_LIMBS])
+{
+    sinter_repro_sum c = *s;
+    carry(&c);
+    for (int j = 0; j < SINTER_REPRO_LIMBS; ++j)
+        out[j] = (double)c.limb[j]; /* exact: |limb| < 2^53 after a carry */
+}
+
+void sinter_repro_from_doubles(sinter_repro_sum *s, const double in[SINTER_REPRO_LIMBS])
+{
+    for (int j = 0; j < SINTER_REPRO_LIMBS; ++j)
+        s->limb[j] = (int64_t)in[j]; /* integers: exact */
+    s->terms = 0;
+}
+
+int sinter_repro_totals(sinter_repro_sum *sum, const int64_t *e, size_t count,
+                        sinter_repro_reduce_fn reduce, void *user, double *out)
+{
+    enum { CHUNK = 16 };
+    int64_t limbs[CHUNK * SINTER_REPRO_LIMBS];
+    for (size_t j0 = 0; j0 < count; j0 += CHUNK) {
+        const size_t c = count - j0 < CHUNK ? count - j0 : CHUNK;
+        for (size_t j = 0; j < c; ++j) {
+            carry(&sum[j0 + j]); /* each part's limbs carried: their sum cannot overflow */
+            for (int k = 0; k < SINTER_REPRO_LIMBS; ++k)
+                limbs[SINTER_REPRO_LIMBS * j + (size_t)k] = sum[j0 + j].limb[k];
+        }
+        if (reduce != NULL && reduce(limbs, SINTER_REPRO_LIMBS * c, SINTER_REPRO_SUM, user) != 0)
+            return -1;
+        for (size_t j = 0; j < c; ++j) {
+            sinter_repro_sum all = {{0}, 0};
+            for (int k = 0; k < SINTER_REPRO_LIMBS; ++k)
+                all.limb[k] = limbs[SINTER_REPRO_LIMBS * j + (size_t)k];
+            out[j0 + j] = sinter_repro_value(&all, (int)e[j0 + j]);
+        }
+    }
+    return 0;
+}
+
+int sinter_repro_series(const double *terms, size_t n, size_t count, sinter_repro_reduce_fn reduce,
+                        void *user, double *out)
+{
+    enum { CHUNK = 16 };
+    for (size_t j0 = 0; j0 < count; j0 += CHUNK) {
+        const size_t c = count - j0 < CHUNK ? count - j0 : CHUNK;
+        int64_t e[CHUNK];
+        sinter_repro_sum sum[CHUNK];
+        for (size_t j = 0; j < c; ++j)
+            e[j] = sinter_repro_exponent(terms + (j0 + j) * n, n, 1, NULL);
+        if (reduce != NULL && reduce(e, c, SINTER_REPRO_MAX, user) != 0)
+            return -1;
+        memset(sum, 0, sizeof(sum));
+        for (size_t j = 0; j < c; ++j)
+            sinter_repro_add(&sum[j], (int)e[j], terms + (j0 + j) * n, n, 1);
+        if (sinter_repro_totals(sum, e, c, reduce, user, out + j0) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+int sinter_repro_dots(const double *const *a, const double *const *b, size_t n, size_t count,
+                      sinter_repro_reduce_fn reduce, void *user, double *out)
+{
+    enum { MOST = 8, BLOCK = 256 };
+    if (count > MOST)
+        return -1;
+    int64_t e[MOST];
+    sinter_repro_sum sum[MOST];
+    double t[BLOCK];
+    memset(sum, 0, sizeof(sum));
+    for (size_t j = 0; j < count; ++j) { /* the products twice: each the same rounded double */
+        int ej = INT32_MIN;
+        for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+            const size_t c = n - i0 < BLOCK ? n - i0 : BLOCK;
+            for (size_t i = 0; i < c; ++i)
+                t[i] = a[j][i0 + i] * b[j][i0 + i];
+            const int eb = sinter_repro_exponent(t, c, 1, NULL);
+            ej = eb > ej ? eb : ej;
+        }
+        e[j] = ej;
+    }
+    if (reduce != NULL && reduce(e, count, SINTER_REPRO_MAX, user) != 0)
+        return -1;
+    for (size_t j = 0; j < count; ++j)
+        for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
+            const size_t c = n - i0 < BLOCK ? n - i0 : BLOCK;
+            for (size_t i = 0; i < c; ++i)
+                t[i] = a[j][i0 + i] * b[j][i0 + i];
+            sinter_repro_add(&sum[j], (int)e[j], t, c, 1);
+        }
+    return sinter_repro_totals(sum, e, count, reduce, user, out);
+}
+
+/* sinter_repro_add's inner step for one term r = x 2^-(e + HEADROOM), already scaled by the
+ * correctly rounded product (the same limbs as sinter_repro_add gives x). */
+static void add_scaled(sinter_repro_sum *s, double r)
+{
+    const double limb_scale = (double)((int64_t)1 << SINTER_REPRO_LIMB_BITS);
+    for (int j = 0; j < SINTER_REPRO_LIMBS; ++j) {
+        r *= limb_scale;
+        const int64_t whole = (int64_t)r;
+        s->limb[j] += whole;
+        r -= (double)whole;
+    }
+    if (++s->terms >= CARRY_EVERY)
+        carry(s);
+}
+
+/* sinter_repro_value with the limbs' weights pw[j] = 2^(e + HEADROOM - 40 (j + 1)) given, all
+ * normal numbers (a product by an exact power of two rounds as ldexp does): the same bits. */
+static double value_by(const sinter_repro_sum *s, const double pw[SINTER_REPRO_LIMBS])
+{
+    sinter_repro_sum c = *s;
+    carry(&c);
+    double v = 0.0;
+    for (int j = SINTER_REPRO_LIMBS - 1; j >= 0; --j)
+        v += (double)c.limb[j] * pw[j];
+    return v;
+}
+
+size_t sinter_repro_rows_bytes(size_t rows, size_t width)
+{
+    return width * sizeof(int64_t) + rows * width * sizeof(sinter_repro_sum) +
+           rows * width * SINTER_REPRO_LIMBS * sizeof(double);
+}
+
+int sinter_repro_rows(size_t rows, size_t owned, size_t width, const uint32_t *row,
+                      const double *terms, size_t count, sinter_repro_reduce_fn reduce,
+                      sinter_repro_reverse_fn reverse, void *user, void *work, double *out)
+{
+    int64_t *e = work;
+    sinter_repro_sum *sum = (sinter_repro_sum *)(e + width);
+    double *limbs = (double *)(sum + rows * width);
+    for (size_t c = 0; c < width; ++c) /* one exponent per column, over every part */
+        e[c] = sinter_repro_exponent(terms + c, count, width, NULL);
+    if (reduce != NULL && reduce(e, width, SINTER_REPRO_MAX, user) != 0)
+        return -1;
+    memset(sum, 0, rows * width * sizeof(sinter_repro_sum));
+    enum { MOST = 64 }; /* columns whose scales are taken once (the others term by term) */
+    double scale[MOST];
+    for (size_t c = 0; c < width && c < MOST; ++c) {
+        const int shift = e[c] == INT32_MIN ? 0 : -(int)e[c] - HEADROOM;
+        scale[c] = shift >= -1022 && shift <= 1023 ? ldexp(1.0, shift) : 0.0;
+    }
+    for (size_t k = 0; k < count; ++k) {
+        sinter_repro_sum *s = sum + (size_t)row[k] * width;
+        const double *t = terms + k * width;
+        for (size_t c = 0; c < width; ++c) {
+            if (t[c] == 0.0 || !isfinite(t[c]))
+                continue;
+            if (c >= MOST || scale[c] == 0.0) {
+                sinter_repro_add(&s[c], (int)e[c], t + c, 1, 1);
+                continue;
+            }
+            add_scaled(&s[c], t[c] * scale[c]); /* as sinter_repro_add: the same limbs */
+        }
+    }
+    if (reverse != NULL) { /* the ghost rows' limbs into their owners' (integer-valued doubles) */
+        for (size_t q = 0; q < rows * width; ++q)
+            sinter_repro_to_doubles(&sum[q], limbs + SINTER_REPRO_LIMBS * q);
+        if (reverse(limbs, SINTER_REPRO_LIMBS * width, user) != 0)
+            return -1;
+        for (size_t q = 0; q < owned * width; ++q)
+            sinter_repro_from_doubles(&sum[q], limbs + SINTER_REPRO_LIMBS * q);
+    }
+    double pw[MOST][SINTER_REPRO_LIMBS]; /* the limbs' weights, where all are normal */
+    int by[MOST];
+    for (size_t c = 0; c < width && c < MOST; ++c) {
+        by[c] = e[c] != INT32_MIN;
+        for (int j = 0; j < SINTER_REPRO_LIMBS && by[c]; ++j) {
+            const int64_t k = e[c] + HEADROOM - SINTER_REPRO_LIMB_BITS * (j + 1);
+            by[c] = k >= -1022 && k <= 1023;
+            pw[c][j] = by[c] ? ldexp(1.0, (int)k) : 0.0;
+        }
+    }
+    for (size_t r = 0; r < rows; ++r)
+        for (size_t c = 0; c < width; ++c) {
+            const sinter_repro_sum *q = &sum[r * width + c];
+            out[r * width + c] = r >= owned          ? 0.0
+                                 : c < MOST && by[c] ? value_by(q, pw[c])
+                                                     : sinter_repro_value(q, (int)e[c]);
+        }
+    return 0;
+}

@@ -44,4 +44,53 @@ void sinter_repro_merge(sinter_repro_sum *a, const sinter_repro_sum *b);
 /* The sum as a double (the same bits for the same limbs). */
 double sinter_repro_value(const sinter_repro_sum *s, int e);
 
+/* ---- across parts through a host's collectives (the quasi-static stepper, issue 43) ---- */
+
+/* The operations of sinter_repro_reduce_fn. */
+enum { SINTER_REPRO_MAX = 0, SINTER_REPRO_SUM = 1 };
+
+/* values[0..count) combined over every part in place (op SINTER_REPRO_MAX or _SUM; identical
+ * results on every part). Returns 0 on success. NULL where there is one part. */
+typedef int (*sinter_repro_reduce_fn)(int64_t *values, size_t count, int op, void *user);
+
+/* Ghost rows of rows[] (width doubles a row, the owned rows first) added into their owners'
+ * rows. Returns 0 on success. NULL where there are no ghosts. */
+typedef int (*sinter_repro_reverse_fn)(double *rows, size_t width, void *user);
+
+/* The limbs of s (carried) as doubles, and back: integers below 2^53, so that an exchange that
+ * adds doubles (a reverse halo of a few copies) adds them exactly. */
+void sinter_repro_to_doubles(const sinter_repro_sum *s, double out[SINTER_REPRO_LIMBS]);
+void sinter_repro_from_doubles(sinter_repro_sum *s, const double in[SINTER_REPRO_LIMBS]);
+
+/* out[j] = sum[j] (at its exponent e[j], agreed over the parts by a MAX) totalled over every
+ * part: the limbs (carried in sum) summed through reduce (NULL: one part). Returns 0, or -1
+ * when reduce failed. */
+int sinter_repro_totals(sinter_repro_sum *sum, const int64_t *e, size_t count,
+                        sinter_repro_reduce_fn reduce, void *user, double *out);
+
+/* out[j] = the exact sum over every part of count series of n terms each (terms[j n + i]):
+ * one MAX of the exponents and one SUM of the limbs through reduce. Returns 0, or -1 when
+ * reduce failed. */
+int sinter_repro_series(const double *terms, size_t n, size_t count, sinter_repro_reduce_fn reduce,
+                        void *user, double *out);
+
+/* out[j] = the exact sum over every part of a[j][i] b[j][i], i < n (each product rounded once,
+ * as a double): dot products whose bits do not depend on the split. count <= 8. Returns 0, or
+ * -1 when reduce failed. */
+int sinter_repro_dots(const double *const *a, const double *const *b, size_t n, size_t count,
+                      sinter_repro_reduce_fn reduce, void *user, double *out);
+
+/* Bytes of work for sinter_repro_rows over `rows` rows of `width` values. */
+size_t sinter_repro_rows_bytes(size_t rows, size_t width);
+
+/* Per-row exact sums of contributions: contribution k adds terms[k width .. + width) to row
+ * row[k] (rows: owned first, then ghosts). One exponent per column, agreed by a MAX through
+ * reduce; the ghost rows' limbs go to their owners through reverse (as doubles, exactly). out[r
+ * width + c] (r < rows): the owned rows' totals over every part, 0 on the ghost rows; the same
+ * bits for any split of the contributions and any order. work: sinter_repro_rows_bytes. Returns
+ * 0, or -1 when a callback failed. */
+int sinter_repro_rows(size_t rows, size_t owned, size_t width, const uint32_t *row,
+                      const double *terms, size_t count, sinter_repro_reduce_fn reduce,
+                      sinter_repro_reverse_fn reverse, void *user, void *work, double *out);
+
 #endif

@@ -15,7 +15,8 @@ sinter_status sinter_domain_check(sinter_stepper *st)
     if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic_options.strategy == 1)
         what = "qs_strategy 1 (its whole-step rejections are not agreed yet)";
     else if (st->kind == SINTER_STEPPER_QUASISTATIC && st->quasistatic != NULL &&
-             st->quasistatic->steps > 0 && !st->quasistatic->dom.on)
+             st->quasistatic->steps > 0 && !st->quasistatic->dom.on &&
+             !st->quasistatic->dom.restored) /* (a portable restart's links come by record) */
         what = "a quasi-static stepper that has stepped without them (its links are all here)";
     else if (sinter_ghosts_on(&st->ghosts))
         what = "periodic axes (sinter_stepper_set_periodic)";

@@ -430,6 +430,8 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
                     memset(&l, 0, sizeof(l));
                     const sinter_qs_link *from = it->data;
                     l.beam = from->beam;
+                    l.beam.a = l.beam.b = 0; /* (indices in this set only: the importer
+                                              * finds the ends by id_a and id_b) */
                     l.neck = from->neck;
                     l.rm = from->rm;
                     l.youngs = from->youngs;

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "bonded/solve_split.h"
+#include "stepper/qs_repro.h"
 #include "stepper/qs_domain.h"
 #include "stepper/stepper.h"
 
@@ -11,10 +12,15 @@
 sinter_status sinter_qs_domain_bind(sinter_qs *qs, struct sinter_stepper *st)
 {
     sinter_qs_domain *dom = &qs->dom;
-    dom->on = st->domain.on;
-    if (!dom->on)
-        return SINTER_OK;
     const sinter_particles *ps = st->ps;
+    dom->on = st->domain.on;
+    dom->repro = st->reproducible;
+    if (!dom->on) { /* (one part of every row: what the reproducible mode's stages read) */
+        dom->owned = ps->count;
+        dom->ghosts = 0;
+        dom->id = ps->id;
+        return SINTER_OK;
+    }
     dom->d = &st->domain;
     dom->owned = ps->count - ps->ghost_count;
     dom->ghosts = ps->ghost_count;
@@ -64,8 +70,25 @@ sinter_status sinter_qs_domain_start(sinter_qs *qs, const sinter_qs_particles *p
     double count = (double)qs->dom.owned;
     sinter_status st = sinter_qs_domain_reduce(qs, v, 12, SINTER_REDUCE_F64, SINTER_REDUCE_MIN);
     double sums[2] = {volume, count};
+    double *terms = NULL;
+    if (qs->dom.repro) { /* the volume an exact sum (qs_repro.h) */
+        terms = sinter_alloc(qs->ctx, (p->count + 1) * sizeof(double));
+        size_t k = 0;
+        for (size_t i = 0; i < p->count && terms != NULL; ++i)
+            if (!sinter_qs_domain_ghost(qs, i))
+                terms[k++] = 4.0 / 3.0 * QS_PI * p->radius[i] * p->radius[i] * p->radius[i];
+        const sinter_status agreed =
+            sinter_qs_domain_agree(qs, terms == NULL ? SINTER_ERR_NOMEM : SINTER_OK);
+        st = st == SINTER_OK ? agreed : st;
+        if (st == SINTER_OK)
+            st = sinter_qs_repro_series(qs, terms, k, 1, &volume);
+        sinter_free(qs->ctx, terms);
+        sums[0] = 0.0; /* (the sum below then adds only the counts) */
+    }
     if (st == SINTER_OK)
         st = sinter_qs_domain_reduce(qs, sums, 2, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    if (qs->dom.repro)
+        sums[0] = volume;
     if (st != SINTER_OK)
         return st;
     qs->dom.started = 1;
@@ -126,21 +149,24 @@ sinter_status sinter_qs_domain_reverse(sinter_qs *qs, double *per_slot, size_t w
 }
 
 /* The split solve's exchanges over the qs's rows (index order). */
+/* (without domain operations, the reproducible mode's solve on one part: nothing to do) */
 static int ex_forward(double *rows, size_t width, void *user)
 {
-    return halo(user, rows, width, SINTER_HALO_FORWARD) != SINTER_OK;
+    const sinter_qs *qs = user;
+    return qs->dom.on && halo(user, rows, width, SINTER_HALO_FORWARD) != SINTER_OK;
 }
 
 static int ex_reverse(double *rows, size_t width, void *user)
 {
-    return halo(user, rows, width, SINTER_HALO_REVERSE) != SINTER_OK;
+    const sinter_qs *qs = user;
+    return qs->dom.on && halo(user, rows, width, SINTER_HALO_REVERSE) != SINTER_OK;
 }
 
 static int ex_sum(double *values, size_t count, void *user)
 {
     sinter_qs *qs = user;
-    return sinter_domain_reduce(qs->ctx, qs->dom.d, values, count, SINTER_REDUCE_F64,
-                                SINTER_REDUCE_SUM) != SINTER_OK;
+    return qs->dom.on && sinter_domain_reduce(qs->ctx, qs->dom.d, values, count, SINTER_REDUCE_F64,
+                                              SINTER_REDUCE_SUM) != SINTER_OK;
 }
 
 sinter_status sinter_qs_domain_solve(sinter_qs *qs, size_t n, const double *f, const double *guess,
@@ -168,10 +194,11 @@ sinter_status sinter_qs_domain_solve(sinter_qs *qs, size_t n, const double *f, c
         }
     }
     /* a failure here is agreed inside the solve, before its first exchange */
-    const sinter_bonded_exchange ex = {ex_forward, ex_reverse, ex_sum, qs};
+    const sinter_bonded_exchange ex = {ex_forward, ex_reverse,    ex_sum,
+                                       qs,         qs->dom.repro, sinter_qs_repro_reduce(qs)};
     if (st == SINTER_OK)
-        st = sinter_bonded_solve_split(qs->ctx, qs->dom.owned, n, beams, m, fixed, fi,
-                                       guess != NULL ? gi : NULL, ui, qs->opt.solve_rtol, &ex,
+        st = sinter_bonded_solve_split(qs->ctx, qs->dom.on ? qs->dom.owned : n, n, beams, m, fixed,
+                                       fi, guess != NULL ? gi : NULL, ui, qs->opt.solve_rtol, &ex,
                                        iterations);
     else { /* take part in the solve's first agreement, then stop */
         double failed = 1.0;

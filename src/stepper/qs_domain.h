@@ -4,7 +4,9 @@
  * owned by the subdomain of its smaller id (the other end may be a ghost); the loads on a
  * ghost end go back to its owner through a reverse halo; the global quantities (extents, green
  * density, the step decision, the statistics) through reductions; K u = f through the split
- * solve (bonded/solve_split.h). Without domain operations none of these is called.
+ * solve (bonded/solve_split.h). Without domain operations none of these is called, but in the
+ * reproducible mode (qs_repro.h), whose serial run takes the split solve and the floating
+ * components of qs_floating_domain.c on one part (their exchanges then do nothing).
  */
 #ifndef SINTER_STEPPER_QS_DOMAIN_H
 #define SINTER_STEPPER_QS_DOMAIN_H

@@ -23,6 +23,7 @@
 
 #include "stepper/qs_domain.h"
 #include "stepper/qs_floating.h"
+#include "stepper/qs_repro.h"
 #include "stepper/qs_struct.h"
 
 static uint32_t find_root(uint32_t *root, uint32_t i)
@@ -117,6 +118,43 @@ static size_t find_label(const double *list, size_t k, double label)
     return lo < k && list[lo] == label ? lo : k;
 }
 
+/* The reproducible mode (qs_repro.h): out[c width + j] = the exact sum over every subdomain of
+ * terms[i width + j] over the members i < count with comp[i] = c (< k; k: none). Collective. */
+static sinter_status exact_sums(sinter_qs *qs, const size_t *comp, const double *terms,
+                                size_t count, size_t k, size_t width, double *out)
+{
+    const size_t v = k * width;
+    int64_t *e = sinter_alloc(qs->ctx, (v + 1) * sizeof(int64_t));
+    sinter_repro_sum *sum = sinter_calloc(qs->ctx, v + 1, sizeof(sinter_repro_sum));
+    sinter_status st =
+        sinter_qs_domain_agree(qs, e == NULL || sum == NULL ? SINTER_ERR_NOMEM : SINTER_OK);
+    if (st == SINTER_OK) {
+        for (size_t q = 0; q < v; ++q)
+            e[q] = INT32_MIN;
+        for (size_t i = 0; i < count; ++i)
+            for (size_t j = 0; j < width && comp[i] < k; ++j) {
+                const int ej = sinter_repro_exponent(terms + width * i + j, 1, 1, NULL);
+                int64_t *eq = e + width * comp[i] + j;
+                *eq = ej > *eq ? ej : *eq;
+            }
+        const sinter_repro_reduce_fn reduce = sinter_qs_repro_reduce(qs);
+        if (reduce != NULL && reduce(e, v, SINTER_REPRO_MAX, qs) != 0)
+            st = sinter_fail(qs->ctx, SINTER_ERR_CALLBACK,
+                             "quasi-static stepper: an exact sum's reduction failed");
+        for (size_t i = 0; i < count && st == SINTER_OK; ++i)
+            for (size_t j = 0; j < width && comp[i] < k; ++j) {
+                const size_t q = width * comp[i] + j;
+                sinter_repro_add(&sum[q], (int)e[q], terms + width * i + j, 1, 1);
+            }
+        if (st == SINTER_OK && sinter_repro_totals(sum, e, v, reduce, qs, out) != 0)
+            st = sinter_fail(qs->ctx, SINTER_ERR_CALLBACK,
+                             "quasi-static stepper: an exact sum's reduction failed");
+    }
+    sinter_free(qs->ctx, e);
+    sinter_free(qs->ctx, sum);
+    return st;
+}
+
 sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs_particles *p,
                                                   double *u, sinter_status st)
 {
@@ -124,7 +162,8 @@ sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs
     const size_t n = p->count, m = qs->count, owned = qs->dom.owned;
     uint32_t *root = NULL;
     unsigned char *held = NULL;
-    double *label = NULL, *rows = NULL, *list = NULL, *sums = NULL;
+    double *label = NULL, *rows = NULL, *list = NULL, *sums = NULL, *terms = NULL;
+    size_t *comp = NULL; /* the reproducible mode's exact sums */
     if (st == SINTER_OK) {
         root = sinter_alloc(qs->ctx, (n + 1) * sizeof(uint32_t));
         held = sinter_alloc(qs->ctx, n + 1);
@@ -192,13 +231,28 @@ sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs
         goto out;
 
     sums = sinter_alloc(qs->ctx, ((SUMS + 3) * k + 1) * sizeof(double));
-    st = sinter_qs_domain_agree(qs, sums == NULL ? SINTER_ERR_NOMEM : SINTER_OK);
+    if (qs->dom.repro) { /* per owned member: its component and terms (exact_sums) */
+        comp = sinter_alloc(qs->ctx, (owned + 1) * sizeof(size_t));
+        terms = sinter_alloc(qs->ctx, (SUMS * owned + 1) * sizeof(double));
+    }
+    st = sinter_qs_domain_agree(
+        qs, sums == NULL || (qs->dom.repro && (comp == NULL || terms == NULL)) ? SINTER_ERR_NOMEM
+                                                                               : SINTER_OK);
     if (st != SINTER_OK)
         goto out;
     memset(sums, 0, SUMS * k * sizeof(double));
     for (size_t i = 0; i < owned; ++i) { /* centroid and mean rotation, owned members */
         const size_t s = qs->slot_of[i];
         const size_t c = find_label(list, k, label[find_root(root, (uint32_t)s)]);
+        if (comp != NULL) {
+            comp[i] = c;
+            double *t = terms + SUMS * i;
+            t[0] = 1.0;
+            for (size_t d = 0; d < 3; ++d) {
+                t[1 + d] = p->x[3 * i + d];
+                t[4 + d] = u[6 * s + 3 + d];
+            }
+        }
         if (c == k)
             continue;
         double *sc = sums + SUMS * c;
@@ -208,7 +262,9 @@ sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs
             sc[4 + d] += u[6 * s + 3 + d];
         }
     }
-    st = sinter_qs_domain_reduce(qs, sums, SUMS * k, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    st = comp != NULL
+             ? exact_sums(qs, comp, terms, owned, k, SUMS, sums)
+             : sinter_qs_domain_reduce(qs, sums, SUMS * k, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
     if (st != SINTER_OK)
         goto out;
     double *left = sums + SUMS * k; /* the displacements left after the rotations */
@@ -236,9 +292,13 @@ sinter_status sinter_qs_domain_remove_free_motion(sinter_qs *qs, const sinter_qs
             u[6 * s + 3 + d] -= w[d];
             if (i < owned)
                 left[3 * c + d] += u[6 * s + d];
+            if (i < owned && comp != NULL)
+                terms[3 * i + d] = u[6 * s + d]; /* (the first sums' terms are spent) */
         }
     }
-    st = sinter_qs_domain_reduce(qs, left, 3 * k, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    st = comp != NULL
+             ? exact_sums(qs, comp, terms, owned, k, 3, left)
+             : sinter_qs_domain_reduce(qs, left, 3 * k, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
     if (st != SINTER_OK)
         goto out;
     for (size_t s = 0; s < n; ++s) { /* then the translations */
@@ -257,5 +317,7 @@ out:
     sinter_free(qs->ctx, rows);
     sinter_free(qs->ctx, list);
     sinter_free(qs->ctx, sums);
+    sinter_free(qs->ctx, comp);
+    sinter_free(qs->ctx, terms);
     return st;
 }

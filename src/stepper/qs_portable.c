@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "stepper/migrate.h"
+#include "stepper/qs_domain.h"
 #include "stepper/qs_struct.h"
 
 /* The origin of id among the first count of o (sorted by id), or NULL. */
@@ -118,7 +119,11 @@ static int pair_order(const void *a, const void *b)
 int sinter_qs_carried_apply(sinter_qs *qs)
 {
     const size_t n = qs->slots;
-    if (qs->carried_count < n || n == 0 || qs->particles == 0 || !qs->slots_valid)
+    /* with domain operations the owned particles' states: a ghost's conditions and
+     * displacements are not read (the split solve and the floating components read the owned
+     * rows; the ghosts' u come from their owners), so they are left 0 */
+    const size_t needed = qs->dom.on && qs->dom.owned <= n ? qs->dom.owned : n;
+    if (qs->carried_count < needed || n == 0 || qs->particles == 0 || !qs->slots_valid)
         return 0;
     /* the carried state of each slot: (id, entry) sorted by id, the last entry of an id kept,
      * walked along the ascending slot ids */
@@ -139,6 +144,10 @@ int sinter_qs_carried_apply(sinter_qs *qs)
     int all_u = 1, ok = 1;
     size_t k = 0;
     for (size_t sl = 0; sl < n && ok; ++sl) {
+        if (sinter_qs_domain_ghost(qs, qs->index_of_slot[sl])) {
+            at[sl] = SIZE_MAX;
+            continue;
+        }
         while (k < m && pairs[k][0] < qs->slot_id[sl])
             ++k;
         while (k + 1 < m && pairs[k + 1][0] == qs->slot_id[sl])
@@ -162,6 +171,11 @@ int sinter_qs_carried_apply(sinter_qs *qs)
         return 0;
     }
     for (size_t sl = 0; sl < n; ++sl) {
+        if (at[sl] == SIZE_MAX) { /* a ghost (above) */
+            memset(qs->fixed + 6 * sl, 0, 6);
+            memset(qs->u + 6 * sl, 0, 6 * sizeof(double));
+            continue;
+        }
         const sinter_qs_carried *c = &qs->carried[at[sl]];
         memcpy(qs->fixed + 6 * sl, c->fixed, 6);
         if (all_u)
@@ -227,6 +241,8 @@ void sinter_qs_global_load(sinter_qs *qs, const double f[SINTER_QS_GLOBAL_F64],
     qs->pcg_iterations = u[3];
     qs->substepped = u[4];
     qs->particles = u[5] ? SIZE_MAX : 0; /* set up: the conditions come with the records */
+    qs->dom.started = u[5] != 0;         /* and the extents and green density with this part */
+    qs->dom.restored = 1;
     for (int d = 0; d < 3; ++d)
         qs->periodic[d] = (int)((u[6] >> d) & 1u);
     qs->cell_started = (int)u[7];

@@ -35,6 +35,9 @@ typedef struct sinter_qs_domain {
     uint64_t size;      /* subdomains (exscan of 1; 0: not asked yet) */
     int split;          /* more than one subdomain: the split solve, the guard skipped */
     int started;        /* the global extents and green density taken (first step) */
+    int repro;          /* the reproducible mode (qs_repro.h): exact sums, with or without `on` */
+    int restored;       /* loaded from a portable global part (qs_portable.c): its links come
+                         * with the records, so domain operations may step it */
     double *rows;       /* halo rows, (owned + ghosts) * width */
     size_t rows_capacity;
 } sinter_qs_domain;

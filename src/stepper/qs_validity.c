@@ -9,6 +9,7 @@
 #include <stdio.h>
 
 #include "stepper/qs_domain.h"
+#include "stepper/qs_repro.h"
 #include "stepper/qs_struct.h"
 #include "stepper/quasistatic.h"
 
@@ -19,6 +20,37 @@ static sinter_status report(sinter_qs *qs, int *warned, const char *what)
     *warned = 1;
     sinter_log(qs->ctx, SINTER_LOG_WARNING, "quasi-static stepper: %s", what);
     return SINTER_OK;
+}
+
+/* Each owned particle's covered share as an exact sum over every subdomain's links (the
+ * reproducible mode, qs_repro.h); ghosts 0. Collective. */
+static sinter_status exact_shares(sinter_qs *qs, const sinter_qs_particles *p, double *share)
+{
+    const size_t m = qs->count, n = p->count;
+    double *terms = sinter_alloc(qs->ctx, (2 * m + 1) * sizeof(double));
+    uint32_t *row = sinter_alloc(qs->ctx, (2 * m + 1) * sizeof(uint32_t));
+    void *work = sinter_alloc(qs->ctx, sinter_repro_rows_bytes(n, 1) + 1);
+    sinter_status st = sinter_qs_domain_agree(
+        qs, terms == NULL || row == NULL || work == NULL ? SINTER_ERR_NOMEM : SINTER_OK);
+    if (st == SINTER_OK) {
+        for (size_t k = 0; k < m; ++k) {
+            const sinter_qs_link *l = &qs->links[k];
+            const double x = l->neck.y[SINTER_NECK_X];
+            row[2 * k] = l->beam.a;
+            row[2 * k + 1] = l->beam.b;
+            terms[2 * k] = sinter_neck_cap_share(x / p->radius[l->beam.a]);
+            terms[2 * k + 1] = sinter_neck_cap_share(x / p->radius[l->beam.b]);
+        }
+        if (sinter_repro_rows(n, qs->dom.on ? qs->dom.owned : n, 1, row, terms, 2 * m,
+                              sinter_qs_repro_reduce(qs), sinter_qs_repro_reverse(qs), qs, work,
+                              share) != 0)
+            st = sinter_fail(qs->ctx, SINTER_ERR_CALLBACK,
+                             "quasi-static stepper: an exchange of the necks' coverage failed");
+    }
+    sinter_free(qs->ctx, terms);
+    sinter_free(qs->ctx, row);
+    sinter_free(qs->ctx, work);
+    return st;
 }
 
 sinter_status sinter_qs_check_validity(sinter_qs *qs, const sinter_qs_particles *p, double t)
@@ -37,13 +69,17 @@ sinter_status sinter_qs_check_validity(sinter_qs *qs, const sinter_qs_particles 
             sinter_free(qs->ctx, share);
             return st;
         }
-        for (size_t k = 0; k < qs->count; ++k) {
-            const sinter_qs_link *l = &qs->links[k];
-            const double x = l->neck.y[SINTER_NECK_X];
-            share[l->beam.a] += sinter_neck_cap_share(x / p->radius[l->beam.a]);
-            share[l->beam.b] += sinter_neck_cap_share(x / p->radius[l->beam.b]);
+        if (qs->dom.repro) /* the reproducible mode: exact row sums (qs_repro.h) */
+            st = exact_shares(qs, p, share);
+        else {
+            for (size_t k = 0; k < qs->count; ++k) {
+                const sinter_qs_link *l = &qs->links[k];
+                const double x = l->neck.y[SINTER_NECK_X];
+                share[l->beam.a] += sinter_neck_cap_share(x / p->radius[l->beam.a]);
+                share[l->beam.b] += sinter_neck_cap_share(x / p->radius[l->beam.b]);
+            }
+            st = sinter_qs_domain_reverse_index(qs, share, 1); /* (the ghosts' to owners) */
         }
-        st = sinter_qs_domain_reverse_index(qs, share, 1); /* (the ghosts' shares to owners) */
         /* the most covered particle, the smallest id on ties (the slots' order, qs_ids.c) */
         const int by_slot = qs->slots_valid && qs->slots == p->count;
         size_t worst = SIZE_MAX;

@@ -8,6 +8,7 @@
 #include "stepper/quasistatic.h"
 #include "stepper/qs_domain.h"
 #include "stepper/qs_floating.h"
+#include "stepper/qs_repro.h"
 #include "stepper/qs_struct.h"
 #include "stepper/stepper.h"
 #include "particles/particles.h"
@@ -515,6 +516,21 @@ static double box_density(const sinter_qs *qs, const sinter_qs_particles *p)
             lo[d] = 0.0;
             hi[d] = qs->cell_len[d];
         }
+    if (qs->dom.repro) { /* the reproducible mode: the volume an exact sum (qs_repro.h), as
+                          * sinter_qs_domain_start's over subdomains */
+        int e = INT32_MIN;
+        for (size_t i = 0; i < p->count; ++i) {
+            const double r = p->radius[i], v = 4.0 / 3.0 * QS_PI * r * r * r;
+            const int ev = sinter_repro_exponent(&v, 1, 1, NULL);
+            e = ev > e ? ev : e;
+        }
+        sinter_repro_sum sum = {{0}, 0};
+        for (size_t i = 0; i < p->count; ++i) {
+            const double r = p->radius[i], v = 4.0 / 3.0 * QS_PI * r * r * r;
+            sinter_repro_add(&sum, e, &v, 1, 1);
+        }
+        volume = sinter_repro_value(&sum, e);
+    }
     return p->count > 0 ? volume / ((hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2])) : 0.0;
 }
 
@@ -734,7 +750,11 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
         else
             qs->batch_order[--mature] = k;
     }
-    if (qs->opt.young_pairs != 0.0)
+    /* the reproducible mode: no CVODE system spans links (its error norm would mix the links of
+     * one subdomain only), every neck on its own steps (qs_repro.h) */
+    if (qs->dom.repro && qs->opt.grown_rk4 == 0.0)
+        st = advance_young_pairs(qs, qs->batch_order, m, s, t, h);
+    else if (qs->opt.young_pairs != 0.0 || qs->dom.repro)
         st = advance_young_pairs(qs, qs->batch_order, young, s, t, h);
     else
         st = advance_group(qs, qs->batch_young, qs->batch_order, young, s, t, h,
@@ -749,7 +769,7 @@ static sinter_status advance_batch(sinter_qs *qs, const sinter_neck_schedule *s,
                              "state at t is kept",
                              (unsigned long long)l->id_a, (unsigned long long)l->id_b, t);
         }
-    } else if (st == SINTER_OK)
+    } else if (st == SINTER_OK && !qs->dom.repro)
         st = advance_group(qs, qs->batch, qs->batch_order + young, m - young, s, t, h,
                            &qs->batch_counters[1]);
     if (st != SINTER_OK) /* the young group may have moved: every neck back to t */
@@ -870,10 +890,10 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         uint64_t sub[2] = {0, m};
         for (size_t k = 0; k < m; ++k)
             sub[0] += (uint64_t)qs->links[k].substepped;
-        qs->substepped += sub[0];
         if ((st = sinter_qs_domain_reduce(qs, sub, 2, SINTER_REDUCE_U64, SINTER_REDUCE_SUM)) !=
             SINTER_OK) /* (over every subdomain's links) */
             return st;
+        qs->substepped += sub[0]; /* (every subdomain's: the same count on each) */
         const double fraction = sub[1] > 0 ? (double)sub[0] / (double)sub[1] : 0.0;
         if (fraction < qs->opt.grow_fraction)
             next = h * alpha;
@@ -887,6 +907,17 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
     double *f = qs->f, *u = qs->u;
     const uint32_t *slot = qs->slot_of;
     memset(f, 0, 6 * n * sizeof(double));
+    double *fn_repro = NULL; /* the reproducible mode: each link's force, then exact row sums */
+    if (qs->dom.repro) {
+        fn_repro = sinter_alloc(qs->ctx, (m + 1) * sizeof(double));
+        if ((st = agree_necks(qs, fn_repro == NULL ? SINTER_ERR_NOMEM : SINTER_OK, 0)) !=
+            SINTER_OK) {
+            if (!qs->dom.on)
+                for (size_t k = 0; k < m; ++k)
+                    memcpy(qs->links[k].neck.y, qs->saved[k], sizeof(qs->saved[k]));
+            return st;
+        }
+    }
     for (size_t k = 0; k < m; ++k) {
         const sinter_qs_link *l = &qs->links[k];
         const double dl = (qs->saved[k][SINTER_NECK_LA] - l->neck.y[SINTER_NECK_LA]) +
@@ -894,15 +925,27 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
         /* the same section as the link's stiffness below: a free pair approaches by dl */
         const double fn =
             sinter_sintering_force(l->youngs, l->rm, dl) * sinter_qs_section_scale(&qs->opt, l);
+        if (fn_repro != NULL) {
+            fn_repro[k] = fn;
+            continue;
+        }
         for (size_t d = 0; d < 3; ++d) {
             f[6 * (size_t)slot[l->beam.a] + d] += fn * l->beam.axis[d];
             f[6 * (size_t)slot[l->beam.b] + d] -= fn * l->beam.axis[d];
         }
     }
     /* with domain operations: the loads on ghost ends added into their owners (qs_domain.h) */
-    st = sinter_qs_domain_reverse(qs, f, 6);
-    if ((st = agree_necks(qs, st, 0)) != SINTER_OK)
+    if (fn_repro != NULL) {
+        st = sinter_qs_repro_loads(qs, n, fn_repro, f);
+        sinter_free(qs->ctx, fn_repro);
+    } else
+        st = sinter_qs_domain_reverse(qs, f, 6);
+    if ((st = agree_necks(qs, st, 0)) != SINTER_OK) {
+        if (!qs->dom.on) /* (agree_necks restores the necks with domain operations only) */
+            for (size_t k = 0; k < m; ++k)
+                memcpy(qs->links[k].neck.y, qs->saved[k], sizeof(qs->saved[k]));
         return st;
+    }
 
     /* periodic axes: the cell's strain from the links' approaches, its loads off f (the
      * solve's u is then the periodic rest; qs_periodic.c) */
@@ -937,8 +980,11 @@ sinter_status sinter_qs_step(sinter_qs *qs, const sinter_qs_particles *p,
                 u[i] *= scale;
             guess = u;
         }
-        if (qs->dom.split) { /* over the subdomains (bonded/solve_split.h), and the free
-                              * motion of components across them (qs_floating_domain.c) */
+        if (qs->dom.split ||
+            qs->dom.repro) { /* over the subdomains (bonded/solve_split.h),
+                              * and the free motion of components across them
+                              * (qs_floating_domain.c); the reproducible mode's arithmetic on
+                              * one subdomain and without domain operations too */
             st = sinter_qs_domain_solve(qs, n, f, guess, u, &iterations);
             st = sinter_qs_domain_remove_free_motion(qs, p, u, st);
         } else {
@@ -1086,6 +1132,13 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
     double sum0[3] = {0, 0, 0}, sumu[3] = {0, 0, 0}, s00[3] = {0, 0, 0}, s0u[3] = {0, 0, 0};
     double m = 0.0;
     const int by_slot = qs->slots_valid && qs->slots == n;
+    /* the reproducible mode: the terms kept, series j at terms + j n (zero where none) */
+    double *terms = qs->dom.repro ? sinter_calloc(qs->ctx, 12 * n + 1, sizeof(double)) : NULL;
+    if (qs->dom.repro &&
+        sinter_qs_domain_agree(q, terms == NULL ? SINTER_ERR_NOMEM : SINTER_OK) != SINTER_OK) {
+        sinter_free(qs->ctx, terms);
+        terms = NULL; /* (every subdomain: the sums of doubles below) */
+    }
     for (size_t s = 0; s < n && linked != NULL; ++s) {
         const size_t i = by_slot ? qs->index_of_slot[s] : s;
         if (!linked[i])
@@ -1102,6 +1155,12 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
             sumu[d] += u;
             s00[d] += x0 * x0;
             s0u[d] += x0 * u;
+            if (terms != NULL) {
+                terms[(size_t)d * n + s] = x0;
+                terms[(size_t)(3 + d) * n + s] = u;
+                terms[(size_t)(6 + d) * n + s] = x0 * x0;
+                terms[(size_t)(9 + d) * n + s] = x0 * u;
+            }
         }
     }
     sinter_free(qs->ctx, linked);
@@ -1119,6 +1178,16 @@ static void shrinkage(const sinter_qs *qs, const sinter_qs_particles *p, double 
             memcpy(s0u, v + 9, sizeof(s0u));
             m = v[12];
         }
+    }
+    if (terms != NULL) { /* the reproducible mode: the twelve sums exact (qs_repro.h) */
+        double v[12];
+        if (sinter_qs_repro_series(q, terms, n, 12, v) == SINTER_OK) {
+            memcpy(sum0, v, sizeof(sum0));
+            memcpy(sumu, v + 3, sizeof(sumu));
+            memcpy(s00, v + 6, sizeof(s00));
+            memcpy(s0u, v + 9, sizeof(s0u));
+        }
+        sinter_free(qs->ctx, terms);
     }
     for (int d = 0; d < 3; ++d) {
         const double var = m > 0.0 ? s00[d] - sum0[d] * sum0[d] / m : 0.0;
@@ -1151,6 +1220,22 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
             y[SINTER_NECK_X] / fmin(p->radius[qs->links[k].beam.a], p->radius[qs->links[k].beam.b]);
         out->time = qs->links[k].neck.time;
     }
+    double exact[2] = {out->neck_mean, out->neck_ratio_mean};
+    if (qs->dom.repro) { /* the reproducible mode: the two sums exact (qs_repro.h) */
+        sinter_qs *q = (sinter_qs *)qs;
+        const size_t m = qs->count;
+        double *terms = sinter_alloc(qs->ctx, (2 * m + 1) * sizeof(double));
+        for (size_t k = 0; k < m && terms != NULL; ++k) {
+            const double *y = qs->links[k].neck.y;
+            terms[k] = y[SINTER_NECK_X];
+            terms[m + k] = y[SINTER_NECK_X] /
+                           fmin(p->radius[qs->links[k].beam.a], p->radius[qs->links[k].beam.b]);
+        }
+        if (sinter_qs_domain_agree(q, terms == NULL ? SINTER_ERR_NOMEM : SINTER_OK) != SINTER_OK ||
+            sinter_qs_repro_series(q, terms, m, 2, exact) != SINTER_OK)
+            exact[0] = exact[1] = NAN;
+        sinter_free(qs->ctx, terms);
+    }
     if (qs->dom.on) { /* over every subdomain's links and owned particles (qs_domain.h) */
         sinter_qs *q = (sinter_qs *)qs; /* (the reductions count calls in the domain only) */
         double sums[4] = {out->neck_mean, out->neck_ratio_mean, links, (double)q->dom.owned};
@@ -1168,6 +1253,10 @@ void sinter_qs_stats_get(const sinter_qs *qs, const sinter_qs_particles *p, sint
             out->time = hi[1];
             out->links = (size_t)links;
         }
+    }
+    if (qs->dom.repro) {
+        out->neck_mean = exact[0];
+        out->neck_ratio_mean = exact[1];
     }
     if (links > 0.0) {
         out->neck_mean /= links;
@@ -1254,8 +1343,20 @@ sinter_status sinter_quasistatic_step(struct sinter_stepper *st, sinter_qs **qs,
             mean[1] += 1.0;
         }
     }
-    if ((s = sinter_qs_domain_reduce(*qs, mean, 2, SINTER_REDUCE_F64, SINTER_REDUCE_SUM)) !=
-        SINTER_OK) {
+    if ((s = sinter_qs_domain_reduce(*qs, mean, 2, SINTER_REDUCE_F64, SINTER_REDUCE_SUM)) ==
+            SINTER_OK &&
+        (*qs)->dom.repro && st->furnace_count == 0) { /* the temperatures' exact sum */
+        double *terms = sinter_alloc(st->ctx, (ps->count + 1) * sizeof(double));
+        size_t k = 0;
+        for (size_t i = 0; i < ps->count && terms != NULL; ++i)
+            if (!sinter_qs_domain_ghost(*qs, i))
+                terms[k++] = ps->temperature[i];
+        s = sinter_qs_domain_agree(*qs, terms == NULL ? SINTER_ERR_NOMEM : SINTER_OK);
+        if (s == SINTER_OK)
+            s = sinter_qs_repro_series(*qs, terms, k, 1, &mean[0]);
+        sinter_free(st->ctx, terms);
+    }
+    if (s != SINTER_OK) {
         sinter_free(st->ctx, mats);
         return s;
     }

@@ -1,6 +1,7 @@
 /* Order-independent sums (core/repro_sum.c, issue 43): the same bits for any order and any split
  * into parts, exact where the exact sum is representable, and within the stated truncation of a
  * compensated reference otherwise. */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -173,6 +174,123 @@ static void test_non_finite_and_stride(void **state)
     assert_true(sinter_repro_value(&s, e) == 600.0);
 }
 
+/* Per-row sums (sinter_repro_rows) with ghost rows: contributions to owned row r made on a ghost
+ * copy of r (rows owned + g, reversed into their owners by the callback, as a host's reverse
+ * halo adds doubles) give the same bits as the contributions made on r itself, in any order,
+ * and match a compensated sum per row to the truncation's bound. */
+enum { ROWS = 16, GHOSTS = 8, WIDTH = 3, CONTRIB = 400 };
+
+static int owner_of_ghost(size_t g)
+{
+    return (int)((g * 5) % ROWS);
+}
+
+static int reverse_ghosts(double *rows, size_t width, void *user)
+{
+    (void)user;
+    for (size_t g = 0; g < GHOSTS; ++g)
+        for (size_t c = 0; c < width; ++c)
+            rows[width * (size_t)owner_of_ghost(g) + c] += rows[width * (ROWS + g) + c];
+    return 0;
+}
+
+static int reduce_one_part(int64_t *values, size_t count, int op, void *user)
+{
+    (void)values;
+    (void)count;
+    (*(int *)user)++;
+    return op == SINTER_REPRO_MAX || op == SINTER_REPRO_SUM ? 0 : -1;
+}
+
+static void test_rows_with_ghosts(void **state)
+{
+    (void)state;
+    static double terms[CONTRIB * WIDTH], shuffled[CONTRIB * WIDTH];
+    static uint32_t row[CONTRIB], row_g[CONTRIB], row_s[CONTRIB];
+    uint64_t seed = 0x9e3779b97f4a7c15u;
+    for (size_t k = 0; k < CONTRIB; ++k) {
+        row[k] = (uint32_t)(next_random(&seed) % ROWS);
+        for (size_t c = 0; c < WIDTH; ++c) { /* both signs over 12 decades */
+            const double m = (double)(next_random(&seed) % 1000000) / 1e6 - 0.5;
+            terms[WIDTH * k + c] = m * pow(10.0, (double)(next_random(&seed) % 12) - 6.0);
+        }
+        row_g[k] = row[k]; /* every third on a ghost copy of its row, where it has one */
+        for (size_t g = 0; g < GHOSTS && k % 3 == 0; ++g)
+            if ((uint32_t)owner_of_ghost(g) == row[k])
+                row_g[k] = (uint32_t)(ROWS + g);
+    }
+    for (size_t k = 0; k < CONTRIB; ++k) { /* the contributions reversed */
+        row_s[k] = row_g[CONTRIB - 1 - k];
+        memcpy(shuffled + WIDTH * k, terms + WIDTH * (CONTRIB - 1 - k), WIDTH * sizeof(double));
+    }
+    void *work = malloc(sinter_repro_rows_bytes(ROWS + GHOSTS, WIDTH));
+    assert_non_null(work);
+    double plain[(ROWS + GHOSTS) * WIDTH], ghosts[(ROWS + GHOSTS) * WIDTH],
+        reversed[(ROWS + GHOSTS) * WIDTH];
+    int calls = 0;
+    assert_int_equal(
+        sinter_repro_rows(ROWS, ROWS, WIDTH, row, terms, CONTRIB, NULL, NULL, NULL, work, plain),
+        0);
+    assert_int_equal(sinter_repro_rows(ROWS + GHOSTS, ROWS, WIDTH, row_g, terms, CONTRIB,
+                                       reduce_one_part, reverse_ghosts, &calls, work, ghosts),
+                     0);
+    assert_int_equal(calls, 1); /* the exponents' MAX */
+    assert_int_equal(sinter_repro_rows(ROWS + GHOSTS, ROWS, WIDTH, row_s, shuffled, CONTRIB, NULL,
+                                       reverse_ghosts, NULL, work, reversed),
+                     0);
+    assert_memory_equal(plain, ghosts, ROWS * WIDTH * sizeof(double));
+    assert_memory_equal(plain, reversed, ROWS * WIDTH * sizeof(double));
+    for (size_t q = ROWS * WIDTH; q < (ROWS + GHOSTS) * WIDTH; ++q)
+        assert_true(ghosts[q] == 0.0); /* the ghost rows: 0 */
+    /* each row against a compensated sum: within the truncation, n 2^(e - 97) with |terms| <
+     * 2^e <= 2 * 0.5e6 */
+    static double one[CONTRIB];
+    for (size_t r = 0; r < ROWS; ++r)
+        for (size_t c = 0; c < WIDTH; ++c) {
+            size_t n = 0;
+            for (size_t k = 0; k < CONTRIB; ++k)
+                if (row[k] == r)
+                    one[n++] = terms[WIDTH * k + c];
+            const double ref = compensated(one, n);
+            assert_true(fabs(plain[WIDTH * r + c] - ref) <=
+                        2.0 * DBL_EPSILON * fabs(ref) + CONTRIB * ldexp(1.0, 20 - 97));
+        }
+    free(work);
+}
+
+/* Dot products (sinter_repro_dots) and series (sinter_repro_series) in one part: the same bits
+ * in reverse order, and within 2 ulp of a compensated sum of the rounded products. */
+static void test_dots_and_series(void **state)
+{
+    (void)state;
+    enum { M = 1000 };
+    static double a[M], b[M], ar[M], br[M], prod[2 * M];
+    uint64_t seed = 12345;
+    for (size_t i = 0; i < M; ++i) {
+        a[i] = ((double)(next_random(&seed) % 2000001) - 1e6) * 1e-3;
+        b[i] = ((double)(next_random(&seed) % 2000001) - 1e6) * 1e-9;
+    }
+    for (size_t i = 0; i < M; ++i) {
+        ar[i] = a[M - 1 - i];
+        br[i] = b[M - 1 - i];
+        prod[i] = a[i] * b[i];
+        prod[M + i] = a[i] * a[i];
+    }
+    const double *x[2] = {a, a}, *y[2] = {b, a}, *xr[2] = {ar, ar}, *yr[2] = {br, ar};
+    double d[2], dr[2], sr[2];
+    int calls = 0;
+    assert_int_equal(sinter_repro_dots(x, y, M, 2, reduce_one_part, &calls, d), 0);
+    assert_int_equal(calls, 2); /* MAX, then SUM */
+    assert_int_equal(sinter_repro_dots(xr, yr, M, 2, NULL, NULL, dr), 0);
+    assert_int_equal(sinter_repro_series(prod, M, 2, NULL, NULL, sr), 0);
+    assert_memory_equal(d, dr, sizeof(d));
+    assert_memory_equal(d, sr, sizeof(d)); /* the same rounded products, the same sums */
+    for (int j = 0; j < 2; ++j) {
+        const double ref = compensated(prod + (size_t)j * M, M);
+        assert_true(fabs(d[j] - ref) <= 2.0 * DBL_EPSILON * fabs(ref));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -180,6 +298,8 @@ int main(void)
         cmocka_unit_test(test_exact_cancellation),
         cmocka_unit_test(test_carry_over_many_terms),
         cmocka_unit_test(test_non_finite_and_stride),
+        cmocka_unit_test(test_rows_with_ghosts),
+        cmocka_unit_test(test_dots_and_series),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -58,9 +58,10 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                         "N: every N-th step; 0 off",
         "reproducible": "[-] 1: pairs sorted by id at every build, every particle's sums in "
                         "that order on one thread: the same bits for any memory order, thread "
-                        "count and decomposition (explicit and staggered steppers; the "
-                        "staggered one's norms and Anderson's products summed exactly, the "
-                        "averaged electric model swept Jacobi); 0 (default) off",
+                        "count and decomposition (explicit, staggered and quasi-static "
+                        "steppers; global sums exact, the averaged electric model swept "
+                        "Jacobi, the quasi-static solve block-Jacobi PCG with necks one by "
+                        "one); 0 (default) off",
     },
     "explicit_staggered": {
         "sort_interval": "[steps] sort the particles spatially every so many steps; 0 "
