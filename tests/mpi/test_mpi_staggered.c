@@ -19,6 +19,16 @@
  *    iterate through MPI: the same comparisons, the currents within 1e-9 (the serial run's
  *    own spread is 1.7e-10, tests/unit/test_domain_electric.c), and the same values as the
  *    thread transport.
+ *  - The reproducible mode (stepper option "reproducible"), both schemes, borders between
+ *    columns and (scheme 1) on them: every particle's export record gathered to rank 0 by id
+ *    (mpi_records.h) the same bytes as the single domain's and as the thread transport's on
+ *    as many slabs; the time, wall reactions, steps, rejections, iterations and sweeps the same,
+ *    the global part too where nothing migrates (a migration counts a neighbour build of its
+ *    own). In the default mode these runs differ (3e-13 above), so the comparison can fail.
+ *  - np 2-4: an MPI-IO checkpoint of that mode written at step 5 (the single domain's global
+ *    part and records at that step), read and continued on 2 ranks: the uninterrupted run's
+ *    records, time and counts (from 3 ranks the readers send particles on before any step:
+ *    their records must pass on the predictor's history they brought, src/stepper/migrate.c).
  */
 #include <math.h>
 #include <pthread.h>
@@ -33,6 +43,7 @@
 #include "../unit/domain_loopback.h"
 #include "../unit/domain_press.h"
 #include "mpi_check.h"
+#include "mpi_records.h"
 
 enum { N = PRESS_N, NW = PRESS_WALLS };
 
@@ -47,24 +58,6 @@ typedef press_state state;
 
 /* A run: the press job, and its transport (the thread one, an MPI domain, or neither:
  * without domain operations). */
-/* Every particle's export record by id - 1 (the reproducible mode's comparisons), and the
- * global part of a portable checkpoint (subdomain 0's). */
-typedef struct records {
-    unsigned char *rec[N];
-    size_t len[N];
-    int twice; /* records of a particle already held (or of no particle) */
-    unsigned char *global;
-    size_t global_len;
-} records;
-
-static void records_free(records *r)
-{
-    for (int k = 0; k < N; ++k)
-        free(r->rec[k]);
-    free(r->global);
-    memset(r, 0, sizeof *r);
-}
-
 typedef struct job {
     press_job p;
     loopback *lb;
@@ -110,49 +103,14 @@ static sinter_status load(void *user, sinter_stepper *st, sinter_particles *ps)
     return s;
 }
 
-/* Each owned particle's record, by itself (remove = 0), into out by id. */
-static sinter_status export_owned(sinter_stepper *st, sinter_particles *ps, records *out)
-{
-    size_t owned = 0;
-    sinter_status s = sinter_particles_owned_count(ps, &owned);
-    for (size_t i = 0; i < owned && s == SINTER_OK; ++i) {
-        const uint64_t *ids = NULL;
-        if ((s = sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&ids, NULL,
-                                            NULL)) != SINTER_OK)
-            break;
-        const uint64_t id = ids[i];
-        sinter_particles_release(ps, SINTER_FIELD_ID);
-        size_t bytes = 0, written = 0;
-        if ((s = sinter_stepper_export_size(st, 1, &i, &bytes)) != SINTER_OK)
-            break;
-        unsigned char *buf = malloc(bytes);
-        if (buf == NULL || id < 1 || id > (uint64_t)N || out->rec[id - 1] != NULL) {
-            free(buf);
-            return SINTER_ERR_INVALID;
-        }
-        s = sinter_stepper_export(st, 1, &i, buf, bytes, &written, 0);
-        out->rec[id - 1] = buf;
-        out->len[id - 1] = written;
-    }
-    return s;
-}
-
 static sinter_status finish(void *user, sinter_stepper *st)
 {
     job *j = user;
     sinter_status s = SINTER_OK;
     if (j->rec != NULL)
-        s = export_owned(st, j->ps, j->rec);
-    if (s == SINTER_OK && j->rec != NULL && (j->lb == NULL || j->p.rank == 0)) {
-        size_t bytes = 0;
-        if ((s = sinter_stepper_save_global(st, NULL, 0, &bytes)) != SINTER_OK)
-            return s;
-        j->rec->global = malloc(bytes);
-        if (j->rec->global == NULL)
-            return SINTER_ERR_NOMEM;
-        j->rec->global_len = bytes;
-        s = sinter_stepper_save_global(st, j->rec->global, bytes, &bytes);
-    }
+        s = records_export(st, j->ps, N, j->rec);
+    if (s == SINTER_OK && j->rec != NULL && (j->lb == NULL || j->p.rank == 0))
+        s = records_save_global(st, j->rec);
     if (s == SINTER_OK && j->ckpt_save != NULL)
         s = sinter_mpi_checkpoint_write(st, j->ps, j->comm, j->ckpt_save);
     if (j->d == NULL || s != SINTER_OK)
@@ -330,74 +288,6 @@ static void test_press(int rank, int size, const char *what)
     CHECK(LOOP_JOBS[0].p.time == MY_JOB.p.time);
 }
 
-/* Every rank's records of `comm` into `all` on its rank 0, by id (sorted so). */
-static void gather_records(const records *mine, records *all, MPI_Comm comm)
-{
-    int rank = 0, size = 0;
-    MPI_Comm_rank(comm, &rank);
-    MPI_Comm_size(comm, &size);
-    size_t bytes = 0;
-    for (int k = 0; k < N; ++k)
-        bytes += mine->rec[k] != NULL ? 16 + mine->len[k] : 0;
-    unsigned char *blob = malloc(bytes + 1), *at = blob;
-    CHECK(blob != NULL && bytes < (size_t)INT32_MAX);
-    for (int k = 0; k < N && blob != NULL; ++k) {
-        if (mine->rec[k] == NULL)
-            continue;
-        const uint64_t head[2] = {(uint64_t)k + 1, mine->len[k]};
-        memcpy(at, head, 16);
-        memcpy(at + 16, mine->rec[k], mine->len[k]);
-        at += 16 + mine->len[k];
-    }
-    const int n = blob != NULL ? (int)bytes : 0;
-    int counts[LOOPBACK_MAX] = {0}, displs[LOOPBACK_MAX] = {0}, total = 0;
-    CHECK(size <= LOOPBACK_MAX);
-    MPI_Gather(&n, 1, MPI_INT, counts, 1, MPI_INT, 0, comm);
-    for (int r = 0; r < size && rank == 0; ++r) {
-        displs[r] = total;
-        total += counts[r];
-    }
-    unsigned char *every = rank == 0 ? malloc((size_t)total + 1) : NULL;
-    MPI_Gatherv(blob, n, MPI_BYTE, every, counts, displs, MPI_BYTE, 0, comm);
-    free(blob);
-    if (rank != 0)
-        return;
-    records_free(all);
-    for (size_t off = 0; every != NULL && off + 16 <= (size_t)total;) {
-        uint64_t head[2];
-        memcpy(head, every + off, 16);
-        off += 16;
-        if (head[0] < 1 || head[0] > (uint64_t)N || all->rec[head[0] - 1] != NULL ||
-            off + head[1] > (size_t)total) {
-            all->twice++;
-            off += head[1];
-            continue;
-        }
-        all->rec[head[0] - 1] = malloc(head[1]);
-        if (all->rec[head[0] - 1] != NULL)
-            memcpy(all->rec[head[0] - 1], every + off, head[1]);
-        all->len[head[0] - 1] = head[1];
-        off += head[1];
-    }
-    free(every);
-}
-
-/* The particles whose records differ (missing, length or bytes). */
-static int differing(const records *a, const records *b)
-{
-    int d = 0;
-    for (int k = 0; k < N; ++k)
-        d += a->rec[k] == NULL || b->rec[k] == NULL || a->len[k] != b->len[k] ||
-             memcmp(a->rec[k], b->rec[k], a->len[k]) != 0;
-    return d + a->twice + b->twice;
-}
-
-static int same_global(const records *a, const records *b)
-{
-    return a->global != NULL && b->global != NULL && a->global_len == b->global_len &&
-           memcmp(a->global, b->global, a->global_len) == 0;
-}
-
 static int same_counts(const job *a, const job *b)
 {
     return a->p.stats.steps == b->p.stats.steps && a->p.stats.rejected == b->p.stats.rejected &&
@@ -442,15 +332,15 @@ static void test_reproducible(int rank, int size, const char *what)
     /* on every rank: the counts, the global part and the wall reactions of the single domain */
     CHECK(same_counts(&MY_JOB, &REF_JOB));
     CHECK(MY_JOB.p.time == REF_JOB.p.time);
-    CHECK(same_global(&MINE_REC, &REF_REC) || migrated > 0);
+    CHECK(records_same_global(&MINE_REC, &REF_REC) || migrated > 0);
     CHECK(memcmp(MY_JOB.p.wall, REF_JOB.p.wall, sizeof REF_JOB.p.wall) == 0);
-    gather_records(&MINE_REC, &ALL_REC, MPI_COMM_WORLD);
+    CHECK(!records_gather(&MINE_REC, &ALL_REC, N, MPI_COMM_WORLD));
     records_free(&MINE_REC);
     if (rank != 0)
         return;
-    const int dm = differing(&ALL_REC, &REF_REC);
+    const int dm = records_differing(&ALL_REC, &REF_REC, N);
     run_loopback(size); /* the thread transport on as many slabs */
-    const int dl = differing(&LOOP_REC, &REF_REC);
+    const int dl = records_differing(&LOOP_REC, &REF_REC, N);
     fprintf(stderr,
             "%s, scheme %d, reproducible, %d ranks: %llu steps, %llu rejected, %llu iterations, "
             "%llu sweeps, %llu migrations; %d of %d records differ from the single domain's, "
@@ -464,7 +354,7 @@ static void test_reproducible(int rank, int size, const char *what)
     CHECK(dl == 0);
     CHECK(same_counts(&LOOP_JOBS[0], &REF_JOB));
     CHECK(LOOP_JOBS[0].p.time == REF_JOB.p.time);
-    CHECK(same_global(&LOOP_REC, &REF_REC) || migrated > 0);
+    CHECK(records_same_global(&LOOP_REC, &REF_REC) || migrated > 0);
     CHECK(memcmp(LOOP_JOBS[0].p.wall, REF_JOB.p.wall, sizeof REF_JOB.p.wall) == 0);
 }
 
@@ -497,11 +387,14 @@ static void test_checkpoint_to_2(int rank, int size, const char *dir)
     CHECK(MY_JOB.p.setup_failed == 0 && MY_JOB.p.status == SINTER_OK);
     sinter_mpi_domain_destroy(d);
     /* what the checkpoint holds: the single domain's state at that step */
-    CHECK(same_global(&written, &at_split));
-    gather_records(&written, &all, MPI_COMM_WORLD);
-    if (rank == 0)
+    CHECK(records_same_global(&written, &at_split));
+    CHECK(!records_gather(&written, &all, N, MPI_COMM_WORLD));
+    if (rank == 0) {
+        const int dw = records_differing(&all, &at_split, N);
         fprintf(stderr, "at step %d, %d ranks: %d of %d records differ from the single domain's\n",
-                SPLIT, size, differing(&all, &at_split), N);
+                SPLIT, size, dw, N);
+        CHECK(dw == 0);
+    }
     records_free(&written);
     records_free(&all);
     records_free(&at_split);
@@ -527,12 +420,12 @@ static void test_checkpoint_to_2(int rank, int size, const char *dir)
         CHECK(MY_JOB.p.stats.rejected == REF_JOB.p.stats.rejected);
         CHECK(MY_JOB.p.stats.iterations == REF_JOB.p.stats.iterations);
         CHECK(MY_JOB.p.time == REF_JOB.p.time);
-        CHECK(same_global(&MINE_REC, &REF_REC) || X0 == PRESS_X0_ON); /* (builds: above) */
-        gather_records(&MINE_REC, &ALL_REC, two);
+        CHECK(records_same_global(&MINE_REC, &REF_REC) || X0 == PRESS_X0_ON); /* (builds: above) */
+        CHECK(!records_gather(&MINE_REC, &ALL_REC, N, two));
         records_free(&MINE_REC);
         MPI_Comm_free(&two);
         if (rank == 0) {
-            const int dm = differing(&ALL_REC, &REF_REC);
+            const int dm = records_differing(&ALL_REC, &REF_REC, N);
             fprintf(stderr,
                     "reproducible checkpoint of %d ranks at step %d, continued on 2: %d of %d "
                     "records differ from the uninterrupted single domain's\n",
