@@ -346,7 +346,8 @@ static pending *pending_rows(sinter_stepper *st, size_t *count, sinter_status *s
 }
 
 static void write_stream(const sinter_stepper *st, size_t n, const size_t *indices,
-                         const gathered *g, const pending *pend, size_t pend_n, unsigned char *out)
+                         const gathered *g, const pending *pend, size_t pend_n,
+                         const uint64_t *qs_index, size_t qs_n, unsigned char *out)
 {
     const sinter_particles *ps = st->ps;
     writer w = {out};
@@ -452,7 +453,7 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
         }
         sinter_qs_carried c;
         sinter_qs_carried_of(st->kind == SINTER_STEPPER_QUASISTATIC ? st->quasistatic : NULL,
-                             ps->count, i, ps->id[i], &c);
+                             qs_index, qs_n, ps->count, i, ps->id[i], &c);
         put_u64(&w, c.bits);
         put(&w, c.fixed, sizeof(c.fixed));
         put(&w, c.u, sizeof(c.u));
@@ -625,14 +626,19 @@ sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *
         gathered_free(ctx, &g);
         return s;
     }
-    size_t pend_n = 0;
+    size_t pend_n = 0, qs_n = 0;
     pending *pend = pending_rows(st, &pend_n, &s);
+    uint64_t *qs_index = s == SINTER_OK && st->kind == SINTER_STEPPER_QUASISTATIC
+                             ? sinter_qs_carried_index(st->quasistatic, ctx, &qs_n, &s)
+                             : NULL;
     if (s != SINTER_OK) {
+        sinter_free(ctx, pend);
         gathered_free(ctx, &g);
         return sinter_fail(ctx, s, "sinter_stepper_export: out of memory");
     }
-    write_stream(st, n, indices, &g, pend, pend_n, buffer);
+    write_stream(st, n, indices, &g, pend, pend_n, qs_index, qs_n, buffer);
     sinter_free(ctx, pend);
+    sinter_free(ctx, qs_index);
     *written = g.bytes;
     gathered_free(ctx, &g);
     if (remove && n > 0) {
