@@ -16,7 +16,8 @@
  *   bit 1: the particle left in the middle of an explicit step, after its drift, and the rows
  *   at the start of the step are its state at t, for a rollback on the side it enters; bit 2:
  *   it left a staggered stepper at an accepted state or between two steps (a portable
- *   checkpoint: the importer takes it at its next step, stepper.c), and those rows hold the
+ *   checkpoint: the importer takes it at its next step, stepper.c; imported between two steps
+ *   and exported again before the next, it passes on the rows it brought), and those rows hold the
  *   predictor's history, its force [3] and moment [3] of the step before, zeros [6] and its
  *   heat power of the step before; without bits 1 and 2 they repeat x, v, w, rot,
  *   temperature); f64 warm-start potential [V];
@@ -309,8 +310,44 @@ static int warm_potential(const sinter_stepper *st, size_t i, double *phi)
     return 1;
 }
 
+/* A particle imported into a staggered stepper between two steps holds its predictor history
+ * among the arrivals (domain.h, arrived_*) until the next step adopts it; exported again before
+ * that step (sinter_mpi_checkpoint_read sends the particles of its pieces on to their owners),
+ * its record passes those rows on with bit 2, as the import took them. Sorted by id. */
+typedef struct pending {
+    uint64_t id;
+    size_t row;
+} pending;
+
+static int pending_order(const void *x, const void *y)
+{
+    const uint64_t a = ((const pending *)x)->id, b = ((const pending *)y)->id;
+    return (a > b) - (a < b);
+}
+
+/* The arrivals whose rows an export passes on (NULL and 0 when none; *s NOMEM on failure). */
+static pending *pending_rows(sinter_stepper *st, size_t *count, sinter_status *s)
+{
+    const sinter_domain *d = &st->domain;
+    *count = 0;
+    if (st->kind != SINTER_STEPPER_STAGGERED || d->redistributing || d->in_attempt ||
+        d->arrived_count == 0)
+        return NULL;
+    pending *p = sinter_alloc(st->ctx, d->arrived_count * sizeof(pending));
+    if (p == NULL) {
+        *s = SINTER_ERR_NOMEM;
+        return NULL;
+    }
+    for (size_t k = 0; k < d->arrived_count; ++k)
+        p[k] = (pending){d->arrived_id[k], k};
+    qsort(p, d->arrived_count, sizeof(pending), pending_order);
+    *count = d->arrived_count;
+    return p;
+}
+
 static void write_stream(const sinter_stepper *st, size_t n, const size_t *indices,
-                         const gathered *g, unsigned char *out)
+                         const gathered *g, const pending *pend, size_t pend_n,
+                         const uint64_t *qs_index, size_t qs_n, unsigned char *out)
 {
     const sinter_particles *ps = st->ps;
     writer w = {out};
@@ -354,6 +391,10 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
                 : st->kind == SINTER_STEPPER_STAGGERED && !st->domain.in_attempt &&
                       sg->history_valid && sg->history_count == ps->count - ps->ghost_count &&
                       sg->h_prev > 0.0 && i < sg->history_count;
+        const pending key = {ps->id[i], 0};
+        const pending *hit = !history && pend_n > 0
+                                 ? bsearch(&key, pend, pend_n, sizeof(pending), pending_order)
+                                 : NULL;
         if (history) {
             const size_t m = sg->history_count;
             const double zero[6] = {0};
@@ -361,19 +402,21 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
             put(&w, sg->hist + 3 * m + 3 * i, 3 * sizeof(double));
             put(&w, zero, sizeof(zero));
             put(&w, sg->hist + 6 * m + i, sizeof(double));
+        } else if (hit != NULL) { /* (the rows as its record brought them) */
+            put(&w, st->domain.arrived_rows + 13 * hit->row, 13 * sizeof(double));
         }
-        for (int f = 0; f < 4 && !history; ++f)
+        for (int f = 0; f < 4 && !history && hit == NULL; ++f)
             put(&w, (mid_step && st->spare[f] != NULL ? st->spare[f] : vec[f]) + 3 * i,
                 3 * sizeof(double));
         const int saved = mid_step && st->thermal.count > 0 && st->thermal.theta_backup != NULL &&
                           i < st->thermal.backup_capacity;
-        if (!history)
+        if (!history && hit == NULL)
             put(&w, (saved ? st->thermal.theta_backup : ps->temperature) + i, sizeof(double));
         put(&w, ps->material + i, 4);
         put(&w, ps->flags + i, 4);
         double phi = 0.0;
         put_u64(&w, (uint64_t)warm_potential(st, i, &phi) | (uint64_t)mid_step << 1 |
-                        (uint64_t)history << 2);
+                        (uint64_t)(history || hit != NULL) << 2);
         put(&w, &phi, 8);
         for (uint32_t sec = 0; sec <= 2 * st->force_count; ++sec) {
             size_t count = 0;
@@ -410,7 +453,7 @@ static void write_stream(const sinter_stepper *st, size_t n, const size_t *indic
         }
         sinter_qs_carried c;
         sinter_qs_carried_of(st->kind == SINTER_STEPPER_QUASISTATIC ? st->quasistatic : NULL,
-                             ps->count, i, ps->id[i], &c);
+                             qs_index, qs_n, ps->count, i, ps->id[i], &c);
         put_u64(&w, c.bits);
         put(&w, c.fixed, sizeof(c.fixed));
         put(&w, c.u, sizeof(c.u));
@@ -583,7 +626,19 @@ sinter_status sinter_stepper_export(sinter_stepper *st, size_t n, const size_t *
         gathered_free(ctx, &g);
         return s;
     }
-    write_stream(st, n, indices, &g, buffer);
+    size_t pend_n = 0, qs_n = 0;
+    pending *pend = pending_rows(st, &pend_n, &s);
+    uint64_t *qs_index = s == SINTER_OK && st->kind == SINTER_STEPPER_QUASISTATIC
+                             ? sinter_qs_carried_index(st->quasistatic, ctx, &qs_n, &s)
+                             : NULL;
+    if (s != SINTER_OK) {
+        sinter_free(ctx, pend);
+        gathered_free(ctx, &g);
+        return sinter_fail(ctx, s, "sinter_stepper_export: out of memory");
+    }
+    write_stream(st, n, indices, &g, pend, pend_n, qs_index, qs_n, buffer);
+    sinter_free(ctx, pend);
+    sinter_free(ctx, qs_index);
     *written = g.bytes;
     gathered_free(ctx, &g);
     if (remove && n > 0) {

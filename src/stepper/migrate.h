@@ -85,9 +85,17 @@ typedef struct sinter_qs_carried {
 } sinter_qs_carried;
 #define SINTER_QS_CARRIED_BYTES (8 + 8 + 8 * 6 + 8 * 3)
 
-/* The state qs (may be NULL) keeps for the particle of index i of a set of n with id `id`. */
-void sinter_qs_carried_of(const sinter_qs *qs, size_t n, size_t i, uint64_t id,
-                          sinter_qs_carried *out);
+/* The carried states an import left pending until the next remap, indexed for
+ * sinter_qs_carried_of: (id, entry) pairs in ascending order, 2 * *count values (NULL with
+ * *count 0 when none; NULL with *s SINTER_ERR_NOMEM without memory). */
+uint64_t *sinter_qs_carried_index(const sinter_qs *qs, sinter_ctx *ctx, size_t *count,
+                                  sinter_status *s);
+
+/* The state qs (may be NULL) keeps for the particle of index i of a set of n with id `id`:
+ * its slot's, or for a particle imported and not yet remapped the last state its record
+ * brought (index: sinter_qs_carried_index's, may be NULL). */
+void sinter_qs_carried_of(const sinter_qs *qs, const uint64_t *index, size_t count, size_t n,
+                          size_t i, uint64_t id, sinter_qs_carried *out);
 
 /* Keep m carried states of particles of ids id[] until the next remap (which gives them their
  * slots when they cover every particle) and merge their initial positions. Errors:

@@ -34,8 +34,30 @@ static const sinter_qs_origin *origin_in(const sinter_qs_origin *o, size_t count
     return lo < count && o[lo].id == id ? &o[lo] : NULL;
 }
 
-void sinter_qs_carried_of(const sinter_qs *qs, size_t n, size_t i, uint64_t id,
-                          sinter_qs_carried *out)
+static int pair_order(const void *a, const void *b);
+
+uint64_t *sinter_qs_carried_index(const sinter_qs *qs, sinter_ctx *ctx, size_t *count,
+                                  sinter_status *s)
+{
+    *count = 0;
+    if (qs == NULL || qs->carried_count == 0)
+        return NULL;
+    uint64_t *index = sinter_alloc(ctx, 2 * qs->carried_count * sizeof(uint64_t));
+    if (index == NULL) {
+        *s = SINTER_ERR_NOMEM;
+        return NULL;
+    }
+    for (size_t k = 0; k < qs->carried_count; ++k) {
+        index[2 * k] = qs->carried_id[k];
+        index[2 * k + 1] = k;
+    }
+    qsort(index, qs->carried_count, 2 * sizeof(uint64_t), pair_order);
+    *count = qs->carried_count;
+    return index;
+}
+
+void sinter_qs_carried_of(const sinter_qs *qs, const uint64_t *index, size_t count, size_t n,
+                          size_t i, uint64_t id, sinter_qs_carried *out)
 {
     memset(out, 0, sizeof(*out));
     if (qs == NULL)
@@ -48,6 +70,25 @@ void sinter_qs_carried_of(const sinter_qs *qs, size_t n, size_t i, uint64_t id,
         if (qs->u_step > 0.0 && qs->u != NULL) {
             out->bits |= 2;
             memcpy(out->u, qs->u + 6 * sl, sizeof(out->u));
+        }
+    }
+    /* imported and exported again before a remap gave it a slot (a checkpoint's reader sends
+     * the particles of its pieces on to their owners): the state its record brought, the last
+     * of its id */
+    if (!(out->bits & 1) && index != NULL) {
+        size_t lo = 0, hi = count; /* the first pair of an id above `id` */
+        while (lo < hi) {
+            const size_t mid = lo + (hi - lo) / 2;
+            if (index[2 * mid] <= id)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        if (lo > 0 && index[2 * (lo - 1)] == id) {
+            const sinter_qs_carried *c = &qs->carried[index[2 * (lo - 1) + 1]];
+            out->bits |= c->bits & 3;
+            memcpy(out->fixed, c->fixed, sizeof(out->fixed));
+            memcpy(out->u, c->u, sizeof(out->u));
         }
     }
     const sinter_qs_origin *o = origin_in(qs->origins, qs->origin_count, id);

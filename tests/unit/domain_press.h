@@ -124,13 +124,16 @@ typedef struct press_job {
     int frictionless; /* 1: no Coulomb friction (0: the scene's 0.1) */
     int reverse;      /* 1: the particles added last first (another order of every sum) */
     int scheme;       /* the staggered stepper's option "scheme" */
+    int reproducible; /* the stepper's option "reproducible" (0: not set, the default mode) */
     double dt;        /* the explicit stepper's step [s] (the staggered one starts at 5 ms) */
     int steps;        /* calls of sinter_stepper_step(st, 1) */
     uint64_t host_id; /* the NaN host force's particle (0: none) */
     double nan_after; /* ... from this time on [s] */
-    /* the host's domain operations installed on the stepper (NULL: none), and what the
-     * caller reads before the stepper is destroyed (NULL: nothing) */
+    /* the host's domain operations installed on the stepper (NULL: none), the particles
+     * loaded after them instead of the spec's (NULL: the spec's slab), and what the caller
+     * reads before the stepper is destroyed (NULL: nothing) */
     sinter_status (*attach)(void *user, sinter_stepper *st, sinter_particles *ps);
+    sinter_status (*load)(void *user, sinter_stepper *st, sinter_particles *ps);
     sinter_status (*finish)(void *user, sinter_stepper *st);
     void *user;
     /* the results */
@@ -255,7 +258,7 @@ static inline void press_run(press_job *j, press_state *out)
     PRESS_TRY(sinter_stepper_set_electric(st, em));
     for (int q = 0; q < PRESS_N; ++q) {
         const int k = j->reverse ? PRESS_N - 1 - q : q;
-        if (press_slab_of(p->x[3 * k], j->x0, j->x1, j->size) != j->rank)
+        if (j->load != NULL || press_slab_of(p->x[3 * k], j->x0, j->x1, j->size) != j->rank)
             continue;
         size_t first = 0;
         PRESS_TRY(sinter_particles_add_with_ids(ps, 1, &p->id[k], p->x + 3 * k, &R, 0, p->temp[k],
@@ -281,8 +284,12 @@ static inline void press_run(press_job *j, press_state *out)
         PRESS_TRY(sinter_stepper_set_dt(st, j->dt));
     }
     PRESS_TRY(sinter_stepper_set_skin(st, 0.01)); /* rebuilds within the run */
+    if (j->reproducible)
+        PRESS_TRY(sinter_stepper_set_option(st, "reproducible", 1));
     if (j->attach != NULL)
         PRESS_TRY(j->attach(j->user, st, ps));
+    if (j->load != NULL)
+        PRESS_TRY(j->load(j->user, st, ps));
     j->status = SINTER_OK;
     for (int k = 1; k <= j->steps; ++k) {
         const sinter_status s = sinter_stepper_step(st, 1);
