@@ -16,6 +16,10 @@
  *  - The block between a current electrode and a grounded wall, with Joule heating and
  *    implicit conduction for 10 steps: the same comparisons, and the same PCG iterations.
  *
+ *  - The reproducible mode (stepper option "reproducible"; test_reproducible_mode): four of
+ *    the scenes above without domain operations and on 1-4 subdomains, on 1 and 2 threads:
+ *    every value above and the iteration counts the same bits (memcmp).
+ *
  * Tolerances: both PCGs stop at a relative residual of 1e-13 (conduction's fixed test, the
  * network's "tolerance" set here); a decomposed run sums the same terms in another order, so
  * its iterates differ by round-off, and the two solutions differ by at most the condition
@@ -330,7 +334,7 @@ static void compare_decompositions(const scene *sc)
         assert_true(et <= 1e-9 && ei <= 1e-9 && ep <= 1e-9 && ej <= 1e-9 && ew <= 1e-9);
         assert_true(fabs(DEC.supplied - REF.supplied) <= 1e-9 * fabs(REF.supplied));
         assert_true(fabs(DEC.dissipated - REF.dissipated) <= 1e-9 * fabs(REF.dissipated));
-        if (sc->jiggle > 0.0) { /* (a migration drops the network's warm start) */
+        if (sc->jiggle > 0.0) { /* (migrations: a solve's start may differ by round-off) */
             print_message("%d subdomains: %llu migrations\n", size,
                           (unsigned long long)DEC.migrated);
             assert_true(DEC.migrated > 0);
