@@ -1066,8 +1066,15 @@ SINTER_API sinter_status sinter_stepper_get_periodic(const sinter_stepper *stepp
  * iteration (each current from its neighbours' of the last sweep) with exact
  * stopping sums instead of Gauss-Seidel: about 1.7 times the sweeps from a
  * cold start, as many once warm; its currents then differ from the default's
- * within the model's tolerance. Setting it rebuilds the
- * neighbour lists at the next evaluation; forces already evaluated are kept.
+ * within the model's tolerance. The "network" electric model and implicit
+ * conduction (SINTER_THERMAL_IMPLICIT) take every PCG dot product and norm
+ * as an exact sum, a current electrode's row, diagonal and current too, with
+ * or without domain operations: their solutions the same bits on any number
+ * of subdomains and threads (the network's cold solves about twice the
+ * default's instructions, tests/bench/RESULTS.md). The heat models' energies
+ * (sinter_stepper_heat_energy_global) are not exact sums yet. Setting it
+ * rebuilds the neighbour lists at the next evaluation; forces already
+ * evaluated are kept.
  * The quasi-static stepper takes it too: 1 makes every sum over particles or
  * links exact (each particle's loads, the bonded solve's operator products,
  * diagonal blocks and dot products, the green density, mean temperature,

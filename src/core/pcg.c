@@ -27,6 +27,9 @@ struct sinter_pcg {
     sinter_pcg_sum sum;
     void *sum_data;
     size_t counted;
+    /* the reproducible mode (sinter_pcg_set_dot): every dot product through dot (NULL: off) */
+    sinter_pcg_dot_fn dot;
+    void *dot_data;
 };
 
 /* The solve under way on this thread: SUNDIALS calls the vector operations below without a
@@ -139,6 +142,8 @@ static const sinter_pcg *parted_solve(void)
 static realtype dot_op(N_Vector x, N_Vector y)
 {
     const sinter_pcg *g = active_solve;
+    if (g != NULL && g->dot != NULL)
+        return g->dot(NV_DATA_S(x), NV_DATA_S(y), g->counted, g->dot_data);
     if (g != NULL && g->sum != NULL)
         return g->sum(sinter_pcg_dot(NV_DATA_S(x), NV_DATA_S(y), g->counted), g->sum_data);
     const sinter_pcg *p = parted_solve();
@@ -242,6 +247,13 @@ void sinter_pcg_set_sum(sinter_pcg *pcg, sinter_pcg_sum sum, void *data, size_t 
 {
     pcg->sum = sum;
     pcg->sum_data = data;
+    pcg->counted = counted <= pcg->n ? counted : pcg->n;
+}
+
+void sinter_pcg_set_dot(sinter_pcg *pcg, sinter_pcg_dot_fn dot, void *data, size_t counted)
+{
+    pcg->dot = dot;
+    pcg->dot_data = data;
     pcg->counted = counted <= pcg->n ? counted : pcg->n;
 }
 

@@ -42,6 +42,15 @@ typedef double (*sinter_pcg_sum)(double local, void *data);
 void sinter_pcg_set_sum(sinter_pcg *pcg, sinter_pcg_sum sum, void *data, size_t counted);
 
 /*
+ * The reproducible mode (issue 43): every dot product (and so every norm and the stopping test)
+ * is dot(x, y, counted, data) instead, over the first `counted` unknowns: an exact sum over
+ * every subdomain (domain/solve.h), whose bits do not depend on the split. Takes precedence over
+ * sinter_pcg_set_sum and the parts. `dot` NULL: off.
+ */
+typedef double (*sinter_pcg_dot_fn)(const double *x, const double *y, size_t n, void *data);
+void sinter_pcg_set_dot(sinter_pcg *pcg, sinter_pcg_dot_fn dot, void *data, size_t counted);
+
+/*
  * Solve A x = b until |b - A x|_2 <= tol, preconditioned by `precondition`.
  * Returns SUNDIALS' code (0: converged); *iterations and *residual (may be NULL) get the
  * iterations taken and the final residual norm.

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "domain/exact_reduce.h"
+
 void sinter_domain_solve_free(sinter_domain_solve *ds)
 {
     if (ds->ctx != NULL)
@@ -54,6 +56,31 @@ double sinter_domain_solve_sum(double local, void *data)
     double v = local;
     if (!ds->failed && sinter_domain_reduce(ds->ctx, ds->d, &v, 1, SINTER_REDUCE_F64,
                                             SINTER_REDUCE_SUM) != SINTER_OK)
+        ds->failed = 1;
+    return ds->failed ? 0.0 : v;
+}
+
+sinter_status sinter_domain_exact_sums(sinter_ctx *ctx, sinter_domain *d, size_t count,
+                                       const double *const *a, const double *const *b,
+                                       const size_t *n, double *out)
+{
+    sinter_exact x;
+    sinter_exact_begin(&x, count);
+    for (size_t c = 0; c < x.count; ++c)
+        sinter_exact_scan(&x, c, a[c], b[c], n[c]);
+    const sinter_status s = sinter_exact_agree(ctx, d, &x);
+    if (s != SINTER_OK)
+        return s;
+    for (size_t c = 0; c < x.count; ++c)
+        sinter_exact_add(&x, c, a[c], b[c], n[c]);
+    return sinter_exact_finish(ctx, d, &x, out);
+}
+
+double sinter_domain_solve_exact_dot(const double *x, const double *y, size_t n, void *data)
+{
+    sinter_domain_solve *ds = data;
+    double v = 0.0;
+    if (ds->failed || sinter_domain_exact_sums(ds->ctx, ds->d, 1, &x, &y, &n, &v) != SINTER_OK)
         ds->failed = 1;
     return ds->failed ? 0.0 : v;
 }

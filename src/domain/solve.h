@@ -42,4 +42,19 @@ void sinter_domain_solve_forward(sinter_domain_solve *ds, const double *owned);
 /* A sinter_pcg_sum: the sum of `local` over every subdomain (data: a sinter_domain_solve). */
 double sinter_domain_solve_sum(double local, void *data);
 
+/*
+ * A sinter_pcg_dot_fn for the reproducible mode (issue 43): the exact sum of x[k] y[k], k < n,
+ * over every subdomain (domain/exact_reduce.h: each product rounded once, then limb sums, two
+ * integer reductions), the same bits for any split of the terms. Without domain operations
+ * (ds->d NULL) the local exact sum, the same bits as on any number of subdomains. On a failure
+ * ds->failed is set and the result is 0.
+ */
+double sinter_domain_solve_exact_dot(const double *x, const double *y, size_t n, void *data);
+
+/* The exact sums out[c] = sum_k a[c][k] b[c][k] (b[c] NULL: the a[c][k]), k < n[c], c < count
+ * (count <= SINTER_EXACT_MAX), over every subdomain (d NULL or off: this part's). */
+sinter_status sinter_domain_exact_sums(sinter_ctx *ctx, sinter_domain *d, size_t count,
+                                       const double *const *a, const double *const *b,
+                                       const size_t *n, double *out);
+
 #endif

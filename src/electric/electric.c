@@ -76,6 +76,10 @@ void sinter_electric_model_destroy(sinter_electric_model *em)
     sinter_free(ctx, em->label);
     sinter_free(ctx, em->wall_words);
     sinter_free(ctx, em->wall_sums);
+    sinter_free(ctx, em->repro_edge);
+    sinter_free(ctx, em->repro_start);
+    sinter_free(ctx, em->repro_a);
+    sinter_free(ctx, em->repro_b);
     em->across.ctx = ctx;
     sinter_domain_solve_free(&em->across);
     sinter_free(ctx, em->adj_start);

@@ -135,6 +135,16 @@ struct sinter_electric_model {
     long rank;                         /* this subdomain's number in the solve under way */
     size_t across_owned, across_nodes; /* its owned particles and nodes (+ walls) */
     int across_walls_free;             /* a current wall's potential is an unknown */
+    /* network in the reproducible mode (em->reproducible, issue 43): a free current wall's
+     * row, diagonal and the norms are exact sums over every subdomain (network.c); the free
+     * edges to walls grouped by wall (repro_start[w] .. repro_start[w + 1] in repro_edge), and
+     * the terms of one product */
+    uint32_t *repro_edge;
+    size_t repro_edge_capacity;
+    size_t *repro_start;
+    size_t repro_start_capacity;
+    double *repro_a, *repro_b;
+    size_t repro_a_capacity, repro_b_capacity;
 };
 
 /*

@@ -55,6 +55,7 @@
 #include <string.h>
 
 #include "core/pcg.h"
+#include "domain/exact_reduce.h"
 #include "electric.h"
 
 static const uint32_t NO_NODE = UINT32_MAX;
@@ -71,11 +72,77 @@ static inline uint32_t node_of(const sinter_electric_model *em, size_t owned, ui
     return j < owned ? j : em->ghost_owner[j - owned];
 }
 
+/*
+ * The reproducible mode (em->reproducible, issue 43): a particle's row adds its terms in the
+ * order of the pair list, which the mode sorts by ids, so that its bits do not depend on the
+ * decomposition; a free current wall's row gathers the edges of every subdomain, so its
+ * diagonal and its products are exact sums over them (domain/exact_reduce.h), without domain
+ * operations too (the same bits). The first subdomain (or the only one) adds the diagonal term.
+ * Free edges to walls grouped by wall: wall w's are repro_edge[repro_start[w] ..
+ * repro_start[w + 1]).
+ */
+static sinter_status repro_group(sinter_electric_model *em, size_t n, size_t nw)
+{
+    SINTER_ELECTRIC_RESERVE(em, repro_start, nw + 2);
+    SINTER_ELECTRIC_RESERVE(em, repro_edge, em->free_edges + 1);
+    size_t *start = em->repro_start;
+    memset(start, 0, (nw + 2) * sizeof(size_t));
+    for (size_t e = 0; e < em->free_edges; ++e)
+        if (em->free_b[e] >= n && em->free_b[e] < n + nw)
+            start[em->free_b[e] - n + 2]++;
+    for (size_t w = 0; w < nw; ++w)
+        start[w + 2] += start[w + 1];
+    for (size_t e = 0; e < em->free_edges; ++e)
+        if (em->free_b[e] >= n && em->free_b[e] < n + nw)
+            em->repro_edge[start[em->free_b[e] - n + 1]++] = (uint32_t)e;
+    return SINTER_OK;
+}
+
+/* The free walls' rows as exact sums: of z = A v (vv not NULL: the diagonal term and each
+ * edge's -g v_a) or of the diagonal (vv NULL: each edge's g), into out[n + w]. */
+static void repro_wall_rows(sinter_electric_model *em, const double *vv, double *out, size_t n,
+                            size_t nw)
+{
+    const size_t *start = em->repro_start;
+    double *ta = em->repro_a, *tb = em->repro_b;
+    for (size_t w0 = 0; w0 < nw; w0 += SINTER_EXACT_MAX) {
+        const size_t m = nw - w0 < SINTER_EXACT_MAX ? nw - w0 : SINTER_EXACT_MAX;
+        const double *a[SINTER_EXACT_MAX], *b[SINTER_EXACT_MAX];
+        size_t count[SINTER_EXACT_MAX], pos = 0;
+        double sum[SINTER_EXACT_MAX];
+        for (size_t c = 0; c < m; ++c) {
+            const size_t w = w0 + c, first = pos;
+            a[c] = ta + pos;
+            b[c] = tb + pos;
+            if (em->state[n + w] & NODE_FREE) {
+                if (vv != NULL && em->rank == 0) {
+                    ta[pos] = em->diag[n + w];
+                    tb[pos++] = vv[n + w];
+                }
+                for (size_t k = start[w]; k < start[w + 1]; ++k) {
+                    const uint32_t e = em->repro_edge[k];
+                    ta[pos] = vv != NULL ? -em->free_g[e] : em->free_g[e];
+                    tb[pos++] = vv != NULL ? vv[em->free_a[e]] : 1.0;
+                }
+            }
+            count[c] = pos - first;
+        }
+        if (em->across.failed ||
+            sinter_domain_exact_sums(em->ctx, em->domain, m, a, b, count, sum) != SINTER_OK) {
+            em->across.failed = 1;
+            memset(sum, 0, sizeof(sum));
+        }
+        for (size_t c = 0; c < m; ++c)
+            if (em->state[n + w0 + c] & NODE_FREE)
+                out[n + w0 + c] = sum[c];
+    }
+}
+
 /* z = A v: Jacobi diagonal times v minus the couplings between free nodes (a coupling to a
  * pinned node lives in the right-hand side). */
 static void apply_operator(const double *vv, double *zz, void *data)
 {
-    const sinter_electric_model *em = data;
+    sinter_electric_model *em = data;
     const uint32_t *fa = em->free_a, *fb = em->free_b;
     const double *fg = em->free_g;
     for (size_t p = 0; p < em->pcg_nodes; ++p)
@@ -85,6 +152,8 @@ static void apply_operator(const double *vv, double *zz, void *data)
         zz[a] -= fg[e] * vv[b];
         zz[b] -= fg[e] * vv[a];
     }
+    if (em->reproducible && em->across_walls_free)
+        repro_wall_rows(em, vv, zz, em->across_owned, em->across_nodes - em->across_owned);
 }
 
 /*
@@ -112,6 +181,10 @@ static void apply_operator_across(const double *vv, double *zz, void *data)
     }
     if (!em->across_walls_free)
         return;
+    if (em->reproducible) {
+        repro_wall_rows(em, vv, zz, n, nw);
+        return;
+    }
     double *sum = em->wall_sums;
     for (size_t w = 0; w < nw; ++w)
         sum[w] = em->state[n + w] & NODE_FREE ? zz[n + w] : 0.0;
@@ -366,6 +439,29 @@ static sinter_status host_split_power(sinter_electric_model *em, sinter_particle
     return SINTER_OK;
 }
 
+/* The reproducible mode: the supplied and dissipated powers as exact sums of the edges' terms
+ * (account_power's) over every subdomain. */
+static sinter_status repro_powers(sinter_electric_model *em, size_t nodes)
+{
+    const double *phi = em->potential;
+    double *dis = em->repro_a, *sup = em->repro_b;
+    for (size_t e = 0; e < em->edge_count; ++e) {
+        const uint32_t a = em->edge_a[e], b = em->edge_b[e];
+        const double drop = phi[a] - phi[b], power = em->edge_g[e] * drop * drop;
+        dis[e] = b < nodes ? power : 0.5 * power;
+        sup[e] =
+            b >= nodes || b < em->across_owned ? 0.0 : phi[b] * em->edge_g[e] * (phi[b] - phi[a]);
+    }
+    const double *terms[2] = {sup, dis}, *none[2] = {NULL, NULL};
+    const size_t count[2] = {em->edge_count, em->edge_count};
+    double total[2] = {0.0, 0.0};
+    const sinter_status s =
+        sinter_domain_exact_sums(em->ctx, em->domain, 2, terms, none, count, total);
+    em->supplied_power = total[0];
+    em->dissipated_power = total[1];
+    return s;
+}
+
 /*
  * The power of the solution (Joule's law on each resistor, P = G (phi_a - phi_b)^2): a
  * particle-particle contact gives half its power to each particle, a particle-wall contact all
@@ -404,6 +500,8 @@ static sinter_status account_power(sinter_electric_model *em, sinter_particles *
     em->dissipation_count = ps->count;
     em->dissipated_power = dissipated;
     em->supplied_power = supplied;
+    if (em->reproducible) /* the two sums exact over every subdomain */
+        return repro_powers(em, nodes);
     if (em->domain == NULL)
         return SINTER_OK;
     double total[2] = {supplied, dissipated}; /* over every subdomain */
@@ -503,9 +601,13 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
     const size_t n = owned_count(ps), nw = walls != NULL ? walls->count : 0, nodes = n + nw;
     sinter_domain *dom = em->domain; /* across subdomains: ghosts after the walls */
     const size_t all = dom != NULL ? nodes + ps->ghost_count : nodes;
-    if (dom != NULL)
+    if (dom != NULL || em->reproducible) /* (the mode's exact sums: their failure flag) */
         em->across =
             (sinter_domain_solve){em->ctx, dom, ps, em->across.rows, em->across.rows_capacity, 0};
+    em->rank = 0;
+    em->across_owned = n;
+    em->across_nodes = nodes;
+    em->across_walls_free = 0;
     em->open_clusters = 0;
     SINTER_ELECTRIC_RESERVE(em, parent, all + 1);
     SINTER_ELECTRIC_RESERVE(em, state, all + 1);
@@ -537,6 +639,10 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
         return s;
     if (dom == NULL)
         classify_nodes(em, walls, n, nw);
+    if (em->reproducible) { /* the exact sums' terms */
+        SINTER_ELECTRIC_RESERVE(em, repro_a, em->edge_count + all + 1);
+        SINTER_ELECTRIC_RESERVE(em, repro_b, em->edge_count + all + 1);
+    }
 
     /* Right-hand side, diagonal and start: pinned rows are identities at their value. */
     double *phi = em->potential, *diag = em->diag, *rhs = em->net; /* net is no longer needed */
@@ -580,15 +686,26 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
             return s;
         /* the wall nodes are copies on every subdomain: counted by the first */
         const size_t counted = em->rank == 0 ? nodes : n;
-        for (size_t p = 0; p < counted; ++p)
+        for (size_t p = 0; p < counted && !em->reproducible; ++p)
             if (state[p] & NODE_FREE)
                 bnorm += rhs[p] * rhs[p];
-        if ((s = sinter_domain_reduce(em->ctx, dom, &bnorm, 1, SINTER_REDUCE_F64,
-                                      SINTER_REDUCE_SUM)) != SINTER_OK ||
+        if ((!em->reproducible &&
+             (s = sinter_domain_reduce(em->ctx, dom, &bnorm, 1, SINTER_REDUCE_F64,
+                                       SINTER_REDUCE_SUM)) != SINTER_OK) ||
             (s = sinter_domain_reduce(em->ctx, dom, &free_total, 1, SINTER_REDUCE_U64,
                                       SINTER_REDUCE_SUM)) != SINTER_OK)
             return s;
-    } else {
+    }
+    if (em->reproducible) { /* |b|^2 an exact sum (the wall rows counted by the first) */
+        const size_t counted = em->rank == 0 ? nodes : n;
+        double *t = em->repro_a;
+        for (size_t p = 0; p < counted; ++p)
+            t[p] = state[p] & NODE_FREE ? rhs[p] : 0.0;
+        const double *ta = t;
+        if ((s = sinter_domain_exact_sums(em->ctx, dom, 1, &ta, &ta, &counted, &bnorm)) !=
+            SINTER_OK)
+            return s;
+    } else if (dom == NULL) {
         for (size_t p = 0; p < nodes; ++p)
             if (state[p] & NODE_FREE)
                 bnorm += rhs[p] * rhs[p];
@@ -614,6 +731,16 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
             }
         }
         em->free_edges = kept;
+        if (em->reproducible) { /* the free walls' diagonals as exact sums over the edges */
+            for (size_t w = 0; w < nw; ++w)
+                em->across_walls_free |= (state[n + w] & NODE_FREE) != 0;
+            if ((s = repro_group(em, n, nw)) != SINTER_OK)
+                return s;
+            if (em->across_walls_free)
+                repro_wall_rows(em, NULL, diag, n, nw);
+            if (em->across.failed)
+                return sinter_last_status(em->ctx);
+        }
         const int maxl = (int)fmin(em->max_iterations, 2147483647.0);
         /* (an empty subdomain without walls solves 1 x = 0 as its part) */
         const size_t unknowns = nodes > 0 || dom == NULL ? nodes : 1;
@@ -631,19 +758,20 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
         memcpy(sinter_pcg_rhs(em->pcg), rhs, unknowns * sizeof(double));
         int iterations = 0;
         double res = 0.0;
-        if (dom != NULL) {
-            em->across_owned = n;
-            em->across_nodes = nodes;
+        if (dom != NULL)
             sinter_pcg_set_sum(em->pcg, sinter_domain_solve_sum, &em->across,
                                em->rank == 0 ? nodes : n);
-        }
+        if (em->reproducible) /* every dot product an exact sum, with or without domains */
+            sinter_pcg_set_dot(em->pcg, sinter_domain_solve_exact_dot, &em->across,
+                               em->rank == 0 ? nodes : n);
         const int rc =
             sinter_pcg_solve(em->pcg, dom != NULL ? apply_operator_across : apply_operator,
                              precondition, em, em->tolerance * bnorm, &iterations, &res);
         sinter_pcg_set_sum(em->pcg, NULL, NULL, 0);
+        sinter_pcg_set_dot(em->pcg, NULL, NULL, 0);
         em->last_iterations = (size_t)iterations;
         memcpy(phi, sinter_pcg_solution(em->pcg), nodes * sizeof(double));
-        if (dom != NULL && em->across.failed)
+        if ((dom != NULL || em->reproducible) && em->across.failed)
             return sinter_last_status(em->ctx);
         if (rc != 0)
             return sinter_fail(em->ctx, SINTER_ERR_NOT_CONVERGED,
@@ -679,6 +807,32 @@ static sinter_status solve_once(sinter_electric_model *em, sinter_particles *ps,
     return account_power(em, ps, walls, pp, pw);
 }
 
+/* The reproducible mode: the current from each wall into the powder as an exact sum over every
+ * subdomain, into em->wall_sums. 0 on a failure. */
+static int repro_wall_currents(sinter_electric_model *em, size_t nw, size_t n)
+{
+    const double *phi = em->potential;
+    double *t = em->repro_a;
+    for (size_t w0 = 0; w0 < nw; w0 += SINTER_EXACT_MAX) {
+        const size_t m = nw - w0 < SINTER_EXACT_MAX ? nw - w0 : SINTER_EXACT_MAX;
+        const double *a[SINTER_EXACT_MAX], *b[SINTER_EXACT_MAX];
+        size_t count[SINTER_EXACT_MAX], pos = 0;
+        for (size_t c = 0; c < m; ++c) {
+            const size_t w = w0 + c, first = pos;
+            a[c] = t + pos;
+            b[c] = NULL;
+            for (size_t e = 0; e < em->edge_count; ++e)
+                if (em->edge_b[e] == n + w)
+                    t[pos++] = em->edge_g[e] * (phi[n + w] - phi[em->edge_a[e]]);
+            count[c] = pos - first;
+        }
+        if (sinter_domain_exact_sums(em->ctx, em->domain, m, a, b, count, em->wall_sums + w0) !=
+            SINTER_OK)
+            return 0;
+    }
+    return 1;
+}
+
 /* Across subdomains: the current from each wall into the powder, summed over the
  * subdomains, into em->wall_sums (collective when a wall has a limit). 0 on a failure. */
 static int wall_currents_across(sinter_electric_model *em, const sinter_walls *walls, size_t n)
@@ -694,6 +848,8 @@ static int wall_currents_across(sinter_electric_model *em, const sinter_walls *w
     if (sums == NULL)
         return 0;
     em->wall_sums = sums;
+    if (em->reproducible) /* exact sums, with or without domain operations */
+        return repro_wall_currents(em, walls->count, n);
     for (size_t w = 0; w < walls->count; ++w) {
         em->wall_sums[w] = 0.0;
         for (size_t e = 0; e < em->edge_count; ++e)
@@ -713,7 +869,7 @@ static int apply_limits(sinter_electric_model *em, const sinter_walls *walls, si
 {
     const double *phi = em->potential;
     int changed = 0;
-    if (em->domain != NULL && !wall_currents_across(em, walls, n))
+    if ((em->domain != NULL || em->reproducible) && !wall_currents_across(em, walls, n))
         return 0; /* (a failed reduction: reported by the caller) */
     for (size_t w = 0; w < walls->count; ++w) {
         const double limit = walls->wall[w].electric_limit;
@@ -725,10 +881,10 @@ static int apply_limits(sinter_electric_model *em, const sinter_walls *walls, si
             changed = 1;
         } else if (em->wall_mode[w] == SINTER_WALL_POTENTIAL) {
             double current = 0.0; /* from the wall into the powder */
-            for (size_t e = 0; e < em->edge_count && em->domain == NULL; ++e)
+            for (size_t e = 0; e < em->edge_count && em->domain == NULL && !em->reproducible; ++e)
                 if (em->edge_b[e] == n + w)
                     current += em->edge_g[e] * (phi[n + w] - phi[em->edge_a[e]]);
-            if (em->domain != NULL) /* (over every subdomain) */
+            if (em->domain != NULL || em->reproducible) /* (over every subdomain) */
                 current = em->wall_sums[w];
             if (fabs(current) > limit) {
                 em->wall_mode[w] = SINTER_WALL_CURRENT;

@@ -304,7 +304,9 @@ static int warm_potential(const sinter_stepper *st, size_t i, double *phi)
     const double *warm =
         st->electric != NULL ? sinter_electric_warm_potentials(st->electric, &nodes) : NULL;
     const size_t nw = st->walls != NULL ? st->walls->count : 0;
-    if (warm == NULL || nodes != st->ps->count + nw)
+    /* (a decomposed run exports with its ghosts there: the particle nodes are the owned rows) */
+    const size_t rows = st->domain.on ? st->ps->count - st->ps->ghost_count : st->ps->count;
+    if (warm == NULL || nodes != rows + nw || i >= rows)
         return 0;
     *phi = warm[i];
     return 1;
@@ -521,7 +523,10 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
     size_t nodes = 0;
     const double *warm =
         st->electric != NULL ? sinter_electric_warm_potentials(st->electric, &nodes) : NULL;
-    const int keep_warm = warm != NULL && nodes == ps->count + nw;
+    /* (a decomposed run removes its leavers with the ghosts still there: the warm start's
+     * particle nodes are the owned rows, the walls after them) */
+    const size_t rows = st->domain.on ? ps->count - ps->ghost_count : ps->count;
+    const int keep_warm = warm != NULL && nodes == rows + nw;
     double *phi = keep_warm ? sinter_alloc(ctx, (nodes + 1) * sizeof(double)) : NULL;
     sinter_migrate_stage *stage = st->migrate;
     size_t staged = 0;
@@ -547,7 +552,7 @@ static sinter_status remove_exported(sinter_stepper *st, size_t n, const size_t 
                                              (k % 2 == 0 && stays(ps, &l, key[1])));
             }
         for (size_t i = 0; keep_warm && i < nodes; ++i) {
-            const int leaves = i < ps->count && left(&(leaving){gone, n, 0}, ps->id[i]);
+            const int leaves = i < rows && left(&(leaving){gone, n, 0}, ps->id[i]);
             if (!leaves)
                 phi[kept++] = warm[i];
         }

@@ -484,6 +484,19 @@ static double assemble(sinter_stepper *st, double h, size_t n, int across, doubl
 }
 
 /*
+ * The reproducible mode (issue 43): |b|^2 as an exact sum over every subdomain (d NULL: this
+ * part's), the same bits for any split. The rows' own terms already come in an order fixed by
+ * the ids (the sorted pair list), and the PCG's dot products are exact sums too
+ * (sinter_domain_solve_exact_dot), so that the solve is the same bits without domain operations
+ * and on any number of subdomains.
+ */
+static sinter_status repro_norm(sinter_stepper *st, sinter_domain *d, const double *b, size_t n,
+                                double *bnorm)
+{
+    return sinter_domain_exact_sums(st->ctx, d, 1, &b, &b, &n, bnorm);
+}
+
+/*
  * Backward Euler across subdomains (domain/solve.h): the owned particles' rows, the pairs with
  * a ghost end assembled on this side for their owned end (the other side assembles its own),
  * the ghosts' temperatures those of their owners at t (the halo after the last accepted
@@ -518,16 +531,22 @@ static sinter_status implicit_update_across(sinter_stepper *st, double h)
     sv->st = st;
     sv->diag = diag;
     double bnorm = assemble(st, h, n, 1, diag, b, x);
-    if ((s = sinter_domain_reduce(st->ctx, d, &bnorm, 1, SINTER_REDUCE_F64, SINTER_REDUCE_SUM)) !=
-        SINTER_OK)
+    if (st->reproducible) /* |b|^2 and every dot product exact sums (repro_norm) */
+        s = repro_norm(st, d, b, n, &bnorm);
+    else
+        s = sinter_domain_reduce(st->ctx, d, &bnorm, 1, SINTER_REDUCE_F64, SINTER_REDUCE_SUM);
+    if (s != SINTER_OK)
         return s;
     const double tol = 1e-13 * sqrt(bnorm) + 1e-300;
     int iterations = 0;
     double residual = 0.0;
     sinter_pcg_set_sum(sv->pcg, sinter_domain_solve_sum, &sv->across, n);
+    if (st->reproducible)
+        sinter_pcg_set_dot(sv->pcg, sinter_domain_solve_exact_dot, &sv->across, n);
     const int rc = sinter_pcg_solve(sv->pcg, apply_operator_across, precondition, sv, tol,
                                     &iterations, &residual);
     sinter_pcg_set_sum(sv->pcg, NULL, NULL, 0);
+    sinter_pcg_set_dot(sv->pcg, NULL, NULL, 0);
     if (sv->across.failed)
         return sinter_last_status(st->ctx);
     /* (every subdomain: the same reduced residuals) */
@@ -552,12 +571,22 @@ static sinter_status implicit_update(sinter_stepper *st, double h)
            *x = sinter_pcg_solution(sv->pcg);
     sv->st = st;
     sv->diag = diag;
-    const double bnorm = assemble(st, h, n, 0, diag, b, x);
+    double bnorm = assemble(st, h, n, 0, diag, b, x);
+    if (st->reproducible) { /* the decomposed run's exact sums, on this part alone */
+        sv->across =
+            (sinter_domain_solve){st->ctx, NULL, ps, sv->across.rows, sv->across.rows_capacity, 0};
+        if ((s = repro_norm(st, NULL, b, n, &bnorm)) != SINTER_OK)
+            return s;
+        sinter_pcg_set_dot(sv->pcg, sinter_domain_solve_exact_dot, &sv->across, n);
+    }
     const double tol = 1e-13 * sqrt(bnorm) + 1e-300;
     int iterations = 0;
     double residual = 0.0;
     const int rc =
         sinter_pcg_solve(sv->pcg, apply_operator, precondition, sv, tol, &iterations, &residual);
+    sinter_pcg_set_dot(sv->pcg, NULL, NULL, 0);
+    if (st->reproducible && sv->across.failed)
+        return sinter_last_status(st->ctx);
     return take_solution(st, h, x, n, rc, iterations, residual);
 }
 

@@ -10,6 +10,11 @@
  * the two modes may do differently (Jacobi against Gauss-Seidel sweeps).
  *
  *   staggered_repro_cost --reproducible R --steps K [--scheme S] [--side M] [--layers L]
+ *                        [--network 1]
+ *
+ * --network 1: the "network" electric model instead (1 A from the floor to the grounded top
+ * wall, PCG tolerance 1e-10, as test_domain_staggered_repro.c's network press); the electric
+ * count printed is then the PCG's iterations.
  *
  * RESULTS.md, "The staggered stepper's reproducible mode", has the figures and the command.
  */
@@ -39,7 +44,7 @@ static double lcg(uint64_t *s)
 
 int main(int argc, char **argv)
 {
-    int reproducible = 0, steps = 10, scheme = 1, side = 10, layers = 6;
+    int reproducible = 0, steps = 10, scheme = 1, side = 10, layers = 6, network = 0;
     for (int a = 1; a + 1 < argc; a += 2) {
         const int v = atoi(argv[a + 1]);
         if (strcmp(argv[a], "--reproducible") == 0)
@@ -52,6 +57,8 @@ int main(int argc, char **argv)
             side = v;
         else if (strcmp(argv[a], "--layers") == 0)
             layers = v;
+        else if (strcmp(argv[a], "--network") == 0)
+            network = v;
         else {
             fprintf(stderr, "unknown option %s\n", argv[a]);
             return 2;
@@ -74,6 +81,14 @@ int main(int argc, char **argv)
     CHECK(sinter_stepper_create(&st, ctx, SINTER_STEPPER_STAGGERED, ps, walls));
     domain_press_models models = {NULL, NULL, NULL, NULL, NULL, NULL};
     CHECK(domain_press_add_models(ctx, st, 1e-4, &models)); /* the scene's electric tolerance */
+    sinter_electric_model *em = NULL;
+    if (network) {
+        CHECK(sinter_electric_model_create(&em, ctx, "network"));
+        CHECK(sinter_electric_model_set(em, "tolerance", 1e-10));
+        CHECK(sinter_stepper_set_electric(st, em));
+        CHECK(sinter_walls_set_electric(walls, 0, SINTER_WALL_CURRENT, 1.0));
+        CHECK(sinter_walls_set_electric(walls, 1, SINTER_WALL_POTENTIAL, 0.0));
+    }
     CHECK(sinter_stepper_set_option(st, "reproducible", reproducible));
     CHECK(sinter_stepper_set_option(st, "scheme", scheme));
     CHECK(sinter_stepper_set_dt(st, 0.005));
@@ -108,14 +123,16 @@ int main(int argc, char **argv)
     CHECK(sinter_stepper_electric_iterations(st, &sweeps));
     double t = 0.0;
     CHECK(sinter_stepper_time(st, &t));
-    printf("particles %d reproducible %d scheme %d: %llu steps, %llu rejected, %llu iterations, "
+    printf("particles %d network %d reproducible %d scheme %d: %llu steps, %llu rejected, %llu "
+           "iterations, "
            "%llu evaluations, %llu builds, %llu electric sweeps, t = %.9g s\n",
-           n, reproducible, scheme, (unsigned long long)stats.steps,
+           n, network, reproducible, scheme, (unsigned long long)stats.steps,
            (unsigned long long)stats.rejected, (unsigned long long)stats.iterations,
            (unsigned long long)stats.evaluations, (unsigned long long)stats.neighbor_builds,
            (unsigned long long)sweeps, t);
     sinter_stepper_destroy(st);
     domain_press_models_destroy(&models);
+    sinter_electric_model_destroy(em);
     sinter_walls_destroy(walls);
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);

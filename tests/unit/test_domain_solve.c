@@ -16,6 +16,10 @@
  *  - The block between a current electrode and a grounded wall, with Joule heating and
  *    implicit conduction for 10 steps: the same comparisons, and the same PCG iterations.
  *
+ *  - The reproducible mode (stepper option "reproducible"; test_reproducible_mode): four of
+ *    the scenes above without domain operations and on 1-4 subdomains, on 1 and 2 threads:
+ *    every value above and the iteration counts the same bits (memcmp).
+ *
  * Tolerances: both PCGs stop at a relative residual of 1e-13 (conduction's fixed test, the
  * network's "tolerance" set here); a decomposed run sums the same terms in another order, so
  * its iterates differ by round-off, and the two solutions differ by at most the condition
@@ -80,6 +84,10 @@ typedef struct job {
 
 static pthread_mutex_t OUT_LOCK = PTHREAD_MUTEX_INITIALIZER;
 
+/* The stepper's option "reproducible" and the context's threads of every run (set by the
+ * reproducible mode's test; 0 and 1 otherwise). */
+static int REPRO = 0, THREADS = 1;
+
 static double lcg(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -134,7 +142,7 @@ static void *run_scene(void *arg)
     const int electric = sc->kind != CONDUCTION;
     const int heat = sc->kind == CONDUCTION || sc->kind == BLOCK_JOULE;
     TRY(sinter_ctx_create(&ctx, NULL));
-    TRY(sinter_ctx_set_threads(ctx, 1));
+    TRY(sinter_ctx_set_threads(ctx, THREADS));
     TRY(sinter_material_create(&mat, ctx, "sphere"));
     TRY(sinter_material_set(mat, SINTER_MAT_DENSITY, 2500));
     TRY(sinter_material_set(mat, SINTER_MAT_THERMAL_CONDUCTIVITY, 400));
@@ -159,6 +167,7 @@ static void *run_scene(void *arg)
             TRY(sinter_walls_set_electric(walls, 1, SINTER_WALL_POTENTIAL, 0.0));
     }
     TRY(sinter_stepper_create(&st, ctx, SINTER_STEPPER_EXPLICIT, ps, walls));
+    TRY(sinter_stepper_set_option(st, "reproducible", REPRO));
     if (heat) {
         TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
         TRY(sinter_stepper_add_heat(st, cond));
@@ -325,7 +334,7 @@ static void compare_decompositions(const scene *sc)
         assert_true(et <= 1e-9 && ei <= 1e-9 && ep <= 1e-9 && ej <= 1e-9 && ew <= 1e-9);
         assert_true(fabs(DEC.supplied - REF.supplied) <= 1e-9 * fabs(REF.supplied));
         assert_true(fabs(DEC.dissipated - REF.dissipated) <= 1e-9 * fabs(REF.dissipated));
-        if (sc->jiggle > 0.0) { /* (a migration drops the network's warm start) */
+        if (sc->jiggle > 0.0) { /* (migrations: a solve's start may differ by round-off) */
             print_message("%d subdomains: %llu migrations\n", size,
                           (unsigned long long)DEC.migrated);
             assert_true(DEC.migrated > 0);
@@ -502,6 +511,72 @@ static void test_moving_block(void **state)
     assert_true(fabs(DEC.supplied - DEC.dissipated) <= 1e-9 * DEC.supplied);
 }
 
+/*
+ * The reproducible mode (stepper option "reproducible" = 1, issue 43): the PCGs' dot products
+ * and norms exact sums, each row's terms in the order of the id-sorted pair list, a free
+ * current wall's row and diagonal exact sums over the subdomains, and the run without domain
+ * operations on the same arithmetic. Without domain operations on one thread, and on 1-4
+ * subdomains on one and two threads: every sphere's temperature, current, potential and Joule
+ * power, the electrodes' potentials, the supplied and dissipated powers and the iterations of
+ * both solves the same bits. Scenes: the conduction block, the balanced chain (both
+ * electrodes current walls: a free wall row on every subdomain), the block with Joule heating,
+ * and the jiggling block (migrations between the solves). The default mode on 3 subdomains
+ * differs in some value of each scene (what the test would miss without the mode).
+ */
+static int same_bits(const result *a, const result *b)
+{
+    return memcmp(a->temp, b->temp, sizeof(a->temp)) == 0 &&
+           memcmp(a->current, b->current, sizeof(a->current)) == 0 &&
+           memcmp(a->phi, b->phi, sizeof(a->phi)) == 0 &&
+           memcmp(a->joule, b->joule, sizeof(a->joule)) == 0 &&
+           memcmp(a->wall_phi, b->wall_phi, sizeof(a->wall_phi)) == 0 &&
+           memcmp(&a->supplied, &b->supplied, sizeof(double)) == 0 &&
+           memcmp(&a->dissipated, &b->dissipated, sizeof(double)) == 0 &&
+           a->thermal_iterations == b->thermal_iterations &&
+           a->electric_iterations == b->electric_iterations;
+}
+
+static void test_reproducible_mode(void **state)
+{
+    (void)state;
+    const scene scenes[] = {{CONDUCTION, 12, 3, 2, 20, 0.02, 0, 0.0},
+                            {CHAIN_BALANCED, 12, 1, 1, 2, 1e-6, 0, 0.0},
+                            {BLOCK_JOULE, 12, 3, 2, 10, 0.02, 0, 0.0},
+                            {BLOCK_JOULE, 12, 3, 2, 20, 1e-3, 0, 2e-3}};
+    for (size_t c = 0; c < sizeof(scenes) / sizeof(scenes[0]); ++c) {
+        const scene *sc = &scenes[c];
+        REPRO = 0;
+        run(sc, 0, &REF);
+        run(sc, 3, &DEC);
+        const int default_same = same_bits(&DEC, &REF);
+        REPRO = 1;
+        THREADS = 1;
+        run(sc, 0, &REF);
+        int differing = 0;
+        for (int threads = 1; threads <= 2; ++threads)
+            for (int size = 1; size <= LOOPBACK_MAX; ++size) {
+                THREADS = threads;
+                run(sc, size, &DEC);
+                if (!same_bits(&DEC, &REF)) {
+                    print_error("scene %zu, %d subdomains, %d threads: not the same bits\n", c,
+                                size, threads);
+                    differing++;
+                }
+            }
+        REPRO = 0;
+        THREADS = 1;
+        print_message("scene %zu: reproducible mode the same bits on 0-4 subdomains, 1-2 threads "
+                      "(%d runs differ; the default mode on 3 subdomains %s); iterations %llu + "
+                      "%llu, migrations %llu\n",
+                      c, differing, default_same ? "the same" : "differs",
+                      (unsigned long long)REF.thermal_iterations,
+                      (unsigned long long)REF.electric_iterations,
+                      (unsigned long long)DEC.migrated);
+        assert_int_equal(differing, 0);
+        assert_false(default_same);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -512,6 +587,7 @@ int main(void)
         cmocka_unit_test(test_network_block_joule),
         cmocka_unit_test(test_moving_block),
         cmocka_unit_test(test_refused_models),
+        cmocka_unit_test(test_reproducible_mode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -60,7 +60,8 @@ OPTIONS: Dict[str, Dict[str, str]] = {
                         "that order on one thread: the same bits for any memory order, thread "
                         "count and decomposition (explicit, staggered and quasi-static "
                         "steppers; global sums exact, the averaged electric model swept "
-                        "Jacobi, the quasi-static solve block-Jacobi PCG with necks one by "
+                        "Jacobi, the network's and implicit conduction's PCG with exact dot "
+                        "products, the quasi-static solve block-Jacobi PCG with necks one by "
                         "one); 0 (default) off",
     },
     "explicit_staggered": {
