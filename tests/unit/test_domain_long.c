@@ -50,7 +50,7 @@
 #include "test_support.h"
 
 enum { NW = DOMAIN_BED_WALLS, K_SERIAL = 6, STEPS = 6000, WINDOW = 2000, NQ = 6 };
-static const double DAMPING = 0.05; /* the gas's damping ratio (restitution about 0.85) */
+static const double DAMPING = 0.05; /* the gas's damping ratio (the bed's 0.3: lightly damped) */
 static const double SPEED = 50.0;   /* the lattice bed's velocities scaled by it (up to 1 m/s) */
 static const double K_SD = 5.0;
 static const double DT = 2e-5;           /* [s] */
@@ -67,9 +67,9 @@ typedef struct run {
     int seen[N];
     double wall_mean[3 * NW]; /* wall forces averaged over the last WINDOW steps [N] */
     double energy;            /* the conduction's energy into the particles [J] */
-    double ke_sum[LOOPBACK_MAX], z_sum[LOOPBACK_MAX]; /* each subdomain's sums over the window
-                                                        of its owned particles' kinetic energy
-                                                        [J s / DT] and heights [m s / DT] */
+    /* each subdomain's sums, over the window's WINDOW steps, of its owned particles' kinetic
+     * energy [J] and heights [m] */
+    double ke_sum[LOOPBACK_MAX], z_sum[LOOPBACK_MAX];
     int setup_failed[LOOPBACK_MAX];
     sinter_status status[LOOPBACK_MAX];
     pthread_mutex_t lock;
