@@ -14,8 +14,9 @@
  * collides, falls and heaps on the floor; a collision at 1 m/s lasts about 10 steps, and the
  * stepper's stable step estimate is 1.9e-4 s).
  *  - Chaos: the K_SERIAL = 6 serial runs (seeded shuffles of the adding order) end with some
- *    particle's position differing by 3.8 R (2026-11-28, x86-64, gcc and clang alike; at least 0.1
- * R asserted), where the short horizon of test_domain.c agrees to 1e-10 relative.
+ *    particle's position differing by 3.8 R (2026-11-28, x86-64, gcc and clang alike; at
+ *    least 0.1 R asserted), where the short horizon of test_domain.c agrees to 1e-10
+ *    relative.
  *  - Bulk quantities: the kinetic energy (translation and rotation) and the mean height, each
  *    averaged over the last WINDOW = 2000 steps; the floor's force and the side walls' mean
  *    |normal force| averaged over the same window; the standard deviation of the temperatures
