@@ -28,6 +28,7 @@
 #include <sinter_domain.h>
 
 #include "domain_loopback.h"
+#include "domain_records.h"
 #include "domain_press_models.h"
 #include "test_support.h"
 
@@ -89,8 +90,7 @@ typedef struct records {
 
 static void records_free(records *r)
 {
-    for (int k = 0; k < N; ++k)
-        free(r->rec[k]);
+    domain_records_free(r->rec, N);
     free(r->global);
     memset(r, 0, sizeof(*r));
 }
@@ -116,28 +116,7 @@ typedef struct job {
 /* Each owned particle's record, by itself (remove = 0), into out by id. */
 static sinter_status export_owned(sinter_stepper *st, sinter_particles *ps, records *out)
 {
-    size_t owned = 0;
-    sinter_status s = sinter_particles_owned_count(ps, &owned);
-    for (size_t i = 0; i < owned && s == SINTER_OK; ++i) {
-        const uint64_t *ids = NULL;
-        s = sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&ids, NULL, NULL);
-        if (s != SINTER_OK)
-            break;
-        const uint64_t id = ids[i];
-        sinter_particles_release(ps, SINTER_FIELD_ID);
-        size_t bytes = 0, written = 0;
-        if ((s = sinter_stepper_export_size(st, 1, &i, &bytes)) != SINTER_OK)
-            break;
-        unsigned char *buf = malloc(bytes);
-        if (buf == NULL || id < 1 || id > (uint64_t)N || out->rec[id - 1] != NULL) {
-            free(buf);
-            return SINTER_ERR_INVALID;
-        }
-        s = sinter_stepper_export(st, 1, &i, buf, bytes, &written, 0);
-        out->rec[id - 1] = buf;
-        out->len[id - 1] = written;
-    }
-    return s;
+    return domain_records_export_owned(st, ps, N, out->rec, out->len);
 }
 
 /* The documented restart: the global part, then the records of the particles in this slab. */
@@ -295,10 +274,7 @@ static void run_on(int size, int reproducible, int threads, int scheme, int step
 /* The number of particles whose records differ (length or bytes). */
 static int differing(const records *a, const records *b)
 {
-    int d = 0;
-    for (int k = 0; k < N; ++k)
-        d += a->len[k] != b->len[k] || memcmp(a->rec[k], b->rec[k], a->len[k]) != 0;
-    return d;
+    return domain_records_differing(a->rec, a->len, b->rec, b->len, N);
 }
 
 static records REF, RUN;

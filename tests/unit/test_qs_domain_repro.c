@@ -30,6 +30,7 @@
 #include <sinter_domain.h>
 
 #include "domain_loopback.h"
+#include "domain_records.h"
 #include "test_support.h"
 
 enum { NX = 8, NY = 3, NZ = 3, N = NX * NY * NZ, STEPS = 40, NSTATS = 10 };
@@ -48,8 +49,7 @@ typedef struct records {
 
 static void records_free(records *r)
 {
-    for (int k = 0; k < N; ++k)
-        free(r->rec[k]);
+    domain_records_free(r->rec, N);
     free(r->global);
     memset(r, 0, sizeof(*r));
 }
@@ -100,32 +100,7 @@ static int slab_of(double x, int size)
 /* Each owned particle's record (remove = 0) into out by id; under j's lock. */
 static sinter_status export_owned(sinter_stepper *st, sinter_particles *ps, records *out)
 {
-    size_t owned = 0;
-    const uint64_t *ids = NULL;
-    sinter_status s = sinter_particles_owned_count(ps, &owned);
-    if (s == SINTER_OK)
-        s = sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&ids, NULL, NULL);
-    uint64_t *id = malloc((owned + 1) * sizeof(uint64_t));
-    if (s == SINTER_OK && id != NULL)
-        memcpy(id, ids, owned * sizeof(uint64_t));
-    if (ids != NULL)
-        sinter_particles_release(ps, SINTER_FIELD_ID);
-    for (size_t i = 0; i < owned && s == SINTER_OK && id != NULL; ++i) {
-        size_t bytes = 0, written = 0;
-        if ((s = sinter_stepper_export_size(st, 1, &i, &bytes)) != SINTER_OK)
-            break;
-        unsigned char *buf = malloc(bytes);
-        if (buf == NULL || id[i] < 1 || id[i] > N || out->rec[id[i] - 1] != NULL) {
-            free(buf);
-            s = SINTER_ERR_INVALID;
-            break;
-        }
-        s = sinter_stepper_export(st, 1, &i, buf, bytes, &written, 0);
-        out->rec[id[i] - 1] = buf;
-        out->len[id[i] - 1] = written;
-    }
-    free(id);
-    return id == NULL ? SINTER_ERR_NOMEM : s;
+    return domain_records_export_owned(st, ps, N, out->rec, out->len);
 }
 
 static void *run(void *arg)
@@ -285,10 +260,7 @@ static void run_on(int size, int strategy, int reproducible, int threads, record
 /* The records that differ between a and b (lengths or bytes). */
 static int differing(const records *a, const records *b)
 {
-    int d = 0;
-    for (int k = 0; k < N; ++k)
-        d += a->len[k] != b->len[k] || memcmp(a->rec[k], b->rec[k], a->len[k]) != 0;
-    return d;
+    return domain_records_differing(a->rec, a->len, b->rec, b->len, N);
 }
 
 static void same_bytes(const records *ref, const records *o, const char *what)
