@@ -28,6 +28,8 @@
 #include <sinter_domain.h>
 #include <sinter_submodel.h>
 
+#include "domain_press_models.h"
+
 enum {
     PRESS_NX = 8,
     PRESS_NY = 6,
@@ -188,41 +190,17 @@ static inline void press_run(press_job *j, press_state *out)
     sinter_particles *ps = NULL;
     sinter_walls *walls = NULL;
     sinter_stepper *st = NULL;
-    sinter_force_model *law = NULL, *drag = NULL, *gravity = NULL, *host = NULL;
-    sinter_heat_model *cond = NULL, *joule = NULL;
-    sinter_electric_model *em = NULL;
+    sinter_force_model *host = NULL;
+    domain_press_models models = {.law = NULL};
     press_host_force hf = {NULL, 0, INFINITY, 0};
     const press_spec *p = j->spec;
     const double R = PRESS_R;
     PRESS_TRY(sinter_ctx_create(&ctx, NULL));
     PRESS_TRY(sinter_ctx_set_threads(ctx, 1));
-    PRESS_TRY(sinter_material_create(&mat, ctx, "powder"));
-    const struct {
-        sinter_material_param p;
-        double v;
-    } props[] = {{SINTER_MAT_DENSITY, 2000},
-                 {SINTER_MAT_CONTACT_STIFFNESS, 1e7},
-                 {SINTER_MAT_FRICTION_DYNAMIC, j->frictionless ? 0.0 : 0.1},
-                 {SINTER_MAT_DRAG_COEFFICIENT, 0.1414},
-                 {SINTER_MAT_THERMAL_CONDUCTIVITY, 100},
-                 {SINTER_MAT_HEAT_CAPACITY, 100},
-                 {SINTER_MAT_ELECTRIC_CONDUCTIVITY, 0.1},
-                 {SINTER_MAT_SOFTENING_LAW, 1},
-                 {SINTER_MAT_SOFTENING_TEMPERATURE, 320},
-                 {SINTER_MAT_SOFTENING_FLOOR, 0.1}};
-    for (size_t k = 0; k < sizeof(props) / sizeof(props[0]); ++k)
-        PRESS_TRY(sinter_material_set(mat, props[k].p, props[k].v));
+    PRESS_TRY(domain_press_material_friction(ctx, j->frictionless ? 0.0 : 0.1, &mat));
     PRESS_TRY(sinter_particles_create(&ps, ctx));
     PRESS_TRY(sinter_particles_set_material(ps, 0, mat));
-    PRESS_TRY(sinter_walls_create(&walls, ctx));
-    const double wp[PRESS_WALLS][3] = {{0, 0, 0},        {0, 0, PRESS_TOP}, {0, 0, 0},
-                                       {PRESS_LX, 0, 0}, {0, 0, 0},         {0, PRESS_LY, 0}};
-    const double wn[PRESS_WALLS][3] = {{0, 0, 1},  {0, 0, -1}, {1, 0, 0},
-                                       {-1, 0, 0}, {0, 1, 0},  {0, -1, 0}};
-    for (int k = 0; k < PRESS_WALLS; ++k) {
-        PRESS_TRY(sinter_walls_add_plane(walls, wp[k], wn[k], mat, NULL));
-        PRESS_TRY(sinter_walls_set_temperature(walls, (size_t)k, 400.0));
-    }
+    PRESS_TRY(domain_press_plane_walls(ctx, mat, PRESS_LX, PRESS_LY, PRESS_TOP, &walls));
     PRESS_TRY(sinter_walls_set_electric(walls, 0, SINTER_WALL_CURRENT, 1000.0));
     if (j->network) {
         PRESS_TRY(sinter_walls_set_electric_limit(walls, 0, 10.0));
@@ -235,27 +213,16 @@ static inline void press_run(press_job *j, press_state *out)
     const double down[3] = {0, 0, j->network ? -0.5 : -0.05};
     PRESS_TRY(sinter_walls_set_velocity(walls, 1, down));
     PRESS_TRY(sinter_stepper_create(&st, ctx, j->kind, ps, walls));
-    PRESS_TRY(sinter_force_model_create(&law, ctx, "power_law"));
-    PRESS_TRY(sinter_stepper_add_force(st, law));
-    PRESS_TRY(sinter_force_model_create(&drag, ctx, "drag"));
-    PRESS_TRY(sinter_stepper_add_force(st, drag));
-    PRESS_TRY(sinter_force_model_create(&gravity, ctx, "gravity"));
-    PRESS_TRY(sinter_stepper_add_force(st, gravity));
-    PRESS_TRY(sinter_heat_model_create(&cond, ctx, "conduction"));
-    PRESS_TRY(sinter_stepper_add_heat(st, cond));
-    PRESS_TRY(sinter_heat_model_create(&joule, ctx, "joule"));
-    if (j->network)
-        PRESS_TRY(sinter_heat_model_set(joule, "source", 2.0));
-    PRESS_TRY(sinter_stepper_add_heat(st, joule));
+    PRESS_TRY(domain_press_add_forces_heat(ctx, st, j->network ? 2.0 : 0.0, &models));
     if (j->network) {
-        PRESS_TRY(sinter_electric_model_create(&em, ctx, "network"));
-        PRESS_TRY(sinter_electric_model_set(em, "tolerance", 1e-13));
+        PRESS_TRY(sinter_electric_model_create(&models.electric, ctx, "network"));
+        PRESS_TRY(sinter_electric_model_set(models.electric, "tolerance", 1e-13));
     } else {
-        PRESS_TRY(sinter_electric_model_create(&em, ctx, "averaged"));
-        PRESS_TRY(sinter_electric_model_set(em, "tolerance", 1e-14));
-        PRESS_TRY(sinter_electric_model_set(em, "max_iterations", 1e5));
+        PRESS_TRY(sinter_electric_model_create(&models.electric, ctx, "averaged"));
+        PRESS_TRY(sinter_electric_model_set(models.electric, "tolerance", 1e-14));
+        PRESS_TRY(sinter_electric_model_set(models.electric, "max_iterations", 1e5));
     }
-    PRESS_TRY(sinter_stepper_set_electric(st, em));
+    PRESS_TRY(sinter_stepper_set_electric(st, models.electric));
     for (int q = 0; q < PRESS_N; ++q) {
         const int k = j->reverse ? PRESS_N - 1 - q : q;
         if (j->load != NULL || press_slab_of(p->x[3 * k], j->x0, j->x1, j->size) != j->rank)
@@ -315,13 +282,8 @@ done:
         snprintf(j->message, sizeof(j->message), "setup failed at line %d: %s", j->setup_failed,
                  sinter_last_error(ctx));
     sinter_stepper_destroy(st);
-    sinter_force_model_destroy(law);
-    sinter_force_model_destroy(drag);
-    sinter_force_model_destroy(gravity);
+    domain_press_models_destroy(&models);
     sinter_force_model_destroy(host);
-    sinter_heat_model_destroy(cond);
-    sinter_heat_model_destroy(joule);
-    sinter_electric_model_destroy(em);
     sinter_walls_destroy(walls);
     sinter_particles_destroy(ps);
     sinter_material_destroy(mat);
