@@ -29,6 +29,7 @@
 #include <sinter_submodel.h>
 
 #include "domain_press_models.h"
+#include "rel_diff.h"
 
 enum {
     PRESS_NX = 8,
@@ -295,12 +296,7 @@ done:
 /* The largest |a - b| over the largest |b - base| (base NULL: |b|), k values. */
 static inline double press_rel_diff(const double *a, const double *b, const double *base, size_t k)
 {
-    double diff = 0.0, scale = 0.0;
-    for (size_t i = 0; i < k; ++i) {
-        diff = fmax(diff, fabs(a[i] - b[i]));
-        scale = fmax(scale, fabs(b[i] - (base != NULL ? base[i] : 0.0)));
-    }
-    return scale > 0.0 ? diff / scale : diff;
+    return rel_diff_from(a, b, base, k);
 }
 
 #endif

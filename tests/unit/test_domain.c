@@ -29,6 +29,7 @@
 #include "domain_bed.h"
 #include "domain_lattice_bed.h"
 #include "domain_loopback.h"
+#include "rel_diff.h"
 #include "test_support.h"
 
 #define OK(call) assert_int_equal((call), SINTER_OK)
@@ -263,17 +264,6 @@ static void run_decomposed_stop(int size, int steps, uint64_t poison_id, int poi
                         jobs[r].message);
         assert_int_equal(jobs[r].setup_failed, 0);
     }
-}
-
-/* max |a - b| / max |b| over n values. */
-static double rel_diff(const double *a, const double *b, size_t n)
-{
-    double d = 0.0, m = 0.0;
-    for (size_t k = 0; k < n; ++k) {
-        d = fmax(d, fabs(a[k] - b[k]));
-        m = fmax(m, fabs(b[k]));
-    }
-    return m > 0.0 ? d / m : d;
 }
 
 /* The bed's index of the particle with id k + 1. */

@@ -30,6 +30,7 @@
 
 #include "domain_bed.h"
 #include "domain_loopback.h"
+#include "rel_diff.h"
 #include "test_support.h"
 
 enum { NX = 8, NY = 6, NZ = 6, N = NX * NY * NZ, STEPS = 300 };
@@ -198,16 +199,6 @@ static void run_gas_on(int size, int periodic_x, job *jobs, state *out)
             print_error("subdomain %d: %s\n", r, jobs[r].message);
         assert_int_equal(jobs[r].setup_failed, 0);
     }
-}
-
-static double rel_diff(const double *a, const double *b, size_t n)
-{
-    double d = 0.0, m = 0.0;
-    for (size_t k = 0; k < n; ++k) {
-        d = fmax(d, fabs(a[k] - b[k]));
-        m = fmax(m, fabs(b[k]));
-    }
-    return m > 0.0 ? d / m : d;
 }
 
 static state REF, DEC;

@@ -37,6 +37,7 @@
 #include "domain_loopback.h"
 #include "electric/electric.h"
 #include "stepper/stepper.h"
+#include "rel_diff.h"
 #include "test_support.h"
 
 #define OK(call) assert_int_equal((call), SINTER_OK)
@@ -282,17 +283,6 @@ static void run(const scene *sc, int size, result *out)
     }
     for (int k = 0; k < count_of(sc); ++k)
         assert_int_equal(out->seen[k], 1);
-}
-
-/* max |a - b| / max |b| over n values. */
-static double rel_diff(const double *a, const double *b, int n)
-{
-    double d = 0.0, m = 0.0;
-    for (int k = 0; k < n; ++k) {
-        d = fmax(d, fabs(a[k] - b[k]));
-        m = fmax(m, fabs(b[k]));
-    }
-    return m > 0.0 ? d / m : d;
 }
 
 static result REF, DEC, START;
