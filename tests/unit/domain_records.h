@@ -8,6 +8,7 @@
 #ifndef SINTER_DOMAIN_RECORDS_H
 #define SINTER_DOMAIN_RECORDS_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -65,6 +66,38 @@ static inline void domain_records_free(unsigned char **rec, int n)
 {
     for (int k = 0; k < n; ++k)
         free(rec[k]);
+}
+
+/* The documented restart's step for one record: imports it, and when its particle's centre
+ * lies outside slab `rank` of `slabs` equal slabs over [x0, x1) along x (the first and last
+ * slab extend outwards) takes it out again (export with removal); slabs 0 keeps every one. */
+static inline sinter_status domain_records_import_in_slab(sinter_stepper *st, sinter_particles *ps,
+                                                          const unsigned char *rec, size_t len,
+                                                          int slabs, int rank, double x0, double x1)
+{
+    size_t first = 0, count = 0;
+    sinter_status s = sinter_particles_count(ps, &first);
+    if (s == SINTER_OK)
+        s = sinter_stepper_import(st, rec, len, &count);
+    const double *x = NULL;
+    if (s == SINTER_OK)
+        s = sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL, NULL);
+    if (s != SINTER_OK)
+        return s;
+    const double r = floor((x[3 * first] - x0) / (x1 - x0) * slabs);
+    sinter_particles_release(ps, SINTER_FIELD_POSITION);
+    if (slabs <= 0 || (r < 0.0 ? 0 : r >= slabs ? slabs - 1 : (int)r) == rank)
+        return SINTER_OK;
+    size_t bytes = 0, written = 0;
+    unsigned char scratch[1];
+    if ((s = sinter_stepper_export_size(st, 1, &first, &bytes)) != SINTER_OK)
+        return s;
+    unsigned char *buf = bytes > 1 ? malloc(bytes) : scratch;
+    s = buf == NULL ? SINTER_ERR_NOMEM
+                    : sinter_stepper_export(st, 1, &first, buf, bytes, &written, 1);
+    if (buf != scratch)
+        free(buf);
+    return s;
 }
 
 #endif

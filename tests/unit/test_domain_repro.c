@@ -144,29 +144,9 @@ static void *run(void *arg)
         /* the documented restart: the global part, then the records of the particles whose
          * centres lie in this slab (any split of the records would do) */
         TRY(sinter_stepper_load_global(st, j->restart->global, j->restart->global_len));
-        for (int k = 0; k < BED.n; ++k) {
-            const unsigned char *rec = j->restart->rec[k];
-            size_t first = 0, count = 0;
-            TRY(sinter_particles_count(ps, &first));
-            TRY(sinter_stepper_import(st, rec, j->restart->len[k], &count));
-            const double *x = NULL;
-            TRY(sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL,
-                                           NULL));
-            const int mine = j->lb == NULL || slab_of(x[3 * first], j->size) == j->rank;
-            sinter_particles_release(ps, SINTER_FIELD_POSITION);
-            if (!mine) { /* not this slab's: taken out again */
-                size_t written = 0;
-                unsigned char scratch[1];
-                size_t bytes = 0;
-                TRY(sinter_stepper_export_size(st, 1, &first, &bytes));
-                unsigned char *buf = bytes > 1 ? malloc(bytes) : scratch;
-                const sinter_status s =
-                    sinter_stepper_export(st, 1, &first, buf, bytes, &written, 1);
-                if (buf != scratch)
-                    free(buf);
-                TRY(s);
-            }
-        }
+        for (int k = 0; k < BED.n; ++k)
+            TRY(domain_records_import_in_slab(st, ps, j->restart->rec[k], j->restart->len[k],
+                                              j->lb != NULL ? j->size : 0, j->rank, X0, X1));
     } else {
         for (int m = 0; m < BED.n; ++m) {
             const int k = BED.reversed ? BED.n - 1 - m : m;

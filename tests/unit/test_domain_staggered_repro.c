@@ -123,28 +123,9 @@ static sinter_status export_owned(sinter_stepper *st, sinter_particles *ps, reco
 static sinter_status restart(const job *j, sinter_stepper *st, sinter_particles *ps)
 {
     sinter_status s = sinter_stepper_load_global(st, j->restart->global, j->restart->global_len);
-    for (int k = 0; k < N && s == SINTER_OK; ++k) {
-        size_t first = 0, count = 0;
-        if ((s = sinter_particles_count(ps, &first)) != SINTER_OK ||
-            (s = sinter_stepper_import(st, j->restart->rec[k], j->restart->len[k], &count)) !=
-                SINTER_OK)
-            break;
-        const double *x = NULL;
-        if ((s = sinter_particles_view_read(ps, SINTER_FIELD_POSITION, (const void **)&x, NULL,
-                                            NULL)) != SINTER_OK)
-            break;
-        const int mine = j->lb == NULL || slab_of(x[3 * first], j->size) == j->rank;
-        sinter_particles_release(ps, SINTER_FIELD_POSITION);
-        if (mine)
-            continue;
-        size_t bytes = 0, written = 0;
-        if ((s = sinter_stepper_export_size(st, 1, &first, &bytes)) != SINTER_OK)
-            break;
-        unsigned char *buf = malloc(bytes);
-        s = buf == NULL ? SINTER_ERR_NOMEM
-                        : sinter_stepper_export(st, 1, &first, buf, bytes, &written, 1);
-        free(buf);
-    }
+    for (int k = 0; k < N && s == SINTER_OK; ++k)
+        s = domain_records_import_in_slab(st, ps, j->restart->rec[k], j->restart->len[k],
+                                          j->lb != NULL ? j->size : 0, j->rank, X0, X1);
     return s;
 }
 
