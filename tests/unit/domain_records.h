@@ -100,4 +100,27 @@ static inline sinter_status domain_records_import_in_slab(sinter_stepper *st, si
     return s;
 }
 
+/* The stepper's global part (sinter_stepper_save_global) into a new buffer *global of *len
+ * bytes; *global NULL on failure. */
+static inline sinter_status domain_records_save_global(sinter_stepper *st, unsigned char **global,
+                                                       size_t *len)
+{
+    size_t bytes = 0;
+    *global = NULL;
+    *len = 0;
+    sinter_status s = sinter_stepper_save_global(st, NULL, 0, &bytes);
+    if (s != SINTER_OK)
+        return s;
+    unsigned char *buf = malloc(bytes + 1);
+    if (buf == NULL)
+        return SINTER_ERR_NOMEM;
+    if ((s = sinter_stepper_save_global(st, buf, bytes, &bytes)) != SINTER_OK) {
+        free(buf);
+        return s;
+    }
+    *global = buf;
+    *len = bytes;
+    return SINTER_OK;
+}
+
 #endif

@@ -168,13 +168,7 @@ static void *run(void *arg)
         TRY(sinter_stepper_step(st, 1));
     TRY(export_owned(st, ps, j->out));
     if (j->rank == 0) { /* the global part: the same on every subdomain */
-        size_t bytes = 0;
-        TRY(sinter_stepper_save_global(st, NULL, 0, &bytes));
-        j->out->global = malloc(bytes);
-        j->out->global_len = bytes;
-        if (j->out->global == NULL)
-            TRY(SINTER_ERR_NOMEM);
-        TRY(sinter_stepper_save_global(st, j->out->global, bytes, &bytes));
+        TRY(domain_records_save_global(st, &j->out->global, &j->out->global_len));
         for (int k = 0; k < NW; ++k)
             TRY(sinter_walls_get_force(walls, (size_t)k, j->out->wall + 3 * k));
     }

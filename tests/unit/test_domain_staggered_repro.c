@@ -184,13 +184,7 @@ static void *run(void *arg)
     sinter_stepper_stats stats = {.struct_size = sizeof(stats)};
     TRY(sinter_stepper_get_stats_global(st, &stats)); /* (collective) */
     if (j->rank == 0) { /* the global part and the counts: the same on every subdomain */
-        size_t bytes = 0;
-        TRY(sinter_stepper_save_global(st, NULL, 0, &bytes));
-        j->out->global = malloc(bytes);
-        j->out->global_len = bytes;
-        if (j->out->global == NULL)
-            TRY(SINTER_ERR_NOMEM);
-        TRY(sinter_stepper_save_global(st, j->out->global, bytes, &bytes));
+        TRY(domain_records_save_global(st, &j->out->global, &j->out->global_len));
         j->out->stats = stats;
         TRY(sinter_stepper_electric_iterations(st, &j->out->sweeps));
     }

@@ -154,14 +154,8 @@ static void *run(void *arg)
         if (j->checkpoint != NULL) { /* written between two steps: records and global part */
             TRY(sinter_stepper_step(st, STEPS / 2 - 1));
             size_t bytes = 0;
-            TRY(sinter_stepper_save_global(st, NULL, 0, &bytes));
-            unsigned char *global = malloc(bytes + 1);
-            if (global == NULL ||
-                sinter_stepper_save_global(st, global, bytes, &bytes) != SINTER_OK) {
-                free(global);
-                j->failed = __LINE__;
-                goto done;
-            }
+            unsigned char *global = NULL;
+            TRY(domain_records_save_global(st, &global, &bytes));
             pthread_mutex_lock(j->lock);
             if (j->rank == 0) {
                 j->checkpoint->global = global;
@@ -180,13 +174,8 @@ static void *run(void *arg)
     ss.struct_size = sizeof(ss);
     TRY(sinter_stepper_sintering_stats(st, &ss)); /* collective */
     size_t bytes = 0;
-    TRY(sinter_stepper_save_global(st, NULL, 0, &bytes));
-    unsigned char *global = malloc(bytes + 1);
-    if (global == NULL || sinter_stepper_save_global(st, global, bytes, &bytes) != SINTER_OK) {
-        free(global);
-        j->failed = __LINE__;
-        goto done;
-    }
+    unsigned char *global = NULL;
+    TRY(domain_records_save_global(st, &global, &bytes));
     pthread_mutex_lock(j->lock);
     if (j->rank == 0) {
         j->out->global = global;
