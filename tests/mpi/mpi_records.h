@@ -13,6 +13,8 @@
 
 #include <sinter.h>
 
+#include "../unit/domain_records.h"
+
 enum { RECORDS_MAX = 256 }; /* the most particles of a test */
 
 typedef struct records {
@@ -25,8 +27,7 @@ typedef struct records {
 
 static inline void records_free(records *r)
 {
-    for (int k = 0; k < RECORDS_MAX; ++k)
-        free(r->rec[k]);
+    domain_records_free(r->rec, RECORDS_MAX);
     free(r->global);
     memset(r, 0, sizeof *r);
 }
@@ -35,44 +36,16 @@ static inline void records_free(records *r)
 static inline sinter_status records_export(sinter_stepper *st, sinter_particles *ps, int n,
                                            records *out)
 {
-    size_t owned = 0;
-    sinter_status s = sinter_particles_owned_count(ps, &owned);
-    for (size_t i = 0; i < owned && s == SINTER_OK; ++i) {
-        const uint64_t *ids = NULL;
-        if ((s = sinter_particles_view_read(ps, SINTER_FIELD_ID, (const void **)&ids, NULL,
-                                            NULL)) != SINTER_OK)
-            break;
-        const uint64_t id = ids[i];
-        sinter_particles_release(ps, SINTER_FIELD_ID);
-        size_t bytes = 0, written = 0;
-        if ((s = sinter_stepper_export_size(st, 1, &i, &bytes)) != SINTER_OK)
-            break;
-        unsigned char *buf = malloc(bytes);
-        if (buf == NULL || id < 1 || id > (uint64_t)n || n > RECORDS_MAX ||
-            out->rec[id - 1] != NULL) {
-            free(buf);
-            return SINTER_ERR_INVALID;
-        }
-        s = sinter_stepper_export(st, 1, &i, buf, bytes, &written, 0);
-        out->rec[id - 1] = buf;
-        out->len[id - 1] = written;
-    }
-    return s;
+    if (n > RECORDS_MAX)
+        return SINTER_ERR_INVALID;
+    return domain_records_export_owned(st, ps, n, out->rec, out->len);
 }
 
 /* The stepper's global part into out. */
 static inline sinter_status records_save_global(sinter_stepper *st, records *out)
 {
-    size_t bytes = 0;
-    sinter_status s = sinter_stepper_save_global(st, NULL, 0, &bytes);
-    if (s != SINTER_OK)
-        return s;
     free(out->global);
-    out->global = malloc(bytes);
-    out->global_len = out->global != NULL ? bytes : 0;
-    if (out->global == NULL)
-        return SINTER_ERR_NOMEM;
-    return sinter_stepper_save_global(st, out->global, bytes, &bytes);
+    return domain_records_save_global(st, &out->global, &out->global_len);
 }
 
 /* Every rank's records of `comm` into `all` on its rank 0, by id (sorted so); collective. */
