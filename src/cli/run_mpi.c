@@ -64,6 +64,7 @@
 #include "run_mpi_insert.h"
 #include "run_mpi_fields.h"
 #include "run_mpi_bonds.h"
+#include "trim_line.h"
 
 enum { MAX_WALLS = 64, NAME_SIZE = 128, PATH_SIZE = 4096 };
 
@@ -93,17 +94,6 @@ static void copy(char *dst, size_t size, const char *src)
     const size_t n = strlen(src) < size - 1 ? strlen(src) : size - 1;
     memcpy(dst, src, n);
     dst[n] = '\0';
-}
-
-static void trim(char *s)
-{
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n'))
-        s[--n] = '\0';
-    size_t k = 0;
-    while (s[k] == ' ' || s[k] == '\t')
-        ++k;
-    memmove(s, s + k, n - k + 1);
 }
 
 /* 1 for a key line of a section whose output the MPI runner does not write yet: the series

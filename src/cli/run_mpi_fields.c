@@ -8,19 +8,9 @@
 #include <sinter_domain.h>
 
 #include "run_mpi_fields.h"
+#include "trim_line.h"
 
 enum { LINE_SIZE = 1024, PATH_SIZE = 4096 };
-
-static void trim(char *s)
-{
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n'))
-        s[--n] = '\0';
-    size_t k = 0;
-    while (s[k] == ' ' || s[k] == '\t')
-        ++k;
-    memmove(s, s + k, n - k + 1);
-}
 
 /* Up to three numbers separated by blanks, commas or semicolons (the scene parser's form). */
 static void numbers(const char *text, double *out, int n)

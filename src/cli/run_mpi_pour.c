@@ -23,19 +23,9 @@
 #include <string.h>
 
 #include "run_mpi_pour.h"
+#include "trim_line.h"
 
 enum { LINE_SIZE = 1024, PATH_SIZE = 4096 };
-
-static void trim(char *s)
-{
-    size_t n = strlen(s);
-    while (n > 0 && (s[n - 1] == ' ' || s[n - 1] == '\t' || s[n - 1] == '\r' || s[n - 1] == '\n'))
-        s[--n] = '\0';
-    size_t k = 0;
-    while (s[k] == ' ' || s[k] == '\t')
-        ++k;
-    memmove(s, s + k, n - k + 1);
-}
 
 int mpi_pour_read(const char *scene_path, mpi_pour *p)
 {
