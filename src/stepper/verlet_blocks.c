@@ -82,7 +82,8 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
         const size_t nb = hi - i0 < BLOCK ? hi - i0 : BLOCK, lanes = 3 * nb, k0 = 3 * i0;
         const double *restrict ka = fa, *restrict kb = fb, *restrict kg = mg;
         if (kept != NULL) { /* the same values, kept (sinter_verlet_factors) */
-            ka = kept->fa + k0, kb = kept->fb + k0, kg = kept->mg + k0;
+            const size_t at = kept->uniform ? 0 : k0; /* (uniform: the first block's) */
+            ka = kept->fa + at, kb = kept->fb + at, kg = kept->mg + at;
         } else {
             spread_factors(m + i0, a->j + i0, half, nb, fa, fb);
             for (size_t p = 0; p < nb; ++p)
@@ -179,9 +180,10 @@ size_t sinter_verlet_kick(double *restrict v, double *restrict w, const double *
     for (size_t i0 = lo; i0 < hi; i0 += BLOCK) {
         const size_t nb = hi - i0 < BLOCK ? hi - i0 : BLOCK, lanes = 3 * nb, k0 = 3 * i0;
         const double *restrict ka = fa, *restrict kb = fb;
-        if (kept != NULL)
-            ka = kept->fa + k0, kb = kept->fb + k0;
-        else
+        if (kept != NULL) {
+            const size_t at = kept->uniform ? 0 : k0; /* (uniform: the first block's) */
+            ka = kept->fa + at, kb = kept->fb + at;
+        } else
             spread_factors(m + i0, j + i0, half, nb, fa, fb);
         LANES_INDEPENDENT
         for (size_t k = 0; k < lanes; ++k) {
@@ -229,6 +231,12 @@ const sinter_verlet_factors *sinter_verlet_factors_for(sinter_ctx *ctx, sinter_v
             c->mg[3 * i + (size_t)d] = 0.0 + m[i] * g[d];
         }
     }
+    int uniform = 1;
+    for (size_t k = 3; k < 3 * n && uniform; ++k)
+        uniform = memcmp(&c->fa[k], &c->fa[k % 3], sizeof(double)) == 0 &&
+                  memcmp(&c->fb[k], &c->fb[k % 3], sizeof(double)) == 0 &&
+                  memcmp(&c->mg[k], &c->mg[k % 3], sizeof(double)) == 0;
+    c->uniform = uniform;
     c->count = n;
     c->layout = layout;
     c->write = write;

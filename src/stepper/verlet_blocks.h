@@ -25,6 +25,10 @@ typedef struct sinter_verlet_factors {
     uint64_t layout, write; /* the particles' generations they were made for */
     const double *m, *j;    /* ... their arrays */
     double h, g[3];
+    /* every particle's factors the same bits (one powder, one size): the passes read the
+     * first block's lanes for every block, from L1, instead of three more arrays of the set's
+     * size (issue 41: the passes ran at the speed of L2) */
+    int uniform;
 } sinter_verlet_factors;
 
 /* The arrays of one pass (3 per particle but m, j). */

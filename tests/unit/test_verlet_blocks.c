@@ -4,7 +4,9 @@
  * displacements, the rotation vector (seed 003 eq. 45) and the first non-finite particle, to
  * the bit, for every combination of rotation, exact displacement and streaming stores, over
  * ranges that start and end inside a block; and the same with the factors kept between
- * steps (sinter_verlet_factors), which are made again when h, g or the particles change.
+ * steps (sinter_verlet_factors), which are made again when h, g or the particles change,
+ * also when every particle has the same mass and moment (the uniform factors, read from the
+ * first block).
  */
 #include <math.h>
 #include <stdarg.h>
@@ -24,6 +26,8 @@ typedef struct state {
     double x[3 * N], v[3 * N], w[3 * N], rot[3 * N], f[3 * N], tq[3 * N], m[N], j[N], x0[3 * N];
 } state;
 
+static int uniform_masses; /* fill: every particle the same mass and moment */
+
 static double lcg(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -39,6 +43,9 @@ static void fill(state *s, uint64_t seed)
     }
     for (size_t i = 0; i < N; ++i)
         s->m[i] = 1e-6 * (1.5 + lcg(&seed)), s->j[i] = 1e-13 * (1.5 + lcg(&seed));
+    if (uniform_masses) /* one powder of one size: the kept factors are uniform */
+        for (size_t i = 0; i < N; ++i)
+            s->m[i] = s->m[0], s->j[i] = s->j[0];
 }
 
 /* One particle at a time (the loop the blocks replaced). */
@@ -110,8 +117,11 @@ static void check_kick_drift(int rotation, int exact, int stream, size_t poisone
         .nv = nv[1],
         .nw = nw[1],
         .nrot = nrot[1],
-        .factors = keep ? sinter_verlet_factors_for(ctx, &kept, N, b.m, b.j, 1, 1, h, g) : NULL};
+        .factors = keep ? sinter_verlet_factors_for(ctx, &kept, N, b.m, b.j, 1,
+                                                    1 + (uint64_t)uniform_masses, h, g)
+                        : NULL};
     assert_true(!keep || arrays.factors != NULL);
+    assert_true(!keep || arrays.factors->uniform == uniform_masses);
     const sinter_drift_scan got =
         sinter_verlet_kick_drift(&arrays, h, g, rotation, exact, stream, lo, hi);
     assert_int_equal(got.bad, want.bad);
@@ -138,13 +148,15 @@ static void check_kick_drift(int rotation, int exact, int stream, size_t poisone
 static void test_kick_drift_every_variant(void **unused)
 {
     (void)unused;
-    for (int rotation = 0; rotation < 2; ++rotation)
-        for (int exact = 0; exact < 2; ++exact)
-            for (int stream = 0; stream < 4; ++stream) {
-                check_kick_drift(rotation, exact, stream & 1, N, stream >> 1);  /* all finite */
-                check_kick_drift(rotation, exact, stream & 1, 50, stream >> 1); /* 2nd block */
-                check_kick_drift(rotation, exact, stream & 1, 76, stream >> 1); /* last one */
-            }
+    for (uniform_masses = 0; uniform_masses < 2; ++uniform_masses)
+        for (int rotation = 0; rotation < 2; ++rotation)
+            for (int exact = 0; exact < 2; ++exact)
+                for (int stream = 0; stream < 4; ++stream) {
+                    check_kick_drift(rotation, exact, stream & 1, N, stream >> 1);  /* finite */
+                    check_kick_drift(rotation, exact, stream & 1, 50, stream >> 1); /* 2nd block */
+                    check_kick_drift(rotation, exact, stream & 1, 76, stream >> 1); /* last */
+                }
+    uniform_masses = 0;
 }
 
 /* Kept factors are those of the masses, h and g asked for: made again when one changes. */
@@ -178,9 +190,18 @@ static void test_factors_follow_their_inputs(void **unused)
     }
 }
 
+static void check_kick(void);
+
 static void test_kick(void **unused)
 {
     (void)unused;
+    for (uniform_masses = 0; uniform_masses < 2; ++uniform_masses)
+        check_kick();
+    uniform_masses = 0;
+}
+
+static void check_kick(void)
+{
     const double h = 1e-5;
     static state a, b;
     fill(&a, 11);
@@ -197,8 +218,10 @@ static void test_kick(void **unused)
     for (int keep = 0; keep < 2; ++keep) {
         const double g[3] = {0.0, 0.0, 0.0};
         const sinter_verlet_factors *f =
-            keep ? sinter_verlet_factors_for(ctx, &kept, N, b.m, b.j, 3, 3, h, g) : NULL;
-        assert_true(!keep || f != NULL);
+            keep ? sinter_verlet_factors_for(ctx, &kept, N, b.m, b.j, 3,
+                                             3 + (uint64_t)uniform_masses, h, g)
+                 : NULL;
+        assert_true(!keep || (f != NULL && f->uniform == uniform_masses));
         b = b0;
         assert_int_equal(sinter_verlet_kick(b.v, b.w, b.f, b.tq, b.m, b.j, f, h, lo, hi), 40);
         assert_memory_equal(b.v, a.v, sizeof a.v);
