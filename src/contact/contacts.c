@@ -1051,7 +1051,14 @@ static inline void wall_put_pairs(wall_search *job, int t, int planes)
     const uint8_t *touch = c->touch;
     const size_t lo = job->bound[t], hi = job->bound[t + 1];
     size_t m = job->offset[t];
-    for (size_t p = lo; p < hi; ++p) {
+    /* with walls proven out of reach, only the other walls' pairs, as wall_test_pairs: the
+     * skipped pairs were out of contact at the full test that took the certificate, and
+     * their pair_to_contact entries stay as that search wrote them (none) */
+    const uint32_t *active = job->active;
+    const size_t qlo = active ? sinter_lower_bound_u32(active, job->active_count, lo) : lo,
+                 qhi = active ? sinter_lower_bound_u32(active, job->active_count, hi) : hi;
+    for (size_t q = qlo; q < qhi; ++q) {
+        const size_t p = active ? active[q] : q;
         if (!touch[p]) {
             to_contact[p] = SINTER_NO_PAIR;
             continue;
