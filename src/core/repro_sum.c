@@ -115,13 +115,72 @@ void sinter_repro_from_doubles(sinter_repro_sum *s, const double in[SINTER_REPRO
     s->terms = 0;
 }
 
+/* A batch's exponent for a sum with a term that is not finite: above every finite one, so
+ * that the MAX over the parts keeps it. */
+#define NOT_FINITE ((int64_t)1 << 32)
+
+enum { CHUNK = 256 }; /* products formed on the stack, this many at a time */
+
+void sinter_repro_begin(sinter_repro_batch *x, size_t count)
+{
+    memset(x, 0, sizeof(*x));
+    x->count = count < SINTER_REPRO_BATCH ? count : SINTER_REPRO_BATCH;
+    for (size_t c = 0; c < x->count; ++c)
+        x->e[c] = INT32_MIN; /* (every term zero so far) */
+}
+
+/* Terms [k0, k0 + m) of a sum into p: a[k] or a[k] b[k] (each product rounded once, the same
+ * bits wherever it is formed). */
+static const double *terms_at(const double *a, const double *b, size_t k0, size_t m, double *p)
+{
+    if (b == NULL)
+        return a + k0;
+    for (size_t k = 0; k < m; ++k)
+        p[k] = a[k0 + k] * b[k0 + k];
+    return p;
+}
+
+void sinter_repro_scan(sinter_repro_batch *x, size_t c, const double *a, const double *b, size_t n)
+{
+    double p[CHUNK];
+    for (size_t k0 = 0; k0 < n; k0 += CHUNK) {
+        const size_t m = n - k0 < CHUNK ? n - k0 : CHUNK;
+        int finite = 1;
+        const int e = sinter_repro_exponent(terms_at(a, b, k0, m, p), m, 1, &finite);
+        const int64_t ec = finite ? e : NOT_FINITE;
+        x->e[c] = ec > x->e[c] ? ec : x->e[c];
+    }
+}
+
+int sinter_repro_agree(sinter_repro_batch *x, sinter_repro_reduce_fn reduce, void *user)
+{
+    return reduce != NULL && reduce(x->e, x->count, SINTER_REPRO_MAX, user) != 0 ? -1 : 0;
+}
+
+void sinter_repro_accumulate(sinter_repro_batch *x, size_t c, const double *a, const double *b,
+                             size_t n)
+{
+    if (x->e[c] == NOT_FINITE)
+        return; /* NaN in the end */
+    double p[CHUNK];
+    for (size_t k0 = 0; k0 < n; k0 += CHUNK) {
+        const size_t m = n - k0 < CHUNK ? n - k0 : CHUNK;
+        sinter_repro_add(&x->s[c], (int)x->e[c], terms_at(a, b, k0, m, p), m, 1);
+    }
+}
+
+int sinter_repro_finish(sinter_repro_batch *x, sinter_repro_reduce_fn reduce, void *user,
+                        double *out)
+{
+    return sinter_repro_totals(x->s, x->e, x->count, reduce, user, out);
+}
+
 int sinter_repro_totals(sinter_repro_sum *sum, const int64_t *e, size_t count,
                         sinter_repro_reduce_fn reduce, void *user, double *out)
 {
-    enum { CHUNK = 16 };
-    int64_t limbs[CHUNK * SINTER_REPRO_LIMBS];
-    for (size_t j0 = 0; j0 < count; j0 += CHUNK) {
-        const size_t c = count - j0 < CHUNK ? count - j0 : CHUNK;
+    int64_t limbs[SINTER_REPRO_BATCH * SINTER_REPRO_LIMBS];
+    for (size_t j0 = 0; j0 < count; j0 += SINTER_REPRO_BATCH) {
+        const size_t c = count - j0 < SINTER_REPRO_BATCH ? count - j0 : SINTER_REPRO_BATCH;
         for (size_t j = 0; j < c; ++j) {
             carry(&sum[j0 + j]); /* each part's limbs carried: their sum cannot overflow */
             for (int k = 0; k < SINTER_REPRO_LIMBS; ++k)
@@ -133,7 +192,7 @@ int sinter_repro_totals(sinter_repro_sum *sum, const int64_t *e, size_t count,
             sinter_repro_sum all = {{0}, 0};
             for (int k = 0; k < SINTER_REPRO_LIMBS; ++k)
                 all.limb[k] = limbs[SINTER_REPRO_LIMBS * j + (size_t)k];
-            out[j0 + j] = sinter_repro_value(&all, (int)e[j0 + j]);
+            out[j0 + j] = e[j0 + j] == NOT_FINITE ? NAN : sinter_repro_value(&all, (int)e[j0 + j]);
         }
     }
     return 0;
@@ -142,19 +201,16 @@ int sinter_repro_totals(sinter_repro_sum *sum, const int64_t *e, size_t count,
 int sinter_repro_series(const double *terms, size_t n, size_t count, sinter_repro_reduce_fn reduce,
                         void *user, double *out)
 {
-    enum { CHUNK = 16 };
-    for (size_t j0 = 0; j0 < count; j0 += CHUNK) {
-        const size_t c = count - j0 < CHUNK ? count - j0 : CHUNK;
-        int64_t e[CHUNK];
-        sinter_repro_sum sum[CHUNK];
-        for (size_t j = 0; j < c; ++j)
-            e[j] = sinter_repro_exponent(terms + (j0 + j) * n, n, 1, NULL);
-        if (reduce != NULL && reduce(e, c, SINTER_REPRO_MAX, user) != 0)
+    for (size_t j0 = 0; j0 < count; j0 += SINTER_REPRO_BATCH) {
+        sinter_repro_batch x;
+        sinter_repro_begin(&x, count - j0);
+        for (size_t j = 0; j < x.count; ++j)
+            sinter_repro_scan(&x, j, terms + (j0 + j) * n, NULL, n);
+        if (sinter_repro_agree(&x, reduce, user) != 0)
             return -1;
-        memset(sum, 0, sizeof(sum));
-        for (size_t j = 0; j < c; ++j)
-            sinter_repro_add(&sum[j], (int)e[j], terms + (j0 + j) * n, n, 1);
-        if (sinter_repro_totals(sum, e, c, reduce, user, out + j0) != 0)
+        for (size_t j = 0; j < x.count; ++j)
+            sinter_repro_accumulate(&x, j, terms + (j0 + j) * n, NULL, n);
+        if (sinter_repro_finish(&x, reduce, user, out + j0) != 0)
             return -1;
     }
     return 0;
@@ -163,34 +219,17 @@ int sinter_repro_series(const double *terms, size_t n, size_t count, sinter_repr
 int sinter_repro_dots(const double *const *a, const double *const *b, size_t n, size_t count,
                       sinter_repro_reduce_fn reduce, void *user, double *out)
 {
-    enum { MOST = 8, BLOCK = 256 };
-    if (count > MOST)
+    if (count > SINTER_REPRO_BATCH)
         return -1;
-    int64_t e[MOST];
-    sinter_repro_sum sum[MOST];
-    double t[BLOCK];
-    memset(sum, 0, sizeof(sum));
-    for (size_t j = 0; j < count; ++j) { /* the products twice: each the same rounded double */
-        int ej = INT32_MIN;
-        for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
-            const size_t c = n - i0 < BLOCK ? n - i0 : BLOCK;
-            for (size_t i = 0; i < c; ++i)
-                t[i] = a[j][i0 + i] * b[j][i0 + i];
-            const int eb = sinter_repro_exponent(t, c, 1, NULL);
-            ej = eb > ej ? eb : ej;
-        }
-        e[j] = ej;
-    }
-    if (reduce != NULL && reduce(e, count, SINTER_REPRO_MAX, user) != 0)
+    sinter_repro_batch x;
+    sinter_repro_begin(&x, count);
+    for (size_t j = 0; j < count; ++j) /* the products twice: each the same rounded double */
+        sinter_repro_scan(&x, j, a[j], b[j], n);
+    if (sinter_repro_agree(&x, reduce, user) != 0)
         return -1;
     for (size_t j = 0; j < count; ++j)
-        for (size_t i0 = 0; i0 < n; i0 += BLOCK) {
-            const size_t c = n - i0 < BLOCK ? n - i0 : BLOCK;
-            for (size_t i = 0; i < c; ++i)
-                t[i] = a[j][i0 + i] * b[j][i0 + i];
-            sinter_repro_add(&sum[j], (int)e[j], t, c, 1);
-        }
-    return sinter_repro_totals(sum, e, count, reduce, user, out);
+        sinter_repro_accumulate(&x, j, a[j], b[j], n);
+    return sinter_repro_finish(&x, reduce, user, out);
 }
 
 /* sinter_repro_add's inner step for one term r = x 2^-(e + HEADROOM), already scaled by the

@@ -62,21 +62,54 @@ typedef int (*sinter_repro_reverse_fn)(double *rows, size_t width, void *user);
 void sinter_repro_to_doubles(const sinter_repro_sum *s, double out[SINTER_REPRO_LIMBS]);
 void sinter_repro_from_doubles(sinter_repro_sum *s, const double in[SINTER_REPRO_LIMBS]);
 
+/*
+ * A batch of up to SINTER_REPRO_BATCH sums over every part, each of terms a[k] or of products
+ * a[k] b[k] (each rounded once, the same bits wherever it is formed): sinter_repro_begin, then
+ * each sum's terms through sinter_repro_scan (their exponents), sinter_repro_agree (one MAX
+ * through reduce), the same terms through sinter_repro_accumulate, then sinter_repro_finish
+ * (one SUM of the limbs through reduce). reduce NULL: one part, the same bits as on any number
+ * of parts. A sum with a term that is not finite on any part is NaN on every part. The
+ * callbacks' results: 0, or -1 when reduce failed.
+ */
+#define SINTER_REPRO_BATCH 16
+
+typedef struct sinter_repro_batch {
+    size_t count;                  /* sums in the batch */
+    int64_t e[SINTER_REPRO_BATCH]; /* exponents (above every finite one: a term not finite) */
+    sinter_repro_sum s[SINTER_REPRO_BATCH];
+} sinter_repro_batch;
+
+/* `count` sums (count <= SINTER_REPRO_BATCH), all zero. */
+void sinter_repro_begin(sinter_repro_batch *x, size_t count);
+
+/* The exponents of sum c's terms: a[k] (b NULL) or a[k] b[k], k < n. */
+void sinter_repro_scan(sinter_repro_batch *x, size_t c, const double *a, const double *b, size_t n);
+
+/* The exponents' maximum over every part. */
+int sinter_repro_agree(sinter_repro_batch *x, sinter_repro_reduce_fn reduce, void *user);
+
+/* The same terms as scanned, added to sum c at the agreed exponent. */
+void sinter_repro_accumulate(sinter_repro_batch *x, size_t c, const double *a, const double *b,
+                             size_t n);
+
+/* The sums over every part into out[0 .. count). */
+int sinter_repro_finish(sinter_repro_batch *x, sinter_repro_reduce_fn reduce, void *user,
+                        double *out);
+
 /* out[j] = sum[j] (at its exponent e[j], agreed over the parts by a MAX) totalled over every
  * part: the limbs (carried in sum) summed through reduce (NULL: one part). Returns 0, or -1
  * when reduce failed. */
 int sinter_repro_totals(sinter_repro_sum *sum, const int64_t *e, size_t count,
                         sinter_repro_reduce_fn reduce, void *user, double *out);
 
-/* out[j] = the exact sum over every part of count series of n terms each (terms[j n + i]):
- * one MAX of the exponents and one SUM of the limbs through reduce. Returns 0, or -1 when
- * reduce failed. */
+/* out[j] = the exact sum over every part of count series of n terms each (terms[j n + i]), in
+ * batches. Returns 0, or -1 when reduce failed. */
 int sinter_repro_series(const double *terms, size_t n, size_t count, sinter_repro_reduce_fn reduce,
                         void *user, double *out);
 
-/* out[j] = the exact sum over every part of a[j][i] b[j][i], i < n (each product rounded once,
- * as a double): dot products whose bits do not depend on the split. count <= 8. Returns 0, or
- * -1 when reduce failed. */
+/* out[j] = the exact sum over every part of a[j][i] b[j][i], i < n: dot products whose bits do
+ * not depend on the split, one batch (count <= SINTER_REPRO_BATCH). Returns 0, or -1 when
+ * reduce failed or count is too large. */
 int sinter_repro_dots(const double *const *a, const double *const *b, size_t n, size_t count,
                       sinter_repro_reduce_fn reduce, void *user, double *out);
 

@@ -1,80 +1,38 @@
 /* Order- and split-independent sums over every subdomain: see exact_reduce.h. */
 #include "domain/exact_reduce.h"
 
-#include <math.h>
-#include <string.h>
-
-enum { CHUNK = 64 }; /* products formed on the stack, this many at a time */
-
-void sinter_exact_begin(sinter_exact *x, size_t count)
+static int reduce_i64(int64_t *values, size_t count, int op, void *user)
 {
-    memset(x, 0, sizeof(*x));
-    x->count = count < SINTER_EXACT_MAX ? count : SINTER_EXACT_MAX;
-    for (size_t c = 0; c < x->count; ++c)
-        x->e[c] = INT32_MIN; /* (every term zero so far) */
+    sinter_domain_reducer *r = user;
+    const sinter_status s =
+        sinter_domain_reduce(r->ctx, r->d, values, count, SINTER_REDUCE_I64,
+                             op == SINTER_REPRO_MAX ? SINTER_REDUCE_MAX : SINTER_REDUCE_SUM);
+    if (r->status == SINTER_OK)
+        r->status = s;
+    return s != SINTER_OK;
 }
 
-/* Terms [k0, k0 + m) of a sum into p: a[k] or a[k] b[k] (each product rounded once, the same
- * bits wherever it is formed). */
-static const double *terms(const double *a, const double *b, size_t k0, size_t m, double *p)
+sinter_repro_reduce_fn sinter_domain_reducer_init(sinter_domain_reducer *r, sinter_ctx *ctx,
+                                                  sinter_domain *d)
 {
-    if (b == NULL)
-        return a + k0;
-    for (size_t k = 0; k < m; ++k)
-        p[k] = a[k0 + k] * b[k0 + k];
-    return p;
+    *r = (sinter_domain_reducer){.ctx = ctx, .d = d, .status = SINTER_OK};
+    return d != NULL && d->on ? reduce_i64 : NULL;
 }
 
-void sinter_exact_scan(sinter_exact *x, size_t c, const double *a, const double *b, size_t n)
+sinter_status sinter_domain_exact_sums(sinter_ctx *ctx, sinter_domain *d, size_t count,
+                                       const double *const *a, const double *const *b,
+                                       const size_t *n, double *out)
 {
-    double p[CHUNK];
-    for (size_t k0 = 0; k0 < n; k0 += CHUNK) {
-        const size_t m = n - k0 < CHUNK ? n - k0 : CHUNK;
-        int finite = 1;
-        const int e = sinter_repro_exponent(terms(a, b, k0, m, p), m, 1, &finite);
-        if (e > x->e[c])
-            x->e[c] = e;
-        if (!finite)
-            x->e[x->count + c] = 1;
-    }
-}
-
-sinter_status sinter_exact_agree(sinter_ctx *ctx, sinter_domain *d, sinter_exact *x)
-{
-    if (d == NULL || !d->on)
-        return SINTER_OK;
-    return sinter_domain_reduce(ctx, d, x->e, 2 * x->count, SINTER_REDUCE_I64, SINTER_REDUCE_MAX);
-}
-
-void sinter_exact_add(sinter_exact *x, size_t c, const double *a, const double *b, size_t n)
-{
-    double p[CHUNK];
-    for (size_t k0 = 0; k0 < n; k0 += CHUNK) {
-        const size_t m = n - k0 < CHUNK ? n - k0 : CHUNK;
-        sinter_repro_add(&x->s[c], (int)x->e[c], terms(a, b, k0, m, p), m, 1);
-    }
-}
-
-sinter_status sinter_exact_finish(sinter_ctx *ctx, sinter_domain *d, sinter_exact *x, double *out)
-{
-    /* each part's limbs carried (no limb near overflow), then summed as integers: exact */
-    int64_t limbs[SINTER_REPRO_LIMBS * SINTER_EXACT_MAX];
-    const sinter_repro_sum zero = {{0}, 0};
-    for (size_t c = 0; c < x->count; ++c) {
-        sinter_repro_sum part = zero;
-        sinter_repro_merge(&part, &x->s[c]);
-        memcpy(limbs + SINTER_REPRO_LIMBS * c, part.limb, sizeof(part.limb));
-    }
-    if (d != NULL && d->on) {
-        const sinter_status s = sinter_domain_reduce(ctx, d, limbs, SINTER_REPRO_LIMBS * x->count,
-                                                     SINTER_REDUCE_I64, SINTER_REDUCE_SUM);
-        if (s != SINTER_OK)
-            return s;
-    }
-    for (size_t c = 0; c < x->count; ++c) {
-        sinter_repro_sum all = zero;
-        memcpy(all.limb, limbs + SINTER_REPRO_LIMBS * c, sizeof(all.limb));
-        out[c] = x->e[x->count + c] ? NAN : sinter_repro_value(&all, (int)x->e[c]);
-    }
-    return SINTER_OK;
+    sinter_domain_reducer r;
+    const sinter_repro_reduce_fn reduce = sinter_domain_reducer_init(&r, ctx, d);
+    sinter_repro_batch x;
+    sinter_repro_begin(&x, count);
+    for (size_t c = 0; c < x.count; ++c)
+        sinter_repro_scan(&x, c, a[c], b != NULL ? b[c] : NULL, n[c]);
+    if (sinter_repro_agree(&x, reduce, &r) != 0)
+        return r.status;
+    for (size_t c = 0; c < x.count; ++c)
+        sinter_repro_accumulate(&x, c, a[c], b != NULL ? b[c] : NULL, n[c]);
+    (void)sinter_repro_finish(&x, reduce, &r, out);
+    return r.status;
 }

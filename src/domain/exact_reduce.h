@@ -1,14 +1,9 @@
 /*
- * A few sums over every subdomain whose bits depend neither on the order of their terms nor on
- * how the terms are split into subdomains (issue 43, the reproducible mode): the limb sums of
- * core/repro_sum.h with two integer reductions, the exponents' maximum (with a flag for a
- * term that is not finite) and the limbs' sum, as the wall reactions of stepper/wall_sums.c.
- * Without domain operations (d NULL or off) the sums are this part's alone, the same bits.
- *
- * Use: sinter_exact_begin, then for each sum its terms through sinter_exact_scan (the
- * exponents), sinter_exact_agree (collective), the same terms through sinter_exact_add, then
- * sinter_exact_finish (collective). A sum of terms that holds one that is not finite anywhere
- * is NaN everywhere.
+ * Sums over every subdomain whose bits depend neither on the order of their terms nor on how
+ * the terms are split into subdomains (issue 43, the reproducible mode): the batches of
+ * core/repro_sum.h with their two integer reductions (the exponents' MAX, the limbs' SUM)
+ * through sinter_domain_reduce. Without domain operations (d NULL or off) the sums are this
+ * part's alone, the same bits.
  */
 #ifndef SINTER_DOMAIN_EXACT_REDUCE_H
 #define SINTER_DOMAIN_EXACT_REDUCE_H
@@ -16,27 +11,23 @@
 #include "core/repro_sum.h"
 #include "domain/domain.h"
 
-#define SINTER_EXACT_MAX 16 /* sums in one batch */
+/* The subdomains' reductions as a sinter_repro_reduce_fn's user data; status: the first
+ * failure's (the reduction's own message is in ctx). */
+typedef struct sinter_domain_reducer {
+    sinter_ctx *ctx;
+    sinter_domain *d;
+    sinter_status status;
+} sinter_domain_reducer;
 
-typedef struct sinter_exact {
-    size_t count;                    /* sums in the batch */
-    int64_t e[2 * SINTER_EXACT_MAX]; /* exponents, then the flags of non-finite terms */
-    sinter_repro_sum s[SINTER_EXACT_MAX];
-} sinter_exact;
+/* r set up for d; returns the reduce callback for r, NULL without domain operations. */
+sinter_repro_reduce_fn sinter_domain_reducer_init(sinter_domain_reducer *r, sinter_ctx *ctx,
+                                                  sinter_domain *d);
 
-/* A batch of `count` sums (count <= SINTER_EXACT_MAX), all zero. */
-void sinter_exact_begin(sinter_exact *x, size_t count);
-
-/* The exponents of sum c's terms: a[k] (b NULL) or the products a[k] b[k], k < n. */
-void sinter_exact_scan(sinter_exact *x, size_t c, const double *a, const double *b, size_t n);
-
-/* The exponents' maximum over every subdomain (collective: one reduction of integers). */
-sinter_status sinter_exact_agree(sinter_ctx *ctx, sinter_domain *d, sinter_exact *x);
-
-/* The same terms as scanned, added to sum c at the agreed exponent. */
-void sinter_exact_add(sinter_exact *x, size_t c, const double *a, const double *b, size_t n);
-
-/* The sums over every subdomain into out[0 .. count) (collective: one reduction of integers). */
-sinter_status sinter_exact_finish(sinter_ctx *ctx, sinter_domain *d, sinter_exact *x, double *out);
+/* The exact sums out[c] = sum_k a[c][k] b[c][k] (b or b[c] NULL: the a[c][k]), k < n[c],
+ * c < count (count <= SINTER_REPRO_BATCH), over every subdomain (d NULL or off: this part's).
+ * Collective: two integer reductions. */
+sinter_status sinter_domain_exact_sums(sinter_ctx *ctx, sinter_domain *d, size_t count,
+                                       const double *const *a, const double *const *b,
+                                       const size_t *n, double *out);
 
 #endif

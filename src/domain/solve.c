@@ -60,22 +60,6 @@ double sinter_domain_solve_sum(double local, void *data)
     return ds->failed ? 0.0 : v;
 }
 
-sinter_status sinter_domain_exact_sums(sinter_ctx *ctx, sinter_domain *d, size_t count,
-                                       const double *const *a, const double *const *b,
-                                       const size_t *n, double *out)
-{
-    sinter_exact x;
-    sinter_exact_begin(&x, count);
-    for (size_t c = 0; c < x.count; ++c)
-        sinter_exact_scan(&x, c, a[c], b[c], n[c]);
-    const sinter_status s = sinter_exact_agree(ctx, d, &x);
-    if (s != SINTER_OK)
-        return s;
-    for (size_t c = 0; c < x.count; ++c)
-        sinter_exact_add(&x, c, a[c], b[c], n[c]);
-    return sinter_exact_finish(ctx, d, &x, out);
-}
-
 double sinter_domain_solve_exact_dot(const double *x, const double *y, size_t n, void *data)
 {
     sinter_domain_solve *ds = data;

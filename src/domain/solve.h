@@ -51,10 +51,4 @@ double sinter_domain_solve_sum(double local, void *data);
  */
 double sinter_domain_solve_exact_dot(const double *x, const double *y, size_t n, void *data);
 
-/* The exact sums out[c] = sum_k a[c][k] b[c][k] (b[c] NULL: the a[c][k]), k < n[c], c < count
- * (count <= SINTER_EXACT_MAX), over every subdomain (d NULL or off: this part's). */
-sinter_status sinter_domain_exact_sums(sinter_ctx *ctx, sinter_domain *d, size_t count,
-                                       const double *const *a, const double *const *b,
-                                       const size_t *n, double *out);
-
 #endif

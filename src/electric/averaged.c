@@ -186,16 +186,10 @@ static sinter_status jacobi_sweeps(sinter_electric_model *em, sinter_particles *
             memcpy(J, next, owned * sizeof(double));
         for (size_t i = 0; i < owned; ++i)
             next[i] = fabs(J[i]); /* (the norm's terms: 0 where unreached) */
-        sinter_exact x;
-        sinter_exact_begin(&x, 2);
-        sinter_exact_scan(&x, 0, change, NULL, owned);
-        sinter_exact_scan(&x, 1, next, NULL, owned);
-        sinter_status s = sinter_exact_agree(em->ctx, dom, &x);
+        const double *terms[2] = {change, next};
+        const size_t len[2] = {owned, owned};
+        sinter_status s = sinter_domain_exact_sums(em->ctx, dom, 2, terms, NULL, len, sums);
         if (s != SINTER_OK)
-            return s;
-        sinter_exact_add(&x, 0, change, NULL, owned);
-        sinter_exact_add(&x, 1, next, NULL, owned);
-        if ((s = sinter_exact_finish(em->ctx, dom, &x, sums)) != SINTER_OK)
             return s;
         if (dom != NULL && (s = to_ghosts(em, ps, J)) != SINTER_OK)
             return s;

@@ -105,11 +105,11 @@ static void repro_wall_rows(sinter_electric_model *em, const double *vv, double 
 {
     const size_t *start = em->repro_start;
     double *ta = em->repro_a, *tb = em->repro_b;
-    for (size_t w0 = 0; w0 < nw; w0 += SINTER_EXACT_MAX) {
-        const size_t m = nw - w0 < SINTER_EXACT_MAX ? nw - w0 : SINTER_EXACT_MAX;
-        const double *a[SINTER_EXACT_MAX], *b[SINTER_EXACT_MAX];
-        size_t count[SINTER_EXACT_MAX], pos = 0;
-        double sum[SINTER_EXACT_MAX];
+    for (size_t w0 = 0; w0 < nw; w0 += SINTER_REPRO_BATCH) {
+        const size_t m = nw - w0 < SINTER_REPRO_BATCH ? nw - w0 : SINTER_REPRO_BATCH;
+        const double *a[SINTER_REPRO_BATCH], *b[SINTER_REPRO_BATCH];
+        size_t count[SINTER_REPRO_BATCH], pos = 0;
+        double sum[SINTER_REPRO_BATCH];
         for (size_t c = 0; c < m; ++c) {
             const size_t w = w0 + c, first = pos;
             a[c] = ta + pos;
@@ -813,10 +813,10 @@ static int repro_wall_currents(sinter_electric_model *em, size_t nw, size_t n)
 {
     const double *phi = em->potential;
     double *t = em->repro_a;
-    for (size_t w0 = 0; w0 < nw; w0 += SINTER_EXACT_MAX) {
-        const size_t m = nw - w0 < SINTER_EXACT_MAX ? nw - w0 : SINTER_EXACT_MAX;
-        const double *a[SINTER_EXACT_MAX], *b[SINTER_EXACT_MAX];
-        size_t count[SINTER_EXACT_MAX], pos = 0;
+    for (size_t w0 = 0; w0 < nw; w0 += SINTER_REPRO_BATCH) {
+        const size_t m = nw - w0 < SINTER_REPRO_BATCH ? nw - w0 : SINTER_REPRO_BATCH;
+        const double *a[SINTER_REPRO_BATCH], *b[SINTER_REPRO_BATCH];
+        size_t count[SINTER_REPRO_BATCH], pos = 0;
         for (size_t c = 0; c < m; ++c) {
             const size_t w = w0 + c, first = pos;
             a[c] = t + pos;

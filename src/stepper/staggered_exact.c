@@ -22,24 +22,6 @@ static sinter_status terms_room(sinter_stepper *st, size_t count, double **terms
     return s;
 }
 
-/* The sums of `count` arrays of terms (a[c], or the products a[c] b[c] where b is not NULL)
- * of n[c] each, over every subdomain: exact, into out. Collective. */
-static sinter_status exact_sums(sinter_stepper *st, size_t count, const double *const *a,
-                                const double *const *b, const size_t *n, double *out)
-{
-    sinter_domain *d = domain_of(st);
-    sinter_exact x;
-    sinter_exact_begin(&x, count);
-    for (size_t c = 0; c < count; ++c)
-        sinter_exact_scan(&x, c, a[c], b != NULL ? b[c] : NULL, n[c]);
-    sinter_status s = sinter_exact_agree(st->ctx, d, &x);
-    if (s != SINTER_OK)
-        return s;
-    for (size_t c = 0; c < count; ++c)
-        sinter_exact_add(&x, c, a[c], b != NULL ? b[c] : NULL, n[c]);
-    return sinter_exact_finish(st->ctx, d, &x, out);
-}
-
 sinter_status sinter_staggered_exact_errors(sinter_stepper *st, const double *now,
                                             const double *prev, const double *start, int comps,
                                             uint32_t skip, double out[4])
@@ -72,7 +54,7 @@ sinter_status sinter_staggered_exact_errors(sinter_stepper *st, const double *no
     }
     const double *a[3] = {t, t + n, t + 2 * n};
     const size_t len[3] = {m, m, m};
-    const sinter_status r = exact_sums(st, 3, a, NULL, len, out);
+    const sinter_status r = sinter_domain_exact_sums(st->ctx, domain_of(st), 3, a, NULL, len, out);
     out[3] = (double)free_count; /* (a count: exact as a double in any order) */
     const sinter_status q = sinter_domain_sum(st->ctx, &st->domain, out + 3, 1);
     return s != SINTER_OK ? s : r != SINTER_OK ? r : q;
@@ -90,7 +72,8 @@ sinter_status sinter_staggered_exact_norms(sinter_stepper *st, size_t n, const d
         t[3 * m + i] = w[9 * m + i] * (g[9 * m + i] - u[9 * m + i]);
     const double *a[2] = {t, t + 3 * m};
     const size_t len[2] = {3 * m, m};
-    const sinter_status r = exact_sums(st, 2, a, a, len, out); /* the squares */
+    const sinter_status r =
+        sinter_domain_exact_sums(st->ctx, domain_of(st), 2, a, a, len, out); /* the squares */
     return s != SINTER_OK ? s : r;
 }
 
@@ -101,21 +84,22 @@ int sinter_staggered_exact_dots(const double *const *a, const double *const *b, 
                                 size_t count, double *out, void *user)
 {
     sinter_stepper *st = user;
-    if (count > SINTER_EXACT_MAX)
+    if (count > SINTER_REPRO_BATCH)
         return -1;
     const size_t m = n / 10;
-    sinter_domain *d = domain_of(st);
-    sinter_exact x;
-    sinter_exact_begin(&x, count);
+    sinter_domain_reducer r;
+    const sinter_repro_reduce_fn reduce = sinter_domain_reducer_init(&r, st->ctx, domain_of(st));
+    sinter_repro_batch x;
+    sinter_repro_begin(&x, count);
     for (size_t c = 0; c < count; ++c) {
-        sinter_exact_scan(&x, c, a[c], b[c], 3 * m);
-        sinter_exact_scan(&x, c, a[c] + 9 * m, b[c] + 9 * m, m);
+        sinter_repro_scan(&x, c, a[c], b[c], 3 * m);
+        sinter_repro_scan(&x, c, a[c] + 9 * m, b[c] + 9 * m, m);
     }
-    if (sinter_exact_agree(st->ctx, d, &x) != SINTER_OK)
+    if (sinter_repro_agree(&x, reduce, &r) != 0)
         return -1;
     for (size_t c = 0; c < count; ++c) {
-        sinter_exact_add(&x, c, a[c], b[c], 3 * m);
-        sinter_exact_add(&x, c, a[c] + 9 * m, b[c] + 9 * m, m);
+        sinter_repro_accumulate(&x, c, a[c], b[c], 3 * m);
+        sinter_repro_accumulate(&x, c, a[c] + 9 * m, b[c] + 9 * m, m);
     }
-    return sinter_exact_finish(st->ctx, d, &x, out) == SINTER_OK ? 0 : -1;
+    return sinter_repro_finish(&x, reduce, &r, out);
 }

@@ -5,6 +5,7 @@
 #include "contact/chunks.h"
 #include "contact/particle_pass.h"
 #include "core/pcg.h"
+#include "domain/exact_reduce.h"
 #include "domain/solve.h"
 #include "electric/electric.h"
 #include "sanity.h"

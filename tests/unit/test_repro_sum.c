@@ -291,6 +291,52 @@ static void test_dots_and_series(void **state)
     }
 }
 
+/* A batch (the mechanism of every cross-part sum: the domain layer's and the quasi-static
+ * stepper's) over two parts, their collectives played by hand (the exponents' MAX, the limbs'
+ * SUM): the same bits as one part holding every term, for products and plain terms; a term that
+ * is not finite on one part only makes its sum NaN on both, and leaves the other sum alone. */
+static void test_batch_over_two_parts(void **state)
+{
+    (void)state;
+    enum { M = 700, CUT = 300 };
+    static double a[M], b[M];
+    uint64_t seed = 777;
+    for (size_t i = 0; i < M; ++i) {
+        a[i] = ldexp((double)(next_random(&seed) % 2000001) - 1e6, (int)(i % 41) - 20);
+        b[i] = ((double)(next_random(&seed) % 2000001) - 1e6) * 1e-6;
+    }
+    for (int bad = 0; bad < 2; ++bad) {
+        if (bad)
+            b[M - 5] = INFINITY; /* in part 1's share of sum 0 only */
+        sinter_repro_batch one, part[2];
+        double all[2], split[2];
+        sinter_repro_begin(&one, 2);
+        sinter_repro_scan(&one, 0, a, b, M);
+        sinter_repro_scan(&one, 1, a, NULL, M);
+        sinter_repro_accumulate(&one, 0, a, b, M);
+        sinter_repro_accumulate(&one, 1, a, NULL, M);
+        assert_int_equal(sinter_repro_finish(&one, NULL, NULL, all), 0);
+        const size_t k0[2] = {0, CUT}, n[2] = {CUT, M - CUT};
+        for (int p = 0; p < 2; ++p) {
+            sinter_repro_begin(&part[p], 2);
+            sinter_repro_scan(&part[p], 0, a + k0[p], b + k0[p], n[p]);
+            sinter_repro_scan(&part[p], 1, a + k0[p], NULL, n[p]);
+        }
+        for (int c = 0; c < 2; ++c) /* the MAX */
+            part[0].e[c] = part[1].e[c] = part[0].e[c] > part[1].e[c] ? part[0].e[c] : part[1].e[c];
+        for (int p = 0; p < 2; ++p) {
+            sinter_repro_accumulate(&part[p], 0, a + k0[p], b + k0[p], n[p]);
+            sinter_repro_accumulate(&part[p], 1, a + k0[p], NULL, n[p]);
+        }
+        for (int c = 0; c < 2; ++c) /* the SUM */
+            sinter_repro_merge(&part[0].s[c], &part[1].s[c]);
+        assert_int_equal(sinter_repro_finish(&part[0], NULL, NULL, split), 0);
+        assert_memory_equal(all, split, sizeof(all));
+        assert_true(bad ? isnan(all[0]) : isfinite(all[0]));
+        assert_true(isfinite(all[1]));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -300,6 +346,7 @@ int main(void)
         cmocka_unit_test(test_non_finite_and_stride),
         cmocka_unit_test(test_rows_with_ghosts),
         cmocka_unit_test(test_dots_and_series),
+        cmocka_unit_test(test_batch_over_two_parts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
