@@ -263,6 +263,40 @@ static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
     return 1;
 }
 
+/* 1 if the pairs of l ascend by (key_i, key_j), each pair once. */
+static int keys_ascend(const sinter_pair_list *l)
+{
+    for (size_t p = 1; p < l->count; ++p)
+        if (l->key_i[p] < l->key_i[p - 1] ||
+            (l->key_i[p] == l->key_i[p - 1] && l->key_j[p] <= l->key_j[p - 1]))
+            return 0;
+    return 1;
+}
+
+/*
+ * match_pairs for lists that both ascend by their keys (a particle-wall list is written by
+ * particle and then wall, and a particle's id keeps its order while the layout does): one
+ * merge of the two lists instead of a hash table (issue 41: the slab's 3 592 front and back
+ * wall pairs were hashed at every rebuild). Returns 0 (nothing written) when either list
+ * does not ascend, and the caller uses the hash.
+ */
+static int match_by_merge(sinter_pair_list *now, const sinter_pair_list *before)
+{
+    if (!keys_ascend(now) || !keys_ascend(before))
+        return 0;
+    size_t p = 0;
+    for (size_t q = 0; q < now->count; ++q) {
+        const uint64_t ki = now->key_i[q], kj = now->key_j[q];
+        while (p < before->count &&
+               (before->key_i[p] < ki || (before->key_i[p] == ki && before->key_j[p] < kj)))
+            ++p;
+        now->from[q] = p < before->count && before->key_i[p] == ki && before->key_j[p] == kj
+                           ? (uint32_t)p
+                           : SINTER_NO_PAIR;
+    }
+    return 1;
+}
+
 static void swap_lists(sinter_pair_list *a, sinter_pair_list *b)
 {
     sinter_pair_list t = *a;
@@ -799,7 +833,7 @@ sinter_status sinter_neighbors_build(sinter_neighbors *nb, const sinter_particle
     if (st == SINTER_OK && !(same_layout && nb->old_pp.count > 0 &&
                              match_by_runs(nb, &nb->pp, &nb->old_pp, ps->count)))
         st = match_pairs(nb, &nb->pp, &nb->old_pp);
-    if (st == SINTER_OK)
+    if (st == SINTER_OK && !match_by_merge(&nb->pw, &nb->old_pw))
         st = match_pairs(nb, &nb->pw, &nb->old_pw);
     const size_t nw = walls ? walls->count : 0;
     if (st == SINTER_OK)
