@@ -78,6 +78,9 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
     double lanez[3 * BLOCK] = {0.0}; /* without rotation: each lane's sum of x * 0 (NaN sticks) */
     double sq[3 * BLOCK], eq[3 * BLOCK], nf[3 * BLOCK], da[3 * BLOCK];
     double bx[3 * BLOCK], bv[3 * BLOCK], bw[3 * BLOCK]; /* staged for streaming */
+    /* without rotation: each particle slot's largest squared step and displacement over the
+     * blocks (the maxima of all particles at the end: a maximum does not depend on order) */
+    double slot2[BLOCK] = {0.0}, slotd2[BLOCK] = {0.0};
     for (size_t i0 = lo; i0 < hi; i0 += BLOCK) {
         const size_t nb = hi - i0 < BLOCK ? hi - i0 : BLOCK, lanes = 3 * nb, k0 = 3 * i0;
         const double *restrict ka = fa, *restrict kb = fb, *restrict kg = mg;
@@ -124,6 +127,17 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
                 sinter_put(a->nv + k0 + k, bv[k], 1);
                 sinter_put(a->nw + k0 + k, bw[k], 1);
             }
+        if (!rotation) { /* per particle slot of the block, without a branch: vectorised */
+            for (size_t p = 0; p < nb; ++p) {
+                const double s2 = 0.0 + sq[3 * p] + sq[3 * p + 1] + sq[3 * p + 2];
+                slot2[p] = s2 > slot2[p] ? s2 : slot2[p]; /* NaN not taken */
+                if (exact) {
+                    const double d2 = 0.0 + eq[3 * p] + eq[3 * p + 1] + eq[3 * p + 2];
+                    slotd2[p] = d2 > slotd2[p] ? d2 : slotd2[p];
+                }
+            }
+            continue;
+        }
         for (size_t p = 0; p < nb; ++p) {
             const size_t k = 3 * p;
             double z = rotation ? nf[k] + nf[k + 1] + nf[k + 2] : 0.0;
@@ -143,6 +157,10 @@ kick_drift_body(const sinter_verlet_arrays *a, double h, const double g[3], int 
             if (!(z == 0.0) && out.bad == hi)
                 out.bad = i0 + p;
         }
+    }
+    for (size_t p = 0; p < BLOCK && !rotation; ++p) {
+        out.step2 = slot2[p] > out.step2 ? slot2[p] : out.step2;
+        out.moved2 = slotd2[p] > out.moved2 ? slotd2[p] : out.moved2;
     }
     double any = 0.0;
     for (size_t k = 0; k < 3 * BLOCK; ++k) {
