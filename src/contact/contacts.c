@@ -657,6 +657,17 @@ static size_t scan_range(const sinter_contact_list *c, const sinter_pair_list *p
     return hi;
 }
 
+/* scan_range over range t of r, its gaps written to its share offset[t] .. offset[t + 1] of
+ * gaps (none when gaps is NULL). */
+static inline size_t scan_range_t(const sinter_contact_list *c, const sinter_pair_list *pairs,
+                                  const sinter_particles *ps, const pair_ranges *r,
+                                  uint32_t *gaps, const size_t *offset, size_t *count, int t)
+{
+    return scan_range(c, pairs, ps, r->lo[t], r->lo[t + 1],
+                      gaps != NULL ? gaps + offset[t] : NULL, offset[t + 1] - offset[t],
+                      &count[t]);
+}
+
 /*
  * The first pair the list does not hold that is in contact (pairs->count: none). Scanning
  * every pair's entry costs a read of the whole pair list (2 % of a packed bed's step at half
@@ -689,11 +700,13 @@ static size_t first_new_contact(sinter_ctx *ctx, sinter_contact_list *c,
     offset[0] = 0;
     for (int t = 0; t < ranges; ++t) /* each range writes its share of the room */
         offset[t + 1] = gaps != NULL && n > 0 ? cap * r.lo[t + 1] / n : 0;
+    if (r.team > 1) {
 #pragma omp parallel for num_threads(r.team) schedule(static)
-    for (int t = 0; t < ranges; ++t) {
-        first[t] =
-            scan_range(c, pairs, ps, r.lo[t], r.lo[t + 1], gaps != NULL ? gaps + offset[t] : NULL,
-                       offset[t + 1] - offset[t], &count[t]);
+        for (int t = 0; t < ranges; ++t)
+            first[t] = scan_range_t(c, pairs, ps, &r, gaps, offset, count, t);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        for (int t = 0; t < ranges; ++t)
+            first[t] = scan_range_t(c, pairs, ps, &r, gaps, offset, count, t);
     }
     size_t kept = 0;
     for (int t = 0; t < ranges; ++t) {
@@ -845,9 +858,14 @@ void sinter_contacts_geometry(const sinter_ctx *ctx, sinter_contact_list *c,
         return;
     const long count = (long)c->count;
     const int threads = count < 4096 ? 1 : sinter_threads(ctx);
+    if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (long m = 0; m < count; ++m)
-        put_geometry(c, ps->x, ps->radius, (size_t)m, c->i[m], c->j[m]);
+        for (long m = 0; m < count; ++m)
+            put_geometry(c, ps->x, ps->radius, (size_t)m, c->i[m], c->j[m]);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        for (long m = 0; m < count; ++m)
+            put_geometry(c, ps->x, ps->radius, (size_t)m, c->i[m], c->j[m]);
+    }
     c->geometry = 1;
 }
 

@@ -58,6 +58,21 @@ sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
  * trial array was last zero off its contacts (the list's revisions) are pairs cleared, and
  * `active` copied from where it changed since `active` was written: a packed bed whose
  * contacts change only near its top, or not at all, costs that much (issue 9). */
+/* commit_swap's two loops, on the threads of the enclosing region or, outside one, on the
+ * calling thread (orphaned loops). */
+static void swap_loops(double *trial, size_t w, const uint32_t *p2c, long zero_lo, long pairs,
+                       uint32_t *active, const uint32_t *pair, long copy_lo, long count)
+{
+#pragma omp for schedule(static) nowait
+    for (long p = zero_lo; p < pairs; ++p)
+        if (p2c[p] == SINTER_NO_PAIR)
+            for (size_t d = 0; d < w; ++d)
+                trial[w * (size_t)p + d] = 0.0;
+#pragma omp for schedule(static) nowait
+    for (long k = copy_lo; k < count; ++k)
+        active[k] = pair[k];
+}
+
 static void commit_swap(sinter_history *h, const sinter_contact_list *c, int threads)
 {
     const size_t w = h->width;
@@ -73,16 +88,11 @@ static void commit_swap(sinter_history *h, const sinter_contact_list *c, int thr
     const long copy_lo = copy_from < c->count ? (long)copy_from : (long)c->count;
     const long pairs = (long)c->pair_count, count = (long)c->count;
     if (zero_lo < pairs || copy_lo < count) {
+        if (threads > 1) {
 #pragma omp parallel num_threads(threads)
-        {
-#pragma omp for schedule(static) nowait
-            for (long p = zero_lo; p < pairs; ++p)
-                if (p2c[p] == SINTER_NO_PAIR)
-                    for (size_t d = 0; d < w; ++d)
-                        trial[w * (size_t)p + d] = 0.0;
-#pragma omp for schedule(static) nowait
-            for (long k = copy_lo; k < count; ++k)
-                active[k] = pair[k];
+            swap_loops(trial, w, p2c, zero_lo, pairs, active, pair, copy_lo, count);
+        } else { /* a region of one thread costs a team (core/ranges_run.h) */
+            swap_loops(trial, w, p2c, zero_lo, pairs, active, pair, copy_lo, count);
         }
     }
     double *t = h->committed;
@@ -127,6 +137,36 @@ static inline void copy_trial(double *restrict committed, const double *restrict
     }
 }
 
+/* sinter_history_commit's loops for a history indexed by contact, on the threads of the
+ * enclosing region or, outside one, on the calling thread (orphaned loops). */
+static void commit_loops(sinter_history *h, const sinter_contact_list *c, long ended, long count,
+                         int runs)
+{
+    const size_t w = h->width;
+    double *restrict committed = h->committed;
+    const double *restrict trial = h->trial;
+    uint32_t *restrict active = h->active;
+    const uint32_t *p2c = c->pair_to_contact;
+    const size_t *qlo = c->chunks.qlo;
+#pragma omp for schedule(static) /* the barrier: the copies overwrite `active` */
+    for (long k = 0; k < ended; ++k)
+        if (p2c == NULL || p2c[active[k]] == SINTER_NO_PAIR)
+            memset(committed + (size_t)active[k] * w, 0, w * sizeof(double));
+    if (runs > 1) {
+#pragma omp for schedule(static)
+        for (int r = 0; r < runs; ++r)
+            copy_trial(committed, trial, active, c->pair, w, qlo[r], qlo[r + 1]);
+    } else {
+#ifdef _OPENMP
+        const long t = omp_get_thread_num(), nt = omp_get_num_threads();
+#else
+        const long t = 0, nt = 1;
+#endif
+        copy_trial(committed, trial, active, c->pair, w, (size_t)(count * t / nt),
+                   (size_t)(count * (t + 1) / nt));
+    }
+}
+
 sinter_status sinter_history_commit_reserve(sinter_ctx *ctx, sinter_history *h,
                                             const sinter_contact_list *c)
 {
@@ -141,49 +181,29 @@ sinter_status sinter_history_commit(sinter_ctx *ctx, sinter_history *h,
 {
     if (h->width == 0)
         return SINTER_OK;
-    const size_t w = h->width;
     sinter_status st =
         sinter_grow(ctx, (void **)&h->active, &h->active_capacity, c->count + 1, sizeof(uint32_t));
     if (st != SINTER_OK)
         return st;
-    double *restrict committed = h->committed;
-    const double *restrict trial = h->trial;
     if (h->by_pair) {
         commit_swap(h, c, c->pair_count < 4096 ? 1 : sinter_threads(ctx));
         return SINTER_OK;
     }
-    uint32_t *restrict active = h->active;
     /* Clear the pairs whose contact ended; the others are overwritten just below. Each loop
      * writes distinct pairs (a pair is active once and in contact once), and the two loops
      * write disjoint pairs, so the threads need no order in either. The copies go by the
      * list's runs where it has them (contact/chunks.h: a pair list's ranges), so that each
      * thread copies the trial values its share of the law wrote, at any size (issue 9); else
      * by equal shares from 4096 contacts. */
-    const uint32_t *p2c = c->pair_to_contact;
     const long ended = (long)h->active_count, count = (long)c->count;
     const int runs = c->chunks.count > 0 ? c->chunks.count : 1;
     const int allowed = sinter_threads(ctx);
     const int threads = runs > 1 ? (allowed < runs ? allowed : runs) : count < 4096 ? 1 : allowed;
-    const size_t *qlo = c->chunks.qlo;
+    if (threads > 1) {
 #pragma omp parallel num_threads(threads)
-    {
-#pragma omp for schedule(static) /* the barrier: the copies overwrite `active` */
-        for (long k = 0; k < ended; ++k)
-            if (p2c == NULL || p2c[active[k]] == SINTER_NO_PAIR)
-                memset(committed + (size_t)active[k] * w, 0, w * sizeof(double));
-        if (runs > 1) {
-#pragma omp for schedule(static)
-            for (int r = 0; r < runs; ++r)
-                copy_trial(committed, trial, active, c->pair, w, qlo[r], qlo[r + 1]);
-        } else {
-#ifdef _OPENMP
-            const long t = omp_get_thread_num(), nt = omp_get_num_threads();
-#else
-            const long t = 0, nt = 1;
-#endif
-            copy_trial(committed, trial, active, c->pair, w, (size_t)(count * t / nt),
-                       (size_t)(count * (t + 1) / nt));
-        }
+        commit_loops(h, c, ended, count, runs);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        commit_loops(h, c, ended, count, runs);
     }
     h->active_count = c->count;
     h->committed_rev = h->active_rev = c->revision;

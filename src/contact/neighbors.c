@@ -122,6 +122,14 @@ void sinter_neighbors_positions_restored(sinter_neighbors *nb)
     nb->bound_valid = 0;
 }
 
+/* Particle i's squared displacement from x0. */
+static inline double moved2(const double *x, const double *x0, long i)
+{
+    const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
+                 dz = x[3 * i + 2] - x0[3 * i + 2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
 int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *ps,
                            const sinter_walls *walls)
 {
@@ -146,12 +154,17 @@ int sinter_neighbors_stale(const sinter_neighbors *nb, const sinter_particles *p
         const long n = (long)ps->count;
         const int threads = n < 16384 ? 1 : sinter_threads(nb->ctx);
         /* a maximum does not depend on the order: the same for any number of threads */
+        if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(static) reduction(max : max2)
-        for (long i = 0; i < n; ++i) {
-            const double dx = x[3 * i] - x0[3 * i], dy = x[3 * i + 1] - x0[3 * i + 1],
-                         dz = x[3 * i + 2] - x0[3 * i + 2];
-            const double d2 = dx * dx + dy * dy + dz * dz;
-            max2 = d2 > max2 ? d2 : max2;
+            for (long i = 0; i < n; ++i) {
+                const double d2 = moved2(x, x0, i);
+                max2 = d2 > max2 ? d2 : max2;
+            }
+        } else { /* a region of one thread costs a team (core/ranges_run.h) */
+            for (long i = 0; i < n; ++i) {
+                const double d2 = moved2(x, x0, i);
+                max2 = d2 > max2 ? d2 : max2;
+            }
         }
     }
     const double max_particle = sqrt(max2);
@@ -165,6 +178,22 @@ static inline uint64_t mix_key(uint64_t a, uint64_t b)
     h *= 0xBF58476D1CE4E5B9ull;
     h ^= h >> 29;
     return h;
+}
+
+/* The pair of `before` with now's pair q's keys in the open-addressed table (SINTER_NO_PAIR:
+ * none). */
+static inline uint32_t hash_find(const uint32_t *table, size_t mask,
+                                 const sinter_pair_list *before, const sinter_pair_list *now,
+                                 size_t q)
+{
+    size_t h = mix_key(now->key_i[q], now->key_j[q]) & mask;
+    while (table[h] != SINTER_NO_PAIR) {
+        const uint32_t p = table[h];
+        if (before->key_i[p] == now->key_i[q] && before->key_j[p] == now->key_j[q])
+            return p;
+        h = (h + 1) & mask;
+    }
+    return SINTER_NO_PAIR;
 }
 
 /* For each pair of `now`, find the pair with the same keys in `before`. */
@@ -194,19 +223,13 @@ static sinter_status match_pairs(sinter_neighbors *nb, sinter_pair_list *now,
     }
     const long count = (long)now->count;
     const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
+    if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (long q = 0; q < count; ++q) {
-        size_t h = mix_key(now->key_i[q], now->key_j[q]) & mask;
-        uint32_t found = SINTER_NO_PAIR;
-        while (table[h] != SINTER_NO_PAIR) {
-            const uint32_t p = table[h];
-            if (before->key_i[p] == now->key_i[q] && before->key_j[p] == now->key_j[q]) {
-                found = p;
-                break;
-            }
-            h = (h + 1) & mask;
-        }
-        now->from[q] = found;
+        for (long q = 0; q < count; ++q)
+            now->from[q] = hash_find(table, mask, before, now, (size_t)q);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        for (long q = 0; q < count; ++q)
+            now->from[q] = hash_find(table, mask, before, now, (size_t)q);
     }
     return SINTER_OK;
 }
@@ -225,6 +248,9 @@ static inline uint32_t key_of(const sinter_pair_list *l, size_t p)
  * hash; both passes run on the threads. Returns 0 (nothing written) if the old list's runs do
  * not ascend, and the caller uses the hash.
  */
+static void runs_loops(sinter_pair_list *now, const sinter_pair_list *before, size_t n,
+                       uint32_t *start);
+
 static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
                          const sinter_pair_list *before, size_t n)
 {
@@ -236,31 +262,42 @@ static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
         SINTER_OK)
         return 0;               /* the hash path reports the failure */
     uint32_t *start = nb->hash; /* old pairs of particle a: [start[a], start[a + 1]) */
-    const long pairs = (long)old_count, count = (long)now->count;
+    const long count = (long)now->count;
     const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
+    if (threads > 1) {
 #pragma omp parallel num_threads(threads)
-    {
-        /* each run start p fills start[a] for the particles a from the previous key up */
-#pragma omp for schedule(static)
-        for (long p = 0; p <= pairs; ++p) {
-            const size_t key = p < pairs ? key_of(before, (size_t)p) : n;
-            const size_t prev = p > 0 ? (size_t)key_of(before, (size_t)p - 1) + 1 : 0;
-            for (size_t a = prev; a <= key && a <= n; ++a)
-                start[a] = (uint32_t)p;
-        }
-#pragma omp for schedule(static)
-        for (long q = 0; q < count; ++q) {
-            const uint32_t i = now->i[q], j = now->j[q], a = key_of(now, (size_t)q);
-            uint32_t found = SINTER_NO_PAIR;
-            for (uint32_t p = start[a]; p < start[a + 1]; ++p)
-                if (before->i[p] == i && before->j[p] == j) {
-                    found = p;
-                    break;
-                }
-            now->from[q] = found;
-        }
+        runs_loops(now, before, n, start);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        runs_loops(now, before, n, start);
     }
     return 1;
+}
+
+/* match_by_runs' two loops, on the threads of the enclosing region or, outside one, on the
+ * calling thread (orphaned loops). */
+static void runs_loops(sinter_pair_list *now, const sinter_pair_list *before, size_t n,
+                       uint32_t *start)
+{
+    const long pairs = (long)before->count, count = (long)now->count;
+    /* each run start p fills start[a] for the particles a from the previous key up */
+#pragma omp for schedule(static)
+    for (long p = 0; p <= pairs; ++p) {
+        const size_t key = p < pairs ? key_of(before, (size_t)p) : n;
+        const size_t prev = p > 0 ? (size_t)key_of(before, (size_t)p - 1) + 1 : 0;
+        for (size_t a = prev; a <= key && a <= n; ++a)
+            start[a] = (uint32_t)p;
+    }
+#pragma omp for schedule(static)
+    for (long q = 0; q < count; ++q) {
+        const uint32_t i = now->i[q], j = now->j[q], a = key_of(now, (size_t)q);
+        uint32_t found = SINTER_NO_PAIR;
+        for (uint32_t p = start[a]; p < start[a + 1]; ++p)
+            if (before->i[p] == i && before->j[p] == j) {
+                found = p;
+                break;
+            }
+        now->from[q] = found;
+    }
 }
 
 /* 1 if the pairs of l ascend by (key_i, key_j), each pair once. */
@@ -427,6 +464,47 @@ static sinter_status scan_append(sinter_neighbors *nb, const grid *g, const sint
     return st;
 }
 
+/* The bounding box of particles [a, b) and their largest radius into q (lo[3], hi[3], rmax);
+ * a >= 1 particle. */
+static void bounds_range(const double *x, const double *r, size_t a, size_t b, double q[7])
+{
+    for (int d = 0; d < 3; ++d)
+        q[d] = q[3 + d] = x[3 * a + d];
+    q[6] = 0.0;
+    for (size_t i = a; i < b; ++i) {
+        for (int d = 0; d < 3; ++d) {
+            q[d] = min_num(q[d], x[3 * i + d]);
+            q[3 + d] = max_num(q[3 + d], x[3 * i + d]);
+        }
+        q[6] = max_num(q[6], r[i]);
+    }
+}
+
+/* The cells of particles [a, b) into cell_of, counted per cell into count[0 .. ncell). */
+static void count_cells(const double *x, const double lo[3], double inv, const size_t dims[3],
+                        size_t a, size_t b, uint32_t *cell_of, uint32_t *count, size_t ncell)
+{
+    memset(count, 0, ncell * sizeof(uint32_t));
+    for (size_t i = a; i < b; ++i) {
+        size_t c[3];
+        for (int d = 0; d < 3; ++d) {
+            /* >= 0, possibly +inf (overflowed difference) or NaN (inf * 0): clamp first */
+            const double q = (x[3 * i + d] - lo[d]) * inv;
+            c[d] = q < (double)dims[d] ? (size_t)q : dims[d] - 1;
+        }
+        cell_of[i] = (uint32_t)((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
+        count[cell_of[i]]++;
+    }
+}
+
+/* Particles [a, b) into their cells' next slots (slot: the range's first slot per cell). */
+static void place_items(uint32_t *items, const uint32_t *cell_of, uint32_t *slot, size_t a,
+                        size_t b)
+{
+    for (size_t i = a; i < b; ++i)
+        items[slot[cell_of[i]]++] = (uint32_t)i;
+}
+
 /* Particle-particle candidates: particles binned in cells of side >= the largest cutoff. */
 static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
 {
@@ -443,20 +521,13 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     const int threads = n < 16384 ? 1 : sinter_threads(ctx);
     const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
     double part[RANGES_MAX][7];
+    if (ranges > 1) {
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
-    for (int t = 0; t < ranges; ++t) {
-        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        double *q = part[t];
-        for (int d = 0; d < 3; ++d)
-            q[d] = q[3 + d] = x[3 * a + d];
-        q[6] = 0.0;
-        for (size_t i = a; i < b; ++i) {
-            for (int d = 0; d < 3; ++d) {
-                q[d] = min_num(q[d], x[3 * i + d]);
-                q[3 + d] = max_num(q[3 + d], x[3 * i + d]);
-            }
-            q[6] = max_num(q[6], r[i]);
-        }
+        for (int t = 0; t < ranges; ++t)
+            bounds_range(x, r, n * (size_t)t / (size_t)ranges,
+                         n * (size_t)(t + 1) / (size_t)ranges, part[t]);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        bounds_range(x, r, 0, n, part[0]);
     }
     double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]}, rmax = 0.0;
     for (int t = 0; t < ranges; ++t) {
@@ -512,21 +583,14 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
         return st;
     uint32_t *start = nb->cell_start, *items = nb->cell_items, *cell_of = nb->cell_items + n;
     const double inv = 1.0 / cell;
+    if (sorters > 1) {
 #pragma omp parallel for num_threads(sorters) schedule(static, 1)
-    for (int t = 0; t < sorters; ++t) {
-        const size_t a = n * (size_t)t / (size_t)sorters, b = n * (size_t)(t + 1) / (size_t)sorters;
-        uint32_t *count = nb->cell_counts + (size_t)t * ncell;
-        memset(count, 0, ncell * sizeof(uint32_t));
-        for (size_t i = a; i < b; ++i) {
-            size_t c[3];
-            for (int d = 0; d < 3; ++d) {
-                /* >= 0, possibly +inf (overflowed difference) or NaN (inf * 0): clamp first */
-                const double q = (x[3 * i + d] - lo[d]) * inv;
-                c[d] = q < (double)dims[d] ? (size_t)q : dims[d] - 1;
-            }
-            cell_of[i] = (uint32_t)((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
-            count[cell_of[i]]++;
-        }
+        for (int t = 0; t < sorters; ++t)
+            count_cells(x, lo, inv, dims, n * (size_t)t / (size_t)sorters,
+                        n * (size_t)(t + 1) / (size_t)sorters, cell_of,
+                        nb->cell_counts + (size_t)t * ncell, ncell);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        count_cells(x, lo, inv, dims, 0, n, cell_of, nb->cell_counts, ncell);
     }
     /* counting sort: items[start[c] .. start[c+1]) are the particles of cell c, by index
      * (the ranges in order within a cell) */
@@ -541,12 +605,13 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
         }
     }
     start[ncell] = next;
+    if (sorters > 1) {
 #pragma omp parallel for num_threads(sorters) schedule(static, 1)
-    for (int t = 0; t < sorters; ++t) {
-        const size_t a = n * (size_t)t / (size_t)sorters, b = n * (size_t)(t + 1) / (size_t)sorters;
-        uint32_t *slot = nb->cell_counts + (size_t)t * ncell;
-        for (size_t i = a; i < b; ++i)
-            items[slot[cell_of[i]]++] = (uint32_t)i;
+        for (int t = 0; t < sorters; ++t)
+            place_items(items, cell_of, nb->cell_counts + (size_t)t * ncell,
+                        n * (size_t)t / (size_t)sorters, n * (size_t)(t + 1) / (size_t)sorters);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        place_items(items, cell_of, nb->cell_counts, 0, n);
     }
     const int kept = nb->keep_count > 0;
     const grid g = {
@@ -623,10 +688,17 @@ static void drop_ghost_pairs(const sinter_neighbors *nb, sinter_pair_list *l, si
 static void fill_keys(sinter_pair_list *l, const uint64_t *id, int threads)
 {
     const long count = (long)l->count;
+    if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (long p = 0; p < count; ++p) {
-        l->key_i[p] = id[l->i[p]];
-        l->key_j[p] = id[l->j[p]];
+        for (long p = 0; p < count; ++p) {
+            l->key_i[p] = id[l->i[p]];
+            l->key_j[p] = id[l->j[p]];
+        }
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        for (long p = 0; p < count; ++p) {
+            l->key_i[p] = id[l->i[p]];
+            l->key_j[p] = id[l->j[p]];
+        }
     }
 }
 
@@ -682,6 +754,28 @@ static inline void put_pw(sinter_pair_list *l, const sinter_walls *walls,
             }
 }
 
+/* count_pw (planes) or count_pw_kinds over range t of `ranges` equal ranges of n particles. */
+static size_t count_pw_range(const sinter_walls *walls, const double *x, const double *r,
+                             double skin, size_t n, int ranges, int t, int planes, uint8_t *near,
+                             uint32_t *hint)
+{
+    const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+    return planes ? count_pw(walls, x, r, skin, a, b)
+                  : count_pw_kinds(walls, x, r, skin, a, b, near, hint);
+}
+
+/* put_pw over range t of `ranges` equal ranges of n particles, from m on. */
+static void put_pw_range(sinter_pair_list *l, const sinter_walls *walls,
+                         const sinter_particles *ps, double skin, size_t n, int ranges, int t,
+                         size_t m, int planes, const uint8_t *near)
+{
+    const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
+    if (planes)
+        put_pw(l, walls, ps, skin, a, b, m, 1, NULL);
+    else
+        put_pw(l, walls, ps, skin, a, b, m, 0, near);
+}
+
 /* Particle-wall candidates, by particle and then wall: counted in ranges of particles on the
  * threads, then written from each range's offset (the order of one thread). */
 static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
@@ -716,11 +810,12 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     const int threads = n * nw < 16384 ? 1 : sinter_threads(nb->ctx);
     const int ranges = threads < RANGES_MAX ? threads : RANGES_MAX;
     size_t offset[RANGES_MAX + 1] = {0};
+    if (ranges > 1) {
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
-    for (int t = 0; t < ranges; ++t) {
-        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        offset[t + 1] = planes ? count_pw(walls, x, r, skin, a, b)
-                               : count_pw_kinds(walls, x, r, skin, a, b, near, hint);
+        for (int t = 0; t < ranges; ++t)
+            offset[t + 1] = count_pw_range(walls, x, r, skin, n, ranges, t, planes, near, hint);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        offset[1] = count_pw_range(walls, x, r, skin, n, 1, 0, planes, near, hint);
     }
     for (int t = 0; t < ranges; ++t)
         offset[t + 1] += offset[t];
@@ -728,13 +823,12 @@ static sinter_status build_pw(sinter_neighbors *nb, const sinter_particles *ps,
     const sinter_status st = reserve_pairs(nb->ctx, l, offset[ranges] + 1);
     if (st != SINTER_OK)
         return st;
+    if (ranges > 1) {
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
-    for (int t = 0; t < ranges; ++t) {
-        const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
-        if (planes)
-            put_pw(l, walls, ps, skin, a, b, offset[t], 1, NULL);
-        else
-            put_pw(l, walls, ps, skin, a, b, offset[t], 0, near);
+        for (int t = 0; t < ranges; ++t)
+            put_pw_range(l, walls, ps, skin, n, ranges, t, offset[t], planes, near);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        put_pw_range(l, walls, ps, skin, n, 1, 0, offset[0], planes, near);
     }
     l->count = offset[ranges];
     return SINTER_OK;

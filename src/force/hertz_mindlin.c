@@ -908,10 +908,15 @@ static void eval_pw(const sinter_force_eval *e, const constants *k, int rolling,
         return;
     }
     if (!done) {
-        const int threads = sinter_threads(e->ctx);
-#pragma omp parallel for num_threads(threads < runs ? threads : runs) schedule(static)
-        for (int s = 0; s < runs; ++s)
-            pw_run(e, k, job, s, rolling);
+        const int threads = sinter_threads(e->ctx), team = threads < runs ? threads : runs;
+        if (team > 1) {
+#pragma omp parallel for num_threads(team) schedule(static)
+            for (int s = 0; s < runs; ++s)
+                pw_run(e, k, job, s, rolling);
+        } else { /* a region of one thread costs a team (core/ranges_run.h) */
+            for (int s = 0; s < runs; ++s)
+                pw_run(e, k, job, s, rolling);
+        }
     }
     for (int s = 0; s < runs; ++s) {
         for (size_t d = 0; d < 3 * job->nw; ++d)

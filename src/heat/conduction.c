@@ -428,9 +428,14 @@ static inline void loop_pp(const sinter_heat_eval *e, const double *kmat, int pr
     const int threads = c->count < 4096 ? 1 : sinter_threads(e->ctx);
     if (implicit) {
         const long count = (long)c->count;
+        if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-        for (long k = 0; k < count; ++k)
-            e->g_pp[k] += contact_g(e, kmat, projection, (size_t)k);
+            for (long k = 0; k < count; ++k)
+                e->g_pp[k] += contact_g(e, kmat, projection, (size_t)k);
+        } else { /* a region of one thread costs a team (core/ranges_run.h) */
+            for (long k = 0; k < count; ++k)
+                e->g_pp[k] += contact_g(e, kmat, projection, (size_t)k);
+        }
         return;
     }
     for (size_t k = 0; k < c->count; ++k) {
