@@ -80,6 +80,15 @@ int sinter_threads(const sinter_ctx *ctx)
     return ctx->step_threads > 0 ? ctx->step_threads : sinter_threads_allowed(ctx);
 }
 
+/* 1 if spheres i and j overlap (centres closer than the sum of the radii, and apart). */
+static inline int overlapping(const double *x, const double *r, uint32_t i, uint32_t j)
+{
+    const double ex = x[3 * j] - x[3 * i], ey = x[3 * j + 1] - x[3 * i + 1],
+                 ez = x[3 * j + 2] - x[3 * i + 2];
+    const double d2 = ex * ex + ey * ey + ez * ez, rs = r[i] + r[j];
+    return d2 < rs * rs && d2 != 0.0;
+}
+
 /* 1 if pair p is in contact (the test of the fill pass, without its arithmetic): overlapping,
  * or held by c->held (a bond that holds in tension) at any distance but 0. */
 static inline int touching(const sinter_contact_list *c, const sinter_pair_list *pairs,
@@ -121,6 +130,23 @@ static inline void put_geometry(sinter_contact_list *c, const double *x, const d
     c->branch[m] = g.li;
 }
 
+/* Pair p of particles i, j as contact m of fill_into's list (its pair_to_contact entry is the
+ * caller's). */
+static inline __attribute__((always_inline)) void
+take_contact(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
+             uint32_t *restrict cpair, const double *x, const double *r, uint32_t i, uint32_t j,
+             size_t p, size_t m, int geometry, uint32_t *prev, int *ascending)
+{
+    ci[m] = i;
+    cj[m] = j;
+    cpair[m] = (uint32_t)p;
+    if (geometry)
+        put_geometry(c, x, r, m, i, j);
+    const uint32_t key = i < j ? i : j; /* the particle whose scan found the pair */
+    *ascending &= key >= *prev;
+    *prev = key;
+}
+
 /* Contacts among pairs [lo, hi), written from index m on into ci, cj, cpair (the list's own
  * arrays, or a scratch copy: fill_segments); returns the next free index. With `touch` (the
  * counting pass's verdict per pair, from the same arithmetic) the pairs not in contact are
@@ -136,22 +162,28 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
     const size_t m0 = m;
     uint32_t prev = 0;
     int ascending = 1;
-    for (size_t p = lo; p < hi; ++p) {
-        const uint32_t i = pi[p], j = pj[p];
-        if (touch != NULL ? !touch[p] : !touching(c, pairs, x, r, p)) {
-            to_contact[p] = SINTER_NO_PAIR;
-            continue;
+    if (touch == NULL && c->held == NULL) {
+        /* the plain overlap test, its inputs held in registers (issue 41: a shaken bed's
+         * thousands of candidates a step, a few dozen in contact) */
+        for (size_t p = lo; p < hi; ++p) {
+            if (!overlapping(x, r, pi[p], pj[p])) {
+                to_contact[p] = SINTER_NO_PAIR;
+                continue;
+            }
+            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev,
+                         &ascending);
+            to_contact[p] = (uint32_t)m++;
         }
-        ci[m] = i;
-        cj[m] = j;
-        cpair[m] = (uint32_t)p;
-        to_contact[p] = (uint32_t)m;
-        if (geometry)
-            put_geometry(c, x, r, m, i, j);
-        const uint32_t key = i < j ? i : j; /* the particle whose scan found the pair */
-        ascending &= key >= prev;
-        prev = key;
-        ++m;
+    } else {
+        for (size_t p = lo; p < hi; ++p) {
+            if (touch != NULL ? !touch[p] : !touching(c, pairs, x, r, p)) {
+                to_contact[p] = SINTER_NO_PAIR;
+                continue;
+            }
+            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev,
+                         &ascending);
+            to_contact[p] = (uint32_t)m++;
+        }
     }
     part->ascending = ascending;
     part->any = m > m0;
@@ -643,11 +675,14 @@ static size_t scan_range(const sinter_contact_list *c, const sinter_pair_list *p
                          size_t cap, size_t *count)
 {
     const uint32_t *restrict to_contact = c->pair_to_contact;
+    const double *restrict x = ps->x, *restrict r = ps->radius;
+    const uint32_t *restrict pi = pairs->i, *restrict pj = pairs->j;
+    const int plain = c->held == NULL; /* the overlap test alone, its inputs in registers */
     size_t k = 0;
     for (size_t p = lo; p < hi; ++p) {
         if (to_contact[p] != SINTER_NO_PAIR)
             continue;
-        if (touching(c, pairs, ps->x, ps->radius, p))
+        if (plain ? overlapping(x, r, pi[p], pj[p]) : touching(c, pairs, x, r, p))
             return p;
         if (k < cap)
             gaps[k] = (uint32_t)p;
