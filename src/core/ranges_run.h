@@ -2,8 +2,11 @@
  * A loop over work ranges on a team of threads that costs nothing on one thread: libgomp
  * allocates a team at every parallel region of one thread and frees it at its end (a team of
  * two or more is kept for the next region), 1 000-1 500 instructions a region; a step of a
- * small scene opens five (issue 9: a fifth of a one-particle scene's instructions). With a
- * team of one the ranges run on the calling thread without entering OpenMP.
+ * small scene opens five (issue 9: a fifth of a one-particle scene's instructions). And it
+ * ends every region, of one thread too, with a futex wake: a system call, 1-2 us on a VM (issue
+ * 41: 0.27 of the vibrated bed's CPU on one thread). With a team of one the ranges run on the
+ * calling thread without entering OpenMP; every threaded loop that a run on one thread reaches
+ * does the same (`if (threads > 1) { parallel loop } else { loop }`).
  */
 #ifndef SINTER_CORE_RANGES_RUN_H
 #define SINTER_CORE_RANGES_RUN_H

@@ -97,10 +97,14 @@ sinter_status sinter_qs_advance_law(sinter_qs *qs, const sinter_qs_particles *p,
     } else {
         /* pairs are independent: the same bits on any thread count */
         const int threads = m < 64 ? 1 : sinter_threads(qs->ctx);
-        (void)threads; /* without OpenMP */
+        if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-        for (size_t k = 0; k < m; ++k)
-            (void)gb_link(&qs->links[k], schedule, t, h, out + SINTER_NECK_DOF * k);
+            for (size_t k = 0; k < m; ++k)
+                (void)gb_link(&qs->links[k], schedule, t, h, out + SINTER_NECK_DOF * k);
+        } else { /* a region of one thread costs a team (core/ranges_run.h) */
+            for (size_t k = 0; k < m; ++k)
+                (void)gb_link(&qs->links[k], schedule, t, h, out + SINTER_NECK_DOF * k);
+        }
     }
     for (size_t k = 0; k < m && st == SINTER_OK && bad == m; ++k)
         for (int i = 0; i < SINTER_NECK_DOF; ++i)

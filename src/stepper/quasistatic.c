@@ -372,6 +372,15 @@ static int pair_advance(const sinter_qs *qs, sinter_qs_link *l, const sinter_nec
     return 0;
 }
 
+/* Link order[k] (order NULL: k) advanced by pair_advance: UINT64_MAX, or the failure's key
+ * (advance_pairs). */
+static inline uint64_t advance_key(sinter_qs *qs, const size_t *order, size_t k,
+                                   const sinter_neck_schedule *s, double t, double h)
+{
+    const int failed = pair_advance(qs, &qs->links[order != NULL ? order[k] : k], s, t, h);
+    return failed == 0 ? UINT64_MAX : 2 * (uint64_t)k + (failed == -2 ? 1u : 0u);
+}
+
 /* Strategy 2 over the links order[0..m) (order NULL: every link, m = count), on the context's
  * threads (pairs of uneven cost: dynamic chunks). Returns UINT64_MAX, or for the failed pair of
  * lowest position k, 2 k + 1 if it left the model's domain and 2 k if it could not meet the
@@ -381,12 +390,15 @@ static uint64_t advance_pairs(sinter_qs *qs, const size_t *order, size_t m,
 {
     const int threads = m < 64 ? 1 : sinter_threads(qs->ctx);
     uint64_t first = UINT64_MAX;
-    (void)threads; /* without OpenMP */
+    if (threads > 1) {
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 16) reduction(min : first)
-    for (size_t k = 0; k < m; ++k) {
-        const int failed = pair_advance(qs, &qs->links[order != NULL ? order[k] : k], s, t, h);
-        if (failed != 0) {
-            const uint64_t key = 2 * (uint64_t)k + (failed == -2 ? 1u : 0u);
+        for (size_t k = 0; k < m; ++k) {
+            const uint64_t key = advance_key(qs, order, k, s, t, h);
+            first = key < first ? key : first;
+        }
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        for (size_t k = 0; k < m; ++k) {
+            const uint64_t key = advance_key(qs, order, k, s, t, h);
             first = key < first ? key : first;
         }
     }
