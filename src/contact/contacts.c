@@ -170,8 +170,7 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
                 to_contact[p] = SINTER_NO_PAIR;
                 continue;
             }
-            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev,
-                         &ascending);
+            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev, &ascending);
             to_contact[p] = (uint32_t)m++;
         }
     } else {
@@ -180,8 +179,7 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
                 to_contact[p] = SINTER_NO_PAIR;
                 continue;
             }
-            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev,
-                         &ascending);
+            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev, &ascending);
             to_contact[p] = (uint32_t)m++;
         }
     }
@@ -695,12 +693,11 @@ static size_t scan_range(const sinter_contact_list *c, const sinter_pair_list *p
 /* scan_range over range t of r, its gaps written to its share offset[t] .. offset[t + 1] of
  * gaps (none when gaps is NULL). */
 static inline size_t scan_range_t(const sinter_contact_list *c, const sinter_pair_list *pairs,
-                                  const sinter_particles *ps, const pair_ranges *r,
-                                  uint32_t *gaps, const size_t *offset, size_t *count, int t)
+                                  const sinter_particles *ps, const pair_ranges *r, uint32_t *gaps,
+                                  const size_t *offset, size_t *count, int t)
 {
-    return scan_range(c, pairs, ps, r->lo[t], r->lo[t + 1],
-                      gaps != NULL ? gaps + offset[t] : NULL, offset[t + 1] - offset[t],
-                      &count[t]);
+    return scan_range(c, pairs, ps, r->lo[t], r->lo[t + 1], gaps != NULL ? gaps + offset[t] : NULL,
+                      offset[t + 1] - offset[t], &count[t]);
 }
 
 /*

@@ -182,9 +182,8 @@ static inline uint64_t mix_key(uint64_t a, uint64_t b)
 
 /* The pair of `before` with now's pair q's keys in the open-addressed table (SINTER_NO_PAIR:
  * none). */
-static inline uint32_t hash_find(const uint32_t *table, size_t mask,
-                                 const sinter_pair_list *before, const sinter_pair_list *now,
-                                 size_t q)
+static inline uint32_t hash_find(const uint32_t *table, size_t mask, const sinter_pair_list *before,
+                                 const sinter_pair_list *now, size_t q)
 {
     size_t h = mix_key(now->key_i[q], now->key_j[q]) & mask;
     while (table[h] != SINTER_NO_PAIR) {
@@ -524,8 +523,8 @@ static sinter_status build_pp(sinter_neighbors *nb, const sinter_particles *ps)
     if (ranges > 1) {
 #pragma omp parallel for num_threads(ranges) schedule(static, 1)
         for (int t = 0; t < ranges; ++t)
-            bounds_range(x, r, n * (size_t)t / (size_t)ranges,
-                         n * (size_t)(t + 1) / (size_t)ranges, part[t]);
+            bounds_range(x, r, n * (size_t)t / (size_t)ranges, n * (size_t)(t + 1) / (size_t)ranges,
+                         part[t]);
     } else { /* a region of one thread costs a team (core/ranges_run.h) */
         bounds_range(x, r, 0, n, part[0]);
     }
@@ -765,9 +764,9 @@ static size_t count_pw_range(const sinter_walls *walls, const double *x, const d
 }
 
 /* put_pw over range t of `ranges` equal ranges of n particles, from m on. */
-static void put_pw_range(sinter_pair_list *l, const sinter_walls *walls,
-                         const sinter_particles *ps, double skin, size_t n, int ranges, int t,
-                         size_t m, int planes, const uint8_t *near)
+static void put_pw_range(sinter_pair_list *l, const sinter_walls *walls, const sinter_particles *ps,
+                         double skin, size_t n, int ranges, int t, size_t m, int planes,
+                         const uint8_t *near)
 {
     const size_t a = n * (size_t)t / (size_t)ranges, b = n * (size_t)(t + 1) / (size_t)ranges;
     if (planes)

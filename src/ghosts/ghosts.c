@@ -206,20 +206,7 @@ size_t sinter_ghosts_wrap_with(sinter_ghosts *g, sinter_particles *ps, double *x
 
 size_t sinter_ghosts_wrap(sinter_ghosts *g, sinter_particles *ps)
 {
-    size_t moved = 0;
-    for (size_t i = 0; i < ps->count - ps->ghost_count; ++i) {
-        int out = 0;
-        for (int d = 0; d < 3; ++d)
-            if (g->periodic[d]) {
-                const double x = ps->x[3 * i + d], y = wrap(x, g->lo[d], g->hi[d]);
-                out |= y != x;
-                ps->x[3 * i + d] = y;
-            }
-        moved += (size_t)out;
-    }
-    if (moved > 0)
-        g->built = 0;
-    return moved;
+    return sinter_ghosts_wrap_with(g, ps, NULL);
 }
 
 void sinter_ghosts_copy_rows(const sinter_ghosts *g, const sinter_particles *ps, double *a,

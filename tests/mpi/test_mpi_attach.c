@@ -198,16 +198,8 @@ static void *run_bed(void *arg)
         if ((spec->lb != NULL && slab_of(BED.x[3 * k], spec->size) != spec->rank) ||
             (spec->d != NULL && part != mpi_rank))
             continue;
-        size_t first = 0;
-        TRY(sinter_particles_add_with_ids(ps, 1, &BED.id[k], BED.x + 3 * k, &R, 0, BED.temp[k],
-                                          &first));
-        double *v = NULL, *w = NULL;
-        TRY(sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
-        memcpy(v + 3 * first, BED.v + 3 * k, 24);
-        TRY(sinter_particles_release(ps, SINTER_FIELD_VELOCITY));
-        TRY(sinter_particles_view(ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
-        memcpy(w + 3 * first, BED.w + 3 * k, 24);
-        TRY(sinter_particles_release(ps, SINTER_FIELD_SPIN));
+        TRY(domain_bed_add(ps, BED.id[k], BED.x + 3 * k, R, BED.temp[k], BED.v + 3 * k,
+                           BED.w + 3 * k));
     }
     if (spec->poison_id != 0) { /* on every rank: migration needs the same force models */
         p = (poison){ps, spec->poison_id, (POISON_STEP - 0.5) * DT};

@@ -1,13 +1,15 @@
 /*
  * The bed of the subdomain tests (test_domain.c, test_domain_repro.c, tests/mpi/
- * test_mpi_attach.c): a heat-conducting glass-like material, a floor and four side walls
- * around the box [0, lx] x [0, ly], and the explicit stepper's models (gravity, Hertz-Mindlin
- * contact, conduction). The particles, the stepper and its options are the caller's.
+ * test_mpi_attach.c, test_domain_long.c): a heat-conducting glass-like material, a floor and four
+ * side walls around the box [0, lx] x [0, ly], and the explicit stepper's models (gravity,
+ * Hertz-Mindlin contact, conduction). The particles, the stepper and its options are the caller's.
  */
 #ifndef SINTER_TEST_DOMAIN_BED_H
 #define SINTER_TEST_DOMAIN_BED_H
 
 #include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 
 #include <sinter.h>
 
@@ -64,6 +66,29 @@ static inline sinter_status domain_bed_models(sinter_ctx *ctx, sinter_stepper *s
         s = sinter_heat_model_create(cond, ctx, "conduction");
     if (s == SINTER_OK)
         s = sinter_stepper_add_heat(st, *cond);
+    return s;
+}
+
+/* One sphere of the bed added to ps with the caller's id: centre x, radius r, temperature
+ * temp, velocity v and spin w (3 each; material 0). */
+static inline sinter_status domain_bed_add(sinter_particles *ps, uint64_t id, const double *x,
+                                           double r, double temp, const double *v, const double *w)
+{
+    size_t first = 0;
+    double *pv = NULL, *pw = NULL;
+    sinter_status s = sinter_particles_add_with_ids(ps, 1, &id, x, &r, 0, temp, &first);
+    if (s == SINTER_OK)
+        s = sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&pv, NULL, NULL);
+    if (s == SINTER_OK) {
+        memcpy(pv + 3 * first, v, 3 * sizeof(double));
+        s = sinter_particles_release(ps, SINTER_FIELD_VELOCITY);
+    }
+    if (s == SINTER_OK)
+        s = sinter_particles_view(ps, SINTER_FIELD_SPIN, (void **)&pw, NULL, NULL);
+    if (s == SINTER_OK) {
+        memcpy(pw + 3 * first, w, 3 * sizeof(double));
+        s = sinter_particles_release(ps, SINTER_FIELD_SPIN);
+    }
     return s;
 }
 

@@ -147,16 +147,8 @@ static void *run_bed(void *arg)
     for (int k = 0; k < N; ++k) {
         if (slab_of(BED.x[3 * k], j->size) != j->rank)
             continue;
-        size_t first = 0;
-        TRY(sinter_particles_add_with_ids(ps, 1, &BED.id[k], BED.x + 3 * k, &R, 0, BED.temp[k],
-                                          &first));
-        double *v = NULL, *w = NULL;
-        TRY(sinter_particles_view(ps, SINTER_FIELD_VELOCITY, (void **)&v, NULL, NULL));
-        memcpy(v + 3 * first, BED.v + 3 * k, 24);
-        TRY(sinter_particles_release(ps, SINTER_FIELD_VELOCITY));
-        TRY(sinter_particles_view(ps, SINTER_FIELD_SPIN, (void **)&w, NULL, NULL));
-        memcpy(w + 3 * first, BED.w + 3 * k, 24);
-        TRY(sinter_particles_release(ps, SINTER_FIELD_SPIN));
+        TRY(domain_bed_add(ps, BED.id[k], BED.x + 3 * k, R, BED.temp[k], BED.v + 3 * k,
+                           BED.w + 3 * k));
     }
     if (j->poison_id != 0) { /* on every subdomain: migration needs the same force models */
         p = (poison){ps, j->poison_id, (j->poison_step - 0.5) * dt};
