@@ -130,23 +130,6 @@ static inline void put_geometry(sinter_contact_list *c, const double *x, const d
     c->branch[m] = g.li;
 }
 
-/* Pair p of particles i, j as contact m of fill_into's list (its pair_to_contact entry is the
- * caller's). */
-static inline __attribute__((always_inline)) void
-take_contact(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
-             uint32_t *restrict cpair, const double *x, const double *r, uint32_t i, uint32_t j,
-             size_t p, size_t m, int geometry, uint32_t *prev, int *ascending)
-{
-    ci[m] = i;
-    cj[m] = j;
-    cpair[m] = (uint32_t)p;
-    if (geometry)
-        put_geometry(c, x, r, m, i, j);
-    const uint32_t key = i < j ? i : j; /* the particle whose scan found the pair */
-    *ascending &= key >= *prev;
-    *prev = key;
-}
-
 /* Contacts among pairs [lo, hi), written from index m on into ci, cj, cpair (the list's own
  * arrays, or a scratch copy: fill_segments); returns the next free index. With `touch` (the
  * counting pass's verdict per pair, from the same arithmetic) the pairs not in contact are
@@ -162,26 +145,28 @@ fill_into(sinter_contact_list *c, uint32_t *restrict ci, uint32_t *restrict cj,
     const size_t m0 = m;
     uint32_t prev = 0;
     int ascending = 1;
-    if (touch == NULL && c->held == NULL) {
-        /* the plain overlap test, its inputs held in registers (issue 41: a shaken bed's
-         * thousands of candidates a step, a few dozen in contact) */
-        for (size_t p = lo; p < hi; ++p) {
-            if (!overlapping(x, r, pi[p], pj[p])) {
-                to_contact[p] = SINTER_NO_PAIR;
-                continue;
-            }
-            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev, &ascending);
-            to_contact[p] = (uint32_t)m++;
+    /* without a verdict array or held bonds, the plain overlap test, its inputs in registers
+     * (c->held was read again at every pair; issue 41: a shaken bed's thousands of candidates
+     * a step, a few dozen in contact) */
+    const int plain = touch == NULL && c->held == NULL;
+    for (size_t p = lo; p < hi; ++p) {
+        const uint32_t i = pi[p], j = pj[p];
+        if (plain           ? !overlapping(x, r, i, j)
+            : touch != NULL ? !touch[p]
+                            : !touching(c, pairs, x, r, p)) {
+            to_contact[p] = SINTER_NO_PAIR;
+            continue;
         }
-    } else {
-        for (size_t p = lo; p < hi; ++p) {
-            if (touch != NULL ? !touch[p] : !touching(c, pairs, x, r, p)) {
-                to_contact[p] = SINTER_NO_PAIR;
-                continue;
-            }
-            take_contact(c, ci, cj, cpair, x, r, pi[p], pj[p], p, m, geometry, &prev, &ascending);
-            to_contact[p] = (uint32_t)m++;
-        }
+        ci[m] = i;
+        cj[m] = j;
+        cpair[m] = (uint32_t)p;
+        to_contact[p] = (uint32_t)m;
+        if (geometry)
+            put_geometry(c, x, r, m, i, j);
+        const uint32_t key = i < j ? i : j; /* the particle whose scan found the pair */
+        ascending &= key >= prev;
+        prev = key;
+        ++m;
     }
     part->ascending = ascending;
     part->any = m > m0;

@@ -52,12 +52,6 @@ sinter_status sinter_history_by_pair(sinter_ctx *ctx, sinter_history *h,
     return st;
 }
 
-/* Commit of a trial array indexed by pair: pairs not in contact are cleared in it, and it
- * becomes the committed array; the old committed array is the next trial array (every entry
- * is written before the next commit). Only from where the contact list changed since the
- * trial array was last zero off its contacts (the list's revisions) are pairs cleared, and
- * `active` copied from where it changed since `active` was written: a packed bed whose
- * contacts change only near its top, or not at all, costs that much (issue 9). */
 /* commit_swap's two loops, on the threads of the enclosing region or, outside one, on the
  * calling thread (orphaned loops). */
 static void swap_loops(double *trial, size_t w, const uint32_t *p2c, long zero_lo, long pairs,
@@ -73,6 +67,12 @@ static void swap_loops(double *trial, size_t w, const uint32_t *p2c, long zero_l
         active[k] = pair[k];
 }
 
+/* Commit of a trial array indexed by pair: pairs not in contact are cleared in it, and it
+ * becomes the committed array; the old committed array is the next trial array (every entry
+ * is written before the next commit). Only from where the contact list changed since the
+ * trial array was last zero off its contacts (the list's revisions) are pairs cleared, and
+ * `active` copied from where it changed since `active` was written: a packed bed whose
+ * contacts change only near its top, or not at all, costs that much (issue 9). */
 static void commit_swap(sinter_history *h, const sinter_contact_list *c, int threads)
 {
     const size_t w = h->width;

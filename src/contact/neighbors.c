@@ -238,40 +238,6 @@ static inline uint32_t key_of(const sinter_pair_list *l, size_t p)
     return l->i[p] < l->j[p] ? l->i[p] : l->j[p];
 }
 
-/*
- * match_pairs for particle-particle lists when the particles kept their indices since the
- * last build (the common case): both lists come from the scan, so their pairs are grouped
- * by the smaller particle index in ascending order, and a pair's old twin is among the old
- * pairs of the same smaller particle, with the same i and j (pairs are oriented by id, and
- * ids stay with the indices). A table of where each particle's old run starts replaces the
- * hash; both passes run on the threads. Returns 0 (nothing written) if the old list's runs do
- * not ascend, and the caller uses the hash.
- */
-static void runs_loops(sinter_pair_list *now, const sinter_pair_list *before, size_t n,
-                       uint32_t *start);
-
-static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
-                         const sinter_pair_list *before, size_t n)
-{
-    const size_t old_count = before->count;
-    for (size_t p = 1; p < old_count; ++p) /* cheap: one pass over the old keys */
-        if (key_of(before, p) < key_of(before, p - 1))
-            return 0;
-    if (sinter_grow(nb->ctx, (void **)&nb->hash, &nb->hash_capacity, n + 2, sizeof(uint32_t)) !=
-        SINTER_OK)
-        return 0;               /* the hash path reports the failure */
-    uint32_t *start = nb->hash; /* old pairs of particle a: [start[a], start[a + 1]) */
-    const long count = (long)now->count;
-    const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
-    if (threads > 1) {
-#pragma omp parallel num_threads(threads)
-        runs_loops(now, before, n, start);
-    } else { /* a region of one thread costs a team (core/ranges_run.h) */
-        runs_loops(now, before, n, start);
-    }
-    return 1;
-}
-
 /* match_by_runs' two loops, on the threads of the enclosing region or, outside one, on the
  * calling thread (orphaned loops). */
 static void runs_loops(sinter_pair_list *now, const sinter_pair_list *before, size_t n,
@@ -297,6 +263,37 @@ static void runs_loops(sinter_pair_list *now, const sinter_pair_list *before, si
             }
         now->from[q] = found;
     }
+}
+
+/*
+ * match_pairs for particle-particle lists when the particles kept their indices since the
+ * last build (the common case): both lists come from the scan, so their pairs are grouped
+ * by the smaller particle index in ascending order, and a pair's old twin is among the old
+ * pairs of the same smaller particle, with the same i and j (pairs are oriented by id, and
+ * ids stay with the indices). A table of where each particle's old run starts replaces the
+ * hash; both passes run on the threads. Returns 0 (nothing written) if the old list's runs do
+ * not ascend, and the caller uses the hash.
+ */
+static int match_by_runs(sinter_neighbors *nb, sinter_pair_list *now,
+                         const sinter_pair_list *before, size_t n)
+{
+    const size_t old_count = before->count;
+    for (size_t p = 1; p < old_count; ++p) /* cheap: one pass over the old keys */
+        if (key_of(before, p) < key_of(before, p - 1))
+            return 0;
+    if (sinter_grow(nb->ctx, (void **)&nb->hash, &nb->hash_capacity, n + 2, sizeof(uint32_t)) !=
+        SINTER_OK)
+        return 0;               /* the hash path reports the failure */
+    uint32_t *start = nb->hash; /* old pairs of particle a: [start[a], start[a + 1]) */
+    const long count = (long)now->count;
+    const int threads = count < 4096 ? 1 : sinter_threads(nb->ctx);
+    if (threads > 1) {
+#pragma omp parallel num_threads(threads)
+        runs_loops(now, before, n, start);
+    } else { /* a region of one thread costs a team (core/ranges_run.h) */
+        runs_loops(now, before, n, start);
+    }
+    return 1;
 }
 
 /* 1 if the pairs of l ascend by (key_i, key_j), each pair once. */
