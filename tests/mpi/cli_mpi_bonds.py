@@ -84,16 +84,7 @@ def case_series(sinter, mpiexec, scene, work, np, min_broken=MIN_BROKEN):
     if np == 1:
         check(open(os.path.join(ref, "series.csv")).read() ==
               open(os.path.join(out, "series.csv")).read(), "np 1: series.csv differs")
-    worst = 0.0
-    for rs, rm in zip(rows_s, rows_m):
-        if float(rs[0]) > HORIZON:
-            break
-        for k, (a, b) in enumerate(zip(rs, rm)):
-            x, y = float(a), float(b)
-            scale = max(abs(x), abs(y))
-            rel = abs(x - y) / scale if scale > 0 else 0.0
-            worst = max(worst, rel)
-            check(rel <= TOL, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
+    worst = base.compare_series("np %d" % np, head_s, rows_s, rows_m, TOL, HORIZON)
     b_s, b_m = broken(head_s, rows_s), broken(head_m, rows_m)
     at = max(k for k, r in enumerate(rows_s) if float(r[0]) <= HORIZON)
     check(b_s[-1] >= min_broken, "serially only %g bonds broke by %g s" % (b_s[-1], STOP))

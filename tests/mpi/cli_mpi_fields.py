@@ -23,16 +23,13 @@ import struct
 import subprocess
 import sys
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMP_NUM_THREADS="1")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cli_mpi_run as base  # noqa: E402  (its ENV, check(), failures)
+
+ENV = base.ENV
+check = base.check
+
 TOLERANCE = 1e-10
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 def vti_arrays(path):
@@ -111,7 +108,7 @@ def main():
           "the last grid has no stress or no empty edge")
     print("fields bed, np %d: %d files, largest difference %.3g of the arrays' magnitudes"
           % (np, len(files), worst))
-    sys.exit(1 if failures else 0)
+    sys.exit(1 if base.failures else 0)
 
 
 if __name__ == "__main__":

@@ -26,16 +26,13 @@ import shutil
 import subprocess
 import sys
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMP_NUM_THREADS="1")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cli_mpi_run as base  # noqa: E402  (its ENV, check(), failures, series(), compare_series())
+
+ENV = base.ENV
+check = base.check
+
 END = "2e-4"
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 def shortened(scenes, work, frozen):
@@ -71,12 +68,6 @@ def shortened(scenes, work, frozen):
     return path
 
 
-def series(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    return lines[0].split(","), [line.split(",") for line in lines[1:]]
-
-
 def main():
     sinter, mpiexec, scenes, work, np = sys.argv[1:6]
     np = int(np)
@@ -98,7 +89,7 @@ def main():
         if p.returncode != 0:
             sys.exit(1)
         outs.append(os.path.join(out, "series.csv"))
-    (head_s, rows_s), (head_m, rows_m) = series(outs[0]), series(outs[1])
+    (head_s, rows_s), (head_m, rows_m) = base.series(outs[0]), base.series(outs[1])
     check(head_s == head_m, "headers differ: %s / %s" % (head_s, head_m))
     check("lit particles [1]" in head_s, "no lit columns: %s" % head_s)
     check(len(rows_s) == len(rows_m) == (42 if frozen else 5),
@@ -114,17 +105,10 @@ def main():
     check(frozen or float(rows_s[-1][2]) > 500, "only %s contacts" % rows_s[-1][2])
     if np == 1:
         check(open(outs[0]).read() == open(outs[1]).read(), "np 1: series.csv differs")
-    worst = 0.0
-    for rs, rm in zip(rows_s, rows_m):
-        for k, (a, b) in enumerate(zip(rs, rm)):
-            x, y = float(a), float(b)
-            scale = max(abs(x), abs(y))
-            rel = abs(x - y) / scale if scale > 0 else 0.0
-            worst = max(worst, rel)
-            check(rel <= 1e-12, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
+    worst = base.compare_series("np %d" % np, head_s, rows_s, rows_m, 1e-12)
     print("laser + beam bed%s, np %d: %d rows, largest relative difference %.3g"
           % (" (frozen)" if frozen else "", np, len(rows_m), worst))
-    sys.exit(1 if failures else 0)
+    sys.exit(1 if base.failures else 0)
 
 
 if __name__ == "__main__":

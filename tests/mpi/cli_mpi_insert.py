@@ -18,23 +18,14 @@ import shutil
 import subprocess
 import sys
 
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMP_NUM_THREADS="1")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cli_mpi_run as base  # noqa: E402  (its ENV, check(), failures, series(), rel_diff())
+
+ENV = base.ENV
+check = base.check
+
 END = "3e-3"
 NAN_HERE = ("volume fraction [1]", "solid fraction [1]")
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print("FAIL:", what)
-
-
-def series(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    return lines[0].split(","), [line.split(",") for line in lines[1:]]
 
 
 def main():
@@ -62,7 +53,7 @@ def main():
         if p.returncode != 0:
             sys.exit(1)
         outs.append(os.path.join(out, "series.csv"))
-    (head_s, rows_s), (head_m, rows_m) = series(outs[0]), series(outs[1])
+    (head_s, rows_s), (head_m, rows_m) = base.series(outs[0]), base.series(outs[1])
     check(head_s == head_m, "headers differ: %s / %s" % (head_s, head_m))
     check(len(rows_s) == len(rows_m) == 7, "rows %d / %d" % (len(rows_s), len(rows_m)))
     mass = head_s.index("inserted mass [kg]")
@@ -77,14 +68,12 @@ def main():
             elif np == 1 or k in (mass, mass + 1) or head_s[k].startswith("temperature "):
                 check(a == b, "np %d, t = %s, %s: %s != %s" % (np, rs[0], head_s[k], a, b))
             else:
-                x, y = float(a), float(b)
-                scale = max(abs(x), abs(y))
-                rel = abs(x - y) / scale if scale > 0 else 0.0
+                rel = base.rel_diff(a, b)
                 worst = max(worst, rel)
                 check(rel <= 1e-10, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
     print("powder bed (insertion), np %d: %d rows, %s kg inserted, largest relative difference "
           "%.3g" % (np, len(rows_m), rows_m[-1][mass], worst))
-    sys.exit(1 if failures else 0)
+    sys.exit(1 if base.failures else 0)
 
 
 if __name__ == "__main__":

@@ -133,16 +133,7 @@ def case_pour(sinter, mpiexec, scene, work, np):
         check(te_m == te_s, "np 1: the pour ended at %s, serially at %g" % (te_m, te_s))
         check(open(os.path.join(ref, "series.csv")).read() ==
               open(os.path.join(out, "series.csv")).read(), "np 1: series.csv differs")
-    worst = 0.0
-    for rs, rm in zip(rows_s, rows_m):
-        if float(rs[0]) > HORIZON:
-            break
-        for k, (a, b) in enumerate(zip(rs, rm)):
-            x, y = float(a), float(b)
-            scale = max(abs(x), abs(y))
-            rel = abs(x - y) / scale if scale > 0 else 0.0
-            worst = max(worst, rel)
-            check(rel <= 1e-10, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
+    worst = base.compare_series("np %d" % np, head_s, rows_s, rows_m, 1e-10, HORIZON)
     compare_outcome("np %d" % np, (te_s, head_s, rows_s), (te_m, head_m, rows_m))
     # Kirchhoff: the walls are the network's only sources, so the currents into them sum to 0
     # within the solve's tolerance (those of ghosts' potentials across ranks included)
@@ -225,14 +216,7 @@ def case_compact(sinter, mpiexec, scene, work, np):
     if np == 1:
         check(open(os.path.join(ref, "series.csv")).read() ==
               open(os.path.join(out, "series.csv")).read(), "np 1: series.csv differs")
-    worst = 0.0
-    for rs, rm in zip(rows_s, rows_m):
-        for k, (a, b) in enumerate(zip(rs, rm)):
-            x, y = float(a), float(b)
-            scale = max(abs(x), abs(y))
-            rel = abs(x - y) / scale if scale > 0 else 0.0
-            worst = max(worst, rel)
-            check(rel <= 1e-10, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
+    worst = base.compare_series("np %d" % np, head_s, rows_s, rows_m, 1e-10)
     print("compact, np %d: %d rows, largest relative difference %.3g" % (np, len(rows_m), worst))
 
 

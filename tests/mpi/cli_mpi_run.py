@@ -111,6 +111,27 @@ def series(path):
     return lines[0].split(","), [line.split(",") for line in lines[1:]]
 
 
+def rel_diff(a, b):
+    """|a - b| / max(|a|, |b|) of two series values as written (0 where both are 0)."""
+    x, y = float(a), float(b)
+    scale = max(abs(x), abs(y))
+    return abs(x - y) / scale if scale > 0 else 0.0
+
+
+def compare_series(what, head, rows_s, rows_m, tol, horizon=float("inf")):
+    """Every value of rows_m within tol (relative) of rows_s's, row by row up to the time
+    horizon; returns the largest relative difference."""
+    worst = 0.0
+    for rs, rm in zip(rows_s, rows_m):
+        if float(rs[0]) > horizon:
+            break
+        for k, (a, b) in enumerate(zip(rs, rm)):
+            rel = rel_diff(a, b)
+            worst = max(worst, rel)
+            check(rel <= tol, "%s, t = %s, %s: %s vs %s" % (what, rs[0], head[k], a, b))
+    return worst
+
+
 def vtu_array(text, name):
     """The values of the VTU's array NAME (ASCII or base64 binary)."""
     m = re.search(r'(<DataArray[^>]*Name="%s"[^>]*>)(.*?)</DataArray>' % name, text, re.S)
@@ -164,9 +185,7 @@ def case_series(sinter, mpiexec, scenes, work, np, name="mech"):
             if np == 1:
                 check(a == b, "np 1, t = %s, %s: %s != %s" % (rs[0], head_s[k], a, b))
             else:
-                x, y = float(a), float(b)
-                scale = max(abs(x), abs(y))
-                rel = abs(x - y) / scale if scale > 0 else 0.0
+                rel = rel_diff(a, b)
                 worst = max(worst, rel)
                 check(rel <= 1e-10, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
     last = len(rows_s) - 1
@@ -214,9 +233,7 @@ def case_staggered(sinter, mpiexec, scenes, work, np):
             elif head_s[k] == "neighbour rebuilds [1]":
                 check(0 <= int(float(b)) - int(float(a)) <= 2, "rebuilds %s vs %s" % (a, b))
             elif a != "nan" or b != "nan":
-                x, y = float(a), float(b)
-                scale = max(abs(x), abs(y))
-                rel = abs(x - y) / scale if scale > 0 else 0.0
+                rel = rel_diff(a, b)
                 worst = max(worst, rel)
                 check(rel <= 1e-10, "np %d, t = %s, %s: %s vs %s" % (np, rs[0], head_s[k], a, b))
     print("staggered, np %d: %d rows, largest relative difference %.3g" % (np, len(rows_m), worst))
@@ -246,20 +263,12 @@ def case_restart(sinter, mpiexec, scenes, work):
         if head[k] == "neighbour rebuilds [1]":  # the restart builds its lists afresh
             check(int(float(b)) - int(float(a)) in (0, 1), "rebuilds %s vs %s" % (a, b))
             continue
-        x, y = float(a), float(b)
-        scale = max(abs(x), abs(y))
-        rel = abs(x - y) / scale if scale > 0 else 0.0
+        rel = rel_diff(a, b)
         worst = max(worst, rel)
         check(rel <= 1e-10, "restart, last row, %s: %s vs %s" % (head[k], a, b))
     check(os.path.exists(os.path.join(out, "frames", "frame_%05d.pvtu" % (len(rows) - 1))),
           "no last frame")
     print("restart np 4 -> np 2: %d rows, last row within %.3g" % (len(rows), worst))
-
-
-def rel_diff(a, b):
-    x, y = float(a), float(b)
-    scale = max(abs(x), abs(y))
-    return abs(x - y) / scale if scale > 0 else 0.0
 
 
 def qs_scene(scenes, work, rtol, name="copper_lattice"):
